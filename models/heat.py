@@ -1,0 +1,68 @@
+"""Heat sources and surface exchange of the heated LCE strip (lcefem units: mW, mm, s, C)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lcefem.models import units
+from lcefem.models.errors import InputError
+from lcefem.models.parameters import param
+
+
+@dataclass(frozen=True)
+class ThermalProperties:
+    """Bulk thermal properties of the LCE (assumed values of shared/reference/materials.md)."""
+
+    density: float = param(1.15e-9, "t/mm^3", "assumed 1.15 g/cm^3 (RM257-thiol networks 1.1-1.2)",
+                           positive=True)
+    specific_heat: float = param(1.75e9, "mJ/(t K)", "assumed 1.75 J/(g K) (elastomers 1.5-2.0); "
+                                 "calibrated by validation/calibration/calibrate_thermal.py",
+                                 positive=True)
+    conductivity: float = param(0.25, "mW/(mm K)", "assumed 0.25 W/(m K) (polymers 0.2-0.3)",
+                                positive=True)
+
+    @property
+    def volumetric_heat_capacity(self) -> float:
+        """rho c [mJ/(mm^3 K)]."""
+        return self.density * self.specific_heat
+
+
+@dataclass(frozen=True)
+class SurfaceExchange:
+    """Natural convection and grey-body radiation to still air (seed 001: room ~25 C, in air)."""
+
+    film_coefficient: float = param(10.0e-3, "mW/(mm^2 K)", "assumed 10 W/(m^2 K) (small bodies in "
+                                    "still air 5-25); calibrated by "
+                                    "validation/calibration/calibrate_thermal.py", minimum=0.0)
+    emissivity: float = param(0.9, "-", "assumed (polymer surfaces)", minimum=0.0, maximum=1.0)
+    ambient_temperature: float = param(25.0, "C", "seed 001: experiments at room temperature ~25 C")
+
+
+@dataclass(frozen=True)
+class Coil:
+    """Embedded Ni-Cr heating coil (seed 001, Materials and Methods)."""
+
+    resistance: float = param(146.6, "ohm", "seed 001: mean of P/I^2 = 1.5/0.1^2, 3.26/0.15^2, "
+                              "5.79/0.2^2 W/A^2", positive=True)
+    rod_diameter: float = param(1.0, "mm", "seed 001: wire wound on a 1 mm steel rod", positive=True)
+
+
+def joule_power(current: float, resistance: float) -> float:
+    """Electric power P = I^2 R [mW] for a current I [A] through a resistance R [ohm].
+
+    Raises:
+        InputError: for a negative current (the experiments' currents are magnitudes).
+    """
+    if current < 0:
+        raise InputError(f"current = {current} A: must be >= 0 A")
+    if resistance <= 0:
+        raise InputError(f"resistance = {resistance} ohm: must be > 0 ohm")
+    return current ** 2 * resistance * units.W
+
+
+def radiative_film_coefficient(T, T_ambient: float, emissivity: float):
+    """Linearised radiation h_r = eps sigma (T^2 + Ta^2)(T + Ta) [mW/(mm^2 K)], T in C (kelvin inside),
+    so that the radiative flux is h_r (T - Ta). Accepts floats, arrays or UFL expressions."""
+    tk = T + units.ZERO_CELSIUS_K
+    tak = T_ambient + units.ZERO_CELSIUS_K
+    return emissivity * units.STEFAN_BOLTZMANN * (tk ** 2 + tak ** 2) * (tk + tak)

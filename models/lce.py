@@ -1,0 +1,88 @@
+"""Liquid-crystal elastomer: nematic order, spontaneous stretch and the spontaneous-strain tensor.
+
+The as-built (nematic, room-temperature) strip is the reference configuration the meshes
+represent. Heating lowers the nematic order parameter Q(T); the spontaneous stretch along the
+director, measured from the isotropic length as the paper's lambda (seed 001, "Actuation of the LCE
+strips"), follows Warner & Terentjev (Liquid Crystal Elastomers, 2007, Ch. 6):
+
+    lambda_s(T) = ((1 + 2 Q) / (1 - Q))^(1/3),
+    Q(T)        = Q_0 / (1 + exp((T - T_NI) / w)),
+
+with Q_0 chosen so that lambda_s(T_ref) = lambda_N exactly. Relative to the reference configuration
+the spontaneous deformation is isochoric,
+
+    F_s(T) = a n (x) n + a^(-1/2) (I - n (x) n),   a = lambda_s(T) / lambda_s(T_ref),
+
+so F_s(T_ref) = I and det F_s = 1. Every function accepts floats, numpy arrays or UFL expressions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ufl
+
+from lcefem.models import _math
+from lcefem.models.parameters import param
+
+
+@dataclass(frozen=True)
+class NematicTransition:
+    """Parameters of the nematic-isotropic transition of the RM257/EDDET/PETMP LCE (seed 001)."""
+
+    T_NI: float = param(70.0, "C", "seed 001 ('T_NI (~70 C)'); midpoint of Q(T), calibrated against "
+                        "Eq. 1 by validation/calibration/calibrate_thermal.py")
+    width: float = param(5.5, "K", "assumed; calibrated against Eq. 1 (seed 001) by "
+                         "validation/calibration/calibrate_thermal.py", positive=True)
+    lambda_N: float = param(1.426, "-", "nematic spontaneous stretch at T_ref = 1 + gamma_1 of Eq. 1 "
+                            "(seed 001, Eq. 1, P -> 0); the 9 free strips measured 130.22/80 = 1.63 "
+                            "+- 0.10 under an 8.2 g clip (seed 001, Fig. 2B text)", minimum=1.0)
+    T_ref: float = param(25.0, "C", "as-built room temperature (seed 001: experiments at about 25 C)")
+
+
+def order_parameter_from_stretch(stretch):
+    """Nematic order parameter Q [-] whose Warner-Terentjev spontaneous stretch is ``stretch`` [-]."""
+    cube = stretch ** 3
+    return (cube - 1.0) / (cube + 2.0)
+
+
+def order_parameter(T, transition: NematicTransition):
+    """Nematic order parameter Q(T) [-] at temperature T [C] (sigmoid in T, see module docstring)."""
+    p = transition
+    q_ref = order_parameter_from_stretch(p.lambda_N)
+    q0 = q_ref * (1.0 + _math.exp((p.T_ref - p.T_NI) / p.width))
+    return q0 / (1.0 + _math.exp((T - p.T_NI) / p.width))
+
+
+def spontaneous_stretch(T, transition: NematicTransition):
+    """Spontaneous stretch lambda_s(T) [-] along the director, relative to the isotropic length.
+
+    lambda_s = ((1 + 2Q)/(1 - Q))^(1/3) (Warner & Terentjev 2007); lambda_s(T_ref) = lambda_N and
+    lambda_s -> 1 in the isotropic phase.
+    """
+    q = order_parameter(T, transition)
+    return ((1.0 + 2.0 * q) / (1.0 - q)) ** (1.0 / 3.0)
+
+
+def contraction_ratio(T, transition: NematicTransition):
+    """a(T) = lambda_s(T) / lambda_N [-]: stretch of the director fibres relative to the as-built state."""
+    return spontaneous_stretch(T, transition) / transition.lambda_N
+
+
+def spontaneous_deformation(T, director, transition: NematicTransition):
+    """F_s(T) = a n(x)n + a^(-1/2) (I - n(x)n) (UFL 3x3), isochoric, F_s(T_ref) = I.
+
+    Args:
+        T: temperature [C], a UFL expression (e.g. a dolfinx Function).
+        director: unit director n(X) [-], a UFL vector (Constant, Function or expression).
+    """
+    a = contraction_ratio(T, transition)
+    nn = ufl.outer(director, director)
+    return a * nn + a ** (-0.5) * (ufl.Identity(3) - nn)
+
+
+def inverse_spontaneous_deformation(T, director, transition: NematicTransition):
+    """F_s^-1 = a^-1 n(x)n + a^(1/2) (I - n(x)n), in closed form (no UFL inverse)."""
+    a = contraction_ratio(T, transition)
+    nn = ufl.outer(director, director)
+    return (1.0 / a) * nn + a ** 0.5 * (ufl.Identity(3) - nn)

@@ -1,0 +1,4 @@
+"""Numerics: heat, mechanics, coupled stepping, continuation, and the reduced-order integrators.
+
+Solvers take model objects and meshes; they know nothing of experiments.
+"""

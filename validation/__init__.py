@@ -1,0 +1,1 @@
+"""The users' work: cases, reference data with sources, convergence studies, plots, reports, CLI."""

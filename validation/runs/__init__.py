@@ -1,0 +1,9 @@
+"""``lcefem run TARGET``: one module per target, imported only when that target runs.
+
+Each module defines ``add_arguments(parser)`` (argparse) and ``main(args) -> int``. Add a target by
+adding its module name here.
+"""
+
+RUN_TARGETS = {
+    "strip": "lcefem.validation.runs.strip",
+}
