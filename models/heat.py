@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 from lcefem.models import units
 from lcefem.models.errors import InputError
+from lcefem.models.lce import CALIBRATED
 from lcefem.models.parameters import param
 
 
@@ -15,9 +16,8 @@ class ThermalProperties:
 
     density: float = param(1.15e-9, "t/mm^3", "assumed 1.15 g/cm^3 (RM257-thiol networks 1.1-1.2)",
                            positive=True)
-    specific_heat: float = param(1.75e9, "mJ/(t K)", "assumed 1.75 J/(g K) (elastomers 1.5-2.0); "
-                                 "calibrated by validation/calibration/calibrate_thermal.py",
-                                 positive=True)
+    specific_heat: float = param(1.5e9, "mJ/(t K)", "1.5 J/(g K), lower end of the assumed 1.5-2.0 "
+                                 "for elastomers; " + CALIBRATED, positive=True)
     conductivity: float = param(0.25, "mW/(mm K)", "assumed 0.25 W/(m K) (polymers 0.2-0.3)",
                                 positive=True)
 
@@ -31,9 +31,8 @@ class ThermalProperties:
 class SurfaceExchange:
     """Natural convection and grey-body radiation to still air (seed 001: room ~25 C, in air)."""
 
-    film_coefficient: float = param(10.0e-3, "mW/(mm^2 K)", "assumed 10 W/(m^2 K) (small bodies in "
-                                    "still air 5-25); calibrated by "
-                                    "validation/calibration/calibrate_thermal.py", minimum=0.0)
+    film_coefficient: float = param(5.805e-3, "mW/(mm^2 K)", "5.8 W/(m^2 K) (still air, small bodies: "
+                                    "5-25 assumed); " + CALIBRATED, minimum=0.0)
     emissivity: float = param(0.9, "-", "assumed (polymer surfaces)", minimum=0.0, maximum=1.0)
     ambient_temperature: float = param(25.0, "C", "seed 001: experiments at room temperature ~25 C")
 

@@ -25,15 +25,16 @@ import ufl
 from lcefem.models import _math
 from lcefem.models.parameters import param
 
+CALIBRATED = ("calibrated against seed 001 (Eq. 1 at 0.04-0.09 A, transients at 0.1 and 0.2 A) by "
+              "validation/calibration/calibrate_thermal.py; see validation/data/thermal_calibration.json")
+
 
 @dataclass(frozen=True)
 class NematicTransition:
     """Parameters of the nematic-isotropic transition of the RM257/EDDET/PETMP LCE (seed 001)."""
 
-    T_NI: float = param(70.0, "C", "seed 001 ('T_NI (~70 C)'); midpoint of Q(T), calibrated against "
-                        "Eq. 1 by validation/calibration/calibrate_thermal.py")
-    width: float = param(5.5, "K", "assumed; calibrated against Eq. 1 (seed 001) by "
-                         "validation/calibration/calibrate_thermal.py", positive=True)
+    T_NI: float = param(68.92, "C", "midpoint of Q(T); seed 001 gives 'T_NI (~70 C)'; " + CALIBRATED)
+    width: float = param(6.188, "K", CALIBRATED, positive=True)
     lambda_N: float = param(1.426, "-", "nematic spontaneous stretch at T_ref = 1 + gamma_1 of Eq. 1 "
                             "(seed 001, Eq. 1, P -> 0); the 9 free strips measured 130.22/80 = 1.63 "
                             "+- 0.10 under an 8.2 g clip (seed 001, Fig. 2B text)", minimum=1.0)
@@ -69,20 +70,22 @@ def contraction_ratio(T, transition: NematicTransition):
     return spontaneous_stretch(T, transition) / transition.lambda_N
 
 
+def isochoric_uniaxial(a, director):
+    """U(a) = a n(x)n + a^(-1/2) (I - n(x)n) (UFL 3x3): stretch a along the unit director n, det U = 1."""
+    nn = ufl.outer(director, director)
+    return a * nn + a ** (-0.5) * (ufl.Identity(3) - nn)
+
+
 def spontaneous_deformation(T, director, transition: NematicTransition):
-    """F_s(T) = a n(x)n + a^(-1/2) (I - n(x)n) (UFL 3x3), isochoric, F_s(T_ref) = I.
+    """F_s(T) = a n(x)n + a^(-1/2) (I - n(x)n) with a = lambda_s(T)/lambda_N (UFL 3x3); F_s(T_ref) = I.
 
     Args:
         T: temperature [C], a UFL expression (e.g. a dolfinx Function).
         director: unit director n(X) [-], a UFL vector (Constant, Function or expression).
     """
-    a = contraction_ratio(T, transition)
-    nn = ufl.outer(director, director)
-    return a * nn + a ** (-0.5) * (ufl.Identity(3) - nn)
+    return isochoric_uniaxial(contraction_ratio(T, transition), director)
 
 
 def inverse_spontaneous_deformation(T, director, transition: NematicTransition):
-    """F_s^-1 = a^-1 n(x)n + a^(1/2) (I - n(x)n), in closed form (no UFL inverse)."""
-    a = contraction_ratio(T, transition)
-    nn = ufl.outer(director, director)
-    return (1.0 / a) * nn + a ** 0.5 * (ufl.Identity(3) - nn)
+    """F_s^-1 = U(1/a) in closed form (no UFL inverse), a = lambda_s(T)/lambda_N."""
+    return isochoric_uniaxial(1.0 / contraction_ratio(T, transition), director)

@@ -1,0 +1,130 @@
+"""Staggered thermo-mechanics of LCE bodies: heat step -> temperature field -> F_s(T) -> mechanics.
+
+Each time step first advances the heat equation (pulled back with the last converged displacement),
+then brings the mechanical equilibrium from the old to the new temperature field by adaptive load
+stepping: T_mech = T_old + s (T_new - T_old), s: 0 -> 1, halving s on a failed Newton solve.
+
+The LCE's elastic energy is W(F_e) with F_e = F F_s(T)^-1 (models.lce, models.hyperelastic); because
+det F_s = 1 the energy per reference volume needs no Jacobian factor. Passive regions (Kapton) use a
+compressible neo-Hookean energy.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import dataclasses
+
+import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from petsc4py import PETSc
+
+import dolfinx
+
+from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
+                                        neo_hookean_strain_energy)
+from lcefem.models.lce import NematicTransition, inverse_spontaneous_deformation
+from lcefem.solvers import continuation
+from lcefem.solvers.heat import HeatProblem, HeatSetup
+from lcefem.solvers.mechanics import (HyperelasticProblem, deformation_gradient, displacement_space,
+                                      volume_measure)
+
+
+@dataclass
+class LCERegion:
+    """Cells made of LCE with director field ``director`` (a UFL unit vector in reference coordinates)."""
+
+    cells: Sequence[str]
+    director: object
+    transition: NematicTransition = field(default_factory=NematicTransition)
+    elasticity: LCEElasticity = field(default_factory=LCEElasticity)
+
+
+@dataclass
+class PassiveRegion:
+    cells: Sequence[str]
+    solid: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
+
+
+def lce_energy_density(u, T, region: LCERegion):
+    """W(F F_s(T)^-1) [mJ/mm^3] for displacement u and temperature T (UFL)."""
+    F = deformation_gradient(u)
+    Fe = F * inverse_spontaneous_deformation(T, region.director, region.transition)
+    return lce_strain_energy(Fe, region.elasticity)
+
+
+class ThermoMechanicalModel:
+    """Heat + finite-strain mechanics on one tagged mesh, built once and stepped in time.
+
+    Args:
+        tmesh: mesh with named cell and facet tags.
+        heat_setup: thermal materials, heated cells, exposed facets, element degree.
+        lce: LCE regions; passive: passive regions (every cell must belong to one region).
+        dirichlet: ``f(V) -> list[DirichletBC]`` building the displacement conditions.
+        external_work: ``f(u) -> UFL form`` of the work of dead loads [mJ] (None: none).
+        degree: displacement degree (2: P2/Q2).
+    """
+
+    def __init__(self, tmesh: TaggedMesh, heat_setup: HeatSetup, lce: Sequence[LCERegion],
+                 passive: Sequence[PassiveRegion] = (),
+                 dirichlet: Callable[[dolfinx.fem.FunctionSpace], list] = lambda V: [],
+                 external_work: Callable | None = None, *, degree: int = 2,
+                 petsc_options: dict | None = None, prefix: str = "lcefem_"):
+        self.tmesh = tmesh
+        V = displacement_space(tmesh.mesh, degree)
+        self.u = dolfinx.fem.Function(V, name="displacement")
+        self.heat = HeatProblem(tmesh, heat_setup, displacement=self.u,
+                                prefix=f"{prefix}heat_")
+        # The temperature the mechanics sees; stepped from T_old to T by continuation.
+        self.T_mech = dolfinx.fem.Function(self.heat.V, name="temperature_mechanics")
+        self.T_mech.x.array[:] = self.heat.T.x.array
+        dx = volume_measure(tmesh)
+        energy = 0
+        # Transition and elasticity parameters enter the forms as Constants (compiled once, changeable).
+        self._constants: list[tuple[LCERegion, dict, dict]] = []
+        for region in lce:
+            tc = {f.name: dolfinx.fem.Constant(tmesh.mesh, PETSc.ScalarType(getattr(region.transition, f.name)))
+                  for f in dataclasses.fields(region.transition)}
+            ec = {f.name: dolfinx.fem.Constant(tmesh.mesh, PETSc.ScalarType(getattr(region.elasticity, f.name)))
+                  for f in dataclasses.fields(region.elasticity)}
+            self._constants.append((region, tc, ec))
+            symbolic = LCERegion(region.cells, region.director,
+                                 dataclasses.replace(region.transition, **tc),
+                                 dataclasses.replace(region.elasticity, **ec))
+            W = lce_energy_density(self.u, self.T_mech, symbolic)
+            energy += W * dx(tuple(tmesh.cell_tag(c) for c in region.cells))
+        for region in passive:
+            W = neo_hookean_strain_energy(deformation_gradient(self.u), region.solid)
+            energy += W * dx(tuple(tmesh.cell_tag(c) for c in region.cells))
+        if external_work is not None:
+            energy -= external_work(self.u)
+        self.bcs = dirichlet(V)
+        self.mechanics = HyperelasticProblem(self.u, energy, self.bcs, prefix=f"{prefix}mech_",
+                                             petsc_options=petsc_options)
+        self.lce_regions = list(lce)
+
+    def set_lce_parameters(self, index: int, transition: NematicTransition | None = None,
+                           elasticity: LCEElasticity | None = None) -> None:
+        """Change the transition/elasticity of LCE region ``index`` without recompiling the forms."""
+        _, tc, ec = self._constants[index]
+        for params, consts in ((transition, tc), (elasticity, ec)):
+            if params is not None:
+                for name, c in consts.items():
+                    c.value = getattr(params, name)
+
+    def step(self, dt: float, where: str) -> continuation.StepReport:
+        """Advance heat by dt [s], then mechanics to the new temperature (step cutting on failure)."""
+        self.heat.step(dt)
+        return self.equilibrate(where)
+
+    def equilibrate(self, where: str) -> continuation.StepReport:
+        """Bring the mechanics from the temperature it last saw to the current heat temperature."""
+        T_start = self.T_mech.x.array.copy()
+        T_end = self.heat.T.x.array.copy()
+
+        def set_load(s: float) -> None:
+            self.T_mech.x.array[:] = T_start + s * (T_end - T_start)
+
+        return continuation.advance(set_load, self.mechanics.solve, self.mechanics.save,
+                                    self.mechanics.restore, where=where)

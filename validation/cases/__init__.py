@@ -1,0 +1,161 @@
+"""Registry of validation cases.
+
+A case is a function ``f(ctx: CaseContext) -> list[Metric]`` registered with :func:`case`. It runs the
+models it needs, writes its CSV data and PNG figures into ``ctx.out``, records figures with
+``ctx.add_figure(path, caption)``, sets ``ctx.mesh_size`` (characteristic element size [mm], or another
+resolution measure for reduced-order models, e.g. rod edge length) when it has one, and returns metrics.
+
+``ctx.quick`` asks for the coarse resolution used in CI; ``ctx.level`` (int or None) asks for a given
+refinement level (used by ``lcefem converge``; None means the case's default resolution).
+
+Case modules are listed in CASE_MODULES and imported on first use, so a case that needs no FEniCSx
+never imports it.
+
+Helpers: ``ctx.case`` is the running case's name (a Metric built with case "" gets it from the runner);
+``ctx.path(name)`` is ``ctx.out / name``; :func:`write_csv` writes columns with units in the headers;
+reference numbers come from :func:`lcefem.validation.reference_data.reference`, figures from
+:mod:`lcefem.validation.plots` (curves, convergence, maps) and :mod:`lcefem.validation.render`
+(deformed 3D bodies). ``lcefem validate`` writes ``ctx.out/metrics.json`` after the case returns.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import math
+import pathlib
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+#: Modules that define cases (imported lazily by :func:`registry`).
+CASE_MODULES: list[str] = [
+    "lcefem.validation.cases.empirical",
+]
+
+
+@dataclass(frozen=True)
+class Metric:
+    """One checked number. ``passed`` is ``|value - reference| <= tolerance`` (None when informative).
+
+    Keys match metrics.json: case, metric, value, unit, reference, tolerance, passed, source.
+    A range check lo <= value <= hi is stored as reference (lo+hi)/2, tolerance (hi-lo)/2.
+    """
+
+    case: str
+    metric: str
+    value: float
+    unit: str
+    reference: float | None
+    tolerance: float | None
+    passed: bool | None
+    source: str
+
+    @classmethod
+    def within(cls, case: str, metric: str, value: float, unit: str, reference: float,
+               tolerance: float, source: str) -> "Metric":
+        """Pass when |value - reference| <= tolerance (absolute, in ``unit``)."""
+        ok = bool(math.isfinite(value) and abs(value - reference) <= tolerance)
+        return cls(case, metric, float(value), unit, float(reference), float(tolerance), ok, source)
+
+    @classmethod
+    def relative(cls, case: str, metric: str, value: float, unit: str, reference: float,
+                 rel_tol: float, source: str) -> "Metric":
+        """Pass when |value - reference| <= rel_tol |reference|."""
+        return cls.within(case, metric, value, unit, reference, rel_tol * abs(reference), source)
+
+    @classmethod
+    def between(cls, case: str, metric: str, value: float, unit: str, lower: float, upper: float,
+                source: str) -> "Metric":
+        """Pass when lower <= value <= upper."""
+        return cls.within(case, metric, value, unit, 0.5 * (lower + upper), 0.5 * (upper - lower),
+                          source)
+
+    @classmethod
+    def info(cls, case: str, metric: str, value: float, unit: str, source: str,
+             reference: float | None = None) -> "Metric":
+        """A reported number with no pass/fail (``passed`` is None)."""
+        ref = None if reference is None else float(reference)
+        return cls(case, metric, float(value), unit, ref, None, None, source)
+
+    def as_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+@dataclass
+class CaseContext:
+    """What a case gets: resolution wishes and where to write; what it gives back besides metrics."""
+
+    out: pathlib.Path
+    quick: bool = False
+    level: int | None = None
+    progress: bool = True
+    mesh_size: float | None = None
+    figures: list[tuple[pathlib.Path, str]] = field(default_factory=list)
+    case: str = ""  #: name of the running case (set by the runner; Metric.case may be left "")
+    mesh_size_unit: str = "mm"  #: unit of ``mesh_size`` (e.g. "mm", or "-" for a count)
+
+    def add_figure(self, path: pathlib.Path, caption: str) -> None:
+        """Record a figure written by the case; ``caption`` should name the sources of its data."""
+        self.figures.append((pathlib.Path(path), caption))
+
+    def path(self, name: str) -> pathlib.Path:
+        """``ctx.out / name``, creating ``ctx.out`` if needed."""
+        self.out.mkdir(parents=True, exist_ok=True)
+        return self.out / name
+
+
+@dataclass(frozen=True)
+class Case:
+    name: str
+    run: Callable[[CaseContext], list[Metric]]
+    description: str
+    fe: bool  # needs FEniCSx
+    convergence: bool  # meaningful under ``lcefem converge`` (honours ctx.level)
+
+
+_CASES: dict[str, Case] = {}
+
+
+def case(name: str, description: str, *, fe: bool, convergence: bool = False):
+    """Decorator registering a case function under ``name``."""
+
+    def register(func: Callable[[CaseContext], list[Metric]]):
+        if name in _CASES:
+            raise ValueError(f"case {name!r} registered twice")
+        _CASES[name] = Case(name, func, description, fe, convergence)
+        return func
+
+    return register
+
+
+def registry() -> dict[str, Case]:
+    """All cases, importing the case modules on first call."""
+    for module in CASE_MODULES:
+        importlib.import_module(module)
+    return dict(_CASES)
+
+
+def write_csv(path: pathlib.Path, columns: dict[str, Sequence[float]], *, fmt: str = "{:.9g}") -> pathlib.Path:
+    """Write equal-length columns to CSV, atomically (``*.part`` then rename).
+
+    Column names carry their unit, e.g. ``{"time [s]": t, "temperature [C]": T}``.
+    """
+    import csv
+
+    names = list(columns)
+    missing = [n for n in names if not (n.endswith("]") and "[" in n)]
+    if missing:
+        raise ValueError(f"CSV column names need a unit in brackets: {missing}")
+    cols = [list(columns[n]) for n in names]
+    if len({len(c) for c in cols}) > 1:
+        raise ValueError(f"columns of {path} differ in length: {[len(c) for c in cols]}")
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".part")
+    with tmp.open("w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(names)
+        for row in zip(*cols):
+            writer.writerow([fmt.format(float(v)) for v in row])
+    tmp.replace(path)
+    return path

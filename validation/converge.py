@@ -1,0 +1,228 @@
+"""Mesh-convergence study of one case: observed order, Richardson extrapolation, GCI.
+
+``lcefem converge CASE [--levels N] [--out DIR] [--quiet]``
+
+Runs the case at refinement levels 0..N-1 (N >= 4; ``ctx.level = i``, the case sets ``ctx.mesh_size``)
+in ``DIR/level<i>/``. For every metric it reports, on the finest three levels, the observed order p,
+the Richardson-extrapolated value and the fine-grid Grid Convergence Index with safety factor 1.25
+(Celik et al. 2008, J. Fluids Eng. 130, 078001; lcefem.validation.gci), and flags
+
+- ``oscillatory``: successive differences change sign;
+- ``diverging``: the finest difference is not smaller than the one before;
+- ``drifting``: the observed orders of successive level triples differ by more than 20 % of their
+  mean (not yet in the asymptotic range);
+- ``mesh-independent``: the value does not change with the mesh (p undefined, GCI 0).
+
+It checks that each refinement ratio h_(i)/h_(i+1) is at least 1.3 (Celik et al. 2008, step 2) and says
+so when not. Writes ``DIR/levels.csv`` (metric values per level, units in the headers),
+``DIR/gci.csv`` (one row per metric), ``DIR/convergence.json`` and ``DIR/convergence.png`` (log-log
+|value - extrapolated| vs mesh size per metric).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import pathlib
+import sys
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from lcefem.models.errors import InputError
+from lcefem.validation import gci as gci_mod
+from lcefem.validation import plots, report
+from lcefem.validation.cases import CaseContext, registry
+from lcefem.validation.validate import MARKER, _isatty, run_case
+
+MIN_LEVELS = 4
+MIN_RATIO = 1.3  # Celik et al. 2008: refinement ratio r = h_coarse/h_fine should exceed 1.3
+DRIFT_TOL = 0.20  # relative spread of successive observed orders flagged as drift (not one power of h)
+ZERO_REL = 1e-12  # differences below this fraction of |value| count as zero
+
+
+@dataclass
+class MetricConvergence:
+    """Convergence of one metric over the levels (coarse to fine)."""
+
+    metric: str
+    unit: str
+    values: list[float]
+    p: float
+    extrapolated: float
+    e_a: float
+    e_ext: float
+    gci_fine: float
+    triple_orders: list[float]  #: observed order of each successive triple (coarsest first)
+    flags: list[str] = field(default_factory=list)
+
+
+def analyse(mesh_sizes, values, metric: str = "", unit: str = "") -> MetricConvergence:
+    """Convergence of one metric given per level (coarse to fine, mesh sizes decreasing)."""
+    h = np.asarray(mesh_sizes, float)
+    f = np.asarray(values, float)
+    if h.size < 3 or h.size != f.size:
+        raise ValueError("need at least three levels with one value each")
+    if np.any(np.diff(h) >= 0):
+        raise ValueError(f"mesh sizes must decrease with the level: {h.tolist()}")
+    nan = math.nan
+    if not np.all(np.isfinite(f)):
+        return MetricConvergence(metric, unit, f.tolist(), nan, nan, nan, nan, nan, [], ["missing values"])
+    scale = max(np.abs(f).max(), 1e-300)
+    d = np.diff(f)
+    d[np.abs(d) <= ZERO_REL * scale] = 0.0
+    flags = []
+    if not d.any():
+        res = gci_mod.gci((h[-1], h[-2], h[-3]), (f[-1], f[-1], f[-1]))
+        return MetricConvergence(metric, unit, f.tolist(), res.p, res.extrapolated, res.e_a, res.e_ext,
+                                 res.gci_fine, [], ["mesh-independent"])
+    nz = np.sign(d[d != 0])
+    if np.any(nz[1:] != nz[:-1]):
+        flags.append("oscillatory")
+    if abs(d[-1]) >= abs(d[-2]):
+        flags.append("diverging")
+    orders = []
+    for i in range(f.size - 2):  # triple (i, i+1, i+2): coarse, medium, fine
+        hf = (h[i + 2], h[i + 1], h[i])
+        ff = (f[i + 2], f[i + 1], f[i])
+        orders.append(gci_mod.observed_order(hf, ff)[0])
+    fin = [p for p in orders if math.isfinite(p)]
+    if len(fin) >= 2 and (max(fin) - min(fin)) > DRIFT_TOL * abs(np.mean(fin)):
+        flags.append("drifting")
+    res = gci_mod.gci((h[-1], h[-2], h[-3]), (f[-1], f[-2], f[-3]))
+    if not math.isfinite(res.p):
+        flags.append("no observed order")
+    return MetricConvergence(metric, unit, f.tolist(), res.p, res.extrapolated, res.e_a, res.e_ext,
+                             res.gci_fine, orders, flags)
+
+
+def ratio_warnings(mesh_sizes) -> list[str]:
+    """Messages for refinement ratios below MIN_RATIO."""
+    h = list(mesh_sizes)
+    return [f"refinement ratio between levels {i} and {i + 1} is {h[i] / h[i + 1]:.3f} < {MIN_RATIO} "
+            f"(Celik et al. 2008 ask for > 1.3)"
+            for i in range(len(h) - 1) if h[i] / h[i + 1] < MIN_RATIO]
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("case", metavar="CASE", help="a case with convergence support (lcefem validate --list)")
+    parser.add_argument("--levels", type=int, default=MIN_LEVELS, help=f"number of levels (>= {MIN_LEVELS})")
+    parser.add_argument("--out", type=pathlib.Path, default=None,
+                        help="output folder (default: results/converge/<case>)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+def _fmt(v: float, spec: str = ".5g") -> str:
+    return "-" if v is None or not math.isfinite(v) else format(v, spec)
+
+
+def write_outputs(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
+                  studies: list[MetricConvergence], warnings: list[str]) -> None:
+    """levels.csv, gci.csv, convergence.json and convergence.png in ``out`` (each atomically)."""
+    out.mkdir(parents=True, exist_ok=True)
+    cols = {"level [-]": list(range(len(mesh_sizes))), f"mesh size [{mesh_unit}]": list(mesh_sizes)}
+    for s in studies:
+        cols[f"{s.metric} [{s.unit}]"] = s.values
+    tmp = out / "levels.csv.part"
+    with tmp.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for row in zip(*cols.values()):
+            w.writerow([f"{v:.12g}" for v in row])
+    tmp.replace(out / "levels.csv")
+    tmp = out / "gci.csv.part"
+    with tmp.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["metric", "unit", "finest value [unit]", "observed order p [-]",
+                    "extrapolated value [unit]", "e_a [-]", "e_ext [-]", "GCI_fine [-]",
+                    "triple orders [-]", "flags"])
+        for s in studies:
+            w.writerow([s.metric, s.unit, f"{s.values[-1]:.12g}", _fmt(s.p, ".6g"), _fmt(s.extrapolated, ".12g"),
+                        _fmt(s.e_a, ".6g"), _fmt(s.e_ext, ".6g"), _fmt(s.gci_fine, ".6g"),
+                        " ".join(_fmt(p, ".4g") for p in s.triple_orders), " ".join(s.flags)])
+    tmp.replace(out / "gci.csv")
+    report.write_json_atomic(out / "convergence.json", {
+        "case": case_name, "mesh_sizes": list(mesh_sizes), "mesh_size_unit": mesh_unit,
+        "safety_factor": gci_mod.SAFETY_FACTOR, "warnings": warnings,
+        "metrics": [asdict(s) for s in studies]})
+    series = [plots.ConvergenceSeries(f"{s.metric} [{s.unit}]",
+                                      [v - s.extrapolated for v in s.values], s.p) for s in studies]
+    plots.convergence_plot(out / "convergence.png", mesh_sizes, series, xlabel=f"mesh size [{mesh_unit}]",
+                           title=f"{case_name}: |value - Richardson extrapolation| (Celik et al. 2008)")
+
+
+def print_summary(studies: list[MetricConvergence], mesh_sizes, file=None) -> None:
+    file = file or sys.stdout
+    header = ["metric", "unit", *[f"h={h:.3g}" for h in mesh_sizes], "p", "extrapolated", "e_a", "e_ext",
+              "GCI_fine", "flags"]
+    rows = [[s.metric, s.unit, *[_fmt(v) for v in s.values], _fmt(s.p, ".3f"), _fmt(s.extrapolated, ".6g"),
+             _fmt(100 * s.e_a, ".3g") + " %", _fmt(100 * s.e_ext, ".3g") + " %",
+             _fmt(100 * s.gci_fine, ".3g") + " %", ", ".join(s.flags) or "ok"] for s in studies]
+    try:
+        from rich.console import Console
+        from rich.table import Table
+    except ImportError:
+        widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(header)]
+        for line in [header, ["-" * w for w in widths], *rows]:
+            print("  ".join(c.ljust(w) for c, w in zip(line, widths)), file=file)
+        return
+    from rich.markup import escape
+
+    table = Table(title="convergence (finest triple; GCI with Fs = 1.25)")
+    for h in header:
+        table.add_column(escape(h), overflow="fold")
+    for r in rows:
+        table.add_row(*(escape(c) for c in r))
+    Console(file=file, width=None if _isatty(file) else 180, highlight=False).print(table)
+
+
+def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False):
+    """Run ``case`` at levels 0..levels-1 and analyse; returns (mesh sizes, unit, studies, warnings)."""
+    from tqdm import tqdm
+
+    results = []
+    for level in tqdm(range(levels), desc=f"converge {case.name}", unit="level", disable=quiet,
+                      file=sys.stderr):
+        ctx = CaseContext(out=out / f"level{level}", quick=False, level=level, progress=not quiet)
+        (ctx.out / MARKER).unlink(missing_ok=True)
+        res = run_case(case, ctx, out)
+        if res.mesh_size is None or not res.mesh_size > 0:
+            raise RuntimeError(f"case {case.name} did not set ctx.mesh_size (> 0) at level {level}")
+        report.write_json_atomic(ctx.out / MARKER, res.as_dict())  # LAST: this level is complete
+        results.append(res)
+    h = [r.mesh_size for r in results]
+    unit = results[0].mesh_size_unit or "-"
+    names: dict[str, str] = {}
+    for r in results:
+        for m in r.metrics:
+            names.setdefault(m["metric"], m["unit"])
+    studies = []
+    for name, metric_unit in names.items():
+        vals = []
+        for r in results:
+            found = [m["value"] for m in r.metrics if m["metric"] == name]
+            vals.append(float(found[0]) if found and found[0] is not None else math.nan)
+        studies.append(analyse(h, vals, name, metric_unit))
+    return h, unit, studies, ratio_warnings(h)
+
+
+def main(args: argparse.Namespace) -> int:
+    cases = registry()
+    if args.case not in cases:
+        raise InputError(f"unknown case '{args.case}'; known cases: {', '.join(cases) or '(none)'}")
+    case = cases[args.case]
+    if not case.convergence:
+        able = [c.name for c in cases.values() if c.convergence]
+        raise InputError(f"case '{case.name}' has no refinement levels; cases with levels: "
+                         f"{', '.join(able) or '(none)'}")
+    if args.levels < MIN_LEVELS:
+        raise InputError(f"--levels = {args.levels}: must be >= {MIN_LEVELS}")
+    out = args.out or pathlib.Path("results/converge") / case.name
+    h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet)
+    write_outputs(out, case.name, h, unit, studies, warnings)
+    print_summary(studies, h)
+    for w in warnings:
+        print(f"warning: {w}")
+    print(f"tables: {out / 'levels.csv'}, {out / 'gci.csv'}   plot: {out / 'convergence.png'}")
+    return 0

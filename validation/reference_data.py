@@ -1,0 +1,192 @@
+"""Reference numbers with units and sources, read from ``validation/data/*.toml``.
+
+Cases take every measured or published number from here, never from literals::
+
+    from lcefem.validation.reference_data import reference
+    f_ult = reference("blocked.rupture_force")      # Reference
+    f_ult.value, f_ult.unit                          # 1.36, "N"  (lcefem units)
+    f_ult.source                                     # 'seed 001 (...), Results, ...: "The ultimate ..."'
+    p = reference("strip.transient_powers")          # value (1500.0, 3260.0, 5790.0) mW, spread in mW
+    reference("surface.dome.curvature_exp")["kx"]    # -0.016 (1/mm), by component name
+
+Values are converted from the published unit (``published_value``, ``published_unit``) into the lcefem
+unit system (mm, s, N, MPa, mJ, mW, tonne, C; currents in A, resistances in ohm).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import pathlib
+import tomllib
+from dataclasses import dataclass
+
+from lcefem.models import units
+from lcefem.models.errors import InputError
+
+DATA_DIR = pathlib.Path(__file__).resolve().parent / "data"
+DATASETS = ("seed001",)
+
+#: published unit -> (lcefem unit, factor): internal = factor * published
+UNIT_CONVERSIONS: dict[str, tuple[str, float]] = {
+    "-": ("-", 1.0),
+    "%": ("-", 0.01),
+    "count": ("count", 1.0),
+    "mm": ("mm", 1.0),
+    "um": ("mm", 1.0e-3),
+    "1/mm": ("1/mm", 1.0),
+    "s": ("s", 1.0),
+    "Hz": ("1/s", 1.0),
+    "C": ("C", 1.0),
+    "N": ("N", 1.0),
+    "MPa": ("MPa", 1.0),
+    "g": ("t", units.GRAM),
+    "W": ("mW", units.W),
+    "1/W": ("1/mW", 1.0 / units.W),
+    "A": ("A", 1.0),
+    "ohm": ("ohm", 1.0),
+    "ohm/mm": ("ohm/mm", 1.0),
+}
+
+KINDS = ("measured", "fitted", "setting", "design", "simulated", "definition")
+BOUNDS = ("", "approx", "upper", "lower")
+REQUIRED = ("value", "unit", "kind", "section", "quote")
+OPTIONAL = ("spread", "spread_kind", "samples", "bound", "components", "note")
+
+Number = float | tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Reference:
+    """One reference number (or a list of numbers that belong together), in lcefem units."""
+
+    key: str
+    value: Number  #: in ``unit`` (lcefem units)
+    unit: str
+    published_value: Number
+    published_unit: str
+    kind: str  #: measured | fitted | setting | design | simulated | definition
+    section: str  #: where in the source document
+    quote: str  #: short verbatim excerpt holding the number
+    citation: str  #: the document, e.g. "seed 001 (Liu, Hacker, Daraio, Sci. Robotics 2021)"
+    spread: Number | None = None  #: +- in ``unit`` (see ``spread_kind``)
+    spread_kind: str = ""
+    samples: int | None = None
+    bound: str = ""  #: "" (as stated) | approx | upper | lower
+    components: tuple[str, ...] | None = None
+    note: str = ""
+
+    @property
+    def source(self) -> str:
+        """Citation, place and quote, for Metric.source and figure captions."""
+        return f'{self.citation}, {self.section}: "{self.quote}"'
+
+    @property
+    def cite(self) -> str:
+        """Citation and place without the quote (short, for figure footers and captions)."""
+        return f"{self.citation}, {self.section}"
+
+    def __getitem__(self, component: str) -> float:
+        """The entry of a list value by component name, e.g. ``ref["kx"]``."""
+        if self.components is None or component not in self.components:
+            allowed = ", ".join(self.components or ())
+            raise InputError(f"{self.key}: no component '{component}'; allowed: {allowed or 'none'}")
+        return self.value[self.components.index(component)]
+
+    def __float__(self) -> float:
+        if isinstance(self.value, tuple):
+            raise TypeError(f"{self.key} holds {len(self.value)} numbers; index it")
+        return self.value
+
+
+def _numbers(raw, key: str, field: str) -> Number:
+    if isinstance(raw, bool):
+        raise InputError(f"{key}.{field} = {raw!r}: expected a number or a list of numbers")
+    if isinstance(raw, (int, float)):
+        return float(raw)
+    if isinstance(raw, list) and raw and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                             for v in raw):
+        return tuple(float(v) for v in raw)
+    raise InputError(f"{key}.{field} = {raw!r}: expected a number or a list of numbers")
+
+
+def _scale(value: Number, factor: float) -> Number:
+    return tuple(factor * v for v in value) if isinstance(value, tuple) else factor * value
+
+
+def _entry(key: str, table: dict, citation: str) -> Reference:
+    unknown = set(table) - set(REQUIRED) - set(OPTIONAL)
+    if unknown:
+        raise InputError(f"{key}: unknown field(s) {', '.join(sorted(unknown))}; allowed: "
+                         f"{', '.join(REQUIRED + OPTIONAL)}")
+    missing = [f for f in REQUIRED if not table.get(f) and table.get(f) != 0]
+    if missing:
+        raise InputError(f"{key}: missing {', '.join(missing)}")
+    unit = table["unit"]
+    if unit not in UNIT_CONVERSIONS:
+        raise InputError(f"{key}.unit = '{unit}': allowed: {', '.join(UNIT_CONVERSIONS)}")
+    if table["kind"] not in KINDS:
+        raise InputError(f"{key}.kind = '{table['kind']}': allowed: {', '.join(KINDS)}")
+    bound = table.get("bound", "")
+    if bound not in BOUNDS:
+        raise InputError(f"{key}.bound = '{bound}': allowed: {', '.join(b for b in BOUNDS if b)}")
+    value = _numbers(table["value"], key, "value")
+    if not all(math.isfinite(v) for v in (value if isinstance(value, tuple) else (value,))):
+        raise InputError(f"{key}.value: must be finite")
+    spread = _numbers(table["spread"], key, "spread") if "spread" in table else None
+    components = tuple(table["components"]) if "components" in table else None
+    for name, other in (("spread", spread), ("components", components)):
+        if other is not None and (isinstance(value, tuple) != isinstance(other, tuple)
+                                  or (isinstance(value, tuple) and len(other) != len(value))):
+            raise InputError(f"{key}.{name}: must have the same shape as value")
+    internal_unit, factor = UNIT_CONVERSIONS[unit]
+    return Reference(
+        key=key, value=_scale(value, factor), unit=internal_unit, published_value=value,
+        published_unit=unit, kind=table["kind"], section=table["section"], quote=table["quote"],
+        citation=citation, spread=None if spread is None else _scale(spread, factor),
+        spread_kind=table.get("spread_kind", ""), samples=table.get("samples"), bound=bound,
+        components=components, note=table.get("note", ""))
+
+
+def _flatten(table: dict, prefix: str, citation: str, out: dict[str, Reference]) -> None:
+    for name, sub in table.items():
+        key = f"{prefix}{name}"
+        if not isinstance(sub, dict):
+            raise InputError(f"{key}: expected a table with value, unit, kind, section, quote")
+        if "value" in sub:
+            out[key] = _entry(key, sub, citation)
+        else:
+            _flatten(sub, f"{key}.", citation, out)
+
+
+@functools.cache
+def load(dataset: str = "seed001") -> dict[str, Reference]:
+    """All references of ``validation/data/<dataset>.toml``, by dotted key."""
+    if dataset not in DATASETS:
+        raise InputError(f"dataset '{dataset}': allowed: {', '.join(DATASETS)}")
+    path = DATA_DIR / f"{dataset}.toml"
+    with path.open("rb") as fh:
+        doc = tomllib.load(fh)
+    meta = doc.pop("meta", {})
+    citation = meta.get("short") or meta.get("citation") or dataset
+    out: dict[str, Reference] = {}
+    _flatten(doc, "", citation, out)
+    return out
+
+
+def metadata(dataset: str = "seed001") -> dict:
+    """The ``[meta]`` table (seed file name, full citation)."""
+    with (DATA_DIR / f"{dataset}.toml").open("rb") as fh:
+        return tomllib.load(fh).get("meta", {})
+
+
+def reference(key: str, dataset: str = "seed001") -> Reference:
+    """The reference stored under ``key``; an unknown key raises InputError naming close matches."""
+    table = load(dataset)
+    if key not in table:
+        import difflib
+
+        close = difflib.get_close_matches(key, table, n=5, cutoff=0.5)
+        hint = f"; did you mean: {', '.join(close)}" if close else ""
+        raise InputError(f"unknown reference '{key}' in {dataset}{hint}")
+    return table[key]

@@ -1,0 +1,244 @@
+"""Run validation cases against experiment, closed forms and other models; write table, plots, report.
+
+``lcefem validate [CASE ...] [--quick] [--out DIR] [--resume] [--list] [--quiet]``
+
+Each case runs in ``DIR/<case>/`` (its CSV data and PNG figures); when it completes, its results are
+written LAST, atomically, to ``DIR/<case>/metrics.json`` (the completion marker ``--resume`` looks for).
+After every case ``DIR/metrics.json`` (all metrics: case, metric, value, unit, reference, tolerance,
+passed, source) and ``DIR/report.md`` are rewritten, so an interrupted or failing run keeps what was
+done. A case that raises is reported as an error row and the run goes on.
+
+Exit status: 0 when every case ran (whether its metrics pass or fail), 1 when a case raised an
+error, 2 on bad input (unknown case), 130 when interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import datetime
+import json
+import pathlib
+import shlex
+import sys
+import time
+import traceback
+
+from tqdm import tqdm
+
+from lcefem.models.errors import InputError
+from lcefem.validation import report
+from lcefem.validation.cases import Case, CaseContext, Metric, registry
+from lcefem.validation.report import CaseResult
+
+DEFAULT_OUT = pathlib.Path("results/validation")
+MARKER = "metrics.json"  #: per-case completion marker, written last
+EXIT_CASE_ERROR = 1
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("cases", nargs="*", metavar="CASE", help="cases to run (default: all; see --list)")
+    parser.add_argument("--quick", action="store_true", help="coarse resolution (CI)")
+    parser.add_argument("--out", type=pathlib.Path, default=DEFAULT_OUT,
+                        help=f"output folder (default: {DEFAULT_OUT})")
+    parser.add_argument("--resume", action="store_true",
+                        help="skip cases whose outputs in --out are complete")
+    parser.add_argument("--list", action="store_true", help="list the cases and exit")
+    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+def select(names: list[str], cases: dict[str, Case]) -> list[Case]:
+    """The cases named (all when ``names`` is empty); unknown names raise InputError listing known ones."""
+    unknown = [n for n in names if n not in cases]
+    if unknown:
+        raise InputError(f"unknown case(s) {', '.join(unknown)}; known cases: "
+                         f"{', '.join(cases) or '(none registered)'}")
+    return [cases[n] for n in dict.fromkeys(names)] if names else list(cases.values())
+
+
+def _relative(path: pathlib.Path, root: pathlib.Path) -> str:
+    try:
+        return pathlib.Path(path).resolve().relative_to(root.resolve()).as_posix()
+    except ValueError:
+        return str(pathlib.Path(path).resolve())
+
+
+def run_case(case: Case, ctx: CaseContext, root: pathlib.Path) -> CaseResult:
+    """Run ``case`` in ``ctx`` and check what it returns. Exceptions propagate to the caller.
+
+    Metrics with an empty ``case`` field get the case's name; every recorded figure must exist.
+    """
+    ctx.case = case.name
+    ctx.out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    metrics = case.run(ctx)
+    wall = time.perf_counter() - t0
+    if not isinstance(metrics, (list, tuple)):
+        raise TypeError(f"case {case.name} returned {type(metrics).__name__}, expected a list of Metric")
+    rows = []
+    for m in metrics:
+        if not isinstance(m, Metric):
+            raise TypeError(f"case {case.name} returned {type(m).__name__}, expected Metric")
+        if not m.case:
+            m = dataclasses.replace(m, case=case.name)
+        elif m.case != case.name:
+            raise ValueError(f"case {case.name} returned a metric of case {m.case!r}")
+        rows.append(m.as_dict())
+    figures = []
+    for path, caption in ctx.figures:
+        path = path if path.is_absolute() else ctx.out / path
+        if not path.is_file():
+            raise FileNotFoundError(f"case {case.name} recorded figure {path} but did not write it")
+        figures.append({"path": _relative(path, root), "caption": caption})
+    mesh_size = None if ctx.mesh_size is None else float(ctx.mesh_size)
+    return CaseResult(case=case.name, description=case.description, status="done", wall_time=wall,
+                      metrics=rows, figures=figures, quick=ctx.quick, level=ctx.level,
+                      mesh_size=mesh_size, mesh_size_unit=ctx.mesh_size_unit if mesh_size else "",
+                      finished=datetime.datetime.now().astimezone().isoformat(timespec="seconds"))
+
+
+def load_complete(case: Case, case_dir: pathlib.Path, root: pathlib.Path, quick: bool) -> CaseResult | None:
+    """The stored result of ``case`` if its marker exists, matches the resolution and its figures exist."""
+    marker = case_dir / MARKER
+    try:
+        data = json.loads(marker.read_text(encoding="utf-8"))
+        result = CaseResult.from_dict(data)
+    except (OSError, ValueError, TypeError):
+        return None
+    if result.case != case.name or result.status != "done" or result.quick != quick:
+        return None
+    if not all((root / f["path"]).is_file() for f in result.figures):
+        return None
+    result.status = "reused"
+    return result
+
+
+def command_line(args: argparse.Namespace) -> str:
+    parts = ["lcefem", "validate", *args.cases]
+    parts += [flag for flag, on in (("--quick", args.quick), ("--resume", args.resume),
+                                    ("--quiet", args.quiet)) if on]
+    parts += ["--out", str(args.out)]
+    return shlex.join(parts)
+
+
+def _use_rich() -> bool:
+    try:
+        import rich.console  # noqa: F401  (a dependency of meshio; optional here)
+        import rich.table  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _isatty(file) -> bool:
+    return bool(getattr(file, "isatty", lambda: False)())
+
+
+def print_table(rows: list[dict], title: str, file=None) -> None:
+    """Console table: case, metric, value, reference ± tolerance, error, pass."""
+    file = file or sys.stdout
+    header = ("case", "metric", "value", "reference ± tol", "error", "pass")
+    body = []
+    for r in rows:
+        unit = f" {r['unit']}" if r.get("unit") and r["unit"] != "-" else ""
+        body.append((r["case"], r["metric"], report.fmt_number(r["value"]) + (unit if r["value"] is not None else ""),
+                     report.fmt_reference(r), report.fmt_error(r), report.fmt_pass(r)))
+    if _use_rich():
+        from rich.console import Console
+        from rich.markup import escape
+        from rich.table import Table
+
+        table = Table(title=escape(title), show_lines=False)
+        for h in header:
+            table.add_column(h, overflow="fold", justify="right" if h in ("value", "error") else "left")
+        colour = {"pass": "green", "FAIL": "bold red", "info": "cyan"}
+        for row in body:
+            style = colour.get(row[-1], "bold magenta")
+            table.add_row(*(escape(c) for c in row[:-1]), f"[{style}]{escape(row[-1])}[/]")
+        width = None if _isatty(file) else 160
+        Console(file=file, width=width, highlight=False).print(table)
+        return
+    widths = [max(len(h), *(len(row[i]) for row in body)) if body else len(h) for i, h in enumerate(header)]
+    print(title, file=file)
+    print("  ".join(h.ljust(w) for h, w in zip(header, widths)), file=file)
+    print("  ".join("-" * w for w in widths), file=file)
+    for row in body:
+        print("  ".join(c.ljust(w) for c, w in zip(row, widths)), file=file)
+
+
+def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False, resume: bool = False,
+                   quiet: bool = False, command: str = "lcefem validate") -> list[CaseResult]:
+    """Run ``cases`` into ``out``; returns their results (KeyboardInterrupt propagates after the
+    run-level files are written)."""
+    out.mkdir(parents=True, exist_ok=True)
+    results: list[CaseResult] = []
+    t_start = time.perf_counter()
+
+    def flush() -> None:
+        report.write_json_atomic(out / "metrics.json", report.all_rows(results))
+        report.write_report(out / "report.md", results, command=command, quick=quick,
+                            total_wall=time.perf_counter() - t_start)
+
+    bar = tqdm(cases, desc="validate", unit="case", disable=quiet, file=sys.stderr)
+    for case in bar:
+        bar.set_postfix_str(case.name)
+        case_dir = out / case.name
+        if resume:
+            stored = load_complete(case, case_dir, out, quick)
+            if stored is not None:
+                results.append(stored)
+                flush()
+                continue
+        marker = case_dir / MARKER
+        marker.unlink(missing_ok=True)  # this run's marker, if any, is written only on success
+        (case_dir / "error.log").unlink(missing_ok=True)
+        ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet)
+        t0 = time.perf_counter()
+        try:
+            result = run_case(case, ctx, out)
+        except KeyboardInterrupt:
+            results.append(CaseResult(case.name, case.description, "interrupted",
+                                      time.perf_counter() - t0, quick=quick, error="interrupted by the user"))
+            bar.close()
+            flush()
+            raise
+        except Exception as exc:  # a failing case is reported and the run goes on
+            case_dir.mkdir(parents=True, exist_ok=True)
+            report.write_text_atomic(case_dir / "error.log", traceback.format_exc())
+            msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
+            results.append(CaseResult(case.name, case.description, "error", time.perf_counter() - t0,
+                                      quick=quick, error=msg))
+            if not quiet:
+                tqdm.write(f"lcefem validate: case {case.name} failed: {msg}", file=sys.stderr)
+            flush()
+            continue
+        report.write_json_atomic(marker, result.as_dict())  # LAST: marks the case complete
+        results.append(result)
+        flush()
+    bar.close()
+    flush()
+    return results
+
+
+def main(args: argparse.Namespace) -> int:
+    cases = registry()
+    if args.list:
+        width = max((len(n) for n in cases), default=4)
+        for c in cases.values():
+            tags = ",".join(t for t, on in (("fe", c.fe), ("converge", c.convergence)) if on) or "-"
+            print(f"{c.name.ljust(width)}  [{tags}]  {c.description}")
+        return 0
+    selected = select(list(args.cases), cases)
+    results = run_validation(selected, args.out, quick=args.quick, resume=args.resume, quiet=args.quiet,
+                             command=command_line(args))
+    rows = report.all_rows(results)
+    total = sum(r.wall_time for r in results if r.status != "reused")
+    print_table(rows, title=f"lcefem validate{' --quick' if args.quick else ''}: {len(results)} cases, "
+                f"{total:.1f} s")
+    print(f"metrics: {args.out / 'metrics.json'}   report: {args.out / 'report.md'}")
+    failed = [r.case for r in results if r.status == "error"]
+    if failed:
+        print(f"lcefem validate: {len(failed)} case(s) raised an error: {', '.join(failed)} "
+              f"(see <out>/<case>/error.log)", file=sys.stderr)
+        return EXIT_CASE_ERROR
+    return 0
