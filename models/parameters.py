@@ -40,7 +40,7 @@ def check(obj: Any, section: str = "") -> Any:
         if not isinstance(value, (int, float)) or isinstance(value, bool):
             continue
         name = f"{prefix}{f.name}"
-        unit = f" {meta.get('unit')}" if meta.get("unit") else ""
+        unit = f" {meta.get('unit')}" if meta.get("unit") not in (None, "", "-") else ""
         if not math.isfinite(value):
             raise InputError(f"{name} = {value}: must be a finite number")
         if meta.get("positive") and value <= 0:

@@ -48,6 +48,9 @@ class HeatSetup:
 class HeatProblem:
     """Backward-Euler heat solver on a :class:`TaggedMesh`; forms built once, Constants change in loops.
 
+    ``extra_source`` [mW/mm^3] and ``extra_flux`` [mW/mm^2, into the body, on the exposed facets] are
+    optional UFL expressions added to the right-hand side (manufactured solutions use them).
+
     Attributes:
         T: temperature [C] at the new time level (Function, Lagrange of ``setup.degree``).
         T_old: temperature at the previous level.
@@ -56,7 +59,7 @@ class HeatProblem:
     """
 
     def __init__(self, tmesh: TaggedMesh, setup: HeatSetup, *, displacement=None,
-                 extra_source=None, bcs=(), petsc_options: dict | None = None,
+                 extra_source=None, extra_flux=None, bcs=(), petsc_options: dict | None = None,
                  prefix: str = "lcefem_heat_", quadrature_degree: int = 4):
         mesh = tmesh.mesh
         self.mesh, self.setup = mesh, setup
@@ -71,7 +74,7 @@ class HeatProblem:
         self.inv_dt = dolfinx.fem.Constant(mesh, PETSc.ScalarType(0.0))
         self.power_density = dolfinx.fem.Constant(mesh, PETSc.ScalarType(0.0))
         self.displacement = displacement
-        self.bcs = list(bcs)
+        self.bcs = list(bcs(V) if callable(bcs) else bcs)  # a callable receives the temperature space
 
         # Material data as Constants: forms compile once; set_materials() changes them (calibration).
         def const(value):
@@ -108,6 +111,8 @@ class HeatProblem:
             tag = tmesh.facet_tag(name)
             a += h_total * area_ratio * T * w * ds(tag)
             L += h_total * area_ratio * T_a * w * ds(tag)
+            if extra_flux is not None:  # inward flux [mW/mm^2 reference area] (manufactured solutions)
+                L += extra_flux * w * ds(tag)
         options = dict(LU_OPTIONS)
         options.update(petsc_options or {})
         self._problem = dolfinx.fem.petsc.LinearProblem(

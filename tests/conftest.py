@@ -26,3 +26,21 @@ def mpiexec():
 
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+
+def run_quick_case(name: str, out: pathlib.Path) -> list[dict]:
+    """Run one registered validation case at its quick (CI) resolution; return its metrics as dicts."""
+    from lcefem.validation.cases import CaseContext, registry
+    from lcefem.validation.validate import run_case
+
+    case = registry()[name]
+    result = run_case(case, CaseContext(out=out / name, quick=True, progress=False), out)
+    return result.metrics
+
+
+def assert_metrics_pass(metrics: list[dict]) -> None:
+    """Every checked metric passes; the message lists the failures with value, reference and tolerance."""
+    assert metrics, "the case returned no metrics"
+    failed = [f"{m['metric']}: {m['value']:.6g} {m['unit']} vs {m['reference']} +- {m['tolerance']}"
+              for m in metrics if m["passed"] is False]
+    assert not failed, "; ".join(failed)

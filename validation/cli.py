@@ -21,13 +21,21 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The full parser; with ``argv`` naming a run target, only that target's module is imported
+    (targets that need no FEniCSx then start without importing it)."""
     parser = _Parser(prog="lcefem", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     run = sub.add_parser("run", help="run one simulation")
-    targets = run.add_subparsers(dest="target", required=True, parser_class=_Parser)
-    for name, module in RUN_TARGETS.items():
-        mod = importlib.import_module(module)
+    targets = run.add_subparsers(dest="target", required=True, parser_class=_Parser,
+                                 metavar="{" + ",".join(RUN_TARGETS) + "}")
+    wanted = list(RUN_TARGETS)
+    if argv and len(argv) >= 2 and argv[0] == "run" and argv[1] in RUN_TARGETS:
+        wanted = [argv[1]]
+    elif argv and argv[0] in ("validate", "converge"):
+        wanted = []  # other commands need no run-target modules
+    for name in wanted:
+        mod = importlib.import_module(RUN_TARGETS[name])
         p = targets.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])
         mod.add_arguments(p)
         p.set_defaults(_main=mod.main)
@@ -46,7 +54,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(argv)
     args = parser.parse_args(argv)
     try:
         return int(args._main(args) or 0)

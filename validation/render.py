@@ -61,7 +61,8 @@ def render_deformed(path: pathlib.Path, displacement: dolfinx.fem.Function, scal
                     scalar_label: str = "temperature [C]", size: tuple[int, int] = (1200, 700),
                     warp: float = 1.0, view: str = "iso", clim: tuple[float, float] | None = None,
                     cmap: str = "coolwarm", show_undeformed: bool = True, title: str = "",
-                    zoom: float = 1.0) -> pathlib.Path:
+                    zoom: float = 1.0, mirror: tuple[tuple[int, float], ...] = (),
+                    crop: tuple[int, float, float] | None = None) -> pathlib.Path:
     """Render the body displaced by ``warp * displacement`` [mm], coloured by ``scalar``, to a PNG.
 
     Args:
@@ -73,6 +74,10 @@ def render_deformed(path: pathlib.Path, displacement: dolfinx.fem.Function, scal
         view: "iso" or a coordinate plane "xy", "xz", "yz".
         clim: colour range; the data range when None.
         show_undeformed: draw the undeformed body's edges in grey.
+        mirror: symmetry planes (axis, coordinate [mm]) to reflect a symmetric model about, so that
+            a quarter model is drawn whole (the planes must carry no normal displacement).
+        crop: (axis, lower, upper) [mm]: draw only the cells whose reference coordinate along
+            ``axis`` lies in [lower, upper] (e.g. the free end of a long strip).
     Returns:
         ``path`` (written atomically via a ``*.part.png`` name).
     """
@@ -88,6 +93,18 @@ def render_deformed(path: pathlib.Path, displacement: dolfinx.fem.Function, scal
     grid = pv.UnstructuredGrid(topology, cell_types, geometry)
     grid.point_data["displacement [mm]"] = disp
     grid.point_data[scalar_label] = values
+    if crop is not None:
+        axis, lower, upper = crop
+        centres = grid.cell_centers().points[:, axis]
+        grid = grid.extract_cells(np.nonzero((centres >= lower) & (centres <= upper))[0])
+    for axis, position in mirror:
+        normal = np.zeros(3)
+        normal[axis] = 1.0
+        origin = np.zeros(3)
+        origin[axis] = position
+        reflected = grid.reflect(normal, point=origin)
+        reflected.point_data["displacement [mm]"][:, axis] *= -1.0
+        grid = grid.merge(reflected)
     warped = grid.warp_by_vector("displacement [mm]", factor=warp)
 
     path = pathlib.Path(path)

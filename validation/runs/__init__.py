@@ -6,4 +6,6 @@ adding its module name here.
 
 RUN_TARGETS = {
     "strip": "lcefem.validation.runs.strip",
+    "beam": "lcefem.validation.runs.beam",
+    "ribbon-buckling": "lcefem.validation.runs.ribbon_buckling",
 }

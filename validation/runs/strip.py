@@ -271,6 +271,8 @@ class StripSimulation:
                 for e in exports:
                     e.write(row["time [s]"])
 
+        if cfg.run.steady:
+            return self._run_steady(out, history, exports, record, started)
         bar = None
         if progress and comm.rank == 0:
             from tqdm import tqdm
@@ -317,9 +319,7 @@ class StripSimulation:
             "status": "completed",
             "config": cfg.resolved(),
             "power [mW]": self.power,
-            "mesh": {"cells": self.tmesh.mesh.topology.index_map(3).size_global,
-                     "cell_type": cfg.mesh.cell, "element_size [mm]": self.dims["element_size"],
-                     "dofs": self.ndofs, "mpi_ranks": comm.size},
+            "mesh": self._mesh_summary(),
             "as_built": {k: self.dims[k] for k in ("length", "width", "thickness", "coil_side",
                                                     "length_isotropic", "lambda_N")},
             "metrics": transient_metrics(hist, cfg.transition),
@@ -332,6 +332,44 @@ class StripSimulation:
             history.finalize()
             write_json(out / "summary.json", summary, comm)
         return StripResult(hist, summary, out, self.model)
+
+
+    def _run_steady(self, out, history, exports, record, started) -> StripResult:
+        """Steady state at the set current; history.csv holds one row with time = inf."""
+        rows = []
+        try:
+            obs = self.steady_state()
+        except ConvergenceError as exc:
+            if out is not None:
+                for e in exports:
+                    e.finalize(complete=False)
+                history.finalize(complete=False)
+                write_json(out / "failure.json", {"status": "failed", "where": exc.where,
+                                                  "reason": exc.reason, "config": self.config.resolved()},
+                           self.comm)
+            raise
+        rows.append(obs)
+        if history is not None:
+            history.append(obs)
+        if exports:
+            self.lambda_s.interpolate(self._lambda_expr)
+            for e in exports:
+                e.write(0.0)
+        summary = {"status": "completed", "config": self.config.resolved(), "power [mW]": self.power,
+                   "mesh": self._mesh_summary(), "steady_state": obs,
+                   "wall_time [s]": time.perf_counter() - started}
+        if out is not None:
+            for e in exports:
+                e.finalize()
+            history.finalize()
+            write_json(out / "summary.json", summary, self.comm)
+        return StripResult(_as_arrays(rows), summary, out, self.model)
+
+    def _mesh_summary(self) -> dict:
+        return {"cells": self.tmesh.mesh.topology.index_map(3).size_global,
+                "cell_type": self.config.mesh.cell, "symmetry": self.config.mesh.symmetry,
+                "element_size [mm]": self.dims["element_size"], "dofs": self.ndofs,
+                "mpi_ranks": self.comm.size}
 
 
 def _component_bc(V, component: int, dofs) -> dolfinx.fem.DirichletBC:
@@ -398,6 +436,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dt", type=float, help="time step [s] (default 0.5)")
     p.add_argument("--bc", choices=BOUNDARY_CONDITIONS, help="free strip or held at nematic length")
     p.add_argument("--tip-load", type=float, help="dead load on the free end [N]")
+    p.add_argument("--steady", action="store_true", default=None,
+                   help="solve the thermal steady state instead of a transient")
     p.add_argument("--mesh-level", type=int, help="refinement level (0 coarse; ratio 1.5 per level)")
     p.add_argument("--mesh-size", type=float, help="level-0 element size [mm] (default 1)")
     p.add_argument("--cell", choices=("hex", "tet"), help="hexahedra (Q2) or tetrahedra (P2)")
@@ -413,7 +453,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def config_from_args(args: argparse.Namespace) -> StripConfig:
     cfg = config_from_toml(args.config)
     run = {k: v for k, v in {"current": args.current, "duration": args.duration, "dt": args.dt,
-                             "bc": args.bc, "tip_load": args.tip_load}.items() if v is not None}
+                             "bc": args.bc, "tip_load": args.tip_load, "steady": args.steady}.items()
+           if v is not None}
     mesh = {k: v for k, v in {"level": args.mesh_level, "size": args.mesh_size, "cell": args.cell,
                               "symmetry": args.symmetry}.items() if v is not None}
     coil = {"resistance": args.resistance} if args.resistance is not None else {}
@@ -427,7 +468,12 @@ def main(args: argparse.Namespace) -> int:
         raise InputError(f"--current = {args.current} A: must be >= 0 A")
     cfg = config_from_args(args)
     result = run_strip(cfg, pathlib.Path(args.out), progress=not args.quiet, fields=not args.no_fields)
-    if MPI.COMM_WORLD.rank == 0:
+    if MPI.COMM_WORLD.rank == 0 and cfg.run.steady:
+        obs = result.summary["steady_state"]
+        print(f"lcefem: strip {cfg.run.current:g} A ({cfg.run.bc}) steady state: stretch "
+              f"{obs['stretch [-]']:.4f}, T_mean {obs['T_mean [C]']:.1f} C, force {obs['force [N]']:.4f} N; "
+              f"results in {result.out}")
+    elif MPI.COMM_WORLD.rank == 0:
         m = result.summary["metrics"]
         print(f"lcefem: strip {cfg.run.current:g} A ({cfg.run.bc}), {result.summary['steps']} steps in "
               f"{result.summary['wall_time [s]']:.1f} s; final stretch {m['final_stretch [-]']:.4f}, "

@@ -1,0 +1,478 @@
+"""Element laws of the bar-and-hinge (MERLIN-type) reduced-order model of the Kapton ribbon and the
+composite beam (seed 001, "Numerical simulation" and Fig. 2F; Liu & Paulino 2017).
+
+Every law is an energy with analytic first and second derivatives, vectorised over elements:
+
+* **Kapton and glue bars**: the stiffening Ogden-type bar law of MERLIN2 (K. Liu, G. H. Paulino,
+  "Nonlinear mechanics of non-rigid origami: an efficient computational approach", Proc. R. Soc. A
+  473:20170348, 2017, Sec. 3a), exponents (a1, a2) = (5, 1). With the bar stretch l = L/L0 and the
+  Green strain E = (l^2 - 1)/2, the 2nd Piola stress and the energy per reference volume are
+
+      S(l) = C0 (l^(a1-2) - l^(a2-2)) / (a1 - a2),
+      W(l) = C0 [(l^a1 - 1)/(a1 (a1-a2)) + (l^a2 - 1)/(a2 (a2-a1))],
+
+  so that dW/dE = (dW/dl)/l = S (since dE/dl = l) and the small-strain tangent is
+  dS/dE|_(l=1) = C0 (a1 - 2 - a2 + 2)/(a1 - a2) = C0: C0 is Young's modulus E.
+  The bar energy is A L0 W(l).
+* **LCE strips**: tension-only bars with the published 3-term Ogden law
+  (:func:`lcefem.models.hyperelastic.ogden_uniaxial_energy`), the stretch p = L/L_r being measured
+  from a rest length L_r = f L0 that the actuation ramps from the as-built (nematic) length L0
+  (f = 1) to f = lambda/lambda_N (lambda relative to the isotropic length, as the paper's lambda).
+  The strip volume is conserved: a bar carries the energy V W(p) with V = A_iso L0/lambda_N, A_iso
+  its share of the isotropic (cast) section, so the axial force is V W'(p)/L_r = (A_iso/lambda) P(p)
+  with P the Ogden nominal stress of the isotropic-phase tension test (seed 001, Fig. 2E). W = 0 for
+  p < 1 (a slack strip carries nothing). The tangents are exact (the published code's cable
+  tangent misses a factor 1/f^2; see shared/reference/published_reduced_model.md).
+* **Rotational springs**: the enhanced-linear law of Liu & Paulino 2017 (Sec. 3b): moment per unit
+  hinge length M = k (theta - theta0) for theta1 <= theta <= theta2 (30 and 330 degrees), and
+  tan-type stiffening towards 0 and 2 pi so that panels cannot pass through one another:
+
+      M = k (theta1 - theta0) + k tan(pi (theta - theta1)/(2 theta1)) / (pi/(2 theta1)),  theta < theta1,
+      M = k (theta2 - theta0) + k tan(pi (theta - theta2)/(2 (2 pi - theta2))) / (pi/(2 (2 pi - theta2))),
+          theta > theta2;
+
+  the hinge energy is L_h psi(theta) with psi' = M.
+* **Dihedral angle** theta in (0, 2 pi) of a hinge (axis j -> k, wings i and l; flat = pi), with the
+  analytic gradient of Liu & Paulino 2017 (Eqs. 12-15) and its exact Hessian, obtained here by
+  differentiating that gradient (checked against finite differences in tests/models).
+* **N5B8 bar areas** of a W x H panel of thickness t (Filipov, Liu, Tachi, Schenk, Paulino, "Bar and
+  hinge models for scalable analysis of origami", Int. J. Solids Struct. 124:26-45, 2017, Sec. 4.1).
+* **Strip-ribbon contact** (added here; the published model has none): frictionless unilateral
+  point-plane penalty k <g0 - g>_+^2/2 with the signed distance g of a point to a plane through three
+  nodes, its gradient and Hessian. Without it a free composite beam lets its ribbon pass through its
+  strips and curls into loops (validation/cases/beam_bar_hinge.py, report of issue 4).
+
+Units: mm, N, MPa, mJ; angles in radians inside the functions (parameters state degrees where the
+published model does).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from lcefem.models.hyperelastic import OgdenLaw
+from lcefem.models.parameters import param
+
+PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
+             "shared/reference/published_reduced_model.md)")
+
+# A law maps a stretch (or an angle) to (energy density, first derivative, second derivative).
+Law = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+# --------------------------------------------------------------------------- parameters
+@dataclass(frozen=True)
+class KaptonBarHinge:
+    """Kapton ribbon in the bar-and-hinge model: bar law, panel calibration and hinge stiffness.
+
+    Hinge stiffness per unit hinge length (published model; both bending and fold hinges):
+    k = bending_factor E t^3 / (12 hinge_spacing).
+    """
+
+    youngs_modulus: float = param(2500.0, "MPa", "DuPont Kapton HN datasheet, 23 C (2.5 GPa); "
+                                  + PUBLISHED, positive=True)
+    poisson_ratio: float = param(0.34, "-", "DuPont Kapton HN datasheet; " + PUBLISHED,
+                                 minimum=0.0, maximum=0.49)
+    bar_exponent_1: float = param(5.0, "-", "MERLIN2 stiffening bar law, exponents [5, 1] "
+                                  "(Liu & Paulino 2017; " + PUBLISHED + ")")
+    bar_exponent_2: float = param(1.0, "-", "MERLIN2 stiffening bar law, exponents [5, 1]")
+    bending_factor: float = param(5.5, "-", PUBLISHED + ": k = 5.5 E tp^3/(12 (Lx + d)/Nx); an "
+                                  "empirical multiplier of the plate stiffness (apparently fitted "
+                                  "to the 0.18 N buckling test, seed 001 Fig. 2G)", positive=True)
+    hinge_spacing: float = param(37.0 / 11.0, "mm", PUBLISHED + ": (Lx + d)/Nx = (30 + 7)/11 mm",
+                                 positive=True)
+    linear_from: float = param(30.0, "deg", "enhanced-linear law, theta1 (" + PUBLISHED + ")",
+                               minimum=1.0, maximum=179.0)
+    linear_to: float = param(330.0, "deg", "enhanced-linear law, theta2 (" + PUBLISHED + ")",
+                             minimum=181.0, maximum=359.0)
+
+    def hinge_stiffness(self, thickness: float) -> float:
+        """k [N mm/(rad mm)] = bending_factor E t^3/(12 hinge_spacing) for a ribbon thickness t [mm]."""
+        return self.bending_factor * self.youngs_modulus * thickness ** 3 / (12.0 * self.hinge_spacing)
+
+
+@dataclass(frozen=True)
+class LCEStripBars:
+    """LCE strips as tension-only Ogden bars with a ramped rest length (published model)."""
+
+    lambda_N: float = param(1.4, "-", PUBLISHED + ": isotropic/nematic length ratio 1/0.7143",
+                            minimum=1.0)
+    bars_per_strip: int = param(2, "-", "seed 001 'Numerical simulation': each strip is two identical "
+                                "bars along the ribbon edges, each with half the section",
+                                minimum=1)
+
+    def rest_fraction(self, stretch):
+        """Rest-length fraction f = lambda/lambda_N [-] for the paper's relative length lambda."""
+        return np.asarray(stretch, dtype=float) / self.lambda_N
+
+
+@dataclass(frozen=True)
+class GlueBars:
+    """Stiff bars that hold the two bars of a top strip together over a junction (published model)."""
+
+    youngs_modulus: float = param(1.0e4, "MPa", PUBLISHED + ": Ogden bar law with C0 = 5e3*2",
+                                  positive=True)
+
+
+@dataclass(frozen=True)
+class StripContactSprings:
+    """Very weak rotational springs between a strip's end and its panel that keep the strip on its
+    side of the ribbon: enhanced-linear law whose rest angle and stiffening limit are both the
+    as-built angle theta_b (so the spring is force-free as built and its barrier sits at the
+    panel's plane, theta = 0 or 2 pi). The published model used a rest angle of pi/6 with the
+    barrier from pi/6, which pushes slack strips away from their panels."""
+
+    stiffness: float = param(1.0e-5, "N mm/(rad mm)", PUBLISHED + ": Kc = 1e-5", minimum=0.0)
+
+
+@dataclass(frozen=True)
+class StripContact:
+    """Frictionless unilateral contact between the LCE strips and the ribbon (added here; the
+    published model has none, so strips can pass through the ribbon). A point is held on its side of
+    a plane by the penalty energy k <g0 - g>_+^2/2 (g its signed distance to the plane, g0 the
+    smallest allowed), with k = E_c A_c/t_a: the strip's through-thickness stiffness over the contact
+    area A_c, t_a the strip thickness (areas and depths come with the geometry)."""
+
+    modulus: float = param(0.543, "MPa", "small-strain modulus 3 mu_0 of the published Ogden law "
+                           "(models.hyperelastic.OgdenLaw): the LCE strip compressed through its "
+                           "thickness", positive=True)
+
+
+# --------------------------------------------------------------------------- material laws
+def stiffening_bar_law(stretch, modulus, exponents=(5.0, 1.0)):
+    """MERLIN2 Ogden-type bar law (Liu & Paulino 2017): (W, dW/dl, d2W/dl2) per reference volume.
+
+    W(l) = C0 [(l^a1 - 1)/(a1 (a1-a2)) + (l^a2 - 1)/(a2 (a2-a1))] [MPa = mJ/mm^3] with C0 = ``modulus``
+    [MPa]; dW/dl = C0 (l^(a1-1) - l^(a2-1))/(a1-a2) = l S [MPa]; d2W/dl2(1) = C0.
+    """
+    a1, a2 = (float(a) for a in exponents)
+    lam = np.asarray(stretch, dtype=float)
+    c = np.asarray(modulus, dtype=float) / (a1 - a2)
+    # ((1 + d)^a - 1 - a d)/a without cancellation for small d = l - 1 (the d terms cancel in W).
+    d = lam - 1.0
+    log_l = np.log1p(d)
+    w = c * ((np.expm1(a1 * log_l) - a1 * d) / a1 - (np.expm1(a2 * log_l) - a2 * d) / a2)
+    dw = c * (lam ** (a1 - 1.0) - lam ** (a2 - 1.0))
+    d2w = c * ((a1 - 1.0) * lam ** (a1 - 2.0) - (a2 - 1.0) * lam ** (a2 - 2.0))
+    return w, dw, d2w
+
+
+def second_piola_stress(stretch, modulus, exponents=(5.0, 1.0)):
+    """S = C0 (l^(a1-2) - l^(a2-2))/(a1 - a2) [MPa] of the MERLIN2 bar law (Liu & Paulino 2017)."""
+    a1, a2 = (float(a) for a in exponents)
+    lam = np.asarray(stretch, dtype=float)
+    return modulus * (lam ** (a1 - 2.0) - lam ** (a2 - 2.0)) / (a1 - a2)
+
+
+def tension_only_ogden_law(stretch, law: OgdenLaw = OgdenLaw()):
+    """(W, dW/dp, d2W/dp2) of the incompressible Ogden law in uniaxial stretch p, zero for p < 1.
+
+    W = sum_k mu_k/a_k (p^a_k + 2 p^(-a_k/2) - 3) [MPa], dW/dp = P (nominal stress, Ogden 1997),
+    d2W/dp2 = sum_k mu_k ((a_k - 1) p^(a_k - 2) + (a_k/2 + 1) p^(-a_k/2 - 2)). W and dW/dp are continuous
+    at p = 1 (both vanish); d2W/dp2 jumps from 0 to the small-strain modulus 3 mu_0.
+    """
+    p = np.asarray(stretch, dtype=float)
+    taut = p > 1.0
+    q = np.where(taut, p, 1.0)
+    w = np.zeros_like(q)
+    dw = np.zeros_like(q)
+    d2w = np.zeros_like(q)
+    log_q = np.log1p(q - 1.0)
+    for m, a in zip(law.mu, law.alpha):
+        # q^a + 2 q^(-a/2) - 3 without cancellation near q = 1
+        w += m / a * (np.expm1(a * log_q) + 2.0 * np.expm1(-0.5 * a * log_q))
+        dw += m * (q ** (a - 1.0) - q ** (-0.5 * a - 1.0))
+        d2w += m * ((a - 1.0) * q ** (a - 2.0) + (0.5 * a + 1.0) * q ** (-0.5 * a - 2.0))
+    return np.where(taut, w, 0.0), np.where(taut, dw, 0.0), np.where(taut, d2w, 0.0)
+
+
+def enhanced_linear_law(theta, theta0, k, theta1=math.radians(30.0), theta2=math.radians(330.0)):
+    """Enhanced-linear rotational spring (Liu & Paulino 2017, Sec. 3b): (psi, M, dM/dtheta) per unit length.
+
+    Args:
+        theta: dihedral angle [rad] in (0, 2 pi); theta0: rest angle [rad]; k: stiffness
+            [N mm/(rad mm)]; theta1 < theta2: limits [rad] of the linear range.
+    Returns:
+        psi [N mm/mm], M = dpsi/dtheta [N mm/mm], dM/dtheta [N mm/(rad mm)]; all zero where k = 0.
+    """
+    th = np.asarray(theta, dtype=float)
+    th0 = np.broadcast_to(np.asarray(theta0, dtype=float), th.shape)
+    kk = np.broadcast_to(np.asarray(k, dtype=float), th.shape)
+    t1 = np.broadcast_to(np.asarray(theta1, dtype=float), th.shape)
+    t2 = np.broadcast_to(np.asarray(theta2, dtype=float), th.shape)
+    left, right = th < t1, th > t2
+    # Linear range
+    psi = 0.5 * kk * (th - th0) ** 2
+    m = kk * (th - th0)
+    dm = kk.copy()
+    # Towards 0: M = k (t1 - t0) + k tan(c (th - t1))/c, c = pi/(2 t1); psi continuous at t1.
+    c = np.pi / (2.0 * t1)
+    arg = np.where(left, c * (th - t1), 0.0)
+    psi_l = 0.5 * kk * (t1 - th0) ** 2 + kk * (t1 - th0) * (th - t1) - kk / c ** 2 * np.log(np.cos(arg))
+    psi = np.where(left, psi_l, psi)
+    m = np.where(left, kk * (t1 - th0) + kk * np.tan(arg) / c, m)
+    dm = np.where(left, kk / np.cos(arg) ** 2, dm)
+    # Towards 2 pi: the mirror image with c = pi/(2 (2 pi - t2)).
+    c = np.pi / (2.0 * (2.0 * np.pi - t2))
+    arg = np.where(right, c * (th - t2), 0.0)
+    psi_r = 0.5 * kk * (t2 - th0) ** 2 + kk * (t2 - th0) * (th - t2) - kk / c ** 2 * np.log(np.cos(arg))
+    psi = np.where(right, psi_r, psi)
+    m = np.where(right, kk * (t2 - th0) + kk * np.tan(arg) / c, m)
+    dm = np.where(right, kk / np.cos(arg) ** 2, dm)
+    return psi, m, dm
+
+
+# --------------------------------------------------------------------------- kinematics
+def _skew(v):
+    """[v]_x with [v]_x w = v x w, for v of shape (n, 3) -> (n, 3, 3)."""
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
+
+
+def _outer(a, b):
+    return a[..., :, None] * b[..., None, :]
+
+
+def _dot(a, b):
+    return np.einsum("...i,...i->...", a, b)
+
+
+def dihedral_angle(x_j, x_k, x_i, x_l, *, derivatives: int = 2):
+    """Dihedral angle of the hinge with axis j -> k and wings i and l (Liu & Paulino 2017, Sec. 2).
+
+    theta in (0, 2 pi), = pi when the two triangles (i, j, k) and (j, k, l) are coplanar and on
+    opposite sides of the axis. With e = x_k - x_j, a = x_i - x_j, b = x_k - x_l, m = a x e,
+    n = e x b: theta = atan2(|e| a.n, m.n) mapped to [0, 2 pi), and (Liu & Paulino 2017, Eq. 12-15)
+
+        d theta/d x_i = |e| m/|m|^2,    d theta/d x_l = -|e| n/|n|^2,
+        d theta/d x_j = (A - 1) d theta/d x_i - B d theta/d x_l,
+        d theta/d x_k = (B - 1) d theta/d x_l - A d theta/d x_i,     A = a.e/|e|^2, B = b.e/|e|^2.
+
+    The Hessian is the exact Jacobian of this gradient (product and chain rules on m, n, |e|, A, B),
+    taken in the variables (a, e, b) on which theta depends and mapped to the nodes.
+
+    Args:
+        x_j, x_k, x_i, x_l: node positions [mm], arrays of shape (n, 3).
+        derivatives: 0, 1 or 2.
+    Returns:
+        theta (n,) [rad]; with derivatives >= 1 the gradient (n, 12) ordered (j, k, i, l) [1/mm];
+        with derivatives == 2 the Hessian (n, 12, 12) [1/mm^2].
+    """
+    e = x_k - x_j
+    a = x_i - x_j
+    b = x_k - x_l
+    m = np.cross(a, e)
+    n = np.cross(e, b)
+    e2 = _dot(e, e)
+    le = np.sqrt(e2)
+    theta = np.arctan2(le * _dot(a, n), _dot(m, n))
+    theta = np.where(theta < 0.0, theta + 2.0 * np.pi, theta)
+    if derivatives == 0:
+        return theta
+    m2 = _dot(m, m)
+    n2 = _dot(n, n)
+    gi = (le / m2)[:, None] * m
+    gl = -(le / n2)[:, None] * n
+    A = _dot(a, e) / e2
+    B = _dot(b, e) / e2
+    gj = (A - 1.0)[:, None] * gi - B[:, None] * gl
+    gk = (B - 1.0)[:, None] * gl - A[:, None] * gi
+    grad = np.concatenate([gj, gk, gi, gl], axis=1)
+    if derivatives == 1:
+        return theta, grad
+    # theta depends on the nodes through a = x_i - x_j, e = x_k - x_j, b = x_k - x_l only:
+    # dtheta/da = g_i, dtheta/db = -g_l, dtheta/de = g_k + g_l = B g_l - A g_i. Differentiate these
+    # in (a, e, b) and map to the nodes with the constant incidence coefficients.
+    eye = np.eye(3)
+    # g_i = |e| m/|m|^2 with m = a x e:  dm = -[e]x da + [a]x de.
+    pm = (eye - 2.0 * _outer(m, m) / m2[:, None, None]) / m2[:, None, None]
+    dgi_da = -le[:, None, None] * pm @ _skew(e)
+    dgi_de = _outer(m, e) / (m2 * le)[:, None, None] + le[:, None, None] * pm @ _skew(a)
+    # g_l = -|e| n/|n|^2 with n = e x b:  dn = -[b]x de + [e]x db.
+    pn = (eye - 2.0 * _outer(n, n) / n2[:, None, None]) / n2[:, None, None]
+    dgl_de = -_outer(n, e) / (n2 * le)[:, None, None] + le[:, None, None] * pn @ _skew(b)
+    dgl_db = -le[:, None, None] * pn @ _skew(e)
+    # A = a.e/|e|^2, B = b.e/|e|^2
+    dA_de = (a - 2.0 * A[:, None] * e) / e2[:, None]
+    dB_de = (b - 2.0 * B[:, None] * e) / e2[:, None]
+    h_aa = dgi_da
+    h_ae = dgi_de
+    h_bb = -dgl_db
+    h_be = -dgl_de
+    h_ee = _outer(gl, dB_de) + B[:, None, None] * dgl_de - _outer(gi, dA_de) \
+        - A[:, None, None] * dgi_de
+    h_ea = np.swapaxes(h_ae, 1, 2)
+    h_eb = np.swapaxes(h_be, 1, 2)
+    # Rows of the node Hessian contracted over the first variable: R_p(Y) = sum_X C_pX H_XY,
+    # C = d(a, e, b)/d(j, k, i, l): j -> (-1, -1, 0), k -> (0, 1, 1), i -> (1, 0, 0), l -> (0, 0, -1).
+    rows = {"j": (-h_aa - h_ea, -h_ae - h_ee, -h_eb),
+            "k": (h_ea, h_ee + h_be, h_eb + h_bb),
+            "i": (h_aa, h_ae, None),
+            "l": (None, -h_be, -h_bb)}
+    hess = np.empty((e.shape[0], 12, 12))
+    for p, name in enumerate("jkil"):
+        ra, re, rb = rows[name]
+        r = slice(3 * p, 3 * p + 3)
+        hess[:, r, 0:3] = -(re if ra is None else ra + re)
+        hess[:, r, 3:6] = re if rb is None else re + rb
+        hess[:, r, 6:9] = 0.0 if ra is None else ra
+        hess[:, r, 9:12] = 0.0 if rb is None else -rb
+    # Exact up to round-off; symmetrise so the assembled tangent is symmetric to machine precision.
+    hess = 0.5 * (hess + np.swapaxes(hess, 1, 2))
+    return theta, grad, hess
+
+
+# --------------------------------------------------------------------------- elements
+def bar_element(x1, x2, rest_length, volume, law: Law, *, derivatives: int = 2):
+    """Energy V w(l) of bars with stretch l = |x2 - x1|/L_r, and its gradient and Hessian.
+
+    Args:
+        x1, x2: end positions [mm], (n, 3); rest_length L_r [mm] and volume V [mm^3], (n,);
+        law: stretch -> (w, dw/dl, d2w/dl2) per unit volume [MPa].
+    Returns:
+        energy (n,) [mJ]; gradient (n, 6) [N] ordered (x1, x2); Hessian (n, 6, 6) [N/mm].
+        The axial force (tension positive) is V w'(l)/L_r.
+    """
+    d = x2 - x1
+    length = np.sqrt(_dot(d, d))
+    lam = length / rest_length
+    w, dw, d2w = law(lam)
+    energy = volume * w
+    if derivatives == 0:
+        return energy
+    u = d / length[:, None]
+    f = volume * dw / rest_length  # axial force [N]
+    grad = np.concatenate([-f[:, None] * u, f[:, None] * u], axis=1)
+    if derivatives == 1:
+        return energy, grad
+    uu = _outer(u, u)
+    k_mat = (volume * d2w / rest_length ** 2)[:, None, None] * uu
+    k_geo = (f / length)[:, None, None] * (np.eye(3) - uu)
+    k22 = k_mat + k_geo
+    hess = np.empty((d.shape[0], 6, 6))
+    hess[:, :3, :3] = k22
+    hess[:, 3:, 3:] = k22
+    hess[:, :3, 3:] = -k22
+    hess[:, 3:, :3] = -k22
+    return energy, grad, hess
+
+
+def axial_force(x1, x2, rest_length, volume, law: Law):
+    """Axial force V w'(l)/L_r [N] (tension positive) of bars."""
+    d = x2 - x1
+    lam = np.sqrt(_dot(d, d)) / rest_length
+    return volume * law(lam)[1] / rest_length
+
+
+def hinge_element(x_j, x_k, x_i, x_l, length, law: Law, *, derivatives: int = 2):
+    """Energy L_h psi(theta) of rotational springs, with gradient and Hessian (Liu & Paulino 2017).
+
+    Args:
+        x_j, x_k: hinge axis ends; x_i, x_l: wing nodes [mm], (n, 3); length L_h [mm], (n,);
+        law: theta -> (psi, M, dM/dtheta) per unit length.
+    Returns:
+        energy (n,) [mJ]; gradient (n, 12) [N] ordered (j, k, i, l); Hessian (n, 12, 12) [N/mm].
+    """
+    out = dihedral_angle(x_j, x_k, x_i, x_l, derivatives=derivatives)
+    theta = out if derivatives == 0 else out[0]
+    psi, moment, dmoment = law(theta)
+    energy = length * psi
+    if derivatives == 0:
+        return energy
+    grad = (length * moment)[:, None] * out[1]
+    if derivatives == 1:
+        return energy, grad
+    hess = (length * dmoment)[:, None, None] * _outer(out[1], out[1]) \
+        + (length * moment)[:, None, None] * out[2]
+    return energy, grad, hess
+
+
+def point_plane_gap(x_p, x_a, x_b, x_c, *, derivatives: int = 2):
+    """Signed height g = (x_p - x_a).n of point p above the plane of a, b, c, n = N/|N|,
+    N = (x_c - x_a) x (x_b - x_a), with its gradient and Hessian.
+
+    With u = x_c - x_a, v = x_b - x_a, w = x_p - x_a, q = (I - n n^T) w/|N|:
+    dg/dw = n, dg/du = v x q, dg/dv = q x u; the Hessian follows from
+    dq = P dw/|N| - M dN, M = (n q^T + q n^T)/|N| + g P/|N|^2, dN = -[v]x du + [u]x dv.
+
+    Returns:
+        g (n,) [mm]; gradient (n, 12) ordered (p, a, b, c) [-]; Hessian (n, 12, 12) [1/mm].
+    """
+    u, v, w = x_c - x_a, x_b - x_a, x_p - x_a
+    big_n = np.cross(u, v)
+    nu = np.sqrt(_dot(big_n, big_n))
+    n = big_n / nu[:, None]
+    g = _dot(w, n)
+    if derivatives == 0:
+        return g
+    q = (w - g[:, None] * n) / nu[:, None]
+    gw, gu, gv = n, np.cross(v, q), np.cross(q, u)
+    grad = np.concatenate([gw, -(gw + gu + gv), gv, gu], axis=1)
+    if derivatives == 1:
+        return g, grad
+    proj = np.eye(3) - _outer(n, n)
+    mm = (_outer(n, q) + _outer(q, n)) / nu[:, None, None] + (g / nu ** 2)[:, None, None] * proj
+    su, sv, sq = _skew(u), _skew(v), _skew(q)
+    pw = proj / nu[:, None, None]
+    h = {("w", "w"): np.zeros_like(proj), ("u", "w"): sv @ pw, ("v", "w"): -su @ pw,
+         ("u", "u"): sv @ mm @ sv, ("v", "v"): su @ mm @ su,
+         ("u", "v"): -sv @ mm @ su - sq}
+    h[("w", "u")] = np.swapaxes(h[("u", "w")], 1, 2)
+    h[("w", "v")] = np.swapaxes(h[("v", "w")], 1, 2)
+    h[("v", "u")] = np.swapaxes(h[("u", "v")], 1, 2)
+    # Node blocks (p, a, b, c): w = p - a, u = c - a, v = b - a.
+    coef = {"w": (1.0, -1.0, 0.0, 0.0), "u": (0.0, -1.0, 0.0, 1.0), "v": (0.0, -1.0, 1.0, 0.0)}
+    hess = np.zeros((g.shape[0], 12, 12))
+    for (r, c), block in h.items():
+        for i, ci in enumerate(coef[r]):
+            for j, cj in enumerate(coef[c]):
+                if ci and cj:
+                    hess[:, 3 * i:3 * i + 3, 3 * j:3 * j + 3] += ci * cj * block
+    return g, grad, 0.5 * (hess + np.swapaxes(hess, 1, 2))
+
+
+def unilateral_contact_element(x_p, x_a, x_b, x_c, rest_gap, stiffness, *, derivatives: int = 2):
+    """Penalty energy k <g0 - g>_+^2/2 [mJ] keeping point p at least g0 above the plane (a, b, c)
+    (:func:`point_plane_gap`); k [N/mm], g0 [mm]. Returns energy, gradient (n, 12) [N] and Hessian
+    (n, 12, 12) [N/mm] ordered (p, a, b, c)."""
+    out = point_plane_gap(x_p, x_a, x_b, x_c, derivatives=derivatives)
+    g = out if derivatives == 0 else out[0]
+    pen = np.maximum(rest_gap - g, 0.0)
+    energy = 0.5 * stiffness * pen ** 2
+    if derivatives == 0:
+        return energy
+    grad = (-stiffness * pen)[:, None] * out[1]
+    if derivatives == 1:
+        return energy, grad
+    active = (pen > 0).astype(float)
+    hess = (stiffness * active)[:, None, None] * _outer(out[1], out[1]) \
+        + (-stiffness * pen)[:, None, None] * out[2]
+    return energy, grad, hess
+
+
+# --------------------------------------------------------------------------- N5B8 calibration
+def n5b8_bar_areas(width, height, thickness, poisson_ratio):
+    """Bar areas [mm^2] of an N5B8 panel W x H x t (Filipov et al. 2017, Sec. 4.1).
+
+    Matches the plane-stress stretching energy t W H E/(2 (1 - nu^2)) (e_x^2 + e_y^2 + 2 nu e_x e_y)
+    of the panel under homogeneous strain exactly when nu W^2 <= H^2 and nu H^2 <= W^2 (the absolute
+    values keep the areas positive otherwise, as in Filipov et al. and the published model).
+
+    Returns:
+        (area of the two edges of length W, area of the two edges of length H, area of each of the
+        four spokes); edges shared by two panels get the sum of both panels' contributions.
+    """
+    w = np.asarray(width, dtype=float)
+    h = np.asarray(height, dtype=float)
+    c = thickness / (1.0 - poisson_ratio ** 2)
+    a_w = c * np.abs(h ** 2 - poisson_ratio * w ** 2) / (2.0 * h)
+    a_h = c * np.abs(w ** 2 - poisson_ratio * h ** 2) / (2.0 * w)
+    a_s = c * poisson_ratio * (h ** 2 + w ** 2) ** 1.5 / (2.0 * h * w)
+    return a_w, a_h, a_s

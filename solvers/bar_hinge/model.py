@@ -1,0 +1,349 @@
+"""Assembly of the bar-and-hinge energy, its gradient and its sparse Hessian.
+
+:class:`BarHingeModel` turns a :class:`~lcefem.meshes.bar_hinge_structure.BarHingeStructure` and the
+material laws of :mod:`lcefem.models.bar_hinge` into element arrays and evaluates, for node
+positions x (n, 3) [mm],
+
+    Pi(x) = sum_bars V w(L/L_r) + sum_hinges L_h psi(theta) + sum_contacts k <g0 - g>_+^2/2   [mJ],
+
+with the gradient dPi/dx [N] (the internal forces; at a held node the reaction) and the Hessian
+[N/mm] as a scipy.sparse CSR matrix whose sparsity pattern is computed once.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from lcefem.meshes.bar_hinge_structure import BarHingeStructure, panel_dimensions
+from lcefem.models import bar_hinge as law
+from lcefem.models.errors import InputError
+from lcefem.models.hyperelastic import OgdenLaw
+
+#: Bar groups that are LCE strips (tension-only Ogden bars with a rest length).
+STRIP_GROUPS = ("bottom_strips", "top_strips")
+
+
+@dataclass
+class BarSet:
+    """Bars of one group: nodes (m, 2), reference length L0 [mm], volume V [mm^3] and law data."""
+
+    name: str
+    nodes: np.ndarray
+    length0: np.ndarray
+    volume: np.ndarray
+    kind: str  # "stiffening" (Kapton, glue) or "lce"
+    modulus: np.ndarray | None = None  # [MPa], stiffening bars
+    exponents: tuple[float, float] = (5.0, 1.0)
+    rest_fraction: np.ndarray | None = None  # f = L_r/L0 [-], LCE bars
+
+    @property
+    def rest_length(self) -> np.ndarray:
+        return self.length0 if self.rest_fraction is None else self.rest_fraction * self.length0
+
+    def law(self, ogden: OgdenLaw):
+        if self.kind == "lce":
+            return lambda lam: law.tension_only_ogden_law(lam, ogden)
+        return lambda lam: law.stiffening_bar_law(lam, self.modulus, self.exponents)
+
+
+@dataclass
+class HingeSet:
+    """Rotational springs of one group: rows (h, 4) (j, k, i, l), axis length [mm], stiffness k
+    [N mm/(rad mm)], rest angle and linear-range limits [rad]."""
+
+    name: str
+    nodes: np.ndarray
+    length: np.ndarray
+    stiffness: np.ndarray
+    rest_angle: np.ndarray
+    theta1: np.ndarray | float
+    theta2: np.ndarray | float
+
+    def law(self):
+        return lambda th: law.enhanced_linear_law(th, self.rest_angle, self.stiffness,
+                                                  self.theta1, self.theta2)
+
+
+@dataclass
+class ContactSet:
+    """Unilateral point-plane contacts: rows (c, 4) (p, a, b, c), rest gap g0 [mm], stiffness [N/mm]."""
+
+    name: str
+    nodes: np.ndarray
+    rest_gap: np.ndarray
+    stiffness: np.ndarray
+
+
+class BarHingeModel:
+    """Energy, gradient and Hessian of a bar-and-hinge structure with given materials."""
+
+    def __init__(self, structure: BarHingeStructure,
+                 kapton: law.KaptonBarHinge = law.KaptonBarHinge(),
+                 lce: law.LCEStripBars = law.LCEStripBars(),
+                 glue: law.GlueBars = law.GlueBars(),
+                 contact: law.StripContactSprings = law.StripContactSprings(),
+                 ogden: OgdenLaw = OgdenLaw(),
+                 strip_contact: law.StripContact = law.StripContact()):
+        """
+        Args:
+            structure: geometry and topology; ``structure.sections`` gives the strips' cast section,
+                the glue bar area and each contact group's area and depth.
+        """
+        structure.validate()
+        self.structure = structure
+        self.kapton, self.lce, self.glue, self.contact, self.ogden = kapton, lce, glue, contact, ogden
+        self.strip_contact = strip_contact
+
+        def section(group: str, key: str) -> float:
+            value = structure.sections.get(group, {}).get(key)
+            if value is None or value <= 0:
+                raise InputError(f"structure.sections[{group!r}][{key!r}]: must be > 0 for a "
+                                 f"structure with {group} bars")
+            return float(value)
+
+        x0 = structure.nodes
+        self.reference = x0.copy()
+        exps = (kapton.bar_exponent_1, kapton.bar_exponent_2)
+        if exps[0] == exps[1]:
+            raise InputError("kapton.bar_exponent_1 must differ from kapton.bar_exponent_2")
+        self.bar_sets: list[BarSet] = []
+        for name, pairs in structure.bars.items():
+            if pairs.shape[0] == 0:
+                continue
+            length0 = structure.bar_lengths(name)
+            if name == "kapton":
+                area = self._kapton_areas()
+                self.bar_sets.append(BarSet(name, pairs, length0, area * length0, "stiffening",
+                                            np.full(length0.size, kapton.youngs_modulus), exps))
+            elif name == "glue":
+                area = section(name, "area")
+                self.bar_sets.append(BarSet(name, pairs, length0, area * length0, "stiffening",
+                                            np.full(length0.size, glue.youngs_modulus), exps))
+            elif name in STRIP_GROUPS:
+                # Volume conserved: V = (A_iso / bars per strip) * L_iso, L_iso = L0/lambda_N.
+                volume = section(name, "section") / lce.bars_per_strip * length0 / lce.lambda_N
+                self.bar_sets.append(BarSet(name, pairs, length0, volume, "lce",
+                                            rest_fraction=np.ones(length0.size)))
+            else:
+                raise InputError(f"bar group {name!r}: no material law (allowed: kapton, glue, "
+                                 f"{', '.join(STRIP_GROUPS)})")
+        k_ribbon = kapton.hinge_stiffness(structure.thickness)
+        t1, t2 = math.radians(kapton.linear_from), math.radians(kapton.linear_to)
+        self.hinge_sets: list[HingeSet] = []
+        for name, rows in structure.hinges.items():
+            if rows.shape[0] == 0:
+                continue
+            axis = np.linalg.norm(x0[rows[:, 1]] - x0[rows[:, 0]], axis=1)
+            theta_ref = law.dihedral_angle(x0[rows[:, 0]], x0[rows[:, 1]], x0[rows[:, 2]],
+                                           x0[rows[:, 3]], derivatives=0)
+            if name in ("bend", "fold"):
+                k = np.full(axis.size, k_ribbon)
+                rest = structure.hinge_rest.get(name, theta_ref)
+                lo, hi = t1, t2
+            elif name == "strip_contact":
+                # Force-free as built; barrier at the panel's plane on the strip's side.
+                k = np.full(axis.size, contact.stiffness)
+                rest = theta_ref
+                lo = np.where(theta_ref < np.pi, theta_ref, 2.0 * np.pi - theta_ref)
+                hi = 2.0 * np.pi - lo
+            else:
+                raise InputError(f"hinge group {name!r}: no law (allowed: bend, fold, strip_contact)")
+            self.hinge_sets.append(HingeSet(name, rows, axis, k, np.asarray(rest, dtype=float), lo, hi))
+        self.contact_sets: list[ContactSet] = []
+        for name, rows in structure.contacts.items():
+            if rows.shape[0] == 0:
+                continue
+            stiffness = strip_contact.modulus * section(name, "area") / section(name, "depth")
+            gap0 = structure.contact_rest.get(name)
+            if gap0 is None:
+                gap0 = law.point_plane_gap(*(x0[rows[:, c]] for c in range(4)), derivatives=0)
+            self.contact_sets.append(ContactSet(name, rows, np.asarray(gap0, dtype=float),
+                                                np.full(rows.shape[0], stiffness)))
+        self._build_pattern()
+
+    # ------------------------------------------------------------------ set-up
+    def _kapton_areas(self) -> np.ndarray:
+        s = self.structure
+        width, height = panel_dimensions(s)
+        a_w, a_h, a_s = law.n5b8_bar_areas(width, height, s.thickness, self.kapton.poisson_ratio)
+        area = np.zeros(s.bars["kapton"].shape[0])
+        pb = s.panel_bars
+        np.add.at(area, pb[:, 0], a_w)
+        np.add.at(area, pb[:, 2], a_w)
+        np.add.at(area, pb[:, 1], a_h)
+        np.add.at(area, pb[:, 3], a_h)
+        for c in range(4, 8):
+            np.add.at(area, pb[:, c], a_s)
+        if np.any(area <= 0):
+            raise InputError("kapton: a panel bar got no area (is every bar part of a panel?)")
+        return area
+
+    def _groups(self):
+        return (*self.bar_sets, *self.hinge_sets, *self.contact_sets)
+
+    def _build_pattern(self) -> None:
+        """Merge the groups of each element kind into one block (one vectorised call per kind) and
+        fix the Hessian's COO pattern."""
+        self.ndof = 3 * self.structure.num_nodes
+        kinds = [("stiffening", [b for b in self.bar_sets if b.kind == "stiffening"]),
+                 ("lce", [b for b in self.bar_sets if b.kind == "lce"]),
+                 ("hinge", list(self.hinge_sets)), ("contact", list(self.contact_sets))]
+        self._blocks = []
+        for kind, sets in kinds:
+            if not sets:
+                continue
+            block = {"kind": kind, "sets": sets,
+                     "nodes": np.vstack([g.nodes for g in sets])}
+            cat = lambda attr: np.concatenate([np.broadcast_to(np.asarray(getattr(g, attr), float),
+                                                               (g.nodes.shape[0],)) for g in sets])
+            if kind in ("stiffening", "lce"):
+                block.update(length0=cat("length0"), volume=cat("volume"))
+            if kind == "stiffening":
+                block["modulus"] = cat("modulus")
+                block["exponents"] = sets[0].exponents
+            if kind == "hinge":
+                block.update(length=cat("length"), stiffness=cat("stiffness"),
+                             rest=cat("rest_angle"), theta1=cat("theta1"), theta2=cat("theta2"))
+            if kind == "contact":
+                block.update(rest_gap=cat("rest_gap"), stiffness=cat("stiffness"))
+            nodes = block["nodes"]
+            block["dofs"] = (3 * nodes[:, :, None] + np.arange(3)).reshape(nodes.shape[0], -1)
+            self._blocks.append(block)
+        dofs = [b["dofs"] for b in self._blocks]
+        self._coo_rows = np.concatenate([np.repeat(d, d.shape[1], axis=1).ravel() for d in dofs])
+        self._coo_cols = np.concatenate([np.tile(d, (1, d.shape[1])).ravel() for d in dofs])
+
+    # ------------------------------------------------------------------ state
+    def strip_sets(self) -> list[BarSet]:
+        return [b for b in self.bar_sets if b.kind == "lce"]
+
+    def set_rest_fractions(self, fractions: dict[str, float | np.ndarray]) -> None:
+        """Set f = L_r/L0 [-] of the LCE bars, by group name (scalar or one value per bar)."""
+        names = {b.name: b for b in self.strip_sets()}
+        for name, value in fractions.items():
+            if name not in names:
+                raise InputError(f"rest fraction for {name!r}: no such strip group "
+                                 f"(have: {', '.join(names) or 'none'})")
+            value = np.broadcast_to(np.asarray(value, dtype=float), names[name].length0.shape)
+            if np.any(value <= 0):
+                raise InputError(f"rest fraction of {name}: must be > 0")
+            names[name].rest_fraction = value.copy()
+
+    def rest_fractions(self) -> dict[str, np.ndarray]:
+        return {b.name: b.rest_fraction.copy() for b in self.strip_sets()}
+
+    # ------------------------------------------------------------------ evaluation
+    def evaluate(self, x: np.ndarray, derivatives: int = 2):
+        """Total energy [mJ]; with derivatives >= 1 the gradient (3n,) [N]; with 2 the Hessian's COO
+        values (ordered as :attr:`coo_pattern`) [N/mm].
+
+        Args:
+            x: node positions (n, 3) or (3n,) [mm].
+        """
+        x = np.asarray(x, dtype=float).reshape(-1, 3)
+        energy = 0.0
+        grad = np.zeros(self.ndof) if derivatives >= 1 else None
+        values = []
+        for block in self._blocks:
+            nodes = block["nodes"]
+            xs = [x[nodes[:, c]] for c in range(nodes.shape[1])]
+            kind = block["kind"]
+            if kind == "stiffening":
+                exps = block["exponents"]
+                out = law.bar_element(xs[0], xs[1], block["length0"], block["volume"],
+                                      lambda lam: law.stiffening_bar_law(lam, block["modulus"], exps),
+                                      derivatives=derivatives)
+            elif kind == "lce":
+                rest = np.concatenate([g.rest_length for g in block["sets"]])
+                out = law.bar_element(xs[0], xs[1], rest, block["volume"],
+                                      lambda lam: law.tension_only_ogden_law(lam, self.ogden),
+                                      derivatives=derivatives)
+            elif kind == "hinge":
+                out = law.hinge_element(
+                    xs[0], xs[1], xs[2], xs[3], block["length"],
+                    lambda th: law.enhanced_linear_law(th, block["rest"], block["stiffness"],
+                                                       block["theta1"], block["theta2"]),
+                    derivatives=derivatives)
+            else:
+                out = law.unilateral_contact_element(*xs, block["rest_gap"], block["stiffness"],
+                                                     derivatives=derivatives)
+            if derivatives == 0:
+                energy += float(np.sum(out))
+                continue
+            energy += float(np.sum(out[0]))
+            grad += np.bincount(block["dofs"].ravel(), weights=out[1].ravel(), minlength=self.ndof)
+            if derivatives == 2:
+                values.append(out[2].ravel())
+        if derivatives == 0:
+            return energy
+        if derivatives == 1:
+            return energy, grad
+        return energy, grad, np.concatenate(values)
+
+    @property
+    def coo_pattern(self) -> tuple[np.ndarray, np.ndarray]:
+        """(rows, cols) of the Hessian's COO values returned by :meth:`evaluate`."""
+        return self._coo_rows, self._coo_cols
+
+    def energy(self, x) -> float:
+        return self.evaluate(x, derivatives=0)
+
+    def gradient(self, x) -> np.ndarray:
+        return self.evaluate(x, derivatives=1)[1]
+
+    def hessian(self, x) -> sp.csr_matrix:
+        """Full Hessian [N/mm] as CSR (for tests and small problems; solvers use the reduced one)."""
+        _, _, vals = self.evaluate(x)
+        return sp.csr_matrix((vals, self.coo_pattern), shape=(self.ndof, self.ndof))
+
+    def bar_forces(self, x) -> dict[str, np.ndarray]:
+        """Axial force [N] (tension positive) of every bar, by group."""
+        x = np.asarray(x, dtype=float).reshape(-1, 3)
+        return {b.name: law.axial_force(x[b.nodes[:, 0]], x[b.nodes[:, 1]], b.rest_length, b.volume,
+                                        b.law(self.ogden)) for b in self.bar_sets}
+
+    def contact_forces(self, x) -> dict[str, np.ndarray]:
+        """Contact pressure force k <g0 - g>_+ [N] of every contact, by group."""
+        x = np.asarray(x, dtype=float).reshape(-1, 3)
+        out = {}
+        for c in self.contact_sets:
+            g = law.point_plane_gap(*(x[c.nodes[:, i]] for i in range(4)), derivatives=0)
+            out[c.name] = c.stiffness * np.maximum(c.rest_gap - g, 0.0)
+        return out
+
+    def hinge_angles(self, x) -> dict[str, np.ndarray]:
+        """Dihedral angles [rad] of every hinge, by group."""
+        x = np.asarray(x, dtype=float).reshape(-1, 3)
+        return {h.name: law.dihedral_angle(x[h.nodes[:, 0]], x[h.nodes[:, 1]], x[h.nodes[:, 2]],
+                                           x[h.nodes[:, 3]], derivatives=0) for h in self.hinge_sets}
+
+
+class ReducedHessian:
+    """Maps the COO Hessian values of a model onto the CSC matrix of the free DOFs (pattern once)."""
+
+    def __init__(self, model: BarHingeModel, free: np.ndarray):
+        ndof = model.ndof
+        self.free = np.asarray(free, dtype=np.int64)
+        index = np.full(ndof, -1, dtype=np.int64)
+        index[self.free] = np.arange(self.free.size)
+        rows, cols = model.coo_pattern
+        r, c = index[rows], index[cols]
+        keep = (r >= 0) & (c >= 0)
+        self._keep = np.flatnonzero(keep)
+        n = self.free.size
+        # CSC order: by column, then row
+        keys = c[keep] * n + r[keep]
+        unique, self._inverse = np.unique(keys, return_inverse=True)
+        self._indices = (unique % n).astype(np.int32)
+        counts = np.bincount(unique // n, minlength=n)
+        self._indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
+        self._nnz = unique.size
+        self.n = n
+
+    def matrix(self, coo_values: np.ndarray) -> sp.csc_matrix:
+        data = np.bincount(self._inverse, weights=coo_values[self._keep], minlength=self._nnz)
+        return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))

@@ -1,0 +1,366 @@
+"""Newton's method with an energy line search and inertia control, and load-path following with
+step halving that always restarts from the last converged state.
+
+Equilibrium is a stationary point of the total energy Pi(x) over the free DOFs. Each Newton step
+solves (K + mu I) dx = -g on the free DOFs with a symmetric sparse LU (SuperLU with diagonal
+pivoting and a symmetric ordering, so the signs of U's diagonal give the inertia of K by Sylvester's
+law). With inertia control on, mu = 0 is kept when K is positive definite and raised otherwise, so
+every step is a descent direction and the iteration settles in a stable equilibrium (a minimum);
+an Armijo backtracking search on Pi then safeguards the step. Convergence: |g_free| <= force
+tolerance.
+
+Load paths are parametrised by a load factor t in [0, 1]: ``load(t)`` sets the model's state (e.g.
+the strips' rest lengths) and returns the positions of the held DOFs. A failed increment is retried
+from the last converged state with half the increment (the published code kept the failed trial's
+prestrain instead); when the increment falls below its minimum a ConvergenceError names where and
+why, after every converged state has been handed to ``on_step``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.parameters import check, param
+from lcefem.solvers.bar_hinge.model import BarHingeModel, ReducedHessian
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """Newton iteration settings."""
+
+    max_iterations: int = param(50, "-", "chosen: quadratic convergence takes < 10; more means a poor "
+                                "start, so the increment is halved instead", minimum=1)
+    force_tolerance: float = param(1.0e-8, "N", "chosen: 1e-7 of the 0.1 N strip and ribbon forces; "
+                                   "displacement error < 1e-6 mm for the softest buckled mode "
+                                   "(~0.01 N/mm)", positive=True)
+    line_search: bool = param(True, "-", "Armijo backtracking on the total energy")
+    inertia_control: bool = param(True, "-", "shift K until positive definite, so Newton settles in "
+                                  "minima (off: plain Newton, which may also converge to saddles)")
+    max_shifts: int = param(30, "-", "chosen: each shift multiplies mu by 10", minimum=1)
+    max_step: float = param(2.0, "mm", "chosen: trust radius, the largest nodal move of one Newton "
+                            "step (the structures' features are 1-10 mm); guards near-singular "
+                            "tangents at folds of the path", positive=True)
+    snap_iterations: int = param(1000, "-", "chosen: extra iterations allowed once a state has lost "
+                                 "stability and Newton descends to a new stable state (snap-through)",
+                                 minimum=0)
+
+
+@dataclass(frozen=True)
+class PathOptions:
+    """Load-factor stepping settings (t from 0 to 1)."""
+
+    initial_increment: float = param(0.05, "-", "chosen: 20 increments over the ramp (the published "
+                                     "model used 300 fixed ones)", positive=True, maximum=1.0)
+    max_increment: float = param(0.1, "-", "chosen: keeps the output history readable", positive=True,
+                                 maximum=1.0)
+    min_increment: float = param(1.0e-5, "-", "chosen: below this the path is declared lost",
+                                 positive=True)
+    growth: float = param(1.5, "-", "increment growth after an easy increment", minimum=1.0)
+    snap_increment: float = param(1.0e-3, "-", "chosen: when an increment smaller than this fails "
+                                  "(a fold of the path: the next stable state is far away), one "
+                                  "attempt jumps this far with the snap-through iteration budget",
+                                  positive=True)
+    easy_iterations: int = param(6, "-", "an increment that converged within this many Newton "
+                                 "iterations lets the next one grow", minimum=1)
+
+
+@dataclass
+class NewtonResult:
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    energy: float
+    reason: str
+    negative_pivots: int = -1  # of the unshifted K at the last factorisation (-1 if unknown)
+
+
+@dataclass
+class PathState:
+    """A converged state on the load path."""
+
+    t: float
+    x: np.ndarray  # positions (n, 3) [mm]
+    iterations: int
+    energy: float  # [mJ]
+    residual: float  # [N]
+    reactions: np.ndarray  # gradient at the held DOFs [N] (force the supports apply)
+    negative_pivots: int
+    snapped: bool = False  # reached by a snap-through from the previous state
+
+
+@dataclass
+class PathResult:
+    states: list[PathState] = field(default_factory=list)
+    seconds: float = 0.0
+    failed_increments: int = 0
+
+    @property
+    def newton_iterations(self) -> list[int]:
+        return [s.iterations for s in self.states[1:]]
+
+
+#: Pivots below this fraction of the largest diagonal entry count as zero (a floating part, e.g. a
+#: slack strip's node): such a matrix is shifted like an indefinite one.
+ZERO_PIVOT = 1e-12
+
+
+def _factorize(matrix: sp.csc_matrix):
+    """Symmetric-mode SuperLU; returns (lu, negative pivots, zero pivots); the counts are -1 when the
+    inertia is not available (off-diagonal pivoting happened)."""
+    lu = sla.splu(matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                  options={"SymmetricMode": True})
+    if np.array_equal(lu.perm_r, lu.perm_c):
+        pivots = lu.U.diagonal()
+        tol = ZERO_PIVOT * max(float(np.max(np.abs(matrix.diagonal()))), 1e-300)
+        return lu, int(np.count_nonzero(pivots < -tol)), int(np.count_nonzero(np.abs(pivots) <= tol))
+    return lu, -1, -1
+
+
+def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions):
+    """Solve (K + mu I) d = rhs; mu = 0 if K is positive definite (or inertia control is off)."""
+    n = kmat.shape[0]
+    scale = max(float(np.max(np.abs(kmat.diagonal()))) if n else 1.0, 1e-300)
+    mu, negative = 0.0, -1
+    eye = sp.identity(n, format="csc")
+    for attempt in range(options.max_shifts):
+        try:
+            lu, neg, zero = _factorize(kmat + mu * eye if mu > 0 else kmat)
+        except RuntimeError:  # exactly singular: regularise
+            lu, neg, zero = None, n, n
+        if attempt == 0:
+            negative = neg
+        if lu is not None:
+            d = lu.solve(rhs)
+            ok = bool(np.all(np.isfinite(d)))
+            if options.inertia_control:
+                # Off-diagonal pivoting (inertia unknown) means a (near-)zero pivot: shift too.
+                ok = ok and neg == 0 and zero == 0
+            elif zero > 0:
+                ok = False  # a singular K gives no usable step: regularise
+            if ok:
+                return d, negative, mu
+        mu = 1e-10 * scale if mu == 0 else 10.0 * mu
+    raise np.linalg.LinAlgError(f"no positive definite shift up to mu = {mu:.3g} N/mm")
+
+
+def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarray]:
+    """Lowest eigenpair of the (free-DOF) tangent stiffness."""
+    n = kmat.shape[0]
+    if n <= 4000:
+        vals, vecs = np.linalg.eigh(kmat.toarray())
+        return float(vals[0]), vecs[:, 0]
+    vals, vecs = sla.eigsh(kmat, k=1, which="SA")
+    return float(vals[0]), vecs[:, 0]
+
+
+def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
+           options: NewtonOptions = NewtonOptions(), reduced: ReducedHessian | None = None
+           ) -> NewtonResult:
+    """Minimise the model's energy over the DOFs ``free`` starting from positions ``x0`` (n, 3).
+
+    With inertia control, a point where the gradient vanishes but the tangent is indefinite (a
+    saddle: the state has lost stability) is left along the eigenvector of the lowest eigenvalue,
+    and the iteration continues to a stable state (a snap-through), with ``snap_iterations`` more
+    iterations allowed.
+    """
+    x = np.array(x0, dtype=float).reshape(-1)
+    free = np.asarray(free, dtype=np.int64)
+    reduced = reduced or ReducedHessian(model, free)
+    energy, grad, coo = model.evaluate(x)
+    negative = -1
+    residual = float(np.linalg.norm(grad[free]))
+    budget = options.max_iterations
+    escapes = 0
+    it = 0
+
+    def escape() -> bool:
+        """Step along negative curvature until the energy drops; False if it cannot."""
+        nonlocal x, energy, grad, coo, residual, budget, escapes
+        if escapes >= 20:
+            return False
+        kmat = reduced.matrix(coo)
+        lowest, vec = _negative_curvature_direction(kmat)
+        if lowest >= 0:
+            return False
+        sign = -1.0 if float(np.dot(grad[free], vec)) > 0 else 1.0
+        vec = sign * vec / np.max(np.abs(vec))
+        trial = x.copy()
+        for k in range(30):
+            alpha = 2.0 ** -k  # from 1 mm (largest nodal move) down
+            trial[free] = x[free] + alpha * vec
+            e_new = model.evaluate(trial, derivatives=0)
+            if math.isfinite(e_new) and e_new < energy - 1e-13 * abs(energy):
+                x = trial
+                energy, grad, coo = model.evaluate(x)
+                residual = float(np.linalg.norm(grad[free]))
+                if escapes == 0:
+                    budget = it + options.snap_iterations
+                escapes += 1
+                return True
+        return False
+
+    while True:
+        if not math.isfinite(energy) or not math.isfinite(residual):
+            return NewtonResult(x.reshape(-1, 3), False, it, residual, energy,
+                                "energy or residual not finite")
+        if residual <= options.force_tolerance:
+            try:
+                negative = _factorize(reduced.matrix(coo))[1]
+            except RuntimeError:
+                negative = -1
+            if options.inertia_control and negative > 0 and it < budget and escape():
+                it += 1
+                continue
+            return NewtonResult(x.reshape(-1, 3), True, it, residual, energy, "converged", negative)
+        if it >= budget:
+            break
+        it += 1
+        r = grad[free]
+        try:
+            step, negative, _ = _descent_step(reduced.matrix(coo), -r, options)
+        except np.linalg.LinAlgError as exc:
+            return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, str(exc), negative)
+        longest = float(np.max(np.abs(step))) if step.size else 0.0
+        if longest > options.max_step:
+            step *= options.max_step / longest
+        slope = float(np.dot(r, step))
+        alpha = 1.0
+        trial = x.copy()
+        accepted = False
+        # When the predicted decrease is below what the energy can resolve, the residual decides.
+        resolvable = -slope > 1e-10 * (abs(energy) + 1e-12)
+        for _ in range(20 if options.line_search and resolvable else 0):
+            trial[free] = x[free] + alpha * step
+            e_new = model.evaluate(trial, derivatives=0)
+            if math.isfinite(e_new) and (slope >= 0 or e_new <= energy + 1e-4 * alpha * slope
+                                         + 1e-13 * abs(energy)):
+                accepted = True
+                break
+            alpha *= 0.5
+        if accepted:
+            x = trial
+            energy, grad, coo = model.evaluate(x)
+            residual = float(np.linalg.norm(grad[free]))
+            continue
+        # The energy cannot resolve the step: accept the full step if the residual drops.
+        trial[free] = x[free] + step
+        e_new, g_new, coo_new = model.evaluate(trial)
+        r_new = float(np.linalg.norm(g_new[free]))
+        if math.isfinite(r_new) and r_new < residual:
+            x, energy, grad, coo, residual = trial, e_new, g_new, coo_new, r_new
+            continue
+        if options.inertia_control and negative > 0 and escape():
+            continue
+        return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, "line search failed",
+                            negative)
+    return NewtonResult(x.reshape(-1, 3), False, it, residual, energy,
+                        f"no convergence in {it} iterations (|g| = {residual:.3g} N)", negative)
+
+
+def follow_path(model: BarHingeModel, x_start: np.ndarray, held: np.ndarray,
+                load: Callable[[float], np.ndarray], *,
+                newton_options: NewtonOptions = NewtonOptions(),
+                path_options: PathOptions = PathOptions(),
+                on_step: Callable[[PathState], None] | None = None,
+                progress: Callable[[float], None] | None = None) -> PathResult:
+    """Follow the equilibrium path from t = 0 to t = 1.
+
+    Args:
+        model: the bar-and-hinge model (its state is set by ``load``).
+        x_start: positions (n, 3) [mm] in equilibrium at t = 0 (e.g. the reference).
+        held: indices of the held (prescribed) DOFs into the flattened positions.
+        load: t -> values of the held DOFs (positions [mm]) at load factor t; sets the model state.
+        on_step: called with every converged state (t = 0 included), e.g. to write outputs.
+        progress: called with the load factor after each converged increment.
+    Returns:
+        The converged states. Raises ConvergenceError (with ``last_state``) when the increment
+        falls below ``path_options.min_increment``.
+    """
+    check(newton_options, "solver")
+    check(path_options, "path")
+    if path_options.min_increment > path_options.initial_increment:
+        raise InputError("path.min_increment: must be <= path.initial_increment")
+    started = time.perf_counter()
+    held = np.asarray(held, dtype=np.int64)
+    free = np.setdiff1d(np.arange(model.ndof), held)
+    reduced = ReducedHessian(model, free)
+    result = PathResult()
+
+    snap_options = dataclasses.replace(
+        newton_options, max_iterations=newton_options.max_iterations + newton_options.snap_iterations)
+
+    def solve(t, guess, options=newton_options):
+        x = np.array(guess, dtype=float).reshape(-1)
+        x[held] = load(t)
+        return newton(model, x, free, options, reduced)
+
+    def record(t, res, snapped=False):
+        grad = model.evaluate(res.x, derivatives=1)[1]
+        state = PathState(t, res.x.copy(), res.iterations, res.energy, res.residual,
+                          grad[held].copy(), res.negative_pivots, snapped)
+        result.states.append(state)
+        if on_step is not None:
+            on_step(state)
+        return state
+
+    res = solve(0.0, x_start)
+    if not res.converged:
+        raise ConvergenceError("load factor t = 0 (the start)", res.reason)
+    last = record(0.0, res)
+    previous = None
+    dt = path_options.initial_increment
+    snap_tried_at = -1.0
+    while last.t < 1.0:
+        dt = min(dt, 1.0 - last.t)
+        t_try = 1.0 if 1.0 - (last.t + dt) < 1e-12 else last.t + dt
+        res = None
+        snapped = False
+        # Predictor: secant extrapolation from the last two converged states; if that fails,
+        # the same increment from the last converged state itself.
+        guesses = [last.x]
+        if previous is not None and not last.snapped:
+            ratio = (t_try - last.t) / (last.t - previous.t)
+            guesses.insert(0, last.x + ratio * (last.x - previous.x))
+        for guess in guesses:
+            res = solve(t_try, guess)
+            if res.converged:
+                break
+        if not res.converged and dt < path_options.snap_increment and snap_tried_at != last.t:
+            # Failures at ever smaller increments: a fold of the path. Let Newton descend (with
+            # inertia control) to the next stable state, a little beyond the fold.
+            snap_tried_at = last.t
+            t_snap = min(1.0, last.t + path_options.snap_increment)
+            res_snap = solve(t_snap, last.x, snap_options)
+            if res_snap.converged:
+                res, t_try, snapped = res_snap, t_snap, True
+                dt = path_options.snap_increment
+        if res.converged:
+            previous, last = last, record(t_try, res, snapped)
+            if progress is not None:
+                progress(t_try)
+            if res.iterations <= path_options.easy_iterations:
+                dt = min(dt * path_options.growth, path_options.max_increment)
+            continue
+        result.failed_increments += 1
+        load(last.t)  # restore the model state of the last converged step
+        dt *= 0.5
+        if dt < path_options.min_increment:
+            result.seconds = time.perf_counter() - started
+            err = ConvergenceError(
+                f"load factor t = {last.t:.6g} (last converged; trying t = {t_try:.6g})",
+                f"{res.reason}; increment halved below {path_options.min_increment:g}")
+            err.last_state = last
+            err.result = result
+            raise err
+    result.seconds = time.perf_counter() - started
+    return result

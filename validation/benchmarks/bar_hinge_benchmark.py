@@ -1,0 +1,65 @@
+"""Wall time of the bar-and-hinge solves: the composite beam at (lambda_T, lambda_B) = (1.33, 1.05)
+and the ribbon buckling run to 50 % compression; Newton iterations per increment; DOFs.
+
+    python -m lcefem.validation.benchmarks.bar_hinge_benchmark [--repeat 3]
+
+Not a test: it prints figures (the best of --repeat runs) for the developers' guide and the report.
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import time
+
+import numpy as np
+
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.validation import bar_hinge_studies as studies
+
+
+def _best(fn, repeat: int):
+    best, out = float("inf"), None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def _report(name: str, seconds: float, path, dofs: int, extra: str) -> None:
+    its = np.array(path.newton_iterations)
+    print(f"{name}: {seconds:.2f} s, {dofs} DOFs, {its.size} increments "
+          f"({path.failed_increments} failed), Newton iterations per increment: mean {its.mean():.1f}, "
+          f"max {its.max()}, total {its.sum()}; {extra}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3, help="runs per figure (best is printed)")
+    args = parser.parse_args(argv)
+    print(f"python {platform.python_version()}, numpy {np.__version__}, "
+          f"{platform.processor() or platform.machine()}")
+
+    for segments in (4, 8):
+        geometry = CompositeBeamGeometry(segments=segments)
+        secs, sol = _best(lambda: studies.solve_beam(1.33, 1.05, geometry), args.repeat)
+        _report(f"beam ({segments} segments) at (1.33, 1.05)", secs, sol.path, sol.model.ndof,
+                f"curvature {sol.curvature:.5f} 1/mm")
+
+    secs, sol = _best(lambda: studies.solve_ribbon_buckling(0.5), args.repeat)
+    _report("ribbon buckling to 50 % (11 panels)", secs, sol.path, sol.model.ndof,
+            f"force at 50 % {sol.force[-1]:.4f} N")
+    secs, (p_cr, _) = _best(lambda: studies.critical_load(RibbonSpecimen(), RibbonBarHingeMesh()),
+                            args.repeat)
+    print(f"critical load by inertia bisection (11 panels): {secs:.3f} s, P_cr = {p_cr:.4f} N")
+    model = studies.BarHingeMaterials().model(studies.build_beam_bar_hinge())
+    x = model.reference
+    secs, _ = _best(lambda: [model.evaluate(x) for _ in range(100)], args.repeat)
+    print(f"energy + gradient + Hessian of the 4-segment beam: {1e3 * secs / 100:.2f} ms per evaluation")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
