@@ -29,8 +29,6 @@ from lcefem.meshes._gmsh import TaggedMesh, gmsh_session, to_dolfinx
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
-#: Refinement ratio between successive mesh levels (>= 1.3 for GCI studies, Celik et al. 2008).
-REFINEMENT_RATIO = 1.5
 
 
 @dataclass(frozen=True)
@@ -54,22 +52,30 @@ class StripGeometry:
 
 @dataclass(frozen=True)
 class StripMesh:
-    """Resolution of the strip mesh. Element size at level l is ``size / 1.5**l``."""
+    """Resolution of the strip mesh.
 
-    size: float = param(1.0, "mm", "chosen: level 0 is the CI ('quick') resolution", positive=True)
+    Level 0 divides every block edge into ceil(length / size) elements (axially with size x
+    axial_aspect); level l multiplies all those counts by l + 1, so the element size is
+    size / (l + 1) and successive levels refine uniformly by 2, 1.5, 1.33, ... (>= 1.3 for the first
+    four levels, as a grid-convergence study wants: Celik et al. 2008).
+    """
+
+    size: float = param(2.0, "mm", "chosen: level-0 element size of the convergence family", positive=True)
     axial_aspect: float = param(4.0, "-", "chosen: fields vary slowly along the uniform strip",
                                 positive=True)
-    level: int = param(0, "-", "refinement level (ratio 1.5 per level)", minimum=0, maximum=8)
+    level: int = param(1, "-", "refinement level: element size = size / (level + 1)", minimum=0,
+                       maximum=8)
     cell: str = param("hex", "-", "'hex' (Q2) or 'tet' (P2)")
     symmetry: str = param("quarter", "-", "'quarter' (mid-planes y = W/2, z = H/2 as symmetry planes) "
                           "or 'full'")
 
     def element_size(self) -> float:
-        return self.size / REFINEMENT_RATIO ** self.level
+        return self.size / (self.level + 1)
 
 
-def _divisions(length: float, h: float) -> int:
-    return max(1, int(math.ceil(length / h - 1e-9)))
+def _divisions(length: float, size: float, multiplier: int) -> int:
+    """Elements on an edge of ``length``: ceil(length / size) at level 0, times the level multiplier."""
+    return multiplier * max(1, int(math.ceil(length / size - 1e-9)))
 
 
 def build_strip_mesh(geometry: StripGeometry, lambda_N: float, resolution: StripMesh = StripMesh(),
@@ -90,11 +96,12 @@ def build_strip_mesh(geometry: StripGeometry, lambda_N: float, resolution: Strip
     if not c < min(W, H):
         raise InputError(f"geometry.coil_diameter = {geometry.coil_diameter} mm: coil must fit in the section")
     h = resolution.element_size()
+    size, multiplier = resolution.size, resolution.level + 1
     ys = [0.0, 0.5 * (W - c), 0.5 * W, 0.5 * (W + c), W]
     zs = [0.0, 0.5 * (H - c), 0.5 * H, 0.5 * (H + c), H]
     if quarter:
         ys, zs = ys[:3], zs[:3]
-    nx = _divisions(L, h * resolution.axial_aspect)
+    nx = _divisions(L, size * resolution.axial_aspect, multiplier)
 
     with gmsh_session("strip") as model:
         if comm.rank == 0:
@@ -118,7 +125,7 @@ def build_strip_mesh(geometry: StripGeometry, lambda_N: float, resolution: Strip
                 if xmax - xmin > tol:
                     n = nx
                 else:
-                    n = _divisions(max(ymax - ymin, zmax - zmin), h)
+                    n = _divisions(max(ymax - ymin, zmax - zmin), size, multiplier)
                 model.mesh.setTransfiniteCurve(curve, n + 1)
             for _, surf in model.getEntities(2):
                 model.mesh.setTransfiniteSurface(surf)

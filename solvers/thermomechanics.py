@@ -11,10 +11,9 @@ compressible neo-Hookean energy.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-
-import dataclasses
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 from petsc4py import PETSc

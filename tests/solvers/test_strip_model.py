@@ -2,8 +2,6 @@
 quarter model runs in the case strip_uniform_heating), and the quarter-symmetry
 model against the full one."""
 
-import dataclasses
-
 import numpy as np
 import pytest
 

@@ -438,8 +438,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tip-load", type=float, help="dead load on the free end [N]")
     p.add_argument("--steady", action="store_true", default=None,
                    help="solve the thermal steady state instead of a transient")
-    p.add_argument("--mesh-level", type=int, help="refinement level (0 coarse; ratio 1.5 per level)")
-    p.add_argument("--mesh-size", type=float, help="level-0 element size [mm] (default 1)")
+    p.add_argument("--mesh-level", type=int, help="refinement level l: element size = mesh-size / (l + 1) (default 1)")
+    p.add_argument("--mesh-size", type=float, help="level-0 element size [mm] (default 2)")
     p.add_argument("--cell", choices=("hex", "tet"), help="hexahedra (Q2) or tetrahedra (P2)")
     p.add_argument("--symmetry", choices=("quarter", "full"), help="mesh a quarter (default) or all")
     p.add_argument("--resistance", type=float, help="coil resistance [ohm] (default 146.6)")
