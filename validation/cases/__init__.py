@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 #: Modules that define cases (imported lazily by :func:`registry`).
 CASE_MODULES: list[str] = [
+    "lcefem.validation.cases.ribbon",
     "lcefem.validation.cases.empirical",
     "lcefem.validation.cases.beam_bar_hinge",
     "lcefem.validation.cases.strip",

@@ -5,6 +5,7 @@ adding its module name here.
 """
 
 RUN_TARGETS = {
+    "ribbon": "lcefem.validation.runs.ribbon",
     "strip": "lcefem.validation.runs.strip",
     "beam": "lcefem.validation.runs.beam",
     "ribbon-buckling": "lcefem.validation.runs.ribbon_buckling",

@@ -1,0 +1,148 @@
+"""Smooth implicit contact and smooth Coulomb friction (seed 000, 'Contact Model'; Choi, Tong, Jawed &
+Joo, J. Appl. Mech. 2021; Tong, Choi, Joo & Jawed, 2022).
+
+Contact energy of a point at distance Delta [mm] from a surface, with the minimum engagement
+distance 2h [mm] and the smoothing width delta [mm], K1 = 15/delta [1/mm]:
+
+    E(Delta) = (2h - Delta)^2                                  Delta <= 2h - delta
+             = ((1/K1) log(1 + exp(K1 (2h - Delta))))^2         2h - delta < Delta < 2h + delta
+             = 0                                                Delta >= 2h + delta
+
+and the contact potential is k E [mJ] with the stiffness k [N/mm]; the contact force is
+F^c = -k dE/dDelta along the surface normal. (The three pieces join to within exp(-15) ~ 3e-7 of
+delta, as in the seed.)
+
+Friction (seed 000, 'Static Friction'): F^fr = -mu gamma(|v_T|) v_T/|v_T| F^n with
+gamma(v) = 2/(1 + exp(-K2 v)) - 1 = tanh(K2 v/2), K2 = 15/nu, nu the slipping tolerance [mm/s].
+Over a time step h with the normal force F^n and the normal held at their start-of-step values
+(lagged, as in incremental-potential contact), this force is minus the gradient of the friction
+potential
+
+    D(u) = mu F^n h Gamma(|u_T|/h),   Gamma(v) = (2/K2) ln cosh(K2 v/2),   u_T = (I - n n^T) u,
+
+where u is the point's displacement over the step; D is smooth and convex, so friction joins the
+implicit step's minimisation with an exact, symmetric Hessian.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from lcefem.models.parameters import param
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Smooth penalty contact of seed 000."""
+
+    delta: float = param(0.05, "mm", "chosen: smoothing width, 6 % of the ribbon thickness (seed 000: "
+                         "'allowing small penetrations'); wide enough that a rolling ribbon's edge "
+                         "stays in the smooth band for several 0.01 s steps", positive=True)
+    stiffness: float = param(1.0, "N/mm", "assumed: k; with the ribbon's weight (~2e-3 N) the static "
+                             "penetration stays below delta", positive=True)
+    clearance: float = param(0.0, "mm", "2h of seed 000: minimum engagement distance (0 for points "
+                             "on the true surface, e.g. ribbon corners; the radius for a round rod's "
+                             "centreline)", minimum=0.0)
+
+    @property
+    def K1(self) -> float:
+        """K1 = 15/delta [1/mm] (seed 000)."""
+        return 15.0 / self.delta
+
+
+@dataclass(frozen=True)
+class FrictionLaw:
+    """Smooth Coulomb friction of seed 000."""
+
+    mu: float = param(0.5, "-", "assumed friction coefficient of an elastomer on a metal plate", minimum=0.0)
+    slip_speed: float = param(0.2, "mm/s", "chosen: nu of seed 000, the slipping tolerance; a "
+                              "tangential load of half the Coulomb limit creeps at 0.07 nu = 0.015 mm/s, "
+                              "well below the rolling speeds (~1 mm/s); smaller nu makes the friction "
+                              "potential sharper than Newton's steps", positive=True)
+
+    @property
+    def K2(self) -> float:
+        """K2 = 15/nu [s/mm] (seed 000)."""
+        return 15.0 / self.slip_speed
+
+
+def contact_energy(gap: np.ndarray, law: ContactLaw):
+    """E(Delta) of seed 000 and its first two derivatives [mm^2, mm, -] (without the stiffness k).
+
+    Args:
+        gap: distances Delta [mm] (any shape).
+    """
+    gap = np.asarray(gap, dtype=float)
+    d = law.clearance - gap  # 2h - Delta
+    K1 = law.K1
+    x = K1 * d
+    s = np.logaddexp(0.0, x) / K1  # softplus / K1
+    sig = 0.5 * (1.0 + np.tanh(0.5 * x))  # logistic, overflow-free
+    energy = s * s
+    d1 = -2.0 * s * sig
+    d2 = 2.0 * sig * sig + 2.0 * s * sig * (1.0 - sig) * K1
+    inner = d >= law.delta  # Delta <= 2h - delta: the quadratic piece
+    energy = np.where(inner, d * d, energy)
+    d1 = np.where(inner, -2.0 * d, d1)
+    d2 = np.where(inner, 2.0, d2)
+    outer = d <= -law.delta  # Delta >= 2h + delta: no contact
+    energy = np.where(outer, 0.0, energy)
+    d1 = np.where(outer, 0.0, d1)
+    d2 = np.where(outer, 0.0, d2)
+    return energy, d1, d2
+
+
+def normal_force(gap: np.ndarray, law: ContactLaw) -> np.ndarray:
+    """Magnitude of the contact force F^n = k |dE/dDelta| [N] at each point."""
+    return -law.stiffness * contact_energy(gap, law)[1]
+
+
+def friction_gamma(speed: np.ndarray, law: FrictionLaw) -> np.ndarray:
+    """gamma(|v_T|) = 2/(1 + exp(-K2 |v_T|)) - 1 [-] (seed 000)."""
+    return np.tanh(0.5 * law.K2 * np.abs(speed))
+
+
+def friction_force(v_t: np.ndarray, normal: np.ndarray, law: FrictionLaw) -> np.ndarray:
+    """F^fr = -mu gamma(|v_T|) v_T/|v_T| F^n [N] for tangential velocities v_t (n, 3) [mm/s]."""
+    speed = np.linalg.norm(v_t, axis=-1)
+    a = 0.5 * law.K2
+    phi = np.where(a * speed > 1e-4, np.tanh(a * speed) / np.maximum(speed, 1e-300), a)
+    return -law.mu * (normal * phi)[..., None] * v_t
+
+
+def friction_potential(u: np.ndarray, normal_dir: np.ndarray, normal: np.ndarray, h: float,
+                       law: FrictionLaw):
+    """Friction potential D of the points, its gradient and Hessian in the displacement u.
+
+    Args:
+        u: displacement of each contact point over the step [mm], shape (n, 3).
+        normal_dir: unit surface normal n (3,) or (n, 3).
+        normal: normal force F^n [N] of each point (lagged), shape (n,).
+        h: time step [s].
+
+    Returns:
+        D (n,) [mJ], dD/du (n, 3) [N] (= minus the friction force), d2D/du2 (n, 3, 3) [N/mm].
+    """
+    n_dir = np.broadcast_to(normal_dir, u.shape)
+    w = u - np.einsum("ni,ni->n", u, n_dir)[:, None] * n_dir  # tangential displacement
+    v = np.linalg.norm(w, axis=1) / h  # slip speed [mm/s]
+    a = 0.5 * law.K2
+    z = a * v
+    small = z < 1e-3
+    zs = np.where(small, 1.0, z)
+    # Gamma(v) = ln cosh(z)/a; phi = tanh(z)/v; psi = phi'(v)/v (finite limits at v -> 0).
+    logcosh = np.where(small, 0.5 * z * z - z ** 4 / 12.0, zs + np.log1p(np.exp(-2.0 * zs)) - np.log(2.0))
+    th = np.tanh(zs)
+    vs = np.where(small, 1.0, v)
+    phi = np.where(small, a * (1.0 - z * z / 3.0), th / vs)
+    psi = np.where(small, -2.0 * a ** 3 / 3.0 + 8.0 * a ** 5 * v * v / 15.0,
+                   (a * (1.0 - th * th) * vs - th) / vs ** 3)
+    coef = law.mu * normal
+    energy = coef * h * logcosh / a
+    grad = (coef * phi / h)[:, None] * w
+    proj = np.eye(3) - n_dir[:, :, None] * n_dir[:, None, :]
+    hess = (coef / h)[:, None, None] * (phi[:, None, None] * proj
+                                       + (psi / h ** 2)[:, None, None] * w[:, :, None] * w[:, None, :])
+    return energy, grad, hess

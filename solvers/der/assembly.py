@@ -1,0 +1,384 @@
+"""Vectorised assembly of the rod's energy, gradient and banded Hessian.
+
+Elements: edges (stretching; contact and friction of the end half-edges' section points; dofs
+x_k, theta_k, x_(k+1): 7 contiguous entries of q) and interior-node stencils (bending, twisting,
+contact and friction of the section points on the two half-edges next to the node, whose frame
+angle is interpolated with the node's twist; dofs x_(k-1) ... x_(k+1): 11 contiguous entries).
+The Hessian is kept in LAPACK's lower banded storage ab[i - j, j] = H[i, j] (i >= j,
+half-bandwidth 10), filled with one ``np.bincount`` per element family.
+
+``order`` selects what is computed: 0 energy only (line search), 1 with gradient, 2 with Hessian.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from lcefem.models import rod as rodlaw
+from lcefem.models.contact import contact_energy, friction_potential, normal_force
+from lcefem.solvers.der.model import DiscreteRod, RodState, n_dofs
+
+BANDWIDTH = 10
+
+#: Edge slots (node a start, theta index, node b start) of the element layouts.
+EDGE_SLOTS = ((0, 3, 4),)
+STENCIL_SLOTS = ((0, 3, 4), (4, 7, 8))
+
+
+@dataclass
+class Derivatives:
+    """Energy [mJ], gradient (4N-1,) and lower banded Hessian (11, 4N-1) of a potential."""
+
+    energy: float
+    grad: np.ndarray | None
+    band: np.ndarray | None
+
+
+# ----------------------------------------------------------------------------------------------
+# Contact sampling
+# ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ContactSampling:
+    """Where the rod's surface meets the ground: section points (e.g. the ribbon's four corners)
+    sampled ``per_edge`` times along every edge.
+
+    per_edge even: the points of the half-edges next to an interior node take the frame angle
+    interpolated with that node's twist (``lcefem.models.rod.StencilPoints``), so the ribbon's edge
+    lines are continuous helices; the outer halves of the two end edges keep their edge's frame.
+    per_edge 1: one section at each edge's midpoint, in the edge's frame.
+    """
+
+    offsets: np.ndarray
+    per_edge: int
+    stencil: rodlaw.StencilPoints | None
+    end_sigma: np.ndarray  # (2, p_end): fractions on the first and last edge (or (1, p) for all edges)
+    end_offsets: np.ndarray  # (p_end, 2)
+
+    @classmethod
+    def of(cls, rod: DiscreteRod) -> "ContactSampling":
+        offsets = rod.contact_offsets
+        per_edge = rod.contact_samples
+        if per_edge == 1 or per_edge % 2:
+            k = len(offsets)
+            return cls(offsets, 1, None, np.full((1, k), 0.5), offsets)
+        stencil = rodlaw.StencilPoints.sampling(offsets, per_edge)
+        half = per_edge // 2
+        sig = (np.arange(per_edge) + 0.5) / per_edge
+        k = len(offsets)
+        first = np.repeat(sig[:half], k)  # outer half of edge 0
+        last = np.repeat(sig[half:], k)  # outer half of the last edge
+        return cls(offsets, per_edge, stencil, np.stack([first, last]), np.tile(offsets, (half, 1)))
+
+    @property
+    def interpolated(self) -> bool:
+        return self.stencil is not None
+
+    def end_edges(self, n_edges: int) -> np.ndarray:
+        return np.array([0, n_edges - 1]) if self.interpolated else np.arange(n_edges)
+
+
+def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling):
+    """Gaps [mm] to the ground of every sample point: (stencil (N-2, p_s) or None, ends (n_end, p_e))."""
+    geo = state.geometry()
+    nrm = rod.ground.unit_normal()
+    h = rod.ground.height
+    gs = None
+    if sampling.interpolated and rod.n_nodes > 2:
+        gs = rodlaw.stencil_point_heights(state.x, state.a1, geo.t, state.theta, geo.twist, sampling.stencil, nrm) - h
+    ids = sampling.end_edges(rod.n_nodes - 1)
+    x = state.x
+    xn = x @ nrm
+    m1n, m2n = geo.m1[ids] @ nrm, geo.m2[ids] @ nrm
+    sig = sampling.end_sigma if sampling.interpolated else sampling.end_sigma
+    base = xn[ids, None] + sig * (xn[ids + 1] - xn[ids])[:, None]
+    ge = base + sampling.end_offsets[None, :, 0] * m1n[:, None] + sampling.end_offsets[None, :, 1] * m2n[:, None] - h
+    return gs, ge
+
+
+def point_positions(state: RodState, sampling: ContactSampling, kind: str, elem: np.ndarray, col: np.ndarray):
+    """Positions (k, 3) of selected sample points, with (for stencil points) their offsets r and
+    edge tangents t (k, 3); ``elem`` is the stencil index or the row of the end-edge set."""
+    geo = state.geometry()
+    if kind == "stencil":
+        return rodlaw.stencil_points(state.x, state.a1, geo.t, state.theta, geo.twist, sampling.stencil, elem, col)
+    ids = sampling.end_edges(len(geo.t))[elem]
+    sig = (sampling.end_sigma[elem, col] if sampling.interpolated else sampling.end_sigma[0, col])
+    x = state.x
+    r = sampling.end_offsets[col, 0, None] * geo.m1[ids] + sampling.end_offsets[col, 1, None] * geo.m2[ids]
+    return x[ids] + sig[:, None] * (x[ids + 1] - x[ids]) + r, r, geo.t[ids]
+
+
+@dataclass
+class FrictionLag:
+    """Start-of-step data of the friction potential for the stencil and end-edge point sets: the
+    normal forces of all points (lagged) [N] and the positions [mm] of those with a force (NaN
+    elsewhere)."""
+
+    stencil_normal: np.ndarray | None
+    stencil_points: np.ndarray | None
+    end_normal: np.ndarray
+    end_points: np.ndarray
+
+
+def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
+                 all_points: bool = False) -> FrictionLag:
+    """Sample points and contact normal forces of ``state`` (the start of a step); positions of all
+    points with ``all_points``, else only of those with a normal force."""
+    gs, ge = all_gaps(rod, state, sampling)
+    out = []
+    for kind, gap in (("stencil", gs), ("edge", ge)):
+        if gap is None:
+            out += [None, None]
+            continue
+        normal = normal_force(gap, rod.contact)
+        pos = np.full(gap.shape + (3,), np.nan)
+        elem, col = np.nonzero((normal > 0.0) | all_points)
+        if len(elem):
+            pos[elem, col] = point_positions(state, sampling, kind, elem, col)[0]
+        out += [normal, pos]
+    return FrictionLag(*out)
+
+
+class Assembly:
+    """Index maps of one rod size; evaluates the elastic, contact and friction terms."""
+
+    def __init__(self, n_nodes: int):
+        self.n_nodes = n = n_nodes
+        self.ndof = nd = n_dofs(n)
+        self.edge_base = 4 * np.arange(n - 1)
+        self.node_base = 4 * np.arange(n - 2)
+        self.edge_idx = self.edge_base[:, None] + np.arange(7)[None, :]
+        self.stencil_idx = self.node_base[:, None] + np.arange(11)[None, :]
+        self._e_pairs = np.tril_indices(7)
+        self._s_pairs = np.tril_indices(11)
+        a, c = self._e_pairs
+        self.edge_band = ((a - c)[None, :] * nd + self.edge_base[:, None] + c[None, :])
+        a, c = self._s_pairs
+        self.stencil_band = ((a - c)[None, :] * nd + self.node_base[:, None] + c[None, :])
+        self.band_size = (BANDWIDTH + 1) * nd
+
+    # -- scatter ---------------------------------------------------------------------------
+    def gradient(self, g_edges, g_stencils, edge_rows=None, stencil_rows=None) -> np.ndarray:
+        g = np.zeros(self.ndof)
+        if g_edges is not None:
+            idx = self.edge_idx if edge_rows is None else self.edge_idx[edge_rows]
+            g += np.bincount(idx.ravel(), g_edges.ravel(), minlength=self.ndof)
+        if g_stencils is not None:
+            idx = self.stencil_idx if stencil_rows is None else self.stencil_idx[stencil_rows]
+            g += np.bincount(idx.ravel(), g_stencils.ravel(), minlength=self.ndof)
+        return g
+
+    def band(self, terms, diagonal: np.ndarray | None) -> np.ndarray:
+        """Lower band of sum of element Hessians; ``terms`` = [(kind, H, rows)], kind 'edge' or
+        'stencil', rows the element indices (None: all)."""
+        ab = np.zeros(self.band_size)
+        for kind, h, rows in terms:
+            if h is None:
+                continue
+            if kind == "edge":
+                a, c = self._e_pairs
+                idx = self.edge_band if rows is None else self.edge_band[rows]
+            else:
+                a, c = self._s_pairs
+                idx = self.stencil_band if rows is None else self.stencil_band[rows]
+            ab += np.bincount(idx.ravel(), h[:, a, c].ravel(), minlength=self.band_size)
+        ab = ab.reshape(BANDWIDTH + 1, self.ndof)
+        if diagonal is not None:
+            ab[0] += diagonal
+        return ab
+
+    # -- elastic energy ----------------------------------------------------------------------
+    def elastic(self, rod: DiscreteRod, state: RodState, order: int = 2):
+        """Stretching, bending and twisting.
+
+        Returns:
+            (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`)
+        """
+        sec = rod.section
+        rest = rod.rest
+        geo = state.geometry()
+        e = geo.e
+        if order == 0:
+            strain = geo.length / rest.edge_length - 1.0
+            es = 0.5 * sec.EA * float(np.sum(strain ** 2 * rest.edge_length))
+            kappa = np.stack([0.5 * np.einsum("ki,ki->k", rodlaw.curvature_binormal(e[:-1], e[1:]),
+                                               geo.m2[:-1] + geo.m2[1:]),
+                              -0.5 * np.einsum("ki,ki->k", rodlaw.curvature_binormal(e[:-1], e[1:]),
+                                               geo.m1[:-1] + geo.m1[1:])], axis=1)
+            d = kappa - rest.curvature
+            dt = geo.twist - rest.twist
+            eb = 0.5 * float(np.sum((sec.EI1 * d[:, 0] ** 2 + sec.EI2 * d[:, 1] ** 2 + sec.GJ * dt ** 2)
+                                    / rest.voronoi_length))
+            return es + eb, None, []
+        es, gs, hs = rodlaw.stretching(e, rest.edge_length, sec.EA)
+        m1, m2 = geo.m1, geo.m2
+        eb, gb, hb = rodlaw.bend_twist(e[:-1], e[1:], m1[:-1], m2[:-1], m1[1:], m2[1:], geo.twist,
+                                       rest.curvature, rest.twist, rest.voronoi_length,
+                                       sec.EI1, sec.EI2, sec.GJ, want_hessian=order >= 2)
+        n = len(e)
+        g_edges = np.zeros((n, 7))
+        g_edges[:, 0:3] = -gs
+        g_edges[:, 4:7] = gs
+        g_sten = gb @ rodlaw.STENCIL_MAP.T
+        h_edges = h_sten = None
+        if order >= 2:
+            h_edges = np.zeros((n, 7, 7))
+            h_edges[:, 0:3, 0:3] = hs
+            h_edges[:, 4:7, 4:7] = hs
+            h_edges[:, 0:3, 4:7] = -hs
+            h_edges[:, 4:7, 0:3] = -hs
+            h_sten = rodlaw.STENCIL_MAP @ hb @ rodlaw.STENCIL_MAP.T
+        change = source_change(state)
+        if change is not None:  # stretching does not depend on the frames
+            db, ddb = change
+            g_sten, h_sten = rodlaw.apply_source_change(g_sten, h_sten, STENCIL_SLOTS,
+                                                        (db[:-1], db[1:]), (ddb[:-1], ddb[1:]))
+        grad = self.gradient(g_edges, g_sten)
+        return float(es.sum() + eb.sum()), grad, [("edge", h_edges, None), ("stencil", h_sten, None)]
+
+    # -- contact and friction ----------------------------------------------------------------
+    def contact(self, rod: DiscreteRod, state: RodState, sampling: ContactSampling, order: int = 2,
+                friction: FrictionLag | None = None, step: float = 0.0):
+        """Contact potential k E(gap) of the sample points with the ground, plus (when ``friction``
+        is given) the friction potential over a step of length ``step`` [s]. Only the points within
+        reach of the ground (or carrying a lagged friction force) are differentiated.
+
+        Returns:
+            (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`)
+        """
+        if not rod.has_contact:
+            return 0.0, None, []
+        law = rod.contact
+        nrm = rod.ground.unit_normal()
+        gs, ge = all_gaps(rod, state, sampling)
+        fric = friction is not None and rod.friction is not None and step > 0
+        reach = law.clearance + law.delta
+        k = law.stiffness
+        energy = 0.0
+        grad = np.zeros(self.ndof) if order >= 1 else None
+        terms = []
+        change = source_change(state) if order >= 1 else None
+        geo = state.geometry()
+        x = state.x
+        n_edges = len(geo.t)
+        for kind, gap in (("stencil", gs), ("edge", ge)):
+            if gap is None:
+                continue
+            lag_n = (friction.stencil_normal if kind == "stencil" else friction.end_normal) if fric else None
+            active = gap < reach
+            if fric:
+                active = active | (lag_n > 0.0)
+            elem, col = np.nonzero(active)
+            if len(elem) == 0:
+                continue
+            E, d1, d2 = contact_energy(gap[elem, col], law)
+            energy += k * float(E.sum())
+            pos = r = t = None
+            if fric:
+                lag_pts = friction.stencil_points if kind == "stencil" else friction.end_points
+                fn = lag_n[elem, col]
+                with_force = fn > 0.0
+                pos, r, t = point_positions(state, sampling, kind, elem, col)
+                u = np.where(with_force[:, None], pos - np.nan_to_num(lag_pts[elem, col]), 0.0)
+                D, gD, hD = friction_potential(u, nrm, fn, step, rod.friction)
+                energy += float(D.sum())
+            if order == 0:
+                continue
+            if pos is None:
+                pos, r, t = point_positions(state, sampling, kind, elem, col)
+            g_pt = (k * d1)[:, None] * nrm
+            if fric:
+                g_pt = g_pt + gD
+            if kind == "stencil":
+                st = sampling.stencil
+                jac, h_loc = rodlaw.stencil_point_derivatives(geo.e[elem], geo.e[elem + 1], r, t, st.side[col],
+                                                              st.sigma[col], g_pt, hessian=order >= 2)
+            else:
+                ids = sampling.end_edges(n_edges)[elem]
+                sig = sampling.end_sigma[elem, col] if sampling.interpolated else sampling.end_sigma[0, col]
+                jac, hp = rodlaw.section_point_derivatives(x[ids], x[ids + 1], geo.m1[ids], geo.m2[ids],
+                                                           sampling.end_offsets[col][:, None, :],
+                                                           g_pt[:, None, :], sig[:, None])
+                jac = jac[:, 0]
+                h_loc = hp[:, 0] if order >= 2 else None
+            g_loc = np.einsum("kc,kci->ki", g_pt, jac)
+            if order >= 2:
+                jn = np.einsum("kci,c->ki", jac, nrm)
+                h_loc = h_loc + (k * d2)[:, None, None] * (jn[:, :, None] * jn[:, None, :])
+                if fric:
+                    h_loc = h_loc + np.swapaxes(jac, 1, 2) @ (hD @ jac)
+            if kind == "stencil":
+                if change is not None:
+                    db, ddb = change
+                    g_loc, h_loc = rodlaw.apply_source_change(g_loc, h_loc, STENCIL_SLOTS, (db[elem], db[elem + 1]),
+                                                              (ddb[elem], ddb[elem + 1]))
+                grad += self.gradient(None, g_loc, stencil_rows=elem)
+                terms.append(("stencil", h_loc, elem))
+            else:
+                if change is not None:
+                    db, ddb = change
+                    g_loc, h_loc = rodlaw.apply_source_change(g_loc, h_loc, EDGE_SLOTS, (db[ids],), (ddb[ids],))
+                grad += self.gradient(g_loc, None, edge_rows=ids)
+                terms.append(("edge", h_loc, ids))
+        return energy, grad, terms
+
+
+def source_change(state: RodState):
+    """Holonomy derivatives (per edge) for a state whose frames came from ``state.source_tangents``,
+    or None when the source is the state itself."""
+    src = state.source_tangents
+    if src is None:
+        return None
+    geo = state.geometry()
+    if np.max(np.abs(src - geo.t)) == 0.0:
+        return None
+    return rodlaw.source_change(src, geo.t, geo.length)
+
+
+def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:
+    """Contact force vector per node (N, 3) [N]: each sample point's force shared by the nodes of its
+    edge in proportion to its position along the edge."""
+    out = np.zeros((rod.n_nodes, 3))
+    if not rod.has_contact:
+        return out
+    gs, ge = all_gaps(rod, state, sampling)
+    nrm = rod.ground.unit_normal()
+    n_edges = rod.n_nodes - 1
+    f_end = normal_force(ge, rod.contact)
+    sig = sampling.end_sigma if sampling.interpolated else np.broadcast_to(sampling.end_sigma, f_end.shape)
+    ids = sampling.end_edges(n_edges)
+    np.add.at(out, ids, ((1.0 - sig) * f_end).sum(1)[:, None] * nrm)
+    np.add.at(out, ids + 1, (sig * f_end).sum(1)[:, None] * nrm)
+    if gs is not None:
+        fs = normal_force(gs, rod.contact)
+        st = sampling.stencil
+        side = st.side.astype(bool)
+        # points of edge e (nodes k-1, k) and f (nodes k, k+1) of stencil s (node k = s + 1)
+        w_prev = np.where(side, 0.0, 1.0 - st.sigma)
+        w_node = np.where(side, 1.0 - st.sigma, st.sigma)
+        w_next = np.where(side, st.sigma, 0.0)
+        k = np.arange(n_edges - 1)
+        out[k] += (fs @ w_prev)[:, None] * nrm
+        out[k + 1] += (fs @ w_node)[:, None] * nrm
+        out[k + 2] += (fs @ w_next)[:, None] * nrm
+    return out
+
+
+def edge_corner_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:
+    """Smallest gap [mm] of each section point kind (e.g. each corner) over the samples of each edge,
+    shape (N-1, len(offsets)); +inf without a ground."""
+    n_edges = rod.n_nodes - 1
+    k = len(sampling.offsets)
+    if rod.ground is None:
+        return np.full((n_edges, k), np.inf)
+    gs, ge = all_gaps(rod, state, sampling)
+    ids = sampling.end_edges(n_edges)
+    out = np.full((n_edges, k), np.inf)
+    out[ids] = np.minimum(out[ids], ge.reshape(len(ids), -1, k).min(axis=1))
+    if gs is not None:
+        side = sampling.stencil.side.astype(bool)
+        out[:-1] = np.minimum(out[:-1], gs[:, ~side].reshape(len(gs), -1, k).min(axis=1))
+        out[1:] = np.minimum(out[1:], gs[:, side].reshape(len(gs), -1, k).min(axis=1))
+    return out

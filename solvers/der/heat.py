@@ -1,0 +1,163 @@
+"""Heat in a ribbon's cross-sections: a grid of cell temperatures per edge, implicit Euler.
+
+Each edge's section (w x t) is split into the cells of ``lcefem.models.ribbon.SectionGrid``; a cell
+of size (w/n_w) x (t/n_t) x l stores heat rho c (w t/(n_w n_t)) l and exchanges it
+
+* by conduction with its neighbours across the thickness and the width and with the same cell of
+  the neighbouring edges (conductance k x area / centre distance);
+* through its exposed patches (bottom and top faces, normals -m2, +m2; the two edges, normals
+  -m1, +m1) with the air (film coefficient plus radiation to the ambient on the part not facing
+  the plate, ``lcefem.models.heat.SurfaceExchange``) and with the hot ground
+  (``lcefem.models.ribbon.GroundHeatExchange``: air film and radiation by facing, contact
+  conduction at a touching corner).
+
+The coefficients are evaluated on the current geometry and the previous temperatures (radiation
+linearised there); the linear system is symmetric and banded (half-bandwidth n_w n_t) and is
+solved with ``scipy.linalg.solveh_banded``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import solveh_banded
+
+from lcefem.models.contact import ContactLaw
+from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_film_coefficient
+from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
+
+
+@dataclass
+class HeatGeometry:
+    """Per edge: midpoint c (n, 3), material frame m1, m2 (n, 3), length l (n,) [mm], and optionally
+    the smallest gap of each corner over the edge (n, 4) [mm] (default: the midpoint section's)."""
+
+    centre: np.ndarray
+    m1: np.ndarray
+    m2: np.ndarray
+    length: np.ndarray
+    corner_gap: np.ndarray | None = None
+
+
+@dataclass
+class HeatFluxes:
+    """Diagnostics of one heat step: power from the ground and to the air [mW] per edge (n,)."""
+
+    from_ground: np.ndarray
+    to_air: np.ndarray
+
+
+class SectionHeat:
+    """Implicit-Euler heat model of a ribbon's sections (see module docstring)."""
+
+    def __init__(self, n_edges: int, grid: SectionGrid, reference_length: np.ndarray,
+                 thermal: ThermalProperties, air: SurfaceExchange, ground: GroundHeatExchange,
+                 contact: ContactLaw, ground_normal=(0.0, 0.0, 1.0), ground_height: float = 0.0):
+        self.n = n_edges
+        self.grid = grid
+        self.thermal, self.air, self.ground, self.contact = thermal, air, ground, contact
+        self.normal = np.asarray(ground_normal, float) / np.linalg.norm(ground_normal)
+        self.height = ground_height
+        w, t, nw, nt = grid.width, grid.thickness, grid.n_width, grid.n_thickness
+        nc = grid.n_cells
+        self.nc = nc
+        dw, dt_ = w / nw, t / nt
+        self.capacity = thermal.volumetric_heat_capacity * dw * dt_ * np.asarray(reference_length)
+        k = thermal.conductivity
+        self.k = k
+        # In-section conductances per unit length: (cell a, cell b, k x contact width / distance).
+        pairs = []
+        for iw in range(nw):
+            for it in range(nt):
+                c = iw * nt + it
+                if it + 1 < nt:
+                    pairs.append((c, c + 1, k * dw / dt_))
+                if iw + 1 < nw:
+                    pairs.append((c, c + nt, k * dt_ / dw))
+        self.pairs = pairs
+        self.k_axial = k * dw * dt_
+        # Exposed patches: cell, area per unit length, normal (frame vector index 0 = m1, 1 = m2, sign),
+        # centroid offsets (a, b) along (m1, m2).
+        y1, y2 = grid.y1, grid.y2
+        cells, area, axis, sign, off_a, off_b = [], [], [], [], [], []
+        for c in range(nc):
+            iw, it = divmod(c, nt)
+            if it == 0:
+                cells.append(c); area.append(dw); axis.append(1); sign.append(-1.0)
+                off_a.append(y1[c]); off_b.append(-0.5 * t)
+            if it == nt - 1:
+                cells.append(c); area.append(dw); axis.append(1); sign.append(1.0)
+                off_a.append(y1[c]); off_b.append(0.5 * t)
+            if iw == 0:
+                cells.append(c); area.append(dt_); axis.append(0); sign.append(-1.0)
+                off_a.append(-0.5 * w); off_b.append(y2[c])
+            if iw == nw - 1:
+                cells.append(c); area.append(dt_); axis.append(0); sign.append(1.0)
+                off_a.append(0.5 * w); off_b.append(y2[c])
+        self.p_cell = np.array(cells)
+        self.p_area = np.array(area)
+        self.p_axis = np.array(axis)
+        self.p_sign = np.array(sign)
+        self.p_off = np.stack([off_a, off_b], axis=1)
+        self.corner_cells = grid.corner_cells()
+
+    def coefficients(self, T: np.ndarray, geo: HeatGeometry, T_ground: float):
+        """Exchange conductances [mW/K] of each cell with the ground (n, n_cells) and the air
+        (n, n_cells), and the conductance-weighted air temperature [C] each cell sees (n, n_cells)."""
+        nz = self.normal
+        cz = geo.centre @ nz - self.height
+        m1z, m2z = geo.m1 @ nz, geo.m2 @ nz
+        heights = cz[:, None] + self.p_off[None, :, 0] * m1z[:, None] + self.p_off[None, :, 1] * m2z[:, None]
+        nrm_z = np.where(self.p_axis == 0, m1z[:, None], m2z[:, None]) * self.p_sign[None, :]
+        facing = np.maximum(0.0, -nrm_z)
+        area = self.p_area[None, :] * geo.length[:, None]
+        Tp = T[:, self.p_cell]
+        h_ground = self.ground.patch_coefficient(heights, facing, Tp, T_ground)
+        h_amb = (self.air.film_coefficient
+                 + radiative_film_coefficient(Tp, self.air.ambient_temperature, self.air.emissivity) * (1.0 - facing))
+        n = len(cz)
+        G_g = np.zeros((n, self.nc))
+        G_a = np.zeros((n, self.nc))
+        Q_a = np.zeros((n, self.nc))
+        T_air = self.ground.air_temperature(heights, self.air.ambient_temperature, T_ground)
+        np.add.at(G_g.T, self.p_cell, (h_ground * area).T)
+        np.add.at(G_a.T, self.p_cell, (h_amb * area).T)
+        np.add.at(Q_a.T, self.p_cell, (h_amb * area * T_air).T)
+        if geo.corner_gap is not None:
+            corner = geo.corner_gap
+        else:
+            from lcefem.models.rod import CORNER_SIGNS
+            corner = (cz[:, None] + 0.5 * self.grid.width * CORNER_SIGNS[:, 0] * m1z[:, None]
+                      + 0.5 * self.grid.thickness * CORNER_SIGNS[:, 1] * m2z[:, None])
+        weight = 0.5 * (1.0 - np.tanh(0.5 * self.contact.K1 * corner))  # 1/(1 + exp(K1 gap))
+        g_contact = self.ground.contact_conductance * geo.length[:, None] * weight
+        np.add.at(G_g.T, self.corner_cells, g_contact.T)
+        return G_g, G_a, Q_a / np.maximum(G_a, 1e-300)
+
+    def step(self, T: np.ndarray, dt: float, geo: HeatGeometry, T_ground: float) -> tuple[np.ndarray, HeatFluxes]:
+        """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo``."""
+        n, nc = self.n, self.nc
+        G_g, G_a, T_air = self.coefficients(T, geo, T_ground)
+        C = self.capacity[:, None] / dt
+        nd = nc * n
+        ab = np.zeros((nc + 1, nd))
+        diag = (C + G_g + G_a).ravel()
+        rhs = (C * T + G_g * T_ground + G_a * T_air).ravel()
+        length = geo.length
+        base = nc * np.arange(n)
+        for (a, b, g) in self.pairs:
+            gl = g * length
+            ab[b - a, base + a] -= gl
+            diag[base + a] += gl
+            diag[base + b] += gl
+        if n > 1:
+            ga = self.k_axial / (0.5 * (length[:-1] + length[1:]))
+            for c in range(nc):
+                ab[nc, base[:-1] + c] -= ga
+                diag[base[:-1] + c] += ga
+                diag[base[1:] + c] += ga
+        ab[0] = diag
+        T_new = solveh_banded(ab, rhs, lower=True, check_finite=False).reshape(n, nc)
+        fluxes = HeatFluxes((G_g * (T_ground - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))
+        return T_new, fluxes

@@ -1,0 +1,171 @@
+"""Implicit time stepping of a discrete rod (seed 000, 'DER Differential Equation').
+
+Implicit Euler: the state at t + h minimises the incremental potential
+
+    Phi(q) = 1/(2h^2) |q - q_n - h qdot_n|_M^2 + c/(2h) |q - q_n|_M^2 + E_elastic(q) - f.q
+             + k E_contact(q) + D_friction(q)
+
+(M the lumped mass, c the mass-proportional damping rate, f gravity plus external forces, D the
+friction potential of lagged normal forces); its stationarity is the seed's
+m/dt [(q_(n+1) - q_n)/dt - qdot_n] + dE/dq - f_ext = 0 with damping, contact and friction in f_ext.
+Implicit midpoint is the same minimisation over h = dt/2 for the midpoint state y, followed by
+q_(n+1) = 2y - q_n and qdot_(n+1) = 2 (y - q_n)/h - qdot_n (it keeps the energy of undamped
+motion; implicit Euler damps it).
+
+A step whose Newton loop fails is retried as two half steps from the last converged state, down
+to ``min_dt``; below it ``ConvergenceError`` is raised after ``on_failure(state)`` has saved the
+last converged state.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.solvers.der.assembly import Assembly, ContactSampling, Derivatives, FrictionLag, friction_lag
+from lcefem.solvers.der.model import DiscreteRod, RodState, node_dofs
+from lcefem.solvers.der.newton import NewtonOptions, NewtonResult, minimise
+
+METHODS = ("euler", "midpoint")
+
+
+@dataclass(frozen=True)
+class StepOptions:
+    method: str = "euler"
+    min_dt: float = 1e-6  # [s]
+    friction_iterations: int = 1  # >1: re-solve with the normal force of the new state
+    predict: bool = True  # start Newton from the inertial prediction q_n + h qdot_n
+    newton: NewtonOptions = field(default_factory=NewtonOptions)
+
+    def __post_init__(self):
+        if self.method not in METHODS:
+            raise InputError(f"method = {self.method!r}: allowed {', '.join(METHODS)}")
+        if self.min_dt <= 0:
+            raise InputError(f"min_dt = {self.min_dt} s: must be > 0 s")
+        if self.friction_iterations < 1:
+            raise InputError(f"friction_iterations = {self.friction_iterations}: must be >= 1")
+
+
+@dataclass
+class StepReport:
+    dt: float
+    iterations: int
+    cuts: int
+
+
+def generalised_load(rod: DiscreteRod) -> np.ndarray:
+    """Gravity plus external forces as a generalised force (4N-1,) [N, N mm]."""
+    f = rod.external_force.copy()
+    n = rod.n_nodes
+    f[node_dofs(n)] += rod.node_mass[:, None] * rod.gravity[None, :]
+    return f
+
+
+class StepPotential:
+    """The incremental potential Phi of one implicit step of length h from ``start``."""
+
+    def __init__(self, rod: DiscreteRod, start: RodState, h: float, assembly: Assembly,
+                 sampling: ContactSampling, lag: FrictionLag | None):
+        self.rod, self.h, self.asm, self.lag, self.sampling = rod, h, assembly, lag, sampling
+        self.mass = rod.mass_vector()
+        self.q_n = start.q()
+        self.q_star = self.q_n + h * start.qdot()
+        self.load = generalised_load(rod)
+        self.diag = self.mass * (1.0 / h ** 2 + rod.damping / h)
+
+    def __call__(self, state: RodState, hessian: bool) -> Derivatives:
+        h = self.h
+        order = 2 if hessian else 0
+        q = state.q()
+        dq = q - self.q_star
+        dn = q - self.q_n
+        energy = (0.5 / h ** 2 * float(self.mass @ dq ** 2) + 0.5 * self.rod.damping / h * float(self.mass @ dn ** 2)
+                  - float(self.load @ q))
+        ee, ge, te = self.asm.elastic(self.rod, state, order)
+        ec, gc, tc = self.asm.contact(self.rod, state, self.sampling, order, friction=self.lag, step=h)
+        energy += ee + ec
+        if not hessian:
+            return Derivatives(energy, None, None)
+        grad = self.mass * (dq / h ** 2 + self.rod.damping * dn / h) - self.load + ge
+        if gc is not None:
+            grad += gc
+        return Derivatives(energy, grad, self.asm.band(te + tc, self.diag))
+
+
+class Integrator:
+    """Steps a rod in time; ``rod.rest`` may be replaced between calls (actuation)."""
+
+    def __init__(self, rod: DiscreteRod, state: RodState, options: StepOptions = StepOptions(),
+                 on_failure: Callable[[RodState], None] | None = None):
+        self.rod = rod
+        self.state = state
+        self.options = options
+        self.on_failure = on_failure
+        self.assembly = Assembly(rod.n_nodes)
+        self.sampling = ContactSampling.of(rod)
+        self.total_iterations = 0
+        self.total_cuts = 0
+
+    def _attempt(self, start: RodState, dt: float) -> tuple[RodState | None, NewtonResult]:
+        rod = self.rod
+        midpoint = self.options.method == "midpoint"
+        h = 0.5 * dt if midpoint else dt
+        use_friction = rod.has_contact and rod.friction is not None
+        many = self.options.friction_iterations > 1
+        lag = friction_lag(rod, start, self.sampling, all_points=many) if use_friction else None
+        iterations = 0
+        guess = start.moved(h * start.qdot()) if self.options.predict else start
+        result = None
+        for _ in range(self.options.friction_iterations if use_friction else 1):
+            potential = StepPotential(rod, start, h, self.assembly, self.sampling, lag)
+            result = minimise(guess, rod.fixed, potential, self.options.newton)
+            iterations += result.iterations
+            if not result.converged:
+                result.iterations = iterations
+                return None, result
+            guess = result.state
+            if use_friction:
+                new = friction_lag(rod, guess, self.sampling)
+                lag = FrictionLag(new.stencil_normal, lag.stencil_points, new.end_normal, lag.end_points)
+        result.iterations = iterations
+        y = result.state
+        q_n, qdot_n = start.q(), start.qdot()
+        if midpoint:
+            new = y.moved(y.q() - q_n)
+            qdot = 2.0 * (y.q() - q_n) / h - qdot_n
+        else:
+            new = y
+            qdot = (y.q() - q_n) / h
+        n = rod.n_nodes
+        new.v = qdot[node_dofs(n)]
+        new.omega = qdot[4 * np.arange(n - 1) + 3]
+        new.time = start.time + dt
+        return new, result
+
+    def _advance(self, start: RodState, dt: float, depth: int) -> tuple[RodState, int, int]:
+        new, result = self._attempt(start, dt)
+        if new is not None:
+            return new, result.iterations, 0
+        half = 0.5 * dt
+        if half < self.options.min_dt:
+            if self.on_failure is not None:
+                self.on_failure(start)
+            raise ConvergenceError(f"t = {start.time:.6g} s",
+                                   f"Newton failed ({result.reason}, residual {result.residual:.3g}) with "
+                                   f"dt = {dt:.3g} s; smallest allowed step {self.options.min_dt:.3g} s")
+        mid, it1, c1 = self._advance(start, half, depth + 1)
+        end, it2, c2 = self._advance(mid, half, depth + 1)
+        return end, result.iterations + it1 + it2, 1 + c1 + c2
+
+    def step(self, dt: float) -> StepReport:
+        """Advance by dt [s] (in sub-steps if Newton needs them)."""
+        if not dt > 0:
+            raise InputError(f"dt = {dt} s: must be > 0 s")
+        new, its, cuts = self._advance(self.state, dt, 0)
+        self.state = new
+        self.total_iterations += its
+        self.total_cuts += cuts
+        return StepReport(dt, its, cuts)

@@ -1,0 +1,396 @@
+"""The twisted (or helical) LCE ribbon as a discrete elastic rod, heated by a hot ground.
+
+Builds the rod from :mod:`lcefem.models.ribbon` (geometry, programmed shape, thermal natural
+strains) and the LCE laws (shear modulus of ``LCEElasticity``, incompressible E = 3 mu), couples it
+to the section heat model (:mod:`lcefem.solvers.der.heat`) by staggered steps (mechanics with the
+natural shape of the current temperatures, then heat on the new geometry), and measures what the
+experiments report: centroid path and speed, spin of both ends, contact points, twist density.
+
+Also: :func:`ribbon_static_response`, the static shape of a free ribbon (no ground, optional
+gravity) for given section temperatures, for comparisons with the 3D FE model.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from lcefem.models.contact import ContactLaw, FrictionLaw
+from lcefem.models.errors import InputError
+from lcefem.models.heat import SurfaceExchange, ThermalProperties
+from lcefem.models.hyperelastic import LCEElasticity
+from lcefem.models.lce import NematicTransition
+from lcefem.models.parameters import param
+from lcefem.models.ribbon import (GroundHeatExchange, RibbonGeometry, SectionGrid, natural_strains,
+                                  natural_twist_rate)
+from lcefem.models.rod import (RodSection, cross, material_curvatures, rectangular_section,
+                               signed_angle)
+from lcefem.models.units import STANDARD_GRAVITY
+from lcefem.solvers.der import frames as fr
+from lcefem.solvers.der.assembly import edge_corner_gaps, node_contact_forces
+from lcefem.solvers.der.heat import HeatGeometry, SectionHeat
+from lcefem.solvers.der.integrator import Integrator, StepOptions
+from lcefem.solvers.der.model import DiscreteRod, Ground, RestShape, RodState, lumped_masses
+from lcefem.solvers.der.newton import NewtonOptions
+from lcefem.solvers.der.static import solve_static, statically_determinate_support
+
+
+@dataclass(frozen=True)
+class RibbonNumerics:
+    """Discretisation and solver settings of the rolling-ribbon simulation."""
+
+    nodes: int = param(60, "-", "chosen: rod nodes (edge ~1 mm at 60 mm length)", minimum=3)
+    dt: float = param(0.01, "s", "chosen: time step (implicit Euler); the thermal time t^2/alpha ~ 5 s "
+                      "and the rolling period ~ 10 s are far longer", positive=True)
+    method: str = param("euler", "-", "'euler' (implicit Euler) or 'midpoint' (implicit midpoint)")
+    damping: float = param(0.02, "1/s", "assumed: mass-proportional viscous damping rate (still air); "
+                           "small, since rolling about the axis is resisted by nothing else", minimum=0.0)
+    settle_time: float = param(0.3, "s", "chosen: the ribbon settles on the cold ground before heating",
+                               minimum=0.0)
+    force_tol: float = param(1e-5, "-", "Newton tolerance on forces, relative to a node's weight",
+                             positive=True)
+    perturbation: float = param(0.0, "rad/s", "chosen: initial spin about the axis that selects the "
+                                "rolling direction (both directions are equivalent by symmetry)")
+    contact_samples: int = param(2, "-", "chosen: sections sampled per edge for contact (frame angle "
+                                 "interpolated with the twist)", minimum=1)
+    cells_width: int = param(6, "-", "chosen: heat cells across the width", minimum=1)
+    cells_thickness: int = param(2, "-", "chosen: heat cells through the thickness", minimum=1)
+
+
+def lce_ribbon_section(geometry: RibbonGeometry, elasticity: LCEElasticity = LCEElasticity(),
+                       thermal: ThermalProperties = ThermalProperties()) -> RodSection:
+    """Rectangular section with E = 3 mu (incompressible small-strain limit of ``LCEElasticity``) and
+    G = mu; width along m1, thickness along m2."""
+    mu = elasticity.shear_modulus
+    return rectangular_section(geometry.width, geometry.thickness, 3.0 * mu, mu, thermal.density)
+
+
+def corner_radius(geometry: RibbonGeometry) -> float:
+    """Distance from the centreline to a corner of the section, sqrt(w^2 + t^2)/2 [mm]."""
+    return 0.5 * math.hypot(geometry.width, geometry.thickness)
+
+
+def initial_ribbon_state(geometry: RibbonGeometry, n_nodes: int, phase: float = 0.0,
+                         lift: float = 0.0) -> RodState:
+    """As-built ribbon lying along x on the plane z = 0 (its lowest corner at height ``lift``).
+
+    Twisted ribbon: straight centreline, m1 (width) turned by tau_0 s + phase about x.
+    Helical ribbon: centreline (c phi, R cos phi, R sin phi), c = pitch/(2 pi), phi = s/sqrt(R^2 + c^2),
+    a helix of radius R about the x axis with the face normal m2 pointing to the helix axis (the
+    ribbon wound on a cylinder, face on it), resting on its lowest corner.
+    """
+    if n_nodes < 3:
+        raise InputError(f"nodes = {n_nodes}: must be >= 3")
+    L = geometry.length
+    s = np.linspace(0.0, L, n_nodes)
+    if not geometry.is_helical:
+        x = np.zeros((n_nodes, 3))
+        x[:, 0] = s
+        x[:, 2] = corner_radius(geometry) + lift
+        mid = 0.5 * (s[:-1] + s[1:])
+        theta = geometry.twist_rate * mid + phase
+        state = RodState.from_positions(x, theta, first_director=np.array([0.0, 0.0, 1.0]))
+        return _lay_on_ground(state, geometry, lift)
+    R = geometry.helix_radius
+    c = geometry.helix_pitch / (2.0 * math.pi)
+    phi = s / math.hypot(R, c) + phase
+    x = np.stack([c * phi, R * np.cos(phi), R * np.sin(phi)], axis=1)
+    state = RodState.from_positions(x, first_director=np.array([0.0, 0.0, 1.0]))
+    # Turn each material frame so that m2 points to the helix axis (curvature towards m2).
+    mid = 0.5 * (x[:-1] + x[1:])
+    inward = -mid.copy()
+    inward[:, 0] = 0.0
+    t = state.tangents
+    inward -= np.einsum("ki,ki->k", inward, t)[:, None] * t
+    inward = fr.unit(inward)
+    m1_target = cross(inward, t)
+    theta = signed_angle(state.a1, m1_target, t)
+    theta = np.unwrap(theta)
+    state = RodState.from_positions(x, theta, first_director=np.array([0.0, 0.0, 1.0]))
+    return _lay_on_ground(state, geometry, lift)
+
+
+def _lay_on_ground(state: RodState, geometry: RibbonGeometry, lift: float) -> RodState:
+    """Shift the rod vertically so that its lowest section corner is at height ``lift``."""
+    m1, m2 = state.material_frames()
+    hw, ht = 0.5 * geometry.width, 0.5 * geometry.thickness
+    cz = 0.5 * (state.x[:-1, 2] + state.x[1:, 2])
+    lowest = cz - hw * np.abs(m1[:, 2]) - ht * np.abs(m2[:, 2])
+    x = state.x.copy()
+    x[:, 2] += lift - lowest.min()
+    return RodState(x, state.theta, state.v, state.omega, state.a1, state.ref_twist, state.time)
+
+
+@dataclass
+class ProgrammedShape:
+    """Stress-free shape of the as-built ribbon (integrated per node) and reference lengths."""
+
+    edge_length: np.ndarray  # as-built rest edge lengths [mm]
+    curvature: np.ndarray  # (N-2, 2) integrated [-]
+    twist: np.ndarray  # (N-2,) integrated [rad]
+    twisted_director: bool  # True: the twist was programmed by twisting a stretched strip
+
+    @property
+    def voronoi(self) -> np.ndarray:
+        return 0.5 * (self.edge_length[:-1] + self.edge_length[1:])
+
+    @classmethod
+    def of_state(cls, state: RodState, twisted_director: bool) -> "ProgrammedShape":
+        """The as-built state is stress free: its measured curvatures and twist are the natural ones."""
+        e = fr.edges_of(state.x)
+        m1, m2 = state.material_frames()
+        kappa = material_curvatures(e[:-1], e[1:], m1[:-1], m2[:-1], m1[1:], m2[1:])
+        twist = state.theta[1:] - state.theta[:-1] + state.ref_twist
+        return cls(np.linalg.norm(e, axis=1), kappa, twist, twisted_director)
+
+    def rest_shape(self, cell_temperatures: np.ndarray, grid: SectionGrid,
+                   transition: NematicTransition) -> RestShape:
+        """Natural shape at the given section cell temperatures (N-1, n_cells) [C] (module docstring
+        of :mod:`lcefem.models.ribbon`)."""
+        ns = natural_strains(cell_temperatures, grid, transition)
+        node = lambda v: 0.5 * (v[:-1] + v[1:])  # noqa: E731  edges -> interior nodes
+        vor = self.voronoi
+        curvature = self.curvature + node(ns.curvature) * vor[:, None]
+        if self.twisted_director:
+            twist = natural_twist_rate(1.0, node(ns.contraction)) * self.twist
+        else:
+            twist = self.twist.copy()
+        return RestShape(self.edge_length * (1.0 + ns.axial), curvature, twist)
+
+
+HISTORY_COLUMNS = ["time [s]", "centroid_x [mm]", "centroid_y [mm]", "centroid_z [mm]",
+                   "speed [mm/s]", "spin_start [rad]", "spin_end [rad]", "twist_density [turns/mm]",
+                   "length [mm]", "contact_points [-]", "T_mean [C]", "T_max [C]",
+                   "newton_iterations [-]", "step_cuts [-]"]
+
+
+@dataclass
+class RibbonSetup:
+    """Everything that defines a rolling-ribbon run besides the run length."""
+
+    geometry: RibbonGeometry = field(default_factory=RibbonGeometry)
+    ground_temperature: float = 80.0
+    transition: NematicTransition = field(default_factory=NematicTransition)
+    elasticity: LCEElasticity = field(default_factory=LCEElasticity)
+    thermal: ThermalProperties = field(default_factory=ThermalProperties)
+    air: SurfaceExchange = field(default_factory=SurfaceExchange)
+    ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
+    contact: ContactLaw = field(default_factory=ContactLaw)
+    friction: FrictionLaw = field(default_factory=FrictionLaw)
+    numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
+
+
+class RibbonSimulation:
+    """A ribbon on a hot plate: build once, then :meth:`advance` in time."""
+
+    def __init__(self, setup: RibbonSetup, on_failure=None):
+        self.setup = s = setup
+        g, num = s.geometry, s.numerics
+        if num.method not in ("euler", "midpoint"):
+            raise InputError(f"numerics.method = {num.method!r}: allowed euler, midpoint")
+        self.section = section = lce_ribbon_section(g, s.elasticity, s.thermal)
+        state = initial_ribbon_state(g, num.nodes)
+        self.programmed = ProgrammedShape.of_state(state, twisted_director=not g.is_helical)
+        n = num.nodes
+        node_mass, edge_inertia = lumped_masses(section, self.programmed.edge_length)
+        self.grid = SectionGrid(g.width, g.thickness, num.cells_width, num.cells_thickness)
+        self.T = np.full((n - 1, self.grid.n_cells), s.air.ambient_temperature)
+        rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
+        gravity = np.array([0.0, 0.0, -STANDARD_GRAVITY])
+        self.rod = DiscreteRod(section, rest, node_mass, edge_inertia, gravity=gravity, damping=num.damping,
+                               ground=Ground(), contact=s.contact, friction=s.friction,
+                               contact_samples=num.contact_samples)
+        weight = float(node_mass.max() * STANDARD_GRAVITY)
+        newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
+                               max_rotation=0.2, max_displacement=0.25 * g.thickness,
+                               unchecked_step=1e-4 * g.thickness)
+        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, newton=newton)
+        self.integrator = Integrator(self.rod, state, self.options, on_failure=on_failure)
+        self.heat = SectionHeat(n - 1, self.grid, self.programmed.edge_length, s.thermal, s.air,
+                                s.ground_heat, s.contact)
+        self._spin0 = None
+        self._spin_prev = None
+        self.time = 0.0
+        self.last_report = None
+        if num.settle_time > 0:
+            self._settle(num.settle_time)
+        self._perturb(num.perturbation)
+
+    # -- stepping ----------------------------------------------------------------------------
+    @property
+    def state(self) -> RodState:
+        return self.integrator.state
+
+    def _settle(self, duration: float) -> None:
+        """Mechanics only, ground at ambient temperature (no heating), then time restarts at 0."""
+        dt = self.setup.numerics.dt
+        steps = max(1, int(round(duration / dt)))
+        for _ in range(steps):
+            self.integrator.step(dt)
+        self.integrator.state.time = 0.0
+
+    def _perturb(self, spin: float) -> None:
+        """Roll the settled ribbon about its axis (x) at the rate ``spin`` [rad/s]: every node gets the
+        rigid velocity omega x (x - axis point on the plate), picking the rolling direction."""
+        st = self.integrator.state
+        w = np.array([spin, 0.0, 0.0])
+        line = np.array([0.0, st.x[:, 1].mean(), 0.0])  # the contact line on the plate below the axis
+        st.v = st.v + cross(w, st.x - line)
+        if not self.setup.geometry.is_helical:
+            st.omega = st.omega + spin * np.sign(st.tangents[:, 0])
+
+    def heat_geometry(self) -> HeatGeometry:
+        st = self.state
+        geo = st.geometry()
+        return HeatGeometry(0.5 * (st.x[:-1] + st.x[1:]), geo.m1, geo.m2, geo.length, self.corner_gaps())
+
+    def step(self, dt: float):
+        s = self.setup
+        g = s.geometry
+        self.rod.rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
+        report = self.integrator.step(dt)
+        self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), s.ground_temperature)
+        self.time = self.state.time
+        self.last_report = report
+        return report
+
+    # -- observables -------------------------------------------------------------------------
+    def end_spins(self) -> tuple[float, float]:
+        """Rotation angles [rad] of the first and last edge's width direction about the x axis
+        (unwrapped in time, zero at the first call)."""
+        m1, _ = self.state.material_frames()
+        ang = np.arctan2(m1[[0, -1], 2], m1[[0, -1], 1])
+        if self._spin_prev is None:
+            self._spin0 = ang.copy()
+            self._spin_acc = np.zeros(2)
+        else:
+            self._spin_acc += np.angle(np.exp(1j * (ang - self._spin_prev)))
+        self._spin_prev = ang
+        return float(self._spin_acc[0]), float(self._spin_acc[1])
+
+    def corner_gaps(self) -> np.ndarray:
+        """Smallest gap [mm] of each corner over each edge's samples, (N-1, 4)."""
+        return edge_corner_gaps(self.rod, self.state, self.integrator.sampling)
+
+    def contact_count(self) -> int:
+        """Number of contact regions: runs of consecutive edges with a corner within delta of the plate."""
+        touching = (self.corner_gaps() < self.setup.contact.delta).any(axis=1).astype(int)
+        return int(np.count_nonzero(np.diff(np.concatenate([[0], touching])) == 1))
+
+    def contact_forces(self) -> np.ndarray:
+        """Contact force vector per node (N, 3) [N]."""
+        return node_contact_forces(self.rod, self.state, self.integrator.sampling)
+
+    def twist_density(self) -> float:
+        """Mean twist density of the interior [turns/mm]."""
+        st = self.state
+        tw = st.theta[1:] - st.theta[:-1] + st.ref_twist
+        length = np.linalg.norm(fr.edges_of(st.x), axis=1)
+        return float(tw.sum() / (length.sum() - 0.5 * (length[0] + length[-1])) / (2.0 * math.pi))
+
+    def observe(self) -> dict:
+        st = self.state
+        c = st.x.mean(axis=0)
+        v = st.v.mean(axis=0)
+        s0, s1 = self.end_spins()
+        rep = self.last_report
+        length = float(np.linalg.norm(fr.edges_of(st.x), axis=1).sum())
+        return {"time [s]": st.time, "centroid_x [mm]": c[0], "centroid_y [mm]": c[1], "centroid_z [mm]": c[2],
+                "speed [mm/s]": float(np.hypot(v[0], v[1])), "spin_start [rad]": s0, "spin_end [rad]": s1,
+                "twist_density [turns/mm]": self.twist_density(), "length [mm]": length,
+                "contact_points [-]": self.contact_count(), "T_mean [C]": float(self.T.mean()),
+                "T_max [C]": float(self.T.max()),
+                "newton_iterations [-]": rep.iterations if rep else 0, "step_cuts [-]": rep.cuts if rep else 0}
+
+    def node_temperatures(self) -> np.ndarray:
+        """Mean section temperature at the nodes (N,) [C] (edge values averaged, ends copied)."""
+        te = self.T.mean(axis=1)
+        out = np.empty(len(te) + 1)
+        out[1:-1] = 0.5 * (te[:-1] + te[1:])
+        out[0], out[-1] = te[0], te[-1]
+        return out
+
+
+# ----------------------------------------------------------------------------------------------
+# Static response (for the FE comparisons)
+# ----------------------------------------------------------------------------------------------
+@dataclass
+class StaticResponse:
+    """Static shape of a free ribbon.
+
+    Attributes:
+        state: the equilibrium rod state.
+        curvature: (N-2, 2) curvature densities (towards m1, towards m2) at interior nodes [1/mm].
+        twist_density: (N-2,) twist densities at interior nodes [rad/mm].
+        length: centreline length [mm].
+        mean_curvature: (2,) interior means [1/mm]; mean_twist_density [rad/mm].
+    """
+
+    state: RodState
+    curvature: np.ndarray
+    twist_density: np.ndarray
+    length: float
+    mean_curvature: np.ndarray
+    mean_twist_density: float
+
+
+def ribbon_static_response(geometry: RibbonGeometry, n_nodes: int, *, face_temperatures=None,
+                           cell_temperatures=None, grid: SectionGrid | None = None,
+                           transition: NematicTransition = NematicTransition(),
+                           elasticity: LCEElasticity = LCEElasticity(),
+                           thermal: ThermalProperties = ThermalProperties(),
+                           gravity: bool = False, increments: int = 4) -> StaticResponse:
+    """Static equilibrium of the free ribbon (no ground) at given section temperatures.
+
+    Args:
+        geometry: as-built ribbon (twist density 0 for a straight strip).
+        n_nodes: rod nodes (>= 3).
+        face_temperatures: (T_plus, T_minus) [C], scalars, per node (N,) or per edge (N-1,): a
+            linear profile through the thickness, T_plus on the face towards m2, T_minus on the face
+            towards -m2 (node values are averaged onto the edges).
+            At s = 0 m1 (width) is +z and m2 = t x m1 = -y; along the ribbon both turn by tau_0 s about x.
+        cell_temperatures: alternatively (n_cells,) or (N-1, n_cells) [C] on ``grid``.
+        grid: section cells (default 6 x 2).
+        gravity: include the ribbon's weight (along -z); the rod is held by a statically determinate
+            support at its first edge either way (no rigid motion, no reaction without gravity).
+
+    Returns:
+        :class:`StaticResponse` (curvatures and twist by the discrete formulas divided by the
+        current Voronoi lengths; means over the interior nodes away from the ends).
+    """
+    if n_nodes < 3:
+        raise InputError(f"nodes = {n_nodes}: must be >= 3")
+    grid = grid or SectionGrid(geometry.width, geometry.thickness)
+    if (face_temperatures is None) == (cell_temperatures is None):
+        raise InputError("give exactly one of face_temperatures, cell_temperatures")
+    if face_temperatures is not None:
+        faces = []
+        for T_face in face_temperatures:
+            T_face = np.asarray(T_face, float)
+            if T_face.ndim == 1 and len(T_face) == n_nodes:
+                T_face = 0.5 * (T_face[:-1] + T_face[1:])
+            faces.append(T_face)
+        T = grid.from_faces(*faces)
+    else:
+        T = np.asarray(cell_temperatures, float)
+    T = np.broadcast_to(T, (n_nodes - 1, grid.n_cells))
+    state = initial_ribbon_state(geometry, n_nodes)
+    programmed = ProgrammedShape.of_state(state, twisted_director=not geometry.is_helical)
+    rest = programmed.rest_shape(T, grid, transition)
+    section = lce_ribbon_section(geometry, elasticity, thermal)
+    node_mass, edge_inertia = lumped_masses(section, programmed.edge_length)
+    fixed = statically_determinate_support(n_nodes, axis=0)
+    g = np.array([0.0, 0.0, -STANDARD_GRAVITY]) if gravity else np.zeros(3)
+    rod = DiscreteRod(section, rest, node_mass, edge_inertia, gravity=g, fixed=fixed)
+    start = RestShape(programmed.edge_length, programmed.curvature, programmed.twist)
+    result = solve_static(rod, state, increments=increments, rest_from=start)
+    st = result.state
+    geo = st.geometry()
+    vor = 0.5 * (geo.length[:-1] + geo.length[1:])
+    kappa = material_curvatures(geo.e[:-1], geo.e[1:], geo.m1[:-1], geo.m2[:-1], geo.m1[1:], geo.m2[1:]) / vor[:, None]
+    twist = geo.twist / vor
+    inner = slice(len(vor) // 10, len(vor) - len(vor) // 10) if len(vor) >= 10 else slice(None)
+    return StaticResponse(st, kappa, twist, float(geo.length.sum()), kappa[inner].mean(axis=0),
+                          float(twist[inner].mean()))

@@ -1,0 +1,90 @@
+"""The LCE ribbon as a rod: static response to given temperatures (the API for FE comparisons) and
+the ribbon simulation's bookkeeping."""
+
+
+import numpy as np
+import pytest
+
+from lcefem.models.lce import NematicTransition, contraction_ratio
+from lcefem.models.ribbon import RibbonGeometry, SectionGrid, natural_strains, natural_twist_rate
+from lcefem.solvers.der.output import PolylineSeries, polydata
+from lcefem.solvers.der.ribbon import (RibbonNumerics, RibbonSetup, RibbonSimulation, initial_ribbon_state,
+                                       ribbon_static_response)
+
+TR = NematicTransition()
+
+
+def test_straight_strip_with_a_through_thickness_gradient_curls_to_its_natural_curvature():
+    """A free straight strip (no gravity) takes its natural shape: curvature towards the hot face equal
+    to the eigenstrain's, length scaled by the mean contraction."""
+    geo = RibbonGeometry(length=20.0, twist_density=0.0)
+    res = ribbon_static_response(geo, 21, face_temperatures=(80.0, 60.0))
+    grid = SectionGrid(geo.width, geo.thickness)
+    ns = natural_strains(grid.from_faces(80.0, 60.0)[None], grid, TR)
+    assert ns.curvature[0, 1] > 0  # towards the hotter +m2 face
+    # mean curvature = natural curvature over the contracted length
+    assert res.mean_curvature[1] == pytest.approx(ns.curvature[0, 1] / (1 + ns.axial[0]), rel=1e-6)
+    assert res.mean_curvature[0] == pytest.approx(0.0, abs=1e-9)
+    assert res.length == pytest.approx(20.0 * (1 + ns.axial[0]), rel=1e-6)
+
+
+def test_twisted_ribbon_heated_uniformly_untwists_and_shortens():
+    geo = RibbonGeometry(length=20.0, twist_density=0.05)
+    res = ribbon_static_response(geo, 41, cell_temperatures=np.full(12, 72.0))
+    a = contraction_ratio(72.0, TR)
+    # integrated twist per as-built length tau_bar; per current length divided by a
+    assert res.mean_twist_density == pytest.approx(natural_twist_rate(geo.twist_rate, a) / a, rel=1e-6)
+    assert res.length == pytest.approx(20.0 * a, rel=1e-6)
+    assert np.allclose(res.mean_curvature, 0.0, atol=1e-8)
+
+
+def test_static_response_takes_node_face_temperatures():
+    geo = RibbonGeometry(length=20.0, twist_density=0.0)
+    a = ribbon_static_response(geo, 11, face_temperatures=(np.full(11, 80.0), np.full(11, 60.0)))
+    b = ribbon_static_response(geo, 11, face_temperatures=(80.0, 60.0))
+    assert np.allclose(a.curvature, b.curvature)
+
+
+def test_static_response_rejects_ambiguous_temperatures():
+    from lcefem.models.errors import InputError
+    with pytest.raises(InputError):
+        ribbon_static_response(RibbonGeometry(), 5)
+    with pytest.raises(InputError, match="nodes"):
+        ribbon_static_response(RibbonGeometry(), 2, cell_temperatures=np.full(12, 30.0))
+
+
+def test_initial_twisted_ribbon_lies_on_its_edges():
+    geo = RibbonGeometry()
+    st = initial_ribbon_state(geo, 61)
+    geo_ = st.geometry()
+    assert np.allclose(geo_.twist / np.diff(np.linspace(0, 60, 61))[1:], geo.twist_rate)
+    lowest = 0.5 * (st.x[:-1, 2] + st.x[1:, 2]) - 2.0 * np.abs(geo_.m1[:, 2]) - 0.4 * np.abs(geo_.m2[:, 2])
+    assert lowest.min() == pytest.approx(0.0, abs=1e-12)
+
+
+def test_short_heated_run_conserves_bookkeeping():
+    """A 0.2 s run on a hot plate: the ribbon stays on the plate, heats up, history rows are complete."""
+    setup = RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(nodes=16, dt=0.02, settle_time=0.1))
+    sim = RibbonSimulation(setup)
+    T0 = sim.T.mean()
+    for _ in range(10):
+        sim.step(0.02)
+    obs = sim.observe()
+    assert sim.T.mean() > T0 and sim.T.max() < 100.0
+    assert obs["time [s]"] == pytest.approx(0.2)
+    assert 1.5 < obs["centroid_z [mm]"] < 2.2
+    assert obs["contact_points [-]"] >= 1
+    f = sim.contact_forces()
+    weight = sim.rod.node_mass.sum() * 9806.65
+    assert f[:, 2].sum() == pytest.approx(weight, rel=0.2)  # the plate carries the weight
+
+
+def test_polyline_series_is_atomic(tmp_path):
+    s = PolylineSeries(tmp_path, "rod")
+    pts = np.stack([np.arange(4.0), np.zeros(4), np.zeros(4)], 1)
+    s.write(0.0, polydata(pts, lines=[np.arange(4)], point_data={"a": np.arange(4.0)}))
+    assert (tmp_path / "rod.pvd.part").exists() and not (tmp_path / "rod.pvd").exists()
+    s.finalize(complete=False)
+    assert (tmp_path / "rod.partial.pvd").exists()
+    import pyvista as pv
+    assert pv.read(tmp_path / "rod_00000.vtp").point_data["a"][3] == 3.0
