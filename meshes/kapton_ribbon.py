@@ -96,3 +96,92 @@ def build_ribbon_bar_hinge(specimen: RibbonSpecimen = RibbonSpecimen(),
                           free_length=s.length, imperfection=m.imperfection)
     structure.validate()
     return structure
+
+
+# --------------------------------------------------------------------------- continuum (FE) mesh
+@dataclass(frozen=True)
+class RibbonFEMesh:
+    """Structured hexahedral mesh of the specimen for quadratic (Q2) elements.
+
+    One Q2 element through the 0.127 mm thickness represents a linear strain distribution through
+    it, i.e. pure membrane plus bending, without the shear locking of linear elements; in-plane the
+    elements are ``size / (level + 1)`` long (the element aspect ratio size/thickness is then 4-16,
+    harmless for Q2; tests/meshes/test_kapton_ribbon_fe.py and the case ribbon_buckling_fe show the
+    critical load converged). Level l multiplies the level-0 in-plane counts by l + 1.
+    """
+
+    size: float = param(1.0, "mm", "chosen: level-0 in-plane element size", positive=True)
+    level: int = param(1, "-", "refinement level: in-plane element size = size / (level + 1)",
+                       minimum=0, maximum=8)
+    thickness_elements: int = param(1, "-", "chosen: Q2 elements through the thickness (one "
+                                    "represents bending exactly)", minimum=1, maximum=8)
+    symmetry: str = param("half", "-", "'half' (the plane y = width/2 as a symmetry plane: the "
+                          "first buckling modes are symmetric across the width) or 'full'")
+
+    def element_size(self) -> float:
+        return self.size / (self.level + 1)
+
+    def checked(self) -> "RibbonFEMesh":
+        check(self, "mesh")
+        if self.symmetry not in ("half", "full"):
+            raise InputError(f"mesh.symmetry = {self.symmetry!r}: allowed 'half' or 'full'")
+        for name in ("level", "thickness_elements"):
+            if not isinstance(getattr(self, name), int):
+                raise InputError(f"mesh.{name} = {getattr(self, name)!r}: must be an integer")
+        return self
+
+
+def build_ribbon_fe(specimen: RibbonSpecimen = RibbonSpecimen(), mesh: RibbonFEMesh = RibbonFEMesh(),
+                    comm=None):
+    """gmsh hexahedral mesh of the specimen's free length [0, L] x [0, W (or W/2)] x [0, t].
+
+    Tags (by name): cells "kapton"; facets "clamp_left" (x = 0), "clamp_right" (x = L), and with
+    ``symmetry="half"`` "sym_y" (y = W/2). Returns a :class:`~lcefem.meshes._gmsh.TaggedMesh`
+    whose ``info`` holds the dimensions, element size and ``symmetry_factor`` (2 for a half model:
+    forces on the whole specimen are twice those of the mesh).
+    """
+    from mpi4py import MPI
+
+    from lcefem.meshes._gmsh import TaggedMesh, gmsh_session, to_dolfinx
+
+    comm = MPI.COMM_WORLD if comm is None else comm
+    s = specimen.checked()
+    m = mesh.checked()
+    half = m.symmetry == "half"
+    L, t = s.length, s.thickness
+    W = 0.5 * s.width if half else s.width
+    mult = m.level + 1
+    nx = mult * max(1, int(np.ceil(L / m.size - 1e-9)))
+    ny = mult * max(1, int(np.ceil(W / m.size - 1e-9)))
+    nz = m.thickness_elements
+    with gmsh_session("kapton_ribbon") as model:
+        if comm.rank == 0:
+            model.occ.addBox(0.0, 0.0, 0.0, L, W, t)
+            model.occ.synchronize()
+            tol = 1e-3 * t
+            for _, curve in model.getEntities(1):
+                xmin, ymin, zmin, xmax, ymax, zmax = model.getBoundingBox(1, curve)
+                n = nx if xmax - xmin > tol else (ny if ymax - ymin > tol else nz)
+                model.mesh.setTransfiniteCurve(curve, n + 1)
+            faces = {"clamp_left": [], "clamp_right": [], "sym_y": []}
+            for _, surf in model.getEntities(2):
+                model.mesh.setTransfiniteSurface(surf)
+                model.mesh.setRecombine(2, surf)
+                xmin, ymin, zmin, xmax, ymax, zmax = model.getBoundingBox(2, surf)
+                if xmax - xmin < tol:
+                    faces["clamp_left" if xmax < 0.5 * L else "clamp_right"].append(surf)
+                elif half and ymax - ymin < tol and ymin > 0.5 * W:
+                    faces["sym_y"].append(surf)
+            (_, vol), = model.getEntities(3)
+            model.mesh.setTransfiniteVolume(vol)
+            model.mesh.setRecombine(3, vol)
+            model.addPhysicalGroup(3, [vol], 1, "kapton")
+            names = ["clamp_left", "clamp_right"] + (["sym_y"] if half else [])
+            for tag, name in enumerate(names, start=1):
+                model.addPhysicalGroup(2, faces[name], tag, name)
+            model.mesh.generate(3)
+        data, cells, facets = to_dolfinx(model, comm)
+    info = {"length": L, "width": s.width, "thickness": t, "element_size": L / nx,
+            "divisions": (nx, ny, nz), "level": m.level, "symmetry": m.symmetry,
+            "symmetry_factor": 2 if half else 1}
+    return TaggedMesh(data.mesh, data.cell_tags, data.facet_tags, cells, facets, info)

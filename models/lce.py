@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
 import ufl
 
 from lcefem.models import _math
@@ -68,6 +69,19 @@ def spontaneous_stretch(T, transition: NematicTransition):
 def contraction_ratio(T, transition: NematicTransition):
     """a(T) = lambda_s(T) / lambda_N [-]: stretch of the director fibres relative to the as-built state."""
     return spontaneous_stretch(T, transition) / transition.lambda_N
+
+
+def twisted_director(X, twist_rate):
+    """Director [-] of a strip stretched along x and then twisted about the x axis at ``twist_rate``
+    [rad/mm] (seed 000): the tangent of the helix that the material line through the reference point
+    X (mm, on the helicoid) became, n = (1, -tau X2, tau X1) / sqrt(1 + tau^2 (X1^2 + X2^2)).
+    Accepts UFL or numpy coordinates (X[0], X[1], X[2])."""
+    t1, t2 = -twist_rate * X[2], twist_rate * X[1]
+    if isinstance(X, ufl.core.expr.Expr):
+        norm = ufl.sqrt(1.0 + t1 ** 2 + t2 ** 2)
+        return ufl.as_vector([1.0 / norm, t1 / norm, t2 / norm])
+    norm = np.sqrt(1.0 + t1 ** 2 + t2 ** 2)
+    return (1.0 / norm, t1 / norm, t2 / norm)
 
 
 def isochoric_uniaxial(a, director):

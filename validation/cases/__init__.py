@@ -33,6 +33,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.empirical",
     "lcefem.validation.cases.beam_bar_hinge",
     "lcefem.validation.cases.strip",
+    "lcefem.validation.cases.beam_fe",
 ]
 
 

@@ -1,7 +1,7 @@
 """A composite beam (seed 001, Fig. 3) actuated by prescribing its strips' relative lengths.
 
 ``lcefem run beam --lambda-top 1.33 --lambda-bottom 1.05 [--segments N] [--out DIR] [--config FILE.toml]
-[--quiet] [--model bar-hinge]``
+[--quiet] [--model bar-hinge|fe] [--mesh-level L] [--current A --heated bottom|top|both --duration S]``
 
 lambda_T and lambda_B are the top and bottom strips' lengths relative to their isotropic length, as
 the paper's lambda (as built: lambda_N = 1.4). The rest lengths are ramped linearly from the as-built
@@ -15,7 +15,13 @@ along the ramp vs Eq. 2, and the final side view), summary.json (resolved config
 results). Files carry .part names until the run completes; a failed run leaves *.partial.* files,
 last_converged.vtp and failure.json.
 
-Models: ``bar-hinge`` (our MERLIN-type model, solvers/bar_hinge). The 3D FE beam will be added as ``fe``.
+Models: ``bar-hinge`` (our MERLIN-type model, solvers/bar_hinge) and ``fe`` (the 3D FEniCSx beam of
+lcefem.validation.beam_fe: Kapton neo-Hookean, LCE strips with a prescribed spontaneous stretch,
+strip-ribbon penalty contact; quarter model by default). With ``--model fe`` the outputs are
+displacement.bp (VTX, ParaView; the mesh is the quarter x >= L_tot/2, y <= W/2), history.csv,
+beam_fe.png (curvature along the ramp, side view), beam_fe_3d.png (render) and summary.json.
+``--current`` drives the FE beam by a coil current through the heat model instead (one strip group,
+``--heated``), for ``--duration`` seconds; history.csv then has time, temperatures and curvature.
 """
 
 from __future__ import annotations
@@ -39,7 +45,7 @@ from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation.bar_hinge_io import BarHingeVTK, CSVHistory, write_json
 from lcefem.validation.config import load_toml
 
-MODELS = ("bar-hinge",)
+MODELS = ("bar-hinge", "fe")
 COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",
            "eq2 curvature [1/mm]", "bottom strip force [N]", "top strip force [N]",
            "newton iterations [-]"]
@@ -188,6 +194,265 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True) -> di
     return summary
 
 
+# -- FE model ------------------------------------------------------------------------------------
+FE_COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",
+              "eq2 curvature [1/mm]", "contact force [N]", "min gap [mm]", "newton iterations [-]"]
+HEAT_COLUMNS = ["time [s]", "curvature [1/mm]", "T_mean bottom_strips [C]", "T_mean top_strips [C]",
+                "T_mean kapton [C]", "contact force [N]", "newton iterations [-]"]
+
+
+def _fe_config_class():
+    """The FE beam's configuration (built lazily: its sections import FEniCSx-side modules)."""
+    from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
+    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.solvers.contact import PenaltyContact
+    from lcefem.validation import beam_fe
+
+    @dataclass(frozen=True)
+    class BeamFEConfig:
+        run: BeamRun = field(default_factory=BeamRun)
+        heat_run: beam_fe.HeatedBeamRun = field(default_factory=beam_fe.HeatedBeamRun)
+        geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
+        mesh: BeamFEMesh = field(default_factory=BeamFEMesh)
+        kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
+        lce: LCEElasticity = field(default_factory=LCEElasticity)
+        actuation: beam_fe.BeamActuation = field(default_factory=beam_fe.BeamActuation)
+        contact: PenaltyContact = field(default_factory=PenaltyContact)
+        path: beam_fe.PathControl = field(default_factory=beam_fe.PathControl)
+        eq2: Eq2 = field(default_factory=Eq2)
+
+        def validated(self) -> "BeamFEConfig":
+            for f in dataclasses.fields(self):
+                check(getattr(self, f.name), f.name)
+            self.geometry.checked()
+            self.mesh.checked()
+            self.heat_run.checked()
+            for name in ("lambda_top", "lambda_bottom"):
+                beam_fe.check_lambda(f"run.{name}", getattr(self.run, name), self.actuation.lambda_N)
+            return self
+
+        @property
+        def materials(self):
+            return beam_fe.FEMaterials(self.kapton, self.lce)
+
+        def resolved(self) -> dict:
+            return {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)}
+
+    return BeamFEConfig
+
+
+def fe_config_from_args(args: argparse.Namespace):
+    cls = _fe_config_class()
+    base = cls()
+    data = load_toml(args.config, {f.name for f in dataclasses.fields(cls)})
+    cfg = dataclasses.replace(base, **{name: with_overrides(getattr(base, name), table, name)
+                                       for name, table in data.items()})
+    run = {k: v for k, v in {"lambda_top": args.lambda_top,
+                             "lambda_bottom": args.lambda_bottom}.items() if v is not None}
+    heat = {k: v for k, v in {"current": args.current, "heated": args.heated,
+                              "duration": args.duration}.items() if v is not None}
+    mesh = {"level": args.mesh_level} if args.mesh_level is not None else {}
+    geometry = {"segments": args.segments} if args.segments is not None else {}
+    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"),
+                               heat_run=with_overrides(cfg.heat_run, heat, "heat_run"),
+                               mesh=with_overrides(cfg.mesh, mesh, "mesh"),
+                               geometry=with_overrides(cfg.geometry, geometry, "geometry"))
+
+
+def _fe_side_view(path, model, u, title: str, extra=None):
+    """x-z view of the FE beam's nodes on the ribbon's outer edge plane (y = 0), by body."""
+    from matplotlib.figure import Figure
+
+    from lcefem.validation.beam_plots import _save
+
+    X = model_nodes = u.function_space.tabulate_dof_coordinates()  # model: BeamFE or heated model
+    x = X + u.x.array.reshape(-1, 3)
+    tm = model.tmesh
+    fig = Figure(figsize=(11, 4.4), layout="constrained")
+    axes = fig.subplots(1, 2)
+    if extra is not None:
+        extra(axes[0])
+    ax = axes[1]
+    edge = np.abs(X[:, 1] - tm.info["strip_y_range"][0]) < 1e-9
+    colours = {"kapton": ("k", "Kapton ribbon"), "bottom_strips": ("tab:red", "bottom strips"),
+               "bottom_pads": ("salmon", "bottom bond pads"), "top_strips": ("tab:blue", "top strips"),
+               "top_pads": ("lightblue", "top bond pads")}
+    import dolfinx
+
+    for name, (colour, label) in colours.items():
+        dofs = dolfinx.fem.locate_dofs_topological(u.function_space, 3,
+                                                   tm.cell_tags.find(tm.cell_tag(name)))
+        dofs = dofs[edge[dofs]]
+        ax.plot(x[dofs, 0], x[dofs, 2], ".", ms=2, color=colour, label=label)
+        ax.plot(model_nodes[dofs, 0], model_nodes[dofs, 2], ".", ms=1, color="0.8")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("z [mm]")
+    ax.set_title("side view at the strips' edge (grey: as built)", fontsize=9)
+    ax.legend(fontsize=7, markerscale=4)
+    fig.suptitle(title, fontsize=10)
+    return _save(fig, path)
+
+
+def _fe_render(path, model, title: str):
+    from lcefem.validation import render
+    info = model.tmesh.info
+    mirror = [(1, 0.5 * info["ribbon_width"])]
+    if info["symmetry"] == "quarter":
+        mirror.append((0, info["x_mid"]))
+    u = model.u
+    return render.render_deformed(path, u, lambda x: x[2], scalar_label="height z (as built) [mm]",
+                                  title=title, mirror=tuple(mirror), view="xz", show_undeformed=False)
+
+
+def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
+    """Run the FE beam (prescribed lambdas, or a coil current) and write its outputs."""
+    from lcefem.solvers.exports import FieldExport
+    from lcefem.validation import beam_fe
+
+    cfg = cfg.validated()
+    out = prepare_out(out)
+    if cfg.heat_run.current > 0:
+        return _run_beam_fe_heated(cfg, out, progress)
+    lam_t, lam_b = cfg.run.lambda_top, cfg.run.lambda_bottom
+    started = time.perf_counter()
+    model = beam_fe.BeamFE(cfg.geometry, cfg.mesh, cfg.materials, cfg.actuation, cfg.contact, cfg.path)
+    history = CSVHistory(out / "history.csv", FE_COLUMNS)
+    fields = FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm)
+    fields.write(0.0)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=1.0, desc=f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", unit="load",
+                   bar_format="{l_bar}{bar}| {n:.3f}/{total:.0f} [{elapsed}<{remaining}]",
+                   file=sys.stderr)
+
+    def on_step(state) -> None:
+        history.append({"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
+                        "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
+                        "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top,
+                                                                    state.lambda_bottom, cfg.eq2)),
+                        "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
+                        "newton iterations [-]": state.iterations})
+        fields.write(state.load_factor)
+        if bar is not None:
+            bar.update(state.load_factor - bar.n)
+
+    try:
+        model.ramp(lam_t, lam_b, on_step=on_step)
+    except ConvergenceError as exc:
+        if bar is not None:
+            bar.close()
+        fields.finalize(complete=False)
+        history.finalize(complete=False)
+        write_json(out / "failure.json", {
+            "status": "failed", "where": exc.where, "reason": exc.reason,
+            "last_converged_lambdas [-]": [model.lambda_top, model.lambda_bottom],
+            "note": "history.partial.csv and displacement.partial.bp hold the converged steps",
+            "config": cfg.resolved()})
+        raise
+    except BaseException:
+        if bar is not None:
+            bar.close()
+        raise
+    if bar is not None:
+        bar.close()
+    wall = time.perf_counter() - started
+    fields.finalize()
+    history.finalize()
+    kappa = model.curvature()
+    kappa_eq2 = float(eq2_curvature(lam_t, lam_b, cfg.eq2))
+    t_hist, k_hist = history.column("load factor [-]"), history.column("curvature [1/mm]")
+
+    def curve(ax):
+        ax.plot(t_hist, k_hist, "k.-", label="3D FE (circle fit, middle stations)")
+        ax.plot(t_hist, history.column("eq2 curvature [1/mm]"), "r--", label="Eq. 2 (seed 001)")
+        ax.set_xlabel("load factor t [-] (lambda ramped from lambda_N to target)")
+        ax.set_ylabel("curvature kappa [1/mm]")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+
+    title = (f"composite beam, 3D FE, lambda_T = {lam_t:g}, lambda_B = {lam_b:g}, "
+             f"{cfg.geometry.segments} segments, mesh level {cfg.mesh.level}")
+    _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
+    _fe_render(out / "beam_fe_3d.png", model, title)
+    follower = model.last_follower
+    summary = {
+        "status": "completed", "model": "fe", "config": cfg.resolved(),
+        "results": {
+            "curvature [1/mm]": kappa, "eq2 curvature [1/mm]": kappa_eq2,
+            "eq2 inputs": studies.eq2_inputs_note(),
+            "sign convention": "positive when the beam bends towards its bottom strips (top strips "
+                               "longer), as Eq. 2; circle fit through the middle stations",
+            "contact force [N]": model.contact_force(), "min gap [mm]": model.min_gap(),
+            "folds crossed": follower.snaps,
+        },
+        "dofs": model.ndofs, "cells": model.tmesh.info["cells"], "symmetry": model.tmesh.info["symmetry"],
+        "steps": len(history.rows), "newton_iterations": follower.iterations,
+        "cut_steps": follower.cuts, "wall_time [s]": wall,
+    }
+    write_json(out / "summary.json", summary)
+    return summary
+
+
+def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
+    from lcefem.validation import beam_fe
+    from lcefem.validation.reference_data import reference
+
+    run = cfg.heat_run
+    history = CSVHistory(out / "history.csv", HEAT_COLUMNS)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=run.duration, desc=f"beam (FE) {run.current:g} A {run.heated} strips", unit="s",
+                   bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s [{elapsed}<{remaining}]",
+                   file=sys.stderr)
+
+    def on_step(row) -> None:
+        history.append(row)
+        if bar is not None:
+            bar.update(row["time [s]"] - bar.n)
+
+    started = time.perf_counter()
+    resistance = reference("coil.segment_resistance").value
+    try:
+        model, rows, _ = beam_fe.beam_fe_heated(run, cfg.geometry, cfg.mesh, cfg.materials, cfg.contact,
+                                                segment_resistance=resistance, on_step=on_step)
+    except ConvergenceError as exc:
+        if bar is not None:
+            bar.close()
+        history.finalize(complete=False)
+        write_json(out / "failure.json", {"status": "failed", "where": exc.where, "reason": exc.reason,
+                                          "config": cfg.resolved()})
+        raise
+    except BaseException:
+        if bar is not None:
+            bar.close()
+        raise
+    if bar is not None:
+        bar.close()
+    history.finalize()
+    wall = time.perf_counter() - started
+    t, k = history.column("time [s]"), history.column("curvature [1/mm]")
+
+    def curve(ax):
+        ax.plot(t, k, "k.-")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("curvature kappa [1/mm]")
+        ax.grid(alpha=0.3)
+        ax.set_title(f"{run.current:g} A through the {run.heated} strips", fontsize=9)
+
+    title = f"composite beam, 3D FE, {run.current:g} A ({run.heated} strips), t = {run.duration:g} s"
+    _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
+    summary = {"status": "completed", "model": "fe", "drive": "current", "config": cfg.resolved(),
+               "results": {"curvature [1/mm]": float(k[-1]),
+                           "T_mean bottom strips [C]": float(history.column("T_mean bottom_strips [C]")[-1]),
+                           "coil resistance per strip [ohm]": resistance},
+               "steps": len(rows) - 1, "wall_time [s]": wall}
+    write_json(out / "summary.json", summary)
+    return summary
+
+
 # -- command line -------------------------------------------------------------------------------
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lambda-top", type=float, help="top strips' relative length lambda_T [-] "
@@ -195,10 +460,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lambda-bottom", type=float, help="bottom strips' relative length lambda_B [-] "
                    "(default 1.05)")
     p.add_argument("--segments", type=int, help="number of 30 mm segments (default 4)")
-    p.add_argument("--model", choices=MODELS, default="bar-hinge", help="reduced-order model "
+    p.add_argument("--model", choices=MODELS, default="bar-hinge", help="bar-and-hinge model or 3D FE "
                    "(default bar-hinge)")
+    p.add_argument("--mesh-level", type=int, help="FE refinement level (element size 2 mm/(level+1))")
+    p.add_argument("--current", type=float, help="FE only: drive by this coil current [A] through the "
+                   "heat model instead of prescribing lambdas")
+    p.add_argument("--heated", choices=("bottom", "top", "both"), help="FE only: strips carrying "
+                   "--current (default bottom)")
+    p.add_argument("--duration", type=float, help="FE only: heating time [s] (default 12)")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
-        f.name for f in dataclasses.fields(BeamConfig)))
+        f.name for f in dataclasses.fields(BeamConfig)) + " (bar-hinge); run, heat_run, geometry, mesh, "
+        "kapton, lce, actuation, contact, path, eq2 (fe)")
     p.add_argument("--out", default="results/beam", help="output folder (default results/beam)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -213,6 +485,24 @@ def config_from_args(args: argparse.Namespace) -> BeamConfig:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.model == "fe":
+        cfg = fe_config_from_args(args)
+        summary = run_beam_fe(cfg, pathlib.Path(args.out), progress=not args.quiet)
+        r = summary["results"]
+        if summary.get("drive") == "current":
+            print(f"lcefem: beam (fe) {cfg.heat_run.current:g} A through the {cfg.heat_run.heated} "
+                  f"strips for {cfg.heat_run.duration:g} s: curvature {r['curvature [1/mm]']:.5f} 1/mm; "
+                  f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
+            return 0
+        print(f"lcefem: beam (fe) lambda_T = {cfg.run.lambda_top:g}, lambda_B = {cfg.run.lambda_bottom:g}, "
+              f"{cfg.geometry.segments} segments, mesh level {cfg.mesh.level} ({summary['dofs']} DOFs): "
+              f"curvature {r['curvature [1/mm]']:.5f} 1/mm (Eq. 2: {r['eq2 curvature [1/mm]']:.5f} 1/mm); "
+              f"{summary['steps']} steps, {summary['newton_iterations']} Newton iterations, "
+              f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
+        return 0
+    for name in ("mesh_level", "current", "heated", "duration"):
+        if getattr(args, name, None) is not None:
+            raise InputError(f"--{name.replace('_', '-')}: only with --model fe")
     cfg = config_from_args(args)
     summary = run_beam(cfg, pathlib.Path(args.out), progress=not args.quiet)
     r = summary["results"]

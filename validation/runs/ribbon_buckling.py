@@ -2,7 +2,7 @@
 fixed-fixed, shortened by a prescribed end displacement.
 
 ``lcefem run ribbon-buckling [--compression 0.5] [--out DIR] [--config FILE.toml] [--quiet]
-[--model bar-hinge]``
+[--model bar-hinge|fe] [--mesh-level L]``
 
 The run follows the force-compression path of the slightly imperfect specimen (first fixed-fixed
 mode, amplitude 1e-3 of the length), and finds the critical load of the perfect specimen as the
@@ -12,7 +12,14 @@ compares them with the measured 0.18 N, with the Euler load 4 pi^2 EI/L^2 of the
 lcefem.validation.bar_hinge_studies.n5b8_ribbon_bending_stiffness), and the post-buckling force
 with the inextensible elastica.
 
-Outputs in --out DIR: ribbon.pvd + ribbon_steps/*.vtp, history.csv (compression [-], end
+With ``--model fe`` the specimen is a 3D neo-Hookean solid (datasheet E and nu) meshed with quadratic
+hexahedra (one through the thickness; half model about y = W/2); the critical load comes from the
+linearised buckling eigenproblem about the straight state (SLEPc), the path is seeded with the first
+eigenmode (amplitude 1e-3 of the length); outputs: displacement.bp (VTX), history.csv,
+ribbon_buckling.png, summary.json (also the plate-strip Euler load with E/(1 - nu^2) and the free
+length and modulus that would give the measured 0.18 N).
+
+Outputs in --out DIR (bar-hinge): ribbon.pvd + ribbon_steps/*.vtp, history.csv (compression [-], end
 shortening [mm], force [N], Newton iterations), ribbon_buckling.png, summary.json. Files carry
 .part names until complete; a failed run leaves *.partial.* files, last_converged.vtp and
 failure.json.
@@ -31,7 +38,7 @@ import numpy as np
 
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models import bar_hinge as law
-from lcefem.models.errors import ConvergenceError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.parameters import check, describe, param, with_overrides
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.validation import bar_hinge_studies as studies
@@ -186,13 +193,158 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path, progress: bool = True) -
     return summary
 
 
+# -- FE model ------------------------------------------------------------------------------------
+FE_COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "mid-span deflection [mm]",
+              "newton iterations [-]"]
+
+
+def _fe_config_class():
+    from lcefem.meshes.kapton_ribbon import RibbonFEMesh
+    from lcefem.models.hyperelastic import NeoHookeanSolid
+    from lcefem.validation import beam_fe
+
+    @dataclass(frozen=True)
+    class RibbonFEConfig:
+        run: RibbonRun = field(default_factory=RibbonRun)
+        specimen: RibbonSpecimen = field(default_factory=RibbonSpecimen)
+        mesh: RibbonFEMesh = field(default_factory=RibbonFEMesh)
+        kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
+        path: beam_fe.RibbonFEPath = field(default_factory=beam_fe.RibbonFEPath)
+
+        def validated(self):
+            for f in dataclasses.fields(self):
+                check(getattr(self, f.name), f.name)
+            self.specimen.checked()
+            self.mesh.checked()
+            return self
+
+        def resolved(self) -> dict:
+            return {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)}
+
+    return RibbonFEConfig
+
+
+def fe_closed_forms(specimen: RibbonSpecimen, youngs_modulus: float, poisson_ratio: float,
+                    measured: float) -> dict[str, float]:
+    """Euler loads of the specimen [N] (beam E I and plate-strip E I/(1 - nu^2)), and the free length
+    [mm] and modulus [MPa] for which 4 pi^2 E I/L^2 equals the measured load."""
+    ei = youngs_modulus * specimen.second_moment
+    return {"Euler, E I (datasheet E) [N]": studies.euler_fixed_fixed(ei, specimen.length),
+            "Euler, plate strip E I/(1 - nu^2) [N]": studies.euler_fixed_fixed(
+                ei / (1.0 - poisson_ratio ** 2), specimen.length),
+            "free length giving the measured load [mm]": 2.0 * np.pi * np.sqrt(ei / measured),
+            "modulus giving the measured load [MPa]": measured * specimen.length ** 2
+            / (4.0 * np.pi ** 2 * specimen.second_moment)}
+
+
+def run_ribbon_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
+    """The FE buckling test (critical load, imperfect path to the final compression)."""
+    from lcefem.solvers.exports import FieldExport
+    from lcefem.validation import beam_fe
+
+    cfg = cfg.validated()
+    out = prepare_out(out)
+    started = time.perf_counter()
+    model = beam_fe.RibbonFE(cfg.specimen, cfg.mesh, cfg.kapton)
+    critical = model.critical_load()
+    length = cfg.specimen.length
+    model.add_imperfection(critical.mode, cfg.path.imperfection * length)
+    schedule = model.compression_schedule(critical.shortening / length, cfg.run.compression, cfg.path)
+    history = CSVHistory(out / "history.csv", FE_COLUMNS)
+    fields = FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=100 * cfg.run.compression, desc="ribbon buckling (FE)", unit="%",
+                   bar_format="{l_bar}{bar}| {n:.1f}/{total:.0f} % [{elapsed}<{remaining}]",
+                   file=sys.stderr)
+
+    def on_step(c: float, its: int) -> None:
+        history.append({"compression [-]": c, "end shortening [mm]": c * length, "force [N]": model.force(),
+                        "mid-span deflection [mm]": model.mid_deflection(), "newton iterations [-]": its})
+        fields.write(c)
+        if bar is not None:
+            bar.update(100 * c - bar.n)
+
+    on_step(0.0, 0)
+    try:
+        follower = model.follow(schedule, on_step=on_step)
+    except ConvergenceError as exc:
+        if bar is not None:
+            bar.close()
+        fields.finalize(complete=False)
+        history.finalize(complete=False)
+        write_json(out / "failure.json", {"status": "failed", "where": exc.where, "reason": exc.reason,
+                                          "config": cfg.resolved()})
+        raise
+    except BaseException:
+        if bar is not None:
+            bar.close()
+        raise
+    if bar is not None:
+        bar.close()
+    wall = time.perf_counter() - started
+    fields.finalize()
+    history.finalize()
+    measured = reference("ribbon.buckling_load")
+    closed = fe_closed_forms(cfg.specimen, cfg.kapton.youngs_modulus, cfg.kapton.poisson_ratio,
+                             measured.value)
+    c, f = history.column("compression [-]"), history.column("force [N]")
+    c_el = np.linspace(0.0, c[-1], 60)
+    elastica = np.array([studies.elastica_force_ratio(x) for x in c_el])
+    euler = closed["Euler, E I (datasheet E) [N]"]
+    plate = closed["Euler, plate strip E I/(1 - nu^2) [N]"]
+    plots.comparison_plot(
+        out / "ribbon_buckling.png",
+        [plots.Series(100 * c, f, f"3D FE (Q2, {model.ndofs} DOFs, mode imperfection)", "model"),
+         plots.Series(100 * c_el, critical.force * elastica, "elastica x P_cr (FE)", "closed form")],
+        xlabel="compression (end shortening / length) [%]", ylabel="compressive force [N]",
+        hlines=[plots.Line(measured.value, f"measured critical load {measured.value:g} N", "experiment"),
+                plots.Line(critical.force, f"P_cr FE {critical.force:.4f} N", "model"),
+                plots.Line(euler, f"Euler E I = {euler:.4f} N", "closed form"),
+                plots.Line(plate, f"Euler E I/(1-nu^2) = {plate:.4f} N", "reference")],
+        title="Fixed-fixed Kapton ribbon 36 x 7 x 0.127 mm (3D FE)",
+        sources=[measured.cite, "Euler: 4 pi^2 EI/L^2, fixed-fixed", "elastica: Timoshenko & Gere 1961"])
+    at = {p: float(np.interp(p, c, f)) for p in (0.1, 0.25, 0.5) if p <= c[-1] + 1e-12}
+    summary = {
+        "status": "completed", "model": "fe", "config": cfg.resolved(),
+        "results": {
+            "critical load [N]": critical.force, "critical end shortening [mm]": critical.shortening,
+            "measured critical load [N]": measured.value, **closed,
+            **{f"force at {100 * p:g} % compression [N]": v for p, v in at.items()},
+            "force at final compression [N]": float(f[-1]), "final compression [-]": float(c[-1]),
+            "force ratio final / critical [-]": float(f[-1] / critical.force),
+            "elastica force ratio at final compression [-]": studies.elastica_force_ratio(float(c[-1])),
+        },
+        "dofs": model.ndofs, "increments": len(schedule), "newton_iterations": follower.iterations,
+        "cut_steps": follower.cuts, "wall_time [s]": wall,
+    }
+    write_json(out / "summary.json", summary)
+    return summary
+
+
+def fe_config_from_args(args: argparse.Namespace):
+    cls = _fe_config_class()
+    base = cls()
+    data = load_toml(args.config, {f.name for f in dataclasses.fields(cls)})
+    cfg = dataclasses.replace(base, **{name: with_overrides(getattr(base, name), table, name)
+                                       for name, table in data.items()})
+    run = {"compression": args.compression} if args.compression is not None else {}
+    mesh = {"level": args.mesh_level} if args.mesh_level is not None else {}
+    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"),
+                               mesh=with_overrides(cfg.mesh, mesh, "mesh"))
+
+
 # -- command line -------------------------------------------------------------------------------
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--compression", type=float, help="final end shortening / length [-] (default 0.5)")
-    p.add_argument("--model", choices=MODELS, default="bar-hinge", help="reduced-order model "
+    p.add_argument("--model", choices=MODELS, default="bar-hinge", help="bar-and-hinge model or 3D FE "
                    "(default bar-hinge)")
+    p.add_argument("--mesh-level", type=int, help="FE refinement level (in-plane element size "
+                   "1 mm/(level+1))")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
-        f.name for f in dataclasses.fields(RibbonConfig)))
+        f.name for f in dataclasses.fields(RibbonConfig)) + " (bar-hinge); run, specimen, mesh, kapton, "
+        "path (fe)")
     p.add_argument("--out", default="results/ribbon-buckling",
                    help="output folder (default results/ribbon-buckling)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -205,6 +357,19 @@ def config_from_args(args: argparse.Namespace) -> RibbonConfig:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.model == "fe":
+        cfg = fe_config_from_args(args)
+        summary = run_ribbon_fe(cfg, pathlib.Path(args.out), progress=not args.quiet)
+        r = summary["results"]
+        print(f"lcefem: ribbon buckling (fe, {summary['dofs']} DOFs): critical load "
+              f"{r['critical load [N]']:.4f} N (measured {r['measured critical load [N]']:g} N; Euler E I "
+              f"{r['Euler, E I (datasheet E) [N]']:.4f} N, plate strip "
+              f"{r['Euler, plate strip E I/(1 - nu^2) [N]']:.4f} N); force at "
+              f"{100 * r['final compression [-]']:.0f} % compression {r['force at final compression [N]']:.4f} N; "
+              f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
+        return 0
+    if getattr(args, "mesh_level", None) is not None:
+        raise InputError("--mesh-level: only with --model fe")
     cfg = config_from_args(args)
     summary = run_ribbon(cfg, pathlib.Path(args.out), progress=not args.quiet)
     r = summary["results"]

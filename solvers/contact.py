@@ -1,0 +1,282 @@
+"""Node-wise terms added to a dolfinx Newton problem outside UFL: frictionless unilateral node-to-node
+penalty contact between a strip's free face and a thin ribbon, and a nodal proximal (damping) term.
+
+Used by the FE composite beam (:func:`lcefem.meshes.composite_beam.build_beam_fe`), whose strips and
+ribbon share their x and y stations: every node p of a strip's unbonded face has, at the same
+reference (x, y), a node q on the ribbon face towards the strip and a node r on the ribbon's other
+face. With the ribbon's current thickness direction m = (q - r)/|q - r| (pointing to the strip's
+side), the gap is
+
+    g = (p - q) . m,
+
+and the penalty energy of the pair is ``E = k A <-g>_+^2 / 2`` with A the tributary area of p (the
+integral of its Q2 basis function over the strip face) and k a pressure per penetration [N/mm^3].
+Only the normal gap is penalised: sliding is free (frictionless). Pairs are fixed in the reference
+configuration, so the gap is exact where the ribbon under a sliding strip is flat (the junctions) and
+approximate to second order in the sliding distance where it is curved; this is the "simple
+frictionless penalty" of issue 4, not a surface-to-surface contact algorithm.
+
+The energy, its gradient and its exact Hessian (checked against finite differences in
+tests/solvers/test_contact.py) are added to the residual and Jacobian a dolfinx NonlinearProblem's
+SNES assembles (:func:`attach`).
+
+:class:`NodalDamping` adds ``c/2 sum_i |u_i - a_i|^2`` over the free DOFs (a: an anchor state), a
+proximal term that makes a Newton step well posed across a fold of the equilibrium path (a
+snap-through); with c -> 0 the solution is an equilibrium of the undamped problem. Unlike a volume
+integral it weighs the thin ribbon's nodes as much as the strips'. The pairs couple nodes of different cells, which UFL forms cannot
+express; the Jacobian gets the extra nonzeros on its first assembly and keeps them. Serial only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+import numpy as np
+import ufl
+from petsc4py import PETSc
+
+import dolfinx
+import dolfinx.fem.petsc
+
+from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.models.parameters import param
+
+
+@dataclass(frozen=True)
+class PenaltyContact:
+    """Parameters of the strip-ribbon penalty contact."""
+
+    enabled: bool = param(True, "-", "chosen: strips and ribbon may not pass through one another "
+                          "(the bar-and-hinge model of issue 4 found such contact decisive)")
+    stiffness: float = param(50.0, "N/mm^3", "chosen: about 100 x E_LCE/H_strip (0.52 MPa / 1.69 mm), "
+                             "so the penetration is ~1 % of the strip's own compression under the "
+                             "same pressure; the case beam_contact_fe shows the curvature does not "
+                             "depend on it", positive=True)
+
+
+def gap_and_derivatives(p: np.ndarray, q: np.ndarray, r: np.ndarray, hessian: bool = True):
+    """Gap g = (p - q) . (q - r)/|q - r| of n pairs (arrays (n, 3) [mm]), its gradient (n, 9) with
+    respect to (p, q, r) and, if asked, its Hessian (n, 9, 9)."""
+    d = q - r
+    ell = np.linalg.norm(d, axis=1)
+    m = d / ell[:, None]
+    w = p - q
+    mw = np.einsum("ij,ij->i", m, w)
+    g = mw
+    h = (w - m * mw[:, None]) / ell[:, None]  # dg/dd = (I - m m^T) w / |d|
+    grad = np.concatenate([m, -m + h, -h], axis=1)
+    if not hessian:
+        return g, grad, None
+    n = p.shape[0]
+    eye = np.broadcast_to(np.eye(3), (n, 3, 3))
+    mm = np.einsum("ni,nj->nij", m, m)
+    proj = (eye - mm) / ell[:, None, None]  # d2g/dw dd
+    wm = np.einsum("ni,nj->nij", w, m)
+    gdd = (-wm - np.transpose(wm, (0, 2, 1)) - mw[:, None, None] * eye
+           + 3.0 * mw[:, None, None] * mm) / (ell ** 2)[:, None, None]
+    # z = (p, q, r): w = p - q, d = q - r
+    jw = np.array([1.0, -1.0, 0.0])
+    jd = np.array([0.0, 1.0, -1.0])
+    H = (np.einsum("a,b,nij->naibj", jw, jd, proj) + np.einsum("a,b,nij->naibj", jd, jw, proj)
+         + np.einsum("a,b,nij->naibj", jd, jd, gdd))
+    return g, grad, H.reshape(n, 9, 9)
+
+
+class NodePairContact:
+    """Penalty contact of node pairs (p, q, r) of a vector Q2/P2 space (block indices).
+
+    Args:
+        u: displacement Function [mm].
+        pairs: (n, 3) block (node) indices p (strip face), q (ribbon face towards the strip), r
+            (ribbon's other face).
+        areas: (n,) tributary areas of p [mm^2].
+        stiffness: penalty k [N/mm^3].
+    """
+
+    def __init__(self, u: dolfinx.fem.Function, pairs: np.ndarray, areas: np.ndarray, stiffness: float):
+        V = u.function_space
+        if V.mesh.comm.size > 1:
+            raise NotImplementedError("node-pair contact runs in serial only")
+        self.u = u
+        self.pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 3)
+        self.areas = np.asarray(areas, dtype=float)
+        self.stiffness = float(stiffness)
+        self.reference = V.tabulate_dof_coordinates()
+        self.dofs = (3 * self.pairs[:, :, None] + np.arange(3)).reshape(-1, 9).astype(np.int32)
+        self.fixed = np.zeros(V.dofmap.index_map.size_local * 3, dtype=bool)
+
+    def set_constrained(self, bcs) -> None:
+        """Rows and columns of Dirichlet DOFs get no contact terms (they are identity rows)."""
+        self.fixed[:] = False
+        for bc in bcs:
+            idx, _ = bc.dof_indices()
+            self.fixed[idx] = True
+
+    def positions(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        x = self.reference + self.u.x.array.reshape(-1, 3)
+        return x[self.pairs[:, 0]], x[self.pairs[:, 1]], x[self.pairs[:, 2]]
+
+    def gaps(self) -> np.ndarray:
+        """Current gaps [mm] (negative: penetration)."""
+        return gap_and_derivatives(*self.positions(), hessian=False)[0]
+
+    def energy(self) -> float:
+        """Penalty energy [mJ]."""
+        g = np.minimum(self.gaps(), 0.0)
+        return 0.5 * self.stiffness * float(np.sum(self.areas * g * g))
+
+    def normal_force(self) -> float:
+        """Sum of the pair forces k A <-g>_+ [N] (contact force on the mesh)."""
+        return self.stiffness * float(np.sum(self.areas * np.maximum(-self.gaps(), 0.0)))
+
+    def active(self) -> np.ndarray:
+        return self.gaps() < 0.0
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        g, grad, _ = gap_and_derivatives(*self.positions(), hessian=False)
+        on = g < 0.0
+        if not np.any(on):
+            return
+        f = (self.stiffness * self.areas[on] * g[on])[:, None] * grad[on]
+        idx = self.dofs[on].ravel()
+        vals = f.ravel()
+        keep = ~self.fixed[idx]
+        b.setValues(idx[keep].astype(np.int32), vals[keep], addv=PETSc.InsertMode.ADD_VALUES)
+        b.assemble()
+
+    def add_jacobian(self, A: PETSc.Mat) -> None:
+        g, grad, H = gap_and_derivatives(*self.positions())
+        k = self.stiffness * self.areas
+        on = g < 0.0
+        blocks = np.zeros_like(H)
+        blocks[on] = k[on, None, None] * (np.einsum("ni,nj->nij", grad[on], grad[on])
+                                          + g[on, None, None] * H[on])
+        # Same nonzero pattern every time (zeros for open pairs); no terms on Dirichlet rows/columns.
+        free = ~self.fixed[self.dofs]
+        blocks *= free[:, :, None] & free[:, None, :]
+        for rows, vals in zip(self.dofs, blocks):
+            A.setValues(rows, rows, vals, addv=PETSc.InsertMode.ADD_VALUES)
+        A.assemble()
+
+
+class NodalDamping:
+    """Proximal term c/2 sum |u - anchor|^2 over the free DOFs [mJ]; ``weight`` c [N/mm] is 0 (off)
+    except while a path follower relaxes across a fold."""
+
+    def __init__(self, u: dolfinx.fem.Function):
+        if u.function_space.mesh.comm.size > 1:
+            raise NotImplementedError("nodal damping runs in serial only")
+        self.u = u
+        self.weight = 0.0
+        self.anchor = np.zeros(u.x.array.size)
+        self.fixed = np.zeros(u.x.array.size, dtype=bool)
+
+    def set_constrained(self, bcs) -> None:
+        self.fixed[:] = False
+        for bc in bcs:
+            idx, _ = bc.dof_indices()
+            self.fixed[idx] = True
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        if self.weight == 0.0:
+            return
+        n = b.getLocalSize()
+        r = self.weight * (self.u.x.array[:n] - self.anchor[:n])
+        r[self.fixed[:n]] = 0.0
+        with b.localForm() as local:
+            local.array[:n] += r
+
+    def add_jacobian(self, A: PETSc.Mat) -> None:
+        if self.weight == 0.0:
+            return
+        d = A.createVecLeft()
+        n = d.getLocalSize()
+        d.setArray(np.where(self.fixed[:n], 0.0, self.weight))
+        A.setDiagonal(d, addv=PETSc.InsertMode.ADD_VALUES)
+        A.assemble()
+        d.destroy()
+
+
+def face_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, strip_face: str, ribbon_cells: str,
+               strip_above: bool, decimals: int = 6) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (p, q, r) and tributary areas [mm^2] for the nodes of facet group ``strip_face``.
+
+    q and r are the ribbon (cells ``ribbon_cells``) nodes with the same reference (x, y) as p on the
+    ribbon face towards the strip (``strip_above``: its top face) and on its other face. Nodes of
+    the strip face that belong to the ribbon too (the bonded edges) are skipped.
+    """
+    mesh = tmesh.mesh
+    fdim = mesh.topology.dim - 1
+    mesh.topology.create_connectivity(fdim, mesh.topology.dim)
+    facets = tmesh.facet_tags.find(tmesh.facet_tag(strip_face))
+    p_nodes = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
+    ribbon = dolfinx.fem.locate_dofs_topological(V, mesh.topology.dim,
+                                                 tmesh.cell_tags.find(tmesh.cell_tag(ribbon_cells)))
+    p_nodes = np.setdiff1d(p_nodes, ribbon)
+    X = V.tabulate_dof_coordinates()
+    # ribbon columns: nodes grouped by (x, y), extremes in z are its bottom and top faces
+    keys = np.round(X[ribbon, :2], decimals)
+    order = np.lexsort((X[ribbon, 2], keys[:, 1], keys[:, 0]))
+    keys, nodes = keys[order], ribbon[order]
+    uniq, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
+    bottom = nodes[first]
+    top = nodes[first + counts - 1]
+    lookup = {tuple(k): i for i, k in enumerate(uniq)}
+    pk = np.round(X[p_nodes, :2], decimals)
+    col = np.array([lookup.get(tuple(k), -1) for k in pk], dtype=np.int64)
+    if np.any(col < 0):
+        raise ValueError(f"{strip_face}: {int(np.sum(col < 0))} strip nodes have no ribbon node at "
+                         "the same (x, y); the bodies must share their x and y stations")
+    q = top[col] if strip_above else bottom[col]
+    r = bottom[col] if strip_above else top[col]
+    # tributary areas: integral of each node's basis function over the strip face
+    v = ufl.TestFunction(V)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tmesh.facet_tags,
+                     metadata={"quadrature_degree": 4})
+    weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(v[2] * ds(tmesh.facet_tag(strip_face))))
+    areas = weights.array.reshape(-1, 3)[p_nodes, 2]
+    return np.column_stack([p_nodes, q, r]), areas
+
+
+def attach(snes: PETSc.SNES, contacts: list, bcs, *, homogeneous: bool = False) -> None:
+    """Add the node-wise terms' residual and Jacobian (``contacts``: :class:`NodePairContact`,
+    :class:`NodalDamping`) to the SNES callbacks a dolfinx NonlinearProblem set (the problem's own
+    assembly runs first; it also copies the iterate into ``u``).
+
+    ``homogeneous=True`` (every Dirichlet value is zero and every iterate satisfies the conditions,
+    as along a path started from u = 0 with a secant predictor) skips the residual's lifting, which
+    costs a Jacobian evaluation on every constrained cell and is zero in that case.
+    """
+    b, (residual, r_args, r_kargs) = snes.getFunction()
+    J, P, (jacobian, j_args, j_kargs) = snes.getJacobian()
+    for c in contacts:
+        c.set_constrained(bcs)
+    if any(isinstance(c, NodePairContact) for c in contacts):
+        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+    r_kargs = dict(r_kargs or {})
+
+    def assemble_residual(snes_, x, f):
+        if not homogeneous:
+            residual(snes_, x, f, *(r_args or ()), **r_kargs)
+            return
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        dolfinx.fem.petsc.assign(x, r_kargs["u"])
+        with f.localForm() as local:
+            local.set(0.0)
+        dolfinx.fem.petsc.assemble_vector(f, r_kargs["residual"])
+        f.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        dolfinx.fem.petsc.set_bc(f, r_kargs["bcs"], x0=x, alpha=-1.0)
+
+    def with_contact_residual(snes_, x, f):
+        assemble_residual(snes_, x, f)
+        for c in contacts:
+            c.add_residual(f)
+
+    def with_contact_jacobian(snes_, x, A, B):
+        jacobian(snes_, x, A, B, *(j_args or ()), **(j_kargs or {}))
+        for c in contacts:
+            c.add_jacobian(A)
+
+    snes.setFunction(with_contact_residual, b)
+    snes.setJacobian(with_contact_jacobian, J, P)
