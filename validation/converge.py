@@ -1,9 +1,10 @@
 """Mesh-convergence study of one case: observed order, Richardson extrapolation, GCI.
 
-``lcefem converge CASE [--levels N] [--out DIR] [--quiet]``
+``lcefem converge CASE [--levels N] [--out DIR] [--resume] [--quiet]``
 
 Runs the case at refinement levels 0..N-1 (N >= 4; ``ctx.level = i``, the case sets ``ctx.mesh_size``)
-in ``DIR/level<i>/``. For every metric it reports, on the finest three levels, the observed order p,
+in ``DIR/level<i>/``; ``--resume`` reuses levels whose outputs are complete (their ``metrics.json``
+marker, written last). For every metric it reports, on the finest three levels, the observed order p,
 the Richardson-extrapolated value and the fine-grid Grid Convergence Index with safety factor 1.25
 (Celik et al. 2008, J. Fluids Eng. 130, 078001; lcefem.validation.gci), and flags
 
@@ -34,7 +35,7 @@ from lcefem.models.errors import InputError
 from lcefem.validation import gci as gci_mod
 from lcefem.validation import plots, report
 from lcefem.validation.cases import CaseContext, registry
-from lcefem.validation.validate import MARKER, _isatty, run_case
+from lcefem.validation.validate import MARKER, _isatty, load_complete, run_case
 
 MIN_LEVELS = 4
 MIN_RATIO = 1.3  # Celik et al. 2008: refinement ratio r = h_coarse/h_fine should exceed 1.3
@@ -110,6 +111,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--levels", type=int, default=MIN_LEVELS, help=f"number of levels (>= {MIN_LEVELS})")
     parser.add_argument("--out", type=pathlib.Path, default=None,
                         help="output folder (default: results/converge/<case>)")
+    parser.add_argument("--resume", action="store_true",
+                        help="reuse levels whose outputs in --out are complete")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
@@ -177,14 +180,20 @@ def print_summary(studies: list[MetricConvergence], mesh_sizes, file=None) -> No
     Console(file=file, width=None if _isatty(file) else 180, highlight=False).print(table)
 
 
-def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False):
-    """Run ``case`` at levels 0..levels-1 and analyse; returns (mesh sizes, unit, studies, warnings)."""
+def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume: bool = False):
+    """Run ``case`` at levels 0..levels-1 and analyse; returns (mesh sizes, unit, studies, warnings).
+
+    With ``resume``, a level whose directory holds a complete result of this case is reused."""
     from tqdm import tqdm
 
     results = []
     for level in tqdm(range(levels), desc=f"converge {case.name}", unit="level", disable=quiet,
                       file=sys.stderr):
         ctx = CaseContext(out=out / f"level{level}", quick=False, level=level, progress=not quiet)
+        stored = load_complete(case, ctx.out, out, quick=False) if resume else None
+        if stored is not None and stored.mesh_size:
+            results.append(stored)
+            continue
         (ctx.out / MARKER).unlink(missing_ok=True)
         res = run_case(case, ctx, out)
         if res.mesh_size is None or not res.mesh_size > 0:
@@ -219,7 +228,8 @@ def main(args: argparse.Namespace) -> int:
     if args.levels < MIN_LEVELS:
         raise InputError(f"--levels = {args.levels}: must be >= {MIN_LEVELS}")
     out = args.out or pathlib.Path("results/converge") / case.name
-    h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet)
+    h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet,
+                                           resume=getattr(args, "resume", False))
     write_outputs(out, case.name, h, unit, studies, warnings)
     print_summary(studies, h)
     for w in warnings:

@@ -3,7 +3,6 @@
 import math
 
 import dolfinx_solver  # noqa: F401
-import numpy as np
 import pytest
 import ufl
 

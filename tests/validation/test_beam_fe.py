@@ -111,3 +111,21 @@ def test_ribbon_fe_run_end_to_end(tmp_path, lcefem_cmd):
         r["Euler, plate strip E I/(1 - nu^2) [N]"]
     # just past buckling the force stays within a few per cent of the critical load
     assert r["force at final compression [N]"] == pytest.approx(r["critical load [N]"], rel=0.1)
+
+
+def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_strips():
+    """Coil current through the top strips (heat model driving the FE beam): in the first second the
+    strips' mean temperature rises by q/(rho c) (adiabatic: convection and conduction into the pads
+    remove a few per cent; 5 % tolerance), the unheated bottom strips stay at 25 C, and the contracting
+    top strips bend the beam towards them (negative curvature)."""
+    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.models.heat import ThermalProperties
+    from lcefem.validation.beam_fe import HeatedBeamRun, beam_fe_heated
+
+    model, rows, _ = beam_fe_heated(HeatedBeamRun(current=0.2, heated="top", duration=2.0, dt=1.0),
+                                    mesh=BeamFEMesh(level=0))
+    thermal = ThermalProperties()
+    rate = model.heat.power_density.value / (thermal.density * thermal.specific_heat)  # [K/s]
+    assert rows[1]["T_mean top_strips [C]"] - 25.0 == pytest.approx(rate * 1.0, rel=0.05)
+    assert rows[2]["T_mean bottom_strips [C]"] == pytest.approx(25.0, abs=1e-3)
+    assert rows[2]["curvature [1/mm]"] < -1e-5

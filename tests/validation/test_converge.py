@@ -92,3 +92,22 @@ def test_converge_bad_input_exits_2(quadrature_case, tmp_path, capsys):
     assert cli_main(["converge", "test_no_levels", "--out", str(tmp_path)]) == 2
     assert "cases with levels: " in capsys.readouterr().err
     assert cli_main(["converge", "no_such_case", "--out", str(tmp_path)]) == 2
+
+
+def test_converge_resume_reuses_complete_levels_only(quadrature_case, tmp_path, monkeypatch):
+    out = tmp_path / "conv"
+    assert cli_main(["converge", "test_quadrature", "--levels", "4", "--out", str(out), "--quiet"]) == 0
+    first = (out / "gci.csv").read_text()
+    (out / "level3" / "metrics.json").unlink()  # level 3 interrupted: must run again
+    calls = []
+
+    def counting(ctx):
+        calls.append(ctx.level)
+        return _quadrature_case(ctx)
+
+    monkeypatch.setitem(case_registry._CASES, "test_quadrature",
+                        Case("test_quadrature", counting, "trapezoid rule", False, True))
+    assert cli_main(["converge", "test_quadrature", "--levels", "4", "--out", str(out), "--quiet",
+                     "--resume"]) == 0
+    assert calls == [3]
+    assert (out / "gci.csv").read_text() == first

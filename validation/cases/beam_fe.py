@@ -23,7 +23,6 @@ import time
 
 import numpy as np
 
-from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.validation import bar_hinge_studies as studies
