@@ -152,7 +152,7 @@ def test_run_beam_end_to_end(tmp_path, lcefem_cmd):
 @pytest.mark.parametrize("args, message", [
     (["--lambda-top", "1.6"], "run.lambda_top = 1.6: must be between 1 (isotropic) and lambda_N"),
     (["--segments", "1"], "geometry.segments = 1: must be >= 2"),
-    (["--model", "fe"], "invalid choice: 'fe'"),
+    (["--model", "xyz"], "invalid choice: 'xyz'"),
 ])
 def test_run_beam_bad_input(tmp_path, capsys, args, message):
     out = tmp_path / "o"

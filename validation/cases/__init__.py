@@ -34,6 +34,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.beam_bar_hinge",
     "lcefem.validation.cases.strip",
     "lcefem.validation.cases.beam_fe",
+    "lcefem.validation.cases.ribbon_fe",
 ]
 
 

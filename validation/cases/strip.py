@@ -43,6 +43,12 @@ WINDOWS = {
     "mms_heat": (0.15, "tolerance of issue 2 on the observed L2 order of the heat solver"),
     "mms_mechanics": (0.3, "pre-asymptotic coarse meshes (n = 2, 4, 8): finest pair within 0.3 of 3"),
 }
+#: Q2 hexahedra on uniform meshes reach order 3 from above: measured 3.86, 3.43 and 3.33 for the
+#: pairs n = 2 -> 4, 4 -> 8 and 8 -> 16 (the last takes 7 min, so it is not part of the case); the
+#: check is order in [3 - 0.3, 3.5].
+HEX_MMS_UPPER = 3.5
+HEX_MMS_WHY = ("Q2 hexahedra approach 3 from above on uniform meshes (measured 3.86, 3.43, 3.33 for "
+               "n = 2->4, 4->8, 8->16): range [2.7, 3.5]")
 
 
 def strip_mesh(ctx: CaseContext, **kw) -> StripMesh:
@@ -298,8 +304,13 @@ def verification_mechanics_mms(ctx: CaseContext) -> list[Metric]:
         orders = observed_orders(sizes, errors)
         data[f"{cell} h [mm]"] = sizes
         data[f"{cell} L2 error [mm^2.5]"] = errors
-        metrics.append(Metric.within("", f"L2 order, {cell} P2/Q2, n = 4 -> 8", orders[-1], "-", 3.0, tol,
-                                     f"theory O(h^3) for quadratic elements; {why}"))
+        if cell == "hex":  # approaches 3 from above on uniform hexahedra
+            metrics.append(Metric.between("", f"L2 order, {cell} P2/Q2, n = 4 -> 8", orders[-1], "-",
+                                          3.0 - tol, HEX_MMS_UPPER, f"theory O(h^3) for quadratic elements; "
+                                          f"{why}; {HEX_MMS_WHY}"))
+        else:
+            metrics.append(Metric.within("", f"L2 order, {cell} P2/Q2, n = 4 -> 8", orders[-1], "-", 3.0,
+                                         tol, f"theory O(h^3) for quadratic elements; {why}"))
         metrics.append(Metric.info("", f"L2 order, {cell} P2/Q2, n = 2 -> 4", orders[0], "-",
                                    "pre-asymptotic pair", reference=3.0))
     write_csv(ctx.path("errors.csv"), data)
