@@ -8,8 +8,7 @@ from __future__ import annotations
 import pathlib
 import tempfile
 
-from lcefem.validation import render
-from lcefem.validation.cases.strip import DEFAULT_LEVEL
+from lcefem.validation.cases.strip import DEFAULT_LEVEL, render_strip_end
 from lcefem.validation.runs.strip import StripConfig, StripRun, run_strip
 from lcefem.meshes.strip import StripMesh
 
@@ -20,13 +19,8 @@ def main() -> None:
     config = StripConfig(run=StripRun(current=0.2, duration=20.0), mesh=StripMesh(level=DEFAULT_LEVEL))
     with tempfile.TemporaryDirectory() as tmp:
         result = run_strip(config, pathlib.Path(tmp) / "run", fields=False)
-    dims = result.summary["as_built"]
-    L, W, H = dims["length"], dims["width"], dims["thickness"]
     IMAGES.mkdir(parents=True, exist_ok=True)
-    png = render.render_deformed(IMAGES / "strip_0p2A_20s.png", result.model.u, result.model.heat.T,
-                                 scalar_label="temperature [C]",
-                                 title="free LCE strip, 0.2 A, t = 20 s (3D FE)",
-                                 mirror=((1, 0.5 * W), (2, 0.5 * H)), crop=(0, L - 20.0, L), zoom=1.3)
+    png = render_strip_end(IMAGES / "strip_0p2A_20s.png", result, "free LCE strip, 0.2 A, t = 20 s (3D FE)")
     print(png)
 
 

@@ -16,7 +16,7 @@ FD_H = 1e-6
 FD_RTOL = 1e-6
 
 
-def fd_check(fun, x, derivatives=2):
+def assert_derivatives_match_fd(fun, x, derivatives=2):
     """fun(X, derivatives) -> (value (n,), grad (n, m)[, hess (n, m, m)]) on rows X (n, m)."""
     out = fun(x, derivatives)
     m = x.shape[1]
@@ -134,7 +134,7 @@ def test_dihedral_angle_gradient_and_hessian():
         out = bh.dihedral_angle(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12], derivatives=d)
         return out
 
-    fd_check(fun, x)
+    assert_derivatives_match_fd(fun, x)
     # rigid motions leave theta unchanged: the gradient is orthogonal to translations
     g = fun(x, 1)[1]
     np.testing.assert_allclose(g.reshape(8, 4, 3).sum(axis=1), 0.0, atol=1e-12)
@@ -147,7 +147,7 @@ def test_bar_element_derivatives():
     laws = [lambda l: bh.stiffening_bar_law(l, 100.0),
             lambda l: bh.tension_only_ogden_law(l)]
     for law in laws:
-        fd_check(lambda X, d: bh.bar_element(X[:, :3], X[:, 3:], rest, vol, law, derivatives=d), x)
+        assert_derivatives_match_fd(lambda X, d: bh.bar_element(X[:, :3], X[:, 3:], rest, vol, law, derivatives=d), x)
 
 
 def test_hinge_element_derivatives():
@@ -157,19 +157,19 @@ def test_hinge_element_derivatives():
     def law(th):
         return bh.enhanced_linear_law(th, rest, 0.7)
 
-    fd_check(lambda X, d: bh.hinge_element(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12],
+    assert_derivatives_match_fd(lambda X, d: bh.hinge_element(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12],
                                            np.full(6, 3.0), law, derivatives=d), x)
 
 
 def test_point_plane_gap_and_contact_derivatives():
     x = RNG.normal(size=(8, 12))
-    fd_check(lambda X, d: bh.point_plane_gap(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12],
+    assert_derivatives_match_fd(lambda X, d: bh.point_plane_gap(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12],
                                              derivatives=d), x)
     g0 = bh.point_plane_gap(x[:, 0:3], x[:, 3:6], x[:, 6:9], x[:, 9:12], derivatives=0)
     rest = g0 + np.where(np.arange(8) % 2 == 0, 0.3, -0.3)  # half in contact, half free
     out = bh.unilateral_contact_element(x[:, 0:3], x[:, 3:6], x[:, 6:9], x[:, 9:12], rest, 2.0)
     assert np.all(out[0][1::2] == 0.0) and np.all(out[0][0::2] > 0.0)
-    fd_check(lambda X, d: bh.unilateral_contact_element(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12],
+    assert_derivatives_match_fd(lambda X, d: bh.unilateral_contact_element(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12],
                                                         rest, 2.0, derivatives=d), x)
 
 

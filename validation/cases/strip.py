@@ -61,15 +61,20 @@ def _run_config(ctx: CaseContext, **run):
     return StripConfig(run=StripRun(**run), mesh=strip_mesh(ctx))
 
 
-def _render(ctx: CaseContext, result, name: str, title: str, sources) -> None:
-    """The last 20 mm of the strip, mirrored from the quarter model to the whole section."""
+def render_strip_end(path, result, title: str):
+    """PNG of the last 20 mm of a strip run's deformed body coloured by temperature, mirrored from
+    the quarter model to the whole section; returns the path."""
     from lcefem.validation import render
     model, dims = result.model, result.summary["as_built"]
     L, W, H = dims["length"], dims["width"], dims["thickness"]
     mirror = ((1, 0.5 * W), (2, 0.5 * H)) if result.summary["mesh"]["symmetry"] == "quarter" else ()
-    png = render.render_deformed(ctx.path(f"{name}.png"), model.u, model.heat.T,
-                                 scalar_label="temperature [C]", title=title, mirror=mirror,
-                                 crop=(0, L - 20.0, L), zoom=1.3)
+    return render.render_deformed(path, model.u, model.heat.T, scalar_label="temperature [C]", title=title,
+                                  mirror=mirror, crop=(0, L - 20.0, L), zoom=1.3)
+
+
+def _render(ctx: CaseContext, result, name: str, title: str, sources) -> None:
+    """The last 20 mm of the strip, mirrored from the quarter model to the whole section."""
+    png = render_strip_end(ctx.path(f"{name}.png"), result, title)
     ctx.add_figure(png, plots.caption(
         f"{title}: the free end of the deformed strip (last 20 mm of the as-built length, whole "
         "section drawn from the quarter model) coloured by temperature; grey lines: as built. "
