@@ -86,7 +86,6 @@ def run_case(case: Case, ctx: CaseContext, root: pathlib.Path) -> CaseResult:
         rows.append(m.as_dict())
     figures = []
     for path, caption in ctx.figures:
-        path = path if path.is_absolute() else ctx.out / path
         if not path.is_file():
             raise FileNotFoundError(f"case {case.name} recorded figure {path} but did not write it")
         figures.append({"path": _relative(path, root), "caption": caption})

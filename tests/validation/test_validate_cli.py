@@ -57,6 +57,21 @@ def _interrupted_case(ctx):
     raise KeyboardInterrupt
 
 
+def test_validate_with_a_relative_out_from_another_directory(lcefem_cmd, tmp_path):
+    """As ``make validate`` runs it: a relative --out, resolved once against the working directory.
+    (A figure path joined to the out folder twice failed every case that writes a figure.)"""
+    cwd = tmp_path / "elsewhere"
+    cwd.mkdir()
+    proc = subprocess.run([*lcefem_cmd, "validate", "tension_law", "--quick", "--quiet", "--out", "rel/v"],
+                          capture_output=True, text=True, timeout=120, cwd=cwd)
+    assert proc.returncode == 0, proc.stderr
+    out = cwd / "rel" / "v"
+    assert (out / "tension_law" / "tension_law.png").is_file()
+    assert (out / "tension_law" / "metrics.json").is_file()
+    assert not (out / "tension_law" / "rel").exists()  # nothing written under a doubled path
+    assert "![Figure 1](tension_law/tension_law.png)" in (out / "report.md").read_text()
+
+
 @pytest.fixture
 def toy_cases(monkeypatch):
     calls = {}

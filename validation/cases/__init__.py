@@ -99,9 +99,17 @@ class CaseContext:
     case: str = ""  #: name of the running case (set by the runner; Metric.case may be left "")
     mesh_size_unit: str = "mm"  #: unit of ``mesh_size`` (e.g. "mm", or "-" for a count)
 
+    def __post_init__(self) -> None:
+        # Absolute from the start: every path a case builds from ``out`` (``ctx.path``) then means the
+        # same file whatever the working directory, and is never joined to ``out`` a second time.
+        self.out = pathlib.Path(self.out).absolute()
+
     def add_figure(self, path: pathlib.Path, caption: str) -> None:
-        """Record a figure written by the case; ``caption`` should name the sources of its data."""
-        self.figures.append((pathlib.Path(path), caption))
+        """Record a figure written by the case; ``caption`` should name the sources of its data.
+
+        A relative ``path`` is taken relative to ``ctx.out`` (as ``ctx.path`` builds them)."""
+        path = pathlib.Path(path)
+        self.figures.append((path if path.is_absolute() else self.out / path, caption))
 
     def path(self, name: str) -> pathlib.Path:
         """``ctx.out / name``, creating ``ctx.out`` if needed."""
