@@ -460,7 +460,7 @@ def fe_stations(geometry: CompositeBeamGeometry) -> list[list[tuple[float, float
     return pts
 
 
-def build_beam_fe(geometry: CompositeBeamGeometry = CompositeBeamGeometry(), lambda_N: float = 1.4,
+def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
                   mesh: BeamFEMesh = BeamFEMesh(), comm=None):
     """Hexahedral mesh of the as-built (nematic) composite beam with bonds where the published model
     connects strips and ribbon, and separate (unbonded) faces elsewhere.

@@ -57,6 +57,11 @@ import numpy as np
 from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.models.parameters import param
 
+#: Nematic relative length lambda_N [-] of the published reduced-order model: its isotropic/nematic
+#: length ratio 0.7143 = 1/1.4 (shared/reference/published_reduced_model.md). The bar-and-hinge models,
+#: the FE composite beam and Eq. 2 use it; the strip model uses Eq. 1's limit (models.empirical.EQ1_LAMBDA_N).
+PUBLISHED_LAMBDA_N: float = 1.4
+
 PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
              "shared/reference/published_reduced_model.md)")
 
@@ -99,7 +104,7 @@ class KaptonBarHinge:
 class LCEStripBars:
     """LCE strips as tension-only Ogden bars with a ramped rest length (published model)."""
 
-    lambda_N: float = param(1.4, "-", PUBLISHED + ": isotropic/nematic length ratio 1/0.7143",
+    lambda_N: float = param(PUBLISHED_LAMBDA_N, "-", PUBLISHED + ": isotropic/nematic length ratio 1/0.7143",
                             minimum=1.0)
     bars_per_strip: int = param(2, "-", "seed 001 'Numerical simulation': each strip is two identical "
                                 "bars along the ribbon edges, each with half the section",

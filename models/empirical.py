@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.parameters import param
 
 
@@ -17,6 +18,11 @@ class Eq1:
     gamma_1: float = param(0.426, "-", "seed 001, Eq. 1 (fitted over 0.04-0.09 A)")
     gamma_2: float = param(11.97e-3, "1/mW", "seed 001, Eq. 1: 11.97 1/W")
     gamma_3: float = param(635.0, "mW", "seed 001, Eq. 1: 0.635 W")
+
+
+#: Nematic relative length lambda_N [-] = 1 + gamma_1, Eq. 1's limit as P -> 0 (seed 001, Eq. 1): the
+#: strip model's as-built spontaneous stretch (:class:`lcefem.models.lce.NematicTransition`).
+EQ1_LAMBDA_N: float = 1.0 + Eq1().gamma_1
 
 
 def eq1_stretch(power, law: Eq1 = Eq1()):
@@ -40,7 +46,8 @@ class Eq2:
                                  "(published reduced-order model: Lx = 30 mm)", positive=True)
     strip_thickness: float = param(2.0, "mm", "t_a, LCE strip thickness (seed 001: 2 mm deep mould)",
                                    positive=True)
-    lambda_N: float = param(1.4, "-", "nematic relative length (published reduced-order model: 1/0.7143)",
+    lambda_N: float = param(PUBLISHED_LAMBDA_N, "-", "nematic relative length (published reduced-order "
+                            "model: 1/0.7143)",
                             minimum=1.0)
 
 

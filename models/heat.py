@@ -39,11 +39,34 @@ class SurfaceExchange:
 
 @dataclass(frozen=True)
 class Coil:
-    """Embedded Ni-Cr heating coil (seed 001, Materials and Methods)."""
+    """Embedded Ni-Cr heating coil of one free LCE strip (seed 001, Materials and Methods).
+
+    :meth:`power` is the one current -> power step of lcefem: a "current" means the same in the strip,
+    the composite beam and the gridshell, whichever coil (this one or :class:`GridSegmentCoil`) heats.
+    """
 
     resistance: float = param(146.6, "ohm", "seed 001: mean of P/I^2 = 1.5/0.1^2, 3.26/0.15^2, "
                               "5.79/0.2^2 W/A^2", positive=True)
     rod_diameter: float = param(1.0, "mm", "seed 001: wire wound on a 1 mm steel rod", positive=True)
+
+    def power(self, current: float) -> float:
+        """Joule power P = I^2 R [mW] of this coil at current I [A] (:func:`joule_power`)."""
+        return joule_power(current, self.resistance)
+
+
+@dataclass(frozen=True)
+class GridSegmentCoil(Coil):
+    """The coil of one 30 mm LCE segment of the robotic surface's grid (seed 001, Materials and Methods).
+
+    The wire has 1.25 ohm/mm before it is stretched, so a 25 ohm segment holds 20 mm of unstretched
+    coil; the text's 126-134 ohm per grid strip is about five such segments in series.
+    """
+
+    resistance: float = param(25.0, "ohm", "seed 001 Materials and Methods: 'the resistance within "
+                              "each segment of the grid is 25 ohms'", positive=True)
+    resistance_per_length: float = param(1.25, "ohm/mm", "seed 001 Materials and Methods: 'the "
+                                         "resistance of the coil is 1.25 ohms/mm on average before "
+                                         "stretch'", positive=True)
 
 
 def joule_power(current: float, resistance: float) -> float:

@@ -24,6 +24,7 @@ import numpy as np
 import ufl
 
 from lcefem.models import _math
+from lcefem.models.empirical import EQ1_LAMBDA_N
 from lcefem.models.parameters import param
 
 CALIBRATED = ("calibrated against seed 001 (Eq. 1 at 0.04-0.09 A, transients at 0.1 and 0.2 A) by "
@@ -36,7 +37,7 @@ class NematicTransition:
 
     T_NI: float = param(68.92, "C", "midpoint of Q(T); seed 001 gives 'T_NI (~70 C)'; " + CALIBRATED)
     width: float = param(6.188, "K", CALIBRATED, positive=True)
-    lambda_N: float = param(1.426, "-", "nematic spontaneous stretch at T_ref = 1 + gamma_1 of Eq. 1 "
+    lambda_N: float = param(EQ1_LAMBDA_N, "-", "nematic spontaneous stretch at T_ref = 1 + gamma_1 of Eq. 1 "
                             "(seed 001, Eq. 1, P -> 0); the 9 free strips measured 130.22/80 = 1.63 "
                             "+- 0.10 under an 8.2 g clip (seed 001, Fig. 2B text)", minimum=1.0)
     T_ref: float = param(25.0, "C", "as-built room temperature (seed 001: experiments at about 25 C)")

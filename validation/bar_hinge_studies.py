@@ -29,6 +29,7 @@ from lcefem.meshes.composite_beam import (BeamBarHingeMesh, CompositeBeamGeometr
                                           build_beam_bar_hinge)
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen, build_ribbon_bar_hinge
 from lcefem.models import bar_hinge as law
+from lcefem.models.empirical import Eq2
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import OgdenLaw, ogden_uniaxial_nominal_stress
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
@@ -147,11 +148,18 @@ def solve_beam(lambda_top: float, lambda_bottom: float,
                         beam_curvature(setup.structure, result.states[-1].x))
 
 
-def eq2_inputs_note() -> str:
-    return ("Eq. 2 with l_p = 30 mm (the segment's straight length, as the beam's bottom strips span it), "
-            "t_a = 2 mm (the cast strip thickness), lambda_N = 1.4 (the published model's "
-            "isotropic/nematic ratio, the same lambda_N the bar-and-hinge rest lengths use, so that "
-            "lambda_T = lambda_B = lambda_N is the flat as-built beam in both), eta = 0.57 (seed 001)")
+def eq2_parameters(eq2: Eq2 = Eq2()) -> str:
+    """Eq. 2's inputs as text for captions, from the one definition in :class:`Eq2`."""
+    return (f"eta = {eq2.eta:g}, l_p = {eq2.ribbon_length:g} mm, t_a = {eq2.strip_thickness:g} mm, "
+            f"lambda_N = {eq2.lambda_N:g}")
+
+
+def eq2_inputs_note(eq2: Eq2 = Eq2()) -> str:
+    return (f"Eq. 2 with l_p = {eq2.ribbon_length:g} mm (the segment's straight length, as the beam's "
+            f"bottom strips span it), t_a = {eq2.strip_thickness:g} mm (the cast strip thickness), "
+            f"lambda_N = {eq2.lambda_N:g} (the published model's isotropic/nematic ratio, the same "
+            "lambda_N the bar-and-hinge rest lengths use, so that lambda_T = lambda_B = lambda_N is the "
+            f"flat as-built beam in both), eta = {eq2.eta:g} (seed 001)")
 
 
 # --------------------------------------------------------------------------- ribbon buckling

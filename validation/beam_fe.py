@@ -49,6 +49,8 @@ from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen, build_ribb
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
                                         neo_hookean_strain_energy)
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.lce import isochoric_uniaxial
 from lcefem.models.parameters import param
 from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
@@ -76,7 +78,7 @@ def _unique_prefix(stem: str) -> str:
 class BeamActuation:
     """How the prescribed relative lengths enter the FE beam."""
 
-    lambda_N: float = param(1.4, "-", PUBLISHED + ": isotropic/nematic length ratio 1/0.7143 (the "
+    lambda_N: float = param(PUBLISHED_LAMBDA_N, "-", PUBLISHED + ": isotropic/nematic length ratio 1/0.7143 (the "
                             "bar-and-hinge beam and Eq. 2 use the same value)", minimum=1.0)
 
 
@@ -737,11 +739,11 @@ def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
                    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
                    mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
                    contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
-                   transition=None, thermal=None, exchange=None, segment_resistance: float = 25.0,
+                   transition=None, thermal=None, exchange=None, coil: GridSegmentCoil = GridSegmentCoil(),
                    on_step: Callable[[dict], None] | None = None):
     """The FE beam driven by a coil current (seed 001's actuation) through
     :class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: Joule power I^2 R per strip
-    (R = ``segment_resistance`` [ohm] per 30 mm grid segment, seed 001) spread uniformly over each
+    (R of one 30 mm grid segment's ``coil``, seed 001) spread uniformly over each
     heated strip's volume (the coil is not resolved), conduction into the ribbon through the bonded
     pads only, convection and radiation on every exterior face; the LCE of the strips follows the
     nematic transition, the bond pads are passive. Each time step's mechanics is brought from the
@@ -749,7 +751,7 @@ def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
 
     Returns (model, history rows, stations).
     """
-    from lcefem.models.heat import SurfaceExchange, ThermalProperties, joule_power
+    from lcefem.models.heat import SurfaceExchange, ThermalProperties
     from lcefem.models.lce import NematicTransition
     from lcefem.solvers.heat import HeatSetup
     from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
@@ -777,7 +779,7 @@ def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
     damping = NodalDamping(model.u)
     attach(model.mechanics.snes, [*contacts, damping], model.bcs, homogeneous=True)
     strip_volume = geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
-    power = joule_power(run.current, segment_resistance)  # mW per strip
+    power = coil.power(run.current)  # mW per strip
     model.heat.power_density.value = power / strip_volume
     stations = BeamStations(tm, model.u.function_space)
     dx = volume_measure(tm)

@@ -10,10 +10,11 @@ import dolfinx
 
 from lcefem.meshes.composite_beam import (FE_CELLS, BeamFEMesh, CompositeBeamGeometry, build_beam_fe,
                                           fe_stations)
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 
 G = CompositeBeamGeometry()
-LAMBDA_N = 1.4
+LAMBDA_N = PUBLISHED_LAMBDA_N
 
 
 @pytest.fixture(scope="module")

@@ -9,6 +9,7 @@ from petsc4py import PETSc
 import dolfinx
 
 from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry, build_beam_fe
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.solvers.contact import NodalDamping, NodePairContact, face_pairs, gap_and_derivatives
 from lcefem.solvers.mechanics import displacement_space
 
@@ -44,7 +45,7 @@ def test_gap_sign_and_rotation_invariance():
 
 @pytest.fixture(scope="module")
 def beam():
-    tm = build_beam_fe(CompositeBeamGeometry(), 1.4, BeamFEMesh(level=0))
+    tm = build_beam_fe(CompositeBeamGeometry(), PUBLISHED_LAMBDA_N, BeamFEMesh(level=0))
     V = displacement_space(tm.mesh, 2)
     return tm, V
 

@@ -83,3 +83,20 @@ def test_unknown_key_names_close_matches():
         rd.reference("blocked.rupture_forse")
     with pytest.raises(InputError, match="no component 'kz'"):
         rd.reference("surface.dome.curvature_sim")["kz"]
+
+
+def test_each_coil_and_nematic_number_has_one_definition_matching_the_seed():
+    """models/ holds the numbers; the seed records in validation/data are the evidence they must match."""
+    from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, LCEStripBars
+    from lcefem.models.empirical import EQ1_LAMBDA_N, Eq1, Eq2
+    from lcefem.models.heat import Coil, GridSegmentCoil
+    from lcefem.models.lce import NematicTransition
+    from lcefem.validation.reference_data import reference
+
+    seg = GridSegmentCoil()
+    assert seg.resistance == reference("coil.segment_resistance").value == 25.0
+    assert seg.resistance_per_length == reference("coil.resistance_per_length").value
+    assert seg.power(0.2) == pytest.approx(0.2 ** 2 * 25.0 * 1e3)  # mW
+    assert Coil().power(0.2) == pytest.approx(5864.0)  # seed 001: 5.79 +- 0.27 W at 0.2 A
+    assert EQ1_LAMBDA_N == 1.0 + Eq1().gamma_1 == NematicTransition().lambda_N
+    assert Eq2().lambda_N == LCEStripBars().lambda_N == PUBLISHED_LAMBDA_N == 1.4

@@ -34,7 +34,7 @@ import dolfinx
 from lcefem.meshes.strip import StripGeometry, StripMesh, build_strip_mesh
 from lcefem.models import units
 from lcefem.models.empirical import eq1_stretch
-from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties, joule_power
+from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.solvers.heat import HeatProblem, HeatSetup
 
@@ -92,7 +92,7 @@ class Surrogate:
 
     def _reset(self, current: float) -> None:
         self.heat.T.x.array[:] = 25.0
-        self.heat.power_density.value = joule_power(current, self.coil.resistance) / self.coil_volume
+        self.heat.power_density.value = self.coil.power(current) / self.coil_volume
         self._deform(1.0)
 
     def steady_stretch(self, current: float, transition) -> float:
@@ -133,7 +133,7 @@ def residuals(x, model: Surrogate, coil: Coil) -> np.ndarray:
     tr = model.set_parameters(x)
     res = []
     for current in HOLD_CURRENTS:
-        target = float(eq1_stretch(joule_power(current, coil.resistance)))
+        target = float(eq1_stretch(coil.power(current)))
         res.append((model.steady_stretch(current, tr) - target) / EQ1_SIGMA)
     t_NI, t_full = model.transient(0.2, tr, 40.0)
     _, t_full_01 = model.transient(0.1, tr, 250.0, dt=1.0)
@@ -155,7 +155,7 @@ def check_with_full_model(x) -> dict:
     for current in HOLD_CURRENTS:
         sim = StripSimulation(dataclasses.replace(base, run=StripRun(current=current)))
         obs = sim.steady_state()
-        target = float(eq1_stretch(joule_power(current, base.coil.resistance)))
+        target = float(eq1_stretch(base.coil.power(current)))
         out["steady"].append({"current [A]": current, "stretch [-]": obs["stretch [-]"],
                               "eq1 [-]": target, "T_mean [C]": obs["T_mean [C]"]})
     for current, duration, dt in ((0.2, 30.0, 0.5), (0.1, 180.0, 1.0)):

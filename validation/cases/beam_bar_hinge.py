@@ -192,7 +192,7 @@ def beam_curvature_map_bh(ctx: CaseContext) -> list[Metric]:
         ctx.add_figure(png, plots.caption(
             "Curvature of a 4-segment composite beam against the relative lengths of its top and "
             "bottom strips: Eq. 2 of seed 001 (" + ("surface" if style == "surface" else "colour map")
-            + ", eta = 0.57, l_p = 30 mm, t_a = 2 mm, lambda_N = 1.4) and the bar-and-hinge model "
+            + ", " + studies.eq2_parameters() + ") and the bar-and-hinge model "
             "(dots; circle through the middle junction centres, positive when the beam bends towards "
             "its bottom strips). Compare seed 001 Fig. 3B.", [eta.cite, PUBLISHED]))
     png2 = plots.map_plot(

@@ -207,7 +207,7 @@ def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
             title="Composite beam curvature: Eq. 2 (surface), 3D FE and bar-and-hinge", sources=sources)
         ctx.add_figure(png, plots.caption(
             "Curvature of the 4-segment composite beam against the relative lengths of its top and "
-            "bottom strips: Eq. 2 of seed 001 (eta = 0.57, l_p = 30 mm, t_a = 2 mm, lambda_N = 1.4), "
+            f"bottom strips: Eq. 2 of seed 001 ({studies.eq2_parameters()}), "
             "the 3D FE model and the bar-and-hinge model (circle through the middle junction centres, "
             "positive when the beam bends towards its bottom strips). Compare seed 001 Fig. 3B.",
             sources))

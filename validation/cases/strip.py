@@ -16,7 +16,6 @@ import numpy as np
 
 from lcefem.meshes.strip import StripMesh
 from lcefem.models.empirical import eq1_stretch
-from lcefem.models.heat import joule_power
 from lcefem.models.hyperelastic import PUBLISHED_MODEL, lce_uniaxial_nominal_stress, ogden_uniaxial_nominal_stress
 from lcefem.validation import plots
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
@@ -93,7 +92,7 @@ def _transient(ctx: CaseContext, index: int, duration: float, dt: float) -> list
     m = res.summary["metrics"]
     h = res.history
     tag = f"{current:g} A"
-    metrics = [Metric.within("", f"electric power I^2 R at {tag}", joule_power(current, cfg.coil.resistance),
+    metrics = [Metric.within("", f"electric power I^2 R at {tag}", cfg.coil.power(current),
                              "mW", powers.value[index], powers.spread[index], powers.source)]
     t_NI = reference("strip.transient_0p2A.time_to_T_NI")
     t_full = {0.2: reference("strip.transient_0p2A.time_to_full_contraction"),
@@ -176,7 +175,7 @@ def strip_steady_eq1(ctx: CaseContext) -> list[Metric]:
         sim = StripSimulation(cfg)
         ctx.mesh_size = sim.dims["element_size"]
         obs = sim.steady_state()
-        power = joule_power(current, cfg.coil.resistance)
+        power = cfg.coil.power(current)
         target = float(eq1_stretch(power))
         for k, v in (("current [A]", current), ("power [mW]", power), ("stretch model [-]", obs["stretch [-]"]),
                      ("stretch Eq. 1 [-]", target), ("T_mean [C]", obs["T_mean [C]"]),

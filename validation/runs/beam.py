@@ -39,6 +39,7 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
 from lcefem.models import bar_hinge as law
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.parameters import check, describe, param, with_overrides
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.validation import bar_hinge_studies as studies
@@ -397,7 +398,6 @@ def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
 
 def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
     from lcefem.validation import beam_fe
-    from lcefem.validation.reference_data import reference
 
     run = cfg.heat_run
     history = CSVHistory(out / "history.csv", HEAT_COLUMNS)
@@ -414,10 +414,10 @@ def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
             bar.update(row["time [s]"] - bar.n)
 
     started = time.perf_counter()
-    resistance = reference("coil.segment_resistance").value
+    coil = GridSegmentCoil()
     try:
         model, rows, _ = beam_fe.beam_fe_heated(run, cfg.geometry, cfg.mesh, cfg.materials, cfg.contact,
-                                                segment_resistance=resistance, on_step=on_step)
+                                                coil=coil, on_step=on_step)
     except ConvergenceError as exc:
         if bar is not None:
             bar.close()
@@ -447,7 +447,7 @@ def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
     summary = {"status": "completed", "model": "fe", "drive": "current", "config": cfg.resolved(),
                "results": {"curvature [1/mm]": float(k[-1]),
                            "T_mean bottom strips [C]": float(history.column("T_mean bottom_strips [C]")[-1]),
-                           "coil resistance per strip [ohm]": resistance},
+                           "coil resistance per strip [ohm]": coil.resistance},
                "steps": len(rows) - 1, "wall_time [s]": wall}
     write_json(out / "summary.json", summary)
     return summary
@@ -456,7 +456,7 @@ def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
 # -- command line -------------------------------------------------------------------------------
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lambda-top", type=float, help="top strips' relative length lambda_T [-] "
-                   "(isotropic 1, as built 1.4; default 1.33)")
+                   f"(isotropic 1, as built {law.PUBLISHED_LAMBDA_N:g}; default 1.33)")
     p.add_argument("--lambda-bottom", type=float, help="bottom strips' relative length lambda_B [-] "
                    "(default 1.05)")
     p.add_argument("--segments", type=int, help="number of 30 mm segments (default 4)")

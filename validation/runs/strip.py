@@ -31,7 +31,7 @@ import dolfinx
 
 from lcefem.meshes.strip import StripGeometry, StripMesh, build_strip_mesh
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties, joule_power
+from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition, spontaneous_stretch
 from lcefem.models.parameters import check, describe, param, with_overrides
@@ -173,7 +173,7 @@ class StripSimulation:
                                            petsc_options=config.petsc)
         u = self.model.u
         coil_volume = info["coil_area"] * info["length"]
-        self.power = joule_power(config.run.current, config.coil.resistance)  # mW
+        self.power = config.coil.power(config.run.current)  # mW
         self.model.heat.power_density.value = self.power / coil_volume
         # Observables, compiled once.
         one = dolfinx.fem.Constant(mesh, PETSc.ScalarType(1.0))
@@ -442,7 +442,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh-size", type=float, help="level-0 element size [mm] (default 2)")
     p.add_argument("--cell", choices=("hex", "tet"), help="hexahedra (Q2) or tetrahedra (P2)")
     p.add_argument("--symmetry", choices=("quarter", "full"), help="mesh a quarter (default) or all")
-    p.add_argument("--resistance", type=float, help="coil resistance [ohm] (default 146.6)")
+    p.add_argument("--resistance", type=float, help=f"coil resistance [ohm] (default {Coil().resistance:g})")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
         f.name for f in dataclasses.fields(StripConfig)))
     p.add_argument("--out", default="results/strip", help="output folder (default results/strip)")
