@@ -4,6 +4,10 @@ composite beam (:func:`lcefem.meshes.composite_beam.build_beam_fe`, :class:`Comp
 and the layout and connectivity of the published reduced-order model
 (shared/reference/gridshell_recipes.md, published_reduced_model.md).
 
+Built directly as a tensor-product hex grid, not with gmsh, for the FE beam's reasons
+(:mod:`lcefem.meshes._hexgrid`): unbonded strip faces keep their own nodes, and strips and ribbons
+share (x, y) stations for the node-pair contact.
+
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid's mid-surface. n ribbons
 run along x and n along y; each has n + 1 segments of length L joined by n junction squares d x d
 (d = ribbon width = junction length), plus a flat end tab (``GridshellFEMesh.end_tab``, as the FE
@@ -67,19 +71,19 @@ bifurcation needs the full model). The recipes of gridshell_recipes.md, with per
 x -> 2c - x); the supports (8 perimeter rollers, the saddle's centre-junction clamp, a table) are
 symmetric under both mirrors:
 
-    ======== ============= ============= =========================================
-    recipe   x -> 2c - x   y -> 2c - y   smallest valid model (RECIPE_SYMMETRY)
-    ======== ============= ============= =========================================
-    saddle   yes           yes           quarter
-    dome     yes           yes           quarter (also x <-> y: an eighth)
-    cylinder yes           yes           quarter
-    table    yes           yes           quarter (also x <-> y: an eighth)
-    cone     yes           no: XD1 != XD3  half_x
-    twisted  yes           no: XD1 != XD3, XU1 != XU3 (a point symmetry with top <-> bottom,
-                                         not a mesh symmetry)  half_x
-    wave     no: x < c != x > c  yes     half_y
-    dustpan  no: x < c != x > c  yes     half_y
-    ======== ============= ============= =========================================
+    ======== ============== ============== ==========================================
+    recipe   x -> 2c - x    y -> 2c - y    smallest valid model (RECIPE_SYMMETRY)
+    ======== ============== ============== ==========================================
+    saddle   yes            yes            quarter
+    dome     yes            yes            quarter (x <-> y too: an eighth, not built)
+    cylinder yes            yes            quarter
+    table    yes            yes            quarter (x <-> y too: an eighth, not built)
+    cone     yes            no (XD1, XD3)  half_x
+    twisted  yes            no (XD, XU)    half_x (y -> 2c - y with top <-> bottom is a
+                                           symmetry of the loads, not of the body)
+    wave     no (x < c)     yes            half_y
+    dustpan  no (x < c)     yes            half_y
+    ======== ============== ============== ==========================================
 
 For even n the mirror planes cut the segments through their crowns (no centre junction).
 """

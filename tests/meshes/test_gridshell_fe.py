@@ -76,7 +76,7 @@ def test_tag_counts_full_and_quarter(full, quarter):
     assert set(MATERIAL_CELLS) <= set(full.cells)
     assert len(full.cells) == len(MATERIAL_CELLS) + 2 * n * (n + 1) + 4 * n ** 2
     assert len(_strips(quarter, "bottom")) == 2 * ((n + 1) // 2) ** 2 == 8
-    assert len(_strips(quarter, "top")) == 2 * (n + 1) // 2 * n == 12
+    assert len(_strips(quarter, "top")) == 2 * ((n + 1) // 2) * n == 12
     # a tag means the same piece in every model
     for name, t in quarter.cells.items():
         assert full.cells[name] == t
@@ -238,9 +238,45 @@ def test_levels_refine_in_plane():
     assert c1 == 4 * c0
 
 
-def test_recipe_symmetry_table():
-    assert RECIPE_SYMMETRY["dome"] == RECIPE_SYMMETRY["saddle"] == "quarter"
-    assert RECIPE_SYMMETRY["cone"] == "half_x" and RECIPE_SYMMETRY["wave"] == "half_y"
+#: Target rest-length fractions P0 of the published recipes (shared/reference/gridshell_recipes.md):
+#: per family a number, a list per ribbon (1..3), or ("x", below c, above c) by the strip's midpoint.
+RECIPES = {
+    "saddle": {"XD": 0.75, "YD": 0.95, "XU": 0.95, "YU": 0.75},
+    "dome": {"XD": 0.75, "YD": 0.75, "XU": 0.95, "YU": 0.95},
+    "cylinder": {"XD": 0.95, "YD": 0.95, "XU": 0.95, "YU": 0.75},
+    "table": {"XD": 0.75, "YD": 0.75, "XU": 0.72, "YU": 0.72},
+    "cone": {"XD": [0.75, 0.85, 0.95], "YD": 0.90, "XU": 0.95, "YU": 0.90},
+    "twisted": {"XD": [0.85, 0.80, 0.95], "YD": 0.90, "XU": [0.95, 0.80, 0.85], "YU": 0.90},
+    "wave": {"XD": ("x", 0.95, 0.75), "YD": 0.90, "XU": ("x", 0.75, 0.95), "YU": 0.90},
+    "dustpan": {"XD": ("x", 0.95, 0.85), "YD": 0.95, "XU": ("x", 0.80, 0.95), "YU": 0.80},
+}
+
+
+def _p0(recipe, strip, centre):
+    rule = RECIPES[recipe][strip["group"][:2]]
+    if isinstance(rule, list):
+        return rule[strip["ribbon"]]
+    if isinstance(rule, tuple):
+        return rule[1] if strip["midpoint"][0] < centre else rule[2]
+    return rule
+
+
+@pytest.mark.parametrize("recipe", sorted(RECIPES))
+def test_recipe_symmetry_table_holds(recipe, full):
+    """Each mirror plane of RECIPE_SYMMETRY maps every strip onto one of its family with the same
+    P0; a plane it leaves out maps some strip onto one with another P0."""
+    strips, c = full.info["strips"], full.info["centre"]
+    key = lambda s, mid: (s["layer"], s["direction"], tuple(np.round(mid, 6)))  # noqa: E731
+    where = {key(s, s["midpoint"]): k for k, s in strips.items()}
+    valid = {"quarter": (0, 1), "half_x": (0,), "half_y": (1,)}[RECIPE_SYMMETRY[recipe]]
+    for axis in (0, 1):
+        same = []
+        for s in strips.values():
+            mid = list(s["midpoint"])
+            mid[axis] = 2 * c - mid[axis]
+            image = strips[where[key(s, mid)]]
+            same.append(_p0(recipe, s, c) == _p0(recipe, image, c))
+        assert all(same) if axis in valid else not all(same), (recipe, axis)
 
 
 @pytest.mark.parametrize("kwargs, field", [
