@@ -2,7 +2,10 @@
 symmetric models as fractions of the full one, the single-cell grid against the FE composite
 beam, mirror symmetry of the nodes, support and contact faces, bad input."""
 
+import json
 import math
+import subprocess
+import sys
 
 import dolfinx_solver  # noqa: F401
 import numpy as np
@@ -295,3 +298,38 @@ def test_bad_input_names_the_field(kwargs, field):
         build_gridshell_fe(**args)
     message = str(err.value)
     assert message.startswith(field) and "\n" not in message
+
+
+_TWO_RANKS = """
+import json, sys
+import dolfinx_solver  # noqa: F401
+import dolfinx, ufl
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.gridshell_fe import GridshellFEMesh, build_gridshell_fe, cell_group
+tm = build_gridshell_fe(CompositeBeamGeometry(), 1.4, GridshellFEMesh(level=0), symmetry="quarter")
+dx = ufl.Measure("dx", domain=tm.mesh, subdomain_data=tm.cell_tags)
+ds = ufl.Measure("ds", domain=tm.mesh, subdomain_data=tm.facet_tags)
+out = {g: dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(cell_group(tm, g))))
+       for g in ("kapton", "glue", "bottom_strips", "top_strips", "XD2", "Ty")}
+out.update({f: dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * ds(t))) for f, t in tm.facets.items()})
+out = {k: tm.mesh.comm.allreduce(v) for k, v in out.items()}
+if tm.mesh.comm.rank == 0:
+    json.dump({"values": out, "ranks": tm.mesh.comm.size}, open(sys.argv[1], "w"))
+"""
+
+
+def test_two_ranks_give_the_serial_mesh(tmp_path, mpiexec):
+    """Made on rank 0 and distributed: the same tags (by name) and volumes/areas on 2 ranks."""
+    script = tmp_path / "two_ranks.py"
+    script.write_text(_TWO_RANKS)
+    results = {}
+    for ranks in (1, 2):
+        out = tmp_path / f"{ranks}.json"
+        subprocess.run([mpiexec, "-n", str(ranks), sys.executable, str(script), str(out)], check=True,
+                       timeout=300)
+        results[ranks] = json.loads(out.read_text())
+    assert results[2]["ranks"] == 2
+    serial, parallel = results[1]["values"], results[2]["values"]
+    assert set(serial) == set(parallel) and {"sym_x", "centre_junction"} <= set(serial)
+    for key, value in serial.items():
+        assert parallel[key] == pytest.approx(value, rel=1e-12), key
