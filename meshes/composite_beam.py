@@ -37,6 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from lcefem.meshes._hexgrid import divisions as hex_divisions
+from lcefem.meshes._hexgrid import exterior_faces, tagged_hex_mesh
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
@@ -494,13 +496,6 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
     from mpi4py import MPI
 
-    import basix.ufl
-    import dolfinx
-    import dolfinx.io
-    import ufl
-
-    from lcefem.meshes._gmsh import TaggedMesh
-
     comm = MPI.COMM_WORLD if comm is None else comm
     g = geometry.checked()
     m = mesh.checked()
@@ -523,7 +518,7 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
         pieces = kept
 
     def divisions(length: float) -> int:
-        return mult * max(1, int(math.ceil(length / m.size - 1e-9)))
+        return hex_divisions(length, m.size, mult)
 
     # x stations and, per x cell, the piece kind
     xs, cell_kind = [pieces[0][0]], []
@@ -612,22 +607,13 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     cells = np.asarray(cells, dtype=np.int64)
     x = np.asarray(coords, dtype=np.float64)
 
-    # Exterior faces (used by one cell) and their names, from each cell's local faces.
-    local_faces = {"-x": (0, 2, 4, 6), "+x": (1, 3, 5, 7), "-y": (0, 1, 4, 5), "+y": (2, 3, 6, 7),
-                   "-z": (0, 1, 2, 3), "+z": (4, 5, 6, 7)}
-    faces, owners = [], []
-    for side, loc in local_faces.items():
-        faces.append(cells[:, loc])
-        owners += [(side, b) for b in cell_body]
-    faces = np.concatenate(faces)
-    key = np.sort(faces, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    exterior = counts[inverse.ravel()] == 1
+    # Exterior faces (used by one cell) and their names, from the owning cell's body and side.
+    faces, sides, owner = exterior_faces(cells)
     ftag = {name: n for n, name in enumerate(FE_FACETS, start=1)}
-    facet_nodes, facet_values = [], []
+    facet_values = []
     tol = 1e-9 * g.total_length
-    for f in np.flatnonzero(exterior):
-        side, body = owners[f]
+    for f in range(faces.shape[0]):
+        side, body = sides[f], cell_body[owner[f]]
         pts = x[faces[f]]
         if quarter and np.all(np.abs(pts[:, 0] - x_mid) < tol):
             name = "sym_x"
@@ -641,29 +627,7 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
             name = "bottom_strip_topside"
         else:
             name = "surface"
-        facet_nodes.append(faces[f])
         facet_values.append(ftag[name])
-    facet_nodes = np.asarray(facet_nodes, dtype=np.int64)
-    facet_values = np.asarray(facet_values, dtype=np.int32)
-
-    if comm.rank != 0:  # rank 0 holds the input; dolfinx distributes it
-        cells_in, x_in = np.empty((0, 8), np.int64), np.empty((0, 3))
-        c_vals, f_nodes, f_vals = np.empty(0, np.int32), np.empty((0, 4), np.int64), np.empty(0, np.int32)
-    else:
-        cells_in, x_in = cells, x
-        c_vals, f_nodes, f_vals = np.asarray(cell_values, np.int32), facet_nodes, facet_values
-    domain = ufl.Mesh(basix.ufl.element("Lagrange", "hexahedron", 1, shape=(3,)))
-    msh = dolfinx.mesh.create_mesh(comm, cells_in, domain, x_in)
-    tags = []
-    for dim, ents, vals in ((3, cells_in, c_vals), (2, f_nodes, f_vals)):
-        local, local_vals = dolfinx.io.distribute_entity_data(msh, dim, ents, vals)
-        msh.topology.create_connectivity(dim, 0)
-        msh.topology.create_connectivity(dim, 3)
-        tags.append(dolfinx.mesh.meshtags_from_entities(
-            msh, dim, dolfinx.graph.adjacencylist(local), local_vals.astype(np.int32, copy=False)))
-    present = set(int(v) for v in comm.allreduce(set(facet_values.tolist()), op=MPI.BOR)) \
-        if comm.size > 1 else set(facet_values.tolist())
-    facets = {name: n for name, n in ftag.items() if n in present}
     info = {
         "segments": g.segments, "total_length": g.total_length, "x_mid": x_mid,
         "symmetry": m.symmetry, "symmetry_factor": 4 if quarter else 2,
@@ -672,4 +636,5 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
         "element_size": m.element_size(), "level": m.level, "end_tab": m.end_tab,
         "stations": fe_stations(g), "cells": int(cells.shape[0]), "nodes": int(x.shape[0]),
     }
-    return TaggedMesh(msh, tags[0], tags[1], dict(tag), facets, info)
+    return tagged_hex_mesh(comm, cells, x, np.asarray(cell_values), faces, np.asarray(facet_values), tag,
+                           ftag, info)
