@@ -89,18 +89,15 @@ def plot_trajectory(history: dict[str, np.ndarray], path: pathlib.Path, title: s
     ax.set_xlabel("time [s]")
     ax.set_ylabel("centroid speed [mm/s]")
     ax.legend(fontsize=8)
-    ax = axes[1, 0]
-    ax.plot(t, h["spin_start [rad]"], label="end at x = 0")
-    ax.plot(t, h["spin_end [rad]"], label="end at x = L")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("end rotation about the axis [rad]")
-    ax.legend(fontsize=8)
-    ax = axes[1, 1]
-    ax.plot(t, h["T_mean [C]"], label="mean")
-    ax.plot(t, h["T_max [C]"], label="max")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("ribbon temperature [C]")
-    ax.legend(fontsize=8)
+    for ax, ylabel, curves in (
+            (axes[1, 0], "end rotation about the axis [rad]",
+             (("spin_start [rad]", "end at x = 0"), ("spin_end [rad]", "end at x = L"))),
+            (axes[1, 1], "ribbon temperature [C]", (("T_mean [C]", "mean"), ("T_max [C]", "max")))):
+        for column, label in curves:
+            ax.plot(t, h[column], label=label)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel(ylabel)
+        ax.legend(fontsize=8)
     if title:
         fig.suptitle(title)
     fig.tight_layout()

@@ -10,22 +10,13 @@ from __future__ import annotations
 
 import argparse
 import platform
-import time
 
 import numpy as np
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.validation import bar_hinge_studies as studies
-
-
-def _best(fn, repeat: int):
-    best, out = float("inf"), None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+from lcefem.validation.benchmarks import best_of
 
 
 def _report(name: str, seconds: float, path, dofs: int, extra: str) -> None:
@@ -44,19 +35,19 @@ def main(argv: list[str] | None = None) -> int:
 
     for segments in (4, 8):
         geometry = CompositeBeamGeometry(segments=segments)
-        secs, sol = _best(lambda: studies.solve_beam(1.33, 1.05, geometry), args.repeat)
+        secs, sol = best_of(lambda: studies.solve_beam(1.33, 1.05, geometry), args.repeat)
         _report(f"beam ({segments} segments) at (1.33, 1.05)", secs, sol.path, sol.model.ndof,
                 f"curvature {sol.curvature:.5f} 1/mm")
 
-    secs, sol = _best(lambda: studies.solve_ribbon_buckling(0.5), args.repeat)
+    secs, sol = best_of(lambda: studies.solve_ribbon_buckling(0.5), args.repeat)
     _report("ribbon buckling to 50 % (11 panels)", secs, sol.path, sol.model.ndof,
             f"force at 50 % {sol.force[-1]:.4f} N")
-    secs, (p_cr, _) = _best(lambda: studies.critical_load(RibbonSpecimen(), RibbonBarHingeMesh()),
+    secs, (p_cr, _) = best_of(lambda: studies.critical_load(RibbonSpecimen(), RibbonBarHingeMesh()),
                             args.repeat)
     print(f"critical load by inertia bisection (11 panels): {secs:.3f} s, P_cr = {p_cr:.4f} N")
     model = studies.BarHingeMaterials().model(studies.build_beam_bar_hinge())
     x = model.reference
-    secs, _ = _best(lambda: [model.evaluate(x) for _ in range(100)], args.repeat)
+    secs, _ = best_of(lambda: [model.evaluate(x) for _ in range(100)], args.repeat)
     print(f"energy + gradient + Hessian of the 4-segment beam: {1e3 * secs / 100:.2f} ms per evaluation")
     return 0
 

@@ -16,15 +16,7 @@ import time
 import numpy as np
 
 from lcefem.validation import bar_hinge_studies as studies
-
-
-def _best(fn, repeat: int):
-    best, out = float("inf"), None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+from lcefem.validation.benchmarks import best_of
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -41,7 +33,7 @@ def main(argv: list[str] | None = None) -> int:
     lt, lb = args.lambda_top, args.lambda_bottom
     print(f"python {platform.python_version()}, numpy {np.__version__}, "
           f"{platform.processor() or platform.machine()}; composite beam at ({lt:g}, {lb:g})")
-    secs, sol = _best(lambda: studies.solve_beam(lt, lb), args.repeat)
+    secs, sol = best_of(lambda: studies.solve_beam(lt, lb), args.repeat)
     its = np.array(sol.path.newton_iterations)
     print(f"bar-and-hinge (4 segments): {secs:.2f} s, {sol.model.ndof} DOFs, {its.size} increments, "
           f"{its.sum()} Newton iterations ({1e3 * secs / its.sum():.1f} ms each); "
@@ -55,7 +47,7 @@ def main(argv: list[str] | None = None) -> int:
             model.ramp(lt, lb)
             return model, time.perf_counter() - t0
 
-        secs, (model, ramp) = _best(solve, args.repeat)
+        secs, (model, ramp) = best_of(solve, args.repeat)
         f = model.last_follower
         print(f"3D FE level {level} ({model.tmesh.info['symmetry']} model, {model.tmesh.info['cells']} "
               f"Q2 hexahedra, {model.ndofs} DOFs): {secs:.1f} s in all, ramp {ramp:.1f} s, "
@@ -66,7 +58,7 @@ def main(argv: list[str] | None = None) -> int:
             r = beam_fe.RibbonFE(mesh=RibbonFEMesh(level=level))
             return r, r.critical_load()
 
-        secs, (r, crit) = _best(ribbon, args.repeat)
+        secs, (r, crit) = best_of(ribbon, args.repeat)
         print(f"FE ribbon critical load, level {level} ({r.ndofs} DOFs): {secs:.1f} s, "
               f"P_cr = {crit.force:.5f} N")
     return 0
