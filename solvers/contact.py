@@ -23,8 +23,9 @@ SNES assembles (:func:`attach`).
 :class:`NodalDamping` adds ``c/2 sum_i |u_i - a_i|^2`` over the free DOFs (a: an anchor state), a
 proximal term that makes a Newton step well posed across a fold of the equilibrium path (a
 snap-through); with c -> 0 the solution is an equilibrium of the undamped problem. Unlike a volume
-integral it weighs the thin ribbon's nodes as much as the strips'. The pairs couple nodes of different cells, which UFL forms cannot
-express; the Jacobian gets the extra nonzeros on its first assembly and keeps them. Serial only.
+integral it weighs the thin ribbon's nodes as much as the strips'. The pairs couple nodes of different cells,
+which UFL forms cannot express; :func:`attach` adds them to the Jacobian's sparsity pattern before
+the first assembly. Serial only.
 """
 
 from __future__ import annotations
@@ -239,42 +240,31 @@ def face_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, strip_face: str,
     return np.column_stack([p_nodes, q, r]), areas
 
 
-def attach(snes: PETSc.SNES, contacts: list, bcs, *, homogeneous: bool = False) -> None:
+def attach(problem, contacts: list) -> None:
     """Add the node-wise terms' residual and Jacobian (``contacts``: :class:`NodePairContact`,
-    :class:`NodalDamping`) to the SNES callbacks a dolfinx NonlinearProblem set (the problem's own
-    assembly runs first; it also copies the iterate into ``u``).
-
-    ``homogeneous=True`` (every Dirichlet value is zero and every iterate satisfies the conditions,
-    as along a path started from u = 0 with a secant predictor) skips the residual's lifting, which
-    costs a Jacobian evaluation on every constrained cell and is zero in that case.
-    """
+    :class:`NodalDamping`) to the SNES callbacks of ``problem`` (a
+    :class:`lcefem.solvers.mechanics.HyperelasticProblem`; its own assembly runs first and copies
+    the iterate into ``u``). The contact pairs' couplings join the Jacobian's sparsity pattern
+    before the first assembly, so no assembly reallocates."""
+    snes = problem.snes
+    for c in contacts:
+        c.set_constrained(problem.bcs)
+    pairs = [c.pairs for c in contacts if isinstance(c, NodePairContact)]
+    if pairs:
+        problem.add_couplings(np.concatenate(pairs))
     b, (residual, r_args, r_kargs) = snes.getFunction()
     J, P, (jacobian, j_args, j_kargs) = snes.getJacobian()
-    for c in contacts:
-        c.set_constrained(bcs)
-    if any(isinstance(c, NodePairContact) for c in contacts):
-        J.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-    r_kargs = dict(r_kargs or {})
-
-    def assemble_residual(snes_, x, f):
-        if not homogeneous:
-            residual(snes_, x, f, *(r_args or ()), **r_kargs)
-            return
-        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-        dolfinx.fem.petsc.assign(x, r_kargs["u"])
-        with f.localForm() as local:
-            local.set(0.0)
-        dolfinx.fem.petsc.assemble_vector(f, r_kargs["residual"])
-        f.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-        dolfinx.fem.petsc.set_bc(f, r_kargs["bcs"], x0=x, alpha=-1.0)
+    r_args, r_kargs, j_args, j_kargs = r_args or (), r_kargs or {}, j_args or (), j_kargs or {}
 
     def with_contact_residual(snes_, x, f):
-        assemble_residual(snes_, x, f)
+        residual(snes_, x, f, *r_args, **r_kargs)
+        if not np.isfinite(f.norm()):  # refused iterate (NaN residual): keep it NaN
+            return
         for c in contacts:
             c.add_residual(f)
 
     def with_contact_jacobian(snes_, x, A, B):
-        jacobian(snes_, x, A, B, *(j_args or ()), **(j_kargs or {}))
+        jacobian(snes_, x, A, B, *j_args, **j_kargs)
         for c in contacts:
             c.add_jacobian(A)
 

@@ -2,8 +2,19 @@
 
 The residual R(u; v) = dPi/du [v] and its Jacobian are derived by UFL from the energy, so every
 material law enters only through its strain energy density (mJ/mm^3). PETSc SNES (Newton with a
-backtracking line search, MUMPS LU) solves each load step; the caller cuts steps on failure
-(:mod:`lcefem.solvers.continuation`).
+line search) solves each load step; the caller cuts steps on failure
+(:mod:`lcefem.solvers.continuation`). The tangent is the Hessian of an energy, so it is symmetric
+and MUMPS factorises it as LDL^T (indefinite Cholesky: about half the work and memory of LU).
+
+Three things every iterate gets (:class:`HyperelasticProblem`):
+* the residual skips the Dirichlet lifting when every prescribed value is zero and the iterate
+  already satisfies the conditions (the lifting is then exactly zero, but costs a Jacobian
+  evaluation on every constrained cell);
+* an iterate with a non-finite displacement or an inverted element (det F <= 0 at a quadrature
+  point) gets a NaN residual, so SNES stops at once and the step controller cuts and retries
+  from the last converged state instead of accepting a non-physical state;
+* node couplings outside the form (contact pairs) can be added to the Jacobian's sparsity pattern
+  before the first assembly (:meth:`HyperelasticProblem.add_couplings`), so no assembly reallocates.
 """
 
 from __future__ import annotations
@@ -31,9 +42,12 @@ NEWTON_OPTIONS = {
     "snes_stol": 0.0,
     "snes_max_it": 25,
     "ksp_type": "preonly",
-    "pc_type": "lu",
+    "pc_type": "cholesky",  # LDL^T of the symmetric (possibly indefinite) tangent
     "pc_factor_mat_solver_type": "mumps",
 }
+
+#: The unsymmetric factorisation (the default before LDL^T): ``petsc_options=LU_OPTIONS``.
+LU_OPTIONS = {"pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 
 
 def displacement_space(mesh: dolfinx.mesh.Mesh, degree: int = 2) -> dolfinx.fem.FunctionSpace:
@@ -69,19 +83,169 @@ class HyperelasticProblem:
     """
 
     def __init__(self, u: dolfinx.fem.Function, energy: ufl.Form, bcs=(), *,
-                 prefix: str = "lcefem_mech_", petsc_options: dict | None = None):
+                 prefix: str = "lcefem_mech_", petsc_options: dict | None = None,
+                 check_inversion: bool = True):
         self.u = u
         V = u.function_space
+        self.bcs = list(bcs)
         self.test = ufl.TestFunction(V)
         self.residual = ufl.derivative(energy, u, self.test)
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
         options = dict(NEWTON_OPTIONS)
         options.update(petsc_options or {})
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
-            self.residual, u, bcs=list(bcs), J=jacobian, petsc_options=options,
+            self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
             petsc_options_prefix=prefix)
+        self.symmetric = options.get("pc_type") == "cholesky"
+        if self.symmetric:
+            self._problem.A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         self.energy_form = dolfinx.fem.form(energy)
         self.last_iterations = 0
+        self._bc_dofs = [bc.dof_indices()[0] for bc in self.bcs]
+        self._det_F = _det_F_expression(u) if check_inversion else None
+        self.lifted_residuals = 0  # residuals that needed the lifting (tests, benchmarks)
+        self.inverted_iterates = 0  # iterates refused (non-finite or det F <= 0)
+        self.tangent_current = False  # the KSP holds a factorised tangent at the saved state
+        snes = self.snes
+        self._b = snes.getFunction()[0]
+        snes.setFunction(self._assemble_residual, self._b)
+
+    def _assemble_residual(self, snes, x, b) -> None:
+        """SNES residual callback: R(x), lifted only when the lifting is not identically zero; NaN
+        when x is non-finite or inverts an element."""
+        from dolfinx.fem.petsc import apply_lifting, assemble_vector, assign, set_bc
+
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        assign(x, self.u)
+        with b.localForm() as local:
+            local.set(0.0)
+        if not self.admissible():
+            self.inverted_iterates += 1
+            with b.localForm() as local:
+                local.set(np.nan)
+            return
+        assemble_vector(b, self._problem.F)
+        if not self.homogeneous_dirichlet():
+            self.lifted_residuals += 1
+            apply_lifting(b, [self._problem.J], bcs=[self.bcs], x0=[x], alpha=-1.0)
+        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        set_bc(b, self.bcs, x0=x, alpha=-1.0)
+        b.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+
+    def homogeneous_dirichlet(self) -> bool:
+        """True when every Dirichlet value is zero and u vanishes on every constrained DOF: the
+        lifting -J (g - u) is then zero (collective)."""
+        local = True
+        values = self.u.x.array
+        for bc, dofs in zip(self.bcs, self._bc_dofs):
+            g = bc.g
+            gval = g.value if hasattr(g, "value") else g.x.array[dofs]
+            if np.any(np.asarray(gval) != 0.0) or np.any(values[dofs] != 0.0):
+                local = False
+                break
+        return bool(self.u.function_space.mesh.comm.allreduce(local, op=MPI.LAND))
+
+    def admissible(self) -> bool:
+        """u finite and det F > 0 at every quadrature point of the volume forms (collective)."""
+        ok = bool(np.all(np.isfinite(self.u.x.array)))
+        if ok and self._det_F is not None:
+            expr, cells = self._det_F
+            det = expr.eval(self.u.function_space.mesh, cells)
+            ok = bool(np.all(det > 0.0))
+        return bool(self.u.function_space.mesh.comm.allreduce(ok, op=MPI.LAND))
+
+    def add_couplings(self, blocks: np.ndarray) -> None:
+        """Add node couplings outside the form to the Jacobian's sparsity pattern: each row of
+        ``blocks`` (local node = block indices) couples all its nodes with one another. Rebuilds
+        the matrix (call before the first solve; serial or node sets owned by one process)."""
+        from dolfinx.cpp.la.petsc import create_matrix
+
+        J_form = self._problem.J
+        pattern = dolfinx.fem.create_sparsity_pattern(J_form)
+        for row in np.asarray(blocks, dtype=np.int32).reshape(len(blocks), -1):
+            pattern.insert(row, row)
+        pattern.finalize()
+        A = create_matrix(self.u.function_space.mesh.comm, pattern, None)
+        A.setOptionsPrefix(self._problem.A.getOptionsPrefix())
+        # Fill the whole pattern once: a final assembly squeezes out entries never set, and the
+        # couplings would then need a reallocation at their first nonzero value.
+        dolfinx.fem.petsc.assemble_matrix(A, J_form, bcs=self.bcs)
+        A.assemble(PETSc.Mat.AssemblyType.FLUSH)
+        bs = self.u.function_space.dofmap.index_map_bs
+        dofs = (bs * np.asarray(blocks, dtype=np.int32)[:, :, None] + np.arange(bs, dtype=np.int32))
+        dofs = dofs.reshape(len(blocks), -1)
+        zeros = np.zeros((dofs.shape[1], dofs.shape[1]))
+        for row in dofs:
+            A.setValues(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
+        A.assemble()
+        if self.symmetric:
+            A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        _, _, (jac, jargs, jkw) = self.snes.getJacobian()
+        self.snes.setJacobian(jac, A, None, args=jargs, kargs=jkw)
+        self._problem._A.destroy()
+        self._problem._A = A
+
+    def tangent_predictor(self, set_load, t_from: float, t_to: float, converged=None, *,
+                          chord_iterations: int = 0, contraction: float = 0.5) -> bool:
+        """Predictor for the load ``t_to`` from the converged state at ``t_from``: the current u
+        (that state, or an extrapolation of it) is corrected by u <- u - K^-1 R(u; t_to), K the
+        tangent at the converged state (the factorisation left by its last Newton solve when
+        :attr:`tangent_current`, else assembled and factorised here from ``converged``, an array,
+        or from u). From the converged state itself the first correction is the Euler (tangent)
+        step. Up to ``chord_iterations`` further corrections with the same factorisation (modified
+        Newton: a residual and a back-substitution each, no Jacobian) follow while each one
+        reduces |R| by ``contraction``. The load is left at ``t_to``. Returns False (u unchanged)
+        if no admissible correction was found."""
+        snes, ksp = self.snes, self.snes.getKSP()
+        x = self._problem.x
+        guess = self.u.x.array.copy()
+        vecs = []
+        self.chord_iterations = getattr(self, "chord_iterations", 0)
+        try:
+            if not self.tangent_current:
+                if converged is not None:
+                    self.restore(converged)
+                set_load(t_from)
+                dolfinx.fem.petsc.assign(self.u, x)
+                A, P, _ = snes.getJacobian()
+                snes.computeJacobian(x, A, P)
+                ksp.setOperators(A, P)
+                self.tangent_current = True
+                self.restore(guess)
+            set_load(t_to)
+            dolfinx.fem.petsc.assign(self.u, x)
+            r, r_trial, du, x_trial = (x.duplicate() for _ in range(4))
+            vecs = [r, r_trial, du, x_trial]
+            snes.computeFunction(x, r)
+            norm = r.norm()
+            ok = False
+            for k in range(1 + chord_iterations):
+                if not np.isfinite(norm):
+                    break
+                ksp.solve(r, du)
+                if ksp.getConvergedReason() <= 0:
+                    break
+                x.copy(x_trial)
+                x_trial.axpy(-1.0, du)
+                snes.computeFunction(x_trial, r_trial)
+                trial = r_trial.norm()
+                if not np.isfinite(trial) or (k > 0 and trial > contraction * norm):
+                    break
+                x_trial.copy(x)
+                r_trial.copy(r)
+                norm, ok = trial, True
+                self.chord_iterations += k > 0
+        except PETSc.Error:
+            ok = False
+        for v in vecs:
+            v.destroy()
+        if ok:
+            dolfinx.fem.petsc.assign(x, self.u)
+        else:
+            self.u.x.array[:] = guess
+        self.u.x.scatter_forward()
+        set_load(t_to)
+        return ok
 
     @property
     def snes(self):
@@ -89,6 +253,7 @@ class HyperelasticProblem:
 
     def solve(self) -> tuple[bool, int, str]:
         """One Newton solve from the current u. Returns (converged, iterations, reason text)."""
+        self.tangent_current = False
         try:
             self._problem.solve()
         except PETSc.Error as exc:  # e.g. a factorisation failure
@@ -98,6 +263,7 @@ class HyperelasticProblem:
         self.last_iterations = its
         self.u.x.scatter_forward()
         ok = reason > 0 and bool(np.all(np.isfinite(self.u.x.array)))
+        self.tangent_current = ok
         return ok, its, f"SNES reason {reason} ({_snes_reason_name(reason)}) after {its} iterations"
 
     def save(self) -> np.ndarray:
@@ -116,6 +282,17 @@ class HyperelasticProblem:
         """Compiled R(u; weight): with ``weight`` equal to a unit vector on the dofs of a constrained
         face and 0 elsewhere, this is the force [N] the body exerts on that face's support."""
         return dolfinx.fem.form(ufl.replace(self.residual, {self.test: weight}))
+
+
+def _det_F_expression(u):
+    """(Expression of det F at the quadrature points of degree QUADRATURE_DEGREE, local cells)."""
+    import basix
+
+    mesh = u.function_space.mesh
+    points, _ = basix.make_quadrature(mesh.basix_cell(), QUADRATURE_DEGREE)
+    expr = dolfinx.fem.Expression(ufl.det(deformation_gradient(u)), points)
+    n = mesh.topology.index_map(mesh.topology.dim).size_local
+    return expr, np.arange(n, dtype=np.int32)
 
 
 def assemble_global(form: dolfinx.fem.Form, comm: MPI.Comm) -> float:

@@ -1,8 +1,9 @@
 """Staggered thermo-mechanics of LCE bodies: heat step -> temperature field -> F_s(T) -> mechanics.
 
 Each time step first advances the heat equation (pulled back with the last converged displacement),
-then brings the mechanical equilibrium from the old to the new temperature field by adaptive load
-stepping: T_mech = T_old + s (T_new - T_old), s: 0 -> 1, halving s on a failed Newton solve.
+then brings the mechanical equilibrium from the old to the new temperature field with the shared
+step controller (:class:`lcefem.solvers.continuation.PathFollower`): T_mech = T_old + s (T_new - T_old),
+s: 0 -> 1, tangent predictor, halving s on a failed Newton solve.
 
 The LCE's elastic energy is W(F_e) with F_e = F F_s(T)^-1 (models.lce, models.hyperelastic); because
 det F_s = 1 the energy per reference volume needs no Jacobian factor. Passive regions (Kapton) use a
@@ -112,6 +113,10 @@ class ThermoMechanicalModel:
                 for name, c in consts.items():
                     c.value = getattr(params, name)
 
+    #: Stepping of each mechanics update: the whole temperature increment first (tangent predictor),
+    #: halved on failure down to 1/256 of it.
+    path_control = continuation.PathControl(first_step=1.0, max_step=1.0, min_step=1.0 / 256.0)
+
     def step(self, dt: float, where: str) -> continuation.StepReport:
         """Advance heat by dt [s], then mechanics to the new temperature (step cutting on failure)."""
         self.heat.step(dt)
@@ -125,5 +130,6 @@ class ThermoMechanicalModel:
         def set_load(s: float) -> None:
             self.T_mech.x.array[:] = T_start + s * (T_end - T_start)
 
-        return continuation.advance(set_load, self.mechanics.solve, self.mechanics.save,
-                                    self.mechanics.restore, where=where)
+        follower = continuation.PathFollower(self.mechanics, set_load, self.path_control)
+        follower.follow(1.0, where)
+        return follower.report()

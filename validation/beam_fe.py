@@ -10,9 +10,10 @@
   published model has no LCE over the bonds. Strip-ribbon contact: :mod:`lcefem.solvers.contact`.
   Supports: symmetry planes (quarter model) plus one point held in z; the half model holds a point
   in x and z and a second point in z (statically determinate, as the bar-and-hinge beam).
-  :meth:`BeamFE.ramp` takes (lambda_T, lambda_B) from their current values to targets with
-  :class:`PathFollower` (secant predictor, adaptive steps with cutting, damped relaxation across
-  folds); :func:`curvature_map_fe` sweeps a grid with one model.
+  :meth:`BeamFE.ramp` takes (lambda_T, lambda_B) from their current values to targets with the
+  shared step controller :class:`lcefem.solvers.continuation.PathFollower` (tangent predictor,
+  step size from the Newton iteration count, cutting, damped relaxation across folds);
+  :func:`curvature_map_fe` sweeps a grid with one model.
 * :func:`beam_fe_heated` — the same beam driven by a coil current through the heat model
   (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`).
 * :class:`RibbonFE` — the fixed-fixed buckling specimen: critical load of the perfect specimen
@@ -55,6 +56,7 @@ from lcefem.models.lce import isochoric_uniaxial
 from lcefem.models.parameters import param
 from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
                                     face_pairs)
+from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 
@@ -88,137 +90,6 @@ class FEMaterials:
 
     kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
     lce: LCEElasticity = field(default_factory=LCEElasticity)
-
-
-# --------------------------------------------------------------------------- path following
-@dataclass(frozen=True)
-class PathControl:
-    """Adaptive stepping of a load path t: 0 -> 1 (a ramp of strip lengths or an end shortening)."""
-
-    first_step: float = param(0.01, "-", "chosen: first increment of t (the as-built beam is almost a "
-                              "mechanism: its first increments rotate thin Kapton a lot)", positive=True,
-                              maximum=1.0)
-    max_step: float = param(0.1, "-", "chosen: largest increment of t", positive=True, maximum=1.0)
-    min_step: float = param(1.0e-4, "-", "chosen: an increment below this that still fails marks a "
-                            "fold of the path (a snap-through), crossed by relaxation", positive=True)
-    growth: float = param(1.5, "-", "chosen: increment growth after an easy step", minimum=1.0)
-    easy_iterations: int = param(8, "-", "chosen: a step converged within this many Newton "
-                                 "iterations lets the next grow (fewest iterations over the ramp of "
-                                 "the beam at (1.33, 1.05) among 5, 6, 8)", minimum=1)
-    snap_step: float = param(0.01, "-", "chosen: increment of t across a fold", positive=True)
-    relaxation_steps: int = param(60, "-", "chosen: most damped (proximal) Newton steps across a fold",
-                                  minimum=1)
-    damping: float = param(1.0e-3, "N/mm", "chosen: first proximal weight c of the relaxation "
-                           "(energy + c/2 sum |u - u_k|^2 over the nodes), divided by 4 after each "
-                           "success down to damping_floor", positive=True)
-    damping_floor: float = param(1.0e-9, "N/mm", "chosen: proximal weight below which the "
-                                 "relaxation ends with an undamped solve", positive=True)
-
-
-class PathFollower:
-    """Follows an equilibrium path in a load parameter t with a secant predictor, adaptive
-    increments and step cutting from the last converged state; across a fold (a snap-through: no
-    nearby equilibrium beyond it) it relaxes at the next load with damped Newton steps
-    (proximal point: minimise Pi(u) + c/2 sum_nodes |u - u_k|^2, c -> 0), which descend to a stable
-    state. Raises ConvergenceError (the model keeps the last converged state).
-
-    (:func:`lcefem.solvers.continuation.advance` has no predictor and grows its step only after a
-    cut; the as-built beam, almost a mechanism, needs both to converge in reasonable time.)
-
-    Args:
-        problem: the Newton problem.
-        set_load: sets the model's load at path parameter t.
-        damping: a :class:`lcefem.solvers.contact.NodalDamping` attached to the problem (None: folds
-            raise ConvergenceError).
-    """
-
-    def __init__(self, problem: HyperelasticProblem, set_load: Callable[[float], None],
-                 control: PathControl = PathControl(), damping: NodalDamping | None = None,
-                 t0: float = 0.0):
-        self.problem, self.set_load, self.control = problem, set_load, control
-        self.damping = damping
-        self.t = t0
-        self.history = [(t0, problem.save())]
-        self.step = control.first_step
-        self.iterations = 0
-        self.cuts = 0
-        self.snaps = 0
-
-    def _predict(self, t: float) -> None:
-        (t1, u1), (t2, u2) = (self.history[-2], self.history[-1]) if len(self.history) > 1 \
-            else (self.history[-1], self.history[-1])
-        self.problem.restore(u2 + (t - t2) / (t2 - t1) * (u2 - u1) if t2 != t1 else u2)
-
-    def _accept(self, t: float) -> None:
-        self.t = t
-        self.history = [self.history[-1], (t, self.problem.save())]
-
-    def _solve(self) -> tuple[bool, int, str]:
-        ok, its, reason = self.problem.solve()
-        self.iterations += its
-        return ok, its, reason
-
-    def follow(self, t_to: float, where: str,
-               on_step: Callable[[float, int], None] | None = None) -> None:
-        """From the current t to ``t_to``; ``on_step(t, iterations)`` after each accepted step."""
-        c = self.control
-        while self.t < t_to - 1e-12:
-            t_new = min(t_to, self.t + self.step)
-            self.set_load(t_new)
-            self._predict(t_new)
-            ok, its, reason = self._solve()
-            if ok:
-                self._accept(t_new)
-                if its <= c.easy_iterations:
-                    self.step = min(c.max_step, c.growth * self.step)
-                if on_step is not None:
-                    on_step(self.t, its)
-                continue
-            self.cuts += 1
-            self.problem.restore(self.history[-1][1])
-            self.set_load(self.t)
-            self.step *= 0.5
-            if self.step >= c.min_step:
-                continue
-            t_new = min(t_to, self.t + c.snap_step)
-            its = self._relax(t_new, f"{where}: fold at t = {self.t:.5g} ({reason})")
-            self._accept(t_new)
-            self.history = self.history[-1:]  # no secant across the jump
-            self.step = c.first_step
-            self.snaps += 1
-            if on_step is not None:
-                on_step(self.t, its)
-
-    def _relax(self, t_new: float, where: str) -> int:
-        if self.damping is None:
-            raise ConvergenceError(where, "no relaxation available for this model")
-        c = self.control
-        start = self.problem.save()
-        self.set_load(t_new)
-        weight, its_total = c.damping, 0
-        try:
-            for _ in range(c.relaxation_steps):
-                self.damping.anchor[:] = self.problem.save()
-                self.damping.weight = weight
-                ok, its, reason = self._solve()
-                its_total += its
-                if not ok:
-                    self.problem.restore(self.damping.anchor.copy())
-                    weight *= 10.0
-                    continue
-                if weight < c.damping_floor:
-                    break
-                weight *= 0.25
-            self.damping.weight = 0.0
-            ok, its, reason = self._solve()
-            its_total += its
-        finally:
-            self.damping.weight = 0.0
-        if not ok:
-            self.problem.restore(start)
-            self.set_load(self.t)
-            raise ConvergenceError(where, f"relaxation at t = {t_new:.5g} failed: {reason}")
-        return its_total
 
 
 # --------------------------------------------------------------------------- composite beam
@@ -370,7 +241,7 @@ class BeamFE:
                                            petsc_options=options)
         self.contacts = make_contacts(tm, u, contact)
         self.damping = NodalDamping(u)  # proximal term of PathFollower's relaxation across folds
-        attach(self.problem.snes, [*self.contacts, self.damping], self.bcs, homogeneous=True)
+        attach(self.problem, [*self.contacts, self.damping])
         self.stations = BeamStations(tm, V)
         self.lambda_top = self.lambda_bottom = actuation.lambda_N
         self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
@@ -747,7 +618,7 @@ def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
     heated strip's volume (the coil is not resolved), conduction into the ribbon through the bonded
     pads only, convection and radiation on every exterior face; the LCE of the strips follows the
     nematic transition, the bond pads are passive. Each time step's mechanics is brought from the
-    old to the new temperature with :class:`PathFollower` (secant predictor in time).
+    old to the new temperature with :class:`PathFollower` (tangent predictor in time).
 
     Returns (model, history rows, stations).
     """
@@ -777,7 +648,7 @@ def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
                                   petsc_options=dict(BEAM_NEWTON), prefix=_unique_prefix("heatbeam"))
     contacts = make_contacts(tm, model.u, contact)
     damping = NodalDamping(model.u)
-    attach(model.mechanics.snes, [*contacts, damping], model.bcs, homogeneous=True)
+    attach(model.mechanics, [*contacts, damping])
     strip_volume = geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
     power = coil.power(run.current)  # mW per strip
     model.heat.power_density.value = power / strip_volume

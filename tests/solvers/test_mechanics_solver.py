@@ -1,0 +1,184 @@
+"""The Newton problem and the shared step controller (solvers/mechanics.py, solvers/continuation.py):
+the residual without lifting equals dolfinx's lifted residual when every Dirichlet value is zero,
+LDL^T and LU give the same equilibrium, inverted or non-finite iterates are refused, the controller
+cuts, recovers and never grows straight into a known failure, and the contact pairs are in the
+Jacobian's preallocated pattern."""
+
+import dolfinx_solver  # noqa: F401
+import numpy as np
+import pytest
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx
+import dolfinx.fem.petsc
+
+from lcefem.models.errors import ConvergenceError
+from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
+from lcefem.solvers.continuation import PathControl, PathFollower, advance
+from lcefem.solvers.mechanics import (LU_OPTIONS, HyperelasticProblem, deformation_gradient,
+                                      displacement_space)
+
+
+def _block(traction: float, prefix: str, options=None, clamp_value=None):
+    """A 4 x 1 x 1 mm neo-Hookean bar (soft: E = 1 MPa), clamped at x = 0, pulled at x = 4 by a dead
+    traction [MPa]; returns (problem, traction Constant, clamp Constant)."""
+    mesh = dolfinx.mesh.create_box(MPI.COMM_WORLD, [[0, 0, 0], [4, 1, 1]], [4, 1, 1],
+                                   dolfinx.mesh.CellType.hexahedron)
+    V = displacement_space(mesh, 2)
+    u = dolfinx.fem.Function(V)
+    fdim = mesh.topology.dim - 1
+    left = dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x: np.isclose(x[0], 0.0))
+    right = dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x: np.isclose(x[0], 4.0))
+    tags = dolfinx.mesh.meshtags(mesh, fdim, right, np.ones_like(right))
+    clamp = dolfinx.fem.Constant(mesh, np.zeros(3) if clamp_value is None else np.asarray(clamp_value))
+    bcs = [dolfinx.fem.dirichletbc(clamp, dolfinx.fem.locate_dofs_topological(V, fdim, left), V)]
+    t = dolfinx.fem.Constant(mesh, PETSc.ScalarType(traction))
+    dx = ufl.Measure("dx", domain=mesh, metadata={"quadrature_degree": 4})
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags, metadata={"quadrature_degree": 4})
+    solid = NeoHookeanSolid(youngs_modulus=1.0, poisson_ratio=0.3)
+    energy = neo_hookean_strain_energy(deformation_gradient(u), solid) * dx - t * u[0] * ds(1)
+    return HyperelasticProblem(u, energy, bcs, prefix=prefix, petsc_options=options), t, clamp
+
+
+def _stock_residual(problem) -> np.ndarray:
+    """dolfinx's own residual (with the lifting) at the current u."""
+    p = problem._problem
+    x = p.x.duplicate()
+    dolfinx.fem.petsc.assign(problem.u, x)
+    b = p.b.duplicate()
+    dolfinx.fem.petsc.assemble_residual(problem.snes, x, b, problem.u, p.F, p.J, problem.bcs)
+    return b.array.copy()
+
+
+def _residual(problem) -> np.ndarray:
+    x = problem._problem.x.duplicate()
+    dolfinx.fem.petsc.assign(problem.u, x)
+    b = x.duplicate()
+    problem.snes.computeFunction(x, b)
+    return b.array.copy()
+
+
+def test_zero_dirichlet_residual_skips_lifting_and_equals_the_lifted_one():
+    problem, _, clamp = _block(0.05, "test_zero_bc_")
+    rng = np.random.default_rng(3)
+    u = problem.u
+    u.x.array[:] = 0.01 * rng.standard_normal(u.x.array.size)
+    for dofs in problem._bc_dofs:
+        u.x.array[dofs] = 0.0
+    assert problem.homogeneous_dirichlet()
+    np.testing.assert_allclose(_residual(problem), _stock_residual(problem), rtol=0, atol=1e-13)
+    assert problem.lifted_residuals == 0
+    # a non-zero prescribed value needs the lifting, and gets it
+    clamp.value = np.array([0.01, 0.0, 0.0])
+    assert not problem.homogeneous_dirichlet()
+    np.testing.assert_allclose(_residual(problem), _stock_residual(problem), rtol=0, atol=1e-13)
+    assert problem.lifted_residuals == 1
+
+
+def test_symmetric_factorisation_gives_the_lu_solution():
+    ldlt, _, _ = _block(0.1, "test_ldlt_")
+    lu, _, _ = _block(0.1, "test_lu_", options=LU_OPTIONS)
+    assert ldlt.snes.getKSP().getPC().getType() == "cholesky"
+    assert lu.snes.getKSP().getPC().getType() == "lu"
+    for p in (ldlt, lu):
+        ok, its, reason = p.solve()
+        assert ok, reason
+    assert np.max(np.abs(ldlt.u.x.array)) > 0.1  # finite strain
+    np.testing.assert_allclose(ldlt.u.x.array, lu.u.x.array, rtol=0, atol=1e-10)
+
+
+def test_inverted_iterate_is_refused():
+    problem, _, _ = _block(0.0, "test_inverted_")
+    X = problem.u.function_space.tabulate_dof_coordinates()
+    problem.u.x.array.reshape(-1, 3)[:, 0] = -2.0 * X[:, 0]  # F_xx = -1: every element inverted
+    assert not problem.admissible()
+    ok, _, reason = problem.solve()
+    assert not ok and "NAN" in reason.upper()
+    assert problem.inverted_iterates >= 1
+
+
+class _FailingAbove:
+    """A stand-in problem whose Newton solve fails (NaN) for any increment larger than ``limit``."""
+
+    def __init__(self, limit: float):
+        self.limit, self.load, self.state = limit, 0.0, 0.0
+        self.trials = []
+
+    def set_load(self, t):
+        self.load = t
+
+    def solve(self):
+        step = self.load - self.state
+        self.trials.append((self.state, self.load, step <= self.limit + 1e-12))
+        if step > self.limit + 1e-12:
+            self.state = float("nan")
+            return False, 3, "SNES reason -4 (DIVERGED_FNORM_NAN)"
+        self.state = self.load
+        return True, 4, "converged"
+
+    def save(self):
+        return self.state
+
+    def restore(self, state):
+        self.state = state
+
+
+def test_controller_cuts_recovers_and_does_not_grow_into_a_known_failure():
+    p = _FailingAbove(limit=0.07)
+    f = PathFollower(p, p.set_load, PathControl(first_step=0.2, max_step=0.5, predictor="none"))
+    f.follow(1.0, "test")
+    assert f.t == pytest.approx(1.0) and p.state == pytest.approx(1.0)
+    assert f.cuts >= 1
+    # while a failed load lies ahead, a trial after a success is no larger than that success
+    failed_at, last_success = -1.0, None
+    for a, b, ok in p.trials:
+        if last_success is not None and a < failed_at - 1e-12:
+            assert b - a <= last_success + 1e-12
+        if ok:
+            last_success = b - a
+        else:
+            failed_at, last_success = b, None
+    assert sum(not ok for *_, ok in p.trials) == f.cuts
+    # NaN states were never accepted
+    assert all(np.isfinite(s) for _, s in f.history)
+
+
+def test_advance_raises_below_the_minimum_increment():
+    p = _FailingAbove(limit=1e-4)
+    with pytest.raises(ConvergenceError, match="below the minimum"):
+        advance(p.set_load, p.solve, p.save, p.restore, where="test", min_fraction=1.0 / 16.0)
+    assert p.state == 0.0  # restored to the last converged state
+
+
+def test_tangent_predictor_path_reaches_the_direct_solution():
+    """The controller with the tangent predictor (and inadmissible trials cut) reaches the same
+    equilibrium as one Newton solve at the full load."""
+    path, t_path, _ = _block(0.0, "test_path_")
+    direct, _, _ = _block(0.25, "test_direct_")
+    ok, _, reason = direct.solve()
+    assert ok, reason
+    f = PathFollower(path, lambda s: setattr(t_path, "value", 0.25 * s),
+                     PathControl(first_step=0.25, max_step=1.0))
+    f.follow(1.0, "test")
+    np.testing.assert_allclose(path.u.x.array, direct.u.x.array, rtol=0, atol=1e-8)
+
+
+def test_contact_couplings_are_preallocated():
+    """The beam's Jacobian holds the strip-ribbon pairs before the first assembly: assembling with
+    every pair in contact allocates nothing new."""
+    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.validation.beam_fe import BeamFE
+
+    model = BeamFE(mesh=BeamFEMesh(level=0))
+    A, P, _ = model.problem.snes.getJacobian()
+    A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+    u = model.u
+    for c in model.contacts:
+        u.x.array.reshape(-1, 3)[c.pairs[:, 0], 2] += 20.0 if c is model.contacts[1] else -20.0
+    assert all(np.all(c.gaps() < 0) for c in model.contacts)
+    x = model.problem._problem.x
+    dolfinx.fem.petsc.assign(u, x)
+    model.problem.snes.computeJacobian(x, A, P)
+    assert A.getInfo()["mallocs"] == 0

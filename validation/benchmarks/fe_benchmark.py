@@ -1,0 +1,188 @@
+"""Cost of the 3D FE solves per Newton iteration: DOFs, seconds per iteration split into residual
+assembly, Jacobian assembly, factorisation and triangular solves, Newton iterations per step, peak
+memory; for the strip's 0.2 A transient and the composite beam's ramp to (lambda_T, lambda_B).
+
+    python -m lcefem.validation.benchmarks.fe_benchmark [--strip-levels 0 1 2] [--beam-levels 0 1]
+        [--csv results/fe_benchmark.csv] [--strip-steps 6] [--strip-dt 2.0]
+
+Each case runs in its own process (the peak resident memory is that case's alone). Residual and
+Jacobian times are measured around the SNES callbacks (contact and damping terms included);
+factor = PETSc's PCSetUp event (symbolic + numeric factorisation, or a preconditioner set-up),
+solve = MatSolve (forward/backward substitution). "other" is the rest of the mechanics time (vector
+updates, convergence tests, step control). Not a test: figures depend on the machine load.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import pathlib
+import subprocess
+import sys
+import time
+
+COLUMNS = ["case", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
+           "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
+           "other/it [s]", "mechanics [s]", "wall [s]", "peak memory [MiB]", "observable",
+           "value"]
+
+
+class SnesTimer:
+    """Wraps a SNES's residual and Jacobian callbacks with wall-clock timers."""
+
+    def __init__(self, snes):
+        self.residual = self.jacobian = 0.0
+        self.residual_calls = self.jacobian_calls = 0
+        self.snes = snes
+        self.install()
+
+    def install(self):
+        snes = self.snes
+        b, (rfun, rargs, rkw) = snes.getFunction()
+        J, P, (jfun, jargs, jkw) = snes.getJacobian()
+        rargs, rkw, jargs, jkw = rargs or (), rkw or {}, jargs or (), jkw or {}
+
+        def residual(s, x, f):
+            t0 = time.perf_counter()
+            rfun(s, x, f, *rargs, **rkw)
+            self.residual += time.perf_counter() - t0
+            self.residual_calls += 1
+
+        def jacobian(s, x, A, B):
+            t0 = time.perf_counter()
+            jfun(s, x, A, B, *jargs, **jkw)
+            self.jacobian += time.perf_counter() - t0
+            self.jacobian_calls += 1
+
+        snes.setFunction(residual, b)
+        snes.setJacobian(jacobian, J, P)
+
+
+def _events() -> dict:
+    from petsc4py import PETSc
+    out = {}
+    for name in ("PCSetUp", "MatSolve", "SNESSolve"):
+        info = PETSc.Log.Event(name).getPerfInfo()
+        out[name] = float(info["time"])
+    return out
+
+
+def _timed_solve(snes, run):
+    """Run ``run()`` with ``snes`` instrumented; returns (result, timings)."""
+    from petsc4py import PETSc
+    PETSc.Log.begin()
+    timer = SnesTimer(snes)
+    ev0 = _events()
+    t0 = time.perf_counter()
+    result = run()
+    wall = time.perf_counter() - t0
+    ev = {k: v - ev0[k] for k, v in _events().items()}
+    return result, {"wall": wall, "residual": timer.residual, "jacobian": timer.jacobian,
+                    "its": timer.jacobian_calls, "factor": ev["PCSetUp"], "solve": ev["MatSolve"],
+                    "snes": ev["SNESSolve"]}
+
+
+def measure_strip(level: int, steps: int, dt: float) -> dict:
+    from lcefem.meshes.strip import StripMesh
+    from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation
+
+    sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=steps * dt, dt=dt),
+                                      mesh=StripMesh(level=level)))
+    res, t = _timed_solve(sim.model.mechanics.snes,
+                          lambda: sim.run(None, progress=False, fields=False))
+    cuts = int(sum(res.history["step_cuts [-]"][1:]))
+    return {"case": "strip 0.2 A", "level": level, "dofs [-]": sim.ndofs["displacement"],
+            "steps [-]": steps, "cuts [-]": cuts, "observable": "final stretch [-]",
+            "value": float(res.history["stretch [-]"][-1]), **_split(t)}
+
+
+def measure_beam(level: int, lambda_top: float, lambda_bottom: float) -> dict:
+    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.validation.beam_fe import BeamFE
+
+    model = BeamFE(mesh=BeamFEMesh(level=level))
+    states, t = _timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))
+    f = model.last_follower
+    return {"case": f"beam ramp ({lambda_top:g}, {lambda_bottom:g})", "level": level,
+            "dofs [-]": model.ndofs, "steps [-]": len(states), "cuts [-]": f.cuts,
+            "observable": "curvature [1/mm]", "value": model.curvature(), **_split(t)}
+
+
+def _split(t: dict) -> dict:
+    its = max(t["its"], 1)
+    other = t["wall"] - t["residual"] - t["jacobian"] - t["factor"] - t["solve"]
+    return {"newton its [-]": t["its"], "s/iteration [s]": t["wall"] / its,
+            "residual/it [s]": t["residual"] / its, "jacobian/it [s]": t["jacobian"] / its,
+            "factor/it [s]": t["factor"] / its, "solve/it [s]": t["solve"] / its,
+            "other/it [s]": other / its, "mechanics [s]": t["snes"] or t["wall"], "wall [s]": t["wall"]}
+
+
+def child(args) -> dict:
+    import resource
+    kind, level = args.child
+    if kind == "strip":
+        row = measure_strip(int(level), args.strip_steps, args.strip_dt)
+    else:
+        row = measure_beam(int(level), args.lambda_top, args.lambda_bottom)
+    row["its/step [-]"] = row["newton its [-]"] / max(row["steps [-]"], 1)
+    row["peak memory [MiB]"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return row
+
+
+def print_table(rows: list[dict], file=sys.stdout) -> None:
+    short = ["case", "level", "dofs [-]", "newton its [-]", "its/step [-]", "cuts [-]",
+             "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
+             "wall [s]", "peak memory [MiB]", "value"]
+    cells = [[_fmt(r.get(k, "")) for k in short] for r in rows]
+    widths = [max(len(k), *(len(c[i]) for c in cells)) for i, k in enumerate(short)]
+    print("  ".join(k.rjust(w) for k, w in zip(short, widths)), file=file)
+    for c in cells:
+        print("  ".join(v.rjust(w) for v, w in zip(c, widths)), file=file)
+
+
+def _fmt(v) -> str:
+    if isinstance(v, float):
+        return f"{v:.7g}" if abs(v) < 1e-2 else f"{v:.4g}"
+    return str(v)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--strip-levels", type=int, nargs="*", default=[0, 1, 2])
+    parser.add_argument("--beam-levels", type=int, nargs="*", default=[0, 1])
+    parser.add_argument("--strip-steps", type=int, default=6, help="time steps of the transient")
+    parser.add_argument("--strip-dt", type=float, default=2.0, help="time step [s]")
+    parser.add_argument("--lambda-top", type=float, default=1.33)
+    parser.add_argument("--lambda-bottom", type=float, default=1.05)
+    parser.add_argument("--csv", type=pathlib.Path, default=None, help="CSV file of the table")
+    parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.child:
+        print(json.dumps(child(args)))
+        return 0
+    rows = []
+    jobs = [("strip", lv) for lv in args.strip_levels] + [("beam", lv) for lv in args.beam_levels]
+    for kind, level in jobs:
+        cmd = [sys.executable, "-m", "lcefem.validation.benchmarks.fe_benchmark", "--child", kind,
+               str(level), "--strip-steps", str(args.strip_steps), "--strip-dt", str(args.strip_dt),
+               "--lambda-top", str(args.lambda_top), "--lambda-bottom", str(args.lambda_bottom)]
+        out = subprocess.run(cmd, capture_output=True, text=True)
+        if out.returncode != 0:
+            print(f"{kind} level {level} failed:\n{out.stderr[-2000:]}", file=sys.stderr)
+            continue
+        rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
+        print(f"{kind} level {level}: {rows[-1]['newton its [-]']} iterations, "
+              f"{rows[-1]['wall [s]']:.1f} s", file=sys.stderr, flush=True)
+    print_table(rows)
+    if args.csv is not None:
+        args.csv.parent.mkdir(parents=True, exist_ok=True)
+        with open(args.csv, "w", newline="") as fh:
+            w = csv.DictWriter(fh, COLUMNS, extrasaction="ignore")
+            w.writeheader()
+            w.writerows(rows)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
