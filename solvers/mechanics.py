@@ -185,22 +185,20 @@ class HyperelasticProblem:
         self._problem._A.destroy()
         self._problem._A = A
 
-    def tangent_predictor(self, set_load, t_from: float, t_to: float, converged=None, *,
-                          chord_iterations: int = 0, contraction: float = 0.5) -> bool:
-        """Predictor for the load ``t_to`` from the converged state at ``t_from``: the current u
-        (that state, or an extrapolation of it) is corrected by u <- u - K^-1 R(u; t_to), K the
-        tangent at the converged state (the factorisation left by its last Newton solve when
-        :attr:`tangent_current`, else assembled and factorised here from ``converged``, an array,
-        or from u). From the converged state itself the first correction is the Euler (tangent)
-        step. Up to ``chord_iterations`` further corrections with the same factorisation (modified
-        Newton: a residual and a back-substitution each, no Jacobian) follow while each one
-        reduces |R| by ``contraction``. The load is left at ``t_to``. Returns False (u unchanged)
-        if no admissible correction was found."""
+    def tangent_predictor(self, set_load, t_from: float, t_to: float, converged=None) -> bool:
+        """Euler (tangent) predictor for the load ``t_to`` from the converged state at ``t_from``
+        (the current u): u <- u - K^-1 R(u; t_to), K the tangent at that state: the factorisation
+        left by its last Newton solve when :attr:`tangent_current`, else assembled and factorised
+        here (at ``converged``, an array, if given). The load is left at ``t_to``. Returns False
+        (u unchanged) if the predicted state is non-finite or inverts an element.
+
+        (Further chord corrections with the same factorisation were tried on the beam ramp: none
+        reduced the residual by half, so Newton starts from the Euler step.)"""
         snes, ksp = self.snes, self.snes.getKSP()
         x = self._problem.x
         guess = self.u.x.array.copy()
+        ok = False
         vecs = []
-        self.chord_iterations = getattr(self, "chord_iterations", 0)
         try:
             if not self.tangent_current:
                 if converged is not None:
@@ -214,36 +212,22 @@ class HyperelasticProblem:
                 self.restore(guess)
             set_load(t_to)
             dolfinx.fem.petsc.assign(self.u, x)
-            r, r_trial, du, x_trial = (x.duplicate() for _ in range(4))
-            vecs = [r, r_trial, du, x_trial]
+            r, du = x.duplicate(), x.duplicate()
+            vecs = [r, du]
             snes.computeFunction(x, r)
-            norm = r.norm()
-            ok = False
-            for k in range(1 + chord_iterations):
-                if not np.isfinite(norm):
-                    break
+            if np.isfinite(r.norm()):
                 ksp.solve(r, du)
-                if ksp.getConvergedReason() <= 0:
-                    break
-                x.copy(x_trial)
-                x_trial.axpy(-1.0, du)
-                snes.computeFunction(x_trial, r_trial)
-                trial = r_trial.norm()
-                if not np.isfinite(trial) or (k > 0 and trial > contraction * norm):
-                    break
-                x_trial.copy(x)
-                r_trial.copy(r)
-                norm, ok = trial, True
-                self.chord_iterations += k > 0
+                x.axpy(-1.0, du)
+                dolfinx.fem.petsc.assign(x, self.u)
+                self.u.x.scatter_forward()
+                ok = ksp.getConvergedReason() > 0 and self.admissible()
         except PETSc.Error:
             ok = False
         for v in vecs:
             v.destroy()
-        if ok:
-            dolfinx.fem.petsc.assign(x, self.u)
-        else:
+        if not ok:
             self.u.x.array[:] = guess
-        self.u.x.scatter_forward()
+            self.u.x.scatter_forward()
         set_load(t_to)
         return ok
 
