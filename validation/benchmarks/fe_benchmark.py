@@ -9,7 +9,9 @@ Each case runs in its own process (the peak resident memory is that case's alone
 Jacobian times are measured around the SNES callbacks (contact and damping terms included);
 factor = PETSc's PCSetUp event (symbolic + numeric factorisation, or a preconditioner set-up),
 solve = MatSolve (forward/backward substitution). "other" is the rest of the mechanics time (vector
-updates, convergence tests, step control). Not a test: figures depend on the machine load.
+updates, convergence tests, step control, the heat solves of the strip). "cpu" is the process CPU
+time of the same span: on a shared machine compare CPU times, iteration counts and ratios, or run
+two versions at the same time. Not a test: figures depend on the machine load.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ import time
 
 COLUMNS = ["case", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
            "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
-           "other/it [s]", "mechanics [s]", "wall [s]", "peak memory [MiB]", "observable",
+           "other/it [s]", "mechanics [s]", "wall [s]", "cpu [s]", "peak memory [MiB]", "observable",
            "value"]
 
 
@@ -74,11 +76,11 @@ def _timed_solve(snes, run):
     PETSc.Log.begin()
     timer = SnesTimer(snes)
     ev0 = _events()
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     result = run()
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     ev = {k: v - ev0[k] for k, v in _events().items()}
-    return result, {"wall": wall, "residual": timer.residual, "jacobian": timer.jacobian,
+    return result, {"wall": wall, "cpu": cpu, "residual": timer.residual, "jacobian": timer.jacobian,
                     "its": timer.jacobian_calls, "factor": ev["PCSetUp"], "solve": ev["MatSolve"],
                     "snes": ev["SNESSolve"]}
 
@@ -115,7 +117,7 @@ def _split(t: dict) -> dict:
     return {"newton its [-]": t["its"], "s/iteration [s]": t["wall"] / its,
             "residual/it [s]": t["residual"] / its, "jacobian/it [s]": t["jacobian"] / its,
             "factor/it [s]": t["factor"] / its, "solve/it [s]": t["solve"] / its,
-            "other/it [s]": other / its, "mechanics [s]": t["snes"] or t["wall"], "wall [s]": t["wall"]}
+            "other/it [s]": other / its, "mechanics [s]": t["snes"] or t["wall"], "wall [s]": t["wall"], "cpu [s]": t["cpu"]}
 
 
 def child(args) -> dict:
@@ -133,7 +135,7 @@ def child(args) -> dict:
 def print_table(rows: list[dict], file=sys.stdout) -> None:
     short = ["case", "level", "dofs [-]", "newton its [-]", "its/step [-]", "cuts [-]",
              "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
-             "wall [s]", "peak memory [MiB]", "value"]
+             "wall [s]", "cpu [s]", "peak memory [MiB]", "value"]
     cells = [[_fmt(r.get(k, "")) for k in short] for r in rows]
     widths = [max(len(k), *(len(c[i]) for c in cells)) for i, k in enumerate(short)]
     print("  ".join(k.rjust(w) for k, w in zip(short, widths)), file=file)
