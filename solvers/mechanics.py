@@ -32,6 +32,9 @@ from lcefem.meshes._gmsh import TaggedMesh
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
 #: spontaneous deformation asks for enormous tables (70 GiB seen); 4 integrates P2/Q2 stiffness well.
+#: On hexahedra 4 means 27 points; the next cheaper rule (degree 2 or 3) has 8 points, a reduced
+#: integration of Q2 with spurious zero-energy modes: with it the level-0 free strip (0.2 A) stops
+#: converging in its first 2 s step and the beam ramp fails at its first step, so 4 stays.
 QUADRATURE_DEGREE = 4
 
 NEWTON_OPTIONS = {
