@@ -20,6 +20,7 @@ Pieces, each used by every command:
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import csv
 import dataclasses
@@ -52,6 +53,7 @@ class Terminated(KeyboardInterrupt):
 
 
 _received: list[int] = []  # signals received by this process (checked by solvers that catch errors)
+_installed: list[bool] = []  # [True] while the command line owns SIGINT and SIGTERM
 
 
 def _on_signal(signum, frame):
@@ -59,12 +61,26 @@ def _on_signal(signum, frame):
     raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
 
 
-def install_signal_handlers() -> None:
+def install_signal_handlers() -> dict:
     """Ctrl-C and SIGTERM raise in the main thread (Python ignores SIGINT when started in the
-    background of a script; SIGTERM would kill without clean-up)."""
+    background of a script; SIGTERM would kill without clean-up). Returns the previous handlers."""
     _received.clear()
-    signal.signal(signal.SIGINT, _on_signal)
-    signal.signal(signal.SIGTERM, _on_signal)
+    _installed[:] = [True]
+    return {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+
+
+def reinstall_signal_handlers() -> None:
+    """Take SIGINT and SIGTERM back from C libraries that set their own behind Python's back (PETSc
+    at initialisation, gmsh when a mesh is built), if :func:`install_signal_handlers` was called."""
+    if _installed:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, _on_signal)
+
+
+def restore_signal_handlers(previous: dict) -> None:
+    _installed.clear()
+    for sig, handler in previous.items():
+        signal.signal(sig, handler)
 
 
 def raise_if_interrupted(exc: BaseException | None = None) -> None:
@@ -407,9 +423,15 @@ def _barrier_quietly(comm) -> None:
         comm.barrier()
 
 
+def _out_path(text: str) -> pathlib.Path:
+    if not text.strip():  # pathlib would read "" as the working directory
+        raise argparse.ArgumentTypeError("--out = '': must name a folder")
+    return pathlib.Path(text)
+
+
 def add_out_arguments(parser, default: str | None, *, resume: bool = False) -> None:
     """--out, --overwrite (and --resume), --quiet: the same flags and words for every command."""
-    parser.add_argument("--out", type=pathlib.Path, default=None if default is None else pathlib.Path(default),
+    parser.add_argument("--out", type=_out_path, default=None if default is None else pathlib.Path(default),
                         help=f"output folder (default {default})" if default else "output folder")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace the results of an earlier run in --out")
@@ -461,6 +483,7 @@ class Run:
 
     def __init__(self, out: pathlib.Path | None, *, config: dict, columns: list[str] | None = None,
                  history: str = "history.csv", progress: Progress | None = None, comm=None):
+        reinstall_signal_handlers()  # the problem was just built: gmsh and PETSc may have taken them
         self.out = None if out is None else pathlib.Path(out)
         self.config = config
         self.comm = comm

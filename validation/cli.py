@@ -117,11 +117,12 @@ _ERRORS = None  # a duplicate of COMM_WORLD: failing ranks agree there without d
 def main(argv: list[str] | None = None) -> int:
     global _ERRORS
     argv = sys.argv[1:] if argv is None else list(argv)
-    skeleton.install_signal_handlers()
+    previous = skeleton.install_signal_handlers()
     comm = None
     try:
         parser = build_parser(argv)
         args = parser.parse_args(argv)
+        skeleton.reinstall_signal_handlers()  # importing PETSc installed its own for SIGTERM
         comm = _world()
         if comm is not None:
             _ERRORS = comm.Dup()
@@ -141,6 +142,8 @@ def main(argv: list[str] | None = None) -> int:
             raise
         code, message = _classify(exc)
         return _end(code, message, comm)
+    finally:
+        skeleton.restore_signal_handlers(previous)  # lcefem used as a library goes back to normal
 
 
 if __name__ == "__main__":
