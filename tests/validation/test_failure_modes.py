@@ -182,6 +182,29 @@ def test_read_only_out_one_line_exit_2(capsys, tmp_path):
     assert code == 2 and "cannot write there" in one_line(err)
 
 
+def test_full_disk_during_a_run_one_line_exit_2_and_partial_files(capsys, tmp_path, monkeypatch):
+    """The disk fills after two rows of history: one line naming the file, converged rows kept as
+    partial, no failure.json (not a physics failure), no summary."""
+    import errno
+
+    from lcefem.solvers import run as skeleton
+
+    append = skeleton.CSVTable.append
+
+    def filling(self, row):
+        if len(self.rows) == 2 and self.path is not None:
+            raise OSError(errno.ENOSPC, "No space left on device", str(self.path) + ".part")
+        append(self, row)
+
+    monkeypatch.setattr(skeleton.CSVTable, "append", filling)
+    out = tmp_path / "full"
+    code, err = cli(capsys, *BEAM, "--out", out)
+    assert code == 2
+    assert f"cannot write '{out / 'history.csv.part'}': No space left on device" in one_line(err)
+    assert {"history.partial.csv", "beam_steps.partial", "beam.partial.pvd"} == results(out)
+    assert len((out / "history.partial.csv").read_text().splitlines()) == 3  # header + 2 rows
+
+
 # -- 2b. physical bounds of results -------------------------------------------------------------
 def test_result_above_decomposition_stops_with_exit_3_and_keeps_converged_steps(capsys, tmp_path):
     """1 A (5 x the experiments) heats the coil past 300 C within the first 1 s step."""
