@@ -271,6 +271,31 @@ def test_bad_input_under_mpiexec_one_line_exit_2(argv, message, lcefem_cmd, mpie
     assert res.returncode == 2 and message in one_line(res)
 
 
+ONE_RANK_FAILS = """
+import dolfinx_solver  # noqa: F401
+from mpi4py import MPI
+
+from lcefem.validation import cli
+
+comm = MPI.COMM_WORLD
+cli._ERRORS = comm.Dup()
+if comm.rank == 1:
+    raise SystemExit(cli._end(2, "lcefem: error: only rank 1 saw this", comm))
+comm.barrier()  # rank 0 waits in a collective, as inside a solver: never matched
+"""
+
+
+@pytest.mark.mpi
+def test_an_error_on_one_rank_aborts_every_rank(mpiexec, tmp_path):
+    """The command line's exit path: a rank that fails alone aborts the others instead of hanging."""
+    script = tmp_path / "one_rank_fails.py"
+    script.write_text(ONE_RANK_FAILS)
+    res = subprocess.run([mpiexec, "-n", "2", sys.executable, str(script)], capture_output=True, text=True,
+                         timeout=60)
+    assert res.returncode == 2
+    assert res.stderr.count("only rank 1 saw this") == 1
+
+
 @pytest.mark.mpi
 def test_serial_only_target_refuses_mpiexec(lcefem_cmd, mpiexec, tmp_path):
     res = lcefem(lcefem_cmd, "run", "ribbon", "--out", tmp_path / "o", mpi=mpiexec)
