@@ -129,7 +129,8 @@ def main(argv: list[str] | None = None) -> int:
         mod = args._module
         if getattr(args, "list", False):
             return int(mod.main(args) or 0)
-        if comm is not None and not getattr(mod, "PARALLEL", True):
+        parallel = getattr(mod, "PARALLEL", True)
+        if comm is not None and not (parallel(args) if callable(parallel) else parallel):
             raise InputError(f"run {args.target}: runs in serial only; start it without mpiexec")
         if hasattr(mod, "prepare"):  # bad input is refused before the output folder is touched
             args.prepared = mod.prepare(args)

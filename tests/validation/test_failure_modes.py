@@ -297,9 +297,11 @@ def test_an_error_on_one_rank_aborts_every_rank(mpiexec, tmp_path):
 
 
 @pytest.mark.mpi
-def test_serial_only_target_refuses_mpiexec(lcefem_cmd, mpiexec, tmp_path):
-    res = lcefem(lcefem_cmd, "run", "ribbon", "--out", tmp_path / "o", mpi=mpiexec)
+@pytest.mark.parametrize("argv", [["run", "ribbon"], BEAM])
+def test_serial_only_target_refuses_mpiexec(argv, lcefem_cmd, mpiexec, tmp_path):
+    res = lcefem(lcefem_cmd, *argv, "--out", tmp_path / "o", mpi=mpiexec)
     assert res.returncode == 2 and "runs in serial only" in one_line(res)
+    assert not (tmp_path / "o").exists()
 
 
 def test_interrupted_validate_stops_and_reports_every_case(lcefem_cmd, tmp_path):

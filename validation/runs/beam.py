@@ -364,6 +364,12 @@ def config_from_args(args: argparse.Namespace) -> BeamConfig:
     return override(cfg, "geometry", segments=args.segments)
 
 
+def PARALLEL(args: argparse.Namespace) -> bool:  # noqa: N802  (the command line's flag, per model)
+    """The bar-and-hinge model is serial (numpy/scipy): under mpiexec every rank would write the same
+    files."""
+    return args.model == "fe"
+
+
 def prepare(args: argparse.Namespace):
     """The validated configuration of the chosen model (before the output folder is touched)."""
     if args.model == "fe":
