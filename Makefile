@@ -7,10 +7,10 @@ env:
 	@scripts/bootstrap.sh
 
 validate: env
-	.venv/bin/lcefem validate --out results/validation
+	.venv/bin/lcefem validate --overwrite --out results/validation
 
 validate-quick: env
-	.venv/bin/lcefem validate --quick --out results/validation-quick
+	.venv/bin/lcefem validate --quick --overwrite --out results/validation-quick
 
 test: env
 	.venv/bin/python -m pytest -n 2 --dist loadgroup -q

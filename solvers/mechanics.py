@@ -29,6 +29,7 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.solvers.run import raise_if_interrupted
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
 #: spontaneous deformation asks for enormous tables (70 GiB seen); 4 integrates P2/Q2 stiffness well.
@@ -244,6 +245,7 @@ class HyperelasticProblem:
         try:
             self._problem.solve()
         except PETSc.Error as exc:  # e.g. a factorisation failure
+            raise_if_interrupted(exc)  # Ctrl-C inside a PETSc callback is not a failed solve
             return False, self.snes.getIterationNumber(), f"PETSc error {exc}"
         reason = self.snes.getConvergedReason()
         its = self.snes.getIterationNumber()

@@ -1,24 +1,35 @@
 """The ``lcefem`` command line: ``lcefem run TARGET ...``, ``lcefem validate``, ``lcefem converge``.
 
-Bad input prints one line ``lcefem: error: ...`` naming the field and what is allowed, and exits 2.
+Every command goes through :func:`main`: signal handlers, the output folder's claim and lock
+(lcefem.solvers.run), and one mapping of failures to a one-line message and an exit status:
+0 done, 1 a validation case raised an error, 2 bad input or unusable output folder, 3 solver failure
+or a result out of physical bounds, 130 Ctrl-C, 143 SIGTERM. Under mpiexec every rank agrees on the
+exit (an error on one rank aborts them all) and rank 0 prints.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
+import time
+import traceback
 
 from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.solvers import run as skeleton
 from lcefem.validation.runs import RUN_TARGETS
 
-EXIT_INPUT = 2
-EXIT_CONVERGENCE = 3
+EXIT_INPUT = skeleton.EXIT_INPUT
+EXIT_CONVERGENCE = skeleton.EXIT_SOLVER
+AGREE_SECONDS = 3.0  #: how long a failing rank waits for the others before aborting them
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse's own errors: one line, exit 2
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n")
+        if _world_rank() == 0:
+            sys.stderr.write(f"{self.prog}: error: {message}\n")
+        self.exit(EXIT_INPUT)
 
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
@@ -34,40 +45,106 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
         wanted = [argv[1]]
     elif argv and argv[0] in ("validate", "converge"):
         wanted = []  # other commands need no run-target modules
-    for name in wanted:
-        mod = importlib.import_module(RUN_TARGETS[name])
-        p = targets.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])
+    modules = [(targets, name, RUN_TARGETS[name]) for name in wanted]
+    modules += [(sub, name, f"lcefem.validation.{name}") for name in ("validate", "converge")]
+    for group, name, module in modules:
+        mod = importlib.import_module(module)
+        p = group.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])
         mod.add_arguments(p)
-        p.set_defaults(_main=mod.main)
-    for name in ("validate", "converge"):
-        module = f"lcefem.validation.{name}"
-        try:
-            mod = importlib.import_module(module)
-        except ModuleNotFoundError as exc:
-            if exc.name != module:
-                raise
-            continue
-        p = sub.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])
-        mod.add_arguments(p)
-        p.set_defaults(_main=mod.main)
+        p.set_defaults(_module=mod)
     return parser
 
 
+def _mpi_launched() -> bool:
+    return any(k in os.environ for k in ("PMI_RANK", "PMI_SIZE", "OMPI_COMM_WORLD_SIZE"))
+
+
+def _world():
+    """COMM_WORLD when running under mpiexec with more than one rank, else None."""
+    if "mpi4py.MPI" not in sys.modules and not _mpi_launched():
+        return None
+    import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+    from mpi4py import MPI
+    return MPI.COMM_WORLD if MPI.COMM_WORLD.size > 1 else None
+
+
+def _world_rank() -> int:
+    return int(os.environ.get("PMI_RANK", os.environ.get("OMPI_COMM_WORLD_RANK", "0")))
+
+
+def _classify(exc: BaseException) -> tuple[int, str]:
+    """(exit status, one-line message) of an exception ending a command."""
+    if isinstance(exc, KeyboardInterrupt):
+        name = "SIGTERM" if isinstance(exc, skeleton.Terminated) else "Ctrl-C"
+        return (skeleton.interrupt_exit_code(exc),
+                f"lcefem: interrupted ({name}); converged steps are kept as *.partial.* files")
+    if isinstance(exc, InputError):
+        return EXIT_INPUT, f"lcefem: error: {exc}"
+    if isinstance(exc, ConvergenceError):
+        return EXIT_CONVERGENCE, f"lcefem: stopped: {exc}"
+    if isinstance(exc, OSError):
+        where = f"'{exc.filename}': " if exc.filename else ""
+        return EXIT_INPUT, f"lcefem: error: cannot write {where}{exc.strerror or exc}"
+    if type(exc).__module__.startswith("petsc4py"):  # raised while setting up: an option PETSc rejects
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        return EXIT_INPUT, f"lcefem: error: PETSc refused the set-up ({first}); check the [petsc] options"
+    return 1, "".join(traceback.format_exception(exc)).rstrip()  # a bug: keep the traceback
+
+
+def _end(code: int, message: str, comm) -> int:
+    """Print ``message`` once and return ``code`` on every rank; when the other ranks do not fail
+    too (they wait in a collective of their own), abort them all rather than hang."""
+    if comm is None:
+        print(message, file=sys.stderr)
+        return code
+    req = _ERRORS.Ibarrier()
+    deadline = time.monotonic() + AGREE_SECONDS
+    while not req.Test():
+        if time.monotonic() > deadline:
+            skeleton.finish_pending(agreed=False)
+            print(f"{message} [rank {comm.rank}; aborting the other ranks]", file=sys.stderr, flush=True)
+            comm.Abort(code)
+        time.sleep(0.01)
+    skeleton.finish_pending(agreed=True)
+    if comm.rank == 0:
+        print(message, file=sys.stderr, flush=True)
+    return code
+
+
+_ERRORS = None  # a duplicate of COMM_WORLD: failing ranks agree there without disturbing the solvers
+
+
 def main(argv: list[str] | None = None) -> int:
+    global _ERRORS
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = build_parser(argv)
-    args = parser.parse_args(argv)
+    previous = skeleton.install_signal_handlers()
+    comm = None
     try:
-        return int(args._main(args) or 0)
-    except InputError as exc:
-        print(f"lcefem: error: {exc}", file=sys.stderr)
-        return EXIT_INPUT
-    except ConvergenceError as exc:
-        print(f"lcefem: stopped: {exc}", file=sys.stderr)
-        return EXIT_CONVERGENCE
-    except KeyboardInterrupt:
-        print("lcefem: interrupted; partial outputs keep their .part names", file=sys.stderr)
-        return 130
+        parser = build_parser(argv)
+        args = parser.parse_args(argv)
+        skeleton.reinstall_signal_handlers()  # importing PETSc installed its own for SIGTERM
+        comm = _world()
+        if comm is not None:
+            _ERRORS = comm.Dup()
+        mod = args._module
+        if getattr(args, "list", False):
+            return int(mod.main(args) or 0)
+        parallel = getattr(mod, "PARALLEL", True)
+        if comm is not None and not (parallel(args) if callable(parallel) else parallel):
+            raise InputError(f"run {args.target}: runs in serial only; start it without mpiexec")
+        if hasattr(mod, "prepare"):  # bad input is refused before the output folder is touched
+            args.prepared = mod.prepare(args)
+        out = mod.out_folder(args) if hasattr(mod, "out_folder") else args.out
+        with skeleton.claim_out(out, resume=getattr(args, "resume", None), overwrite=args.overwrite,
+                                comm=comm):
+            return int(mod.main(args) or 0)
+    except BaseException as exc:
+        if isinstance(exc, SystemExit):
+            raise
+        code, message = _classify(exc)
+        return _end(code, message, comm)
+    finally:
+        skeleton.restore_signal_handlers(previous)  # lcefem used as a library goes back to normal
 
 
 if __name__ == "__main__":

@@ -27,3 +27,29 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
         if not isinstance(value, dict):
             raise InputError(f"'{key}' in {path.name} must be a table [{key}]")
     return data
+
+
+def config_from_toml(path, base, raw_sections: tuple[str, ...] = ("petsc",)):
+    """``base`` (a frozen dataclass of parameter sections) with the sections of the case file at
+    ``path`` applied; a section in ``raw_sections`` is a plain table of strings (PETSc options)."""
+    import dataclasses
+
+    from lcefem.models.parameters import with_overrides
+
+    data = load_toml(path, {f.name for f in dataclasses.fields(base)})
+    changes = {name: {str(k): str(v) for k, v in table.items()} if name in raw_sections
+               else with_overrides(getattr(base, name), table, name) for name, table in data.items()}
+    return dataclasses.replace(base, **changes)
+
+
+def override(config, section: str, **values):
+    """``config`` with the given keys of ``section`` replaced (None values, i.e. options not given on
+    the command line, are left alone); type- and bound-checked like a case file."""
+    import dataclasses
+
+    from lcefem.models.parameters import with_overrides
+
+    table = {k: v for k, v in values.items() if v is not None}
+    if not table:
+        return config
+    return dataclasses.replace(config, **{section: with_overrides(getattr(config, section), table, section)})

@@ -24,14 +24,17 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import math
 import pathlib
+import shutil
 import sys
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
 from lcefem.models.errors import InputError
+from lcefem.solvers.run import add_out_arguments, write_text
 from lcefem.validation import gci as gci_mod
 from lcefem.validation import plots, report
 from lcefem.validation.cases import CaseContext, registry
@@ -109,11 +112,7 @@ def ratio_warnings(mesh_sizes) -> list[str]:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", metavar="CASE", help="a case with convergence support (lcefem validate --list)")
     parser.add_argument("--levels", type=int, default=MIN_LEVELS, help=f"number of levels (>= {MIN_LEVELS})")
-    parser.add_argument("--out", type=pathlib.Path, default=None,
-                        help="output folder (default: results/converge/<case>)")
-    parser.add_argument("--resume", action="store_true",
-                        help="reuse levels whose outputs in --out are complete")
-    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    add_out_arguments(parser, None, resume=True)  # default: results/converge/<case>
 
 
 def _fmt(v: float, spec: str = ".5g") -> str:
@@ -127,24 +126,13 @@ def write_outputs(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
     cols = {"level [-]": list(range(len(mesh_sizes))), f"mesh size [{mesh_unit}]": list(mesh_sizes)}
     for s in studies:
         cols[f"{s.metric} [{s.unit}]"] = s.values
-    tmp = out / "levels.csv.part"
-    with tmp.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(cols)
-        for row in zip(*cols.values()):
-            w.writerow([f"{v:.12g}" for v in row])
-    tmp.replace(out / "levels.csv")
-    tmp = out / "gci.csv.part"
-    with tmp.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["metric", "unit", "finest value [unit]", "observed order p [-]",
-                    "extrapolated value [unit]", "e_a [-]", "e_ext [-]", "GCI_fine [-]",
-                    "triple orders [-]", "flags"])
-        for s in studies:
-            w.writerow([s.metric, s.unit, f"{s.values[-1]:.12g}", _fmt(s.p, ".6g"), _fmt(s.extrapolated, ".12g"),
-                        _fmt(s.e_a, ".6g"), _fmt(s.e_ext, ".6g"), _fmt(s.gci_fine, ".6g"),
-                        " ".join(_fmt(p, ".4g") for p in s.triple_orders), " ".join(s.flags)])
-    tmp.replace(out / "gci.csv")
+    _write_csv(out / "levels.csv", list(cols), [[f"{v:.12g}" for v in row] for row in zip(*cols.values())])
+    _write_csv(out / "gci.csv", ["metric", "unit", "finest value [unit]", "observed order p [-]",
+                                 "extrapolated value [unit]", "e_a [-]", "e_ext [-]", "GCI_fine [-]",
+                                 "triple orders [-]", "flags"],
+               [[s.metric, s.unit, f"{s.values[-1]:.12g}", _fmt(s.p, ".6g"), _fmt(s.extrapolated, ".12g"),
+                 _fmt(s.e_a, ".6g"), _fmt(s.e_ext, ".6g"), _fmt(s.gci_fine, ".6g"),
+                 " ".join(_fmt(p, ".4g") for p in s.triple_orders), " ".join(s.flags)] for s in studies])
     report.write_json_atomic(out / "convergence.json", {
         "case": case_name, "mesh_sizes": list(mesh_sizes), "mesh_size_unit": mesh_unit,
         "safety_factor": gci_mod.SAFETY_FACTOR, "warnings": warnings,
@@ -153,6 +141,14 @@ def write_outputs(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
                                       [v - s.extrapolated for v in s.values], s.p) for s in studies]
     plots.convergence_plot(out / "convergence.png", mesh_sizes, series, xlabel=f"mesh size [{mesh_unit}]",
                            title=f"{case_name}: |value - Richardson extrapolation| (Celik et al. 2008)")
+
+
+def _write_csv(path: pathlib.Path, header: list[str], rows: list[list[str]]) -> None:
+    text = io.StringIO()
+    w = csv.writer(text, lineterminator="\n")
+    w.writerow(header)
+    w.writerows(rows)
+    write_text(path, text.getvalue())
 
 
 def print_summary(studies: list[MetricConvergence], mesh_sizes, file=None) -> None:
@@ -194,7 +190,8 @@ def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume:
         if stored is not None and stored.mesh_size:
             results.append(stored)
             continue
-        (ctx.out / MARKER).unlink(missing_ok=True)
+        if ctx.out.is_dir():  # the level owns its folder: nothing of an earlier run may remain
+            shutil.rmtree(ctx.out)
         res = run_case(case, ctx, out)
         if res.mesh_size is None or not res.mesh_size > 0:
             raise RuntimeError(f"case {case.name} did not set ctx.mesh_size (> 0) at level {level}")
@@ -216,7 +213,8 @@ def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume:
     return h, unit, studies, ratio_warnings(h)
 
 
-def main(args: argparse.Namespace) -> int:
+def selected_case(args: argparse.Namespace):
+    """The case to study (InputError for an unknown case, one without levels, too few levels)."""
     cases = registry()
     if args.case not in cases:
         raise InputError(f"unknown case '{args.case}'; known cases: {', '.join(cases) or '(none)'}")
@@ -227,9 +225,18 @@ def main(args: argparse.Namespace) -> int:
                          f"{', '.join(able) or '(none)'}")
     if args.levels < MIN_LEVELS:
         raise InputError(f"--levels = {args.levels}: must be >= {MIN_LEVELS}")
-    out = args.out or pathlib.Path("results/converge") / case.name
-    h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet,
-                                           resume=getattr(args, "resume", False))
+    return case
+
+
+def out_folder(args: argparse.Namespace) -> pathlib.Path:
+    """--out (default results/converge/<case>), once the input is known good."""
+    return args.out or pathlib.Path("results/converge") / selected_case(args).name
+
+
+def main(args: argparse.Namespace) -> int:
+    case = selected_case(args)
+    out = out_folder(args)
+    h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet, resume=args.resume)
     write_outputs(out, case.name, h, unit, studies, warnings)
     print_summary(studies, h)
     for w in warnings:

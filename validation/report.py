@@ -12,20 +12,24 @@ import datetime
 import importlib.metadata
 import json
 import math
-import os
 import pathlib
 import platform
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from lcefem.solvers.run import write_text
+
 METRIC_KEYS = ("case", "metric", "value", "unit", "reference", "tolerance", "passed", "source")
-STATUSES = ("done", "reused", "error", "interrupted")
+#: done (this run), reused (--resume), failed (the solver failed or a result left its physical bounds),
+#: error (any other exception), interrupted (Ctrl-C, SIGTERM), not run (selected, never started).
+STATUSES = ("done", "reused", "failed", "error", "interrupted", "not run")
+FINISHED = ("done", "reused")
 
 
 @dataclass
 class CaseResult:
-    """One case's outcome. ``status``: done | reused (``--resume``) | error | interrupted."""
+    """One case's outcome; ``status`` one of :data:`STATUSES`."""
 
     case: str
     description: str
@@ -68,12 +72,7 @@ def json_safe(obj):
 
 def write_text_atomic(path: pathlib.Path, text: str) -> pathlib.Path:
     """Write to ``path.part`` and rename, so a reader never sees a half-written file."""
-    path = pathlib.Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".part")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
-    return path
+    return write_text(path, text)
 
 
 def write_json_atomic(path: pathlib.Path, obj) -> pathlib.Path:
@@ -84,7 +83,7 @@ def all_rows(results: list[CaseResult]) -> list[dict]:
     """metrics.json rows: each case's metrics, or one error row for a case that did not finish."""
     rows = []
     for r in results:
-        rows.extend(r.metrics if r.status in ("done", "reused") else [r.error_row()])
+        rows.extend(r.metrics if r.status in FINISHED else [r.error_row()])
     return rows
 
 
@@ -148,7 +147,7 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
     n_pass = sum(r["passed"] is True for r in rows)
     n_fail = sum(r["passed"] is False and r["value"] is not None for r in rows)
     n_info = sum(r["passed"] is None for r in rows)
-    n_err = sum(r.status in ("error", "interrupted") for r in results)
+    unfinished = [r for r in results if r.status not in FINISHED]
     ver = versions()
     now = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
     lines = [f"# {title}", "",
@@ -158,7 +157,11 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
              "- versions: " + ", ".join(f"{k} {v}" for k, v in ver.items()),
              "",
              f"**{len(results)} cases: {n_pass} metrics pass, {n_fail} fail, {n_info} informative; "
-             f"{n_err} cases did not finish.**", "",
+             f"{len(unfinished)} cases did not finish"
+             + (f": this report is INCOMPLETE ({', '.join(f'{r.case}: {r.status}' for r in unfinished)}).**"
+                if unfinished else ".**"), "",
+             "| case | state |", "|---|---|",
+             *(f"| {r.case} | {r.status} |" for r in results), "",
              "## Metrics", "",
              "Pass means |value - reference| <= tolerance (a range [lo, hi] is lo <= value <= hi). Error is "
              "(value - reference)/|reference| against a target, or (value - reference)/tolerance "
@@ -179,7 +182,9 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
             lines.append(res.description)
             lines.append("")
         status = {"done": "completed in this run", "reused": "reused from an earlier run (--resume)",
-                  "error": "FAILED with an error", "interrupted": "interrupted"}[res.status]
+                  "failed": "FAILED: the solver failed or a result left its physical bounds",
+                  "error": "FAILED with an error", "interrupted": "interrupted",
+                  "not run": "not run (the run stopped before this case)"}[res.status]
         facts = [f"status: {status}", f"wall time: {res.wall_time:.2f} s"]
         if res.mesh_size is not None:
             facts.append(f"mesh size: {res.mesh_size:.4g} {res.mesh_size_unit}")

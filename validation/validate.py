@@ -2,14 +2,16 @@
 
 ``lcefem validate [CASE ...] [--quick] [--out DIR] [--resume] [--list] [--quiet]``
 
-Each case runs in ``DIR/<case>/`` (its CSV data and PNG figures); when it completes, its results are
-written LAST, atomically, to ``DIR/<case>/metrics.json`` (the completion marker ``--resume`` looks for).
-After every case ``DIR/metrics.json`` (all metrics: case, metric, value, unit, reference, tolerance,
-passed, source) and ``DIR/report.md`` are rewritten, so an interrupted or failing run keeps what was
-done. A case that raises is reported as an error row and the run goes on.
+Each case runs in ``DIR/<case>/`` (its CSV data and PNG figures; emptied before the case runs);
+when it completes, its results are written LAST, atomically, to ``DIR/<case>/metrics.json`` (the
+completion marker ``--resume`` looks for). ``DIR/report.md`` and ``DIR/metrics.json`` are written
+before the first case (every selected case "not run") and after every case, so a killed run leaves a
+report that lists every selected case with its state and says it is incomplete. A case whose solver
+fails (state "failed") or that raises ("error") is reported and the run goes on; Ctrl-C or SIGTERM
+stop it (that case "interrupted", the rest "not run").
 
-Exit status: 0 when every case ran (whether its metrics pass or fail), 1 when a case raised an
-error, 2 on bad input (unknown case), 130 when interrupted.
+Exit status: 0 when every case ran (whether its metrics pass or fail), 1 when a case failed or
+raised an error, 2 on bad input (unknown case, unusable --out), 130 / 143 when interrupted.
 """
 
 from __future__ import annotations
@@ -20,31 +22,28 @@ import datetime
 import json
 import pathlib
 import shlex
+import shutil
 import sys
 import time
 import traceback
 
 from tqdm import tqdm
 
-from lcefem.models.errors import InputError
+from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.solvers.run import EXIT_CASE_ERROR, add_out_arguments
 from lcefem.validation import report
 from lcefem.validation.cases import Case, CaseContext, Metric, registry
 from lcefem.validation.report import CaseResult
 
 DEFAULT_OUT = pathlib.Path("results/validation")
 MARKER = "metrics.json"  #: per-case completion marker, written last
-EXIT_CASE_ERROR = 1
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("cases", nargs="*", metavar="CASE", help="cases to run (default: all; see --list)")
     parser.add_argument("--quick", action="store_true", help="coarse resolution (CI)")
-    parser.add_argument("--out", type=pathlib.Path, default=DEFAULT_OUT,
-                        help=f"output folder (default: {DEFAULT_OUT})")
-    parser.add_argument("--resume", action="store_true",
-                        help="skip cases whose outputs in --out are complete")
     parser.add_argument("--list", action="store_true", help="list the cases and exit")
-    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    add_out_arguments(parser, str(DEFAULT_OUT), resume=True)
 
 
 def select(names: list[str], cases: dict[str, Case]) -> list[Case]:
@@ -115,7 +114,7 @@ def load_complete(case: Case, case_dir: pathlib.Path, root: pathlib.Path, quick:
 def command_line(args: argparse.Namespace) -> str:
     parts = ["lcefem", "validate", *args.cases]
     parts += [flag for flag, on in (("--quick", args.quick), ("--resume", args.resume),
-                                    ("--quiet", args.quiet)) if on]
+                                    ("--overwrite", args.overwrite), ("--quiet", args.quiet)) if on]
     parts += ["--out", str(args.out)]
     return shlex.join(parts)
 
@@ -167,10 +166,10 @@ def print_table(rows: list[dict], title: str, file=None) -> None:
 
 def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False, resume: bool = False,
                    quiet: bool = False, command: str = "lcefem validate") -> list[CaseResult]:
-    """Run ``cases`` into ``out``; returns their results (KeyboardInterrupt propagates after the
-    run-level files are written)."""
+    """Run ``cases`` into ``out``; returns their results (an interrupt propagates after the run-level
+    files are written)."""
     out.mkdir(parents=True, exist_ok=True)
-    results: list[CaseResult] = []
+    results = [CaseResult(c.name, c.description, "not run", 0.0, quick=quick) for c in cases]
     t_start = time.perf_counter()
 
     def flush() -> None:
@@ -178,45 +177,56 @@ def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False,
         report.write_report(out / "report.md", results, command=command, quick=quick,
                             total_wall=time.perf_counter() - t_start)
 
-    bar = tqdm(cases, desc="validate", unit="case", disable=quiet, file=sys.stderr)
-    for case in bar:
+    flush()  # a run killed from now on leaves a report naming every case and its state
+    bar = tqdm(total=len(cases), desc="validate", unit="case", disable=quiet, file=sys.stderr)
+    for i, case in enumerate(cases):
         bar.set_postfix_str(case.name)
-        case_dir = out / case.name
-        if resume:
-            stored = load_complete(case, case_dir, out, quick)
-            if stored is not None:
-                results.append(stored)
-                flush()
-                continue
-        marker = case_dir / MARKER
-        marker.unlink(missing_ok=True)  # this run's marker, if any, is written only on success
-        (case_dir / "error.log").unlink(missing_ok=True)
-        ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet)
-        t0 = time.perf_counter()
-        try:
-            result = run_case(case, ctx, out)
-        except KeyboardInterrupt:
-            results.append(CaseResult(case.name, case.description, "interrupted",
-                                      time.perf_counter() - t0, quick=quick, error="interrupted by the user"))
-            bar.close()
-            flush()
-            raise
-        except Exception as exc:  # a failing case is reported and the run goes on
-            case_dir.mkdir(parents=True, exist_ok=True)
-            report.write_text_atomic(case_dir / "error.log", traceback.format_exc())
-            msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
-            results.append(CaseResult(case.name, case.description, "error", time.perf_counter() - t0,
-                                      quick=quick, error=msg))
-            if not quiet:
-                tqdm.write(f"lcefem validate: case {case.name} failed: {msg}", file=sys.stderr)
-            flush()
-            continue
-        report.write_json_atomic(marker, result.as_dict())  # LAST: marks the case complete
-        results.append(result)
+        results[i] = _run_or_reuse(case, out, quick=quick, resume=resume, quiet=quiet)
         flush()
+        if results[i].status == "interrupted":
+            bar.close()
+            raise results[i].interrupt
+        bar.update(1)
     bar.close()
-    flush()
     return results
+
+
+def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, quiet: bool) -> CaseResult:
+    """One case: reused when --resume finds it complete, else run in an emptied folder; its outcome
+    as a CaseResult (an interrupt is returned in ``.interrupt``, to be raised after the report)."""
+    case_dir = out / case.name
+    if resume:
+        stored = load_complete(case, case_dir, out, quick)
+        if stored is not None:
+            return stored
+    if case_dir.is_dir():  # the case owns its folder: nothing of an earlier run may remain
+        shutil.rmtree(case_dir)
+    ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet)
+    t0 = time.perf_counter()
+    try:
+        result = run_case(case, ctx, out)
+    except KeyboardInterrupt as exc:
+        result = CaseResult(case.name, case.description, "interrupted", time.perf_counter() - t0,
+                            quick=quick, error=f"interrupted ({type(exc).__name__})")
+        result.interrupt = exc
+        return result
+    except Exception as exc:  # a failing case is reported and the run goes on
+        case_dir.mkdir(parents=True, exist_ok=True)
+        report.write_text_atomic(case_dir / "error.log", traceback.format_exc())
+        msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
+        status = "failed" if isinstance(exc, ConvergenceError) else "error"
+        if not quiet:
+            tqdm.write(f"lcefem validate: case {case.name} {status}: {msg}", file=sys.stderr)
+        return CaseResult(case.name, case.description, status, time.perf_counter() - t0, quick=quick,
+                          error=msg)
+    report.write_json_atomic(case_dir / MARKER, result.as_dict())  # LAST: marks the case complete
+    return result
+
+
+def out_folder(args: argparse.Namespace) -> pathlib.Path:
+    """--out, once the case names are known good (bad input must not create a folder)."""
+    select(list(args.cases), registry())
+    return args.out
 
 
 def main(args: argparse.Namespace) -> int:
@@ -235,9 +245,9 @@ def main(args: argparse.Namespace) -> int:
     print_table(rows, title=f"lcefem validate{' --quick' if args.quick else ''}: {len(results)} cases, "
                 f"{total:.1f} s")
     print(f"metrics: {args.out / 'metrics.json'}   report: {args.out / 'report.md'}")
-    failed = [r.case for r in results if r.status == "error"]
+    failed = [r.case for r in results if r.status in ("failed", "error")]
     if failed:
-        print(f"lcefem validate: {len(failed)} case(s) raised an error: {', '.join(failed)} "
+        print(f"lcefem validate: {len(failed)} case(s) failed or raised an error: {', '.join(failed)} "
               f"(see <out>/<case>/error.log)", file=sys.stderr)
         return EXIT_CASE_ERROR
     return 0

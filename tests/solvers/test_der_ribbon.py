@@ -83,8 +83,10 @@ def test_polyline_series_is_atomic(tmp_path):
     s = PolylineSeries(tmp_path, "rod")
     pts = np.stack([np.arange(4.0), np.zeros(4), np.zeros(4)], 1)
     s.write(0.0, polydata(pts, lines=[np.arange(4)], point_data={"a": np.arange(4.0)}))
-    assert (tmp_path / "rod.pvd.part").exists() and not (tmp_path / "rod.pvd").exists()
+    # during the run nothing carries a final name
+    assert {p.name for p in tmp_path.iterdir()} == {"rod_steps.part"}
     s.finalize(complete=False)
-    assert (tmp_path / "rod.partial.pvd").exists()
+    assert {p.name for p in tmp_path.iterdir()} == {"rod_steps.partial", "rod.partial.pvd"}
     import pyvista as pv
-    assert pv.read(tmp_path / "rod_00000.vtp").point_data["a"][3] == 3.0
+    assert pv.read(tmp_path / "rod_steps.partial" / "rod_00000.vtp").point_data["a"][3] == 3.0
+    assert "rod_steps.partial/rod_00000.vtp" in (tmp_path / "rod.partial.pvd").read_text()

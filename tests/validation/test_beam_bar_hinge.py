@@ -193,7 +193,7 @@ def test_failed_beam_run_leaves_nothing_that_looks_complete(tmp_path, capsys):
             "beam.partial.pvd"} <= names
     assert not {"summary.json", "history.csv", "beam.pvd", "beam_steps"} & names
     failure = json.loads((out / "failure.json").read_text())
-    assert failure["status"] == "failed" and failure["last_converged_load_factor [-]"] < 1.0
+    assert failure["status"] == "failed" and failure["last_converged"]["load factor [-]"] < 1.0
 
 
 def test_run_ribbon_buckling(tmp_path, capsys):

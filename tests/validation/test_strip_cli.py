@@ -13,7 +13,7 @@ def run(cmd, *args, **kw):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--current", "-0.1"], "--current = -0.1 A: must be >= 0 A"),
+    (["--current", "-0.1"], "run.current = -0.1: must be >= 0.0 A"),
     (["--mesh-size", "0"], "mesh.size = 0.0: must be > 0 mm"),
     (["--duration", "0"], "run.duration = 0.0: must be > 0 s"),
     (["--config", "/nonexistent/case.toml"], "file not found"),
@@ -69,4 +69,4 @@ def test_failed_run_keeps_converged_steps_as_partial(tmp_path, lcefem_cmd):
     assert "summary.json" not in names and "history.csv" not in names
     assert {"failure.json", "history.partial.csv"} <= names
     failure = json.loads((out / "failure.json").read_text())
-    assert failure["last_converged_time [s]"] == 0.0 and failure["where"] == "t = 1 s"
+    assert failure["last_converged"]["time [s]"] == 0.0 and failure["where"] == "t = 1 s"

@@ -132,17 +132,21 @@ def test_resume_skips_completed_cases_only(toy_cases, tmp_path):
 
 def test_interrupted_run_keeps_completed_cases_and_leaves_no_marker(toy_cases, tmp_path, capsys):
     out = tmp_path / "v"
-    # a stale marker of an earlier complete run must not survive a rerun that is interrupted
+    # a stale marker of an earlier complete run must not survive a resumed run that is interrupted
     (out / "toy_interrupt").mkdir(parents=True)
     (out / "toy_interrupt" / "metrics.json").write_text('{"case": "toy_interrupt", "status": "done"}')
-    rc = cli_main(["validate", "toy_ok", "toy_interrupt", "toy_fail", "--out", str(out), "--quiet"])
+    rc = cli_main(["validate", "toy_ok", "toy_interrupt", "toy_fail", "--out", str(out), "--quiet",
+                   "--resume"])
     assert rc == 130 and "interrupted" in capsys.readouterr().err
     assert (out / "toy_ok" / "metrics.json").is_file()
     assert not (out / "toy_interrupt" / "metrics.json").exists()
     assert "toy_fail" not in toy_cases  # the run stopped
     rows = json.loads((out / "metrics.json").read_text())
-    assert [r["case"] for r in rows] == ["toy_ok", "toy_interrupt"] and rows[1]["metric"] == "(interrupted)"
-    assert not list(out.rglob("*.part"))
+    assert [r["case"] for r in rows] == ["toy_ok", "toy_interrupt", "toy_fail"]
+    assert [r["metric"] for r in rows[1:]] == ["(interrupted)", "(not run)"]
+    report = (out / "report.md").read_text()
+    assert "| toy_fail | not run |" in report and "INCOMPLETE" in report
+    assert not list(out.rglob("*.part")) and not (out / ".lcefem.lock").exists()
 
 
 def test_list_names_the_cases(toy_cases, capsys):

@@ -1,7 +1,9 @@
 """``lcefem run TARGET``: one module per target, imported only when that target runs.
 
-Each module defines ``add_arguments(parser)`` (argparse) and ``main(args) -> int``. Add a target by
-adding its module name here.
+Each module defines ``add_arguments(parser)`` (argparse; --out/--overwrite/--quiet from
+lcefem.solvers.run.add_out_arguments), ``prepare(args)`` (the validated configuration, before the
+output folder is claimed), ``main(args) -> int`` (runs through lcefem.solvers.run.Run) and, when it
+cannot run under mpiexec, ``PARALLEL = False`` (or a function of args). Add a target by adding its module name here.
 """
 
 RUN_TARGETS = {

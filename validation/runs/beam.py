@@ -29,7 +29,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import pathlib
-import sys
 import time
 from dataclasses import dataclass, field
 
@@ -38,13 +37,14 @@ import numpy as np
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, beam_curvature
 from lcefem.models import bar_hinge as law
 from lcefem.models.empirical import Eq2, eq2_curvature
-from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.errors import InputError
 from lcefem.models.heat import GridSegmentCoil
-from lcefem.models.parameters import check, describe, param, with_overrides
+from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
+from lcefem.solvers.run import Progress, Run, add_out_arguments, check_config, resolved
 from lcefem.validation import bar_hinge_studies as studies
-from lcefem.validation.bar_hinge_io import BarHingeVTK, CSVHistory, write_json
-from lcefem.validation.config import load_toml
+from lcefem.validation.bar_hinge_io import bar_hinge_run
+from lcefem.validation.config import config_from_toml, override
 
 MODELS = ("bar-hinge", "fe")
 COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",
@@ -75,8 +75,7 @@ class BeamConfig:
     path: PathOptions = field(default_factory=lambda: studies.BEAM_PATH)
 
     def validated(self) -> "BeamConfig":
-        for f in dataclasses.fields(self):
-            check(getattr(self, f.name), f.name)
+        check_config(self)
         self.geometry.checked()
         self.mesh.checked()
         for name in ("lambda_top", "lambda_bottom"):
@@ -89,110 +88,61 @@ class BeamConfig:
                                          self.contact)
 
     def resolved(self) -> dict:
-        return {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)}
-
-
-def config_from_toml(path, base: BeamConfig = BeamConfig()) -> BeamConfig:
-    data = load_toml(path, {f.name for f in dataclasses.fields(BeamConfig)})
-    return dataclasses.replace(base, **{name: with_overrides(getattr(base, name), table, name)
-                                        for name, table in data.items()})
-
-
-def prepare_out(out: pathlib.Path) -> pathlib.Path:
-    out = pathlib.Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"out = {str(out)!r}: exists and is not a directory")
-    out.mkdir(parents=True, exist_ok=True)
-    return out
+        return resolved(self)
 
 
 def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True) -> dict:
     """Run the bar-and-hinge beam and write its outputs (see module docstring); returns the summary."""
     cfg = config.validated()
-    out = prepare_out(out)
+    out = pathlib.Path(out)
     lam_t, lam_b, lam_n = cfg.run.lambda_top, cfg.run.lambda_bottom, cfg.lce.lambda_N
     setup = studies.setup_beam(lam_t, lam_b, cfg.geometry, cfg.mesh, cfg.materials)
     structure, model = setup.structure, setup.model
-    vtk = BarHingeVTK(out, "beam", structure)
-    history = CSVHistory(out / "history.csv", COLUMNS)
-    holder: dict = {}
 
-    def on_step(state) -> None:
+    def row(state) -> dict:
         forces = model.bar_forces(state.x)
         lt, lb = studies.lambdas_at(state.t, lam_t, lam_b, lam_n)
-        history.append({"load factor [-]": state.t, "lambda_top [-]": lt, "lambda_bottom [-]": lb,
-                        "curvature [1/mm]": beam_curvature(structure, state.x),
-                        "eq2 curvature [1/mm]": float(eq2_curvature(lt, lb, cfg.eq2)),
-                        "bottom strip force [N]": 2.0 * float(np.mean(forces["bottom_strips"])),
-                        "top strip force [N]": 2.0 * float(np.mean(forces["top_strips"]))
-                        if "top_strips" in forces else 0.0,
-                        "newton iterations [-]": state.iterations})
-        vtk.write(state.t, state.x, forces)
-        holder["last"] = state
+        return {"load factor [-]": state.t, "lambda_top [-]": lt, "lambda_bottom [-]": lb,
+                "curvature [1/mm]": beam_curvature(structure, state.x),
+                "eq2 curvature [1/mm]": float(eq2_curvature(lt, lb, cfg.eq2)),
+                "bottom strip force [N]": 2.0 * float(np.mean(forces["bottom_strips"])),
+                "top strip force [N]": 2.0 * float(np.mean(forces["top_strips"]))
+                if "top_strips" in forces else 0.0,
+                "newton iterations [-]": state.iterations}
 
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=1.0, desc=f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", unit="load",
-                   bar_format="{l_bar}{bar}| {n:.3f}/{total:.0f} [{elapsed}<{remaining}]",
-                   file=sys.stderr)
-
-    def advance(t: float) -> None:
-        if bar is not None:
-            bar.update(t - bar.n)
-
+    bar = Progress(1.0, f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
     started = time.perf_counter()
-    try:
+    with bar_hinge_run(out, "beam", structure, model, config=cfg.resolved(), columns=COLUMNS, row=row,
+                       progress=bar) as (run, on_step):
         solution = studies.solve_beam(lam_t, lam_b, newton_options=cfg.solver, path=cfg.path,
-                                      on_step=on_step, progress=advance, setup=setup)
-    except ConvergenceError as exc:
-        if bar is not None:
-            bar.close()
-        last = holder.get("last")
-        if last is not None:
-            vtk.write_single(out / "last_converged.vtp", last.x, model.bar_forces(last.x))
-        vtk.finalize(complete=False)
-        history.finalize(complete=False)
-        write_json(out / "failure.json", {
-            "status": "failed", "where": exc.where, "reason": exc.reason,
-            "last_converged_load_factor [-]": None if last is None else last.t,
-            "note": "history.partial.csv and beam_steps.partial/ hold the converged steps; "
-                    "last_converged.vtp the last one", "config": cfg.resolved()})
-        raise
-    except BaseException:
-        if bar is not None:
-            bar.close()
-        raise
-    if bar is not None:
-        bar.close()
-    wall = time.perf_counter() - started
-    vtk.finalize()
-    history.finalize()
-    kappa_eq2 = float(eq2_curvature(lam_t, lam_b, cfg.eq2))
-    from lcefem.validation.beam_plots import plot_beam_run
-    plot_beam_run(out / "beam.png", structure, solution.final.x, history.column("load factor [-]"),
-                  history.column("curvature [1/mm]"), history.column("eq2 curvature [1/mm]"),
-                  f"composite beam, bar-and-hinge, lambda_T = {lam_t:g}, lambda_B = {lam_b:g}, "
-                  f"{cfg.geometry.segments} segments")
-    summary = {
-        "status": "completed", "model": "bar-hinge", "config": cfg.resolved(),
-        "results": {
-            "curvature [1/mm]": solution.curvature,
-            "eq2 curvature [1/mm]": kappa_eq2,
-            "eq2 inputs": studies.eq2_inputs_note(),
-            "sign convention": "positive when the beam bends towards its bottom strips (top strips "
-                               "longer), as Eq. 2; circle fit through the middle stations",
-            "bottom strip force [N]": float(history.column("bottom strip force [N]")[-1]),
-            "top strip force [N]": float(history.column("top strip force [N]")[-1]),
-        },
-        "dofs": int(solution.model.ndof), "nodes": int(structure.num_nodes),
-        "increments": len(solution.path.states) - 1,
-        "newton_iterations": int(sum(solution.path.newton_iterations)),
-        "failed_increments": solution.path.failed_increments,
-        "wall_time [s]": wall,
-    }
-    write_json(out / "summary.json", summary)
-    return summary
+                                      on_step=on_step, progress=bar.to, setup=setup)
+        history = run.history
+        kappa_eq2 = float(eq2_curvature(lam_t, lam_b, cfg.eq2))
+        from lcefem.validation.beam_plots import plot_beam_run
+        plot_beam_run(out / "beam.png", structure, solution.final.x, history.column("load factor [-]"),
+                      history.column("curvature [1/mm]"), history.column("eq2 curvature [1/mm]"),
+                      f"composite beam, bar-and-hinge, lambda_T = {lam_t:g}, lambda_B = {lam_b:g}, "
+                      f"{cfg.geometry.segments} segments")
+        return run.complete({
+            "model": "bar-hinge",
+            "results": {
+                "curvature [1/mm]": solution.curvature,
+                "eq2 curvature [1/mm]": kappa_eq2,
+                "eq2 inputs": studies.eq2_inputs_note(),
+                "sign convention": SIGN_CONVENTION,
+                "bottom strip force [N]": float(history.column("bottom strip force [N]")[-1]),
+                "top strip force [N]": float(history.column("top strip force [N]")[-1]),
+            },
+            "dofs": int(solution.model.ndof), "nodes": int(structure.num_nodes),
+            "increments": len(solution.path.states) - 1,
+            "newton_iterations": int(sum(solution.path.newton_iterations)),
+            "failed_increments": solution.path.failed_increments,
+            "wall_time [s]": time.perf_counter() - started,
+        })
+
+
+SIGN_CONVENTION = ("positive when the beam bends towards its bottom strips (top strips longer), as Eq. 2; "
+                   "circle fit through the middle stations")
 
 
 # -- FE model ------------------------------------------------------------------------------------
@@ -223,8 +173,7 @@ def _fe_config_class():
         eq2: Eq2 = field(default_factory=Eq2)
 
         def validated(self) -> "BeamFEConfig":
-            for f in dataclasses.fields(self):
-                check(getattr(self, f.name), f.name)
+            check_config(self)
             self.geometry.checked()
             self.mesh.checked()
             self.heat_run.checked()
@@ -237,27 +186,17 @@ def _fe_config_class():
             return beam_fe.FEMaterials(self.kapton, self.lce)
 
         def resolved(self) -> dict:
-            return {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)}
+            return resolved(self)
 
     return BeamFEConfig
 
 
 def fe_config_from_args(args: argparse.Namespace):
-    cls = _fe_config_class()
-    base = cls()
-    data = load_toml(args.config, {f.name for f in dataclasses.fields(cls)})
-    cfg = dataclasses.replace(base, **{name: with_overrides(getattr(base, name), table, name)
-                                       for name, table in data.items()})
-    run = {k: v for k, v in {"lambda_top": args.lambda_top,
-                             "lambda_bottom": args.lambda_bottom}.items() if v is not None}
-    heat = {k: v for k, v in {"current": args.current, "heated": args.heated,
-                              "duration": args.duration}.items() if v is not None}
-    mesh = {"level": args.mesh_level} if args.mesh_level is not None else {}
-    geometry = {"segments": args.segments} if args.segments is not None else {}
-    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"),
-                               heat_run=with_overrides(cfg.heat_run, heat, "heat_run"),
-                               mesh=with_overrides(cfg.mesh, mesh, "mesh"),
-                               geometry=with_overrides(cfg.geometry, geometry, "geometry"))
+    cfg = config_from_toml(args.config, _fe_config_class()())
+    cfg = override(cfg, "run", lambda_top=args.lambda_top, lambda_bottom=args.lambda_bottom)
+    cfg = override(cfg, "heat_run", current=args.current, heated=args.heated, duration=args.duration)
+    cfg = override(cfg, "mesh", level=args.mesh_level)
+    return override(cfg, "geometry", segments=args.segments)
 
 
 def _fe_side_view(path, model, u, title: str, extra=None):
@@ -312,145 +251,90 @@ def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
     from lcefem.validation import beam_fe
 
     cfg = cfg.validated()
-    out = prepare_out(out)
+    out = pathlib.Path(out)
     if cfg.heat_run.current > 0:
         return _run_beam_fe_heated(cfg, out, progress)
     lam_t, lam_b = cfg.run.lambda_top, cfg.run.lambda_bottom
     started = time.perf_counter()
     model = beam_fe.BeamFE(cfg.geometry, cfg.mesh, cfg.materials, cfg.actuation, cfg.contact, cfg.path)
-    history = CSVHistory(out / "history.csv", FE_COLUMNS)
-    fields = FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm)
-    fields.write(0.0)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=1.0, desc=f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", unit="load",
-                   bar_format="{l_bar}{bar}| {n:.3f}/{total:.0f} [{elapsed}<{remaining}]",
-                   file=sys.stderr)
+    bar = Progress(1.0, f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
+    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
+        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
+        fields.write(0.0)
 
-    def on_step(state) -> None:
-        history.append({"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
+        def on_step(state) -> None:
+            run.record({"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
                         "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
-                        "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top,
-                                                                    state.lambda_bottom, cfg.eq2)),
+                        "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top, state.lambda_bottom,
+                                                                    cfg.eq2)),
                         "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
-                        "newton iterations [-]": state.iterations})
-        fields.write(state.load_factor)
-        if bar is not None:
-            bar.update(state.load_factor - bar.n)
+                        "newton iterations [-]": state.iterations},
+                       where=f"lambda = ({state.lambda_top:.5g}, {state.lambda_bottom:.5g})",
+                       at=state.load_factor)
+            fields.write(state.load_factor)
 
-    try:
         model.ramp(lam_t, lam_b, on_step=on_step)
-    except ConvergenceError as exc:
-        if bar is not None:
-            bar.close()
-        fields.finalize(complete=False)
-        history.finalize(complete=False)
-        write_json(out / "failure.json", {
-            "status": "failed", "where": exc.where, "reason": exc.reason,
-            "last_converged_lambdas [-]": [model.lambda_top, model.lambda_bottom],
-            "note": "history.partial.csv and displacement.partial.bp hold the converged steps",
-            "config": cfg.resolved()})
-        raise
-    except BaseException:
-        if bar is not None:
-            bar.close()
-        raise
-    if bar is not None:
-        bar.close()
-    wall = time.perf_counter() - started
-    fields.finalize()
-    history.finalize()
-    kappa = model.curvature()
-    kappa_eq2 = float(eq2_curvature(lam_t, lam_b, cfg.eq2))
-    t_hist, k_hist = history.column("load factor [-]"), history.column("curvature [1/mm]")
+        history = run.history
+        kappa_eq2 = float(eq2_curvature(lam_t, lam_b, cfg.eq2))
+        t_hist, k_hist = history.column("load factor [-]"), history.column("curvature [1/mm]")
 
-    def curve(ax):
-        ax.plot(t_hist, k_hist, "k.-", label="3D FE (circle fit, middle stations)")
-        ax.plot(t_hist, history.column("eq2 curvature [1/mm]"), "r--", label="Eq. 2 (seed 001)")
-        ax.set_xlabel("load factor t [-] (lambda ramped from lambda_N to target)")
-        ax.set_ylabel("curvature kappa [1/mm]")
-        ax.legend(fontsize=8)
-        ax.grid(alpha=0.3)
+        def curve(ax):
+            ax.plot(t_hist, k_hist, "k.-", label="3D FE (circle fit, middle stations)")
+            ax.plot(t_hist, history.column("eq2 curvature [1/mm]"), "r--", label="Eq. 2 (seed 001)")
+            ax.set_xlabel("load factor t [-] (lambda ramped from lambda_N to target)")
+            ax.set_ylabel("curvature kappa [1/mm]")
+            ax.legend(fontsize=8)
+            ax.grid(alpha=0.3)
 
-    title = (f"composite beam, 3D FE, lambda_T = {lam_t:g}, lambda_B = {lam_b:g}, "
-             f"{cfg.geometry.segments} segments, mesh level {cfg.mesh.level}")
-    _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
-    _fe_render(out / "beam_fe_3d.png", model, title)
-    follower = model.last_follower
-    summary = {
-        "status": "completed", "model": "fe", "config": cfg.resolved(),
-        "results": {
-            "curvature [1/mm]": kappa, "eq2 curvature [1/mm]": kappa_eq2,
-            "eq2 inputs": studies.eq2_inputs_note(),
-            "sign convention": "positive when the beam bends towards its bottom strips (top strips "
-                               "longer), as Eq. 2; circle fit through the middle stations",
-            "contact force [N]": model.contact_force(), "min gap [mm]": model.min_gap(),
-            "folds crossed": follower.snaps,
-        },
-        "dofs": model.ndofs, "cells": model.tmesh.info["cells"], "symmetry": model.tmesh.info["symmetry"],
-        "steps": len(history.rows), "newton_iterations": follower.iterations,
-        "cut_steps": follower.cuts, "wall_time [s]": wall,
-    }
-    write_json(out / "summary.json", summary)
-    return summary
+        title = (f"composite beam, 3D FE, lambda_T = {lam_t:g}, lambda_B = {lam_b:g}, "
+                 f"{cfg.geometry.segments} segments, mesh level {cfg.mesh.level}")
+        _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
+        _fe_render(out / "beam_fe_3d.png", model, title)
+        follower = model.last_follower
+        return run.complete({
+            "model": "fe",
+            "results": {
+                "curvature [1/mm]": model.curvature(), "eq2 curvature [1/mm]": kappa_eq2,
+                "eq2 inputs": studies.eq2_inputs_note(), "sign convention": SIGN_CONVENTION,
+                "contact force [N]": model.contact_force(), "min gap [mm]": model.min_gap(),
+                "folds crossed": follower.snaps,
+            },
+            "dofs": model.ndofs, "cells": model.tmesh.info["cells"], "symmetry": model.tmesh.info["symmetry"],
+            "steps": len(history.rows), "newton_iterations": follower.iterations,
+            "cut_steps": follower.cuts, "wall_time [s]": time.perf_counter() - started,
+        })
 
 
 def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
     from lcefem.validation import beam_fe
 
-    run = cfg.heat_run
-    history = CSVHistory(out / "history.csv", HEAT_COLUMNS)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=run.duration, desc=f"beam (FE) {run.current:g} A {run.heated} strips", unit="s",
-                   bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s [{elapsed}<{remaining}]",
-                   file=sys.stderr)
-
-    def on_step(row) -> None:
-        history.append(row)
-        if bar is not None:
-            bar.update(row["time [s]"] - bar.n)
-
+    run_cfg = cfg.heat_run
+    bar = Progress(run_cfg.duration, f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",
+                   enabled=progress)
     started = time.perf_counter()
     coil = GridSegmentCoil()
-    try:
-        model, rows, _ = beam_fe.beam_fe_heated(run, cfg.geometry, cfg.mesh, cfg.materials, cfg.contact,
-                                                coil=coil, on_step=on_step)
-    except ConvergenceError as exc:
-        if bar is not None:
-            bar.close()
-        history.finalize(complete=False)
-        write_json(out / "failure.json", {"status": "failed", "where": exc.where, "reason": exc.reason,
-                                          "config": cfg.resolved()})
-        raise
-    except BaseException:
-        if bar is not None:
-            bar.close()
-        raise
-    if bar is not None:
-        bar.close()
-    history.finalize()
-    wall = time.perf_counter() - started
-    t, k = history.column("time [s]"), history.column("curvature [1/mm]")
+    with Run(out, config=cfg.resolved(), columns=HEAT_COLUMNS, progress=bar) as run:
+        model, rows, _ = beam_fe.beam_fe_heated(
+            run_cfg, cfg.geometry, cfg.mesh, cfg.materials, cfg.contact, coil=coil,
+            on_step=lambda row: run.record(row, where=f"t = {row['time [s]']:.4g} s", at=row["time [s]"]))
+        t, k = run.history.column("time [s]"), run.history.column("curvature [1/mm]")
 
-    def curve(ax):
-        ax.plot(t, k, "k.-")
-        ax.set_xlabel("time [s]")
-        ax.set_ylabel("curvature kappa [1/mm]")
-        ax.grid(alpha=0.3)
-        ax.set_title(f"{run.current:g} A through the {run.heated} strips", fontsize=9)
+        def curve(ax):
+            ax.plot(t, k, "k.-")
+            ax.set_xlabel("time [s]")
+            ax.set_ylabel("curvature kappa [1/mm]")
+            ax.grid(alpha=0.3)
+            ax.set_title(f"{run_cfg.current:g} A through the {run_cfg.heated} strips", fontsize=9)
 
-    title = f"composite beam, 3D FE, {run.current:g} A ({run.heated} strips), t = {run.duration:g} s"
-    _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
-    summary = {"status": "completed", "model": "fe", "drive": "current", "config": cfg.resolved(),
-               "results": {"curvature [1/mm]": float(k[-1]),
-                           "T_mean bottom strips [C]": float(history.column("T_mean bottom_strips [C]")[-1]),
-                           "coil resistance per strip [ohm]": coil.resistance},
-               "steps": len(rows) - 1, "wall_time [s]": wall}
-    write_json(out / "summary.json", summary)
-    return summary
+        title = (f"composite beam, 3D FE, {run_cfg.current:g} A ({run_cfg.heated} strips), "
+                 f"t = {run_cfg.duration:g} s")
+        _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
+        return run.complete({
+            "model": "fe", "drive": "current",
+            "results": {"curvature [1/mm]": float(k[-1]),
+                        "T_mean bottom strips [C]": float(run.history.column("T_mean bottom_strips [C]")[-1]),
+                        "coil resistance per strip [ohm]": coil.resistance},
+            "steps": len(rows) - 1, "wall_time [s]": time.perf_counter() - started})
 
 
 # -- command line -------------------------------------------------------------------------------
@@ -471,23 +355,35 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
         f.name for f in dataclasses.fields(BeamConfig)) + " (bar-hinge); run, heat_run, geometry, mesh, "
         "kapton, lce, actuation, contact, path, eq2 (fe)")
-    p.add_argument("--out", default="results/beam", help="output folder (default results/beam)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_out_arguments(p, "results/beam")
 
 
 def config_from_args(args: argparse.Namespace) -> BeamConfig:
-    cfg = config_from_toml(args.config)
-    run = {k: v for k, v in {"lambda_top": args.lambda_top,
-                             "lambda_bottom": args.lambda_bottom}.items() if v is not None}
-    geometry = {"segments": args.segments} if args.segments is not None else {}
-    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"),
-                               geometry=with_overrides(cfg.geometry, geometry, "geometry"))
+    cfg = config_from_toml(args.config, BeamConfig())
+    cfg = override(cfg, "run", lambda_top=args.lambda_top, lambda_bottom=args.lambda_bottom)
+    return override(cfg, "geometry", segments=args.segments)
+
+
+def PARALLEL(args: argparse.Namespace) -> bool:  # noqa: N802  (the command line's flag, per model)
+    """The bar-and-hinge model is serial (numpy/scipy): under mpiexec every rank would write the same
+    files."""
+    return args.model == "fe"
+
+
+def prepare(args: argparse.Namespace):
+    """The validated configuration of the chosen model (before the output folder is touched)."""
+    if args.model == "fe":
+        return fe_config_from_args(args).validated()
+    for name in ("mesh_level", "current", "heated", "duration"):
+        if getattr(args, name, None) is not None:
+            raise InputError(f"--{name.replace('_', '-')}: only with --model fe")
+    return config_from_args(args).validated()
 
 
 def main(args: argparse.Namespace) -> int:
+    cfg = args.prepared
     if args.model == "fe":
-        cfg = fe_config_from_args(args)
-        summary = run_beam_fe(cfg, pathlib.Path(args.out), progress=not args.quiet)
+        summary = run_beam_fe(cfg, args.out, progress=not args.quiet)
         r = summary["results"]
         if summary.get("drive") == "current":
             print(f"lcefem: beam (fe) {cfg.heat_run.current:g} A through the {cfg.heat_run.heated} "
@@ -500,11 +396,7 @@ def main(args: argparse.Namespace) -> int:
               f"{summary['steps']} steps, {summary['newton_iterations']} Newton iterations, "
               f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
         return 0
-    for name in ("mesh_level", "current", "heated", "duration"):
-        if getattr(args, name, None) is not None:
-            raise InputError(f"--{name.replace('_', '-')}: only with --model fe")
-    cfg = config_from_args(args)
-    summary = run_beam(cfg, pathlib.Path(args.out), progress=not args.quiet)
+    summary = run_beam(cfg, args.out, progress=not args.quiet)
     r = summary["results"]
     print(f"lcefem: beam ({args.model}) lambda_T = {cfg.run.lambda_top:g}, lambda_B = "
           f"{cfg.run.lambda_bottom:g}, {cfg.geometry.segments} segments: curvature "

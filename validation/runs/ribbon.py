@@ -6,37 +6,37 @@ over the plate; the heated side contracts (LCE spontaneous stretch of lcefem.mod
 bends and untwists the ribbon, and it may roll. Units: mm, s, N, C; the twist density is given in
 turns/mm (the paper's "number of twists per unit length").
 
-In --out DIR: centerline.pvd / centerline_*.vtp (polyline: twist density, curvatures, temperature,
-contact force, width direction), surface.pvd / surface_*.vtp (the ribbon as quads, temperature on
+In --out DIR: centerline.pvd / centerline_steps/*.vtp (polyline: twist density, curvatures, temperature,
+contact force, width direction), surface.pvd / surface_steps/*.vtp (the ribbon as quads, temperature on
 each edge line), centroid.csv, history.csv, trajectory.png, summary.json (resolved configuration
 and metrics). Files keep a .part suffix until the run completes; a failed run leaves *.partial.*
-files and failure.json.
+files, failure.json and last_converged_state.json (node positions and edge angles).
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import math
-import os
 import pathlib
-import sys
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from lcefem.models.contact import ContactLaw, FrictionLaw
-from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.errors import InputError
+from lcefem.models.limits import DECOMPOSITION_TEMPERATURE
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition
-from lcefem.models.parameters import check, describe, param, with_overrides
+from lcefem.models.parameters import param
 from lcefem.models.ribbon import GroundHeatExchange, RibbonGeometry
-from lcefem.solvers.der.output import CSVSeries, PolylineSeries, polydata
+from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import HISTORY_COLUMNS, RibbonNumerics, RibbonSetup, RibbonSimulation
-from lcefem.validation.config import load_toml
+from lcefem.solvers.run import (CSVTable, Progress, Run, add_out_arguments, check_config, resolved,
+                               write_json)
+from lcefem.validation.config import config_from_toml, override
 from lcefem.validation.ribbon_analysis import plot_trajectory, rolling_metrics
 
 CENTROID_COLUMNS = ["time [s]", "x [mm]", "y [mm]", "z [mm]"]
@@ -48,7 +48,7 @@ class RibbonRun:
 
     ground_temperature: float = param(80.0, "C", "seed 000 / press release: rolling needs a surface of at "
                                       "least ~55 C; 80 C is a typical demonstration value (assumed)",
-                                      minimum=-50.0, maximum=400.0)
+                                      minimum=-50.0, maximum=DECOMPOSITION_TEMPERATURE)
     duration: float = param(60.0, "s", "chosen: heated time after settling", positive=True)
     output_interval: float = param(0.5, "s", "chosen: time between field frames (0: no fields)", minimum=0.0)
     record_interval: float = param(0.05, "s", "chosen: time between history rows", positive=True)
@@ -68,8 +68,7 @@ class RibbonConfig:
     friction: FrictionLaw = field(default_factory=FrictionLaw)
 
     def validated(self) -> "RibbonConfig":
-        for f in dataclasses.fields(self):
-            check(getattr(self, f.name), f.name)
+        check_config(self)
         if self.numerics.method not in ("euler", "midpoint"):
             raise InputError(f"numerics.method = {self.numerics.method!r}: allowed euler, midpoint")
         if self.numerics.dt > self.run.duration:
@@ -79,18 +78,11 @@ class RibbonConfig:
         return self
 
     def resolved(self) -> dict:
-        return {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)}
+        return resolved(self)
 
     def setup(self) -> RibbonSetup:
         return RibbonSetup(self.geometry, self.run.ground_temperature, self.transition, self.elasticity,
                            self.thermal, self.air, self.ground_heat, self.contact, self.friction, self.numerics)
-
-
-def config_from_toml(path, base: RibbonConfig = RibbonConfig()) -> RibbonConfig:
-    sections = {f.name for f in dataclasses.fields(RibbonConfig)}
-    data = load_toml(path, sections)
-    return dataclasses.replace(base, **{name: with_overrides(getattr(base, name), table, name)
-                                        for name, table in data.items()})
 
 
 # -- fields -----------------------------------------------------------------------------------
@@ -154,109 +146,62 @@ class RibbonResult:
     simulation: RibbonSimulation
 
 
-def _write_json(path: pathlib.Path, data: dict) -> None:
-    tmp = path.with_name(path.name + ".part")
-    tmp.write_text(json.dumps(data, indent=2, default=float))
-    os.replace(tmp, path)
-
-
 def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: bool = True,
                fields: bool = True, label: str = "ribbon") -> RibbonResult:
     """Build and run one rolling-ribbon simulation (see module docstring)."""
     config = config.validated()
-    if out is not None:
-        out = pathlib.Path(out)
-        if out.exists() and not out.is_dir():
-            raise InputError(f"out = {str(out)!r}: exists and is not a directory")
-        out.mkdir(parents=True, exist_ok=True)
-    saved = {}
+    out = None if out is None else pathlib.Path(out)
     started = time.perf_counter()
-    sim = RibbonSimulation(config.setup(), on_failure=lambda s: saved.setdefault("state", s.copy()))
-    run = config.run
+    saved = []  # the integrator's last converged state when a step fails
+    sim = RibbonSimulation(config.setup(), on_failure=lambda state: saved.append(state.copy()))
+    run_cfg = config.run
     dt = config.numerics.dt
-    n_steps = max(1, int(math.ceil(run.duration / dt - 1e-9)))
-    dt = run.duration / n_steps
-    rec_every = max(1, int(round(run.record_interval / dt)))
-    out_every = max(1, int(round(run.output_interval / dt))) if run.output_interval > 0 else 0
-    history = CSVSeries(out / "history.csv", HISTORY_COLUMNS) if out is not None else None
-    centroid = CSVSeries(out / "centroid.csv", CENTROID_COLUMNS) if out is not None else None
-    series = []
-    if out is not None and fields and out_every:
-        series = [PolylineSeries(out, "centerline"), PolylineSeries(out, "surface")]
-    rows: list[dict] = []
+    n_steps = max(1, int(math.ceil(run_cfg.duration / dt - 1e-9)))
+    dt = run_cfg.duration / n_steps
+    rec_every = max(1, int(round(run_cfg.record_interval / dt)))
+    out_every = max(1, int(round(run_cfg.output_interval / dt))) if run_cfg.output_interval > 0 else 0
+    bar = Progress(run_cfg.duration, f"{label} {run_cfg.ground_temperature:g} C", "s", enabled=progress)
+    with Run(out, config=config.resolved(), columns=HISTORY_COLUMNS, progress=bar) as run:
+        centroid = run.output(CSVTable(None if out is None else out / "centroid.csv", CENTROID_COLUMNS))
+        run.on_failure(lambda folder: write_json(folder / "last_converged_state.json", {
+            "time [s]": float(saved[-1].time), "x [mm]": saved[-1].x, "theta [rad]": saved[-1].theta}))
+        series = []
+        if out is not None and fields and out_every:
+            series = [run.output(PolylineSeries(out, "centerline")), run.output(PolylineSeries(out, "surface"))]
 
-    def record(step: int) -> dict:
-        row = sim.observe()
-        rows.append(row)
-        if history is not None:
-            history.append(row)
+        def record() -> None:
+            row = sim.observe()
+            run.record(row, where=f"t = {row['time [s]']:.4g} s", at=row["time [s]"],
+                       postfix=f"y={row['centroid_y [mm]']:.2f}mm T={row['T_mean [C]']:.1f}C")
             centroid.append({"time [s]": row["time [s]"], "x [mm]": row["centroid_x [mm]"],
                              "y [mm]": row["centroid_y [mm]"], "z [mm]": row["centroid_z [mm]"]})
-        return row
 
-    def write_fields(step: int) -> None:
-        if series and (step % out_every == 0 or step == n_steps):
-            n = len(sim.state.x)
-            t = sim.state.time
-            series[0].write(t, polydata(sim.state.x, lines=[np.arange(n)], point_data=centerline_fields(sim)))
-            series[1].write(t, surface_polydata(sim))
+        def write_fields(step: int) -> None:
+            if series and (step % out_every == 0 or step == n_steps):
+                n = len(sim.state.x)
+                t = sim.state.time
+                series[0].write(t, polydata(sim.state.x, lines=[np.arange(n)], point_data=centerline_fields(sim)))
+                series[1].write(t, surface_polydata(sim))
 
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=run.duration, unit="s", desc=f"{label} {run.ground_temperature:g} C",
-                   bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s [{elapsed}<{remaining}{postfix}]", file=sys.stderr)
-
-    def finish(complete: bool) -> None:
-        for obj in [history, centroid, *series]:
-            if obj is not None:
-                obj.finalize(complete)
-
-    try:
-        record(0)
+        record()
         write_fields(0)
         for step in range(1, n_steps + 1):
             sim.step(dt)
             write_fields(step)
             if step % rec_every == 0 or step == n_steps:
-                row = record(step)
-                if bar is not None:
-                    bar.set_postfix_str(f"y={row['centroid_y [mm]']:.2f}mm T={row['T_mean [C]']:.1f}C", refresh=False)
-            if bar is not None:
-                bar.update(min(dt, max(0.0, bar.total - bar.n)))
-    except ConvergenceError as exc:
-        if bar is not None:
-            bar.close()
+                record()
+        wall = time.perf_counter() - started
+        hist = run.history.as_arrays()
+        metrics = rolling_metrics(hist)
         if out is not None:
-            finish(False)
-            last = saved.get("state", sim.state)
-            _write_json(out / "failure.json", {
-                "status": "failed", "where": exc.where, "reason": exc.reason,
-                "last_converged_time [s]": float(last.time),
-                "last_converged_state": {"x [mm]": last.x.tolist(), "theta [rad]": last.theta.tolist()},
-                "note": "history.partial.csv, centroid.partial.csv and *.partial.pvd hold the converged steps",
-                "config": config.resolved()})
-        raise
-    except BaseException:
-        if bar is not None:
-            bar.close()
-        raise
-    if bar is not None:
-        bar.close()
-    wall = time.perf_counter() - started
-    hist = {c: np.array([r[c] for r in rows], float) for c in HISTORY_COLUMNS}
-    metrics = rolling_metrics(hist)
-    summary = {"status": "completed", "config": config.resolved(), "metrics": metrics,
-               "steps": n_steps, "dt [s]": dt, "nodes": config.numerics.nodes,
-               "edge_length [mm]": config.geometry.length / (config.numerics.nodes - 1),
-               "newton_iterations": sim.integrator.total_iterations, "step_cuts": sim.integrator.total_cuts,
-               "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run.duration}
-    if out is not None:
-        finish(True)
-        plot_trajectory(hist, out / "trajectory.png",
-                        title=f"ribbon on a {run.ground_temperature:g} C plate, "
-                              f"{config.geometry.twist_density:g} turns/mm")
-        _write_json(out / "summary.json", summary)
+            plot_trajectory(hist, out / "trajectory.png",
+                            title=f"ribbon on a {run_cfg.ground_temperature:g} C plate, "
+                                  f"{config.geometry.twist_density:g} turns/mm")
+        summary = run.complete({
+            "metrics": metrics, "steps": n_steps, "dt [s]": dt, "nodes": config.numerics.nodes,
+            "edge_length [mm]": config.geometry.length / (config.numerics.nodes - 1),
+            "newton_iterations": sim.integrator.total_iterations, "step_cuts": sim.integrator.total_cuts,
+            "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run_cfg.duration})
     return RibbonResult(hist, metrics, summary, out, sim)
 
 
@@ -270,33 +215,34 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--helix-radius", type=float, help="> 0: an untwisted helical ribbon of this centreline "
                                                        "radius [mm] instead")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(f.name for f in dataclasses.fields(RibbonConfig)))
-    p.add_argument("--out", default="results/ribbon", help="output folder (default results/ribbon)")
     p.add_argument("--no-fields", action="store_true", help="skip the VTK field files")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_out_arguments(p, "results/ribbon")
 
 
 def config_from_args(args: argparse.Namespace) -> RibbonConfig:
-    if args.config is not None and not pathlib.Path(args.config).is_file():
-        raise InputError(f"--config = {args.config!r}: file not found")
-    cfg = config_from_toml(args.config)
-    run = {k: v for k, v in {"ground_temperature": args.ground_temperature, "duration": args.duration}.items()
-           if v is not None}
-    geo = {k: v for k, v in {"twist_density": args.twist_density, "helix_radius": args.helix_radius}.items()
-           if v is not None}
-    num = {k: v for k, v in {"nodes": args.nodes, "dt": args.dt}.items() if v is not None}
     for name, value, unit in (("--duration", args.duration, "s"), ("--dt", args.dt, "s")):
         if value is not None and not value > 0:
             raise InputError(f"{name} = {value} {unit}: must be > 0 {unit}")
     if args.nodes is not None and args.nodes < 3:
         raise InputError(f"--nodes = {args.nodes}: must be >= 3")
-    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"),
-                               geometry=with_overrides(cfg.geometry, geo, "geometry"),
-                               numerics=with_overrides(cfg.numerics, num, "numerics"))
+    cfg = config_from_toml(args.config, RibbonConfig())
+    cfg = override(cfg, "run", ground_temperature=args.ground_temperature, duration=args.duration)
+    cfg = override(cfg, "geometry", twist_density=args.twist_density, helix_radius=args.helix_radius)
+    return override(cfg, "numerics", nodes=args.nodes, dt=args.dt)
+
+
+#: Serial only (numpy/scipy); under mpiexec every rank would write the same files.
+PARALLEL = False
+
+
+def prepare(args: argparse.Namespace) -> RibbonConfig:
+    """The validated configuration (before the output folder is touched)."""
+    return config_from_args(args).validated()
 
 
 def main(args: argparse.Namespace) -> int:
-    cfg = config_from_args(args)
-    result = run_ribbon(cfg, pathlib.Path(args.out), progress=not args.quiet, fields=not args.no_fields)
+    cfg = args.prepared
+    result = run_ribbon(cfg, args.out, progress=not args.quiet, fields=not args.no_fields)
     m = result.metrics
     print(f"lcefem: ribbon on {cfg.run.ground_temperature:g} C, {cfg.geometry.twist_density:g} turns/mm, "
           f"{cfg.numerics.nodes} nodes: {'rolls' if m['rolls'] else 'does not roll'}; average speed "

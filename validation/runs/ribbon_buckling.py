@@ -30,7 +30,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import pathlib
-import sys
 import time
 from dataclasses import dataclass, field
 
@@ -38,15 +37,16 @@ import numpy as np
 
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models import bar_hinge as law
-from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.models.parameters import check, describe, param, with_overrides
+from lcefem.models.errors import InputError
+from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
+from lcefem.solvers.run import Progress, Run, add_out_arguments, check_config, resolved
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation import plots
-from lcefem.validation.bar_hinge_io import BarHingeVTK, CSVHistory, write_json
-from lcefem.validation.config import load_toml
+from lcefem.validation.bar_hinge_io import bar_hinge_run
+from lcefem.validation.config import config_from_toml, override
 from lcefem.validation.reference_data import reference
-from lcefem.validation.runs.beam import MODELS, prepare_out
+from lcefem.validation.runs.beam import MODELS
 
 COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterations [-]"]
 
@@ -69,8 +69,7 @@ class RibbonConfig:
     path: PathOptions = field(default_factory=lambda: studies.RIBBON_PATH)
 
     def validated(self) -> "RibbonConfig":
-        for f in dataclasses.fields(self):
-            check(getattr(self, f.name), f.name)
+        check_config(self)
         self.specimen.checked()
         self.mesh.checked()
         return self
@@ -80,13 +79,7 @@ class RibbonConfig:
         return studies.BarHingeMaterials(kapton=self.kapton)
 
     def resolved(self) -> dict:
-        return {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)}
-
-
-def config_from_toml(path, base: RibbonConfig = RibbonConfig()) -> RibbonConfig:
-    data = load_toml(path, {f.name for f in dataclasses.fields(RibbonConfig)})
-    return dataclasses.replace(base, **{name: with_overrides(getattr(base, name), table, name)
-                                        for name, table in data.items()})
+        return resolved(self)
 
 
 def closed_forms(cfg: RibbonConfig) -> dict[str, float]:
@@ -104,59 +97,28 @@ def closed_forms(cfg: RibbonConfig) -> dict[str, float]:
 def run_ribbon(config: RibbonConfig, out: pathlib.Path, progress: bool = True) -> dict:
     """Run the bar-and-hinge buckling test and write its outputs; returns the summary."""
     cfg = config.validated()
-    out = prepare_out(out)
+    out = pathlib.Path(out)
     setup = studies.setup_ribbon(cfg.run.compression, cfg.specimen, cfg.mesh, cfg.materials)
     model, length = setup.model, cfg.specimen.length
-    vtk = BarHingeVTK(out, "ribbon", setup.structure)
-    history = CSVHistory(out / "history.csv", COLUMNS)
-    holder: dict = {}
 
-    def on_step(state) -> None:
+    def row(state) -> dict:
         c = state.t * cfg.run.compression
-        history.append({"compression [-]": c, "end shortening [mm]": c * length,
-                        "force [N]": setup.force(state), "newton iterations [-]": state.iterations})
-        vtk.write(state.t, state.x, model.bar_forces(state.x))
-        holder["last"] = state
+        return {"compression [-]": c, "end shortening [mm]": c * length, "force [N]": setup.force(state),
+                "newton iterations [-]": state.iterations}
 
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=100 * cfg.run.compression, desc="ribbon buckling", unit="%",
-                   bar_format="{l_bar}{bar}| {n:.1f}/{total:.0f} % [{elapsed}<{remaining}]",
-                   file=sys.stderr)
-
-    def advance(t: float) -> None:
-        if bar is not None:
-            bar.update(100 * t * cfg.run.compression - bar.n)
-
+    bar = Progress(100 * cfg.run.compression, "ribbon buckling", "%", enabled=progress)
     started = time.perf_counter()
-    try:
-        solution = studies.solve_ribbon_buckling(newton_options=cfg.solver, path=cfg.path,
-                                                 on_step=on_step, progress=advance, setup=setup)
-    except ConvergenceError as exc:
-        if bar is not None:
-            bar.close()
-        last = holder.get("last")
-        if last is not None:
-            vtk.write_single(out / "last_converged.vtp", last.x, model.bar_forces(last.x))
-        vtk.finalize(complete=False)
-        history.finalize(complete=False)
-        write_json(out / "failure.json", {
-            "status": "failed", "where": exc.where, "reason": exc.reason,
-            "last_converged_compression [-]": None if last is None else last.t * cfg.run.compression,
-            "note": "history.partial.csv and ribbon_steps.partial/ hold the converged steps; "
-                    "last_converged.vtp the last one", "config": cfg.resolved()})
-        raise
-    except BaseException:
-        if bar is not None:
-            bar.close()
-        raise
-    if bar is not None:
-        bar.close()
+    with bar_hinge_run(out, "ribbon", setup.structure, model, config=cfg.resolved(), columns=COLUMNS,
+                       row=row, progress=bar) as (run, on_step):
+        solution = studies.solve_ribbon_buckling(
+            newton_options=cfg.solver, path=cfg.path, on_step=on_step,
+            progress=lambda t: bar.to(100 * t * cfg.run.compression), setup=setup)
+        return run.complete(_bar_hinge_results(cfg, out, solution, model, started))
+
+
+def _bar_hinge_results(cfg, out, solution, model, started) -> dict:
     p_cr, shortening_cr = studies.critical_load(cfg.specimen, cfg.mesh, cfg.materials)
     wall = time.perf_counter() - started
-    vtk.finalize()
-    history.finalize()
     measured = reference("ribbon.buckling_load")
     euler = closed_forms(cfg)
     compression, force = solution.compression, solution.force
@@ -173,8 +135,8 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path, progress: bool = True) -
                 *(plots.Line(v, f"{k} = {v:.3f} N", "closed form") for k, v in euler.items())],
         title="Fixed-fixed Kapton ribbon 36 x 7 x 0.127 mm", sources=src)
     final_ratio = float(force[-1] / p_cr)
-    summary = {
-        "status": "completed", "model": "bar-hinge", "config": cfg.resolved(),
+    return {
+        "model": "bar-hinge",
         "results": {
             "critical load [N]": p_cr, "critical end shortening [mm]": shortening_cr,
             "measured critical load [N]": measured.value,
@@ -189,8 +151,6 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path, progress: bool = True) -
         "newton_iterations": int(sum(solution.path.newton_iterations)),
         "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
     }
-    write_json(out / "summary.json", summary)
-    return summary
 
 
 # -- FE model ------------------------------------------------------------------------------------
@@ -212,14 +172,13 @@ def _fe_config_class():
         path: beam_fe.RibbonFEPath = field(default_factory=beam_fe.RibbonFEPath)
 
         def validated(self):
-            for f in dataclasses.fields(self):
-                check(getattr(self, f.name), f.name)
+            check_config(self)
             self.specimen.checked()
             self.mesh.checked()
             return self
 
         def resolved(self) -> dict:
-            return {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)}
+            return resolved(self)
 
     return RibbonFEConfig
 
@@ -243,49 +202,30 @@ def run_ribbon_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
     from lcefem.validation import beam_fe
 
     cfg = cfg.validated()
-    out = prepare_out(out)
+    out = pathlib.Path(out)
     started = time.perf_counter()
     model = beam_fe.RibbonFE(cfg.specimen, cfg.mesh, cfg.kapton)
     critical = model.critical_load()
     length = cfg.specimen.length
     model.add_imperfection(critical.mode, cfg.path.imperfection * length)
     schedule = model.compression_schedule(critical.shortening / length, cfg.run.compression, cfg.path)
-    history = CSVHistory(out / "history.csv", FE_COLUMNS)
-    fields = FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=100 * cfg.run.compression, desc="ribbon buckling (FE)", unit="%",
-                   bar_format="{l_bar}{bar}| {n:.1f}/{total:.0f} % [{elapsed}<{remaining}]",
-                   file=sys.stderr)
+    bar = Progress(100 * cfg.run.compression, "ribbon buckling (FE)", "%", enabled=progress)
+    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
+        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
 
-    def on_step(c: float, its: int) -> None:
-        history.append({"compression [-]": c, "end shortening [mm]": c * length, "force [N]": model.force(),
-                        "mid-span deflection [mm]": model.mid_deflection(), "newton iterations [-]": its})
-        fields.write(c)
-        if bar is not None:
-            bar.update(100 * c - bar.n)
+        def on_step(c: float, its: int) -> None:
+            run.record({"compression [-]": c, "end shortening [mm]": c * length, "force [N]": model.force(),
+                        "mid-span deflection [mm]": model.mid_deflection(), "newton iterations [-]": its},
+                       where=f"compression {c:.4g}", at=100 * c)
+            fields.write(c)
 
-    on_step(0.0, 0)
-    try:
+        on_step(0.0, 0)
         follower = model.follow(schedule, on_step=on_step)
-    except ConvergenceError as exc:
-        if bar is not None:
-            bar.close()
-        fields.finalize(complete=False)
-        history.finalize(complete=False)
-        write_json(out / "failure.json", {"status": "failed", "where": exc.where, "reason": exc.reason,
-                                          "config": cfg.resolved()})
-        raise
-    except BaseException:
-        if bar is not None:
-            bar.close()
-        raise
-    if bar is not None:
-        bar.close()
+        return run.complete(_fe_results(cfg, out, model, critical, run.history, schedule, follower, started))
+
+
+def _fe_results(cfg, out, model, critical, history, schedule, follower, started) -> dict:
     wall = time.perf_counter() - started
-    fields.finalize()
-    history.finalize()
     measured = reference("ribbon.buckling_load")
     closed = fe_closed_forms(cfg.specimen, cfg.kapton.youngs_modulus, cfg.kapton.poisson_ratio,
                              measured.value)
@@ -306,8 +246,8 @@ def run_ribbon_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
         title="Fixed-fixed Kapton ribbon 36 x 7 x 0.127 mm (3D FE)",
         sources=[measured.cite, "Euler: 4 pi^2 EI/L^2, fixed-fixed", "elastica: Timoshenko & Gere 1961"])
     at = {p: float(np.interp(p, c, f)) for p in (0.1, 0.25, 0.5) if p <= c[-1] + 1e-12}
-    summary = {
-        "status": "completed", "model": "fe", "config": cfg.resolved(),
+    return {
+        "model": "fe",
         "results": {
             "critical load [N]": critical.force, "critical end shortening [mm]": critical.shortening,
             "measured critical load [N]": measured.value, **closed,
@@ -319,20 +259,12 @@ def run_ribbon_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
         "dofs": model.ndofs, "increments": len(schedule), "newton_iterations": follower.iterations,
         "cut_steps": follower.cuts, "wall_time [s]": wall,
     }
-    write_json(out / "summary.json", summary)
-    return summary
 
 
 def fe_config_from_args(args: argparse.Namespace):
-    cls = _fe_config_class()
-    base = cls()
-    data = load_toml(args.config, {f.name for f in dataclasses.fields(cls)})
-    cfg = dataclasses.replace(base, **{name: with_overrides(getattr(base, name), table, name)
-                                       for name, table in data.items()})
-    run = {"compression": args.compression} if args.compression is not None else {}
-    mesh = {"level": args.mesh_level} if args.mesh_level is not None else {}
-    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"),
-                               mesh=with_overrides(cfg.mesh, mesh, "mesh"))
+    cfg = config_from_toml(args.config, _fe_config_class()())
+    cfg = override(cfg, "run", compression=args.compression)
+    return override(cfg, "mesh", level=args.mesh_level)
 
 
 # -- command line -------------------------------------------------------------------------------
@@ -345,21 +277,32 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
         f.name for f in dataclasses.fields(RibbonConfig)) + " (bar-hinge); run, specimen, mesh, kapton, "
         "path (fe)")
-    p.add_argument("--out", default="results/ribbon-buckling",
-                   help="output folder (default results/ribbon-buckling)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_out_arguments(p, "results/ribbon-buckling")
 
 
 def config_from_args(args: argparse.Namespace) -> RibbonConfig:
-    cfg = config_from_toml(args.config)
-    run = {"compression": args.compression} if args.compression is not None else {}
-    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"))
+    return override(config_from_toml(args.config, RibbonConfig()), "run", compression=args.compression)
+
+
+def PARALLEL(args: argparse.Namespace) -> bool:  # noqa: N802  (the command line's flag, per model)
+    """The bar-and-hinge model is serial (numpy/scipy): under mpiexec every rank would write the same
+    files."""
+    return args.model == "fe"
+
+
+def prepare(args: argparse.Namespace):
+    """The validated configuration of the chosen model (before the output folder is touched)."""
+    if args.model == "fe":
+        return fe_config_from_args(args).validated()
+    if getattr(args, "mesh_level", None) is not None:
+        raise InputError("--mesh-level: only with --model fe")
+    return config_from_args(args).validated()
 
 
 def main(args: argparse.Namespace) -> int:
+    cfg = args.prepared
     if args.model == "fe":
-        cfg = fe_config_from_args(args)
-        summary = run_ribbon_fe(cfg, pathlib.Path(args.out), progress=not args.quiet)
+        summary = run_ribbon_fe(cfg, args.out, progress=not args.quiet)
         r = summary["results"]
         print(f"lcefem: ribbon buckling (fe, {summary['dofs']} DOFs): critical load "
               f"{r['critical load [N]']:.4f} N (measured {r['measured critical load [N]']:g} N; Euler E I "
@@ -368,10 +311,7 @@ def main(args: argparse.Namespace) -> int:
               f"{100 * r['final compression [-]']:.0f} % compression {r['force at final compression [N]']:.4f} N; "
               f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
         return 0
-    if getattr(args, "mesh_level", None) is not None:
-        raise InputError("--mesh-level: only with --model fe")
-    cfg = config_from_args(args)
-    summary = run_ribbon(cfg, pathlib.Path(args.out), progress=not args.quiet)
+    summary = run_ribbon(cfg, args.out, progress=not args.quiet)
     r = summary["results"]
     print(f"lcefem: ribbon buckling ({args.model}): critical load {r['critical load [N]']:.4f} N "
           f"(measured {r['measured critical load [N]']:g} N; Euler E I "

@@ -17,7 +17,6 @@ import argparse
 import dataclasses
 import math
 import pathlib
-import sys
 import time
 from dataclasses import dataclass, field
 
@@ -34,12 +33,14 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition, spontaneous_stretch
-from lcefem.models.parameters import check, describe, param, with_overrides
-from lcefem.solvers.exports import FieldExport, HistoryCSV, write_json
+from lcefem.models.limits import MAX_CURRENT
+from lcefem.models.parameters import param
+from lcefem.solvers.exports import FieldExport
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure
 from lcefem.solvers.thermomechanics import LCERegion, ThermoMechanicalModel
-from lcefem.validation.config import load_toml
+from lcefem.solvers.run import Progress, Run, add_out_arguments, check_config, resolved
+from lcefem.validation.config import config_from_toml, override
 
 COLUMNS = ["time [s]", "T_mean [C]", "T_max [C]", "T_surface [C]", "stretch [-]", "force [N]",
            "end_area_ratio [-]", "newton_iterations [-]", "step_cuts [-]"]
@@ -51,7 +52,7 @@ class StripRun:
     """What the experimenter sets: current, duration, boundary condition."""
 
     current: float = param(0.2, "A", "seed 001: 0.1, 0.15, 0.2 A transients; 0.04-0.09 A hold currents",
-                           minimum=0.0)
+                           minimum=0.0, maximum=MAX_CURRENT)
     duration: float = param(30.0, "s", "seed 001: 0.2 A kept under 30 s", positive=True)
     dt: float = param(0.5, "s", "chosen: time step (backward Euler)", positive=True)
     bc: str = param("free", "-", "'free' (one end clamped, other free) or 'held' (both ends clamped "
@@ -75,9 +76,7 @@ class StripConfig:
     petsc: dict = field(default_factory=dict)
 
     def validated(self) -> "StripConfig":
-        for f in dataclasses.fields(self):
-            if f.name != "petsc":
-                check(getattr(self, f.name), f.name)
+        check_config(self)
         if self.run.bc not in BOUNDARY_CONDITIONS:
             raise InputError(f"run.bc = {self.run.bc!r}: allowed {', '.join(BOUNDARY_CONDITIONS)}")
         if self.run.dt > self.run.duration:
@@ -89,22 +88,7 @@ class StripConfig:
         return self
 
     def resolved(self) -> dict:
-        out = {f.name: describe(getattr(self, f.name)) for f in dataclasses.fields(self)
-               if f.name != "petsc"}
-        out["petsc"] = dict(self.petsc)
-        return out
-
-
-def config_from_toml(path, base: StripConfig = StripConfig()) -> StripConfig:
-    sections = {f.name for f in dataclasses.fields(StripConfig)}
-    data = load_toml(path, sections)
-    changes = {}
-    for name, table in data.items():
-        if name == "petsc":
-            changes[name] = {str(k): str(v) for k, v in table.items()}
-        else:
-            changes[name] = with_overrides(getattr(base, name), table, name)
-    return dataclasses.replace(base, **changes)
+        return resolved(self)
 
 
 @dataclass
@@ -249,121 +233,57 @@ class StripSimulation:
     # -- time loop --------------------------------------------------------------------------
     def run(self, out: pathlib.Path | None = None, progress: bool = True, fields: bool = True) -> StripResult:
         cfg = self.config
-        comm = self.comm
+        bar = Progress(cfg.run.duration, f"strip {cfg.run.current:g} A {cfg.run.bc}", "s",
+                       enabled=progress and not cfg.run.steady, comm=self.comm)
+        started = time.perf_counter()
+        with Run(out, config=cfg.resolved(), columns=COLUMNS, progress=bar, comm=self.comm) as run:
+            exports = []
+            if out is not None and fields:
+                exports = [run.output(FieldExport(out / "thermal.bp", [self.model.heat.T, self.lambda_s],
+                                                  self.comm)),
+                           run.output(FieldExport(out / "displacement.bp", [self.model.u], self.comm))]
+
+            def record(row, step, where):
+                run.record(row, where, at=min(row["time [s]"], cfg.run.duration),
+                           postfix=f"T_mean={row['T_mean [C]']:.1f}C stretch={row['stretch [-]']:.4f} "
+                                   f"F={row['force [N]']:.3f}N")
+                if exports and step % cfg.run.output_every == 0:
+                    self.lambda_s.interpolate(self._lambda_expr)
+                    for e in exports:
+                        e.write(row["time [s]"] if math.isfinite(row["time [s]"]) else 0.0)
+
+            summary = {"power [mW]": self.power, "mesh": self._mesh_summary()}
+            if cfg.run.steady:
+                obs = self.steady_state()
+                record(obs, 0, "steady state")
+                summary["steady_state"] = obs
+            else:
+                summary.update(self._transient(record))
+            summary["wall_time [s]"] = time.perf_counter() - started
+            summary = run.complete(summary)
+        return StripResult(run.history.as_arrays(), summary, out, self.model)
+
+    def _transient(self, record) -> dict:
+        """Backward-Euler steps to run.duration; returns the summary entries of a transient."""
+        cfg = self.config
         n_steps = max(1, int(math.ceil(cfg.run.duration / cfg.run.dt - 1e-9)))
         dt = cfg.run.duration / n_steps
-        history = HistoryCSV(out / "history.csv", COLUMNS, comm) if out is not None else None
-        rows: list[dict] = []
-        exports = []
-        if out is not None and fields:
-            exports = [FieldExport(out / "thermal.bp", [self.model.heat.T, self.lambda_s], comm),
-                       FieldExport(out / "displacement.bp", [self.model.u], comm)]
-        started = time.perf_counter()
+        # Initial state (a tip load, if any, is applied before heating).
+        rep = self.model.equilibrate(where="t = 0 s (initial load)") if cfg.run.tip_load else None
+        rows = [self.observe(0.0, rep.iterations if rep else 0, rep.cuts if rep else 0)]
+        record(rows[-1], 0, "t = 0 s")
         total_its = 0
-        t = 0.0
-
-        def record(row, step):
-            rows.append(row)
-            if history is not None:
-                history.append(row)
-            if exports and step % cfg.run.output_every == 0:
-                self.lambda_s.interpolate(self._lambda_expr)
-                for e in exports:
-                    e.write(row["time [s]"])
-
-        if cfg.run.steady:
-            return self._run_steady(out, history, exports, record, started)
-        bar = None
-        if progress and comm.rank == 0:
-            from tqdm import tqdm
-            bar = tqdm(total=cfg.run.duration, unit="s", desc=f"strip {cfg.run.current:g} A {cfg.run.bc}",
-                       bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s [{elapsed}<{remaining}{postfix}]",
-                       file=sys.stderr)
-        try:
-            # Initial state (a tip load, if any, is applied before heating).
-            rep = self.model.equilibrate(where="t = 0 s (initial load)") if cfg.run.tip_load else None
-            record(self.observe(0.0, rep.iterations if rep else 0, rep.cuts if rep else 0), 0)
-            for step in range(1, n_steps + 1):
-                t = step * dt
-                rep = self.model.step(dt, where=f"t = {t:.4g} s")
-                total_its += rep.iterations
-                row = self.observe(t, rep.iterations, rep.cuts)
-                record(row, step)
-                if bar is not None:
-                    bar.update(dt)
-                    bar.set_postfix_str(f"T_mean={row['T_mean [C]']:.1f}C stretch={row['stretch [-]']:.4f} "
-                                        f"F={row['force [N]']:.3f}N", refresh=False)
-        except ConvergenceError as exc:
-            if bar is not None:
-                bar.close()
-            hist = _as_arrays(rows)
-            if out is not None:
-                for e in exports:
-                    e.finalize(complete=False)
-                history.finalize(complete=False)
-                write_json(out / "failure.json", {
-                    "status": "failed", "where": exc.where, "reason": exc.reason,
-                    "last_converged_time [s]": float(hist["time [s]"][-1]) if rows else None,
-                    "note": "history.partial.csv and *.partial.bp hold the converged steps",
-                    "config": cfg.resolved()}, comm)
-            raise
-        except BaseException:
-            if bar is not None:
-                bar.close()
-            raise  # interrupted: outputs keep their .part names
-        if bar is not None:
-            bar.close()
-        wall = time.perf_counter() - started
-        hist = _as_arrays(rows)
-        summary = {
-            "status": "completed",
-            "config": cfg.resolved(),
-            "power [mW]": self.power,
-            "mesh": self._mesh_summary(),
-            "as_built": {k: self.dims[k] for k in ("length", "width", "thickness", "coil_side",
-                                                    "length_isotropic", "lambda_N")},
-            "metrics": transient_metrics(hist, cfg.transition),
-            "steps": n_steps, "dt [s]": dt, "newton_iterations": total_its,
-            "wall_time [s]": wall,
-        }
-        if out is not None:
-            for e in exports:
-                e.finalize()
-            history.finalize()
-            write_json(out / "summary.json", summary, comm)
-        return StripResult(hist, summary, out, self.model)
-
-
-    def _run_steady(self, out, history, exports, record, started) -> StripResult:
-        """Steady state at the set current; history.csv holds one row with time = inf."""
-        rows = []
-        try:
-            obs = self.steady_state()
-        except ConvergenceError as exc:
-            if out is not None:
-                for e in exports:
-                    e.finalize(complete=False)
-                history.finalize(complete=False)
-                write_json(out / "failure.json", {"status": "failed", "where": exc.where,
-                                                  "reason": exc.reason, "config": self.config.resolved()},
-                           self.comm)
-            raise
-        rows.append(obs)
-        if history is not None:
-            history.append(obs)
-        if exports:
-            self.lambda_s.interpolate(self._lambda_expr)
-            for e in exports:
-                e.write(0.0)
-        summary = {"status": "completed", "config": self.config.resolved(), "power [mW]": self.power,
-                   "mesh": self._mesh_summary(), "steady_state": obs,
-                   "wall_time [s]": time.perf_counter() - started}
-        if out is not None:
-            for e in exports:
-                e.finalize()
-            history.finalize()
-            write_json(out / "summary.json", summary, self.comm)
-        return StripResult(_as_arrays(rows), summary, out, self.model)
+        for step in range(1, n_steps + 1):
+            t = step * dt
+            where = f"t = {t:.4g} s"
+            rep = self.model.step(dt, where=where)
+            total_its += rep.iterations
+            rows.append(self.observe(t, rep.iterations, rep.cuts))
+            record(rows[-1], step, where)
+        return {"as_built": {k: self.dims[k] for k in ("length", "width", "thickness", "coil_side",
+                                                        "length_isotropic", "lambda_N")},
+                "metrics": transient_metrics(_as_arrays(rows), cfg.transition),
+                "steps": n_steps, "dt [s]": dt, "newton_iterations": total_its}
 
     def _mesh_summary(self) -> dict:
         return {"cells": self.tmesh.mesh.topology.index_map(3).size_global,
@@ -419,14 +339,8 @@ def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransit
 def run_strip(config: StripConfig, out: pathlib.Path | None = None, progress: bool = True,
               fields: bool = True, comm: MPI.Comm = MPI.COMM_WORLD) -> StripResult:
     """Build and run one strip simulation (see module docstring)."""
-    if out is not None:
-        out = pathlib.Path(out)
-        if out.exists() and not out.is_dir():
-            raise InputError(f"out = {str(out)!r}: exists and is not a directory")
-        if comm.rank == 0:
-            out.mkdir(parents=True, exist_ok=True)
-        comm.barrier()
-    return StripSimulation(config, comm).run(out, progress=progress, fields=fields)
+    return StripSimulation(config, comm).run(None if out is None else pathlib.Path(out), progress=progress,
+                                             fields=fields)
 
 
 # -- command line -------------------------------------------------------------------------------
@@ -445,29 +359,27 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--resistance", type=float, help=f"coil resistance [ohm] (default {Coil().resistance:g})")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
         f.name for f in dataclasses.fields(StripConfig)))
-    p.add_argument("--out", default="results/strip", help="output folder (default results/strip)")
     p.add_argument("--no-fields", action="store_true", help="skip the VTX field files")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_out_arguments(p, "results/strip")
 
 
 def config_from_args(args: argparse.Namespace) -> StripConfig:
-    cfg = config_from_toml(args.config)
-    run = {k: v for k, v in {"current": args.current, "duration": args.duration, "dt": args.dt,
-                             "bc": args.bc, "tip_load": args.tip_load, "steady": args.steady}.items()
-           if v is not None}
-    mesh = {k: v for k, v in {"level": args.mesh_level, "size": args.mesh_size, "cell": args.cell,
-                              "symmetry": args.symmetry}.items() if v is not None}
-    coil = {"resistance": args.resistance} if args.resistance is not None else {}
-    return dataclasses.replace(cfg, run=with_overrides(cfg.run, run, "run"),
-                               mesh=with_overrides(cfg.mesh, mesh, "mesh"),
-                               coil=with_overrides(cfg.coil, coil, "coil"))
+    cfg = config_from_toml(args.config, StripConfig())
+    cfg = override(cfg, "run", current=args.current, duration=args.duration, dt=args.dt, bc=args.bc,
+                   tip_load=args.tip_load, steady=args.steady)
+    cfg = override(cfg, "mesh", level=args.mesh_level, size=args.mesh_size, cell=args.cell,
+                   symmetry=args.symmetry)
+    return override(cfg, "coil", resistance=args.resistance)
+
+
+def prepare(args: argparse.Namespace) -> StripConfig:
+    """The validated configuration (before the output folder is touched)."""
+    return config_from_args(args).validated()
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.current is not None and args.current < 0:
-        raise InputError(f"--current = {args.current} A: must be >= 0 A")
-    cfg = config_from_args(args)
-    result = run_strip(cfg, pathlib.Path(args.out), progress=not args.quiet, fields=not args.no_fields)
+    cfg = args.prepared
+    result = run_strip(cfg, args.out, progress=not args.quiet, fields=not args.no_fields)
     if MPI.COMM_WORLD.rank == 0 and cfg.run.steady:
         obs = result.summary["steady_state"]
         print(f"lcefem: strip {cfg.run.current:g} A ({cfg.run.bc}) steady state: stretch "

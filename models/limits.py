@@ -1,0 +1,25 @@
+"""Physical limits every input and every result must respect (checked by lcefem.solvers.run).
+
+Beyond them the models describe nothing real: a run is refused (inputs, exit 2) or stopped
+(results, exit 3) with the field named.
+"""
+
+#: Absolute zero [C].
+ABSOLUTE_ZERO = -273.15
+
+#: Highest temperature [C] any of our bodies survives: the LCE. Assumption: acrylate-based LCE
+#: networks (RM257 thiol-acrylate, as in seed 001) start losing mass in thermogravimetric analysis at
+#: about 300 C (5 % mass loss typically 300-350 C), and they are the first material of the robots to
+#: decompose (Kapton HN is rated for continuous use up to 400 C, DuPont datasheet). Not measured for
+#: the seed's material; the transition ends near 90 C, so every experiment stays far below.
+DECOMPOSITION_TEMPERATURE = 300.0
+
+#: Largest coil current [A]: 5 x 0.2 A, the largest current of seed 001's experiments (kept under
+#: 30 s there to avoid overheating). At 1 A the Joule power (I^2 R, ~147 W per strip at 146.6 ohm)
+#: is 25 times the 0.2 A power and drives the coil past the decomposition temperature within about a
+#: second, which the result check then reports; larger currents are typing errors, not experiments.
+MAX_CURRENT = 1.0
+
+#: Longest simulated heating time [s]: an hour, far beyond the strips' thermal time constant (about
+#: 10 s, seed 001) and the ribbon's rolling demonstrations (about a minute).
+MAX_DURATION = 3600.0
