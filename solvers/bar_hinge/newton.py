@@ -252,12 +252,20 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             energy, grad, coo = model.evaluate(x)
             residual = float(np.linalg.norm(grad[free]))
             continue
-        # The energy cannot resolve the step: accept the full step if the residual drops.
-        trial[free] = x[free] + step
-        e_new, g_new, coo_new = model.evaluate(trial)
-        r_new = float(np.linalg.norm(g_new[free]))
-        if math.isfinite(r_new) and r_new < residual:
-            x, energy, grad, coo, residual = trial, e_new, g_new, coo_new, r_new
+        # The energy cannot resolve the step: backtrack on the residual instead (near a kink of the
+        # tangent, e.g. a contact switching on, the full step can overshoot while a part of it helps).
+        reduced_step = False
+        alpha = 1.0
+        for _ in range(12):
+            trial[free] = x[free] + alpha * step
+            e_new, g_new, coo_new = model.evaluate(trial)
+            r_new = float(np.linalg.norm(g_new[free]))
+            if math.isfinite(r_new) and r_new < residual:
+                x, energy, grad, coo, residual = trial, e_new, g_new, coo_new, r_new
+                reduced_step = True
+                break
+            alpha *= 0.5
+        if reduced_step:
             continue
         if options.inertia_control and negative > 0 and escape():
             continue
