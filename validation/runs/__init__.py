@@ -11,4 +11,5 @@ RUN_TARGETS = {
     "strip": "lcefem.validation.runs.strip",
     "beam": "lcefem.validation.runs.beam",
     "ribbon-buckling": "lcefem.validation.runs.ribbon_buckling",
+    "gridshell": "lcefem.validation.runs.gridshell",
 }
