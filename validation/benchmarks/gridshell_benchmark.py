@@ -1,0 +1,93 @@
+"""Wall time of the 3 x 3 gridshell (bar-and-hinge) per shape: the paper's four Fig. 4 shapes (lambda
+route, paper supports) and the eight published recipes; increments, Newton iterations, failed
+increments, whether the target was reached exactly, centre curvatures (both measures) and z range.
+
+    OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.gridshell_benchmark [--only dome,saddle]
+        [--set shapes|recipes|all] [--json FILE]
+
+Not a test: it prints figures for the report (the published MATLAB/Octave code: 5-27 min per shape,
+300 fixed increments). The machine load matters: run it alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import time
+
+import numpy as np
+
+from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+from lcefem.models.errors import ConvergenceError
+from lcefem.validation import gridshell_bh as gs
+
+
+def run_one(kind: str, name: str) -> dict:
+    t0 = time.perf_counter()
+    structure = build_gridshell_bar_hinge()
+    if kind == "shape":
+        spec = gs.SHAPES[name]
+        targets, support = gs.targets_from_lambdas(structure, spec["lambdas"]), spec["support"]
+    else:
+        recipe, support = gs.RECIPES[name]
+        targets = gs.targets_from_recipe(structure, recipe)
+    setup = gs.setup_gridshell(targets, support, structure=structure)
+    t_setup = time.perf_counter() - t0
+    row = {"kind": kind, "name": name, "support": support, "setup [s]": t_setup}
+    try:
+        sol = gs.solve_gridshell(setup)
+    except ConvergenceError as exc:
+        row.update(converged=False, reason=str(exc), **{"solve [s]": time.perf_counter() - t0 - t_setup})
+        return row
+    x = sol.final.x
+    reached = all(np.array_equal(setup.model.rest_fractions()[g], setup.targets[g])
+                  for g in setup.targets)
+    summ = gs.shape_summary(structure, x)
+    row.update(converged=True, reached=reached, **{"solve [s]": sol.path.seconds},
+               increments=len(sol.path.states) - 1, newton=int(sum(sol.path.newton_iterations)),
+               failed=sol.path.failed_increments,
+               **{k: summ[k] for k in ("circle_x", "circle_y", "quad_kx", "quad_ky", "quad_k1",
+                                        "quad_k2", "rms_residual", "z_range [mm]")})
+    return row
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--set", choices=("shapes", "recipes", "all"), default="all")
+    p.add_argument("--only", help="comma-separated names")
+    p.add_argument("--json", help="also write the rows to this JSON file")
+    args = p.parse_args(argv)
+    jobs = []
+    if args.set in ("shapes", "all"):
+        jobs += [("shape", n) for n in gs.SHAPES]
+    if args.set in ("recipes", "all"):
+        jobs += [("recipe", n) for n in gs.RECIPES]
+    if args.only:
+        keep = set(args.only.split(","))
+        jobs = [j for j in jobs if j[1] in keep]
+    print(f"# gridshell benchmark, {platform.processor() or platform.machine()}, python "
+          f"{platform.python_version()}")
+    print(f"{'kind':7s} {'name':9s} {'support':8s} {'ok':3s} {'reached':7s} {'incr':>4s} {'newton':>6s} "
+          f"{'fail':>4s} {'solve s':>8s} {'circ x':>8s} {'circ y':>8s} {'quad x':>8s} {'quad y':>8s} "
+          f"{'z rng':>6s}", flush=True)
+    rows = []
+    for kind, name in jobs:
+        r = run_one(kind, name)
+        rows.append(r)
+        if r["converged"]:
+            print(f"{kind:7s} {name:9s} {r['support']:8s} yes {str(r['reached']):7s} {r['increments']:4d} "
+                  f"{r['newton']:6d} {r['failed']:4d} {r['solve [s]']:8.1f} {r['circle_x']:8.4f} "
+                  f"{r['circle_y']:8.4f} {r['quad_kx']:8.4f} {r['quad_ky']:8.4f} {r['z_range [mm]']:6.2f}",
+                  flush=True)
+        else:
+            print(f"{kind:7s} {name:9s} {r['support']:8s} NO  ({r['reason']}) {r['solve [s]']:.1f} s",
+                  flush=True)
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(rows, fh, indent=1, default=float)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
