@@ -207,9 +207,11 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                 hinge_rows += strip_contact_rows(nd(last, 0), nd(last, 1), nd(last - 1, 0),
                                                  nd(last - 1, 1), nd(0, 0), nd(0, 1))
                 if m.contact:
-                    a, b, c = nd(0, 0), nd(0, 1), nd(last, 0)
+                    # Both triangles of the strip's (possibly warped) quad, so that the contact is
+                    # the same for the ribbon traversed either way (keeps the grid's symmetries).
+                    tris = [(nd(0, 0), nd(0, 1), nd(last, 0)), (nd(last, 1), nd(last, 0), nd(0, 1))]
                     pts = ribbon_points(direction, r, s, range(1, last), range(per_seg - 1))
-                    structure.add_contacts("bottom_strip_contact", [(p, a, b, c) for p in pts],
+                    structure.add_contacts("bottom_strip_contact", [(p, *t) for p in pts for t in tris],
                                            rest=0.0)
 
     # Raised squares over the junctions, corners (x0,y0), (x1,y0), (x1,y1), (x0,y1).
@@ -226,8 +228,9 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                                             (q[0], q[2]), (q[1], q[3])])
             if m.contact:
                 jp = structure.panels[junction_panel[(ix, iy)]]
-                structure.add_contacts("top_square_contact", [(int(p), jp[0], jp[3], jp[1])
-                                                              for p in q])
+                structure.add_contacts("top_square_contact", [(int(p), *t) for p in q for t in
+                                                              ((jp[0], jp[3], jp[1]),
+                                                               (jp[2], jp[1], jp[3]))])
 
     # Top strips: crown edge of segment j -> square over junction j -> crown edge of segment j + 1.
     for direction in DIRECTIONS:
@@ -256,10 +259,12 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                 if m.contact:
                     pts = ribbon_points(direction, r, j, range(nf + 2, per_seg),
                                         range(nf + 1, per_seg - 1))
-                    structure.add_contacts("top_strip_contact", [(p, left[0], e0, left[1])
-                                                                 for p in pts], rest=0.0)
+                    tris = [(left[0], e0, left[1]), (e1, left[1], e0)]
+                    structure.add_contacts("top_strip_contact", [(p, *t) for p in pts for t in tris],
+                                           rest=0.0)
                     pts = ribbon_points(direction, r, j + 1, range(0, nf), range(0, nf))
-                    structure.add_contacts("top_strip_contact", [(p, x0, right[0], x1) for p in pts],
+                    tris = [(x0, right[0], x1), (right[1], x1, right[0])]
+                    structure.add_contacts("top_strip_contact", [(p, *t) for p in pts for t in tris],
                                            rest=0.0)
 
     if m.strip_contact:
@@ -287,10 +292,11 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     structure.sections["top_strips"] = {"section": g.strip_section}
     structure.sections["glue"] = {"area": g.ribbon_width * g.ribbon_thickness}
     flank = (lx - g.crown_bond_length) / (2 * nf)
-    structure.sections["top_square_contact"] = {"area": 0.25 * g.strip_width * g.junction_length,
+    # As the composite beam's, halved: every point has two contact rows (the two triangles).
+    structure.sections["top_square_contact"] = {"area": 0.125 * g.strip_width * g.junction_length,
                                                 "depth": g.strip_thickness}
     for name in ("bottom_strip_contact", "top_strip_contact"):
-        structure.sections[name] = {"area": 0.5 * g.strip_width * flank, "depth": g.strip_thickness}
+        structure.sections[name] = {"area": 0.25 * g.strip_width * flank, "depth": g.strip_thickness}
 
     groups: dict[str, list[int]] = {}
     for st in strips:

@@ -1,0 +1,87 @@
+"""Gridshell simulations on the one-cell grid (fast): the composite beam, flatness, signs, symmetry,
+and the current route against the lambda route."""
+
+import numpy as np
+import pytest
+
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
+from lcefem.models.lumped_heat import current_for_stretch
+from lcefem.solvers.bar_hinge import NewtonOptions, isostatic_supports
+from lcefem.validation import bar_hinge_studies as studies
+from lcefem.validation import gridshell_bh as gs
+
+ONE = GridshellLayout(ribbons=1)
+
+
+def _solve(lambdas, support="rollers", layout=ONE, tolerance=None):
+    s = build_gridshell_bar_hinge(layout=layout)
+    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, lambdas), support, structure=s)
+    options = gs.GRIDSHELL_NEWTON if tolerance is None else NewtonOptions(force_tolerance=tolerance)
+    return gs.solve_gridshell(setup, newton_options=options)
+
+
+def test_one_cell_grid_reproduces_the_composite_beam():
+    beam = studies.solve_beam(1.33, 1.05, CompositeBeamGeometry(segments=2), path=gs.GRIDSHELL_PATH,
+                              newton_options=gs.GRIDSHELL_NEWTON)
+    s = build_gridshell_bar_hinge(layout=ONE)
+    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, {"Tx": 1.33, "Bx": 1.05}), structure=s)
+    c = s.node_sets["centre_junction"]
+    setup.held = isostatic_supports(c[0], c[3], c[1])  # as the beam: no reactions
+    sol = gs.solve_gridshell(setup)
+    # The y ribbon (as built, stress free) and the LCE square edges across the x strips instead of
+    # the beam's glue bars differ; measured 2e-4 relative.
+    assert -sol.curvatures["circle_x"] == pytest.approx(beam.curvature, rel=1e-3)
+
+
+@pytest.mark.slow
+def test_equal_lambdas_give_a_nearly_flat_symmetric_surface():
+    # The published layout is not symmetric top-bottom (top strips over raised squares, none over the
+    # outer halves of the end segments), so equal lambdas leave a slight bowl: measured 0.0010 (circle)
+    # and 0.0008 1/mm (quadratic fit) at lambda = 1.33; it must stay below 10 % of the paper's dome
+    # (0.017 1/mm), and the shape 4-fold symmetric.
+    sol = _solve({"T": 1.33, "B": 1.33}, layout=GridshellLayout())
+    k = sol.curvatures
+    for name in ("circle_x", "circle_y", "quad_kx", "quad_ky"):
+        assert abs(k[name]) < 0.1 * 0.017, name
+    assert k["circle_x"] == pytest.approx(k["circle_y"], abs=1e-8)
+    assert k["quad_kx"] == pytest.approx(k["quad_ky"], abs=1e-8)
+    assert sol.final.t == 1.0
+
+
+def test_signs_and_four_fold_symmetry_of_a_one_cell_dome():
+    # symmetry to 1e-8 needs equilibrium to better than the default 1e-6 N (~1e-4 mm)
+    dome = _solve({"T": 1.33, "B": 1.05}, tolerance=1e-10)
+    bowl = _solve({"T": 1.05, "B": 1.33})
+    assert dome.curvatures["circle_x"] < 0 and dome.curvatures["circle_y"] < 0  # seed 001: dome negative
+    assert bowl.curvatures["circle_x"] > 0 and bowl.curvatures["circle_y"] > 0
+    assert dome.curvatures["circle_x"] == pytest.approx(dome.curvatures["circle_y"], abs=1e-8)
+    # 4-fold symmetry of the deformed dome about the centre junction's vertical axis
+    s, x = dome.structure, dome.final.x
+    c = s.info["junction_centres_1d"][0]
+    rel = s.nodes - [c, c, 0.0]
+    keys = {tuple(np.round(p, 7)): i for i, p in enumerate(s.nodes)}
+    perm = np.array([keys[tuple(np.round(p, 7))] for p in
+                     np.column_stack([-rel[:, 1], rel[:, 0], rel[:, 2]]) + [c, c, 0.0]])
+    centre = x[s.node_sets["centre_junction"]].mean(axis=0)
+    d = x - centre
+    rotated = np.column_stack([-d[:, 1], d[:, 0], d[:, 2]])
+    np.testing.assert_allclose(rotated, d[perm], atol=1e-8)
+
+
+def test_current_route_reproduces_the_lambda_route():
+    lam = {"Tx": 1.33, "Ty": 1.2, "Bx": 1.05, "By": 1.1}
+    currents = {k: current_for_stretch(v) for k, v in lam.items()}
+    back = gs.lambda_assignments_from_currents(currents)
+    for k in lam:
+        assert back[k] == pytest.approx(lam[k], abs=1e-9)
+    a = _solve(lam)
+    b = _solve(back)
+    np.testing.assert_allclose(a.final.x, b.final.x, atol=1e-6)
+
+
+def test_slack_current_caps_at_the_as_built_length():
+    assert gs.stretch_from_current(0.0) == 1.4
+    assert gs.stretch_from_current(0.2) == pytest.approx(1.0, abs=1e-3)
+    assert gs.stretch_from_current(0.07, gs.CurrentRoute(thermal_model="eq1")) == pytest.approx(1.115,
+                                                                                              abs=1e-3)
