@@ -16,7 +16,8 @@ weight, current_route, solver, path.
 
 Outputs in --out DIR: summary.json (resolved configuration, per-strip lambdas, centre curvatures by
 both measures with their sign convention, z range, increments, Newton iterations, wall time),
-nodes.csv (node id, as-built and final coordinates [mm]), history.csv (one row per converged
+nodes.csv (node id, as-built and final coordinates [mm]), gridshell.png (3D render, junction centres
+marked), history.csv (one row per converged
 increment), gridshell.pvd + gridshell_steps/*.vtp (ParaView: N5B8 ribbon triangles, strip and glue
 bars; displacement, element kind, axial force). Files carry .part names until the run completes; a
 run that stops leaves *.partial.* files, last_converged.vtp and failure.json (exit code 3).
@@ -268,6 +269,9 @@ def run_gridshell(cfg: GridshellConfig, out: pathlib.Path, progress: bool = True
         "newton_iterations": int(sum(solution.path.newton_iterations)),
         "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
     }
+    from lcefem.validation.gridshell_plots import render_gridshell
+    render_gridshell(out / "gridshell.png", structure, x,
+                     f"gridshell {drive.get('shape') or drive.get('recipe') or ''} ({cfg.support})")
     write_json(out / "summary.json", summary)
     return summary
 

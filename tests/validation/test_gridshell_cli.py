@@ -1,0 +1,43 @@
+"""``lcefem run gridshell``: outputs and exit codes (one-cell grid, seconds)."""
+
+import json
+
+import numpy as np
+
+from lcefem.validation.cli import main
+
+
+def test_run_writes_summary_nodes_and_vtk(tmp_path):
+    out = tmp_path / "gs"
+    rc = main(["run", "gridshell", "--ribbons", "1", "--lambda", "T=1.33,B=1.05", "--quiet",
+               "--out", str(out)])
+    assert rc == 0
+    summary = json.loads((out / "summary.json").read_text())
+    r = summary["results"]
+    assert summary["status"] == "completed" and r["target reached exactly"] is True
+    assert r["circle_x"] < 0 and r["circle_y"] < 0  # a dome: negative (seed 001)
+    assert [s["lambda [-]"] for s in summary["strips"]] == [1.05] * 4 + [1.33] * 2
+    nodes = np.loadtxt(out / "nodes.csv", delimiter=",", skiprows=1)
+    assert nodes.shape[1] == 7 and (out / "nodes.csv").read_text().startswith("node id [-],x0 [mm]")
+    assert (out / "gridshell.pvd").is_file() and (out / "gridshell.png").is_file()
+    assert not list(out.glob("*.part"))
+
+
+def test_bad_input_exits_2(tmp_path, capsys):
+    assert main(["run", "gridshell", "--lambda", "Tq=1.2", "--out", str(tmp_path)]) == 2
+    assert "unknown strip selection 'Tq'" in capsys.readouterr().err
+    assert main(["run", "gridshell", "--lambda", "T=1.6", "--out", str(tmp_path)]) == 2
+    assert "lambda = 1.6: must be between 1" in capsys.readouterr().err
+    assert main(["run", "gridshell", "--shape", "dome", "--lambda", "T=1.2", "--out", str(tmp_path)]) == 2
+    assert main(["run", "gridshell", "--current", "Tx=2", "--out", str(tmp_path)]) == 2
+    assert "between 0 and 1 A" in capsys.readouterr().err
+
+
+def test_current_route_from_the_command_line(tmp_path):
+    out = tmp_path / "gc"
+    rc = main(["run", "gridshell", "--ribbons", "1", "--current", "B=0.09,T=0.0", "--quiet",
+               "--out", str(out)])
+    assert rc == 0
+    summary = json.loads((out / "summary.json").read_text())
+    lam = summary["drive"]["lambda (from current)"]
+    assert 1.0 < lam["B"] < 1.2 and lam["T"] == 1.4  # 0.09 A contracts a 25 ohm segment; 0 A: as built

@@ -1,0 +1,78 @@
+"""Figures of the gridshell: an off-screen 3D render of a shape (pyvista) with the junction centres
+marked, and the bar chart of centre curvatures (ours by the lambda and current routes vs the paper's
+simulation and experiment)."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import sys
+from collections.abc import Sequence
+
+import numpy as np
+
+from lcefem.meshes.bar_hinge_structure import BarHingeStructure
+from lcefem.solvers.analysis.curvature import junction_centre_points
+from lcefem.validation.bar_hinge_io import ribbon_triangles
+
+if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+    # headless: as validation/render.py, VTK's EGL window (no X server)
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+
+def render_gridshell(path: pathlib.Path, structure: BarHingeStructure, x: np.ndarray, title: str
+                     ) -> pathlib.Path:
+    """PNG of the deformed ribbons (coloured by height z [mm]), strips as lines (bottom red, top
+    blue) and the junction centres as black spheres."""
+    import pyvista as pv
+
+    x = np.asarray(x, dtype=float).reshape(-1, 3)
+    tri = ribbon_triangles(structure)
+    faces = np.hstack([np.full((tri.shape[0], 1), 3), tri]).ravel()
+    ribbons = pv.PolyData(x, faces=faces)
+    ribbons.point_data["height z [mm]"] = x[:, 2]
+    plotter = pv.Plotter(off_screen=True, window_size=(1000, 750))
+    plotter.add_mesh(ribbons, scalars="height z [mm]", cmap="viridis", show_edges=False)
+    for group, colour in (("bottom_strips", "red"), ("top_strips", "royalblue"), ("glue", "grey")):
+        if group in structure.bars:
+            pairs = structure.bars[group]
+            lines = np.hstack([np.full((pairs.shape[0], 1), 2), pairs]).ravel()
+            plotter.add_mesh(pv.PolyData(x, lines=lines), color=colour, line_width=3)
+    centres = junction_centre_points(structure, x).reshape(-1, 3)
+    plotter.add_mesh(pv.PolyData(centres).glyph(geom=pv.Sphere(radius=2.0), scale=False, orient=False), color="black")
+    plotter.add_text(title, font_size=10)
+    plotter.view_isometric()
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.stem + ".part.png")
+    plotter.screenshot(str(tmp))
+    plotter.close()
+    tmp.replace(path)
+    return path
+
+
+def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[str, dict],
+                        sources: Sequence[str]) -> pathlib.Path:
+    """Grouped bars of kappa_x and kappa_y [1/mm] per shape; ``series`` maps a label to
+    {shape: (kappa_x, kappa_y)} (None for a missing value)."""
+    from matplotlib.figure import Figure
+
+    from lcefem.validation.plots import _footer, _save
+
+    fig = Figure(figsize=(11, 4.5), layout="constrained")
+    axes = fig.subplots(1, 2, sharey=True)
+    width = 0.8 / max(len(series), 1)
+    pos = np.arange(len(shapes))
+    for k, (ax, comp) in enumerate(zip(axes, ("kappa_x", "kappa_y"))):
+        for i, (label, values) in enumerate(series.items()):
+            vals = [values.get(s, (None, None))[k] for s in shapes]
+            vals = [np.nan if v is None else v for v in vals]
+            ax.bar(pos + (i - 0.5 * (len(series) - 1)) * width, vals, width, label=label)
+        ax.set_xticks(pos, shapes)
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.set_title(f"{comp} at the centre junction (dome negative)", fontsize=9)
+        ax.grid(alpha=0.3, axis="y")
+    axes[0].set_ylabel("curvature [1/mm]")
+    axes[1].legend(fontsize=7)
+    _footer(fig, sources)
+    return _save(fig, pathlib.Path(path), 150)
