@@ -1,0 +1,168 @@
+"""Bar-and-hinge cases of the robotic surface (seed 001, Fig. 4 and 5C).
+
+- ``gridshell_shapes_bh``: the four Fig. 4 shapes (table, dome, saddle, cylinder) with the paper's
+  lambdas and its supports (lambda route), and with the paper's currents through our strip model
+  (current route, both thermal models): centre curvatures by both measures against the paper's
+  simulated and measured ones; renders and the bar chart. The quick level runs the same shapes.
+- ``gridshell_recipes_bh``: the eight published recipes with their published supports: converged,
+  reached exactly their targets, increments, Newton iterations, wall time, centre curvatures, z range.
+- ``gridshell_load_bh``: the surface on the table under its own weight, all strips at 0.2 A (fully
+  contracted, lambda = 1), carrying 100 g and then 200 g on a central pad: centre deflection.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+from lcefem.models import units
+from lcefem.models.errors import ConvergenceError
+from lcefem.validation import gridshell_bh as gs
+from lcefem.validation import plots
+from lcefem.validation.cases import CaseContext, Metric, case, write_csv
+from lcefem.validation.gridshell_plots import curvature_bar_chart, render_gridshell
+
+BH = "bar-and-hinge gridshell (lcefem.validation.gridshell_bh)"
+#: Tolerance of our lambda-route curvatures against the paper's simulation: the paper's own
+#: simulation and experiment differ by up to 0.002 1/mm (saddle x) and its numbers are given to
+#: 0.001 1/mm; a model with the same inputs should agree within 0.003 1/mm.
+SIM_TOLERANCE = 0.003
+
+
+def _solve(structure, targets, support):
+    setup = gs.setup_gridshell(targets, support, structure=structure)
+    t0 = time.perf_counter()
+    try:
+        sol = gs.solve_gridshell(setup)
+    except ConvergenceError as exc:
+        return None, time.perf_counter() - t0, str(exc)
+    return sol, time.perf_counter() - t0, ""
+
+
+@case("gridshell_shapes_bh", "Robotic surface, Fig. 4 shapes by lambdas and by currents: centre "
+      "curvatures (circle and quadratic fit) vs the paper's simulation and experiment", fe=False)
+def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
+    name = ctx.case or "gridshell_shapes_bh"
+    metrics: list[Metric] = []
+    rows = {k: [] for k in ("shape", "route", "converged", "circle_x", "circle_y", "quad_kx", "quad_ky",
+                            "z_range", "seconds")}
+    chart = {"ours, lambda route (circle)": {}, "ours, current route (circle)": {},
+             "paper simulation": {}, "paper experiment": {}}
+    routes = [("lambda", None), ("current (segment)", gs.CurrentRoute("segment")),
+              ("current (eq1)", gs.CurrentRoute("eq1"))]
+    for shape, spec in gs.SHAPES.items():
+        chart["paper simulation"][shape] = spec["paper_sim"]
+        chart["paper experiment"][shape] = spec["paper_exp"]
+        for route, current in routes:
+            s = build_gridshell_bar_hinge()
+            if current is None:
+                lambdas = spec["lambdas"]
+            else:
+                lambdas = gs.lambda_assignments_from_currents(spec["currents"], current)
+            sol, secs, why = _solve(s, gs.targets_from_lambdas(s, lambdas), spec["support"])
+            k = sol.curvatures if sol is not None else {}
+            vals = [k.get(c, math.nan) for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")]
+            zr = gs.shape_summary(s, sol.final.x)["z_range [mm]"] if sol is not None else math.nan
+            for key, v in zip(rows, [shape, route, sol is not None, *vals, zr, secs]):
+                rows[key].append(v)
+            if route == "lambda" and sol is not None:
+                chart["ours, lambda route (circle)"][shape] = (vals[0], vals[1])
+                render_gridshell(ctx.path(f"gridshell_{shape}.png"), s, sol.final.x,
+                                 f"{shape}, lambda route ({spec['support']})")
+                ctx.add_figure(ctx.path(f"gridshell_{shape}.png"), plots.caption(
+                    f"The {shape} of Fig. 4 in the bar-and-hinge model (lambdas of seed 001; black: "
+                    "junction centres; red/blue: bottom/top strips).", [gs.SHAPE_SOURCES["lambdas"], BH]))
+            if route == "current (segment)" and sol is not None:
+                chart["ours, current route (circle)"][shape] = (vals[0], vals[1])
+            label = f"{shape} ({route})"
+            if sol is None:
+                metrics.append(Metric(name, f"{label}: converged", 0.0, "-", 1.0, 0.0, False, why))
+                continue
+            sim = spec["paper_sim"]
+            for comp, value, ref in (("kappa_x circle", vals[0], sim[0]), ("kappa_y circle", vals[1], sim[1])):
+                src = gs.SHAPE_SOURCES["curvatures"]
+                if route == "lambda":
+                    metrics.append(Metric.within(name, f"{label}: {comp} vs paper simulation", value,
+                                                 "1/mm", ref, SIM_TOLERANCE, src + "; tolerance: "
+                                                 "sim-exp spread 0.002 + precision 0.001"))
+                else:
+                    metrics.append(Metric.info(name, f"{label}: {comp}", value, "1/mm",
+                                               "informative: the current -> lambda map of a grid "
+                                               "segment is not calibrated on the grid (see README)", ref))
+            metrics.append(Metric.info(name, f"{label}: quadratic-fit kappa_x, kappa_y (mean)",
+                                       0.5 * (vals[2] + vals[3]), "1/mm", BH))
+    write_csv(ctx.path("gridshell_shapes_bh.csv"), {
+        "shape [-]": list(range(len(rows["shape"]))), "converged [-]": [float(c) for c in rows["converged"]],
+        "circle kappa_x [1/mm]": rows["circle_x"], "circle kappa_y [1/mm]": rows["circle_y"],
+        "quad kappa_x [1/mm]": rows["quad_kx"], "quad kappa_y [1/mm]": rows["quad_ky"],
+        "z range [mm]": rows["z_range"], "wall time [s]": rows["seconds"]})
+    png = curvature_bar_chart(ctx.path("gridshell_curvatures.png"), list(gs.SHAPES), chart,
+                              [gs.SHAPE_SOURCES["curvatures"], BH])
+    ctx.add_figure(png, plots.caption("Centre curvatures (dome negative): ours by the lambda and the "
+                                      "current route vs the paper's simulation and experiment. Row "
+                                      "order of the CSV: " + ", ".join(f"{s}/{r}" for s, r in
+                                                                       zip(rows["shape"], rows["route"])),
+                                      [gs.SHAPE_SOURCES["curvatures"], BH]))
+    return metrics
+
+
+@case("gridshell_recipes_bh", "Robotic surface, the eight published recipes with their supports: "
+      "converged to exactly the target, increments, time, centre curvatures", fe=False)
+def gridshell_recipes_bh(ctx: CaseContext) -> list[Metric]:
+    name = ctx.case or "gridshell_recipes_bh"
+    metrics = []
+    for recipe, (p0, support) in gs.RECIPES.items():
+        s = build_gridshell_bar_hinge()
+        setup = gs.setup_gridshell(gs.targets_from_recipe(s, p0), support, structure=s)
+        t0 = time.perf_counter()
+        try:
+            sol = gs.solve_gridshell(setup)
+        except ConvergenceError as exc:
+            metrics.append(Metric(name, f"{recipe}: converged and reached its target", 0.0, "-", 1.0, 0.0,
+                                  False, str(exc)))
+            continue
+        secs = time.perf_counter() - t0
+        reached = all(np.array_equal(setup.model.rest_fractions()[g], setup.targets[g])
+                      for g in setup.targets)
+        metrics.append(Metric.within(name, f"{recipe}: converged and reached its target", float(reached),
+                                     "-", 1.0, 0.0, gs.RECIPE_SOURCE))
+        summ = gs.shape_summary(s, sol.final.x)
+        metrics += [Metric.info(name, f"{recipe}: increments", len(sol.path.states) - 1, "-", BH),
+                    Metric.info(name, f"{recipe}: Newton iterations", sum(sol.path.newton_iterations), "-", BH),
+                    Metric.info(name, f"{recipe}: wall time", secs, "s", BH),
+                    Metric.info(name, f"{recipe}: circle kappa_x", summ["circle_x"], "1/mm", BH),
+                    Metric.info(name, f"{recipe}: circle kappa_y", summ["circle_y"], "1/mm", BH),
+                    Metric.info(name, f"{recipe}: z range", summ["z_range [mm]"], "mm", BH)]
+        render_gridshell(ctx.path(f"recipe_{recipe}.png"), s, sol.final.x, f"recipe {recipe} ({support})")
+        ctx.add_figure(ctx.path(f"recipe_{recipe}.png"), plots.caption(
+            f"Published recipe '{recipe}' with its support ({support}).", [gs.RECIPE_SOURCE, BH]))
+    return metrics
+
+
+@case("gridshell_load_bh", "Robotic surface on the table, all strips at 0.2 A, carrying 100 g and "
+      "200 g on a central pad (Fig. 5C): centre deflection", fe=False)
+def gridshell_load_bh(ctx: CaseContext) -> list[Metric]:
+    name = ctx.case or "gridshell_load_bh"
+    s = build_gridshell_bar_hinge()
+    lambdas = gs.lambda_assignments_from_currents({"T": 0.2, "B": 0.2})
+    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, lambdas), "table", structure=s)
+    src = "seed 001, Fig. 5C: 0.2 A on all strips; a 100 g pad, then 2 x 50 g; 'no notable deformation'"
+    try:
+        sol = gs.solve_gridshell(setup)
+    except ConvergenceError as exc:
+        return [Metric(name, "actuated surface on the table: converged", 0.0, "-", 1.0, 0.0, False, str(exc))]
+    z0 = gs.centre_height(s, sol.final.x)
+    metrics = [Metric.info(name, "centre height, actuated, own weight", z0, "mm", src)]
+    for grams in (100.0, 200.0):
+        try:
+            path = gs.solve_payload(sol, grams * units.GRAM)
+        except ConvergenceError as exc:
+            metrics.append(Metric(name, f"{grams:g} g: converged", 0.0, "-", 1.0, 0.0, False, str(exc)))
+            continue
+        dz = gs.centre_height(s, path.states[-1].x) - z0
+        metrics.append(Metric.info(name, f"centre deflection under {grams:g} g", dz, "mm",
+                                   src + "; informative: 'no notable deformation' is not a number"))
+    return metrics
