@@ -85,3 +85,25 @@ def test_slack_current_caps_at_the_as_built_length():
     assert gs.stretch_from_current(0.2) == pytest.approx(1.0, abs=1e-3)
     assert gs.stretch_from_current(0.07, gs.CurrentRoute(thermal_model="eq1")) == pytest.approx(1.115,
                                                                                               abs=1e-3)
+
+
+def test_weight_and_table_contact():
+    # 33 g (seed 001) under standard gravity, lumped on the nodes; the gradient of the energy with the
+    # dead load and the table contacts matches central finite differences (exact tangents).
+    s = build_gridshell_bar_hinge(layout=ONE)
+    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, {"T": 1.2, "B": 1.1}), "table", structure=s)
+    assert setup.weight.reshape(-1, 3)[:, 2].sum() == pytest.approx(-33e-6 * 9806.65, rel=1e-12)
+    model = setup.model
+    setup.load(1.0)
+    rng = np.random.default_rng(3)
+    x = s.nodes + 0.05 * rng.standard_normal(s.nodes.shape)
+    x[:, 2] -= 0.02  # some table contacts active
+    _, grad, _ = model.evaluate(x)
+    hess = model.hessian(x)
+    d = rng.standard_normal(x.size)
+    h = 1e-6
+    e_p = model.evaluate(x.reshape(-1) + h * d, 1)
+    e_m = model.evaluate(x.reshape(-1) - h * d, 1)
+    assert (e_p[0] - e_m[0]) / (2 * h) == pytest.approx(grad @ d, rel=1e-6)
+    np.testing.assert_allclose((e_p[1] - e_m[1]) / (2 * h), hess @ d, rtol=1e-5,
+                               atol=1e-6 * np.abs(hess @ d).max())
