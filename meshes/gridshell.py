@@ -50,6 +50,7 @@ import numpy as np
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
 from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry,
                                           strip_contact_rows)
+from lcefem.meshes.gridshell_fe import junction_centres
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
@@ -94,12 +95,6 @@ class Strip:
         return f"{'T' if self.layer == 'top' else 'B'}{self.direction}"
 
 
-def junction_centres_1d(geometry: CompositeBeamGeometry, ribbons: int) -> np.ndarray:
-    """Junction centres c_r = L + d/2 + r (L + d) [mm] along either axis."""
-    g = geometry
-    return g.segment_length + 0.5 * g.junction_length + g.pitch * np.arange(ribbons)
-
-
 def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
                               layout: GridshellLayout = GridshellLayout(),
                               mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> BarHingeStructure:
@@ -128,7 +123,7 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     local = np.concatenate([np.linspace(0.0, s_lo, nf + 1), np.linspace(s_hi, lx, nf + 1)])
     per_seg = local.size
     last = per_seg - 1
-    centres = junction_centres_1d(g, n)
+    centres = junction_centres(g, n)
     length = nseg * lx + n * d
 
     # Corner nodes, shared where ribbons cross (junction corners only, all at z = 0).

@@ -32,7 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.models.errors import InputError
-from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties, radiative_film_coefficient
+from lcefem.models.heat import (Coil, GridSegmentCoil, SurfaceExchange, ThermalProperties,
+                                radiative_film_coefficient)
 from lcefem.models.lce import NematicTransition, spontaneous_stretch
 from lcefem.models.parameters import param
 from lcefem.models import units
@@ -42,8 +43,9 @@ from lcefem.models import units
 class HeatedStrip:
     """A coil-heated LCE strip as a lumped body: coil resistance, isotropic length and section."""
 
-    resistance: float = param(25.0, "ohm", "seed 001, Materials and Methods: 'the resistance within "
-                              "each segment of the grid is 25 ohms'", positive=True)
+    resistance: float = param(GridSegmentCoil().resistance, "ohm", "models.heat.GridSegmentCoil: "
+                              "seed 001, 'the resistance within each segment of the grid is 25 ohms'",
+                              positive=True)
     isotropic_length: float = param(30.0 / 1.4, "mm", "published reduced-order model: 30 mm nematic "
                                     "segment at lambda_N = 1.4 (isotropic 21.4 mm)", positive=True)
     width: float = param(5.0, "mm", "seed 001: mould channel 5 mm wide (cast, isotropic)", positive=True)

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
-from lcefem.meshes.gridshell import (GridshellLayout, build_gridshell_bar_hinge, junction_centres_1d,
-                                     resolve_bar_values, select_strips)
+from lcefem.meshes.gridshell import (GridshellLayout, build_gridshell_bar_hinge, resolve_bar_values,
+                                     select_strips)
+from lcefem.meshes.gridshell_fe import junction_centres
 from lcefem.models.errors import InputError
 
 
@@ -24,7 +25,7 @@ def test_counts_follow_the_published_layout(grid):
     assert grid.bars["bottom_strips"].shape[0] == 48  # two bars per strip
     for name, count in {"Bx": 12, "By": 12, "Tx": 9, "Ty": 9, "XD1": 4, "YU3": 3}.items():
         assert len(info["groups"][name]) == count
-    np.testing.assert_allclose(junction_centres_1d(CompositeBeamGeometry(), 3), [33.5, 70.5, 107.5])
+    np.testing.assert_allclose(junction_centres(CompositeBeamGeometry(), 3), [33.5, 70.5, 107.5])
     assert grid.nodes[:, :2].min() == 0.0 and grid.nodes[:, :2].max() == pytest.approx(141.0)
     # every bottom strip is a 30 mm chord, every top strip 11.5 + 7 + 11.5 mm
     np.testing.assert_allclose(grid.bar_lengths("bottom_strips"), 30.0, atol=1e-12)
