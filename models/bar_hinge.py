@@ -446,19 +446,27 @@ def point_plane_gap(x_p, x_a, x_b, x_c, *, derivatives: int = 2):
 def unilateral_contact_element(x_p, x_a, x_b, x_c, rest_gap, stiffness, *, derivatives: int = 2):
     """Penalty energy k <g0 - g>_+^2/2 [mJ] keeping point p at least g0 above the plane (a, b, c)
     (:func:`point_plane_gap`); k [N/mm], g0 [mm]. Returns energy, gradient (n, 12) [N] and Hessian
-    (n, 12, 12) [N/mm] ordered (p, a, b, c)."""
-    out = point_plane_gap(x_p, x_a, x_b, x_c, derivatives=derivatives)
-    g = out if derivatives == 0 else out[0]
+    (n, 12, 12) [N/mm] ordered (p, a, b, c). The derivatives of the gap are evaluated only where the
+    contact is active (g < g0): elsewhere gradient and Hessian are zero (most contacts are open)."""
+    g = point_plane_gap(x_p, x_a, x_b, x_c, derivatives=0)
     pen = np.maximum(rest_gap - g, 0.0)
     energy = 0.5 * stiffness * pen ** 2
     if derivatives == 0:
         return energy
-    grad = (-stiffness * pen)[:, None] * out[1]
+    n = g.shape[0]
+    active = np.flatnonzero(pen > 0)
+    grad = np.zeros((n, 12))
+    hess = np.zeros((n, 12, 12)) if derivatives == 2 else None
+    if active.size:
+        k = np.broadcast_to(np.asarray(stiffness, dtype=float), g.shape)[active]
+        out = point_plane_gap(x_p[active], x_a[active], x_b[active], x_c[active],
+                              derivatives=derivatives)
+        grad[active] = (-k * pen[active])[:, None] * out[1]
+        if derivatives == 2:
+            hess[active] = k[:, None, None] * _outer(out[1], out[1]) \
+                + (-k * pen[active])[:, None, None] * out[2]
     if derivatives == 1:
         return energy, grad
-    active = (pen > 0).astype(float)
-    hess = (stiffness * active)[:, None, None] * _outer(out[1], out[1]) \
-        + (-stiffness * pen)[:, None, None] * out[2]
     return energy, grad, hess
 
 
