@@ -41,3 +41,14 @@ def test_current_route_from_the_command_line(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     lam = summary["drive"]["lambda (from current)"]
     assert 1.0 < lam["B"] < 1.2 and lam["T"] == 1.4  # 0.09 A contracts a 25 ohm segment; 0 A: as built
+
+
+def test_non_convergence_writes_failure_json_and_exits_3(tmp_path):
+    cfg = tmp_path / "case.toml"
+    cfg.write_text("[layout]\nribbons = 1\n[lambda]\nB = 1.05\n[solver]\nmax_iterations = 2\n"
+                   "[path]\ninitial_increment = 1.0\nmax_increment = 1.0\nmin_increment = 0.6\n")
+    out = tmp_path / "fail"
+    assert main(["run", "gridshell", "--config", str(cfg), "--quiet", "--out", str(out)]) == 3
+    failure = json.loads((out / "failure.json").read_text())
+    assert failure["status"] == "failed" and failure["last_converged_load_factor [-]"] == 0.0
+    assert (out / "history.partial.csv").is_file() and not (out / "summary.json").exists()
