@@ -50,5 +50,6 @@ def test_non_convergence_writes_failure_json_and_exits_3(tmp_path):
     out = tmp_path / "fail"
     assert main(["run", "gridshell", "--config", str(cfg), "--quiet", "--out", str(out)]) == 3
     failure = json.loads((out / "failure.json").read_text())
-    assert failure["status"] == "failed" and failure["last_converged_load_factor [-]"] == 0.0
-    assert (out / "history.partial.csv").is_file() and not (out / "summary.json").exists()
+    assert failure["status"] == "failed" and failure["last_converged"]["load factor [-]"] == 0.0
+    assert (out / "history.partial.csv").is_file() and (out / "last_converged.vtp").is_file()
+    assert not (out / "summary.json").exists()

@@ -20,7 +20,8 @@ nodes.csv (node id, as-built and final coordinates [mm]), gridshell.png (3D rend
 marked), history.csv (one row per converged
 increment), gridshell.pvd + gridshell_steps/*.vtp (ParaView: N5B8 ribbon triangles, strip and glue
 bars; displacement, element kind, axial force). Files carry .part names until the run completes; a
-run that stops leaves *.partial.* files, last_converged.vtp and failure.json (exit code 3).
+run that stops leaves *.partial.* files, last_converged.vtp and failure.json (exit code 3), through
+the run skeleton (lcefem.solvers.run.Run).
 """
 
 from __future__ import annotations
@@ -28,7 +29,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import pathlib
-import sys
 import time
 from dataclasses import dataclass, field
 
@@ -41,8 +41,11 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.parameters import check, describe, param, with_overrides
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.validation import gridshell_bh as gs
-from lcefem.validation.bar_hinge_io import BarHingeVTK, CSVHistory, write_json
+from lcefem.solvers.run import Progress, add_out_arguments
+from lcefem.validation.bar_hinge_io import bar_hinge_run
 from lcefem.validation.config import load_toml
+
+PARALLEL = False  # a serial (numpy/scipy) model: ranks would race on one folder
 
 COLUMNS = ["load factor [-]", "circle kappa_x [1/mm]", "circle kappa_y [1/mm]", "quad kappa_x [1/mm]",
            "quad kappa_y [1/mm]", "z range [mm]", "newton iterations [-]"]
@@ -195,85 +198,59 @@ def write_nodes_csv(path: pathlib.Path, reference: np.ndarray, x: np.ndarray) ->
 
 
 def run_gridshell(cfg: GridshellConfig, out: pathlib.Path, progress: bool = True) -> dict:
-    """Run and write the outputs (module docstring); returns the summary."""
+    """Run and write the outputs (module docstring) through the run skeleton; returns the summary."""
     cfg = cfg.validated()
     out = pathlib.Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"out = {str(out)!r}: exists and is not a directory")
-    out.mkdir(parents=True, exist_ok=True)
     structure = build_gridshell_bar_hinge(cfg.geometry, cfg.layout, cfg.mesh)
     targets, drive = strip_targets(cfg, structure)
     setup = gs.setup_gridshell(targets, cfg.support, cfg.geometry, cfg.layout, cfg.mesh, cfg.materials,
                                cfg.weight, structure=structure)
     model = setup.model
-    vtk = BarHingeVTK(out, "gridshell", structure)
-    history = CSVHistory(out / "history.csv", COLUMNS)
-    holder: dict = {}
 
-    def on_step(state) -> None:
+    # the quadratic fit needs >= 6 junctions (3 x 3); a one-cell grid has the circles only
+    quad = cfg.layout.ribbons >= 3
+    columns = [c for c in COLUMNS if quad or not c.startswith("quad")]
+
+    def row(state) -> dict:
         summ = gs.shape_summary(structure, state.x)
-        history.append({"load factor [-]": state.t, "circle kappa_x [1/mm]": summ["circle_x"],
-                        "circle kappa_y [1/mm]": summ["circle_y"],
-                        "quad kappa_x [1/mm]": summ.get("quad_kx", float("nan")),
-                        "quad kappa_y [1/mm]": summ.get("quad_ky", float("nan")),
-                        "z range [mm]": summ["z_range [mm]"], "newton iterations [-]": state.iterations})
-        vtk.write(state.t, state.x, model.bar_forces(state.x))
-        holder["last"] = state
+        values = {"load factor [-]": state.t, "circle kappa_x [1/mm]": summ["circle_x"],
+                  "circle kappa_y [1/mm]": summ["circle_y"], "z range [mm]": summ["z_range [mm]"],
+                  "newton iterations [-]": state.iterations}
+        if quad:
+            values.update({"quad kappa_x [1/mm]": summ["quad_kx"], "quad kappa_y [1/mm]": summ["quad_ky"]})
+        return values
 
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=1.0, desc="gridshell", unit="load", file=sys.stderr,
-                   bar_format="{l_bar}{bar}| {n:.3f}/{total:.0f} [{elapsed}<{remaining}]")
+    bar = Progress(1.0, "gridshell", "load", ".3f", progress)
     started = time.perf_counter()
-    try:
+    with bar_hinge_run(out, "gridshell", structure, model, config=cfg.resolved(), columns=columns,
+                       row=row, progress=bar) as (run, on_step):
         solution = gs.solve_gridshell(setup, newton_options=cfg.solver, path=cfg.path, on_step=on_step,
-                                      progress=(lambda t: bar.update(t - bar.n)) if bar else None)
-    except ConvergenceError as exc:
-        last = holder.get("last")
-        if last is not None:
-            vtk.write_single(out / "last_converged.vtp", last.x, model.bar_forces(last.x))
-        vtk.finalize(complete=False)
-        history.finalize(complete=False)
-        write_json(out / "failure.json", {
-            "status": "failed", "where": exc.where, "reason": exc.reason,
-            "last_converged_load_factor [-]": None if last is None else last.t,
-            "note": "history.partial.csv and gridshell_steps.partial/ hold the converged steps; "
-                    "last_converged.vtp the last one", "config": cfg.resolved()})
-        raise
-    finally:
-        if bar is not None:
-            bar.close()
-    wall = time.perf_counter() - started
-    vtk.finalize()
-    history.finalize()
-    x = solution.final.x
-    write_nodes_csv(out / "nodes.csv", structure.nodes, x)
-    final_fraction = model.rest_fractions()
-    reached = all(np.array_equal(final_fraction[g], setup.targets[g]) for g in setup.targets)
-    lam_n = cfg.lce.lambda_N
-    strips = structure.info["strips"]
-    per_strip = {}
-    for g, ids in structure.info["strip_of_bar"].items():
-        for sid, f in zip(ids, setup.targets[g]):
-            per_strip.setdefault(int(sid), []).append(float(f) * lam_n)
-    summary = {
-        "status": "completed", "model": "bar-hinge gridshell", "drive": drive, "config": cfg.resolved(),
-        "support": cfg.support,
-        "strips": [{"id": s.id, "group": s.group, "channel": s.channel, "midpoint [mm]": s.midpoint,
-                    "lambda [-]": float(np.mean(per_strip[s.id]))} for s in strips],
-        "results": {**gs.shape_summary(structure, x), "sign convention": SIGN,
-                    "target reached exactly": bool(reached)},
-        "dofs": int(model.ndof), "nodes": int(structure.num_nodes),
-        "increments": len(solution.path.states) - 1,
-        "newton_iterations": int(sum(solution.path.newton_iterations)),
-        "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
-    }
-    from lcefem.validation.gridshell_plots import render_gridshell
-    render_gridshell(out / "gridshell.png", structure, x,
-                     f"gridshell {drive.get('shape') or drive.get('recipe') or ''} ({cfg.support})")
-    write_json(out / "summary.json", summary)
-    return summary
+                                      progress=bar.to)
+        wall = time.perf_counter() - started
+        x = solution.final.x
+        write_nodes_csv(out / "nodes.csv", structure.nodes, x)
+        from lcefem.validation.gridshell_plots import render_gridshell
+        render_gridshell(out / "gridshell.png", structure, x,
+                         f"gridshell {drive.get('shape') or drive.get('recipe') or ''} ({cfg.support})")
+        final_fraction = model.rest_fractions()
+        reached = all(np.array_equal(final_fraction[g], setup.targets[g]) for g in setup.targets)
+        lam_n = cfg.lce.lambda_N
+        per_strip: dict[int, list[float]] = {}
+        for g, ids in structure.info["strip_of_bar"].items():
+            for sid, f in zip(ids, setup.targets[g]):
+                per_strip.setdefault(int(sid), []).append(float(f) * lam_n)
+        return run.complete({
+            "model": "bar-hinge gridshell", "drive": drive, "support": cfg.support,
+            "strips": [{"id": s.id, "group": s.group, "channel": s.channel, "midpoint [mm]": s.midpoint,
+                        "lambda [-]": float(np.mean(per_strip[s.id]))}
+                       for s in structure.info["strips"]],
+            "results": {**gs.shape_summary(structure, x), "sign convention": SIGN,
+                        "target reached exactly": bool(reached)},
+            "dofs": int(model.ndof), "nodes": int(structure.num_nodes),
+            "increments": len(solution.path.states) - 1,
+            "newton_iterations": int(sum(solution.path.newton_iterations)),
+            "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
+        })
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -289,8 +266,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
     p.add_argument("--config", help="TOML case file (sections: run, lambda, current, "
                    + ", ".join(GridshellConfig.PARAM_SECTIONS[1:]) + ")")
-    p.add_argument("--out", default="results/gridshell", help="output folder (default results/gridshell)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_out_arguments(p, "results/gridshell")
 
 
 def config_from_args(args: argparse.Namespace) -> GridshellConfig:
@@ -309,8 +285,13 @@ def config_from_args(args: argparse.Namespace) -> GridshellConfig:
     return dataclasses.replace(cfg, **kw)
 
 
+def prepare(args: argparse.Namespace) -> GridshellConfig:
+    """The validated configuration (before the output folder is claimed)."""
+    return config_from_args(args).validated()
+
+
 def main(args: argparse.Namespace) -> int:
-    cfg = config_from_args(args)
+    cfg = args.prepared
     summary = run_gridshell(cfg, pathlib.Path(args.out), progress=not args.quiet)
     r = summary["results"]
     quad = (f", quadratic fit {r['quad_kx']:.4f}/{r['quad_ky']:.4f}" if "quad_kx" in r else "")
