@@ -2,8 +2,10 @@
 
 :class:`CaseResult` is what ``lcefem validate`` keeps per case (and writes, as JSON, to the case's
 completion marker ``DIR/<case>/metrics.json``); :func:`write_report` writes ``DIR/report.md``: the
-command, the software versions, a summary, the table of all metrics with pass/fail, and per case its
-wall time, figures (with captions naming their sources) and errors.
+command, the software versions, a one-screen summary (per case judged rows passed/failed and the worst
+relative error; the known disagreements of ``validation/data/known_disagreements.toml`` met in the
+run, with their explanation), the table of all metrics with pass/fail ("FAIL (known)" for a known
+disagreement), and per case its wall time, figures (with captions naming their sources) and errors.
 """
 
 from __future__ import annotations
@@ -175,7 +177,8 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
     its judged rows against a target, then the known disagreements met in this run."""
     lines = ["## Summary", "",
              "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
-             "target (not a range); * marks a known disagreement.", "",
+             "target (not a range), against experiment, a published fit or a closed form as the row's "
+             "source says; * marks a known disagreement.", "",
              "| case | state | judged | passed | failed (known) | worst error |", "|---|---|---|---|---|---|"]
     met = []
     for res in results:
@@ -194,7 +197,21 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
               "validation/data/known_disagreements.toml):", ""]
     lines += [f"- **{r['case']}: {r['metric']}** = {fmt_number(r['value'])} {r['unit']} vs "
               f"{fmt_reference(r)} (issue {k.issue}): {k.explanation}" for r, k in met] or ["- none"]
+    # A registered disagreement whose row now passes is stale (the model was fixed, or the row renamed):
+    # say so, so the registry does not keep excusing a row that no longer needs it.
+    passed = {(r["case"], r["metric"]) for res in results if res.status in FINISHED for r in res.metrics
+              if r.get("passed") is True}
+    stale = [k for key, k in known_disagreements_registry().items() if key in passed]
+    if stale:
+        lines += ["", "Registered disagreements that pass in this run (remove them from the registry): "
+                  + "; ".join(f"{k.case}: {k.metric}" for k in stale) + "."]
     return lines + [""]
+
+
+def known_disagreements_registry() -> dict:
+    from lcefem.validation.reference_data import known_disagreements
+
+    return known_disagreements()
 
 
 def versions() -> dict[str, str]:

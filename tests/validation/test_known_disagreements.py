@@ -75,3 +75,11 @@ def test_not_judged_prefixes_only_informative_rows_with_a_reference():
                        Metric.info("c", "b", 1.0, "-", "src"),
                        Metric.within("c", "d", 1.0, "-", 1.0, 0.1, "src")], "model vs model")
     assert [m.source for m in rows] == [f"{NOT_JUDGED}model vs model; src", "src", "src"]
+
+
+def test_a_registered_row_that_passes_is_reported_as_stale(monkeypatch):
+    monkeypatch.setattr(rd, "known_disagreements", lambda: {(KNOWN.case, KNOWN.metric): KNOWN})
+    rows = [Metric.within("toy_known", "force vs measured", 0.18, "N", 0.18, 0.018, "s").as_dict()]
+    text = "\n".join(report.summary_lines([report.CaseResult("toy_known", "toy", "done", 1.0, metrics=rows)]))
+    assert "Known disagreements in this run (0;" in text
+    assert "pass in this run (remove them from the registry): toy_known: force vs measured." in text
