@@ -7,20 +7,9 @@ tests/verification/test_verification_cases.py."""
 import pytest
 
 from lcefem.validation.cases import registry
-from lcefem.validation.reference_data import known_disagreements
-from tests.conftest import run_quick_case
+from tests.conftest import assert_failures_known, run_quick_case
 
 CASES = sorted(n for n in registry() if not n.startswith("verification_"))
-
-
-def assert_failures_known(metrics: list[dict]) -> None:
-    """Every failing row is a known disagreement expected at the quick level; the message lists the rest."""
-    assert metrics, "the case returned no metrics"
-    known = known_disagreements()
-    unexplained = [f"{m['metric']}: {m['value']} {m['unit']} vs {m['reference']} +- {m['tolerance']}"
-                   for m in metrics if m["passed"] is False
-                   and getattr(known.get((m["case"], m["metric"])), "level", "full") == "full"]
-    assert not unexplained, "unexplained failures: " + "; ".join(unexplained)
 
 
 @pytest.mark.parametrize("name", CASES)
