@@ -38,6 +38,23 @@ def run_quick_case(name: str, out: pathlib.Path) -> list[dict]:
     return result.metrics
 
 
+def assert_failures_known(metrics: list[dict], level: str = "quick") -> None:
+    """Every failing row is a known disagreement (validation/data/known_disagreements.toml) expected at
+    ``level``: an explained disagreement with experiment passes, an unexplained failure does not."""
+    from lcefem.validation.reference_data import known_disagreements
+
+    assert metrics, "the case returned no metrics"
+    known = known_disagreements()
+
+    def expected(m: dict) -> bool:
+        k = known.get((m["case"], m["metric"]))
+        return k is not None and k.level in (level, "both")
+
+    unexplained = [f"{m['case']}: {m['metric']}: {m['value']} {m['unit']} vs {m['reference']} +- "
+                   f"{m['tolerance']}" for m in metrics if m["passed"] is False and not expected(m)]
+    assert not unexplained, "unexplained failures: " + "; ".join(unexplained)
+
+
 def assert_metrics_pass(metrics: list[dict]) -> None:
     """Every checked metric passes; the message lists the failures with value, reference and tolerance."""
     assert metrics, "the case returned no metrics"

@@ -190,3 +190,34 @@ def reference(key: str, dataset: str = "seed001") -> Reference:
         hint = f"; did you mean: {', '.join(close)}" if close else ""
         raise InputError(f"unknown reference '{key}' in {dataset}{hint}")
     return table[key]
+
+
+@dataclass(frozen=True)
+class KnownDisagreement:
+    """A judged row that fails because the model genuinely disagrees with its reference
+    (``validation/data/known_disagreements.toml``): listed by the report, tolerated by the tests."""
+
+    case: str
+    metric: str  #: exactly as in metrics.json
+    explanation: str
+    issue: int  #: the issue that will fix or decide it
+    level: str  #: quick | full | both: where the row is expected to fail
+
+
+@functools.cache
+def known_disagreements(path: pathlib.Path | None = None) -> dict[tuple[str, str], KnownDisagreement]:
+    """The registry of known disagreements, by (case, metric); a malformed entry raises InputError."""
+    path = DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path)
+    with path.open("rb") as fh:
+        entries = tomllib.load(fh).get("disagreement", [])
+    out: dict[tuple[str, str], KnownDisagreement] = {}
+    for i, e in enumerate(entries):
+        fields = set(KnownDisagreement.__dataclass_fields__)
+        if set(e) != fields or e["level"] not in ("quick", "full", "both") or not e["explanation"].strip():
+            raise InputError(f"{path.name}: entry {i + 1} needs exactly {', '.join(sorted(fields))} "
+                             f"(level quick | full | both, a non-empty explanation); got {', '.join(sorted(e))}")
+        key = (e["case"], e["metric"])
+        if key in out:
+            raise InputError(f"{path.name}: {key[0]} / {key[1]} listed twice")
+        out[key] = KnownDisagreement(**e)
+    return out

@@ -2,8 +2,10 @@
 
 :class:`CaseResult` is what ``lcefem validate`` keeps per case (and writes, as JSON, to the case's
 completion marker ``DIR/<case>/metrics.json``); :func:`write_report` writes ``DIR/report.md``: the
-command, the software versions, a summary, the table of all metrics with pass/fail, and per case its
-wall time, figures (with captions naming their sources) and errors.
+command, the software versions, a one-screen summary (per case judged rows passed/failed and the worst
+relative error; the known disagreements of ``validation/data/known_disagreements.toml`` met in the
+run, with their explanation), the table of all metrics with pass/fail ("FAIL (known)" for a known
+disagreement), and per case its wall time, figures (with captions naming their sources) and errors.
 """
 
 from __future__ import annotations
@@ -120,7 +122,96 @@ def fmt_error(row: dict) -> str:
 def fmt_pass(row: dict) -> str:
     if row.get("metric", "").startswith("(") and row.get("value") is None:
         return row["metric"].strip("()").upper()
+    if row.get("passed") is False and known_disagreement(row) is not None:
+        return "FAIL (known)"
     return {True: "pass", False: "FAIL", None: "info"}[row.get("passed")]
+
+
+NOT_JUDGED = "not judged: "  # as lcefem.validation.cases.NOT_JUDGED (not imported: no case modules here)
+
+
+def known_disagreement(row: dict):
+    """The registered KnownDisagreement of a row, or None."""
+    from lcefem.validation.reference_data import known_disagreements
+
+    return known_disagreements().get((row.get("case"), row.get("metric")))
+
+
+def row_kind(row: dict) -> str:
+    """pass | known (fails, a registered known disagreement) | FAIL (fails, unexplained) |
+    info-reason (informative, has a reference, says why it is not judged) | info-no-reason (has a
+    reference, no reason: to be fixed) | info (no reference)."""
+    if row.get("passed") is True:
+        return "pass"
+    if row.get("passed") is False:
+        return "known" if known_disagreement(row) is not None else "FAIL"
+    if row.get("reference") is None:
+        return "info"
+    return "info-reason" if NOT_JUDGED in (row.get("source") or "") else "info-no-reason"
+
+
+def count_rows(rows: list[dict]) -> dict[str, int]:
+    """Counts for the summary: judged, passed, failed (of which known), informative with a reference
+    (of which with a reason) and informative without one."""
+    kinds = [row_kind(r) for r in rows]
+    return {"judged": sum(k in ("pass", "known", "FAIL") for k in kinds),
+            "passed": kinds.count("pass"), "failed": kinds.count("known") + kinds.count("FAIL"),
+            "known": kinds.count("known"),
+            "info with reference": kinds.count("info-reason") + kinds.count("info-no-reason"),
+            "info with reference, no reason": kinds.count("info-no-reason"),
+            "info without reference": kinds.count("info")}
+
+
+def relative_error(row: dict) -> float | None:
+    """|value - reference|/|reference| of a judged row with a non-zero target (not a range), else None."""
+    v, ref, tol = row.get("value"), row.get("reference"), row.get("tolerance")
+    if row.get("passed") is None or ref is None or ref == 0 or (tol is not None and abs(ref) <= tol):
+        return None
+    if v is None or not math.isfinite(v):
+        return math.inf
+    return abs(v - ref) / abs(ref)
+
+
+def summary_lines(results: list["CaseResult"]) -> list[str]:
+    """The one-screen summary: per case judged rows passed/failed and the worst relative error of
+    its judged rows against a target, then the known disagreements met in this run."""
+    lines = ["## Summary", "",
+             "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
+             "target (not a range), against experiment, a published fit or a closed form as the row's "
+             "source says; * marks a known disagreement.", "",
+             "| case | state | judged | passed | failed (known) | worst error |", "|---|---|---|---|---|---|"]
+    met = []
+    for res in results:
+        rows = res.metrics if res.status in FINISHED else [res.error_row()]
+        c = count_rows(rows)
+        worst, worst_known = None, False
+        for r in rows:
+            e = relative_error(r)
+            if e is not None and (worst is None or e > worst):
+                worst, worst_known = e, known_disagreement(r) is not None
+        met += [(r, known_disagreement(r)) for r in rows if row_kind(r) == "known"]
+        w = "-" if worst is None else ("no value" if math.isinf(worst) else f"{100 * worst:.1f} %")
+        lines.append(f"| {res.case} | {res.status} | {c['judged']} | {c['passed']} | "
+                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} |")
+    lines += ["", f"Known disagreements in this run ({len(met)}; registry: "
+              "validation/data/known_disagreements.toml):", ""]
+    lines += [f"- **{r['case']}: {r['metric']}** = {fmt_number(r['value'])} {r['unit']} vs "
+              f"{fmt_reference(r)} (issue {k.issue}): {k.explanation}" for r, k in met] or ["- none"]
+    # A registered disagreement whose row now passes is stale (the model was fixed, or the row renamed):
+    # say so, so the registry does not keep excusing a row that no longer needs it.
+    passed = {(r["case"], r["metric"]) for res in results if res.status in FINISHED for r in res.metrics
+              if r.get("passed") is True}
+    stale = [k for key, k in known_disagreements_registry().items() if key in passed]
+    if stale:
+        lines += ["", "Registered disagreements that pass in this run (remove them from the registry): "
+                  + "; ".join(f"{k.case}: {k.metric}" for k in stale) + "."]
+    return lines + [""]
+
+
+def known_disagreements_registry() -> dict:
+    from lcefem.validation.reference_data import known_disagreements
+
+    return known_disagreements()
 
 
 def versions() -> dict[str, str]:
@@ -147,6 +238,7 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
     n_pass = sum(r["passed"] is True for r in rows)
     n_fail = sum(r["passed"] is False and r["value"] is not None for r in rows)
     n_info = sum(r["passed"] is None for r in rows)
+    counts = count_rows([r for r in rows if not r["metric"].startswith("(")])
     unfinished = [r for r in results if r.status not in FINISHED]
     ver = versions()
     now = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
@@ -160,8 +252,12 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
              f"{len(unfinished)} cases did not finish"
              + (f": this report is INCOMPLETE ({', '.join(f'{r.case}: {r.status}' for r in unfinished)}).**"
                 if unfinished else ".**"), "",
-             "| case | state |", "|---|---|",
-             *(f"| {r.case} | {r.status} |" for r in results), "",
+             f"Judged {counts['judged']}: {counts['passed']} pass, {counts['failed']} fail "
+             f"({counts['known']} known disagreements, {counts['failed'] - counts['known']} unexplained); "
+             f"informative {counts['info with reference']} with a reference "
+             f"({counts['info with reference, no reason']} without a reason to stay unjudged), "
+             f"{counts['info without reference']} without.", "",
+             *summary_lines(results),
              "## Metrics", "",
              "Pass means |value - reference| <= tolerance (a range [lo, hi] is lo <= value <= hi). Error is "
              "(value - reference)/|reference| against a target, or (value - reference)/tolerance "

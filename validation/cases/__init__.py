@@ -27,6 +27,11 @@ import pathlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+#: Marks an informative row that has a reference but is deliberately not judged; the text after it
+#: says why (a what-if, a model vs model comparison with no agreed band, a pre-asymptotic pair...).
+#: The report counts informative rows with a reference that lack it as "without a reason".
+NOT_JUDGED = "not judged: "
+
 #: Modules that define cases (imported lazily by :func:`registry`).
 CASE_MODULES: list[str] = [
     "lcefem.validation.cases.ribbon",
@@ -139,6 +144,14 @@ def case(name: str, description: str, *, fe: bool, convergence: bool = False):
         return func
 
     return register
+
+
+def not_judged(metrics: list[Metric], reason: str) -> list[Metric]:
+    """``metrics`` with ``NOT_JUDGED + reason`` prefixed to the source of every informative row that has
+    a reference and no reason yet (e.g. a block of model vs model rows sharing one reason)."""
+    return [dataclasses.replace(m, source=f"{NOT_JUDGED}{reason}; {m.source}")
+            if m.passed is None and m.reference is not None and NOT_JUDGED not in m.source else m
+            for m in metrics]
 
 
 def registry() -> dict[str, Case]:

@@ -26,7 +26,7 @@ from lcefem.models import bar_hinge as law
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation import plots
-from lcefem.validation.cases import CaseContext, Metric, case, write_csv
+from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.reference_data import reference
 
 PUBLISHED = law.PUBLISHED
@@ -46,6 +46,10 @@ CHAIN_TOLERANCE = 0.06
 #: experiments (its geometric value for strips on concentric arcs 1/2 apart is 0.5: a 14 % correction),
 #: so a model may differ from it by at least that; 25 % of the largest |kappa| of Eq. 2 on the grid.
 MAP_TOLERANCE = 0.25
+#: Tolerance of one point of a model against Eq. 2: the fitted eta = 0.57 differs from its geometric
+#: value 0.5 (strips on concentric arcs) by 14 %, the size of the correction the fit carries; the seed
+#: states no scatter of the measured curvatures, so this assumption is the reference's uncertainty.
+EQ2_POINT_TOLERANCE = 0.14
 #: The chosen number of segments must give the middle curvature within 2 % of the longest beam.
 SEGMENT_TOLERANCE = 0.02
 
@@ -125,21 +129,23 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
                         "(validation/bar_hinge_studies.n5b8_ribbon_bending_stiffness); tolerance: "
                         "CHAIN_TOLERANCE (discrete chain, first order in W/L)"),
         Metric.info(name, "Euler load 4 pi^2 E I/L^2 (datasheet E, L = 36 mm)", euler, "N",
-                    "DuPont Kapton HN datasheet E = 2.5 GPa; seed 001 specimen 36 x 7 x 0.127 mm",
+                    NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; " + "DuPont Kapton HN datasheet E = 2.5 GPa; seed 001 specimen 36 x 7 x 0.127 mm",
                     reference=measured.value),
         Metric.info(name, f"Euler load with the published factor ({kap.bending_factor:g} E I)",
-                    euler_factor, "N", PUBLISHED, reference=measured.value),
+                    euler_factor, "N", NOT_JUDGED + "closed form of the published hinge factor, for scale; " + PUBLISHED,
+                    reference=measured.value),
         Metric.info(name, "critical load without the factor 5.5 (k = E t^3/(12 s))", p_cr_1, "N",
-                    f"{BH}, {mesh.panels} panels", reference=measured.value),
+                    NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; " + f"{BH}, {mesh.panels} panels", reference=measured.value),
         Metric.info(name, "critical load with 16 panels of 2.25 mm (the beam's flank panels)",
-                    p_cr_16, "N", f"{BH}; the published k is per unit length, so the chain's EI "
+                    p_cr_16, "N", f"{NOT_JUDGED}what-if (another panel length); {BH}; the published k is per unit length, so the chain's EI "
                     "scales with the panel length", reference=measured.value),
         Metric.info(name, "free length for which 4 pi^2 E I/L^2 = 0.18 N", l_eff, "mm",
-                    "datasheet E; seed 001 measured 0.18 N", reference=spec.length),
+                    NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; " + "datasheet E; seed 001 measured 0.18 N", reference=spec.length),
         Metric.info(name, "modulus for which 4 pi^2 E I/L^2 = 0.18 N at L = 36 mm", e_eff, "MPa",
-                    "seed 001 measured 0.18 N", reference=kap.youngs_modulus),
+                    NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; " + "seed 001 measured 0.18 N", reference=kap.youngs_modulus),
         Metric.info(name, "force at 50 % compression / critical load", ratio_end, "-",
-                    f"{BH}; reference: inextensible elastica (Timoshenko & Gere 1961); seed 001: "
+                    f"{NOT_JUDGED}model vs closed form with no agreed band (the chain is extensible, the elastica "
+                    f"is not); {BH}; reference: inextensible elastica (Timoshenko & Gere 1961); seed 001: "
                     f"'{plateau_to.quote}'", reference=elastica_end),
         Metric.between(name, f"LCE strain under the model's ribbon force at {100 * worst:.0f} % "
                        "compression (the largest in the surface)", strain_worst, "-", 0.0,
@@ -147,7 +153,8 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
                        f"{strain_bound.source}; compression 1 - 1.05/lambda_N ({lam_min.cite}); Ogden "
                        f"law on the 10 mm^2 cast section ({PUBLISHED})"),
         Metric.info(name, "LCE strain under the model's ribbon force at 50 % compression", strain_end,
-                    "-", f"{strain_bound.source}; Ogden law on the 10 mm^2 cast section",
+                    "-", f"{NOT_JUDGED}the seed's bound holds up to the surface's largest compression (judged "
+                    f"above), not at 50 %; {strain_bound.source}; Ogden law on the 10 mm^2 cast section",
                     reference=strain_bound.value),
     ]
 
@@ -216,8 +223,10 @@ def beam_curvature_map_bh(ctx: CaseContext) -> list[Metric]:
                       float(np.max(np.abs(kappa[~off]))), "1/mm", 0.0, 0.05 * scale,
                       "Eq. 2 gives 0 for equal strips; tolerance 5 % of max|kappa_Eq2| (the model's "
                       "top and bottom strips are attached differently, so it is not exactly symmetric)"),
-        Metric.info(name, "kappa_BH at (1.33, 1.05)", float(kappa[i_t, i_b]), "1/mm",
-                    f"{BH}; reference: Eq. 2", reference=float(k_eq2[i_t, i_b])),
+        Metric.relative(name, "kappa_BH at (1.33, 1.05)", float(kappa[i_t, i_b]), "1/mm",
+                        float(k_eq2[i_t, i_b]), EQ2_POINT_TOLERANCE,
+                        f"{BH}; reference: Eq. 2; tolerance EQ2_POINT_TOLERANCE (14 %: the fitted eta = "
+                        "0.57 against its geometric 0.5)"),
         Metric.info(name, "Newton iterations over the grid", float(iterations), "-", BH),
     ]
 

@@ -27,8 +27,8 @@ from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation import plots
-from lcefem.validation.cases import CaseContext, Metric, case, write_csv
-from lcefem.validation.cases.beam_bar_hinge import MAP_TOLERANCE
+from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
+from lcefem.validation.cases.beam_bar_hinge import EQ2_POINT_TOLERANCE, MAP_TOLERANCE, MEASURED_TOLERANCE
 from lcefem.validation.reference_data import reference
 
 QUICK_LEVEL = 0
@@ -110,6 +110,10 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
         sources))
     ratio_end = float(f[-1] / critical.force)
     src_fe = f"{FE}; half model, in-plane element {ctx.mesh_size:g} mm"
+    WI_SRC = NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; "
+    # The post-buckling force follows the critical load, which is judged (and fails) above; judging
+    # the plateau again would count one disagreement three times.
+    PLATEAU = NOT_JUDGED + "the plateau follows the critical load judged above; "
     return [
         Metric.between(name, "FE critical load within the Euler loads of beam and plate strip",
                        critical.force, "N", euler, plate,
@@ -119,31 +123,32 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
         Metric.relative(name, "FE critical load, one mesh refinement apart", critical.force, "N",
                         finer.force, RIBBON_MESH_TOLERANCE,
                         f"{FE}; levels {level} and {level + 1}; tolerance RIBBON_MESH_TOLERANCE"),
-        Metric.info(name, "FE critical load vs measured", critical.force, "N", measured.source,
-                    reference=measured.value),
-        Metric.info(name, "bar-and-hinge critical load (11 panels, published k)", bh_cr, "N", BH,
-                    reference=measured.value),
+        Metric.relative(name, "FE critical load vs measured", critical.force, "N", measured.value,
+                        MEASURED_TOLERANCE, f"{measured.source}; {src_fe}; tolerance MEASURED_TOLERANCE "
+                        "(10 %, as the bar-and-hinge case: the seed states no scatter of its nine specimens)"),
+        Metric.info(name, "bar-and-hinge critical load (11 panels, published k)", bh_cr, "N",
+                    f"{NOT_JUDGED}judged in ribbon_buckling_bh; {BH}", reference=measured.value),
         Metric.info(name, "Euler load 4 pi^2 E I/L^2 (datasheet E, L = 36 mm)", euler, "N",
-                    "DuPont Kapton HN datasheet E = 2.5 GPa", reference=measured.value),
+                    NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; " + "DuPont Kapton HN datasheet E = 2.5 GPa", reference=measured.value),
         Metric.info(name, "free length for which 4 pi^2 E I/L^2 = 0.18 N",
                     closed["free length giving the measured load [mm]"], "mm",
-                    "datasheet E; seed 001 measured 0.18 N", reference=spec.length),
+                    NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; " + "datasheet E; seed 001 measured 0.18 N", reference=spec.length),
         Metric.info(name, "modulus for which 4 pi^2 E I/L^2 = 0.18 N at L = 36 mm",
-                    closed["modulus giving the measured load [MPa]"], "MPa", "seed 001 measured 0.18 N",
+                    closed["modulus giving the measured load [MPa]"], "MPa", WI_SRC + "seed 001 measured 0.18 N",
                     reference=kapton.youngs_modulus),
         Metric.info(name, "modulus for which the FE critical load is 0.18 N",
                     kapton.youngs_modulus * measured.value / critical.force, "MPa",
-                    f"{src_fe}; the linearised buckling load is proportional to E",
+                    WI_SRC + f"{src_fe}; the linearised buckling load is proportional to E",
                     reference=kapton.youngs_modulus),
         Metric.info(name, "free length for which the FE critical load is 0.18 N (scaling 1/L^2)",
-                    spec.length * math.sqrt(critical.force / measured.value), "mm", src_fe,
+                    spec.length * math.sqrt(critical.force / measured.value), "mm", WI_SRC + src_fe,
                     reference=spec.length),
-        Metric.info(name, "FE force at 10 % compression", float(np.interp(0.1, c, f)), "N", src_fe,
+        Metric.info(name, "FE force at 10 % compression", float(np.interp(0.1, c, f)), "N", PLATEAU + src_fe,
                     reference=measured.value),
-        Metric.info(name, "FE force at 50 % compression", float(f[-1]), "N", src_fe,
+        Metric.info(name, "FE force at 50 % compression", float(f[-1]), "N", PLATEAU + src_fe,
                     reference=measured.value),
         Metric.info(name, "FE force at 50 % compression / critical load", ratio_end, "-",
-                    f"{src_fe}; reference: inextensible elastica (Timoshenko & Gere 1961); the plate "
+                    f"{NOT_JUDGED}model vs closed form with no agreed band; {src_fe}; reference: inextensible elastica (Timoshenko & Gere 1961); the plate "
                     f"strip stiffens towards 1/(1 - nu^2) as its curvature grows; seed 001: "
                     f"'{plateau_to.quote}'", reference=studies.elastica_force_ratio(float(c[-1]))),
     ]
@@ -224,9 +229,9 @@ def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
     ratio = np.abs(kappa[off] / k_eq2[off] - 1.0)
     ordered = _ordered_fraction(kappa)
     metrics = [
-        Metric.info(name, "max |kappa_FE - kappa_Eq2| over the grid", float(np.max(np.abs(d_eq2))), "1/mm",
-                    f"{src_eq2}; for scale: the bar-and-hinge case accepts MAP_TOLERANCE x max|kappa_Eq2|",
-                    reference=MAP_TOLERANCE * scale),
+        Metric.within(name, "max |kappa_FE - kappa_Eq2| over the grid", float(np.max(np.abs(d_eq2))), "1/mm",
+                      0.0, MAP_TOLERANCE * scale, f"{src_eq2}; tolerance MAP_TOLERANCE x max|kappa_Eq2| "
+                      "(as the bar-and-hinge map: eta = 0.57 fitted against its geometric 0.5)"),
         Metric.within(name, "largest |kappa_FE/kappa_Eq2 - 1| off the diagonal", float(np.max(ratio)), "-",
                       0.0, RATIO_BOUND, f"{src_eq2}; RATIO_BOUND: the same magnitude as the fitted "
                       "estimate (Eq. 2 assumes strips on concentric circular arcs and the buckled height "
@@ -245,13 +250,15 @@ def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
                       float(np.max(np.abs(kappa[~off]))), "1/mm", 0.0, EQUAL_STRIPS_TOLERANCE * scale,
                       "Eq. 2 gives 0 for equal strips; tolerance EQUAL_STRIPS_TOLERANCE x max|kappa_Eq2| "
                       "(top and bottom strips are bonded differently)"),
-        Metric.info(name, "kappa_FE at (1.33, 1.05)", float(kappa[i_t, i_b]), "1/mm", src_fe,
-                    reference=float(k_eq2[i_t, i_b])),
+        Metric.relative(name, "kappa_FE at (1.33, 1.05)", float(kappa[i_t, i_b]), "1/mm",
+                        float(k_eq2[i_t, i_b]), EQ2_POINT_TOLERANCE, f"{src_fe}; reference Eq. 2; "
+                        "tolerance EQ2_POINT_TOLERANCE (14 %: the fitted eta = 0.57 against its geometric 0.5)"),
         Metric.info(name, "kappa_Eq2 at (1.33, 1.05)", float(k_eq2[i_t, i_b]), "1/mm", src_eq2),
-        Metric.info(name, "kappa_BH at (1.33, 1.05)", float(bh[i_t, i_b]), "1/mm", BH,
-                    reference=float(k_eq2[i_t, i_b])),
-        Metric.info(name, "kappa_FE at (1.05, 1.33)", float(kappa[0, n - 1]), "1/mm", src_fe,
-                    reference=float(k_eq2[0, n - 1])),
+        Metric.info(name, "kappa_BH at (1.33, 1.05)", float(bh[i_t, i_b]), "1/mm",
+                    f"{NOT_JUDGED}judged in beam_curvature_map_bh; {BH}", reference=float(k_eq2[i_t, i_b])),
+        Metric.relative(name, "kappa_FE at (1.05, 1.33)", float(kappa[0, n - 1]), "1/mm",
+                        float(k_eq2[0, n - 1]), EQ2_POINT_TOLERANCE, f"{src_fe}; reference Eq. 2; "
+                        "tolerance EQ2_POINT_TOLERANCE (14 %: the fitted eta = 0.57 against its geometric 0.5)"),
         Metric.info(name, "largest strip-ribbon contact force over the grid", stats["max_contact_force [N]"],
                     "N", f"{src_fe}; penalty contact (lcefem.solvers.contact)"),
         Metric.info(name, "smallest strip-ribbon gap over the grid", stats["min_gap [mm]"], "mm", src_fe),
@@ -290,9 +297,11 @@ def beam_curvature_fe(ctx: CaseContext) -> list[Metric]:
                                       [model.last_follower.iterations], "ramp wall time [s]": [wall]})
     return [
         Metric.within(name, "kappa_FE at (1.33, 1.05) vs Eq. 2", kappa, "1/mm", k_eq2,
-                      MAP_TOLERANCE * abs(k_eq2), f"{eta.source}; {studies.eq2_inputs_note()}; "
-                      "tolerance MAP_TOLERANCE x |kappa_Eq2|"),
-        Metric.info(name, "kappa_BH at (1.33, 1.05)", k_bh, "1/mm", BH, reference=k_eq2),
+                      EQ2_POINT_TOLERANCE * abs(k_eq2), f"{eta.source}; {studies.eq2_inputs_note()}; "
+                      "tolerance EQ2_POINT_TOLERANCE x |kappa_Eq2| (14 %: the fitted eta = 0.57 against "
+                      "its geometric 0.5)"),
+        Metric.info(name, "kappa_BH at (1.33, 1.05)", k_bh, "1/mm",
+                    f"{NOT_JUDGED}judged in beam_curvature_map_bh; {BH}", reference=k_eq2),
         Metric.info(name, "height of the middle junction above the end stations' chord",
                     float(_sagitta(stations)), "mm", src),
     ]

@@ -18,7 +18,7 @@ from lcefem.meshes.strip import StripMesh
 from lcefem.models.empirical import eq1_stretch
 from lcefem.models.hyperelastic import PUBLISHED_MODEL, lce_uniaxial_nominal_stress, ogden_uniaxial_nominal_stress
 from lcefem.validation import plots
-from lcefem.validation.cases import CaseContext, Metric, case, write_csv
+from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.reference_data import reference
 
 QUICK_LEVEL = 0
@@ -102,7 +102,8 @@ def _transient(ctx: CaseContext, index: int, duration: float, dt: float) -> list
         metrics.append(Metric.between("", "time for the surface to reach 70 C", m["time_to_70C_surface [s]"],
                                       "s", lo, hi, f"{t_NI.source}; {why}"))
         metrics.append(Metric.info("", "time for the volume mean to reach 70 C", m["time_to_70C_mean [s]"],
-                                   "s", t_NI.source, reference=t_NI.value))
+                                   "s", f"{NOT_JUDGED}the camera sees the surface (judged above); the volume "
+                                   f"mean is shown for scale; {t_NI.source}", reference=t_NI.value))
     key = {0.2: "t95_0p2A", 0.1: "t95_0p1A"}.get(current)
     if key:
         lo, hi, why = WINDOWS[key]
@@ -113,8 +114,10 @@ def _transient(ctx: CaseContext, index: int, duration: float, dt: float) -> list
         metrics.append(Metric.info("", "time to 95 % of the full contraction",
                                    m["time_to_95pct_contraction [s]"], "s",
                                    "no time is given in seed 001 for 0.15 A (Fig. 2B only)"))
-    metrics.append(Metric.info("", f"stretch at {duration:g} s", m["final_stretch [-]"], "-",
-                               "full contraction is the isotropic length, stretch 1 (seed 001)", reference=1.0))
+    # Tolerance 0.03 in stretch, as the steady states of strip_steady_eq1 against Eq. 1.
+    metrics.append(Metric.within("", f"stretch at {duration:g} s", m["final_stretch [-]"], "-", 1.0, 0.03,
+                                 "full contraction is the isotropic length, stretch 1 (seed 001); tolerance "
+                                 "0.03 as the steady states against Eq. 1 (strip_steady_eq1)"))
     src = [currents.cite, t_NI.cite]
     spans = [plots.Span(*WINDOWS[key][:2], "acceptance window (95 %)")] if key else []
     lam_N = cfg.transition.lambda_N
@@ -316,7 +319,8 @@ def verification_mechanics_mms(ctx: CaseContext) -> list[Metric]:
             metrics.append(Metric.within("", f"L2 order, {cell} P2/Q2, n = 4 -> 8", orders[-1], "-", 3.0,
                                          tol, f"theory O(h^3) for quadratic elements; {why}"))
         metrics.append(Metric.info("", f"L2 order, {cell} P2/Q2, n = 2 -> 4", orders[0], "-",
-                                   "pre-asymptotic pair", reference=3.0))
+                                   f"{NOT_JUDGED}pre-asymptotic pair (the n = 4 -> 8 pair is judged)",
+                                   reference=3.0))
     write_csv(ctx.path("errors.csv"), data)
     return metrics
 

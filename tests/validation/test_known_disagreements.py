@@ -1,0 +1,85 @@
+"""Known disagreements: the registry is well formed, the report's summary counts and lists them, an
+unexplained failure stays visible, and failing metrics never change the exit code (issue 16)."""
+
+import json
+
+import pytest
+
+from lcefem.models.errors import InputError
+from lcefem.validation import reference_data as rd
+from lcefem.validation import report
+from lcefem.validation.cases import NOT_JUDGED, Case, Metric, not_judged, registry
+from lcefem.validation.cases import _CASES as CASES
+from lcefem.validation.cli import main as cli_main
+
+KNOWN = rd.KnownDisagreement("toy_known", "force vs measured", "the toy's modulus is off", 99, "both")
+
+
+def test_registry_entries_name_registered_cases_and_explain():
+    entries = rd.known_disagreements()
+    assert entries, "the registry is empty"
+    cases = registry()
+    for (case, metric), k in entries.items():
+        assert case in cases, f"{case}: not a registered case"
+        assert metric and len(k.explanation) > 40 and k.issue > 0
+
+
+def test_a_malformed_registry_is_an_input_error(tmp_path):
+    bad = tmp_path / "kd.toml"
+    bad.write_text('[[disagreement]]\ncase = "a"\nmetric = "b"\nexplanation = "x"\nissue = 1\n')
+    with pytest.raises(InputError, match="entry 1 needs exactly case, explanation, issue, level, metric"):
+        rd.known_disagreements(bad)
+
+
+def _toy(ctx):
+    return [Metric.within("", "force vs measured", 0.096, "N", 0.18, 0.018, "seed"),  # known
+            Metric.within("", "stiffness", 2.0, "N/mm", 1.0, 0.1, "seed"),  # unexplained
+            Metric.relative("", "length", 1.02, "mm", 1.0, 0.05, "seed"),  # pass
+            Metric.info("", "E fitted", 4.7, "GPa", f"{NOT_JUDGED}what-if", reference=2.5),
+            Metric.info("", "E guessed", 4.7, "GPa", "forgot the reason", reference=2.5),
+            Metric.info("", "iterations", 12.0, "-", "solver")]
+
+
+@pytest.fixture
+def toy_known(monkeypatch):
+    monkeypatch.setitem(CASES, "toy_known", Case("toy_known", _toy, "toy", False, False))
+    monkeypatch.setattr(rd, "known_disagreements", lambda: {(KNOWN.case, KNOWN.metric): KNOWN})
+
+
+def test_summary_counts_and_lists_known_disagreements(toy_known, tmp_path):
+    out = tmp_path / "v"
+    assert cli_main(["validate", "toy_known", "--out", str(out), "--quiet"]) == 0  # failing rows: exit 0
+    rows = json.loads((out / "metrics.json").read_text())
+    assert report.count_rows(rows) == {"judged": 3, "passed": 1, "failed": 2, "known": 1,
+                                       "info with reference": 2, "info with reference, no reason": 1,
+                                       "info without reference": 1}
+    md = (out / "report.md").read_text()
+    assert md.index("## Summary") < md.index("## Metrics")
+    assert "Judged 3: 1 pass, 2 fail (1 known disagreements, 1 unexplained)" in md
+    assert "(1 without a reason to stay unjudged)" in md
+    # worst error is the unexplained stiffness (+100 %), not the known -47 %
+    assert "| toy_known | done | 3 | 1 | 2 (1) | 100.0 % |" in md
+    assert "- **toy_known: force vs measured** = 0.096 N vs 0.18 ± 0.018 (issue 99): the toy's modulus is off" in md
+    assert "| FAIL (known) |" in md and "| stiffness | 2 | N/mm | 1 ± 0.1 | +100.00 % | FAIL |" in md
+
+
+def test_worst_error_marks_a_known_disagreement(monkeypatch):
+    monkeypatch.setattr(rd, "known_disagreements", lambda: {(KNOWN.case, KNOWN.metric): KNOWN})
+    rows = [Metric.within("toy_known", "force vs measured", 0.096, "N", 0.18, 0.018, "s").as_dict()]
+    res = report.CaseResult("toy_known", "toy", "done", 1.0, metrics=rows)
+    assert "| toy_known | done | 1 | 0 | 1 (1) | 46.7 % * |" in report.summary_lines([res])
+
+
+def test_not_judged_prefixes_only_informative_rows_with_a_reference():
+    rows = not_judged([Metric.info("c", "a", 1.0, "-", "src", reference=2.0),
+                       Metric.info("c", "b", 1.0, "-", "src"),
+                       Metric.within("c", "d", 1.0, "-", 1.0, 0.1, "src")], "model vs model")
+    assert [m.source for m in rows] == [f"{NOT_JUDGED}model vs model; src", "src", "src"]
+
+
+def test_a_registered_row_that_passes_is_reported_as_stale(monkeypatch):
+    monkeypatch.setattr(rd, "known_disagreements", lambda: {(KNOWN.case, KNOWN.metric): KNOWN})
+    rows = [Metric.within("toy_known", "force vs measured", 0.18, "N", 0.18, 0.018, "s").as_dict()]
+    text = "\n".join(report.summary_lines([report.CaseResult("toy_known", "toy", "done", 1.0, metrics=rows)]))
+    assert "Known disagreements in this run (0;" in text
+    assert "pass in this run (remove them from the registry): toy_known: force vs measured." in text
