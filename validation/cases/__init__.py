@@ -40,6 +40,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.strip",
     "lcefem.validation.cases.beam_fe",
     "lcefem.validation.cases.ribbon_fe",
+    "lcefem.validation.cases.gridshell_bh",
 ]
 
 
