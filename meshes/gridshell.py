@@ -309,63 +309,84 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     return structure
 
 
-def strip_values(structure: BarHingeStructure, values) -> dict[str, np.ndarray]:
-    """Per-bar arrays by strip group ("bottom_strips", "top_strips") from one value per strip id."""
-    values = np.asarray(values, dtype=float)
-    nstrips = len(structure.info["strips"])
-    if values.shape != (nstrips,):
-        raise InputError(f"strip values: expected {nstrips} values (one per strip), got "
-                         f"{values.shape}")
-    return {group: values[ids] for group, ids in structure.info["strip_of_bar"].items()}
+def bar_midpoints(structure: BarHingeStructure, group: str) -> np.ndarray:
+    """As-built midpoints (m, 3) [mm] of the bars of a strip group."""
+    pairs = structure.bars[group]
+    return 0.5 * (structure.nodes[pairs[:, 0]] + structure.nodes[pairs[:, 1]])
 
 
-def resolve_strip_map(structure: BarHingeStructure, assignments: dict, default: float, name: str
-                      ) -> np.ndarray:
-    """One value per strip from ``{key: value}``, keys in order of application: a channel ("Tx",
-    "Ty", "Bx", "By"), "T"/"B" (both directions), a group ("XD1" .. "YU3"), "XD:x<70.5"-style
-    half-plane selections of a group family (strips whose midpoint lies below/above a coordinate),
-    or a strip id (int). Later keys override earlier ones; strips not named get ``default``."""
+#: Families of the published recipes (all ribbons of one layer and direction) -> channel.
+FAMILIES = {"XD": "Bx", "YD": "By", "XU": "Tx", "YU": "Ty"}
+STRIP_GROUPS = ("bottom_strips", "top_strips")
+
+
+def resolve_bar_values(structure: BarHingeStructure, assignments: dict, default: float,
+                       name: str = "strips") -> dict[str, np.ndarray]:
+    """Per-bar values by strip group ("bottom_strips", "top_strips") from ``{key: value}`` applied in
+    order (later keys override earlier ones; bars not named get ``default``). Keys:
+
+    * a channel "Tx", "Ty", "Bx", "By" (seed 001, Fig. 4A), or "T" / "B" (a whole layer);
+    * a published family "XD", "YD", "XU", "YU" (= the channels) or group "XD1" .. "YU3";
+    * a half-plane selection "XD:x<70.5" (the bars of a family whose as-built midpoint lies below /
+      above the coordinate, as the published wave and dustpan recipes; a bar whose midpoint lies on
+      the line, e.g. the raised square of the middle top strip, gets the mean of the values of the
+      two sides);
+    * a strip id (int, :class:`Strip`.id).
+    """
     info = structure.info
     strips = info["strips"]
-    out = np.full(len(strips), float(default))
-    groups = info["groups"]
+    sob = info["strip_of_bar"]
+    out = {g: np.full(sob[g].size, float(default)) for g in STRIP_GROUPS}
+    on_line_set: dict[str, np.ndarray] = {g: np.zeros(sob[g].size, dtype=bool) for g in STRIP_GROUPS}
     for key, value in assignments.items():
-        if isinstance(key, (int, np.integer)):
-            if not 0 <= key < len(strips):
-                raise InputError(f"{name}: strip id {key} out of range 0..{len(strips) - 1}")
-            out[key] = value
+        value = float(value)
+        if isinstance(key, str) and ":" in key:
+            family, cond = key.split(":", 1)
+            op = "<" if "<" in cond else ">" if ">" in cond else None
+            parts = cond.split(op) if op else []
+            ok = family in FAMILIES and len(parts) == 2 and parts[0] in ("x", "y")
+            try:
+                bound = float(parts[1]) if ok else 0.0
+            except ValueError:
+                ok = False
+            if not ok:
+                raise InputError(f"{name}: bad selection {key!r} (form 'XD:x<70.5': family XD, YD, "
+                                 f"XU or YU, axis x or y, < or >, a coordinate in mm)")
+            ids = set(select_strips(structure, FAMILIES[family], name).tolist())
+            k = 0 if parts[0] == "x" else 1
+            for g in STRIP_GROUPS:
+                mid = bar_midpoints(structure, g)[:, k]
+                mine = np.isin(sob[g], list(ids))
+                side = (mid < bound - 1e-9) if op == "<" else (mid > bound + 1e-9)
+                out[g][mine & side] = value
+                line = mine & (np.abs(mid - bound) <= 1e-9)
+                seen = line & on_line_set[g]
+                out[g][seen] = 0.5 * (out[g][seen] + value)
+                fresh = line & ~on_line_set[g]
+                out[g][fresh] = value
+                on_line_set[g] |= line
             continue
-        sel = select_strips(structure, str(key), name)
-        out[sel] = value
+        ids = select_strips(structure, key, name)
+        for g in STRIP_GROUPS:
+            out[g][np.isin(sob[g], ids)] = value
     return out
 
 
-def select_strips(structure: BarHingeStructure, key: str, name: str = "strips") -> np.ndarray:
-    """Strip ids selected by a key (see :func:`resolve_strip_map`)."""
+def select_strips(structure: BarHingeStructure, key, name: str = "strips") -> np.ndarray:
+    """Strip ids selected by a channel, layer, family, group or strip id (see
+    :func:`resolve_bar_values`)."""
     info = structure.info
     strips = info["strips"]
     groups = info["groups"]
+    if isinstance(key, (int, np.integer)) and not isinstance(key, bool):
+        if not 0 <= key < len(strips):
+            raise InputError(f"{name}: strip id {key} out of range 0..{len(strips) - 1}")
+        return np.array([key], dtype=np.int64)
+    key = FAMILIES.get(key, key)
     if key in ("T", "B"):
-        return np.asarray([s.id for s in strips if s.layer == ("top" if key == "T" else "bottom")])
+        layer = "top" if key == "T" else "bottom"
+        return np.asarray([s.id for s in strips if s.layer == layer], dtype=np.int64)
     if key in groups:
         return groups[key]
-    if ":" in key:  # e.g. "XD:x<70.5": all x bottom strips with midpoint x < 70.5
-        family, cond = key.split(":", 1)
-        ops = {"<": np.less, ">": np.greater}
-        for op, fn in ops.items():
-            if op in cond:
-                axis, bound = cond.split(op)
-                if axis not in ("x", "y") or len(family) != 2 or family[0] not in "XY" \
-                        or family[1] not in "DU":
-                    break
-                try:
-                    bound = float(bound)
-                except ValueError:
-                    break
-                layer = "bottom" if family[1] == "D" else "top"
-                direction = family[0].lower()
-                k = 0 if axis == "x" else 1
-                return np.asarray([s.id for s in strips if s.layer == layer and s.direction == direction
-                                   and fn(s.midpoint[k], bound)], dtype=np.int64)
-    allowed = ", ".join(["T", "B", *sorted(groups), "XD:x<70.5 (family:axis<bound)", "strip id"])
+    allowed = ", ".join(["T", "B", *sorted(groups), *FAMILIES, "XD:x<70.5", "a strip id"])
     raise InputError(f"{name}: unknown strip selection {key!r} (allowed: {allowed})")
