@@ -18,7 +18,7 @@ raised square of a top strip on its junction (the published model has no such co
 :class:`CompositeBeamGeometry` holds only what a continuum (FE) builder can use too; the bar-and-hinge
 discretisation choices live in :class:`BeamBarHingeMesh`.
 
-Curvature (:func:`beam_curvature`): the signed curvature of the circle fitted (Pratt's algebraic fit)
+Curvature (:func:`lcefem.solvers.analysis.curvature.beam_curvature`): the signed curvature of the circle fitted (Pratt's algebraic fit)
 through the *stations* of the middle segments, the stations being the ends' centres and the junction
 centres (centre of each junction square on the ribbon: the mean of its four corners). It is
 positive when the circle's centre lies on the bottom side, i.e. when the beam bends towards its
@@ -139,7 +139,7 @@ class BeamBarHingeMesh:
         return self
 
 
-def _strip_contact_rows(end_a, end_b, panel_a, panel_b, far_a, far_b):
+def strip_contact_rows(end_a, end_b, panel_a, panel_b, far_a, far_b):
     """Two contact hinges at a strip's end: axis across the width, wings panel node and far end."""
     return [(end_a, end_b, panel_a, far_a), (end_b, end_a, panel_b, far_b)]
 
@@ -208,9 +208,9 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
         for side in (0, 1):
             structure.add_bars("bottom_strips", [(node(s, 0, side), node(s, last, side))])
             bottom_of_bar.append(s)
-        hinge_rows += _strip_contact_rows(node(s, 0, 0), node(s, 0, 1), node(s, 1, 0), node(s, 1, 1),
+        hinge_rows += strip_contact_rows(node(s, 0, 0), node(s, 0, 1), node(s, 1, 0), node(s, 1, 1),
                                           node(s, last, 0), node(s, last, 1))
-        hinge_rows += _strip_contact_rows(node(s, last, 0), node(s, last, 1), node(s, last - 1, 0),
+        hinge_rows += strip_contact_rows(node(s, last, 0), node(s, last, 1), node(s, last - 1, 0),
                                           node(s, last - 1, 1), node(s, 0, 0), node(s, 0, 1))
         if m.contact:
             # Plane (a, b across, c along): normal (c - a) x (b - a) = +z, the ribbon's side.
@@ -239,9 +239,9 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
         structure.add_bars("top_strips", lce)
         top_of_bar += [j] * len(lce)
         structure.add_bars("glue", glue)
-        hinge_rows += _strip_contact_rows(left[0], left[1], node(j, nf + 2, 0), node(j, nf + 2, 1),
+        hinge_rows += strip_contact_rows(left[0], left[1], node(j, nf + 2, 0), node(j, nf + 2, 1),
                                           j1, j2)
-        hinge_rows += _strip_contact_rows(right[0], right[1], node(j + 1, nf - 1, 0),
+        hinge_rows += strip_contact_rows(right[0], right[1], node(j + 1, nf - 1, 0),
                                           node(j + 1, nf - 1, 1), j4, j3)
         if m.contact:
             # Square corners above the junction (normal +z), at least their as-built height.
@@ -320,68 +320,6 @@ def beam_up_vector(structure: BarHingeStructure, positions=None) -> np.ndarray:
     c = structure.node_sets["middle_panel"]
     v = np.cross(x[c[1]] - x[c[0]], x[c[3]] - x[c[0]])
     return v / np.linalg.norm(v)
-
-
-def circle_fit(points) -> tuple[float, np.ndarray, np.ndarray]:
-    """Pratt's algebraic circle fit in the best-fit plane of 3-D points.
-
-    Returns (curvature [1/mm] >= 0, centre (3,) [mm] (nan for a straight line), plane normal (3,)).
-    Exact for three points (the circumcircle); zero curvature for collinear points.
-    (V. Pratt, "Direct least-squares fitting of algebraic surfaces", Computer Graphics 21, 1987;
-    the SVD implementation of N. Chernov, "Circular and linear regression", CRC 2010, Sec. 5.5.)
-    """
-    pts = np.asarray(points, dtype=float)
-    if pts.ndim != 2 or pts.shape[0] < 3 or pts.shape[1] != 3:
-        raise InputError("points: need an array (n >= 3, 3) for a circle fit")
-    centroid = pts.mean(axis=0)
-    q = pts - centroid
-    _, _, vt = np.linalg.svd(q)
-    e1, e2, normal = vt[0], vt[1], vt[2]
-    u, v = q @ e1, q @ e2
-    scale = max(np.sqrt(np.mean(u ** 2 + v ** 2)), 1e-300)
-    u, v = u / scale, v / scale
-    z = u ** 2 + v ** 2
-    zmat = np.column_stack([z, u, v, np.ones_like(u)])
-    _, sv, vtz = np.linalg.svd(zmat, full_matrices=True)
-    if zmat.shape[0] < 4 or sv[-1] < 1e-12 * sv[0]:  # exact fit: the null vector
-        coef = vtz[-1]
-    else:
-        y = vtz.T @ np.diag(sv) @ vtz
-        b_inv = np.array([[0, 0, 0, -0.5], [0, 1, 0, 0], [0, 0, 1, 0], [-0.5, 0, 0, 0]])
-        vals, vecs = np.linalg.eig(y @ b_inv @ y)
-        vals = vals.real
-        ok = np.flatnonzero(vals > 0)
-        coef = np.linalg.solve(y, vecs[:, ok[np.argmin(vals[ok])]].real)
-    a, b, c, dd = coef
-    disc = b ** 2 + c ** 2 - 4.0 * a * dd
-    if disc <= 0:
-        raise InputError("points: degenerate circle fit")
-    curvature = 2.0 * abs(a) / math.sqrt(disc) / scale
-    if abs(a) < 1e-14 * math.sqrt(disc):
-        return 0.0, np.full(3, np.nan), normal
-    cu, cv = -b / (2.0 * a) * scale, -c / (2.0 * a) * scale
-    return curvature, centroid + cu * e1 + cv * e2, normal
-
-
-def signed_circle_curvature(points, up) -> float:
-    """Curvature [1/mm] of the circle fitted through ``points``; positive when the circle's centre
-    lies on the side opposite to ``up`` (the beam bends away from ``up``, towards its bottom)."""
-    kappa, centre, _ = circle_fit(points)
-    if kappa == 0.0:
-        return 0.0
-    side = np.dot(centre - np.mean(points, axis=0), np.asarray(up, dtype=float))
-    return -kappa if side > 0 else kappa
-
-
-def beam_curvature(structure: BarHingeStructure, positions, stations=None) -> float:
-    """Signed curvature [1/mm] of the beam through the middle stations (see the module docstring).
-
-    Args:
-        stations: station indices to fit (default :func:`middle_station_indices`).
-    """
-    pts = beam_stations(structure, positions)
-    idx = middle_station_indices(pts.shape[0] - 1) if stations is None else np.asarray(stations)
-    return signed_circle_curvature(pts[idx], beam_up_vector(structure, positions))
 
 
 # --------------------------------------------------------------------------- continuum (FE) mesh

@@ -4,7 +4,7 @@
 * :func:`solve_beam` — the composite beam actuated by prescribing the strips' relative lengths
   lambda_T and lambda_B (the paper's quasi-static route): the rest lengths are ramped linearly from the
   as-built (nematic) lengths to lambda/lambda_N times them; statically determinate supports at the
-  middle panel; the curvature is measured by :func:`lcefem.meshes.composite_beam.beam_curvature`.
+  middle panel; the curvature is measured by :func:`lcefem.solvers.analysis.curvature.beam_curvature`.
 * :func:`solve_ribbon_buckling` — the fixed-fixed specimen shortened by a prescribed end
   displacement; force from the reaction at the moving clamp.
 * :func:`critical_load` — the bifurcation load of the perfect (flat) specimen: the end shortening at
@@ -25,13 +25,13 @@ from scipy import special
 from scipy.optimize import brentq
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
-from lcefem.meshes.composite_beam import (BeamBarHingeMesh, CompositeBeamGeometry, beam_curvature,
-                                          build_beam_bar_hinge)
+from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen, build_ribbon_bar_hinge
 from lcefem.models import bar_hinge as law
 from lcefem.models.empirical import Eq2
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import OgdenLaw, ogden_uniaxial_nominal_stress
+from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs, isostatic_supports, newton)
 

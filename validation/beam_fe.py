@@ -22,7 +22,7 @@
 
 Curvature: the same stations and circle fit as the bar-and-hinge beam
 (:func:`lcefem.meshes.composite_beam.middle_station_indices`,
-:func:`~lcefem.meshes.composite_beam.signed_circle_curvature`): junction centres on the ribbon's
+:func:`~lcefem.solvers.analysis.curvature.signed_circle_curvature`): junction centres on the ribbon's
 mid-surface, positive when the beam bends towards its bottom strips (Eq. 2's sign).
 """
 
@@ -44,7 +44,7 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes.composite_beam import (BeamFEMesh, CompositeBeamGeometry, build_beam_fe,
-                                          middle_station_indices, signed_circle_curvature)
+                                          middle_station_indices)
 from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen, build_ribbon_fe
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
@@ -53,6 +53,7 @@ from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.lce import isochoric_uniaxial
 from lcefem.models.parameters import param
+from lcefem.solvers.analysis.curvature import signed_circle_curvature
 from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
                                     face_pairs)
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,

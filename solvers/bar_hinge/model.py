@@ -4,10 +4,13 @@
 material laws of :mod:`lcefem.models.bar_hinge` into element arrays and evaluates, for node
 positions x (n, 3) [mm],
 
-    Pi(x) = sum_bars V w(L/L_r) + sum_hinges L_h psi(theta) + sum_contacts k <g0 - g>_+^2/2   [mJ],
+    Pi(x) = sum_bars V w(L/L_r) + sum_hinges L_h psi(theta) + sum_contacts k <g0 - g>_+^2/2
+            - f_ext . (x - X)   [mJ],
 
-with the gradient dPi/dx [N] (the internal forces; at a held node the reaction) and the Hessian
-[N/mm] as a scipy.sparse CSR matrix whose sparsity pattern is computed once.
+with the gradient dPi/dx [N] (the internal minus the external forces; at a held node the reaction)
+and the Hessian [N/mm] as a scipy.sparse CSR matrix whose sparsity pattern is computed once. The
+external forces f_ext [N] (3n,) are dead loads (weight, a payload), zero unless set with
+:meth:`BarHingeModel.set_external_forces`.
 """
 
 from __future__ import annotations
@@ -164,6 +167,7 @@ class BarHingeModel:
             self.contact_sets.append(ContactSet(name, rows, np.asarray(gap0, dtype=float),
                                                 np.full(rows.shape[0], stiffness)))
         self._build_pattern()
+        self.external_force = np.zeros(self.ndof)
 
     # ------------------------------------------------------------------ set-up
     def _kapton_areas(self) -> np.ndarray:
@@ -233,6 +237,13 @@ class BarHingeModel:
                 raise InputError(f"rest fraction of {name}: must be > 0")
             names[name].rest_fraction = value.copy()
 
+    def set_external_forces(self, forces) -> None:
+        """Dead nodal loads [N], (n, 3) or (3n,) (e.g. weight: -m_i g along z)."""
+        forces = np.asarray(forces, dtype=float).reshape(-1)
+        if forces.shape != (self.ndof,) or not np.all(np.isfinite(forces)):
+            raise InputError(f"external forces: need {self.ndof} finite values [N]")
+        self.external_force = forces.copy()
+
     def rest_fractions(self) -> dict[str, np.ndarray]:
         return {b.name: b.rest_fraction.copy() for b in self.strip_sets()}
 
@@ -278,6 +289,10 @@ class BarHingeModel:
             grad += np.bincount(block["dofs"].ravel(), weights=out[1].ravel(), minlength=self.ndof)
             if derivatives == 2:
                 values.append(out[2].ravel())
+        if np.any(self.external_force):
+            energy -= float(np.dot(self.external_force, x.reshape(-1) - self.reference.reshape(-1)))
+            if derivatives >= 1:
+                grad -= self.external_force
         if derivatives == 0:
             return energy
         if derivatives == 1:

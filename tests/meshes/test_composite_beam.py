@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from lcefem.meshes.composite_beam import (BeamBarHingeMesh, CompositeBeamGeometry, beam_curvature,
-                                          beam_stations, build_beam_bar_hinge, circle_fit,
-                                          middle_station_indices, signed_circle_curvature)
+from lcefem.meshes.composite_beam import (BeamBarHingeMesh, CompositeBeamGeometry, beam_stations,
+                                          build_beam_bar_hinge, middle_station_indices)
+from lcefem.solvers.analysis.curvature import beam_curvature, circle_fit, signed_circle_curvature
 from lcefem.models import bar_hinge as bh
 from lcefem.models.errors import InputError
 

@@ -7,7 +7,7 @@ lambda_T and lambda_B are the top and bottom strips' lengths relative to their i
 the paper's lambda (as built: lambda_N = 1.4). The rest lengths are ramped linearly from the as-built
 (nematic) lengths to the target (the paper's quasi-static route); the curvature is the signed
 curvature of the circle through the middle stations (junction centres), positive when the beam
-bends towards its bottom strips, as Eq. 2 (lcefem.meshes.composite_beam.beam_curvature).
+bends towards its bottom strips, as Eq. 2 (lcefem.solvers.analysis.curvature.beam_curvature).
 
 Outputs in --out DIR: beam.pvd + beam_steps/*.vtp (ParaView: ribbon triangles, strips and glue as
 lines; displacement and bar forces), history.csv (one row per converged step), beam.png (curvature
@@ -35,12 +35,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, beam_curvature
+from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
 from lcefem.models import bar_hinge as law
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.parameters import check, describe, param, with_overrides
+from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation.bar_hinge_io import BarHingeVTK, CSVHistory, write_json

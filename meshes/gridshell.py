@@ -1,0 +1,392 @@
+"""The robotic surface of seed 001 (Fig. 4, 5): an n x n gridshell of Kapton ribbons with bottom and
+top LCE strips, in the bar-and-hinge model, with the layout and connectivity of the published
+reduced-order model (shared/reference/gridshell_recipes.md).
+
+Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid. n ribbons run along x and
+n along y; each is n + 1 segments of length L joined by n junction squares of d x d (d = the ribbon
+width); ribbon r (0-based) occupies the band [c_r - d/2, c_r + d/2] with junction centres
+c_r = L + d/2 + r (L + d). For the paper's 3 x 3 grid (L = 30, d = 7): ribbons 141 mm long, bands
+[30, 37], [67, 74], [104, 111], junction centres 33.5, 70.5, 107.5. Every segment has the arch
+z = gap sin^2(pi s/L) and the 5 + 1 + 5 panels of the composite beam
+(:class:`~lcefem.meshes.composite_beam.BeamBarHingeMesh`), all discretised N5B8; the junction
+squares are shared by the crossing x and y ribbons.
+
+Strips (one id per strip; ``info["strips"]`` lists them):
+
+* bottom: one per segment, junction edge to junction edge (or ribbon end to junction edge), two bars
+  along the ribbon's edges: (n + 1) per ribbon, 2 n (n + 1) in all (24 for n = 3);
+* top: one per junction and direction, from the crown edge of one segment over the raised square to
+  the crown edge of the next (11.5 + 7 + 11.5 = 30 mm): n per ribbon, 2 n^2 in all (18 for n = 3),
+  as the published model. The raised square (one per junction, at the crown-edge height 0.982 mm)
+  is shared by the x and y top strips: with ``top_junction = "lce"`` its edges along x belong to the
+  x strip and its edges along y to the y strip (each strip's full 30 mm contracts); with "glue" it
+  is the published model's stiff glue square.
+
+How the top strips relate to the paper's count: the paper counts 24 top segments (48 LCE segments in
+all, Fig. 4A), i.e. one top segment per 30 mm ribbon segment, each with its own 25 ohm coil section.
+Our (and the published model's) top strip over junction j covers the inner halves (11.5 mm) of the
+two segments beside it plus the junction; so paper top segment k of a ribbon is the union of the
+halves of our top strips k - 1 and k over it, and the outer halves of the two end segments of each
+ribbon (0-18.5 and 122.5-141 mm) carry no top strip. Driving a whole channel (Tx, Ty) is the same
+in both counts; per-segment recipes map each of our top strips to the two paper segments it
+touches (``info["top_strip_paper_segments"]``).
+
+Groups (``info["groups"]``, strip ids): "XD1".."XDn", "YD1".."YDn" (bottom strips per ribbon),
+"XU1".."XUn", "YU1".."YUn" (top strips per ribbon), ribbon 1 at the lowest y (x ribbons) or lowest x
+(y ribbons); the paper's channels (Fig. 4A) "Bx", "By", "Tx", "Ty" are the unions.
+
+Node sets: "junction_corners" (n, n, 4) indexed [i_x, i_y] (junction at x = c_ix, y = c_iy),
+"junction_centres" (n, n) (N5B8 centre nodes), "top_squares" (n, n, 4), "ribbon_ends_x" /
+"ribbon_ends_y" (n, 2, 2: ribbon, end (low, high), side), "bottom_strip_ends" (all nodes bottom strips
+attach to), "centre_junction" (4 corners of the middle junction).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
+from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry,
+                                          strip_contact_rows)
+from lcefem.models.errors import InputError
+from lcefem.models.parameters import check, param
+
+DIRECTIONS = ("x", "y")
+#: The paper's four control channels (seed 001, Fig. 4A): (layer, direction).
+CHANNELS = {"Tx": ("top", "x"), "Ty": ("top", "y"), "Bx": ("bottom", "x"), "By": ("bottom", "y")}
+
+
+@dataclass(frozen=True)
+class GridshellLayout:
+    """How many ribbons (the rest of the geometry is :class:`CompositeBeamGeometry`'s)."""
+
+    ribbons: int = param(3, "-", "seed 001 Fig. 4: the 3 x 3 grid (3 ribbons along x, 3 along y, 9 "
+                         "junctions); fig. S7 refines it", minimum=1, maximum=15)
+
+    def checked(self) -> "GridshellLayout":
+        check(self, "layout")
+        if not isinstance(self.ribbons, int):
+            raise InputError(f"layout.ribbons = {self.ribbons!r}: must be an integer >= 1")
+        return self
+
+
+@dataclass(frozen=True)
+class Strip:
+    """One LCE strip: id, layer ("bottom"/"top"), direction ("x"/"y"), ribbon (0-based), index along
+    the ribbon (segment for bottom strips, junction for top strips), midpoint (x, y) [mm]."""
+
+    id: int
+    layer: str
+    direction: str
+    ribbon: int
+    index: int
+    midpoint: tuple[float, float]
+
+    @property
+    def group(self) -> str:
+        """Published group name, e.g. "XD1" (bottom, x ribbon 1) or "YU3"."""
+        return f"{self.direction.upper()}{'D' if self.layer == 'bottom' else 'U'}{self.ribbon + 1}"
+
+    @property
+    def channel(self) -> str:
+        return f"{'T' if self.layer == 'top' else 'B'}{self.direction}"
+
+
+def junction_centres_1d(geometry: CompositeBeamGeometry, ribbons: int) -> np.ndarray:
+    """Junction centres c_r = L + d/2 + r (L + d) [mm] along either axis."""
+    g = geometry
+    return g.segment_length + 0.5 * g.junction_length + g.pitch * np.arange(ribbons)
+
+
+def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                              layout: GridshellLayout = GridshellLayout(),
+                              mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> BarHingeStructure:
+    """Bar-and-hinge structure of the gridshell (see the module docstring).
+
+    ``geometry.segments`` is ignored (a ribbon has ``layout.ribbons + 1`` segments); the junction
+    squares are ribbon_width x ribbon_width, so ``geometry.junction_length`` must equal
+    ``geometry.ribbon_width``. Bar groups, hinge groups, contacts and sections as
+    :func:`~lcefem.meshes.composite_beam.build_beam_bar_hinge`; ``info["strip_of_bar"]`` gives, per
+    group ("bottom_strips", "top_strips"), the strip id of every bar.
+    """
+    g = geometry
+    if g.crown_bond_length >= g.segment_length:
+        raise InputError(f"geometry.crown_bond_length = {g.crown_bond_length}: must be < "
+                         f"segment_length = {g.segment_length} mm")
+    check(g, "geometry")
+    n = layout.checked().ribbons
+    m = mesh.checked()
+    if abs(g.junction_length - g.ribbon_width) > 1e-12:
+        raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
+                         f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
+    nseg = n + 1
+    nf = m.flank_panels
+    lx, d = g.segment_length, g.ribbon_width
+    s_lo, s_hi = g.crown_edges
+    local = np.concatenate([np.linspace(0.0, s_lo, nf + 1), np.linspace(s_hi, lx, nf + 1)])
+    per_seg = local.size
+    last = per_seg - 1
+    centres = junction_centres_1d(g, n)
+    length = nseg * lx + n * d
+
+    # Corner nodes, shared where ribbons cross (junction corners only, all at z = 0).
+    coords: list[tuple[float, float, float]] = []
+    index: dict[tuple[int, int], int] = {}
+
+    def add(x: float, y: float, z: float) -> int:
+        key = (round(x * 1e6), round(y * 1e6))
+        if key in index:
+            return index[key]
+        index[key] = len(coords)
+        coords.append((x, y, z))
+        return index[key]
+
+    # ribbon frame: x ribbons along +x, side 0 at the lower y; y ribbons along +y, side 0 at the
+    # higher x, so that along x across = +z for both (the beam builder's orientation).
+    node_of = {}
+    for direction in DIRECTIONS:
+        for r in range(n):
+            for s in range(nseg):
+                for a, sa in enumerate(local):
+                    along = g.segment_start(s) + sa
+                    z = float(g.arch_height(sa))
+                    for side in (0, 1):
+                        if direction == "x":
+                            nid = add(along, centres[r] - 0.5 * d + side * d, z)
+                        else:
+                            nid = add(centres[r] + 0.5 * d - side * d, along, z)
+                        node_of[(direction, r, s, a, side)] = nid
+
+    def node(direction: str, r: int, s: int, a: int, side: int) -> int:
+        return node_of[(direction, r, s, a, side)]
+
+    panels, kinds, panel_at = [], [], {}
+    junction_panel = {}
+    for direction in DIRECTIONS:
+        for r in range(n):
+            for s in range(nseg):
+                for a in range(per_seg - 1):
+                    panel_at[(direction, r, s, a)] = len(panels)
+                    panels.append((node(direction, r, s, a, 0), node(direction, r, s, a + 1, 0),
+                                   node(direction, r, s, a + 1, 1), node(direction, r, s, a, 1)))
+                    kinds.append("crown" if a == nf else "flank")
+                if direction == "x" and s + 1 < nseg:  # each junction square once
+                    junction_panel[(s, r)] = len(panels)
+                    panels.append((node("x", r, s, last, 0), node("x", r, s + 1, 0, 0),
+                                   node("x", r, s + 1, 0, 1), node("x", r, s, last, 1)))
+                    kinds.append("junction")
+    structure = n5b8_structure(np.asarray(coords), np.asarray(panels), g.ribbon_thickness)
+    pc = structure.panel_centres
+
+    def ribbon_points(direction, r, s, stations, panel_ids) -> list[int]:
+        pts = [node(direction, r, s, a, side) for a in stations for side in (0, 1)]
+        return pts + [int(pc[panel_at[(direction, r, s, a)]]) for a in panel_ids]
+
+    strips: list[Strip] = []
+    strip_of_bar = {"bottom_strips": [], "top_strips": []}
+    hinge_rows = []
+
+    def new_strip(layer, direction, r, k, mid_along) -> int:
+        mid = (mid_along, centres[r]) if direction == "x" else (centres[r], mid_along)
+        strips.append(Strip(len(strips), layer, direction, r, k, (float(mid[0]), float(mid[1]))))
+        return strips[-1].id
+
+    # Bottom strips: chords of every segment along both ribbon edges.
+    for direction in DIRECTIONS:
+        for r in range(n):
+            for s in range(nseg):
+                sid = new_strip("bottom", direction, r, s, g.segment_start(s) + 0.5 * lx)
+                nd = lambda a, side: node(direction, r, s, a, side)  # noqa: E731
+                for side in (0, 1):
+                    structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))])
+                    strip_of_bar["bottom_strips"].append(sid)
+                hinge_rows += strip_contact_rows(nd(0, 0), nd(0, 1), nd(1, 0), nd(1, 1),
+                                                 nd(last, 0), nd(last, 1))
+                hinge_rows += strip_contact_rows(nd(last, 0), nd(last, 1), nd(last - 1, 0),
+                                                 nd(last - 1, 1), nd(0, 0), nd(0, 1))
+                if m.contact:
+                    a, b, c = nd(0, 0), nd(0, 1), nd(last, 0)
+                    pts = ribbon_points(direction, r, s, range(1, last), range(per_seg - 1))
+                    structure.add_contacts("bottom_strip_contact", [(p, a, b, c) for p in pts],
+                                           rest=0.0)
+
+    # Raised squares over the junctions, corners (x0,y0), (x1,y0), (x1,y1), (x0,y1).
+    zc = g.top_strip_height
+    squares = np.zeros((n, n, 4), dtype=np.int64)
+    for ix in range(n):
+        for iy in range(n):
+            x0, y0 = centres[ix] - 0.5 * d, centres[iy] - 0.5 * d
+            squares[ix, iy] = structure.add_nodes([(x0, y0, zc), (x0 + d, y0, zc),
+                                                   (x0 + d, y0 + d, zc), (x0, y0 + d, zc)])
+            q = squares[ix, iy]
+            if m.top_junction == "glue":
+                structure.add_bars("glue", [(q[0], q[1]), (q[1], q[2]), (q[2], q[3]), (q[3], q[0]),
+                                            (q[0], q[2]), (q[1], q[3])])
+            if m.contact:
+                jp = structure.panels[junction_panel[(ix, iy)]]
+                structure.add_contacts("top_square_contact", [(int(p), jp[0], jp[3], jp[1])
+                                                              for p in q])
+
+    # Top strips: crown edge of segment j -> square over junction j -> crown edge of segment j + 1.
+    for direction in DIRECTIONS:
+        for r in range(n):
+            for j in range(n):
+                sid = new_strip("top", direction, r, j, centres[j])
+                q = squares[j, r] if direction == "x" else squares[r, j]
+                # square corners in the ribbon frame: (entry side 0, entry side 1, exit side 1,
+                # exit side 0), entry at the lower along-coordinate.
+                if direction == "x":
+                    e0, e1, x1, x0 = q[0], q[3], q[2], q[1]
+                else:  # side 0 at the higher x
+                    e0, e1, x1, x0 = q[1], q[0], q[3], q[2]
+                left = [node(direction, r, j, nf + 1, side) for side in (0, 1)]
+                right = [node(direction, r, j + 1, nf, side) for side in (0, 1)]
+                bars = [(left[0], e0), (left[1], e1), (x0, right[0]), (x1, right[1])]
+                if m.top_junction == "lce":
+                    bars += [(e0, x0), (e1, x1)]
+                structure.add_bars("top_strips", bars)
+                strip_of_bar["top_strips"] += [sid] * len(bars)
+                hinge_rows += strip_contact_rows(left[0], left[1], node(direction, r, j, nf + 2, 0),
+                                                 node(direction, r, j, nf + 2, 1), e0, e1)
+                hinge_rows += strip_contact_rows(right[0], right[1],
+                                                 node(direction, r, j + 1, nf - 1, 0),
+                                                 node(direction, r, j + 1, nf - 1, 1), x0, x1)
+                if m.contact:
+                    pts = ribbon_points(direction, r, j, range(nf + 2, per_seg),
+                                        range(nf + 1, per_seg - 1))
+                    structure.add_contacts("top_strip_contact", [(p, left[0], e0, left[1])
+                                                                 for p in pts], rest=0.0)
+                    pts = ribbon_points(direction, r, j + 1, range(0, nf), range(0, nf))
+                    structure.add_contacts("top_strip_contact", [(p, x0, right[0], x1) for p in pts],
+                                           rest=0.0)
+
+    if m.strip_contact:
+        structure.add_hinges("strip_contact", np.asarray(hinge_rows, dtype=np.int64))
+
+    jc = np.zeros((n, n, 4), dtype=np.int64)
+    jcent = np.zeros((n, n), dtype=np.int64)
+    for (ix, iy), p in junction_panel.items():
+        jc[ix, iy] = structure.panels[p]
+        jcent[ix, iy] = pc[p]
+    ends = {}
+    for direction in DIRECTIONS:
+        ends[direction] = np.array([[[node(direction, r, 0, 0, side) for side in (0, 1)],
+                                     [node(direction, r, n, last, side) for side in (0, 1)]]
+                                    for r in range(n)], dtype=np.int64)
+    sets = structure.node_sets
+    sets["junction_corners"] = jc
+    sets["junction_centres"] = jcent
+    sets["top_squares"] = squares
+    sets["ribbon_ends_x"] = ends["x"]
+    sets["ribbon_ends_y"] = ends["y"]
+    sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
+    sets["centre_junction"] = jc[n // 2, n // 2]
+    structure.sections["bottom_strips"] = {"section": g.strip_section}
+    structure.sections["top_strips"] = {"section": g.strip_section}
+    structure.sections["glue"] = {"area": g.ribbon_width * g.ribbon_thickness}
+    flank = (lx - g.crown_bond_length) / (2 * nf)
+    structure.sections["top_square_contact"] = {"area": 0.25 * g.strip_width * g.junction_length,
+                                                "depth": g.strip_thickness}
+    for name in ("bottom_strip_contact", "top_strip_contact"):
+        structure.sections[name] = {"area": 0.5 * g.strip_width * flank, "depth": g.strip_thickness}
+
+    groups: dict[str, list[int]] = {}
+    for st in strips:
+        groups.setdefault(st.group, []).append(st.id)
+    for name, (layer, direction) in CHANNELS.items():
+        groups[name] = [st.id for st in strips if st.layer == layer and st.direction == direction]
+    paper_segments = {st.id: (st.index, st.index + 1) for st in strips if st.layer == "top"}
+    structure.info.update(
+        ribbons=n, segments_per_ribbon=nseg, flank_panels=nf, top_junction=m.top_junction,
+        ribbon_length=length, junction_centres_1d=centres, panel_kind=np.asarray(kinds),
+        strips=strips, groups={k: np.asarray(v, dtype=np.int64) for k, v in groups.items()},
+        strip_of_bar={k: np.asarray(v, dtype=np.int64) for k, v in strip_of_bar.items()},
+        top_strip_paper_segments=paper_segments,
+        source=PUBLISHED)
+    structure.validate()
+    return structure
+
+
+def bar_midpoints(structure: BarHingeStructure, group: str) -> np.ndarray:
+    """As-built midpoints (m, 3) [mm] of the bars of a strip group."""
+    pairs = structure.bars[group]
+    return 0.5 * (structure.nodes[pairs[:, 0]] + structure.nodes[pairs[:, 1]])
+
+
+#: Families of the published recipes (all ribbons of one layer and direction) -> channel.
+FAMILIES = {"XD": "Bx", "YD": "By", "XU": "Tx", "YU": "Ty"}
+STRIP_GROUPS = ("bottom_strips", "top_strips")
+
+
+def resolve_bar_values(structure: BarHingeStructure, assignments: dict, default: float,
+                       name: str = "strips") -> dict[str, np.ndarray]:
+    """Per-bar values by strip group ("bottom_strips", "top_strips") from ``{key: value}`` applied in
+    order (later keys override earlier ones; bars not named get ``default``). Keys:
+
+    * a channel "Tx", "Ty", "Bx", "By" (seed 001, Fig. 4A), or "T" / "B" (a whole layer);
+    * a published family "XD", "YD", "XU", "YU" (= the channels) or group "XD1" .. "YU3";
+    * a half-plane selection "XD:x<70.5" (the bars of a family whose as-built midpoint lies below /
+      above the coordinate, as the published wave and dustpan recipes; a bar whose midpoint lies on
+      the line, e.g. the raised square of the middle top strip, gets the mean of the values of the
+      two sides);
+    * a strip id (int, :class:`Strip`.id).
+    """
+    info = structure.info
+    strips = info["strips"]
+    sob = info["strip_of_bar"]
+    out = {g: np.full(sob[g].size, float(default)) for g in STRIP_GROUPS}
+    on_line_set: dict[str, np.ndarray] = {g: np.zeros(sob[g].size, dtype=bool) for g in STRIP_GROUPS}
+    for key, value in assignments.items():
+        value = float(value)
+        if isinstance(key, str) and ":" in key:
+            family, cond = key.split(":", 1)
+            op = "<" if "<" in cond else ">" if ">" in cond else None
+            parts = cond.split(op) if op else []
+            ok = family in FAMILIES and len(parts) == 2 and parts[0] in ("x", "y")
+            try:
+                bound = float(parts[1]) if ok else 0.0
+            except ValueError:
+                ok = False
+            if not ok:
+                raise InputError(f"{name}: bad selection {key!r} (form 'XD:x<70.5': family XD, YD, "
+                                 f"XU or YU, axis x or y, < or >, a coordinate in mm)")
+            ids = set(select_strips(structure, FAMILIES[family], name).tolist())
+            k = 0 if parts[0] == "x" else 1
+            for g in STRIP_GROUPS:
+                mid = bar_midpoints(structure, g)[:, k]
+                mine = np.isin(sob[g], list(ids))
+                side = (mid < bound - 1e-9) if op == "<" else (mid > bound + 1e-9)
+                out[g][mine & side] = value
+                line = mine & (np.abs(mid - bound) <= 1e-9)
+                seen = line & on_line_set[g]
+                out[g][seen] = 0.5 * (out[g][seen] + value)
+                fresh = line & ~on_line_set[g]
+                out[g][fresh] = value
+                on_line_set[g] |= line
+            continue
+        ids = select_strips(structure, key, name)
+        for g in STRIP_GROUPS:
+            out[g][np.isin(sob[g], ids)] = value
+    return out
+
+
+def select_strips(structure: BarHingeStructure, key, name: str = "strips") -> np.ndarray:
+    """Strip ids selected by a channel, layer, family, group or strip id (see
+    :func:`resolve_bar_values`)."""
+    info = structure.info
+    strips = info["strips"]
+    groups = info["groups"]
+    if isinstance(key, (int, np.integer)) and not isinstance(key, bool):
+        if not 0 <= key < len(strips):
+            raise InputError(f"{name}: strip id {key} out of range 0..{len(strips) - 1}")
+        return np.array([key], dtype=np.int64)
+    key = FAMILIES.get(key, key)
+    if key in ("T", "B"):
+        layer = "top" if key == "T" else "bottom"
+        return np.asarray([s.id for s in strips if s.layer == layer], dtype=np.int64)
+    if key in groups:
+        return groups[key]
+    allowed = ", ".join(["T", "B", *sorted(groups), *FAMILIES, "XD:x<70.5", "a strip id"])
+    raise InputError(f"{name}: unknown strip selection {key!r} (allowed: {allowed})")

@@ -1,0 +1,163 @@
+"""Lumped (cross-section averaged) heat balance of a coil-heated LCE strip, and the current ->
+temperature -> lambda map of one grid segment of the robotic surface (seed 001).
+
+Per unit of current strip length, with T uniform over the section (Biot number h t/k ~ 0.006 mm/K
+* 2 mm / 0.25 ~ 0.05 << 1, so the lumped model is adequate for the steady state):
+
+    rho c A(lambda) dT/dt = I^2 R / l(lambda) - (h + h_r(T)) p(lambda) (T - T_a),
+
+where R is the coil resistance over the strip's length l(lambda) = l_iso lambda, A = A_iso/lambda and
+p = p_iso/sqrt(lambda) the section and its perimeter at relative length lambda (the strip deforms
+isochorically and uniformly across its section), h the calibrated film coefficient and h_r the
+linearised radiation (:mod:`lcefem.models.heat`), and lambda = lambda_s(T) the free spontaneous
+stretch of :mod:`lcefem.models.lce` (calibrated transition). The whole-strip balance is then
+I^2 R = (h + h_r(T)) (T - T_a) p_iso l_iso sqrt(lambda_s(T)).
+
+Checked against Eq. 1 (seed 001) for the free strip of Fig. 2 (R = 146.6 ohm, 80 mm isotropic,
+5 x 2 mm): the lumped steady lambda is within 0.03 of Eq. 1 at the hold currents 0.04-0.09 A
+(tests/models/test_lumped_heat.py). A grid segment (seed 001, Materials and Methods): 25 ohm over
+the 30 mm nematic segment (l_iso = 30/1.4 mm). One coil of the surface ("126 to 134 ohms") is then
+about five such segments in series (or one ribbon's four segments and three 7 mm junction pieces at
+the same 0.83 ohm/mm, 117.5 ohm, plus leads); the channel current I_Tx etc. flows through each
+segment of a coil, so each segment dissipates I^2 x 25 ohm.
+
+Units: mm, s, mW, C, ohm, A.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from lcefem.models.errors import InputError
+from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties, radiative_film_coefficient
+from lcefem.models.lce import NematicTransition, spontaneous_stretch
+from lcefem.models.parameters import param
+from lcefem.models import units
+
+
+@dataclass(frozen=True)
+class HeatedStrip:
+    """A coil-heated LCE strip as a lumped body: coil resistance, isotropic length and section."""
+
+    resistance: float = param(25.0, "ohm", "seed 001, Materials and Methods: 'the resistance within "
+                              "each segment of the grid is 25 ohms'", positive=True)
+    isotropic_length: float = param(30.0 / 1.4, "mm", "published reduced-order model: 30 mm nematic "
+                                    "segment at lambda_N = 1.4 (isotropic 21.4 mm)", positive=True)
+    width: float = param(5.0, "mm", "seed 001: mould channel 5 mm wide (cast, isotropic)", positive=True)
+    thickness: float = param(2.0, "mm", "seed 001: mould channel 2 mm deep (cast, isotropic)",
+                             positive=True)
+
+    @property
+    def perimeter(self) -> float:
+        """Isotropic section perimeter p_iso [mm]."""
+        return 2.0 * (self.width + self.thickness)
+
+    @property
+    def section(self) -> float:
+        """Isotropic section A_iso [mm^2]."""
+        return self.width * self.thickness
+
+
+#: The free strip of seed 001, Fig. 2 (Eq. 1 was measured on it): 146.6 ohm over 80 mm isotropic.
+FREE_STRIP = HeatedStrip(resistance=Coil().resistance, isotropic_length=80.0)
+
+
+@dataclass(frozen=True)
+class LumpedThermal:
+    """Material and exchange parameters of the lumped balance (all calibrated or assumed elsewhere)."""
+
+    transition: NematicTransition = NematicTransition()
+    exchange: SurfaceExchange = SurfaceExchange()
+    thermal: ThermalProperties = ThermalProperties()
+
+
+def heat_loss(T, strip: HeatedStrip, model: LumpedThermal = LumpedThermal()):
+    """Steady loss of the whole strip [mW] at uniform temperature T [C]:
+    (h + h_r(T)) (T - T_a) p_iso l_iso sqrt(lambda_s(T))."""
+    ex = model.exchange
+    h = ex.film_coefficient + radiative_film_coefficient(T, ex.ambient_temperature, ex.emissivity)
+    lam = spontaneous_stretch(T, model.transition)
+    return h * (T - ex.ambient_temperature) * strip.perimeter * strip.isotropic_length * np.sqrt(lam)
+
+
+def steady_temperature(current: float, strip: HeatedStrip = HeatedStrip(),
+                       model: LumpedThermal = LumpedThermal()) -> float:
+    """Steady temperature [C] of the strip carrying ``current`` [A]: root of I^2 R = loss(T)
+    (the loss increases monotonically with T, so the root is unique; bisection)."""
+    if not (isinstance(current, (int, float)) and math.isfinite(current) and 0.0 <= current <= 1.0):
+        raise InputError(f"current = {current}: must be between 0 and 1 A")
+    power = current ** 2 * strip.resistance * units.W
+    lo = model.exchange.ambient_temperature
+    if power == 0.0:
+        return lo
+    hi = lo + 50.0
+    while heat_loss(hi, strip, model) < power:
+        hi = lo + 2.0 * (hi - lo)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if heat_loss(mid, strip, model) < power:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-10:
+            break
+    return 0.5 * (lo + hi)
+
+
+def steady_stretch(current: float, strip: HeatedStrip = HeatedStrip(),
+                   model: LumpedThermal = LumpedThermal()) -> float:
+    """Steady relative length lambda_s(T) [-] (isotropic = 1) of the free strip at ``current`` [A]."""
+    return float(spontaneous_stretch(steady_temperature(current, strip, model), model.transition))
+
+
+def current_for_stretch(stretch: float, strip: HeatedStrip = HeatedStrip(),
+                        model: LumpedThermal = LumpedThermal()) -> float:
+    """Inverse of :func:`steady_stretch`: the current [A] that holds the strip at ``stretch`` [-]
+    (strictly between 1 and the as-built lambda_N of the transition)."""
+    lam_n = model.transition.lambda_N
+    if not 1.0 < stretch < lam_n:
+        raise InputError(f"stretch = {stretch}: must lie strictly between 1 and {lam_n}")
+    lo, hi = 0.0, 1.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if steady_stretch(mid, strip, model) > stretch:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-13:
+            break
+    return 0.5 * (lo + hi)
+
+
+def transient_temperature(schedule, duration: float, strip: HeatedStrip = HeatedStrip(),
+                          model: LumpedThermal = LumpedThermal(), dt: float = 0.05):
+    """Temperature history of the lumped strip from ambient under a current schedule.
+
+    Args:
+        schedule: t [s] -> current [A].
+        duration: [s]; dt: time step [s] (implicit Euler on the lumped balance, with the heat
+            capacity rho c A_iso l_iso of the whole strip, which does not change with lambda).
+    Returns:
+        (times (k,) [s], temperatures (k,) [C], stretches (k,) [-]).
+    """
+    cap = model.thermal.volumetric_heat_capacity * strip.section * strip.isotropic_length  # mJ/K
+    n = int(math.ceil(duration / dt))
+    times = np.linspace(0.0, n * dt, n + 1)
+    temps = np.empty(n + 1)
+    temps[0] = model.exchange.ambient_temperature
+    for k in range(n):
+        power = schedule(times[k + 1]) ** 2 * strip.resistance * units.W
+        T = temps[k]
+        for _ in range(30):  # Newton on cap (T - T_k)/dt = P - loss(T)
+            eps = 1e-4
+            r = cap * (T - temps[k]) / dt - power + heat_loss(T, strip, model)
+            dr = cap / dt + (heat_loss(T + eps, strip, model) - heat_loss(T - eps, strip, model)) / (2 * eps)
+            step = r / dr
+            T -= step
+            if abs(step) < 1e-9:
+                break
+        temps[k + 1] = T
+    return times, temps, np.asarray(spontaneous_stretch(temps, model.transition), dtype=float)

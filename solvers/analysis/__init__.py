@@ -1,0 +1,1 @@
+"""Post-processing of solved shapes: curvature measures (circle fits, quadratic surface fits)."""
