@@ -9,6 +9,16 @@ from lcefem.models.errors import InputError
 from lcefem.solvers.problems.gridshell import FIG4_SHAPES, GridshellConfig, GridshellFE, fig4_shape
 
 
+#: Fraction of the Fig. 4 ramps the tests take (the whole dome ramp takes ~100 path steps, tens of
+#: minutes): the signs and the x <-> y symmetry are set from the first steps on.
+FRACTION = 0.04
+
+
+def part_of(shape: str, lambda_N: float) -> dict:
+    """The first FRACTION of the linear ramp from the as-built state to a Fig. 4 shape."""
+    return {k: lambda_N + FRACTION * (v - lambda_N) for k, v in FIG4_SHAPES[shape].items()}
+
+
 @pytest.fixture(scope="module")
 def dome():
     return fig4_shape("dome")
@@ -32,9 +42,10 @@ def test_drives_select_their_strips(dome):
         expected = 1.05 if facts["channel"] == "Bx" else lam_n
         assert m.lambda_of(tag, target=True).tolist() == [expected], tag
     # a group overrides its channel's value on its own strips only; a single tag on its own
-    m.set_lambda({"XD3": 1.2, "top_y_r2_j1_lo": 1.1})
+    single = next(t for t, f in strips.items() if f["channel"] == "Ty")  # a top y half in the model
+    m.set_lambda({"XD3": 1.2, single: 1.1})
     for tag, facts in strips.items():
-        if tag == "top_y_r2_j1_lo":
+        if tag == single:
             expected = 1.1
         elif facts["group"] == "XD3":
             expected = 1.2
@@ -52,11 +63,12 @@ def test_drives_select_their_strips(dome):
 @pytest.mark.slow
 def test_dome_is_a_symmetric_cap(dome):
     m = dome
-    m.ramp(FIG4_SHAPES["dome"])
+    m.ramp(part_of("dome", m.lambda_N))
     obs = m.observables()
     kx, ky = obs["kappa_circle_x [1/mm]"], obs["kappa_circle_y [1/mm]"]
     qx, qy = obs["kappa_quad_x [1/mm]"], obs["kappa_quad_y [1/mm]"]
-    assert kx < -0.005 and qx < -0.005  # a cap, of the paper's order (-0.017 1/mm)
+    assert kx < -5e-4 and qx < -5e-4  # [1/mm] a cap (the full ramp: the paper's -0.017 1/mm)
+    assert obs["apex_z [mm]"] > 1.0  # the centre rises above the perimeter rollers
     # the recipe and the quarter mesh are symmetric under x <-> y: equal to solver tolerance
     assert abs(kx - ky) < 1e-6 * abs(kx)
     assert abs(qx - qy) < 1e-6 * abs(qx)
@@ -67,7 +79,7 @@ def test_dome_is_a_symmetric_cap(dome):
 @pytest.mark.slow
 def test_saddle_curvatures_have_opposite_signs():
     m = fig4_shape("saddle")
-    m.ramp(FIG4_SHAPES["saddle"])
+    m.ramp(part_of("saddle", m.lambda_N))
     obs = m.observables()
     assert obs["kappa_circle_x [1/mm]"] < 0 < obs["kappa_circle_y [1/mm]"]
     assert obs["kappa_quad_x [1/mm]"] < 0 < obs["kappa_quad_y [1/mm]"]
