@@ -530,7 +530,7 @@ class GridshellFE:
                "gaussian_quad [1/mm^2]": k.get("gaussian", math.nan),
                "quad_rms_residual [mm]": k.get("rms_residual", math.nan),
                "z_range [mm]": zmax - zmin,  # of the whole deformed body
-               "junction_z_range [mm]": float(np.ptp(jc[:, :, 2])),  # of the surface's nodes
+               "surface_z_range [mm]": float(np.ptp(jc[:, :, 2])),  # of the junction centres
                "apex_z [mm]": float(jc[n // 2, n // 2, 2]),
                "contact_force [N]": self.info["symmetry_factor"] * sum(c.normal_force()
                                                                         for c in self.contacts)}
