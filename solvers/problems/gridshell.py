@@ -273,6 +273,7 @@ class GridshellFE:
             energy = energy - ufl.dot(self.gravity, u) * dx
         self.gravity_on = 0.0  # fraction of the weight applied
 
+        self._X = V.tabulate_dof_coordinates()  # reference node positions [mm]
         self.bcs = self._supports(supports)
         # the FE beam's Newton settings; no divergence test: from u = 0 the first full step may
         # push strips through the ribbon (contact closes only at the next iterate), raising the
@@ -317,7 +318,6 @@ class GridshellFE:
 
     def _supports(self, supports: GridshellSupports) -> list:
         tm, V, info = self.tmesh, self.V, self.info
-        self._X = V.tabulate_dof_coordinates()
         fdim = tm.mesh.topology.dim - 1
         tm.mesh.topology.create_connectivity(fdim, tm.mesh.topology.dim)
         zero = PETSc.ScalarType(0.0)
@@ -386,8 +386,7 @@ class GridshellFE:
             return (self.strip_tags[selector],)
         if selector in groups:
             tags = groups[selector]
-            passive = set(self.strip_tags.values())
-            if not set(tags) <= passive:
+            if not set(tags) <= set(self.strip_tags.values()):
                 raise InputError(f"drive {selector!r}: not a group of LCE strips (a material)")
             return tags
         if selector in self._all_strips or _is_full_group(selector, self.config.cells):
