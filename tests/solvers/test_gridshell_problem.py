@@ -64,7 +64,7 @@ def test_drives_select_their_strips(dome):
 
 
 @pytest.mark.slow
-def test_dome_is_a_symmetric_cap(dome):
+def test_dome_is_a_symmetric_cap(dome, tmp_path):
     m = dome
     m.ramp(part_of("dome", m.lambda_N))
     obs = m.observables()
@@ -77,6 +77,11 @@ def test_dome_is_a_symmetric_cap(dome):
     assert abs(qx - qy) < 1e-6 * abs(qx)
     jc = m.junction_centres()
     assert np.allclose(jc[:, :, 2], jc[:, :, 2].T, atol=1e-6)  # [mm]
+    # fields: the strips carry stress (MPa, finite) and ParaView files are written
+    files = m.write_fields(tmp_path)
+    assert all(f.exists() for f in files)
+    stress = m.stress.x.array
+    assert np.all(np.isfinite(stress)) and 0.01 < stress.max() < 1e3
 
 
 @pytest.mark.slow
