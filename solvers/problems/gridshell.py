@@ -1,0 +1,587 @@
+"""The robotic surface of seed 001 (Fig. 4) in 3D finite strain: the FE gridshell problem,
+prescribed-lambda route (issue 14, "Physics and routes"; the paper's simulation route).
+
+Mesh: :func:`lcefem.meshes.gridshell_fe.build_gridshell_fe` (per-strip cell tags, groups, channels).
+Physics: the FE composite beam's (:mod:`lcefem.validation.beam_fe`), generalised from two strips to
+48 and from one strip direction to two:
+
+* Kapton ribbons: compressible neo-Hookean, datasheet E and nu (``FEMaterials.kapton``).
+* LCE strips: W(F U(a)^-1) of :mod:`lcefem.models.hyperelastic` with
+  U(a) = a n(x)n + a^-1/2 (I - n(x)n) (:func:`lcefem.models.lce.isochoric_uniaxial`),
+  a = lambda/lambda_N the strip's length relative to the as-built (nematic) state and n its own
+  ribbon direction (e_x for x strips, e_y for y strips). lambda is a cell-wise (DG0) field, so every
+  strip tag is its own drive and the forms are compiled once.
+* Bond pads (LCE under the tabs, junctions and crowns): the same law with a = 1 (passive, as the
+  beam's); glue squares where the top strips cross: a stiff neo-Hookean block (the published
+  model's glue bars, E = 1e4 MPa).
+* Strip-ribbon frictionless penalty contact: :func:`lcefem.validation.beam_fe.make_contacts`.
+* Supports (:class:`GridshellSupports`): mirror planes of the reduced model (u_n = 0) plus either the
+  published perimeter rollers (dome, cylinder, table: u_z = 0 at the outer ribbons' end corners,
+  8 in the full surface) or the published saddle clamp (the centre junction's corners held); in-plane
+  rigid-body motion removed as the published script does when a mirror plane does not. Optional
+  gravity: the surface's 33 g (seed 001) spread uniformly over its volume.
+
+The ramp from the current to the target lambdas uses the project's path follower (secant or
+tangent predictor, step cutting, damped relaxation across folds).
+
+Observables (:meth:`GridshellFE.observables`), keys "name [unit]": the paper's two centre-curvature
+measures through :func:`lcefem.solvers.analysis.curvature.gridshell_curvatures` (circle through the
+apex and the two ends of the middle ribbon in x and y; quadratic surface through the junction
+centres), on the same stations as the bar-and-hinge gridshell: ribbon mid-surface points at the
+junction corners and at the ribbons' ends (x or y = 0 and 141 mm, the published ribbon ends; the FE
+mesh's flat end tabs lie beyond them). Points outside a reduced model are the mirror images of
+points inside it. Sign: positive for a bowl, negative for a dome (seed 001, Fig. 4).
+
+Units: mm, N, MPa, mJ (README).
+
+(Imports from :mod:`lcefem.validation.beam_fe` — materials, contact construction, Newton options,
+lambda check — are temporary: the architecture work (issue 12) moves them to models/ and solvers/.)
+"""
+
+from __future__ import annotations
+
+import inspect
+import itertools
+import math
+import pathlib
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+
+import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+import numpy as np
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx
+import dolfinx.fem.petsc
+import dolfinx.io
+
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.gridshell_fe import (GridshellFEMesh, build_gridshell_fe, cell_group,
+                                        strip_catalogue)
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.errors import InputError
+from lcefem.models.hyperelastic import NeoHookeanSolid, lce_strain_energy, neo_hookean_strain_energy
+from lcefem.models.lce import isochoric_uniaxial
+from lcefem.models.parameters import check, param
+from lcefem.solvers.analysis.curvature import gridshell_curvatures
+from lcefem.solvers.contact import NodalDamping, PenaltyContact, attach
+from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
+                                      deformation_gradient, displacement_space, volume_measure)
+from lcefem.validation.beam_fe import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
+
+try:  # the FE speed work moves the path follower to solvers/continuation
+    from lcefem.solvers.continuation import PathControl, PathFollower
+except ImportError:  # until then it lives with the FE beam
+    from lcefem.validation.beam_fe import PathControl, PathFollower
+
+PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK, Examples2D.m; "
+             "shared/reference/published_reduced_model.md)")
+_prefix = itertools.count()
+#: Standard gravity [mm/s^2] (m/s^2 x 1e3: lengths in mm).
+STANDARD_GRAVITY = 9.80665e3
+#: The paper's lambda settings of the four Fig. 4 shapes, per channel (seed 001, Fig. 4 B-E).
+FIG4_SHAPES = {
+    "table": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
+    "dome": {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05},
+    "saddle": {"Tx": 1.33, "By": 1.33, "Ty": 1.05, "Bx": 1.05},
+    "cylinder": {"Ty": 1.33, "Bx": 1.33, "By": 1.33, "Tx": 1.05},
+}
+#: Supports of each shape in the published example script (shared/reference/gridshell_recipes.md).
+PUBLISHED_SUPPORTS = {"table": "rollers", "dome": "rollers", "cylinder": "rollers",
+                      "saddle": "centre_clamp"}
+#: Centre principal curvatures (kappa_x, kappa_y) [1/mm] the paper reports (seed 001, Fig. 4 text
+#: and Materials and Methods): simulation (bar-and-hinge) and experiment. The table's are not given.
+PAPER_CURVATURES = {
+    "dome": {"simulation": (-0.017, -0.017), "experiment": (-0.016, -0.016)},
+    "saddle": {"simulation": (-0.010, 0.014), "experiment": (-0.012, 0.015)},
+    "cylinder": {"simulation": (0.018, 0.0), "experiment": (0.017, 0.0)},
+}
+
+
+@dataclass(frozen=True)
+class GridshellMaterials(FEMaterials):
+    """The FE beam's materials (Kapton, LCE) plus the glue squares where the top strips cross."""
+
+    # E = 1e4 MPa as the published glue bars (Examples2D.m: GBarCM = Ogden(Ex, 5e3*2)); nu = 0.34
+    # chosen as Kapton's. 2e4 times stiffer than the LCE: the raised square is effectively rigid.
+    glue: NeoHookeanSolid = field(default_factory=lambda: NeoHookeanSolid(youngs_modulus=1.0e4))
+
+
+@dataclass(frozen=True)
+class GridshellSupports:
+    """How the surface is held."""
+
+    kind: str = param("rollers", "-", PUBLISHED + ": 'rollers' (dome, cylinder, table: u_z = 0 at "
+                      "the outer ribbons' end corners, 8 in all) or 'centre_clamp' (saddle: the "
+                      "centre junction's four corners clamped)")
+    gravity: bool = param(False, "-", "chosen: the published simulations have no gravity; True "
+                          "loads the surface with its weight")
+    mass: float = param(33.0e-6, "t", "seed 001: 'The robotic surface is lightweight (33 g)' "
+                        "(with cover scales), spread uniformly over the gridshell's volume",
+                        positive=True)
+
+    def checked(self) -> "GridshellSupports":
+        check(self, "supports")
+        if self.kind not in ("rollers", "centre_clamp"):
+            raise InputError(f"supports.kind = {self.kind!r}: allowed 'rollers', 'centre_clamp'")
+        return self
+
+
+@dataclass(frozen=True)
+class GridshellConfig:
+    """Everything a :class:`GridshellFE` is built from (units in each dataclass)."""
+
+    geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
+    mesh: GridshellFEMesh = field(default_factory=GridshellFEMesh)
+    cells: int = param(3, "-", "seed 001: the 3 x 3 grid (ribbons per direction)", minimum=1)
+    symmetry: str = param("quarter", "-", "reduced model (meshes.gridshell_fe.RECIPE_SYMMETRY): "
+                          "'quarter', 'half_x', 'half_y' or 'full'")
+    lambda_N: float = param(PUBLISHED_LAMBDA_N, "-", PUBLISHED + ": as-built (nematic) stretch "
+                            "relative to the isotropic length", minimum=1.0)
+    materials: GridshellMaterials = field(default_factory=GridshellMaterials)
+    supports: GridshellSupports = field(default_factory=GridshellSupports)
+    contact: PenaltyContact = field(default_factory=PenaltyContact)
+    control: PathControl = field(default_factory=PathControl)
+
+
+def lce_strip_energy(F, a, director, law):
+    """W(F U(a)^-1) [mJ/mm^3] of an LCE strip at relative length a = lambda/lambda_N along its unit
+    director (UFL; U^-1 = U(1/a) in closed form), as the FE beam's strips."""
+    return lce_strain_energy(F * isochoric_uniaxial(1.0 / a, director), law)
+
+
+def von_mises(P, F):
+    """Von Mises equivalent [MPa] of the Cauchy stress sigma = P F^T / det F (UFL)."""
+    sigma = P * F.T / ufl.det(F)
+    s = ufl.dev(sigma)
+    return ufl.sqrt(1.5 * ufl.inner(s, s))
+
+
+def _attach(problem: HyperelasticProblem, terms: list, bcs: list) -> None:
+    """:func:`lcefem.solvers.contact.attach` under its current or its FE-speed signature (which
+    also preallocates the contact couplings)."""
+    if "problem" in inspect.signature(attach).parameters:
+        attach(problem, terms)
+        return
+    _preallocate_couplings(problem, [t.pairs for t in terms if hasattr(t, "pairs")], bcs)
+    attach(problem.snes, terms, bcs, homogeneous=True)
+
+
+def _preallocate_couplings(problem: HyperelasticProblem, pairs: list, bcs: list) -> None:
+    """Temporary, until the FE speed work's ``HyperelasticProblem.add_couplings`` lands: the
+    Jacobian rebuilt with the contact pairs in its sparsity pattern. Without it the first contact
+    assembly reallocates the matrix once per new row (160 s on the quarter gridshell, level 0)."""
+    if not pairs:
+        return
+    from dolfinx.cpp.la.petsc import create_matrix
+
+    nlp = problem._problem
+    pattern = dolfinx.fem.create_sparsity_pattern(nlp.J)
+    blocks = np.concatenate(pairs).astype(np.int32)
+    for row in blocks:
+        pattern.insert(row, row)
+    pattern.finalize()
+    A = create_matrix(problem.u.function_space.mesh.comm, pattern, None)
+    A.setOptionsPrefix(nlp.A.getOptionsPrefix())
+    # fill the whole pattern once: a final assembly squeezes out entries never set
+    dolfinx.fem.petsc.assemble_matrix(A, nlp.J, bcs=bcs)
+    A.assemble(PETSc.Mat.AssemblyType.FLUSH)
+    dofs = (3 * blocks[:, :, None] + np.arange(3, dtype=np.int32)).reshape(len(blocks), -1)
+    zeros = np.zeros((dofs.shape[1], dofs.shape[1]))
+    for row in dofs:
+        A.setValues(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
+    A.assemble()
+    _, _, (jac, jargs, jkw) = problem.snes.getJacobian()
+    problem.snes.setJacobian(jac, A, None, args=jargs, kargs=jkw)
+    nlp._A.destroy()
+    nlp._A = A
+
+
+@dataclass
+class GridshellState:
+    """One converged state of a ramp."""
+
+    load_factor: float  # [-] path parameter t of the ramp
+    iterations: int  # Newton iterations of the step
+    observables: dict  # "name [unit]" -> value
+
+
+class GridshellFE:
+    """The FE gridshell (module docstring): forms compiled once; drives are the strips' lambda.
+
+    Build: ``GridshellFE(GridshellConfig(...))``. Drive: :meth:`set_lambda` with a strip tag
+    (``bottom_x_r1_s2``), a group (``XD1``..``YU3``, ``top_x_r1_j1``) or a channel (Tx, Ty, Bx, By).
+    Solve: :meth:`advance` (to the targets set) or :meth:`ramp` (set and advance). Observe:
+    :meth:`observables`, :meth:`junction_centres`. Output: :meth:`write_fields`.
+    """
+
+    def __init__(self, config: GridshellConfig = GridshellConfig(), comm: MPI.Comm = MPI.COMM_WORLD,
+                 petsc_options: dict | None = None):
+        self.config = cfg = config
+        supports = cfg.supports.checked()
+        self.lambda_N = lam_n = float(cfg.lambda_N)
+        self.tmesh = tm = build_gridshell_fe(cfg.geometry, lam_n, cfg.mesh, comm, cells=cfg.cells,
+                                             symmetry=cfg.symmetry)
+        self.info = tm.info
+        msh = tm.mesh
+        self.V = V = displacement_space(msh, 2)
+        self.u = u = dolfinx.fem.Function(V, name="displacement")
+        # cell-wise drive and director (DG0): one value per cell, set per strip tag
+        V0 = dolfinx.fem.functionspace(msh, ("DG", 0))
+        self.lam = dolfinx.fem.Function(V0, name="lambda")
+        self.director = dolfinx.fem.Function(dolfinx.fem.functionspace(msh, ("DG", 0, (3,))),
+                                             name="director")
+        ncells = msh.topology.index_map(3).size_local + msh.topology.index_map(3).num_ghosts
+        cell_values = np.zeros(ncells, dtype=np.int32)
+        cell_values[tm.cell_tags.indices] = tm.cell_tags.values
+        self._cell_dof = V0.dofmap.list[:, 0]  # DG0 dof of each cell
+        self._dof_tag = np.zeros(self.lam.x.array.size, dtype=np.int32)
+        self._dof_tag[self._cell_dof] = cell_values
+        self.lam.x.array[:] = lam_n
+        dirs = self.director.x.array.reshape(-1, 3)
+        for channel, axis in (("Bx", 0), ("Tx", 0), ("By", 1), ("Ty", 1)):
+            if channel in tm.info["cell_groups"]:
+                dirs[np.isin(self._dof_tag, cell_group(tm, channel)), axis] = 1.0
+        self.target = self.lam.x.array.copy()
+        self.strip_tags = {name: tm.cell_tag(name) for name in tm.info["strips"]}
+        self._all_strips = strip_catalogue(cfg.geometry, cfg.cells, tm.info["strip_width"])
+
+        # energy: every term compiled once; only lam (and the gravity Constant) change
+        mats = cfg.materials
+        F = deformation_gradient(u)
+        dx = volume_measure(tm, QUADRATURE_DEGREE)
+        strips = cell_group(tm, "bottom_strips") + cell_group(tm, "top_strips")
+        pads = tuple(t for g in ("bottom_pads", "top_pads") if g in tm.info["cell_groups"]
+                     for t in cell_group(tm, g))
+        lce_tags = strips + pads  # pads: lam stays lambda_N (a = 1), the beam's passive pads
+        glue = cell_group(tm, "glue") if "glue" in tm.info["cell_groups"] else ()
+        a = self.lam / lam_n
+        densities = {"kapton": (neo_hookean_strain_energy, mats.kapton, cell_group(tm, "kapton")),
+                     "lce": (lambda G, law: lce_strip_energy(G, a, self.director, law), mats.lce,
+                             lce_tags),
+                     "glue": (neo_hookean_strain_energy, mats.glue, glue)}
+        energy = sum(w(F, law) * dx(tags) for w, law, tags in densities.values() if tags)
+        self.volume = assemble_global(dolfinx.fem.form(1.0 * dx), msh.comm)  # [mm^3], model
+        self.gravity = dolfinx.fem.Constant(msh, np.zeros(3, dtype=PETSc.ScalarType))  # [N/mm^3]
+        self._weight_density = (supports.mass * STANDARD_GRAVITY
+                                / (self.volume * tm.info["symmetry_factor"]))
+        if supports.gravity:
+            energy = energy - ufl.dot(self.gravity, u) * dx
+        self.gravity_on = 0.0  # fraction of the weight applied
+
+        self._X = V.tabulate_dof_coordinates()  # reference node positions [mm]
+        self.bcs = self._supports(supports)
+        # the FE beam's Newton settings; no divergence test: from u = 0 the first full step may
+        # push strips through the ribbon (contact closes only at the next iterate), raising the
+        # residual far above its small initial value before Newton converges
+        options = dict(BEAM_NEWTON)
+        options.update(petsc_options or {})
+        self.problem = HyperelasticProblem(u, energy, self.bcs,
+                                           prefix=f"lcefem_gridshell{next(_prefix)}_",
+                                           petsc_options=options)
+        self.problem.snes.setDivergenceTolerance(1e30)
+        self.contacts = make_contacts(tm, u, cfg.contact)
+        self.damping = NodalDamping(u)  # proximal term of the path follower's relaxation at folds
+        _attach(self.problem, [*self.contacts, self.damping], self.bcs)
+
+        # stress measure for output: von Mises of the Cauchy stress, cell-wise (DG0), per material
+        Fv = ufl.variable(F)
+        self.stress = dolfinx.fem.Function(V0, name="von_mises_stress")
+        self._stress_exprs = []
+        points = V0.element.interpolation_points
+        for w, law, tags in densities.values():
+            if not tags:
+                continue
+            W = w(Fv, law)
+            expr = dolfinx.fem.Expression(von_mises(ufl.diff(W, Fv), Fv), points)
+            cells = np.flatnonzero(np.isin(cell_values, tags)).astype(np.int32)
+            self._stress_exprs.append((expr, cells))
+
+        self._stations = self._make_stations()
+        self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+        self.last_follower = None
+        self.wall_time = 0.0  # [s] spent in ramps
+
+    # ------------------------------------------------------------------ supports
+    def _nodes_at(self, xy, tol: float = 1e-6) -> np.ndarray:
+        """Ribbon nodes (block indices) through the thickness at in-plane point ``xy`` [mm] (the
+        ribbon is flat there: junctions, segment ends, tabs)."""
+        X = self._X
+        half = 0.5 * self.info["ribbon_thickness"] + tol
+        hit = np.flatnonzero((np.abs(X[:, 0] - xy[0]) < tol) & (np.abs(X[:, 1] - xy[1]) < tol)
+                             & (np.abs(X[:, 2]) <= half))
+        return hit
+
+    def _supports(self, supports: GridshellSupports) -> list:
+        tm, V, info = self.tmesh, self.V, self.info
+        fdim = tm.mesh.topology.dim - 1
+        tm.mesh.topology.create_connectivity(fdim, tm.mesh.topology.dim)
+        zero = PETSc.ScalarType(0.0)
+        bcs = []
+        mirrors = [(name, comp) for name, comp in (("sym_x", 0), ("sym_y", 1)) if name in tm.facets]
+        for name, comp in mirrors:
+            facets = tm.facet_tags.find(tm.facet_tag(name))
+            dofs = dolfinx.fem.locate_dofs_topological(V.sub(comp), fdim, facets)
+            bcs.append(dolfinx.fem.dirichletbc(zero, dofs, V.sub(comp)))
+        mirrored = {comp for _, comp in mirrors}
+        held: dict[int, list[int]] = {0: [], 1: [], 2: []}
+        if supports.kind == "rollers":
+            for xy, comps in self._roller_points():
+                nodes = self._nodes_at(xy)
+                if nodes.size == 0:
+                    continue  # outside this reduced model: its mirror image holds
+                for comp in [2] + [k for k in comps if k not in mirrored]:
+                    held[comp] += list(nodes)
+        else:
+            for corner in info["centre_junction_corners"]:
+                nodes = self._nodes_at(corner[:2])
+                for comp in range(3):
+                    held[comp] += list(nodes)
+        self.support_nodes = {comp: np.unique(np.asarray(v, dtype=np.int32))
+                              for comp, v in held.items()}
+        if self.support_nodes[2].size == 0:
+            raise InputError(f"supports.kind = {supports.kind!r}: no support point in the "
+                             f"{info['symmetry']} model")
+        for comp, nodes in self.support_nodes.items():
+            if nodes.size:
+                dofs = self._component_dofs(comp, nodes)
+                bcs.append(dolfinx.fem.dirichletbc(zero, dofs, V.sub(comp)))
+        return bcs
+
+    def _component_dofs(self, comp: int, nodes: np.ndarray) -> np.ndarray:
+        """DOFs of component ``comp`` (of V.sub(comp)) at the given nodes (block indices)."""
+        Vc, _ = self.V.sub(comp).collapse()
+        pts = self._X[nodes]
+
+        def marker(x):
+            d = np.min(np.linalg.norm(x.T[:, None, :] - pts[None, :, :], axis=2), axis=1)
+            return d < 1e-6
+
+        return dolfinx.fem.locate_dofs_geometrical((self.V.sub(comp), Vc), marker)[0]
+
+    def _roller_points(self) -> list[tuple[tuple[float, float], tuple[int, ...]]]:
+        """The published 8 rollers (full-model (x, y) [mm], extra in-plane components held): the
+        outer ribbons' end corners on the perimeter side, at the FE ribbon ends (beyond the tabs).
+        In-plane rigid-body motion as the published script: the first u_x, u_y, the second u_x,
+        the third u_y (dropped where a mirror plane holds that component)."""
+        info = self.info
+        n, W = info["cells_per_direction"], info["ribbon_width"]
+        c = info["junction_centres"]
+        lo, hi = -info["end_tab"], info["ribbon_length"] + info["end_tab"]
+        edge_lo, edge_hi = c[0] - 0.5 * W, c[n - 1] + 0.5 * W  # outer edges of the outer ribbons
+        pts = [((edge_lo, lo), (0, 1)), ((edge_lo, hi), (0,)), ((edge_hi, lo), (1,)),
+               ((edge_hi, hi), ()),  # y ribbons' ends
+               ((hi, edge_lo), ()), ((hi, edge_hi), ()), ((lo, edge_lo), ()), ((lo, edge_hi), ())]
+        return pts
+
+    # ------------------------------------------------------------------ drives
+    def _tags_of(self, selector: str) -> tuple[int, ...]:
+        """Strip cell tags of a strip tag, group or channel name."""
+        groups = self.info["cell_groups"]
+        if selector in self.strip_tags:
+            return (self.strip_tags[selector],)
+        if selector in groups:
+            tags = groups[selector]
+            if not set(tags) <= set(self.strip_tags.values()):
+                raise InputError(f"drive {selector!r}: not a group of LCE strips (a material)")
+            return tags
+        if selector in self._all_strips or _is_full_group(selector, self.config.cells):
+            raise InputError(f"drive {selector!r}: lies outside the {self.info['symmetry']} model "
+                             "(its mirror image carries the same drive); drive a channel or a "
+                             "piece inside the model")
+        raise InputError(f"drive {selector!r}: not a strip tag, group (XD1..YU3) or channel "
+                         "(Tx, Ty, Bx, By)")
+
+    def set_lambda(self, drives: Mapping[str, float]) -> None:
+        """Target spontaneous stretches lambda [-] (relative to the isotropic length; as built:
+        lambda_N) per strip tag, group or channel, applied in the mapping's order (a later key
+        overrides an earlier one on shared strips); reached by :meth:`advance`."""
+        for selector, value in drives.items():
+            lam = check_lambda(f"lambda[{selector}]", value, self.lambda_N)
+            self.target[np.isin(self._dof_tag, self._tags_of(selector))] = lam
+
+    def lambda_of(self, selector: str, target: bool = False) -> np.ndarray:
+        """Distinct lambda values [-] (current, or the targets) on the cells of a selector."""
+        arr = self.target if target else self.lam.x.array
+        return np.unique(arr[np.isin(self._dof_tag, self._tags_of(selector))])
+
+    def advance(self, *, on_step: Callable[[GridshellState], None] | None = None
+                ) -> list[GridshellState]:
+        """Take every strip linearly from its current lambda to its target (path parameter
+        t: 0 -> 1; with gravity on, its weight rises with t on the first ramp) with the path
+        follower. Raises ConvergenceError (the model keeps the last converged state)."""
+        lam0 = self.lam.x.array.copy()
+        dlam = self.target - lam0
+        g0 = self.gravity_on
+        g1 = 1.0 if self.config.supports.gravity else 0.0
+        ez = np.array([0.0, 0.0, -self._weight_density])
+
+        def set_load(t: float) -> None:
+            self.lam.x.array[:] = lam0 + t * dlam
+            self.gravity_on = g0 + t * (g1 - g0)
+            self.gravity.value = self.gravity_on * ez
+
+        follower = PathFollower(self.problem, set_load, self.config.control, self.damping)
+        states: list[GridshellState] = []
+
+        def record(t: float, its: int) -> None:
+            states.append(GridshellState(t, its, self.observables()))
+            if on_step is not None:
+                on_step(states[-1])
+
+        started = time.perf_counter()
+        try:
+            follower.follow(1.0, where="gridshell ramp", on_step=record)
+        finally:
+            self.wall_time += time.perf_counter() - started
+            self.last_follower = follower
+        self.lam.x.array[:] = self.target  # exactly, not lam0 + 1.0 * dlam
+        return states
+
+    def ramp(self, drives: Mapping[str, float], **kw) -> list[GridshellState]:
+        """:meth:`set_lambda` then :meth:`advance`."""
+        self.set_lambda(drives)
+        return self.advance(**kw)
+
+    # ------------------------------------------------------------------ observables
+    def _make_stations(self) -> SimpleNamespace:
+        """Reference stations (full-model (x, y) [mm]) of the curvature measures, laid out as the
+        bar-and-hinge structure's node sets so that :func:`gridshell_curvatures` applies."""
+        info = self.info
+        n, W = info["cells_per_direction"], info["ribbon_width"]
+        c = np.asarray(info["junction_centres"])
+        h = 0.5 * W
+        length = info["ribbon_length"]
+        xy, index = [], {}
+
+        def station(p) -> int:
+            key = (round(float(p[0]), 9), round(float(p[1]), 9))
+            if key not in index:
+                index[key] = len(xy)
+                xy.append(key)
+            return index[key]
+
+        corners = ((-h, -h), (h, -h), (h, h), (-h, h))  # order of the centre frame (x edge first)
+        jc = np.array([[[station((c[i] + a, c[j] + b)) for a, b in corners] for j in range(n)]
+                       for i in range(n)])
+        ends_x = np.array([[[station((e, c[r] + s)) for s in (-h, h)] for e in (0.0, length)]
+                           for r in range(n)])
+        ends_y = np.array([[[station((c[r] + s, e)) for s in (-h, h)] for e in (0.0, length)]
+                           for r in range(n)])
+        mid = n // 2
+        structure = SimpleNamespace(
+            nodes=None, info={"ribbons": n},
+            node_sets={"junction_corners": jc, "centre_junction": jc[mid, mid],
+                       "ribbon_ends_x": ends_x, "ribbon_ends_y": ends_y})
+        # each station: model nodes of its mirror image inside the model, and the reflection
+        centre = info["centre"]
+        cut_x, cut_y = "sym_x" in self.tmesh.facets, "sym_y" in self.tmesh.facets
+        nodes, flips = [], []
+        for x, y in xy:
+            fx, fy = cut_x and x < centre - 1e-9, cut_y and y < centre - 1e-9
+            p = (2 * centre - x if fx else x, 2 * centre - y if fy else y)
+            found = self._nodes_at(p)
+            if found.size == 0:
+                raise RuntimeError(f"no ribbon node at station {p}")
+            nodes.append(found)
+            flips.append((fx, fy))
+        return SimpleNamespace(structure=structure, nodes=nodes, flips=flips, centre=centre)
+
+    def station_positions(self) -> np.ndarray:
+        """Deformed stations (m, 3) [mm]: ribbon mid-surface (mean through the thickness), mirror
+        images for stations outside a reduced model."""
+        s = self._stations
+        x = self._X + self.u.x.array.reshape(-1, 3)
+        out = np.empty((len(s.nodes), 3))
+        for k, (nodes, (fx, fy)) in enumerate(zip(s.nodes, s.flips)):
+            p = x[nodes].mean(axis=0)
+            if fx:
+                p[0] = 2 * s.centre - p[0]
+            if fy:
+                p[1] = 2 * s.centre - p[1]
+            out[k] = p
+        return out
+
+    def junction_centres(self) -> np.ndarray:
+        """Deformed junction centres (n, n, 3) [mm] (mean of each junction's mid-surface corners;
+        index [i, j]: i along x, j along y)."""
+        x = self.station_positions()
+        return x[self._stations.structure.node_sets["junction_corners"]].mean(axis=2)
+
+    def observables(self) -> dict[str, float]:
+        """Named observables, keys "name [unit]" (module docstring; curvature sign: + bowl, - dome)."""
+        x = self.station_positions()
+        k = gridshell_curvatures(self._stations.structure, x)
+        z = (self._X + self.u.x.array.reshape(-1, 3))[:, 2]
+        comm = self.tmesh.mesh.comm
+        zmin, zmax = comm.allreduce(float(z.min()), op=MPI.MIN), comm.allreduce(float(z.max()), op=MPI.MAX)
+        jc = self.junction_centres()
+        n = jc.shape[0]
+        out = {"kappa_circle_x [1/mm]": k["circle_x"], "kappa_circle_y [1/mm]": k["circle_y"],
+               "kappa_quad_x [1/mm]": k.get("quad_kx", math.nan),
+               "kappa_quad_y [1/mm]": k.get("quad_ky", math.nan),
+               "kappa_quad_1 [1/mm]": k.get("quad_k1", math.nan),
+               "kappa_quad_2 [1/mm]": k.get("quad_k2", math.nan),
+               "gaussian_quad [1/mm^2]": k.get("gaussian", math.nan),
+               "quad_rms_residual [mm]": k.get("rms_residual", math.nan),
+               "z_range [mm]": zmax - zmin,  # of the whole deformed body
+               "surface_z_range [mm]": float(np.ptp(jc[:, :, 2])),  # of the junction centres
+               "apex_z [mm]": float(jc[n // 2, n // 2, 2]),
+               "contact_force [N]": self.info["symmetry_factor"] * sum(c.normal_force()
+                                                                        for c in self.contacts)}
+        for i in range(n):
+            for j in range(n):
+                for axis, name in enumerate("xyz"):
+                    out[f"junction_{i}{j}_{name} [mm]"] = float(jc[i, j, axis])
+        return out
+
+    # ------------------------------------------------------------------ fields
+    def update_stress(self) -> None:
+        """Cell-wise von Mises stress [MPa] of the current state into ``self.stress``."""
+        for expr, cells in self._stress_exprs:
+            self.stress.interpolate(expr, cells0=cells)
+        self.stress.x.scatter_forward()
+
+    def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
+        """ParaView files of the current state in ``folder``: displacement.bp (Q2, VTX) and
+        cells.xdmf (lambda [-], von Mises stress [MPa], director, one value per cell)."""
+        folder = pathlib.Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        comm = self.tmesh.mesh.comm
+        self.update_stress()
+        disp = folder / "displacement.bp"
+        with dolfinx.io.VTXWriter(comm, disp, [self.u], engine="BP4") as w:
+            w.write(t)
+        cells = folder / "cells.xdmf"
+        with dolfinx.io.XDMFFile(comm, cells, "w") as f:
+            f.write_mesh(self.tmesh.mesh)
+            for fn in (self.lam, self.stress, self.director):
+                f.write_function(fn, t)
+        return [disp, cells]
+
+
+def _is_full_group(name: str, n: int) -> bool:
+    """A published group (XD1..YU{n}) or channel name of the full model."""
+    if name in ("Tx", "Ty", "Bx", "By"):
+        return True
+    return (len(name) >= 3 and name[0] in "XY" and name[1] in "DU" and name[2:].isdigit()
+            and 1 <= int(name[2:]) <= n)
+
+
+def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **config) -> GridshellFE:
+    """A :class:`GridshellFE` with the published supports of a Fig. 4 shape (not yet ramped)."""
+    if name not in FIG4_SHAPES:
+        raise InputError(f"shape {name!r}: allowed {', '.join(FIG4_SHAPES)}")
+    supports = config.pop("supports", GridshellSupports(kind=PUBLISHED_SUPPORTS[name]))
+    cfg = GridshellConfig(mesh=GridshellFEMesh(level=mesh_level), symmetry=symmetry,
+                          supports=supports, **config)
+    return GridshellFE(cfg)
+
+
+__all__ = ["FIG4_SHAPES", "GridshellConfig", "GridshellFE", "GridshellMaterials",
+           "GridshellState", "GridshellSupports", "PAPER_CURVATURES", "PUBLISHED_SUPPORTS",
+           "fig4_shape", "lce_strip_energy", "von_mises"]

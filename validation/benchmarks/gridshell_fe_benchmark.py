@@ -1,0 +1,71 @@
+"""Cost and centre curvatures of the 3D FE gridshell (prescribed-lambda route) for the Fig. 4 shapes:
+DOFs, path steps, Newton iterations, cut steps, wall time, peak memory, and the two curvature
+measures against the paper's simulation and experiment (seed 001).
+
+    python -m lcefem.validation.benchmarks.gridshell_fe_benchmark [--shapes dome saddle] [--level 0]
+        [--symmetry quarter] [--json out.json]
+
+Not a test: it prints figures for the developers' guide and the report. Peak memory is the
+process's high-water mark (ru_maxrss) after each shape: run one shape per call for per-shape figures.
+The machine load matters: run it alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import resource
+import time
+
+
+def run_shape(shape: str, level: int, symmetry: str) -> dict:
+    """Build the shape's model, ramp it from the as-built state; returns the figures (units in keys)."""
+    from lcefem.solvers.problems.gridshell import FIG4_SHAPES, fig4_shape
+
+    t0 = time.perf_counter()
+    model = fig4_shape(shape, mesh_level=level, symmetry=symmetry)
+    build = time.perf_counter() - t0
+    states = model.ramp(FIG4_SHAPES[shape])
+    f = model.last_follower
+    obs = model.observables()
+    return {"shape": shape, "level": level, "symmetry": symmetry, "dofs": model.ndofs,
+            "build [s]": build, "ramp [s]": model.wall_time, "steps": len(states),
+            "newton iterations": f.iterations, "cut steps": f.cuts, "folds": f.snaps,
+            "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+            **{k: v for k, v in obs.items() if not k.startswith("junction_")}}
+
+
+def main(argv: list[str] | None = None) -> int:
+    from lcefem.solvers.problems.gridshell import FIG4_SHAPES, PAPER_CURVATURES
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--shapes", nargs="+", default=["dome", "table", "saddle", "cylinder"],
+                        choices=list(FIG4_SHAPES))
+    parser.add_argument("--level", type=int, default=0, help="FE mesh level")
+    parser.add_argument("--symmetry", default="quarter", help="reduced model")
+    parser.add_argument("--json", default=None, help="also write the figures to this file")
+    args = parser.parse_args(argv)
+    print(f"python {platform.python_version()}, {platform.processor() or platform.machine()}; "
+          f"FE gridshell, {args.symmetry} model, level {args.level}")
+    rows = []
+    for shape in args.shapes:
+        r = run_shape(shape, args.level, args.symmetry)
+        rows.append(r)
+        paper = PAPER_CURVATURES.get(shape, {})
+        sim, exp = paper.get("simulation"), paper.get("experiment")
+        print(f"{shape}: {r['dofs']} DOFs, {r['steps']} steps, {r['newton iterations']} Newton "
+              f"iterations ({r['cut steps']} cuts, {r['folds']} folds), build {r['build [s]']:.1f} s, "
+              f"ramp {r['ramp [s]']:.0f} s, peak {r['peak memory [MiB]']:.0f} MiB")
+        print(f"  kappa_x, kappa_y [1/mm]: circle {r['kappa_circle_x [1/mm]']:+.4f} "
+              f"{r['kappa_circle_y [1/mm]']:+.4f}, quadratic {r['kappa_quad_x [1/mm]']:+.4f} "
+              f"{r['kappa_quad_y [1/mm]']:+.4f}; paper simulation {sim}, experiment {exp}; "
+              f"z range {r['z_range [mm]']:.2f} mm")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(rows, fh, indent=1, default=float)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
