@@ -40,7 +40,6 @@ lambda check — are temporary: the architecture work (issue 12) moves them to m
 
 from __future__ import annotations
 
-import inspect
 import itertools
 import math
 import pathlib
@@ -72,11 +71,7 @@ from lcefem.solvers.contact import NodalDamping, PenaltyContact, attach
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
 from lcefem.validation.beam_fe import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
-
-try:  # the FE speed work moves the path follower to solvers/continuation
-    from lcefem.solvers.continuation import PathControl, PathFollower
-except ImportError:  # until then it lives with the FE beam
-    from lcefem.validation.beam_fe import PathControl, PathFollower
+from lcefem.solvers.continuation import PathControl, PathFollower
 
 PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK, Examples2D.m; "
              "shared/reference/published_reduced_model.md)")
@@ -159,46 +154,6 @@ def von_mises(P, F):
     sigma = P * F.T / ufl.det(F)
     s = ufl.dev(sigma)
     return ufl.sqrt(1.5 * ufl.inner(s, s))
-
-
-def _attach(problem: HyperelasticProblem, terms: list, bcs: list) -> None:
-    """:func:`lcefem.solvers.contact.attach` under its current or its FE-speed signature (which
-    also preallocates the contact couplings)."""
-    if "problem" in inspect.signature(attach).parameters:
-        attach(problem, terms)
-        return
-    _preallocate_couplings(problem, [t.pairs for t in terms if hasattr(t, "pairs")], bcs)
-    attach(problem.snes, terms, bcs, homogeneous=True)
-
-
-def _preallocate_couplings(problem: HyperelasticProblem, pairs: list, bcs: list) -> None:
-    """Temporary, until the FE speed work's ``HyperelasticProblem.add_couplings`` lands: the
-    Jacobian rebuilt with the contact pairs in its sparsity pattern. Without it the first contact
-    assembly reallocates the matrix once per new row (160 s on the quarter gridshell, level 0)."""
-    if not pairs:
-        return
-    from dolfinx.cpp.la.petsc import create_matrix
-
-    nlp = problem._problem
-    pattern = dolfinx.fem.create_sparsity_pattern(nlp.J)
-    blocks = np.concatenate(pairs).astype(np.int32)
-    for row in blocks:
-        pattern.insert(row, row)
-    pattern.finalize()
-    A = create_matrix(problem.u.function_space.mesh.comm, pattern, None)
-    A.setOptionsPrefix(nlp.A.getOptionsPrefix())
-    # fill the whole pattern once: a final assembly squeezes out entries never set
-    dolfinx.fem.petsc.assemble_matrix(A, nlp.J, bcs=bcs)
-    A.assemble(PETSc.Mat.AssemblyType.FLUSH)
-    dofs = (3 * blocks[:, :, None] + np.arange(3, dtype=np.int32)).reshape(len(blocks), -1)
-    zeros = np.zeros((dofs.shape[1], dofs.shape[1]))
-    for row in dofs:
-        A.setValues(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
-    A.assemble()
-    _, _, (jac, jargs, jkw) = problem.snes.getJacobian()
-    problem.snes.setJacobian(jac, A, None, args=jargs, kargs=jkw)
-    nlp._A.destroy()
-    nlp._A = A
 
 
 @dataclass
@@ -286,7 +241,7 @@ class GridshellFE:
         self.problem.snes.setDivergenceTolerance(1e30)
         self.contacts = make_contacts(tm, u, cfg.contact)
         self.damping = NodalDamping(u)  # proximal term of the path follower's relaxation at folds
-        _attach(self.problem, [*self.contacts, self.damping], self.bcs)
+        attach(self.problem, [*self.contacts, self.damping])
 
         # stress measure for output: von Mises of the Cauchy stress, cell-wise (DG0), per material
         Fv = ufl.variable(F)
