@@ -6,6 +6,14 @@ output folder is claimed), ``main(args) -> int`` (runs through lcefem.solvers.ru
 cannot run under mpiexec, ``PARALLEL = False`` (or a function of args). Add a target by adding its module name here.
 """
 
+
+
+def parallel_if_fe(args) -> bool:
+    """``PARALLEL`` of a target with a bar-and-hinge and an FE model: only the FE model runs under
+    mpiexec (the bar-and-hinge model is serial numpy/scipy: every rank would write the same files)."""
+    return args.model == "fe"
+
+
 RUN_TARGETS = {
     "ribbon": "lcefem.validation.runs.ribbon",
     "strip": "lcefem.validation.runs.strip",

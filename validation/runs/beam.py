@@ -46,6 +46,7 @@ from lcefem.solvers.run import Progress, Run, add_out_arguments, check_config, r
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation.bar_hinge_io import bar_hinge_run
 from lcefem.validation.config import config_from_toml, override
+from lcefem.validation.runs import parallel_if_fe
 
 MODELS = ("bar-hinge", "fe")
 COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",
@@ -365,10 +366,7 @@ def config_from_args(args: argparse.Namespace) -> BeamConfig:
     return override(cfg, "geometry", segments=args.segments)
 
 
-def PARALLEL(args: argparse.Namespace) -> bool:  # noqa: N802  (the command line's flag, per model)
-    """The bar-and-hinge model is serial (numpy/scipy): under mpiexec every rank would write the same
-    files."""
-    return args.model == "fe"
+PARALLEL = parallel_if_fe
 
 
 def prepare(args: argparse.Namespace):

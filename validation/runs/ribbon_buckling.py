@@ -45,6 +45,7 @@ from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation import plots
 from lcefem.validation.bar_hinge_io import bar_hinge_run
 from lcefem.validation.config import config_from_toml, override
+from lcefem.validation.runs import parallel_if_fe
 from lcefem.validation.reference_data import reference
 from lcefem.validation.runs.beam import MODELS
 
@@ -284,10 +285,7 @@ def config_from_args(args: argparse.Namespace) -> RibbonConfig:
     return override(config_from_toml(args.config, RibbonConfig()), "run", compression=args.compression)
 
 
-def PARALLEL(args: argparse.Namespace) -> bool:  # noqa: N802  (the command line's flag, per model)
-    """The bar-and-hinge model is serial (numpy/scipy): under mpiexec every rank would write the same
-    files."""
-    return args.model == "fe"
+PARALLEL = parallel_if_fe
 
 
 def prepare(args: argparse.Namespace):
