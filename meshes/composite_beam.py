@@ -144,6 +144,25 @@ def strip_contact_rows(end_a, end_b, panel_a, panel_b, far_a, far_b):
     return [(end_a, end_b, panel_a, far_a), (end_b, end_a, panel_b, far_b)]
 
 
+def strip_sections(structure: BarHingeStructure, g: CompositeBeamGeometry, flank: float,
+                   rows_per_point: int = 1) -> None:
+    """Section data of the strip, glue and contact groups [mm, mm^2], shared by the beam and the gridshell.
+
+    Contact areas: a raised-square corner carries a quarter of the strip's footprint on the junction;
+    a ribbon node half the strip's width over one flank panel of length ``flank`` [mm]. With
+    ``rows_per_point`` contact rows per point (the gridshell has one per triangle of a strip quad)
+    each row carries its share, so the total contact stiffness is the same.
+    """
+    structure.sections["bottom_strips"] = {"section": g.strip_section}
+    structure.sections["top_strips"] = {"section": g.strip_section}
+    structure.sections["glue"] = {"area": g.ribbon_width * g.ribbon_thickness}
+    structure.sections["top_square_contact"] = {
+        "area": 0.25 * g.strip_width * g.junction_length / rows_per_point, "depth": g.strip_thickness}
+    for name in ("bottom_strip_contact", "top_strip_contact"):
+        structure.sections[name] = {"area": 0.5 * g.strip_width * flank / rows_per_point,
+                                    "depth": g.strip_thickness}
+
+
 def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
                          mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> BarHingeStructure:
     """Bar-and-hinge structure of the composite beam (N5B8 ribbon, strips, glue; published connectivity).
@@ -273,16 +292,7 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
         mid_panel = structure.panels[crown_panels[g.segments // 2]]
     structure.node_sets["middle_panel"] = mid_panel
     structure.node_sets["centre_support"] = np.array([mid_panel[0], mid_panel[3], mid_panel[1]])
-    structure.sections["bottom_strips"] = {"section": g.strip_section}
-    structure.sections["top_strips"] = {"section": g.strip_section}
-    structure.sections["glue"] = {"area": g.ribbon_width * g.ribbon_thickness}
-    # Contact areas: a raised-square corner carries a quarter of the strip's footprint on the
-    # junction; a ribbon node half the strip's width over one flank panel.
-    flank = (lx - g.crown_bond_length) / (2 * nf)
-    structure.sections["top_square_contact"] = {"area": 0.25 * g.strip_width * g.junction_length,
-                                                "depth": g.strip_thickness}
-    for name in ("bottom_strip_contact", "top_strip_contact"):
-        structure.sections[name] = {"area": 0.5 * g.strip_width * flank, "depth": g.strip_thickness}
+    strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf))
     structure.info.update(
         segments=g.segments, flank_panels=nf, top_junction=m.top_junction,
         panel_kind=kinds, bottom_strip_of_bar=np.asarray(bottom_of_bar),

@@ -49,7 +49,7 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
 from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry,
-                                          strip_contact_rows)
+                                          strip_contact_rows, strip_sections)
 from lcefem.meshes.gridshell_fe import junction_centres
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
@@ -283,15 +283,8 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     sets["ribbon_ends_y"] = ends["y"]
     sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
     sets["centre_junction"] = jc[n // 2, n // 2]
-    structure.sections["bottom_strips"] = {"section": g.strip_section}
-    structure.sections["top_strips"] = {"section": g.strip_section}
-    structure.sections["glue"] = {"area": g.ribbon_width * g.ribbon_thickness}
-    flank = (lx - g.crown_bond_length) / (2 * nf)
-    # As the composite beam's, halved: every point has two contact rows (the two triangles).
-    structure.sections["top_square_contact"] = {"area": 0.125 * g.strip_width * g.junction_length,
-                                                "depth": g.strip_thickness}
-    for name in ("bottom_strip_contact", "top_strip_contact"):
-        structure.sections[name] = {"area": 0.25 * g.strip_width * flank, "depth": g.strip_thickness}
+    # As the composite beam's, with two contact rows per point (the two triangles of a strip quad).
+    strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
 
     groups: dict[str, list[int]] = {}
     for st in strips:
