@@ -30,13 +30,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
-from lcefem.models.heat import (Coil, GridSegmentCoil, SurfaceExchange, ThermalProperties,
+from lcefem.models.heat import (Coil, GridSegmentCoil, SurfaceExchange, ThermalProperties, joule_power,
                                 radiative_film_coefficient)
 from lcefem.models.lce import NematicTransition, spontaneous_stretch
 from lcefem.models.parameters import param
-from lcefem.models import units
 
 
 @dataclass(frozen=True)
@@ -46,7 +47,7 @@ class HeatedStrip:
     resistance: float = param(GridSegmentCoil().resistance, "ohm", "models.heat.GridSegmentCoil: "
                               "seed 001, 'the resistance within each segment of the grid is 25 ohms'",
                               positive=True)
-    isotropic_length: float = param(30.0 / 1.4, "mm", "published reduced-order model: 30 mm nematic "
+    isotropic_length: float = param(30.0 / PUBLISHED_LAMBDA_N, "mm", "published reduced-order model: 30 mm nematic "
                                     "segment at lambda_N = 1.4 (isotropic 21.4 mm)", positive=True)
     width: float = param(5.0, "mm", "seed 001: mould channel 5 mm wide (cast, isotropic)", positive=True)
     thickness: float = param(2.0, "mm", "seed 001: mould channel 2 mm deep (cast, isotropic)",
@@ -88,25 +89,17 @@ def heat_loss(T, strip: HeatedStrip, model: LumpedThermal = LumpedThermal()):
 def steady_temperature(current: float, strip: HeatedStrip = HeatedStrip(),
                        model: LumpedThermal = LumpedThermal()) -> float:
     """Steady temperature [C] of the strip carrying ``current`` [A]: root of I^2 R = loss(T)
-    (the loss increases monotonically with T, so the root is unique; bisection)."""
+    (the loss increases monotonically with T, so the root is unique; Brent's method)."""
     if not (isinstance(current, (int, float)) and math.isfinite(current) and 0.0 <= current <= 1.0):
         raise InputError(f"current = {current}: must be between 0 and 1 A")
-    power = current ** 2 * strip.resistance * units.W
+    power = joule_power(current, strip.resistance)
     lo = model.exchange.ambient_temperature
     if power == 0.0:
         return lo
     hi = lo + 50.0
-    while heat_loss(hi, strip, model) < power:
+    while heat_loss(hi, strip, model) < power:  # bracket: the loss grows without bound with T
         hi = lo + 2.0 * (hi - lo)
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if heat_loss(mid, strip, model) < power:
-            lo = mid
-        else:
-            hi = mid
-        if hi - lo < 1e-10:
-            break
-    return 0.5 * (lo + hi)
+    return float(brentq(lambda T: heat_loss(T, strip, model) - power, lo, hi, xtol=1e-10))
 
 
 def steady_stretch(current: float, strip: HeatedStrip = HeatedStrip(),
@@ -122,16 +115,8 @@ def current_for_stretch(stretch: float, strip: HeatedStrip = HeatedStrip(),
     lam_n = model.transition.lambda_N
     if not 1.0 < stretch < lam_n:
         raise InputError(f"stretch = {stretch}: must lie strictly between 1 and {lam_n}")
-    lo, hi = 0.0, 1.0
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if steady_stretch(mid, strip, model) > stretch:
-            lo = mid
-        else:
-            hi = mid
-        if hi - lo < 1e-13:
-            break
-    return 0.5 * (lo + hi)
+    # lambda_s falls monotonically with the current, from lambda_N at 0 A to ~1 well below 1 A.
+    return float(brentq(lambda i: steady_stretch(i, strip, model) - stretch, 0.0, 1.0, xtol=1e-13))
 
 
 def transient_temperature(schedule, duration: float, strip: HeatedStrip = HeatedStrip(),
@@ -151,7 +136,7 @@ def transient_temperature(schedule, duration: float, strip: HeatedStrip = Heated
     temps = np.empty(n + 1)
     temps[0] = model.exchange.ambient_temperature
     for k in range(n):
-        power = schedule(times[k + 1]) ** 2 * strip.resistance * units.W
+        power = joule_power(schedule(times[k + 1]), strip.resistance)
         T = temps[k]
         for _ in range(30):  # Newton on cap (T - T_k)/dt = P - loss(T)
             eps = 1e-4

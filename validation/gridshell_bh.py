@@ -40,7 +40,8 @@ from lcefem.meshes.gridshell import (STRIP_GROUPS, GridshellLayout, build_gridsh
 from lcefem.models import units
 from lcefem.models.empirical import Eq1, eq1_stretch
 from lcefem.models.errors import InputError
-from lcefem.models.heat import Coil, joule_power
+from lcefem.models.heat import Coil
+from lcefem.models.loads import SurfaceWeight
 from lcefem.models.lumped_heat import HeatedStrip, LumpedThermal, steady_stretch
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
@@ -110,21 +111,6 @@ THERMAL_MODELS = ("segment", "eq1")
 
 
 @dataclass(frozen=True)
-class SurfaceWeight:
-    """The surface's weight (used with the "table" support)."""
-
-    total_mass: float = param(33.0 * units.GRAM, "t", "seed 001: 'the robotic surface only weighs 33 g' "
-                              "(with coils, glue and wires; lumped on the nodes in proportion to the "
-                              "Kapton and LCE volumes)", positive=True)
-    kapton_density: float = param(1.42 * units.G_PER_CM3, "t/mm^3", "DuPont Kapton HN datasheet: "
-                                  "1.42 g/cm^3", positive=True)
-    lce_density: float = param(1.15 * units.G_PER_CM3, "t/mm^3", "assumed 1.15 g/cm^3 (RM257-thiol "
-                               "networks 1.1-1.2; models.heat.ThermalProperties)", positive=True)
-    gravity: float = param(units.STANDARD_GRAVITY, "mm/s^2", "standard gravity 9.80665 m/s^2",
-                           positive=True)
-
-
-@dataclass(frozen=True)
 class CurrentRoute:
     """How a channel current becomes a strip's lambda."""
 
@@ -147,7 +133,7 @@ def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
     """Steady lambda [-] of a grid strip at ``current`` [A], capped at the as-built lambda_N (a strip
     whose free length would exceed its glued length is slack: rest fraction 1)."""
     if route.checked().thermal_model == "eq1":
-        lam = float(eq1_stretch(joule_power(current, Coil().resistance), Eq1()))
+        lam = float(eq1_stretch(Coil().power(current), Eq1()))
     else:
         lam = steady_stretch(current, route.segment, LumpedThermal())
     return min(lam, lambda_N)

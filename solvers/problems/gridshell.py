@@ -61,10 +61,11 @@ import dolfinx.io
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell_fe import (GridshellFEMesh, build_gridshell_fe, cell_group,
                                         strip_catalogue)
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, GlueBars
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, lce_strain_energy, neo_hookean_strain_energy
 from lcefem.models.lce import isochoric_uniaxial
+from lcefem.models.loads import SurfaceWeight
 from lcefem.models.parameters import check, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures
 from lcefem.solvers.contact import NodalDamping, PenaltyContact, attach
@@ -101,9 +102,10 @@ PAPER_CURVATURES = {
 class GridshellMaterials(FEMaterials):
     """The FE beam's materials (Kapton, LCE) plus the glue squares where the top strips cross."""
 
-    # E = 1e4 MPa as the published glue bars (Examples2D.m: GBarCM = Ogden(Ex, 5e3*2)); nu = 0.34
-    # chosen as Kapton's. 2e4 times stiffer than the LCE: the raised square is effectively rigid.
-    glue: NeoHookeanSolid = field(default_factory=lambda: NeoHookeanSolid(youngs_modulus=1.0e4))
+    # E of the published glue bars (models.bar_hinge.GlueBars, 1e4 MPa); nu = 0.34 chosen as Kapton's.
+    # 2e4 times stiffer than the LCE: the raised square is effectively rigid.
+    glue: NeoHookeanSolid = field(
+        default_factory=lambda: NeoHookeanSolid(youngs_modulus=GlueBars().youngs_modulus))
 
 
 @dataclass(frozen=True)
@@ -115,8 +117,8 @@ class GridshellSupports:
                       "centre junction's four corners clamped)")
     gravity: bool = param(False, "-", "chosen: the published simulations have no gravity; True "
                           "loads the surface with its weight")
-    mass: float = param(33.0e-6, "t", "seed 001: 'The robotic surface is lightweight (33 g)' "
-                        "(with cover scales), spread uniformly over the gridshell's volume",
+    mass: float = param(SurfaceWeight().total_mass, "t", "seed 001: 33 g "
+                        "(models.loads.SurfaceWeight), spread uniformly over the gridshell's volume",
                         positive=True)
 
     def checked(self) -> "GridshellSupports":

@@ -37,7 +37,8 @@ import numpy as np
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
 from lcefem.models import bar_hinge as law
-from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.errors import InputError
+from lcefem.models.loads import SurfaceWeight
 from lcefem.models.parameters import check, describe, param, with_overrides
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.validation import gridshell_bh as gs
@@ -87,7 +88,7 @@ class GridshellConfig:
     glue: law.GlueBars = field(default_factory=law.GlueBars)
     strip_contact: law.StripContactSprings = field(default_factory=law.StripContactSprings)
     contact: law.StripContact = field(default_factory=law.StripContact)
-    weight: gs.SurfaceWeight = field(default_factory=gs.SurfaceWeight)
+    weight: SurfaceWeight = field(default_factory=SurfaceWeight)
     current_route: gs.CurrentRoute = field(default_factory=gs.CurrentRoute)
     solver: NewtonOptions = field(default_factory=lambda: gs.GRIDSHELL_NEWTON)
     path: PathOptions = field(default_factory=lambda: gs.GRIDSHELL_PATH)
