@@ -189,21 +189,25 @@ def _barrier(comm) -> None:
         comm.barrier()
 
 
+def json_safe(obj):
+    """Plain JSON values: numpy scalars and arrays as Python ones, NaN and infinities as None, paths as
+    strings (strict JSON)."""
+    if hasattr(obj, "tolist"):  # numpy scalars and arrays
+        obj = obj.tolist()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {str(k): json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_safe(v) for v in obj]
+    if isinstance(obj, pathlib.PurePath):
+        return str(obj)
+    return obj
+
+
 def json_text(data) -> str:
-    """Strict JSON (NaN and infinities as null; numpy scalars and arrays, paths as plain values)."""
-    def plain(obj):
-        if hasattr(obj, "tolist"):  # numpy scalars and arrays
-            obj = obj.tolist()
-        if isinstance(obj, float) and not math.isfinite(obj):
-            return None
-        if isinstance(obj, dict):
-            return {str(k): plain(v) for k, v in obj.items()}
-        if isinstance(obj, (list, tuple)):
-            return [plain(v) for v in obj]
-        if isinstance(obj, pathlib.PurePath):
-            return str(obj)
-        return obj
-    return json.dumps(plain(data), indent=2, allow_nan=False) + "\n"
+    """Strict JSON text of ``data`` (:func:`json_safe`)."""
+    return json.dumps(json_safe(data), indent=2, allow_nan=False) + "\n"
 
 
 def write_text(path: pathlib.Path, text: str, comm=None) -> pathlib.Path:

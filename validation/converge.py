@@ -34,9 +34,9 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from lcefem.models.errors import InputError
-from lcefem.solvers.run import add_out_arguments, write_text
+from lcefem.solvers.run import add_out_arguments, write_json, write_text
 from lcefem.validation import gci as gci_mod
-from lcefem.validation import plots, report
+from lcefem.validation import plots
 from lcefem.validation.cases import CaseContext, registry
 from lcefem.validation.validate import MARKER, _isatty, load_complete, run_case
 
@@ -133,7 +133,7 @@ def write_outputs(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
                [[s.metric, s.unit, f"{s.values[-1]:.12g}", _fmt(s.p, ".6g"), _fmt(s.extrapolated, ".12g"),
                  _fmt(s.e_a, ".6g"), _fmt(s.e_ext, ".6g"), _fmt(s.gci_fine, ".6g"),
                  " ".join(_fmt(p, ".4g") for p in s.triple_orders), " ".join(s.flags)] for s in studies])
-    report.write_json_atomic(out / "convergence.json", {
+    write_json(out / "convergence.json", {
         "case": case_name, "mesh_sizes": list(mesh_sizes), "mesh_size_unit": mesh_unit,
         "safety_factor": gci_mod.SAFETY_FACTOR, "warnings": warnings,
         "metrics": [asdict(s) for s in studies]})
@@ -195,7 +195,7 @@ def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume:
         res = run_case(case, ctx, out)
         if res.mesh_size is None or not res.mesh_size > 0:
             raise RuntimeError(f"case {case.name} did not set ctx.mesh_size (> 0) at level {level}")
-        report.write_json_atomic(ctx.out / MARKER, res.as_dict())  # LAST: this level is complete
+        write_json(ctx.out / MARKER, res.as_dict())  # LAST: this level is complete
         results.append(res)
     h = [r.mesh_size for r in results]
     unit = results[0].mesh_size_unit or "-"

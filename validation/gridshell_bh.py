@@ -38,6 +38,7 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
 from lcefem.meshes.gridshell import (STRIP_GROUPS, GridshellLayout, build_gridshell_bar_hinge,
                                      resolve_bar_values)
 from lcefem.models import units
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import Eq1, eq1_stretch
 from lcefem.models.errors import InputError
 from lcefem.models.heat import Coil
@@ -129,7 +130,7 @@ class CurrentRoute:
 
 
 def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
-                         lambda_N: float = 1.4) -> float:
+                         lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
     """Steady lambda [-] of a grid strip at ``current`` [A], capped at the as-built lambda_N (a strip
     whose free length would exceed its glued length is slack: rest fraction 1)."""
     if route.checked().thermal_model == "eq1":
@@ -140,7 +141,7 @@ def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
 
 
 def lambda_assignments_from_currents(currents: dict, route: CurrentRoute = CurrentRoute(),
-                                     lambda_N: float = 1.4) -> dict:
+                                     lambda_N: float = PUBLISHED_LAMBDA_N) -> dict:
     """{selection: current [A]} -> {selection: lambda [-]} through :func:`stretch_from_current`."""
     return {k: stretch_from_current(float(v), route, lambda_N) for k, v in currents.items()}
 
@@ -245,7 +246,7 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
     return GridshellSetup(structure, model, support_dofs(structure, support), targets, support, forces)
 
 
-def targets_from_lambdas(structure: BarHingeStructure, lambdas: dict, lambda_N: float = 1.4,
+def targets_from_lambdas(structure: BarHingeStructure, lambdas: dict, lambda_N: float = PUBLISHED_LAMBDA_N,
                          name: str = "lambda") -> dict[str, np.ndarray]:
     """Rest fractions f = lambda/lambda_N per bar from lambdas per selection (default lambda_N)."""
     values = resolve_bar_values(structure, lambdas, lambda_N, name)

@@ -12,13 +12,10 @@ from __future__ import annotations
 
 import datetime
 import importlib.metadata
-import json
 import math
 import pathlib
 import platform
 from dataclasses import asdict, dataclass, field
-
-import numpy as np
 
 from lcefem.solvers.run import write_text
 
@@ -57,28 +54,6 @@ class CaseResult:
         """A metrics.json row standing for a case that did not finish (passed = False)."""
         return {"case": self.case, "metric": f"({self.status})", "value": None, "unit": "",
                 "reference": None, "tolerance": None, "passed": False, "source": self.error}
-
-
-def json_safe(obj):
-    """Plain Python types (numpy scalars unwrapped), non-finite floats as None: strict JSON."""
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float):
-        return obj if math.isfinite(obj) else None
-    if isinstance(obj, dict):
-        return {k: json_safe(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [json_safe(v) for v in obj]
-    return obj
-
-
-def write_text_atomic(path: pathlib.Path, text: str) -> pathlib.Path:
-    """Write to ``path.part`` and rename, so a reader never sees a half-written file."""
-    return write_text(path, text)
-
-
-def write_json_atomic(path: pathlib.Path, obj) -> pathlib.Path:
-    return write_text_atomic(path, json.dumps(json_safe(obj), indent=1, allow_nan=False) + "\n")
 
 
 def all_rows(results: list[CaseResult]) -> list[dict]:
@@ -299,4 +274,4 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
 
 def write_report(path: pathlib.Path, results: list[CaseResult], **kwargs) -> pathlib.Path:
     """Write :func:`render_report` to ``path`` atomically."""
-    return write_text_atomic(path, render_report(results, **kwargs))
+    return write_text(path, render_report(results, **kwargs))

@@ -30,7 +30,7 @@ import traceback
 from tqdm import tqdm
 
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.run import EXIT_CASE_ERROR, add_out_arguments
+from lcefem.solvers.run import EXIT_CASE_ERROR, add_out_arguments, write_json, write_text
 from lcefem.validation import report
 from lcefem.validation.cases import Case, CaseContext, Metric, registry
 from lcefem.validation.report import CaseResult
@@ -173,7 +173,7 @@ def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False,
     t_start = time.perf_counter()
 
     def flush() -> None:
-        report.write_json_atomic(out / "metrics.json", report.all_rows(results))
+        write_json(out / "metrics.json", report.all_rows(results))
         report.write_report(out / "report.md", results, command=command, quick=quick,
                             total_wall=time.perf_counter() - t_start)
 
@@ -212,14 +212,14 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
         return result
     except Exception as exc:  # a failing case is reported and the run goes on
         case_dir.mkdir(parents=True, exist_ok=True)
-        report.write_text_atomic(case_dir / "error.log", traceback.format_exc())
+        write_text(case_dir / "error.log", traceback.format_exc())
         msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
         status = "failed" if isinstance(exc, ConvergenceError) else "error"
         if not quiet:
             tqdm.write(f"lcefem validate: case {case.name} {status}: {msg}", file=sys.stderr)
         return CaseResult(case.name, case.description, status, time.perf_counter() - t0, quick=quick,
                           error=msg)
-    report.write_json_atomic(case_dir / MARKER, result.as_dict())  # LAST: marks the case complete
+    write_json(case_dir / MARKER, result.as_dict())  # LAST: marks the case complete
     return result
 
 

@@ -3,6 +3,7 @@
 import json
 import math
 
+from lcefem.solvers.run import json_safe
 from lcefem.validation import report
 from lcefem.validation.cases import Metric
 from lcefem.validation.report import CaseResult
@@ -29,7 +30,7 @@ def test_range_reference_shows_interval_and_error_in_tolerances():
 def test_nan_values_are_written_as_null_and_fail():
     m = Metric.within("c", "time to 70 C", math.nan, "s", 10.0, 1.0, "seed")
     assert m.passed is False
-    text = json.dumps(report.json_safe([m.as_dict()]), allow_nan=False)
+    text = json.dumps(json_safe([m.as_dict()]), allow_nan=False)
     assert '"value": null' in text
 
 
@@ -50,6 +51,6 @@ def test_numpy_scalars_from_cases_are_written_as_plain_json():
     import numpy as np
 
     m = Metric.within("c", "x", np.float64(1.0), "-", np.float64(1.0), np.float64(0.1), "s")
-    text = json.dumps(report.json_safe(m.as_dict() | {"n": np.int64(3), "ok": np.bool_(True)}),
+    text = json.dumps(json_safe(m.as_dict() | {"n": np.int64(3), "ok": np.bool_(True)}),
                       allow_nan=False)
     assert '"passed": true' in text and '"n": 3' in text and '"ok": true' in text
