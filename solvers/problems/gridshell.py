@@ -89,13 +89,6 @@ FIG4_SHAPES = {
 #: Supports of each shape in the published example script (shared/reference/gridshell_recipes.md).
 PUBLISHED_SUPPORTS = {"table": "rollers", "dome": "rollers", "cylinder": "rollers",
                       "saddle": "centre_clamp"}
-#: Centre principal curvatures (kappa_x, kappa_y) [1/mm] the paper reports (seed 001, Fig. 4 text
-#: and Materials and Methods): simulation (bar-and-hinge) and experiment. The table's are not given.
-PAPER_CURVATURES = {
-    "dome": {"simulation": (-0.017, -0.017), "experiment": (-0.016, -0.016)},
-    "saddle": {"simulation": (-0.010, 0.014), "experiment": (-0.012, 0.015)},
-    "cylinder": {"simulation": (0.018, 0.0), "experiment": (0.017, 0.0)},
-}
 
 
 @dataclass(frozen=True)
@@ -540,5 +533,5 @@ def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **conf
 
 
 __all__ = ["FIG4_SHAPES", "GridshellConfig", "GridshellFE", "GridshellMaterials",
-           "GridshellState", "GridshellSupports", "PAPER_CURVATURES", "PUBLISHED_SUPPORTS",
+           "GridshellState", "GridshellSupports", "PUBLISHED_SUPPORTS",
            "fig4_shape", "lce_strip_energy", "von_mises"]

@@ -37,7 +37,8 @@ def run_shape(shape: str, level: int, symmetry: str) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from lcefem.solvers.problems.gridshell import FIG4_SHAPES, PAPER_CURVATURES
+    from lcefem.solvers.problems.gridshell import FIG4_SHAPES
+    from lcefem.validation.gridshell_bh import SHAPES
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--shapes", nargs="+", default=["dome", "table", "saddle", "cylinder"],
@@ -52,8 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     for shape in args.shapes:
         r = run_shape(shape, args.level, args.symmetry)
         rows.append(r)
-        paper = PAPER_CURVATURES.get(shape, {})
-        sim, exp = paper.get("simulation"), paper.get("experiment")
+        sim, exp = SHAPES[shape]["paper_sim"], SHAPES[shape]["paper_exp"]
         print(f"{shape}: {r['dofs']} DOFs, {r['steps']} steps, {r['newton iterations']} Newton "
               f"iterations ({r['cut steps']} cuts, {r['folds']} folds), build {r['build [s]']:.1f} s, "
               f"ramp {r['ramp [s]']:.0f} s, peak {r['peak memory [MiB]']:.0f} MiB")
