@@ -38,6 +38,16 @@ def run_quick_case(name: str, out: pathlib.Path) -> list[dict]:
     return result.metrics
 
 
+def assert_phenomena_shown(name: str, metrics: list[dict]) -> None:
+    """Every phenomenon declared for case ``name`` (validation/data/phenomena.toml) holds on its
+    metrics: the resolution run shows the physics the case is about (issue 16)."""
+    from lcefem.validation.phenomena import evaluate
+
+    missing = [f"{p['phenomenon']} ({p['selector']} {p['condition']}: "
+               f"{p['values'] or 'no such metric'})" for p in evaluate(name, metrics) if not p["holds"]]
+    assert not missing, f"{name} does not show: " + "; ".join(missing)
+
+
 def assert_failures_known(metrics: list[dict], level: str = "quick") -> None:
     """Every failing row is a known disagreement (validation/data/known_disagreements.toml) expected at
     ``level``: an explained disagreement with experiment passes, an unexplained failure does not."""

@@ -3,8 +3,9 @@
 :class:`CaseResult` is what ``lcefem validate`` keeps per case (and writes, as JSON, to the case's
 completion marker ``DIR/<case>/metrics.json``); :func:`write_report` writes ``DIR/report.md``: the
 command, the software versions, a one-screen summary (per case judged rows passed/failed and the worst
-relative error; the known disagreements of ``validation/data/known_disagreements.toml`` met in the
-run, with their explanation), the table of all metrics with pass/fail ("FAIL (known)" for a known
+relative error, the phenomena shown; the known disagreements of
+``validation/data/known_disagreements.toml`` met in the run, with their explanation), the phenomena each
+case must show at every level (``validation/data/phenomena.toml``), the table of all metrics with pass/fail ("FAIL (known)" for a known
 disagreement), and per case its wall time, figures (with captions naming their sources) and errors.
 """
 
@@ -40,6 +41,8 @@ class CaseResult:
     level: int | None = None
     mesh_size: float | None = None
     mesh_size_unit: str = ""
+    #: the case's declared phenomena evaluated on its metrics (:func:`lcefem.validation.phenomena.evaluate`)
+    phenomena: list[dict] = field(default_factory=list)
     error: str = ""  #: one line; the traceback is in DIR/<case>/error.log
     finished: str = ""  #: ISO time
 
@@ -154,7 +157,10 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
              "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
              "target (not a range), against experiment, a published fit or a closed form as the row's "
              "source says; * marks a known disagreement.", "",
-             "| case | state | judged | passed | failed (known) | worst error |", "|---|---|---|---|---|---|"]
+             "Phenomena: the qualitative physics the case must show at every level "
+             "(validation/data/phenomena.toml), shown / declared.", "",
+             "| case | state | judged | passed | failed (known) | worst error | phenomena |",
+             "|---|---|---|---|---|---|---|"]
     met = []
     for res in results:
         rows = res.metrics if res.status in FINISHED else [res.error_row()]
@@ -166,8 +172,12 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
                 worst, worst_known = e, known_disagreement(r) is not None
         met += [(r, known_disagreement(r)) for r in rows if row_kind(r) == "known"]
         w = "-" if worst is None else ("no value" if math.isinf(worst) else f"{100 * worst:.1f} %")
+        shown = sum(p["holds"] for p in res.phenomena)
+        ph = f"{shown}/{len(res.phenomena)}" if res.status in FINISHED else "-"
+        if res.status in FINISHED and shown < len(res.phenomena):
+            ph += " NOT SHOWN"
         lines.append(f"| {res.case} | {res.status} | {c['judged']} | {c['passed']} | "
-                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} |")
+                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} | {ph} |")
     lines += ["", f"Known disagreements in this run ({len(met)}; registry: "
               "validation/data/known_disagreements.toml):", ""]
     lines += [f"- **{r['case']}: {r['metric']}** = {fmt_number(r['value'])} {r['unit']} vs "
@@ -181,6 +191,32 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
         lines += ["", "Registered disagreements that pass in this run (remove them from the registry): "
                   + "; ".join(f"{k.case}: {k.metric}" for k in stale) + "."]
     return lines + [""]
+
+
+def phenomena_lines(results: list["CaseResult"]) -> list[str]:
+    """The section listing every declared phenomenon of the finished cases: shown or NOT SHOWN, the
+    values it was read from, and why it must hold."""
+    lines = ["## Phenomena", "",
+             "What each case must show at every resolution, quick and full alike "
+             "(`validation/data/phenomena.toml`); a phenomenon NOT SHOWN means this level does not show "
+             "the physics the case is about.", "",
+             "| case | phenomenon | condition | values | shown | why |", "|---|---|---|---|---|---|"]
+    for res in results:
+        if res.status not in FINISHED:
+            continue
+        for p in res.phenomena:
+            values = "; ".join(f"{k} = {fmt_number(v)}" for k, v in p["values"].items()) or \
+                f"no metric matches {p['selector']}"
+            lines.append("| " + " | ".join(_md_cell(c) for c in (
+                res.case, p["phenomenon"], f"{p['selector']} {p['condition']}", values,
+                "yes" if p["holds"] else "NOT SHOWN", p["why"])) + " |")
+    return lines + [""]
+
+
+def phenomena_count(results: list["CaseResult"]) -> tuple[int, int]:
+    """(shown, declared) over the finished cases."""
+    ph = [p for r in results if r.status in FINISHED for p in r.phenomena]
+    return sum(p["holds"] for p in ph), len(ph)
 
 
 def known_disagreements_registry() -> dict:
@@ -231,8 +267,10 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
              f"({counts['known']} known disagreements, {counts['failed'] - counts['known']} unexplained); "
              f"informative {counts['info with reference']} with a reference "
              f"({counts['info with reference, no reason']} without a reason to stay unjudged), "
-             f"{counts['info without reference']} without.", "",
+             f"{counts['info without reference']} without. "
+             "Phenomena shown: {}/{}.".format(*phenomena_count(results)), "",
              *summary_lines(results),
+             *phenomena_lines(results),
              "## Metrics", "",
              "Pass means |value - reference| <= tolerance (a range [lo, hi] is lo <= value <= hi). Error is "
              "(value - reference)/|reference| against a target, or (value - reference)/tolerance "

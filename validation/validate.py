@@ -31,7 +31,7 @@ from tqdm import tqdm
 
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.run import EXIT_CASE_ERROR, add_out_arguments, write_json, write_text
-from lcefem.validation import report
+from lcefem.validation import phenomena, report
 from lcefem.validation.cases import Case, CaseContext, Metric, registry
 from lcefem.validation.report import CaseResult
 
@@ -91,6 +91,7 @@ def run_case(case: Case, ctx: CaseContext, root: pathlib.Path) -> CaseResult:
     mesh_size = None if ctx.mesh_size is None else float(ctx.mesh_size)
     return CaseResult(case=case.name, description=case.description, status="done", wall_time=wall,
                       metrics=rows, figures=figures, quick=ctx.quick, level=ctx.level,
+                      phenomena=phenomena.evaluate(case.name, rows),
                       mesh_size=mesh_size, mesh_size_unit=ctx.mesh_size_unit if mesh_size else "",
                       finished=datetime.datetime.now().astimezone().isoformat(timespec="seconds"))
 

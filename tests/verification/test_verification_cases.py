@@ -5,7 +5,7 @@ test and the report share one implementation (validation/manufactured.py)."""
 import pytest
 
 from lcefem.validation.cases import registry
-from tests.conftest import assert_metrics_pass, run_quick_case
+from tests.conftest import assert_metrics_pass, assert_phenomena_shown, run_quick_case
 
 CASES = sorted(n for n in registry() if n.startswith("verification_"))
 
@@ -20,3 +20,4 @@ def test_verification_case(name, tmp_path):
     orders = [m for m in metrics if m["metric"].startswith("L2 order") and m["passed"] is not None]
     assert orders, "no checked observed order"
     assert_metrics_pass(metrics)
+    assert_phenomena_shown(name, metrics)
