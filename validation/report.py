@@ -213,6 +213,29 @@ def phenomena_lines(results: list["CaseResult"]) -> list[str]:
     return lines + [""]
 
 
+MODEL_VS_MODEL = "model vs model"  #: marks a row that compares two of our models (in its source)
+
+
+def model_vs_model_lines(results: list["CaseResult"]) -> list[str]:
+    """Rows comparing two of our own models (FE, bar-and-hinge, DER, closed forms of them), grouped:
+    they say how far the reduced models can be trusted, not whether one agrees with experiment. A row
+    with an agreed band is judged there; one without says in its source what is expected and why."""
+    rows = [r for res in results if res.status in FINISHED for r in res.metrics
+            if MODEL_VS_MODEL in (r.get("source") or "").lower()]
+    if not rows:
+        return []
+    lines = ["## Model vs model", "",
+             "Our models against each other (3D FE, bar-and-hinge, Discrete Elastic Rods): judged where a "
+             "band is agreed, else informative with the reason in the source.", "",
+             "| case | metric | value | other model | error | pass | expected, and why |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append("| " + " | ".join(_md_cell(c) for c in (
+            r["case"], r["metric"], f"{fmt_number(r['value'])} {r['unit']}", fmt_reference(r), fmt_error(r),
+            fmt_pass(r), r["source"])) + " |")
+    return lines + [""]
+
+
 def phenomena_count(results: list["CaseResult"]) -> tuple[int, int]:
     """(shown, declared) over the finished cases."""
     ph = [p for r in results if r.status in FINISHED for p in r.phenomena]
@@ -271,6 +294,7 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
              "Phenomena shown: {}/{}.".format(*phenomena_count(results)), "",
              *summary_lines(results),
              *phenomena_lines(results),
+             *model_vs_model_lines(results),
              "## Metrics", "",
              "Pass means |value - reference| <= tolerance (a range [lo, hi] is lo <= value <= hi). Error is "
              "(value - reference)/|reference| against a target, or (value - reference)/tolerance "

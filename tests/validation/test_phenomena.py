@@ -67,3 +67,14 @@ def test_report_flags_a_phenomenon_not_shown():
     assert "| the dome lambdas make a dome: negative curvature in x and y |" in text.replace(
         "| gridshell_shapes_bh | the dome", "| the dome")
     assert "Phenomena shown: 1/4." in text
+
+
+def test_model_vs_model_rows_are_grouped_in_their_own_section():
+    row = {"case": "ribbon_fe_vs_der", "metric": "(b) twist rate, FE vs DER", "value": 0.29, "unit": "rad/mm",
+           "reference": 0.27, "tolerance": None, "passed": None,
+           "source": "not judged: model vs model (FE vs DER) with no agreed band"}
+    other = {**row, "metric": "closed form", "source": "Euler"}
+    res = report.CaseResult("ribbon_fe_vs_der", "", "done", 1.0, metrics=[row, other])
+    section = "\n".join(report.model_vs_model_lines([res]))
+    assert "## Model vs model" in section and row["metric"] in section and "closed form" not in section
+    assert report.model_vs_model_lines([report.CaseResult("x", "", "done", 1.0, metrics=[other])]) == []
