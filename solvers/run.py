@@ -66,7 +66,10 @@ def install_signal_handlers() -> dict:
     background of a script; SIGTERM would kill without clean-up). Returns the previous handlers."""
     _received.clear()
     _installed[:] = [True]
-    return {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    if hasattr(signal, "SIGPIPE"):
+        previous[signal.SIGPIPE] = signal.signal(signal.SIGPIPE, signal.SIG_IGN)
+    return previous
 
 
 def reinstall_signal_handlers() -> None:
@@ -75,6 +78,10 @@ def reinstall_signal_handlers() -> None:
     if _installed:
         for sig in (signal.SIGINT, signal.SIGTERM):
             signal.signal(sig, _on_signal)
+        if hasattr(signal, "SIGPIPE"):
+            # Python's own setting: a closed pipe (``lcefem validate --list | head``) raises
+            # BrokenPipeError, which the command line ends quietly; PETSc's handler would abort MPI.
+            signal.signal(signal.SIGPIPE, signal.SIG_IGN)
 
 
 def restore_signal_handlers(previous: dict) -> None:

@@ -22,6 +22,7 @@ from lcefem.validation.runs import RUN_TARGETS
 
 EXIT_INPUT = skeleton.EXIT_INPUT
 EXIT_CONVERGENCE = skeleton.EXIT_SOLVER
+EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
 AGREE_SECONDS = 3.0  #: how long a failing rank waits for the others before aborting them
 
 
@@ -78,6 +79,8 @@ def _classify(exc: BaseException) -> tuple[int, str]:
         name = "SIGTERM" if isinstance(exc, skeleton.Terminated) else "Ctrl-C"
         return (skeleton.interrupt_exit_code(exc),
                 f"lcefem: interrupted ({name}); converged steps are kept as *.partial.* files")
+    if isinstance(exc, BrokenPipeError):  # the reader went away (``| head``): stop quietly, as Unix tools do
+        return EXIT_BROKEN_PIPE, ""
     if isinstance(exc, InputError):
         return EXIT_INPUT, f"lcefem: error: {exc}"
     if isinstance(exc, ConvergenceError):
@@ -95,7 +98,11 @@ def _end(code: int, message: str, comm) -> int:
     """Print ``message`` once and return ``code`` on every rank; when the other ranks do not fail
     too (they wait in a collective of their own), abort them all rather than hang."""
     if comm is None:
-        print(message, file=sys.stderr)
+        if code == EXIT_BROKEN_PIPE:
+            # Later writes (and the interpreter's final flush) must not raise again on the closed pipe.
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        else:
+            print(message, file=sys.stderr)
         return code
     req = _ERRORS.Ibarrier()
     deadline = time.monotonic() + AGREE_SECONDS

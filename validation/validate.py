@@ -30,7 +30,8 @@ import traceback
 from tqdm import tqdm
 
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.run import EXIT_CASE_ERROR, add_out_arguments, write_json, write_text
+from lcefem.solvers.run import (EXIT_CASE_ERROR, add_out_arguments, reinstall_signal_handlers, write_json,
+                               write_text)
 from lcefem.validation import phenomena, report
 from lcefem.validation.cases import Case, CaseContext, Metric, registry
 from lcefem.validation.report import CaseResult
@@ -232,6 +233,7 @@ def out_folder(args: argparse.Namespace) -> pathlib.Path:
 
 def main(args: argparse.Namespace) -> int:
     cases = registry()
+    reinstall_signal_handlers()  # importing the FE case modules initialised PETSc, which took the signals
     if args.list:
         width = max((len(n) for n in cases), default=4)
         for c in cases.values():

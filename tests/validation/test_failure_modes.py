@@ -333,3 +333,19 @@ def test_interrupted_ribbon_leaves_only_partial_frames(lcefem_cmd, tmp_path):
     assert results(out) == {"centerline_steps.partial", "surface_steps.partial", "centerline.partial.pvd",
                             "surface.partial.pvd", "history.partial.csv", "centroid.partial.csv"}
     assert not list(out.rglob("*.part"))
+
+
+def test_a_reader_closing_the_pipe_ends_the_listing_quietly(lcefem_cmd):
+    """`lcefem validate --list | head -1`: the closed pipe stops lcefem as it stops a Unix tool
+    (status 141 = 128 + SIGPIPE), without PETSc's signal handler aborting MPI with a crash report.
+    The reader is gone before lcefem writes (a listing fits in the pipe's buffer otherwise)."""
+    read_end, write_end = os.pipe()
+    os.close(read_end)
+    try:
+        proc = subprocess.run([*lcefem_cmd, "validate", "--list"], stdout=write_end,
+                              stderr=subprocess.PIPE, timeout=120)
+    finally:
+        os.close(write_end)
+    err = proc.stderr.decode()
+    assert proc.returncode == 141, err
+    assert "PETSC ERROR" not in err and "Traceback" not in err, err
