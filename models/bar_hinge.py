@@ -147,6 +147,23 @@ class StripContact:
                            "thickness", positive=True)
 
 
+@dataclass(frozen=True)
+class BarHingeMaterials:
+    """Every material law of the bar-and-hinge model, one place (defaults: the published model's
+    values; units and sources on each field of each part): the Kapton ribbon (bars and hinges), the
+    LCE strip bars, the glue bars, the strip-panel springs, the strip-ribbon contact and the LCE's
+    Ogden law (:class:`lcefem.models.hyperelastic.OgdenLaw`, the published fit). Used by the
+    bar-and-hinge beam, Kapton specimen and gridshell; the solver builds its model with
+    ``BarHingeModel(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)``."""
+
+    kapton: KaptonBarHinge = KaptonBarHinge()
+    lce: LCEStripBars = LCEStripBars()
+    glue: GlueBars = GlueBars()
+    strip_contact: StripContactSprings = StripContactSprings()
+    contact: StripContact = StripContact()
+    ogden: OgdenLaw = OgdenLaw()
+
+
 # --------------------------------------------------------------------------- material laws
 def stiffening_bar_law(stretch, modulus, exponents=(5.0, 1.0)):
     """MERLIN2 Ogden-type bar law (Liu & Paulino 2017): (W, dW/dl, d2W/dl2) per reference volume.

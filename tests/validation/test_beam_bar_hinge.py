@@ -12,13 +12,14 @@ from lcefem.meshes.bar_hinge_structure import n5b8_structure
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models.empirical import eq2_curvature
+from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.solvers.bar_hinge import BarHingeModel, held_dofs, newton
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation.cli import main as cli_main
 from tests.conftest import assert_failures_known
 
 SPEC = RibbonSpecimen()
-MAT = studies.BarHingeMaterials()
+MAT = BarHingeMaterials()
 K = MAT.kapton.hinge_stiffness(SPEC.thickness)
 
 

@@ -16,8 +16,8 @@ E, NU = 2500.0, 0.34
 
 @pytest.fixture(scope="module")
 def ribbon():
-    from lcefem.validation.beam_fe import RibbonFE
-    return RibbonFE(SPEC, RibbonFEMesh(level=0))
+    from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
+    return KaptonSpecimenFE(SPEC, RibbonFEMesh(level=0))
 
 
 def test_ribbon_axial_stiffness_between_uniaxial_and_laterally_clamped(ribbon):
@@ -46,7 +46,7 @@ def test_ribbon_critical_load_between_beam_and_plate_euler_loads(ribbon):
 
 def _beam(symmetry: str):
     from lcefem.meshes.composite_beam import BeamFEMesh
-    from lcefem.validation.beam_fe import BeamFE, PathControl
+    from lcefem.solvers.problems.composite_beam import BeamFE, PathControl
     return BeamFE(mesh=BeamFEMesh(level=0, symmetry=symmetry),
                   control=PathControl(first_step=0.25, max_step=0.5))
 
@@ -120,7 +120,7 @@ def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_str
     top strips bend the beam towards them (negative curvature)."""
     from lcefem.meshes.composite_beam import BeamFEMesh
     from lcefem.models.heat import ThermalProperties
-    from lcefem.validation.beam_fe import HeatedBeamRun, beam_fe_heated
+    from lcefem.solvers.problems.composite_beam import HeatedBeamRun, beam_fe_heated
 
     model, rows, _ = beam_fe_heated(HeatedBeamRun(current=0.2, heated="top", duration=2.0, dt=1.0),
                                     mesh=BeamFEMesh(level=0))

@@ -66,7 +66,7 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     measured = reference("ribbon.buckling_load")
     plateau_to = reference("ribbon.plateau_compression")
     strain_bound = reference("tension.strain_at_ribbon_load")
-    spec, mesh, mat = RibbonSpecimen(), RibbonBarHingeMesh(), studies.BarHingeMaterials()
+    spec, mesh, mat = RibbonSpecimen(), RibbonBarHingeMesh(), law.BarHingeMaterials()
     kap = mat.kapton
     ctx.mesh_size = spec.length / mesh.panels
     ei = kap.youngs_modulus * spec.second_moment
@@ -77,7 +77,7 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     euler_chain = studies.euler_fixed_fixed(ei_chain, spec.length)
 
     p_cr, _ = studies.critical_load(spec, mesh, mat)
-    no_factor = studies.BarHingeMaterials(kapton=law.KaptonBarHinge(bending_factor=1.0))
+    no_factor = law.BarHingeMaterials(kapton=law.KaptonBarHinge(bending_factor=1.0))
     p_cr_1, _ = studies.critical_load(spec, mesh, no_factor)
     fine = RibbonBarHingeMesh(panels=16)
     p_cr_16, _ = studies.critical_load(spec, fine, mat)

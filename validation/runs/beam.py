@@ -16,7 +16,7 @@ results). Files carry .part names until the run completes; a failed run leaves *
 last_converged.vtp and failure.json.
 
 Models: ``bar-hinge`` (our MERLIN-type model, solvers/bar_hinge) and ``fe`` (the 3D FEniCSx beam of
-lcefem.validation.beam_fe: Kapton neo-Hookean, LCE strips with a prescribed spontaneous stretch,
+lcefem.solvers.problems.composite_beam: Kapton neo-Hookean, LCE strips with a prescribed spontaneous stretch,
 strip-ribbon penalty contact; quarter model by default). With ``--model fe`` the outputs are
 displacement.bp (VTX, ParaView; the mesh is the quarter x >= L_tot/2, y <= W/2), history.csv,
 beam_fe.png (curvature along the ramp, side view), beam_fe_3d.png (render) and summary.json.
@@ -39,6 +39,7 @@ from lcefem.models import bar_hinge as law
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.errors import InputError
 from lcefem.models.heat import GridSegmentCoil
+from lcefem.models.limits import check_lambda
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
@@ -63,15 +64,14 @@ class BeamRun:
 
 
 @dataclass(frozen=True)
-class BeamConfig:
+class BeamConfig(law.BarHingeMaterials):
+    """The bar-and-hinge beam's sections: its materials (kapton, lce, glue, strip_contact, contact,
+    ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
+    plus the run, geometry, mesh, Eq. 2 and solver sections."""
+
     run: BeamRun = field(default_factory=BeamRun)
     geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
     mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
-    kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
-    lce: law.LCEStripBars = field(default_factory=law.LCEStripBars)
-    glue: law.GlueBars = field(default_factory=law.GlueBars)
-    strip_contact: law.StripContactSprings = field(default_factory=law.StripContactSprings)
-    contact: law.StripContact = field(default_factory=law.StripContact)
     eq2: Eq2 = field(default_factory=Eq2)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
     path: PathOptions = field(default_factory=lambda: studies.BEAM_PATH)
@@ -81,13 +81,13 @@ class BeamConfig:
         self.geometry.checked()
         self.mesh.checked()
         for name in ("lambda_top", "lambda_bottom"):
-            studies.check_lambda(f"run.{name}", getattr(self.run, name), self.lce.lambda_N)
+            check_lambda(f"run.{name}", getattr(self.run, name), self.lce.lambda_N)
         return self
 
     @property
-    def materials(self) -> studies.BarHingeMaterials:
-        return studies.BarHingeMaterials(self.kapton, self.lce, self.glue, self.strip_contact,
-                                         self.contact)
+    def materials(self) -> law.BarHingeMaterials:
+        return law.BarHingeMaterials(**{f.name: getattr(self, f.name)
+                                        for f in dataclasses.fields(law.BarHingeMaterials)})
 
     def resolved(self) -> dict:
         return resolved(self)
@@ -159,7 +159,7 @@ def _fe_config_class():
     from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
     from lcefem.meshes.composite_beam import BeamFEMesh
     from lcefem.solvers.contact import PenaltyContact
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
 
     @dataclass(frozen=True)
     class BeamFEConfig:
@@ -180,7 +180,7 @@ def _fe_config_class():
             self.mesh.checked()
             self.heat_run.checked()
             for name in ("lambda_top", "lambda_bottom"):
-                beam_fe.check_lambda(f"run.{name}", getattr(self.run, name), self.actuation.lambda_N)
+                check_lambda(f"run.{name}", getattr(self.run, name), self.actuation.lambda_N)
             return self
 
         @property
@@ -250,7 +250,7 @@ def _fe_render(path, model, title: str):
 def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
     """Run the FE beam (prescribed lambdas, or a coil current) and write its outputs."""
     from lcefem.solvers.exports import FieldExport
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
 
     cfg = cfg.validated()
     out = pathlib.Path(out)
@@ -308,7 +308,7 @@ def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
 
 
 def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
 
     run_cfg = cfg.heat_run
     bar = Progress(run_cfg.duration, f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",

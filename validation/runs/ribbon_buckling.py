@@ -53,7 +53,7 @@ COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterat
 
 
 @dataclass(frozen=True)
-class RibbonRun:
+class KaptonSpecimenRun:
     """What the experimenter sets: how far to shorten the specimen."""
 
     compression: float = param(0.5, "-", "seed 001 Fig. 2G: compression up to 50 % (end shortening "
@@ -61,29 +61,29 @@ class RibbonRun:
 
 
 @dataclass(frozen=True)
-class RibbonConfig:
-    run: RibbonRun = field(default_factory=RibbonRun)
+class KaptonSpecimenConfig:
+    run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
     specimen: RibbonSpecimen = field(default_factory=RibbonSpecimen)
     mesh: RibbonBarHingeMesh = field(default_factory=RibbonBarHingeMesh)
     kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
     path: PathOptions = field(default_factory=lambda: studies.RIBBON_PATH)
 
-    def validated(self) -> "RibbonConfig":
+    def validated(self) -> "KaptonSpecimenConfig":
         check_config(self)
         self.specimen.checked()
         self.mesh.checked()
         return self
 
     @property
-    def materials(self) -> studies.BarHingeMaterials:
-        return studies.BarHingeMaterials(kapton=self.kapton)
+    def materials(self) -> law.BarHingeMaterials:
+        return law.BarHingeMaterials(kapton=self.kapton)
 
     def resolved(self) -> dict:
         return resolved(self)
 
 
-def closed_forms(cfg: RibbonConfig) -> dict[str, float]:
+def closed_forms(cfg: KaptonSpecimenConfig) -> dict[str, float]:
     """Euler loads [N] of the specimen: datasheet EI, with the 5.5 factor, and the chain's own EI."""
     spec, kap = cfg.specimen, cfg.kapton
     ei = kap.youngs_modulus * spec.second_moment
@@ -95,7 +95,7 @@ def closed_forms(cfg: RibbonConfig) -> dict[str, float]:
             "Euler, bar-and-hinge chain EI": studies.euler_fixed_fixed(ei_chain, spec.length)}
 
 
-def run_ribbon(config: RibbonConfig, out: pathlib.Path, progress: bool = True) -> dict:
+def run_ribbon(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True) -> dict:
     """Run the bar-and-hinge buckling test and write its outputs; returns the summary."""
     cfg = config.validated()
     out = pathlib.Path(out)
@@ -162,15 +162,15 @@ FE_COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "mid-span d
 def _fe_config_class():
     from lcefem.meshes.kapton_ribbon import RibbonFEMesh
     from lcefem.models.hyperelastic import NeoHookeanSolid
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import kapton_specimen
 
     @dataclass(frozen=True)
-    class RibbonFEConfig:
-        run: RibbonRun = field(default_factory=RibbonRun)
+    class KaptonSpecimenFEConfig:
+        run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
         specimen: RibbonSpecimen = field(default_factory=RibbonSpecimen)
         mesh: RibbonFEMesh = field(default_factory=RibbonFEMesh)
         kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
-        path: beam_fe.RibbonFEPath = field(default_factory=beam_fe.RibbonFEPath)
+        path: kapton_specimen.KaptonSpecimenFEPath = field(default_factory=kapton_specimen.KaptonSpecimenFEPath)
 
         def validated(self):
             check_config(self)
@@ -181,7 +181,7 @@ def _fe_config_class():
         def resolved(self) -> dict:
             return resolved(self)
 
-    return RibbonFEConfig
+    return KaptonSpecimenFEConfig
 
 
 def fe_closed_forms(specimen: RibbonSpecimen, youngs_modulus: float, poisson_ratio: float,
@@ -200,12 +200,12 @@ def fe_closed_forms(specimen: RibbonSpecimen, youngs_modulus: float, poisson_rat
 def run_ribbon_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
     """The FE buckling test (critical load, imperfect path to the final compression)."""
     from lcefem.solvers.exports import FieldExport
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import kapton_specimen
 
     cfg = cfg.validated()
     out = pathlib.Path(out)
     started = time.perf_counter()
-    model = beam_fe.RibbonFE(cfg.specimen, cfg.mesh, cfg.kapton)
+    model = kapton_specimen.KaptonSpecimenFE(cfg.specimen, cfg.mesh, cfg.kapton)
     critical = model.critical_load()
     length = cfg.specimen.length
     model.add_imperfection(critical.mode, cfg.path.imperfection * length)
@@ -276,13 +276,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh-level", type=int, help="FE refinement level (in-plane element size "
                    "1 mm/(level+1))")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
-        f.name for f in dataclasses.fields(RibbonConfig)) + " (bar-hinge); run, specimen, mesh, kapton, "
+        f.name for f in dataclasses.fields(KaptonSpecimenConfig)) + " (bar-hinge); run, specimen, mesh, kapton, "
         "path (fe)")
     add_out_arguments(p, "results/ribbon-buckling")
 
 
-def config_from_args(args: argparse.Namespace) -> RibbonConfig:
-    return override(config_from_toml(args.config, RibbonConfig()), "run", compression=args.compression)
+def config_from_args(args: argparse.Namespace) -> KaptonSpecimenConfig:
+    return override(config_from_toml(args.config, KaptonSpecimenConfig()), "run", compression=args.compression)
 
 
 PARALLEL = parallel_if_fe
