@@ -42,7 +42,6 @@ from petsc4py import PETSc
 
 import dolfinx
 import dolfinx.fem.petsc
-import dolfinx.io
 
 from lcefem.meshes.composite_beam import (BeamFEMesh, CompositeBeamGeometry, build_beam_fe,
                                           middle_station_indices)
@@ -58,6 +57,7 @@ from lcefem.solvers.analysis.curvature import signed_circle_curvature
 from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
                                     face_pairs)
 from lcefem.solvers.continuation import PathControl, PathFollower
+from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import plane_clamp, point_support
@@ -303,12 +303,7 @@ class BeamFE:
 
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
         """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
-        folder = pathlib.Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        path = folder / "displacement.bp"
-        with dolfinx.io.VTXWriter(self.tmesh.mesh.comm, path, [self.u], engine="BP4") as w:
-            w.write(t)
-        return [path]
+        return [write_snapshot(folder, "displacement.bp", [self.u], t)]
 
 
 def build_beam_mesh(geometry, lambda_N, mesh, comm):

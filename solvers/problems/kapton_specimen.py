@@ -35,13 +35,13 @@ from petsc4py import PETSc
 
 import dolfinx
 import dolfinx.fem.petsc
-import dolfinx.io
 
 from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen, build_ribbon_fe
 from lcefem.models.errors import ConvergenceError
 from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
 from lcefem.models.parameters import param
 from lcefem.solvers.continuation import PathControl, PathFollower
+from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import clamp_face, mirror_planes
@@ -129,12 +129,7 @@ class KaptonSpecimenFE:
 
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
         """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
-        folder = pathlib.Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        path = folder / "displacement.bp"
-        with dolfinx.io.VTXWriter(self.tmesh.mesh.comm, path, [self.u], engine="BP4") as w:
-            w.write(t)
-        return [path]
+        return [write_snapshot(folder, "displacement.bp", [self.u], t)]
 
     def axial_stiffness(self, shortening: float) -> float:
         """Secant axial stiffness F/shortening [N/mm] of the straight specimen."""
