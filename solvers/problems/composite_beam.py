@@ -432,89 +432,138 @@ class HeatedBeamRun:
         return self
 
 
+#: Strip groups a ``HeatedBeamRun.heated`` choice puts the coil current through.
+HEATED_STRIPS = {"bottom": ("bottom_strips",), "top": ("top_strips",),
+                 "both": ("bottom_strips", "top_strips")}
+
+
+class HeatedBeamFE:
+    """The FE beam driven by a coil current (seed 001's actuation) through
+    :class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: Joule power I^2 R per strip
+    (R of one 30 mm grid segment's ``coil``, seed 001) spread uniformly over each heated strip's
+    volume (the coil is not resolved), conduction into the ribbon through the bonded pads only,
+    convection and radiation on every exterior face; the LCE of the strips follows the nematic
+    transition, the bond pads are passive. Each time step's mechanics is brought from the old to
+    the new temperature with :class:`PathFollower` (tangent predictor in time).
+
+    Build with the strip tags that carry a coil (``heated``: forms are compiled once, so the set
+    is fixed); drive: :meth:`set_current` per strip tag; advance: :meth:`advance` (dt [s]);
+    observe: :meth:`observables`.
+    """
+
+    def __init__(self, heated=("bottom_strips",),
+                 geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                 mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
+                 contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
+                 transition=None, thermal=None, exchange=None,
+                 coil: GridSegmentCoil = GridSegmentCoil(), dt: float = 1.0):
+        from lcefem.models.heat import SurfaceExchange, ThermalProperties
+        from lcefem.models.lce import NematicTransition
+        from lcefem.solvers.heat import HeatSetup
+        from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
+
+        unknown = [t for t in heated if t not in BeamFE.STRIPS]
+        if unknown or not heated:
+            raise InputError(f"heated = {tuple(heated)}: strip tags among {', '.join(BeamFE.STRIPS)}")
+        self.heated, self.coil = tuple(heated), coil
+        transition = transition or NematicTransition()
+        self.tmesh = tm = build_beam_mesh(geometry, transition.lambda_N, mesh, MPI.COMM_WORLD)
+        n = ufl.as_vector([1.0, 0.0, 0.0])
+        exposed = [f for f in ("ribbon_top", "ribbon_bottom", "top_strip_underside",
+                               "bottom_strip_topside", "surface") if f in tm.facets]
+        setup = HeatSetup(thermal or ThermalProperties(), exchange or SurfaceExchange(),
+                          heated_cells=list(self.heated), exposed_facets=exposed)
+        passive_lce = NematicTransition(lambda_N=1.0)  # no order, no spontaneous strain: bond pads
+        lce = [LCERegion(["bottom_strips"], n, transition, materials.lce),
+               LCERegion(["top_strips"], n, transition, materials.lce),
+               LCERegion(["bottom_pads", "top_pads"], n, passive_lce, materials.lce)]
+        self.model = model = ThermoMechanicalModel(
+            tm, setup, lce, [PassiveRegion(["kapton"], materials.kapton)],
+            dirichlet=lambda V: beam_supports(tm, V), petsc_options=dict(BEAM_NEWTON),
+            prefix=_unique_prefix("heatbeam"))
+        self.u = model.u
+        self.contacts = make_contacts(tm, model.u, contact)
+        damping = NodalDamping(model.u)
+        attach(model.mechanics, [*self.contacts, damping])
+        self._strip_volume = geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
+        self.stations = BeamStations(tm, model.u.function_space)
+        dx = volume_measure(tm)
+        self._mean_T = {name: (dolfinx.fem.form(model.heat.T * dx(tm.cell_tag(name))),
+                               assemble_global(dolfinx.fem.form(1.0 * dx(tm.cell_tag(name))), tm.mesh.comm))
+                        for name in ("bottom_strips", "top_strips", "kapton")}
+        self._span = {"T0": model.T_mech.x.array.copy(), "T1": model.T_mech.x.array.copy(),
+                      "t0": 0.0, "dt": 1.0}
+        self.follower = PathFollower(model.mechanics, self._set_load,
+                                     control or PathControl(first_step=dt, max_step=dt), damping)
+        self.time = 0.0  # [s]
+        self.current = 0.0  # [A]
+
+    def _set_load(self, t: float) -> None:
+        span = self._span
+        s = (t - span["t0"]) / span["dt"]
+        self.model.T_mech.x.array[:] = span["T0"] + s * (span["T1"] - span["T0"])
+
+    def set_current(self, drives: Mapping[str, float]) -> None:
+        """Coil current [A] per strip tag; the heat model has one power density, so every heated
+        strip tag carries the same current (a different one is refused)."""
+        values = {float(v) for k, v in drives.items() if k in self.heated}
+        extra = [k for k in drives if k not in self.heated]
+        if extra or len(values) != 1 or set(drives) != set(self.heated):
+            raise InputError(f"current drives {dict(drives)}: give one current [A] for each of the "
+                             f"heated strip tags {', '.join(self.heated)} (one power density)")
+        self.current = values.pop()
+        # mW per strip over its volume
+        self.model.heat.power_density.value = self.coil.power(self.current) / self._strip_volume
+
+    def observables(self, iterations: int = 0) -> dict[str, float]:
+        """Named observables, keys "name [unit]"."""
+        tm = self.tmesh
+        row = {"time [s]": self.time, "curvature [1/mm]": self.stations.curvature(self.u),
+               "newton iterations [-]": iterations,
+               "contact force [N]": tm.info["symmetry_factor"] * sum(c.normal_force()
+                                                                      for c in self.contacts)}
+        for name, (form, vol) in self._mean_T.items():
+            row[f"T_mean {name} [C]"] = assemble_global(form, tm.mesh.comm) / vol
+        return row
+
+    def advance(self, dt: float) -> dict[str, float]:
+        """One backward-Euler heat step of ``dt`` [s], then the mechanics from the old to the new
+        temperature (the one path follower, load parameter = time); returns the observables."""
+        t1 = self.time + dt
+        self._span.update(T0=self.model.T_mech.x.array.copy(), t0=self.time, dt=dt)
+        self.model.heat.step(dt)
+        self._span["T1"] = self.model.heat.T.x.array.copy()
+        before = self.follower.iterations
+        self.follower.step = min(self.follower.step, dt)
+        self.follower.follow(t1, where=f"heated beam, t = {t1:.4g} s")
+        self.time = t1
+        return self.observables(self.follower.iterations - before)
+
+
 def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
                    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
                    mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
                    contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
                    transition=None, thermal=None, exchange=None, coil: GridSegmentCoil = GridSegmentCoil(),
                    on_step: Callable[[dict], None] | None = None):
-    """The FE beam driven by a coil current (seed 001's actuation) through
-    :class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: Joule power I^2 R per strip
-    (R of one 30 mm grid segment's ``coil``, seed 001) spread uniformly over each
-    heated strip's volume (the coil is not resolved), conduction into the ribbon through the bonded
-    pads only, convection and radiation on every exterior face; the LCE of the strips follows the
-    nematic transition, the bond pads are passive. Each time step's mechanics is brought from the
-    old to the new temperature with :class:`PathFollower` (tangent predictor in time).
-
-    Returns (model, history rows, stations).
-    """
-    from lcefem.models.heat import SurfaceExchange, ThermalProperties
-    from lcefem.models.lce import NematicTransition
-    from lcefem.solvers.heat import HeatSetup
-    from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
-
+    """A :class:`HeatedBeamFE` with ``run.current`` through the ``run.heated`` strips for
+    ``run.duration`` in equal steps of at most ``run.dt``. Returns (model, history rows, stations):
+    model the ThermoMechanicalModel."""
     run = run.checked()
     if not run.current > 0:
         raise InputError(f"heat_run.current = {run.current} A: must be > 0 A for a heated run")
-    transition = transition or NematicTransition()
-    tm = build_beam_mesh(geometry, transition.lambda_N, mesh, MPI.COMM_WORLD)
-    n = ufl.as_vector([1.0, 0.0, 0.0])
-    exposed = [f for f in ("ribbon_top", "ribbon_bottom", "top_strip_underside", "bottom_strip_topside",
-                           "surface") if f in tm.facets]
-    heated = {"bottom": ["bottom_strips"], "top": ["top_strips"],
-              "both": ["bottom_strips", "top_strips"]}[run.heated]
-    setup = HeatSetup(thermal or ThermalProperties(), exchange or SurfaceExchange(), heated_cells=heated,
-                      exposed_facets=exposed)
-    passive_lce = NematicTransition(lambda_N=1.0)  # no order, no spontaneous strain: bond pads
-    lce = [LCERegion(["bottom_strips"], n, transition, materials.lce),
-           LCERegion(["top_strips"], n, transition, materials.lce),
-           LCERegion(["bottom_pads", "top_pads"], n, passive_lce, materials.lce)]
-    model = ThermoMechanicalModel(tm, setup, lce, [PassiveRegion(["kapton"], materials.kapton)],
-                                  dirichlet=lambda V: beam_supports(tm, V),
-                                  petsc_options=dict(BEAM_NEWTON), prefix=_unique_prefix("heatbeam"))
-    contacts = make_contacts(tm, model.u, contact)
-    damping = NodalDamping(model.u)
-    attach(model.mechanics, [*contacts, damping])
-    strip_volume = geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
-    power = coil.power(run.current)  # mW per strip
-    model.heat.power_density.value = power / strip_volume
-    stations = BeamStations(tm, model.u.function_space)
-    dx = volume_measure(tm)
-    mean_T = {name: (dolfinx.fem.form(model.heat.T * dx(tm.cell_tag(name))),
-                     assemble_global(dolfinx.fem.form(1.0 * dx(tm.cell_tag(name))), tm.mesh.comm))
-              for name in ("bottom_strips", "top_strips", "kapton")}
-    current = {"T0": model.T_mech.x.array.copy(), "T1": model.T_mech.x.array.copy(), "t0": 0.0, "dt": 1.0}
-
-    def set_load(t: float) -> None:
-        s = (t - current["t0"]) / current["dt"]
-        model.T_mech.x.array[:] = current["T0"] + s * (current["T1"] - current["T0"])
-
-    follower = PathFollower(model.mechanics, set_load, control or PathControl(first_step=run.dt,
-                                                                              max_step=run.dt),
-                            damping)
+    beam = HeatedBeamFE(HEATED_STRIPS[run.heated], geometry, mesh, materials, contact, control,
+                        transition, thermal, exchange, coil, dt=run.dt)
+    beam.set_current({tag: run.current for tag in beam.heated})
     steps = max(1, int(math.ceil(run.duration / run.dt - 1e-9)))
     dt = run.duration / steps
-    rows = []
-
-    def observe(t: float, its: int) -> dict:
-        row = {"time [s]": t, "curvature [1/mm]": stations.curvature(model.u),
-               "newton iterations [-]": its,
-               "contact force [N]": tm.info["symmetry_factor"] * sum(c.normal_force() for c in contacts)}
-        for name, (form, vol) in mean_T.items():
-            row[f"T_mean {name} [C]"] = assemble_global(form, tm.mesh.comm) / vol
-        return row
-
-    rows.append(observe(0.0, 0))
+    rows = [beam.observables()]
     if on_step is not None:
         on_step(rows[0])
     for k in range(1, steps + 1):
-        current.update(T0=model.T_mech.x.array.copy(), t0=(k - 1) * dt, dt=dt)
-        model.heat.step(dt)
-        current["T1"] = model.heat.T.x.array.copy()
-        before = follower.iterations
-        follower.step = min(follower.step, dt)
-        follower.follow(k * dt, where=f"heated beam, t = {k * dt:.4g} s")
-        rows.append(observe(k * dt, follower.iterations - before))
+        rows.append(beam.advance(dt))
+        beam.time = k * dt  # exactly, not a sum of steps
+        rows[-1]["time [s]"] = beam.time
         if on_step is not None:
             on_step(rows[-1])
-    return model, rows, stations
+    return beam.model, rows, beam.stations
