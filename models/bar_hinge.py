@@ -506,3 +506,19 @@ def n5b8_bar_areas(width, height, thickness, poisson_ratio):
     a_h = c * np.abs(w ** 2 - poisson_ratio * h ** 2) / (2.0 * w)
     a_s = c * poisson_ratio * (h ** 2 + w ** 2) ** 1.5 / (2.0 * h * w)
     return a_w, a_h, a_s
+
+
+def n5b8_ribbon_bending_stiffness(hinge_stiffness: float, panel_length: float, width: float) -> float:
+    """Bending stiffness EI_eff [N mm^2] of a chain of N5B8 panels W x H (H = width) under cylindrical
+    bending, every hinge (fold and spoke) with stiffness k per unit length and rigid bars.
+
+    Per panel, with the corners on the cylinder and the centre node free (it rises by c):
+    fold rotation kappa W - 4c/W on a hinge of length H; each of the four spokes (length D/2,
+    D^2 = W^2 + H^2) rotates by 2 c D/(W H). Minimising over c gives c = kappa W^2 H^3/(4 H^3 + 2 D^3) and
+    U = k kappa^2 W^2 H D^3/(2 (2 H^3 + D^3)) = (EI_eff W/2) kappa^2, so
+    EI_eff = k W H D^3/(2 H^3 + D^3) (derived here; checked against the bar-and-hinge energy in
+    tests/validation).
+    """
+    w, h = panel_length, width
+    d3 = (w * w + h * h) ** 1.5
+    return hinge_stiffness * w * h * d3 / (2.0 * h ** 3 + d3)

@@ -10,18 +10,16 @@
 * :func:`critical_load` — the bifurcation load of the perfect (flat) specimen: the end shortening at
   which the tangent stiffness of the straight equilibrium first loses positive definiteness
   (Sylvester inertia of the sparse LDL^T), found by bisection.
-* Closed forms: :func:`euler_fixed_fixed`, :func:`elastica_force_ratio`,
-  :func:`n5b8_ribbon_bending_stiffness`.
+* Closed forms: :mod:`lcefem.models.buckling` (Euler, elastica),
+  :func:`lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness`.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import special
 from scipy.optimize import brentq
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
@@ -280,43 +278,6 @@ def critical_load(specimen: RibbonSpecimen = RibbonSpecimen(),
         else:
             hi = mid
     return state(lo)[1], lo
-
-
-# --------------------------------------------------------------------------- closed forms
-def euler_fixed_fixed(bending_stiffness: float, length: float) -> float:
-    """Euler load of a fixed-fixed column, P = 4 pi^2 EI/L^2 [N] (EI [N mm^2], L [mm])."""
-    return 4.0 * math.pi ** 2 * bending_stiffness / length ** 2
-
-
-def elastica_force_ratio(compression: float) -> float:
-    """P/P_cr of the inextensible Euler elastica at end shortening ``compression`` = e/L.
-
-    Fixed-fixed and pinned-pinned columns share e/L = 2 (1 - E(m)/K(m)) and P/P_cr = (2 K(m)/pi)^2,
-    m = k^2, k = sin(alpha/2) (Timoshenko & Gere, Theory of Elastic Stability, 1961, Sec. 2.7).
-    """
-    if not 0.0 <= compression < 1.0:
-        raise InputError(f"compression = {compression}: must be in [0, 1)")
-    if compression == 0.0:
-        return 1.0
-    g = lambda mm: 2.0 * (1.0 - special.ellipe(mm) / special.ellipk(mm)) - compression
-    m = brentq(g, 1e-12, 1.0 - 1e-15)
-    return (2.0 * special.ellipk(m) / math.pi) ** 2
-
-
-def n5b8_ribbon_bending_stiffness(hinge_stiffness: float, panel_length: float, width: float) -> float:
-    """Bending stiffness EI_eff [N mm^2] of a chain of N5B8 panels W x H (H = width) under cylindrical
-    bending, every hinge (fold and spoke) with stiffness k per unit length and rigid bars.
-
-    Per panel, with the corners on the cylinder and the centre node free (it rises by c):
-    fold rotation kappa W - 4c/W on a hinge of length H; each of the four spokes (length D/2,
-    D^2 = W^2 + H^2) rotates by 2 c D/(W H). Minimising over c gives c = kappa W^2 H^3/(4 H^3 + 2 D^3) and
-    U = k kappa^2 W^2 H D^3/(2 (2 H^3 + D^3)) = (EI_eff W/2) kappa^2, so
-    EI_eff = k W H D^3/(2 H^3 + D^3) (derived here; checked against the bar-and-hinge energy in
-    tests/validation).
-    """
-    w, h = panel_length, width
-    d3 = (w * w + h * h) ** 1.5
-    return hinge_stiffness * w * h * d3 / (2.0 * h ** 3 + d3)
 
 
 def lce_strain_under_force(force: float, section: float, ogden: OgdenLaw = OgdenLaw()) -> float:

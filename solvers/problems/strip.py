@@ -341,7 +341,7 @@ class StripSimulation:
         for step in range(1, n_steps + 1):
             t = step * dt
             where = f"t = {t:.4g} s"
-            rep = self.model.step(dt, where=where)
+            rep = self.advance(dt, where)
             total_its += rep.iterations
             rows.append(self.observe(t, rep.iterations, rep.cuts))
             record(rows[-1], step, where)

@@ -24,6 +24,7 @@ import time
 import numpy as np
 
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation import plots
@@ -59,7 +60,6 @@ def _level(ctx: CaseContext) -> int:
 def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.meshes.kapton_ribbon import RibbonFEMesh
     from lcefem.solvers.problems import composite_beam as beam_fe, kapton_specimen
-    from lcefem.validation.runs.ribbon_buckling import fe_closed_forms
 
     name = ctx.case or "ribbon_buckling_fe"
     measured = reference("ribbon.buckling_load")
@@ -80,12 +80,13 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
     model.follow(model.compression_schedule(critical.shortening / spec.length, plateau_to.value, path),
                  on_step=lambda c, its: rows.append((c, model.force(), model.mid_deflection())))
     c, f, w = (np.array(v) for v in zip(*rows))
-    closed = fe_closed_forms(spec, kapton.youngs_modulus, kapton.poisson_ratio, measured.value)
+    closed = buckling.specimen_closed_forms(spec, kapton.youngs_modulus, kapton.poisson_ratio,
+                                            measured.value)
     euler = closed["Euler, E I (datasheet E) [N]"]
     plate = closed["Euler, plate strip E I/(1 - nu^2) [N]"]
     bh_cr, _ = studies.critical_load(spec, RibbonBarHingeMesh())
     bh = studies.solve_ribbon_buckling(plateau_to.value, spec, RibbonBarHingeMesh())
-    elastica = np.array([studies.elastica_force_ratio(x) for x in c])
+    elastica = np.array([buckling.elastica_force_ratio(x) for x in c])
     write_csv(ctx.path("ribbon_buckling_fe.csv"), {
         "compression [-]": c, "end shortening [mm]": c * spec.length, "force [N]": f,
         "mid-span deflection [mm]": w, "elastica force [N]": critical.force * elastica})
@@ -151,7 +152,7 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
         Metric.info(name, "FE force at 50 % compression / critical load", ratio_end, "-",
                     f"{NOT_JUDGED}model vs closed form with no agreed band; {src_fe}; reference: inextensible elastica (Timoshenko & Gere 1961); the plate "
                     f"strip stiffens towards 1/(1 - nu^2) as its curvature grows; seed 001: "
-                    f"'{plateau_to.quote}'", reference=studies.elastica_force_ratio(float(c[-1]))),
+                    f"'{plateau_to.quote}'", reference=buckling.elastica_force_ratio(float(c[-1]))),
     ]
 
 
