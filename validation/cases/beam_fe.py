@@ -168,8 +168,8 @@ def _direct(level: int, lambda_top: float, lambda_bottom: float):
 
 
 def _render(ctx: CaseContext, model, name: str, title: str, sources) -> None:
-    from lcefem.validation.runs.beam import _fe_render
-    png = _fe_render(ctx.path(f"{name}.png"), model, title)
+    from lcefem.validation.beam_plots import render_fe_beam
+    png = render_fe_beam(ctx.path(f"{name}.png"), model, title)
     ctx.add_figure(png, plots.caption(
         f"{title}: the deformed 3D FE beam (whole beam drawn from the quarter model), side view, "
         "coloured by the as-built height.", sources))
