@@ -1,5 +1,6 @@
-"""3D FE ribbon and composite beam (validation/beam_fe.py) against closed forms and each other, and
-their command lines. Coarse meshes: each test runs in seconds."""
+"""3D FE Kapton specimen and composite beam (solvers/problems/kapton_specimen.py, composite_beam.py)
+against closed forms and each other, and their command lines. Coarse meshes: each test runs in
+seconds."""
 
 import json
 import math
