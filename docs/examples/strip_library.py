@@ -1,8 +1,8 @@
 """Scripting lcefem from Python (docs/library.md): the thermo-mechanical strip with prescribed
 spontaneous-stretch and temperature fields, a custom support, and the Kapton specimen's buckling load.
 
-Run: ``python docs/examples/strip_library.py [--level L] [--out DIR]`` (level 0 takes about a
-minute on one core). tests/test_library_example.py runs it at level 0 and checks its numbers.
+Run: ``python docs/examples/strip_library.py [--level L] [--out DIR]`` (level 0: about 10 s on one
+core). tests/test_library_example.py runs it at level 0 and checks its numbers.
 """
 
 from __future__ import annotations
@@ -52,7 +52,6 @@ def main(level: int = 0, out: pathlib.Path | None = None) -> dict[str, float]:
     specimen = KaptonSpecimenFE(RibbonSpecimen(), RibbonFEMesh(level=level))
     results["Kapton specimen critical load [N]"] = specimen.critical_load().force
     if out is not None:
-        free.model.u.name = "displacement"
         specimen.write_fields(out / "kapton")
 
     for name, value in results.items():
