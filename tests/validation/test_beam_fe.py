@@ -130,3 +130,26 @@ def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_str
     assert rows[1]["T_mean top_strips [C]"] - 25.0 == pytest.approx(rate * 1.0, rel=0.05)
     assert rows[2]["T_mean bottom_strips [C]"] == pytest.approx(25.0, abs=1e-3)
     assert rows[2]["curvature [1/mm]"] < -1e-5
+
+
+def test_beam_drives_are_addressed_by_strip_tag():
+    """The FE beams take drives per strip tag (as the gridshell): lambda per tag for BeamFE, current per
+    heated tag for HeatedBeamFE; unknown tags and lambdas outside [1, lambda_N] are refused by name."""
+    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.models.errors import InputError
+    from lcefem.solvers.problems.composite_beam import BeamFE, HeatedBeamFE
+
+    geometry, mesh = CompositeBeamGeometry(segments=2), BeamFEMesh(level=0)
+    beam = BeamFE(geometry, mesh)
+    beam.set_lambda({"bottom_strips": 1.05})
+    assert beam.target == {"top_strips": beam.actuation.lambda_N, "bottom_strips": 1.05}
+    with pytest.raises(InputError, match="drive 'kapton'"):
+        beam.set_lambda({"kapton": 1.2})
+    with pytest.raises(InputError, match=r"lambda\[top_strips\] = 1.6"):
+        beam.set_lambda({"top_strips": 1.6})
+    assert set(beam.observables()) >= {"curvature [1/mm]", "contact force [N]"}
+    heated = HeatedBeamFE(("top_strips", "bottom_strips"), geometry, mesh)
+    with pytest.raises(InputError, match="one power density"):
+        heated.set_current({"top_strips": 0.2, "bottom_strips": 0.1})
+    heated.set_current({"top_strips": 0.2, "bottom_strips": 0.2})
+    assert heated.current == 0.2
