@@ -9,7 +9,7 @@ import pathlib
 import tempfile
 
 from lcefem.validation.cases.strip import DEFAULT_LEVEL, render_strip_end
-from lcefem.validation.runs.strip import StripConfig, StripRun, run_strip
+from lcefem.solvers.problems.strip import StripConfig, StripRun, run_strip
 from lcefem.meshes.strip import StripMesh
 
 IMAGES = pathlib.Path(__file__).resolve().parent / "images"

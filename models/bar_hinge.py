@@ -147,6 +147,23 @@ class StripContact:
                            "thickness", positive=True)
 
 
+@dataclass(frozen=True)
+class BarHingeMaterials:
+    """Every material law of the bar-and-hinge model, one place (defaults: the published model's
+    values; units and sources on each field of each part): the Kapton ribbon (bars and hinges), the
+    LCE strip bars, the glue bars, the strip-panel springs, the strip-ribbon contact and the LCE's
+    Ogden law (:class:`lcefem.models.hyperelastic.OgdenLaw`, the published fit). Used by the
+    bar-and-hinge beam, Kapton specimen and gridshell; the solver builds its model with
+    ``BarHingeModel(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)``."""
+
+    kapton: KaptonBarHinge = KaptonBarHinge()
+    lce: LCEStripBars = LCEStripBars()
+    glue: GlueBars = GlueBars()
+    strip_contact: StripContactSprings = StripContactSprings()
+    contact: StripContact = StripContact()
+    ogden: OgdenLaw = OgdenLaw()
+
+
 # --------------------------------------------------------------------------- material laws
 def stiffening_bar_law(stretch, modulus, exponents=(5.0, 1.0)):
     """MERLIN2 Ogden-type bar law (Liu & Paulino 2017): (W, dW/dl, d2W/dl2) per reference volume.
@@ -489,3 +506,19 @@ def n5b8_bar_areas(width, height, thickness, poisson_ratio):
     a_h = c * np.abs(w ** 2 - poisson_ratio * h ** 2) / (2.0 * w)
     a_s = c * poisson_ratio * (h ** 2 + w ** 2) ** 1.5 / (2.0 * h * w)
     return a_w, a_h, a_s
+
+
+def n5b8_ribbon_bending_stiffness(hinge_stiffness: float, panel_length: float, width: float) -> float:
+    """Bending stiffness EI_eff [N mm^2] of a chain of N5B8 panels W x H (H = width) under cylindrical
+    bending, every hinge (fold and spoke) with stiffness k per unit length and rigid bars.
+
+    Per panel, with the corners on the cylinder and the centre node free (it rises by c):
+    fold rotation kappa W - 4c/W on a hinge of length H; each of the four spokes (length D/2,
+    D^2 = W^2 + H^2) rotates by 2 c D/(W H). Minimising over c gives c = kappa W^2 H^3/(4 H^3 + 2 D^3) and
+    U = k kappa^2 W^2 H D^3/(2 (2 H^3 + D^3)) = (EI_eff W/2) kappa^2, so
+    EI_eff = k W H D^3/(2 H^3 + D^3) (derived here; checked against the bar-and-hinge energy in
+    tests/validation).
+    """
+    w, h = panel_length, width
+    d3 = (w * w + h * h) ** 1.5
+    return hinge_stiffness * w * h * d3 / (2.0 * h ** 3 + d3)

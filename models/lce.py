@@ -104,3 +104,14 @@ def spontaneous_deformation(T, director, transition: NematicTransition):
 def inverse_spontaneous_deformation(T, director, transition: NematicTransition):
     """F_s^-1 = U(1/a) in closed form (no UFL inverse), a = lambda_s(T)/lambda_N."""
     return isochoric_uniaxial(1.0 / contraction_ratio(T, transition), director)
+
+
+def temperature_for_stretch(stretch, transition: NematicTransition):
+    """The temperature T [C] at which the spontaneous stretch lambda_s(T) equals ``stretch`` [-]
+    (inverse of :func:`spontaneous_stretch`: Q = (l^3 - 1)/(l^3 + 2), T = T_NI + w ln(q0/Q - 1)).
+    Defined for 1 < stretch < lambda_s(-inf); stretch = lambda_N gives T_ref. numpy or float."""
+    p = transition
+    q_ref = order_parameter_from_stretch(p.lambda_N)
+    q0 = q_ref * (1.0 + _math.exp((p.T_ref - p.T_NI) / p.width))
+    q = order_parameter_from_stretch(np.asarray(stretch, dtype=float))
+    return p.T_NI + p.width * np.log(q0 / q - 1.0)

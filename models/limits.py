@@ -4,6 +4,10 @@ Beyond them the models describe nothing real: a run is refused (inputs, exit 2) 
 (results, exit 3) with the field named.
 """
 
+import math
+
+from lcefem.models.errors import InputError
+
 #: Absolute zero [C].
 ABSOLUTE_ZERO = -273.15
 
@@ -23,3 +27,12 @@ MAX_CURRENT = 1.0
 #: Longest simulated heating time [s]: an hour, far beyond the strips' thermal time constant (about
 #: 10 s, seed 001) and the ribbon's rolling demonstrations (about a minute).
 MAX_DURATION = 3600.0
+
+
+def check_lambda(name: str, value: float, lambda_N: float) -> float:
+    """A strip's relative length lambda [-] (isotropic = 1, as built = lambda_N, seed 001's lambda):
+    must lie in [1, lambda_N]; raises InputError naming ``name`` otherwise."""
+    if not isinstance(value, (int, float)) or not math.isfinite(value) or not 1.0 <= value <= lambda_N:
+        raise InputError(f"{name} = {value}: must be between 1 (isotropic) and lambda_N = "
+                         f"{lambda_N} (as built)")
+    return float(value)

@@ -35,3 +35,16 @@ class FieldExport:
         if self.comm.rank == 0 and part_name(self.path).exists():
             replace(part_name(self.path), self.path if complete else partial_name(self.path))
         self.comm.barrier()
+
+
+def write_snapshot(folder, name: str, functions: list[dolfinx.fem.Function], t: float = 0.0
+                   ) -> pathlib.Path:
+    """One VTX file ``folder/name`` of ``functions`` at time ``t`` (written as .part, then renamed);
+    the ``write_fields`` of the problems in lcefem.solvers.problems."""
+    folder = pathlib.Path(folder)
+    if functions[0].function_space.mesh.comm.rank == 0:
+        folder.mkdir(parents=True, exist_ok=True)
+    export = FieldExport(folder / name, functions, functions[0].function_space.mesh.comm)
+    export.write(t)
+    export.finalize()
+    return export.path

@@ -10,26 +10,26 @@
 * :func:`critical_load` — the bifurcation load of the perfect (flat) specimen: the end shortening at
   which the tangent stiffness of the straight equilibrium first loses positive definiteness
   (Sylvester inertia of the sparse LDL^T), found by bisection.
-* Closed forms: :func:`euler_fixed_fixed`, :func:`elastica_force_ratio`,
-  :func:`n5b8_ribbon_bending_stiffness`.
+* Closed forms: :mod:`lcefem.models.buckling` (Euler, elastica),
+  :func:`lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness`.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import special
 from scipy.optimize import brentq
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen, build_ribbon_bar_hinge
 from lcefem.models import bar_hinge as law
+from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.empirical import Eq2
 from lcefem.models.errors import InputError
+from lcefem.models.limits import check_lambda
 from lcefem.models.hyperelastic import OgdenLaw, ogden_uniaxial_nominal_stress
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
@@ -41,20 +41,11 @@ BEAM_PATH = PathOptions(initial_increment=0.05, max_increment=0.2, easy_iteratio
 RIBBON_PATH = PathOptions(initial_increment=0.01, max_increment=0.02, easy_iterations=10)
 
 
-@dataclass(frozen=True)
-class BarHingeMaterials:
-    """The material laws of the bar-and-hinge model (defaults: the published model's values)."""
-
-    kapton: law.KaptonBarHinge = law.KaptonBarHinge()
-    lce: law.LCEStripBars = law.LCEStripBars()
-    glue: law.GlueBars = law.GlueBars()
-    strip_contact: law.StripContactSprings = law.StripContactSprings()
-    contact: law.StripContact = law.StripContact()
-    ogden: OgdenLaw = OgdenLaw()
-
-    def model(self, structure: BarHingeStructure) -> BarHingeModel:
-        return BarHingeModel(structure, self.kapton, self.lce, self.glue, self.strip_contact,
-                             self.ogden, self.contact)
+def bar_hinge_model(structure: BarHingeStructure,
+                    materials: BarHingeMaterials = BarHingeMaterials()) -> BarHingeModel:
+    """The bar-and-hinge model of ``structure`` with the laws of ``materials``."""
+    m = materials
+    return BarHingeModel(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)
 
 
 # --------------------------------------------------------------------------- composite beam
@@ -70,14 +61,6 @@ class BeamSolution:
     @property
     def final(self) -> PathState:
         return self.path.states[-1]
-
-
-def check_lambda(name: str, value: float, lambda_N: float) -> float:
-    """Relative strip length lambda (isotropic = 1, as built = lambda_N): must lie in [1, lambda_N]."""
-    if not isinstance(value, (int, float)) or not math.isfinite(value) or not 1.0 <= value <= lambda_N:
-        raise InputError(f"{name} = {value}: must be between 1 (isotropic) and lambda_N = "
-                         f"{lambda_N} (as built)")
-    return float(value)
 
 
 def beam_load(model: BarHingeModel, lambda_top: float, lambda_bottom: float, held: np.ndarray
@@ -121,7 +104,7 @@ def setup_beam(lambda_top: float, lambda_bottom: float,
     check_lambda("lambda_top", lambda_top, lam_n)
     check_lambda("lambda_bottom", lambda_bottom, lam_n)
     structure = build_beam_bar_hinge(geometry, mesh)
-    model = materials.model(structure)
+    model = bar_hinge_model(structure, materials)
     held = isostatic_supports(*structure.node_sets["centre_support"])
     return BeamSetup(lambda_top, lambda_bottom, structure, model, held,
                      beam_load(model, lambda_top, lambda_bottom, held))
@@ -164,7 +147,7 @@ def eq2_inputs_note(eq2: Eq2 = Eq2()) -> str:
 
 # --------------------------------------------------------------------------- ribbon buckling
 @dataclass
-class RibbonSolution:
+class KaptonSpecimenSolution:
     structure: BarHingeStructure
     model: BarHingeModel
     path: PathResult
@@ -176,7 +159,7 @@ class RibbonSolution:
 def ribbon_model(specimen: RibbonSpecimen, mesh: RibbonBarHingeMesh, materials: BarHingeMaterials):
     """(structure, model, held DOFs of the left clamp, of the right clamp)."""
     structure = build_ribbon_bar_hinge(specimen, mesh)
-    model = materials.model(structure)
+    model = bar_hinge_model(structure, materials)
     left = held_dofs(structure.node_sets["left_clamp"])
     right = held_dofs(structure.node_sets["right_clamp"])
     return structure, model, left, right
@@ -190,7 +173,7 @@ def compressive_force(reactions: np.ndarray, held: np.ndarray, right_x: np.ndarr
 
 
 @dataclass
-class RibbonSetup:
+class KaptonSpecimenSetup:
     """The specimen's structure, model, held DOFs and end-shortening path, built before solving."""
 
     specimen: RibbonSpecimen
@@ -208,7 +191,7 @@ class RibbonSetup:
 
 def setup_ribbon(max_compression: float = 0.5, specimen: RibbonSpecimen = RibbonSpecimen(),
                  mesh: RibbonBarHingeMesh = RibbonBarHingeMesh(),
-                 materials: BarHingeMaterials = BarHingeMaterials()) -> RibbonSetup:
+                 materials: BarHingeMaterials = BarHingeMaterials()) -> KaptonSpecimenSetup:
     """Clamps held, the right one moved by -t * max_compression * length along x."""
     if not isinstance(max_compression, (int, float)) or not 0.0 < max_compression < 0.95:
         raise InputError(f"compression = {max_compression}: must be in (0, 0.95) (end shortening / "
@@ -218,7 +201,7 @@ def setup_ribbon(max_compression: float = 0.5, specimen: RibbonSpecimen = Ribbon
     right_x = right[right % 3 == 0]
     base = structure.nodes.reshape(-1)[held].copy()
     shift = np.where(np.isin(held, right_x), -max_compression * specimen.length, 0.0)
-    return RibbonSetup(specimen, float(max_compression), structure, model, held, right_x,
+    return KaptonSpecimenSetup(specimen, float(max_compression), structure, model, held, right_x,
                        lambda t: base + t * shift)
 
 
@@ -230,7 +213,7 @@ def solve_ribbon_buckling(max_compression: float = 0.5,
                           path: PathOptions = RIBBON_PATH,
                           on_step: Callable[[PathState], None] | None = None,
                           progress: Callable[[float], None] | None = None,
-                          setup: RibbonSetup | None = None) -> RibbonSolution:
+                          setup: KaptonSpecimenSetup | None = None) -> KaptonSpecimenSolution:
     """Fixed-fixed specimen shortened to ``max_compression`` of its free length (displacement control).
 
     The compressive force is the sum of the x-components of the internal forces on the right
@@ -248,7 +231,7 @@ def solve_ribbon_buckling(max_compression: float = 0.5,
                          newton_options=newton_options, path_options=path, on_step=record,
                          progress=progress)
     compression = np.array([s.t * setup.max_compression for s in result.states])
-    return RibbonSolution(setup.structure, setup.model, result, compression, np.array(forces),
+    return KaptonSpecimenSolution(setup.structure, setup.model, result, compression, np.array(forces),
                           setup.max_compression)
 
 
@@ -295,43 +278,6 @@ def critical_load(specimen: RibbonSpecimen = RibbonSpecimen(),
         else:
             hi = mid
     return state(lo)[1], lo
-
-
-# --------------------------------------------------------------------------- closed forms
-def euler_fixed_fixed(bending_stiffness: float, length: float) -> float:
-    """Euler load of a fixed-fixed column, P = 4 pi^2 EI/L^2 [N] (EI [N mm^2], L [mm])."""
-    return 4.0 * math.pi ** 2 * bending_stiffness / length ** 2
-
-
-def elastica_force_ratio(compression: float) -> float:
-    """P/P_cr of the inextensible Euler elastica at end shortening ``compression`` = e/L.
-
-    Fixed-fixed and pinned-pinned columns share e/L = 2 (1 - E(m)/K(m)) and P/P_cr = (2 K(m)/pi)^2,
-    m = k^2, k = sin(alpha/2) (Timoshenko & Gere, Theory of Elastic Stability, 1961, Sec. 2.7).
-    """
-    if not 0.0 <= compression < 1.0:
-        raise InputError(f"compression = {compression}: must be in [0, 1)")
-    if compression == 0.0:
-        return 1.0
-    g = lambda mm: 2.0 * (1.0 - special.ellipe(mm) / special.ellipk(mm)) - compression
-    m = brentq(g, 1e-12, 1.0 - 1e-15)
-    return (2.0 * special.ellipk(m) / math.pi) ** 2
-
-
-def n5b8_ribbon_bending_stiffness(hinge_stiffness: float, panel_length: float, width: float) -> float:
-    """Bending stiffness EI_eff [N mm^2] of a chain of N5B8 panels W x H (H = width) under cylindrical
-    bending, every hinge (fold and spoke) with stiffness k per unit length and rigid bars.
-
-    Per panel, with the corners on the cylinder and the centre node free (it rises by c):
-    fold rotation kappa W - 4c/W on a hinge of length H; each of the four spokes (length D/2,
-    D^2 = W^2 + H^2) rotates by 2 c D/(W H). Minimising over c gives c = kappa W^2 H^3/(4 H^3 + 2 D^3) and
-    U = k kappa^2 W^2 H D^3/(2 (2 H^3 + D^3)) = (EI_eff W/2) kappa^2, so
-    EI_eff = k W H D^3/(2 H^3 + D^3) (derived here; checked against the bar-and-hinge energy in
-    tests/validation).
-    """
-    w, h = panel_length, width
-    d3 = (w * w + h * h) ** 1.5
-    return hinge_stiffness * w * h * d3 / (2.0 * h ** 3 + d3)
 
 
 def lce_strain_under_force(force: float, section: float, ogden: OgdenLaw = OgdenLaw()) -> float:

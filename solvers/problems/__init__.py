@@ -1,2 +1,14 @@
 """One problem per body (issue 12): built from a config and a mesh, drives addressed per strip tag,
-advance/ramp, named observables with units, fields for output."""
+advance/ramp, named observables with units, fields for output.
+
+* :mod:`.strip` — the LCE strip heated by its coil (current per coil tag; prescribed temperature or
+  spontaneous-stretch fields).
+* :mod:`.composite_beam` — the FE composite beam (lambda per strip tag; coil current through the heat
+  model: :class:`~.composite_beam.HeatedBeamFE`).
+* :mod:`.kapton_specimen` — the passive Kapton buckling specimen (end shortening).
+* :mod:`.tension_specimen` — the LCE tension test in the isotropic phase.
+* :mod:`.gridshell` — the FE gridshell (lambda per strip tag, group or channel).
+
+The twisted LCE ribbon's problem is :mod:`lcefem.solvers.der.ribbon` (DER). docs/library.md shows
+how to script them.
+"""

@@ -71,7 +71,7 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures
 from lcefem.solvers.contact import NodalDamping, PenaltyContact, attach
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
-from lcefem.validation.beam_fe import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
+from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
 from lcefem.solvers.continuation import PathControl, PathFollower
 
 PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK, Examples2D.m; "

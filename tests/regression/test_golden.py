@@ -20,7 +20,7 @@ def _strip_history(bc: str) -> dict:
     """0.2 A, two backward-Euler steps of 2 s, level-0 hexahedral quarter model (the case file defaults
     otherwise)."""
     from lcefem.meshes.strip import StripMesh
-    from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation
+    from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
     cfg = StripConfig(run=StripRun(current=0.2, duration=4.0, dt=2.0, bc=bc), mesh=StripMesh(level=0))
     return StripSimulation(cfg).run(None, progress=False, fields=False).history
@@ -59,9 +59,9 @@ def test_kapton_specimen_buckling_load_bar_and_hinge():
 def test_kapton_specimen_buckling_load_fe():
     """Level-0 Q2 specimen, linearised buckling (SLEPc): critical force [N] and end shortening [mm]."""
     from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen
-    from lcefem.validation.beam_fe import RibbonFE
+    from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
 
-    crit = RibbonFE(RibbonSpecimen(), RibbonFEMesh(level=0)).critical_load()
+    crit = KaptonSpecimenFE(RibbonSpecimen(), RibbonFEMesh(level=0)).critical_load()
     assert crit.force == pytest.approx(0.09576358958571224, rel=RTOL)
     assert crit.shortening == pytest.approx(0.001538707305994088, rel=RTOL)
 
@@ -83,7 +83,7 @@ def test_composite_beam_fe_at_1p33_1p05():
     """Level-0 quarter model with 2 segments (the 4-segment beam takes 90 s; 2 segments run the same
     mesh builder, actuation, contact and path follower in 19 s): curvature [1/mm]."""
     from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
-    from lcefem.validation.beam_fe import BeamFE
+    from lcefem.solvers.problems.composite_beam import BeamFE
 
     beam = BeamFE(geometry=CompositeBeamGeometry(segments=2), mesh=BeamFEMesh(level=0))
     beam.ramp(1.33, 1.05)

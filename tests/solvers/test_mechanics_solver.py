@@ -169,7 +169,7 @@ def test_contact_couplings_are_preallocated():
     """The beam's Jacobian holds the strip-ribbon pairs before the first assembly: assembling with
     every pair in contact allocates nothing new."""
     from lcefem.meshes.composite_beam import BeamFEMesh
-    from lcefem.validation.beam_fe import BeamFE
+    from lcefem.solvers.problems.composite_beam import BeamFE
 
     model = BeamFE(mesh=BeamFEMesh(level=0))
     A, P, _ = model.problem.snes.getJacobian()

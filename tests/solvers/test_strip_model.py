@@ -7,7 +7,7 @@ import pytest
 
 from lcefem.meshes.strip import StripMesh
 from lcefem.models.lce import spontaneous_stretch
-from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation
+from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
 
 @pytest.mark.parametrize("cell, symmetry", [("tet", "quarter")])

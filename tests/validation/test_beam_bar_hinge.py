@@ -12,13 +12,16 @@ from lcefem.meshes.bar_hinge_structure import n5b8_structure
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models.empirical import eq2_curvature
+from lcefem.models import bar_hinge as law
+from lcefem.models import buckling
+from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.solvers.bar_hinge import BarHingeModel, held_dofs, newton
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation.cli import main as cli_main
 from tests.conftest import assert_failures_known
 
 SPEC = RibbonSpecimen()
-MAT = studies.BarHingeMaterials()
+MAT = BarHingeMaterials()
 K = MAT.kapton.hinge_stiffness(SPEC.thickness)
 
 
@@ -48,7 +51,7 @@ def test_closed_form_bending_stiffness_of_the_n5b8_chain():
     w, h, kappa = 2.0, 7.0, 1e-4
     # 8 and 9 panels: the end boundary layers (0.6 % at 4 panels) have decayed to 2e-5
     per_panel = _bending_energy(9, kappa, w, h) - _bending_energy(8, kappa, w, h)
-    ei = studies.n5b8_ribbon_bending_stiffness(K, w, h)
+    ei = law.n5b8_ribbon_bending_stiffness(K, w, h)
     assert per_panel == pytest.approx(0.5 * ei * kappa ** 2 * w, rel=1e-3)
 
 
@@ -58,8 +61,8 @@ def test_critical_load_converges_to_the_euler_load_of_the_chain():
     errors = []
     for panels in (16, 32):
         p_cr, _ = studies.critical_load(SPEC, RibbonBarHingeMesh(panels=panels), MAT)
-        ei = studies.n5b8_ribbon_bending_stiffness(K, SPEC.length / panels, SPEC.width)
-        errors.append(abs(p_cr / studies.euler_fixed_fixed(ei, SPEC.length) - 1.0))
+        ei = law.n5b8_ribbon_bending_stiffness(K, SPEC.length / panels, SPEC.width)
+        errors.append(abs(p_cr / buckling.euler_fixed_fixed(ei, SPEC.length) - 1.0))
     assert errors[1] < 0.025
     assert 1.6 < errors[0] / errors[1] < 2.4
 
@@ -71,7 +74,7 @@ def test_critical_load_of_the_published_model_against_the_measurement():
     p_cr, shortening = studies.critical_load(SPEC, RibbonBarHingeMesh(), MAT)
     assert p_cr == pytest.approx(0.18, rel=0.10)
     assert 0 < shortening < 0.01
-    euler = studies.euler_fixed_fixed(MAT.kapton.youngs_modulus * SPEC.second_moment, SPEC.length)
+    euler = buckling.euler_fixed_fixed(MAT.kapton.youngs_modulus * SPEC.second_moment, SPEC.length)
     assert euler == pytest.approx(0.0910, abs=1e-4)
 
 
@@ -83,7 +86,7 @@ def test_post_buckling_follows_the_elastica():
     p_cr, _ = studies.critical_load(SPEC, mesh, MAT)
     for c in (0.1, 0.2, 0.3):
         f = np.interp(c, sol.compression, sol.force)
-        assert f / p_cr == pytest.approx(studies.elastica_force_ratio(c), rel=0.03)
+        assert f / p_cr == pytest.approx(buckling.elastica_force_ratio(c), rel=0.03)
     assert np.all(np.diff(sol.force[sol.compression > 0.01]) > 0)  # rising plateau, no snap
 
 
@@ -91,11 +94,11 @@ def test_elastica_ratio_closed_form():
     """Timoshenko & Gere (1961) Table 2-5: end slope alpha = 60 deg -> P/P_cr = 1.152 and
     alpha = 120 deg -> 1.884, at the end shortenings of the same elastica."""
     from scipy import special
-    assert studies.elastica_force_ratio(0.0) == 1.0
+    assert buckling.elastica_force_ratio(0.0) == 1.0
     for alpha, ratio in ((60.0, 1.152), (120.0, 1.884)):
         m = np.sin(np.radians(alpha / 2)) ** 2
         e_over_l = 2 * (1 - special.ellipe(m) / special.ellipk(m))
-        assert studies.elastica_force_ratio(e_over_l) == pytest.approx(ratio, abs=1.5e-3)
+        assert buckling.elastica_force_ratio(e_over_l) == pytest.approx(ratio, abs=1.5e-3)
 
 
 def test_lce_strain_under_the_ribbon_load():

@@ -1,5 +1,6 @@
-"""3D FE ribbon and composite beam (validation/beam_fe.py) against closed forms and each other, and
-their command lines. Coarse meshes: each test runs in seconds."""
+"""3D FE Kapton specimen and composite beam (solvers/problems/kapton_specimen.py, composite_beam.py)
+against closed forms and each other, and their command lines. Coarse meshes: each test runs in
+seconds."""
 
 import json
 import math
@@ -16,8 +17,8 @@ E, NU = 2500.0, 0.34
 
 @pytest.fixture(scope="module")
 def ribbon():
-    from lcefem.validation.beam_fe import RibbonFE
-    return RibbonFE(SPEC, RibbonFEMesh(level=0))
+    from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
+    return KaptonSpecimenFE(SPEC, RibbonFEMesh(level=0))
 
 
 def test_ribbon_axial_stiffness_between_uniaxial_and_laterally_clamped(ribbon):
@@ -46,7 +47,7 @@ def test_ribbon_critical_load_between_beam_and_plate_euler_loads(ribbon):
 
 def _beam(symmetry: str):
     from lcefem.meshes.composite_beam import BeamFEMesh
-    from lcefem.validation.beam_fe import BeamFE, PathControl
+    from lcefem.solvers.problems.composite_beam import BeamFE, PathControl
     return BeamFE(mesh=BeamFEMesh(level=0, symmetry=symmetry),
                   control=PathControl(first_step=0.25, max_step=0.5))
 
@@ -120,7 +121,7 @@ def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_str
     top strips bend the beam towards them (negative curvature)."""
     from lcefem.meshes.composite_beam import BeamFEMesh
     from lcefem.models.heat import ThermalProperties
-    from lcefem.validation.beam_fe import HeatedBeamRun, beam_fe_heated
+    from lcefem.solvers.problems.composite_beam import HeatedBeamRun, beam_fe_heated
 
     model, rows, _ = beam_fe_heated(HeatedBeamRun(current=0.2, heated="top", duration=2.0, dt=1.0),
                                     mesh=BeamFEMesh(level=0))
@@ -129,3 +130,26 @@ def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_str
     assert rows[1]["T_mean top_strips [C]"] - 25.0 == pytest.approx(rate * 1.0, rel=0.05)
     assert rows[2]["T_mean bottom_strips [C]"] == pytest.approx(25.0, abs=1e-3)
     assert rows[2]["curvature [1/mm]"] < -1e-5
+
+
+def test_beam_drives_are_addressed_by_strip_tag():
+    """The FE beams take drives per strip tag (as the gridshell): lambda per tag for BeamFE, current per
+    heated tag for HeatedBeamFE; unknown tags and lambdas outside [1, lambda_N] are refused by name."""
+    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.models.errors import InputError
+    from lcefem.solvers.problems.composite_beam import BeamFE, HeatedBeamFE
+
+    geometry, mesh = CompositeBeamGeometry(segments=2), BeamFEMesh(level=0)
+    beam = BeamFE(geometry, mesh)
+    beam.set_lambda({"bottom_strips": 1.05})
+    assert beam.target == {"top_strips": beam.actuation.lambda_N, "bottom_strips": 1.05}
+    with pytest.raises(InputError, match="drive 'kapton'"):
+        beam.set_lambda({"kapton": 1.2})
+    with pytest.raises(InputError, match=r"lambda\[top_strips\] = 1.6"):
+        beam.set_lambda({"top_strips": 1.6})
+    assert set(beam.observables()) >= {"curvature [1/mm]", "contact force [N]"}
+    heated = HeatedBeamFE(("top_strips", "bottom_strips"), geometry, mesh)
+    with pytest.raises(InputError, match="one power density"):
+        heated.set_current({"top_strips": 0.2, "bottom_strips": 0.1})
+    heated.set_current({"top_strips": 0.2, "bottom_strips": 0.2})
+    assert heated.current == 0.2

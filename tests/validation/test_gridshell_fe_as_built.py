@@ -16,7 +16,7 @@ from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.hyperelastic import lce_strain_energy, neo_hookean_strain_energy
 from lcefem.models.lce import isochoric_uniaxial
 from lcefem.solvers.mechanics import deformation_gradient, displacement_space, volume_measure
-from lcefem.validation.beam_fe import FEMaterials
+from lcefem.solvers.problems.composite_beam import FEMaterials
 
 
 @pytest.fixture(scope="module")

@@ -87,7 +87,7 @@ def _timed_solve(snes, run):
 
 def measure_strip(level: int, steps: int, dt: float) -> dict:
     from lcefem.meshes.strip import StripMesh
-    from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation
+    from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
     sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=steps * dt, dt=dt),
                                       mesh=StripMesh(level=level)))
@@ -101,7 +101,7 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 
 def measure_beam(level: int, lambda_top: float, lambda_bottom: float) -> dict:
     from lcefem.meshes.composite_beam import BeamFEMesh
-    from lcefem.validation.beam_fe import BeamFE
+    from lcefem.solvers.problems.composite_beam import BeamFE
 
     model = BeamFE(mesh=BeamFEMesh(level=level))
     states, t = _timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))

@@ -20,7 +20,7 @@ def measure(level: int, dt: float, cell: str, symmetry: str) -> dict:
     import time
 
     from lcefem.meshes.strip import StripMesh
-    from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation
+    from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
     t0 = time.perf_counter()
     sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=30.0, dt=dt),

@@ -146,7 +146,7 @@ def residuals(x, model: Surrogate, coil: Coil) -> np.ndarray:
 
 def check_with_full_model(x) -> dict:
     """Steady stretch at the hold currents and the two transients with the coupled FE model."""
-    from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation, transient_metrics
+    from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation, transient_metrics
     T_NI, width, h, c = x
     base = StripConfig(transition=NematicTransition(T_NI=T_NI, width=width),
                        thermal=ThermalProperties(specific_heat=c * units.J_PER_G_K),

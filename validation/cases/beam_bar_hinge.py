@@ -23,6 +23,7 @@ import numpy as np
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models import bar_hinge as law
+from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation import plots
@@ -66,25 +67,25 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     measured = reference("ribbon.buckling_load")
     plateau_to = reference("ribbon.plateau_compression")
     strain_bound = reference("tension.strain_at_ribbon_load")
-    spec, mesh, mat = RibbonSpecimen(), RibbonBarHingeMesh(), studies.BarHingeMaterials()
+    spec, mesh, mat = RibbonSpecimen(), RibbonBarHingeMesh(), law.BarHingeMaterials()
     kap = mat.kapton
     ctx.mesh_size = spec.length / mesh.panels
     ei = kap.youngs_modulus * spec.second_moment
     k = kap.hinge_stiffness(spec.thickness)
-    ei_chain = studies.n5b8_ribbon_bending_stiffness(k, ctx.mesh_size, spec.width)
-    euler = studies.euler_fixed_fixed(ei, spec.length)
-    euler_factor = studies.euler_fixed_fixed(kap.bending_factor * ei, spec.length)
-    euler_chain = studies.euler_fixed_fixed(ei_chain, spec.length)
+    ei_chain = law.n5b8_ribbon_bending_stiffness(k, ctx.mesh_size, spec.width)
+    euler = buckling.euler_fixed_fixed(ei, spec.length)
+    euler_factor = buckling.euler_fixed_fixed(kap.bending_factor * ei, spec.length)
+    euler_chain = buckling.euler_fixed_fixed(ei_chain, spec.length)
 
     p_cr, _ = studies.critical_load(spec, mesh, mat)
-    no_factor = studies.BarHingeMaterials(kapton=law.KaptonBarHinge(bending_factor=1.0))
+    no_factor = law.BarHingeMaterials(kapton=law.KaptonBarHinge(bending_factor=1.0))
     p_cr_1, _ = studies.critical_load(spec, mesh, no_factor)
     fine = RibbonBarHingeMesh(panels=16)
     p_cr_16, _ = studies.critical_load(spec, fine, mat)
     sol = studies.solve_ribbon_buckling(plateau_to.value, spec, mesh, mat)
     c, f = sol.compression, sol.force
     ratio_end = float(f[-1] / p_cr)
-    elastica_end = studies.elastica_force_ratio(float(c[-1]))
+    elastica_end = buckling.elastica_force_ratio(float(c[-1]))
     section = CompositeBeamGeometry().strip_section
     # The largest compression the surface sees: segments shortened to lambda_min/lambda_N with the
     # smallest lambda of seed 001's shapes (1.05), i.e. 25 %.
@@ -99,11 +100,11 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     c_el = np.linspace(0.0, float(c[-1]), len(c))
     write_csv(ctx.path("ribbon_buckling_bh.csv"), {
         "compression [-]": c, "end shortening [mm]": c * spec.length, "force [N]": f,
-        "elastica force [N]": p_cr * np.array([studies.elastica_force_ratio(x) for x in c])})
+        "elastica force [N]": p_cr * np.array([buckling.elastica_force_ratio(x) for x in c])})
     png = plots.comparison_plot(
         ctx.path("ribbon_buckling_bh.png"),
         [plots.Series(100 * c, f, f"bar-and-hinge ({mesh.panels} panels, published k)", "model"),
-         plots.Series(100 * c_el, p_cr * np.array([studies.elastica_force_ratio(x) for x in c_el]),
+         plots.Series(100 * c_el, p_cr * np.array([buckling.elastica_force_ratio(x) for x in c_el]),
                       "elastica x P_cr (closed form)", "closed form")],
         xlabel="compression (end shortening / length) [%]", ylabel="compressive force [N]",
         hlines=[plots.Line(measured.value, f"measured critical load {measured.value:g} N (9 samples)",
@@ -126,7 +127,7 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
         Metric.relative(name, "critical load vs Euler load of the chain's bending stiffness",
                         p_cr, "N", euler_chain, CHAIN_TOLERANCE,
                         "closed form EI_eff = k W H D^3/(2 H^3 + D^3) "
-                        "(validation/bar_hinge_studies.n5b8_ribbon_bending_stiffness); tolerance: "
+                        "(models/bar_hinge.n5b8_ribbon_bending_stiffness); tolerance: "
                         "CHAIN_TOLERANCE (discrete chain, first order in W/L)"),
         Metric.info(name, "Euler load 4 pi^2 E I/L^2 (datasheet E, L = 36 mm)", euler, "N",
                     NOT_JUDGED + "what-if that sizes the gap to the measured 0.18 N, not a prediction; " + "DuPont Kapton HN datasheet E = 2.5 GPa; seed 001 specimen 36 x 7 x 0.127 mm",

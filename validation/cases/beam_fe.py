@@ -24,6 +24,7 @@ import time
 import numpy as np
 
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation import plots
@@ -33,7 +34,7 @@ from lcefem.validation.reference_data import reference
 
 QUICK_LEVEL = 0
 DEFAULT_LEVEL = 1
-FE = "3D FE model (lcefem.validation.beam_fe: Q2 hexahedra, neo-Hookean Kapton, LCE W(F U(a)^-1))"
+FE = "3D FE model (lcefem.solvers.problems.composite_beam: Q2 hexahedra, neo-Hookean Kapton, LCE W(F U(a)^-1))"
 BH = "bar-and-hinge model (lcefem.solvers.bar_hinge)"
 #: The FE critical load must change by less than this under one refinement of its mesh (the
 #: element choice converges; issue 4 asks to show it).
@@ -58,8 +59,7 @@ def _level(ctx: CaseContext) -> int:
       fe=True)
 def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.meshes.kapton_ribbon import RibbonFEMesh
-    from lcefem.validation import beam_fe
-    from lcefem.validation.runs.ribbon_buckling import fe_closed_forms
+    from lcefem.solvers.problems import composite_beam as beam_fe, kapton_specimen
 
     name = ctx.case or "ribbon_buckling_fe"
     measured = reference("ribbon.buckling_load")
@@ -70,21 +70,23 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
     level = 0 if ctx.quick else (ctx.level if ctx.level is not None else 1)
     mesh = RibbonFEMesh(level=level)
     ctx.mesh_size = mesh.element_size()
-    model = beam_fe.RibbonFE(spec, mesh, kapton)
+    model = kapton_specimen.KaptonSpecimenFE(spec, mesh, kapton)
     critical = model.critical_load()
-    finer = beam_fe.RibbonFE(spec, RibbonFEMesh(level=level + 1), kapton).critical_load()
-    path = beam_fe.RibbonFEPath(step=0.05, onset_steps=6) if ctx.quick else beam_fe.RibbonFEPath()
+    finer = kapton_specimen.KaptonSpecimenFE(spec, RibbonFEMesh(level=level + 1), kapton).critical_load()
+    path = (kapton_specimen.KaptonSpecimenFEPath(step=0.05, onset_steps=6) if ctx.quick
+            else kapton_specimen.KaptonSpecimenFEPath())
     model.add_imperfection(critical.mode, path.imperfection * spec.length)
     rows: list[tuple[float, float, float]] = [(0.0, 0.0, 0.0)]
     model.follow(model.compression_schedule(critical.shortening / spec.length, plateau_to.value, path),
                  on_step=lambda c, its: rows.append((c, model.force(), model.mid_deflection())))
     c, f, w = (np.array(v) for v in zip(*rows))
-    closed = fe_closed_forms(spec, kapton.youngs_modulus, kapton.poisson_ratio, measured.value)
+    closed = buckling.specimen_closed_forms(spec, kapton.youngs_modulus, kapton.poisson_ratio,
+                                            measured.value)
     euler = closed["Euler, E I (datasheet E) [N]"]
     plate = closed["Euler, plate strip E I/(1 - nu^2) [N]"]
     bh_cr, _ = studies.critical_load(spec, RibbonBarHingeMesh())
     bh = studies.solve_ribbon_buckling(plateau_to.value, spec, RibbonBarHingeMesh())
-    elastica = np.array([studies.elastica_force_ratio(x) for x in c])
+    elastica = np.array([buckling.elastica_force_ratio(x) for x in c])
     write_csv(ctx.path("ribbon_buckling_fe.csv"), {
         "compression [-]": c, "end shortening [mm]": c * spec.length, "force [N]": f,
         "mid-span deflection [mm]": w, "elastica force [N]": critical.force * elastica})
@@ -150,14 +152,14 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
         Metric.info(name, "FE force at 50 % compression / critical load", ratio_end, "-",
                     f"{NOT_JUDGED}model vs closed form with no agreed band; {src_fe}; reference: inextensible elastica (Timoshenko & Gere 1961); the plate "
                     f"strip stiffens towards 1/(1 - nu^2) as its curvature grows; seed 001: "
-                    f"'{plateau_to.quote}'", reference=studies.elastica_force_ratio(float(c[-1]))),
+                    f"'{plateau_to.quote}'", reference=buckling.elastica_force_ratio(float(c[-1]))),
     ]
 
 
 def _direct(level: int, lambda_top: float, lambda_bottom: float):
     """The FE beam ramped from the as-built state to (lambda_T, lambda_B) at a mesh level."""
     from lcefem.meshes.composite_beam import BeamFEMesh
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
 
     model = beam_fe.BeamFE(mesh=BeamFEMesh(level=level))
     started = time.perf_counter()
@@ -166,8 +168,8 @@ def _direct(level: int, lambda_top: float, lambda_bottom: float):
 
 
 def _render(ctx: CaseContext, model, name: str, title: str, sources) -> None:
-    from lcefem.validation.runs.beam import _fe_render
-    png = _fe_render(ctx.path(f"{name}.png"), model, title)
+    from lcefem.validation.beam_plots import render_fe_beam
+    png = render_fe_beam(ctx.path(f"{name}.png"), model, title)
     ctx.add_figure(png, plots.caption(
         f"{title}: the deformed 3D FE beam (whole beam drawn from the quarter model), side view, "
         "coloured by the as-built height.", sources))
@@ -177,7 +179,7 @@ def _render(ctx: CaseContext, model, name: str, title: str, sources) -> None:
       "3D FE vs Eq. 2 vs bar-and-hinge (seed 001, Fig. 3B)", fe=True)
 def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.meshes.composite_beam import BeamFEMesh
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
 
     name = ctx.case or "beam_curvature_map_fe"
     eta = reference("eq2.eta")

@@ -56,7 +56,7 @@ def strip_mesh(ctx: CaseContext, **kw) -> StripMesh:
 
 
 def _run_config(ctx: CaseContext, **run):
-    from lcefem.validation.runs.strip import StripConfig, StripRun
+    from lcefem.solvers.problems.strip import StripConfig, StripRun
     return StripConfig(run=StripRun(**run), mesh=strip_mesh(ctx))
 
 
@@ -82,7 +82,7 @@ def _render(ctx: CaseContext, result, name: str, title: str, sources) -> None:
 
 def _transient(ctx: CaseContext, index: int, duration: float, dt: float) -> list[Metric]:
     """Free strip heated at the index-th transient current of seed 001 (0.1, 0.15, 0.2 A)."""
-    from lcefem.validation.runs.strip import run_strip
+    from lcefem.solvers.problems.strip import run_strip
     currents = reference("strip.transient_currents")
     powers = reference("strip.transient_powers")
     current = currents.value[index]
@@ -166,7 +166,7 @@ def strip_transient_0p1A(ctx: CaseContext) -> list[Metric]:
 @case("strip_steady_eq1", "Steady stretch at the six hold currents against Eq. 1 (seed 001 Fig. 2C)",
       fe=True)
 def strip_steady_eq1(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation.runs.strip import StripSimulation
+    from lcefem.solvers.problems.strip import StripSimulation
     currents = sorted(reference("strip.hold_currents").value)
     g1 = reference("eq1.gamma_1")
     tol, why = WINDOWS["eq1"]
@@ -203,7 +203,7 @@ def strip_steady_eq1(ctx: CaseContext) -> list[Metric]:
 @case("strip_blocked_force", "Strip held at its nematic length at 0.2 A: force rise and plateau "
       "against the 1.36 N rupture force (seed 001 Fig. 2D)", fe=True, convergence=True)
 def strip_blocked_force(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation.runs.strip import run_strip
+    from lcefem.solvers.problems.strip import run_strip
     duration = reference("blocked.rise_time").value
     cfg = _run_config(ctx, current=reference("blocked.current").value, duration=duration,
                       dt=1.0 if ctx.quick else 0.5, bc="held")
@@ -235,7 +235,7 @@ def strip_blocked_force(ctx: CaseContext) -> list[Metric]:
 @case("strip_uniform_heating", "Free strip heated uniformly far above T_NI: isotropic length and "
       "incompressible cross-section (closed form)", fe=True)
 def strip_uniform_heating(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation.runs.strip import StripConfig, StripSimulation
+    from lcefem.solvers.problems.strip import StripConfig, StripSimulation
     cfg = StripConfig(mesh=strip_mesh(ctx))
     sim = StripSimulation(cfg)
     ctx.mesh_size = sim.dims["element_size"]
@@ -254,7 +254,7 @@ def strip_uniform_heating(ctx: CaseContext) -> list[Metric]:
 @case("strip_isotropic_tension", "3D FE tension test in the isotropic phase against the published "
       "Ogden fit (seed 001 Fig. 2E)", fe=True)
 def strip_isotropic_tension(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation.specimens import isotropic_tension
+    from lcefem.solvers.problems.tension_specimen import isotropic_tension
     lam = np.linspace(1.05, 1.5, 4 if ctx.quick else 10)
     fe = isotropic_tension(lam)
     og = ogden_uniaxial_nominal_stress(lam)

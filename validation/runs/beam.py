@@ -16,7 +16,7 @@ results). Files carry .part names until the run completes; a failed run leaves *
 last_converged.vtp and failure.json.
 
 Models: ``bar-hinge`` (our MERLIN-type model, solvers/bar_hinge) and ``fe`` (the 3D FEniCSx beam of
-lcefem.validation.beam_fe: Kapton neo-Hookean, LCE strips with a prescribed spontaneous stretch,
+lcefem.solvers.problems.composite_beam: Kapton neo-Hookean, LCE strips with a prescribed spontaneous stretch,
 strip-ribbon penalty contact; quarter model by default). With ``--model fe`` the outputs are
 displacement.bp (VTX, ParaView; the mesh is the quarter x >= L_tot/2, y <= W/2), history.csv,
 beam_fe.png (curvature along the ramp, side view), beam_fe_3d.png (render) and summary.json.
@@ -39,6 +39,7 @@ from lcefem.models import bar_hinge as law
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.errors import InputError
 from lcefem.models.heat import GridSegmentCoil
+from lcefem.models.limits import check_lambda
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
@@ -63,15 +64,14 @@ class BeamRun:
 
 
 @dataclass(frozen=True)
-class BeamConfig:
+class BeamConfig(law.BarHingeMaterials):
+    """The bar-and-hinge beam's sections: its materials (kapton, lce, glue, strip_contact, contact,
+    ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
+    plus the run, geometry, mesh, Eq. 2 and solver sections."""
+
     run: BeamRun = field(default_factory=BeamRun)
     geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
     mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
-    kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
-    lce: law.LCEStripBars = field(default_factory=law.LCEStripBars)
-    glue: law.GlueBars = field(default_factory=law.GlueBars)
-    strip_contact: law.StripContactSprings = field(default_factory=law.StripContactSprings)
-    contact: law.StripContact = field(default_factory=law.StripContact)
     eq2: Eq2 = field(default_factory=Eq2)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
     path: PathOptions = field(default_factory=lambda: studies.BEAM_PATH)
@@ -81,13 +81,13 @@ class BeamConfig:
         self.geometry.checked()
         self.mesh.checked()
         for name in ("lambda_top", "lambda_bottom"):
-            studies.check_lambda(f"run.{name}", getattr(self.run, name), self.lce.lambda_N)
+            check_lambda(f"run.{name}", getattr(self.run, name), self.lce.lambda_N)
         return self
 
     @property
-    def materials(self) -> studies.BarHingeMaterials:
-        return studies.BarHingeMaterials(self.kapton, self.lce, self.glue, self.strip_contact,
-                                         self.contact)
+    def materials(self) -> law.BarHingeMaterials:
+        return law.BarHingeMaterials(**{f.name: getattr(self, f.name)
+                                        for f in dataclasses.fields(law.BarHingeMaterials)})
 
     def resolved(self) -> dict:
         return resolved(self)
@@ -159,7 +159,7 @@ def _fe_config_class():
     from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
     from lcefem.meshes.composite_beam import BeamFEMesh
     from lcefem.solvers.contact import PenaltyContact
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
 
     @dataclass(frozen=True)
     class BeamFEConfig:
@@ -180,7 +180,7 @@ def _fe_config_class():
             self.mesh.checked()
             self.heat_run.checked()
             for name in ("lambda_top", "lambda_bottom"):
-                beam_fe.check_lambda(f"run.{name}", getattr(self.run, name), self.actuation.lambda_N)
+                check_lambda(f"run.{name}", getattr(self.run, name), self.actuation.lambda_N)
             return self
 
         @property
@@ -201,56 +201,11 @@ def fe_config_from_args(args: argparse.Namespace):
     return override(cfg, "geometry", segments=args.segments)
 
 
-def _fe_side_view(path, model, u, title: str, extra=None):
-    """x-z view of the FE beam's nodes on the ribbon's outer edge plane (y = 0), by body."""
-    from matplotlib.figure import Figure
-
-    from lcefem.validation.beam_plots import _save
-
-    X = model_nodes = u.function_space.tabulate_dof_coordinates()  # model: BeamFE or heated model
-    x = X + u.x.array.reshape(-1, 3)
-    tm = model.tmesh
-    fig = Figure(figsize=(11, 4.4), layout="constrained")
-    axes = fig.subplots(1, 2)
-    if extra is not None:
-        extra(axes[0])
-    ax = axes[1]
-    edge = np.abs(X[:, 1] - tm.info["strip_y_range"][0]) < 1e-9
-    colours = {"kapton": ("k", "Kapton ribbon"), "bottom_strips": ("tab:red", "bottom strips"),
-               "bottom_pads": ("salmon", "bottom bond pads"), "top_strips": ("tab:blue", "top strips"),
-               "top_pads": ("lightblue", "top bond pads")}
-    import dolfinx
-
-    for name, (colour, label) in colours.items():
-        dofs = dolfinx.fem.locate_dofs_topological(u.function_space, 3,
-                                                   tm.cell_tags.find(tm.cell_tag(name)))
-        dofs = dofs[edge[dofs]]
-        ax.plot(x[dofs, 0], x[dofs, 2], ".", ms=2, color=colour, label=label)
-        ax.plot(model_nodes[dofs, 0], model_nodes[dofs, 2], ".", ms=1, color="0.8")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [mm]")
-    ax.set_ylabel("z [mm]")
-    ax.set_title("side view at the strips' edge (grey: as built)", fontsize=9)
-    ax.legend(fontsize=7, markerscale=4)
-    fig.suptitle(title, fontsize=10)
-    return _save(fig, path)
-
-
-def _fe_render(path, model, title: str):
-    from lcefem.validation import render
-    info = model.tmesh.info
-    mirror = [(1, 0.5 * info["ribbon_width"])]
-    if info["symmetry"] == "quarter":
-        mirror.append((0, info["x_mid"]))
-    u = model.u
-    return render.render_deformed(path, u, lambda x: x[2], scalar_label="height z (as built) [mm]",
-                                  title=title, mirror=tuple(mirror), view="xz", show_undeformed=False)
-
-
 def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
     """Run the FE beam (prescribed lambdas, or a coil current) and write its outputs."""
     from lcefem.solvers.exports import FieldExport
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
+    from lcefem.validation.beam_plots import plot_fe_side_view, render_fe_beam
 
     cfg = cfg.validated()
     out = pathlib.Path(out)
@@ -290,8 +245,8 @@ def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
 
         title = (f"composite beam, 3D FE, lambda_T = {lam_t:g}, lambda_B = {lam_b:g}, "
                  f"{cfg.geometry.segments} segments, mesh level {cfg.mesh.level}")
-        _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
-        _fe_render(out / "beam_fe_3d.png", model, title)
+        plot_fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
+        render_fe_beam(out / "beam_fe_3d.png", model, title)
         follower = model.last_follower
         return run.complete({
             "model": "fe",
@@ -308,7 +263,8 @@ def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
 
 
 def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import composite_beam as beam_fe
+    from lcefem.validation.beam_plots import plot_fe_side_view
 
     run_cfg = cfg.heat_run
     bar = Progress(run_cfg.duration, f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",
@@ -330,7 +286,7 @@ def _run_beam_fe_heated(cfg, out: pathlib.Path, progress: bool) -> dict:
 
         title = (f"composite beam, 3D FE, {run_cfg.current:g} A ({run_cfg.heated} strips), "
                  f"t = {run_cfg.duration:g} s")
-        _fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
+        plot_fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
         return run.complete({
             "model": "fe", "drive": "current",
             "results": {"curvature [1/mm]": float(k[-1]),

@@ -9,7 +9,7 @@ mode, amplitude 1e-3 of the length), and finds the critical load of the perfect 
 end shortening where the tangent stiffness of the straight state loses positive definiteness. It
 compares them with the measured 0.18 N, with the Euler load 4 pi^2 EI/L^2 of the same specimen
 (datasheet E), with the Euler load of the bar-and-hinge chain's own bending stiffness (closed form,
-lcefem.validation.bar_hinge_studies.n5b8_ribbon_bending_stiffness), and the post-buckling force
+lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness), and the post-buckling force
 with the inextensible elastica.
 
 With ``--model fe`` the specimen is a 3D neo-Hookean solid (datasheet E and nu) meshed with quadratic
@@ -37,6 +37,7 @@ import numpy as np
 
 from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
 from lcefem.models import bar_hinge as law
+from lcefem.models import buckling
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
@@ -53,7 +54,7 @@ COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterat
 
 
 @dataclass(frozen=True)
-class RibbonRun:
+class KaptonSpecimenRun:
     """What the experimenter sets: how far to shorten the specimen."""
 
     compression: float = param(0.5, "-", "seed 001 Fig. 2G: compression up to 50 % (end shortening "
@@ -61,41 +62,41 @@ class RibbonRun:
 
 
 @dataclass(frozen=True)
-class RibbonConfig:
-    run: RibbonRun = field(default_factory=RibbonRun)
+class KaptonSpecimenConfig:
+    run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
     specimen: RibbonSpecimen = field(default_factory=RibbonSpecimen)
     mesh: RibbonBarHingeMesh = field(default_factory=RibbonBarHingeMesh)
     kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
     path: PathOptions = field(default_factory=lambda: studies.RIBBON_PATH)
 
-    def validated(self) -> "RibbonConfig":
+    def validated(self) -> "KaptonSpecimenConfig":
         check_config(self)
         self.specimen.checked()
         self.mesh.checked()
         return self
 
     @property
-    def materials(self) -> studies.BarHingeMaterials:
-        return studies.BarHingeMaterials(kapton=self.kapton)
+    def materials(self) -> law.BarHingeMaterials:
+        return law.BarHingeMaterials(kapton=self.kapton)
 
     def resolved(self) -> dict:
         return resolved(self)
 
 
-def closed_forms(cfg: RibbonConfig) -> dict[str, float]:
+def closed_forms(cfg: KaptonSpecimenConfig) -> dict[str, float]:
     """Euler loads [N] of the specimen: datasheet EI, with the 5.5 factor, and the chain's own EI."""
     spec, kap = cfg.specimen, cfg.kapton
     ei = kap.youngs_modulus * spec.second_moment
     k = kap.hinge_stiffness(spec.thickness)
-    ei_chain = studies.n5b8_ribbon_bending_stiffness(k, spec.length / cfg.mesh.panels, spec.width)
-    return {"Euler, E I (datasheet E)": studies.euler_fixed_fixed(ei, spec.length),
-            f"Euler, {kap.bending_factor:g} E I": studies.euler_fixed_fixed(kap.bending_factor * ei,
+    ei_chain = law.n5b8_ribbon_bending_stiffness(k, spec.length / cfg.mesh.panels, spec.width)
+    return {"Euler, E I (datasheet E)": buckling.euler_fixed_fixed(ei, spec.length),
+            f"Euler, {kap.bending_factor:g} E I": buckling.euler_fixed_fixed(kap.bending_factor * ei,
                                                                            spec.length),
-            "Euler, bar-and-hinge chain EI": studies.euler_fixed_fixed(ei_chain, spec.length)}
+            "Euler, bar-and-hinge chain EI": buckling.euler_fixed_fixed(ei_chain, spec.length)}
 
 
-def run_ribbon(config: RibbonConfig, out: pathlib.Path, progress: bool = True) -> dict:
+def run_ribbon(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True) -> dict:
     """Run the bar-and-hinge buckling test and write its outputs; returns the summary."""
     cfg = config.validated()
     out = pathlib.Path(out)
@@ -124,7 +125,7 @@ def _bar_hinge_results(cfg, out, solution, model, started) -> dict:
     euler = closed_forms(cfg)
     compression, force = solution.compression, solution.force
     c_el = np.linspace(0.0, compression[-1], 60)
-    elastica = np.array([studies.elastica_force_ratio(c) for c in c_el])
+    elastica = np.array([buckling.elastica_force_ratio(c) for c in c_el])
     src = [measured.cite, "Euler: 4 pi^2 EI/L^2, fixed-fixed", "elastica: Timoshenko & Gere 1961"]
     plots.comparison_plot(
         out / "ribbon_buckling.png",
@@ -146,7 +147,7 @@ def _bar_hinge_results(cfg, out, solution, model, started) -> dict:
             "final compression [-]": float(compression[-1]),
             "force ratio final / critical [-]": final_ratio,
             "elastica force ratio at final compression [-]":
-                studies.elastica_force_ratio(float(compression[-1])),
+                buckling.elastica_force_ratio(float(compression[-1])),
         },
         "dofs": int(model.ndof), "increments": len(solution.path.states) - 1,
         "newton_iterations": int(sum(solution.path.newton_iterations)),
@@ -162,15 +163,15 @@ FE_COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "mid-span d
 def _fe_config_class():
     from lcefem.meshes.kapton_ribbon import RibbonFEMesh
     from lcefem.models.hyperelastic import NeoHookeanSolid
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import kapton_specimen
 
     @dataclass(frozen=True)
-    class RibbonFEConfig:
-        run: RibbonRun = field(default_factory=RibbonRun)
+    class KaptonSpecimenFEConfig:
+        run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
         specimen: RibbonSpecimen = field(default_factory=RibbonSpecimen)
         mesh: RibbonFEMesh = field(default_factory=RibbonFEMesh)
         kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
-        path: beam_fe.RibbonFEPath = field(default_factory=beam_fe.RibbonFEPath)
+        path: kapton_specimen.KaptonSpecimenFEPath = field(default_factory=kapton_specimen.KaptonSpecimenFEPath)
 
         def validated(self):
             check_config(self)
@@ -181,31 +182,18 @@ def _fe_config_class():
         def resolved(self) -> dict:
             return resolved(self)
 
-    return RibbonFEConfig
-
-
-def fe_closed_forms(specimen: RibbonSpecimen, youngs_modulus: float, poisson_ratio: float,
-                    measured: float) -> dict[str, float]:
-    """Euler loads of the specimen [N] (beam E I and plate-strip E I/(1 - nu^2)), and the free length
-    [mm] and modulus [MPa] for which 4 pi^2 E I/L^2 equals the measured load."""
-    ei = youngs_modulus * specimen.second_moment
-    return {"Euler, E I (datasheet E) [N]": studies.euler_fixed_fixed(ei, specimen.length),
-            "Euler, plate strip E I/(1 - nu^2) [N]": studies.euler_fixed_fixed(
-                ei / (1.0 - poisson_ratio ** 2), specimen.length),
-            "free length giving the measured load [mm]": 2.0 * np.pi * np.sqrt(ei / measured),
-            "modulus giving the measured load [MPa]": measured * specimen.length ** 2
-            / (4.0 * np.pi ** 2 * specimen.second_moment)}
+    return KaptonSpecimenFEConfig
 
 
 def run_ribbon_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
     """The FE buckling test (critical load, imperfect path to the final compression)."""
     from lcefem.solvers.exports import FieldExport
-    from lcefem.validation import beam_fe
+    from lcefem.solvers.problems import kapton_specimen
 
     cfg = cfg.validated()
     out = pathlib.Path(out)
     started = time.perf_counter()
-    model = beam_fe.RibbonFE(cfg.specimen, cfg.mesh, cfg.kapton)
+    model = kapton_specimen.KaptonSpecimenFE(cfg.specimen, cfg.mesh, cfg.kapton)
     critical = model.critical_load()
     length = cfg.specimen.length
     model.add_imperfection(critical.mode, cfg.path.imperfection * length)
@@ -228,11 +216,11 @@ def run_ribbon_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
 def _fe_results(cfg, out, model, critical, history, schedule, follower, started) -> dict:
     wall = time.perf_counter() - started
     measured = reference("ribbon.buckling_load")
-    closed = fe_closed_forms(cfg.specimen, cfg.kapton.youngs_modulus, cfg.kapton.poisson_ratio,
-                             measured.value)
+    closed = buckling.specimen_closed_forms(cfg.specimen, cfg.kapton.youngs_modulus,
+                                            cfg.kapton.poisson_ratio, measured.value)
     c, f = history.column("compression [-]"), history.column("force [N]")
     c_el = np.linspace(0.0, c[-1], 60)
-    elastica = np.array([studies.elastica_force_ratio(x) for x in c_el])
+    elastica = np.array([buckling.elastica_force_ratio(x) for x in c_el])
     euler = closed["Euler, E I (datasheet E) [N]"]
     plate = closed["Euler, plate strip E I/(1 - nu^2) [N]"]
     plots.comparison_plot(
@@ -255,7 +243,7 @@ def _fe_results(cfg, out, model, critical, history, schedule, follower, started)
             **{f"force at {100 * p:g} % compression [N]": v for p, v in at.items()},
             "force at final compression [N]": float(f[-1]), "final compression [-]": float(c[-1]),
             "force ratio final / critical [-]": float(f[-1] / critical.force),
-            "elastica force ratio at final compression [-]": studies.elastica_force_ratio(float(c[-1])),
+            "elastica force ratio at final compression [-]": buckling.elastica_force_ratio(float(c[-1])),
         },
         "dofs": model.ndofs, "increments": len(schedule), "newton_iterations": follower.iterations,
         "cut_steps": follower.cuts, "wall_time [s]": wall,
@@ -276,13 +264,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh-level", type=int, help="FE refinement level (in-plane element size "
                    "1 mm/(level+1))")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
-        f.name for f in dataclasses.fields(RibbonConfig)) + " (bar-hinge); run, specimen, mesh, kapton, "
+        f.name for f in dataclasses.fields(KaptonSpecimenConfig)) + " (bar-hinge); run, specimen, mesh, kapton, "
         "path (fe)")
     add_out_arguments(p, "results/ribbon-buckling")
 
 
-def config_from_args(args: argparse.Namespace) -> RibbonConfig:
-    return override(config_from_toml(args.config, RibbonConfig()), "run", compression=args.compression)
+def config_from_args(args: argparse.Namespace) -> KaptonSpecimenConfig:
+    return override(config_from_toml(args.config, KaptonSpecimenConfig()), "run", compression=args.compression)
 
 
 PARALLEL = parallel_if_fe

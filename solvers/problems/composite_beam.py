@@ -1,6 +1,7 @@
-"""3D finite-element (FEniCSx) simulations of seed 001's passive ribbon and composite beam, shared by
-``lcefem run ribbon-buckling --model fe``, ``lcefem run beam --model fe``, the validation cases of
-:mod:`lcefem.validation.cases.beam_fe` and the benchmark.
+"""The composite beam of seed 001 (Fig. 3) in 3D finite strain (FEniCSx): the FE composite-beam
+problem, used by ``lcefem run beam --model fe``, the validation cases of
+:mod:`lcefem.validation.cases.beam_fe` and the benchmark. (The Kapton buckling specimen is
+:mod:`lcefem.solvers.problems.kapton_specimen`.)
 
 * :class:`BeamFE` — the composite beam of :func:`lcefem.meshes.composite_beam.build_beam_fe`:
   Kapton as a compressible neo-Hookean solid, the LCE strips with the elastic energy
@@ -10,16 +11,13 @@
   published model has no LCE over the bonds. Strip-ribbon contact: :mod:`lcefem.solvers.contact`.
   Supports: symmetry planes (quarter model) plus one point held in z; the half model holds a point
   in x and z and a second point in z (statically determinate, as the bar-and-hinge beam).
-  :meth:`BeamFE.ramp` takes (lambda_T, lambda_B) from their current values to targets with the
+  Drives per strip tag (:meth:`BeamFE.set_lambda`, ``top_strips``/``bottom_strips``);
+  :meth:`BeamFE.advance` takes them from their current values to the targets with the
   shared step controller :class:`lcefem.solvers.continuation.PathFollower` (tangent predictor,
   step size from the Newton iteration count, cutting, damped relaxation across folds);
   :func:`curvature_map_fe` sweeps a grid with one model.
 * :func:`beam_fe_heated` — the same beam driven by a coil current through the heat model
   (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`).
-* :class:`RibbonFE` — the fixed-fixed buckling specimen: critical load of the perfect specimen
-  (linearised buckling about the straight state, SLEPc generalised eigenproblem, repeated at the
-  estimate: a secant refinement), first mode as imperfection, displacement-controlled path to 50 %
-  compression.
 
 Curvature: the same stations and circle fit as the bar-and-hinge beam
 (:func:`lcefem.meshes.composite_beam.middle_station_indices`,
@@ -31,8 +29,9 @@ from __future__ import annotations
 
 import itertools
 import math
+import pathlib
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
@@ -46,20 +45,22 @@ import dolfinx.fem.petsc
 
 from lcefem.meshes.composite_beam import (BeamFEMesh, CompositeBeamGeometry, build_beam_fe,
                                           middle_station_indices)
-from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen, build_ribbon_fe
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
                                         neo_hookean_strain_energy)
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.lce import isochoric_uniaxial
+from lcefem.models.limits import check_lambda
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import signed_circle_curvature
 from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
                                     face_pairs)
 from lcefem.solvers.continuation import PathControl, PathFollower
+from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
+from lcefem.solvers.supports import plane_clamp, point_support
 
 PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
              "shared/reference/published_reduced_model.md)")
@@ -94,46 +95,19 @@ class FEMaterials:
 
 
 # --------------------------------------------------------------------------- composite beam
-def check_lambda(name: str, value: float, lambda_N: float) -> float:
-    """Relative strip length lambda (isotropic = 1, as built = lambda_N): must lie in [1, lambda_N]."""
-    if not isinstance(value, (int, float)) or not math.isfinite(value) or not 1.0 <= value <= lambda_N:
-        raise InputError(f"{name} = {value}: must be between 1 (isotropic) and lambda_N = "
-                         f"{lambda_N} (as built)")
-    return float(value)
-
-
-def _point_dofs(V, comp: int, point, tol: float) -> np.ndarray:
-    """DOFs of component ``comp`` at the node located at ``point`` [mm]."""
-    Vc, _ = V.sub(comp).collapse()
-    p = np.asarray(point, dtype=float)
-    dofs = dolfinx.fem.locate_dofs_geometrical(
-        (V.sub(comp), Vc), lambda x: np.linalg.norm(x.T - p, axis=1) < tol)[0]
-    if dofs.size == 0:
-        raise RuntimeError(f"no node at {tuple(p)}")
-    return dofs
-
-
 def beam_supports(tmesh, V) -> list:
     """Dirichlet conditions of the FE beam: symmetry planes (u_x = 0 on x = x_mid in the quarter
     model, u_y = 0 on y = W/2) and a statically determinate set of point supports on the ribbon's
     mid-surface at x = x_mid (quarter: u_z; half: u_x and u_z, plus u_z at the next station)."""
     info = tmesh.info
-    fdim = tmesh.mesh.topology.dim - 1
-    zero = PETSc.ScalarType(0.0)
-    bcs = []
     planes = [("sym_y", 1)] + ([("sym_x", 0)] if info["symmetry"] == "quarter" else [])
-    for name, comp in planes:
-        facets = tmesh.facet_tags.find(tmesh.facet_tag(name))
-        dofs = dolfinx.fem.locate_dofs_topological(V.sub(comp), fdim, facets)
-        bcs.append(dolfinx.fem.dirichletbc(zero, dofs, V.sub(comp)))
-    W, tol = info["ribbon_width"], 1e-6
-    x_mid = info["x_mid"]
-    a = (x_mid, 0.5 * W, info["mid_surface_height"])
-    bcs.append(dolfinx.fem.dirichletbc(zero, _point_dofs(V, 2, a, tol), V.sub(2)))
+    bcs = [bc for face, comp in planes for bc in plane_clamp(tmesh, V, face, comp)]
+    W = info["ribbon_width"]
+    a = (info["x_mid"], 0.5 * W, info["mid_surface_height"])
+    bcs += point_support(V, a, (2,))
     if info["symmetry"] == "half":
-        bcs.append(dolfinx.fem.dirichletbc(zero, _point_dofs(V, 0, a, tol), V.sub(0)))
-        b = (info["second_support_x"], 0.5 * W, info["second_support_height"])
-        bcs.append(dolfinx.fem.dirichletbc(zero, _point_dofs(V, 2, b, tol), V.sub(2)))
+        bcs += point_support(V, a, (0,))
+        bcs += point_support(V, (info["second_support_x"], 0.5 * W, info["second_support_height"]), (2,))
     return bcs
 
 
@@ -207,7 +181,12 @@ class BeamState:
 
 
 class BeamFE:
-    """The FE composite beam, forms compiled once; :meth:`ramp` prescribes (lambda_T, lambda_B).
+    """The FE composite beam, forms compiled once; drives are the strip groups' lambda.
+
+    Build: ``BeamFE(geometry, mesh, ...)``. Drive: :meth:`set_lambda` per strip tag
+    (``top_strips``, ``bottom_strips``: the same call shape as the gridshell's 48 strips).
+    Solve: :meth:`advance` (to the targets set) or :meth:`ramp` (set and advance). Observe:
+    :meth:`observables`, :meth:`curvature`. Output: :meth:`write_fields`.
 
     Args:
         geometry: shared beam dimensions (:class:`CompositeBeamGeometry`).
@@ -218,6 +197,9 @@ class BeamFE:
         contact: strip-ribbon penalty contact.
         petsc_options: overrides of the Newton options.
     """
+
+    #: The strip tags that carry a drive (cell tags of :func:`build_beam_fe`).
+    STRIPS = ("top_strips", "bottom_strips")
 
     def __init__(self, geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
                  mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
@@ -245,16 +227,28 @@ class BeamFE:
         attach(self.problem, [*self.contacts, self.damping])
         self.stations = BeamStations(tm, V)
         self.lambda_top = self.lambda_bottom = actuation.lambda_N
+        self.target = {"top_strips": actuation.lambda_N, "bottom_strips": actuation.lambda_N}
         self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+        self.last_follower = None
 
     def set_lambdas(self, lambda_top: float, lambda_bottom: float) -> None:
-        """Relative lengths of the top and bottom strips (as built: lambda_N)."""
+        """Relative lengths of the top and bottom strips now (as built: lambda_N; no solve)."""
         lam_n = self.actuation.lambda_N
         self.a_top.value = lambda_top / lam_n
         self.a_bottom.value = lambda_bottom / lam_n
         self.lambda_top, self.lambda_bottom = lambda_top, lambda_bottom
 
+    def set_lambda(self, drives: Mapping[str, float]) -> None:
+        """Target spontaneous stretches lambda [-] (relative to the isotropic length; as built:
+        lambda_N) per strip tag (:attr:`STRIPS`); reached by :meth:`advance`."""
+        for tag, value in drives.items():
+            if tag not in self.STRIPS:
+                raise InputError(f"drive {tag!r}: not a strip tag of the beam (allowed "
+                                 f"{', '.join(self.STRIPS)})")
+            self.target[tag] = check_lambda(f"lambda[{tag}]", value, self.actuation.lambda_N)
+
     def curvature(self) -> float:
+        """Signed curvature [1/mm] through the middle stations (module docstring)."""
         return self.stations.curvature(self.u)
 
     def contact_force(self) -> float:
@@ -262,17 +256,21 @@ class BeamFE:
         return self.tmesh.info["symmetry_factor"] * sum(c.normal_force() for c in self.contacts)
 
     def min_gap(self) -> float:
+        """Smallest strip-ribbon gap [mm] (negative: penetration; nan without contact)."""
         return min((float(np.min(c.gaps())) for c in self.contacts), default=float("nan"))
 
-    def ramp(self, lambda_top: float, lambda_bottom: float, *,
-             on_step: Callable[[BeamState], None] | None = None,
-             progress: Callable[[float], None] | None = None) -> list[BeamState]:
-        """Take the strips linearly from their current lengths to (lambda_T, lambda_B) (load
-        parameter t: 0 -> 1) with :class:`PathFollower`; one :class:`BeamState` per accepted step.
-        Raises ConvergenceError (the model keeps the last converged state)."""
-        lam_n = self.actuation.lambda_N
-        check_lambda("lambda_top", lambda_top, lam_n)
-        check_lambda("lambda_bottom", lambda_bottom, lam_n)
+    def observables(self) -> dict[str, float]:
+        """Named observables, keys "name [unit]"."""
+        return {"lambda_top [-]": self.lambda_top, "lambda_bottom [-]": self.lambda_bottom,
+                "curvature [1/mm]": self.curvature(), "contact force [N]": self.contact_force(),
+                "min gap [mm]": self.min_gap()}
+
+    def advance(self, *, on_step: Callable[[BeamState], None] | None = None,
+                progress: Callable[[float], None] | None = None) -> list[BeamState]:
+        """Take the strips linearly from their current lengths to the targets of :meth:`set_lambda`
+        (load parameter t: 0 -> 1) with :class:`PathFollower`; one :class:`BeamState` per accepted
+        step. Raises ConvergenceError (the model keeps the last converged state)."""
+        lambda_top, lambda_bottom = self.target["top_strips"], self.target["bottom_strips"]
         lt0, lb0 = self.lambda_top, self.lambda_bottom
 
         def set_load(t: float) -> None:
@@ -294,6 +292,19 @@ class BeamFE:
                         f"{lambda_bottom:g}", on_step=record)
         self.last_follower = follower
         return states
+
+    def ramp(self, lambda_top: float, lambda_bottom: float, **kw) -> list[BeamState]:
+        """:meth:`set_lambda` of (lambda_T, lambda_B) then :meth:`advance`."""
+        lam_n = self.actuation.lambda_N
+        check_lambda("lambda_top", lambda_top, lam_n)
+        check_lambda("lambda_bottom", lambda_bottom, lam_n)
+        self.set_lambda({"top_strips": lambda_top, "bottom_strips": lambda_bottom})
+        return self.advance(**kw)
+
+    def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
+        """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
+        return [write_snapshot(folder, "displacement.bp", [self.u], t)]
+
 
 def build_beam_mesh(geometry, lambda_N, mesh, comm):
     """:func:`build_beam_fe` plus the support points the solver needs (kept out of the mesh
@@ -351,192 +362,6 @@ def solve_beam_fe(lambda_top: float, lambda_bottom: float,
     model = BeamFE(geometry, mesh, materials, actuation, contact, control)
     states = model.ramp(lambda_top, lambda_bottom, **kw)
     return model, states
-
-
-# --------------------------------------------------------------------------- ribbon buckling
-@dataclass(frozen=True)
-class RibbonFEPath:
-    """Stepping of the FE buckling test and its imperfection."""
-
-    imperfection: float = param(1.0e-3, "-", "chosen: amplitude/length of the first buckling "
-                                "eigenmode added to the geometry (the bar-and-hinge run uses the "
-                                "same amplitude of the fixed-fixed mode shape)", minimum=0.0,
-                                maximum=0.1)
-    step: float = param(0.02, "-", "chosen: compression increment in the post-buckling range",
-                        positive=True, maximum=0.25)
-    onset_steps: int = param(12, "-", "chosen: geometric increments from 0.2 to 50 x the critical "
-                             "compression (resolves the rise of the force to its plateau)",
-                             minimum=2, maximum=200)
-
-
-@dataclass
-class CriticalLoad:
-    force: float  # [N]
-    shortening: float  # [mm]
-    mode: dolfinx.fem.Function  # first buckling mode (max |u_z| = 1)
-    secant_change: float  # relative change of the critical shortening in the last secant step
-
-
-class RibbonFE:
-    """The fixed-fixed Kapton specimen in 3D finite strain (neo-Hookean, datasheet E and nu).
-
-    The left clamp face is held, the right one moved by (-shortening, 0, 0); with the half model
-    u_y = 0 on the mid-plane y = W/2. The compressive force is minus the x-reaction on the right
-    clamp face, times the symmetry factor.
-    """
-
-    def __init__(self, specimen: RibbonSpecimen = RibbonSpecimen(), mesh: RibbonFEMesh = RibbonFEMesh(),
-                 solid: NeoHookeanSolid = NeoHookeanSolid(), petsc_options: dict | None = None,
-                 comm: MPI.Comm = MPI.COMM_WORLD):
-        self.specimen, self.solid = specimen, solid
-        self.tmesh = tm = build_ribbon_fe(specimen, mesh, comm)
-        self.V = V = displacement_space(tm.mesh, 2)
-        self.u = u = dolfinx.fem.Function(V, name="displacement")
-        fdim = tm.mesh.topology.dim - 1
-        tm.mesh.topology.create_connectivity(fdim, tm.mesh.topology.dim)
-        left = dolfinx.fem.locate_dofs_topological(V, fdim, tm.facet_tags.find(tm.facet_tag("clamp_left")))
-        right = dolfinx.fem.locate_dofs_topological(V, fdim, tm.facet_tags.find(tm.facet_tag("clamp_right")))
-        self.end = dolfinx.fem.Constant(tm.mesh, np.zeros(3, dtype=PETSc.ScalarType))
-        zero = dolfinx.fem.Constant(tm.mesh, np.zeros(3, dtype=PETSc.ScalarType))
-        self.bcs = [dolfinx.fem.dirichletbc(zero, left, V), dolfinx.fem.dirichletbc(self.end, right, V)]
-        if "sym_y" in tm.facets:
-            dofs = dolfinx.fem.locate_dofs_topological(V.sub(1), fdim, tm.facet_tags.find(tm.facet_tag("sym_y")))
-            self.bcs.append(dolfinx.fem.dirichletbc(PETSc.ScalarType(0.0), dofs, V.sub(1)))
-        dx = volume_measure(tm)
-        energy = neo_hookean_strain_energy(deformation_gradient(u), solid) * dx
-        self.problem = HyperelasticProblem(u, energy, self.bcs, prefix=_unique_prefix("ribbonfe"),
-                                           petsc_options=petsc_options)
-        weight = dolfinx.fem.Function(V)
-        weight.x.array[3 * right] = 1.0
-        self._reaction = self.problem.reaction_form(weight)
-        self._jacobian = dolfinx.fem.form(ufl.derivative(self.problem.residual, u, ufl.TrialFunction(V)))
-        self.factor = tm.info["symmetry_factor"]
-        self.length = specimen.length
-        self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
-        self._mid = self._node((0.5 * self.length, 0.0, 0.5 * specimen.thickness))
-
-    def _node(self, point) -> int:
-        X = self.V.tabulate_dof_coordinates()
-        return int(np.argmin(np.linalg.norm(X - np.asarray(point), axis=1)))
-
-    def set_shortening(self, shortening: float) -> None:
-        self.end.value = np.array([-shortening, 0.0, 0.0])
-
-    def force(self) -> float:
-        """Compressive end force [N] on the whole specimen."""
-        return -self.factor * assemble_global(self._reaction, self.tmesh.mesh.comm)
-
-    def mid_deflection(self) -> float:
-        """z displacement [mm] of the mid-span node on the ribbon's mid-plane, edge y = 0."""
-        return float(self.u.x.array[3 * self._mid + 2])
-
-    def axial_stiffness(self, shortening: float) -> float:
-        """Secant axial stiffness F/shortening [N/mm] of the straight specimen."""
-        self.straight_state(shortening)
-        return self.force() / shortening
-
-    def straight_state(self, shortening: float) -> None:
-        """Equilibrium of the perfect (flat) specimen on its straight (unbuckled) path, from the
-        uniform-strain guess u_x = -shortening x/L (Newton stays on the symmetric path)."""
-        X = self.V.tabulate_dof_coordinates()
-        guess = np.zeros_like(X)
-        guess[:, 0] = -shortening * X[:, 0] / self.length
-        self.problem.restore(guess.ravel())
-        self.set_shortening(shortening)
-        ok, its, reason = self.problem.solve()
-        if not ok:
-            raise ConvergenceError(f"straight state at shortening {shortening:g} mm", reason)
-
-    def tangent(self) -> PETSc.Mat:
-        A = dolfinx.fem.petsc.assemble_matrix(self._jacobian, bcs=self.bcs, diag=1.0)
-        A.assemble()
-        return A
-
-    def critical_load(self, secant_steps: int = 2) -> CriticalLoad:
-        """Linearised buckling about the straight state: with K(d) the tangent at shortening d and
-        K0 = K(0), K(d) ~ K0 + (d/d_r)(K(d_r) - K0) vanishes first at d = -d_r/theta, theta the most
-        negative eigenvalue of (K(d_r) - K0) phi = theta K0 phi (SLEPc, generalised Hermitian);
-        repeated with d_r = d so that the linearisation is taken at the critical state.
-        Starts from the Euler load of the specimen (4 pi^2 E I/L^2)."""
-        from slepc4py import SLEPc
-
-        spec = self.specimen
-        area = spec.width * spec.thickness
-        euler = 4.0 * math.pi ** 2 * self.solid.youngs_modulus * spec.second_moment / spec.length ** 2
-        d_r = euler * spec.length / (self.solid.youngs_modulus * area)
-        self.problem.restore(np.zeros(self.u.x.array.size))
-        self.set_shortening(0.0)
-        K0 = self.tangent()
-        change = float("nan")
-        for _ in range(secant_steps):
-            self.straight_state(d_r)
-            dK = self.tangent()
-            dK.axpy(-1.0, K0)
-            eps = SLEPc.EPS().create(self.tmesh.mesh.comm)
-            eps.setOperators(dK, K0)
-            eps.setProblemType(SLEPc.EPS.ProblemType.GHEP)
-            eps.setDimensions(1, PETSc.DECIDE)
-            eps.setWhichEigenpairs(SLEPc.EPS.Which.SMALLEST_REAL)
-            eps.setTolerances(1e-10, 500)
-            ksp = eps.getST().getKSP()
-            ksp.setType("preonly")
-            ksp.getPC().setType("lu")
-            ksp.getPC().setFactorSolverType("mumps")
-            eps.solve()
-            if eps.getConverged() < 1:
-                raise ConvergenceError("buckling eigenproblem", "SLEPc found no eigenpair")
-            vr = dK.createVecRight()
-            theta = eps.getEigenpair(0, vr).real
-            eps.destroy()
-            dK.destroy()
-            if not theta < 0:
-                raise ConvergenceError("buckling eigenproblem", f"no negative eigenvalue ({theta:g})")
-            d_new = -d_r / theta
-            change = abs(d_new - d_r) / d_new
-            d_r = d_new
-        K0.destroy()
-        self.straight_state(d_r)
-        force = self.force()
-        mode = dolfinx.fem.Function(self.V, name="buckling_mode")
-        mode.x.array[:] = vr.array
-        scale = np.max(np.abs(mode.x.array.reshape(-1, 3)[:, 2]))
-        mode.x.array[:] /= scale
-        self.problem.restore(np.zeros(self.u.x.array.size))
-        self.set_shortening(0.0)
-        return CriticalLoad(force, d_r, mode, change)
-
-    def add_imperfection(self, mode: dolfinx.fem.Function, amplitude: float) -> None:
-        """Move the mesh (the stress-free reference) by ``amplitude`` [mm] x the mode (max |u_z| = 1)."""
-        from scipy.spatial import cKDTree
-
-        X = self.V.tabulate_dof_coordinates()
-        geom = self.tmesh.mesh.geometry.x
-        dist, idx = cKDTree(X).query(geom)
-        if np.max(dist) > 1e-9:
-            raise RuntimeError("geometry nodes are not displacement nodes")
-        geom[:, :] += amplitude * mode.x.array.reshape(-1, 3)[idx]
-
-    def compression_schedule(self, c_cr: float, c_max: float, path: RibbonFEPath) -> np.ndarray:
-        """Compressions: geometric from 0.2 to 50 c_cr, then steps of ``path.step`` to c_max."""
-        onset = np.geomspace(0.2 * c_cr, min(50.0 * c_cr, c_max), path.onset_steps)
-        start = onset[-1]
-        n = max(1, int(math.ceil((c_max - start) / path.step - 1e-9)))
-        return np.concatenate([onset, np.linspace(start, c_max, n + 1)[1:]])
-
-    def follow(self, compressions, control: PathControl = PathControl(first_step=1.0, max_step=1.0,
-                                                                         min_step=1e-3),
-               on_step: Callable[[float, int], None] | None = None) -> PathFollower:
-        """Displacement-controlled path through the given compressions (end shortening / L) with
-        adaptive sub-steps (load parameter t = compression); ``on_step(compression, iterations)``
-        after each given compression is reached. Returns the follower (iteration counts)."""
-        follower = PathFollower(self.problem, lambda t: self.set_shortening(t * self.length), control)
-        for c in compressions:
-            before = follower.iterations
-            follower.step = max(follower.step, float(c) - follower.t)
-            follower.follow(float(c), where=f"ribbon compression {100 * float(c):.3g} %")
-            if on_step is not None:
-                on_step(float(c), follower.iterations - before)
-        return follower
 
 
 # --------------------------------------------------------------------------- curvature map
@@ -607,89 +432,138 @@ class HeatedBeamRun:
         return self
 
 
+#: Strip groups a ``HeatedBeamRun.heated`` choice puts the coil current through.
+HEATED_STRIPS = {"bottom": ("bottom_strips",), "top": ("top_strips",),
+                 "both": ("bottom_strips", "top_strips")}
+
+
+class HeatedBeamFE:
+    """The FE beam driven by a coil current (seed 001's actuation) through
+    :class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: Joule power I^2 R per strip
+    (R of one 30 mm grid segment's ``coil``, seed 001) spread uniformly over each heated strip's
+    volume (the coil is not resolved), conduction into the ribbon through the bonded pads only,
+    convection and radiation on every exterior face; the LCE of the strips follows the nematic
+    transition, the bond pads are passive. Each time step's mechanics is brought from the old to
+    the new temperature with :class:`PathFollower` (tangent predictor in time).
+
+    Build with the strip tags that carry a coil (``heated``: forms are compiled once, so the set
+    is fixed); drive: :meth:`set_current` per strip tag; advance: :meth:`advance` (dt [s]);
+    observe: :meth:`observables`.
+    """
+
+    def __init__(self, heated=("bottom_strips",),
+                 geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                 mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
+                 contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
+                 transition=None, thermal=None, exchange=None,
+                 coil: GridSegmentCoil = GridSegmentCoil(), dt: float = 1.0):
+        from lcefem.models.heat import SurfaceExchange, ThermalProperties
+        from lcefem.models.lce import NematicTransition
+        from lcefem.solvers.heat import HeatSetup
+        from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
+
+        unknown = [t for t in heated if t not in BeamFE.STRIPS]
+        if unknown or not heated:
+            raise InputError(f"heated = {tuple(heated)}: strip tags among {', '.join(BeamFE.STRIPS)}")
+        self.heated, self.coil = tuple(heated), coil
+        transition = transition or NematicTransition()
+        self.tmesh = tm = build_beam_mesh(geometry, transition.lambda_N, mesh, MPI.COMM_WORLD)
+        n = ufl.as_vector([1.0, 0.0, 0.0])
+        exposed = [f for f in ("ribbon_top", "ribbon_bottom", "top_strip_underside",
+                               "bottom_strip_topside", "surface") if f in tm.facets]
+        setup = HeatSetup(thermal or ThermalProperties(), exchange or SurfaceExchange(),
+                          heated_cells=list(self.heated), exposed_facets=exposed)
+        passive_lce = NematicTransition(lambda_N=1.0)  # no order, no spontaneous strain: bond pads
+        lce = [LCERegion(["bottom_strips"], n, transition, materials.lce),
+               LCERegion(["top_strips"], n, transition, materials.lce),
+               LCERegion(["bottom_pads", "top_pads"], n, passive_lce, materials.lce)]
+        self.model = model = ThermoMechanicalModel(
+            tm, setup, lce, [PassiveRegion(["kapton"], materials.kapton)],
+            dirichlet=lambda V: beam_supports(tm, V), petsc_options=dict(BEAM_NEWTON),
+            prefix=_unique_prefix("heatbeam"))
+        self.u = model.u
+        self.contacts = make_contacts(tm, model.u, contact)
+        damping = NodalDamping(model.u)
+        attach(model.mechanics, [*self.contacts, damping])
+        self._strip_volume = geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
+        self.stations = BeamStations(tm, model.u.function_space)
+        dx = volume_measure(tm)
+        self._mean_T = {name: (dolfinx.fem.form(model.heat.T * dx(tm.cell_tag(name))),
+                               assemble_global(dolfinx.fem.form(1.0 * dx(tm.cell_tag(name))), tm.mesh.comm))
+                        for name in ("bottom_strips", "top_strips", "kapton")}
+        self._span = {"T0": model.T_mech.x.array.copy(), "T1": model.T_mech.x.array.copy(),
+                      "t0": 0.0, "dt": 1.0}
+        self.follower = PathFollower(model.mechanics, self._set_load,
+                                     control or PathControl(first_step=dt, max_step=dt), damping)
+        self.time = 0.0  # [s]
+        self.current = 0.0  # [A]
+
+    def _set_load(self, t: float) -> None:
+        span = self._span
+        s = (t - span["t0"]) / span["dt"]
+        self.model.T_mech.x.array[:] = span["T0"] + s * (span["T1"] - span["T0"])
+
+    def set_current(self, drives: Mapping[str, float]) -> None:
+        """Coil current [A] per strip tag; the heat model has one power density, so every heated
+        strip tag carries the same current (a different one is refused)."""
+        values = {float(v) for k, v in drives.items() if k in self.heated}
+        extra = [k for k in drives if k not in self.heated]
+        if extra or len(values) != 1 or set(drives) != set(self.heated):
+            raise InputError(f"current drives {dict(drives)}: give one current [A] for each of the "
+                             f"heated strip tags {', '.join(self.heated)} (one power density)")
+        self.current = values.pop()
+        # mW per strip over its volume
+        self.model.heat.power_density.value = self.coil.power(self.current) / self._strip_volume
+
+    def observables(self, iterations: int = 0) -> dict[str, float]:
+        """Named observables, keys "name [unit]"."""
+        tm = self.tmesh
+        row = {"time [s]": self.time, "curvature [1/mm]": self.stations.curvature(self.u),
+               "newton iterations [-]": iterations,
+               "contact force [N]": tm.info["symmetry_factor"] * sum(c.normal_force()
+                                                                      for c in self.contacts)}
+        for name, (form, vol) in self._mean_T.items():
+            row[f"T_mean {name} [C]"] = assemble_global(form, tm.mesh.comm) / vol
+        return row
+
+    def advance(self, dt: float) -> dict[str, float]:
+        """One backward-Euler heat step of ``dt`` [s], then the mechanics from the old to the new
+        temperature (the one path follower, load parameter = time); returns the observables."""
+        t1 = self.time + dt
+        self._span.update(T0=self.model.T_mech.x.array.copy(), t0=self.time, dt=dt)
+        self.model.heat.step(dt)
+        self._span["T1"] = self.model.heat.T.x.array.copy()
+        before = self.follower.iterations
+        self.follower.step = min(self.follower.step, dt)
+        self.follower.follow(t1, where=f"heated beam, t = {t1:.4g} s")
+        self.time = t1
+        return self.observables(self.follower.iterations - before)
+
+
 def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
                    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
                    mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
                    contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
                    transition=None, thermal=None, exchange=None, coil: GridSegmentCoil = GridSegmentCoil(),
                    on_step: Callable[[dict], None] | None = None):
-    """The FE beam driven by a coil current (seed 001's actuation) through
-    :class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: Joule power I^2 R per strip
-    (R of one 30 mm grid segment's ``coil``, seed 001) spread uniformly over each
-    heated strip's volume (the coil is not resolved), conduction into the ribbon through the bonded
-    pads only, convection and radiation on every exterior face; the LCE of the strips follows the
-    nematic transition, the bond pads are passive. Each time step's mechanics is brought from the
-    old to the new temperature with :class:`PathFollower` (tangent predictor in time).
-
-    Returns (model, history rows, stations).
-    """
-    from lcefem.models.heat import SurfaceExchange, ThermalProperties
-    from lcefem.models.lce import NematicTransition
-    from lcefem.solvers.heat import HeatSetup
-    from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
-
+    """A :class:`HeatedBeamFE` with ``run.current`` through the ``run.heated`` strips for
+    ``run.duration`` in equal steps of at most ``run.dt``. Returns (model, history rows, stations):
+    model the ThermoMechanicalModel."""
     run = run.checked()
     if not run.current > 0:
         raise InputError(f"heat_run.current = {run.current} A: must be > 0 A for a heated run")
-    transition = transition or NematicTransition()
-    tm = build_beam_mesh(geometry, transition.lambda_N, mesh, MPI.COMM_WORLD)
-    n = ufl.as_vector([1.0, 0.0, 0.0])
-    exposed = [f for f in ("ribbon_top", "ribbon_bottom", "top_strip_underside", "bottom_strip_topside",
-                           "surface") if f in tm.facets]
-    heated = {"bottom": ["bottom_strips"], "top": ["top_strips"],
-              "both": ["bottom_strips", "top_strips"]}[run.heated]
-    setup = HeatSetup(thermal or ThermalProperties(), exchange or SurfaceExchange(), heated_cells=heated,
-                      exposed_facets=exposed)
-    passive_lce = NematicTransition(lambda_N=1.0)  # no order, no spontaneous strain: bond pads
-    lce = [LCERegion(["bottom_strips"], n, transition, materials.lce),
-           LCERegion(["top_strips"], n, transition, materials.lce),
-           LCERegion(["bottom_pads", "top_pads"], n, passive_lce, materials.lce)]
-    model = ThermoMechanicalModel(tm, setup, lce, [PassiveRegion(["kapton"], materials.kapton)],
-                                  dirichlet=lambda V: beam_supports(tm, V),
-                                  petsc_options=dict(BEAM_NEWTON), prefix=_unique_prefix("heatbeam"))
-    contacts = make_contacts(tm, model.u, contact)
-    damping = NodalDamping(model.u)
-    attach(model.mechanics, [*contacts, damping])
-    strip_volume = geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
-    power = coil.power(run.current)  # mW per strip
-    model.heat.power_density.value = power / strip_volume
-    stations = BeamStations(tm, model.u.function_space)
-    dx = volume_measure(tm)
-    mean_T = {name: (dolfinx.fem.form(model.heat.T * dx(tm.cell_tag(name))),
-                     assemble_global(dolfinx.fem.form(1.0 * dx(tm.cell_tag(name))), tm.mesh.comm))
-              for name in ("bottom_strips", "top_strips", "kapton")}
-    current = {"T0": model.T_mech.x.array.copy(), "T1": model.T_mech.x.array.copy(), "t0": 0.0, "dt": 1.0}
-
-    def set_load(t: float) -> None:
-        s = (t - current["t0"]) / current["dt"]
-        model.T_mech.x.array[:] = current["T0"] + s * (current["T1"] - current["T0"])
-
-    follower = PathFollower(model.mechanics, set_load, control or PathControl(first_step=run.dt,
-                                                                              max_step=run.dt),
-                            damping)
+    beam = HeatedBeamFE(HEATED_STRIPS[run.heated], geometry, mesh, materials, contact, control,
+                        transition, thermal, exchange, coil, dt=run.dt)
+    beam.set_current({tag: run.current for tag in beam.heated})
     steps = max(1, int(math.ceil(run.duration / run.dt - 1e-9)))
     dt = run.duration / steps
-    rows = []
-
-    def observe(t: float, its: int) -> dict:
-        row = {"time [s]": t, "curvature [1/mm]": stations.curvature(model.u),
-               "newton iterations [-]": its,
-               "contact force [N]": tm.info["symmetry_factor"] * sum(c.normal_force() for c in contacts)}
-        for name, (form, vol) in mean_T.items():
-            row[f"T_mean {name} [C]"] = assemble_global(form, tm.mesh.comm) / vol
-        return row
-
-    rows.append(observe(0.0, 0))
+    rows = [beam.observables()]
     if on_step is not None:
         on_step(rows[0])
     for k in range(1, steps + 1):
-        current.update(T0=model.T_mech.x.array.copy(), t0=(k - 1) * dt, dt=dt)
-        model.heat.step(dt)
-        current["T1"] = model.heat.T.x.array.copy()
-        before = follower.iterations
-        follower.step = min(follower.step, dt)
-        follower.follow(k * dt, where=f"heated beam, t = {k * dt:.4g} s")
-        rows.append(observe(k * dt, follower.iterations - before))
+        rows.append(beam.advance(dt))
+        beam.time = k * dt  # exactly, not a sum of steps
+        rows[-1]["time [s]"] = beam.time
         if on_step is not None:
             on_step(rows[-1])
-    return model, rows, stations
+    return beam.model, rows, beam.stations

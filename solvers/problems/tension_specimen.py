@@ -1,4 +1,4 @@
-"""Virtual specimens for material tests with the 3D FE model.
+"""The virtual tension specimen of the LCE (a material test with the 3D FE model).
 
 Isotropic-phase tension (seed 001 Fig. 2E): an LCE block with its director along x, uniformly far
 above T_NI so that it has contracted to its isotropic shape, is stretched along x by a prescribed
@@ -23,6 +23,7 @@ from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.solvers import continuation
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, displacement_space,
                                       volume_measure)
+from lcefem.solvers.supports import mirror_planes
 from lcefem.solvers.thermomechanics import LCERegion, lce_energy_density
 
 ISOTROPIC_TEMPERATURE = 200.0  # C: Q(200 C) < 1e-9, fully isotropic for the calibrated transition
@@ -43,8 +44,7 @@ def isotropic_tension(stretches, transition: NematicTransition = NematicTransiti
     def dofs(face, comp):
         return dolfinx.fem.locate_dofs_topological(V.sub(comp), fdim, tm.facet_tags.find(tm.facet_tag(face)))
 
-    bcs = [dolfinx.fem.dirichletbc(PETSc.ScalarType(0), dofs(f, c), V.sub(c))
-           for f, c in (("x0", 0), ("y0", 1), ("z0", 2))]
+    bcs = mirror_planes(tm, V, (("x0", 0), ("y0", 1), ("z0", 2)))
     bcs.append(dolfinx.fem.dirichletbc(end, dofs("x1", 0), V.sub(0)))
     region = LCERegion(["body"], ufl.as_vector([1.0, 0.0, 0.0]), transition, elasticity)
     T = dolfinx.fem.Constant(mesh, PETSc.ScalarType(ISOTROPIC_TEMPERATURE))

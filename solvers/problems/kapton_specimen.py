@@ -1,0 +1,243 @@
+"""The passive Kapton ribbon's buckling specimen (seed 001, Fig. 2G) in 3D finite strain: a
+36 x 7 x 0.127 mm strip of Kapton, fixed-fixed, shortened by a prescribed end displacement.
+
+Mesh: :func:`lcefem.meshes.kapton_ribbon.build_ribbon_fe` (Q2 hexahedra, one through the thickness;
+half model about y = W/2). Physics: compressible neo-Hookean Kapton, datasheet E and nu
+(:class:`lcefem.models.hyperelastic.NeoHookeanSolid`). Drive: the end shortening [mm]
+(:meth:`KaptonSpecimenFE.set_shortening`); the path through a list of compressions uses the
+project's one path follower (:class:`lcefem.solvers.continuation.PathFollower`).
+
+* :meth:`KaptonSpecimenFE.critical_load` — linearised buckling about the straight state (SLEPc
+  generalised eigenproblem, repeated at the estimate: a secant refinement).
+* :meth:`KaptonSpecimenFE.add_imperfection` — the first mode as geometric imperfection.
+* :meth:`KaptonSpecimenFE.follow` — displacement-controlled path to the final compression.
+
+Observables (:meth:`KaptonSpecimenFE.observables`), keys "name [unit]": compressive force [N] on the
+whole specimen, mid-span deflection [mm]. Not to be confused with the twisted LCE ribbon
+(:mod:`lcefem.solvers.der.ribbon`): this is the passive Kapton specimen.
+
+Units: mm, N, MPa (README).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import pathlib
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+import numpy as np
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx
+import dolfinx.fem.petsc
+
+from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen, build_ribbon_fe
+from lcefem.models.errors import ConvergenceError
+from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
+from lcefem.models.parameters import param
+from lcefem.solvers.continuation import PathControl, PathFollower
+from lcefem.solvers.exports import write_snapshot
+from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
+                                      displacement_space, volume_measure)
+from lcefem.solvers.supports import clamp_face, mirror_planes
+
+_prefix = itertools.count()
+
+
+@dataclass(frozen=True)
+class KaptonSpecimenFEPath:
+    """Stepping of the FE buckling test and its imperfection."""
+
+    imperfection: float = param(1.0e-3, "-", "chosen: amplitude/length of the first buckling "
+                                "eigenmode added to the geometry (the bar-and-hinge run uses the "
+                                "same amplitude of the fixed-fixed mode shape)", minimum=0.0,
+                                maximum=0.1)
+    step: float = param(0.02, "-", "chosen: compression increment in the post-buckling range",
+                        positive=True, maximum=0.25)
+    onset_steps: int = param(12, "-", "chosen: geometric increments from 0.2 to 50 x the critical "
+                             "compression (resolves the rise of the force to its plateau)",
+                             minimum=2, maximum=200)
+
+
+@dataclass
+class CriticalLoad:
+    force: float  # [N]
+    shortening: float  # [mm]
+    mode: dolfinx.fem.Function  # first buckling mode (max |u_z| = 1)
+    secant_change: float  # relative change of the critical shortening in the last secant step
+
+
+class KaptonSpecimenFE:
+    """The fixed-fixed Kapton specimen in 3D finite strain (neo-Hookean, datasheet E and nu).
+
+    The left clamp face is held, the right one moved by (-shortening, 0, 0); with the half model
+    u_y = 0 on the mid-plane y = W/2. The compressive force is minus the x-reaction on the right
+    clamp face, times the symmetry factor.
+    """
+
+    def __init__(self, specimen: RibbonSpecimen = RibbonSpecimen(),
+                 mesh: RibbonFEMesh = RibbonFEMesh(),
+                 solid: NeoHookeanSolid = NeoHookeanSolid(), petsc_options: dict | None = None,
+                 comm: MPI.Comm = MPI.COMM_WORLD):
+        self.specimen, self.solid = specimen, solid
+        self.tmesh = tm = build_ribbon_fe(specimen, mesh, comm)
+        self.V = V = displacement_space(tm.mesh, 2)
+        self.u = u = dolfinx.fem.Function(V, name="displacement")
+        self.end = dolfinx.fem.Constant(tm.mesh, np.zeros(3, dtype=PETSc.ScalarType))  # [mm]
+        self.bcs = (clamp_face(tm, V, "clamp_left") + clamp_face(tm, V, "clamp_right", self.end)
+                    + mirror_planes(tm, V, [("sym_y", 1)]))
+        right = dolfinx.fem.locate_dofs_topological(
+            V, tm.mesh.topology.dim - 1, tm.facet_tags.find(tm.facet_tag("clamp_right")))
+        dx = volume_measure(tm)
+        energy = neo_hookean_strain_energy(deformation_gradient(u), solid) * dx
+        self.problem = HyperelasticProblem(u, energy, self.bcs, prefix=f"lcefem_kaptonfe{next(_prefix)}_",
+                                           petsc_options=petsc_options)
+        weight = dolfinx.fem.Function(V)
+        weight.x.array[3 * right] = 1.0
+        self._reaction = self.problem.reaction_form(weight)
+        self._jacobian = dolfinx.fem.form(ufl.derivative(self.problem.residual, u, ufl.TrialFunction(V)))
+        self.factor = tm.info["symmetry_factor"]
+        self.length = specimen.length
+        self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+        self._mid = self._node((0.5 * self.length, 0.0, 0.5 * specimen.thickness))
+
+    def _node(self, point) -> int:
+        X = self.V.tabulate_dof_coordinates()
+        return int(np.argmin(np.linalg.norm(X - np.asarray(point), axis=1)))
+
+    def set_shortening(self, shortening: float) -> None:
+        self.end.value = np.array([-shortening, 0.0, 0.0])
+
+    def force(self) -> float:
+        """Compressive end force [N] on the whole specimen."""
+        return -self.factor * assemble_global(self._reaction, self.tmesh.mesh.comm)
+
+    def mid_deflection(self) -> float:
+        """z displacement [mm] of the mid-span node on the ribbon's mid-plane, edge y = 0."""
+        return float(self.u.x.array[3 * self._mid + 2])
+
+    def observables(self) -> dict[str, float]:
+        """Named observables, keys "name [unit]"."""
+        shortening = -float(self.end.value[0])
+        return {"end shortening [mm]": shortening, "compression [-]": shortening / self.length,
+                "force [N]": self.force(), "mid-span deflection [mm]": self.mid_deflection()}
+
+    def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
+        """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
+        return [write_snapshot(folder, "displacement.bp", [self.u], t)]
+
+    def axial_stiffness(self, shortening: float) -> float:
+        """Secant axial stiffness F/shortening [N/mm] of the straight specimen."""
+        self.straight_state(shortening)
+        return self.force() / shortening
+
+    def straight_state(self, shortening: float) -> None:
+        """Equilibrium of the perfect (flat) specimen on its straight (unbuckled) path, from the
+        uniform-strain guess u_x = -shortening x/L (Newton stays on the symmetric path)."""
+        X = self.V.tabulate_dof_coordinates()
+        guess = np.zeros_like(X)
+        guess[:, 0] = -shortening * X[:, 0] / self.length
+        self.problem.restore(guess.ravel())
+        self.set_shortening(shortening)
+        ok, its, reason = self.problem.solve()
+        if not ok:
+            raise ConvergenceError(f"straight state at shortening {shortening:g} mm", reason)
+
+    def tangent(self) -> PETSc.Mat:
+        A = dolfinx.fem.petsc.assemble_matrix(self._jacobian, bcs=self.bcs, diag=1.0)
+        A.assemble()
+        return A
+
+    def critical_load(self, secant_steps: int = 2) -> CriticalLoad:
+        """Linearised buckling about the straight state: with K(d) the tangent at shortening d and
+        K0 = K(0), K(d) ~ K0 + (d/d_r)(K(d_r) - K0) vanishes first at d = -d_r/theta, theta the most
+        negative eigenvalue of (K(d_r) - K0) phi = theta K0 phi (SLEPc, generalised Hermitian);
+        repeated with d_r = d so that the linearisation is taken at the critical state.
+        Starts from the Euler load of the specimen (4 pi^2 E I/L^2)."""
+        from slepc4py import SLEPc
+
+        spec = self.specimen
+        area = spec.width * spec.thickness
+        euler = 4.0 * math.pi ** 2 * self.solid.youngs_modulus * spec.second_moment / spec.length ** 2
+        d_r = euler * spec.length / (self.solid.youngs_modulus * area)
+        self.problem.restore(np.zeros(self.u.x.array.size))
+        self.set_shortening(0.0)
+        K0 = self.tangent()
+        change = float("nan")
+        for _ in range(secant_steps):
+            self.straight_state(d_r)
+            dK = self.tangent()
+            dK.axpy(-1.0, K0)
+            eps = SLEPc.EPS().create(self.tmesh.mesh.comm)
+            eps.setOperators(dK, K0)
+            eps.setProblemType(SLEPc.EPS.ProblemType.GHEP)
+            eps.setDimensions(1, PETSc.DECIDE)
+            eps.setWhichEigenpairs(SLEPc.EPS.Which.SMALLEST_REAL)
+            eps.setTolerances(1e-10, 500)
+            ksp = eps.getST().getKSP()
+            ksp.setType("preonly")
+            ksp.getPC().setType("lu")
+            ksp.getPC().setFactorSolverType("mumps")
+            eps.solve()
+            if eps.getConverged() < 1:
+                raise ConvergenceError("buckling eigenproblem", "SLEPc found no eigenpair")
+            vr = dK.createVecRight()
+            theta = eps.getEigenpair(0, vr).real
+            eps.destroy()
+            dK.destroy()
+            if not theta < 0:
+                raise ConvergenceError("buckling eigenproblem", f"no negative eigenvalue ({theta:g})")
+            d_new = -d_r / theta
+            change = abs(d_new - d_r) / d_new
+            d_r = d_new
+        K0.destroy()
+        self.straight_state(d_r)
+        force = self.force()
+        mode = dolfinx.fem.Function(self.V, name="buckling_mode")
+        mode.x.array[:] = vr.array
+        scale = np.max(np.abs(mode.x.array.reshape(-1, 3)[:, 2]))
+        mode.x.array[:] /= scale
+        self.problem.restore(np.zeros(self.u.x.array.size))
+        self.set_shortening(0.0)
+        return CriticalLoad(force, d_r, mode, change)
+
+    def add_imperfection(self, mode: dolfinx.fem.Function, amplitude: float) -> None:
+        """Move the mesh (the stress-free reference) by ``amplitude`` [mm] x the mode (max |u_z| = 1)."""
+        from scipy.spatial import cKDTree
+
+        X = self.V.tabulate_dof_coordinates()
+        geom = self.tmesh.mesh.geometry.x
+        dist, idx = cKDTree(X).query(geom)
+        if np.max(dist) > 1e-9:
+            raise RuntimeError("geometry nodes are not displacement nodes")
+        geom[:, :] += amplitude * mode.x.array.reshape(-1, 3)[idx]
+
+    def compression_schedule(self, c_cr: float, c_max: float, path: KaptonSpecimenFEPath) -> np.ndarray:
+        """Compressions: geometric from 0.2 to 50 c_cr, then steps of ``path.step`` to c_max."""
+        onset = np.geomspace(0.2 * c_cr, min(50.0 * c_cr, c_max), path.onset_steps)
+        start = onset[-1]
+        n = max(1, int(math.ceil((c_max - start) / path.step - 1e-9)))
+        return np.concatenate([onset, np.linspace(start, c_max, n + 1)[1:]])
+
+    def follow(self, compressions, control: PathControl = PathControl(first_step=1.0, max_step=1.0,
+                                                                         min_step=1e-3),
+               on_step: Callable[[float, int], None] | None = None) -> PathFollower:
+        """Displacement-controlled path through the given compressions (end shortening / L) with
+        adaptive sub-steps (load parameter t = compression); ``on_step(compression, iterations)``
+        after each given compression is reached. Returns the follower (iteration counts)."""
+        follower = PathFollower(self.problem, lambda t: self.set_shortening(t * self.length), control)
+        for c in compressions:
+            before = follower.iterations
+            follower.step = max(follower.step, float(c) - follower.t)
+            follower.follow(float(c), where=f"ribbon compression {100 * float(c):.3g} %")
+            if on_step is not None:
+                on_step(float(c), follower.iterations - before)
+        return follower
+
+
+__all__ = ["CriticalLoad", "KaptonSpecimenFE", "KaptonSpecimenFEPath"]
