@@ -54,13 +54,14 @@ def _partial(lambdas: dict, lambda_N: float, fraction: float) -> dict:
     return {k: lambda_N + fraction * (v - lambda_N) for k, v in lambdas.items()}
 
 
-def fe_model(shape: str, *, kapton_modulus: float = KAPTON_DATASHEET_MODULUS, quick: bool = False):
-    """The FE gridshell of a Fig. 4 shape with its published support, quarter model, level 0; the
-    quick level takes bigger path steps (a partial ramp)."""
+def fe_model(shape: str, *, kapton_modulus: float = KAPTON_DATASHEET_MODULUS, quick: bool = False,
+             mesh_level: int = 0):
+    """The FE gridshell of a Fig. 4 shape with its published support, quarter model (level 0 unless
+    asked); the quick level takes bigger path steps (a partial ramp)."""
     from lcefem.solvers.problems.gridshell import GridshellMaterials, PathControl, fig4_shape
 
     kw = {"control": PathControl(first_step=0.15, max_step=0.5)} if quick else {}
-    return fig4_shape(shape, materials=GridshellMaterials(
+    return fig4_shape(shape, mesh_level=mesh_level, materials=GridshellMaterials(
         kapton=NeoHookeanSolid(youngs_modulus=kapton_modulus)), **kw)
 
 
@@ -108,17 +109,23 @@ def _outputs(ctx: CaseContext, model, shape: str, title: str, sources: list[str]
 
 
 @case("gridshell_shapes_fe", "Robotic surface in 3D FE, Fig. 4 shapes by lambdas (quarter, level 0): "
-      "centre curvatures vs bar-and-hinge, the paper's simulation and experiment", fe=True)
+      "centre curvatures vs bar-and-hinge, the paper's simulation and experiment; under lcefem "
+      "converge the dome alone at each mesh level", fe=True, convergence=True)
 def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS
     from lcefem.validation import gridshell_bh as gs
     from lcefem.validation.gridshell_plots import curvature_bar_chart
 
     name = ctx.case or "gridshell_shapes_fe"
-    ctx.mesh_size = 3.0  # [mm] in-plane element of level 0 (README, FE gridshell mesh)
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+
+    level = 0 if ctx.level is None else ctx.level
+    # [mm] in-plane element size of the level (meshes.gridshell_fe.GridshellFEMesh)
+    ctx.mesh_size = GridshellFEMesh().size / (level + 1)
     src = gs.SHAPE_SOURCES["curvatures"]
     metrics: list[Metric] = []
-    shapes = ["dome"] if ctx.quick else list(gs.SHAPES)
+    # lcefem converge (ctx.level set): the dome's centre curvature at each level (issue 14)
+    shapes = ["dome"] if ctx.quick or ctx.level is not None else list(gs.SHAPES)
     chart = {"3D FE (circle)": {}, "bar-and-hinge (circle)": {}, "paper simulation": {},
              "paper experiment": {}}
     rows: dict[str, list] = {}
@@ -134,7 +141,7 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
             lambdas = _partial(lambdas, PUBLISHED_LAMBDA_N, QUICK_FRACTION)
             label = f"{shape} (lambda, {QUICK_FRACTION:g} of the ramp)"
         try:
-            model, obs = run_fe_shape(shape, lambdas, quick=ctx.quick)
+            model, obs = run_fe_shape(shape, lambdas, quick=ctx.quick, mesh_level=level)
         except ConvergenceError as exc:
             metrics.append(Metric(name, f"{label}: converged", 0.0, "-", 1.0, 0.0, False, str(exc)))
             continue
@@ -157,6 +164,10 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
                                          "symmetry of the dome recipe and the quarter mesh under "
                                          "x <-> y: equal to solver tolerance (1e-6 relative)"))
             continue
+        if ctx.level is not None:  # convergence study: the FE curvatures alone
+            metrics += [Metric.info(name, f"{label}: {k.split(' [')[0]}", obs[k], "1/mm", FE)
+                        for k in KAPPA_KEYS]
+            continue
         bh = run_bh_shape(spec["lambdas"], spec["support"])
         chart["bar-and-hinge (circle)"][shape] = (bh[KAPPA_KEYS[0]], bh[KAPPA_KEYS[1]])
         for i, comp in enumerate(("kappa_x circle", "kappa_y circle")):
@@ -175,7 +186,7 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
         metrics += [Metric.info(name, f"{label}: Newton iterations", obs["newton iterations [-]"], "-", FE),
                     Metric.info(name, f"{label}: wall time (shared machine)", obs["wall time [s]"], "s", FE),
                     Metric.info(name, f"{label}: DOFs", obs["dofs [-]"], "-", FE)]
-    if not ctx.quick and "dome" in summary["shapes"]:
+    if not ctx.quick and ctx.level is None and "dome" in summary["shapes"]:
         # issue 16: how far the dome moves with the what-if Kapton modulus fitted to the buckling test
         e_fit = KAPTON_MODULI["buckling_fit"]
         try:
@@ -234,7 +245,7 @@ def gridshell_sweep_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 
     name = ctx.case or "gridshell_sweep_fe"
-    ctx.mesh_size = 3.0
+    ctx.mesh_size = 3.0  # [mm] level 0 (meshes.gridshell_fe.GridshellFEMesh.size)
     values = SWEEP_LAMBDA_B[:2] if ctx.quick else SWEEP_LAMBDA_B
     fraction = QUICK_FRACTION if ctx.quick else 1.0
     src = "issue 14: sweep of one channel, lambda_B 1.05-1.33 with lambda_T = 1.33"
