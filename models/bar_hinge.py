@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lcefem.models.hyperelastic import OgdenLaw
+from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, OgdenLaw
 from lcefem.models.parameters import param
 
 #: Nematic relative length lambda_N [-] of the published reduced-order model: its isotropic/nematic
@@ -78,7 +78,8 @@ class KaptonBarHinge:
     k = bending_factor E t^3 / (12 hinge_spacing).
     """
 
-    youngs_modulus: float = param(2500.0, "MPa", "DuPont Kapton HN datasheet, 23 C (2.5 GPa); "
+    youngs_modulus: float = param(KAPTON_DATASHEET_MODULUS, "MPa", "DuPont Kapton HN datasheet, 23 C "
+                                  "(2.5 GPa, models.hyperelastic.KAPTON_DATASHEET_MODULUS); "
                                   + PUBLISHED, positive=True)
     poisson_ratio: float = param(0.34, "-", "DuPont Kapton HN datasheet; " + PUBLISHED,
                                  minimum=0.0, maximum=0.49)

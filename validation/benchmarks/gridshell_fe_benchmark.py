@@ -3,7 +3,7 @@ DOFs, path steps, Newton iterations, cut steps, wall time, peak memory, and the 
 measures against the paper's simulation and experiment (seed 001).
 
     python -m lcefem.validation.benchmarks.gridshell_fe_benchmark [--shapes dome saddle] [--level 0]
-        [--symmetry quarter] [--json out.json]
+        [--symmetry quarter] [--kapton datasheet|buckling_fit] [--json out.json]
 
 Not a test: it prints figures for the developers' guide and the report. Peak memory is the
 process's high-water mark (ru_maxrss) after each shape: run one shape per call for per-shape figures.
@@ -19,17 +19,21 @@ import resource
 import time
 
 
-def run_shape(shape: str, level: int, symmetry: str) -> dict:
-    """Build the shape's model, ramp it from the as-built state; returns the figures (units in keys)."""
-    from lcefem.solvers.problems.gridshell import FIG4_SHAPES, fig4_shape
+def run_shape(shape: str, level: int, symmetry: str, kapton: str = "datasheet") -> dict:
+    """Build the shape's model, ramp it from the as-built state; returns the figures (units in keys).
+    ``kapton``: a name of models.hyperelastic.KAPTON_MODULI (issue 16: "datasheet" is the choice)."""
+    from lcefem.models.hyperelastic import KAPTON_MODULI, NeoHookeanSolid
+    from lcefem.solvers.problems.gridshell import FIG4_SHAPES, GridshellMaterials, fig4_shape
 
     t0 = time.perf_counter()
-    model = fig4_shape(shape, mesh_level=level, symmetry=symmetry)
+    materials = GridshellMaterials(kapton=NeoHookeanSolid(youngs_modulus=KAPTON_MODULI[kapton]))
+    model = fig4_shape(shape, mesh_level=level, symmetry=symmetry, materials=materials)
     build = time.perf_counter() - t0
     states = model.ramp(FIG4_SHAPES[shape])
     f = model.last_follower
     obs = model.observables()
     return {"shape": shape, "level": level, "symmetry": symmetry, "dofs": model.ndofs,
+            "kapton": kapton, "kapton youngs_modulus [MPa]": KAPTON_MODULI[kapton],
             "build [s]": build, "ramp [s]": model.wall_time, "steps": len(states),
             "newton iterations": f.iterations, "cut steps": f.cuts, "folds": f.snaps,
             "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
@@ -45,13 +49,15 @@ def main(argv: list[str] | None = None) -> int:
                         choices=list(FIG4_SHAPES))
     parser.add_argument("--level", type=int, default=0, help="FE mesh level")
     parser.add_argument("--symmetry", default="quarter", help="reduced model")
+    parser.add_argument("--kapton", default="datasheet", choices=["datasheet", "buckling_fit"],
+                        help="Kapton modulus (models.hyperelastic.KAPTON_MODULI; issue 16)")
     parser.add_argument("--json", default=None, help="also write the figures to this file")
     args = parser.parse_args(argv)
     print(f"python {platform.python_version()}, {platform.processor() or platform.machine()}; "
-          f"FE gridshell, {args.symmetry} model, level {args.level}")
+          f"FE gridshell, {args.symmetry} model, level {args.level}, Kapton {args.kapton}")
     rows = []
     for shape in args.shapes:
-        r = run_shape(shape, args.level, args.symmetry)
+        r = run_shape(shape, args.level, args.symmetry, args.kapton)
         rows.append(r)
         sim, exp = SHAPES[shape]["paper_sim"], SHAPES[shape]["paper_exp"]
         print(f"{shape}: {r['dofs']} DOFs, {r['steps']} steps, {r['newton iterations']} Newton "
