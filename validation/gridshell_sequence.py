@@ -29,7 +29,8 @@ constant, ~100 s, is far above the surface's inertial times).
 Outputs (through the run skeleton, lcefem.solvers.run.Run): ``history.csv`` (time [s], per-selection
 current [A], temperature [C], lambda [-], centre curvatures by the circle and the quadratic-fit measure
 [1/mm], z range [mm], Newton iterations), ``sequence.pvd`` + ``sequence_steps/*.vtp`` (ParaView frame
-series, time = simulated seconds), ``curvature_vs_time.png``, ``summary.json``.
+series, time = simulated seconds), ``curvature_vs_time.png``, ``snapshot_NN.png`` (a render at the
+end of each phase NN of the schedule), ``summary.json``.
 
 Units: mm, s, A, C.
 """
@@ -264,6 +265,17 @@ def rest_fractions(structure: BarHingeStructure, lambdas: dict, lambda_N: float 
 
 
 # -------------------------------------------------------------------------------- run
+def phase_ends(schedule: Schedule, times: np.ndarray) -> dict[int, int]:
+    """{output index: phase index}: the last output time of each phase (before the next switch)"""
+    ends = list(schedule.times[1:]) + [schedule.end + 1.0]
+    out = {}
+    for phase, stop in enumerate(ends):
+        inside = np.nonzero((times >= schedule.times[phase]) & (times < stop))[0]
+        if inside.size:
+            out[int(inside[-1])] = phase
+    return out
+
+
 def columns_for(schedule: Schedule) -> list[str]:
     cols = ["time [s]"]
     for sel in schedule.currents:
@@ -281,6 +293,7 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
     times = schedule.output_times()
     temps, lambdas = strip_histories(schedule, times)
     surface = QuasiStaticSurface(structure, schedule.support)
+    snapshots = phase_ends(schedule, times)
     bar = Progress(float(times[-1]), "sequence", "s", ".0f", progress)
     started = time.perf_counter()
     resolved = config or {"schedule": dataclasses.asdict(schedule)}
@@ -301,6 +314,11 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
             run.record(row, where=f"t = {t:.4g} s", at=float(t))
             if vtk is not None:
                 vtk.write(float(t), x, surface.setup.model.bar_forces(x))
+            if out is not None and k in snapshots:
+                from lcefem.validation.gridshell_plots import render_gridshell
+                label = schedule.labels[snapshots[k]] if schedule.labels else f"phase {snapshots[k]}"
+                render_gridshell(pathlib.Path(out) / f"snapshot_{snapshots[k]:02d}.png", structure, x,
+                                 f"t = {t:g} s: end of '{label}' ({schedule.support})")
         history = run.history.as_arrays()
         if out is not None:
             plot_curvatures(pathlib.Path(out) / "curvature_vs_time.png", history, schedule)

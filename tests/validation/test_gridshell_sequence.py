@@ -105,3 +105,8 @@ def test_zero_current_leaves_the_surface_as_built():
     for col in seq.CURVATURE_COLUMNS:
         assert np.max(np.abs(h[col])) < 1e-9, col
     assert np.ptp(h["z range [mm]"]) < 1e-9
+
+
+def test_phase_ends_are_the_last_outputs_before_each_switch():
+    sched = seq.schedule_from_dict(GOOD)  # switches at 0 and 20 s, outputs every 10 s to 60 s
+    assert seq.phase_ends(sched, sched.output_times()) == {1: 0, 6: 1}
