@@ -47,6 +47,7 @@ from lcefem.models.lumped_heat import HeatedStrip, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
 from lcefem.solvers.run import Progress, Run, add_out_arguments, write_text
 from lcefem.validation import gridshell_bh as gs
+from lcefem.validation.bar_hinge_studies import BarHingeMaterials
 from lcefem.validation.gridshell_sequence import QuasiStaticSurface
 
 PARALLEL = False  # serial numpy/scipy bar-and-hinge model
@@ -258,7 +259,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
 
     def surface(modulus: float, start=None) -> QuasiStaticSurface:
         ogden = OgdenLaw()
-        materials = dataclasses.replace(gs.BarHingeMaterials(),
+        materials = dataclasses.replace(BarHingeMaterials(),
                                         ogden=OgdenLaw(tuple(modulus * m for m in ogden.mu), ogden.alpha))
         return QuasiStaticSurface(structure, spec["support"], materials, start=start)
 

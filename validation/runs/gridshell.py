@@ -3,7 +3,8 @@ by strip lambdas, a published recipe or coil currents.
 
 ``lcefem run gridshell [--shape dome|saddle|cylinder|table | --recipe NAME | --lambda Tx=1.33,...
 | --current Tx=0.04,...] [--support clamp|rollers|table] [--thermal-model segment|eq1]
-[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``
+[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
+``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
 
 Selections (``--lambda``/``--current`` keys, applied in order): channels Tx, Ty, Bx, By (seed 001,
 Fig. 4A), T / B (a layer), families XD, YD, XU, YU, groups XD1..YU3, half planes like XD:x<70.5,
