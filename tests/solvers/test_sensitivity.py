@@ -69,3 +69,15 @@ def test_polynomial_surrogate_is_exact_on_a_quadratic_and_flags_a_bad_fit():
     assert sur(Z)[:, 0] == pytest.approx(y, abs=1e-10)
     noisy = PolynomialSurrogate.fit(Z, rng.normal(size=80), degree=1)
     assert noisy.q2[0] < 0.5
+
+
+def test_bands_table_places_the_paper_value_inside_or_outside():
+    from lcefem.validation import uncertainty as unc
+    v = np.linspace(-0.030, -0.010, 201)  # 5-95 %: -0.029 .. -0.011
+    rows = unc.bands_table({"circle kappa_x [1/mm]": v, "circle kappa_y [1/mm]": v + 0.02,
+                            "quad kappa_x [1/mm]": v}, {c: 0.0 for c in unc.OUTPUTS}, "dome")
+    by = {r["quantity"]: r for r in rows}
+    assert by["circle kappa_x [1/mm]"]["median"] == pytest.approx(-0.020)
+    assert by["circle kappa_x [1/mm]"]["p5"] == pytest.approx(-0.029) and by["circle kappa_x [1/mm]"]["inside"]
+    assert by["circle kappa_y [1/mm]"]["inside"] is False  # paper -0.016 below -0.009 .. 0.009
+    assert by["quad kappa_x [1/mm]"]["inside"] is None  # the paper measured the circle measure only
