@@ -54,7 +54,8 @@ PARALLEL = False  # serial numpy/scipy bar-and-hinge model
 TARGETS = ("gridshell",)
 CHANNELS = ("Tx", "Ty", "Bx", "By")
 DEFAULT_SAMPLES = 8  #: forward solves per band: small, each warm-started solve of the dome takes 1-200 s
-#: (an asymmetric sample breaks the dome's symmetry near a bifurcation: up to ~270 Newton iterations)
+#: (an asymmetric sample breaks the dome's symmetry near a bifurcation: 95-1314 Newton iterations
+#: measured; 5 dome samples took 45 min on 2 cores at load 8-17)
 DEFAULT_SOBOL = 1024  #: SALib base samples on the surrogate (N (2 G + 2) evaluations, G = 5 kinds)
 Q2_VALID = 0.9  #: leave-one-out Q^2 above which the surrogate's Sobol indices are reported as valid
 #: Path from the nominal equilibrium to a sample: a sample is a small perturbation, so try the whole

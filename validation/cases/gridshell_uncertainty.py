@@ -21,7 +21,8 @@ from lcefem.validation import gridshell_bh as gs
 from lcefem.validation import uncertainty as unc
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 
-SAMPLES = 8  #: forward solves of the full level (the dome's warm-started solves take 1-200 s each)
+SAMPLES = 8  #: forward solves of the full level (a warm-started dome sample takes 95-1314 Newton
+#: iterations: minutes each on a loaded machine)
 CHAIN_SAMPLES = 2 ** 14  #: heat-chain samples (no mechanics; a fraction of a second)
 SRC_LAMBDA = gs.SHAPE_SOURCES["lambdas"] + "; currents: " + gs.SHAPE_SOURCES["currents"]
 
