@@ -119,32 +119,46 @@ def current_for_stretch(stretch: float, strip: HeatedStrip = HeatedStrip(),
     return float(brentq(lambda i: steady_stretch(i, strip, model) - stretch, 0.0, 1.0, xtol=1e-13))
 
 
+def heat_capacity(strip: HeatedStrip, model: LumpedThermal = LumpedThermal()) -> float:
+    """Heat capacity rho c A_iso l_iso [mJ/K] of the whole strip (it does not change with lambda:
+    the strip deforms isochorically)."""
+    return model.thermal.volumetric_heat_capacity * strip.section * strip.isotropic_length
+
+
+def implicit_euler_step(T_previous: float, current: float, dt: float, strip: HeatedStrip = HeatedStrip(),
+                        model: LumpedThermal = LumpedThermal()) -> float:
+    """Temperature [C] after one implicit-Euler step dt [s] of the lumped balance
+    C (T - T_k)/dt = I^2 R - loss(T) (:func:`heat_loss`, C = :func:`heat_capacity`), at ``current`` [A]
+    during the step (Newton on T; the loss is smooth and increasing, so it converges from T_k)."""
+    cap = heat_capacity(strip, model)
+    power = joule_power(current, strip.resistance)
+    T = T_previous
+    for _ in range(30):
+        eps = 1e-4
+        r = cap * (T - T_previous) / dt - power + heat_loss(T, strip, model)
+        dr = cap / dt + (heat_loss(T + eps, strip, model) - heat_loss(T - eps, strip, model)) / (2 * eps)
+        step = r / dr
+        T -= step
+        if abs(step) < 1e-9:
+            break
+    return float(T)
+
+
 def transient_temperature(schedule, duration: float, strip: HeatedStrip = HeatedStrip(),
                           model: LumpedThermal = LumpedThermal(), dt: float = 0.05):
     """Temperature history of the lumped strip from ambient under a current schedule.
 
     Args:
         schedule: t [s] -> current [A].
-        duration: [s]; dt: time step [s] (implicit Euler on the lumped balance, with the heat
-            capacity rho c A_iso l_iso of the whole strip, which does not change with lambda).
+        duration: [s]; dt: time step [s] (:func:`implicit_euler_step`, the current taken at the end
+            of each step).
     Returns:
         (times (k,) [s], temperatures (k,) [C], stretches (k,) [-]).
     """
-    cap = model.thermal.volumetric_heat_capacity * strip.section * strip.isotropic_length  # mJ/K
     n = int(math.ceil(duration / dt))
     times = np.linspace(0.0, n * dt, n + 1)
     temps = np.empty(n + 1)
     temps[0] = model.exchange.ambient_temperature
     for k in range(n):
-        power = joule_power(schedule(times[k + 1]), strip.resistance)
-        T = temps[k]
-        for _ in range(30):  # Newton on cap (T - T_k)/dt = P - loss(T)
-            eps = 1e-4
-            r = cap * (T - temps[k]) / dt - power + heat_loss(T, strip, model)
-            dr = cap / dt + (heat_loss(T + eps, strip, model) - heat_loss(T - eps, strip, model)) / (2 * eps)
-            step = r / dr
-            T -= step
-            if abs(step) < 1e-9:
-                break
-        temps[k + 1] = T
+        temps[k + 1] = implicit_euler_step(temps[k], schedule(times[k + 1]), dt, strip, model)
     return times, temps, np.asarray(spontaneous_stretch(temps, model.transition), dtype=float)

@@ -42,6 +42,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.ribbon_fe",
     "lcefem.validation.cases.gridshell_bh",
     "lcefem.validation.cases.gridshell_fe",
+    "lcefem.validation.cases.gridshell_uncertainty",
 ]
 
 

@@ -3,7 +3,8 @@ by strip lambdas, a published recipe or coil currents.
 
 ``lcefem run gridshell [--shape dome|saddle|cylinder|table | --recipe NAME | --lambda Tx=1.33,...
 | --current Tx=0.04,...] [--support clamp|rollers|table] [--thermal-model segment|eq1]
-[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``
+[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
+``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
 
 Selections (``--lambda``/``--current`` keys, applied in order): channels Tx, Ty, Bx, By (seed 001,
 Fig. 4A), T / B (a layer), families XD, YD, XU, YU, groups XD1..YU3, half planes like XD:x<70.5,
@@ -265,6 +266,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "(our lumped 25 ohm segment, default) or 'eq1' (the paper's Eq. 1 estimate)")
     p.add_argument("--support", choices=gs.SUPPORTS, help="supports (default: the published ones)")
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
+    p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
+                   "sequence (lcefem.validation.gridshell_sequence; e.g. validation/data/"
+                   "gridshell_fig5a_schedule.toml)")
     p.add_argument("--config", help="TOML case file (sections: run, lambda, current, "
                    + ", ".join(GridshellConfig.PARAM_SECTIONS[1:]) + ")")
     add_out_arguments(p, "results/gridshell")
@@ -288,10 +292,16 @@ def config_from_args(args: argparse.Namespace) -> GridshellConfig:
 
 def prepare(args: argparse.Namespace) -> GridshellConfig:
     """The validated configuration (before the output folder is claimed)."""
+    if getattr(args, "schedule", None):
+        from lcefem.validation import gridshell_sequence
+        return gridshell_sequence.prepare(args)
     return config_from_args(args).validated()
 
 
 def main(args: argparse.Namespace) -> int:
+    if getattr(args, "schedule", None):
+        from lcefem.validation import gridshell_sequence
+        return gridshell_sequence.main(args)
     cfg = args.prepared
     summary = run_gridshell(cfg, pathlib.Path(args.out), progress=not args.quiet)
     r = summary["results"]

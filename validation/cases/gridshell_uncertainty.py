@@ -1,0 +1,76 @@
+"""Prediction bands of the robotic surface (seed 001, Fig. 4; issue 15): how sure the paper's current
+recipe is, given its own measured spreads (lcefem.validation.uncertainty).
+
+``gridshell_bands_bh``:
+- quick and full: the heat chain alone (currents -> lambda with the sampled coil resistances, currents,
+  lambda_N and Eq. 1 power; 2^14 samples, no mechanics): the 5-95 % band of each dome channel's
+  lambda against the lambdas the paper simulated for its currents (Fig. 4C: lambda_T = 1.33 at
+  0.04 A, lambda_B = 1.05 at 0.07 A);
+- full: Monte Carlo forward solves of the bar-and-hinge dome (``SAMPLES``, warm-started from the
+  nominal equilibrium): median and 5-95 % band of the centre curvatures, with the paper's measured
+  curvature (circle measure, as the paper measured it) inside or outside, and the Sobol indices
+  (surrogate, with its leave-one-out Q^2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lcefem.solvers.analysis.sensitivity import sample_inputs
+from lcefem.validation import gridshell_bh as gs
+from lcefem.validation import uncertainty as unc
+from lcefem.validation.cases import CaseContext, Metric, case, write_csv
+
+SAMPLES = 8  #: forward solves of the full level (a warm-started dome sample takes 95-1314 Newton
+#: iterations: minutes each on a loaded machine)
+CHAIN_SAMPLES = 2 ** 14  #: heat-chain samples (no mechanics; a fraction of a second)
+SRC_LAMBDA = gs.SHAPE_SOURCES["lambdas"] + "; currents: " + gs.SHAPE_SOURCES["currents"]
+
+
+def chain_bands(shape: str, thermal_model: str = "eq1", n: int = CHAIN_SAMPLES, seed: int = 0) -> dict:
+    """5, 50, 95 % of each channel's lambda [-] (capped at its sampled lambda_N) at the shape's currents."""
+    inputs = unc.gridshell_inputs(shape)
+    X = sample_inputs(inputs, n, seed)
+    F = unc.rest_fractions_of(X, shape, unc.StretchLaw(thermal_model))
+    lam = F * np.maximum(X[:, [4 * k + 2 for k in range(len(unc.CHANNELS))]], 1.0 + 1e-6)
+    return {c: np.percentile(lam[:, k], [5, 50, 95]) for k, c in enumerate(unc.CHANNELS)}
+
+
+@case("gridshell_bands_bh", "Robotic surface, prediction bands from the measured spreads (coil "
+      "resistance, current, lambda_N, Eq. 1 power, modulus): lambdas and dome curvatures vs the paper",
+      fe=False)
+def gridshell_bands_bh(ctx: CaseContext) -> list[Metric]:
+    name = ctx.case or "gridshell_bands_bh"
+    metrics: list[Metric] = []
+    bands = chain_bands("dome")
+    src = SRC_LAMBDA + "; spreads: " + "; ".join(v[2] for v in unc.KINDS.values())
+    paper = gs.SHAPES["dome"]["lambdas"]
+    for c in ("Tx", "Bx"):
+        lo, med, hi = bands[c]
+        metrics.append(Metric.between(name, f"dome {c}: paper's lambda inside the 5-95 % band of the "
+                                      f"current route (Eq. 1)", paper[c], "-", lo, hi, src))
+        metrics.append(Metric.info(name, f"dome {c}: median lambda at {gs.SHAPES['dome']['currents'][c]} A",
+                                   med, "-", src))
+    write_csv(ctx.path("dome_lambda_bands.csv"), {
+        "channel [-]": list(range(len(unc.CHANNELS))), "p5 lambda [-]": [bands[c][0] for c in unc.CHANNELS],
+        "median lambda [-]": [bands[c][1] for c in unc.CHANNELS],
+        "p95 lambda [-]": [bands[c][2] for c in unc.CHANNELS]})
+    if ctx.quick:
+        return metrics
+
+    cfg = unc.BandsConfig("dome", samples=SAMPLES)
+    summary = unc.run_bands(cfg, ctx.out / "dome_bands", progress=ctx.progress)
+    exp_src = gs.SHAPE_SOURCES["curvatures"] + f"; band: {SAMPLES} Monte Carlo bar-and-hinge solves"
+    for b in summary["bands"]:
+        q = b["quantity"].replace(" [1/mm]", "")
+        if b["paper measured"] is not None:
+            metrics.append(Metric.between(name, f"dome {q}: paper measured inside the 5-95 % band",
+                                          b["paper measured"], "1/mm", b["p5"], b["p95"], exp_src))
+        metrics.append(Metric.info(name, f"dome {q}: median", b["median"], "1/mm", exp_src))
+    s = summary["sobol"]["circle kappa_x [1/mm]"]
+    for n, s1, st in zip(s["names"], s["S1"], s["ST"]):
+        metrics.append(Metric.info(name, f"dome circle kappa_x: Sobol S1 of {n}", s1, "-",
+                                   f"SALib on a surrogate with leave-one-out Q2 = {s['surrogate Q2']:.2f}"))
+        metrics.append(Metric.info(name, f"dome circle kappa_x: Sobol ST of {n}", st, "-",
+                                   f"SALib on a surrogate with leave-one-out Q2 = {s['surrogate Q2']:.2f}"))
+    return metrics
