@@ -1,4 +1,5 @@
-"""The ``lcefem`` command line: ``lcefem run TARGET ...``, ``lcefem validate``, ``lcefem converge``.
+"""The ``lcefem`` command line: ``lcefem run TARGET ...``, ``lcefem validate``, ``lcefem converge``,
+``lcefem design``.
 
 Every command goes through :func:`main`: signal handlers, the output folder's claim and lock
 (lcefem.solvers.run), and one mapping of failures to a one-line message and an exit status:
@@ -43,10 +44,10 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     wanted = list(RUN_TARGETS)
     if argv and len(argv) >= 2 and argv[0] == "run" and argv[1] in RUN_TARGETS:
         wanted = [argv[1]]
-    elif argv and argv[0] in ("validate", "converge"):
+    elif argv and argv[0] in ("validate", "converge", "design"):
         wanted = []  # other commands need no run-target modules
     modules = [(targets, name, RUN_TARGETS[name]) for name in wanted]
-    modules += [(sub, name, f"lcefem.validation.{name}") for name in ("validate", "converge")]
+    modules += [(sub, name, f"lcefem.validation.{name}") for name in ("validate", "converge", "design")]
     for group, name, module in modules:
         mod = importlib.import_module(module)
         p = group.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])

@@ -154,13 +154,36 @@ def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions):
 
 
 def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarray]:
-    """Lowest eigenpair of the (free-DOF) tangent stiffness."""
+    """Lowest eigenpair of the (free-DOF) tangent stiffness.
+
+    Small matrices: dense eigh. Larger ones: shift-invert Lanczos (ARPACK) about a shift sigma below
+    the whole spectrum (the first of -1e-8, -1e-7, ... times the largest diagonal entry for which
+    K - sigma I is positive definite), where the eigenvalue nearest to sigma is the lowest one; the
+    dense eigh of a 2500-DOF gridshell took ~5 s, this ~0.05 s.
+    """
     n = kmat.shape[0]
-    if n <= 4000:
+    if n <= DENSE_EIGEN:
         vals, vecs = np.linalg.eigh(kmat.toarray())
         return float(vals[0]), vecs[:, 0]
+    scale = max(float(np.max(np.abs(kmat.diagonal()))), 1e-300)
+    eye = sp.identity(n, format="csc")
+    shift = 1e-8 * scale
+    for _ in range(12):
+        try:
+            lu, neg, zero = _factorize(kmat + shift * eye)
+        except RuntimeError:
+            neg, zero = -1, -1
+        if neg == 0 and zero == 0:
+            op = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
+            vals, vecs = sla.eigsh(kmat, k=1, sigma=-shift, which="LM", OPinv=op, tol=1e-12)
+            return float(vals[0]), vecs[:, 0]
+        shift *= 10.0
     vals, vecs = sla.eigsh(kmat, k=1, which="SA")
     return float(vals[0]), vecs[:, 0]
+
+
+#: Up to this many free DOFs the lowest eigenpair comes from a dense eigh.
+DENSE_EIGEN = 1000
 
 
 def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
