@@ -182,3 +182,28 @@ def timed_inverse(design, kx, ky, **kw) -> tuple[DesignResult, float]:
     t0 = time.perf_counter()
     res = inverse(design, kx, ky, **kw)
     return res, time.perf_counter() - t0
+
+
+def reachable_set(design: GridshellDesign, levels: int = 4) -> np.ndarray:
+    """Centre curvatures (circle kappa_x, kappa_y) [1/mm] over a grid of ``levels`` values per
+    design variable in [1.05, lambda_N] (four channels: levels^4 equilibria), visited in a
+    boustrophedon order so that each warm-started solve starts from a neighbour. Rows: the
+    variables' lambdas, then kappa_x, kappa_y."""
+    if design.eq.params.size > 4:
+        raise InputError("reachable_set: use the four channels (a grid over 42 strips is too large)")
+    values = np.linspace(LAMBDA_MIN, design.lambda_N, levels)
+    n = design.eq.params.size
+    rows = []
+
+    def visit(prefix, depth, flip):
+        order = values[::-1] if flip else values
+        for k, v in enumerate(order):
+            p = prefix + [v]
+            if depth + 1 == n:
+                st = design.eq.state(np.array(p), jacobian=False)
+                rows.append([*p, *st.observables[:2]])
+            else:
+                visit(p, depth + 1, (k % 2 == 1) ^ flip)
+
+    visit([], 0, False)
+    return np.asarray(rows)

@@ -41,6 +41,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.beam_fe",
     "lcefem.validation.cases.ribbon_fe",
     "lcefem.validation.cases.gridshell_bh",
+    "lcefem.validation.cases.gridshell_design_bh",
 ]
 
 
