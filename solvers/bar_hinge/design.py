@@ -201,6 +201,13 @@ class EquilibriumMap:
             jac.append((hi - lo) / (2.0 * h))
         return np.column_stack(jac)
 
+    def reseed(self, x: np.ndarray, p) -> None:
+        """Continue from another known equilibrium x (n, 3) at design variables p (e.g. the one a
+        ramp from the as-built state reaches, when the warm-started one is another branch)."""
+        self._x = np.asarray(x, dtype=float).reshape(-1, 3).copy()
+        self._f = self.params.rest_fractions(p)
+        self._cache = None
+
     def state(self, p, jacobian: bool = True) -> DesignState:
         p = np.asarray(p, dtype=float).copy()
         c = self._cache
@@ -229,16 +236,22 @@ class DesignResult:
     message: str
     stats: ForwardStats = field(default_factory=ForwardStats)
     seconds: float = 0.0
+    check: dict | None = None  # a verification by the caller (e.g. a forward run from as built)
+
+
+class _Reached(Exception):
+    """The residual is below the absolute tolerance: stop the optimiser."""
 
 
 def solve_design(eq: EquilibriumMap, target, p0, lower: float, upper: float, *,
                  scale: float | np.ndarray = 1.0, tolerance: float = 1e-10,
-                 max_evaluations: int = 60) -> DesignResult:
+                 absolute: float = 1e-4, max_evaluations: int = 60) -> DesignResult:
     """Least squares min_p 0.5 |(obs(p) - target)/scale|^2 with lower <= p <= upper.
 
     Args:
         scale: observable scale (units of the observables) that makes the residual dimensionless.
-        tolerance: ftol/xtol/gtol of scipy.optimize.least_squares.
+        tolerance: ftol/xtol/gtol of scipy.optimize.least_squares (relative: an unreachable target).
+        absolute: stop as soon as |(obs - target)/scale| <= this (a reached target).
     """
     target = np.asarray(target, dtype=float)
     scale = np.broadcast_to(np.asarray(scale, dtype=float), target.shape)
@@ -247,20 +260,31 @@ def solve_design(eq: EquilibriumMap, target, p0, lower: float, upper: float, *,
         raise InputError(f"design bounds: lower {lower} must be < upper {upper}")
     t0 = time.perf_counter()
 
+    evaluations = 0
+
     def fun(p):
-        return (eq.state(p, jacobian=False).observables - target) / scale
+        nonlocal evaluations
+        evaluations += 1
+        r = (eq.state(p, jacobian=False).observables - target) / scale
+        if np.linalg.norm(r) <= absolute:
+            raise _Reached(np.array(p, dtype=float))
+        return r
 
     def jac(p):
         return eq.state(p).jacobian / scale[:, None]
 
-    sol = opt.least_squares(fun, p0, jac=jac, bounds=(lower, upper), method="trf",
-                            ftol=tolerance, xtol=tolerance, gtol=tolerance,
-                            max_nfev=max_evaluations, x_scale="jac")
-    state = eq.state(sol.x)
+    try:
+        sol = opt.least_squares(fun, p0, jac=jac, bounds=(lower, upper), method="trf",
+                                ftol=tolerance, xtol=tolerance, gtol=tolerance,
+                                max_nfev=max_evaluations, x_scale="jac")
+        p, optimality, message = sol.x, float(sol.optimality), str(sol.message)
+    except _Reached as reached:
+        p, optimality, message = reached.args[0], 0.0, f"target reached (|r| <= {absolute:g})"
+    state = eq.state(p)
     resid = state.observables - target
-    return DesignResult(sol.x, state, target, resid, float(0.5 * np.sum((resid / scale) ** 2)),
-                        float(sol.optimality), int(sol.nfev), str(sol.message),
-                        dataclasses.replace(eq.stats), time.perf_counter() - t0)
+    return DesignResult(p, state, target, resid, float(0.5 * np.sum((resid / scale) ** 2)),
+                        optimality, evaluations, message, dataclasses.replace(eq.stats),
+                        time.perf_counter() - t0)
 
 
 def objective_and_gradient(eq: EquilibriumMap, p, target, scale=1.0) -> tuple[float, np.ndarray]:

@@ -25,7 +25,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
@@ -163,15 +162,17 @@ def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions, 
 def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarray]:
     """Lowest eigenpair of the (free-DOF) tangent stiffness.
 
-    Up to ``DENSE_EIGEN`` DOFs: LAPACK's dsyevr for the lowest pair only (the same pair as a full
-    eigh to round-off, half its time: ~4 s instead of ~8 s for the 2547-DOF gridshell under load).
-    Larger: shift-invert Lanczos (ARPACK) about a shift sigma below the whole spectrum (the first of
+    Up to ``DENSE_EIGEN`` DOFs: a dense eigh (~5 s for the 2547-DOF gridshell). Faster pairs (dsyevr
+    for the lowest pair only, or shift-invert Lanczos) were tried on the dome: the same final state
+    to 2e-8 but a different path (its lowest eigenvalue is nearly double at the lost stabilities, so
+    the escape direction within the eigenspace depends on the solver) with more cut increments
+    (15-23 instead of 9). Larger: shift-invert Lanczos (ARPACK) about a shift sigma below the whole spectrum (the first of
     -1e-8, -1e-7, ... times the largest diagonal entry for which K - sigma I is positive definite),
     where the eigenvalue nearest to sigma is the lowest one.
     """
     n = kmat.shape[0]
     if n <= DENSE_EIGEN:
-        vals, vecs = sl.eigh(kmat.toarray(), subset_by_index=[0, 0], driver="evr")
+        vals, vecs = np.linalg.eigh(kmat.toarray())
         return float(vals[0]), vecs[:, 0]
     scale = max(float(np.max(np.abs(kmat.diagonal()))), 1e-300)
     eye = sp.identity(n, format="csc")
@@ -190,9 +191,8 @@ def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarra
     return float(vals[0]), vecs[:, 0]
 
 
-#: Up to this many free DOFs the lowest eigenpair comes from a dense solver (the escape direction
-#: at a lost stability must not depend on an iterative solver's start vector when the lowest
-#: eigenvalue is (nearly) double, as on the symmetric dome).
+#: Up to this many free DOFs the lowest eigenpair comes from a dense eigh (above, a dense matrix of
+#: 8 n^2 bytes and an O(n^3) solve are too much: Lanczos).
 DENSE_EIGEN = 4000
 
 
