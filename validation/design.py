@@ -11,7 +11,8 @@ both current routes (segment, eq1), and checks the lambdas by a forward run from
 Outputs in --out DIR (through the run skeleton lcefem.solvers.run.Run): summary.json (target,
 lambdas, currents per route, achieved curvatures in the design loop and in the forward check,
 residual [1/mm], optimiser record, forward solves, Newton iterations, wall time) and design.csv
-(one row per design variable: lambda [-], segment-route current [A], eq1-route current [A]).
+(one row per design variable, numbered in the order of summary.json's "lambdas [-]": channels Tx,
+Ty, Bx, By, or strip ids: lambda [-], segment-route current [A], eq1-route current [A]).
 A target outside the reachable set ends normally with the smallest residual found (reported).
 """
 
@@ -29,7 +30,7 @@ from lcefem.validation import gridshell_bh as gs
 from lcefem.validation import gridshell_design as gd
 
 PARALLEL = False
-COLUMNS = ["variable", "lambda [-]", "current segment route [A]", "current eq1 route [A]"]
+COLUMNS = ["variable [-]", "lambda [-]", "current segment route [A]", "current eq1 route [A]"]
 
 
 @dataclass(frozen=True)
@@ -87,8 +88,8 @@ def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = Tr
         result = gd.inverse(design, req.kx, req.ky, height=req.height, check=req.check)
         summary = gd.design_summary(design, result)
         currents = summary["currents [A]"]
-        for name, lam in summary["lambdas [-]"].items():
-            run.record({"variable": name, "lambda [-]": lam,
+        for j, (name, lam) in enumerate(summary["lambdas [-]"].items()):
+            run.record({"variable [-]": j, "lambda [-]": lam,
                         "current segment route [A]": currents["segment"][name],
                         "current eq1 route [A]": currents["eq1"][name]}, where=f"variable {name}")
         summary["wall time [s]"] = time.perf_counter() - started

@@ -200,7 +200,33 @@ def design_summary(design: GridshellDesign, result: DesignResult) -> dict:
     if check is not None:
         ramp = {"kappa_x": check["circle_x"], "kappa_y": check["circle_y"]}
         out["achieved (forward run from as built) [1/mm]"] = ramp
+        out["forward check time [s]"] = check["seconds"]
         out["same equilibrium as the ramp from as built"] = bool(
             max(abs(ramp["kappa_x"] - st.observables[0]), abs(ramp["kappa_y"] - st.observables[1]))
             <= BRANCH_TOLERANCE)
     return out
+
+
+def reachable_set(design: GridshellDesign, levels: int = 4) -> np.ndarray:
+    """Centre curvatures (circle kappa_x, kappa_y) [1/mm] over a grid of ``levels`` values per
+    design variable in [1.05, lambda_N] (four channels: levels^4 equilibria), visited in a
+    boustrophedon order so that each warm-started solve starts from a neighbour. Rows: the
+    variables' lambdas, then kappa_x, kappa_y."""
+    if design.eq.params.size > 4:
+        raise InputError("reachable_set: use the four channels (a grid over 42 strips is too large)")
+    values = np.linspace(LAMBDA_MIN, design.lambda_N, levels)
+    n = design.eq.params.size
+    rows = []
+
+    def visit(prefix, depth, flip):
+        order = values[::-1] if flip else values
+        for k, v in enumerate(order):
+            p = prefix + [v]
+            if depth + 1 == n:
+                st = design.eq.state(np.array(p), jacobian=False)
+                rows.append([*p, *st.observables[:2]])
+            else:
+                visit(p, depth + 1, (k % 2 == 1) ^ flip)
+
+    visit([], 0, False)
+    return np.asarray(rows)
