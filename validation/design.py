@@ -1,7 +1,7 @@
 """Inverse design of the robotic surface: target centre curvatures -> strip lambdas -> currents.
 
 ``lcefem design --target-kx -0.016 --target-ky -0.016 [--target-height H] [--channels 4|all]
-[--support clamp|rollers|table] [--no-check] --out DIR [--overwrite] [--quiet]``
+[--support clamp|rollers|table] [--ribbons N] [--no-check] --out DIR [--overwrite] [--quiet]``
 
 Finds lambdas in [1.05, lambda_N] (one per channel Tx, Ty, Bx, By, or one per strip) whose stable
 equilibrium has the target centre curvatures (the paper's circle measure, dome negative) by least
@@ -24,6 +24,7 @@ import pathlib
 import time
 from dataclasses import dataclass
 
+from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.models.errors import InputError
 from lcefem.solvers.run import Progress, Run, add_out_arguments
 from lcefem.validation import gridshell_bh as gs
@@ -41,6 +42,7 @@ class DesignRequest:
     channels: str
     support: str
     check: bool
+    ribbons: int = 3
 
     def validated(self) -> "DesignRequest":
         for name, v in (("target-kx", self.kx), ("target-ky", self.ky)):
@@ -51,6 +53,8 @@ class DesignRequest:
             raise InputError(f"--target-height = {self.height}: must be a finite height in mm")
         if self.channels not in gd.CHANNEL_MODES:
             raise InputError(f"--channels = {self.channels!r}: allowed {', '.join(gd.CHANNEL_MODES)}")
+        if self.ribbons < 1 or self.ribbons % 2 == 0:
+            raise InputError(f"--ribbons = {self.ribbons}: an odd number >= 1 (the centre junction)")
         if self.support not in gs.SUPPORTS:
             raise InputError(f"--support = {self.support!r}: allowed {', '.join(gs.SUPPORTS)}")
         return self
@@ -65,21 +69,23 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--channels", default="4", help="design variables: 4 (channels Tx, Ty, Bx, By) or "
                    "all (every strip)")
     p.add_argument("--support", default="rollers", help="clamp, rollers or table (default rollers)")
+    p.add_argument("--ribbons", type=int, default=3, help="ribbons per direction (default 3)")
     p.add_argument("--no-check", action="store_true", help="skip the forward run from the as-built state")
     add_out_arguments(p, "results/design")
 
 
 def prepare(args: argparse.Namespace) -> DesignRequest:
     return DesignRequest(args.target_kx, args.target_ky, args.target_height, str(args.channels),
-                         args.support, not args.no_check).validated()
+                         args.support, not args.no_check, args.ribbons).validated()
 
 
 def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = True) -> dict:
     started = time.perf_counter()
-    design = gd.setup_design(req.channels, req.support, height=req.height is not None)
+    design = gd.setup_design(req.channels, req.support, height=req.height is not None,
+                             layout=GridshellLayout(ribbons=req.ribbons))
     config = {"target": {"kappa_x [1/mm]": req.kx, "kappa_y [1/mm]": req.ky,
                          "centre height [mm]": req.height},
-              "channels": req.channels, "support": req.support,
+              "channels": req.channels, "support": req.support, "ribbons": req.ribbons,
               "bounds [-]": [gd.LAMBDA_MIN, design.lambda_N],
               "observable": "circle curvature through the centre junction and the middle ribbon's ends "
                             "(seed 001, gridshell without cover scales)"}

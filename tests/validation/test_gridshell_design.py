@@ -102,3 +102,23 @@ def test_currents_invert_the_current_route():
             assert 0 < i < 1
             assert gs.stretch_from_current(i, route) == pytest.approx(lam, abs=1e-9)
         assert gd.current_for_lambda(1.4, route) == 0.0
+
+
+def test_design_command_writes_summary_and_csv(tmp_path, capsys):
+    import json
+
+    from lcefem.validation.cli import main
+    out = tmp_path / "d"
+    rc = main(["design", "--target-kx", "-0.01", "--target-ky", "-0.01", "--ribbons", "1", "--quiet",
+               "--out", str(out)])
+    assert rc == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "completed" and s["residual norm [1/mm]"] < 1e-6
+    assert s["same equilibrium as the ramp from as built"] is True
+    ramp = s["achieved (forward run from as built) [1/mm]"]
+    assert ramp["kappa_x"] == pytest.approx(-0.01, abs=1e-6)
+    assert set(s["currents [A]"]) == {"segment", "eq1"}
+    rows = np.loadtxt(out / "design.csv", delimiter=",", skiprows=1)
+    assert rows.shape == (4, 4) and np.all((rows[:, 1] >= 1.05) & (rows[:, 1] <= 1.4))
+    assert main(["design", "--target-kx", "0.5", "--target-ky", "0", "--out", str(tmp_path / "e")]) == 2
+    assert "--target-kx = 0.5" in capsys.readouterr().err
