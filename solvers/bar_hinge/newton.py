@@ -166,9 +166,9 @@ def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarra
     for the lowest pair only, or shift-invert Lanczos) were tried on the dome: the same final state
     to 2e-8 but a different path (its lowest eigenvalue is nearly double at the lost stabilities, so
     the escape direction within the eigenspace depends on the solver) with more cut increments
-    (15-23 instead of 9). Larger: shift-invert Lanczos (ARPACK) about a shift sigma below the whole spectrum (the first of
-    -1e-8, -1e-7, ... times the largest diagonal entry for which K - sigma I is positive definite),
-    where the eigenvalue nearest to sigma is the lowest one.
+    (15-23 instead of 9). Larger: shift-invert Lanczos (ARPACK) about a shift sigma below the whole
+    spectrum (the first of -1e-8, -1e-7, ... times the largest diagonal entry for which K - sigma I
+    is positive definite), where the eigenvalue nearest to sigma is the lowest one.
     """
     n = kmat.shape[0]
     if n <= DENSE_EIGEN:
