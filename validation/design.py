@@ -106,8 +106,9 @@ def main(args: argparse.Namespace) -> int:
     s = run_design(args.prepared, pathlib.Path(args.out), progress=not args.quiet)
     a = s.get("achieved (forward run from as built) [1/mm]", s["achieved (design loop) [1/mm]"])
     lams = ", ".join(f"{k}={v:.4f}" for k, v in list(s["lambdas [-]"].items())[:8])
-    print(f"lcefem: design: target {s['target']['kappa_x [1/mm]']:.4f}/{s['target']['kappa_y [1/mm]']:.4f}"
-          f" 1/mm, achieved {a['kappa_x']:.5f}/{a['kappa_y']:.5f} (residual "
-          f"{s['residual norm [1/mm]']:.2e} 1/mm); lambdas {lams}; {s['time [s]']:.1f} s inverse (with checks), "
+    t = s["target"]
+    print(f"lcefem: design: target {t['kappa_x [1/mm]']:.4f}/{t['kappa_y [1/mm]']:.4f} 1/mm, achieved "
+          f"{a['kappa_x']:.5f}/{a['kappa_y']:.5f} (residual {s['residual norm [1/mm]']:.2e} 1/mm); "
+          f"lambdas {lams}; {s['time [s]']:.1f} s inverse (with checks), "
           f"{s['wall time [s]']:.1f} s in all; results in {args.out}")
     return 0
