@@ -50,10 +50,10 @@ HEIGHT_SCALE = 0.1
 #: only at an equilibrium; 1e-6 N leaves ~1e-7 1/mm of noise in the curvatures).
 DESIGN_NEWTON = NewtonOptions(force_tolerance=1.0e-8)
 CHANNEL_MODES = ("4", "all")
-#: A target counts as reached within this [1/mm] (a 200th of the round-trip tolerance): closer is
+#: A target counts as reached within this [1/mm] (a tenth of the round-trip tolerance): closer is
 #: below what the equilibria resolve (contacts at their kinks leave nearby equilibria ~5e-6 1/mm
 #: apart on the cylinder: the warm-started loop and the ramp from as built may end on either).
-REACHED = 5.0e-7
+REACHED = 1.0e-5
 
 
 def channel_selections(structure: BarHingeStructure, mode: str) -> list:
