@@ -32,7 +32,7 @@ from scipy.optimize import brentq
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import CHANNELS, GridshellLayout, build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
-from lcefem.models.errors import InputError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
 from lcefem.solvers.bar_hinge import NewtonOptions
 from lcefem.solvers.bar_hinge.design import (DesignResult, EquilibriumMap, solve_design,
@@ -215,7 +215,8 @@ def reachable_set(design: GridshellDesign, levels: int = 4) -> np.ndarray:
     """Centre curvatures (circle kappa_x, kappa_y) [1/mm] over a grid of ``levels`` values per
     design variable in [1.05, lambda_N] (four channels: levels^4 equilibria), visited in a
     boustrophedon order so that each warm-started solve starts from a neighbour. Rows: the
-    variables' lambdas, then kappa_x, kappa_y."""
+    variables' lambdas, then kappa_x, kappa_y; points where neither the warm start nor a ramp from
+    as built reaches the design tolerance are left out (seen once at |g| ~ 1e-8 N)."""
     if design.eq.params.size > 4:
         raise InputError("reachable_set: use the four channels (a grid over 42 strips is too large)")
     values = np.linspace(LAMBDA_MIN, design.lambda_N, levels)
@@ -227,7 +228,10 @@ def reachable_set(design: GridshellDesign, levels: int = 4) -> np.ndarray:
         for k, v in enumerate(order):
             p = prefix + [v]
             if depth + 1 == n:
-                st = design.eq.state(np.array(p), jacobian=False)
+                try:
+                    st = design.eq.state(np.array(p), jacobian=False)
+                except ConvergenceError:  # no equilibrium at the design tolerance: left out
+                    continue
                 rows.append([*p, *st.observables[:2]])
             else:
                 visit(p, depth + 1, (k % 2 == 1) ^ flip)
