@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -163,6 +164,12 @@ class BarHingeMaterials:
     strip_contact: StripContactSprings = StripContactSprings()
     contact: StripContact = StripContact()
     ogden: OgdenLaw = OgdenLaw()
+
+    @property
+    def materials(self) -> "BarHingeMaterials":
+        """The material laws alone (a run configuration that extends this class keeps its other
+        sections to itself)."""
+        return BarHingeMaterials(**{f.name: getattr(self, f.name) for f in dataclasses.fields(BarHingeMaterials)})
 
 
 # --------------------------------------------------------------------------- material laws

@@ -44,8 +44,7 @@ RIBBON_PATH = PathOptions(initial_increment=0.01, max_increment=0.02, easy_itera
 def bar_hinge_model(structure: BarHingeStructure,
                     materials: BarHingeMaterials = BarHingeMaterials()) -> BarHingeModel:
     """The bar-and-hinge model of ``structure`` with the laws of ``materials``."""
-    m = materials
-    return BarHingeModel(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)
+    return BarHingeModel.from_materials(structure, materials)
 
 
 # --------------------------------------------------------------------------- composite beam

@@ -1,5 +1,5 @@
 """The ``lcefem`` command line: ``lcefem run TARGET ...``, ``lcefem validate``, ``lcefem converge``,
-``lcefem uncertainty gridshell``.
+``lcefem uncertainty gridshell``, ``lcefem design``.
 
 Every command goes through :func:`main`: signal handlers, the output folder's claim and lock
 (lcefem.solvers.run), and one mapping of failures to a one-line message and an exit status:
@@ -23,6 +23,8 @@ from lcefem.validation.runs import RUN_TARGETS
 
 EXIT_INPUT = skeleton.EXIT_INPUT
 EXIT_CONVERGENCE = skeleton.EXIT_SOLVER
+#: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
+COMMANDS = ("validate", "converge", "uncertainty", "design")
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
 AGREE_SECONDS = 3.0  #: how long a failing rank waits for the others before aborting them
 
@@ -45,10 +47,10 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     wanted = list(RUN_TARGETS)
     if argv and len(argv) >= 2 and argv[0] == "run" and argv[1] in RUN_TARGETS:
         wanted = [argv[1]]
-    elif argv and argv[0] in ("validate", "converge", "uncertainty"):
+    elif argv and argv[0] in COMMANDS:
         wanted = []  # other commands need no run-target modules
     modules = [(targets, name, RUN_TARGETS[name]) for name in wanted]
-    modules += [(sub, name, f"lcefem.validation.{name}") for name in ("validate", "converge", "uncertainty")]
+    modules += [(sub, name, f"lcefem.validation.{name}") for name in COMMANDS]
     for group, name, module in modules:
         mod = importlib.import_module(module)
         p = group.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])

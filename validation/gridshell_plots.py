@@ -76,3 +76,38 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
     axes[1].legend(fontsize=7)
     _footer(fig, sources)
     return _save(fig, pathlib.Path(path), 150)
+
+
+def reachable_set_figure(path: pathlib.Path, kappa: np.ndarray, points: dict[str, tuple[float, float]],
+                         title: str) -> pathlib.Path:
+    """Scatter of reachable centre curvatures (kappa_x, kappa_y) [1/mm] (rows of ``kappa``) with
+    their convex hull, and labelled target points."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from scipy.spatial import ConvexHull
+
+    kappa = np.asarray(kappa, dtype=float)
+    fig, ax = plt.subplots(figsize=(6.0, 5.5))
+    ax.scatter(kappa[:, 0], kappa[:, 1], s=8, color="tab:blue", label="equilibria on the lambda grid")
+    if kappa.shape[0] >= 3:
+        hull = ConvexHull(kappa)
+        loop = np.append(hull.vertices, hull.vertices[0])
+        ax.plot(kappa[loop, 0], kappa[loop, 1], color="tab:blue", lw=1, label="convex hull")
+    for name, (kx, ky) in points.items():
+        ax.plot(kx, ky, "x", ms=8, mew=2)
+        ax.annotate(name, (kx, ky), textcoords="offset points", xytext=(5, 5), fontsize=8)
+    ax.axhline(0, color="grey", lw=0.5)
+    ax.axvline(0, color="grey", lw=0.5)
+    ax.set_xlabel("centre curvature kappa_x [1/mm] (circle; dome negative)")
+    ax.set_ylabel("centre curvature kappa_y [1/mm]")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    path = pathlib.Path(path)
+    tmp = path.with_name(path.stem + ".part" + path.suffix)
+    fig.savefig(tmp, dpi=130)
+    plt.close(fig)
+    tmp.replace(path)
+    return path

@@ -56,7 +56,7 @@ from lcefem.models.lumped_heat import FREE_STRIP, HeatedStrip, LumpedThermal, im
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.run import Progress, Run
 from lcefem.validation import gridshell_bh as gs
-from lcefem.validation.bar_hinge_studies import BarHingeMaterials
+from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.validation.bar_hinge_io import BarHingeVTK
 
 #: The lumped body per thermal model: 'segment' is one 25 ohm, 30 mm grid segment (the current route's

@@ -47,7 +47,7 @@ from lcefem.models.lumped_heat import HeatedStrip, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
 from lcefem.solvers.run import Progress, Run, add_out_arguments, write_text
 from lcefem.validation import gridshell_bh as gs
-from lcefem.validation.bar_hinge_studies import BarHingeMaterials
+from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.validation.gridshell_sequence import QuasiStaticSurface
 
 PARALLEL = False  # serial numpy/scipy bar-and-hinge model

@@ -84,6 +84,13 @@ class ContactSet:
 class BarHingeModel:
     """Energy, gradient and Hessian of a bar-and-hinge structure with given materials."""
 
+    @classmethod
+    def from_materials(cls, structure: BarHingeStructure,
+                       materials: law.BarHingeMaterials = law.BarHingeMaterials()) -> "BarHingeModel":
+        """The model of ``structure`` with every law of ``materials`` (the one definition in models)."""
+        m = materials
+        return cls(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)
+
     def __init__(self, structure: BarHingeStructure,
                  kapton: law.KaptonBarHinge = law.KaptonBarHinge(),
                  lce: law.LCEStripBars = law.LCEStripBars(),
@@ -328,6 +335,29 @@ class BarHingeModel:
         for c in self.contact_sets:
             g = law.point_plane_gap(*(x[c.nodes[:, i]] for i in range(4)), derivatives=0)
             out[c.name] = c.stiffness * np.maximum(c.rest_gap - g, 0.0)
+        return out
+
+    def rest_fraction_sensitivity(self, x) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """d(gradient)/d f_b of every LCE bar b, by strip group: (dofs (m, 6), values (m, 6)) [N].
+
+        With rest length L_r = f L0, stretch l = L/L_r and axial force F = V w'(l)/L_r, the bar's
+        gradient is F (-u, u) (u its unit vector), and dF/df = -V (l w''(l) + w'(l))/(f L_r); the
+        other elements do not depend on f. Used for exact design sensitivities (implicit function
+        theorem: dx/df = -K^-1 d(gradient)/df at an equilibrium).
+        """
+        x = np.asarray(x, dtype=float).reshape(-1, 3)
+        out = {}
+        for b in self.strip_sets():
+            d = x[b.nodes[:, 1]] - x[b.nodes[:, 0]]
+            length = np.sqrt(np.einsum("ij,ij->i", d, d))
+            rest = b.rest_length
+            lam = length / rest
+            _, dw, d2w = law.tension_only_ogden_law(lam, self.ogden)
+            dforce = -b.volume * (lam * d2w + dw) / (b.rest_fraction * rest)
+            u = d / length[:, None]
+            values = np.concatenate([-dforce[:, None] * u, dforce[:, None] * u], axis=1)
+            dofs = (3 * b.nodes[:, :, None] + np.arange(3)).reshape(b.nodes.shape[0], -1)
+            out[b.name] = (dofs, values)
         return out
 
     def hinge_angles(self, x) -> dict[str, np.ndarray]:

@@ -49,6 +49,11 @@ class NewtonOptions:
     max_step: float = param(2.0, "mm", "chosen: trust radius, the largest nodal move of one Newton "
                             "step (the structures' features are 1-10 mm); guards near-singular "
                             "tangents at folds of the path", positive=True)
+    stall_iterations: int = param(0, "-", "chosen: after this many Newton iterations without halving "
+                                  "the residual (0: never), the steps are damped (K + mu I, mu from "
+                                  "1e-8 of the largest stiffness, x10 per further stalled iteration): "
+                                  "near contact and slack-strip kinks of the tangent, undamped Newton "
+                                  "cycles a few 1e-6 N above the tolerance", minimum=0)
     snap_iterations: int = param(1000, "-", "chosen: extra iterations allowed once a state has lost "
                                  "stability and Newton descends to a new stable state (snap-through)",
                                  minimum=0)
@@ -126,11 +131,12 @@ def _factorize(matrix: sp.csc_matrix):
     return lu, -1, -1
 
 
-def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions):
-    """Solve (K + mu I) d = rhs; mu = 0 if K is positive definite (or inertia control is off)."""
+def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions, damping: float = 0.0):
+    """Solve (K + mu I) d = rhs; mu = 0 if K is positive definite (or inertia control is off); with
+    ``damping`` > 0, mu >= damping times the largest diagonal entry."""
     n = kmat.shape[0]
     scale = max(float(np.max(np.abs(kmat.diagonal()))) if n else 1.0, 1e-300)
-    mu, negative = 0.0, -1
+    mu, negative = damping * scale, -1
     eye = sp.identity(n, format="csc")
     for attempt in range(options.max_shifts):
         try:
@@ -138,7 +144,7 @@ def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions):
         except RuntimeError:  # exactly singular: regularise
             lu, neg, zero = None, n, n
         if attempt == 0:
-            negative = neg
+            negative = neg if damping == 0 else -1
         if lu is not None:
             d = lu.solve(rhs)
             ok = bool(np.all(np.isfinite(d)))
@@ -154,13 +160,40 @@ def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions):
 
 
 def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarray]:
-    """Lowest eigenpair of the (free-DOF) tangent stiffness."""
+    """Lowest eigenpair of the (free-DOF) tangent stiffness.
+
+    Up to ``DENSE_EIGEN`` DOFs: a dense eigh (~5 s for the 2547-DOF gridshell). Faster pairs (dsyevr
+    for the lowest pair only, or shift-invert Lanczos) were tried on the dome: the same final state
+    to 2e-8 but a different path (its lowest eigenvalue is nearly double at the lost stabilities, so
+    the escape direction within the eigenspace depends on the solver) with more cut increments
+    (15-23 instead of 9). Larger: shift-invert Lanczos (ARPACK) about a shift sigma below the whole
+    spectrum (the first of -1e-8, -1e-7, ... times the largest diagonal entry for which K - sigma I
+    is positive definite), where the eigenvalue nearest to sigma is the lowest one.
+    """
     n = kmat.shape[0]
-    if n <= 4000:
+    if n <= DENSE_EIGEN:
         vals, vecs = np.linalg.eigh(kmat.toarray())
         return float(vals[0]), vecs[:, 0]
+    scale = max(float(np.max(np.abs(kmat.diagonal()))), 1e-300)
+    eye = sp.identity(n, format="csc")
+    shift = 1e-8 * scale
+    for _ in range(12):
+        try:
+            lu, neg, zero = _factorize(kmat + shift * eye)
+        except RuntimeError:
+            neg, zero = -1, -1
+        if neg == 0 and zero == 0:
+            op = sla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
+            vals, vecs = sla.eigsh(kmat, k=1, sigma=-shift, which="LM", OPinv=op, tol=1e-12)
+            return float(vals[0]), vecs[:, 0]
+        shift *= 10.0
     vals, vecs = sla.eigsh(kmat, k=1, which="SA")
     return float(vals[0]), vecs[:, 0]
+
+
+#: Up to this many free DOFs the lowest eigenpair comes from a dense eigh (above, a dense matrix of
+#: 8 n^2 bytes and an O(n^3) solve are too much: Lanczos).
+DENSE_EIGEN = 4000
 
 
 def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
@@ -182,6 +215,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
     budget = options.max_iterations
     escapes = 0
     it = 0
+    best, stalled = residual, 0  # iterations since the residual was last halved
 
     def escape() -> bool:
         """Step along negative curvature until the energy drops; False if it cannot."""
@@ -226,8 +260,11 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             break
         it += 1
         r = grad[free]
+        damping = 0.0
+        if options.stall_iterations and stalled >= options.stall_iterations:
+            damping = min(1e-8 * 10.0 ** (stalled - options.stall_iterations), 1e-2)
         try:
-            step, negative, _ = _descent_step(reduced.matrix(coo), -r, options)
+            step, negative, _ = _descent_step(reduced.matrix(coo), -r, options, damping)
         except np.linalg.LinAlgError as exc:
             return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, str(exc), negative)
         longest = float(np.max(np.abs(step))) if step.size else 0.0
@@ -251,6 +288,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             x = trial
             energy, grad, coo = model.evaluate(x)
             residual = float(np.linalg.norm(grad[free]))
+            best, stalled = (residual, 0) if residual <= 0.5 * best else (best, stalled + 1)
             continue
         # The energy cannot resolve the step: backtrack on the residual instead (near a kink of the
         # tangent, e.g. a contact switching on, the full step can overshoot while a part of it helps).
@@ -266,8 +304,13 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
                 break
             alpha *= 0.5
         if reduced_step:
+            best, stalled = (residual, 0) if residual <= 0.5 * best else (best, stalled + 1)
             continue
         if options.inertia_control and negative > 0 and escape():
+            continue
+        if options.stall_iterations and damping < 1e-2 and it < budget:
+            # no usable step: damp the next ones (a gradient-like step near a kink still helps)
+            stalled = max(stalled + 1, options.stall_iterations)
             continue
         return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, "line search failed",
                             negative)

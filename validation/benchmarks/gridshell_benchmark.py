@@ -1,9 +1,12 @@
 """Wall time of the 3 x 3 gridshell (bar-and-hinge) per shape: the paper's four Fig. 4 shapes (lambda
 route, paper supports) and the eight published recipes; increments, Newton iterations, failed
-increments, whether the target was reached exactly, centre curvatures (both measures) and z range.
+increments, whether the target was reached exactly, centre curvatures (both measures) and z range;
+with ``--set design``, the inverse design (four channels) from the paper's measured curvatures of
+each Fig. 4 shape (table: flat): time per inverse solve (with the forward check from as built),
+optimiser evaluations, forward solves, Newton iterations, residual.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.gridshell_benchmark [--only dome,saddle]
-        [--set shapes|recipes|all] [--json FILE]
+        [--set shapes|recipes|all|design] [--json FILE]
 
 Not a test: it prints figures for the report (the published MATLAB/Octave code: 5-27 min per shape,
 300 fixed increments). The machine load matters: run it alone.
@@ -52,9 +55,21 @@ def run_one(kind: str, name: str) -> dict:
     return row
 
 
+def run_design(name: str) -> dict:
+    from lcefem.validation import gridshell_design as gd
+    spec = gs.SHAPES[name]
+    target = spec["paper_exp"] if spec["paper_exp"][0] is not None else spec["paper_sim"]
+    design = gd.setup_design("4", spec["support"])
+    res = gd.inverse(design, *target)
+    return {"kind": "design", "name": name, "support": spec["support"], "target": target,
+            "seconds": res.seconds, "evaluations": res.iterations, "solves": res.stats.solves,
+            "newton": res.stats.newton_iterations, "residual [1/mm]": float(np.linalg.norm(res.residual)),
+            "lambdas": dict(zip(design.names, res.p.tolist()))}
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--set", choices=("shapes", "recipes", "all"), default="all")
+    p.add_argument("--set", choices=("shapes", "recipes", "all", "design"), default="all")
     p.add_argument("--only", help="comma-separated names")
     p.add_argument("--json", help="also write the rows to this JSON file")
     args = p.parse_args(argv)
@@ -68,6 +83,21 @@ def main(argv: list[str] | None = None) -> int:
         jobs = [j for j in jobs if j[1] in keep]
     print(f"# gridshell benchmark, {platform.processor() or platform.machine()}, python "
           f"{platform.python_version()}")
+    if args.set == "design":
+        names = args.only.split(",") if args.only else list(gs.SHAPES)
+        print(f"{'name':9s} {'support':8s} {'target x/y [1/mm]':>18s} {'seconds':>8s} {'evals':>5s} "
+              f"{'solves':>6s} {'newton':>6s} {'residual':>9s}", flush=True)
+        rows = []
+        for name in names:
+            r = run_design(name)
+            rows.append(r)
+            print(f"{name:9s} {r['support']:8s} {r['target'][0]:8.4f}/{r['target'][1]:8.4f}  "
+                  f"{r['seconds']:8.1f} {r['evaluations']:5d} {r['solves']:6d} {r['newton']:6d} "
+                  f"{r['residual [1/mm]']:9.2e}", flush=True)
+        if args.json:
+            with open(args.json, "w") as fh:
+                json.dump(rows, fh, indent=1, default=float)
+        return 0
     print(f"{'kind':7s} {'name':9s} {'support':8s} {'ok':3s} {'reached':7s} {'incr':>4s} {'newton':>6s} "
           f"{'fail':>4s} {'solve s':>8s} {'circ x':>8s} {'circ y':>8s} {'quad x':>8s} {'quad y':>8s} "
           f"{'z rng':>6s}", flush=True)

@@ -84,10 +84,6 @@ class BeamConfig(law.BarHingeMaterials):
             check_lambda(f"run.{name}", getattr(self.run, name), self.lce.lambda_N)
         return self
 
-    @property
-    def materials(self) -> law.BarHingeMaterials:
-        return law.BarHingeMaterials(**{f.name: getattr(self, f.name)
-                                        for f in dataclasses.fields(law.BarHingeMaterials)})
 
     def resolved(self) -> dict:
         return resolved(self)

@@ -79,16 +79,15 @@ class GridshellRun:
 
 
 @dataclass(frozen=True)
-class GridshellConfig:
+class GridshellConfig(law.BarHingeMaterials):
+    """The bar-and-hinge gridshell's sections: its materials (kapton, lce, glue, strip_contact,
+    contact, ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
+    plus the run, geometry, layout, mesh, weight, current route, solver and path sections."""
+
     run: GridshellRun = field(default_factory=GridshellRun)
     geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
     layout: GridshellLayout = field(default_factory=GridshellLayout)
     mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
-    kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
-    lce: law.LCEStripBars = field(default_factory=law.LCEStripBars)
-    glue: law.GlueBars = field(default_factory=law.GlueBars)
-    strip_contact: law.StripContactSprings = field(default_factory=law.StripContactSprings)
-    contact: law.StripContact = field(default_factory=law.StripContact)
     weight: SurfaceWeight = field(default_factory=SurfaceWeight)
     current_route: gs.CurrentRoute = field(default_factory=gs.CurrentRoute)
     solver: NewtonOptions = field(default_factory=lambda: gs.GRIDSHELL_NEWTON)
@@ -119,9 +118,6 @@ class GridshellConfig:
                 raise InputError(f"current {sel} = {v}: must be between 0 and 1 A")
         return self
 
-    @property
-    def materials(self) -> gs.BarHingeMaterials:
-        return gs.BarHingeMaterials(self.kapton, self.lce, self.glue, self.strip_contact, self.contact)
 
     @property
     def support(self) -> str:

@@ -1,0 +1,114 @@
+"""Inverse design of the robotic surface: target centre curvatures -> strip lambdas -> currents.
+
+``lcefem design --target-kx -0.016 --target-ky -0.016 [--target-height H] [--channels 4|all]
+[--support clamp|rollers|table] [--ribbons N] [--no-check] --out DIR [--overwrite] [--quiet]``
+
+Finds lambdas in [1.05, lambda_N] (one per channel Tx, Ty, Bx, By, or one per strip) whose stable
+equilibrium has the target centre curvatures (the paper's circle measure, dome negative) by least
+squares with exact sensitivities (:mod:`lcefem.validation.gridshell_design`), then the currents of
+both current routes (segment, eq1), and checks the lambdas by a forward run from the as-built state.
+
+Outputs in --out DIR (through the run skeleton lcefem.solvers.run.Run): summary.json (target,
+lambdas, currents per route, achieved curvatures in the design loop and in the forward check,
+residual [1/mm], optimiser record, forward solves, Newton iterations, wall time) and design.csv
+(one row per design variable, numbered in the order of summary.json's "lambdas [-]": channels Tx,
+Ty, Bx, By, or strip ids: lambda [-], segment-route current [A], eq1-route current [A]).
+A target outside the reachable set ends normally with the smallest residual found (reported).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import pathlib
+import time
+from dataclasses import dataclass
+
+from lcefem.meshes.gridshell import GridshellLayout
+from lcefem.models.errors import InputError
+from lcefem.solvers.run import Progress, Run, add_out_arguments
+from lcefem.validation import gridshell_bh as gs
+from lcefem.validation import gridshell_design as gd
+
+PARALLEL = False
+COLUMNS = ["variable [-]", "lambda [-]", "current segment route [A]", "current eq1 route [A]"]
+
+
+@dataclass(frozen=True)
+class DesignRequest:
+    kx: float
+    ky: float
+    height: float | None
+    channels: str
+    support: str
+    check: bool
+    ribbons: int = 3
+
+    def validated(self) -> "DesignRequest":
+        for name, v in (("target-kx", self.kx), ("target-ky", self.ky)):
+            if not math.isfinite(v) or abs(v) > 0.2:
+                raise InputError(f"--{name} = {v}: a curvature in 1/mm with |kappa| <= 0.2 (a radius "
+                                 "of at least 5 mm)")
+        if self.height is not None and not math.isfinite(self.height):
+            raise InputError(f"--target-height = {self.height}: must be a finite height in mm")
+        if self.channels not in gd.CHANNEL_MODES:
+            raise InputError(f"--channels = {self.channels!r}: allowed {', '.join(gd.CHANNEL_MODES)}")
+        if self.ribbons < 1 or self.ribbons % 2 == 0:
+            raise InputError(f"--ribbons = {self.ribbons}: an odd number >= 1 (the centre junction)")
+        if self.support not in gs.SUPPORTS:
+            raise InputError(f"--support = {self.support!r}: allowed {', '.join(gs.SUPPORTS)}")
+        return self
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--target-kx", type=float, required=True, help="target centre curvature along x "
+                   "[1/mm] (circle measure; dome negative)")
+    p.add_argument("--target-ky", type=float, required=True, help="target centre curvature along y [1/mm]")
+    p.add_argument("--target-height", type=float, default=None,
+                   help="also match the centre junction's height [mm]")
+    p.add_argument("--channels", default="4", help="design variables: 4 (channels Tx, Ty, Bx, By) or "
+                   "all (every strip)")
+    p.add_argument("--support", default="rollers", help="clamp, rollers or table (default rollers)")
+    p.add_argument("--ribbons", type=int, default=3, help="ribbons per direction (default 3)")
+    p.add_argument("--no-check", action="store_true", help="skip the forward run from the as-built state")
+    add_out_arguments(p, "results/design")
+
+
+def prepare(args: argparse.Namespace) -> DesignRequest:
+    return DesignRequest(args.target_kx, args.target_ky, args.target_height, str(args.channels),
+                         args.support, not args.no_check, args.ribbons).validated()
+
+
+def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = True) -> dict:
+    started = time.perf_counter()
+    design = gd.setup_design(req.channels, req.support, height=req.height is not None,
+                             layout=GridshellLayout(ribbons=req.ribbons))
+    config = {"target": {"kappa_x [1/mm]": req.kx, "kappa_y [1/mm]": req.ky,
+                         "centre height [mm]": req.height},
+              "channels": req.channels, "support": req.support, "ribbons": req.ribbons,
+              "bounds [-]": [gd.LAMBDA_MIN, design.lambda_N],
+              "observable": "circle curvature through the centre junction and the middle ribbon's ends "
+                            "(seed 001, gridshell without cover scales)"}
+    with Run(out, config=config, columns=COLUMNS, history="design.csv",
+             progress=Progress(1.0, "design", "", ".0f", progress)) as run:
+        result = gd.inverse(design, req.kx, req.ky, height=req.height, check=req.check)
+        summary = gd.design_summary(design, result)
+        currents = summary["currents [A]"]
+        for j, (name, lam) in enumerate(summary["lambdas [-]"].items()):
+            run.record({"variable [-]": j, "lambda [-]": lam,
+                        "current segment route [A]": currents["segment"][name],
+                        "current eq1 route [A]": currents["eq1"][name]}, where=f"variable {name}")
+        summary["wall time [s]"] = time.perf_counter() - started
+        return run.complete({"model": "bar-hinge gridshell, inverse design", **summary})
+
+
+def main(args: argparse.Namespace) -> int:
+    s = run_design(args.prepared, pathlib.Path(args.out), progress=not args.quiet)
+    a = s.get("achieved (forward run from as built) [1/mm]", s["achieved (design loop) [1/mm]"])
+    lams = ", ".join(f"{k}={v:.4f}" for k, v in list(s["lambdas [-]"].items())[:8])
+    t = s["target"]
+    print(f"lcefem: design: target {t['kappa_x [1/mm]']:.4f}/{t['kappa_y [1/mm]']:.4f} 1/mm, achieved "
+          f"{a['kappa_x']:.5f}/{a['kappa_y']:.5f} (residual {s['residual norm [1/mm]']:.2e} 1/mm); "
+          f"lambdas {lams}; {s['time [s]']:.1f} s inverse (with checks), "
+          f"{s['wall time [s]']:.1f} s in all; results in {args.out}")
+    return 0
