@@ -48,9 +48,9 @@ published model does).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np

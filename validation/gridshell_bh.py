@@ -36,6 +36,7 @@ from lcefem.solvers.problems.gridshell_bh import (  # noqa: F401
     payload_forces, prepare_structure, ribbon_nodes, setup_from_model, shape_summary, solve_gridshell,
     solve_payload, support_dofs, targets_from_lambdas, targets_from_recipe)
 from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.validation.reference_data import reference
 
 SEED = "seed 001"
@@ -151,4 +152,5 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
         raise InputError(f"support = {support!r}: allowed {', '.join(SUPPORTS)}")
     structure = structure or build_gridshell_bar_hinge(geometry, layout, mesh)
     prepare_structure(structure, support, geometry, materials.lce.lambda_N)
-    return setup_from_model(structure, BarHingeModel.from_materials(structure, materials), support, rest_fractions, weight)
+    return setup_from_model(structure, BarHingeModel.from_materials(structure, materials), support,
+                            rest_fractions, weight)
