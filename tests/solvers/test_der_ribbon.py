@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from lcefem.models.lce import NematicTransition, contraction_ratio
-from lcefem.models.ribbon import RibbonGeometry, SectionGrid, natural_strains, natural_twist_rate
+from lcefem.models.hyperelastic import LCEElasticity
+from lcefem.models.ribbon import HelicoidCoupling, RibbonGeometry, SectionGrid, natural_strains
 from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import (RibbonNumerics, RibbonSetup, RibbonSimulation, initial_ribbon_state,
                                        ribbon_static_response)
@@ -29,12 +30,17 @@ def test_straight_strip_with_a_through_thickness_gradient_curls_to_its_natural_c
 
 
 def test_twisted_ribbon_heated_uniformly_untwists_and_shortens():
+    """Uniform heating: the free ribbon takes the helicoid-coupled natural twist and stretch."""
     geo = RibbonGeometry(length=20.0, twist_density=0.05)
     res = ribbon_static_response(geo, 41, cell_temperatures=np.full(12, 72.0))
     a = contraction_ratio(72.0, TR)
-    # integrated twist per as-built length tau_bar; per current length divided by a
-    assert res.mean_twist_density == pytest.approx(natural_twist_rate(geo.twist_rate, a) / a, rel=1e-6)
-    assert res.length == pytest.approx(20.0 * a, rel=1e-6)
+    mu = LCEElasticity().shear_modulus
+    cpl = HelicoidCoupling.of(geo, 3.0 * mu, mu)
+    stretch = a * cpl.stretch_factor(a)
+    # integrated twist per as-built length tau_bar; per current length divided by the stretch
+    assert res.mean_twist_density == pytest.approx(geo.twist_rate * cpl.twist_factor(a) / stretch, rel=1e-6)
+    assert res.length == pytest.approx(20.0 * stretch, rel=1e-6)
+    assert 1.0 < cpl.release < 2.0 and stretch > a  # untwists and contracts less than the fibres
     assert np.allclose(res.mean_curvature, 0.0, atol=1e-8)
 
 
