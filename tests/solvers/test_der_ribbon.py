@@ -85,6 +85,19 @@ def test_short_heated_run_conserves_bookkeeping():
     assert f[:, 2].sum() == pytest.approx(weight, rel=0.2)  # the plate carries the weight
 
 
+@pytest.mark.parametrize("spin", [0.01, -0.02])
+def test_imperfection_spins_the_settled_ribbon_about_its_axis(spin):
+    """The documented imperfection: after settling, the rod turns about the x axis at the set rate
+    (sign of the right-handed twist), nodes and edges alike."""
+    base = RibbonSimulation(RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=0.0)))
+    sim = RibbonSimulation(RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=spin)))
+    st, st0 = sim.state, base.state
+    assert np.allclose(st.omega - st0.omega, spin)
+    line = np.array([0.0, st.x[:, 1].mean(), 0.0])
+    expected = np.cross([spin, 0.0, 0.0], st.x - line)
+    assert np.allclose(st.v - st0.v, expected, atol=1e-12)
+
+
 def test_polyline_series_is_atomic(tmp_path):
     s = PolylineSeries(tmp_path, "rod")
     pts = np.stack([np.arange(4.0), np.zeros(4), np.zeros(4)], 1)
