@@ -58,6 +58,10 @@ class RibbonNumerics:
                                 "vertical, which swaps the two rolling directions, so without it round-off "
                                 "picks the direction and the onset; results do not depend on its size over "
                                 "a decade (issue 17)")
+    plate_gradient: float = param(0.0, "K/mm", "chosen imperfection: plate temperature gradient along +y "
+                                  "(across the ribbon), T = T_ground + gradient (y - y_start); a persistent, "
+                                  "physical symmetry breaking (a hot plate is uniform to ~1 K over its surface, "
+                                  "i.e. gradients up to ~0.01-0.1 K/mm)")
     contact_samples: int = param(2, "-", "chosen: sections sampled per edge for contact (frame angle "
                                  "interpolated with the twist)", minimum=1)
     cells_width: int = param(6, "-", "chosen: heat cells across the width", minimum=1)
@@ -240,6 +244,7 @@ class RibbonSimulation:
         if num.settle_time > 0:
             self._settle(num.settle_time)
         self._perturb(num.perturbation)
+        self._y_start = float(self.state.x[:, 1].mean())
 
     # -- stepping ----------------------------------------------------------------------------
     @property
@@ -277,7 +282,12 @@ class RibbonSimulation:
         g = s.geometry
         self.rod.rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
         report = self.integrator.step(dt)
-        self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), s.ground_temperature)
+        gradient = None
+        if s.numerics.plate_gradient:
+            # zero at the starting centreline: the mean plate temperature under the ribbon is T_ground
+            gradient = np.array([0.0, s.numerics.plate_gradient, 0.0])
+        T_ground = s.ground_temperature - (s.numerics.plate_gradient * self._y_start)
+        self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), T_ground, gradient)
         self.time = self.state.time
         self.last_report = report
         return report

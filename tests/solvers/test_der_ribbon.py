@@ -109,3 +109,20 @@ def test_polyline_series_is_atomic(tmp_path):
     import pyvista as pv
     assert pv.read(tmp_path / "rod_steps.partial" / "rod_00000.vtp").point_data["a"][3] == 3.0
     assert "rod_steps.partial/rod_00000.vtp" in (tmp_path / "rod.partial.pvd").read_text()
+
+
+def test_plate_gradient_warms_the_side_over_the_hotter_plate():
+    """A plate hotter towards +y heats the section cells on the +y side more; no gradient and a
+    zero gradient give the same step."""
+    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
+                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    geo = sim.heat_geometry()
+    T0 = np.full_like(sim.T, 25.0)
+    uniform, _ = sim.heat.step(T0, 1.0, geo, 100.0)
+    zero, _ = sim.heat.step(T0, 1.0, geo, 100.0, np.zeros(3))
+    assert np.allclose(uniform, zero, rtol=0, atol=1e-12)
+    tilted, _ = sim.heat.step(T0, 1.0, geo, 100.0, np.array([0.0, 5.0, 0.0]))
+    # cell centres' y positions: the +y cells gain more than the -y ones
+    y = (geo.centre[:, None, 1] + sim.grid.y1[None, :] * geo.m1[:, None, 1] + sim.grid.y2[None, :] * geo.m2[:, None, 1])
+    gain = (tilted - uniform).ravel()
+    assert np.corrcoef(y.ravel(), gain)[0, 1] > 0.5
