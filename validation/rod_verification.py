@@ -32,10 +32,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 
 from lcefem.models.contact import ContactLaw, FrictionLaw
+from lcefem.models.lce import NematicTransition, contraction_ratio
+from lcefem.models.ribbon import SectionGrid, natural_strains
 from lcefem.models.rod import RodSection, rectangular_section
 from lcefem.models.units import STANDARD_GRAVITY
 from lcefem.solvers.der.assembly import Assembly
@@ -282,3 +284,26 @@ def incline_rolling(n_nodes: int, angle_deg: float = 5.0, mu: float = 1.0, durat
     half = steps // 2
     acc = (vel[-1] - vel[half - 1]) / (dt * (steps - half))
     return Comparison(acc, 0.75 * STANDARD_GRAVITY * math.sin(a), 30.0 / (n_nodes - 1))
+
+
+def one_face_bending(cells_thickness: int, quadrature: int, faces=(60.0, 25.0), width: float = 4.0,
+                     thickness: float = 0.8, cells_width: int = 6) -> Comparison:
+    """Natural curvature kappa_bar_2 [1/mm] of a strip with a linear temperature profile through the
+    thickness (faces at T_plus, T_minus [C]) from the section grid of :mod:`lcefem.models.ribbon`,
+    against the beam closed form kappa_2 = -(12/t^3) int_{-t/2}^{t/2} (a(T(y)) - 1) y dy (scipy quad to
+    1e-14). ``edge_length`` holds the cell height t/n_t [mm]. A free straight strip takes exactly this
+    curvature in DER, and the 3D FE strip agrees with the closed form to 0.2 % (case ribbon_fe_vs_der,
+    (a)); quadrature 1 is the one-sample-per-cell rule used before issue 17.
+    """
+    tr = NematicTransition()
+    T_plus, T_minus = faces
+
+    def profile(y):
+        return T_minus + (T_plus - T_minus) * (y / thickness + 0.5)
+
+    moment = quad(lambda y: (float(contraction_ratio(profile(y), tr)) - 1.0) * y, -0.5 * thickness, 0.5 * thickness,
+                  epsabs=1e-14, epsrel=1e-12)[0]
+    reference = -12.0 * moment / thickness ** 3
+    grid = SectionGrid(width, thickness, cells_width, cells_thickness, quadrature)
+    value = float(natural_strains(grid.from_faces(T_plus, T_minus), grid, tr).curvature[1])
+    return Comparison(value, reference, thickness / cells_thickness)

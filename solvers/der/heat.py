@@ -26,6 +26,7 @@ from scipy.linalg import solveh_banded
 from lcefem.models.contact import ContactLaw
 from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_film_coefficient
 from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
+from lcefem.models.rod import CORNER_SIGNS
 
 
 @dataclass
@@ -102,9 +103,13 @@ class SectionHeat:
         self.p_off = np.stack([off_a, off_b], axis=1)
         self.corner_cells = grid.corner_cells()
 
-    def coefficients(self, T: np.ndarray, geo: HeatGeometry, T_ground: float):
+    def coefficients(self, T: np.ndarray, geo: HeatGeometry, T_ground: float, gradient=None):
         """Exchange conductances [mW/K] of each cell with the ground (n, n_cells) and the air
-        (n, n_cells), and the conductance-weighted air temperature [C] each cell sees (n, n_cells)."""
+        (n, n_cells), the conductance-weighted air temperature [C] each cell sees (n, n_cells) and the
+        conductance-weighted ground temperature [C] (n, n_cells).
+
+        ``gradient`` (3,) [K/mm]: the plate temperature varies as T_ground + gradient . x under each
+        patch and corner (x its position; None: uniform)."""
         nz = self.normal
         cz = geo.centre @ nz - self.height
         m1z, m2z = geo.m1 @ nz, geo.m2 @ nz
@@ -113,6 +118,12 @@ class SectionHeat:
         facing = np.maximum(0.0, -nrm_z)
         area = self.p_area[None, :] * geo.length[:, None]
         Tp = T[:, self.p_cell]
+        T_uniform = T_ground
+        if gradient is not None:
+            gradient = np.asarray(gradient, float)
+            gc, g1, g2 = geo.centre @ gradient, geo.m1 @ gradient, geo.m2 @ gradient
+            T_ground = T_uniform + (gc[:, None] + self.p_off[None, :, 0] * g1[:, None]
+                                    + self.p_off[None, :, 1] * g2[:, None])
         h_ground = self.ground.patch_coefficient(heights, facing, Tp, T_ground)
         h_amb = (self.air.film_coefficient
                  + radiative_film_coefficient(Tp, self.air.ambient_temperature, self.air.emissivity) * (1.0 - facing))
@@ -122,23 +133,30 @@ class SectionHeat:
         Q_a = np.zeros((n, self.nc))
         T_air = self.ground.air_temperature(heights, self.air.ambient_temperature, T_ground)
         np.add.at(G_g.T, self.p_cell, (h_ground * area).T)
+        Q_g = np.zeros((n, self.nc))
+        np.add.at(Q_g.T, self.p_cell, (h_ground * area * T_ground).T)
         np.add.at(G_a.T, self.p_cell, (h_amb * area).T)
         np.add.at(Q_a.T, self.p_cell, (h_amb * area * T_air).T)
         if geo.corner_gap is not None:
             corner = geo.corner_gap
         else:
-            from lcefem.models.rod import CORNER_SIGNS
             corner = (cz[:, None] + 0.5 * self.grid.width * CORNER_SIGNS[:, 0] * m1z[:, None]
                       + 0.5 * self.grid.thickness * CORNER_SIGNS[:, 1] * m2z[:, None])
         weight = 0.5 * (1.0 - np.tanh(0.5 * self.contact.K1 * corner))  # 1/(1 + exp(K1 gap))
         g_contact = self.ground.contact_conductance * geo.length[:, None] * weight
         np.add.at(G_g.T, self.corner_cells, g_contact.T)
-        return G_g, G_a, Q_a / np.maximum(G_a, 1e-300)
+        T_corner = T_uniform if gradient is None else (
+            T_uniform + gc[:, None] + 0.5 * self.grid.width * CORNER_SIGNS[:, 0] * g1[:, None]
+            + 0.5 * self.grid.thickness * CORNER_SIGNS[:, 1] * g2[:, None])
+        np.add.at(Q_g.T, self.corner_cells, (g_contact * T_corner).T)
+        return G_g, G_a, Q_a / np.maximum(G_a, 1e-300), Q_g / np.maximum(G_g, 1e-300)
 
-    def step(self, T: np.ndarray, dt: float, geo: HeatGeometry, T_ground: float) -> tuple[np.ndarray, HeatFluxes]:
-        """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo``."""
+    def step(self, T: np.ndarray, dt: float, geo: HeatGeometry, T_ground: float,
+             gradient=None) -> tuple[np.ndarray, HeatFluxes]:
+        """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo`` (plate at
+        T_ground + gradient . x, see :meth:`coefficients`)."""
         n, nc = self.n, self.nc
-        G_g, G_a, T_air = self.coefficients(T, geo, T_ground)
+        G_g, G_a, T_air, T_ground = self.coefficients(T, geo, T_ground, gradient)
         C = self.capacity[:, None] / dt
         nd = nc * n
         ab = np.zeros((nc + 1, nd))

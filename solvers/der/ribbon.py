@@ -23,8 +23,8 @@ from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition
 from lcefem.models.parameters import param
-from lcefem.models.ribbon import (GroundHeatExchange, RibbonGeometry, SectionGrid, natural_strains,
-                                  natural_twist_rate)
+from lcefem.models.ribbon import (GroundHeatExchange, HelicoidCoupling, RibbonGeometry, SectionGrid,
+                                  natural_strains)
 from lcefem.models.rod import (RodSection, cross, material_curvatures, rectangular_section,
                                signed_angle)
 from lcefem.models.units import STANDARD_GRAVITY
@@ -51,12 +51,25 @@ class RibbonNumerics:
                                minimum=0.0)
     force_tol: float = param(1e-5, "-", "Newton tolerance on forces, relative to a node's weight",
                              positive=True)
-    perturbation: float = param(0.0, "rad/s", "chosen: initial spin about the axis that selects the "
-                                "rolling direction (both directions are equivalent by symmetry)")
+    perturbation: float = param(0.01, "rad/s", "chosen imperfection: initial spin about the axis after "
+                                "settling, 1 % of the rolling rate, positive = the sense of the twist's "
+                                "handedness. A perfect ribbon with a whole number of half turns is symmetric "
+                                "under a half turn about the vertical, which swaps the rolling directions. "
+                                "Measured (issue 17, quick level, 100 C): 0.003, 0.01, 0.03 and -0.01 rad/s, "
+                                "and plate gradients of +-0.01-0.1 K/mm, all roll the same way at 0.54-0.56 "
+                                "mm/s: the model's direction is set by its own discrete asymmetry, not by "
+                                "these imperfections or round-off")
+    plate_gradient: float = param(0.0, "K/mm", "chosen imperfection: plate temperature gradient along +y "
+                                  "(across the ribbon), T = T_ground + gradient (y - y_start); a persistent, "
+                                  "physical symmetry breaking (a hot plate is uniform to ~1 K over its surface, "
+                                  "i.e. gradients up to ~0.01-0.1 K/mm)")
     contact_samples: int = param(2, "-", "chosen: sections sampled per edge for contact (frame angle "
                                  "interpolated with the twist)", minimum=1)
     cells_width: int = param(6, "-", "chosen: heat cells across the width", minimum=1)
     cells_thickness: int = param(2, "-", "chosen: heat cells through the thickness", minimum=1)
+    section_quadrature: int = param(4, "-", "chosen: Gauss points per cell and direction of the eigenstrain "
+                                    "resultants; one-face bending within 1e-5 of the beam closed form on the "
+                                    "6 x 2 grid (rod_closed_forms case; 1 point: -27 %)", minimum=1)
 
 
 def lce_ribbon_section(geometry: RibbonGeometry, elasticity: LCEElasticity = LCEElasticity(),
@@ -65,6 +78,17 @@ def lce_ribbon_section(geometry: RibbonGeometry, elasticity: LCEElasticity = LCE
     G = mu; width along m1, thickness along m2."""
     mu = elasticity.shear_modulus
     return rectangular_section(geometry.width, geometry.thickness, 3.0 * mu, mu, thermal.density)
+
+
+def programmed_shape(geometry: RibbonGeometry, state: RodState,
+                     elasticity: LCEElasticity = LCEElasticity()) -> "ProgrammedShape":
+    """As-built natural shape of ``state``: a twisted ribbon (director along its twisted fibres) with
+    the helicoid's twist-stretch coupling (E = 3 mu, G = mu), or a helical ribbon (director along
+    the centreline, no coupling)."""
+    if geometry.is_helical:
+        return ProgrammedShape.of_state(state, twisted_director=False)
+    mu = elasticity.shear_modulus
+    return ProgrammedShape.of_state(state, True, HelicoidCoupling.of(geometry, 3.0 * mu, mu))
 
 
 def corner_radius(geometry: RibbonGeometry) -> float:
@@ -131,19 +155,21 @@ class ProgrammedShape:
     curvature: np.ndarray  # (N-2, 2) integrated [-]
     twist: np.ndarray  # (N-2,) integrated [rad]
     twisted_director: bool  # True: the twist was programmed by twisting a stretched strip
+    coupling: HelicoidCoupling = field(default_factory=HelicoidCoupling)  # twisted director only
 
     @property
     def voronoi(self) -> np.ndarray:
         return 0.5 * (self.edge_length[:-1] + self.edge_length[1:])
 
     @classmethod
-    def of_state(cls, state: RodState, twisted_director: bool) -> "ProgrammedShape":
+    def of_state(cls, state: RodState, twisted_director: bool,
+                 coupling: HelicoidCoupling = HelicoidCoupling()) -> "ProgrammedShape":
         """The as-built state is stress free: its measured curvatures and twist are the natural ones."""
         e = fr.edges_of(state.x)
         m1, m2 = state.material_frames()
         kappa = material_curvatures(e[:-1], e[1:], m1[:-1], m2[:-1], m1[1:], m2[1:])
         twist = state.theta[1:] - state.theta[:-1] + state.ref_twist
-        return cls(np.linalg.norm(e, axis=1), kappa, twist, twisted_director)
+        return cls(np.linalg.norm(e, axis=1), kappa, twist, twisted_director, coupling)
 
     def rest_shape(self, cell_temperatures: np.ndarray, grid: SectionGrid,
                    transition: NematicTransition) -> RestShape:
@@ -153,11 +179,13 @@ class ProgrammedShape:
         node = lambda v: 0.5 * (v[:-1] + v[1:])  # noqa: E731  edges -> interior nodes
         vor = self.voronoi
         curvature = self.curvature + node(ns.curvature) * vor[:, None]
+        stretch = 1.0 + ns.axial
         if self.twisted_director:
-            twist = natural_twist_rate(1.0, node(ns.contraction)) * self.twist
+            twist = self.coupling.twist_factor(node(ns.contraction)) * self.twist
+            stretch = stretch * self.coupling.stretch_factor(ns.contraction)
         else:
             twist = self.twist.copy()
-        return RestShape(self.edge_length * (1.0 + ns.axial), curvature, twist)
+        return RestShape(self.edge_length * stretch, curvature, twist)
 
 
 HISTORY_COLUMNS = ["time [s]", "centroid_x [mm]", "centroid_y [mm]", "centroid_z [mm]",
@@ -192,10 +220,10 @@ class RibbonSimulation:
             raise InputError(f"numerics.method = {num.method!r}: allowed euler, midpoint")
         self.section = section = lce_ribbon_section(g, s.elasticity, s.thermal)
         state = initial_ribbon_state(g, num.nodes)
-        self.programmed = ProgrammedShape.of_state(state, twisted_director=not g.is_helical)
+        self.programmed = programmed_shape(g, state, s.elasticity)
         n = num.nodes
         node_mass, edge_inertia = lumped_masses(section, self.programmed.edge_length)
-        self.grid = SectionGrid(g.width, g.thickness, num.cells_width, num.cells_thickness)
+        self.grid = SectionGrid(g.width, g.thickness, num.cells_width, num.cells_thickness, num.section_quadrature)
         self.T = np.full((n - 1, self.grid.n_cells), s.air.ambient_temperature)
         rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
         gravity = np.array([0.0, 0.0, -STANDARD_GRAVITY])
@@ -217,6 +245,7 @@ class RibbonSimulation:
         if num.settle_time > 0:
             self._settle(num.settle_time)
         self._perturb(num.perturbation)
+        self._y_start = float(self.state.x[:, 1].mean())
 
     # -- stepping ----------------------------------------------------------------------------
     @property
@@ -232,9 +261,12 @@ class RibbonSimulation:
         self.integrator.state.time = 0.0
 
     def _perturb(self, spin: float) -> None:
-        """Roll the settled ribbon about its axis (x) at the rate ``spin`` [rad/s]: every node gets the
-        rigid velocity omega x (x - axis point on the plate), picking the rolling direction."""
+        """Roll the settled ribbon about its axis (x) at the rate ``spin`` [rad/s] times the handedness
+        of its twist (+1 right-handed): every node gets the rigid velocity omega x (x - axis point on
+        the plate). The documented imperfection that breaks the ribbon's half-turn symmetry
+        (``RibbonNumerics.perturbation``)."""
         st = self.integrator.state
+        spin = spin * (1.0 if self.setup.geometry.twist_density >= 0.0 else -1.0)
         w = np.array([spin, 0.0, 0.0])
         line = np.array([0.0, st.x[:, 1].mean(), 0.0])  # the contact line on the plate below the axis
         st.v = st.v + cross(w, st.x - line)
@@ -251,7 +283,12 @@ class RibbonSimulation:
         g = s.geometry
         self.rod.rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
         report = self.integrator.step(dt)
-        self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), s.ground_temperature)
+        gradient = None
+        if s.numerics.plate_gradient:
+            # zero at the starting centreline: the mean plate temperature under the ribbon is T_ground
+            gradient = np.array([0.0, s.numerics.plate_gradient, 0.0])
+        T_ground = s.ground_temperature - (s.numerics.plate_gradient * self._y_start)
+        self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), T_ground, gradient)
         self.time = self.state.time
         self.last_report = report
         return report
@@ -377,7 +414,7 @@ def ribbon_static_response(geometry: RibbonGeometry, n_nodes: int, *, face_tempe
         T = np.asarray(cell_temperatures, float)
     T = np.broadcast_to(T, (n_nodes - 1, grid.n_cells))
     state = initial_ribbon_state(geometry, n_nodes)
-    programmed = ProgrammedShape.of_state(state, twisted_director=not geometry.is_helical)
+    programmed = programmed_shape(geometry, state, elasticity)
     rest = programmed.rest_shape(T, grid, transition)
     section = lce_ribbon_section(geometry, elasticity, thermal)
     node_mass, edge_inertia = lumped_masses(section, programmed.edge_length)

@@ -43,3 +43,27 @@ def test_untwisting():
     iso = 1.0 / TR.lambda_N
     assert natural_twist_rate(tau0, iso) == pytest.approx(tau0 * (1 + 2 * (iso - iso ** -0.5)))
     assert 0 < natural_twist_rate(tau0, iso) < 0.05 * tau0  # isotropic: almost untwisted
+
+
+def test_section_quadrature_converges_on_one_face_bending():
+    """Faces 60/25 C: the one-sample-per-cell rule converges at second order in the cell height (and is
+    27 % low on 2 cells, issue 17); the 4-point rule on 2 cells is within 1e-4 of the closed form."""
+    from lcefem.validation.rod_verification import observed_order, one_face_bending
+
+    coarse = [one_face_bending(n, 1) for n in (2, 4, 8, 16)]
+    assert coarse[0].relative_error == pytest.approx(0.27, abs=0.01)
+    assert observed_order([c.edge_length for c in coarse], [c.relative_error for c in coarse]) == pytest.approx(2.0, abs=0.1)
+    assert one_face_bending(2, 4).relative_error < 1e-4
+
+
+def test_helicoid_coupling_limits():
+    """r -> 2 (eigen-shear law) and s -> 0 for a barely twisted ribbon; r -> 1 for a wide, densely
+    twisted one (K_w >> GJ); the default ribbon lies between (r = 1.31)."""
+    from lcefem.models.ribbon import HelicoidCoupling
+    E, G = 3.0, 1.0
+    low = HelicoidCoupling.of(RibbonGeometry(twist_density=1e-5), E, G)
+    assert low.release == pytest.approx(2.0, rel=1e-6) and low.stretch_coefficient == pytest.approx(0.0, abs=1e-8)
+    high = HelicoidCoupling.of(RibbonGeometry(width=20.0, thickness=0.1, twist_density=0.5), E, G)
+    assert high.release == pytest.approx(1.0, abs=1e-3)
+    default = HelicoidCoupling.of(RibbonGeometry(), E, G)
+    assert default.release == pytest.approx(1.31, abs=0.01)

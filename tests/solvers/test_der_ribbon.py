@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from lcefem.models.lce import NematicTransition, contraction_ratio
-from lcefem.models.ribbon import RibbonGeometry, SectionGrid, natural_strains, natural_twist_rate
+from lcefem.models.hyperelastic import LCEElasticity
+from lcefem.models.ribbon import HelicoidCoupling, RibbonGeometry, SectionGrid, natural_strains
 from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import (RibbonNumerics, RibbonSetup, RibbonSimulation, initial_ribbon_state,
                                        ribbon_static_response)
@@ -29,12 +30,17 @@ def test_straight_strip_with_a_through_thickness_gradient_curls_to_its_natural_c
 
 
 def test_twisted_ribbon_heated_uniformly_untwists_and_shortens():
+    """Uniform heating: the free ribbon takes the helicoid-coupled natural twist and stretch."""
     geo = RibbonGeometry(length=20.0, twist_density=0.05)
     res = ribbon_static_response(geo, 41, cell_temperatures=np.full(12, 72.0))
     a = contraction_ratio(72.0, TR)
-    # integrated twist per as-built length tau_bar; per current length divided by a
-    assert res.mean_twist_density == pytest.approx(natural_twist_rate(geo.twist_rate, a) / a, rel=1e-6)
-    assert res.length == pytest.approx(20.0 * a, rel=1e-6)
+    mu = LCEElasticity().shear_modulus
+    cpl = HelicoidCoupling.of(geo, 3.0 * mu, mu)
+    stretch = a * cpl.stretch_factor(a)
+    # integrated twist per as-built length tau_bar; per current length divided by the stretch
+    assert res.mean_twist_density == pytest.approx(geo.twist_rate * cpl.twist_factor(a) / stretch, rel=1e-6)
+    assert res.length == pytest.approx(20.0 * stretch, rel=1e-6)
+    assert 1.0 < cpl.release < 2.0 and stretch > a  # untwists and contracts less than the fibres
     assert np.allclose(res.mean_curvature, 0.0, atol=1e-8)
 
 
@@ -79,6 +85,19 @@ def test_short_heated_run_conserves_bookkeeping():
     assert f[:, 2].sum() == pytest.approx(weight, rel=0.2)  # the plate carries the weight
 
 
+@pytest.mark.parametrize("spin", [0.01, -0.02])
+def test_imperfection_spins_the_settled_ribbon_about_its_axis(spin):
+    """The documented imperfection: after settling, the rod turns about the x axis at the set rate
+    (sign of the right-handed twist), nodes and edges alike."""
+    base = RibbonSimulation(RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=0.0)))
+    sim = RibbonSimulation(RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=spin)))
+    st, st0 = sim.state, base.state
+    assert np.allclose(st.omega - st0.omega, spin)
+    line = np.array([0.0, st.x[:, 1].mean(), 0.0])
+    expected = np.cross([spin, 0.0, 0.0], st.x - line)
+    assert np.allclose(st.v - st0.v, expected, atol=1e-12)
+
+
 def test_polyline_series_is_atomic(tmp_path):
     s = PolylineSeries(tmp_path, "rod")
     pts = np.stack([np.arange(4.0), np.zeros(4), np.zeros(4)], 1)
@@ -90,3 +109,20 @@ def test_polyline_series_is_atomic(tmp_path):
     import pyvista as pv
     assert pv.read(tmp_path / "rod_steps.partial" / "rod_00000.vtp").point_data["a"][3] == 3.0
     assert "rod_steps.partial/rod_00000.vtp" in (tmp_path / "rod.partial.pvd").read_text()
+
+
+def test_plate_gradient_warms_the_side_over_the_hotter_plate():
+    """A plate hotter towards +y heats the section cells on the +y side more; no gradient and a
+    zero gradient give the same step."""
+    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
+                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    geo = sim.heat_geometry()
+    T0 = np.full_like(sim.T, 25.0)
+    uniform, _ = sim.heat.step(T0, 1.0, geo, 100.0)
+    zero, _ = sim.heat.step(T0, 1.0, geo, 100.0, np.zeros(3))
+    assert np.allclose(uniform, zero, rtol=0, atol=1e-12)
+    tilted, _ = sim.heat.step(T0, 1.0, geo, 100.0, np.array([0.0, 5.0, 0.0]))
+    # cell centres' y positions: the +y cells gain more than the -y ones
+    y = (geo.centre[:, None, 1] + sim.grid.y1[None, :] * geo.m1[:, None, 1] + sim.grid.y2[None, :] * geo.m2[:, None, 1])
+    gain = (tilted - uniform).ravel()
+    assert np.corrcoef(y.ravel(), gain)[0, 1] > 0.5
