@@ -153,8 +153,10 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
     lines = ["## Summary", "",
              "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
              "target (not a range), against experiment, a published fit or a closed form as the row's "
-             "source says; * marks a known disagreement.", "",
-             "| case | state | judged | passed | failed (known) | worst error |", "|---|---|---|---|---|---|"]
+             "source says; * marks a known disagreement. Wall time: the case's own run (for a reused "
+             "case, the run that produced it).", "",
+             "| case | state | judged | passed | failed (known) | worst error | wall time [s] |",
+             "|---|---|---|---|---|---|---|"]
     met = []
     for res in results:
         rows = res.metrics if res.status in FINISHED else [res.error_row()]
@@ -167,7 +169,8 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
         met += [(r, known_disagreement(r)) for r in rows if row_kind(r) == "known"]
         w = "-" if worst is None else ("no value" if math.isinf(worst) else f"{100 * worst:.1f} %")
         lines.append(f"| {res.case} | {res.status} | {c['judged']} | {c['passed']} | "
-                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} |")
+                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} | "
+                     f"{res.wall_time:.1f} |")
     lines += ["", f"Known disagreements in this run ({len(met)}; registry: "
               "validation/data/known_disagreements.toml):", ""]
     lines += [f"- **{r['case']}: {r['metric']}** = {fmt_number(r['value'])} {r['unit']} vs "
