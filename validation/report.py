@@ -156,11 +156,11 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
     lines = ["## Summary", "",
              "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
              "target (not a range), against experiment, a published fit or a closed form as the row's "
-             "source says; * marks a known disagreement.", "",
-             "Phenomena: the qualitative physics the case must show at every level "
-             "(validation/data/phenomena.toml), shown / declared.", "",
-             "| case | state | judged | passed | failed (known) | worst error | phenomena |",
-             "|---|---|---|---|---|---|---|"]
+             "source says; * marks a known disagreement. Wall time: the case's own run (for a reused "
+             "case, the run that produced it). Phenomena: the qualitative physics the case must show at "
+             "every level (validation/data/phenomena.toml), shown / declared.", "",
+             "| case | state | judged | passed | failed (known) | worst error | wall time [s] | phenomena |",
+             "|---|---|---|---|---|---|---|---|"]
     met = []
     for res in results:
         rows = res.metrics if res.status in FINISHED else [res.error_row()]
@@ -177,7 +177,8 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
         if res.status in FINISHED and shown < len(res.phenomena):
             ph += " NOT SHOWN"
         lines.append(f"| {res.case} | {res.status} | {c['judged']} | {c['passed']} | "
-                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} | {ph} |")
+                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} | "
+                     f"{res.wall_time:.1f} | {ph} |")
     lines += ["", f"Known disagreements in this run ({len(met)}; registry: "
               "validation/data/known_disagreements.toml):", ""]
     lines += [f"- **{r['case']}: {r['metric']}** = {fmt_number(r['value'])} {r['unit']} vs "

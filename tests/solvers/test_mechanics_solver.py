@@ -182,3 +182,42 @@ def test_contact_couplings_are_preallocated():
     dolfinx.fem.petsc.assign(u, x)
     model.problem.snes.computeJacobian(x, A, P)
     assert A.getInfo()["mallocs"] == 0
+
+
+def test_rigid_body_modes_have_no_strain_energy():
+    """The six near-nullspace vectors of the iterative path are rigid motions: the stress-free
+    neo-Hookean tangent (linear elasticity) maps each to zero, and they are orthonormal."""
+    from lcefem.solvers.mechanics import rigid_body_modes
+
+    mesh = dolfinx.mesh.create_box(MPI.COMM_WORLD, [[0.0, 0.0, 0.0], [3.0, 1.0, 0.5]], [3, 2, 2],
+                                   dolfinx.mesh.CellType.hexahedron)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2, (3,)))
+    u = dolfinx.fem.Function(V)
+    W = neo_hookean_strain_energy(deformation_gradient(u), NeoHookeanSolid())
+    K = ufl.derivative(ufl.derivative(W * ufl.dx(metadata={"quadrature_degree": 4}), u), u)
+    A = dolfinx.fem.petsc.assemble_matrix(dolfinx.fem.form(K))
+    A.assemble()
+    modes = rigid_body_modes(V).getVecs()
+    assert len(modes) == 6
+    y = A.createVecLeft()
+    for i, m in enumerate(modes):
+        A.mult(m, y)
+        assert y.norm() < 1e-9 * A.norm()
+        for j, n in enumerate(modes):
+            assert m.dot(n) == pytest.approx(float(i == j), abs=1e-12)
+
+
+def test_path_tolerance_loosens_and_restores():
+    """path_tolerance(atol) loosens Newton's absolute tolerance [N] for intermediate path states and
+    path_tolerance(None) restores the configured one."""
+    mesh = dolfinx.mesh.create_unit_cube(MPI.COMM_WORLD, 1, 1, 1, dolfinx.mesh.CellType.hexahedron)
+    V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (3,)))
+    u = dolfinx.fem.Function(V)
+    W = neo_hookean_strain_energy(deformation_gradient(u), NeoHookeanSolid())
+    problem = HyperelasticProblem(u, W * ufl.dx(metadata={"quadrature_degree": 2}),
+                                  prefix="test_path_tol_")
+    atol = problem.snes.getTolerances()[1]
+    problem.path_tolerance(1e-3)
+    assert problem.snes.getTolerances()[1] == 1e-3
+    problem.path_tolerance(None)
+    assert problem.snes.getTolerances()[1] == atol

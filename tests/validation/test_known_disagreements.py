@@ -67,7 +67,7 @@ def test_worst_error_marks_a_known_disagreement(monkeypatch):
     monkeypatch.setattr(rd, "known_disagreements", lambda: {(KNOWN.case, KNOWN.metric): KNOWN})
     rows = [Metric.within("toy_known", "force vs measured", 0.096, "N", 0.18, 0.018, "s").as_dict()]
     res = report.CaseResult("toy_known", "toy", "done", 1.0, metrics=rows)
-    assert "| toy_known | done | 1 | 0 | 1 (1) | 46.7 % * |" in report.summary_lines([res])
+    assert "| toy_known | done | 1 | 0 | 1 (1) | 46.7 % * | 1.0 | 0/0 |" in report.summary_lines([res])
 
 
 def test_not_judged_prefixes_only_informative_rows_with_a_reference():

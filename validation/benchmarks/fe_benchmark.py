@@ -3,7 +3,11 @@ assembly, Jacobian assembly, factorisation and triangular solves, Newton iterati
 memory; for the strip's 0.2 A transient and the composite beam's ramp to (lambda_T, lambda_B).
 
     python -m lcefem.validation.benchmarks.fe_benchmark [--strip-levels 0 1 2] [--beam-levels 0 1]
-        [--csv results/fe_benchmark.csv] [--strip-steps 6] [--strip-dt 2.0]
+        [--csv results/fe_benchmark.csv] [--strip-steps 6] [--strip-dt 2.0] [--linear-levels 2 3]
+
+``--linear-levels``: a second table, one tangent of the heated strip per level solved by MUMPS LDL^T
+and by CG + algebraic multigrid (GAMG with the rigid-body near-nullspace, block size 3), and the
+Jacobian's assembly time into AIJ and BAIJ (block 3) matrices: the crossover of the iterative path.
 
 Each case runs in its own process (the peak resident memory is that case's alone). Residual and
 Jacobian times are measured around the SNES callbacks (contact and damping terms included);
@@ -120,9 +124,83 @@ def _split(t: dict) -> dict:
             "other/it [s]": other / its, "mechanics [s]": t["snes"] or t["wall"], "wall [s]": t["wall"], "cpu [s]": t["cpu"]}
 
 
+LINEAR_COLUMNS = ["level", "dofs [-]", "assemble aij [s]", "assemble baij [s]", "ldlt factor [s]",
+                  "ldlt solve [s]", "gamg setup [s]", "gamg solve [s]", "gamg its [-]",
+                  "gamg/ldlt [-]", "relative difference [-]"]
+
+
+def measure_linear(level: int, steps: int, dt: float) -> dict:
+    """One tangent of the heated strip (after ``steps`` steps of ``dt`` at 0.2 A) solved by MUMPS
+    LDL^T and by CG + GAMG (rigid-body near-nullspace, block size 3, :data:`GAMG_OPTIONS`); the
+    Jacobian assembled into AIJ and into BAIJ (block 3)."""
+    from lcefem.solvers.mechanics import GAMG_OPTIONS, rigid_body_modes  # first: orders MPI
+    import dolfinx.fem.petsc
+    from petsc4py import PETSc
+
+    from lcefem.meshes.strip import StripMesh
+    from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation
+
+    sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=steps * dt, dt=dt),
+                                      mesh=StripMesh(level=level)))
+    sim.run(None, progress=False, fields=False)
+    mech = sim.model.mechanics
+    J_form, bcs = mech._problem.J, mech.bcs
+    row = {"level": level, "dofs [-]": sim.ndofs["displacement"]}
+    mats = {}
+    for kind in ("aij", "baij"):
+        A = dolfinx.fem.petsc.create_matrix(J_form, kind=kind)
+        A.zeroEntries()
+        dolfinx.fem.petsc.assemble_matrix(A, J_form, bcs=bcs)  # first pass: allocation, warm-up
+        A.assemble()
+        A.zeroEntries()
+        t0 = time.perf_counter()
+        dolfinx.fem.petsc.assemble_matrix(A, J_form, bcs=bcs)
+        A.assemble()
+        row[f"assemble {kind} [s]"] = time.perf_counter() - t0
+        A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        mats[kind] = A
+    A = mats["aij"]
+    A.setBlockSize(3)
+    A.setNearNullSpace(rigid_body_modes(mech.u.function_space))
+    b = A.createVecLeft()
+    b.set(1.0)
+    dolfinx.fem.petsc.set_bc(b, bcs, alpha=0.0)
+    solutions = {}
+    for name, options in (("ldlt", {"ksp_type": "preonly", "pc_type": "cholesky",
+                                    "pc_factor_mat_solver_type": "mumps"}), ("gamg", GAMG_OPTIONS)):
+        prefix = f"linbench_{name}_"
+        opts = PETSc.Options()
+        for k, v in options.items():
+            opts[prefix + k] = v
+        ksp = PETSc.KSP().create(A.comm)
+        ksp.setOptionsPrefix(prefix)
+        ksp.setOperators(A)
+        ksp.setFromOptions()
+        x = b.duplicate()
+        t0 = time.perf_counter()
+        ksp.setUp()
+        t1 = time.perf_counter()
+        ksp.solve(b, x)
+        t2 = time.perf_counter()
+        label = "factor" if name == "ldlt" else "setup"
+        row[f"{name} {label} [s]"], row[f"{name} solve [s]"] = t1 - t0, t2 - t1
+        if name == "gamg":
+            row["gamg its [-]"] = ksp.getIterationNumber() if ksp.getConvergedReason() > 0 else -1
+        solutions[name] = x
+    row["gamg/ldlt [-]"] = ((row["gamg setup [s]"] + row["gamg solve [s]"])
+                            / (row["ldlt factor [s]"] + row["ldlt solve [s]"]))
+    d = solutions["gamg"] - solutions["ldlt"]
+    row["relative difference [-]"] = d.norm() / solutions["ldlt"].norm()
+    return row
+
+
 def child(args) -> dict:
     import resource
     kind, level = args.child
+    if kind == "linear":
+        row = measure_linear(int(level), 2, args.strip_dt)
+        row["peak memory [MiB]"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        return row
     if kind == "strip":
         row = measure_strip(int(level), args.strip_steps, args.strip_dt)
     else:
@@ -132,8 +210,8 @@ def child(args) -> dict:
     return row
 
 
-def print_table(rows: list[dict], file=sys.stdout) -> None:
-    short = ["case", "level", "dofs [-]", "newton its [-]", "its/step [-]", "cuts [-]",
+def print_table(rows: list[dict], file=sys.stdout, columns: list[str] | None = None) -> None:
+    short = columns or ["case", "level", "dofs [-]", "newton its [-]", "its/step [-]", "cuts [-]",
              "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
              "wall [s]", "cpu [s]", "peak memory [MiB]", "value"]
     cells = [[_fmt(r.get(k, "")) for k in short] for r in rows]
@@ -157,6 +235,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--strip-dt", type=float, default=2.0, help="time step [s]")
     parser.add_argument("--lambda-top", type=float, default=1.33)
     parser.add_argument("--lambda-bottom", type=float, default=1.05)
+    parser.add_argument("--linear-levels", type=int, nargs="*", default=[],
+                        help="strip levels at which one tangent is solved by MUMPS LDL^T and by "
+                        "CG + GAMG, and assembled as AIJ and BAIJ (a separate table)")
     parser.add_argument("--csv", type=pathlib.Path, default=None, help="CSV file of the table")
     parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
@@ -165,6 +246,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     rows = []
     jobs = [("strip", lv) for lv in args.strip_levels] + [("beam", lv) for lv in args.beam_levels]
+    jobs += [("linear", lv) for lv in args.linear_levels]
     for kind, level in jobs:
         cmd = [sys.executable, "-m", "lcefem.validation.benchmarks.fe_benchmark", "--child", kind,
                str(level), "--strip-steps", str(args.strip_steps), "--strip-dt", str(args.strip_dt),
@@ -174,15 +256,24 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{kind} level {level} failed:\n{out.stderr[-2000:]}", file=sys.stderr)
             continue
         rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
-        print(f"{kind} level {level}: {rows[-1]['newton its [-]']} iterations, "
-              f"{rows[-1]['wall [s]']:.1f} s", file=sys.stderr, flush=True)
-    print_table(rows)
+        print(f"{kind} level {level} done", file=sys.stderr, flush=True)
+    linear = [r for r in rows if "gamg its [-]" in r]
+    rows = [r for r in rows if "gamg its [-]" not in r]
+    if rows:
+        print_table(rows)
+    if linear:
+        print_table(linear, columns=LINEAR_COLUMNS + ["peak memory [MiB]"])
     if args.csv is not None:
         args.csv.parent.mkdir(parents=True, exist_ok=True)
         with open(args.csv, "w", newline="") as fh:
             w = csv.DictWriter(fh, COLUMNS, extrasaction="ignore")
             w.writeheader()
             w.writerows(rows)
+        if linear:
+            with open(args.csv.with_name(args.csv.stem + "_linear.csv"), "w", newline="") as fh:
+                w = csv.DictWriter(fh, LINEAR_COLUMNS + ["peak memory [MiB]"], extrasaction="ignore")
+                w.writeheader()
+                w.writerows(linear)
     return 0
 
 
