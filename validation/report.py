@@ -97,8 +97,14 @@ def fmt_error(row: dict) -> str:
     return f"{v - ref:+.3g}"
 
 
+def is_status_row(row: dict) -> bool:
+    """The row standing for a case that did not finish (:meth:`CaseResult.error_row`: metric
+    "(<status>)", no value), not a metric whose name merely starts with a parenthesis ("(a) ...")."""
+    return row.get("value") is None and row.get("metric", "")[1:-1] in STATUSES
+
+
 def fmt_pass(row: dict) -> str:
-    if row.get("metric", "").startswith("(") and row.get("value") is None:
+    if is_status_row(row):
         return row["metric"].strip("()").upper()
     if row.get("passed") is False and known_disagreement(row) is not None:
         return "FAIL (known)"
@@ -273,7 +279,7 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
     n_pass = sum(r["passed"] is True for r in rows)
     n_fail = sum(r["passed"] is False and r["value"] is not None for r in rows)
     n_info = sum(r["passed"] is None for r in rows)
-    counts = count_rows([r for r in rows if not r["metric"].startswith("(")])
+    counts = count_rows([r for r in rows if not is_status_row(r)])
     unfinished = [r for r in results if r.status not in FINISHED]
     ver = versions()
     now = datetime.datetime.now().astimezone().isoformat(timespec="seconds")

@@ -83,3 +83,13 @@ def test_a_registered_row_that_passes_is_reported_as_stale(monkeypatch):
     text = "\n".join(report.summary_lines([report.CaseResult("toy_known", "toy", "done", 1.0, metrics=rows)]))
     assert "Known disagreements in this run (0;" in text
     assert "pass in this run (remove them from the registry): toy_known: force vs measured." in text
+
+
+def test_headline_counts_keep_metrics_named_with_a_parenthesis():
+    """A metric named "(a) ..." is a metric, not the status row of a case that did not finish."""
+    rows = [Metric.within("toy", "(a) curvature, FE vs DER", 1.0, "1/mm", 1.0, 0.1, "s").as_dict()]
+    done = report.CaseResult("toy", "toy", "done", 1.0, metrics=rows)
+    failed = report.CaseResult("toy2", "toy", "error", 1.0, error="boom")
+    text = report.render_report([done, failed], command="lcefem validate", quick=True, total_wall=1.0)
+    assert "Judged 1: 1 pass, 0 fail" in text
+    assert report.is_status_row(failed.error_row()) and not report.is_status_row(rows[0])
