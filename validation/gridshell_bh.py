@@ -21,13 +21,14 @@ import numpy as np
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.empirical import Eq1, eq1_stretch
 from lcefem.models.errors import InputError
 from lcefem.models.heat import Coil
 from lcefem.models.loads import SurfaceWeight
 from lcefem.models.lumped_heat import HeatedStrip, LumpedThermal, steady_stretch
 from lcefem.models.parameters import param
+from lcefem.solvers.bar_hinge import BarHingeModel
 # The problem (supports, ramp, observables) lives in solvers/problems/gridshell_bh.py; its functions
 # are re-exported here for the studies, cases and benchmarks that import them from this module.
 from lcefem.solvers.problems.gridshell_bh import (  # noqa: F401
@@ -35,8 +36,6 @@ from lcefem.solvers.problems.gridshell_bh import (  # noqa: F401
     GridshellSolution, add_table, centre_height, check_lambda_values, lumped_node_weights,
     payload_forces, prepare_structure, ribbon_nodes, setup_from_model, shape_summary, solve_gridshell,
     solve_payload, support_dofs, targets_from_lambdas, targets_from_recipe)
-from lcefem.models.bar_hinge import BarHingeMaterials
-from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.validation.reference_data import reference
 
 SEED = "seed 001"

@@ -15,7 +15,6 @@ Not a test: it prints figures for the report (the published MATLAB/Octave code: 
 from __future__ import annotations
 
 import argparse
-import json
 import platform
 import time
 
@@ -23,6 +22,7 @@ import numpy as np
 
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.errors import ConvergenceError
+from lcefem.solvers.run import write_json
 from lcefem.validation import gridshell_bh as gs
 
 
@@ -95,8 +95,7 @@ def main(argv: list[str] | None = None) -> int:
                   f"{r['seconds']:8.1f} {r['evaluations']:5d} {r['solves']:6d} {r['newton']:6d} "
                   f"{r['residual [1/mm]']:9.2e}", flush=True)
         if args.json:
-            with open(args.json, "w") as fh:
-                json.dump(rows, fh, indent=1, default=float)
+            write_json(args.json, rows)  # .part then rename, strict JSON
         return 0
     print(f"{'kind':7s} {'name':9s} {'support':8s} {'ok':3s} {'reached':7s} {'incr':>4s} {'newton':>6s} "
           f"{'fail':>4s} {'solve s':>8s} {'circ x':>8s} {'circ y':>8s} {'quad x':>8s} {'quad y':>8s} "
@@ -114,8 +113,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{kind:7s} {name:9s} {r['support']:8s} NO  ({r['reason']}) {r['solve [s]']:.1f} s",
                   flush=True)
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(rows, fh, indent=1, default=float)
+        write_json(args.json, rows)  # .part then rename, strict JSON
     return 0
 
 

@@ -13,7 +13,6 @@ The machine load matters: run it alone.
 from __future__ import annotations
 
 import argparse
-import json
 import platform
 import resource
 import time
@@ -68,8 +67,9 @@ def main(argv: list[str] | None = None) -> int:
               f"{r['kappa_quad_y [1/mm]']:+.4f}; paper simulation {sim}, experiment {exp}; "
               f"z range {r['z_range [mm]']:.2f} mm")
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(rows, fh, indent=1, default=float)
+        from lcefem.solvers.run import write_json
+
+        write_json(args.json, rows)  # .part then rename, strict JSON
     return 0
 
 
