@@ -160,7 +160,8 @@ def solve_ribbon(length: float, width: float, thickness: float, twist_rate: floa
                  temperature: Callable, *, transition: NematicTransition = NematicTransition(),
                  elasticity: LCEElasticity = LCEElasticity(), resolution: RibbonMesh = RibbonMesh(),
                  stations: int | None = None, comm: MPI.Comm = MPI.COMM_WORLD, prefix: str = "ribbon_fe_",
-                 petsc_options: dict | None = None, first: float = 0.25) -> RibbonSolution:
+                 petsc_options: dict | None = None, first: float = 0.25,
+                 predictor: str = "none") -> RibbonSolution:
     """Static equilibrium of the ribbon (lengths [mm], twist rate [rad/mm]) under
     ``temperature(y, z) -> UFL`` [C] given in the straight strip's section coordinates (y across the
     width, z through the thickness, both centred; the section turns with the twist).
@@ -171,6 +172,8 @@ def solve_ribbon(length: float, width: float, thickness: float, twist_rate: floa
             element face; they are placed on level-0 element faces, which every finer level keeps).
         petsc_options: overrides of :data:`RIBBON_NEWTON` (itself over the mechanics defaults).
         first: first load increment of the continuation (fraction of a(T) - 1).
+        predictor: "none" (each increment starts from the last converged state) or "tangent"
+            (:class:`lcefem.solvers.continuation.PathFollower`'s Euler predictor).
     """
     tm = build_twisted_ribbon(length, width, thickness, twist_rate, resolution, comm)
     mesh = tm.mesh
@@ -206,8 +209,14 @@ def solve_ribbon(length: float, width: float, thickness: float, twist_rate: floa
     def set_load(value: float) -> None:
         s.value = value
 
-    steps = continuation.advance(set_load, problem.solve, problem.save, problem.restore,
-                                 where="ribbon heating", first=first)
+    if predictor == "none":
+        steps = continuation.advance(set_load, problem.solve, problem.save, problem.restore,
+                                     where="ribbon heating", first=first)
+    else:
+        follower = continuation.PathFollower(problem, set_load, continuation.PathControl(
+            first_step=min(1.0, first), max_step=1.0, min_step=1.0 / 256.0, predictor=predictor))
+        follower.follow(1.0, "ribbon heating")
+        steps = follower.report()
     h0 = length / resolution.along  # level-0 element faces are faces at every level
     xs = _stations(length, h0, stations)
     straight = {name: np.column_stack([xs, np.full_like(xs, yv), np.zeros_like(xs)])

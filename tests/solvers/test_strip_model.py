@@ -37,3 +37,19 @@ def test_quarter_model_equals_full_model():
     for column in ("T_mean [C]", "T_max [C]", "stretch [-]", "end_area_ratio [-]"):
         np.testing.assert_allclose(results["quarter"][column], results["full"][column], rtol=1e-7)
     assert results["full"]["stretch [-]"][-1] < results["full"]["stretch [-]"][0] - 1e-4  # it contracted
+
+
+def test_steady_state_continued_from_another_current_is_the_fresh_steady_state():
+    """strip_steady_eq1 reuses one model for all hold currents: the steady state at 0.07 A reached
+    from the 0.05 A one is the steady state of a fresh model at 0.07 A (the heat-mechanics fixed
+    point is unique; its tolerance is 1e-8 in stretch)."""
+    def sim(current):
+        return StripSimulation(StripConfig(run=StripRun(current=current, steady=True),
+                                           mesh=StripMesh(level=0)))
+    fresh = sim(0.07).steady_state()
+    reused = sim(0.05)
+    reused.steady_state()
+    reused.set_current({"coil": 0.07})
+    continued = reused.steady_state()
+    assert continued["stretch [-]"] == pytest.approx(fresh["stretch [-]"], rel=1e-7)
+    assert continued["T_mean [C]"] == pytest.approx(fresh["T_mean [C]"], rel=1e-7)

@@ -69,6 +69,23 @@ def test_beam_bends_towards_the_shorter_strips_and_symmetry_is_consistent():
     assert half.contact_force() == quarter.contact_force() == 0.0
 
 
+def test_curvature_map_sweep_equals_ramps_from_the_as_built_state():
+    """curvature_map_fe continues each grid point from its neighbour with a larger first increment
+    (NEIGHBOUR_FIRST_STEP): the swept curvatures are those of ramps from the as-built state (2-segment
+    level-0 beam, grid {0.98, 1} lambda_N)."""
+    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.solvers.problems.composite_beam import BeamFE, curvature_map_fe
+    lam_n = 1.4
+    geometry = CompositeBeamGeometry(segments=2)
+    grid = [0.98 * lam_n, lam_n]
+    kappa, stats, _ = curvature_map_fe(grid, geometry=geometry, mesh=BeamFEMesh(level=0))
+    assert stats["points"] == 4
+    for i, j in ((1, 0), (0, 1)):
+        direct = BeamFE(geometry=geometry, mesh=BeamFEMesh(level=0))
+        direct.ramp(grid[i], grid[j])
+        assert kappa[i, j] == pytest.approx(direct.curvature(), rel=1e-6)
+
+
 @pytest.mark.parametrize("argv, message", [
     (["beam", "--model", "fe", "--lambda-top", "0.5"], "run.lambda_top = 0.5"),
     (["beam", "--mesh-level", "1"], "--mesh-level: only with --model fe"),

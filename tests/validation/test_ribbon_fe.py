@@ -140,6 +140,15 @@ def test_uniformly_heated_strip_contracts_by_the_spontaneous_stretch_ratio():
     assert d.curvature < 1e-6 and abs(d.twist_rate) < 1e-6
 
 
+def test_tangent_predictor_reaches_the_same_twisted_ribbon_equilibrium():
+    """The continuation's predictor changes the path to the equilibrium, not the equilibrium: a
+    twisted ribbon at a uniform 60 C (ribbon_fe_vs_der's (b) uses the tangent predictor)."""
+    shapes = [_solve(6.0, lambda y, z: 60.0 + 0.0 * z, twist_rate=2 * math.pi * 0.05, first=0.0625,
+                     predictor=p, prefix=f"ribbon_pred_{p}_").deformed for p in ("none", "tangent")]
+    assert shapes[1].stretch == pytest.approx(shapes[0].stretch, rel=1e-8)
+    assert shapes[1].twist_rate == pytest.approx(shapes[0].twist_rate, rel=1e-7)
+
+
 def temperature_of_contraction(a, transition=TRANSITION):
     """T [C] at which a(T) = lambda_s(T)/lambda_N = a (UFL): the inverse of models.lce.contraction_ratio."""
     stretch3 = (a * transition.lambda_N) ** 3
