@@ -153,18 +153,20 @@ class KaptonSpecimenFE:
         A.assemble()
         return A
 
-    def critical_load(self, secant_steps: int = 2) -> CriticalLoad:
+    def critical_load(self, secant_steps: int = 2, start: float | None = None) -> CriticalLoad:
         """Linearised buckling about the straight state: with K(d) the tangent at shortening d and
         K0 = K(0), K(d) ~ K0 + (d/d_r)(K(d_r) - K0) vanishes first at d = -d_r/theta, theta the most
         negative eigenvalue of (K(d_r) - K0) phi = theta K0 phi (SLEPc, generalised Hermitian);
         repeated with d_r = d so that the linearisation is taken at the critical state.
-        Starts from the Euler load of the specimen (4 pi^2 E I/L^2)."""
+        Starts from the Euler load of the specimen (4 pi^2 E I/L^2), or from the critical
+        shortening ``start`` [mm] when given (e.g. that of a coarser mesh: one secant step then
+        lands where two from the Euler estimate do)."""
         from slepc4py import SLEPc
 
         spec = self.specimen
         area = spec.width * spec.thickness
         euler = 4.0 * math.pi ** 2 * self.solid.youngs_modulus * spec.second_moment / spec.length ** 2
-        d_r = euler * spec.length / (self.solid.youngs_modulus * area)
+        d_r = euler * spec.length / (self.solid.youngs_modulus * area) if start is None else float(start)
         self.problem.restore(np.zeros(self.u.x.array.size))
         self.set_shortening(0.0)
         K0 = self.tangent()

@@ -170,3 +170,13 @@ def test_beam_drives_are_addressed_by_strip_tag():
         heated.set_current({"top_strips": 0.2, "bottom_strips": 0.1})
     heated.set_current({"top_strips": 0.2, "bottom_strips": 0.2})
     assert heated.current == 0.2
+
+
+def test_critical_load_from_a_coarser_mesh_needs_one_secant_step(ribbon):
+    """ribbon_buckling_fe starts the finer mesh's buckling analysis at the coarser mesh's critical
+    shortening: one secant step gives the load that two from the Euler estimate give."""
+    from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
+    coarse = ribbon.critical_load()
+    again = KaptonSpecimenFE(SPEC, RibbonFEMesh(level=0)).critical_load(secant_steps=1,
+                                                                        start=coarse.shortening)
+    assert again.force == pytest.approx(coarse.force, rel=1e-6)
