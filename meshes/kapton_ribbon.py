@@ -2,8 +2,8 @@
 and Methods: 36 mm x 7 mm x 127 um, fixed-fixed, end shortening up to 50 %).
 
 Coordinates [mm]: x along the ribbon, the free length spanning 0 <= x <= length; y across
-(0 <= y <= width); z out of plane. :class:`RibbonSpecimen` holds what a continuum (FE) builder can use
-too; :class:`RibbonBarHingeMesh` the bar-and-hinge choices. In the bar-and-hinge model each clamp is
+(0 <= y <= width); z out of plane. :class:`KaptonSpecimenGeometry` holds what a continuum (FE) builder can use
+too; :class:`KaptonBarHingeMesh` the bar-and-hinge choices. In the bar-and-hinge model each clamp is
 one extra rigid panel outside the free length (all its nodes held), so the fold hinge on the clamp's
 edge makes the end a built-in one.
 """
@@ -22,7 +22,7 @@ SEED_SPECIMEN = "seed 001 Materials and Methods: nine samples 36 mm long, 7 mm w
 
 
 @dataclass(frozen=True)
-class RibbonSpecimen:
+class KaptonSpecimenGeometry:
     """The buckling specimen (seed 001)."""
 
     length: float = param(36.0, "mm", SEED_SPECIMEN + " (taken as the free length between clamps)",
@@ -36,7 +36,7 @@ class RibbonSpecimen:
         """I = w t^3/12 [mm^4] for bending out of the ribbon's plane."""
         return self.width * self.thickness ** 3 / 12.0
 
-    def checked(self) -> "RibbonSpecimen":
+    def checked(self) -> "KaptonSpecimenGeometry":
         check(self, "specimen")
         if self.supports != "fixed-fixed":
             raise InputError(f"specimen.supports = {self.supports!r}: allowed 'fixed-fixed'")
@@ -44,7 +44,7 @@ class RibbonSpecimen:
 
 
 @dataclass(frozen=True)
-class RibbonBarHingeMesh:
+class KaptonBarHingeMesh:
     """Bar-and-hinge discretisation of the specimen."""
 
     panels: int = param(11, "-", "chosen: 36/11 = 3.27 mm panels, close to the hinge spacing "
@@ -59,15 +59,15 @@ class RibbonBarHingeMesh:
                                 "z = a (1 - cos(2 pi x/L))/2 seeding the buckling path", minimum=0.0,
                                 maximum=0.1)
 
-    def checked(self) -> "RibbonBarHingeMesh":
+    def checked(self) -> "KaptonBarHingeMesh":
         check(self, "mesh")
         if not isinstance(self.panels, int):
             raise InputError(f"mesh.panels = {self.panels!r}: must be an integer >= 2")
         return self
 
 
-def build_ribbon_bar_hinge(specimen: RibbonSpecimen = RibbonSpecimen(),
-                           mesh: RibbonBarHingeMesh = RibbonBarHingeMesh()) -> BarHingeStructure:
+def build_ribbon_bar_hinge(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+                           mesh: KaptonBarHingeMesh = KaptonBarHingeMesh()) -> BarHingeStructure:
     """N5B8 bar-and-hinge structure of the specimen with rigid clamp panels at both ends.
 
     Node sets: "left_clamp" / "right_clamp" (all nodes of each clamp panel, to be held; the right one
@@ -100,7 +100,7 @@ def build_ribbon_bar_hinge(specimen: RibbonSpecimen = RibbonSpecimen(),
 
 # --------------------------------------------------------------------------- continuum (FE) mesh
 @dataclass(frozen=True)
-class RibbonFEMesh:
+class KaptonFEMesh:
     """Structured hexahedral mesh of the specimen for quadratic (Q2) elements.
 
     One Q2 element through the 0.127 mm thickness represents a linear strain distribution through
@@ -121,7 +121,7 @@ class RibbonFEMesh:
     def element_size(self) -> float:
         return self.size / (self.level + 1)
 
-    def checked(self) -> "RibbonFEMesh":
+    def checked(self) -> "KaptonFEMesh":
         check(self, "mesh")
         if self.symmetry not in ("half", "full"):
             raise InputError(f"mesh.symmetry = {self.symmetry!r}: allowed 'half' or 'full'")
@@ -131,7 +131,7 @@ class RibbonFEMesh:
         return self
 
 
-def build_ribbon_fe(specimen: RibbonSpecimen = RibbonSpecimen(), mesh: RibbonFEMesh = RibbonFEMesh(),
+def build_ribbon_fe(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(), mesh: KaptonFEMesh = KaptonFEMesh(),
                     comm=None):
     """gmsh hexahedral mesh of the specimen's free length [0, L] x [0, W (or W/2)] x [0, t].
 

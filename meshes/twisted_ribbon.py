@@ -24,7 +24,7 @@ from lcefem.models.parameters import check, param
 
 
 @dataclass(frozen=True)
-class RibbonMesh:
+class TwistedRibbonMesh:
     """Resolution of the ribbon mesh; level l multiplies the level-0 divisions by l + 1."""
 
     along: int = param(120, "-", "chosen: level-0 elements along the length (0.5 mm: a 0.05 turns/mm "
@@ -43,7 +43,7 @@ def helicoid(points: np.ndarray, twist_rate: float) -> np.ndarray:
 
 
 def build_twisted_ribbon(length: float, width: float, thickness: float, twist_rate: float,
-                         resolution: RibbonMesh = RibbonMesh(),
+                         resolution: TwistedRibbonMesh = TwistedRibbonMesh(),
                          comm: MPI.Comm = MPI.COMM_WORLD) -> TaggedMesh:
     """Structured mesh of the twisted ribbon (lengths in mm, twist rate in rad/mm)."""
     check(resolution, "mesh")

@@ -24,7 +24,7 @@ from scipy.optimize import brentq
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
-from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen, build_ribbon_bar_hinge
+from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
 from lcefem.models import bar_hinge as law
 from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.empirical import Eq2
@@ -155,7 +155,7 @@ class KaptonSpecimenSolution:
     max_compression: float
 
 
-def ribbon_model(specimen: RibbonSpecimen, mesh: RibbonBarHingeMesh, materials: BarHingeMaterials):
+def ribbon_model(specimen: KaptonSpecimenGeometry, mesh: KaptonBarHingeMesh, materials: BarHingeMaterials):
     """(structure, model, held DOFs of the left clamp, of the right clamp)."""
     structure = build_ribbon_bar_hinge(specimen, mesh)
     model = bar_hinge_model(structure, materials)
@@ -175,7 +175,7 @@ def compressive_force(reactions: np.ndarray, held: np.ndarray, right_x: np.ndarr
 class KaptonSpecimenSetup:
     """The specimen's structure, model, held DOFs and end-shortening path, built before solving."""
 
-    specimen: RibbonSpecimen
+    specimen: KaptonSpecimenGeometry
     max_compression: float
     structure: BarHingeStructure
     model: BarHingeModel
@@ -188,8 +188,8 @@ class KaptonSpecimenSetup:
         return compressive_force(state.reactions, self.held, self.right_x)
 
 
-def setup_ribbon(max_compression: float = 0.5, specimen: RibbonSpecimen = RibbonSpecimen(),
-                 mesh: RibbonBarHingeMesh = RibbonBarHingeMesh(),
+def setup_ribbon(max_compression: float = 0.5, specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+                 mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
                  materials: BarHingeMaterials = BarHingeMaterials()) -> KaptonSpecimenSetup:
     """Clamps held, the right one moved by -t * max_compression * length along x."""
     if not isinstance(max_compression, (int, float)) or not 0.0 < max_compression < 0.95:
@@ -205,8 +205,8 @@ def setup_ribbon(max_compression: float = 0.5, specimen: RibbonSpecimen = Ribbon
 
 
 def solve_ribbon_buckling(max_compression: float = 0.5,
-                          specimen: RibbonSpecimen = RibbonSpecimen(),
-                          mesh: RibbonBarHingeMesh = RibbonBarHingeMesh(),
+                          specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+                          mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
                           materials: BarHingeMaterials = BarHingeMaterials(), *,
                           newton_options: NewtonOptions = NewtonOptions(),
                           path: PathOptions = RIBBON_PATH,
@@ -234,8 +234,8 @@ def solve_ribbon_buckling(max_compression: float = 0.5,
                           setup.max_compression)
 
 
-def critical_load(specimen: RibbonSpecimen = RibbonSpecimen(),
-                  mesh: RibbonBarHingeMesh = RibbonBarHingeMesh(),
+def critical_load(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+                  mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
                   materials: BarHingeMaterials = BarHingeMaterials(), *,
                   rel_tol: float = 1e-4) -> tuple[float, float]:
     """Bifurcation of the perfect (flat) specimen: (critical compressive force [N], end shortening [mm]).
@@ -245,7 +245,7 @@ def critical_load(specimen: RibbonSpecimen = RibbonSpecimen(),
     counted; the first end shortening where it becomes positive is bracketed by doubling and
     refined by bisection to ``rel_tol``.
     """
-    flat = RibbonBarHingeMesh(panels=mesh.panels, clamp_length=mesh.clamp_length, imperfection=0.0)
+    flat = KaptonBarHingeMesh(panels=mesh.panels, clamp_length=mesh.clamp_length, imperfection=0.0)
     structure, model, left, right = ribbon_model(specimen, flat, materials)
     held = np.concatenate([left, right])
     right_x = right[right % 3 == 0]

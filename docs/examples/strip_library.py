@@ -11,7 +11,7 @@ import argparse
 import pathlib
 
 # Any lcefem.solvers import orders MPI ahead of dolfinx; after it, `import dolfinx` works too.
-from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen
+from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry
 from lcefem.meshes.strip import StripMesh
 from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
 from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
@@ -49,7 +49,7 @@ def main(level: int = 0, out: pathlib.Path | None = None) -> dict[str, float]:
     results["support conditions built [-]"] = float(len(bcs))
 
     # 5. The Kapton buckling specimen (seed 001 Fig. 2G): critical load of the perfect specimen.
-    specimen = KaptonSpecimenFE(RibbonSpecimen(), RibbonFEMesh(level=level))
+    specimen = KaptonSpecimenFE(KaptonSpecimenGeometry(), KaptonFEMesh(level=level))
     results["Kapton specimen critical load [N]"] = specimen.critical_load().force
     if out is not None:
         specimen.write_fields(out / "kapton")

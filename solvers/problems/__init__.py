@@ -8,7 +8,9 @@ advance/ramp, named observables with units, fields for output.
 * :mod:`.kapton_specimen` — the passive Kapton buckling specimen (end shortening).
 * :mod:`.tension_specimen` — the LCE tension test in the isotropic phase.
 * :mod:`.gridshell` — the FE gridshell (lambda per strip tag, group or channel).
+* :mod:`.twisted_ribbon` — the twisted LCE ribbon as a static 3D body under a prescribed temperature
+  field (rod-like observables); the rolling ribbon on a hot plate is the Discrete Elastic Rod
+  problem :mod:`lcefem.solvers.der.ribbon`.
 
-The twisted LCE ribbon's problem is :mod:`lcefem.solvers.der.ribbon` (DER). docs/library.md shows
-how to script them.
+docs/library.md shows how to script them.
 """

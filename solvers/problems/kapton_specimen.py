@@ -36,7 +36,7 @@ from petsc4py import PETSc
 import dolfinx
 import dolfinx.fem.petsc
 
-from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen, build_ribbon_fe
+from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry, build_ribbon_fe
 from lcefem.models.errors import ConvergenceError
 from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
 from lcefem.models.parameters import param
@@ -80,8 +80,8 @@ class KaptonSpecimenFE:
     clamp face, times the symmetry factor.
     """
 
-    def __init__(self, specimen: RibbonSpecimen = RibbonSpecimen(),
-                 mesh: RibbonFEMesh = RibbonFEMesh(),
+    def __init__(self, specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+                 mesh: KaptonFEMesh = KaptonFEMesh(),
                  solid: NeoHookeanSolid = NeoHookeanSolid(), petsc_options: dict | None = None,
                  comm: MPI.Comm = MPI.COMM_WORLD):
         self.specimen, self.solid = specimen, solid

@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
-from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen, build_ribbon_bar_hinge
+from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
 from lcefem.models.errors import InputError
 
 
 def test_specimen_structure():
-    spec, mesh = RibbonSpecimen(), RibbonBarHingeMesh(panels=12, imperfection=1e-3)
+    spec, mesh = KaptonSpecimenGeometry(), KaptonBarHingeMesh(panels=12, imperfection=1e-3)
     s = build_ribbon_bar_hinge(spec, mesh)
     assert s.panels.shape == (12 + 2, 4)  # free panels plus one clamp panel at each end
     np.testing.assert_allclose(s.nodes[s.node_sets["left_end"], 0], 0.0)
@@ -24,9 +24,9 @@ def test_specimen_structure():
     assert s.hinges["fold"].shape[0] == 13
 
 
-@pytest.mark.parametrize("spec,mesh", [(RibbonSpecimen(supports="pinned"), RibbonBarHingeMesh()),
-                                       (RibbonSpecimen(length=-1.0), RibbonBarHingeMesh()),
-                                       (RibbonSpecimen(), RibbonBarHingeMesh(panels=1))])
+@pytest.mark.parametrize("spec,mesh", [(KaptonSpecimenGeometry(supports="pinned"), KaptonBarHingeMesh()),
+                                       (KaptonSpecimenGeometry(length=-1.0), KaptonBarHingeMesh()),
+                                       (KaptonSpecimenGeometry(), KaptonBarHingeMesh(panels=1))])
 def test_bad_input(spec, mesh):
     with pytest.raises(InputError):
         build_ribbon_bar_hinge(spec, mesh)

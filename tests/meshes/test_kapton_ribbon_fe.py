@@ -6,7 +6,7 @@ import ufl
 
 import dolfinx
 
-from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen, build_ribbon_fe
+from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry, build_ribbon_fe
 from lcefem.models.errors import InputError
 
 
@@ -18,8 +18,8 @@ def _integral(tm, measure_kind, tag=None):
 
 @pytest.mark.parametrize("symmetry, factor", [("half", 0.5), ("full", 1.0)])
 def test_volume_and_faces(symmetry, factor):
-    spec = RibbonSpecimen()
-    tm = build_ribbon_fe(spec, RibbonFEMesh(level=0, symmetry=symmetry))
+    spec = KaptonSpecimenGeometry()
+    tm = build_ribbon_fe(spec, KaptonFEMesh(level=0, symmetry=symmetry))
     assert tm.cells == {"kapton": 1}
     assert _integral(tm, "dx") == pytest.approx(factor * 36.0 * 7.0 * 0.127, rel=1e-12)
     for name in ("clamp_left", "clamp_right"):
@@ -32,14 +32,14 @@ def test_volume_and_faces(symmetry, factor):
 
 
 def test_level_refines_in_plane_only():
-    coarse = build_ribbon_fe(mesh=RibbonFEMesh(level=0)).info["divisions"]
-    fine = build_ribbon_fe(mesh=RibbonFEMesh(level=1)).info["divisions"]
+    coarse = build_ribbon_fe(mesh=KaptonFEMesh(level=0)).info["divisions"]
+    fine = build_ribbon_fe(mesh=KaptonFEMesh(level=1)).info["divisions"]
     assert fine[0] == 2 * coarse[0] and fine[1] == 2 * coarse[1]
     assert fine[2] == coarse[2] == 1  # one Q2 element through the thickness
 
 
-@pytest.mark.parametrize("mesh", [RibbonFEMesh(symmetry="quarter"), RibbonFEMesh(size=0.0),
-                                  RibbonFEMesh(level=-1)])
+@pytest.mark.parametrize("mesh", [KaptonFEMesh(symmetry="quarter"), KaptonFEMesh(size=0.0),
+                                  KaptonFEMesh(level=-1)])
 def test_bad_mesh_input(mesh):
     with pytest.raises(InputError):
         build_ribbon_fe(mesh=mesh)

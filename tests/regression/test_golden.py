@@ -58,10 +58,10 @@ def test_kapton_specimen_buckling_load_bar_and_hinge():
 @pytest.mark.slow
 def test_kapton_specimen_buckling_load_fe():
     """Level-0 Q2 specimen, linearised buckling (SLEPc): critical force [N] and end shortening [mm]."""
-    from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen
+    from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry
     from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
 
-    crit = KaptonSpecimenFE(RibbonSpecimen(), RibbonFEMesh(level=0)).critical_load()
+    crit = KaptonSpecimenFE(KaptonSpecimenGeometry(), KaptonFEMesh(level=0)).critical_load()
     assert crit.force == pytest.approx(0.09576358958571224, rel=RTOL)
     assert crit.shortening == pytest.approx(0.001538707305994088, rel=RTOL)
 

@@ -131,10 +131,10 @@ def test_newton_leaves_a_saddle_for_a_stable_state():
     """The perfect flat ribbon compressed beyond its critical load is an equilibrium but a saddle;
     with inertia control Newton leaves it along the negative curvature and settles in a buckled,
     stable state of lower energy."""
-    from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen, build_ribbon_bar_hinge
+    from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
 
-    spec = RibbonSpecimen()
-    s = build_ribbon_bar_hinge(spec, RibbonBarHingeMesh(panels=8, imperfection=0.0))
+    spec = KaptonSpecimenGeometry()
+    s = build_ribbon_bar_hinge(spec, KaptonBarHingeMesh(panels=8, imperfection=0.0))
     model = BarHingeModel(s)
     held = np.concatenate([held_dofs(s.node_sets["left_clamp"]), held_dofs(s.node_sets["right_clamp"])])
     free = np.setdiff1d(np.arange(model.ndof), held)

@@ -10,7 +10,7 @@ import pytest
 
 from lcefem.meshes.bar_hinge_structure import n5b8_structure
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
-from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
 from lcefem.models.empirical import eq2_curvature
 from lcefem.models import bar_hinge as law
 from lcefem.models import buckling
@@ -20,7 +20,7 @@ from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation.cli import main as cli_main
 from tests.conftest import assert_failures_known
 
-SPEC = RibbonSpecimen()
+SPEC = KaptonSpecimenGeometry()
 MAT = BarHingeMaterials()
 K = MAT.kapton.hinge_stiffness(SPEC.thickness)
 
@@ -60,7 +60,7 @@ def test_critical_load_converges_to_the_euler_load_of_the_chain():
     hinges): halving W roughly halves the error, and 32 panels are within 2.5 %."""
     errors = []
     for panels in (16, 32):
-        p_cr, _ = studies.critical_load(SPEC, RibbonBarHingeMesh(panels=panels), MAT)
+        p_cr, _ = studies.critical_load(SPEC, KaptonBarHingeMesh(panels=panels), MAT)
         ei = law.n5b8_ribbon_bending_stiffness(K, SPEC.length / panels, SPEC.width)
         errors.append(abs(p_cr / buckling.euler_fixed_fixed(ei, SPEC.length) - 1.0))
     assert errors[1] < 0.025
@@ -71,7 +71,7 @@ def test_critical_load_of_the_published_model_against_the_measurement():
     """With panels at the published hinge spacing the model's critical load is the measured 0.18 N
     within 10 % (MEASURED_TOLERANCE of validation/cases/beam_bar_hinge.py); the datasheet Euler load
     of the 36 mm specimen is half of it."""
-    p_cr, shortening = studies.critical_load(SPEC, RibbonBarHingeMesh(), MAT)
+    p_cr, shortening = studies.critical_load(SPEC, KaptonBarHingeMesh(), MAT)
     assert p_cr == pytest.approx(0.18, rel=0.10)
     assert 0 < shortening < 0.01
     euler = buckling.euler_fixed_fixed(MAT.kapton.youngs_modulus * SPEC.second_moment, SPEC.length)
@@ -81,7 +81,7 @@ def test_critical_load_of_the_published_model_against_the_measurement():
 def test_post_buckling_follows_the_elastica():
     """Force / P_cr of a fine chain (32 panels) against the inextensible elastica up to 30 %
     compression, within 3 % (the chain's discretisation error at P_cr is 1.8 %)."""
-    mesh = RibbonBarHingeMesh(panels=32)
+    mesh = KaptonBarHingeMesh(panels=32)
     sol = studies.solve_ribbon_buckling(0.3, SPEC, mesh, MAT)
     p_cr, _ = studies.critical_load(SPEC, mesh, MAT)
     for c in (0.1, 0.2, 0.3):

@@ -8,17 +8,17 @@ import subprocess
 
 import pytest
 
-from lcefem.meshes.kapton_ribbon import RibbonFEMesh, RibbonSpecimen
+from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry
 from lcefem.validation.cli import main
 
-SPEC = RibbonSpecimen()
+SPEC = KaptonSpecimenGeometry()
 E, NU = 2500.0, 0.34
 
 
 @pytest.fixture(scope="module")
 def ribbon():
     from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
-    return KaptonSpecimenFE(SPEC, RibbonFEMesh(level=0))
+    return KaptonSpecimenFE(SPEC, KaptonFEMesh(level=0))
 
 
 def test_ribbon_axial_stiffness_between_uniaxial_and_laterally_clamped(ribbon):
@@ -177,6 +177,6 @@ def test_critical_load_from_a_coarser_mesh_needs_one_secant_step(ribbon):
     shortening: one secant step gives the load that two from the Euler estimate give."""
     from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
     coarse = ribbon.critical_load()
-    again = KaptonSpecimenFE(SPEC, RibbonFEMesh(level=0)).critical_load(secant_steps=1,
+    again = KaptonSpecimenFE(SPEC, KaptonFEMesh(level=0)).critical_load(secant_steps=1,
                                                                         start=coarse.shortening)
     assert again.force == pytest.approx(coarse.force, rel=1e-6)

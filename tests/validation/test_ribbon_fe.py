@@ -1,4 +1,4 @@
-"""Static ribbon FE (validation/ribbon_fe.py): its rod measures on analytic shapes, and the FE strip
+"""Static twisted-ribbon FE (solvers/problems/twisted_ribbon.py, solvers/analysis/rod_shape.py): its rod measures on analytic shapes, and the FE strip
 against closed forms (uniform heating; bending by a through-thickness spontaneous-strain gradient).
 Short strips on coarse meshes: each FE test runs in seconds."""
 
@@ -11,8 +11,8 @@ import ufl
 from lcefem.models.lce import NematicTransition, contraction_ratio, order_parameter_from_stretch
 from lcefem.models.ribbon import RibbonGeometry
 from lcefem.validation.cases.ribbon_fe import coupling_estimate
-from lcefem.validation.ribbon_fe import (circle_curvature, measure_extrapolated, measure_shape,
-                                         parallel_transport)
+from lcefem.solvers.analysis.curvature import circle_fit
+from lcefem.solvers.analysis.rod_shape import measure_extrapolated, measure_shape, parallel_transport
 
 TRANSITION = NematicTransition()
 WIDTH, THICKNESS = 4.0, 0.8
@@ -102,8 +102,8 @@ def test_circle_curvature_of_a_planar_arc_and_of_a_line():
     phi = np.linspace(0.0, 1.2, 9)
     e1, e2 = np.array([1.0, 1.0, 0.0]) / math.sqrt(2), np.array([0.0, 0.0, 1.0])
     pts = np.array([3.0, -1.0, 2.0]) + 7.0 * (np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2)
-    assert circle_curvature(pts) == pytest.approx(1 / 7.0, rel=1e-10)
-    assert circle_curvature(np.outer(np.linspace(0, 1, 5), [1.0, 2.0, 3.0])) == 0.0
+    assert circle_fit(pts)[0] == pytest.approx(1 / 7.0, rel=1e-10)
+    assert circle_fit(np.outer(np.linspace(0, 1, 5), [1.0, 2.0, 3.0]))[0] == 0.0
 
 
 def test_coupling_estimate_limits():
@@ -124,10 +124,10 @@ def test_coupling_estimate_limits():
 # FE strip against closed forms
 # ----------------------------------------------------------------------------------------------
 def _solve(length, temperature, **kw):
-    from lcefem.meshes.twisted_ribbon import RibbonMesh
-    from lcefem.validation.ribbon_fe import solve_ribbon
-    mesh = RibbonMesh(along=int(round(2 * length)), across=4, through=1, level=kw.pop("level", 0))
-    return solve_ribbon(length, WIDTH, THICKNESS, kw.pop("twist_rate", 0.0), temperature, resolution=mesh, **kw)
+    from lcefem.meshes.twisted_ribbon import TwistedRibbonMesh
+    from lcefem.solvers.problems.twisted_ribbon import solve_twisted_ribbon
+    mesh = TwistedRibbonMesh(along=int(round(2 * length)), across=4, through=1, level=kw.pop("level", 0))
+    return solve_twisted_ribbon(length, WIDTH, THICKNESS, kw.pop("twist_rate", 0.0), temperature, resolution=mesh, **kw)
 
 
 def test_uniformly_heated_strip_contracts_by_the_spontaneous_stretch_ratio():

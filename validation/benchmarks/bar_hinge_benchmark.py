@@ -14,7 +14,7 @@ import platform
 import numpy as np
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
-from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
 from lcefem.validation import bar_hinge_studies as studies
 from lcefem.validation.benchmarks import best_of
 
@@ -42,7 +42,7 @@ def main(argv: list[str] | None = None) -> int:
     secs, sol = best_of(lambda: studies.solve_ribbon_buckling(0.5), args.repeat)
     _report("ribbon buckling to 50 % (11 panels)", secs, sol.path, sol.model.ndof,
             f"force at 50 % {sol.force[-1]:.4f} N")
-    secs, (p_cr, _) = best_of(lambda: studies.critical_load(RibbonSpecimen(), RibbonBarHingeMesh()),
+    secs, (p_cr, _) = best_of(lambda: studies.critical_load(KaptonSpecimenGeometry(), KaptonBarHingeMesh()),
                             args.repeat)
     print(f"critical load by inertia bisection (11 panels): {secs:.3f} s, P_cr = {p_cr:.4f} N")
     model = studies.bar_hinge_model(studies.build_beam_bar_hinge())

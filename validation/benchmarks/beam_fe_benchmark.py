@@ -27,7 +27,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--lambda-bottom", type=float, default=1.05)
     args = parser.parse_args(argv)
     from lcefem.meshes.composite_beam import BeamFEMesh
-    from lcefem.meshes.kapton_ribbon import RibbonFEMesh
+    from lcefem.meshes.kapton_ribbon import KaptonFEMesh
     from lcefem.solvers.problems import composite_beam as beam_fe, kapton_specimen
 
     lt, lb = args.lambda_top, args.lambda_bottom
@@ -55,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{f.cuts} cut steps, {f.snaps} folds; curvature {model.curvature():.5f} 1/mm")
     for level in (0, 1):
         def ribbon():
-            r = kapton_specimen.KaptonSpecimenFE(mesh=RibbonFEMesh(level=level))
+            r = kapton_specimen.KaptonSpecimenFE(mesh=KaptonFEMesh(level=level))
             return r, r.critical_load()
 
         secs, (r, crit) = best_of(ribbon, args.repeat)

@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
-from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
 from lcefem.models import bar_hinge as law
 from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
@@ -67,7 +67,7 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     measured = reference("ribbon.buckling_load")
     plateau_to = reference("ribbon.plateau_compression")
     strain_bound = reference("tension.strain_at_ribbon_load")
-    spec, mesh, mat = RibbonSpecimen(), RibbonBarHingeMesh(), law.BarHingeMaterials()
+    spec, mesh, mat = KaptonSpecimenGeometry(), KaptonBarHingeMesh(), law.BarHingeMaterials()
     kap = mat.kapton
     ctx.mesh_size = spec.length / mesh.panels
     ei = kap.youngs_modulus * spec.second_moment
@@ -80,7 +80,7 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     p_cr, _ = studies.critical_load(spec, mesh, mat)
     no_factor = law.BarHingeMaterials(kapton=law.KaptonBarHinge(bending_factor=1.0))
     p_cr_1, _ = studies.critical_load(spec, mesh, no_factor)
-    fine = RibbonBarHingeMesh(panels=16)
+    fine = KaptonBarHingeMesh(panels=16)
     p_cr_16, _ = studies.critical_load(spec, fine, mat)
     sol = studies.solve_ribbon_buckling(plateau_to.value, spec, mesh, mat)
     c, f = sol.compression, sol.force

@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
 from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.validation import bar_hinge_studies as studies
@@ -74,17 +74,17 @@ def _level(ctx: CaseContext) -> int:
       "critical load vs the Euler loads, 0.18 N measured and bar-and-hinge; post-buckling force",
       fe=True)
 def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
-    from lcefem.meshes.kapton_ribbon import RibbonFEMesh
+    from lcefem.meshes.kapton_ribbon import KaptonFEMesh
     from lcefem.solvers.problems import composite_beam as beam_fe, kapton_specimen
 
     name = ctx.case or "ribbon_buckling_fe"
     measured = reference("ribbon.buckling_load")
     plateau_to = reference("ribbon.plateau_compression")
-    spec = RibbonSpecimen()
+    spec = KaptonSpecimenGeometry()
     materials = beam_fe.FEMaterials()
     kapton = materials.kapton
     level = 0 if ctx.quick else (ctx.level if ctx.level is not None else 1)
-    mesh = RibbonFEMesh(level=level)
+    mesh = KaptonFEMesh(level=level)
     ctx.mesh_size = mesh.element_size()
     model = kapton_specimen.KaptonSpecimenFE(spec, mesh, kapton)
     path = (kapton_specimen.KaptonSpecimenFEPath(step=QUICK_PATH_STEP, onset_steps=QUICK_PATH_ONSET_STEPS)
@@ -93,7 +93,7 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
     critical = model.critical_load()
     # The finer mesh linearises at this mesh's critical shortening: one secant step instead of two
     # from the Euler estimate, the same load to 3e-7 (levels 1 and 2 from level 0), 35-40 % cheaper.
-    finer = kapton_specimen.KaptonSpecimenFE(spec, RibbonFEMesh(level=level + 1), kapton).critical_load(
+    finer = kapton_specimen.KaptonSpecimenFE(spec, KaptonFEMesh(level=level + 1), kapton).critical_load(
         secant_steps=1, start=critical.shortening)
     model.add_imperfection(critical.mode, path.imperfection * spec.length)
     rows: list[tuple[float, float, float]] = [(0.0, 0.0, 0.0)]
@@ -104,8 +104,8 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
                                             measured.value)
     euler = closed["Euler, E I (datasheet E) [N]"]
     plate = closed["Euler, plate strip E I/(1 - nu^2) [N]"]
-    bh_cr, _ = studies.critical_load(spec, RibbonBarHingeMesh())
-    bh = studies.solve_ribbon_buckling(plateau_to.value, spec, RibbonBarHingeMesh())
+    bh_cr, _ = studies.critical_load(spec, KaptonBarHingeMesh())
+    bh = studies.solve_ribbon_buckling(plateau_to.value, spec, KaptonBarHingeMesh())
     elastica = np.array([buckling.elastica_force_ratio(x) for x in c])
     write_csv(ctx.path("ribbon_buckling_fe.csv"), {
         "compression [-]": c, "end shortening [mm]": c * spec.length, "force [N]": f,

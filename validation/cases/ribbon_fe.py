@@ -1,9 +1,9 @@
-"""Cross-validation of the two ribbon models: static 3D FE (``lcefem.validation.ribbon_fe``) against
+"""Cross-validation of the two ribbon models: static 3D FE (``lcefem.solvers.problems.twisted_ribbon``) against
 Discrete Elastic Rods (``lcefem.solvers.der.ribbon.ribbon_static_response``) on the same ribbon, the
 same material and the same temperature fields (issue 5, 'Cross-validation with the FE model').
 
 ``ribbon_fe_vs_der``: three free ribbons, each measured as DER measures a rod (material curvatures,
-discrete twist, stretch; see ``ribbon_fe.measure_shape``):
+discrete twist, stretch; see ``lcefem.solvers.analysis.rod_shape``):
 
 (a) the straight strip with one face at 60 C and the other at 25 C (bending);
 (b) the twisted ribbon at a uniform 60 C (change of twist and length);
@@ -53,7 +53,7 @@ from lcefem.validation.cases import CaseContext, Metric, case, not_judged, write
 
 LENGTH = 24.0  #: mm, chosen (see the module docstring)
 GEOMETRY = RibbonGeometry(length=LENGTH)  #: DER default section and twist density, 24 mm long
-ALONG = 48  #: FE level-0 elements along the ribbon (0.5 mm, as RibbonMesh's 120 over 60 mm)
+ALONG = 48  #: FE level-0 elements along the ribbon (0.5 mm, as TwistedRibbonMesh's 120 over 60 mm)
 FE_LEVELS = (0,)  #: full level (module docstring: level 1 adds 1 % on (a) and ~400 s)
 QUICK_LEVELS = (0,)
 DER_NODES = 49  #: edge 0.5 mm, the level-0 element length
@@ -62,7 +62,7 @@ SECTION_CELLS = 32  #: DER cells through the thickness for the comparison
 SECTION_CELL_TREND = (2, 4, 8, 16, 32)
 TWIST_SWEEP = (0.0125, 0.025)  #: turns/mm, extra FE level-0 runs of (b) and (c) (default mode only)
 
-FE_SOURCE = ("3D FE (lcefem.validation.ribbon_fe: Q2 hexahedra, W(F F_s^-1) with LCEElasticity, director "
+FE_SOURCE = ("3D FE (lcefem.solvers.problems.twisted_ribbon: Q2 hexahedra, W(F F_s^-1) with LCEElasticity, director "
              "along the twisted fibres, NematicTransition)")
 DER_SOURCE = (f"DER static shape (lcefem.solvers.der.ribbon.ribbon_static_response: E = 3 mu, G = mu of "
               f"LCEElasticity, natural shape of lcefem.models.ribbon, section 2 x {SECTION_CELLS} cells)")
@@ -125,13 +125,13 @@ class Shape:
 
 
 def fe_shape(load: Loading, level: int, twist_density: float | None = None) -> Shape:
-    from lcefem.meshes.twisted_ribbon import RibbonMesh
-    from lcefem.validation.ribbon_fe import solve_ribbon
+    from lcefem.meshes.twisted_ribbon import TwistedRibbonMesh
+    from lcefem.solvers.problems.twisted_ribbon import solve_twisted_ribbon
 
     g = load.geometry(twist_density)
     t0 = time.perf_counter()
-    sol = solve_ribbon(g.length, g.width, g.thickness, g.twist_rate, load.temperature,
-                       resolution=RibbonMesh(along=ALONG, across=4, through=1, level=level), first=load.first,
+    sol = solve_twisted_ribbon(g.length, g.width, g.thickness, g.twist_rate, load.temperature,
+                       resolution=TwistedRibbonMesh(along=ALONG, across=4, through=1, level=level), first=load.first,
                        prefix=f"ribbon_fe_{load.key}_", predictor=load.predictor)
     d = sol.deformed
     return Shape(np.asarray(d.material_curvature, float), d.twist_rate, d.stretch, sol.element_size,

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lcefem.meshes.kapton_ribbon import RibbonBarHingeMesh, RibbonSpecimen
+from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
 from lcefem.models import bar_hinge as law
 from lcefem.models import buckling
 from lcefem.models.errors import InputError
@@ -64,8 +64,8 @@ class KaptonSpecimenRun:
 @dataclass(frozen=True)
 class KaptonSpecimenConfig:
     run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
-    specimen: RibbonSpecimen = field(default_factory=RibbonSpecimen)
-    mesh: RibbonBarHingeMesh = field(default_factory=RibbonBarHingeMesh)
+    specimen: KaptonSpecimenGeometry = field(default_factory=KaptonSpecimenGeometry)
+    mesh: KaptonBarHingeMesh = field(default_factory=KaptonBarHingeMesh)
     kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
     path: PathOptions = field(default_factory=lambda: studies.RIBBON_PATH)
@@ -161,15 +161,15 @@ FE_COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "mid-span d
 
 
 def _fe_config_class():
-    from lcefem.meshes.kapton_ribbon import RibbonFEMesh
+    from lcefem.meshes.kapton_ribbon import KaptonFEMesh
     from lcefem.models.hyperelastic import NeoHookeanSolid
     from lcefem.solvers.problems import kapton_specimen
 
     @dataclass(frozen=True)
     class KaptonSpecimenFEConfig:
         run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
-        specimen: RibbonSpecimen = field(default_factory=RibbonSpecimen)
-        mesh: RibbonFEMesh = field(default_factory=RibbonFEMesh)
+        specimen: KaptonSpecimenGeometry = field(default_factory=KaptonSpecimenGeometry)
+        mesh: KaptonFEMesh = field(default_factory=KaptonFEMesh)
         kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
         path: kapton_specimen.KaptonSpecimenFEPath = field(default_factory=kapton_specimen.KaptonSpecimenFEPath)
 
