@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.optimize
 import ufl
 
 from lcefem.models import _math
@@ -39,6 +40,13 @@ def ogden_uniaxial_nominal_stress(stretch, law: OgdenLaw = OgdenLaw()):
     stretch = np.asarray(stretch, dtype=float)
     return sum(m * (stretch ** (a - 1.0) - stretch ** (-0.5 * a - 1.0))
                for m, a in zip(law.mu, law.alpha))
+
+
+def lce_strain_under_force(force: float, section: float, ogden: OgdenLaw = OgdenLaw()) -> float:
+    """Strain lambda - 1 [-] of the isotropic LCE strip (Ogden law, section [mm^2]) under ``force`` [N]."""
+    target = force / section
+    lam = scipy.optimize.brentq(lambda s: float(ogden_uniaxial_nominal_stress(s, ogden)) - target, 1.0, 3.0)
+    return lam - 1.0
 
 
 def ogden_uniaxial_energy(stretch, law: OgdenLaw = OgdenLaw()):

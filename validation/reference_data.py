@@ -22,6 +22,7 @@ import tomllib
 from dataclasses import dataclass
 
 from lcefem.models import units
+from lcefem.models.empirical import Eq2
 from lcefem.models.errors import InputError
 
 DATA_DIR = pathlib.Path(__file__).resolve().parent / "data"
@@ -221,3 +222,18 @@ def known_disagreements(path: pathlib.Path | None = None) -> dict[tuple[str, str
             raise InputError(f"{path.name}: {key[0]} / {key[1]} listed twice")
         out[key] = KnownDisagreement(**e)
     return out
+
+
+def eq2_parameters(eq2: Eq2 = Eq2()) -> str:
+    """Eq. 2's inputs as text for captions, from the one definition in :class:`Eq2`."""
+    return (f"eta = {eq2.eta:g}, l_p = {eq2.ribbon_length:g} mm, t_a = {eq2.strip_thickness:g} mm, "
+            f"lambda_N = {eq2.lambda_N:g}")
+
+
+def eq2_inputs_note(eq2: Eq2 = Eq2()) -> str:
+    """How Eq. 2's inputs are chosen, as text for captions and sources."""
+    return (f"Eq. 2 with l_p = {eq2.ribbon_length:g} mm (the segment's straight length, as the beam's "
+            f"bottom strips span it), t_a = {eq2.strip_thickness:g} mm (the cast strip thickness), "
+            f"lambda_N = {eq2.lambda_N:g} (the published model's isotropic/nematic ratio, the same "
+            "lambda_N the bar-and-hinge rest lengths use, so that lambda_T = lambda_B = lambda_N is the "
+            f"flat as-built beam in both), eta = {eq2.eta:g} (seed 001)")

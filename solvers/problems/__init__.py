@@ -8,6 +8,8 @@ advance/ramp, named observables with units, fields for output.
 * :mod:`.kapton_specimen` — the passive Kapton buckling specimen (end shortening).
 * :mod:`.tension_specimen` — the LCE tension test in the isotropic phase.
 * :mod:`.gridshell` — the FE gridshell (lambda per strip tag, group or channel).
+* Bar-and-hinge: :mod:`.composite_beam_bh` (lambda_T, lambda_B ramp), :mod:`.kapton_specimen_bh`
+  (end shortening, critical load), :mod:`.gridshell_bh` (lambda per strip, group or channel).
 * :mod:`.twisted_ribbon` — the twisted LCE ribbon as a static 3D body under a prescribed temperature
   field (rod-like observables); the rolling ribbon on a hot plate is the Discrete Elastic Rod
   problem :mod:`lcefem.solvers.der.ribbon`.

@@ -48,9 +48,9 @@ def test_held_strip_force_at_4s():
 def test_kapton_specimen_buckling_load_bar_and_hinge():
     """Default N5B8 chain (32 panels): critical force [N] and end shortening [mm] (bisection to 1e-4,
     deterministic)."""
-    from lcefem.validation import bar_hinge_studies as studies
+    from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
 
-    force, shortening = studies.critical_load()
+    force, shortening = kapton_bh.critical_load()
     assert force == pytest.approx(0.18550571425277032, rel=RTOL)
     assert shortening == pytest.approx(0.0028043701171874998, rel=RTOL)
 
@@ -69,9 +69,9 @@ def test_kapton_specimen_buckling_load_fe():
 def test_composite_beam_bar_and_hinge_at_1p33_1p05():
     """Default 4-segment beam ramped to (lambda_T, lambda_B) = (1.33, 1.05): curvature [1/mm], bottom
     strip force [N] (two strips), and the number of path states (the step controller's trace)."""
-    from lcefem.validation import bar_hinge_studies as studies
+    from lcefem.solvers.problems import composite_beam_bh as beam_bh
 
-    sol = studies.solve_beam(1.33, 1.05)
+    sol = beam_bh.solve_beam(1.33, 1.05)
     forces = sol.model.bar_forces(sol.path.states[-1].x)
     assert sol.curvature == pytest.approx(0.03859300813998696, rel=RTOL)
     assert 2.0 * float(np.mean(forces["bottom_strips"])) == pytest.approx(0.0951843559313803, rel=RTOL)

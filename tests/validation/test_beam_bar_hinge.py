@@ -16,7 +16,9 @@ from lcefem.models import bar_hinge as law
 from lcefem.models import buckling
 from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.solvers.bar_hinge import BarHingeModel, held_dofs, newton
-from lcefem.validation import bar_hinge_studies as studies
+from lcefem.solvers.problems import composite_beam_bh as beam_bh
+from lcefem.models import hyperelastic
+from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
 from lcefem.validation.cli import main as cli_main
 from tests.conftest import assert_failures_known
 
@@ -60,7 +62,7 @@ def test_critical_load_converges_to_the_euler_load_of_the_chain():
     hinges): halving W roughly halves the error, and 32 panels are within 2.5 %."""
     errors = []
     for panels in (16, 32):
-        p_cr, _ = studies.critical_load(SPEC, KaptonBarHingeMesh(panels=panels), MAT)
+        p_cr, _ = kapton_bh.critical_load(SPEC, KaptonBarHingeMesh(panels=panels), MAT)
         ei = law.n5b8_ribbon_bending_stiffness(K, SPEC.length / panels, SPEC.width)
         errors.append(abs(p_cr / buckling.euler_fixed_fixed(ei, SPEC.length) - 1.0))
     assert errors[1] < 0.025
@@ -71,7 +73,7 @@ def test_critical_load_of_the_published_model_against_the_measurement():
     """With panels at the published hinge spacing the model's critical load is the measured 0.18 N
     within 10 % (MEASURED_TOLERANCE of validation/cases/beam_bar_hinge.py); the datasheet Euler load
     of the 36 mm specimen is half of it."""
-    p_cr, shortening = studies.critical_load(SPEC, KaptonBarHingeMesh(), MAT)
+    p_cr, shortening = kapton_bh.critical_load(SPEC, KaptonBarHingeMesh(), MAT)
     assert p_cr == pytest.approx(0.18, rel=0.10)
     assert 0 < shortening < 0.01
     euler = buckling.euler_fixed_fixed(MAT.kapton.youngs_modulus * SPEC.second_moment, SPEC.length)
@@ -82,8 +84,8 @@ def test_post_buckling_follows_the_elastica():
     """Force / P_cr of a fine chain (32 panels) against the inextensible elastica up to 30 %
     compression, within 3 % (the chain's discretisation error at P_cr is 1.8 %)."""
     mesh = KaptonBarHingeMesh(panels=32)
-    sol = studies.solve_ribbon_buckling(0.3, SPEC, mesh, MAT)
-    p_cr, _ = studies.critical_load(SPEC, mesh, MAT)
+    sol = kapton_bh.solve_specimen_buckling(0.3, SPEC, mesh, MAT)
+    p_cr, _ = kapton_bh.critical_load(SPEC, mesh, MAT)
     for c in (0.1, 0.2, 0.3):
         f = np.interp(c, sol.compression, sol.force)
         assert f / p_cr == pytest.approx(buckling.elastica_force_ratio(c), rel=0.03)
@@ -103,16 +105,16 @@ def test_elastica_ratio_closed_form():
 
 def test_lce_strain_under_the_ribbon_load():
     """seed 001: a 0.18 N tension strains an isotropic strip by at most 5 % (Ogden, 10 mm^2)."""
-    strain = studies.lce_strain_under_force(0.18, CompositeBeamGeometry().strip_section)
+    strain = hyperelastic.lce_strain_under_force(0.18, CompositeBeamGeometry().strip_section)
     assert 0.02 < strain < 0.05
 
 
 # ---------------------------------------------------------------------------- composite beam
 def test_beam_curvature_against_eq2():
     """(1.33, 1.05): within 25 % of Eq. 2 (MAP_TOLERANCE); opposite strips give opposite signs."""
-    dome = studies.solve_beam(1.33, 1.05)
+    dome = beam_bh.solve_beam(1.33, 1.05)
     assert dome.curvature == pytest.approx(float(eq2_curvature(1.33, 1.05)), rel=0.25)
-    flipped = studies.solve_beam(1.05, 1.33)
+    flipped = beam_bh.solve_beam(1.05, 1.33)
     assert flipped.curvature < 0
     assert flipped.curvature == pytest.approx(float(eq2_curvature(1.05, 1.33)), rel=0.25)
     assert all(s.negative_pivots <= 0 for s in dome.path.states)  # -1: singular (slack strips), no
@@ -122,7 +124,7 @@ def test_beam_curvature_against_eq2():
 def test_lambda_outside_the_physical_range_is_an_input_error():
     from lcefem.models.errors import InputError
     with pytest.raises(InputError, match="lambda_top = 1.5"):
-        studies.solve_beam(1.5, 1.05)
+        beam_bh.solve_beam(1.5, 1.05)
 
 
 # ---------------------------------------------------------------------------- command line

@@ -8,7 +8,7 @@ from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
 from lcefem.models.lumped_heat import current_for_stretch
 from lcefem.solvers.bar_hinge import NewtonOptions, isostatic_supports
-from lcefem.validation import bar_hinge_studies as studies
+from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.validation import gridshell_bh as gs
 
 ONE = GridshellLayout(ribbons=1)
@@ -22,7 +22,7 @@ def _solve(lambdas, support="rollers", layout=ONE, tolerance=None):
 
 
 def test_one_cell_grid_reproduces_the_composite_beam():
-    beam = studies.solve_beam(1.33, 1.05, CompositeBeamGeometry(segments=2), path=gs.GRIDSHELL_PATH,
+    beam = beam_bh.solve_beam(1.33, 1.05, CompositeBeamGeometry(segments=2), path=gs.GRIDSHELL_PATH,
                               newton_options=gs.GRIDSHELL_NEWTON)
     s = build_gridshell_bar_hinge(layout=ONE)
     setup = gs.setup_gridshell(gs.targets_from_lambdas(s, {"Tx": 1.33, "Bx": 1.05}), structure=s)

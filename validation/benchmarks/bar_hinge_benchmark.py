@@ -13,9 +13,12 @@ import platform
 
 import numpy as np
 
-from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.composite_beam import CompositeBeamGeometry, build_beam_bar_hinge
 from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
-from lcefem.validation import bar_hinge_studies as studies
+from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.solvers.bar_hinge import BarHingeModel
+from lcefem.solvers.problems import composite_beam_bh as beam_bh
+from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
 from lcefem.validation.benchmarks import best_of
 
 
@@ -35,17 +38,17 @@ def main(argv: list[str] | None = None) -> int:
 
     for segments in (4, 8):
         geometry = CompositeBeamGeometry(segments=segments)
-        secs, sol = best_of(lambda: studies.solve_beam(1.33, 1.05, geometry), args.repeat)
+        secs, sol = best_of(lambda: beam_bh.solve_beam(1.33, 1.05, geometry), args.repeat)
         _report(f"beam ({segments} segments) at (1.33, 1.05)", secs, sol.path, sol.model.ndof,
                 f"curvature {sol.curvature:.5f} 1/mm")
 
-    secs, sol = best_of(lambda: studies.solve_ribbon_buckling(0.5), args.repeat)
+    secs, sol = best_of(lambda: kapton_bh.solve_specimen_buckling(0.5), args.repeat)
     _report("ribbon buckling to 50 % (11 panels)", secs, sol.path, sol.model.ndof,
             f"force at 50 % {sol.force[-1]:.4f} N")
-    secs, (p_cr, _) = best_of(lambda: studies.critical_load(KaptonSpecimenGeometry(), KaptonBarHingeMesh()),
+    secs, (p_cr, _) = best_of(lambda: kapton_bh.critical_load(KaptonSpecimenGeometry(), KaptonBarHingeMesh()),
                             args.repeat)
     print(f"critical load by inertia bisection (11 panels): {secs:.3f} s, P_cr = {p_cr:.4f} N")
-    model = studies.bar_hinge_model(studies.build_beam_bar_hinge())
+    model = BarHingeModel.from_materials(build_beam_bar_hinge(), BarHingeMaterials())
     x = model.reference
     secs, _ = best_of(lambda: [model.evaluate(x) for _ in range(100)], args.repeat)
     print(f"energy + gradient + Hessian of the 4-segment beam: {1e3 * secs / 100:.2f} ms per evaluation")

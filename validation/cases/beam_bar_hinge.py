@@ -25,7 +25,10 @@ from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeomet
 from lcefem.models import bar_hinge as law
 from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
-from lcefem.validation import bar_hinge_studies as studies
+from lcefem.solvers.problems import composite_beam_bh as beam_bh
+from lcefem.models import hyperelastic
+from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
+from lcefem.validation import reference_data
 from lcefem.validation import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.reference_data import reference
@@ -77,12 +80,12 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     euler_factor = buckling.euler_fixed_fixed(kap.bending_factor * ei, spec.length)
     euler_chain = buckling.euler_fixed_fixed(ei_chain, spec.length)
 
-    p_cr, _ = studies.critical_load(spec, mesh, mat)
+    p_cr, _ = kapton_bh.critical_load(spec, mesh, mat)
     no_factor = law.BarHingeMaterials(kapton=law.KaptonBarHinge(bending_factor=1.0))
-    p_cr_1, _ = studies.critical_load(spec, mesh, no_factor)
+    p_cr_1, _ = kapton_bh.critical_load(spec, mesh, no_factor)
     fine = KaptonBarHingeMesh(panels=16)
-    p_cr_16, _ = studies.critical_load(spec, fine, mat)
-    sol = studies.solve_ribbon_buckling(plateau_to.value, spec, mesh, mat)
+    p_cr_16, _ = kapton_bh.critical_load(spec, fine, mat)
+    sol = kapton_bh.solve_specimen_buckling(plateau_to.value, spec, mesh, mat)
     c, f = sol.compression, sol.force
     ratio_end = float(f[-1] / p_cr)
     elastica_end = buckling.elastica_force_ratio(float(c[-1]))
@@ -92,8 +95,8 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     lam_min = reference("surface.dome.lambda_sim")
     worst = 1.0 - min(lam_min.value) / mat.lce.lambda_N
     f_worst = float(np.interp(worst, c, f))
-    strain_worst = studies.lce_strain_under_force(f_worst, section)
-    strain_end = studies.lce_strain_under_force(float(f[-1]), section)
+    strain_worst = hyperelastic.lce_strain_under_force(f_worst, section)
+    strain_end = hyperelastic.lce_strain_under_force(float(f[-1]), section)
     l_eff = 2.0 * math.pi * math.sqrt(ei / measured.value)
     e_eff = measured.value * spec.length ** 2 / (4.0 * math.pi ** 2 * spec.second_moment)
 
@@ -174,7 +177,7 @@ def beam_curvature_map_bh(ctx: CaseContext) -> list[Metric]:
     iterations = 0
     for i, lt in enumerate(lam):
         for j, lb in enumerate(lam):
-            sol = studies.solve_beam(float(lt), float(lb), geometry)
+            sol = beam_bh.solve_beam(float(lt), float(lb), geometry)
             kappa[i, j] = sol.curvature
             iterations += sum(sol.path.newton_iterations)
     lt, lb = np.meshgrid(lam, lam, indexing="ij")
@@ -186,7 +189,7 @@ def beam_curvature_map_bh(ctx: CaseContext) -> list[Metric]:
         "lambda_top [-]": lt.ravel(), "lambda_bottom [-]": lb.ravel(),
         "bar-and-hinge curvature [1/mm]": kappa.ravel(), "Eq. 2 curvature [1/mm]": k_eq2.ravel(),
         "difference [1/mm]": diff.ravel()})
-    src_eq2 = f"{eta.source}; {studies.eq2_inputs_note()}"
+    src_eq2 = f"{eta.source}; {reference_data.eq2_inputs_note()}"
     fine = np.linspace(lam[0], lam[-1], 29)
     surface = eq2_curvature(*np.meshgrid(fine, fine, indexing="xy"), law2)  # [j, i] at (fine[i], fine[j])
     bh_points = [plots.MapPoints(lt.ravel(), lb.ravel(), kappa.ravel(), "bar-and-hinge", "model")]
@@ -200,7 +203,7 @@ def beam_curvature_map_bh(ctx: CaseContext) -> list[Metric]:
         ctx.add_figure(png, plots.caption(
             "Curvature of a 4-segment composite beam against the relative lengths of its top and "
             "bottom strips: Eq. 2 of seed 001 (" + ("surface" if style == "surface" else "colour map")
-            + ", " + studies.eq2_parameters() + ") and the bar-and-hinge model "
+            + ", " + reference_data.eq2_parameters() + ") and the bar-and-hinge model "
             "(dots; circle through the middle junction centres, positive when the beam bends towards "
             "its bottom strips). Compare seed 001 Fig. 3B.", [eta.cite, PUBLISHED]))
     png2 = plots.map_plot(
@@ -238,7 +241,7 @@ def beam_segment_count_bh(ctx: CaseContext) -> list[Metric]:
     name = ctx.case or "beam_segment_count_bh"
     counts = [2, 4, 6] if ctx.quick else [2, 4, 6, 8]
     chosen = CompositeBeamGeometry().segments
-    kappa = [studies.solve_beam(1.33, 1.05, CompositeBeamGeometry(segments=n)).curvature
+    kappa = [beam_bh.solve_beam(1.33, 1.05, CompositeBeamGeometry(segments=n)).curvature
              for n in counts]
     ctx.mesh_size = 2.3
     write_csv(ctx.path("beam_segment_count_bh.csv"),

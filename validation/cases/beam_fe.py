@@ -34,7 +34,9 @@ import numpy as np
 from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
 from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
-from lcefem.validation import bar_hinge_studies as studies
+from lcefem.solvers.problems import composite_beam_bh as beam_bh
+from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
+from lcefem.validation import reference_data
 from lcefem.validation import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.cases.beam_bar_hinge import EQ2_POINT_TOLERANCE, MAP_TOLERANCE, MEASURED_TOLERANCE
@@ -104,8 +106,8 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
                                             measured.value)
     euler = closed["Euler, E I (datasheet E) [N]"]
     plate = closed["Euler, plate strip E I/(1 - nu^2) [N]"]
-    bh_cr, _ = studies.critical_load(spec, KaptonBarHingeMesh())
-    bh = studies.solve_ribbon_buckling(plateau_to.value, spec, KaptonBarHingeMesh())
+    bh_cr, _ = kapton_bh.critical_load(spec, KaptonBarHingeMesh())
+    bh = kapton_bh.solve_specimen_buckling(plateau_to.value, spec, KaptonBarHingeMesh())
     elastica = np.array([buckling.elastica_force_ratio(x) for x in c])
     write_csv(ctx.path("ribbon_buckling_fe.csv"), {
         "compression [-]": c, "end shortening [mm]": c * spec.length, "force [N]": f,
@@ -247,7 +249,7 @@ def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
     lam = np.linspace(1.05, 1.33, 2 if ctx.quick else 5)
     n = lam.size
     kappa, stats, last = beam_fe.curvature_map_fe(lam, mesh=mesh, on_state=_keep_equilibrium(level))
-    bh = np.array([[studies.solve_beam(float(a), float(b)).curvature for b in lam] for a in lam])
+    bh = np.array([[beam_bh.solve_beam(float(a), float(b)).curvature for b in lam] for a in lam])
     lt, lb = np.meshgrid(lam, lam, indexing="ij")
     k_eq2 = eq2_curvature(lt, lb, law2)
     d_eq2, d_bh = kappa - k_eq2, kappa - bh
@@ -257,7 +259,7 @@ def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
         "lambda_top [-]": lt.ravel(), "lambda_bottom [-]": lb.ravel(), "FE curvature [1/mm]": kappa.ravel(),
         "Eq. 2 curvature [1/mm]": k_eq2.ravel(), "bar-and-hinge curvature [1/mm]": bh.ravel(),
         "FE - Eq. 2 [1/mm]": d_eq2.ravel(), "FE - bar-and-hinge [1/mm]": d_bh.ravel()})
-    src_eq2 = f"{eta.source}; {studies.eq2_inputs_note()}"
+    src_eq2 = f"{eta.source}; {reference_data.eq2_inputs_note()}"
     src_fe = f"{FE}; mesh level {level} ({mesh.element_size():g} mm), swept through the grid"
     sources = [eta.cite, FE, BH]
     fine = np.linspace(lam[0], lam[-1], 29)
@@ -271,7 +273,7 @@ def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
             title="Composite beam curvature: Eq. 2 (surface), 3D FE and bar-and-hinge", sources=sources)
         ctx.add_figure(png, plots.caption(
             "Curvature of the 4-segment composite beam against the relative lengths of its top and "
-            f"bottom strips: Eq. 2 of seed 001 ({studies.eq2_parameters()}), "
+            f"bottom strips: Eq. 2 of seed 001 ({reference_data.eq2_parameters()}), "
             "the 3D FE model and the bar-and-hinge model (circle through the middle junction centres, "
             "positive when the beam bends towards its bottom strips). Compare seed 001 Fig. 3B.",
             sources))
@@ -346,7 +348,7 @@ def beam_curvature_fe(ctx: CaseContext) -> list[Metric]:
     model, wall, iterations, reused = _equilibrium(level, lt, lb)
     kappa = model.curvature()
     k_eq2 = float(eq2_curvature(lt, lb, Eq2()))
-    k_bh = studies.solve_beam(lt, lb).curvature
+    k_bh = beam_bh.solve_beam(lt, lb).curvature
     stations = model.stations.points(model.u)
     write_csv(ctx.path("stations.csv"), {"x [mm]": stations[:, 0], "y [mm]": stations[:, 1],
                                          "z [mm]": stations[:, 2]})
@@ -358,7 +360,7 @@ def beam_curvature_fe(ctx: CaseContext) -> list[Metric]:
                                       "from the map's equilibrium [0/1]": [int(reused)]})
     return [
         Metric.within(name, "kappa_FE at (1.33, 1.05) vs Eq. 2", kappa, "1/mm", k_eq2,
-                      EQ2_POINT_TOLERANCE * abs(k_eq2), f"{eta.source}; {studies.eq2_inputs_note()}; "
+                      EQ2_POINT_TOLERANCE * abs(k_eq2), f"{eta.source}; {reference_data.eq2_inputs_note()}; "
                       "tolerance EQ2_POINT_TOLERANCE x |kappa_Eq2| (14 %: the fitted eta = 0.57 against "
                       "its geometric 0.5)"),
         Metric.info(name, "kappa_BH at (1.33, 1.05)", k_bh, "1/mm",

@@ -44,7 +44,8 @@ from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.solvers.run import Progress, Run, add_out_arguments, check_config, resolved
-from lcefem.validation import bar_hinge_studies as studies
+from lcefem.solvers.problems import composite_beam_bh as beam_bh
+from lcefem.validation import reference_data
 from lcefem.validation.bar_hinge_io import bar_hinge_run
 from lcefem.validation.config import config_from_toml, override
 from lcefem.validation.runs import parallel_if_fe
@@ -74,7 +75,7 @@ class BeamConfig(law.BarHingeMaterials):
     mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
     eq2: Eq2 = field(default_factory=Eq2)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
-    path: PathOptions = field(default_factory=lambda: studies.BEAM_PATH)
+    path: PathOptions = field(default_factory=lambda: beam_bh.BEAM_PATH)
 
     def validated(self) -> "BeamConfig":
         check_config(self)
@@ -94,12 +95,12 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True) -> di
     cfg = config.validated()
     out = pathlib.Path(out)
     lam_t, lam_b, lam_n = cfg.run.lambda_top, cfg.run.lambda_bottom, cfg.lce.lambda_N
-    setup = studies.setup_beam(lam_t, lam_b, cfg.geometry, cfg.mesh, cfg.materials)
+    setup = beam_bh.setup_beam(lam_t, lam_b, cfg.geometry, cfg.mesh, cfg.materials)
     structure, model = setup.structure, setup.model
 
     def row(state) -> dict:
         forces = model.bar_forces(state.x)
-        lt, lb = studies.lambdas_at(state.t, lam_t, lam_b, lam_n)
+        lt, lb = beam_bh.lambdas_at(state.t, lam_t, lam_b, lam_n)
         return {"load factor [-]": state.t, "lambda_top [-]": lt, "lambda_bottom [-]": lb,
                 "curvature [1/mm]": beam_curvature(structure, state.x),
                 "eq2 curvature [1/mm]": float(eq2_curvature(lt, lb, cfg.eq2)),
@@ -112,7 +113,7 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True) -> di
     started = time.perf_counter()
     with bar_hinge_run(out, "beam", structure, model, config=cfg.resolved(), columns=COLUMNS, row=row,
                        progress=bar) as (run, on_step):
-        solution = studies.solve_beam(lam_t, lam_b, newton_options=cfg.solver, path=cfg.path,
+        solution = beam_bh.solve_beam(lam_t, lam_b, newton_options=cfg.solver, path=cfg.path,
                                       on_step=on_step, progress=bar.to, setup=setup)
         history = run.history
         kappa_eq2 = float(eq2_curvature(lam_t, lam_b, cfg.eq2))
@@ -126,7 +127,7 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True) -> di
             "results": {
                 "curvature [1/mm]": solution.curvature,
                 "eq2 curvature [1/mm]": kappa_eq2,
-                "eq2 inputs": studies.eq2_inputs_note(),
+                "eq2 inputs": reference_data.eq2_inputs_note(),
                 "sign convention": SIGN_CONVENTION,
                 "bottom strip force [N]": float(history.column("bottom strip force [N]")[-1]),
                 "top strip force [N]": float(history.column("top strip force [N]")[-1]),
@@ -248,7 +249,7 @@ def run_beam_fe(cfg, out: pathlib.Path, progress: bool = True) -> dict:
             "model": "fe",
             "results": {
                 "curvature [1/mm]": model.curvature(), "eq2 curvature [1/mm]": kappa_eq2,
-                "eq2 inputs": studies.eq2_inputs_note(), "sign convention": SIGN_CONVENTION,
+                "eq2 inputs": reference_data.eq2_inputs_note(), "sign convention": SIGN_CONVENTION,
                 "contact force [N]": model.contact_force(), "min gap [mm]": model.min_gap(),
                 "folds crossed": follower.snaps,
             },

@@ -42,7 +42,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.solvers.run import Progress, Run, add_out_arguments, check_config, resolved
-from lcefem.validation import bar_hinge_studies as studies
+from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
 from lcefem.validation import plots
 from lcefem.validation.bar_hinge_io import bar_hinge_run
 from lcefem.validation.config import config_from_toml, override
@@ -68,7 +68,7 @@ class KaptonSpecimenConfig:
     mesh: KaptonBarHingeMesh = field(default_factory=KaptonBarHingeMesh)
     kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
-    path: PathOptions = field(default_factory=lambda: studies.RIBBON_PATH)
+    path: PathOptions = field(default_factory=lambda: kapton_bh.SPECIMEN_PATH)
 
     def validated(self) -> "KaptonSpecimenConfig":
         check_config(self)
@@ -100,7 +100,7 @@ def run_ribbon(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool =
     """Run the bar-and-hinge buckling test and write its outputs; returns the summary."""
     cfg = config.validated()
     out = pathlib.Path(out)
-    setup = studies.setup_ribbon(cfg.run.compression, cfg.specimen, cfg.mesh, cfg.materials)
+    setup = kapton_bh.setup_specimen(cfg.run.compression, cfg.specimen, cfg.mesh, cfg.materials)
     model, length = setup.model, cfg.specimen.length
 
     def row(state) -> dict:
@@ -112,14 +112,14 @@ def run_ribbon(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool =
     started = time.perf_counter()
     with bar_hinge_run(out, "ribbon", setup.structure, model, config=cfg.resolved(), columns=COLUMNS,
                        row=row, progress=bar) as (run, on_step):
-        solution = studies.solve_ribbon_buckling(
+        solution = kapton_bh.solve_specimen_buckling(
             newton_options=cfg.solver, path=cfg.path, on_step=on_step,
             progress=lambda t: bar.to(100 * t * cfg.run.compression), setup=setup)
         return run.complete(_bar_hinge_results(cfg, out, solution, model, started))
 
 
 def _bar_hinge_results(cfg, out, solution, model, started) -> dict:
-    p_cr, shortening_cr = studies.critical_load(cfg.specimen, cfg.mesh, cfg.materials)
+    p_cr, shortening_cr = kapton_bh.critical_load(cfg.specimen, cfg.mesh, cfg.materials)
     wall = time.perf_counter() - started
     measured = reference("ribbon.buckling_load")
     euler = closed_forms(cfg)
