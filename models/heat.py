@@ -69,6 +69,11 @@ class GridSegmentCoil(Coil):
                                          "stretch'", positive=True)
 
 
+#: Resistance range of one heater string of the robotic surface [ohm] (seed 001, Results: "the
+#: coil resistances ranging from 126 to 134 ohms"); the spread the prediction bands sample.
+GRID_STRING_RESISTANCE_RANGE: tuple[float, float] = (126.0, 134.0)
+
+
 def joule_power(current: float, resistance: float) -> float:
     """Electric power P = I^2 R [mW] for a current I [A] through a resistance R [ohm].
 

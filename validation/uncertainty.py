@@ -41,7 +41,7 @@ from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import eq1_stretch
 from lcefem.models.errors import InputError
-from lcefem.models.heat import Coil, GridSegmentCoil
+from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil
 from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.models.lumped_heat import HeatedStrip, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
@@ -62,8 +62,8 @@ Q2_VALID = 0.9  #: leave-one-out Q^2 above which the surrogate's Sobol indices a
 #: step first (halved on failure, as the default ramp) instead of the as-built ramp's 0.1 increments.
 WARM_PATH = dataclasses.replace(gs.GRIDSHELL_PATH, initial_increment=1.0, max_increment=1.0)
 
-#: The nominal string resistance [ohm]: mid-range of seed 001's "ranging from 126 to 134 ohms".
-STRING_RESISTANCE = (126.0, 134.0)
+#: The string resistance range [ohm] (models.heat) and its mid-range, the nominal string.
+STRING_RESISTANCE = GRID_STRING_RESISTANCE_RANGE
 NOMINAL_STRING = 0.5 * sum(STRING_RESISTANCE)
 KINDS = {
     "resistance": ("string resistance", "ohm", "seed 001, Results: coil resistances 'ranging from 126 to "
