@@ -142,12 +142,28 @@ def inverse(design: GridshellDesign, kx: float, ky: float, height: float | None 
     n = design.eq.params.size
     p = np.full(n, 0.5 * (LAMBDA_MIN + design.lambda_N)) if p0 is None else np.asarray(p0, float)
     t0 = time.perf_counter()
+    result = None
     for _ in range(rounds if check else 1):
-        result = solve_design(design.eq, target, p, LAMBDA_MIN, design.lambda_N, scale=scale,
-                              absolute=REACHED / CURVATURE_SCALE, max_evaluations=max_evaluations)
+        try:
+            current = solve_design(design.eq, target, p, LAMBDA_MIN, design.lambda_N, scale=scale,
+                                   absolute=REACHED / CURVATURE_SCALE, max_evaluations=max_evaluations)
+        except ConvergenceError:
+            if result is None:
+                raise
+            # The design's Newton cannot start from the ramp's equilibrium (the dome's ramp ends
+            # next to a fold): keep the last design, whose check shows the ramp's branch.
+            break
+        result = current
         if not check:
             break
-        ramp = forward_check(design, result.p)
+        try:
+            ramp = forward_check(design, result.p)
+        except ConvergenceError as exc:
+            # The ramp from as built meets a fold before the lambdas found: the design loop's
+            # (warm-started) equilibrium stands unconfirmed.
+            result.check = {"circle_x": float("nan"), "circle_y": float("nan"), "seconds": float("nan"),
+                            "failed": str(exc)}
+            break
         result.check = ramp
         loop = result.state.observables[:2]
         if max(abs(ramp["circle_x"] - loop[0]), abs(ramp["circle_y"] - loop[1])) <= BRANCH_TOLERANCE:
@@ -197,11 +213,14 @@ def design_summary(design: GridshellDesign, result: DesignResult) -> dict:
            "optimizer": {"evaluations": result.iterations, "message": result.message,
                          "optimality": result.optimality},
            "forward solves": result.stats.solves, "newton iterations": result.stats.newton_iterations,
-           "restarts from as built": result.stats.restarts, "time [s]": result.seconds}
+           "restarts from as built": result.stats.restarts,
+           "design points without an equilibrium": result.stats.failures, "time [s]": result.seconds}
     if design.height:
         out["target"]["centre height [mm]"] = float(result.target[2])
         out["achieved (design loop) [1/mm]"]["centre height [mm]"] = float(st.observables[2])
-    if check is not None:
+    if check is not None and "failed" in check:
+        out["forward run from as built"] = "did not converge: " + check["failed"]
+    elif check is not None:
         ramp = {"kappa_x": check["circle_x"], "kappa_y": check["circle_y"]}
         out["achieved (forward run from as built) [1/mm]"] = ramp
         out["forward check time [s]"] = check["seconds"]

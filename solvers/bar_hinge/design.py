@@ -42,6 +42,10 @@ from lcefem.solvers.bar_hinge.newton import (NewtonOptions, PathOptions, _factor
 #: Largest nodal move [mm] of the central difference of the observables along dx/dp (the shapes'
 #: features are 1-100 mm: truncation ~ (1e-4/1)^2 relative, round-off ~ 1e-16 * 100 mm / 1e-4 mm).
 OBSERVABLE_STEP = 1.0e-4
+#: Scaled residual of a design point without an equilibrium [-]: far above any reachable one (the
+#: curvature scale is 0.01 1/mm, the surface's curvatures stay below 0.1 1/mm), so the trust region
+#: rejects the step.
+FAILED_RESIDUAL = 1.0e3
 #: Warm-started forward solves: the whole change in one increment first, halved on failure.
 WARM_PATH = PathOptions(initial_increment=1.0, max_increment=1.0, easy_iterations=8, growth=2.0,
                         min_increment=1.0e-3)
@@ -114,6 +118,7 @@ class ForwardStats:
     solves: int = 0
     newton_iterations: int = 0
     restarts: int = 0
+    failures: int = 0  #: design points with no equilibrium reached (neither warm nor from as built)
     seconds: float = 0.0
 
 
@@ -164,7 +169,14 @@ class EquilibriumMap:
         except ConvergenceError:
             restarted = True
             self.stats.restarts += 1
-            x, its = self._ramp(self.reference_f, f_new, self.model.reference, self.path_options)
+            try:
+                x, its = self._ramp(self.reference_f, f_new, self.model.reference, self.path_options)
+            except ConvergenceError:
+                # No equilibrium reached at p (e.g. the dome's ramp from as built meets a fold near
+                # t = 0.96): keep the last equilibrium as the state to continue from.
+                self.stats.failures += 1
+                self.model.set_rest_fractions(self._f)
+                raise
         self._x, self._f = x, f_new
         self.stats.solves += 1
         self.stats.newton_iterations += its
@@ -265,7 +277,14 @@ def solve_design(eq: EquilibriumMap, target, p0, lower: float, upper: float, *,
     def fun(p):
         nonlocal evaluations
         evaluations += 1
-        r = (eq.state(p, jacobian=False).observables - target) / scale
+        try:
+            r = (eq.state(p, jacobian=False).observables - target) / scale
+        except ConvergenceError:
+            if evaluations == 1:
+                raise  # no equilibrium at the start: nothing to step back to
+            # A trial point without an equilibrium: a residual larger than any reachable one makes
+            # the trust region reject the step and shrink (the optimiser never differentiates there).
+            return np.full(target.shape, FAILED_RESIDUAL)
         if np.linalg.norm(r) <= absolute:
             raise _Reached(np.array(p, dtype=float))
         return r

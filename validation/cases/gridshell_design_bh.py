@@ -80,9 +80,13 @@ def paper_targets(ctx: CaseContext, name: str) -> list[Metric]:
         check, seconds = res.check, res.seconds
         summ = gd.design_summary(design, res)
         src = f"seed 001: the {kind} curvatures of the {shape}; " + BH
+        how = ""
+        if "failed" in check:  # the ramp from as built meets a fold: the design loop's equilibrium
+            how = " (design-loop equilibrium; the ramp from as built did not converge)"
         for axis, k in (("x", 0), ("y", 1)):
+            value = float(res.state.observables[k]) if how else check[f"circle_{axis}"]
             metrics.append(Metric.info(name, f"{shape}: kappa_{axis} for the paper's {kind} target",
-                                       check[f"circle_{axis}"], "1/mm", src, reference=target[k]))
+                                       value, "1/mm", src + how, reference=target[k]))
         metrics.append(Metric.info(name, f"{shape}: residual |kappa - target|", summ["residual norm [1/mm]"],
                                    "1/mm", src + " (0 when the target is reachable)"))
         metrics.append(Metric.info(name, f"{shape}: time per inverse solve", seconds, "s", src))
