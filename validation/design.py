@@ -104,11 +104,18 @@ def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = Tr
 
 def main(args: argparse.Namespace) -> int:
     s = run_design(args.prepared, pathlib.Path(args.out), progress=not args.quiet)
-    a = s.get("achieved (forward run from as built) [1/mm]", s["achieved (design loop) [1/mm]"])
+    a = s["achieved (design loop) [1/mm]"]
+    ramp = s.get("achieved (forward run from as built) [1/mm]")
+    if ramp is not None and not s["same equilibrium as the ramp from as built"]:
+        check = f"; the ramp from as built ends on another equilibrium, {ramp['kappa_x']:.5f}/{ramp['kappa_y']:.5f}"
+    elif "forward run from as built" in s:
+        check = "; the ramp from as built did not converge"
+    else:
+        check = ""
     lams = ", ".join(f"{k}={v:.4f}" for k, v in list(s["lambdas [-]"].items())[:8])
     t = s["target"]
     print(f"lcefem: design: target {t['kappa_x [1/mm]']:.4f}/{t['kappa_y [1/mm]']:.4f} 1/mm, achieved "
-          f"{a['kappa_x']:.5f}/{a['kappa_y']:.5f} (residual {s['residual norm [1/mm]']:.2e} 1/mm); "
+          f"{a['kappa_x']:.5f}/{a['kappa_y']:.5f} (residual {s['residual norm [1/mm]']:.2e} 1/mm{check}); "
           f"lambdas {lams}; {s['time [s]']:.1f} s inverse (with checks), "
           f"{s['wall time [s]']:.1f} s in all; results in {args.out}")
     return 0
