@@ -40,7 +40,7 @@ import numpy as np
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import eq1_stretch
-from lcefem.models.errors import InputError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil
 from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.models.lumped_heat import HeatedStrip, steady_stretch
@@ -224,7 +224,7 @@ def sample_columns() -> list[str]:
     for c in CHANNELS:
         cols += [f"{c} string resistance [ohm]", f"{c} current [A]", f"{c} lambda_N [-]",
                  f"{c} power factor [-]", f"{c} lambda [-]", f"{c} rest fraction [-]"]
-    return cols + ["modulus factor [-]", *OUTPUTS, "newton iterations [-]"]
+    return cols + ["modulus factor [-]", *OUTPUTS, "newton iterations [-]", "equilibrium found [-]"]
 
 
 def paper_measured(shape: str) -> dict:
@@ -283,13 +283,23 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
               "thermal model": cfg.thermal_model, "samples": cfg.samples, "seed": cfg.seed,
               "inputs": [dataclasses.asdict(i) for i in inputs]}
     with Run(out, config=config, columns=sample_columns(), history="samples.csv", progress=bar) as run:
-        Y = np.empty((cfg.samples, len(OUTPUTS)))
+        Y = np.full((cfg.samples, len(OUTPUTS)), np.nan)
+        found = np.zeros(cfg.samples, dtype=bool)
         for s in range(cfg.samples):
             surf = surface(float(X[s, -1]), start)
-            surf.advance(targets(F[s]))
-            summ = surf.curvatures()
-            Y[s] = [summ[key] for key in OUTPUTS.values()]
-            row = {"sample [-]": s, "modulus factor [-]": X[s, -1], "newton iterations [-]": surf.iterations}
+            try:
+                surf.advance(targets(F[s]))
+            except ConvergenceError:
+                # Neither the warm start nor a ramp from as built reaches this sample's equilibrium
+                # (a fold on the way, e.g. the dome near t = 0.84): it is left out of the bands and
+                # counted, not the end of the study.
+                pass
+            else:
+                summ = surf.curvatures()
+                Y[s] = [summ[key] for key in OUTPUTS.values()]
+                found[s] = True
+            row = {"sample [-]": s, "modulus factor [-]": X[s, -1], "newton iterations [-]": surf.iterations,
+                   "equilibrium found [-]": float(found[s])}
             for k, c in enumerate(CHANNELS):
                 r, i_fac, lam_n, p_fac = X[s, 4 * k:4 * k + 4]
                 row.update({f"{c} string resistance [ohm]": r, f"{c} current [A]": spec["currents"][c] * i_fac,
@@ -297,11 +307,14 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
                             f"{c} lambda [-]": F[s, k] * max(lam_n, 1.0 + 1e-6), f"{c} rest fraction [-]": F[s, k]})
             row.update(dict(zip(OUTPUTS, Y[s])))
             run.record(row, where=f"sample {s}", at=float(s + 1))
-        values = {col: Y[:, j] for j, col in enumerate(OUTPUTS)}
+        if 2 * found.sum() < cfg.samples:
+            raise ConvergenceError(f"bands {cfg.shape}", f"only {int(found.sum())} of {cfg.samples} samples "
+                                   "reached an equilibrium")
+        values = {col: Y[found, j] for j, col in enumerate(OUTPUTS)}
         bands = bands_table(values, nominal_values, cfg.shape)
 
-        Z = features(X, cfg.shape, law)
-        sur = PolynomialSurrogate.fit(Z, Y)
+        Z = features(X[found], cfg.shape, law)
+        sur = PolynomialSurrogate.fit(Z, Y[found])
         sobol = sobol_indices(lambda XX: sur(features(XX, cfg.shape, law)), inputs, cfg.sobol_samples,
                               cfg.seed, list(OUTPUTS))
         for j, col in enumerate(OUTPUTS):
@@ -316,6 +329,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
         return run.complete({
             "model": "bar-hinge gridshell, Monte Carlo prediction bands", "shape": cfg.shape,
             "support": spec["support"], "thermal model": cfg.thermal_model, "samples": cfg.samples,
+            "samples without equilibrium": int(cfg.samples - found.sum()),
             "nominal": nominal_values, "bands": bands,
             "surrogate": {"degree": sur.degree, "features": ["f_Tx", "f_Ty", "f_Bx", "f_By", "modulus factor"]},
             "sobol": sobol, "input kinds": {k: {"name": v[0], "unit": v[1], "source": v[2]} for k, v in KINDS.items()},
