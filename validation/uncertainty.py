@@ -224,7 +224,7 @@ def sample_columns() -> list[str]:
     for c in CHANNELS:
         cols += [f"{c} string resistance [ohm]", f"{c} current [A]", f"{c} lambda_N [-]",
                  f"{c} power factor [-]", f"{c} lambda [-]", f"{c} rest fraction [-]"]
-    return cols + ["modulus factor [-]", *OUTPUTS, "newton iterations [-]", "equilibrium found [-]"]
+    return cols + ["modulus factor [-]", *OUTPUTS, "newton iterations [-]"]
 
 
 def paper_measured(shape: str) -> dict:
@@ -285,6 +285,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     with Run(out, config=config, columns=sample_columns(), history="samples.csv", progress=bar) as run:
         Y = np.full((cfg.samples, len(OUTPUTS)), np.nan)
         found = np.zeros(cfg.samples, dtype=bool)
+        lost: list[dict] = []  # inputs of the samples without an equilibrium
         for s in range(cfg.samples):
             surf = surface(float(X[s, -1]), start)
             try:
@@ -298,15 +299,18 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
                 summ = surf.curvatures()
                 Y[s] = [summ[key] for key in OUTPUTS.values()]
                 found[s] = True
-            row = {"sample [-]": s, "modulus factor [-]": X[s, -1], "newton iterations [-]": surf.iterations,
-                   "equilibrium found [-]": float(found[s])}
+            row = {"sample [-]": s, "modulus factor [-]": X[s, -1], "newton iterations [-]": surf.iterations}
             for k, c in enumerate(CHANNELS):
                 r, i_fac, lam_n, p_fac = X[s, 4 * k:4 * k + 4]
                 row.update({f"{c} string resistance [ohm]": r, f"{c} current [A]": spec["currents"][c] * i_fac,
                             f"{c} lambda_N [-]": lam_n, f"{c} power factor [-]": p_fac,
                             f"{c} lambda [-]": F[s, k] * max(lam_n, 1.0 + 1e-6), f"{c} rest fraction [-]": F[s, k]})
-            row.update(dict(zip(OUTPUTS, Y[s])))
-            run.record(row, where=f"sample {s}", at=float(s + 1))
+            if found[s]:
+                row.update(dict(zip(OUTPUTS, Y[s])))
+                run.record(row, where=f"sample {s}", at=float(s + 1))
+            else:  # samples.csv holds equilibria only; this sample's inputs go to summary.json
+                lost.append({k: float(v) for k, v in row.items()})
+                run.progress.to(float(s + 1))
         if 2 * found.sum() < cfg.samples:
             raise ConvergenceError(f"bands {cfg.shape}", f"only {int(found.sum())} of {cfg.samples} samples "
                                    "reached an equilibrium")
@@ -329,7 +333,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
         return run.complete({
             "model": "bar-hinge gridshell, Monte Carlo prediction bands", "shape": cfg.shape,
             "support": spec["support"], "thermal model": cfg.thermal_model, "samples": cfg.samples,
-            "samples without equilibrium": int(cfg.samples - found.sum()),
+            "samples without equilibrium": int(cfg.samples - found.sum()), "lost samples": lost,
             "nominal": nominal_values, "bands": bands,
             "surrogate": {"degree": sur.degree, "features": ["f_Tx", "f_Ty", "f_Bx", "f_By", "modulus factor"]},
             "sobol": sobol, "input kinds": {k: {"name": v[0], "unit": v[1], "source": v[2]} for k, v in KINDS.items()},
