@@ -131,8 +131,8 @@ def fe_shape(load: Loading, level: int, twist_density: float | None = None) -> S
     g = load.geometry(twist_density)
     t0 = time.perf_counter()
     sol = solve_twisted_ribbon(g.length, g.width, g.thickness, g.twist_rate, load.temperature,
-                       resolution=TwistedRibbonMesh(along=ALONG, across=4, through=1, level=level), first=load.first,
-                       prefix=f"ribbon_fe_{load.key}_", predictor=load.predictor)
+                               resolution=TwistedRibbonMesh(along=ALONG, across=4, through=1, level=level),
+                               first=load.first, prefix=f"ribbon_fe_{load.key}_", predictor=load.predictor)
     d = sol.deformed
     return Shape(np.asarray(d.material_curvature, float), d.twist_rate, d.stretch, sol.element_size,
                  time.perf_counter() - t0, sol.steps.iterations)
