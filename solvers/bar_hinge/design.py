@@ -149,7 +149,6 @@ class EquilibriumMap:
         self._x = (model.reference if x0 is None else np.asarray(x0, dtype=float)).reshape(-1, 3)
         self._f = (self.reference_f if p0 is None else params.rest_fractions(p0))
         self._cache: DesignState | None = None
-        self._factor = None  # factors of K at the last equilibrium found by a ramp
         self.stats = ForwardStats()
 
     def _ramp(self, f_from, f_to, x_start, path):
@@ -158,7 +157,6 @@ class EquilibriumMap:
             return self.model.reference.reshape(-1)[self.held]
         res = follow_path(self.model, x_start, self.held, load, newton_options=self.newton_options,
                           path_options=path)
-        self._factor = res.factor
         return res.states[-1].x, int(sum(res.newton_iterations))
 
     def equilibrium(self, p) -> tuple[np.ndarray, int, bool]:
@@ -185,15 +183,12 @@ class EquilibriumMap:
         self.stats.seconds += time.perf_counter() - t0
         return x, its, restarted
 
-    def jacobian(self, x: np.ndarray, factor=None) -> np.ndarray:
-        """d obs/d p at the equilibrium x (the model's rest fractions must be those of x).
-        ``factor``: SuperLU factors of the free-DOF K at x if known (Newton's last, the same)."""
+    def jacobian(self, x: np.ndarray) -> np.ndarray:
+        """d obs/d p at the equilibrium x (the model's rest fractions must be those of x)."""
         model, params = self.model, self.params
-        lu = factor
-        if lu is None:
-            _, _, coo = model.evaluate(x)
-            kmat = self.reduced.matrix(coo)
-            lu = _factorize(kmat, self.reduced.diagonal(kmat))[0]
+        _, _, coo = model.evaluate(x)
+        kmat = self.reduced.matrix(coo)
+        lu = _factorize(kmat, self.reduced.diagonal(kmat))[0]
         sens = model.rest_fraction_sensitivity(x)
         rhs = np.zeros((model.ndof, params.size))
         for g, (dofs, values) in sens.items():
@@ -231,15 +226,13 @@ class EquilibriumMap:
         c = self._cache
         if c is not None and np.array_equal(c.p, p) and (c.jacobian is not None or not jacobian):
             return c
-        factor = None
         if c is not None and np.array_equal(c.p, p):
             x, its, restarted = c.x, 0, c.restarted
             self.model.set_rest_fractions(self.params.rest_fractions(p))
         else:
             x, its, restarted = self.equilibrium(p)
-            factor = self._factor
         state = DesignState(p, x, np.asarray(self.observable(x), dtype=float),
-                            self.jacobian(x, factor) if jacobian else None, its, restarted)
+                            self.jacobian(x) if jacobian else None, its, restarted)
         self._cache = state
         return state
 

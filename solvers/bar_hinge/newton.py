@@ -87,7 +87,6 @@ class NewtonResult:
     energy: float
     reason: str
     negative_pivots: int = -1  # of the unshifted K at the last factorisation (-1 if unknown)
-    factor: object = None  # converged: SuperLU factors of the free-DOF K at x (None if singular)
 
 
 @dataclass
@@ -109,9 +108,6 @@ class PathResult:
     states: list[PathState] = field(default_factory=list)
     seconds: float = 0.0
     failed_increments: int = 0
-    #: SuperLU factors of the free-DOF tangent at the last state (None if unknown), e.g. for the
-    #: sensitivities dx/dp = -K^-1 dg/dp there without a second factorisation.
-    factor: object = None
 
     @property
     def newton_iterations(self) -> list[int]:
@@ -259,14 +255,13 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         if residual <= options.force_tolerance:
             try:
                 kmat = reduced.matrix(coo)
-                factor, negative, _ = _factorize(kmat, reduced.diagonal(kmat))
+                negative = _factorize(kmat, reduced.diagonal(kmat))[1]
             except RuntimeError:
-                factor, negative = None, -1
+                negative = -1
             if options.inertia_control and negative > 0 and it < budget and escape():
                 it += 1
                 continue
-            return NewtonResult(x.reshape(-1, 3), True, it, residual, energy, "converged", negative,
-                                factor)
+            return NewtonResult(x.reshape(-1, 3), True, it, residual, energy, "converged", negative)
         if it >= budget:
             break
         it += 1
@@ -375,7 +370,6 @@ def follow_path(model: BarHingeModel, x_start: np.ndarray, held: np.ndarray,
         state = PathState(t, res.x.copy(), res.iterations, res.energy, res.residual,
                           grad[held].copy(), res.negative_pivots, snapped)
         result.states.append(state)
-        result.factor = res.factor
         if on_step is not None:
             on_step(state)
         return state
