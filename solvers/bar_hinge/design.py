@@ -142,7 +142,7 @@ class EquilibriumMap:
         self.model, self.params, self.observable = model, params, observable
         self.held = np.asarray(held, dtype=np.int64)
         self.free = np.setdiff1d(np.arange(model.ndof), self.held)
-        self.reduced = ReducedHessian(model, self.free)
+        self.reduced = ReducedHessian.of(model, self.free)
         self.newton_options, self.path_options = newton_options, path_options
         self.reference_f = {g: v.copy() for g, v in params.rest_fractions(
             np.full(params.size, params.lambda_N)).items()}
@@ -187,7 +187,8 @@ class EquilibriumMap:
         """d obs/d p at the equilibrium x (the model's rest fractions must be those of x)."""
         model, params = self.model, self.params
         _, _, coo = model.evaluate(x)
-        lu, negative, _ = _factorize(self.reduced.matrix(coo))
+        kmat = self.reduced.matrix(coo)
+        lu = _factorize(kmat, self.reduced.diagonal(kmat))[0]
         sens = model.rest_fraction_sensitivity(x)
         rhs = np.zeros((model.ndof, params.size))
         for g, (dofs, values) in sens.items():

@@ -119,28 +119,33 @@ class PathResult:
 ZERO_PIVOT = 1e-12
 
 
-def _factorize(matrix: sp.csc_matrix):
+def _factorize(matrix: sp.csc_matrix, diagonal: np.ndarray | None = None):
     """Symmetric-mode SuperLU; returns (lu, negative pivots, zero pivots); the counts are -1 when the
-    inertia is not available (off-diagonal pivoting happened)."""
+    inertia is not available (off-diagonal pivoting happened). ``diagonal``: the matrix's diagonal
+    if known (it sets the zero-pivot threshold)."""
     lu = sla.splu(matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                   options={"SymmetricMode": True})
     if np.array_equal(lu.perm_r, lu.perm_c):
         pivots = lu.U.diagonal()
-        tol = ZERO_PIVOT * max(float(np.max(np.abs(matrix.diagonal()))), 1e-300)
+        diagonal = matrix.diagonal() if diagonal is None else diagonal
+        tol = ZERO_PIVOT * max(float(np.max(np.abs(diagonal))), 1e-300)
         return lu, int(np.count_nonzero(pivots < -tol)), int(np.count_nonzero(np.abs(pivots) <= tol))
     return lu, -1, -1
 
 
-def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions, damping: float = 0.0):
+def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions, damping: float = 0.0,
+                  diagonal: np.ndarray | None = None):
     """Solve (K + mu I) d = rhs; mu = 0 if K is positive definite (or inertia control is off); with
-    ``damping`` > 0, mu >= damping times the largest diagonal entry."""
+    ``damping`` > 0, mu >= damping times the largest diagonal entry. ``diagonal``: K's diagonal if
+    known (the shifted matrices' diagonals follow from it)."""
     n = kmat.shape[0]
-    scale = max(float(np.max(np.abs(kmat.diagonal()))) if n else 1.0, 1e-300)
+    diag = kmat.diagonal() if diagonal is None else diagonal
+    scale = max(float(np.max(np.abs(diag))) if n else 1.0, 1e-300)
     mu, negative = damping * scale, -1
     eye = sp.identity(n, format="csc")
     for attempt in range(options.max_shifts):
         try:
-            lu, neg, zero = _factorize(kmat + mu * eye if mu > 0 else kmat)
+            lu, neg, zero = _factorize(kmat + mu * eye if mu > 0 else kmat, diag + mu)
         except RuntimeError:  # exactly singular: regularise
             lu, neg, zero = None, n, n
         if attempt == 0:
@@ -208,7 +213,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
     """
     x = np.array(x0, dtype=float).reshape(-1)
     free = np.asarray(free, dtype=np.int64)
-    reduced = reduced or ReducedHessian(model, free)
+    reduced = reduced or ReducedHessian.of(model, free)
     energy, grad, coo = model.evaluate(x)
     negative = -1
     residual = float(np.linalg.norm(grad[free]))
@@ -249,7 +254,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
                                 "energy or residual not finite")
         if residual <= options.force_tolerance:
             try:
-                negative = _factorize(reduced.matrix(coo))[1]
+                kmat = reduced.matrix(coo)
+                negative = _factorize(kmat, reduced.diagonal(kmat))[1]
             except RuntimeError:
                 negative = -1
             if options.inertia_control and negative > 0 and it < budget and escape():
@@ -264,7 +270,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         if options.stall_iterations and stalled >= options.stall_iterations:
             damping = min(1e-8 * 10.0 ** (stalled - options.stall_iterations), 1e-2)
         try:
-            step, negative, _ = _descent_step(reduced.matrix(coo), -r, options, damping)
+            kmat = reduced.matrix(coo)
+            step, negative, _ = _descent_step(kmat, -r, options, damping, reduced.diagonal(kmat))
         except np.linalg.LinAlgError as exc:
             return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, str(exc), negative)
         longest = float(np.max(np.abs(step))) if step.size else 0.0
@@ -296,10 +303,13 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         alpha = 1.0
         for _ in range(12):
             trial[free] = x[free] + alpha * step
-            e_new, g_new, coo_new = model.evaluate(trial)
+            # The gradient alone (an eighth of the cost with the Hessian); the Hessian only at the
+            # point taken (the same energy and gradient: one evaluation code path).
+            e_new, g_new = model.evaluate(trial, derivatives=1)
             r_new = float(np.linalg.norm(g_new[free]))
             if math.isfinite(r_new) and r_new < residual:
-                x, energy, grad, coo, residual = trial, e_new, g_new, coo_new, r_new
+                energy, grad, coo = model.evaluate(trial)
+                x, residual = trial, r_new
                 reduced_step = True
                 break
             alpha *= 0.5
@@ -344,7 +354,7 @@ def follow_path(model: BarHingeModel, x_start: np.ndarray, held: np.ndarray,
     started = time.perf_counter()
     held = np.asarray(held, dtype=np.int64)
     free = np.setdiff1d(np.arange(model.ndof), held)
-    reduced = ReducedHessian(model, free)
+    reduced = ReducedHessian.of(model, free)
     result = PathResult()
 
     snap_options = dataclasses.replace(
