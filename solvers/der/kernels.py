@@ -715,3 +715,47 @@ def _chain_point(jac, hloc, g_pt, cc, normal, hD, g_loc, with_hessian):
             for a in range(3):
                 s += jac[a, i] * (hD[a, 0] * jac[0, j] + hD[a, 1] * jac[1, j] + hD[a, 2] * jac[2, j])
             hloc[i, j] += s
+
+
+# ----------------------------------------------------------------------------------------------
+# Time-parallel transport of the reference frames (solvers.der.frames)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _parallel_transport(u, t_from, t_to, out):
+    """``models.rod.parallel_transport`` of one vector."""
+    v = np.empty(3)
+    vu = np.empty(3)
+    vvu = np.empty(3)
+    _cross3(t_from, t_to, v)
+    c = _dot3(t_from, t_to)
+    _cross3(v, u, vu)
+    _cross3(v, vu, vvu)
+    for i in range(3):
+        out[i] = u[i] + vu[i] + vvu[i] / (1.0 + c)
+
+
+@njit(cache=True)
+def transport_frames(a1, t_old, t_new, ref_prev):
+    """Reference directors transported in time from t_old to t_new and re-orthonormalised
+    (``frames.transport_directors``), and the reference twist of the interior nodes continued from
+    ``ref_prev`` without 2 pi jumps (``frames.reference_twist``)."""
+    n = len(t_new)
+    out = np.empty((n, 3))
+    p = np.empty(3)
+    for k in range(n):
+        _parallel_transport(a1[k], t_old[k], t_new[k], p)
+        pt = _dot3(p, t_new[k])
+        for i in range(3):
+            p[i] -= pt * t_new[k, i]
+        norm = math.sqrt(_dot3(p, p))
+        for i in range(3):
+            out[k, i] = p[i] / norm
+    ref = np.empty(n - 1)
+    cr = np.empty(3)
+    for k in range(n - 1):
+        _parallel_transport(out[k], t_new[k], t_new[k + 1], p)
+        _cross3(p, out[k + 1], cr)
+        angle = math.atan2(_dot3(cr, t_new[k + 1]), _dot3(p, out[k + 1]))
+        d = angle - ref_prev[k]
+        ref[k] = ref_prev[k] + math.atan2(math.sin(d), math.cos(d))
+    return out, ref

@@ -17,6 +17,7 @@ from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.errors import InputError
 from lcefem.models.rod import CORNER_SIGNS, RodSection
 from lcefem.solvers.der import frames as fr
+from lcefem.solvers.der import kernels
 
 
 def n_dofs(n_nodes: int) -> int:
@@ -277,6 +278,5 @@ class RodState:
         t_old = self.tangents
         e = x[1:] - x[:-1]
         t_new = e / np.sqrt(np.einsum("ki,ki->k", e, e))[:, None]
-        a1 = fr.transport_directors(self.a1, t_old, t_new)
-        ref = fr.reference_twist(a1, t_new, self.ref_twist)
+        a1, ref = kernels.transport_frames(self.a1, t_old, t_new, self.ref_twist)
         return RodState(x, theta, self.v.copy(), self.omega.copy(), a1, ref, self.time, t_old)

@@ -149,3 +149,18 @@ def test_compiled_contact_and_friction_equal_numpy(samples):
     assert np.max(np.abs(grad - g_ref)) <= TOL * np.max(np.abs(g_ref))
     assert np.max(np.abs(band - b_ref)) <= TOL * np.max(np.abs(b_ref))
     assert asm.contact(rod, state, sampling, 0, friction=lag, step=0.01)[0] == energy
+
+
+def test_compiled_frame_transport_equals_numpy():
+    from lcefem.solvers.der import frames as fr
+    rng = np.random.default_rng(17)
+    n = 9
+    state = ribbon_state(n, rng)
+    t_old = state.tangents
+    e = np.diff(state.x + 0.1 * rng.standard_normal(state.x.shape), axis=0)
+    t_new = e / np.linalg.norm(e, axis=1)[:, None]
+    a1_ref = fr.transport_directors(state.a1, t_old, t_new)
+    ref_ref = fr.reference_twist(a1_ref, t_new, state.ref_twist + 2 * np.pi)  # continued past a full turn
+    a1, ref = kernels.transport_frames(state.a1, t_old, t_new, state.ref_twist + 2 * np.pi)
+    assert np.max(np.abs(a1 - a1_ref)) <= TOL
+    assert np.max(np.abs(ref - ref_ref)) <= TOL * np.max(np.abs(ref_ref))
