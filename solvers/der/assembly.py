@@ -12,6 +12,7 @@ half-bandwidth 10), filled with one ``np.bincount`` per element family.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +20,7 @@ import numpy as np
 from lcefem.models import rod as rodlaw
 from lcefem.models.contact import normal_force
 from lcefem.solvers.der import kernels
-from lcefem.solvers.der.model import DiscreteRod, RodState, n_dofs
+from lcefem.solvers.der.model import DiscreteRod, Ground, RodState, n_dofs
 
 BANDWIDTH = 10
 
@@ -110,10 +111,12 @@ def sample_points(state: RodState, sampling: ContactSampling):
     return out
 
 
-def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling):
-    """Gaps [mm] to the ground of every sample point: (stencil (N-2, p_s) or None, ends (n_end, p_e))."""
-    nrm = rod.ground.unit_normal()
-    h = rod.ground.height
+def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling, plane: Ground | None = None):
+    """Gaps [mm] of every sample point to the ground (or to ``plane``): (stencil (N-2, p_s) or None,
+    ends (n_end, p_e))."""
+    plane = rod.ground if plane is None else plane
+    nrm = plane.unit_normal()
+    h = plane.height
     pos_s, _, pos_e, _ = sample_points(state, sampling)
     gs = pos_s @ nrm - h if sampling.interpolated else None
     return gs, pos_e @ nrm - h
@@ -140,13 +143,24 @@ class FrictionLag:
     stencil_points: np.ndarray | None
     end_normal: np.ndarray
     end_points: np.ndarray
+    obstacles: tuple["FrictionLag", ...] = ()  # the same for each of ``rod.obstacles``
+
+    def with_normals_of(self, new: "FrictionLag") -> "FrictionLag":
+        """These start-of-step points with the normal forces of ``new`` (re-solves with updated forces)."""
+        return FrictionLag(new.stencil_normal, self.stencil_points, new.end_normal, self.end_points,
+                           tuple(a.with_normals_of(b) for a, b in zip(self.obstacles, new.obstacles)))
 
 
 def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
-                 all_points: bool = False) -> FrictionLag:
-    """Sample points and contact normal forces of ``state`` (the start of a step); positions of all
-    points with ``all_points``, else only of those with a normal force."""
-    gs, ge = all_gaps(rod, state, sampling)
+                 all_points: bool = False, plane: Ground | None = None) -> FrictionLag:
+    """Sample points and contact normal forces of ``state`` (the start of a step) on the ground (and,
+    in ``obstacles``, on each obstacle), or on ``plane`` alone; positions of all points with
+    ``all_points``, else only of those with a normal force."""
+    if plane is None and rod.obstacles:
+        ground = friction_lag(rod, state, sampling, all_points, rod.ground)
+        walls = tuple(friction_lag(rod, state, sampling, all_points, w) for w in rod.obstacles)
+        return dataclasses.replace(ground, obstacles=walls)
+    gs, ge = all_gaps(rod, state, sampling, plane)
     out = []
     for kind, gap in (("stencil", gs), ("edge", ge)):
         if gap is None:
@@ -237,10 +251,10 @@ class Assembly:
     # -- contact and friction ----------------------------------------------------------------
     def contact(self, rod: DiscreteRod, state: RodState, sampling: ContactSampling, order: int = 2,
                 friction: FrictionLag | None = None, step: float = 0.0):
-        """Contact potential k E(gap) of the sample points with the ground, plus (when ``friction``
-        is given) the friction potential over a step of length ``step`` [s] (compiled:
-        :func:`kernels.contact`). Only the points within reach of the ground (or carrying a lagged
-        friction force) are differentiated.
+        """Contact potential k E(gap) of the sample points with the ground and the obstacles, plus
+        (when ``friction`` is given) the friction potential over a step of length ``step`` [s]
+        (compiled: :func:`kernels.contact`). Only the points within reach of a plane (or carrying a
+        lagged friction force on it) are differentiated.
 
         Returns:
             (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`)
@@ -255,22 +269,27 @@ class Assembly:
         n_edges = len(geo.t)
         pos_s, r_s, pos_e, r_e = sample_points(state, sampling)
         side, sigma, _ = sampling.kernel_arrays()
-        if fric:
-            lag_ns = friction.stencil_normal if sampling.interpolated else self._no_lag_n
-            lag_ps = friction.stencil_points if sampling.interpolated else self._no_lag_p
-            lag_ne, lag_pe = friction.end_normal, friction.end_points
-            mu, K2 = rod.friction.mu, rod.friction.K2
-        else:
-            lag_ns, lag_ps, lag_ne, lag_pe = self._no_lag_n, self._no_lag_p, self._no_lag_n, self._no_lag_p
-            mu, K2 = 0.0, 1.0
         grad = np.zeros(self.ndof)
         band = np.zeros((BANDWIDTH + 1, self.ndof)) if order >= 2 else self._no_band
-        energy = kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
-                                 sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                 rod.ground.unit_normal(), float(rod.ground.height), float(law.clearance),
-                                 float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
-                                 lag_ne, lag_pe, float(mu), float(K2), float(step), db, ddb, change is not None,
-                                 order, grad, band)
+        energy = 0.0
+        if fric and len(friction.obstacles) != len(rod.obstacles):
+            raise ValueError(f"friction lag has {len(friction.obstacles)} obstacles, the rod {len(rod.obstacles)}")
+        lags = (friction,) + friction.obstacles if fric else (None,) * len(rod.contact_planes())
+        for plane, lag in zip(rod.contact_planes(), lags):
+            if fric:
+                lag_ns = lag.stencil_normal if sampling.interpolated else self._no_lag_n
+                lag_ps = lag.stencil_points if sampling.interpolated else self._no_lag_p
+                lag_ne, lag_pe = lag.end_normal, lag.end_points
+                mu, K2 = rod.friction.mu, rod.friction.K2
+            else:
+                lag_ns, lag_ps, lag_ne, lag_pe = self._no_lag_n, self._no_lag_p, self._no_lag_n, self._no_lag_p
+                mu, K2 = 0.0, 1.0
+            energy += kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
+                                      sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
+                                      plane.unit_normal(), float(plane.height), float(law.clearance),
+                                      float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
+                                      lag_ne, lag_pe, float(mu), float(K2), float(step), db, ddb,
+                                      change is not None, order, grad, band)
         return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])
 
 
