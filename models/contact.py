@@ -159,8 +159,9 @@ class Wall:
     angle: float = param(0.0, "deg", "angle between the wall and the ribbon's axis: 0 head-on (the whole "
                          "length meets it at once), > 0 turned about the vertical so one end meets it first",
                          minimum=-89.0, maximum=89.0)
-    direction: float = param(-1.0, "-", "side of the ribbon the wall stands on: -1 towards -y (where the default "
-                             "right-handed ribbon rolls), +1 towards +y", minimum=-1.0, maximum=1.0)
+    direction: float = param(1.0, "-", "side of the ribbon the wall stands on: +1 towards +y (where the default "
+                             "ribbon rolls at 31 nodes and 100 C, measured with validation/ribbon_obstacle.py), "
+                             "-1 towards -y", minimum=-1.0, maximum=1.0)
 
     def plane(self, centreline: np.ndarray) -> tuple[tuple[float, float, float], float]:
         """(unit normal pointing back to the ribbon, height) of the wall's face for the ribbon's as-built
