@@ -1,11 +1,13 @@
-"""Vectorised assembly of the rod's energy, gradient and banded Hessian.
+"""Assembly of the rod's energy, gradient and banded Hessian (element loops compiled in
+:mod:`lcefem.solvers.der.kernels`; :meth:`Assembly.gradient` and :meth:`Assembly.band` scatter
+element arrays of the numpy formulas, which the tests use as the reference).
 
 Elements: edges (stretching; contact and friction of the end half-edges' section points; dofs
 x_k, theta_k, x_(k+1): 7 contiguous entries of q) and interior-node stencils (bending, twisting,
 contact and friction of the section points on the two half-edges next to the node, whose frame
 angle is interpolated with the node's twist; dofs x_(k-1) ... x_(k+1): 11 contiguous entries).
 The Hessian is kept in LAPACK's lower banded storage ab[i - j, j] = H[i, j] (i >= j,
-half-bandwidth 10), filled with one ``np.bincount`` per element family.
+half-bandwidth 10).
 
 ``order`` selects what is computed: 0 energy only (line search), 1 with gradient, 2 with Hessian.
 """

@@ -116,7 +116,8 @@ def numpy_contact(asm, rod, state, sampling, lag, step):
             jac, h = jac[:, 0], h[:, 0]
             slots, dbs, ddbs = EDGE_SLOTS, (db[ids],), (ddb[ids],)
         jn = np.einsum("kci,c->ki", jac, nrm)
-        h = h + (law.stiffness * d2)[:, None, None] * jn[:, :, None] * jn[:, None, :] + np.swapaxes(jac, 1, 2) @ (hD @ jac)
+        h = (h + (law.stiffness * d2)[:, None, None] * jn[:, :, None] * jn[:, None, :]
+             + np.swapaxes(jac, 1, 2) @ (hD @ jac))
         g_loc, h = rodlaw.apply_source_change(np.einsum("kc,kci->ki", g_pt, jac), h, slots, dbs, ddbs)
         if kind == "stencil":
             grad += asm.gradient(None, g_loc, stencil_rows=elem)

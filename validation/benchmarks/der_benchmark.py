@@ -5,7 +5,8 @@ cantilever problems against PyElastica (and DisMech) where they are installed.
         [--duration 5] [--warmup 30] [--baseline DIR] [--skip-ribbon] [--skip-peers] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
-``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s: CPU and wall ms per step, Newton iterations per step, and
+``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s:
+CPU and wall ms per step, Newton iterations per step, and
 the real-time factor (simulated seconds per CPU second, > 1: faster than real time; CPU time because
 the machine is shared, wall time printed next to it). ``--baseline DIR`` runs the same loop with
 ``lcefem`` imported from DIR (e.g. ``git archive <commit> | tar -x -C DIR/lcefem``), in a child
@@ -68,7 +69,8 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
         sim.step(dt)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     st = sim.state
-    return {"nodes": nodes, "steps": steps, "cpu_ms_per_step": 1e3 * cpu / steps, "wall_ms_per_step": 1e3 * wall / steps,
+    return {"nodes": nodes, "steps": steps, "cpu_ms_per_step": 1e3 * cpu / steps,
+            "wall_ms_per_step": 1e3 * wall / steps,
             "newton_per_step": (sim.integrator.total_iterations - its0) / steps,
             "realtime_factor_cpu": duration / cpu, "realtime_factor_wall": duration / wall, "build_s": build,
             "centroid": [float(v) for v in st.x.mean(axis=0)], "speed": float(np.hypot(*st.v.mean(axis=0)[:2]))}
@@ -238,7 +240,8 @@ def peers(c: Cantilever) -> list[dict]:
     if have_elastica:
         dt = dt_p
         p_path, p_wall = elastica_dynamics(c, 1.0, dt, 30.0, sample)
-        row.update(peer_s=p_wall, peer_error=abs(p_path[-1] - z_static) / abs(z_static), note=f"ours {its:.1f} Newton/step; PyElastica dt {dt:.2e} s")
+        row.update(peer_s=p_wall, peer_error=abs(p_path[-1] - z_static) / abs(z_static),
+                   note=f"ours {its:.1f} Newton/step; PyElastica dt {dt:.2e} s")
     rows.append(row)
     # 3. undamped swing at matched accuracy
     t_end = 0.25
@@ -277,7 +280,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--skip-peers", action="store_true")
     parser.add_argument("--csv", help="write the tables to this CSV file")
     parser.add_argument("--warmup", type=float, default=30.0,
-                        help="untimed simulated time on the plate before the timing [s] (the ribbon heats and starts rolling)")
+                        help="untimed simulated time on the plate before the timing [s] "
+                             "(the ribbon heats and starts rolling)")
     parser.add_argument("--ribbon-worker", nargs=3, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.ribbon_worker:
@@ -301,18 +305,21 @@ def main(argv: list[str] | None = None) -> int:
                       f"{r['newton_per_step']:.2f} Newton/step, {r['realtime_factor_cpu']:.2f} x real time "
                       f"({r['realtime_factor_wall']:.2f}); centroid {r['centroid'][0]:.9f} {r['centroid'][1]:.9f} mm, "
                       f"speed {r['speed']:.9f} mm/s", flush=True)
-                table.append({"problem": f"rolling ribbon {n} nodes", "code": label, "ms_per_step": r["cpu_ms_per_step"],
+                table.append({"problem": f"rolling ribbon {n} nodes", "code": label,
+                              "ms_per_step": r["cpu_ms_per_step"],
                               "wall_ms_per_step": r["wall_ms_per_step"], "newton_per_step": r["newton_per_step"],
                               "realtime_factor": r["realtime_factor_cpu"]})
             if "baseline" in runs:
-                print(f"  {n:4d} nodes speed-up: {runs['baseline']['cpu_ms_per_step'] / runs['now']['cpu_ms_per_step']:.2f} x")
+                ratio = runs["baseline"]["cpu_ms_per_step"] / runs["now"]["cpu_ms_per_step"]
+                print(f"  {n:4d} nodes speed-up: {ratio:.2f} x")
     if not args.skip_peers:
         print("peers (wall seconds, one core; error: relative tip error as defined in the docstring):")
         rows = peers(Cantilever())
         print(f"  {'problem':44s} {'ours [s]':>9s} {'err':>8s} {'peer [s]':>9s} {'err':>8s} {'peer/ours':>9s}")
         for r in rows:
-            print(f"  {r['problem']:44s} {r['ours_s']:9.3f} {r['ours_error']:8.1e} {r.get('peer_s', float('nan')):9.3f} "
-                  f"{r.get('peer_error', float('nan')):8.1e} {r['speed_ratio']:9.2f}   {r['ours']}; {r.get('note', '')}")
+            nan = float("nan")
+            print(f"  {r['problem']:44s} {r['ours_s']:9.3f} {r['ours_error']:8.1e} {r.get('peer_s', nan):9.3f} "
+                  f"{r.get('peer_error', nan):8.1e} {r['speed_ratio']:9.2f}   {r['ours']}; {r.get('note', '')}")
             table.append({"problem": r["problem"], "code": "ours vs " + r["peer"], "ours_s": r["ours_s"],
                           "peer_s": r.get("peer_s"), "speed_ratio": r["speed_ratio"], "ours_error": r["ours_error"],
                           "peer_error": r.get("peer_error")})
