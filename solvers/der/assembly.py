@@ -168,7 +168,9 @@ def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
         if gap is None:
             out += [None, None]
             continue
-        normal = normal_force(gap, rod.contact)
+        law = rod.contact
+        normal = kernels.normal_force(np.ascontiguousarray(gap), float(law.clearance), float(law.delta),
+                                      float(law.K1), float(law.stiffness))
         pos = np.full(gap.shape + (3,), np.nan)
         elem, col = np.nonzero((normal > 0.0) | all_points)
         if len(elem):

@@ -538,6 +538,16 @@ def _contact_energy(gap, clearance, delta, K1):
 
 
 @njit(cache=True)
+def normal_force(gap, clearance, delta, K1, stiffness):
+    """``models.contact.normal_force`` of an array of gaps (any shape) [N]."""
+    out = np.empty(gap.size)
+    flat = gap.ravel()
+    for i in range(gap.size):
+        out[i] = -stiffness * _contact_energy(flat[i], clearance, delta, K1)[1]
+    return out.reshape(gap.shape)
+
+
+@njit(cache=True)
 def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian):
     """``models.contact.friction_potential`` of one point: energy; dD/du into grad (3,), d2D/du2
     into hess (3, 3)."""

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from lcefem.models import rod as rodlaw
-from lcefem.models.contact import contact_energy, friction_potential
+from lcefem.models.contact import ContactLaw, contact_energy, friction_potential, normal_force
 from lcefem.solvers.der import kernels
 from lcefem.solvers.der.assembly import (EDGE_SLOTS, STENCIL_SLOTS, Assembly, ContactSampling, FrictionLag,
                                          friction_lag)
@@ -165,3 +165,12 @@ def test_compiled_frame_transport_equals_numpy():
     a1, ref = kernels.transport_frames(state.a1, t_old, t_new, state.ref_twist + 2 * np.pi)
     assert np.max(np.abs(a1 - a1_ref)) <= TOL
     assert np.max(np.abs(ref - ref_ref)) <= TOL * np.max(np.abs(ref_ref))
+
+
+def test_compiled_normal_force_equals_numpy():
+    """All three pieces of the smooth contact law (quadratic, softplus band, no contact)."""
+    law = ContactLaw(delta=0.05, stiffness=2.0, clearance=0.1)
+    gap = np.linspace(-0.2, 0.3, 301).reshape(7, 43)
+    ref = normal_force(gap, law)
+    got = kernels.normal_force(gap, law.clearance, law.delta, law.K1, law.stiffness)
+    assert np.max(np.abs(got - ref)) <= TOL * np.max(np.abs(ref))
