@@ -146,3 +146,28 @@ def friction_potential(u: np.ndarray, normal_dir: np.ndarray, normal: np.ndarray
     hess = (coef / h)[:, None, None] * (phi[:, None, None] * proj
                                        + (psi / h ** 2)[:, None, None] * w[:, :, None] * w[:, None, :])
     return energy, grad, hess
+
+
+@dataclass(frozen=True)
+class Wall:
+    """A rigid vertical wall standing on the plate across the rolling ribbon's path (seed 000, Fig. 1:
+    the robot meets an obstacle), with the plate's contact and friction laws, placed relative to the
+    as-built ribbon's centre line."""
+
+    distance: float = param(10.0, "mm", "chosen: from the nearest point of the ribbon's centre line to the wall "
+                            "(the ribbon is ~4 mm wide: a few mm of rolling before contact)", positive=True)
+    angle: float = param(0.0, "deg", "angle between the wall and the ribbon's axis: 0 head-on (the whole "
+                         "length meets it at once), > 0 turned about the vertical so one end meets it first",
+                         minimum=-89.0, maximum=89.0)
+    direction: float = param(1.0, "-", "side of the ribbon the wall stands on: +1 towards +y (where the default "
+                             "ribbon rolls at 31 nodes and 100 C, measured with validation/ribbon_obstacle.py), "
+                             "-1 towards -y", minimum=-1.0, maximum=1.0)
+
+    def plane(self, centreline: np.ndarray) -> tuple[tuple[float, float, float], float]:
+        """(unit normal pointing back to the ribbon, height) of the wall's face for the ribbon's as-built
+        centre line ``centreline`` (N, 3) [mm]: the rod stays where normal . p > height, and the
+        nearest centre-line node is ``distance`` from the face."""
+        a = np.radians(self.angle)
+        side = 1.0 if self.direction > 0 else -1.0
+        normal = -side * np.array([-np.sin(a), np.cos(a), 0.0])
+        return tuple(float(v) for v in normal), float(np.min(np.asarray(centreline) @ normal) - self.distance)

@@ -1,24 +1,28 @@
-"""Vectorised assembly of the rod's energy, gradient and banded Hessian.
+"""Assembly of the rod's energy, gradient and banded Hessian (element loops compiled in
+:mod:`lcefem.solvers.der.kernels`; :meth:`Assembly.gradient` and :meth:`Assembly.band` scatter
+element arrays of the numpy formulas, which the tests use as the reference).
 
 Elements: edges (stretching; contact and friction of the end half-edges' section points; dofs
 x_k, theta_k, x_(k+1): 7 contiguous entries of q) and interior-node stencils (bending, twisting,
 contact and friction of the section points on the two half-edges next to the node, whose frame
 angle is interpolated with the node's twist; dofs x_(k-1) ... x_(k+1): 11 contiguous entries).
 The Hessian is kept in LAPACK's lower banded storage ab[i - j, j] = H[i, j] (i >= j,
-half-bandwidth 10), filled with one ``np.bincount`` per element family.
+half-bandwidth 10).
 
 ``order`` selects what is computed: 0 energy only (line search), 1 with gradient, 2 with Hessian.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from lcefem.models import rod as rodlaw
-from lcefem.models.contact import contact_energy, friction_potential, normal_force
-from lcefem.solvers.der.model import DiscreteRod, RodState, n_dofs
+from lcefem.models.contact import normal_force
+from lcefem.solvers.der import kernels
+from lcefem.solvers.der.model import DiscreteRod, Ground, RodState, n_dofs
 
 BANDWIDTH = 10
 
@@ -78,36 +82,57 @@ class ContactSampling:
     def end_edges(self, n_edges: int) -> np.ndarray:
         return np.array([0, n_edges - 1]) if self.interpolated else np.arange(n_edges)
 
+    def end_sigma_rows(self, n_edges: int) -> np.ndarray:
+        """Fractions along the edge of the end-edge points, one row per edge of :meth:`end_edges`."""
+        if self.interpolated:
+            return self.end_sigma
+        return np.ascontiguousarray(np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1])))
 
-def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling):
-    """Gaps [mm] to the ground of every sample point: (stencil (N-2, p_s) or None, ends (n_end, p_e))."""
-    geo = state.geometry()
-    nrm = rod.ground.unit_normal()
-    h = rod.ground.height
-    gs = None
-    if sampling.interpolated and rod.n_nodes > 2:
-        gs = rodlaw.stencil_point_heights(state.x, state.a1, geo.t, state.theta, geo.twist, sampling.stencil, nrm) - h
-    ids = sampling.end_edges(rod.n_nodes - 1)
-    x = state.x
-    xn = x @ nrm
-    m1n, m2n = geo.m1[ids] @ nrm, geo.m2[ids] @ nrm
-    sig = sampling.end_sigma if sampling.interpolated else sampling.end_sigma
-    base = xn[ids, None] + sig * (xn[ids + 1] - xn[ids])[:, None]
-    ge = base + sampling.end_offsets[None, :, 0] * m1n[:, None] + sampling.end_offsets[None, :, 1] * m2n[:, None] - h
-    return gs, ge
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(side as bool, sigma, offsets) of the stencil points (empty without interpolation)."""
+        if self.stencil is None:
+            return np.zeros(0, bool), np.zeros(0), np.zeros((0, 2))
+        st = self.stencil
+        return st.side.astype(bool), np.asarray(st.sigma, float), np.ascontiguousarray(st.offsets, float)
+
+
+def sample_points(state: RodState, sampling: ContactSampling):
+    """Positions and frame offsets [mm] of all sample points: (pos_s, r_s) (N-2, p_s, 3) of the
+    stencil points (empty without interpolation) and (pos_e, r_e) (n_end, p_e, 3) of the end-edge
+    points; computed once per state (states are not modified in place once built)."""
+    cache = state.__dict__.setdefault("_samples", {})
+    out = cache.get(id(sampling))
+    if out is None:
+        geo = state.geometry()
+        n_edges = len(geo.t)
+        side, sigma, offsets = sampling.kernel_arrays()
+        out = kernels.sample_points(state.x, state.a1, geo.t, state.theta, geo.twist, geo.m1, geo.m2, side, sigma,
+                                    offsets, sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
+                                    np.ascontiguousarray(sampling.end_offsets, float))
+        cache[id(sampling)] = out
+    return out
+
+
+def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling, plane: Ground | None = None):
+    """Gaps [mm] of every sample point to the ground (or to ``plane``): (stencil (N-2, p_s) or None,
+    ends (n_end, p_e))."""
+    plane = rod.ground if plane is None else plane
+    nrm = plane.unit_normal()
+    h = plane.height
+    pos_s, _, pos_e, _ = sample_points(state, sampling)
+    gs = pos_s @ nrm - h if sampling.interpolated else None
+    return gs, pos_e @ nrm - h
 
 
 def point_positions(state: RodState, sampling: ContactSampling, kind: str, elem: np.ndarray, col: np.ndarray):
-    """Positions (k, 3) of selected sample points, with (for stencil points) their offsets r and
-    edge tangents t (k, 3); ``elem`` is the stencil index or the row of the end-edge set."""
-    geo = state.geometry()
+    """Positions (k, 3) of selected sample points, with their frame offsets r and edge tangents t
+    (k, 3); ``elem`` is the stencil index or the row of the end-edge set."""
+    pos_s, r_s, pos_e, r_e = sample_points(state, sampling)
+    t = state.geometry().t
     if kind == "stencil":
-        return rodlaw.stencil_points(state.x, state.a1, geo.t, state.theta, geo.twist, sampling.stencil, elem, col)
-    ids = sampling.end_edges(len(geo.t))[elem]
-    sig = (sampling.end_sigma[elem, col] if sampling.interpolated else sampling.end_sigma[0, col])
-    x = state.x
-    r = sampling.end_offsets[col, 0, None] * geo.m1[ids] + sampling.end_offsets[col, 1, None] * geo.m2[ids]
-    return x[ids] + sig[:, None] * (x[ids + 1] - x[ids]) + r, r, geo.t[ids]
+        edge = elem + sampling.stencil.side[col]
+        return pos_s[elem, col], r_s[elem, col], t[edge]
+    return pos_e[elem, col], r_e[elem, col], t[sampling.end_edges(len(t))[elem]]
 
 
 @dataclass
@@ -120,19 +145,32 @@ class FrictionLag:
     stencil_points: np.ndarray | None
     end_normal: np.ndarray
     end_points: np.ndarray
+    obstacles: tuple["FrictionLag", ...] = ()  # the same for each of ``rod.obstacles``
+
+    def with_normals_of(self, new: "FrictionLag") -> "FrictionLag":
+        """These start-of-step points with the normal forces of ``new`` (re-solves with updated forces)."""
+        return FrictionLag(new.stencil_normal, self.stencil_points, new.end_normal, self.end_points,
+                           tuple(a.with_normals_of(b) for a, b in zip(self.obstacles, new.obstacles)))
 
 
 def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
-                 all_points: bool = False) -> FrictionLag:
-    """Sample points and contact normal forces of ``state`` (the start of a step); positions of all
-    points with ``all_points``, else only of those with a normal force."""
-    gs, ge = all_gaps(rod, state, sampling)
+                 all_points: bool = False, plane: Ground | None = None) -> FrictionLag:
+    """Sample points and contact normal forces of ``state`` (the start of a step) on the ground (and,
+    in ``obstacles``, on each obstacle), or on ``plane`` alone; positions of all points with
+    ``all_points``, else only of those with a normal force."""
+    if plane is None and rod.obstacles:
+        ground = friction_lag(rod, state, sampling, all_points, rod.ground)
+        walls = tuple(friction_lag(rod, state, sampling, all_points, w) for w in rod.obstacles)
+        return dataclasses.replace(ground, obstacles=walls)
+    gs, ge = all_gaps(rod, state, sampling, plane)
     out = []
     for kind, gap in (("stencil", gs), ("edge", ge)):
         if gap is None:
             out += [None, None]
             continue
-        normal = normal_force(gap, rod.contact)
+        law = rod.contact
+        normal = kernels.normal_force(np.ascontiguousarray(gap), float(law.clearance), float(law.delta),
+                                      float(law.K1), float(law.stiffness))
         pos = np.full(gap.shape + (3,), np.nan)
         elem, col = np.nonzero((normal > 0.0) | all_points)
         if len(elem):
@@ -158,6 +196,9 @@ class Assembly:
         a, c = self._s_pairs
         self.stencil_band = ((a - c)[None, :] * nd + self.node_base[:, None] + c[None, :])
         self.band_size = (BANDWIDTH + 1) * nd
+        self._no_db, self._no_ddb = np.zeros((1, 3)), np.zeros((1, 3, 3))  # placeholders (same source)
+        self._no_band = np.zeros((1, 1))  # placeholder (no Hessian)
+        self._no_lag_n, self._no_lag_p = np.zeros((1, 1)), np.zeros((1, 1, 3))  # placeholders (no friction)
 
     # -- scatter ---------------------------------------------------------------------------
     def gradient(self, g_edges, g_stencils, edge_rows=None, stencil_rows=None) -> np.ndarray:
@@ -177,6 +218,9 @@ class Assembly:
         for kind, h, rows in terms:
             if h is None:
                 continue
+            if kind == "band":  # already in banded storage
+                ab += h.ravel()
+                continue
             if kind == "edge":
                 a, c = self._e_pairs
                 idx = self.edge_band if rows is None else self.edge_band[rows]
@@ -191,7 +235,7 @@ class Assembly:
 
     # -- elastic energy ----------------------------------------------------------------------
     def elastic(self, rod: DiscreteRod, state: RodState, order: int = 2):
-        """Stretching, bending and twisting.
+        """Stretching, bending and twisting (compiled element loops, :func:`kernels.elastic`).
 
         Returns:
             (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`)
@@ -199,51 +243,22 @@ class Assembly:
         sec = rod.section
         rest = rod.rest
         geo = state.geometry()
-        e = geo.e
-        if order == 0:
-            strain = geo.length / rest.edge_length - 1.0
-            es = 0.5 * sec.EA * float(np.sum(strain ** 2 * rest.edge_length))
-            kappa = np.stack([0.5 * np.einsum("ki,ki->k", rodlaw.curvature_binormal(e[:-1], e[1:]),
-                                               geo.m2[:-1] + geo.m2[1:]),
-                              -0.5 * np.einsum("ki,ki->k", rodlaw.curvature_binormal(e[:-1], e[1:]),
-                                               geo.m1[:-1] + geo.m1[1:])], axis=1)
-            d = kappa - rest.curvature
-            dt = geo.twist - rest.twist
-            eb = 0.5 * float(np.sum((sec.EI1 * d[:, 0] ** 2 + sec.EI2 * d[:, 1] ** 2 + sec.GJ * dt ** 2)
-                                    / rest.voronoi_length))
-            return es + eb, None, []
-        es, gs, hs = rodlaw.stretching(e, rest.edge_length, sec.EA)
-        m1, m2 = geo.m1, geo.m2
-        eb, gb, hb = rodlaw.bend_twist(e[:-1], e[1:], m1[:-1], m2[:-1], m1[1:], m2[1:], geo.twist,
-                                       rest.curvature, rest.twist, rest.voronoi_length,
-                                       sec.EI1, sec.EI2, sec.GJ, want_hessian=order >= 2)
-        n = len(e)
-        g_edges = np.zeros((n, 7))
-        g_edges[:, 0:3] = -gs
-        g_edges[:, 4:7] = gs
-        g_sten = gb @ rodlaw.STENCIL_MAP.T
-        h_edges = h_sten = None
-        if order >= 2:
-            h_edges = np.zeros((n, 7, 7))
-            h_edges[:, 0:3, 0:3] = hs
-            h_edges[:, 4:7, 4:7] = hs
-            h_edges[:, 0:3, 4:7] = -hs
-            h_edges[:, 4:7, 0:3] = -hs
-            h_sten = rodlaw.STENCIL_MAP @ hb @ rodlaw.STENCIL_MAP.T
-        change = source_change(state)
-        if change is not None:  # stretching does not depend on the frames
-            db, ddb = change
-            g_sten, h_sten = rodlaw.apply_source_change(g_sten, h_sten, STENCIL_SLOTS,
-                                                        (db[:-1], db[1:]), (ddb[:-1], ddb[1:]))
-        grad = self.gradient(g_edges, g_sten)
-        return float(es.sum() + eb.sum()), grad, [("edge", h_edges, None), ("stencil", h_sten, None)]
+        change = source_change(state) if order >= 1 else None
+        db, ddb = change if change is not None else (self._no_db, self._no_ddb)
+        grad = np.zeros(self.ndof)
+        band = np.zeros((BANDWIDTH + 1, self.ndof)) if order >= 2 else self._no_band
+        energy = kernels.elastic(state.x, geo.m1, geo.m2, geo.twist, rest.edge_length, rest.curvature, rest.twist,
+                                 rest.voronoi_length, float(sec.EA), float(sec.EI1), float(sec.EI2),
+                                 float(sec.GJ), db, ddb, change is not None, order >= 2, grad, band)
+        return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])
 
     # -- contact and friction ----------------------------------------------------------------
     def contact(self, rod: DiscreteRod, state: RodState, sampling: ContactSampling, order: int = 2,
                 friction: FrictionLag | None = None, step: float = 0.0):
-        """Contact potential k E(gap) of the sample points with the ground, plus (when ``friction``
-        is given) the friction potential over a step of length ``step`` [s]. Only the points within
-        reach of the ground (or carrying a lagged friction force) are differentiated.
+        """Contact potential k E(gap) of the sample points with the ground and the obstacles, plus
+        (when ``friction`` is given) the friction potential over a step of length ``step`` [s]
+        (compiled: :func:`kernels.contact`). Only the points within reach of a plane (or carrying a
+        lagged friction force on it) are differentiated.
 
         Returns:
             (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`)
@@ -251,78 +266,35 @@ class Assembly:
         if not rod.has_contact:
             return 0.0, None, []
         law = rod.contact
-        nrm = rod.ground.unit_normal()
-        gs, ge = all_gaps(rod, state, sampling)
         fric = friction is not None and rod.friction is not None and step > 0
-        reach = law.clearance + law.delta
-        k = law.stiffness
-        energy = 0.0
-        grad = np.zeros(self.ndof) if order >= 1 else None
-        terms = []
         change = source_change(state) if order >= 1 else None
+        db, ddb = change if change is not None else (self._no_db, self._no_ddb)
         geo = state.geometry()
-        x = state.x
         n_edges = len(geo.t)
-        for kind, gap in (("stencil", gs), ("edge", ge)):
-            if gap is None:
-                continue
-            lag_n = (friction.stencil_normal if kind == "stencil" else friction.end_normal) if fric else None
-            active = gap < reach
+        pos_s, r_s, pos_e, r_e = sample_points(state, sampling)
+        side, sigma, _ = sampling.kernel_arrays()
+        grad = np.zeros(self.ndof)
+        band = np.zeros((BANDWIDTH + 1, self.ndof)) if order >= 2 else self._no_band
+        energy = 0.0
+        if fric and len(friction.obstacles) != len(rod.obstacles):
+            raise ValueError(f"friction lag has {len(friction.obstacles)} obstacles, the rod {len(rod.obstacles)}")
+        lags = (friction,) + friction.obstacles if fric else (None,) * len(rod.contact_planes())
+        for plane, lag in zip(rod.contact_planes(), lags):
             if fric:
-                active = active | (lag_n > 0.0)
-            elem, col = np.nonzero(active)
-            if len(elem) == 0:
-                continue
-            E, d1, d2 = contact_energy(gap[elem, col], law)
-            energy += k * float(E.sum())
-            pos = r = t = None
-            if fric:
-                lag_pts = friction.stencil_points if kind == "stencil" else friction.end_points
-                fn = lag_n[elem, col]
-                with_force = fn > 0.0
-                pos, r, t = point_positions(state, sampling, kind, elem, col)
-                u = np.where(with_force[:, None], pos - np.nan_to_num(lag_pts[elem, col]), 0.0)
-                D, gD, hD = friction_potential(u, nrm, fn, step, rod.friction)
-                energy += float(D.sum())
-            if order == 0:
-                continue
-            if pos is None:
-                pos, r, t = point_positions(state, sampling, kind, elem, col)
-            g_pt = (k * d1)[:, None] * nrm
-            if fric:
-                g_pt = g_pt + gD
-            if kind == "stencil":
-                st = sampling.stencil
-                jac, h_loc = rodlaw.stencil_point_derivatives(geo.e[elem], geo.e[elem + 1], r, t, st.side[col],
-                                                              st.sigma[col], g_pt, hessian=order >= 2)
+                lag_ns = lag.stencil_normal if sampling.interpolated else self._no_lag_n
+                lag_ps = lag.stencil_points if sampling.interpolated else self._no_lag_p
+                lag_ne, lag_pe = lag.end_normal, lag.end_points
+                mu, K2 = rod.friction.mu, rod.friction.K2
             else:
-                ids = sampling.end_edges(n_edges)[elem]
-                sig = sampling.end_sigma[elem, col] if sampling.interpolated else sampling.end_sigma[0, col]
-                jac, hp = rodlaw.section_point_derivatives(x[ids], x[ids + 1], geo.m1[ids], geo.m2[ids],
-                                                           sampling.end_offsets[col][:, None, :],
-                                                           g_pt[:, None, :], sig[:, None])
-                jac = jac[:, 0]
-                h_loc = hp[:, 0] if order >= 2 else None
-            g_loc = np.einsum("kc,kci->ki", g_pt, jac)
-            if order >= 2:
-                jn = np.einsum("kci,c->ki", jac, nrm)
-                h_loc = h_loc + (k * d2)[:, None, None] * (jn[:, :, None] * jn[:, None, :])
-                if fric:
-                    h_loc = h_loc + np.swapaxes(jac, 1, 2) @ (hD @ jac)
-            if kind == "stencil":
-                if change is not None:
-                    db, ddb = change
-                    g_loc, h_loc = rodlaw.apply_source_change(g_loc, h_loc, STENCIL_SLOTS, (db[elem], db[elem + 1]),
-                                                              (ddb[elem], ddb[elem + 1]))
-                grad += self.gradient(None, g_loc, stencil_rows=elem)
-                terms.append(("stencil", h_loc, elem))
-            else:
-                if change is not None:
-                    db, ddb = change
-                    g_loc, h_loc = rodlaw.apply_source_change(g_loc, h_loc, EDGE_SLOTS, (db[ids],), (ddb[ids],))
-                grad += self.gradient(g_loc, None, edge_rows=ids)
-                terms.append(("edge", h_loc, ids))
-        return energy, grad, terms
+                lag_ns, lag_ps, lag_ne, lag_pe = self._no_lag_n, self._no_lag_p, self._no_lag_n, self._no_lag_p
+                mu, K2 = 0.0, 1.0
+            energy += kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
+                                      sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
+                                      plane.unit_normal(), float(plane.height), float(law.clearance),
+                                      float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
+                                      lag_ne, lag_pe, float(mu), float(K2), float(step), db, ddb,
+                                      change is not None, order, grad, band)
+        return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])
 
 
 def source_change(state: RodState):
@@ -334,7 +306,7 @@ def source_change(state: RodState):
     geo = state.geometry()
     if np.max(np.abs(src - geo.t)) == 0.0:
         return None
-    return rodlaw.source_change(src, geo.t, geo.length)
+    return kernels.source_change(src, geo.t, geo.length)
 
 
 def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:

@@ -76,7 +76,9 @@ class SectionHeat:
                     pairs.append((c, c + 1, k * dw / dt_))
                 if iw + 1 < nw:
                     pairs.append((c, c + nt, k * dt_ / dw))
-        self.pairs = pairs
+        self._pair_a = np.array([a for a, _, _ in pairs], int)
+        self._pair_b = np.array([b for _, b, _ in pairs], int)
+        self._pair_g = np.array([g for _, _, g in pairs], float)
         self.k_axial = k * dw * dt_
         # Exposed patches: cell, area per unit length, normal (frame vector index 0 = m1, 1 = m2, sign),
         # centroid offsets (a, b) along (m1, m2).
@@ -164,17 +166,18 @@ class SectionHeat:
         rhs = (C * T + G_g * T_ground + G_a * T_air).ravel()
         length = geo.length
         base = nc * np.arange(n)
-        for (a, b, g) in self.pairs:
-            gl = g * length
-            ab[b - a, base + a] -= gl
-            diag[base + a] += gl
-            diag[base + b] += gl
+        # In-section pairs (all edges at once; each (pair, edge) fills its own band entry).
+        gl = length[:, None] * self._pair_g[None, :]
+        col_a = base[:, None] + self._pair_a[None, :]
+        ab[(self._pair_b - self._pair_a)[None, :], col_a] -= gl
+        diag += np.bincount(col_a.ravel(), gl.ravel(), nd) + np.bincount((base[:, None] + self._pair_b).ravel(),
+                                                                         gl.ravel(), nd)
         if n > 1:
-            ga = self.k_axial / (0.5 * (length[:-1] + length[1:]))
-            for c in range(nc):
-                ab[nc, base[:-1] + c] -= ga
-                diag[base[:-1] + c] += ga
-                diag[base[1:] + c] += ga
+            ga = (self.k_axial / (0.5 * (length[:-1] + length[1:])))[:, None]
+            cols = base[:-1, None] + np.arange(nc)[None, :]
+            ab[nc, cols] -= ga
+            diag[cols] += ga
+            diag[cols + nc] += ga
         ab[0] = diag
         T_new = solveh_banded(ab, rhs, lower=True, check_finite=False).reshape(n, nc)
         fluxes = HeatFluxes((G_g * (T_ground - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))

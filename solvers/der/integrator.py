@@ -129,7 +129,7 @@ class Integrator:
             guess = result.state
             if use_friction:
                 new = friction_lag(rod, guess, self.sampling)
-                lag = FrictionLag(new.stencil_normal, lag.stencil_points, new.end_normal, lag.end_points)
+                lag = lag.with_normals_of(new)
         result.iterations = iterations
         y = result.state
         q_n, qdot_n = start.q(), start.qdot()

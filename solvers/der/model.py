@@ -17,6 +17,7 @@ from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.errors import InputError
 from lcefem.models.rod import CORNER_SIGNS, RodSection
 from lcefem.solvers.der import frames as fr
+from lcefem.solvers.der import kernels
 
 
 def n_dofs(n_nodes: int) -> int:
@@ -113,6 +114,8 @@ class DiscreteRod:
         gravity: acceleration vector [mm/s^2].
         damping: mass-proportional viscous damping rate [1/s] (air drag of the slow motions).
         ground, contact, friction: optional rigid plane with the smooth laws of seed 000.
+        obstacles: further rigid planes (walls standing on the ground) with the same contact and
+            friction laws; each is a half-space {p : n.p < height} the rod stays out of.
         contact_offsets: (p, 2) cross-section points (a, b) [mm] (offset a m1 + b m2 from the
             centreline) that touch the ground: the ribbon's four corners by default, so that a flat
             ribbon touches with its face (two corners per section) or with an edge; the centreline
@@ -132,6 +135,7 @@ class DiscreteRod:
     ground: Ground | None = None
     contact: ContactLaw | None = None
     friction: FrictionLaw | None = None
+    obstacles: tuple[Ground, ...] = ()
     contact_offsets: np.ndarray | None = None
     contact_samples: int = 2
     fixed: np.ndarray | None = None
@@ -143,6 +147,9 @@ class DiscreteRod:
             raise InputError(f"nodes = {n}: a discrete rod needs >= 3 nodes")
         if self.contact_samples < 1:
             raise InputError(f"contact_samples = {self.contact_samples}: must be >= 1")
+        self.obstacles = tuple(self.obstacles)
+        if self.obstacles and (self.ground is None or self.contact is None):
+            raise InputError("obstacles: walls need a ground and a contact law")
         if self.fixed is None:
             self.fixed = np.zeros(n_dofs(n), bool)
         if self.external_force is None:
@@ -162,6 +169,10 @@ class DiscreteRod:
     @property
     def has_contact(self) -> bool:
         return self.ground is not None and self.contact is not None
+
+    def contact_planes(self) -> tuple[Ground, ...]:
+        """The ground and the obstacles (empty without contact)."""
+        return (self.ground,) + self.obstacles if self.has_contact else ()
 
     def mass_vector(self) -> np.ndarray:
         """Diagonal of the lumped mass matrix (4N-1,) [t for nodes, t mm^2 for edge angles]."""
@@ -277,6 +288,5 @@ class RodState:
         t_old = self.tangents
         e = x[1:] - x[:-1]
         t_new = e / np.sqrt(np.einsum("ki,ki->k", e, e))[:, None]
-        a1 = fr.transport_directors(self.a1, t_old, t_new)
-        ref = fr.reference_twist(a1, t_new, self.ref_twist)
+        a1, ref = kernels.transport_frames(self.a1, t_old, t_new, self.ref_twist)
         return RodState(x, theta, self.v.copy(), self.omega.copy(), a1, ref, self.time, t_old)

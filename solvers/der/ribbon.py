@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lcefem.models.contact import ContactLaw, FrictionLaw
+from lcefem.models.contact import ContactLaw, FrictionLaw, Wall
 from lcefem.models.errors import InputError
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
@@ -29,7 +29,7 @@ from lcefem.models.rod import (RodSection, cross, material_curvatures, rectangul
                                signed_angle)
 from lcefem.models.units import STANDARD_GRAVITY
 from lcefem.solvers.der import frames as fr
-from lcefem.solvers.der.assembly import edge_corner_gaps, node_contact_forces
+from lcefem.solvers.der.assembly import all_gaps, edge_corner_gaps, node_contact_forces
 from lcefem.solvers.der.heat import HeatGeometry, SectionHeat
 from lcefem.solvers.der.integrator import Integrator, StepOptions
 from lcefem.solvers.der.model import DiscreteRod, Ground, RestShape, RodState, lumped_masses
@@ -208,6 +208,7 @@ class RibbonSetup:
     contact: ContactLaw = field(default_factory=ContactLaw)
     friction: FrictionLaw = field(default_factory=FrictionLaw)
     numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
+    walls: tuple[Wall, ...] = ()  # obstacles on the plate, placed relative to the as-built ribbon
 
 
 class RibbonSimulation:
@@ -227,8 +228,9 @@ class RibbonSimulation:
         self.T = np.full((n - 1, self.grid.n_cells), s.air.ambient_temperature)
         rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
         gravity = np.array([0.0, 0.0, -STANDARD_GRAVITY])
+        walls = tuple(Ground(*w.plane(state.x)) for w in s.walls)
         self.rod = DiscreteRod(section, rest, node_mass, edge_inertia, gravity=gravity, damping=num.damping,
-                               ground=Ground(), contact=s.contact, friction=s.friction,
+                               ground=Ground(), contact=s.contact, friction=s.friction, obstacles=walls,
                                contact_samples=num.contact_samples)
         weight = float(node_mass.max() * STANDARD_GRAVITY)
         newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
@@ -306,6 +308,14 @@ class RibbonSimulation:
             self._spin_acc += np.angle(np.exp(1j * (ang - self._spin_prev)))
         self._spin_prev = ang
         return float(self._spin_acc[0]), float(self._spin_acc[1])
+
+    def wall_gaps(self) -> np.ndarray:
+        """Smallest gap [mm] of the ribbon's sample points to each wall, (n_walls,)."""
+        out = []
+        for wall in self.rod.obstacles:
+            gs, ge = all_gaps(self.rod, self.state, self.integrator.sampling, wall)
+            out.append(min(ge.min(), gs.min() if gs is not None else np.inf))
+        return np.array(out)
 
     def corner_gaps(self) -> np.ndarray:
         """Smallest gap [mm] of each corner over each edge's samples, (N-1, 4)."""

@@ -1,0 +1,805 @@
+"""Compiled (numba) element loops of the DER assembly: the same formulas as the vectorised numpy
+functions of :mod:`lcefem.models.rod` (``stretching``, ``bend_twist``, ``twist_hessian_ef``,
+``apply_source_change``, ``stencil_point_derivatives``), fused with the scatter into the gradient and
+the lower banded Hessian (LAPACK storage ab[i - j, j] = H[i, j], half-bandwidth 10).
+
+Why: at the ribbon's sizes (30-200 nodes) the numpy versions spend most of their time in the
+Python/numpy overhead of ~100 calls on small arrays per evaluation (issue 17: ~5 ms of fixed cost per
+step). The numpy versions stay the reference: ``tests/solvers/test_der_kernels.py`` checks that both
+give the same energies, gradients and Hessians to round-off.
+
+Element layouts are those of :mod:`lcefem.solvers.der.assembly`: an edge k touches the 7 dofs
+q[4k : 4k + 7] = (x_k, theta_k, x_(k+1)); the stencil of interior node k + 1 touches the 11 dofs
+q[4k : 4k + 11] = (x_k, theta_k, x_(k+1), theta_(k+1), x_(k+2)).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from lcefem.models.rod import STENCIL_MAP
+
+# ``models.rod.STENCIL_MAP`` as index lists: local variable i -> stencil dofs _MAP_IDX[i] with signs _MAP_SGN[i]
+# (two entries for the edge vectors e = x_k - x_(k-1), f = x_(k+1) - x_k; one, padded with sign 0, for
+# the angles), so that S H S^T costs 256 multiply-adds instead of 1672.
+_MAP_IDX = np.zeros((8, 2), np.int64)
+_MAP_SGN = np.zeros((8, 2))
+for _i in range(8):
+    _rows = np.nonzero(STENCIL_MAP[:, _i])[0]
+    _MAP_IDX[_i, :len(_rows)] = _rows
+    _MAP_SGN[_i, :len(_rows)] = STENCIL_MAP[_rows, _i]
+
+
+# ----------------------------------------------------------------------------------------------
+# Small dense helpers (fixed sizes, no allocation in the hot loops beyond the per-call workspaces)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _dot3(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(cache=True)
+def _cross3(a, b, out):
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+
+
+@njit(cache=True)
+def _skew_into(v, out, r0, c0, sign):
+    """out[r0:r0+3, c0:c0+3] += sign [v]_x."""
+    out[r0 + 0, c0 + 1] += -sign * v[2]
+    out[r0 + 0, c0 + 2] += sign * v[1]
+    out[r0 + 1, c0 + 0] += sign * v[2]
+    out[r0 + 1, c0 + 2] += -sign * v[0]
+    out[r0 + 2, c0 + 0] += -sign * v[1]
+    out[r0 + 2, c0 + 1] += sign * v[0]
+
+
+@njit(cache=True)
+def _matmul(a, b, out):
+    n, m = a.shape
+    p = b.shape[1]
+    for i in range(n):
+        for j in range(p):
+            s = 0.0
+            for k in range(m):
+                s += a[i, k] * b[k, j]
+            out[i, j] = s
+
+
+@njit(cache=True)
+def _to_stencil(h8, h11):
+    """h11 (11, 11) = S h8 S^T with S = ``models.rod.STENCIL_MAP``."""
+    h11[:, :] = 0.0
+    for i in range(8):
+        for p in range(2):
+            a = _MAP_IDX[i, p]
+            sa = _MAP_SGN[i, p]
+            if sa == 0.0:
+                continue
+            for j in range(8):
+                v = sa * h8[i, j]
+                for q in range(2):
+                    sb = _MAP_SGN[j, q]
+                    if sb != 0.0:
+                        h11[a, _MAP_IDX[j, q]] += v * sb
+
+
+@njit(cache=True)
+def _rows_to_stencil(j8, j11):
+    """j11 (r, 11) = j8 S^T for a (r, 8) Jacobian."""
+    j11[:, :] = 0.0
+    for r in range(j8.shape[0]):
+        for i in range(8):
+            for p in range(2):
+                sa = _MAP_SGN[i, p]
+                if sa != 0.0:
+                    j11[r, _MAP_IDX[i, p]] += sa * j8[r, i]
+
+
+@njit(cache=True)
+def _scatter(base, g_loc, H_loc, grad, band, with_hessian):
+    m = g_loc.shape[0]
+    for a in range(m):
+        grad[base + a] += g_loc[a]
+    if with_hessian:
+        for a in range(m):
+            for c in range(a + 1):
+                band[a - c, base + c] += H_loc[a, c]
+
+
+@njit(cache=True)
+def _source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, out, with_hessian):
+    """Chain rule of ``models.rod.apply_source_change`` for one element, in place on g_loc, H_loc;
+    slots (node a start, theta index, node b start), db (n_slots, 3), ddb (n_slots, 3, 3)."""
+    m = g_loc.shape[0]
+    ns = len(slot_a)
+    g_theta = np.empty(ns)
+    for s in range(ns):
+        g_theta[s] = g_loc[slot_t[s]]
+    if with_hessian:
+        # W = I + D, D nonzero only in the angle rows t_s: W^T H W = H + H D + (H D)^T + D^T H D.
+        W[:, :] = 0.0  # rows of D (W[s] = D[t_s, :])
+        for s in range(ns):
+            for c in range(3):
+                W[s, slot_a[s] + c] = -db[s, c]
+                W[s, slot_b[s] + c] = db[s, c]
+        for i in range(m):
+            for j in range(m):
+                tmp[i, j] = 0.0
+        for s in range(ns):  # tmp = H D
+            t = slot_t[s]
+            for i in range(m):
+                hit = H_loc[i, t]
+                for j in range(m):
+                    tmp[i, j] += hit * W[s, j]
+        for i in range(m):
+            for j in range(m):
+                out[i, j] = H_loc[i, j] + tmp[i, j] + tmp[j, i]
+        for s in range(ns):
+            for s2 in range(ns):
+                hss = H_loc[slot_t[s], slot_t[s2]]
+                for i in range(m):
+                    v = hss * W[s, i]
+                    if v != 0.0:
+                        for j in range(m):
+                            out[i, j] += v * W[s2, j]
+        for s in range(ns):
+            a, b = slot_a[s], slot_b[s]
+            for i in range(3):
+                for j in range(3):
+                    blk = g_theta[s] * ddb[s, i, j]
+                    out[a + i, a + j] += blk
+                    out[b + i, b + j] += blk
+                    out[a + i, b + j] -= blk
+                    out[b + i, a + j] -= blk
+        H_loc[:, :] = out
+    for s in range(ns):
+        for c in range(3):
+            g_loc[slot_a[s] + c] -= g_theta[s] * db[s, c]
+            g_loc[slot_b[s] + c] += g_theta[s] * db[s, c]
+
+
+# ----------------------------------------------------------------------------------------------
+# Holonomy derivatives of the transport source (models.rod.source_change)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def source_change(source, t, length):
+    """dbeta/de (n, 3) and d2beta/de2 (n, 3, 3) per edge (``models.rod.source_change``)."""
+    n = len(t)
+    db = np.empty((n, 3))
+    ddb = np.empty((n, 3, 3))
+    g = np.empty(3)
+    hb = np.empty((3, 3))
+    P = np.empty((3, 3))
+    tmp = np.empty((3, 3))
+    for k in range(n):
+        s = source[k]
+        tk = t[k]
+        c = 1.0 + _dot3(s, tk)
+        _cross3(tk, s, g)
+        for i in range(3):
+            g[i] /= c
+        inv_l = 1.0 / length[k]
+        for i in range(3):
+            db[k, i] = g[i] * inv_l
+        for i in range(3):
+            for j in range(3):
+                # sym(outer(-g c, t + s)) / (2 c^2)
+                hb[i, j] = (-(g[i] * c) * (tk[j] + s[j]) - (g[j] * c) * (tk[i] + s[i])) / (2.0 * c * c)
+                P[i, j] = (1.0 if i == j else 0.0) - tk[i] * tk[j]
+        _matmul(P, hb, tmp)
+        _matmul(tmp, P, hb)
+        inv_l2 = inv_l * inv_l
+        for i in range(3):
+            for j in range(3):
+                ddb[k, i, j] = hb[i, j] * inv_l2 - (g[i] * tk[j] + tk[i] * g[j]) * inv_l2
+    return db, ddb
+
+
+# ----------------------------------------------------------------------------------------------
+# Elastic energy: stretching of edges, bending and twisting of interior nodes
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _twist_hessian_ef(te, tf, le, lf, kb, out):
+    """out (6, 6) = ``models.rod.twist_hessian_ef`` of one stencil."""
+    chi = 1.0 + _dot3(te, tf)
+    tt_diag = np.empty((3, 3))
+    tt_off = np.zeros((3, 3))
+    pe = np.empty((3, 3))
+    pf = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            tt_diag[i, j] = (kb[i] * (te[j] + tf[j]) + (te[i] + tf[i]) * kb[j]) / (4.0 * chi)
+            tt_off[i, j] = kb[i] * te[j] / (2.0 * chi)
+            d = 1.0 if i == j else 0.0
+            pe[i, j] = (d - te[i] * te[j]) / le
+            pf[i, j] = (d - tf[i] * tf[j]) / lf
+    _skew_into(te, tt_off, 0, 0, -1.0 / chi)
+    t1 = np.empty((3, 3))
+    t2 = np.empty((3, 3))
+    _matmul(pe, tt_diag, t1)
+    _matmul(t1, pe, t2)
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = -(t2[i, j] + (kb[i] * te[j] + te[i] * kb[j]) / (2.0 * le * le))
+    _matmul(pf, tt_diag, t1)
+    _matmul(t1, pf, t2)
+    for i in range(3):
+        for j in range(3):
+            out[3 + i, 3 + j] = -(t2[i, j] + (kb[i] * tf[j] + tf[i] * kb[j]) / (2.0 * lf * lf))
+    _matmul(pe, tt_off, t1)
+    _matmul(t1, pf, t2)
+    for i in range(3):
+        for j in range(3):
+            out[i, 3 + j] = -t2[i, j]
+            out[3 + j, i] = -t2[i, j]
+
+
+@njit(cache=True)
+def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv_l, EI1, EI2, GJ,
+                        grad, hess, with_hessian):
+    """``models.rod.bend_twist`` of one interior node: energy; gradient (8,) and Hessian (8, 8) in
+    (e, f, theta_e, theta_f) written into grad, hess."""
+    le = math.sqrt(_dot3(e, e))
+    lf = math.sqrt(_dot3(f, f))
+    te = e / le
+    tf = f / lf
+    nv = np.empty(3)
+    _cross3(e, f, nv)
+    D = le * lf + _dot3(e, f)
+    kb = 2.0 * nv / D
+    dn = np.zeros((3, 6))
+    _skew_into(f, dn, 0, 0, -1.0)
+    _skew_into(e, dn, 0, 3, 1.0)
+    dD = np.empty(6)
+    for i in range(3):
+        dD[i] = lf * te[i] + f[i]
+        dD[3 + i] = le * tf[i] + e[i]
+    jac = np.empty((3, 6))
+    for c in range(3):
+        for i in range(6):
+            jac[c, i] = 2.0 * (dn[c, i] / D - nv[c] * dD[i] / (D * D))
+    M1 = m1e + m1f
+    M2 = m2e + m2f
+    k1 = 0.5 * _dot3(kb, M2)
+    k2 = -0.5 * _dot3(kb, M1)
+    g1 = np.zeros(8)
+    g2 = np.zeros(8)
+    gt = np.zeros(8)
+    for i in range(6):
+        s1 = 0.0
+        s2 = 0.0
+        for c in range(3):
+            s1 += M2[c] * jac[c, i]
+            s2 += M1[c] * jac[c, i]
+        g1[i] = 0.5 * s1
+        g2[i] = -0.5 * s2
+    g1[6] = -0.5 * _dot3(kb, m1e)
+    g1[7] = -0.5 * _dot3(kb, m1f)
+    g2[6] = -0.5 * _dot3(kb, m2e)
+    g2[7] = -0.5 * _dot3(kb, m2f)
+    for i in range(3):
+        gt[i] = kb[i] / (2.0 * le)
+        gt[3 + i] = kb[i] / (2.0 * lf)
+    gt[6] = -1.0
+    gt[7] = 1.0
+    d1 = k1 - kbar1
+    d2 = k2 - kbar2
+    dt = twist - tbar
+    energy = 0.5 * inv_l * (EI1 * d1 * d1 + EI2 * d2 * d2 + GJ * dt * dt)
+    c1 = EI1 * d1 * inv_l
+    c2 = EI2 * d2 * inv_l
+    ct = GJ * dt * inv_l
+    for i in range(8):
+        grad[i] = c1 * g1[i] + c2 * g2[i] + ct * gt[i]
+    if not with_hessian:
+        return energy
+    hess[:, :] = 0.0
+    # kb_hess(w), w = 1/2 (c1 M2 - c2 M1)
+    w = 0.5 * (c1 * M2 - c2 * M1)
+    wn = _dot3(w, nv)
+    dnw = np.zeros(6)
+    for i in range(6):
+        for c in range(3):
+            dnw[i] += w[c] * dn[c, i]
+    h6 = np.zeros((6, 6))
+    _skew_into(w, h6, 0, 3, -1.0)
+    _skew_into(w, h6, 3, 0, 1.0)
+    ddD = np.zeros((6, 6))
+    for i in range(3):
+        for j in range(3):
+            d = 1.0 if i == j else 0.0
+            ddD[i, j] = (lf / le) * (d - te[i] * te[j])
+            ddD[3 + i, 3 + j] = (le / lf) * (d - tf[i] * tf[j])
+            ddD[i, 3 + j] = te[i] * tf[j] + d
+            ddD[3 + j, i] = te[i] * tf[j] + d
+    for i in range(6):
+        for j in range(6):
+            v = h6[i, j] / D
+            v -= (dnw[i] * dD[j] + dD[i] * dnw[j]) / (D * D)
+            v += (2.0 * wn / (D * D * D)) * dD[i] * dD[j]
+            v -= (wn / (D * D)) * ddD[i, j]
+            hess[i, j] = 2.0 * v
+    # cross terms kb x frame
+    ue = 0.5 * (-c1 * m1e - c2 * m2e)
+    uf = 0.5 * (-c1 * m1f - c2 * m2f)
+    me = 0.5 * (c1 * m2e - c2 * m1e)
+    mf = 0.5 * (c1 * m2f - c2 * m1f)
+    jte = np.zeros(6)
+    jtf = np.zeros(6)
+    for i in range(6):
+        x0 = 0.0
+        x1 = 0.0
+        y0 = 0.0
+        y1 = 0.0
+        for c in range(3):
+            x0 += jac[c, i] * ue[c]
+            x1 += jac[c, i] * uf[c]
+            y0 += jac[c, i] * te[c]
+            y1 += jac[c, i] * tf[c]
+        hess[i, 6] += x0
+        hess[i, 7] += x1
+        hess[6, i] += x0
+        hess[7, i] += x1
+        jte[i] = y0
+        jtf[i] = y1
+    blk = np.zeros((6, 6))
+    for i in range(6):
+        for j in range(3):
+            blk[i, j] -= jte[i] * me[j] / le
+            blk[i, 3 + j] -= jtf[i] * mf[j] / lf
+    for i in range(6):
+        for j in range(6):
+            hess[i, j] += blk[i, j] + blk[j, i]
+    for i in range(3):
+        for j in range(3):
+            hess[i, j] += -0.5 * (me[i] * kb[j] + kb[i] * me[j]) / (le * le)
+            hess[3 + i, 3 + j] += -0.5 * (mf[i] * kb[j] + kb[i] * mf[j]) / (lf * lf)
+    hess[6, 6] += -_dot3(kb, me)
+    hess[7, 7] += -_dot3(kb, mf)
+    th = np.empty((6, 6))
+    _twist_hessian_ef(te, tf, le, lf, kb, th)
+    for i in range(6):
+        for j in range(6):
+            hess[i, j] += ct * th[i, j]
+    a1 = EI1 * inv_l
+    a2 = EI2 * inv_l
+    at = GJ * inv_l
+    for i in range(8):
+        for j in range(8):
+            hess[i, j] += a1 * g1[i] * g1[j] + a2 * g2[i] * g2[j] + at * gt[i] * gt[j]
+    return energy
+
+
+@njit(cache=True)
+def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
+            db, ddb, with_source, with_hessian, grad, band):
+    """Stretching + bending + twisting of the whole rod; adds the gradient into ``grad`` (4N-1,) and
+    (with_hessian) the lower band into ``band`` (11, 4N-1); returns the energy [mJ].
+
+    db, ddb: per-edge holonomy derivatives (:func:`source_change`), used when ``with_source``.
+    """
+    n_edges = len(rest_length)
+    energy = 0.0
+    # Stretching (edge k, dofs 4k .. 4k + 6); it does not depend on the frames.
+    g7 = np.zeros(7)
+    h7 = np.zeros((7, 7))
+    tt = np.empty((3, 3))
+    for k in range(n_edges):
+        e = x[k + 1] - x[k]
+        length = math.sqrt(_dot3(e, e))
+        t = e / length
+        strain = length / rest_length[k] - 1.0
+        energy += 0.5 * EA * strain * strain * rest_length[k]
+        gs = EA * strain
+        for i in range(3):
+            g7[i] = -gs * t[i]
+            g7[4 + i] = gs * t[i]
+        if with_hessian:
+            a = EA / rest_length[k]
+            b = EA * strain / length
+            for i in range(3):
+                for j in range(3):
+                    tt[i, j] = t[i] * t[j]
+                    hs = a * tt[i, j] + b * ((1.0 if i == j else 0.0) - tt[i, j])
+                    h7[i, j] = hs
+                    h7[4 + i, 4 + j] = hs
+                    h7[i, 4 + j] = -hs
+                    h7[4 + i, j] = -hs
+        _scatter(4 * k, g7, h7, grad, band, with_hessian)
+    # Bending and twisting (stencil of interior node k + 1, dofs 4k .. 4k + 10).
+    g8 = np.empty(8)
+    h8 = np.empty((8, 8))
+    g11 = np.empty(11)
+    h11 = np.empty((11, 11))
+    tmp = np.empty((8, 11))
+    W = np.empty((11, 11))
+    tmp11 = np.empty((11, 11))
+    out11 = np.empty((11, 11))
+    slot_a = np.array([0, 4])
+    slot_t = np.array([3, 7])
+    slot_b = np.array([4, 8])
+    dbs = np.empty((2, 3))
+    ddbs = np.empty((2, 3, 3))
+    for k in range(n_edges - 1):
+        e = x[k + 1] - x[k]
+        f = x[k + 2] - x[k + 1]
+        energy += _bend_twist_element(e, f, m1[k], m2[k], m1[k + 1], m2[k + 1], twist[k], kappa_bar[k, 0],
+                                      kappa_bar[k, 1], twist_bar[k], 1.0 / voronoi[k], EI1, EI2, GJ,
+                                      g8, h8, with_hessian)
+        g11[:] = 0.0
+        for i in range(8):
+            for p in range(2):
+                g11[_MAP_IDX[i, p]] += _MAP_SGN[i, p] * g8[i]
+        if with_hessian:
+            _to_stencil(h8, h11)
+        if with_source:
+            dbs[0] = db[k]
+            dbs[1] = db[k + 1]
+            ddbs[0] = ddb[k]
+            ddbs[1] = ddb[k + 1]
+            _source_change_into(g11, h11, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11, with_hessian)
+        _scatter(4 * k, g11, h11, grad, band, with_hessian)
+    return energy
+
+
+# ----------------------------------------------------------------------------------------------
+# Contact and friction of the sample points between sections (models.rod.StencilPoints)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _stencil_point_element(e, f, r, t, side, sigma, g, jac, h11, hv, jv, tmp, with_hessian):
+    """``models.rod.stencil_point_derivatives`` of one point: jac (3, 11) and (with_hessian) the
+    Hessian h11 (11, 11) of g . point, frames transported from the current state."""
+    le = math.sqrt(_dot3(e, e))
+    lf = math.sqrt(_dot3(f, f))
+    te = e / le
+    tf = f / lf
+    kb = np.empty(3)
+    _cross3(e, f, kb)
+    D = le * lf + _dot3(e, f)
+    for i in range(3):
+        kb[i] = 2.0 * kb[i] / D
+    cm = sigma - 0.5
+    dth = np.empty(8)
+    for i in range(3):
+        dth[i] = cm / (2.0 * le) * kb[i]
+        dth[3 + i] = cm / (2.0 * lf) * kb[i]
+    dth[6] = -cm if side else 1.0 - cm
+    dth[7] = 1.0 + cm if side else cm
+    length = lf if side else le
+    tr = np.empty(3)
+    _cross3(t, r, tr)
+    off = 3 if side else 0
+    for i in range(3):
+        for j in range(8):
+            jv[i, j] = tr[i] * dth[j]
+        for j in range(3):
+            jv[i, off + j] += -t[i] * r[j] / length
+    _rows_to_stencil(jv, jac)
+    w0 = 0.0 if side else 1.0 - sigma
+    w1 = 1.0 - sigma if side else sigma
+    w2 = sigma if side else 0.0
+    for i in range(3):
+        jac[i, i] += w0
+        jac[i, 4 + i] += w1
+        jac[i, 8 + i] += w2
+    if not with_hessian:
+        return
+    gt = _dot3(g, t)
+    pg = g - gt * t
+    inv_l2 = 1.0 / (length * length)
+    hv[:, :] = 0.0
+    for i in range(3):
+        for j in range(3):
+            hv[off + i, off + j] = (gt * (r[i] * t[j] + t[i] * r[j]) - 0.5 * (r[i] * pg[j] + pg[i] * r[j])) * inv_l2
+    cross_v = np.zeros(8)
+    for i in range(3):
+        cross_v[off + i] = -(gt / length) * tr[i]
+    gr = _dot3(g, r)
+    for i in range(8):
+        for j in range(8):
+            hv[i, j] += cross_v[i] * dth[j] + dth[i] * cross_v[j] - gr * dth[i] * dth[j]
+    th = np.empty((6, 6))
+    _twist_hessian_ef(te, tf, le, lf, kb, th)
+    c = _dot3(g, tr) * cm
+    for i in range(6):
+        for j in range(6):
+            hv[i, j] += c * th[i, j]
+    _to_stencil(hv, h11)
+
+
+# ----------------------------------------------------------------------------------------------
+# All sample points of the contact sampling, and the whole contact + friction potential
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids, end_sigma, end_offsets):
+    """Positions and frame offsets r = a m1 + b m2 [mm] of every contact sample point.
+
+    Stencil points (``models.rod.stencil_points``; frame angle interpolated with the node's twist):
+    (N-2, p_s, 3) each, empty when ``side`` is empty. End-edge points (``models.rod.section_points``,
+    the edge's own frame): (len(end_ids), p_e, 3) each; end_sigma is (len(end_ids), p_e).
+    """
+    ns = len(twist) if len(side) else 0
+    ps = len(side)
+    pos_s = np.empty((ns, ps, 3))
+    r_s = np.empty((ns, ps, 3))
+    a2 = np.empty(3)
+    for k in range(ns):
+        for j in range(ps):
+            edge = k + (1 if side[j] else 0)
+            th = theta[edge] + (sigma[j] - 0.5) * twist[k]
+            c = math.cos(th)
+            s_ = math.sin(th)
+            _cross3(t[edge], a1[edge], a2)
+            for i in range(3):
+                mm1 = c * a1[edge, i] + s_ * a2[i]
+                mm2 = -s_ * a1[edge, i] + c * a2[i]
+                r = offsets[j, 0] * mm1 + offsets[j, 1] * mm2
+                r_s[k, j, i] = r
+                pos_s[k, j, i] = x[edge, i] + sigma[j] * (x[edge + 1, i] - x[edge, i]) + r
+    ne = len(end_ids)
+    pe = end_offsets.shape[0]
+    pos_e = np.empty((ne, pe, 3))
+    r_e = np.empty((ne, pe, 3))
+    for row in range(ne):
+        edge = end_ids[row]
+        for j in range(pe):
+            sg = end_sigma[row, j]
+            for i in range(3):
+                r = end_offsets[j, 0] * m1[edge, i] + end_offsets[j, 1] * m2[edge, i]
+                r_e[row, j, i] = r
+                pos_e[row, j, i] = x[edge, i] + sg * (x[edge + 1, i] - x[edge, i]) + r
+    return pos_s, r_s, pos_e, r_e
+
+
+@njit(cache=True)
+def _contact_energy(gap, clearance, delta, K1):
+    """``models.contact.contact_energy`` of one point: (E, dE/dgap, d2E/dgap2)."""
+    d = clearance - gap
+    if d >= delta:
+        return d * d, -2.0 * d, 2.0
+    if d <= -delta:
+        return 0.0, 0.0, 0.0
+    xk = K1 * d
+    s = (max(xk, 0.0) + math.log1p(math.exp(-abs(xk)))) / K1
+    sig = 0.5 * (1.0 + math.tanh(0.5 * xk))
+    return s * s, -2.0 * s * sig, 2.0 * sig * sig + 2.0 * s * sig * (1.0 - sig) * K1
+
+
+@njit(cache=True)
+def normal_force(gap, clearance, delta, K1, stiffness):
+    """``models.contact.normal_force`` of an array of gaps (any shape) [N]."""
+    out = np.empty(gap.size)
+    flat = gap.ravel()
+    for i in range(gap.size):
+        out[i] = -stiffness * _contact_energy(flat[i], clearance, delta, K1)[1]
+    return out.reshape(gap.shape)
+
+
+@njit(cache=True)
+def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian):
+    """``models.contact.friction_potential`` of one point: energy; dD/du into grad (3,), d2D/du2
+    into hess (3, 3)."""
+    un = _dot3(u, normal)
+    w = u - un * normal
+    v = math.sqrt(_dot3(w, w)) / h
+    a = 0.5 * K2
+    z = a * v
+    if z < 1e-3:
+        logcosh = 0.5 * z * z - z ** 4 / 12.0
+        phi = a * (1.0 - z * z / 3.0)
+        psi = -2.0 * a ** 3 / 3.0 + 8.0 * a ** 5 * v * v / 15.0
+    else:
+        logcosh = z + math.log1p(math.exp(-2.0 * z)) - math.log(2.0)
+        th = math.tanh(z)
+        phi = th / v
+        psi = (a * (1.0 - th * th) * v - th) / v ** 3
+    coef = mu * fn
+    for i in range(3):
+        grad[i] = coef * phi / h * w[i]
+    if with_hessian:
+        for i in range(3):
+            for j in range(3):
+                proj = (1.0 if i == j else 0.0) - normal[i] * normal[j]
+                hess[i, j] = coef / h * (phi * proj + psi / (h * h) * w[i] * w[j])
+    return coef * h * logcosh / a
+
+
+@njit(cache=True)
+def _section_point_element(t, length, r, sig, g, jac, h7):
+    """``models.rod.section_point_derivatives`` of one point (edge's own frame): jac (3, 7) and the
+    Hessian h7 (7, 7) of g . point, dofs (x0, theta, x1)."""
+    tr = np.empty(3)
+    _cross3(t, r, tr)
+    for i in range(3):
+        for j in range(7):
+            jac[i, j] = 0.0
+        jac[i, i] = 1.0 - sig
+        jac[i, 4 + i] = sig
+        for j in range(3):
+            dr = -t[i] * r[j] / length
+            jac[i, j] -= dr
+            jac[i, 4 + j] += dr
+        jac[i, 3] = tr[i]
+    gt = _dot3(g, t)
+    inv_l2 = 1.0 / (length * length)
+    for i in range(3):
+        for j in range(3):
+            pgi = g[i] - gt * t[i]
+            pgj = g[j] - gt * t[j]
+            hee = (gt * (r[i] * t[j] + t[i] * r[j]) - 0.5 * (r[i] * pgj + pgi * r[j])) * inv_l2
+            h7[i, j] = hee
+            h7[4 + i, 4 + j] = hee
+            h7[i, 4 + j] = -hee
+            h7[4 + i, j] = -hee
+        het = -(gt / length) * tr[i]
+        h7[i, 3] = -het
+        h7[3, i] = -het
+        h7[4 + i, 3] = het
+        h7[3, 4 + i] = het
+    h7[3, 3] = -_dot3(g, r)
+
+
+@njit(cache=True)
+def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma, normal, height, clearance, delta, K1,
+            stiffness, with_friction, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2, h, db, ddb, with_source, order,
+            grad, band):
+    """Contact potential k E(gap) of all sample points with the plane {n.p = height} plus (with
+    friction) the friction potential of the points with a lagged normal force; ``order`` 0 energy,
+    1 with gradient, 2 with Hessian (added into grad and band). Returns the energy [mJ].
+
+    Mirrors ``Assembly.contact``: a point is differentiated when within reach of the plane or
+    carrying a lagged friction force.
+    """
+    energy = 0.0
+    with_hessian = order >= 2
+    g_pt = np.empty(3)
+    gD = np.zeros(3)
+    hD = np.zeros((3, 3))
+    u = np.empty(3)
+    # stencil points
+    jac = np.empty((3, 11))
+    h11 = np.empty((11, 11))
+    hv = np.empty((8, 8))
+    jv = np.empty((3, 8))
+    tmp8 = np.empty((8, 11))
+    g11 = np.empty(11)
+    W = np.empty((11, 11))
+    tmp11 = np.empty((11, 11))
+    out11 = np.empty((11, 11))
+    slot_a = np.array([0, 4])
+    slot_t = np.array([3, 7])
+    slot_b = np.array([4, 8])
+    dbs = np.empty((2, 3))
+    ddbs = np.empty((2, 3, 3))
+    # end-edge points
+    jac7 = np.empty((3, 7))
+    h7 = np.empty((7, 7))
+    g7 = np.empty(7)
+    W7 = np.empty((7, 7))
+    tmp7 = np.empty((7, 7))
+    out7 = np.empty((7, 7))
+    e_a = np.array([0])
+    e_t = np.array([3])
+    e_b = np.array([4])
+    db1 = np.empty((1, 3))
+    ddb1 = np.empty((1, 3, 3))
+    for kind in range(2):
+        pos = pos_s if kind == 0 else pos_e
+        rr = r_s if kind == 0 else r_e
+        lag_n = lag_ns if kind == 0 else lag_ne
+        lag_p = lag_ps if kind == 0 else lag_pe
+        for row in range(pos.shape[0]):
+            for j in range(pos.shape[1]):
+                p = pos[row, j]
+                gap = _dot3(p, normal) - height
+                fn = lag_n[row, j] if with_friction else 0.0
+                if not (gap < clearance + delta or fn > 0.0):
+                    continue
+                E, d1, d2 = _contact_energy(gap, clearance, delta, K1)
+                energy += stiffness * E
+                if fn > 0.0:
+                    for i in range(3):
+                        u[i] = p[i] - lag_p[row, j, i]
+                    energy += _friction(u, normal, fn, h, mu, K2, gD, hD, with_hessian)
+                else:
+                    gD[:] = 0.0
+                    hD[:, :] = 0.0
+                if order == 0:
+                    continue
+                for i in range(3):
+                    g_pt[i] = stiffness * d1 * normal[i] + gD[i]
+                cc = stiffness * d2
+                if kind == 0:
+                    k = row
+                    edge = k + (1 if side[j] else 0)
+                    e = x[k + 1] - x[k]
+                    f = x[k + 2] - x[k + 1]
+                    _stencil_point_element(e, f, rr[row, j], t[edge], side[j], sigma[j], g_pt, jac, h11, hv, jv,
+                                           tmp8, with_hessian)
+                    _chain_point(jac, h11, g_pt, cc, normal, hD, g11, with_hessian)
+                    if with_source:
+                        dbs[0] = db[k]
+                        dbs[1] = db[k + 1]
+                        ddbs[0] = ddb[k]
+                        ddbs[1] = ddb[k + 1]
+                        _source_change_into(g11, h11, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11,
+                                            with_hessian)
+                    _scatter(4 * k, g11, h11, grad, band, with_hessian)
+                else:
+                    edge = end_ids[row]
+                    _section_point_element(t[edge], length[edge], rr[row, j], end_sigma[row, j], g_pt, jac7, h7)
+                    _chain_point(jac7, h7, g_pt, cc, normal, hD, g7, with_hessian)
+                    if with_source:
+                        db1[0] = db[edge]
+                        ddb1[0] = ddb[edge]
+                        _source_change_into(g7, h7, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian)
+                    _scatter(4 * edge, g7, h7, grad, band, with_hessian)
+    return energy
+
+
+@njit(cache=True)
+def _chain_point(jac, hloc, g_pt, cc, normal, hD, g_loc, with_hessian):
+    """g_loc = J^T g_pt; hloc += cc (J^T n)(J^T n)^T + J^T hD J (hloc holds the g.point Hessian)."""
+    m = jac.shape[1]
+    for i in range(m):
+        g_loc[i] = g_pt[0] * jac[0, i] + g_pt[1] * jac[1, i] + g_pt[2] * jac[2, i]
+    if not with_hessian:
+        return
+    for i in range(m):
+        jni = normal[0] * jac[0, i] + normal[1] * jac[1, i] + normal[2] * jac[2, i]
+        for j in range(m):
+            jnj = normal[0] * jac[0, j] + normal[1] * jac[1, j] + normal[2] * jac[2, j]
+            s = cc * jni * jnj
+            for a in range(3):
+                s += jac[a, i] * (hD[a, 0] * jac[0, j] + hD[a, 1] * jac[1, j] + hD[a, 2] * jac[2, j])
+            hloc[i, j] += s
+
+
+# ----------------------------------------------------------------------------------------------
+# Time-parallel transport of the reference frames (solvers.der.frames)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _parallel_transport(u, t_from, t_to, out):
+    """``models.rod.parallel_transport`` of one vector."""
+    v = np.empty(3)
+    vu = np.empty(3)
+    vvu = np.empty(3)
+    _cross3(t_from, t_to, v)
+    c = _dot3(t_from, t_to)
+    _cross3(v, u, vu)
+    _cross3(v, vu, vvu)
+    for i in range(3):
+        out[i] = u[i] + vu[i] + vvu[i] / (1.0 + c)
+
+
+@njit(cache=True)
+def transport_frames(a1, t_old, t_new, ref_prev):
+    """Reference directors transported in time from t_old to t_new and re-orthonormalised
+    (``frames.transport_directors``), and the reference twist of the interior nodes continued from
+    ``ref_prev`` without 2 pi jumps (``frames.reference_twist``)."""
+    n = len(t_new)
+    out = np.empty((n, 3))
+    p = np.empty(3)
+    for k in range(n):
+        _parallel_transport(a1[k], t_old[k], t_new[k], p)
+        pt = _dot3(p, t_new[k])
+        for i in range(3):
+            p[i] -= pt * t_new[k, i]
+        norm = math.sqrt(_dot3(p, p))
+        for i in range(3):
+            out[k, i] = p[i] / norm
+    ref = np.empty(n - 1)
+    cr = np.empty(3)
+    for k in range(n - 1):
+        _parallel_transport(out[k], t_new[k], t_new[k + 1], p)
+        _cross3(p, out[k + 1], cr)
+        angle = math.atan2(_dot3(cr, t_new[k + 1]), _dot3(p, out[k + 1]))
+        d = angle - ref_prev[k]
+        ref[k] = ref_prev[k] + math.atan2(math.sin(d), math.cos(d))
+    return out, ref

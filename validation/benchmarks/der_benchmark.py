@@ -1,0 +1,352 @@
+"""Speed of our Discrete Elastic Rods: the rolling ribbon (before/after a code change) and three
+cantilever problems against PyElastica (and DisMech) where they are installed.
+
+    OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
+        [--duration 5] [--warmup 30] [--baseline DIR] [--skip-ribbon] [--skip-peers] [--csv out.csv]
+
+Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
+``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s:
+CPU and wall ms per step (and the CPU ms of the mechanics step alone; the rest is the section heat
+step and the natural shape of the new temperatures), Newton iterations per step, and
+the real-time factor (simulated seconds per CPU second, > 1: faster than real time; CPU time because
+the machine is shared, wall time printed next to it). ``--baseline DIR`` runs the same loop with
+``lcefem`` imported from DIR (e.g. ``git archive <commit> | tar -x -C DIR/lcefem``), in a child
+process, for before/after ratios; the centroid and Newton iteration counts of both are printed to
+show the answers did not change.
+
+Peers (``pip install 'lcefem[benchmark]'``; a missing package is skipped with the reason): a clamped
+round rod under its weight (L = 100 mm, r = 1 mm, E = 100 MPa, nu = 0.5, rho = 1.2e-9 t/mm^3, 51
+nodes; linear tip deflection q L^4/(8 EI) = 5.9 mm, first period 0.12 s):
+1. static cantilever: ours by Newton (``solve_static``), PyElastica by damped dynamics (its only way)
+   until the tip is within 1e-3 of our static tip deflection;
+2. damped dynamics to rest: both released straight with the same mass-proportional damping
+   (30 1/s), 1 s simulated; ours implicit Euler at 5 ms steps;
+3. undamped swing at matched accuracy: released straight, 0.25 s simulated; each code at the largest
+   step whose tip path (sampled every 5 ms) stays within 1 % of the swing amplitude of its own run at
+   a smaller step (ours: 1e-4 s; PyElastica: a 4x smaller one); ours implicit midpoint, PyElastica
+   at the largest stable step of a ladder (its error there is already far below 1 %).
+Not a test: figures for the README (``Discrete Elastic Rods``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import dataclasses
+import importlib.util
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+# ----------------------------------------------------------------------------------------------
+# The rolling ribbon (runs in this process, or in a child with another lcefem on its path)
+# ----------------------------------------------------------------------------------------------
+
+
+def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0) -> dict:
+    """Settle, heat for ``warmup`` simulated seconds (untimed: the ribbon starts to roll), then time
+    ``duration`` simulated seconds of the rolling ribbon."""
+    from lcefem.models.ribbon import RibbonGeometry
+    from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
+
+    setup = RibbonSetup(geometry=RibbonGeometry(), ground_temperature=ground_temperature,
+                        numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt))
+    t0 = time.perf_counter()
+    sim = RibbonSimulation(setup)
+    sim.step(dt)  # first step: numba compilation or cache load, outside the timing
+    for _ in range(int(round(warmup / dt))):
+        sim.step(dt)
+    build = time.perf_counter() - t0
+    its0 = sim.integrator.total_iterations
+    steps = int(round(duration / dt))
+    inside = [0.0]  # CPU time in the mechanics step (the rest: heat step, natural shape)
+    mechanics = sim.integrator.step
+
+    def timed_mechanics(h):
+        c = time.process_time()
+        report = mechanics(h)
+        inside[0] += time.process_time() - c
+        return report
+
+    sim.integrator.step = timed_mechanics
+    w0, c0 = time.perf_counter(), time.process_time()
+    for _ in range(steps):
+        sim.step(dt)
+    wall, cpu = time.perf_counter() - w0, time.process_time() - c0
+    st = sim.state
+    return {"nodes": nodes, "steps": steps, "cpu_ms_per_step": 1e3 * cpu / steps,
+            "mechanics_ms_per_step": 1e3 * inside[0] / steps,
+            "wall_ms_per_step": 1e3 * wall / steps,
+            "newton_per_step": (sim.integrator.total_iterations - its0) / steps,
+            "realtime_factor_cpu": duration / cpu, "realtime_factor_wall": duration / wall, "build_s": build,
+            "centroid": [float(v) for v in st.x.mean(axis=0)], "speed": float(np.hypot(*st.v.mean(axis=0)[:2]))}
+
+
+def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None) -> dict:
+    """:func:`ribbon_run` in a child process, with ``lcefem`` from ``path`` when given."""
+    env = dict(os.environ)
+    if path:
+        env["PYTHONPATH"] = os.path.abspath(path) + os.pathsep + env.get("PYTHONPATH", "")
+    out = subprocess.run([sys.executable, os.path.abspath(__file__), "--ribbon-worker", str(nodes), str(duration),
+                          str(warmup)],
+                         env=env, cwd="/", capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+# ----------------------------------------------------------------------------------------------
+# The cantilever of the peer comparisons
+# ----------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class Cantilever:
+    length: float = 100.0  # [mm]
+    radius: float = 1.0  # [mm]
+    youngs_modulus: float = 100.0  # [MPa]
+    poisson: float = 0.5  # [-]
+    density: float = 1.2e-9  # [t/mm^3] (an elastomer)
+    gravity: float = 9806.65  # [mm/s^2]
+    nodes: int = 51
+
+    @property
+    def shear_modulus(self) -> float:
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson))
+
+    def linear_tip_deflection(self) -> float:
+        """q L^4/(8 EI) [mm], q = rho A g."""
+        q = self.density * math.pi * self.radius ** 2 * self.gravity
+        return q * self.length ** 4 / (8.0 * self.youngs_modulus * math.pi * self.radius ** 4 / 4.0)
+
+
+def our_cantilever(c: Cantilever, damping: float = 0.0):
+    from lcefem.models.rod import circular_section
+    from lcefem.solvers.der.model import DiscreteRod, RestShape, RodState, lumped_masses, n_dofs
+
+    sec = circular_section(c.radius, c.youngs_modulus, c.shear_modulus, c.density)
+    x = np.zeros((c.nodes, 3))
+    x[:, 0] = np.linspace(0.0, c.length, c.nodes)
+    state = RodState.from_positions(x, first_director=np.array([0.0, 1.0, 0.0]))
+    rest = RestShape.straight(np.full(c.nodes - 1, c.length / (c.nodes - 1)))
+    nm, ei = lumped_masses(sec, rest.edge_length)
+    fixed = np.zeros(n_dofs(c.nodes), bool)
+    fixed[:7] = True  # clamp: nodes 0 and 1 and the first edge's angle
+    rod = DiscreteRod(sec, rest, nm, ei, gravity=np.array([0.0, 0.0, -c.gravity]), damping=damping, fixed=fixed)
+    return rod, state
+
+
+def our_static(c: Cantilever) -> tuple[float, float]:
+    """(tip z [mm], wall s) of ours by Newton."""
+    from lcefem.solvers.der.static import solve_static
+
+    rod, state = our_cantilever(c)
+    t0 = time.perf_counter()
+    res = solve_static(rod, state)
+    return float(res.state.x[-1, 2]), time.perf_counter() - t0
+
+
+def our_dynamics(c: Cantilever, t_end: float, dt: float, damping: float, method: str, sample: float):
+    """Tip z path sampled every ``sample`` [s] and the wall time [s] of ours."""
+    from lcefem.solvers.der.integrator import Integrator, StepOptions
+
+    rod, state = our_cantilever(c, damping)
+    integ = Integrator(rod, state, StepOptions(method=method))
+    integ.step(dt)  # compilation / cache load outside the timing
+    rod, state = our_cantilever(c, damping)
+    integ = Integrator(rod, state, StepOptions(method=method))
+    steps = int(round(t_end / dt))
+    tip = np.empty(steps + 1)
+    tip[0] = state.x[-1, 2]
+    t0 = time.perf_counter()
+    for i in range(1, steps + 1):
+        integ.step(dt)
+        tip[i] = integ.state.x[-1, 2]
+    wall = time.perf_counter() - t0
+    return sampled(tip, dt, t_end, sample), wall, integ.total_iterations / steps
+
+
+def sampled(tip: np.ndarray, dt: float, t_end: float, sample: float) -> np.ndarray:
+    """The tip path (one value per step of ``dt``) interpolated at multiples of ``sample`` up to t_end."""
+    times = np.arange(len(tip)) * dt
+    return np.interp(np.arange(0.0, t_end + 0.5 * sample, sample), times, tip)
+
+
+def elastica_dynamics(c: Cantilever, t_end: float, dt: float, damping: float, sample: float):
+    """Tip z path sampled every ``sample`` [s] and the wall time [s] of PyElastica (Position Verlet)."""
+    import elastica as ea
+
+    class Sim(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping):
+        pass
+
+    sim = Sim()
+    rod = ea.CosseratRod.straight_rod(c.nodes - 1, np.zeros(3), np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0]),
+                                      c.length, c.radius, c.density, youngs_modulus=c.youngs_modulus,
+                                      shear_modulus=c.shear_modulus)
+    sim.append(rod)
+    sim.constrain(rod).using(ea.OneEndFixedBC, constrained_position_idx=(0,), constrained_director_idx=(0,))
+    sim.add_forcing_to(rod).using(ea.GravityForces, acc_gravity=np.array([0.0, 0.0, -c.gravity]))
+    if damping > 0:
+        sim.dampen(rod).using(ea.AnalyticalLinearDamper, uniform_damping_constant=damping, time_step=dt)
+    sim.finalize()
+    stepper = ea.PositionVerlet()
+    steps = int(math.ceil(t_end / dt - 1e-9))
+    tip = np.empty(steps + 1)
+    tip[0] = rod.position_collection[2, -1]
+    t, t0 = 0.0, time.perf_counter()
+    for i in range(1, steps + 1):
+        t = stepper.step(sim, t, dt)
+        tip[i] = rod.position_collection[2, -1]
+    wall = time.perf_counter() - t0
+    return sampled(tip, dt, t_end, sample), wall
+
+
+def elastica_stable_dt(c: Cantilever, z_static: float) -> float:
+    """The largest step of a ladder f dl / c_E (c_E = sqrt(E/rho) the bar wave speed; f = 0.5 ... 0.09,
+    PyElastica's examples use ~0.3) for which 0.02 s of the undamped swing stays bounded."""
+    dl = c.length / (c.nodes - 1)
+    for f in (0.5, 0.35, 0.25, 0.18, 0.125, 0.09):
+        dt = f * dl * math.sqrt(c.density / c.youngs_modulus)
+        path, _ = elastica_dynamics(c, 0.02, dt, 0.0, 0.001)
+        if np.all(np.isfinite(path)) and np.max(np.abs(path)) < 3.0 * abs(z_static):
+            return dt
+    raise RuntimeError("PyElastica: no stable step on the ladder")
+
+
+def peers(c: Cantilever) -> list[dict]:
+    rows = []
+    have_elastica = importlib.util.find_spec("elastica") is not None
+    if not have_elastica:
+        print("  PyElastica: skipped (not installed; pip install 'lcefem[benchmark]')")
+    for name in ("dismech_newton", "dismech"):
+        if importlib.util.find_spec(name) is not None:
+            print(f"  DisMech ({name}): installed but not wired into this benchmark (its API drives NVIDIA "
+                  "Newton/warp models); skipped")
+            break
+    else:
+        print("  DisMech (dismech-newton): skipped (not installed: it pulls warp-lang, 150 MB, and NVIDIA Newton)")
+    z_static, t_static = our_static(c)
+    z_static, t_static = our_static(c)  # second call: without compilation / cache load
+    print(f"  cantilever: {c.nodes} nodes, static tip deflection {-z_static:.4f} mm (linear theory "
+          f"{c.linear_tip_deflection():.4f} mm)")
+    sample = 0.005
+    # 1. static
+    row = {"problem": "static cantilever", "ours": "Newton", "ours_s": t_static,
+           "ours_error": 0.0, "peer": "PyElastica damped dynamics"}
+    dt_p = elastica_stable_dt(c, z_static) if have_elastica else None
+    if have_elastica:
+        dt = dt_p
+        for t_end in (0.5, 1.0, 2.0):
+            path, wall = elastica_dynamics(c, t_end, dt, 30.0, sample)
+            err = abs(path[-1] - z_static) / abs(z_static)
+            if err < 1e-3:
+                break
+        row.update(peer_s=wall, peer_error=err, note=f"PyElastica dt {dt:.2e} s, {t_end:g} s simulated")
+    rows.append(row)
+    # 2. damped dynamics to rest
+    path, wall, its = our_dynamics(c, 1.0, 5e-3, 30.0, "euler", sample)
+    row = {"problem": "damped dynamics to rest (1 s)", "ours": "implicit Euler dt 5 ms", "ours_s": wall,
+           "ours_error": abs(path[-1] - z_static) / abs(z_static), "peer": "PyElastica Position Verlet"}
+    if have_elastica:
+        dt = dt_p
+        p_path, p_wall = elastica_dynamics(c, 1.0, dt, 30.0, sample)
+        row.update(peer_s=p_wall, peer_error=abs(p_path[-1] - z_static) / abs(z_static),
+                   note=f"ours {its:.1f} Newton/step; PyElastica dt {dt:.2e} s")
+    rows.append(row)
+    # 3. undamped swing at matched accuracy
+    t_end = 0.25
+    ref, _, _ = our_dynamics(c, t_end, 1e-4, 0.0, "midpoint", sample)
+    amp = float(np.max(np.abs(ref - ref[0])))
+    chosen = None
+    for dt in (5e-3, 2.5e-3, 1.25e-3, 6.25e-4):
+        path, wall, its = our_dynamics(c, t_end, dt, 0.0, "midpoint", sample)
+        err = float(np.max(np.abs(path - ref))) / amp
+        chosen = (dt, wall, err, its)
+        if err < 0.01:
+            break
+    dt, wall, err, its = chosen
+    row = {"problem": "undamped swing, 1 % of amplitude (0.25 s)", "ours": f"implicit midpoint dt {dt:g} s",
+           "ours_s": wall, "ours_error": err, "peer": "PyElastica Position Verlet"}
+    if have_elastica:
+        p_ref, _ = elastica_dynamics(c, t_end, dt_p / 4.0, 0.0, sample)
+        p_path, p_wall = elastica_dynamics(c, t_end, dt_p, 0.0, sample)
+        p_amp = float(np.max(np.abs(p_ref - p_ref[0])))
+        gap = float(np.max(np.abs(p_ref - ref))) / amp
+        row.update(peer_s=p_wall, peer_error=float(np.max(np.abs(p_path - p_ref))) / p_amp,
+                   note=f"PyElastica dt {dt_p:.2e} s (stability); ours {its:.1f} Newton/step; the two converged "
+                        f"paths differ by {100 * gap:.1f} % of the amplitude (Cosserat vs Kirchhoff, lumping)")
+    rows.append(row)
+    for r in rows:
+        r["speed_ratio"] = r["peer_s"] / r["ours_s"] if "peer_s" in r else float("nan")
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--nodes", type=int, nargs="+", default=[31, 100])
+    parser.add_argument("--duration", type=float, default=5.0, help="timed simulated time of the ribbon [s]")
+    parser.add_argument("--baseline", help="directory holding an older lcefem package (before/after ratios)")
+    parser.add_argument("--skip-ribbon", action="store_true")
+    parser.add_argument("--skip-peers", action="store_true")
+    parser.add_argument("--csv", help="write the tables to this CSV file")
+    parser.add_argument("--warmup", type=float, default=30.0,
+                        help="untimed simulated time on the plate before the timing [s] "
+                             "(the ribbon heats and starts rolling)")
+    parser.add_argument("--ribbon-worker", nargs=3, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.ribbon_worker:
+        n, duration, warmup = args.ribbon_worker
+        print(json.dumps(ribbon_run(int(n), float(duration), float(warmup))))
+        return 0
+    if args.duration <= 0:
+        parser.error(f"--duration {args.duration}: must be > 0 s")
+    print(f"DER benchmark: {platform.processor() or platform.machine()}, python {platform.python_version()}, "
+          f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}")
+    table = []
+    if not args.skip_ribbon:
+        print(f"rolling ribbon, 100 C plate, dt 0.01 s, {args.duration:g} s timed after {args.warmup:g} s of heating "
+              "(CPU time; wall in brackets):")
+        for n in args.nodes:
+            runs = {"now": ribbon_in_child(n, args.duration, args.warmup, None)}
+            if args.baseline:
+                runs["baseline"] = ribbon_in_child(n, args.duration, args.warmup, args.baseline)
+            for label, r in runs.items():
+                print(f"  {n:4d} nodes {label:8s}: {r['cpu_ms_per_step']:7.2f} ms/step ({r['wall_ms_per_step']:.2f}; "
+                      f"mechanics {r['mechanics_ms_per_step']:.2f}), {r['newton_per_step']:.2f} Newton/step, "
+                      f"{r['realtime_factor_cpu']:.2f} x real time "
+                      f"({r['realtime_factor_wall']:.2f}); centroid {r['centroid'][0]:.9f} {r['centroid'][1]:.9f} mm, "
+                      f"speed {r['speed']:.9f} mm/s", flush=True)
+                table.append({"problem": f"rolling ribbon {n} nodes", "code": label,
+                              "ms_per_step": r["cpu_ms_per_step"], "mechanics_ms_per_step": r["mechanics_ms_per_step"],
+                              "wall_ms_per_step": r["wall_ms_per_step"], "newton_per_step": r["newton_per_step"],
+                              "realtime_factor": r["realtime_factor_cpu"]})
+            if "baseline" in runs:
+                ratio = runs["baseline"]["cpu_ms_per_step"] / runs["now"]["cpu_ms_per_step"]
+                print(f"  {n:4d} nodes speed-up: {ratio:.2f} x")
+    if not args.skip_peers:
+        print("peers (wall seconds, one core; error: relative tip error as defined in the docstring):")
+        rows = peers(Cantilever())
+        print(f"  {'problem':44s} {'ours [s]':>9s} {'err':>8s} {'peer [s]':>9s} {'err':>8s} {'peer/ours':>9s}")
+        for r in rows:
+            nan = float("nan")
+            print(f"  {r['problem']:44s} {r['ours_s']:9.3f} {r['ours_error']:8.1e} {r.get('peer_s', nan):9.3f} "
+                  f"{r.get('peer_error', nan):8.1e} {r['speed_ratio']:9.2f}   {r['ours']}; {r.get('note', '')}")
+            table.append({"problem": r["problem"], "code": "ours vs " + r["peer"], "ours_s": r["ours_s"],
+                          "peer_s": r.get("peer_s"), "speed_ratio": r["speed_ratio"], "ours_error": r["ours_error"],
+                          "peer_error": r.get("peer_error")})
+    if args.csv and table:
+        keys = sorted({k for row in table for k in row})
+        tmp = args.csv + ".part"
+        with open(tmp, "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=keys)
+            w.writeheader()
+            w.writerows(table)
+        os.replace(tmp, args.csv)
+        print(f"written {args.csv}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
