@@ -13,7 +13,7 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.analysis.curvature import junction_centre_points
-from lcefem.validation.bar_hinge_io import ribbon_triangles
+from lcefem.solvers.exports import ribbon_triangles
 
 if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
     # headless: as validation/render.py, VTK's EGL window (no X server)

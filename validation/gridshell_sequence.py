@@ -57,7 +57,7 @@ from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.run import Progress, Run
 from lcefem.validation import gridshell_bh as gs
 from lcefem.models.bar_hinge import BarHingeMaterials
-from lcefem.validation.bar_hinge_io import BarHingeVTK
+from lcefem.solvers.exports import BarHingeVTK
 
 #: The lumped body per thermal model: 'segment' is one 25 ohm, 30 mm grid segment (the current route's
 #: default); 'eq1' is the free strip of Fig. 2 (146.6 ohm, 80 mm isotropic) on which Eq. 1 was

@@ -44,7 +44,7 @@ from lcefem.models.parameters import check, describe, param, with_overrides
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.validation import gridshell_bh as gs
 from lcefem.solvers.run import Progress, add_out_arguments
-from lcefem.validation.bar_hinge_io import bar_hinge_run
+from lcefem.solvers.exports import bar_hinge_run
 from lcefem.validation.config import load_toml
 
 PARALLEL = False  # a serial (numpy/scipy) model: ranks would race on one folder

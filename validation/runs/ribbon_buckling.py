@@ -44,11 +44,11 @@ from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.solvers.run import Progress, Run, add_out_arguments, check_config, resolved
 from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
 from lcefem.validation import plots
-from lcefem.validation.bar_hinge_io import bar_hinge_run
+from lcefem.solvers.exports import bar_hinge_run
 from lcefem.validation.config import config_from_toml, override
 from lcefem.validation.runs import parallel_if_fe
 from lcefem.validation.reference_data import reference
-from lcefem.validation.runs.beam import MODELS
+from lcefem.validation.commands import MODELS
 
 COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterations [-]"]
 
