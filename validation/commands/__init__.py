@@ -27,6 +27,6 @@ RUN_TARGETS = {
     "ribbon": "lcefem.validation.runs.ribbon",
     "strip": "lcefem.validation.commands.strip",
     "beam": "lcefem.validation.commands.beam",
-    "ribbon-buckling": "lcefem.validation.runs.ribbon_buckling",
+    "ribbon-buckling": "lcefem.validation.commands.ribbon_buckling",
     "gridshell": "lcefem.validation.runs.gridshell",
 }
