@@ -24,7 +24,7 @@ def parallel_if_fe(args) -> bool:
 MODELS = ("bar-hinge", "fe")
 
 RUN_TARGETS = {
-    "ribbon": "lcefem.validation.runs.ribbon",
+    "ribbon": "lcefem.validation.commands.ribbon",
     "strip": "lcefem.validation.commands.strip",
     "beam": "lcefem.validation.commands.beam",
     "ribbon-buckling": "lcefem.validation.commands.ribbon_buckling",
