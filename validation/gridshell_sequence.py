@@ -3,7 +3,7 @@ time -> each strip's temperature (lumped transient heat balance) -> its free str
 bar-and-hinge surface, solved quasi-statically at each output time from the previous equilibrium.
 
 ``lcefem run gridshell --schedule FILE.toml [--out DIR]`` (dispatched from
-lcefem.validation.runs.gridshell). The schedule file::
+lcefem.validation.commands.gridshell). The schedule file::
 
     [schedule]
     times = [0.0, 20.0, 120.0]      # s: switch times, strictly increasing, the first 0
@@ -379,7 +379,7 @@ def prepare(args) -> Schedule:
 
 
 def main(args) -> int:
-    """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.runs.gridshell)."""
+    """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.commands.gridshell)."""
     schedule = args.prepared
     summary = run_sequence(schedule, pathlib.Path(args.out), progress=not args.quiet)
     f = summary["final"]

@@ -28,5 +28,5 @@ RUN_TARGETS = {
     "strip": "lcefem.validation.commands.strip",
     "beam": "lcefem.validation.commands.beam",
     "ribbon-buckling": "lcefem.validation.commands.ribbon_buckling",
-    "gridshell": "lcefem.validation.runs.gridshell",
+    "gridshell": "lcefem.validation.commands.gridshell",
 }
