@@ -7,6 +7,8 @@ import pathlib
 
 import numpy as np
 
+from lcefem.validation.plots import save_figure
+
 
 def plot_trajectory(history: dict[str, np.ndarray], path: pathlib.Path, title: str = "") -> pathlib.Path:
     """PNG: centroid path in the plane (mm) and speed, end spin angles and temperatures against time."""
@@ -48,11 +50,8 @@ def plot_trajectory(history: dict[str, np.ndarray], path: pathlib.Path, title: s
     if title:
         fig.suptitle(title)
     fig.tight_layout()
-    path = pathlib.Path(path)
-    tmp = path.with_name(path.stem + ".part.png")
-    fig.savefig(tmp, dpi=120)
+    path = save_figure(fig, path, 120)
     plt.close(fig)
-    tmp.replace(path)
     return path
 
 
@@ -73,9 +72,6 @@ def plot_sweep(x, series: dict[str, list[float]], xlabel: str, ylabel: str, path
     ax.set_ylabel(ylabel)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    path = pathlib.Path(path)
-    tmp = path.with_name(path.stem + ".part.png")
-    fig.savefig(tmp, dpi=120)
+    path = save_figure(fig, path, 120)
     plt.close(fig)
-    tmp.replace(path)
     return path

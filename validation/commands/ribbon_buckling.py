@@ -48,26 +48,32 @@ PARALLEL = parallel_if_fe
 SOURCES = ["Euler: 4 pi^2 EI/L^2, fixed-fixed", "elastica: Timoshenko & Gere 1961"]
 
 
-def _elastica(final_compression: float, critical_force: float):
-    """(compression [-], force [N]) of the inextensible elastica scaled by the critical load."""
-    c_el = np.linspace(0.0, final_compression, 60)
-    return c_el, critical_force * np.array([buckling.elastica_force_ratio(c) for c in c_el])
+def _plot(out, compression, force, label: str, p_cr: float, p_cr_label: str, digits: int, closed: list,
+          title: str):
+    """ribbon_buckling.png: the model's force-compression path, the elastica scaled by its critical
+    load, the measured load, the critical load [N] (``digits`` decimals) and the closed forms
+    ``closed`` (plots.Line)."""
+    measured = reference("ribbon.buckling_load")
+    c_el = np.linspace(0.0, compression[-1], 60)
+    f_el = p_cr * np.array([buckling.elastica_force_ratio(c) for c in c_el])
+    plots.comparison_plot(
+        out / "ribbon_buckling.png",
+        [plots.Series(100 * compression, force, label, "model"),
+         plots.Series(100 * c_el, f_el, f"elastica x P_cr ({p_cr_label})", "closed form")],
+        xlabel="compression (end shortening / length) [%]", ylabel="compressive force [N]",
+        hlines=[plots.Line(measured.value, f"measured critical load {measured.value:g} N", "experiment"),
+                plots.Line(p_cr, f"P_cr {p_cr_label} {p_cr:.{digits}f} N", "model"),
+                *closed],
+        title=title, sources=[measured.cite, *SOURCES])
+    return measured
 
 
 def report_bar_hinge(out, cfg, solution, p_cr, euler) -> dict:
     """ribbon_buckling.png (path, elastica, measured and closed-form loads) and the measured load."""
-    measured = reference("ribbon.buckling_load")
-    compression, force = solution.compression, solution.force
-    c_el, f_el = _elastica(compression[-1], p_cr)
-    plots.comparison_plot(
-        out / "ribbon_buckling.png",
-        [plots.Series(100 * compression, force, f"bar-and-hinge ({cfg.mesh.panels} panels)", "model"),
-         plots.Series(100 * c_el, f_el, "elastica x P_cr (bar-and-hinge)", "closed form")],
-        xlabel="compression (end shortening / length) [%]", ylabel="compressive force [N]",
-        hlines=[plots.Line(measured.value, f"measured critical load {measured.value:g} N", "experiment"),
-                plots.Line(p_cr, f"P_cr bar-and-hinge {p_cr:.3f} N", "model"),
-                *(plots.Line(v, f"{k} = {v:.3f} N", "closed form") for k, v in euler.items())],
-        title="Fixed-fixed Kapton ribbon 36 x 7 x 0.127 mm", sources=[measured.cite, *SOURCES])
+    measured = _plot(out, solution.compression, solution.force, f"bar-and-hinge ({cfg.mesh.panels} panels)",
+                     p_cr, "bar-and-hinge", 3, [plots.Line(v, f"{k} = {v:.3f} N", "closed form")
+                                             for k, v in euler.items()],
+                     "Fixed-fixed Kapton ribbon 36 x 7 x 0.127 mm")
     return {"measured critical load [N]": measured.value}
 
 
@@ -77,20 +83,13 @@ def report_fe(out, cfg, model, critical, history) -> dict:
     measured = reference("ribbon.buckling_load")
     closed = buckling.specimen_closed_forms(cfg.specimen, cfg.kapton.youngs_modulus,
                                             cfg.kapton.poisson_ratio, measured.value)
-    c, f = history.column("compression [-]"), history.column("force [N]")
-    c_el, f_el = _elastica(c[-1], critical.force)
     euler = closed["Euler, E I (datasheet E) [N]"]
     plate = closed["Euler, plate strip E I/(1 - nu^2) [N]"]
-    plots.comparison_plot(
-        out / "ribbon_buckling.png",
-        [plots.Series(100 * c, f, f"3D FE (Q2, {model.ndofs} DOFs, mode imperfection)", "model"),
-         plots.Series(100 * c_el, f_el, "elastica x P_cr (FE)", "closed form")],
-        xlabel="compression (end shortening / length) [%]", ylabel="compressive force [N]",
-        hlines=[plots.Line(measured.value, f"measured critical load {measured.value:g} N", "experiment"),
-                plots.Line(critical.force, f"P_cr FE {critical.force:.4f} N", "model"),
-                plots.Line(euler, f"Euler E I = {euler:.4f} N", "closed form"),
-                plots.Line(plate, f"Euler E I/(1-nu^2) = {plate:.4f} N", "reference")],
-        title="Fixed-fixed Kapton ribbon 36 x 7 x 0.127 mm (3D FE)", sources=[measured.cite, *SOURCES])
+    _plot(out, history.column("compression [-]"), history.column("force [N]"),
+          f"3D FE (Q2, {model.ndofs} DOFs, mode imperfection)", critical.force, "FE", 4,
+          [plots.Line(euler, f"Euler E I = {euler:.4f} N", "closed form"),
+           plots.Line(plate, f"Euler E I/(1-nu^2) = {plate:.4f} N", "reference")],
+          "Fixed-fixed Kapton ribbon 36 x 7 x 0.127 mm (3D FE)")
     return {"measured critical load [N]": measured.value, **closed}
 
 
