@@ -92,7 +92,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--support", choices=SUPPORTS, help="supports (default: the published ones)")
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
     p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
-                   "sequence (lcefem.validation.gridshell_sequence; e.g. validation/data/"
+                   "sequence (lcefem.solvers.problems.gridshell_bh_sequence; e.g. validation/data/"
                    "gridshell_fig5a_schedule.toml)")
     p.add_argument("--config", help="TOML case file (sections: run, lambda, current, "
                    + ", ".join(GridshellBHRunConfig.PARAM_SECTIONS[1:]) + ")")
