@@ -55,7 +55,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, OgdenLaw
+from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_RATIO, OgdenLaw
 from lcefem.models.parameters import param
 
 #: Nematic relative length lambda_N [-] of the published reduced-order model: its isotropic/nematic
@@ -82,7 +82,7 @@ class KaptonBarHinge:
     youngs_modulus: float = param(KAPTON_DATASHEET_MODULUS, "MPa", "DuPont Kapton HN datasheet, 23 C "
                                   "(2.5 GPa, models.hyperelastic.KAPTON_DATASHEET_MODULUS); "
                                   + PUBLISHED, positive=True)
-    poisson_ratio: float = param(0.34, "-", "DuPont Kapton HN datasheet; " + PUBLISHED,
+    poisson_ratio: float = param(KAPTON_POISSON_RATIO, "-", "DuPont Kapton HN datasheet; " + PUBLISHED,
                                  minimum=0.0, maximum=0.49)
     bar_exponent_1: float = param(5.0, "-", "MERLIN2 stiffening bar law, exponents [5, 1] "
                                   "(Liu & Paulino 2017; " + PUBLISHED + ")")

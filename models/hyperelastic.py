@@ -120,6 +120,8 @@ def lce_uniaxial_nominal_stress(stretch, law: LCEElasticity = LCEElasticity()):
 #: and the measured 0.18 N buckling load (seed 001, Fig. 2G) is read as a shorter effective free
 #: length of the clamped 36 mm specimens (KAPTON_SPECIMEN_EFFECTIVE_LENGTH), not as a stiffer film.
 KAPTON_DATASHEET_MODULUS = 2500.0
+#: Kapton HN Poisson's ratio [-]: DuPont Kapton HN datasheet (also the published model's value).
+KAPTON_POISSON_RATIO = 0.34
 #: What-if only [MPa]: the modulus at which the FE fixed-fixed specimen with the full 36 mm free length
 #: buckles at the measured 0.18 N (FE 0.095 N at 2.5 GPa, x 0.18/0.095 = 1.9; README, Kapton). 1.9 x the
 #: datasheet: outside the spread of a commercial polyimide film, so not adopted (issue 16).
@@ -139,7 +141,8 @@ class NeoHookeanSolid:
 
     youngs_modulus: float = param(KAPTON_DATASHEET_MODULUS, "MPa", "DuPont Kapton HN datasheet, "
                                   "23 C (2.5 GPa; KAPTON_DATASHEET_MODULUS, issue 16)", positive=True)
-    poisson_ratio: float = param(0.34, "-", "DuPont Kapton HN datasheet", minimum=0.0, maximum=0.49)
+    poisson_ratio: float = param(KAPTON_POISSON_RATIO, "-", "DuPont Kapton HN datasheet", minimum=0.0,
+                                 maximum=0.49)
 
     @property
     def shear_modulus(self) -> float:

@@ -1,5 +1,7 @@
 """Lumped (cross-section averaged) heat balance of a coil-heated LCE strip, and the current ->
-temperature -> lambda map of one grid segment of the robotic surface (seed 001).
+temperature -> lambda map of one grid segment of the robotic surface (seed 001); the gridshell's
+current route (:class:`CurrentRoute`, :func:`stretch_from_current`: a channel current to a strip's
+steady lambda, by this lumped segment or by the paper's Eq. 1 at the coil power).
 
 Per unit of current strip length, with T uniform over the section (Biot number h t/k ~ 0.006 mm/K
 * 2 mm / 0.25 ~ 0.05 << 1, so the lumped model is adequate for the steady state):
@@ -27,12 +29,13 @@ Units: mm, s, mW, C, ohm, A.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
 
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.empirical import Eq1, eq1_stretch
 from lcefem.models.errors import InputError
 from lcefem.models.heat import (Coil, GridSegmentCoil, SurfaceExchange, ThermalProperties, joule_power,
                                 radiative_film_coefficient)
@@ -162,3 +165,42 @@ def transient_temperature(schedule, duration: float, strip: HeatedStrip = Heated
     for k in range(n):
         temps[k + 1] = implicit_euler_step(temps[k], schedule(times[k + 1]), dt, strip, model)
     return times, temps, np.asarray(spontaneous_stretch(temps, model.transition), dtype=float)
+
+
+# -- the gridshell's current route ----------------------------------------------------------------
+THERMAL_MODELS = ("segment", "eq1")
+
+
+@dataclass(frozen=True)
+class CurrentRoute:
+    """How a channel current becomes a strip's lambda."""
+
+    thermal_model: str = param("segment", "-", "'segment': our lumped steady heat balance of one 25 ohm, "
+                               "30 mm grid segment with the calibrated exchange and transition "
+                               "(models.lumped_heat); 'eq1': the paper's own estimate, Eq. 1 at the "
+                               "power I^2 R of a 146.6 ohm strip coil (seed 001: 'We can estimate the "
+                               "required current for each LCE strip by the imposed stretch, using Eq. 1')")
+    segment: HeatedStrip = field(default_factory=HeatedStrip)
+
+    def checked(self) -> "CurrentRoute":
+        if self.thermal_model not in THERMAL_MODELS:
+            raise InputError(f"current.thermal_model = {self.thermal_model!r}: allowed "
+                             f"{', '.join(THERMAL_MODELS)}")
+        return self
+
+
+def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
+                         lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
+    """Steady lambda [-] of a grid strip at ``current`` [A], capped at the as-built lambda_N (a strip
+    whose free length would exceed its glued length is slack: rest fraction 1)."""
+    if route.checked().thermal_model == "eq1":
+        lam = float(eq1_stretch(Coil().power(current), Eq1()))
+    else:
+        lam = steady_stretch(current, route.segment, LumpedThermal())
+    return min(lam, lambda_N)
+
+
+def lambda_assignments_from_currents(currents: dict, route: CurrentRoute = CurrentRoute(),
+                                     lambda_N: float = PUBLISHED_LAMBDA_N) -> dict:
+    """{selection: current [A]} -> {selection: lambda [-]} through :func:`stretch_from_current`."""
+    return {k: stretch_from_current(float(v), route, lambda_N) for k, v in currents.items()}

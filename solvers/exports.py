@@ -3,25 +3,38 @@
 Every file is written under a ``.part`` name and renamed when :meth:`finalize` is called; a failed
 run calls :meth:`finalize(complete=False)`, which renames to ``*.partial.*`` instead (the convention
 of lcefem.solvers.run, whose CSV and JSON writers are re-exported here).
+
+* :class:`FieldExport`, :func:`write_snapshot` — VTX (ADIOS2 .bp) series of dolfinx Functions (the
+  FE problems); FEniCSx is imported when one is built, so the bar-and-hinge and rod runs start
+  without it.
+* :class:`BarHingeVTK` — one VTK PolyData file (.vtp) per converged step in ``<stem>_steps/`` and a
+  ParaView collection ``<stem>.pvd`` over them (lcefem.solvers.run.FrameSeries): the ribbon's N5B8
+  triangles and the strip and glue bars as lines, with point data ``displacement [mm]`` and cell data
+  ``element`` (0 ribbon, 1 bottom strip, 2 top strip, 3 glue) and ``axial force [N]`` (tension
+  positive; 0 on triangles).
+* :func:`bar_hinge_run` — the run skeleton (lcefem.solvers.run.Run) around a path-following
+  bar-and-hinge run.
 """
 
 from __future__ import annotations
 
+import contextlib
 import pathlib
 
-import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-from mpi4py import MPI
+import numpy as np
 
-import dolfinx
-
+from lcefem.meshes.bar_hinge_structure import BarHingeStructure
+from lcefem.solvers.der.output import write_vtp
 from lcefem.solvers.run import CSVTable as HistoryCSV  # noqa: F401  (one CSV writer for every run)
-from lcefem.solvers.run import part_name, partial_name, replace, write_json  # noqa: F401
-
+from lcefem.solvers.run import FrameSeries, Run, part_name, partial_name, replace, write_json  # noqa: F401
 
 class FieldExport:
     """VTX (ADIOS2 .bp) time series of dolfinx Functions sharing one element, readable by ParaView."""
 
     def __init__(self, path: pathlib.Path, functions: list[dolfinx.fem.Function], comm: MPI.Comm):
+        import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+        import dolfinx
+
         self.path = pathlib.Path(path)
         self.comm = comm
         self._writer = dolfinx.io.VTXWriter(comm, part_name(self.path), functions, engine="BP4")
@@ -48,3 +61,82 @@ def write_snapshot(folder, name: str, functions: list[dolfinx.fem.Function], t: 
     export.write(t)
     export.finalize()
     return export.path
+
+
+# -- bar-and-hinge structures ---------------------------------------------------------------
+ELEMENT_CODES = {"ribbon": 0, "bottom_strips": 1, "top_strips": 2, "glue": 3}
+
+
+def ribbon_triangles(structure: BarHingeStructure) -> np.ndarray:
+    """The N5B8 triangles (4 per panel: centre and each edge), (4p, 3) node indices."""
+    p = structure.panels
+    c = structure.panel_centres
+    nxt = np.roll(p, -1, axis=1)
+    return np.stack([np.repeat(c, 4), p.reshape(-1), nxt.reshape(-1)], axis=1)
+
+
+class BarHingeVTK(FrameSeries):
+    """VTK PolyData time series of a bar-and-hinge structure (see module docstring)."""
+
+    def __init__(self, out: pathlib.Path, stem: str, structure: BarHingeStructure):
+        import pyvista  # imported here: only runs that write fields pay for it
+
+        super().__init__(out, stem)
+        self._pv = pyvista
+        self.structure = structure
+        tri = ribbon_triangles(structure)
+        self._faces = np.hstack([np.full((tri.shape[0], 1), 3), tri]).ravel()
+        self._line_groups = [g for g in ("bottom_strips", "top_strips", "glue") if g in structure.bars]
+        pairs = [structure.bars[g] for g in self._line_groups]
+        lines = np.vstack(pairs) if pairs else np.zeros((0, 2), dtype=np.int64)
+        self._lines = np.hstack([np.full((lines.shape[0], 1), 2), lines]).ravel()
+        self._codes = np.concatenate(
+            [np.full(tri.shape[0], ELEMENT_CODES["ribbon"])]
+            + [np.full(structure.bars[g].shape[0], ELEMENT_CODES[g]) for g in self._line_groups])
+
+    def polydata(self, x: np.ndarray, bar_forces: dict[str, np.ndarray]):
+        """The state with positions x (n, 3) [mm] and bar forces by group [N]."""
+        x = np.asarray(x, dtype=float).reshape(-1, 3)
+        poly = self._pv.PolyData(x, faces=self._faces, lines=self._lines)
+        # VTK orders cells: vertices, lines, polygons. Build cell data in that order.
+        n_tri = self._faces.size // 4
+        n_lin = self._lines.size // 3
+        codes = np.concatenate([self._codes[n_tri:], self._codes[:n_tri]])
+        forces = np.concatenate([*(bar_forces[g] for g in self._line_groups), np.zeros(n_tri)]) \
+            if n_lin else np.zeros(n_tri)
+        poly.cell_data["element"] = codes.astype(np.int32)
+        poly.cell_data["axial force [N]"] = forces
+        poly.point_data["displacement [mm]"] = x - self.structure.nodes
+        return poly
+
+    def write(self, t: float, x: np.ndarray, bar_forces: dict[str, np.ndarray]) -> pathlib.Path:
+        """Write the state at load factor ``t``."""
+        poly = self.polydata(x, bar_forces)
+        return super().write(t, lambda path: write_vtp(path, poly))
+
+    def write_single(self, path: pathlib.Path, x: np.ndarray, bar_forces: dict[str, np.ndarray]) -> None:
+        """Write one state to ``path`` (.vtp) atomically (e.g. the last converged state of a failed run)."""
+        path = pathlib.Path(path)
+        tmp = part_name(path)
+        write_vtp(tmp, self.polydata(x, bar_forces))
+        replace(tmp, path)
+
+
+@contextlib.contextmanager
+def bar_hinge_run(out: pathlib.Path, stem: str, structure: BarHingeStructure, model, *, config: dict,
+                  columns: list[str], row, progress):
+    """A path-following run of a bar-and-hinge model into ``out`` (lcefem.solvers.run.Run): yields
+    ``(run, on_step)``; ``on_step(state)`` records ``row(state)`` and writes the step's VTK frame. A
+    failed run also keeps ``last_converged.vtp``."""
+    with Run(out, config=config, columns=columns, progress=progress) as run:
+        vtk = run.output(BarHingeVTK(out, stem, structure))
+        last = []
+
+        def on_step(state) -> None:
+            run.record(row(state), where=f"load factor {state.t:.4g}")
+            vtk.write(state.t, state.x, model.bar_forces(state.x))
+            last[:] = [state]
+
+        run.on_failure(lambda folder: last and vtk.write_single(
+            folder / "last_converged.vtp", last[0].x, model.bar_forces(last[0].x)))
+        yield run, on_step

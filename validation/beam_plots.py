@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
-from lcefem.validation.plots import _save
+from lcefem.validation.plots import save_figure
 
 
 def draw_side_view(ax, structure: BarHingeStructure, x: np.ndarray, *, label: bool = True) -> None:
@@ -47,7 +47,7 @@ def plot_beam_run(path, structure, x_final, load_factor, curvature, eq2, title: 
     b.legend(loc="best", fontsize=8)
     b.set_title("final state (ribbon edge y = 0)")
     fig.suptitle(title)
-    return _save(fig, path, 130)
+    return save_figure(fig, path, 130)
 
 
 def plot_fe_side_view(path, model, u, title: str, extra=None) -> pathlib.Path:
@@ -79,7 +79,7 @@ def plot_fe_side_view(path, model, u, title: str, extra=None) -> pathlib.Path:
     ax.set_title("side view at the strips' edge (grey: as built)", fontsize=9)
     ax.legend(fontsize=7, markerscale=4)
     fig.suptitle(title, fontsize=10)
-    return _save(fig, path, 130)
+    return save_figure(fig, path, 130)
 
 
 def render_fe_beam(path, model, title: str) -> pathlib.Path:

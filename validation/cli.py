@@ -19,7 +19,7 @@ import traceback
 
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers import run as skeleton
-from lcefem.validation.runs import RUN_TARGETS
+from lcefem.validation.commands import RUN_TARGETS
 
 EXIT_INPUT = skeleton.EXIT_INPUT
 EXIT_CONVERGENCE = skeleton.EXIT_SOLVER

@@ -13,7 +13,7 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.analysis.curvature import junction_centre_points
-from lcefem.validation.bar_hinge_io import ribbon_triangles
+from lcefem.solvers.exports import ribbon_triangles
 
 if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
     # headless: as validation/render.py, VTK's EGL window (no X server)
@@ -57,7 +57,7 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
     {shape: (kappa_x, kappa_y)} (None for a missing value)."""
     from matplotlib.figure import Figure
 
-    from lcefem.validation.plots import _footer, _save
+    from lcefem.validation.plots import _footer, save_figure
 
     fig = Figure(figsize=(11, 4.5), layout="constrained")
     axes = fig.subplots(1, 2, sharey=True)
@@ -75,7 +75,7 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
     axes[0].set_ylabel("curvature [1/mm]")
     axes[1].legend(fontsize=7)
     _footer(fig, sources)
-    return _save(fig, pathlib.Path(path), 150)
+    return save_figure(fig, pathlib.Path(path), 150)
 
 
 def reachable_set_figure(path: pathlib.Path, kappa: np.ndarray, points: dict[str, tuple[float, float]],

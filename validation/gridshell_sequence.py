@@ -1,335 +1,30 @@
-"""Programmed shape sequences of the robotic surface (seed 001, Fig. 5A and 5C): channel currents over
-time -> each strip's temperature (lumped transient heat balance) -> its free stretch lambda(T) -> the
-bar-and-hinge surface, solved quasi-statically at each output time from the previous equilibrium.
-
-``lcefem run gridshell --schedule FILE.toml [--out DIR]`` (dispatched from
-lcefem.validation.runs.gridshell). The schedule file::
-
-    [schedule]
-    times = [0.0, 20.0, 120.0]      # s: switch times, strictly increasing, the first 0
-    end = 240.0                      # s: last output time (> the last switch time, <= MAX_DURATION)
-    output_interval = 5.0            # s: one quasi-static solve and one frame per interval
-    support = "rollers"              # clamp | rollers | table (one support for the whole sequence)
-    thermal_model = "eq1"            # segment | eq1 (see THERMAL_STRIPS)
-    labels = ["actuate", "dome", "..."]   # optional: a name per switch time
-    heat_step = 0.05                 # s: implicit-Euler step of the heat balance (optional)
-
-    [currents]                       # A per selection (channel Tx/Ty/Bx/By, layer T/B, family XD..,
-    Tx = [0.1, 0.04, 0.0]            # group XD1.., half plane, strip id), one value per switch time,
-    Bx = [0.2, 0.07, 0.0]            # held until the next; unnamed strips carry no current
-
-Physics per selection (all its strips carry the same current and are the same lumped body): the
-balance C dT/dt = I^2 R - loss(T) of :mod:`lcefem.models.lumped_heat` (implicit Euler, the current of
-the interval during each step), lambda = min(lambda_s(T), lambda_N) with the transition's
-spontaneous-stretch law (:func:`lcefem.models.lce.spontaneous_stretch`, the law of the current route)
-and the cap at the as-built lambda_N of the strip bars (a longer strip is slack). The bar-and-hinge
-surface follows with rest fractions lambda/lambda_N; the mechanics is quasi-static (the heat time
-constant, ~100 s, is far above the surface's inertial times).
-
-Outputs (through the run skeleton, lcefem.solvers.run.Run): ``history.csv`` (time [s], per-selection
-current [A], temperature [C], lambda [-], centre curvatures by the circle and the quadratic-fit measure
-[1/mm], z range [mm], Newton iterations), ``sequence.pvd`` + ``sequence_steps/*.vtp`` (ParaView frame
-series, time = simulated seconds), ``curvature_vs_time.png``, ``snapshot_NN.png`` (a render at the
-end of each phase NN of the schedule), ``summary.json``.
-
-Units: mm, s, A, C.
+"""``lcefem run gridshell --schedule FILE.toml``: programmed shape sequences of the robotic surface
+(seed 001, Fig. 5A and 5C). The schedule, the heat balance per selection and the quasi-static surface
+are :mod:`lcefem.solvers.problems.gridshell_bh_sequence` (its names are re-exported here for the
+studies and tests that import them from this module); this module holds the command line (prepare,
+main, dispatched from lcefem.validation.commands.gridshell) and the figures: curvature_vs_time.png
+and snapshot_NN.png (a render at the end of each phase NN of the schedule).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 import pathlib
-import time
-import tomllib
-from dataclasses import dataclass
 
-import numpy as np
-
-from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
-from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.models.lce import spontaneous_stretch
-from lcefem.models.limits import MAX_CURRENT, MAX_DURATION
-from lcefem.models.lumped_heat import FREE_STRIP, HeatedStrip, LumpedThermal, implicit_euler_step
-from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
-from lcefem.solvers.run import Progress, Run
-from lcefem.validation import gridshell_bh as gs
-from lcefem.models.bar_hinge import BarHingeMaterials
-from lcefem.validation.bar_hinge_io import BarHingeVTK
-
-#: The lumped body per thermal model: 'segment' is one 25 ohm, 30 mm grid segment (the current route's
-#: default); 'eq1' is the free strip of Fig. 2 (146.6 ohm, 80 mm isotropic) on which Eq. 1 was
-#: measured: its lumped steady stretch is within 0.03 of Eq. 1 (tests/models/test_lumped_heat.py), so
-#: this is the transient twin of the current route's 'eq1' (the paper's own current choice).
-THERMAL_STRIPS = {"segment": HeatedStrip(), "eq1": FREE_STRIP}
-SCHEDULE_KEYS = {"times", "end", "output_interval", "support", "thermal_model", "labels", "heat_step"}
-CURVATURE_COLUMNS = ["circle kappa_x [1/mm]", "circle kappa_y [1/mm]", "quad kappa_x [1/mm]",
-                     "quad kappa_y [1/mm]"]
+from lcefem.models.errors import InputError
+from lcefem.solvers.problems.gridshell_bh_sequence import (  # noqa: F401
+    CURVATURE_COLUMNS, SCHEDULE_KEYS, THERMAL_STRIPS, QuasiStaticSurface, Schedule, check_selections,
+    columns_for, load_schedule, phase_ends, rest_fractions, run_sequence, schedule_from_dict,
+    strip_histories)
+from lcefem.validation.plots import save_figure
 
 
-@dataclass(frozen=True)
-class Schedule:
-    """Piecewise-constant channel currents (module docstring)."""
+def snapshot(out: pathlib.Path, phase: int, label: str, t: float, structure, x, support: str) -> None:
+    """snapshot_NN.png: the surface at the end of phase NN."""
+    from lcefem.validation.gridshell_plots import render_gridshell
 
-    times: tuple[float, ...]  # s
-    currents: dict  # selection -> tuple of currents [A], one per switch time
-    end: float  # s
-    output_interval: float  # s
-    support: str = "rollers"
-    thermal_model: str = "eq1"
-    labels: tuple[str, ...] = ()
-    heat_step: float = 0.05  # s
-
-    def current_at(self, t: float) -> dict:
-        """Currents [A] per selection on the interval holding ``t`` (switch times belong to the new
-        interval)."""
-        k = int(np.searchsorted(self.times, t, side="right")) - 1
-        return {sel: values[max(k, 0)] for sel, values in self.currents.items()}
-
-    def output_times(self) -> np.ndarray:
-        n = int(math.floor(self.end / self.output_interval + 1e-9))
-        t = self.output_interval * np.arange(n + 1)
-        return t if abs(t[-1] - self.end) < 1e-9 else np.append(t, self.end)
-
-
-def _number(value, field: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{field} = {value!r}: must be a finite number")
-    return float(value)
-
-
-def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
-    """Validated :class:`Schedule` from the TOML tables; one-line InputError naming the field."""
-    for key in data:
-        if key not in ("schedule", "currents"):
-            raise InputError(f"{where}: unknown section [{key}] (allowed: [schedule], [currents])")
-    sched = data.get("schedule")
-    if not isinstance(sched, dict):
-        raise InputError(f"{where}: missing section [schedule] (times, end, output_interval)")
-    for key in sched:
-        if key not in SCHEDULE_KEYS:
-            raise InputError(f"schedule.{key}: unknown key (allowed: {', '.join(sorted(SCHEDULE_KEYS))})")
-    for key in ("times", "end", "output_interval"):
-        if key not in sched:
-            raise InputError(f"schedule.{key}: missing")
-    raw = sched["times"]
-    if not isinstance(raw, list) or not raw:
-        raise InputError(f"schedule.times = {raw!r}: must be a non-empty list of times [s]")
-    times = tuple(_number(v, f"schedule.times[{i}]") for i, v in enumerate(raw))
-    if times[0] != 0.0:
-        raise InputError(f"schedule.times[0] = {times[0]}: must be 0 s (the surface starts as built)")
-    for i in range(1, len(times)):
-        if not times[i] > times[i - 1]:
-            raise InputError(f"schedule.times[{i}] = {times[i]}: times must be strictly increasing "
-                             f"(previous {times[i - 1]} s)")
-    end = _number(sched["end"], "schedule.end")
-    if not times[-1] < end <= MAX_DURATION:
-        raise InputError(f"schedule.end = {end}: must be after the last switch time ({times[-1]} s) and "
-                         f"<= {MAX_DURATION} s (lcefem.models.limits)")
-    interval = _number(sched["output_interval"], "schedule.output_interval")
-    if not 0.0 < interval <= end:
-        raise InputError(f"schedule.output_interval = {interval}: must be > 0 s and <= end ({end} s)")
-    heat_step = _number(sched.get("heat_step", 0.05), "schedule.heat_step")
-    if not 0.0 < heat_step <= interval:
-        raise InputError(f"schedule.heat_step = {heat_step}: must be > 0 s and <= output_interval")
-    support = sched.get("support", "rollers")
-    if support not in gs.SUPPORTS:
-        raise InputError(f"schedule.support = {support!r}: allowed {', '.join(gs.SUPPORTS)}")
-    thermal = sched.get("thermal_model", "eq1")
-    if thermal not in THERMAL_STRIPS:
-        raise InputError(f"schedule.thermal_model = {thermal!r}: allowed {', '.join(THERMAL_STRIPS)}")
-    labels = sched.get("labels", [])
-    if not isinstance(labels, list) or (labels and len(labels) != len(times)) or \
-            not all(isinstance(s, str) for s in labels):
-        raise InputError(f"schedule.labels: must be a list of {len(times)} names (one per switch time)")
-    currents = {}
-    for sel, values in (data.get("currents") or {}).items():
-        field = f"currents.{sel}"
-        if not isinstance(values, list) or len(values) != len(times):
-            raise InputError(f"{field}: must be a list of {len(times)} currents [A] (one per switch time)")
-        vals = tuple(_number(v, f"{field}[{i}]") for i, v in enumerate(values))
-        for i, v in enumerate(vals):
-            if not 0.0 <= v <= MAX_CURRENT:
-                raise InputError(f"{field}[{i}] = {v} A: must be between 0 and {MAX_CURRENT} A "
-                                 "(lcefem.models.limits)")
-        currents[int(sel) if sel.isdigit() else sel] = vals
-    if not currents:
-        raise InputError(f"{where}: section [currents] is empty (give e.g. Tx = [0.1, 0.04])")
-    return Schedule(times, currents, end, interval, support, thermal, tuple(labels), heat_step)
-
-
-def load_schedule(path) -> Schedule:
-    path = pathlib.Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"--schedule '{path}': cannot read ({exc.strerror or exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"--schedule '{path}': not valid TOML ({exc})") from None
-    return schedule_from_dict(data, f"--schedule '{path}'")
-
-
-def check_selections(schedule: Schedule, structure: BarHingeStructure) -> None:
-    """Every [currents] key must select strips of the structure (InputError naming it)."""
-    for sel in schedule.currents:
-        gs.targets_from_lambdas(structure, {sel: 1.2}, name=f"currents.{sel}")
-
-
-# -------------------------------------------------------------------------------- heat
-def strip_histories(schedule: Schedule, times: np.ndarray, strips: dict | None = None,
-                    model: LumpedThermal = LumpedThermal(), lambda_N: float = PUBLISHED_LAMBDA_N):
-    """Temperatures [C] and stretches [-] per selection at ``times`` [s] (from ambient at t = 0).
-
-    ``strips``: selection -> :class:`HeatedStrip` (default: the schedule's thermal model for all; a
-    per-selection body lets resistances differ, e.g. in the prediction bands). Implicit Euler with
-    steps of at most ``schedule.heat_step`` inside each output interval; a step carries the current
-    of the interval holding its midpoint. lambda = min(lambda_s(T), lambda_N)."""
-    default = THERMAL_STRIPS[schedule.thermal_model]
-    strips = {sel: (strips or {}).get(sel, default) for sel in schedule.currents}
-    T = {sel: model.exchange.ambient_temperature for sel in schedule.currents}
-    temps = {sel: np.empty(len(times)) for sel in schedule.currents}
-    for k, t in enumerate(times):
-        t_prev = times[k - 1] if k else 0.0
-        n = max(1, int(math.ceil((t - t_prev) / schedule.heat_step - 1e-9)))
-        h = (t - t_prev) / n
-        for j in range(n if t > t_prev else 0):
-            currents = schedule.current_at(t_prev + (j + 0.5) * h)
-            for sel in T:
-                T[sel] = implicit_euler_step(T[sel], currents[sel], h, strips[sel], model)
-        for sel in T:
-            temps[sel][k] = T[sel]
-    lambdas = {sel: np.minimum(np.asarray(spontaneous_stretch(v, model.transition), dtype=float), lambda_N)
-               for sel, v in temps.items()}
-    return temps, lambdas
-
-
-# -------------------------------------------------------------------------------- mechanics
-class QuasiStaticSurface:
-    """The bar-and-hinge surface followed through a sequence of rest-fraction targets: each new target
-    is reached by path following from the previous equilibrium (warm start), the rest fractions
-    interpolated linearly; if that fails (e.g. a snap), the ramp from the as-built state
-    (:func:`lcefem.validation.gridshell_bh.solve_gridshell`) is tried."""
-
-    def __init__(self, structure: BarHingeStructure, support: str = "rollers",
-                 materials: BarHingeMaterials = BarHingeMaterials(),
-                 newton: NewtonOptions = gs.GRIDSHELL_NEWTON, path: PathOptions = gs.GRIDSHELL_PATH,
-                 start: tuple[dict, np.ndarray] | None = None):
-        self.structure = structure
-        self.setup = gs.setup_gridshell(None, support, structure=structure, materials=materials)
-        self.newton, self.path = newton, path
-        if start is None:
-            self.fractions = {g: v.copy() for g, v in self.setup.targets.items()}
-            self.x = structure.nodes.copy()
-        else:  # another equilibrium (e.g. the nominal one of the same structure) as the start
-            self.fractions = {g: np.asarray(v, dtype=float).copy() for g, v in start[0].items()}
-            self.x = np.asarray(start[1], dtype=float).reshape(-1, 3).copy()
-        self.iterations = 0  # Newton iterations of the last advance
-        self.cold_restarts = 0
-        self._solved = False
-
-    def advance(self, targets: dict[str, np.ndarray], tolerance: float = 1e-10) -> np.ndarray:
-        """Equilibrium positions (n, 3) [mm] at rest fractions ``targets`` (by bar group)."""
-        f0 = self.fractions
-        if self._solved and all(np.max(np.abs(targets[g] - f0[g]), initial=0.0) <= tolerance
-                                for g in f0):
-            self.iterations = 0
-            return self.x
-        model, held = self.setup.model, self.setup.held
-
-        def load(t: float) -> np.ndarray:
-            model.set_rest_fractions({g: f0[g] + t * (targets[g] - f0[g]) for g in f0})
-            return model.reference.reshape(-1)[held]
-
-        try:
-            result = follow_path(model, self.x, held, load, newton_options=self.newton,
-                                 path_options=self.path)
-        except ConvergenceError:
-            self.cold_restarts += 1
-            self.setup.targets = {g: np.asarray(v, dtype=float) for g, v in targets.items()}
-            result = gs.solve_gridshell(self.setup, newton_options=self.newton, path=self.path).path
-        self.x = result.states[-1].x.reshape(-1, 3).copy()
-        self.fractions = {g: np.asarray(v, dtype=float).copy() for g, v in targets.items()}
-        self.iterations = int(sum(s.iterations for s in result.states))
-        self._solved = True
-        return self.x
-
-    def curvatures(self) -> dict:
-        return gs.shape_summary(self.structure, self.x)
-
-
-def rest_fractions(structure: BarHingeStructure, lambdas: dict, lambda_N: float = PUBLISHED_LAMBDA_N
-                   ) -> dict[str, np.ndarray]:
-    """Rest fractions per bar from lambdas per selection (strips not named stay as built)."""
-    return gs.targets_from_lambdas(structure, lambdas, lambda_N, "sequence lambda")
-
-
-# -------------------------------------------------------------------------------- run
-def phase_ends(schedule: Schedule, times: np.ndarray) -> dict[int, int]:
-    """{output index: phase index}: the last output time of each phase (before the next switch)"""
-    ends = list(schedule.times[1:]) + [schedule.end + 1.0]
-    out = {}
-    for phase, stop in enumerate(ends):
-        inside = np.nonzero((times >= schedule.times[phase]) & (times < stop))[0]
-        if inside.size:
-            out[int(inside[-1])] = phase
-    return out
-
-
-def columns_for(schedule: Schedule) -> list[str]:
-    cols = ["time [s]"]
-    for sel in schedule.currents:
-        cols += [f"{sel} current [A]", f"{sel} temperature [C]", f"{sel} lambda [-]"]
-    return cols + CURVATURE_COLUMNS + ["z range [mm]", "newton iterations [-]"]
-
-
-def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool = True,
-                 structure: BarHingeStructure | None = None, frames: bool = True,
-                 config: dict | None = None) -> dict:
-    """Run a schedule through the run skeleton (outputs in the module docstring); returns the summary
-    (with ``history``: the columns as lists)."""
-    structure = structure or build_gridshell_bar_hinge()
-    check_selections(schedule, structure)
-    times = schedule.output_times()
-    temps, lambdas = strip_histories(schedule, times)
-    surface = QuasiStaticSurface(structure, schedule.support)
-    snapshots = phase_ends(schedule, times)
-    bar = Progress(float(times[-1]), "sequence", "s", ".0f", progress)
-    started = time.perf_counter()
-    resolved = config or {"schedule": dataclasses.asdict(schedule)}
-    with Run(out, config=resolved, columns=columns_for(schedule), progress=bar) as run:
-        vtk = run.output(BarHingeVTK(out, "sequence", structure)) if (frames and out is not None) else None
-        for k, t in enumerate(times):
-            lam_k = {sel: float(lambdas[sel][k]) for sel in schedule.currents}
-            x = surface.advance(rest_fractions(structure, lam_k))
-            summ = surface.curvatures()
-            row = {"time [s]": float(t)}
-            current = schedule.current_at(t - 1e-12) if t > 0 else schedule.current_at(0.0)
-            for sel in schedule.currents:
-                row.update({f"{sel} current [A]": current[sel], f"{sel} temperature [C]": temps[sel][k],
-                            f"{sel} lambda [-]": lam_k[sel]})
-            row.update({"circle kappa_x [1/mm]": summ["circle_x"], "circle kappa_y [1/mm]": summ["circle_y"],
-                        "quad kappa_x [1/mm]": summ["quad_kx"], "quad kappa_y [1/mm]": summ["quad_ky"],
-                        "z range [mm]": summ["z_range [mm]"], "newton iterations [-]": surface.iterations})
-            run.record(row, where=f"t = {t:.4g} s", at=float(t))
-            if vtk is not None:
-                vtk.write(float(t), x, surface.setup.model.bar_forces(x))
-            if out is not None and k in snapshots:
-                from lcefem.validation.gridshell_plots import render_gridshell
-                label = schedule.labels[snapshots[k]] if schedule.labels else f"phase {snapshots[k]}"
-                render_gridshell(pathlib.Path(out) / f"snapshot_{snapshots[k]:02d}.png", structure, x,
-                                 f"t = {t:g} s: end of '{label}' ({schedule.support})")
-        history = run.history.as_arrays()
-        if out is not None:
-            plot_curvatures(pathlib.Path(out) / "curvature_vs_time.png", history, schedule)
-        return run.complete({
-            "model": "bar-hinge gridshell, quasi-static sequence", "support": schedule.support,
-            "thermal model": schedule.thermal_model, "outputs": len(times),
-            "cold restarts": surface.cold_restarts, "wall_time [s]": time.perf_counter() - started,
-            "final": {c: float(history[c][-1]) for c in CURVATURE_COLUMNS},
-            "history": {c: v.tolist() for c, v in history.items()},
-        })
+    render_gridshell(out / f"snapshot_{phase:02d}.png", structure, x, f"t = {t:g} s: end of '{label}' ({support})")
 
 
 def plot_curvatures(path: pathlib.Path, history: dict, schedule: Schedule) -> pathlib.Path:
@@ -338,7 +33,6 @@ def plot_curvatures(path: pathlib.Path, history: dict, schedule: Schedule) -> pa
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from lcefem.solvers.run import part_name, replace
     fig, ax = plt.subplots(figsize=(8, 4))
     t = history["time [s]"]
     for col, style in zip(CURVATURE_COLUMNS, ("-", "--", "-", "--")):
@@ -354,11 +48,8 @@ def plot_curvatures(path: pathlib.Path, history: dict, schedule: Schedule) -> pa
     ax.set_ylabel("centre curvature [1/mm] (dome negative)")
     ax.legend(fontsize=7, loc="lower right")
     fig.tight_layout()
-    path = pathlib.Path(path)
-    tmp = part_name(path)
-    fig.savefig(tmp, dpi=120, format="png")
+    path = save_figure(fig, path, 120)
     plt.close(fig)
-    replace(tmp, path)
     return path
 
 
@@ -379,9 +70,11 @@ def prepare(args) -> Schedule:
 
 
 def main(args) -> int:
-    """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.runs.gridshell)."""
+    """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.commands.gridshell)."""
     schedule = args.prepared
-    summary = run_sequence(schedule, pathlib.Path(args.out), progress=not args.quiet)
+    summary = run_sequence(schedule, pathlib.Path(args.out), progress=not args.quiet, snapshot=snapshot,
+                           report=lambda out, history, sched: plot_curvatures(out / "curvature_vs_time.png",
+                                                                              history, sched))
     f = summary["final"]
     print(f"lcefem: gridshell sequence ({summary['support']}, thermal model {summary['thermal model']}): "
           f"{summary['outputs']} outputs to t = {schedule.end:g} s; final centre curvature x/y [1/mm]: "

@@ -102,7 +102,8 @@ def _footer(fig: Figure, sources: Sequence[str]) -> None:
     fig.get_layout_engine().set(rect=(0, bottom, 1, 1 - bottom))
 
 
-def _save(fig: Figure, path: pathlib.Path, dpi: int) -> pathlib.Path:
+def save_figure(fig: Figure, path: pathlib.Path, dpi: int) -> pathlib.Path:
+    """Write ``fig`` to ``path`` through a ``*.part.png`` name (an unfinished figure never looks complete)."""
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.stem + ".part" + path.suffix)  # keeps the .png suffix for the writer
@@ -168,7 +169,7 @@ def comparison_plot(path: pathlib.Path, series: Sequence[Series], *, xlabel: str
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     _footer(fig, sources)
-    return _save(fig, path, dpi)
+    return save_figure(fig, path, dpi)
 
 
 @dataclass(frozen=True)
@@ -218,7 +219,7 @@ def convergence_plot(path: pathlib.Path, mesh_sizes: Sequence[float], series: Se
     if title:
         fig.suptitle(title, fontsize=10)
     _footer(fig, sources)
-    return _save(fig, path, dpi)
+    return save_figure(fig, path, dpi)
 
 
 @dataclass(frozen=True)
@@ -283,4 +284,4 @@ def map_plot(path: pathlib.Path, x: Sequence[float], y: Sequence[float], z: np.n
     if title:
         ax.set_title(title, fontsize=10)
     _footer(fig, sources)
-    return _save(fig, path, dpi)
+    return save_figure(fig, path, dpi)

@@ -240,6 +240,26 @@ def _settle(rod: DiscreteRod, st: RodState, dt: float, duration: float) -> RodSt
     return out
 
 
+def _incline_acceleration(rod, st, dt: float, duration: float, angle: float, axis: int
+                          ) -> tuple[float, float]:
+    """Tilt gravity by ``angle`` [rad] along ``axis`` (0: x, 1: y), integrate for ``duration`` [s]
+    and return (mean acceleration along ``axis`` over the second half [mm/s^2], final mean velocity
+    [mm/s])."""
+    tilt = np.zeros(3)
+    tilt[axis] = math.sin(angle)
+    tilt[2] = -math.cos(angle)
+    rod = rod.replace(gravity=STANDARD_GRAVITY * tilt)
+    integ = Integrator(rod, st, StepOptions(newton=NewtonOptions(max_iterations=60)))
+    steps = int(round(duration / dt))
+    vel = []
+    for _ in range(steps):
+        integ.step(dt)
+        vel.append(float(integ.state.v[:, axis].mean()))
+    vel = np.array(vel)
+    half = steps // 2
+    return (vel[-1] - vel[half - 1]) / (dt * (steps - half)), float(vel[-1])
+
+
 def incline_sliding(angle_deg: float, mu: float, duration: float = 0.2, dt: float = 0.004, n_nodes: int = 6):
     """A stiff flat ribbon on a plane inclined by ``angle_deg`` (gravity tilted) with friction mu.
 
@@ -248,18 +268,9 @@ def incline_sliding(angle_deg: float, mu: float, duration: float = 0.2, dt: floa
     rod, st = _flat_ribbon_on_ground(n_nodes, 20.0, 50.0, mu=mu)
     st = _settle(rod, st, dt, 0.05)
     a = math.radians(angle_deg)
-    rod = rod.replace(gravity=STANDARD_GRAVITY * np.array([math.sin(a), 0.0, -math.cos(a)]))
-    integ = Integrator(rod, st, StepOptions(newton=NewtonOptions(max_iterations=60)))
-    steps = int(round(duration / dt))
-    vel = []
-    for _ in range(steps):
-        integ.step(dt)
-        vel.append(float(integ.state.v[:, 0].mean()))
-    vel = np.array(vel)
-    half = steps // 2
-    acc = (vel[-1] - vel[half - 1]) / (dt * (steps - half))
+    acc, v_end = _incline_acceleration(rod, st, dt, duration, a, axis=0)
     ref = STANDARD_GRAVITY * (math.sin(a) - mu * math.cos(a)) if math.tan(a) > mu else 0.0
-    return acc, ref, float(vel[-1])
+    return acc, ref, v_end
 
 
 def incline_rolling(n_nodes: int, angle_deg: float = 5.0, mu: float = 1.0, duration: float = 0.1,
@@ -273,16 +284,7 @@ def incline_rolling(n_nodes: int, angle_deg: float = 5.0, mu: float = 1.0, durat
     rod = rod.replace(contact_samples=4)
     st = _settle(rod, st, dt, 0.02)
     a = math.radians(angle_deg)
-    rod = rod.replace(gravity=STANDARD_GRAVITY * np.array([0.0, math.sin(a), -math.cos(a)]))
-    integ = Integrator(rod, st, StepOptions(newton=NewtonOptions(max_iterations=60)))
-    steps = int(round(duration / dt))
-    vel = []
-    for _ in range(steps):
-        integ.step(dt)
-        vel.append(float(integ.state.v[:, 1].mean()))
-    vel = np.array(vel)
-    half = steps // 2
-    acc = (vel[-1] - vel[half - 1]) / (dt * (steps - half))
+    acc, _ = _incline_acceleration(rod, st, dt, duration, a, axis=1)
     return Comparison(acc, 0.75 * STANDARD_GRAVITY * math.sin(a), 30.0 / (n_nodes - 1))
 
 

@@ -6,25 +6,33 @@ determinate supports at the middle panel; the curvature is measured by
 cases and the benchmarks.
 
 * :func:`setup_beam` — structure, model, held DOFs and the ramp, built before solving;
-* :func:`solve_beam` — the ramp from the as-built state (:func:`lcefem.solvers.bar_hinge.follow_path`).
+* :func:`solve_beam` — the ramp from the as-built state (:func:`lcefem.solvers.bar_hinge.follow_path`);
+* :class:`BeamConfig`, :func:`run_beam` — ``lcefem run beam``: the configuration sections and one
+  run through the run skeleton (history.csv, beam.pvd + beam_steps/*.vtp, summary.json).
 
 Units: mm, N, mJ.
 """
 
 from __future__ import annotations
 
+import pathlib
+import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
 from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.limits import check_lambda
+from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, isostatic_supports)
+from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.run import Progress, check_config, resolved
 
 #: Default stepping of the actuation ramp (see PathOptions).
 BEAM_PATH = PathOptions(initial_increment=0.05, max_increment=0.2, easy_iterations=10)
@@ -110,3 +118,92 @@ def solve_beam(lambda_top: float, lambda_bottom: float,
                          progress=progress)
     return BeamSolution(lambda_top, lambda_bottom, setup.structure, setup.model, result,
                         beam_curvature(setup.structure, result.states[-1].x))
+
+
+# -- one run (``lcefem run beam``) ---------------------------------------------------------------
+@dataclass(frozen=True)
+class BeamRun:
+    """What the experimenter sets: the strips' relative lengths."""
+
+    lambda_top: float = param(1.33, "-", "seed 001 Fig. 4C (dome): lambda_T = 1.33", minimum=1.0)
+    lambda_bottom: float = param(1.05, "-", "seed 001 Fig. 4C (dome): lambda_B = 1.05", minimum=1.0)
+
+
+@dataclass(frozen=True)
+class BeamConfig(BarHingeMaterials):
+    """The bar-and-hinge beam's sections: its materials (kapton, lce, glue, strip_contact, contact,
+    ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
+    plus the run, geometry, mesh, Eq. 2 and solver sections."""
+
+    run: BeamRun = field(default_factory=BeamRun)
+    geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
+    mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
+    eq2: Eq2 = field(default_factory=Eq2)
+    solver: NewtonOptions = field(default_factory=NewtonOptions)
+    path: PathOptions = field(default_factory=lambda: BEAM_PATH)
+
+    def validated(self) -> "BeamConfig":
+        check_config(self)
+        self.geometry.checked()
+        self.mesh.checked()
+        for name in ("lambda_top", "lambda_bottom"):
+            check_lambda(f"run.{name}", getattr(self.run, name), self.lce.lambda_N)
+        return self
+
+    def resolved(self) -> dict:
+        return resolved(self)
+
+
+COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",
+           "eq2 curvature [1/mm]", "bottom strip force [N]", "top strip force [N]",
+           "newton iterations [-]"]
+SIGN_CONVENTION = ("positive when the beam bends towards its bottom strips (top strips longer), as Eq. 2; "
+                   "circle fit through the middle stations")
+
+
+def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
+    """Ramp the bar-and-hinge beam to ``config.run``'s lambdas through the run skeleton and write
+    history.csv (:data:`COLUMNS`), beam.pvd + beam_steps/*.vtp and summary.json into ``out``;
+    returns the summary. ``report(out, config, solution, history) -> dict`` (optional: the
+    validation's plots and notes) runs before the summary is written; its entries join the results."""
+    cfg = config.validated()
+    out = pathlib.Path(out)
+    lam_t, lam_b, lam_n = cfg.run.lambda_top, cfg.run.lambda_bottom, cfg.lce.lambda_N
+    setup = setup_beam(lam_t, lam_b, cfg.geometry, cfg.mesh, cfg.materials)
+    structure, model = setup.structure, setup.model
+
+    def row(state) -> dict:
+        forces = model.bar_forces(state.x)
+        lt, lb = lambdas_at(state.t, lam_t, lam_b, lam_n)
+        return {"load factor [-]": state.t, "lambda_top [-]": lt, "lambda_bottom [-]": lb,
+                "curvature [1/mm]": beam_curvature(structure, state.x),
+                "eq2 curvature [1/mm]": float(eq2_curvature(lt, lb, cfg.eq2)),
+                "bottom strip force [N]": 2.0 * float(np.mean(forces["bottom_strips"])),
+                "top strip force [N]": 2.0 * float(np.mean(forces["top_strips"]))
+                if "top_strips" in forces else 0.0,
+                "newton iterations [-]": state.iterations}
+
+    bar = Progress(1.0, f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
+    started = time.perf_counter()
+    with bar_hinge_run(out, "beam", structure, model, config=cfg.resolved(), columns=COLUMNS, row=row,
+                       progress=bar) as (run, on_step):
+        solution = solve_beam(lam_t, lam_b, newton_options=cfg.solver, path=cfg.path,
+                              on_step=on_step, progress=bar.to, setup=setup)
+        history = run.history
+        extra = report(out, cfg, solution, history) if report is not None else {}
+        return run.complete({
+            "model": "bar-hinge",
+            "results": {
+                "curvature [1/mm]": solution.curvature,
+                "eq2 curvature [1/mm]": float(eq2_curvature(lam_t, lam_b, cfg.eq2)),
+                **(extra or {}),
+                "sign convention": SIGN_CONVENTION,
+                "bottom strip force [N]": float(history.column("bottom strip force [N]")[-1]),
+                "top strip force [N]": float(history.column("top strip force [N]")[-1]),
+            },
+            "dofs": int(solution.model.ndof), "nodes": int(structure.num_nodes),
+            "increments": len(solution.path.states) - 1,
+            "newton_iterations": int(sum(solution.path.newton_iterations)),
+            "failed_increments": solution.path.failed_increments,
+            "wall_time [s]": time.perf_counter() - started,
+        })

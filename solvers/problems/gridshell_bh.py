@@ -25,9 +25,12 @@ linearly from the current ones to the targets: the paper's quasi-static route) b
   (:func:`lcefem.solvers.analysis.curvature.gridshell_curvatures`; dome negative), the z range, the
   centre junction's height.
 
-The lower-level functions (:func:`setup_from_model`, :func:`solve_gridshell`, ...) are used by the
-study (:mod:`lcefem.validation.gridshell_bh`: Fig. 4 shapes, recipes, current route, paper
-comparison), which re-exports them.
+The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`, :func:`solve_gridshell`,
+...) are used by the study (:mod:`lcefem.validation.gridshell_bh`: the paper's curvatures), which
+re-exports them. The paper's Fig. 4 programs (:data:`SHAPE_DRIVES`), the published recipes
+(:data:`RECIPES`), and one run of ``lcefem run gridshell`` (:class:`GridshellBHRunConfig`,
+:func:`run_gridshell`) are at the end of this file; the current route (currents -> lambdas) is
+:class:`lcefem.models.lumped_heat.CurrentRoute`.
 
 Units: mm, N, t, s.
 """
@@ -35,22 +38,28 @@ Units: mm, N, t, s.
 from __future__ import annotations
 
 import math
+import pathlib
+import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, panel_dimensions
-from lcefem.meshes.composite_beam import CompositeBeamGeometry
-from lcefem.meshes.gridshell import STRIP_GROUPS, resolve_bar_values
+from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
+from lcefem.meshes.gridshell import GridshellLayout, STRIP_GROUPS, build_gridshell_bar_hinge, resolve_bar_values
 from lcefem.models import bar_hinge as law
 from lcefem.models import units
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.loads import SurfaceWeight
+from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents
+from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
+from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.run import Progress, write_text
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
 GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iterations=8,
@@ -363,3 +372,235 @@ def _selection_masks(structure: BarHingeStructure, key) -> dict[str, np.ndarray]
     default 0."""
     values = resolve_bar_values(structure, {key: 1.0}, 0.0, "lambda")
     return {g: v != 0.0 for g, v in values.items()}
+
+
+# -- the paper's programs and one run (``lcefem run gridshell``) ----------------------------------
+def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support: str = "rollers",
+                    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                    layout: GridshellLayout = GridshellLayout(),
+                    mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
+                    materials: law.BarHingeMaterials = law.BarHingeMaterials(),
+                    weight: SurfaceWeight = SurfaceWeight(),
+                    structure: BarHingeStructure | None = None) -> GridshellSetup:
+    """Structure, model, supports and ramp. ``rest_fractions`` per bar by group (default: as built);
+    build them with :func:`targets_from_lambdas` / :func:`targets_from_recipe` on ``structure``
+    (pass the same structure here)."""
+    if support not in SUPPORTS:
+        raise InputError(f"support = {support!r}: allowed {', '.join(SUPPORTS)}")
+    structure = structure or build_gridshell_bar_hinge(geometry, layout, mesh)
+    prepare_structure(structure, support, geometry, materials.lce.lambda_N)
+    return setup_from_model(structure, BarHingeModel.from_materials(structure, materials), support,
+                            rest_fractions, weight)
+
+
+#: The paper's Fig. 4 programs: lambda and current per channel, and the support (sources:
+#: :data:`SHAPE_DRIVE_SOURCES`; the curvatures the paper reports are validation data,
+#: lcefem.validation.gridshell_bh.SHAPES).
+SHAPE_DRIVES = {
+    "table": {"lambdas": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
+              "currents": {"Tx": 0.2, "Ty": 0.2, "Bx": 0.2, "By": 0.2}, "support": "rollers"},
+    "dome": {"lambdas": {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05},
+             "currents": {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}, "support": "rollers"},
+    "saddle": {"lambdas": {"Tx": 1.33, "Ty": 1.05, "Bx": 1.05, "By": 1.33},
+               "currents": {"Tx": 0.04, "Ty": 0.07, "Bx": 0.07, "By": 0.04}, "support": "clamp"},
+    "cylinder": {"lambdas": {"Tx": 1.05, "Ty": 1.33, "Bx": 1.33, "By": 1.33},
+                 "currents": {"Tx": 0.07, "Ty": 0.04, "Bx": 0.04, "By": 0.04}, "support": "rollers"},
+}
+SHAPE_DRIVE_SOURCES = {
+    "lambdas": "seed 001, Results (Fig. 4 B-E): dome lambda_T = 1.33, lambda_B = 1.05; saddle Tx = By = "
+               "1.33, Ty = Bx = 1.05; cylinder Ty = Bx = By = 1.33, Tx = 1.05; table all 1.05",
+    "currents": "dome: seed 001, Results: 'I_Bx = I_By = 0.07 A and I_Tx = I_Ty = 0.04 A, according to "
+                "Fig. 2C' (after ~20 s at 0.1 A top / 0.2 A bottom); saddle and cylinder: the same "
+                "Fig. 2C pair (0.07 A for lambda = 1.05, 0.04 A for 1.33) channel by channel, as the "
+                "text says 'the other geometries are programmed similarly'; table: 0.2 A on all "
+                "strips (Fig. 5C: 'we applied 0.2 A to all LCE strips', then 0.1 A), i.e. fully "
+                "contracted (lambda = 1, Eq. 1)",
+}
+
+#: The published model's recipes: target rest fraction P0 per group (lambda = 1.4 P0), and support
+#: (shared/reference/gridshell_recipes.md).
+RECIPES = {
+    "saddle": ({"XD": 0.75, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "clamp"),
+    "dome": ({"XD": 0.75, "YD": 0.75, "XU": 0.95, "YU": 0.95}, "rollers"),
+    "cylinder": ({"XD": 0.95, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "rollers"),
+    "table": ({"XD": 0.75, "YD": 0.75, "XU": 0.72, "YU": 0.72}, "rollers"),
+    "cone": ({"XD1": 0.75, "XD2": 0.85, "XD3": 0.95, "YD": 0.90, "XU": 0.95, "YU": 0.90}, "rollers"),
+    "twisted": ({"XD1": 0.85, "XD2": 0.80, "XD3": 0.95, "YD": 0.90, "XU1": 0.95, "XU2": 0.80,
+                 "XU3": 0.85, "YU": 0.90}, "rollers"),
+    "wave": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.75, "YD": 0.90, "XU:x<70.5": 0.75, "XU:x>70.5": 0.95,
+              "YU": 0.90}, "rollers"),
+    "dustpan": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.85, "YD": 0.95, "XU:x<70.5": 0.80,
+                 "XU:x>70.5": 0.95, "YU": 0.80}, "rollers"),
+}
+RECIPE_SOURCE = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK), restated in "
+                 "shared/reference/gridshell_recipes.md")
+
+
+@dataclass(frozen=True)
+class GridshellRun:
+    """What the experimenter chooses: a named shape or recipe, and the support."""
+
+    shape: str = param("", "-", "one of the paper's Fig. 4 shapes: " + ", ".join(SHAPE_DRIVES)
+                       + " (seed 001; lambdas per channel)")
+    recipe: str = param("", "-", "one of the published recipes: " + ", ".join(RECIPES)
+                        + " (" + RECIPE_SOURCE + ")")
+    support: str = param("", "-", "clamp, rollers or table (default: the published support of the "
+                         "shape/recipe, rollers otherwise)")
+
+    def checked(self) -> "GridshellRun":
+        if self.shape and self.shape not in SHAPE_DRIVES:
+            raise InputError(f"run.shape = {self.shape!r}: allowed {', '.join(SHAPE_DRIVES)}")
+        if self.recipe and self.recipe not in RECIPES:
+            raise InputError(f"run.recipe = {self.recipe!r}: allowed {', '.join(RECIPES)}")
+        if self.shape and self.recipe:
+            raise InputError("run.shape and run.recipe: give one of them")
+        if self.support and self.support not in SUPPORTS:
+            raise InputError(f"run.support = {self.support!r}: allowed {', '.join(SUPPORTS)}")
+        return self
+
+
+@dataclass(frozen=True)
+class GridshellBHRunConfig(law.BarHingeMaterials):
+    """The bar-and-hinge gridshell's sections: its materials (kapton, lce, glue, strip_contact,
+    contact, ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
+    plus the run, geometry, layout, mesh, weight, current route, solver and path sections, and the
+    drives: lambdas [-] or currents [A] per selection."""
+
+    run: GridshellRun = field(default_factory=GridshellRun)
+    geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
+    layout: GridshellLayout = field(default_factory=GridshellLayout)
+    mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
+    weight: SurfaceWeight = field(default_factory=SurfaceWeight)
+    current_route: CurrentRoute = field(default_factory=CurrentRoute)
+    solver: NewtonOptions = field(default_factory=lambda: GRIDSHELL_NEWTON)
+    path: PathOptions = field(default_factory=lambda: GRIDSHELL_PATH)
+    lambdas: dict = field(default_factory=dict)  # selection -> lambda [-]
+    currents: dict = field(default_factory=dict)  # selection -> current [A]
+
+    PARAM_SECTIONS = ("run", "geometry", "layout", "mesh", "kapton", "lce", "glue", "strip_contact",
+                      "contact", "weight", "current_route", "solver", "path")
+
+    def validated(self) -> "GridshellBHRunConfig":
+        for name in self.PARAM_SECTIONS:
+            check(getattr(self, name), name)
+        self.run.checked()
+        self.layout.checked()
+        self.mesh.checked()
+        self.current_route.checked()
+        named = bool(self.run.shape or self.run.recipe)
+        if named and (self.lambdas or self.currents):
+            raise InputError("--lambda/--current: not with --shape or --recipe (they set the strips)")
+        if self.lambdas and self.currents:
+            raise InputError("--lambda and --current: give one of them")
+        for sel, v in {**self.lambdas, **self.currents}.items():
+            if not isinstance(v, (int, float)) or isinstance(v, bool):
+                raise InputError(f"{sel} = {v!r}: must be a number")
+        for sel, v in self.currents.items():
+            if not 0.0 <= v <= 1.0:
+                raise InputError(f"current {sel} = {v}: must be between 0 and 1 A")
+        return self
+
+    @property
+    def support(self) -> str:
+        if self.run.support:
+            return self.run.support
+        if self.run.shape:
+            return SHAPE_DRIVES[self.run.shape]["support"]
+        if self.run.recipe:
+            return RECIPES[self.run.recipe][1]
+        return "rollers"
+
+    def resolved(self) -> dict:
+        out = {name: describe(getattr(self, name)) for name in self.PARAM_SECTIONS}
+        out["current_route"]["segment"]["value"] = describe(self.current_route.segment)
+        out["lambda"] = dict(self.lambdas)
+        out["current"] = dict(self.currents)
+        out["support (resolved)"] = self.support
+        return out
+
+
+def strip_targets(cfg: GridshellBHRunConfig, structure: BarHingeStructure) -> tuple[dict, dict]:
+    """(rest fractions per bar by group, description of the drive) for the configuration."""
+    lam_n = cfg.lce.lambda_N
+    if cfg.run.recipe:
+        recipe = RECIPES[cfg.run.recipe][0]
+        return targets_from_recipe(structure, recipe), {"recipe": cfg.run.recipe, "P0": recipe}
+    if cfg.run.shape:
+        lambdas = SHAPE_DRIVES[cfg.run.shape]["lambdas"]
+        return targets_from_lambdas(structure, lambdas, lam_n), {"shape": cfg.run.shape, "lambda": lambdas}
+    if cfg.currents:
+        lambdas = lambda_assignments_from_currents(cfg.currents, cfg.current_route, lam_n)
+        return targets_from_lambdas(structure, lambdas, lam_n, "current"), {
+            "current [A]": cfg.currents, "lambda (from current)": lambdas,
+            "thermal model": cfg.current_route.thermal_model}
+    return targets_from_lambdas(structure, cfg.lambdas, lam_n), {"lambda": cfg.lambdas}
+
+
+def write_nodes_csv(path: pathlib.Path, reference: np.ndarray, x: np.ndarray) -> pathlib.Path:
+    """Node table with units: id, as-built x0, y0, z0 and final x, y, z [mm] (.part, then renamed)."""
+    lines = ["node id [-],x0 [mm],y0 [mm],z0 [mm],x [mm],y [mm],z [mm]"]
+    lines += [f"{i}," + ",".join(f"{v:.9g}" for v in (*r, *xi)) for i, (r, xi) in enumerate(zip(reference, x))]
+    return write_text(path, "\n".join(lines) + "\n")
+
+
+COLUMNS = ["load factor [-]", "circle kappa_x [1/mm]", "circle kappa_y [1/mm]", "quad kappa_x [1/mm]",
+           "quad kappa_y [1/mm]", "z range [mm]", "newton iterations [-]"]
+SIGN = ("kappa = d^2 w/ds^2 with w along the centre junction's normal on the top strips' side: "
+        "negative for a dome (cap), positive for a bowl (seed 001: dome negative)")
+
+
+def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
+    """Ramp the gridshell to the configured drives through the run skeleton and write history.csv
+    (:data:`COLUMNS`; the quadratic fit needs >= 3 x 3 junctions), gridshell.pvd +
+    gridshell_steps/*.vtp, nodes.csv and summary.json into ``out``; returns the summary.
+    ``report(out, cfg, structure, x, drive)`` (optional: the validation's render) runs before the
+    summary is written."""
+    cfg = cfg.validated()
+    out = pathlib.Path(out)
+    structure = build_gridshell_bar_hinge(cfg.geometry, cfg.layout, cfg.mesh)
+    targets, drive = strip_targets(cfg, structure)
+    setup = setup_gridshell(targets, cfg.support, cfg.geometry, cfg.layout, cfg.mesh, cfg.materials,
+                            cfg.weight, structure=structure)
+    model = setup.model
+    quad = cfg.layout.ribbons >= 3
+    columns = [c for c in COLUMNS if quad or not c.startswith("quad")]
+
+    def row(state) -> dict:
+        summ = shape_summary(structure, state.x)
+        values = {"load factor [-]": state.t, "circle kappa_x [1/mm]": summ["circle_x"],
+                  "circle kappa_y [1/mm]": summ["circle_y"], "z range [mm]": summ["z_range [mm]"],
+                  "newton iterations [-]": state.iterations}
+        if quad:
+            values.update({"quad kappa_x [1/mm]": summ["quad_kx"], "quad kappa_y [1/mm]": summ["quad_ky"]})
+        return values
+
+    bar = Progress(1.0, "gridshell", "load", ".3f", progress)
+    started = time.perf_counter()
+    with bar_hinge_run(out, "gridshell", structure, model, config=cfg.resolved(), columns=columns,
+                       row=row, progress=bar) as (run, on_step):
+        solution = solve_gridshell(setup, newton_options=cfg.solver, path=cfg.path, on_step=on_step,
+                                   progress=bar.to)
+        wall = time.perf_counter() - started
+        x = solution.final.x
+        write_nodes_csv(out / "nodes.csv", structure.nodes, x)
+        if report is not None:
+            report(out, cfg, structure, x, drive)
+        final_fraction = model.rest_fractions()
+        reached = all(np.array_equal(final_fraction[g], setup.targets[g]) for g in setup.targets)
+        lam_n = cfg.lce.lambda_N
+        per_strip: dict[int, list[float]] = {}
+        for g, ids in structure.info["strip_of_bar"].items():
+            for sid, f in zip(ids, setup.targets[g]):
+                per_strip.setdefault(int(sid), []).append(float(f) * lam_n)
+        return run.complete({
+            "model": "bar-hinge gridshell", "drive": drive, "support": cfg.support,
+            "strips": [{"id": s.id, "group": s.group, "channel": s.channel, "midpoint [mm]": s.midpoint,
+                        "lambda [-]": float(np.mean(per_strip[s.id]))}
+                       for s in structure.info["strips"]],
+            "results": {**shape_summary(structure, x), "sign convention": SIGN,
+                        "target reached exactly": bool(reached)},
+            "dofs": int(model.ndof), "nodes": int(structure.num_nodes),
+            "increments": len(solution.path.states) - 1,
+            "newton_iterations": int(sum(solution.path.newton_iterations)),
+            "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
+        })

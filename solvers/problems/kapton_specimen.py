@@ -11,6 +11,8 @@ project's one path follower (:class:`lcefem.solvers.continuation.PathFollower`).
   generalised eigenproblem, repeated at the estimate: a secant refinement).
 * :meth:`KaptonSpecimenFE.add_imperfection` — the first mode as geometric imperfection.
 * :meth:`KaptonSpecimenFE.follow` — displacement-controlled path to the final compression.
+* :class:`KaptonSpecimenFEConfig`, :func:`run_specimen_fe` — ``lcefem run ribbon-buckling --model fe``:
+  the configuration sections and one run through the run skeleton.
 
 Observables (:meth:`KaptonSpecimenFE.observables`), keys "name [unit]": compressive force [N] on the
 whole specimen, mid-span deflection [mm]. Not to be confused with the twisted LCE ribbon
@@ -24,8 +26,9 @@ from __future__ import annotations
 import itertools
 import math
 import pathlib
+import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 import numpy as np
@@ -37,11 +40,14 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry, build_ribbon_fe
+from lcefem.models import buckling
 from lcefem.models.errors import ConvergenceError
 from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
 from lcefem.models.parameters import param
 from lcefem.solvers.continuation import PathControl, PathFollower
-from lcefem.solvers.exports import write_snapshot
+from lcefem.solvers.exports import FieldExport, write_snapshot
+from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
+from lcefem.solvers.run import Progress, Run, check_config, resolved
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import clamp_face, mirror_planes
@@ -243,3 +249,73 @@ class KaptonSpecimenFE:
 
 
 __all__ = ["CriticalLoad", "KaptonSpecimenFE", "KaptonSpecimenFEPath"]
+
+
+# -- one run (``lcefem run ribbon-buckling --model fe``) ------------------------------------------
+@dataclass(frozen=True)
+class KaptonSpecimenFEConfig:
+    run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
+    specimen: KaptonSpecimenGeometry = field(default_factory=KaptonSpecimenGeometry)
+    mesh: KaptonFEMesh = field(default_factory=KaptonFEMesh)
+    kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
+    path: KaptonSpecimenFEPath = field(default_factory=KaptonSpecimenFEPath)
+
+    def validated(self) -> "KaptonSpecimenFEConfig":
+        check_config(self)
+        self.specimen.checked()
+        self.mesh.checked()
+        return self
+
+    def resolved(self) -> dict:
+        return resolved(self)
+
+
+FE_COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "mid-span deflection [mm]",
+              "newton iterations [-]"]
+
+
+def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bool = True,
+                    report=None) -> dict:
+    """The FE buckling test through the run skeleton: critical load, then the path of the specimen
+    with a mode imperfection to ``run.compression`` (history.csv of :data:`FE_COLUMNS`,
+    displacement.bp, summary.json); returns the summary. ``report(out, cfg, model, critical,
+    history) -> dict`` (optional: the validation's plot, closed forms and measured values) runs
+    before the summary is written; its entries join the results."""
+    cfg = cfg.validated()
+    out = pathlib.Path(out)
+    started = time.perf_counter()
+    model = KaptonSpecimenFE(cfg.specimen, cfg.mesh, cfg.kapton)
+    critical = model.critical_load()
+    length = cfg.specimen.length
+    model.add_imperfection(critical.mode, cfg.path.imperfection * length)
+    schedule = model.compression_schedule(critical.shortening / length, cfg.run.compression, cfg.path)
+    bar = Progress(100 * cfg.run.compression, "ribbon buckling (FE)", "%", enabled=progress)
+    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
+        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
+
+        def on_step(c: float, its: int) -> None:
+            run.record({"compression [-]": c, "end shortening [mm]": c * length, "force [N]": model.force(),
+                        "mid-span deflection [mm]": model.mid_deflection(), "newton iterations [-]": its},
+                       where=f"compression {c:.4g}", at=100 * c)
+            fields.write(c)
+
+        on_step(0.0, 0)
+        follower = model.follow(schedule, on_step=on_step)
+        wall = time.perf_counter() - started
+        history = run.history
+        extra = report(out, cfg, model, critical, history) if report is not None else {}
+        c, f = history.column("compression [-]"), history.column("force [N]")
+        at = {p: float(np.interp(p, c, f)) for p in (0.1, 0.25, 0.5) if p <= c[-1] + 1e-12}
+        return run.complete({
+            "model": "fe",
+            "results": {
+                "critical load [N]": critical.force, "critical end shortening [mm]": critical.shortening,
+                **(extra or {}),
+                **{f"force at {100 * p:g} % compression [N]": v for p, v in at.items()},
+                "force at final compression [N]": float(f[-1]), "final compression [-]": float(c[-1]),
+                "force ratio final / critical [-]": float(f[-1] / critical.force),
+                "elastica force ratio at final compression [-]": buckling.elastica_force_ratio(float(c[-1])),
+            },
+            "dofs": model.ndofs, "increments": len(schedule), "newton_iterations": follower.iterations,
+            "cut_steps": follower.cuts, "wall_time [s]": wall,
+        })

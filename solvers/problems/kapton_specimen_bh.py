@@ -6,24 +6,34 @@
   which the tangent stiffness of the straight equilibrium first loses positive definiteness
   (Sylvester inertia of the sparse LDL^T), found by bisection.
 * Closed forms: :mod:`lcefem.models.buckling` (Euler, elastica),
-  :func:`lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness`.
+  :func:`lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness`; :func:`closed_forms` of a configuration.
+* :class:`KaptonSpecimenConfig`, :func:`run_specimen` — ``lcefem run ribbon-buckling``: the
+  configuration sections and one run through the run skeleton (history.csv, ribbon.pvd +
+  ribbon_steps/*.vtp, summary.json).
 
 Units: mm, N, mJ.
 """
 
 from __future__ import annotations
 
+import pathlib
+import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
+from lcefem.models import bar_hinge as law
+from lcefem.models import buckling
 from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.errors import InputError
+from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, held_dofs, newton)
+from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.run import Progress, check_config, resolved
 
 #: Default stepping of the end shortening (0 -> 50 %); small increments resolve the force curve.
 SPECIMEN_PATH = PathOptions(initial_increment=0.01, max_increment=0.02, easy_iterations=10)
@@ -162,3 +172,98 @@ def critical_load(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
         else:
             hi = mid
     return state(lo)[1], lo
+
+
+# -- one run (``lcefem run ribbon-buckling``) ---------------------------------------------------
+@dataclass(frozen=True)
+class KaptonSpecimenRun:
+    """What the experimenter sets: how far to shorten the specimen."""
+
+    compression: float = param(0.5, "-", "seed 001 Fig. 2G: compression up to 50 % (end shortening "
+                               "over length)", positive=True, maximum=0.9)
+
+
+@dataclass(frozen=True)
+class KaptonSpecimenConfig:
+    run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
+    specimen: KaptonSpecimenGeometry = field(default_factory=KaptonSpecimenGeometry)
+    mesh: KaptonBarHingeMesh = field(default_factory=KaptonBarHingeMesh)
+    kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
+    solver: NewtonOptions = field(default_factory=NewtonOptions)
+    path: PathOptions = field(default_factory=lambda: SPECIMEN_PATH)
+
+    def validated(self) -> "KaptonSpecimenConfig":
+        check_config(self)
+        self.specimen.checked()
+        self.mesh.checked()
+        return self
+
+    @property
+    def materials(self) -> BarHingeMaterials:
+        return BarHingeMaterials(kapton=self.kapton)
+
+    def resolved(self) -> dict:
+        return resolved(self)
+
+
+def closed_forms(cfg: KaptonSpecimenConfig) -> dict[str, float]:
+    """Euler loads [N] of the specimen: datasheet EI, with the 5.5 factor, and the chain's own EI."""
+    spec, kap = cfg.specimen, cfg.kapton
+    ei = kap.youngs_modulus * spec.second_moment
+    k = kap.hinge_stiffness(spec.thickness)
+    ei_chain = law.n5b8_ribbon_bending_stiffness(k, spec.length / cfg.mesh.panels, spec.width)
+    return {"Euler, E I (datasheet E)": buckling.euler_fixed_fixed(ei, spec.length),
+            f"Euler, {kap.bending_factor:g} E I": buckling.euler_fixed_fixed(kap.bending_factor * ei,
+                                                                           spec.length),
+            "Euler, bar-and-hinge chain EI": buckling.euler_fixed_fixed(ei_chain, spec.length)}
+
+
+COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterations [-]"]
+
+
+def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True,
+                 report=None) -> dict:
+    """The bar-and-hinge buckling test through the run skeleton: the path to ``run.compression``
+    (history.csv of :data:`COLUMNS`, ribbon.pvd + ribbon_steps/*.vtp), the critical load of the
+    perfect specimen and the closed forms (summary.json); returns the summary.
+    ``report(out, cfg, solution, critical_load [N], closed_forms) -> dict`` (optional: the
+    validation's plot and measured values) runs before the summary is written; its entries join
+    the results."""
+    cfg = config.validated()
+    out = pathlib.Path(out)
+    setup = setup_specimen(cfg.run.compression, cfg.specimen, cfg.mesh, cfg.materials)
+    model, length = setup.model, cfg.specimen.length
+
+    def row(state) -> dict:
+        c = state.t * cfg.run.compression
+        return {"compression [-]": c, "end shortening [mm]": c * length, "force [N]": setup.force(state),
+                "newton iterations [-]": state.iterations}
+
+    bar = Progress(100 * cfg.run.compression, "ribbon buckling", "%", enabled=progress)
+    started = time.perf_counter()
+    with bar_hinge_run(out, "ribbon", setup.structure, model, config=cfg.resolved(), columns=COLUMNS,
+                       row=row, progress=bar) as (run, on_step):
+        solution = solve_specimen_buckling(
+            newton_options=cfg.solver, path=cfg.path, on_step=on_step,
+            progress=lambda t: bar.to(100 * t * cfg.run.compression), setup=setup)
+        p_cr, shortening_cr = critical_load(cfg.specimen, cfg.mesh, cfg.materials)
+        wall = time.perf_counter() - started
+        euler = closed_forms(cfg)
+        extra = report(out, cfg, solution, p_cr, euler) if report is not None else {}
+        compression, force = solution.compression, solution.force
+        return run.complete({
+            "model": "bar-hinge",
+            "results": {
+                "critical load [N]": p_cr, "critical end shortening [mm]": shortening_cr,
+                **(extra or {}),
+                **{f"{k} [N]": v for k, v in euler.items()},
+                "force at final compression [N]": float(force[-1]),
+                "final compression [-]": float(compression[-1]),
+                "force ratio final / critical [-]": float(force[-1] / p_cr),
+                "elastica force ratio at final compression [-]":
+                    buckling.elastica_force_ratio(float(compression[-1])),
+            },
+            "dofs": int(model.ndof), "increments": len(solution.path.states) - 1,
+            "newton_iterations": int(sum(solution.path.newton_iterations)),
+            "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
+        })

@@ -61,7 +61,7 @@ def test_short_run_end_to_end(tmp_path, lcefem_cmd):
 
 def test_config_from_args_rejects_bad_dt(tmp_path):
     from argparse import Namespace
-    from lcefem.validation.runs.ribbon import config_from_args
+    from lcefem.validation.commands.ribbon import config_from_args
     args = Namespace(config=None, ground_temperature=None, duration=None, twist_density=None, helix_radius=None,
                      nodes=None, dt=0.0)
     with pytest.raises(InputError, match="--dt"):

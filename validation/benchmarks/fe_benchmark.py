@@ -138,7 +138,7 @@ def measure_linear(level: int, steps: int, dt: float) -> dict:
     from petsc4py import PETSc
 
     from lcefem.meshes.strip import StripMesh
-    from lcefem.validation.runs.strip import StripConfig, StripRun, StripSimulation
+    from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
     sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=steps * dt, dt=dt),
                                       mesh=StripMesh(level=level)))

@@ -4,7 +4,7 @@
   natural curvature and twist, Euler buckling, sliding and rolling on an incline; errors and
   observed orders (``lcefem.validation.rod_verification``). Honours ctx.level.
 - ``ribbon_threshold``: rolling metrics against the plate temperature; the threshold is the lowest
-  tried temperature at which the ribbon rolls (``ribbon_analysis.rolling_metrics``), compared with
+  tried temperature at which the ribbon rolls (``lcefem.solvers.analysis.rolling.rolling_metrics``), compared with
   the ~55 C reported for the real ribbons.
 - ``ribbon_twist_density``: speed and contact points against the twist density.
 - ``ribbon_helical``: an untwisted helical ribbon of the same material on the same plate.
@@ -26,7 +26,7 @@ from lcefem.solvers.der.ribbon import RibbonNumerics
 from lcefem.validation import rod_verification as rv
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.ribbon_analysis import plot_sweep
-from lcefem.validation.runs.ribbon import RibbonConfig, RibbonRun, run_ribbon
+from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun, run_ribbon
 
 SEED = "seed 000 ('LCE Twisting Robots Dynamics')"
 THRESHOLD_REPORTED = 55.0  # C, press release on Zhao et al. (PNAS 2022), materials.md

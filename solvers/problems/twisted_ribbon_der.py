@@ -1,4 +1,8 @@
-"""A twisted LCE ribbon on a hot plate, as a discrete elastic rod with contact, friction and heat (seed 000).
+"""The twisted LCE ribbon on a hot plate, as a discrete elastic rod with contact, friction and heat
+(seed 000): the configuration sections (:class:`RibbonConfig`) and one run (:func:`run_ribbon`, used
+by ``lcefem run ribbon`` and the ribbon cases) of the rod problem
+:class:`lcefem.solvers.der.ribbon.RibbonSimulation`. (The same ribbon as a static 3D FE body is
+:mod:`lcefem.solvers.problems.twisted_ribbon`.)
 
 The ribbon (director along it, stretched then twisted to the twist density, as-built at 25 C)
 is laid on a plate at the ground temperature. Heat enters by contact and through the warm air
@@ -8,15 +12,14 @@ turns/mm (the paper's "number of twists per unit length").
 
 In --out DIR: centerline.pvd / centerline_steps/*.vtp (polyline: twist density, curvatures, temperature,
 contact force, width direction), surface.pvd / surface_steps/*.vtp (the ribbon as quads, temperature on
-each edge line), centroid.csv, history.csv, trajectory.png, summary.json (resolved configuration
-and metrics). Files keep a .part suffix until the run completes; a failed run leaves *.partial.*
+each edge line), centroid.csv, history.csv, summary.json (resolved configuration and metrics;
+:func:`lcefem.solvers.analysis.rolling.rolling_metrics`), and what the ``report`` hook adds
+(``lcefem run ribbon``: trajectory.png). Files keep a .part suffix until the run completes; a failed run leaves *.partial.*
 files, failure.json and last_converged_state.json (node positions and edge angles).
 """
 
 from __future__ import annotations
 
-import argparse
-import dataclasses
 import math
 import pathlib
 import time
@@ -34,10 +37,8 @@ from lcefem.models.parameters import param
 from lcefem.models.ribbon import GroundHeatExchange, RibbonGeometry
 from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import HISTORY_COLUMNS, RibbonNumerics, RibbonSetup, RibbonSimulation
-from lcefem.solvers.run import (CSVTable, Progress, Run, add_out_arguments, check_config, resolved,
-                               write_json)
-from lcefem.validation.config import config_from_toml, override
-from lcefem.validation.ribbon_analysis import plot_trajectory, rolling_metrics
+from lcefem.solvers.analysis.rolling import rolling_metrics
+from lcefem.solvers.run import CSVTable, Progress, Run, check_config, resolved, write_json
 
 CENTROID_COLUMNS = ["time [s]", "x [mm]", "y [mm]", "z [mm]"]
 
@@ -147,8 +148,10 @@ class RibbonResult:
 
 
 def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: bool = True,
-               fields: bool = True, label: str = "ribbon") -> RibbonResult:
-    """Build and run one rolling-ribbon simulation (see module docstring)."""
+               fields: bool = True, label: str = "ribbon", report=None) -> RibbonResult:
+    """Build and run one rolling-ribbon simulation (see module docstring); ``out`` None writes
+    nothing. ``report(out, config, history)`` (optional: the validation's figures) runs, when
+    ``out`` is given, before the summary is written."""
     config = config.validated()
     out = None if out is None else pathlib.Path(out)
     started = time.perf_counter()
@@ -193,61 +196,11 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
         wall = time.perf_counter() - started
         hist = run.history.as_arrays()
         metrics = rolling_metrics(hist)
-        if out is not None:
-            plot_trajectory(hist, out / "trajectory.png",
-                            title=f"ribbon on a {run_cfg.ground_temperature:g} C plate, "
-                                  f"{config.geometry.twist_density:g} turns/mm")
+        if out is not None and report is not None:
+            report(out, config, hist)
         summary = run.complete({
             "metrics": metrics, "steps": n_steps, "dt [s]": dt, "nodes": config.numerics.nodes,
             "edge_length [mm]": config.geometry.length / (config.numerics.nodes - 1),
             "newton_iterations": sim.integrator.total_iterations, "step_cuts": sim.integrator.total_cuts,
             "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run_cfg.duration})
     return RibbonResult(hist, metrics, summary, out, sim)
-
-
-# -- command line -----------------------------------------------------------------------------
-def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--ground-temperature", type=float, help="hot plate temperature [C] (default 80)")
-    p.add_argument("--twist-density", type=float, help="twist density [turns/mm] (default 0.05)")
-    p.add_argument("--duration", type=float, help="heated time [s] (default 60)")
-    p.add_argument("--nodes", type=int, help="rod nodes (default 60)")
-    p.add_argument("--dt", type=float, help="time step [s] (default 0.01)")
-    p.add_argument("--helix-radius", type=float, help="> 0: an untwisted helical ribbon of this centreline "
-                                                       "radius [mm] instead")
-    p.add_argument("--config", help="TOML case file; sections: " + ", ".join(f.name for f in dataclasses.fields(RibbonConfig)))
-    p.add_argument("--no-fields", action="store_true", help="skip the VTK field files")
-    add_out_arguments(p, "results/ribbon")
-
-
-def config_from_args(args: argparse.Namespace) -> RibbonConfig:
-    for name, value, unit in (("--duration", args.duration, "s"), ("--dt", args.dt, "s")):
-        if value is not None and not value > 0:
-            raise InputError(f"{name} = {value} {unit}: must be > 0 {unit}")
-    if args.nodes is not None and args.nodes < 3:
-        raise InputError(f"--nodes = {args.nodes}: must be >= 3")
-    cfg = config_from_toml(args.config, RibbonConfig())
-    cfg = override(cfg, "run", ground_temperature=args.ground_temperature, duration=args.duration)
-    cfg = override(cfg, "geometry", twist_density=args.twist_density, helix_radius=args.helix_radius)
-    return override(cfg, "numerics", nodes=args.nodes, dt=args.dt)
-
-
-#: Serial only (numpy/scipy); under mpiexec every rank would write the same files.
-PARALLEL = False
-
-
-def prepare(args: argparse.Namespace) -> RibbonConfig:
-    """The validated configuration (before the output folder is touched)."""
-    return config_from_args(args).validated()
-
-
-def main(args: argparse.Namespace) -> int:
-    cfg = args.prepared
-    result = run_ribbon(cfg, args.out, progress=not args.quiet, fields=not args.no_fields)
-    m = result.metrics
-    print(f"lcefem: ribbon on {cfg.run.ground_temperature:g} C, {cfg.geometry.twist_density:g} turns/mm, "
-          f"{cfg.numerics.nodes} nodes: {'rolls' if m['rolls'] else 'does not roll'}; average speed "
-          f"{m['average_speed [mm/s]']:.3f} mm/s over the last half, end spin rates "
-          f"{m['spin_rate_start [rad/s]']:.3f} / {m['spin_rate_end [rad/s]']:.3f} rad/s, "
-          f"{m['contact_points [-]']:.1f} contact points; {result.summary['wall_time [s]']:.1f} s wall; "
-          f"results in {result.out}")
-    return 0

@@ -1,0 +1,138 @@
+"""The robotic surface (seed 001, Fig. 4, 5): the n x n gridshell in the bar-and-hinge model, driven
+by strip lambdas, a published recipe or coil currents.
+
+``lcefem run gridshell [--shape dome|saddle|cylinder|table | --recipe NAME | --lambda Tx=1.33,...
+| --current Tx=0.04,...] [--support clamp|rollers|table] [--thermal-model segment|eq1]
+[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
+``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
+
+Selections (``--lambda``/``--current`` keys, applied in order): channels Tx, Ty, Bx, By (seed 001,
+Fig. 4A), T / B (a layer), families XD, YD, XU, YU, groups XD1..YU3, half planes like XD:x<70.5,
+or strip ids (see lcefem.meshes.gridshell). Unnamed strips stay as built (lambda_N = 1.4; current 0).
+``--shape`` takes the paper's Fig. 4 lambdas (with ``--current``-route twins in the case
+``gridshell_shapes_bh``); ``--recipe`` a published recipe (rest fractions P0) with its published
+support. Case file sections: run (shape, recipe, support), lambda, current (tables of selection =
+value), and the parameter sections geometry, layout, mesh, kapton, lce, glue, strip_contact, contact,
+weight, current_route, solver, path.
+
+Outputs in --out DIR: summary.json (resolved configuration, per-strip lambdas, centre curvatures by
+both measures with their sign convention, z range, increments, Newton iterations, wall time),
+nodes.csv (node id, as-built and final coordinates [mm]), gridshell.png (3D render, junction centres
+marked), history.csv (one row per converged
+increment), gridshell.pvd + gridshell_steps/*.vtp (ParaView: N5B8 ribbon triangles, strip and glue
+bars; displacement, element kind, axial force). Files carry .part names until the run completes; a
+run that stops leaves *.partial.* files, last_converged.vtp and failure.json (exit code 3), through
+the run skeleton (lcefem.solvers.run.Run). The problem, the drives and the run:
+lcefem.solvers.problems.gridshell_bh (GridshellBHRunConfig, run_gridshell); this module parses the
+command line and the case file, renders gridshell.png and prints one line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import pathlib
+
+from lcefem.models.errors import InputError
+from lcefem.models.lumped_heat import THERMAL_MODELS
+from lcefem.models.parameters import with_overrides
+from lcefem.solvers.problems.gridshell_bh import RECIPES, SHAPE_DRIVES, SUPPORTS, GridshellBHRunConfig, run_gridshell
+from lcefem.solvers.run import add_out_arguments
+from lcefem.validation.config import load_toml
+
+PARALLEL = False  # a serial (numpy/scipy) model: ranks would race on one folder
+
+
+def config_from_toml(path, base: GridshellBHRunConfig | None = None) -> GridshellBHRunConfig:
+    base = base or GridshellBHRunConfig()
+    data = load_toml(path, {*GridshellBHRunConfig.PARAM_SECTIONS, "lambda", "current"})
+    kw = {name: with_overrides(getattr(base, name), table, name) for name, table in data.items()
+          if name in GridshellBHRunConfig.PARAM_SECTIONS}
+    if "lambda" in data:
+        kw["lambdas"] = dict(data["lambda"])
+    if "current" in data:
+        kw["currents"] = dict(data["current"])
+    return dataclasses.replace(base, **kw)
+
+
+def parse_assignments(text: str | None, name: str) -> dict:
+    """'Tx=1.33,Ty=1.05' -> {'Tx': 1.33, 'Ty': 1.05} (integer keys are strip ids)."""
+    if not text:
+        return {}
+    out = {}
+    for item in text.split(","):
+        if "=" not in item:
+            raise InputError(f"--{name} {text!r}: expected KEY=VALUE[,KEY=VALUE...], e.g. Tx=1.33")
+        key, value = (s.strip() for s in item.split("=", 1))
+        try:
+            val = float(value)
+        except ValueError:
+            raise InputError(f"--{name} {key}={value!r}: not a number") from None
+        out[int(key) if key.isdigit() else key] = val
+    return out
+
+
+def report(out, cfg: GridshellBHRunConfig, structure, x, drive: dict) -> None:
+    """gridshell.png: 3D render, junction centres marked."""
+    from lcefem.validation.gridshell_plots import render_gridshell
+
+    render_gridshell(out / "gridshell.png", structure, x,
+                     f"gridshell {drive.get('shape') or drive.get('recipe') or ''} ({cfg.support})")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--shape", help="the paper's Fig. 4 shape: " + ", ".join(SHAPE_DRIVES))
+    p.add_argument("--recipe", help="a published recipe: " + ", ".join(RECIPES))
+    p.add_argument("--lambda", dest="lambdas", help="lambdas [-] per selection, e.g. "
+                   "Tx=1.33,Ty=1.33,Bx=1.05,By=1.05 (1 isotropic .. 1.4 as built)")
+    p.add_argument("--current", dest="currents", help="currents [A] per selection, e.g. "
+                   "Tx=0.04,Ty=0.04,Bx=0.07,By=0.07")
+    p.add_argument("--thermal-model", choices=THERMAL_MODELS, help="current -> lambda: 'segment' "
+                   "(our lumped 25 ohm segment, default) or 'eq1' (the paper's Eq. 1 estimate)")
+    p.add_argument("--support", choices=SUPPORTS, help="supports (default: the published ones)")
+    p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
+    p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
+                   "sequence (lcefem.solvers.problems.gridshell_bh_sequence; e.g. validation/data/"
+                   "gridshell_fig5a_schedule.toml)")
+    p.add_argument("--config", help="TOML case file (sections: run, lambda, current, "
+                   + ", ".join(GridshellBHRunConfig.PARAM_SECTIONS[1:]) + ")")
+    add_out_arguments(p, "results/gridshell")
+
+
+def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
+    cfg = config_from_toml(args.config)
+    run = {k: v for k, v in {"shape": args.shape, "recipe": args.recipe,
+                             "support": args.support}.items() if v is not None}
+    kw = {"run": with_overrides(cfg.run, run, "run")}
+    if args.lambdas is not None:
+        kw["lambdas"] = parse_assignments(args.lambdas, "lambda")
+    if args.currents is not None:
+        kw["currents"] = parse_assignments(args.currents, "current")
+    if args.thermal_model is not None:
+        kw["current_route"] = dataclasses.replace(cfg.current_route, thermal_model=args.thermal_model)
+    if args.ribbons is not None:
+        kw["layout"] = with_overrides(cfg.layout, {"ribbons": args.ribbons}, "layout")
+    return dataclasses.replace(cfg, **kw)
+
+
+def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
+    """The validated configuration (before the output folder is claimed)."""
+    if getattr(args, "schedule", None):
+        from lcefem.validation import gridshell_sequence
+        return gridshell_sequence.prepare(args)
+    return config_from_args(args).validated()
+
+
+def main(args: argparse.Namespace) -> int:
+    if getattr(args, "schedule", None):
+        from lcefem.validation import gridshell_sequence
+        return gridshell_sequence.main(args)
+    cfg = args.prepared
+    summary = run_gridshell(cfg, pathlib.Path(args.out), progress=not args.quiet, report=report)
+    r = summary["results"]
+    quad = (f", quadratic fit {r['quad_kx']:.4f}/{r['quad_ky']:.4f}" if "quad_kx" in r else "")
+    print(f"lcefem: gridshell ({summary['support']}): centre curvature x/y [1/mm]: circle "
+          f"{r['circle_x']:.4f}/{r['circle_y']:.4f}{quad}; z range {r['z_range [mm]']:.2f} mm; "
+          f"{summary['increments']} increments, {summary['newton_iterations']} Newton iterations, "
+          f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
+    return 0

@@ -1,0 +1,74 @@
+"""A twisted LCE ribbon on a hot plate, as a discrete elastic rod with contact, friction and heat (seed 000).
+
+``lcefem run ribbon [--ground-temperature C] [--twist-density TURNS/MM] [--duration S] [--nodes N]
+[--dt S] [--helix-radius MM] [--config FILE.toml] [--no-fields] [--out DIR] [--quiet]``
+
+The problem, its time loop and outputs: :mod:`lcefem.solvers.problems.twisted_ribbon_der` (centerline
+and surface VTK series, centroid.csv, history.csv, summary.json); this module adds trajectory.png
+(lcefem.validation.ribbon_analysis) and prints one line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+
+from lcefem.models.errors import InputError
+from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, run_ribbon
+from lcefem.solvers.run import add_out_arguments
+from lcefem.validation.config import config_from_toml, override
+
+#: Serial only (numpy/scipy); under mpiexec every rank would write the same files.
+PARALLEL = False
+
+
+def report(out, cfg: RibbonConfig, history: dict) -> None:
+    """trajectory.png: centroid path, speed, end spin angles and temperatures."""
+    from lcefem.validation.ribbon_analysis import plot_trajectory
+
+    plot_trajectory(history, out / "trajectory.png",
+                    title=f"ribbon on a {cfg.run.ground_temperature:g} C plate, "
+                          f"{cfg.geometry.twist_density:g} turns/mm")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--ground-temperature", type=float, help="hot plate temperature [C] (default 80)")
+    p.add_argument("--twist-density", type=float, help="twist density [turns/mm] (default 0.05)")
+    p.add_argument("--duration", type=float, help="heated time [s] (default 60)")
+    p.add_argument("--nodes", type=int, help="rod nodes (default 60)")
+    p.add_argument("--dt", type=float, help="time step [s] (default 0.01)")
+    p.add_argument("--helix-radius", type=float, help="> 0: an untwisted helical ribbon of this centreline "
+                                                       "radius [mm] instead")
+    p.add_argument("--config", help="TOML case file; sections: " + ", ".join(f.name for f in dataclasses.fields(RibbonConfig)))
+    p.add_argument("--no-fields", action="store_true", help="skip the VTK field files")
+    add_out_arguments(p, "results/ribbon")
+
+
+def config_from_args(args: argparse.Namespace) -> RibbonConfig:
+    for name, value, unit in (("--duration", args.duration, "s"), ("--dt", args.dt, "s")):
+        if value is not None and not value > 0:
+            raise InputError(f"{name} = {value} {unit}: must be > 0 {unit}")
+    if args.nodes is not None and args.nodes < 3:
+        raise InputError(f"--nodes = {args.nodes}: must be >= 3")
+    cfg = config_from_toml(args.config, RibbonConfig())
+    cfg = override(cfg, "run", ground_temperature=args.ground_temperature, duration=args.duration)
+    cfg = override(cfg, "geometry", twist_density=args.twist_density, helix_radius=args.helix_radius)
+    return override(cfg, "numerics", nodes=args.nodes, dt=args.dt)
+
+
+def prepare(args: argparse.Namespace) -> RibbonConfig:
+    """The validated configuration (before the output folder is touched)."""
+    return config_from_args(args).validated()
+
+
+def main(args: argparse.Namespace) -> int:
+    cfg = args.prepared
+    result = run_ribbon(cfg, args.out, progress=not args.quiet, fields=not args.no_fields, report=report)
+    m = result.metrics
+    print(f"lcefem: ribbon on {cfg.run.ground_temperature:g} C, {cfg.geometry.twist_density:g} turns/mm, "
+          f"{cfg.numerics.nodes} nodes: {'rolls' if m['rolls'] else 'does not roll'}; average speed "
+          f"{m['average_speed [mm/s]']:.3f} mm/s over the last half, end spin rates "
+          f"{m['spin_rate_start [rad/s]']:.3f} / {m['spin_rate_end [rad/s]']:.3f} rad/s, "
+          f"{m['contact_points [-]']:.1f} contact points; {result.summary['wall_time [s]']:.1f} s wall; "
+          f"results in {result.out}")
+    return 0
