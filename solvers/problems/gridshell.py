@@ -68,7 +68,8 @@ from lcefem.models.lce import isochoric_uniaxial
 from lcefem.models.loads import SurfaceWeight
 from lcefem.models.parameters import check, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures
-from lcefem.solvers.contact import NodalDamping, PenaltyContact, attach
+from lcefem.solvers.contact import (NodalDamping, PenaltyContact, RigidPlaneContact, attach,
+                                    plane_face_nodes)
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
 from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
@@ -89,6 +90,8 @@ FIG4_SHAPES = {
 #: Supports of each shape in the published example script (shared/reference/gridshell_recipes.md).
 PUBLISHED_SUPPORTS = {"table": "rollers", "dome": "rollers", "cylinder": "rollers",
                       "saddle": "centre_clamp"}
+#: Support kinds of :class:`GridshellSupports`.
+SUPPORT_KINDS = ("rollers", "centre_clamp", "table")
 
 
 @dataclass(frozen=True)
@@ -107,18 +110,30 @@ class GridshellSupports:
 
     kind: str = param("rollers", "-", PUBLISHED + ": 'rollers' (dome, cylinder, table: u_z = 0 at "
                       "the outer ribbons' end corners, 8 in all) or 'centre_clamp' (saddle: the "
-                      "centre junction's four corners clamped)")
+                      "centre junction's four corners clamped); seed 001's experiment: 'table' "
+                      "(the surface lies on a rigid table: its weight, frictionless unilateral "
+                      "contact of its lowest faces with the plane, in-plane rigid-body motion "
+                      "removed as by the rollers, nothing else held)")
     gravity: bool = param(False, "-", "chosen: the published simulations have no gravity; True "
-                          "loads the surface with its weight")
+                          "loads the surface with its weight (always on for kind = 'table')")
+    table_stiffness: float = param(50.0, "N/mm^3", "chosen: the strip-ribbon contact's penalty "
+                                   "(solvers.contact.PenaltyContact.stiffness): the 33 g rest on "
+                                   "the table with ~1e-5 mm penetration", positive=True)
     mass: float = param(SurfaceWeight().total_mass, "t", "seed 001: 33 g "
                         "(models.loads.SurfaceWeight), spread uniformly over the gridshell's volume",
                         positive=True)
 
     def checked(self) -> "GridshellSupports":
         check(self, "supports")
-        if self.kind not in ("rollers", "centre_clamp"):
-            raise InputError(f"supports.kind = {self.kind!r}: allowed 'rollers', 'centre_clamp'")
+        if self.kind not in SUPPORT_KINDS:
+            raise InputError(f"supports.kind = {self.kind!r}: allowed "
+                             + ", ".join(repr(k) for k in SUPPORT_KINDS))
         return self
+
+    @property
+    def weight(self) -> bool:
+        """Whether the surface carries its weight."""
+        return self.gravity or self.kind == "table"
 
 
 @dataclass(frozen=True)
@@ -219,7 +234,7 @@ class GridshellFE:
         self.gravity = dolfinx.fem.Constant(msh, np.zeros(3, dtype=PETSc.ScalarType))  # [N/mm^3]
         self._weight_density = (supports.mass * STANDARD_GRAVITY
                                 / (self.volume * tm.info["symmetry_factor"]))
-        if supports.gravity:
+        if supports.weight:
             energy = energy - ufl.dot(self.gravity, u) * dx
         self.gravity_on = 0.0  # fraction of the weight applied
 
@@ -235,8 +250,13 @@ class GridshellFE:
                                            petsc_options=options)
         self.problem.snes.setDivergenceTolerance(1e30)
         self.contacts = make_contacts(tm, u, cfg.contact)
+        self.table = None
+        if supports.kind == "table":  # the lowest faces (bottom strips and pads) rest on it
+            z0 = float(msh.comm.allreduce(self._X[:, 2].min(), op=MPI.MIN))
+            nodes, areas = plane_face_nodes(V, z0)
+            self.table = RigidPlaneContact(u, nodes, areas, z0, supports.table_stiffness)
         self.damping = NodalDamping(u)  # proximal term of the path follower's relaxation at folds
-        attach(self.problem, [*self.contacts, self.damping])
+        attach(self.problem, [*self.contacts, *([self.table] if self.table else []), self.damping])
 
         # stress measure for output: von Mises of the Cauchy stress, cell-wise (DG0), per material
         Fv = ufl.variable(F)
@@ -279,12 +299,13 @@ class GridshellFE:
             bcs.append(dolfinx.fem.dirichletbc(zero, dofs, V.sub(comp)))
         mirrored = {comp for _, comp in mirrors}
         held: dict[int, list[int]] = {0: [], 1: [], 2: []}
-        if supports.kind == "rollers":
+        if supports.kind in ("rollers", "table"):
+            vertical = [2] if supports.kind == "rollers" else []  # the table carries it by contact
             for xy, comps in self._roller_points():
                 nodes = self._nodes_at(xy)
                 if nodes.size == 0:
                     continue  # outside this reduced model: its mirror image holds
-                for comp in [2] + [k for k in comps if k not in mirrored]:
+                for comp in vertical + [k for k in comps if k not in mirrored]:
                     held[comp] += list(nodes)
         else:
             for corner in info["centre_junction_corners"]:
@@ -293,7 +314,7 @@ class GridshellFE:
                     held[comp] += list(nodes)
         self.support_nodes = {comp: np.unique(np.asarray(v, dtype=np.int32))
                               for comp, v in held.items()}
-        if self.support_nodes[2].size == 0:
+        if self.support_nodes[2].size == 0 and supports.kind != "table":
             raise InputError(f"supports.kind = {supports.kind!r}: no support point in the "
                              f"{info['symmetry']} model")
         for comp, nodes in self.support_nodes.items():
@@ -367,7 +388,7 @@ class GridshellFE:
         lam0 = self.lam.x.array.copy()
         dlam = self.target - lam0
         g0 = self.gravity_on
-        g1 = 1.0 if self.config.supports.gravity else 0.0
+        g1 = 1.0 if self.config.supports.weight else 0.0
         ez = np.array([0.0, 0.0, -self._weight_density])
 
         def set_load(t: float) -> None:
@@ -483,6 +504,10 @@ class GridshellFE:
                "apex_z [mm]": float(jc[n // 2, n // 2, 2]),
                "contact_force [N]": self.info["symmetry_factor"] * sum(c.normal_force()
                                                                         for c in self.contacts)}
+        if self.table is not None:  # whole surface: the model's reaction x the symmetry factor
+            out["table_force [N]"] = self.info["symmetry_factor"] * self.table.normal_force()
+            out["apex_height_above_table [mm]"] = out["apex_z [mm]"] - self.table.height
+            out["table_contact_nodes [-]"] = int(np.sum(self.table.active()))
         for i in range(n):
             for j in range(n):
                 for axis, name in enumerate("xyz"):
@@ -533,5 +558,5 @@ def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **conf
 
 
 __all__ = ["FIG4_SHAPES", "GridshellConfig", "GridshellFE", "GridshellMaterials",
-           "GridshellState", "GridshellSupports", "PUBLISHED_SUPPORTS",
+           "GridshellState", "GridshellSupports", "PUBLISHED_SUPPORTS", "SUPPORT_KINDS",
            "fig4_shape", "lce_strip_energy", "von_mises"]
