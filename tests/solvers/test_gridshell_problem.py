@@ -155,3 +155,30 @@ def test_table_carries_the_weight():
     assert obs["table_force [N]"] == pytest.approx(weight, rel=1e-5)
     assert abs(obs["kappa_circle_x [1/mm]"]) < 1e-4 and abs(obs["kappa_quad_y [1/mm]"]) < 1e-4
     assert -1e-4 < float(m.table.gaps().min()) < 0.0  # [mm]
+
+
+def test_heated_route_first_second():
+    """Heated route, dome protocol, first second (quarter, level 0): each channel's coil heats its
+    strips at nearly the adiabatic rate q/(rho c), q = I^2 R / (L W_s H) (the heated beam's power
+    density): never faster (no other source), within 15 % of it (the strips lose heat by conduction
+    into the unheated pads and glue squares and to the air; measured 0.96 bottom, 0.93 top); the
+    bottom channel heats 4 x faster than the top (0.2 vs 0.1 A); the centre starts to dome (both
+    curvatures negative, equal in x and y to solver tolerance); set_lambda is refused."""
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+    from lcefem.solvers.problems.gridshell import DOME_PROTOCOL, HeatedGridshellFE
+
+    m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
+    rows = m.run_protocol(DOME_PROTOCOL, duration=1.0, dt=1.0)
+    assert [r["time [s]"] for r in rows] == [0.0, 1.0]
+    end = rows[-1]
+    rho_c = m._heat_materials[0].volumetric_heat_capacity  # [mJ/(mm^3 K)]
+    for channel in ("Tx", "Bx", "By"):
+        current = DOME_PROTOCOL[0][1][channel]
+        assert end[f"current {channel} [A]"] == current
+        adiabatic = m.coil.power(current) / m._segment_volume / rho_c * 1.0  # [K] in 1 s
+        ratio = (end[f"T_mean {channel} [C]"] - rows[0][f"T_mean {channel} [C]"]) / adiabatic
+        assert 0.85 < ratio <= 1.0, channel
+    kx, ky = end["kappa_circle_x [1/mm]"], end["kappa_circle_y [1/mm]"]
+    assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
+    with pytest.raises(InputError):
+        m.set_lambda({"Tx": 1.2})
