@@ -1,5 +1,7 @@
-"""The robotic surface of seed 001 (Fig. 4) in 3D finite strain: the FE gridshell problem,
-prescribed-lambda route (issue 14, "Physics and routes"; the paper's simulation route).
+"""The robotic surface of seed 001 (Fig. 4) in 3D finite strain: the FE gridshell problem (issue 14,
+"Physics and routes"): the prescribed-lambda route (:class:`GridshellFE`, the paper's simulation
+route) and the heated route (:class:`HeatedGridshellFE`: coil currents per strip through the
+Joule-heated heat equation, run in time).
 
 Mesh: :func:`lcefem.meshes.gridshell_fe.build_gridshell_fe` (per-strip cell tags, groups, channels).
 Physics: the FE composite beam's (:mod:`lcefem.validation.beam_fe`), generalised from two strips to
@@ -18,8 +20,12 @@ Physics: the FE composite beam's (:mod:`lcefem.validation.beam_fe`), generalised
 * Supports (:class:`GridshellSupports`): mirror planes of the reduced model (u_n = 0) plus either the
   published perimeter rollers (dome, cylinder, table: u_z = 0 at the outer ribbons' end corners,
   8 in the full surface) or the published saddle clamp (the centre junction's corners held); in-plane
-  rigid-body motion removed as the published script does when a mirror plane does not. Optional
-  gravity: the surface's 33 g (seed 001) spread uniformly over its volume.
+  rigid-body motion removed as the published script does when a mirror plane does not; or the
+  experiment's table ('table': the surface's weight and frictionless unilateral penalty contact of
+  its lowest faces, the bottom strips and pads, with a rigid plane,
+  :class:`lcefem.solvers.contact.RigidPlaneContact`; only the in-plane rigid-body motion removed).
+  Optional gravity (always on the table): the surface's 33 g (seed 001) spread uniformly over its
+  volume.
 
 The ramp from the current to the target lambdas uses the project's path follower (secant or
 tangent predictor, step cutting, damped relaxation across folds).
