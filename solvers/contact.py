@@ -167,9 +167,10 @@ class RigidPlaneContact:
     A the node's tributary area [mm^2] on the contacting face and k [N/mm^3] the pressure per
     penetration, as :class:`NodePairContact`. Only u_z enters, so the Jacobian is diagonal.
 
-    A node exactly at the plane (g = 0, the as-built state resting on the table) counts as closed
-    in the Jacobian: the one-sided Hessian k A that keeps the first Newton step well posed when
-    the plane is the only vertical support.
+    A node at the plane (g <= ``touch`` = 1e-9 mm, round-off of the tabulated reference
+    coordinates: the as-built state resting on the table) counts as closed in the Jacobian: the
+    one-sided Hessian k A that keeps the first Newton step well posed when the plane is the only
+    vertical support.
 
     Args:
         u: displacement Function [mm].
@@ -192,6 +193,9 @@ class RigidPlaneContact:
         self.z_ref = V.tabulate_dof_coordinates()[self.nodes, 2]
         self.dofs = (3 * self.nodes + 2).astype(np.int32)
         self.free = np.ones(self.dofs.size, dtype=bool)
+
+    #: Gap [mm] up to which a node counts as touching in the Jacobian (class docstring).
+    touch = 1e-9
 
     def set_constrained(self, bcs) -> None:
         """Dirichlet rows get no contact terms (they are identity rows)."""
@@ -218,7 +222,7 @@ class RigidPlaneContact:
         b.assemble()
 
     def add_jacobian(self, A: PETSc.Mat) -> None:
-        on = (self.gaps() <= 0.0) & self.free
+        on = (self.gaps() <= self.touch) & self.free
         k = np.where(on, self.stiffness * self.areas, 0.0)  # same pattern every time (diagonal)
         for dof, value in zip(self.dofs[self.free], k[self.free]):
             A.setValue(dof, dof, value, addv=PETSc.InsertMode.ADD_VALUES)
