@@ -161,6 +161,92 @@ class NodePairContact:
         A.assemble()
 
 
+class RigidPlaneContact:
+    """Frictionless unilateral penalty contact of body nodes with a rigid horizontal plane z = z0
+    (a table under the gridshell): gap g = Z + u_z - z0 per node, energy ``k A <-g>_+^2 / 2`` with
+    A the node's tributary area [mm^2] on the contacting face and k [N/mm^3] the pressure per
+    penetration, as :class:`NodePairContact`. Only u_z enters, so the Jacobian is diagonal.
+
+    A node at the plane (g <= ``touch`` = 1e-9 mm, round-off of the tabulated reference
+    coordinates: the as-built state resting on the table) counts as closed in the Jacobian: the
+    one-sided Hessian k A that keeps the first Newton step well posed when the plane is the only
+    vertical support.
+
+    Args:
+        u: displacement Function [mm].
+        nodes: block (node) indices of the contacting face.
+        areas: (n,) tributary areas [mm^2].
+        height: z0 [mm] of the plane (reference coordinates).
+        stiffness: penalty k [N/mm^3].
+    """
+
+    def __init__(self, u: dolfinx.fem.Function, nodes: np.ndarray, areas: np.ndarray, height: float,
+                 stiffness: float):
+        V = u.function_space
+        if V.mesh.comm.size > 1:
+            raise NotImplementedError("rigid-plane contact runs in serial only")
+        self.u = u
+        self.nodes = np.asarray(nodes, dtype=np.int64)
+        self.areas = np.asarray(areas, dtype=float)
+        self.height = float(height)
+        self.stiffness = float(stiffness)
+        self.z_ref = V.tabulate_dof_coordinates()[self.nodes, 2]
+        self.dofs = (3 * self.nodes + 2).astype(np.int32)
+        self.free = np.ones(self.dofs.size, dtype=bool)
+
+    #: Gap [mm] up to which a node counts as touching in the Jacobian (class docstring).
+    touch = 1e-9
+
+    def set_constrained(self, bcs) -> None:
+        """Dirichlet rows get no contact terms (they are identity rows)."""
+        fixed = np.concatenate([bc.dof_indices()[0] for bc in bcs]) if bcs else np.zeros(0)
+        self.free = ~np.isin(self.dofs, fixed)
+
+    def gaps(self) -> np.ndarray:
+        """Current gaps [mm] (negative: penetration)."""
+        return self.z_ref + self.u.x.array[self.dofs] - self.height
+
+    def normal_force(self) -> float:
+        """Sum of the nodal reactions k A <-g>_+ [N] (the plane's push on the body)."""
+        return self.stiffness * float(np.sum(self.areas * np.maximum(-self.gaps(), 0.0)))
+
+    def active(self) -> np.ndarray:
+        return self.gaps() < 0.0
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        g = self.gaps()
+        on = (g < 0.0) & self.free
+        if np.any(on):
+            b.setValues(self.dofs[on], self.stiffness * self.areas[on] * g[on],
+                        addv=PETSc.InsertMode.ADD_VALUES)
+        b.assemble()
+
+    def add_jacobian(self, A: PETSc.Mat) -> None:
+        on = (self.gaps() <= self.touch) & self.free
+        k = np.where(on, self.stiffness * self.areas, 0.0)  # same pattern every time (diagonal)
+        for dof, value in zip(self.dofs[self.free], k[self.free]):
+            A.setValue(dof, dof, value, addv=PETSc.InsertMode.ADD_VALUES)
+        A.assemble()
+
+
+def plane_face_nodes(V: dolfinx.fem.FunctionSpace, height: float, tol: float = 1e-9
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (block indices) of the exterior faces lying in the plane z = height [mm] and their
+    tributary areas [mm^2] (integral of each node's basis function over those faces)."""
+    mesh = V.mesh
+    fdim = mesh.topology.dim - 1
+    facets = dolfinx.mesh.locate_entities_boundary(mesh, fdim,
+                                                   lambda x: np.abs(x[2] - height) < tol)
+    if facets.size == 0:
+        raise ValueError(f"no exterior face in the plane z = {height} mm")
+    tags = dolfinx.mesh.meshtags(mesh, fdim, facets, np.ones(facets.size, dtype=np.int32))
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags, metadata={"quadrature_degree": 4})
+    weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(ufl.TestFunction(V)[2] * ds(1)))
+    areas = weights.array.reshape(-1, 3)[:, 2]
+    nodes = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
+    return nodes, areas[nodes]
+
+
 class NodalDamping:
     """Proximal term c/2 sum |u - anchor|^2 over the free DOFs [mJ]; ``weight`` c [N/mm] is 0 (off)
     except while a path follower relaxes across a fold."""

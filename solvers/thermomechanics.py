@@ -133,3 +133,44 @@ class ThermoMechanicalModel:
         follower = continuation.PathFollower(self.mechanics, set_load, self.path_control)
         follower.follow(1.0, where)
         return follower.report()
+
+
+class TemperatureFollower:
+    """Staggered time step of a heat problem and a mechanics problem that sees the temperature
+    ``T_mech``: one backward-Euler heat step of dt, then the mechanics brought from the old to the
+    new temperature, T_mech = T_old + s (T_new - T_old), with the shared step controller
+    (:class:`lcefem.solvers.continuation.PathFollower`, load parameter = time, tangent predictor in
+    time, step cutting, damped relaxation across folds). Used by the heated FE beam and gridshell.
+
+    Args:
+        heat: the :class:`HeatProblem` (its ``T`` at the new level after each step).
+        T_mech: Function of the temperature the mechanics' forms use.
+        mechanics: the Newton problem.
+        control: stepping (first_step, max_step in seconds of simulated time).
+        damping: proximal term for the relaxation across folds (or None).
+    """
+
+    def __init__(self, heat: HeatProblem, T_mech, mechanics, control: continuation.PathControl,
+                 damping=None):
+        self.heat, self.T_mech = heat, T_mech
+        self._span = {"T0": T_mech.x.array.copy(), "T1": T_mech.x.array.copy(), "t0": 0.0, "dt": 1.0}
+        self.follower = continuation.PathFollower(mechanics, self._set_load, control, damping)
+        self.time = 0.0  # [s]
+
+    def _set_load(self, t: float) -> None:
+        span = self._span
+        s = (t - span["t0"]) / span["dt"]
+        self.T_mech.x.array[:] = span["T0"] + s * (span["T1"] - span["T0"])
+
+    def advance(self, dt: float, where: str) -> int:
+        """Heat step of ``dt`` [s], then the mechanics to the new temperature; returns the
+        step's Newton iterations. Raises ConvergenceError (last converged state kept)."""
+        t1 = self.time + dt
+        self._span.update(T0=self.T_mech.x.array.copy(), t0=self.time, dt=dt)
+        self.heat.step(dt)
+        self._span["T1"] = self.heat.T.x.array.copy()
+        before = self.follower.iterations
+        self.follower.step = min(self.follower.step, dt)
+        self.follower.follow(t1, where=where)
+        self.time = t1
+        return self.follower.iterations - before

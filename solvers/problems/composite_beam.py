@@ -485,7 +485,8 @@ class HeatedBeamFE:
         from lcefem.models.heat import SurfaceExchange, ThermalProperties
         from lcefem.models.lce import NematicTransition
         from lcefem.solvers.heat import HeatSetup
-        from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
+        from lcefem.solvers.thermomechanics import (LCERegion, PassiveRegion, TemperatureFollower,
+                                                    ThermoMechanicalModel)
 
         unknown = [t for t in heated if t not in BeamFE.STRIPS]
         if unknown or not heated:
@@ -516,17 +517,19 @@ class HeatedBeamFE:
         self._mean_T = {name: (dolfinx.fem.form(model.heat.T * dx(tm.cell_tag(name))),
                                assemble_global(dolfinx.fem.form(1.0 * dx(tm.cell_tag(name))), tm.mesh.comm))
                         for name in ("bottom_strips", "top_strips", "kapton")}
-        self._span = {"T0": model.T_mech.x.array.copy(), "T1": model.T_mech.x.array.copy(),
-                      "t0": 0.0, "dt": 1.0}
-        self.follower = PathFollower(model.mechanics, self._set_load,
-                                     control or PathControl(first_step=dt, max_step=dt), damping)
-        self.time = 0.0  # [s]
+        self.stepper = TemperatureFollower(model.heat, model.T_mech, model.mechanics,
+                                           control or PathControl(first_step=dt, max_step=dt),
+                                           damping)
         self.current = 0.0  # [A]
 
-    def _set_load(self, t: float) -> None:
-        span = self._span
-        s = (t - span["t0"]) / span["dt"]
-        self.model.T_mech.x.array[:] = span["T0"] + s * (span["T1"] - span["T0"])
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.stepper.time
+
+    @time.setter
+    def time(self, value: float) -> None:
+        self.stepper.time = value
 
     def set_current(self, drives: Mapping[str, float]) -> None:
         """Coil current [A] per strip tag; the heat model has one power density, so every heated
@@ -554,15 +557,8 @@ class HeatedBeamFE:
     def advance(self, dt: float) -> dict[str, float]:
         """One backward-Euler heat step of ``dt`` [s], then the mechanics from the old to the new
         temperature (the one path follower, load parameter = time); returns the observables."""
-        t1 = self.time + dt
-        self._span.update(T0=self.model.T_mech.x.array.copy(), t0=self.time, dt=dt)
-        self.model.heat.step(dt)
-        self._span["T1"] = self.model.heat.T.x.array.copy()
-        before = self.follower.iterations
-        self.follower.step = min(self.follower.step, dt)
-        self.follower.follow(t1, where=f"heated beam, t = {t1:.4g} s")
-        self.time = t1
-        return self.observables(self.follower.iterations - before)
+        its = self.stepper.advance(dt, where=f"heated beam, t = {self.time + dt:.4g} s")
+        return self.observables(its)
 
 
 def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),

@@ -1,5 +1,7 @@
-"""The robotic surface of seed 001 (Fig. 4) in 3D finite strain: the FE gridshell problem,
-prescribed-lambda route (issue 14, "Physics and routes"; the paper's simulation route).
+"""The robotic surface of seed 001 (Fig. 4) in 3D finite strain: the FE gridshell problem (issue 14,
+"Physics and routes"): the prescribed-lambda route (:class:`GridshellFE`, the paper's simulation
+route) and the heated route (:class:`HeatedGridshellFE`: coil currents per strip through the
+Joule-heated heat equation, run in time).
 
 Mesh: :func:`lcefem.meshes.gridshell_fe.build_gridshell_fe` (per-strip cell tags, groups, channels).
 Physics: the FE composite beam's (:mod:`lcefem.validation.beam_fe`), generalised from two strips to
@@ -18,8 +20,12 @@ Physics: the FE composite beam's (:mod:`lcefem.validation.beam_fe`), generalised
 * Supports (:class:`GridshellSupports`): mirror planes of the reduced model (u_n = 0) plus either the
   published perimeter rollers (dome, cylinder, table: u_z = 0 at the outer ribbons' end corners,
   8 in the full surface) or the published saddle clamp (the centre junction's corners held); in-plane
-  rigid-body motion removed as the published script does when a mirror plane does not. Optional
-  gravity: the surface's 33 g (seed 001) spread uniformly over its volume.
+  rigid-body motion removed as the published script does when a mirror plane does not; or the
+  experiment's table ('table': the surface's weight and frictionless unilateral penalty contact of
+  its lowest faces, the bottom strips and pads, with a rigid plane,
+  :class:`lcefem.solvers.contact.RigidPlaneContact`; only the in-plane rigid-body motion removed).
+  Optional gravity (always on the table): the surface's 33 g (seed 001) spread uniformly over its
+  volume.
 
 The ramp from the current to the target lambdas uses the project's path follower (secant or
 tangent predictor, step cutting, damped relaxation across folds).
@@ -40,6 +46,7 @@ lambda check — are temporary: the architecture work (issue 12) moves them to m
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import pathlib
@@ -62,17 +69,22 @@ from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell_fe import (GridshellFEMesh, build_gridshell_fe, cell_group,
                                         strip_catalogue)
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, GlueBars
+from lcefem.models.heat import GridSegmentCoil, SurfaceExchange, ThermalProperties
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, lce_strain_energy, neo_hookean_strain_energy
-from lcefem.models.lce import isochoric_uniaxial
+from lcefem.models.lce import (NematicTransition, contraction_ratio, isochoric_uniaxial,
+                               spontaneous_stretch)
 from lcefem.models.loads import SurfaceWeight
 from lcefem.models.parameters import check, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures
-from lcefem.solvers.contact import NodalDamping, PenaltyContact, attach
+from lcefem.solvers.contact import (NodalDamping, PenaltyContact, RigidPlaneContact, attach,
+                                    plane_face_nodes)
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
 from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
 from lcefem.solvers.continuation import PathControl, PathFollower
+from lcefem.solvers.heat import HeatProblem, HeatSetup
+from lcefem.solvers.thermomechanics import TemperatureFollower
 
 PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK, Examples2D.m; "
              "shared/reference/published_reduced_model.md)")
@@ -89,6 +101,8 @@ FIG4_SHAPES = {
 #: Supports of each shape in the published example script (shared/reference/gridshell_recipes.md).
 PUBLISHED_SUPPORTS = {"table": "rollers", "dome": "rollers", "cylinder": "rollers",
                       "saddle": "centre_clamp"}
+#: Support kinds of :class:`GridshellSupports`.
+SUPPORT_KINDS = ("rollers", "centre_clamp", "table")
 
 
 @dataclass(frozen=True)
@@ -107,18 +121,30 @@ class GridshellSupports:
 
     kind: str = param("rollers", "-", PUBLISHED + ": 'rollers' (dome, cylinder, table: u_z = 0 at "
                       "the outer ribbons' end corners, 8 in all) or 'centre_clamp' (saddle: the "
-                      "centre junction's four corners clamped)")
+                      "centre junction's four corners clamped); seed 001's experiment: 'table' "
+                      "(the surface lies on a rigid table: its weight, frictionless unilateral "
+                      "contact of its lowest faces with the plane, in-plane rigid-body motion "
+                      "removed as by the rollers, nothing else held)")
     gravity: bool = param(False, "-", "chosen: the published simulations have no gravity; True "
-                          "loads the surface with its weight")
+                          "loads the surface with its weight (always on for kind = 'table')")
+    table_stiffness: float = param(50.0, "N/mm^3", "chosen: the strip-ribbon contact's penalty "
+                                   "(solvers.contact.PenaltyContact.stiffness): the 33 g rest on "
+                                   "the table with ~1e-5 mm penetration", positive=True)
     mass: float = param(SurfaceWeight().total_mass, "t", "seed 001: 33 g "
                         "(models.loads.SurfaceWeight), spread uniformly over the gridshell's volume",
                         positive=True)
 
     def checked(self) -> "GridshellSupports":
         check(self, "supports")
-        if self.kind not in ("rollers", "centre_clamp"):
-            raise InputError(f"supports.kind = {self.kind!r}: allowed 'rollers', 'centre_clamp'")
+        if self.kind not in SUPPORT_KINDS:
+            raise InputError(f"supports.kind = {self.kind!r}: allowed "
+                             + ", ".join(repr(k) for k in SUPPORT_KINDS))
         return self
+
+    @property
+    def weight(self) -> bool:
+        """Whether the surface carries its weight."""
+        return self.gravity or self.kind == "table"
 
 
 @dataclass(frozen=True)
@@ -181,7 +207,7 @@ class GridshellFE:
         self.V = V = displacement_space(msh, 2)
         self.u = u = dolfinx.fem.Function(V, name="displacement")
         # cell-wise drive and director (DG0): one value per cell, set per strip tag
-        V0 = dolfinx.fem.functionspace(msh, ("DG", 0))
+        self.V0 = V0 = dolfinx.fem.functionspace(msh, ("DG", 0))
         self.lam = dolfinx.fem.Function(V0, name="lambda")
         self.director = dolfinx.fem.Function(dolfinx.fem.functionspace(msh, ("DG", 0, (3,))),
                                              name="director")
@@ -207,19 +233,19 @@ class GridshellFE:
         strips = cell_group(tm, "bottom_strips") + cell_group(tm, "top_strips")
         pads = tuple(t for g in ("bottom_pads", "top_pads") if g in tm.info["cell_groups"]
                      for t in cell_group(tm, g))
-        lce_tags = strips + pads  # pads: lam stays lambda_N (a = 1), the beam's passive pads
         glue = cell_group(tm, "glue") if "glue" in tm.info["cell_groups"] else ()
-        a = self.lam / lam_n
+        a = self._strip_stretch_ratio(u)
         densities = {"kapton": (neo_hookean_strain_energy, mats.kapton, cell_group(tm, "kapton")),
                      "lce": (lambda G, law: lce_strip_energy(G, a, self.director, law), mats.lce,
-                             lce_tags),
+                             strips),
+                     "pads": (lce_strain_energy, mats.lce, pads),  # passive: a = 1, the beam's
                      "glue": (neo_hookean_strain_energy, mats.glue, glue)}
         energy = sum(w(F, law) * dx(tags) for w, law, tags in densities.values() if tags)
         self.volume = assemble_global(dolfinx.fem.form(1.0 * dx), msh.comm)  # [mm^3], model
         self.gravity = dolfinx.fem.Constant(msh, np.zeros(3, dtype=PETSc.ScalarType))  # [N/mm^3]
         self._weight_density = (supports.mass * STANDARD_GRAVITY
                                 / (self.volume * tm.info["symmetry_factor"]))
-        if supports.gravity:
+        if supports.weight:
             energy = energy - ufl.dot(self.gravity, u) * dx
         self.gravity_on = 0.0  # fraction of the weight applied
 
@@ -235,8 +261,13 @@ class GridshellFE:
                                            petsc_options=options)
         self.problem.snes.setDivergenceTolerance(1e30)
         self.contacts = make_contacts(tm, u, cfg.contact)
+        self.table = None
+        if supports.kind == "table":  # the lowest faces (bottom strips and pads) rest on it
+            z0 = float(msh.comm.allreduce(self._X[:, 2].min(), op=MPI.MIN))
+            nodes, areas = plane_face_nodes(V, z0)
+            self.table = RigidPlaneContact(u, nodes, areas, z0, supports.table_stiffness)
         self.damping = NodalDamping(u)  # proximal term of the path follower's relaxation at folds
-        attach(self.problem, [*self.contacts, self.damping])
+        attach(self.problem, [*self.contacts, *([self.table] if self.table else []), self.damping])
 
         # stress measure for output: von Mises of the Cauchy stress, cell-wise (DG0), per material
         Fv = ufl.variable(F)
@@ -255,6 +286,10 @@ class GridshellFE:
         self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
         self.last_follower = None
         self.wall_time = 0.0  # [s] spent in ramps
+
+    def _strip_stretch_ratio(self, u):
+        """a = lambda/lambda_N of the strips (UFL): the prescribed cell-wise lambda (this route)."""
+        return self.lam / self.lambda_N
 
     # ------------------------------------------------------------------ supports
     def _nodes_at(self, xy, tol: float = 1e-6) -> np.ndarray:
@@ -279,12 +314,13 @@ class GridshellFE:
             bcs.append(dolfinx.fem.dirichletbc(zero, dofs, V.sub(comp)))
         mirrored = {comp for _, comp in mirrors}
         held: dict[int, list[int]] = {0: [], 1: [], 2: []}
-        if supports.kind == "rollers":
+        if supports.kind in ("rollers", "table"):
+            vertical = [2] if supports.kind == "rollers" else []  # the table carries it by contact
             for xy, comps in self._roller_points():
                 nodes = self._nodes_at(xy)
                 if nodes.size == 0:
                     continue  # outside this reduced model: its mirror image holds
-                for comp in [2] + [k for k in comps if k not in mirrored]:
+                for comp in vertical + [k for k in comps if k not in mirrored]:
                     held[comp] += list(nodes)
         else:
             for corner in info["centre_junction_corners"]:
@@ -293,7 +329,7 @@ class GridshellFE:
                     held[comp] += list(nodes)
         self.support_nodes = {comp: np.unique(np.asarray(v, dtype=np.int32))
                               for comp, v in held.items()}
-        if self.support_nodes[2].size == 0:
+        if self.support_nodes[2].size == 0 and supports.kind != "table":
             raise InputError(f"supports.kind = {supports.kind!r}: no support point in the "
                              f"{info['symmetry']} model")
         for comp, nodes in self.support_nodes.items():
@@ -367,7 +403,7 @@ class GridshellFE:
         lam0 = self.lam.x.array.copy()
         dlam = self.target - lam0
         g0 = self.gravity_on
-        g1 = 1.0 if self.config.supports.gravity else 0.0
+        g1 = 1.0 if self.config.supports.weight else 0.0
         ez = np.array([0.0, 0.0, -self._weight_density])
 
         def set_load(t: float) -> None:
@@ -483,6 +519,10 @@ class GridshellFE:
                "apex_z [mm]": float(jc[n // 2, n // 2, 2]),
                "contact_force [N]": self.info["symmetry_factor"] * sum(c.normal_force()
                                                                         for c in self.contacts)}
+        if self.table is not None:  # whole surface: the model's reaction x the symmetry factor
+            out["table_force [N]"] = self.info["symmetry_factor"] * self.table.normal_force()
+            out["apex_height_above_table [mm]"] = out["apex_z [mm]"] - self.table.height
+            out["table_contact_nodes [-]"] = int(np.sum(self.table.active()))
         for i in range(n):
             for j in range(n):
                 for axis, name in enumerate("xyz"):
@@ -513,6 +553,137 @@ class GridshellFE:
                 f.write_function(fn, t)
         return [disp, cells]
 
+# --------------------------------------------------------------------------- heated route
+#: The paper's dome protocol (seed 001, Results: "0.1 A on the top strips and 0.2 A on the bottom
+#: strips for about 20 s, then 0.04 A and 0.07 A held"): (start time [s], currents [A] per channel).
+DOME_PROTOCOL = ((0.0, {"Tx": 0.1, "Ty": 0.1, "Bx": 0.2, "By": 0.2}),
+                 (20.0, {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}))
+
+
+class HeatedGridshellFE(GridshellFE):
+    """The FE gridshell driven by its coils (issue 14, heated route): each strip's coil current
+    heats it through the Joule-heated heat equation (:class:`lcefem.solvers.heat.HeatProblem`,
+    pulled back with the displacement; convection and radiation on every exterior face but the
+    mirror planes, which are adiabatic by symmetry; no conduction into the table), and the strips'
+    relative length is a = lambda_s(T)/lambda_N of the nematic transition
+    (:func:`lcefem.models.lce.contraction_ratio`), bond pads passive, as the heated FE beam
+    (:class:`lcefem.solvers.problems.composite_beam.HeatedBeamFE`). Each time step: heat, then the
+    mechanics from the old to the new temperature (:class:`lcefem.solvers.thermomechanics.
+    TemperatureFollower`).
+
+    Power: the heated beam's, one 30 mm grid segment's coil (:class:`GridSegmentCoil`, 25 ohm)
+    spread over a 30 mm strip's as-built volume, q = I^2 R / (L W_s H) [mW/mm^3], in every LCE cell
+    of a driven strip (cell-wise field: each strip tag its own current); the glue squares where
+    the top strips cross (4.2 of a top strip's 30 mm) are not heated.
+
+    Drive: :meth:`set_current` per channel, group or strip tag (as :meth:`GridshellFE.set_lambda`);
+    step: :meth:`advance_time`; a schedule: :meth:`run_protocol`. The mesh is built at the
+    transition's as-built stretch (``transition.lambda_N``; the heated beam's choice).
+    """
+
+    def __init__(self, config: GridshellConfig = GridshellConfig(), *, transition=None,
+                 thermal=None, exchange=None, coil=None, dt: float = 1.0,
+                 comm: MPI.Comm = MPI.COMM_WORLD, petsc_options: dict | None = None):
+        self.transition = transition or NematicTransition()
+        self.coil = coil or GridSegmentCoil()
+        self._heat_materials = (thermal or ThermalProperties(), exchange or SurfaceExchange())
+        super().__init__(dataclasses.replace(config, lambda_N=self.transition.lambda_N), comm,
+                         petsc_options)
+        g = self.config.geometry
+        self._segment_volume = g.segment_length * self.info["strip_width"] * self.info["strip_thickness"]
+        self.stepper = TemperatureFollower(self.heat, self.T_mech, self.problem,
+                                           PathControl(first_step=dt, max_step=dt), self.damping)
+        self.currents = np.zeros(self.lam.x.array.size)  # [A] per cell (0 outside the strips)
+        dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
+        comm_ = self.tmesh.mesh.comm
+        self._channel_T = {}
+        for ch in ("Tx", "Ty", "Bx", "By"):
+            if ch in self.info["cell_groups"]:
+                tags = cell_group(self.tmesh, ch)
+                self._channel_T[ch] = (dolfinx.fem.form(self.heat.T * dx(tags)),
+                                       assemble_global(dolfinx.fem.form(1.0 * dx(tags)), comm_))
+
+    def _strip_stretch_ratio(self, u):
+        """a = lambda_s(T)/lambda_N (UFL) with T the temperature the mechanics sees; builds the
+        heat problem on the same mesh (its source: the cell-wise power density)."""
+        thermal, exchange = self._heat_materials
+        exposed = [f for f in self.tmesh.facets if f not in ("sym_x", "sym_y")]
+        self.power = dolfinx.fem.Function(self.V0, name="power_density")  # [mW/mm^3]
+        self.heat = HeatProblem(self.tmesh, HeatSetup(thermal, exchange, exposed_facets=exposed),
+                                displacement=u, extra_source=self.power,
+                                prefix=f"lcefem_gridshell_heat{next(_prefix)}_")
+        self.T_mech = dolfinx.fem.Function(self.heat.V, name="temperature_mechanics")
+        self.T_mech.x.array[:] = self.heat.T.x.array
+        return contraction_ratio(self.T_mech, self.transition)
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self.stepper.time
+
+    def set_current(self, drives: Mapping[str, float]) -> None:
+        """Coil current I [A] per strip tag, group or channel (a later key overrides an earlier
+        one on shared strips), from now on; power density I^2 R / (L W_s H) in its LCE cells."""
+        for selector, current in drives.items():
+            power = self.coil.power(float(current))  # refuses I < 0 by name
+            cells = np.isin(self._dof_tag, self._tags_of(selector))
+            self.currents[cells] = float(current)
+            self.power.x.array[cells] = power / self._segment_volume
+
+    def set_lambda(self, drives):
+        raise InputError("the heated gridshell is driven by set_current (currents [A]); "
+                         "set_lambda belongs to the prescribed-lambda route (GridshellFE)")
+
+    def observables(self) -> dict[str, float]:
+        """:meth:`GridshellFE.observables` plus time [s], the channels' mean temperature [C],
+        their spontaneous stretch at that temperature [-] and current [A]."""
+        out = {"time [s]": self.time}
+        comm = self.tmesh.mesh.comm
+        for ch, (form, volume) in self._channel_T.items():
+            T = assemble_global(form, comm) / volume
+            out[f"T_mean {ch} [C]"] = T
+            out[f"lambda {ch} [-]"] = float(spontaneous_stretch(T, self.transition))
+            out[f"current {ch} [A]"] = float(self.currents[np.isin(self._dof_tag,
+                                                                      cell_group(self.tmesh, ch))].max())
+        out["T_max [C]"] = self.heat.max_temperature()
+        out.update(super().observables())
+        return out
+
+    def advance_time(self, dt: float) -> dict[str, float]:
+        """One heat step of ``dt`` [s] and the mechanics to the new temperature; returns the
+        observables with the step's Newton iterations."""
+        started = time.perf_counter()
+        try:
+            its = self.stepper.advance(dt, where=f"heated gridshell, t = {self.time + dt:.4g} s")
+        finally:
+            self.wall_time += time.perf_counter() - started
+        return {**self.observables(), "newton iterations [-]": its}
+
+    def run_protocol(self, protocol=DOME_PROTOCOL, duration: float = 60.0, dt: float = 1.0,
+                     on_step: Callable[[dict], None] | None = None) -> list[dict]:
+        """Currents switched at the protocol's times ((t [s], {selector: I [A]}), first at 0),
+        held until the next switch, stepped with ``dt`` [s] up to ``duration`` [s]; one row of
+        observables per step (the first at t = 0)."""
+        times = [float(t) for t, _ in protocol]
+        if not times or times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+            raise InputError(f"protocol times {times}: must start at 0 s and increase")
+        if not (duration > 0 and dt > 0):
+            raise InputError(f"duration = {duration} s, dt = {dt} s: both must be > 0")
+        rows = [{**self.observables(), "newton iterations [-]": 0}]
+        if on_step is not None:
+            on_step(rows[-1])
+        k = 0
+        while self.time < duration - 1e-9:
+            while k < len(protocol) and times[k] <= self.time + 1e-9:
+                self.set_current(protocol[k][1])
+                k += 1
+            nxt = times[k] if k < len(protocol) else duration
+            step = min(dt, nxt - self.time, duration - self.time)
+            rows.append(self.advance_time(step))
+            if on_step is not None:
+                on_step(rows[-1])
+        return rows
+
 
 def _is_full_group(name: str, n: int) -> bool:
     """A published group (XD1..YU{n}) or channel name of the full model."""
@@ -532,6 +703,6 @@ def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **conf
     return GridshellFE(cfg)
 
 
-__all__ = ["FIG4_SHAPES", "GridshellConfig", "GridshellFE", "GridshellMaterials",
-           "GridshellState", "GridshellSupports", "PUBLISHED_SUPPORTS",
+__all__ = ["DOME_PROTOCOL", "FIG4_SHAPES", "HeatedGridshellFE", "GridshellConfig", "GridshellFE", "GridshellMaterials",
+           "GridshellState", "GridshellSupports", "PUBLISHED_SUPPORTS", "SUPPORT_KINDS",
            "fig4_shape", "lce_strip_energy", "von_mises"]

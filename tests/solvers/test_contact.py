@@ -113,3 +113,36 @@ def test_assembled_jacobian_is_the_derivative_of_the_residual(beam):
         u.x.array[j] += h
         assert (ep - em) / (2 * h) == pytest.approx(r0[j], rel=1e-6, abs=1e-9)
     assert e0 > 0
+
+
+def test_rigid_plane_contact_pushes_back_by_the_penetrated_area():
+    """A unit cube (hexahedra, Q2) lowered by delta into the plane z = 0: the plane's face nodes'
+    tributary areas sum to the face's 1 mm^2, the reaction is k x 1 mm^2 x delta, the residual is
+    k A g on each node's z DOF (summing to the reaction) and the Jacobian's diagonal k A; lifted
+    above the plane, nothing (g > 0), and at g = 0 the Jacobian keeps k A (closed)."""
+    from mpi4py import MPI
+
+    from lcefem.solvers.contact import RigidPlaneContact, plane_face_nodes
+
+    mesh = dolfinx.mesh.create_unit_cube(MPI.COMM_SELF, 2, 2, 2, dolfinx.mesh.CellType.hexahedron)
+    V = displacement_space(mesh, 2)
+    u = dolfinx.fem.Function(V)
+    nodes, areas = plane_face_nodes(V, 0.0)
+    assert areas.sum() == pytest.approx(1.0, rel=1e-12)
+    k, delta = 50.0, 1e-3  # [N/mm^3], [mm]
+    plane = RigidPlaneContact(u, nodes, areas, 0.0, k)
+    n = V.dofmap.index_map.size_local * 3
+    A = PETSc.Mat().createAIJ([n, n], nnz=1, comm=MPI.COMM_SELF)
+    A.setUp()
+    plane.add_jacobian(A)  # g = 0: closed
+    assert A.getDiagonal().array[3 * nodes + 2] == pytest.approx(k * areas)
+    u.x.array[2::3] = -delta
+    assert plane.normal_force() == pytest.approx(k * delta, rel=1e-12)
+    b = PETSc.Vec().createSeq(n)
+    plane.add_residual(b)
+    assert b.array[3 * nodes + 2] == pytest.approx(-k * areas * delta)
+    assert b.array.sum() == pytest.approx(-k * delta, rel=1e-12)
+    u.x.array[2::3] = delta
+    b.zeroEntries()
+    plane.add_residual(b)
+    assert plane.normal_force() == 0.0 and not np.any(b.array)

@@ -57,12 +57,16 @@ def _partial(lambdas: dict, lambda_N: float, fraction: float) -> dict:
 
 
 def fe_model(shape: str, *, kapton_modulus: float = KAPTON_DATASHEET_MODULUS, quick: bool = False,
-             mesh_level: int = 0):
-    """The FE gridshell of a Fig. 4 shape with its published support, quarter model (level 0 unless
-    asked); the quick level takes bigger path steps (a partial ramp)."""
-    from lcefem.solvers.problems.gridshell import GridshellMaterials, PathControl, fig4_shape
+             mesh_level: int = 0, support: str | None = None):
+    """The FE gridshell of a Fig. 4 shape with its published support (or ``support``: a
+    GridshellSupports kind, e.g. 'table'), quarter model (level 0 unless asked); the quick level
+    takes bigger path steps (a partial ramp)."""
+    from lcefem.solvers.problems.gridshell import (GridshellMaterials, GridshellSupports, PathControl,
+                                                   fig4_shape)
 
     kw = {"control": PathControl(first_step=0.15, max_step=0.5)} if quick else {}
+    if support is not None:
+        kw["supports"] = GridshellSupports(kind=support)
     return fig4_shape(shape, mesh_level=mesh_level, materials=GridshellMaterials(
         kapton=NeoHookeanSolid(youngs_modulus=kapton_modulus)), **kw)
 
@@ -201,6 +205,24 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
                     summary["shapes"]["dome"][KAPPA_KEYS[i]]))
         except ConvergenceError as exc:
             metrics.append(Metric.info(name, "dome, buckling-fit Kapton: converged", 0.0, "-", str(exc)))
+        # the dome's lambdas on the table (33 g, unilateral contact; issue 14): the bar-and-hinge
+        # surface is pressed onto the table at its centre and settles as a bowl
+        try:
+            lambdas = gs.SHAPES["dome"]["lambdas"]
+            table_model, table = run_fe_shape("dome", lambdas, support="table")
+            summary["dome on the table"] = table
+            bh = run_bh_shape(lambdas, "table")
+            for i, comp in enumerate(("kappa_x circle", "kappa_y circle", "kappa_x quadratic fit",
+                                      "kappa_y quadratic fit")):
+                metrics.append(Metric.info(name, f"dome (lambda) on the table: {comp} vs bar-and-hinge",
+                                           table[KAPPA_KEYS[i]], "1/mm",
+                                           f"model vs model; {FE}, table support; {BH}",
+                                           bh[KAPPA_KEYS[i]]))
+            metrics.append(Metric.info(name, "dome (lambda) on the table: apex above the table",
+                                       table["apex_height_above_table [mm]"], "mm", FE))
+            _outputs(ctx, table_model, "dome_table", "dome lambdas on the table", [src, FE])
+        except ConvergenceError as exc:
+            metrics.append(Metric.info(name, "dome on the table: converged", 0.0, "-", str(exc)))
     if rows:
         n = len(next(iter(rows.values())))
         write_csv(ctx.path("gridshell_shapes_fe.csv"),
