@@ -205,24 +205,6 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
                     summary["shapes"]["dome"][KAPPA_KEYS[i]]))
         except ConvergenceError as exc:
             metrics.append(Metric.info(name, "dome, buckling-fit Kapton: converged", 0.0, "-", str(exc)))
-        # the dome's lambdas on the table (33 g, unilateral contact; issue 14): the bar-and-hinge
-        # surface is pressed onto the table at its centre and settles as a bowl
-        try:
-            lambdas = gs.SHAPES["dome"]["lambdas"]
-            table_model, table = run_fe_shape("dome", lambdas, support="table")
-            summary["dome on the table"] = table
-            bh = run_bh_shape(lambdas, "table")
-            for i, comp in enumerate(("kappa_x circle", "kappa_y circle", "kappa_x quadratic fit",
-                                      "kappa_y quadratic fit")):
-                metrics.append(Metric.info(name, f"dome (lambda) on the table: {comp} vs bar-and-hinge",
-                                           table[KAPPA_KEYS[i]], "1/mm",
-                                           f"model vs model; {FE}, table support; {BH}",
-                                           bh[KAPPA_KEYS[i]]))
-            metrics.append(Metric.info(name, "dome (lambda) on the table: apex above the table",
-                                       table["apex_height_above_table [mm]"], "mm", FE))
-            _outputs(ctx, table_model, "dome_table", "dome lambdas on the table", [src, FE])
-        except ConvergenceError as exc:
-            metrics.append(Metric.info(name, "dome on the table: converged", 0.0, "-", str(exc)))
     if rows:
         n = len(next(iter(rows.values())))
         write_csv(ctx.path("gridshell_shapes_fe.csv"),
