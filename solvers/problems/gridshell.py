@@ -82,6 +82,7 @@ from lcefem.solvers.contact import (NodalDamping, PenaltyContact, RigidPlaneCont
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
 from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
+from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVES
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.heat import HeatProblem, HeatSetup
 from lcefem.solvers.thermomechanics import TemperatureFollower
@@ -91,16 +92,13 @@ PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_Li
 _prefix = itertools.count()
 #: Standard gravity [mm/s^2] (m/s^2 x 1e3: lengths in mm).
 STANDARD_GRAVITY = 9.80665e3
-#: The paper's lambda settings of the four Fig. 4 shapes, per channel (seed 001, Fig. 4 B-E).
-FIG4_SHAPES = {
-    "table": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
-    "dome": {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05},
-    "saddle": {"Tx": 1.33, "By": 1.33, "Ty": 1.05, "Bx": 1.05},
-    "cylinder": {"Ty": 1.33, "Bx": 1.33, "By": 1.33, "Tx": 1.05},
-}
-#: Supports of each shape in the published example script (shared/reference/gridshell_recipes.md).
-PUBLISHED_SUPPORTS = {"table": "rollers", "dome": "rollers", "cylinder": "rollers",
-                      "saddle": "centre_clamp"}
+#: The paper's lambda settings of the four Fig. 4 shapes, per channel (seed 001, Fig. 4 B-E; defined
+#: once, in the bar-and-hinge gridshell problem).
+FIG4_SHAPES = {name: dict(drive["lambdas"]) for name, drive in SHAPE_DRIVES.items()}
+#: Supports of each shape in the published example script (shared/reference/gridshell_recipes.md);
+#: the bar-and-hinge "clamp" (centre junction held) is the FE "centre_clamp".
+PUBLISHED_SUPPORTS = {name: {"clamp": "centre_clamp"}.get(drive["support"], drive["support"])
+                      for name, drive in SHAPE_DRIVES.items()}
 #: Support kinds of :class:`GridshellSupports`.
 SUPPORT_KINDS = ("rollers", "centre_clamp", "table")
 
