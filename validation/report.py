@@ -191,9 +191,12 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
               f"{fmt_reference(r)} (issue {k.issue}): {k.explanation}" for r, k in met] or ["- none"]
     # A registered disagreement whose row now passes is stale (the model was fixed, or the row renamed):
     # say so, so the registry does not keep excusing a row that no longer needs it.
-    passed = {(r["case"], r["metric"]) for res in results if res.status in FINISHED for r in res.metrics
-              if r.get("passed") is True}
-    stale = [k for key, k in known_disagreements_registry().items() if key in passed]
+    # An entry is stale only at the level it is registered for: a row expected to fail at the quick level
+    # alone may pass at the full level.
+    passed = {(r["case"], r["metric"], "quick" if res.quick else "full") for res in results
+              if res.status in FINISHED for r in res.metrics if r.get("passed") is True}
+    stale = [k for key, k in known_disagreements_registry().items()
+             if any((*key, lv) in passed for lv in (("quick", "full") if k.level == "both" else (k.level,)))]
     if stale:
         lines += ["", "Registered disagreements that pass in this run (remove them from the registry): "
                   + "; ".join(f"{k.case}: {k.metric}" for k in stale) + "."]

@@ -1,6 +1,7 @@
 """Known disagreements: the registry is well formed, the report's summary counts and lists them, an
 unexplained failure stays visible, and failing metrics never change the exit code (issue 16)."""
 
+import dataclasses
 import json
 
 import pytest
@@ -93,3 +94,15 @@ def test_headline_counts_keep_metrics_named_with_a_parenthesis():
     text = report.render_report([done, failed], command="lcefem validate", quick=True, total_wall=1.0)
     assert "Judged 1: 1 pass, 0 fail" in text
     assert report.is_status_row(failed.error_row()) and not report.is_status_row(rows[0])
+
+
+def test_a_quick_only_entry_is_stale_only_at_the_quick_level(monkeypatch):
+    """An entry registered for the quick level (the row fails there) may pass at the full level
+    without being stale; passing at the quick level makes it stale."""
+    quick_only = dataclasses.replace(KNOWN, level="quick")
+    monkeypatch.setattr(rd, "known_disagreements", lambda: {(KNOWN.case, KNOWN.metric): quick_only})
+    rows = [Metric.within("toy_known", "force vs measured", 0.18, "N", 0.18, 0.018, "s").as_dict()]
+    for quick, stale in ((False, False), (True, True)):
+        res = report.CaseResult("toy_known", "toy", "done", 1.0, metrics=rows, quick=quick)
+        text = "\n".join(report.summary_lines([res]))
+        assert ("pass in this run (remove them from the registry)" in text) is stale
