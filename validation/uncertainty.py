@@ -20,7 +20,9 @@ factor uniform within +-10 %.
 Bands: median and 5-95 % of N Monte Carlo forward solves. Sobol indices (first order S1, total ST, by
 input kind, SALib): on a surrogate, a least-squares polynomial of the curvatures in the five
 quantities the mechanics sees (four rest fractions, modulus factor), validated by leave-one-out
-(Q^2 reported; indices flagged when Q^2 < 0.9); the heat chain stays exact.
+(Q^2 reported; indices flagged when Q^2 < 0.9); the heat chain stays exact. They are computed only
+when the equilibria outnumber the linear surrogate's six coefficients (at least 7; with fewer the fit
+interpolates and leave-one-out cannot test it).
 
 Outputs (run skeleton): samples.csv (inputs, rest fractions, curvatures per sample, units in the
 headers), bands.csv (quantity, median, 5 %, 95 %, nominal, paper measured, inside), sobol.csv,
@@ -182,6 +184,11 @@ class PolynomialSurrogate:
         scale[scale == 0] = 1.0
         A = _design((Z - centre) / scale, degree)
         coef, *_ = np.linalg.lstsq(A, Y, rcond=None)
+        if len(Z) <= A.shape[1]:
+            # No more points than coefficients: the fit interpolates, the hat matrix is the identity
+            # and leave-one-out has nothing to test (it would report Q^2 = 1): not validated.
+            nan = np.full(Y.shape[1], np.nan)
+            return cls(centre, scale, coef, degree, nan, nan.copy())
         hat = np.einsum("ij,ji->i", A, np.linalg.pinv(A))
         resid = Y - A @ coef
         loo = resid / np.maximum(1.0 - hat, 1e-12)[:, None]
@@ -189,6 +196,12 @@ class PolynomialSurrogate:
         with np.errstate(invalid="ignore", divide="ignore"):
             q2 = np.where(ss > 0, 1.0 - (loo ** 2).sum(axis=0) / ss, 1.0)
         return cls(centre, scale, coef, degree, q2, np.sqrt((loo ** 2).mean(axis=0)))
+
+    @staticmethod
+    def min_points(features: int) -> int:
+        """Fewest points for which the linear surrogate in ``features`` variables is validated by
+        leave-one-out (one more than its 1 + features coefficients)."""
+        return features + 2
 
     def __call__(self, Z: np.ndarray) -> np.ndarray:
         return _design((np.atleast_2d(Z) - self.centre) / self.scale, self.degree) @ self.coef
@@ -319,9 +332,13 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
 
         Z = features(X[found], cfg.shape, law)
         sur = PolynomialSurrogate.fit(Z, Y[found])
-        sobol = sobol_indices(lambda XX: sur(features(XX, cfg.shape, law)), inputs, cfg.sobol_samples,
-                              cfg.seed, list(OUTPUTS))
-        for j, col in enumerate(OUTPUTS):
+        # Sobol indices need a surrogate that leave-one-out can test (more equilibria than its
+        # coefficients); with fewer (e.g. the validation case's 4 samples) they are not computed.
+        sobol = {}
+        if len(Z) >= PolynomialSurrogate.min_points(Z.shape[1]):
+            sobol = sobol_indices(lambda XX: sur(features(XX, cfg.shape, law)), inputs, cfg.sobol_samples,
+                                  cfg.seed, list(OUTPUTS))
+        for j, col in enumerate(OUTPUTS if sobol else ()):
             sobol[col]["surrogate Q2"] = float(sur.q2[j])
             sobol[col]["surrogate LOO rms [1/mm]"] = float(sur.loo_rms[j])
             sobol[col]["valid"] = bool(sur.q2[j] >= Q2_VALID)
@@ -335,7 +352,8 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
             "support": spec["support"], "thermal model": cfg.thermal_model, "samples": cfg.samples,
             "samples without equilibrium": int(cfg.samples - found.sum()), "lost samples": lost,
             "nominal": nominal_values, "bands": bands,
-            "surrogate": {"degree": sur.degree, "features": ["f_Tx", "f_Ty", "f_Bx", "f_By", "modulus factor"]},
+            "surrogate": {"degree": sur.degree, "features": ["f_Tx", "f_Ty", "f_Bx", "f_By", "modulus factor"],
+                          "points": int(len(Z)), "min points for Sobol": PolynomialSurrogate.min_points(Z.shape[1])},
             "sobol": sobol, "input kinds": {k: {"name": v[0], "unit": v[1], "source": v[2]} for k, v in KINDS.items()},
             "wall_time [s]": time.perf_counter() - started,
         })
@@ -394,6 +412,9 @@ def main(args: argparse.Namespace) -> int:
             f"; paper {b['paper measured']:+.4f} {'inside' if b['inside'] else 'OUTSIDE'}")
         print(f"lcefem: {cfg.shape} {b['quantity']}: median {b['median']:+.4f}, 5-95 % "
               f"[{b['p5']:+.4f}, {b['p95']:+.4f}]{ref}")
+    if not summary["sobol"]:
+        print(f"lcefem: Sobol indices not computed: {summary['surrogate']['points']} equilibria, the surrogate "
+              f"needs {summary['surrogate']['min points for Sobol']}")
     for col, s in summary["sobol"].items():
         if col.startswith("circle kappa_x"):
             print(f"lcefem: Sobol (circle kappa_x, surrogate Q2 {s['surrogate Q2']:.2f}): " + ", ".join(

@@ -71,6 +71,19 @@ def test_polynomial_surrogate_is_exact_on_a_quadratic_and_flags_a_bad_fit():
     assert noisy.q2[0] < 0.5
 
 
+def test_polynomial_surrogate_through_too_few_points_is_not_validated():
+    # 4 points, 6 coefficients (5 features): the fit interpolates, so leave-one-out cannot test it
+    # (the hat matrix is the identity and the old formula gave Q^2 = 1, a 'valid' surrogate).
+    from lcefem.validation.uncertainty import PolynomialSurrogate
+    rng = np.random.default_rng(6)
+    Z = rng.uniform(0.7, 1.0, (4, 5))
+    sur = PolynomialSurrogate.fit(Z, rng.normal(size=4))
+    assert np.isnan(sur.q2[0]) and np.isnan(sur.loo_rms[0])
+    assert PolynomialSurrogate.min_points(5) == 7
+    tested = PolynomialSurrogate.fit(rng.uniform(0.7, 1.0, (7, 5)), rng.normal(size=7))
+    assert np.isfinite(tested.q2[0])
+
+
 def test_bands_table_places_the_paper_value_inside_or_outside():
     from lcefem.validation import uncertainty as unc
     v = np.linspace(-0.030, -0.010, 201)  # 5-95 %: -0.029 .. -0.011
