@@ -110,12 +110,15 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 
 #: Newton variants of the beam ramp (overrides of the beam's Newton options): the configured full
 #: Newton step; the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
-#: PETSc's critical-point, backtracking (on |R|^2), L2 line searches and trust region.
+#: PETSc's critical-point (one or three secant steps), backtracking (on |R|^2), L2 line searches,
+#: steps damped to 0.8 and the trust region.
 BEAM_VARIANTS = {
     "newton": {},
     "lag2": {"snes_lag_jacobian": 2, "snes_max_it": 30},
     "lag3": {"snes_lag_jacobian": 3, "snes_max_it": 40},
     "cp": {"snes_linesearch_type": "cp"},
+    "cp3": {"snes_linesearch_type": "cp", "snes_linesearch_max_it": 3},
+    "damped": {"snes_linesearch_damping": 0.8},
     "bt": {"snes_linesearch_type": "bt"},
     "l2": {"snes_linesearch_type": "l2"},
     "newtontr": {"snes_type": "newtontr"},
