@@ -5,7 +5,8 @@ state to a target.
 :class:`PathFollower`:
 * predictor: the tangent (Euler) step u <- u - K^-1 R(u; t_new) with the factorised tangent of the
   last converged state (:meth:`lcefem.solvers.mechanics.HyperelasticProblem.tangent_predictor`),
-  else the secant through the last two converged states, else the last state;
+  else the secant through the last two converged states, else (also when the secant's state is
+  non-finite or inverts an element) the last state;
 * corrector: one Newton solve (SNES); the problem refuses non-finite iterates and inverted elements
   (det F <= 0 at a quadrature point), so a step is never accepted in such a state;
 * step size from the Newton iteration count: h <- h clip(sqrt(n_target/n), 1/2, growth);
@@ -111,6 +112,9 @@ class PathFollower:
         (t1, u1), (t2, u2) = self.history[-2], self.history[-1]
         if t2 != t1:
             self.problem.restore(u2 + (t - t2) / (t2 - t1) * (u2 - u1))
+            admissible = getattr(self.problem, "admissible", None)
+            if admissible is not None and not admissible():
+                self.problem.restore(u2)  # an inverted secant guess: Newton from the last state
 
     def _accept(self, t: float) -> None:
         self.t = t

@@ -145,6 +145,43 @@ def test_controller_cuts_recovers_and_does_not_grow_into_a_known_failure():
     assert all(np.isfinite(s) for _, s in f.history)
 
 
+class _ForbiddenBand:
+    """A stand-in problem whose equilibrium at load t is the state t, and whose states in
+    (0.55, 0.65) are inadmissible (as an inverted element): a solve started there fails."""
+
+    def __init__(self):
+        self.load, self.state, self.starts = 0.0, 0.0, []
+
+    def set_load(self, t):
+        self.load = t
+
+    def admissible(self):
+        return not 0.55 < self.state < 0.65
+
+    def solve(self):
+        self.starts.append(self.state)
+        if not self.admissible():
+            self.state = float("nan")
+            return False, 0, "SNES reason -4 (DIVERGED_FUNCTION_NANORINF)"
+        self.state = self.load
+        return True, 4, "converged"
+
+    def save(self):
+        return self.state
+
+    def restore(self, state):
+        self.state = state
+
+
+def test_inadmissible_secant_guess_falls_back_to_the_last_state():
+    """The secant through (0, 0) and (0.3, 0.3) predicts 0.6 at t = 0.6, inside the inadmissible
+    band: Newton starts from the last converged state 0.3 instead, and no step is cut."""
+    p = _ForbiddenBand()
+    f = PathFollower(p, p.set_load, PathControl(first_step=0.3, max_step=0.3, predictor="secant"))
+    f.follow(0.6, "test")
+    assert p.starts == [0.0, 0.3] and f.cuts == 0 and p.state == 0.6
+
+
 def test_advance_raises_below_the_minimum_increment():
     p = _FailingAbove(limit=1e-4)
     with pytest.raises(ConvergenceError, match="below the minimum"):

@@ -4,6 +4,11 @@ memory; for the strip's 0.2 A transient and the composite beam's ramp to (lambda
 
     python -m lcefem.validation.benchmarks.fe_benchmark [--strip-levels 0 1 2] [--beam-levels 0 1]
         [--csv results/fe_benchmark.csv] [--strip-steps 6] [--strip-dt 2.0] [--linear-levels 2 3]
+        [--beam-variants newton lag2 cp ...]
+
+``--beam-variants``: the beam ramp once per named Newton variant of :data:`BEAM_VARIANTS` (line
+searches, trust region, Jacobian reuse), back to back, each row with its Newton iterations, Jacobian
+assemblies, refused iterates (non-finite or det F <= 0) and curvature.
 
 ``--linear-levels``: a second table, one tangent of the heated strip per level solved by MUMPS LDL^T
 and by CG + algebraic multigrid (GAMG with the rigid-body near-nullspace, block size 3), and the
@@ -28,8 +33,8 @@ import subprocess
 import sys
 import time
 
-COLUMNS = ["case", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
-           "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
+COLUMNS = ["case", "variant", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
+           "jacobians [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
            "other/it [s]", "mechanics [s]", "wall [s]", "cpu [s]", "peak memory [MiB]", "observable",
            "value"]
 
@@ -103,15 +108,35 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
             "value": float(res.history["stretch [-]"][-1]), **_split(t)}
 
 
-def measure_beam(level: int, lambda_top: float, lambda_bottom: float) -> dict:
+#: Newton variants of the beam ramp (overrides of the beam's Newton options): the configured full
+#: Newton step; the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
+#: PETSc's critical-point (one or three secant steps), backtracking (on |R|^2), L2 line searches,
+#: steps damped to 0.8 and the trust region.
+BEAM_VARIANTS = {
+    "newton": {},
+    "lag2": {"snes_lag_jacobian": 2, "snes_max_it": 30},
+    "lag3": {"snes_lag_jacobian": 3, "snes_max_it": 40},
+    "cp": {"snes_linesearch_type": "cp"},
+    "cp3": {"snes_linesearch_type": "cp", "snes_linesearch_max_it": 3},
+    "damped": {"snes_linesearch_damping": 0.8},
+    "bt": {"snes_linesearch_type": "bt"},
+    "l2": {"snes_linesearch_type": "l2"},
+    "newtontr": {"snes_type": "newtontr"},
+}
+
+
+def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
+                 variant: str = "newton") -> dict:
     from lcefem.meshes.composite_beam import BeamFEMesh
     from lcefem.solvers.problems.composite_beam import BeamFE
 
-    model = BeamFE(mesh=BeamFEMesh(level=level))
+    model = BeamFE(mesh=BeamFEMesh(level=level), petsc_options=BEAM_VARIANTS[variant])
     states, t = _timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))
     f = model.last_follower
-    return {"case": f"beam ramp ({lambda_top:g}, {lambda_bottom:g})", "level": level,
-            "dofs [-]": model.ndofs, "steps [-]": len(states), "cuts [-]": f.cuts,
+    t["jacobians"], t["its"] = t["its"], f.iterations  # they differ when the Jacobian is reused
+    return {"case": f"beam ramp ({lambda_top:g}, {lambda_bottom:g})", "variant": variant,
+            "level": level, "dofs [-]": model.ndofs, "steps [-]": len(states), "cuts [-]": f.cuts,
+            "jacobians [-]": t["jacobians"], "refused iterates [-]": model.problem.inverted_iterates,
             "observable": "curvature [1/mm]", "value": model.curvature(), **_split(t)}
 
 
@@ -204,15 +229,15 @@ def child(args) -> dict:
     if kind == "strip":
         row = measure_strip(int(level), args.strip_steps, args.strip_dt)
     else:
-        row = measure_beam(int(level), args.lambda_top, args.lambda_bottom)
+        row = measure_beam(int(level), args.lambda_top, args.lambda_bottom, args.beam_variant)
     row["its/step [-]"] = row["newton its [-]"] / max(row["steps [-]"], 1)
     row["peak memory [MiB]"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return row
 
 
 def print_table(rows: list[dict], file=sys.stdout, columns: list[str] | None = None) -> None:
-    short = columns or ["case", "level", "dofs [-]", "newton its [-]", "its/step [-]", "cuts [-]",
-             "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
+    short = columns or ["case", "variant", "level", "dofs [-]", "newton its [-]", "its/step [-]",
+             "cuts [-]", "jacobians [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
              "wall [s]", "cpu [s]", "peak memory [MiB]", "value"]
     cells = [[_fmt(r.get(k, "")) for k in short] for r in rows]
     widths = [max(len(k), *(len(c[i]) for c in cells)) for i, k in enumerate(short)]
@@ -238,19 +263,27 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--linear-levels", type=int, nargs="*", default=[],
                         help="strip levels at which one tangent is solved by MUMPS LDL^T and by "
                         "CG + GAMG, and assembled as AIJ and BAIJ (a separate table)")
+    parser.add_argument("--beam-variants", nargs="+", default=["newton"],
+                        help=f"Newton variants of the beam ramp, from {', '.join(BEAM_VARIANTS)}")
     parser.add_argument("--csv", type=pathlib.Path, default=None, help="CSV file of the table")
     parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
+    parser.add_argument("--beam-variant", default="newton", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    for name in args.beam_variants + [args.beam_variant]:
+        if name not in BEAM_VARIANTS:
+            parser.error(f"--beam-variants: {name!r} is not one of {', '.join(BEAM_VARIANTS)}")
     if args.child:
         print(json.dumps(child(args)))
         return 0
     rows = []
-    jobs = [("strip", lv) for lv in args.strip_levels] + [("beam", lv) for lv in args.beam_levels]
-    jobs += [("linear", lv) for lv in args.linear_levels]
-    for kind, level in jobs:
+    jobs = [("strip", lv, "newton") for lv in args.strip_levels]
+    jobs += [("beam", lv, v) for lv in args.beam_levels for v in args.beam_variants]
+    jobs += [("linear", lv, "newton") for lv in args.linear_levels]
+    for kind, level, variant in jobs:
         cmd = [sys.executable, "-m", "lcefem.validation.benchmarks.fe_benchmark", "--child", kind,
                str(level), "--strip-steps", str(args.strip_steps), "--strip-dt", str(args.strip_dt),
-               "--lambda-top", str(args.lambda_top), "--lambda-bottom", str(args.lambda_bottom)]
+               "--lambda-top", str(args.lambda_top), "--lambda-bottom", str(args.lambda_bottom),
+               "--beam-variant", variant]
         out = subprocess.run(cmd, capture_output=True, text=True)
         if out.returncode != 0:
             print(f"{kind} level {level} failed:\n{out.stderr[-2000:]}", file=sys.stderr)
@@ -264,17 +297,23 @@ def main(argv: list[str] | None = None) -> int:
     if linear:
         print_table(linear, columns=LINEAR_COLUMNS + ["peak memory [MiB]"])
     if args.csv is not None:
-        args.csv.parent.mkdir(parents=True, exist_ok=True)
-        with open(args.csv, "w", newline="") as fh:
-            w = csv.DictWriter(fh, COLUMNS, extrasaction="ignore")
-            w.writeheader()
-            w.writerows(rows)
+        _write_csv(args.csv, COLUMNS, rows)
         if linear:
-            with open(args.csv.with_name(args.csv.stem + "_linear.csv"), "w", newline="") as fh:
-                w = csv.DictWriter(fh, LINEAR_COLUMNS + ["peak memory [MiB]"], extrasaction="ignore")
-                w.writeheader()
-                w.writerows(linear)
+            _write_csv(args.csv.with_name(args.csv.stem + "_linear.csv"),
+                       LINEAR_COLUMNS + ["peak memory [MiB]"], linear)
     return 0
+
+
+def _write_csv(path: pathlib.Path, columns: list[str], rows: list[dict]) -> None:
+    """The table under a temporary name, renamed when complete."""
+    from lcefem.solvers.run import part_name, replace
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(part_name(path), "w", newline="") as fh:
+        w = csv.DictWriter(fh, columns, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    replace(part_name(path), path)
 
 
 if __name__ == "__main__":
