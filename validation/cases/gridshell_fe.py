@@ -22,7 +22,7 @@
   dome next to the bar-and-hinge current route and the paper. Full level: the 20 s of heating at
   1 s steps, then the hold in 9 doubling backward-Euler steps to 2555 s (the steady held state).
   Its held dome is a registered known disagreement with the paper: the hold currents keep the
-  bottom strips below T_NI, where lambda is ~1.37, not the paper's 1.05 (README, "FE gridshell,
+  bottom strips below T_NI (50.8 C held), where lambda is 1.401, not the paper's 1.05 (README, "FE gridshell,
   heated route"). Quick level: the first 3 s at 1 s steps (9 Newton iterations, ~10 s CPU): the
   surface domes (kappa_x = kappa_y < 0) and the dome grows each step.
 
