@@ -682,6 +682,33 @@ class HeatedGridshellFE(GridshellFE):
                 on_step(rows[-1])
         return rows
 
+    def hold(self, currents: Mapping[str, float], until: float, first_dt: float,
+             growth: float = 2.0, on_step: Callable[[dict], None] | None = None) -> list[dict]:
+        """Hold ``currents`` [A] from now up to ``until`` [s] with time steps growing geometrically
+        (``first_dt`` [s], x ``growth``; the last one cut at ``until``). Backward Euler is
+        unconditionally stable and tends to the steady state, so the held shape is reached in a few
+        steps where equal steps take hundreds; the mechanics' step limit follows each time step
+        (it steps the temperature change of a long heat step in increments it chooses itself,
+        cut on failure). One row of observables per step."""
+        if not (first_dt > 0 and growth >= 1.0 and until > self.time):
+            raise InputError(f"hold: first_dt = {first_dt} s (> 0), growth = {growth} (>= 1), "
+                             f"until = {until} s (> the current time {self.time:g} s)")
+        self.set_current(currents)
+        follower = self.stepper.follower
+        control = follower.control
+        rows, dt = [], float(first_dt)
+        try:
+            while self.time < until - 1e-9:
+                step = min(dt, until - self.time)
+                follower.control = dataclasses.replace(control, max_step=step)
+                rows.append(self.advance_time(step))
+                if on_step is not None:
+                    on_step(rows[-1])
+                dt *= growth
+        finally:
+            follower.control = control
+        return rows
+
 
 def _is_full_group(name: str, n: int) -> bool:
     """A published group (XD1..YU{n}) or channel name of the full model."""

@@ -182,3 +182,29 @@ def test_heated_route_first_second():
     assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
     with pytest.raises(InputError):
         m.set_lambda({"Tx": 1.2})
+
+
+def test_heated_hold_reaches_the_steady_state():
+    """HeatedGridshellFE.hold: backward-Euler steps growing 4x (50, 200, 800, 3200 s) at the dome's
+    hold currents (0.04 A top, 0.07 A bottom) from the as-built state reach the steady state of the
+    heat equation (HeatProblem.steady, 1/dt = 0): a step dt leaves 1/(1 + dt/tau) of the distance
+    to it, with tau ~ 90 s (the 1 s dome run's relaxation) the four steps leave ~1e-3 of the ~30 K
+    rise, so the channels' mean temperatures agree within 0.1 K. The bottom strips settle warmer
+    than the top (0.07 vs 0.04 A, power 3x) and below T_NI (the hold keeps them nematic-side), and
+    the centre domes (both curvatures negative and equal). Bad input is refused by name."""
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+    from lcefem.solvers.problems.gridshell import DOME_PROTOCOL, HeatedGridshellFE
+
+    m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
+    with pytest.raises(InputError, match="first_dt"):
+        m.hold(DOME_PROTOCOL[1][1], until=10.0, first_dt=0.0)
+    rows = m.hold(DOME_PROTOCOL[1][1], until=4250.0, first_dt=50.0, growth=4.0)
+    assert [r["time [s]"] for r in rows] == pytest.approx([50.0, 250.0, 1050.0, 4250.0])
+    held = rows[-1]
+    m.heat.steady()
+    steady = m.observables()
+    for ch in ("Tx", "Ty", "Bx", "By"):
+        assert held[f"T_mean {ch} [C]"] == pytest.approx(steady[f"T_mean {ch} [C]"], abs=0.1), ch
+    assert 25.0 < steady["T_mean Tx [C]"] < steady["T_mean Bx [C]"] < m.transition.T_NI
+    kx, ky = held["kappa_circle_x [1/mm]"], held["kappa_circle_y [1/mm]"]
+    assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
