@@ -15,6 +15,17 @@ motion; implicit Euler damps it).
 A step whose Newton loop fails is retried as two half steps from the last converged state, down
 to ``min_dt``; below it ``ConvergenceError`` is raised after ``on_failure(state)`` has saved the
 last converged state.
+
+Adaptive steps (:class:`StepControl`, implicit Euler): the local error of a step of length h is
+estimated by the distance between the implicit Euler position q_n + h qdot_(n+1) and the
+trapezoidal (second-order) one q_n + h (qdot_n + qdot_(n+1))/2 of the same step,
+
+    err = h/2 max( |v_(n+1) - v_n|_node , r |omega_(n+1) - omega_n|_edge )   [mm]
+
+(r: a length that turns the edge spin into a corner displacement), i.e. h^2/2 |q''|, the leading
+term of Euler's local error (Hairer, Norsett & Wanner, Solving ODEs I, Sec. II.4, embedded pairs).
+A step with err > tolerance is rejected and retried; the next step is
+h_new = h min(max_growth, max(max_shrink, safety sqrt(tolerance/err))), within [dt_min, dt_max].
 """
 
 from __future__ import annotations
@@ -54,6 +65,39 @@ class StepReport:
     dt: float
     iterations: int
     cuts: int
+
+
+@dataclass(frozen=True)
+class StepControl:
+    """Step-size controller of implicit Euler from its local error estimate (module docstring)."""
+
+    tolerance: float  # [mm] largest accepted local position error of one step
+    dt_min: float  # [s]
+    dt_max: float  # [s]
+    length: float = 1.0  # [mm] converts edge spin rates [rad/s] to corner speeds [mm/s]
+    safety: float = 0.9  # [-] the usual margin of error-per-step controllers (Hairer et al. II.4)
+    max_growth: float = 2.0  # [-]
+    max_shrink: float = 0.2  # [-]
+
+    def __post_init__(self):
+        for name in ("tolerance", "dt_min", "dt_max", "length"):
+            if not getattr(self, name) > 0:
+                raise InputError(f"{name} = {getattr(self, name)}: must be > 0")
+        if self.dt_min > self.dt_max:
+            raise InputError(f"dt_min = {self.dt_min} s: must be <= dt_max = {self.dt_max} s")
+
+    def error(self, start: RodState, new: RodState) -> float:
+        """Local error estimate err [mm] of the implicit Euler step start -> new (module docstring)."""
+        h = new.time - start.time
+        dv = float(np.max(np.abs(new.v - start.v)))
+        dw = float(np.max(np.abs(new.omega - start.omega))) if len(new.omega) else 0.0
+        return 0.5 * h * max(dv, self.length * dw)
+
+    def next_dt(self, dt: float, error: float) -> float:
+        """Step [s] after (or instead of, when error > tolerance) a step dt with the given error."""
+        factor = self.max_growth if error <= 0 else self.safety * (self.tolerance / error) ** 0.5
+        factor = min(self.max_growth, max(self.max_shrink, factor))
+        return min(self.dt_max, max(self.dt_min, dt * factor))
 
 
 def generalised_load(rod: DiscreteRod) -> np.ndarray:
@@ -160,12 +204,17 @@ class Integrator:
         end, it2, c2 = self._advance(mid, half, depth + 1)
         return end, result.iterations + it1 + it2, 1 + c1 + c2
 
-    def step(self, dt: float) -> StepReport:
-        """Advance by dt [s] (in sub-steps if Newton needs them)."""
+    def trial(self, dt: float) -> tuple[RodState, StepReport]:
+        """The state dt [s] later (in sub-steps if Newton needs them), not yet accepted; its Newton
+        iterations count in ``total_iterations`` whether or not it is accepted."""
         if not dt > 0:
             raise InputError(f"dt = {dt} s: must be > 0 s")
         new, its, cuts = self._advance(self.state, dt, 0)
-        self.state = new
         self.total_iterations += its
         self.total_cuts += cuts
-        return StepReport(dt, its, cuts)
+        return new, StepReport(dt, its, cuts)
+
+    def step(self, dt: float) -> StepReport:
+        """Advance by dt [s] (in sub-steps if Newton needs them)."""
+        self.state, report = self.trial(dt)
+        return report

@@ -47,8 +47,10 @@ CENTROID_COLUMNS = ["time [s]", "x [mm]", "y [mm]", "z [mm]"]
 class RibbonRun:
     """What the experimenter sets."""
 
-    ground_temperature: float = param(80.0, "C", "seed 000 / press release: rolling needs a surface of at "
-                                      "least ~55 C; 80 C is a typical demonstration value (assumed)",
+    ground_temperature: float = param(100.0, "C", "chosen: seed 000 / press release: the real ribbons roll on "
+                                      "surfaces of at least ~55 C; the model's threshold is 80-100 C (issue 17, "
+                                      "ribbon_threshold: no rolling at 80 C, 2.3 mm/s at 100 C, a registered known "
+                                      "disagreement), so the default run uses 100 C, where the model rolls",
                                       minimum=-50.0, maximum=DECOMPOSITION_TEMPERATURE)
     duration: float = param(60.0, "s", "chosen: heated time after settling", positive=True)
     output_interval: float = param(0.5, "s", "chosen: time between field frames (0: no fields)", minimum=0.0)
@@ -179,28 +181,40 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
             centroid.append({"time [s]": row["time [s]"], "x [mm]": row["centroid_x [mm]"],
                              "y [mm]": row["centroid_y [mm]"], "z [mm]": row["centroid_z [mm]"]})
 
-        def write_fields(step: int) -> None:
-            if series and (step % out_every == 0 or step == n_steps):
+        def write_fields(step: int, previous: int) -> None:
+            """A frame when a multiple of out_every steps (of dt) lies in (previous, step], and at the end."""
+            if series and (step // out_every > previous // out_every or step == n_steps):
                 n = len(sim.state.x)
                 t = sim.state.time
                 series[0].write(t, polydata(sim.state.x, lines=[np.arange(n)], point_data=centerline_fields(sim)))
                 series[1].write(t, surface_polydata(sim))
 
         record()
-        write_fields(0)
-        for step in range(1, n_steps + 1):
-            sim.step(dt)
-            write_fields(step)
-            if step % rec_every == 0 or step == n_steps:
+        write_fields(0, -1)
+        if sim.control is None:
+            for step in range(1, n_steps + 1):
+                sim.step(dt)
+                write_fields(step, step - 1)
+                if step % rec_every == 0 or step == n_steps:
+                    record()
+        else:
+            # Adaptive steps land on the record times of fixed steps of dt (frames at the record
+            # time that reaches or passes each frame time).
+            previous = 0
+            for step in [*range(rec_every, n_steps, rec_every), n_steps]:
+                sim.advance(step * dt)
+                write_fields(step, previous)
                 record()
+                previous = step
         wall = time.perf_counter() - started
         hist = run.history.as_arrays()
         metrics = rolling_metrics(hist)
         if out is not None and report is not None:
             report(out, config, hist)
         summary = run.complete({
-            "metrics": metrics, "steps": n_steps, "dt [s]": dt, "nodes": config.numerics.nodes,
+            "metrics": metrics, "steps": sim.steps_taken, "dt [s]": dt, "nodes": config.numerics.nodes,
             "edge_length [mm]": config.geometry.length / (config.numerics.nodes - 1),
             "newton_iterations": sim.integrator.total_iterations, "step_cuts": sim.integrator.total_cuts,
+            "mechanics_steps": sim.steps_taken, "rejected_steps": sim.rejected,
             "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run_cfg.duration})
     return RibbonResult(hist, metrics, summary, out, sim)

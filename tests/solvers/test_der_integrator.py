@@ -9,7 +9,7 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.rod import RodSection, parallel_transport, rectangular_section
 from lcefem.models.units import STANDARD_GRAVITY
 from lcefem.solvers.der import frames as fr
-from lcefem.solvers.der.integrator import Integrator, StepOptions
+from lcefem.solvers.der.integrator import Integrator, StepControl, StepOptions
 from lcefem.solvers.der.model import DiscreteRod, RestShape, RodState, lumped_masses, n_dofs
 from lcefem.solvers.der.newton import NewtonOptions
 
@@ -141,3 +141,32 @@ def test_rotating_a_straight_twisted_rod_keeps_its_twist():
         st = st.moved(dq)
     assert np.allclose(st.geometry().twist, 0.3, atol=1e-12)
     assert st.source_tangents is not None
+
+
+def test_step_control_error_of_free_fall_is_euler_local_error():
+    """Free fall: v_(n+1) - v_n = g h, so the estimate h/2 |dv| is g h^2/2, exactly the distance
+    between implicit Euler's and the exact (trapezoidal) position after one step."""
+    rod, st = straight_rod(gravity=np.array([0.0, 0.0, -STANDARD_GRAVITY]))
+    integ = Integrator(rod, st)
+    control = StepControl(tolerance=1e-3, dt_min=1e-5, dt_max=0.1)
+    h = 0.004
+    new, _ = integ.trial(h)
+    assert control.error(integ.state, new) == pytest.approx(0.5 * STANDARD_GRAVITY * h ** 2, rel=1e-9)
+    exact = 0.5 * STANDARD_GRAVITY * h ** 2
+    assert abs(-new.x[0, 2] - exact) == pytest.approx(control.error(integ.state, new), rel=1e-8)
+    # trial does not accept the step
+    assert integ.state.time == 0.0
+
+
+def test_step_control_proposes_the_step_that_meets_the_tolerance():
+    """err ~ h^2: the next step is h sqrt(tol/err) times the safety factor, within the growth limits
+    and [dt_min, dt_max]; bad input is refused naming the field."""
+    c = StepControl(tolerance=1e-2, dt_min=1e-3, dt_max=0.05)
+    assert c.next_dt(0.01, 4e-2) == pytest.approx(0.01 * 0.9 * 0.5)
+    assert c.next_dt(0.01, 0.0) == pytest.approx(0.02)  # growth limit
+    assert c.next_dt(0.04, 1e-6) == pytest.approx(0.05)  # dt_max
+    assert c.next_dt(0.002, 1e3) == pytest.approx(1e-3)  # dt_min
+    with pytest.raises(InputError, match="dt_min"):
+        StepControl(tolerance=1e-2, dt_min=0.1, dt_max=0.05)
+    with pytest.raises(InputError, match="tolerance"):
+        StepControl(tolerance=0.0, dt_min=1e-3, dt_max=0.05)

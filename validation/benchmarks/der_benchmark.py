@@ -2,11 +2,13 @@
 cantilever problems against PyElastica (and DisMech) where they are installed.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
-        [--duration 5] [--warmup 30] [--baseline DIR] [--skip-ribbon] [--skip-peers] [--csv out.csv]
+        [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
+        [--skip-peers] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
-``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s:
-CPU and wall ms per step (and the CPU ms of the mechanics step alone; the rest is the section heat
+``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s, or
+with adaptive steps (``--error-tolerance`` > 0 [mm], ``RibbonNumerics.error_tolerance``; the run
+advances record interval by record interval, 0.05 s, as ``run_ribbon`` does): CPU and wall ms per step (and the CPU ms of the mechanics step alone; the rest is the section heat
 step and the natural shape of the new temperatures), Newton iterations per step, and
 the real-time factor (simulated seconds per CPU second, > 1: faster than real time; CPU time because
 the machine is shared, wall time printed next to it). ``--baseline DIR`` runs the same loop with
@@ -49,24 +51,36 @@ import numpy as np
 # ----------------------------------------------------------------------------------------------
 
 
-def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0) -> dict:
+def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0,
+               error_tolerance: float = 0.0, record: float = 0.05) -> dict:
     """Settle, heat for ``warmup`` simulated seconds (untimed: the ribbon starts to roll), then time
-    ``duration`` simulated seconds of the rolling ribbon."""
+    ``duration`` simulated seconds of the rolling ribbon (fixed steps of dt, or adaptive steps to
+    every record time when ``error_tolerance`` [mm] > 0)."""
     from lcefem.models.ribbon import RibbonGeometry
     from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
 
+    # an older package (--baseline) has fixed steps only and no such field
+    has_control = "error_tolerance" in {f.name for f in dataclasses.fields(RibbonNumerics)}
+    control = {"error_tolerance": error_tolerance} if has_control else {}
     setup = RibbonSetup(geometry=RibbonGeometry(), ground_temperature=ground_temperature,
-                        numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt))
+                        numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt, **control))
     t0 = time.perf_counter()
     sim = RibbonSimulation(setup)
     sim.step(dt)  # first step: numba compilation or cache load, outside the timing
-    for _ in range(int(round(warmup / dt))):
-        sim.step(dt)
+    adaptive = error_tolerance > 0
+    if adaptive:
+        sim.advance(sim.time + warmup)
+    else:
+        for _ in range(int(round(warmup / dt))):
+            sim.step(dt)
     build = time.perf_counter() - t0
     its0 = sim.integrator.total_iterations
+    steps0 = getattr(sim, "steps_taken", 0)
     steps = int(round(duration / dt))
     inside = [0.0]  # CPU time in the mechanics step (the rest: heat step, natural shape)
-    mechanics = sim.integrator.step
+    # The mechanics step: Integrator.trial where it exists (the ribbon's step calls it), else .step.
+    hook = "trial" if hasattr(sim.integrator, "trial") else "step"
+    mechanics = getattr(sim.integrator, hook)
 
     def timed_mechanics(h):
         c = time.process_time()
@@ -74,10 +88,16 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
         inside[0] += time.process_time() - c
         return report
 
-    sim.integrator.step = timed_mechanics
+    setattr(sim.integrator, hook, timed_mechanics)
     w0, c0 = time.perf_counter(), time.process_time()
-    for _ in range(steps):
-        sim.step(dt)
+    if adaptive:
+        start = sim.time
+        for k in range(1, int(round(duration / record)) + 1):
+            sim.advance(start + k * record)
+        steps = sim.steps_taken - steps0
+    else:
+        for _ in range(steps):
+            sim.step(dt)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     st = sim.state
     return {"nodes": nodes, "steps": steps, "cpu_ms_per_step": 1e3 * cpu / steps,
@@ -85,16 +105,18 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
             "wall_ms_per_step": 1e3 * wall / steps,
             "newton_per_step": (sim.integrator.total_iterations - its0) / steps,
             "realtime_factor_cpu": duration / cpu, "realtime_factor_wall": duration / wall, "build_s": build,
+            "rejected": getattr(sim, "rejected", 0),
             "centroid": [float(v) for v in st.x.mean(axis=0)], "speed": float(np.hypot(*st.v.mean(axis=0)[:2]))}
 
 
-def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None) -> dict:
-    """:func:`ribbon_run` in a child process, with ``lcefem`` from ``path`` when given."""
+def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None, error_tolerance: float = 0.0) -> dict:
+    """:func:`ribbon_run` in a child process, with ``lcefem`` from ``path`` when given (fixed steps
+    only there: an older package may not have the adaptive ones)."""
     env = dict(os.environ)
     if path:
         env["PYTHONPATH"] = os.path.abspath(path) + os.pathsep + env.get("PYTHONPATH", "")
     out = subprocess.run([sys.executable, os.path.abspath(__file__), "--ribbon-worker", str(nodes), str(duration),
-                          str(warmup)],
+                          str(warmup)] + ([str(error_tolerance)] if error_tolerance else []),
                          env=env, cwd="/", capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -294,11 +316,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--warmup", type=float, default=30.0,
                         help="untimed simulated time on the plate before the timing [s] "
                              "(the ribbon heats and starts rolling)")
-    parser.add_argument("--ribbon-worker", nargs=3, help=argparse.SUPPRESS)
+    parser.add_argument("--error-tolerance", type=float, nargs="+", default=[0.0],
+                        help="ribbon step control: 0 fixed 0.01 s steps, > 0 adaptive with this local error [mm]")
+    parser.add_argument("--ribbon-worker", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.ribbon_worker:
-        n, duration, warmup = args.ribbon_worker
-        print(json.dumps(ribbon_run(int(n), float(duration), float(warmup))))
+        n, duration, warmup, *tol = args.ribbon_worker
+        print(json.dumps(ribbon_run(int(n), float(duration), float(warmup), error_tolerance=float(tol[0]) if tol else 0.0)))
         return 0
     if args.duration <= 0:
         parser.error(f"--duration {args.duration}: must be > 0 s")
@@ -306,23 +330,25 @@ def main(argv: list[str] | None = None) -> int:
           f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}")
     table = []
     if not args.skip_ribbon:
-        print(f"rolling ribbon, 100 C plate, dt 0.01 s, {args.duration:g} s timed after {args.warmup:g} s of heating "
-              "(CPU time; wall in brackets):")
+        print(f"rolling ribbon, 100 C plate, dt 0.01 s (fixed, or the first adaptive step), {args.duration:g} s "
+              f"timed after {args.warmup:g} s of heating (CPU time; wall in brackets):")
         for n in args.nodes:
-            runs = {"now": ribbon_in_child(n, args.duration, args.warmup, None)}
+            runs = {("now" if tol == 0 else f"tol {tol:g}"): ribbon_in_child(n, args.duration, args.warmup, None, tol)
+                    for tol in args.error_tolerance}
             if args.baseline:
                 runs["baseline"] = ribbon_in_child(n, args.duration, args.warmup, args.baseline)
             for label, r in runs.items():
                 print(f"  {n:4d} nodes {label:8s}: {r['cpu_ms_per_step']:7.2f} ms/step ({r['wall_ms_per_step']:.2f}; "
                       f"mechanics {r['mechanics_ms_per_step']:.2f}), {r['newton_per_step']:.2f} Newton/step, "
-                      f"{r['realtime_factor_cpu']:.2f} x real time "
+                      f"{r['realtime_factor_cpu']:.2f} x real time {r['steps']} steps ({r.get('rejected', 0)} rejected) "
                       f"({r['realtime_factor_wall']:.2f}); centroid {r['centroid'][0]:.9f} {r['centroid'][1]:.9f} mm, "
                       f"speed {r['speed']:.9f} mm/s", flush=True)
                 table.append({"problem": f"rolling ribbon {n} nodes", "code": label,
                               "ms_per_step": r["cpu_ms_per_step"], "mechanics_ms_per_step": r["mechanics_ms_per_step"],
                               "wall_ms_per_step": r["wall_ms_per_step"], "newton_per_step": r["newton_per_step"],
-                              "realtime_factor": r["realtime_factor_cpu"]})
-            if "baseline" in runs:
+                              "realtime_factor": r["realtime_factor_cpu"], "steps": r["steps"],
+                              "rejected": r.get("rejected", 0)})
+            if "baseline" in runs and "now" in runs:
                 ratio = runs["baseline"]["cpu_ms_per_step"] / runs["now"]["cpu_ms_per_step"]
                 print(f"  {n:4d} nodes speed-up: {ratio:.2f} x")
     if not args.skip_peers:

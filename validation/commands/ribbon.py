@@ -32,11 +32,13 @@ def report(out, cfg: RibbonConfig, history: dict) -> None:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--ground-temperature", type=float, help="hot plate temperature [C] (default 80)")
+    p.add_argument("--ground-temperature", type=float, help="hot plate temperature [C] (default 100)")
     p.add_argument("--twist-density", type=float, help="twist density [turns/mm] (default 0.05)")
     p.add_argument("--duration", type=float, help="heated time [s] (default 60)")
     p.add_argument("--nodes", type=int, help="rod nodes (default 60)")
     p.add_argument("--dt", type=float, help="time step [s] (default 0.01)")
+    p.add_argument("--error-tolerance", type=float, help="adaptive steps: local position error per step [mm] "
+                   "(default 0: fixed steps of dt; 0.01 checked in the README)")
     p.add_argument("--helix-radius", type=float, help="> 0: an untwisted helical ribbon of this centreline "
                                                        "radius [mm] instead")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(f.name for f in dataclasses.fields(RibbonConfig)))
@@ -48,12 +50,14 @@ def config_from_args(args: argparse.Namespace) -> RibbonConfig:
     for name, value, unit in (("--duration", args.duration, "s"), ("--dt", args.dt, "s")):
         if value is not None and not value > 0:
             raise InputError(f"{name} = {value} {unit}: must be > 0 {unit}")
+    if args.error_tolerance is not None and args.error_tolerance < 0:
+        raise InputError(f"--error-tolerance = {args.error_tolerance} mm: must be >= 0 mm")
     if args.nodes is not None and args.nodes < 3:
         raise InputError(f"--nodes = {args.nodes}: must be >= 3")
     cfg = config_from_toml(args.config, RibbonConfig())
     cfg = override(cfg, "run", ground_temperature=args.ground_temperature, duration=args.duration)
     cfg = override(cfg, "geometry", twist_density=args.twist_density, helix_radius=args.helix_radius)
-    return override(cfg, "numerics", nodes=args.nodes, dt=args.dt)
+    return override(cfg, "numerics", nodes=args.nodes, dt=args.dt, error_tolerance=args.error_tolerance)
 
 
 def prepare(args: argparse.Namespace) -> RibbonConfig:
