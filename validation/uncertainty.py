@@ -197,6 +197,11 @@ class PolynomialSurrogate:
             q2 = np.where(ss > 0, 1.0 - (loo ** 2).sum(axis=0) / ss, 1.0)
         return cls(centre, scale, coef, degree, q2, np.sqrt((loo ** 2).mean(axis=0)))
 
+    @property
+    def validated(self) -> bool:
+        """Whether leave-one-out could test the fit (more points than coefficients; else Q^2 is nan)."""
+        return bool(np.all(np.isfinite(self.q2)))
+
     @staticmethod
     def min_points(features: int) -> int:
         """Fewest points for which the linear surrogate in ``features`` variables is validated by
@@ -335,7 +340,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
         # Sobol indices need a surrogate that leave-one-out can test (more equilibria than its
         # coefficients); with fewer (e.g. the validation case's 4 samples) they are not computed.
         sobol = {}
-        if len(Z) >= PolynomialSurrogate.min_points(Z.shape[1]):
+        if sur.validated:
             sobol = sobol_indices(lambda XX: sur(features(XX, cfg.shape, law)), inputs, cfg.sobol_samples,
                                   cfg.seed, list(OUTPUTS))
         for j, col in enumerate(OUTPUTS if sobol else ()):

@@ -619,14 +619,24 @@ class HeatedGridshellFE(GridshellFE):
         """Simulated time [s]."""
         return self.stepper.time
 
+    def power_density(self, current: float) -> float:
+        """Joule power density q = I^2 R / (L W_s H) [mW/mm^3] of a grid segment's strip carrying
+        ``current`` [A] (refuses I < 0 by name)."""
+        return self.coil.power(float(current)) / self._segment_volume
+
+    def adiabatic_rate(self, current: float) -> float:
+        """Temperature rate q/(rho c) [K/s] of a strip at ``current`` [A] losing no heat: the upper
+        bound of its early heating."""
+        return self.power_density(current) / self._heat_materials[0].volumetric_heat_capacity
+
     def set_current(self, drives: Mapping[str, float]) -> None:
         """Coil current I [A] per strip tag, group or channel (a later key overrides an earlier
-        one on shared strips), from now on; power density I^2 R / (L W_s H) in its LCE cells."""
+        one on shared strips), from now on; power density :meth:`power_density` in its LCE cells."""
         for selector, current in drives.items():
-            power = self.coil.power(float(current))  # refuses I < 0 by name
+            q = self.power_density(current)
             cells = np.isin(self._dof_tag, self._tags_of(selector))
             self.currents[cells] = float(current)
-            self.power.x.array[cells] = power / self._segment_volume
+            self.power.x.array[cells] = q
 
     def set_lambda(self, drives):
         raise InputError("the heated gridshell is driven by set_current (currents [A]); "

@@ -99,15 +99,29 @@ def test_inverted_iterate_is_refused():
     assert problem.inverted_iterates >= 1
 
 
-class _FailingAbove:
-    """A stand-in problem whose Newton solve fails (NaN) for any increment larger than ``limit``."""
+class _ScalarProblem:
+    """A stand-in problem with one scalar state, the equilibrium at load t being the state t."""
 
-    def __init__(self, limit: float):
-        self.limit, self.load, self.state = limit, 0.0, 0.0
-        self.trials = []
+    def __init__(self):
+        self.load, self.state = 0.0, 0.0
 
     def set_load(self, t):
         self.load = t
+
+    def save(self):
+        return self.state
+
+    def restore(self, state):
+        self.state = state
+
+
+class _FailingAbove(_ScalarProblem):
+    """A stand-in problem whose Newton solve fails (NaN) for any increment larger than ``limit``."""
+
+    def __init__(self, limit: float):
+        super().__init__()
+        self.limit = limit
+        self.trials = []
 
     def solve(self):
         step = self.load - self.state
@@ -117,12 +131,6 @@ class _FailingAbove:
             return False, 3, "SNES reason -4 (DIVERGED_FNORM_NAN)"
         self.state = self.load
         return True, 4, "converged"
-
-    def save(self):
-        return self.state
-
-    def restore(self, state):
-        self.state = state
 
 
 def test_controller_cuts_recovers_and_does_not_grow_into_a_known_failure():
@@ -145,15 +153,13 @@ def test_controller_cuts_recovers_and_does_not_grow_into_a_known_failure():
     assert all(np.isfinite(s) for _, s in f.history)
 
 
-class _ForbiddenBand:
-    """A stand-in problem whose equilibrium at load t is the state t, and whose states in
-    (0.55, 0.65) are inadmissible (as an inverted element): a solve started there fails."""
+class _ForbiddenBand(_ScalarProblem):
+    """A stand-in problem whose states in (0.55, 0.65) are inadmissible (as an inverted element):
+    a solve started there fails."""
 
     def __init__(self):
-        self.load, self.state, self.starts = 0.0, 0.0, []
-
-    def set_load(self, t):
-        self.load = t
+        super().__init__()
+        self.starts = []
 
     def admissible(self):
         return not 0.55 < self.state < 0.65
@@ -165,12 +171,6 @@ class _ForbiddenBand:
             return False, 0, "SNES reason -4 (DIVERGED_FUNCTION_NANORINF)"
         self.state = self.load
         return True, 4, "converged"
-
-    def save(self):
-        return self.state
-
-    def restore(self, state):
-        self.state = state
 
 
 def test_inadmissible_secant_guess_falls_back_to_the_last_state():

@@ -390,10 +390,9 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
     metrics: list[Metric] = []
     # early heating rate: each channel's mean temperature rise over the first second vs q/(rho c)
     first = next(r for r in heating if r["time [s]"] > 0)
-    rho_c = model._heat_materials[0].volumetric_heat_capacity  # [mJ/(mm^3 K)]
     for ch in ("Tx", "Bx"):
         current = first[f"current {ch} [A]"]
-        adiabatic = model.coil.power(current) / model._segment_volume / rho_c * first["time [s]"]  # [K]
+        adiabatic = model.adiabatic_rate(current) * first["time [s]"]  # [K]
         rise = first[f"T_mean {ch} [C]"] - heating[0][f"T_mean {ch} [C]"]
         metrics.append(Metric.between(
             name, f"first {first['time [s]']:g} s at {current:g} A, {ch} strips: temperature rise / "
