@@ -90,16 +90,26 @@ def restore_signal_handlers(previous: dict) -> None:
         signal.signal(sig, handler)
 
 
-def raise_if_interrupted(exc: BaseException | None = None) -> None:
-    """Re-raise the interrupt hidden inside a solver error (a callback of PETSc's interrupted by
-    Ctrl-C surfaces as a PETSc error); no-op otherwise."""
+def interrupt_in(exc: BaseException | None) -> KeyboardInterrupt | None:
+    """The interrupt behind ``exc``: itself or one in its cause/context chain (a callback of PETSc's
+    interrupted by Ctrl-C surfaces as a PETSc error; numba's compiler turns a signal that arrives
+    while it compiles a kernel into a RuntimeError), or, when this process has received SIGINT or
+    SIGTERM, a new one of that kind; None otherwise."""
     seen = exc
     while seen is not None:
         if isinstance(seen, KeyboardInterrupt):
-            raise seen
+            return seen
         seen = seen.__cause__ or seen.__context__
     if _received:
-        raise Terminated() if _received[-1] == signal.SIGTERM else KeyboardInterrupt()
+        return Terminated() if _received[-1] == signal.SIGTERM else KeyboardInterrupt()
+    return None
+
+
+def raise_if_interrupted(exc: BaseException | None = None) -> None:
+    """Re-raise the interrupt hidden inside a library's error (:func:`interrupt_in`); no-op otherwise."""
+    interrupt = interrupt_in(exc)
+    if interrupt is not None:
+        raise interrupt
 
 
 def interrupt_exit_code(exc: KeyboardInterrupt) -> int:

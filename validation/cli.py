@@ -78,6 +78,7 @@ def _world_rank() -> int:
 
 def _classify(exc: BaseException) -> tuple[int, str]:
     """(exit status, one-line message) of an exception ending a command."""
+    exc = skeleton.interrupt_in(exc) or exc  # a signal wrapped in a library's error is still a signal
     if isinstance(exc, KeyboardInterrupt):
         name = "SIGTERM" if isinstance(exc, skeleton.Terminated) else "Ctrl-C"
         return (skeleton.interrupt_exit_code(exc),

@@ -30,8 +30,8 @@ import traceback
 from tqdm import tqdm
 
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.run import (EXIT_CASE_ERROR, add_out_arguments, reinstall_signal_handlers, write_json,
-                               write_text)
+from lcefem.solvers.run import (EXIT_CASE_ERROR, add_out_arguments, raise_if_interrupted,
+                               reinstall_signal_handlers, write_json, write_text)
 from lcefem.validation import phenomena, report
 from lcefem.validation.cases import Case, CaseContext, Metric, registry
 from lcefem.validation.report import CaseResult
@@ -206,7 +206,13 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
     ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet)
     t0 = time.perf_counter()
     try:
-        result = run_case(case, ctx, out)
+        try:
+            result = run_case(case, ctx, out)
+        except Exception as exc:
+            # A library may wrap the signal's exception in its own error (numba's compiler turns a
+            # Ctrl-C/SIGTERM during a kernel's compilation into a RuntimeError): still an interrupt.
+            raise_if_interrupted(exc)
+            raise
     except KeyboardInterrupt as exc:
         result = CaseResult(case.name, case.description, "interrupted", time.perf_counter() - t0,
                             quick=quick, error=f"interrupted ({type(exc).__name__})")

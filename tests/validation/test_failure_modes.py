@@ -349,3 +349,37 @@ def test_a_reader_closing_the_pipe_ends_the_listing_quietly(lcefem_cmd):
     err = proc.stderr.decode()
     assert proc.returncode == 141, err
     assert "PETSC ERROR" not in err and "Traceback" not in err, err
+
+
+def test_a_signal_wrapped_in_a_library_error_is_an_interrupt_not_a_case_error(tmp_path, monkeypatch):
+    """numba's compiler turns a SIGTERM that arrives while it compiles a kernel into a RuntimeError
+    (seen in ribbon_twist_density): the case is reported interrupted, with no error.log."""
+    from lcefem.solvers import run as skeleton
+    from lcefem.validation.cases import Case
+    from lcefem.validation.validate import _run_or_reuse
+
+    def compiling(ctx):
+        skeleton._received.append(signal.SIGTERM)  # what the handler records before raising
+        try:
+            raise skeleton.Terminated()
+        except KeyboardInterrupt as exc:
+            raise RuntimeError("no compiled object yet") from exc
+
+    monkeypatch.setattr(skeleton, "_received", [])
+    case = Case("wrapped_signal", compiling, "raises a wrapped SIGTERM", fe=False, convergence=False)
+    result = _run_or_reuse(case, tmp_path, quick=True, resume=False, quiet=True)
+    assert result.status == "interrupted" and isinstance(result.interrupt, skeleton.Terminated)
+    assert not (tmp_path / "wrapped_signal" / "error.log").exists()
+
+
+def test_a_wrapped_signal_ends_a_command_with_the_signal_status(monkeypatch):
+    """The same wrapped SIGTERM ending `lcefem run ...` exits 143 with the interrupt line, not as a bug
+    (status 1 and a traceback)."""
+    from lcefem.solvers import run as skeleton
+    from lcefem.validation.cli import _classify
+
+    monkeypatch.setattr(skeleton, "_received", [signal.SIGTERM])
+    code, message = _classify(RuntimeError("no compiled object yet"))
+    assert code == 143 and message.startswith("lcefem: interrupted (SIGTERM)")
+    monkeypatch.setattr(skeleton, "_received", [])
+    assert _classify(RuntimeError("a bug"))[0] == 1
