@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.der.assembly import Assembly, ContactSampling, Derivatives, FrictionLag, friction_lag
+from lcefem.solvers.der.assembly import BANDWIDTH, Assembly, ContactSampling, Derivatives, FrictionLag, friction_lag
 from lcefem.solvers.der.model import DiscreteRod, RodState, node_dofs
 from lcefem.solvers.der.newton import NewtonOptions, NewtonResult, minimise
 
@@ -121,22 +121,33 @@ class StepPotential:
         self.diag = self.mass * (1.0 / h ** 2 + rod.damping / h)
 
     def __call__(self, state: RodState, hessian: bool) -> Derivatives:
+        return self.evaluate(state, 2 if hessian else 0)
+
+    def gradient(self, state: RodState) -> Derivatives:
+        """Energy and gradient without the Hessian (Newton's lagged-Hessian steps)."""
+        return self.evaluate(state, 1)
+
+    def evaluate(self, state: RodState, order: int) -> Derivatives:
+        """Energy (order 0), with the gradient (1), with the lower-banded Hessian (2)."""
         h = self.h
-        order = 2 if hessian else 0
         q = state.q()
         dq = q - self.q_star
         dn = q - self.q_n
         energy = (0.5 / h ** 2 * float(self.mass @ dq ** 2) + 0.5 * self.rod.damping / h * float(self.mass @ dn ** 2)
                   - float(self.load @ q))
-        ee, ge, te = self.asm.elastic(self.rod, state, order)
-        ec, gc, tc = self.asm.contact(self.rod, state, self.sampling, order, friction=self.lag, step=h)
-        energy += ee + ec
-        if not hessian:
+        out = None
+        if order >= 1:  # the kernels add their derivatives into the inertial ones
+            grad = self.mass * (dq / h ** 2 + self.rod.damping * dn / h) - self.load
+            band = None
+            if order >= 2:
+                band = np.zeros((BANDWIDTH + 1, len(q)))
+                band[0] = self.diag
+            out = (grad, band)
+        energy += self.asm.elastic(self.rod, state, order, out=out)[0]
+        energy += self.asm.contact(self.rod, state, self.sampling, order, friction=self.lag, step=h, out=out)[0]
+        if order == 0:
             return Derivatives(energy, None, None)
-        grad = self.mass * (dq / h ** 2 + self.rod.damping * dn / h) - self.load + ge
-        if gc is not None:
-            grad += gc
-        return Derivatives(energy, grad, self.asm.band(te + tc, self.diag))
+        return Derivatives(energy, grad, band)
 
 
 class Integrator:

@@ -717,12 +717,21 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
     e = np.empty(3)
     f = np.empty(3)
     w3 = np.empty(3)
+    acc_g11 = np.empty(11)
+    acc_h11 = np.empty((11, 11))
+    acc_g7 = np.empty(7)
+    acc_h7 = np.empty((7, 7))
     for kind in range(2):
         pos = pos_s if kind == 0 else pos_e
         rr = r_s if kind == 0 else r_e
         lag_n = lag_ns if kind == 0 else lag_ne
         lag_p = lag_ps if kind == 0 else lag_pe
+        # The points of one element (a stencil, or an end edge) are summed first, then the source
+        # change (linear in gradient and Hessian) and the scatter are done once per element.
+        acc_g = acc_g11 if kind == 0 else acc_g7
+        acc_h = acc_h11 if kind == 0 else acc_h7
         for row in range(pos.shape[0]):
+            active = False
             for j in range(pos.shape[1]):
                 p = pos[row, j]
                 gap = _dot3(p, normal) - height
@@ -740,6 +749,11 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                     hD[:, :] = 0.0
                 if order == 0:
                     continue
+                if not active:
+                    active = True
+                    acc_g[:] = 0.0
+                    if with_hessian:
+                        acc_h[:, :] = 0.0
                 for i in range(3):
                     g_pt[i] = stiffness * d1 * normal[i] + gD[i]
                 cc = stiffness * d2
@@ -752,24 +766,42 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                     _stencil_point_element(e, f, rr[row, j], t[edge], side[j], sigma[j], g_pt, jac, h11, hv, jv,
                                            tmp8, with_hessian, ws)
                     _chain_point(jac, h11, g_pt, cc, normal, hD, g11, with_hessian)
-                    if with_source:
-                        dbs[0] = db[k]
-                        dbs[1] = db[k + 1]
-                        ddbs[0] = ddb[k]
-                        ddbs[1] = ddb[k + 1]
-                        _source_change_into(g11, h11, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11,
-                                            with_hessian)
-                    _scatter(4 * k, g11, h11, grad, band, with_hessian)
+                    _accumulate(g11, h11, acc_g, acc_h, with_hessian)
                 else:
                     edge = end_ids[row]
                     _section_point_element(t[edge], length[edge], rr[row, j], end_sigma[row, j], g_pt, jac7, h7, w3)
                     _chain_point(jac7, h7, g_pt, cc, normal, hD, g7, with_hessian)
-                    if with_source:
-                        db1[0] = db[edge]
-                        ddb1[0] = ddb[edge]
-                        _source_change_into(g7, h7, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian)
-                    _scatter(4 * edge, g7, h7, grad, band, with_hessian)
+                    _accumulate(g7, h7, acc_g, acc_h, with_hessian)
+            if not active:
+                continue
+            if kind == 0:
+                k = row
+                if with_source:
+                    dbs[0] = db[k]
+                    dbs[1] = db[k + 1]
+                    ddbs[0] = ddb[k]
+                    ddbs[1] = ddb[k + 1]
+                    _source_change_into(acc_g, acc_h, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11,
+                                        with_hessian)
+                _scatter(4 * k, acc_g, acc_h, grad, band, with_hessian)
+            else:
+                edge = end_ids[row]
+                if with_source:
+                    db1[0] = db[edge]
+                    ddb1[0] = ddb[edge]
+                    _source_change_into(acc_g, acc_h, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian)
+                _scatter(4 * edge, acc_g, acc_h, grad, band, with_hessian)
     return energy
+
+
+@njit(cache=True)
+def _accumulate(g_loc, h_loc, acc_g, acc_h, with_hessian):
+    for i in range(g_loc.shape[0]):
+        acc_g[i] += g_loc[i]
+    if with_hessian:
+        for i in range(g_loc.shape[0]):
+            for j in range(g_loc.shape[0]):
+                acc_h[i, j] += h_loc[i, j]
 
 
 @njit(cache=True)
@@ -831,3 +863,37 @@ def transport_frames(a1, t_old, t_new, ref_prev):
         d = angle - ref_prev[k]
         ref[k] = ref_prev[k] + math.atan2(math.sin(d), math.cos(d))
     return out, ref
+
+
+@njit(cache=True)
+def moved_geometry(x, theta, a1_old, t_old, ref_prev):
+    """Everything a displaced state needs, in one pass (``model.RodState.moved`` and ``geometry``):
+    edges e, lengths, unit tangents t, reference directors a1 transported in time from t_old (and
+    the reference twist continued from ref_prev, :func:`transport_frames`), material frames
+    m1 = cos(theta) a1 + sin(theta) t x a1, m2 = t x m1 (``frames.material_frames``) and the
+    integrated twists theta_(k+1) - theta_k + ref_twist_k."""
+    n = len(theta)
+    e = np.empty((n, 3))
+    length = np.empty(n)
+    t = np.empty((n, 3))
+    for k in range(n):
+        for i in range(3):
+            e[k, i] = x[k + 1, i] - x[k, i]
+        length[k] = math.sqrt(e[k, 0] * e[k, 0] + e[k, 1] * e[k, 1] + e[k, 2] * e[k, 2])
+        for i in range(3):
+            t[k, i] = e[k, i] / length[k]
+    a1, ref = transport_frames(a1_old, t_old, t, ref_prev)
+    m1 = np.empty((n, 3))
+    m2 = np.empty((n, 3))
+    a2 = np.empty(3)
+    for k in range(n):
+        _cross3(t[k], a1[k], a2)
+        c = math.cos(theta[k])
+        s_ = math.sin(theta[k])
+        for i in range(3):
+            m1[k, i] = c * a1[k, i] + s_ * a2[i]
+            m2[k, i] = -s_ * a1[k, i] + c * a2[i]
+    twist = np.empty(n - 1)
+    for k in range(n - 1):
+        twist[k] = theta[k + 1] - theta[k] + ref[k]
+    return e, length, t, a1, ref, m1, m2, twist
