@@ -79,21 +79,33 @@ class ContactSampling:
     def interpolated(self) -> bool:
         return self.stencil is not None
 
+    def _cached(self, key, make):
+        """``make()`` computed once per sampling (a frozen dataclass: the cache lives outside its
+        fields); every Newton evaluation asks for these index arrays."""
+        cache = self.__dict__.setdefault("_cache", {})
+        if key not in cache:
+            cache[key] = make()
+        return cache[key]
+
     def end_edges(self, n_edges: int) -> np.ndarray:
-        return np.array([0, n_edges - 1]) if self.interpolated else np.arange(n_edges)
+        return self._cached(("end_edges", n_edges), lambda: np.array([0, n_edges - 1]) if self.interpolated
+                            else np.arange(n_edges))
 
     def end_sigma_rows(self, n_edges: int) -> np.ndarray:
         """Fractions along the edge of the end-edge points, one row per edge of :meth:`end_edges`."""
         if self.interpolated:
             return self.end_sigma
-        return np.ascontiguousarray(np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1])))
+        return self._cached(("end_sigma", n_edges), lambda: np.ascontiguousarray(
+            np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1]))))
 
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(side as bool, sigma, offsets) of the stencil points (empty without interpolation)."""
-        if self.stencil is None:
-            return np.zeros(0, bool), np.zeros(0), np.zeros((0, 2))
-        st = self.stencil
-        return st.side.astype(bool), np.asarray(st.sigma, float), np.ascontiguousarray(st.offsets, float)
+        def make():
+            if self.stencil is None:
+                return np.zeros(0, bool), np.zeros(0), np.zeros((0, 2))
+            st = self.stencil
+            return st.side.astype(bool), np.asarray(st.sigma, float), np.ascontiguousarray(st.offsets, float)
+        return self._cached("kernel_arrays", make)
 
 
 def sample_points(state: RodState, sampling: ContactSampling):
@@ -108,7 +120,8 @@ def sample_points(state: RodState, sampling: ContactSampling):
         side, sigma, offsets = sampling.kernel_arrays()
         out = kernels.sample_points(state.x, state.a1, geo.t, state.theta, geo.twist, geo.m1, geo.m2, side, sigma,
                                     offsets, sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                    np.ascontiguousarray(sampling.end_offsets, float))
+                                    sampling._cached("end_offsets", lambda: np.ascontiguousarray(sampling.end_offsets,
+                                                                                                 float)))
         cache[id(sampling)] = out
     return out
 

@@ -49,6 +49,9 @@ class StepOptions:
     min_dt: float = 1e-6  # [s]
     friction_iterations: int = 1  # >1: re-solve with the normal force of the new state
     predict: bool = True  # start Newton from the inertial prediction q_n + h qdot_n
+    # ... plus h^2 a_n, a_n = (qdot_n - qdot_(n-1))/dt_(n-1) the last step's mean acceleration (when known):
+    # a second-order guess of q_(n+1) for smooth motion (rolling), one Newton iteration fewer
+    extrapolate: bool = False
     newton: NewtonOptions = field(default_factory=NewtonOptions)
 
     def __post_init__(self):
@@ -172,7 +175,13 @@ class Integrator:
         many = self.options.friction_iterations > 1
         lag = friction_lag(rod, start, self.sampling, all_points=many) if use_friction else None
         iterations = 0
-        guess = start.moved(h * start.qdot()) if self.options.predict else start
+        guess = start
+        if self.options.predict:
+            dq = h * start.qdot()
+            acc = start.__dict__.get("_acceleration") if self.options.extrapolate else None
+            if acc is not None:
+                dq += h * h * acc
+            guess = start.moved(dq)
         result = None
         for _ in range(self.options.friction_iterations if use_friction else 1):
             potential = StepPotential(rod, start, h, self.assembly, self.sampling, lag)
@@ -198,6 +207,7 @@ class Integrator:
         new.v = qdot[node_dofs(n)]
         new.omega = qdot[4 * np.arange(n - 1) + 3]
         new.time = start.time + dt
+        new.__dict__["_acceleration"] = (qdot - qdot_n) / dt  # for the next step's extrapolated guess
         return new, result
 
     def _advance(self, start: RodState, dt: float, depth: int) -> tuple[RodState, int, int]:

@@ -250,7 +250,8 @@ class RibbonSimulation:
         newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
                                max_rotation=0.2, max_displacement=0.25 * g.thickness,
                                unchecked_step=1e-4 * g.thickness, lag_residual=num.lag_tol * weight)
-        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, newton=newton)
+        # extrapolated guess: rolling is smooth, and it saves ~0.5 Newton iterations per step (issue 17)
+        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, extrapolate=True, newton=newton)
         self.integrator = Integrator(self.rod, state, self.options, on_failure=on_failure)
         self.control = None
         if num.error_tolerance > 0:
