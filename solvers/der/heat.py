@@ -13,7 +13,7 @@ of size (w/n_w) x (t/n_t) x l stores heat rho c (w t/(n_w n_t)) l and exchanges 
 
 The coefficients are evaluated on the current geometry and the previous temperatures (radiation
 linearised there); the linear system is symmetric and banded (half-bandwidth n_w n_t) and is
-solved with ``scipy.linalg.solveh_banded``.
+solved by banded Cholesky (LAPACK dpbtrf/dpbtrs).
 """
 
 from __future__ import annotations
@@ -21,12 +21,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import solveh_banded
 
 from lcefem.models.contact import ContactLaw
 from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_film_coefficient
 from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
 from lcefem.models.rod import CORNER_SIGNS
+from lcefem.solvers.der.newton import banded_cholesky, banded_cholesky_solve
 
 
 @dataclass
@@ -179,6 +179,6 @@ class SectionHeat:
             diag[cols] += ga
             diag[cols + nc] += ga
         ab[0] = diag
-        T_new = solveh_banded(ab, rhs, lower=True, check_finite=False).reshape(n, nc)
+        T_new = banded_cholesky_solve(banded_cholesky(ab), rhs).reshape(n, nc)
         fluxes = HeatFluxes((G_g * (T_ground - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))
         return T_new, fluxes

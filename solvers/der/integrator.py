@@ -183,7 +183,8 @@ class Integrator:
                 dq += h * h * acc
             guess = start.moved(dq)
         result = None
-        for _ in range(self.options.friction_iterations if use_friction else 1):
+        passes = self.options.friction_iterations if use_friction else 1
+        for k in range(passes):
             potential = StepPotential(rod, start, h, self.assembly, self.sampling, lag)
             result = minimise(guess, rod.fixed, potential, self.options.newton)
             iterations += result.iterations
@@ -191,7 +192,7 @@ class Integrator:
                 result.iterations = iterations
                 return None, result
             guess = result.state
-            if use_friction:
+            if use_friction and k + 1 < passes:  # normal forces of the new state for the next pass
                 new = friction_lag(rod, guess, self.sampling)
                 lag = lag.with_normals_of(new)
         result.iterations = iterations

@@ -5,7 +5,7 @@ free dofs. Every iterate is reached from the solve's start by one displacement, 
 frames transported directly from the start's tangents, so the potential is one fixed smooth
 function of the dofs and its gradient and Hessian (with ``apply_source_change``) are exact:
 Newton converges quadratically. Each iteration solves H d = -g with
-``scipy.linalg.cholesky_banded``; if H is not positive definite a Levenberg shift lambda I is added
+LAPACK's banded Cholesky (dpbtrf); if H is not positive definite a Levenberg shift lambda I is added
 (grown tenfold until the factorisation succeeds; it shrinks again on later iterations). The step
 is scaled back by halving until the Armijo condition holds (with a round-off allowance near
 convergence). If an edge turns by more than ``resource_angle`` from the start (large static
@@ -18,7 +18,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import LinAlgError, cho_solve_banded, cholesky_banded
+from scipy.linalg import LinAlgError, lapack
 
 from lcefem.solvers.der.assembly import BANDWIDTH, Derivatives
 from lcefem.solvers.der.model import RodState, node_dofs, twist_dofs
@@ -77,6 +77,23 @@ class _FixedMask:
             band[0, self.fixed] = 1.0
 
 
+def banded_cholesky(band: np.ndarray) -> np.ndarray:
+    """Lower banded Cholesky factor (LAPACK dpbtrf, called directly: scipy's ``cholesky_banded``
+    wrapper costs as much as the factorisation at the rod's sizes)."""
+    factor, info = lapack.dpbtrf(band, lower=1)
+    if info != 0:
+        raise LinAlgError(f"banded Cholesky: LAPACK info {info} (not positive definite)")
+    return factor
+
+
+def banded_cholesky_solve(factor: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solution of L L^T x = rhs with the factor of :func:`cholesky_banded` (LAPACK dpbtrs)."""
+    x, info = lapack.dpbtrs(factor, rhs, lower=1)
+    if info != 0:
+        raise LinAlgError(f"banded Cholesky solve: LAPACK info {info}")
+    return x
+
+
 def factorise_banded_spd(band: np.ndarray, shift0: float, max_tries: int):
     """Cholesky factor of H + lambda I, lambda = 0 first, then growing from shift0; returns (factor, lambda)."""
     lam = 0.0
@@ -87,7 +104,7 @@ def factorise_banded_spd(band: np.ndarray, shift0: float, max_tries: int):
             if lam > 0.0:
                 shifted = band.copy()
                 shifted[0] += lam
-            return cholesky_banded(shifted, lower=True, check_finite=False), lam
+            return banded_cholesky(shifted), lam
         except (LinAlgError, ValueError):
             lam = max(shift0, 1e-10 * scale) if lam == 0.0 else lam * 10.0
     raise LinAlgError("Hessian not positive definite even with a shift")
@@ -96,7 +113,7 @@ def factorise_banded_spd(band: np.ndarray, shift0: float, max_tries: int):
 def solve_banded_spd(band: np.ndarray, rhs: np.ndarray, shift0: float, max_tries: int):
     """Solve (H + lambda I) d = rhs, lambda = 0 first, then growing from shift0; returns (d, lambda)."""
     factor, lam = factorise_banded_spd(band, shift0, max_tries)
-    return cho_solve_banded((factor, True), rhs, check_finite=False), lam
+    return banded_cholesky_solve(factor, rhs), lam
 
 
 def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, bool], Derivatives],
@@ -161,7 +178,7 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
         try:
             if d.band is not None:
                 factor, shift = factorise_banded_spd(d.band, max(shift * 0.1, 0.0), options.max_shift_tries)
-            step = cho_solve_banded((factor, True), -g, check_finite=False)
+            step = banded_cholesky_solve(factor, -g)
         except LinAlgError:
             return NewtonResult(state, False, it, residual, "singular Hessian")
         step[fixed] = 0.0
