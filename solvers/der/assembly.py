@@ -98,6 +98,10 @@ class ContactSampling:
         return self._cached(("end_sigma", n_edges), lambda: np.ascontiguousarray(
             np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1]))))
 
+    def end_offsets_array(self) -> np.ndarray:
+        """``end_offsets`` as a contiguous float array (for the kernels)."""
+        return self._cached("end_offsets", lambda: np.ascontiguousarray(self.end_offsets, float))
+
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(side as bool, sigma, offsets) of the stencil points (empty without interpolation)."""
         def make():
@@ -120,8 +124,7 @@ def sample_points(state: RodState, sampling: ContactSampling):
         side, sigma, offsets = sampling.kernel_arrays()
         out = kernels.sample_points(state.x, state.a1, geo.t, state.theta, geo.twist, geo.m1, geo.m2, side, sigma,
                                     offsets, sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                    sampling._cached("end_offsets", lambda: np.ascontiguousarray(sampling.end_offsets,
-                                                                                                 float)))
+                                    sampling.end_offsets_array())
         cache[id(sampling)] = out
     return out
 
