@@ -87,7 +87,7 @@ def banded_cholesky(band: np.ndarray) -> np.ndarray:
 
 
 def banded_cholesky_solve(factor: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Solution of L L^T x = rhs with the factor of :func:`cholesky_banded` (LAPACK dpbtrs)."""
+    """Solution of L L^T x = rhs with the factor of :func:`banded_cholesky` (LAPACK dpbtrs)."""
     x, info = lapack.dpbtrs(factor, rhs, lower=1)
     if info != 0:
         raise LinAlgError(f"banded Cholesky solve: LAPACK info {info}")
@@ -108,12 +108,6 @@ def factorise_banded_spd(band: np.ndarray, shift0: float, max_tries: int):
         except (LinAlgError, ValueError):
             lam = max(shift0, 1e-10 * scale) if lam == 0.0 else lam * 10.0
     raise LinAlgError("Hessian not positive definite even with a shift")
-
-
-def solve_banded_spd(band: np.ndarray, rhs: np.ndarray, shift0: float, max_tries: int):
-    """Solve (H + lambda I) d = rhs, lambda = 0 first, then growing from shift0; returns (d, lambda)."""
-    factor, lam = factorise_banded_spd(band, shift0, max_tries)
-    return banded_cholesky_solve(factor, rhs), lam
 
 
 def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, bool], Derivatives],
