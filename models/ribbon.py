@@ -33,6 +33,8 @@ Every length in mm, temperature in C, twist in rad/mm (the command line takes tu
 
 from __future__ import annotations
 
+import functools
+
 import math
 from dataclasses import dataclass
 
@@ -190,16 +192,27 @@ def natural_strains(cell_temperatures: np.ndarray, grid: SectionGrid,
     eigenstrain eps* = e0 - k y_i gives exactly kappa_bar_i = k).
     """
     T = np.asarray(cell_temperatures, float)
-    Pw, Pt, y1, y2, W = grid.quadrature_rule()
-    T_grid = T.reshape(T.shape[:-1] + (grid.n_width, grid.n_thickness))
-    T_pts = Pw @ T_grid @ Pt.T  # (..., n_width q, n_thickness q)
-    a = contraction_ratio(T_pts, transition)
-    eps = a - 1.0
-    area = W.sum()
-    axial = np.einsum("...ij,ij->...", eps, W) / area
-    k1 = -np.einsum("...ij,ij,i->...", eps, W, y1) / float(W.sum(axis=1) @ y1 ** 2)
-    k2 = -np.einsum("...ij,ij,j->...", eps, W, y2) / float(W.sum(axis=0) @ y2 ** 2)
-    return NaturalStrains(axial, np.stack([k1, k2], axis=-1), np.einsum("...ij,ij->...", a, W) / area)
+    interpolate, moments = _resultant_matrices(grid.width, grid.thickness, grid.n_width, grid.n_thickness,
+                                               grid.quadrature)
+    # Two matrix products (cells -> points, points -> resultants) instead of einsums: the rolling
+    # ribbon evaluates this once per time step on ~100 sections.
+    eps = contraction_ratio(T @ interpolate, transition) - 1.0  # (..., points)
+    r = eps @ moments  # (..., 3): <eps*>, kappa_bar_1, kappa_bar_2
+    return NaturalStrains(r[..., 0], np.ascontiguousarray(r[..., 1:]), 1.0 + r[..., 0])
+
+
+@functools.lru_cache(maxsize=16)
+def _resultant_matrices(width, thickness, n_width, n_thickness, q):
+    """Matrices of :func:`natural_strains`: cell values -> quadrature-point values (n_cells, points) and
+    point eigenstrains -> (mean, kappa_bar_1, kappa_bar_2) (points, 3), the Gauss weights W [mm^2]
+    divided by int dA, -int y1^2 dA and -int y2^2 dA."""
+    Pw, Pt, y1, y2, W = _section_rule(width, thickness, n_width, n_thickness, q)
+    interpolate = np.kron(Pw, Pt).T  # point (i, j) = sum Pw[i, iw] Pt[j, it] T[iw, it]
+    moments = np.stack([W / W.sum(), -W * y1[:, None] / float(W.sum(axis=1) @ y1 ** 2),
+                        -W * y2[None, :] / float(W.sum(axis=0) @ y2 ** 2)], axis=-1).reshape(-1, 3)
+    for m in (interpolate, moments):
+        m.flags.writeable = False
+    return interpolate, moments
 
 
 def natural_twist_rate(tau0: float, contraction, release: float = 2.0) -> np.ndarray:

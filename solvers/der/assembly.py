@@ -79,21 +79,37 @@ class ContactSampling:
     def interpolated(self) -> bool:
         return self.stencil is not None
 
+    def _cached(self, key, make):
+        """``make()`` computed once per sampling (a frozen dataclass: the cache lives outside its
+        fields); every Newton evaluation asks for these index arrays."""
+        cache = self.__dict__.setdefault("_cache", {})
+        if key not in cache:
+            cache[key] = make()
+        return cache[key]
+
     def end_edges(self, n_edges: int) -> np.ndarray:
-        return np.array([0, n_edges - 1]) if self.interpolated else np.arange(n_edges)
+        return self._cached(("end_edges", n_edges), lambda: np.array([0, n_edges - 1]) if self.interpolated
+                            else np.arange(n_edges))
 
     def end_sigma_rows(self, n_edges: int) -> np.ndarray:
         """Fractions along the edge of the end-edge points, one row per edge of :meth:`end_edges`."""
         if self.interpolated:
             return self.end_sigma
-        return np.ascontiguousarray(np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1])))
+        return self._cached(("end_sigma", n_edges), lambda: np.ascontiguousarray(
+            np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1]))))
+
+    def end_offsets_array(self) -> np.ndarray:
+        """``end_offsets`` as a contiguous float array (for the kernels)."""
+        return self._cached("end_offsets", lambda: np.ascontiguousarray(self.end_offsets, float))
 
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(side as bool, sigma, offsets) of the stencil points (empty without interpolation)."""
-        if self.stencil is None:
-            return np.zeros(0, bool), np.zeros(0), np.zeros((0, 2))
-        st = self.stencil
-        return st.side.astype(bool), np.asarray(st.sigma, float), np.ascontiguousarray(st.offsets, float)
+        def make():
+            if self.stencil is None:
+                return np.zeros(0, bool), np.zeros(0), np.zeros((0, 2))
+            st = self.stencil
+            return st.side.astype(bool), np.asarray(st.sigma, float), np.ascontiguousarray(st.offsets, float)
+        return self._cached("kernel_arrays", make)
 
 
 def sample_points(state: RodState, sampling: ContactSampling):
@@ -108,7 +124,7 @@ def sample_points(state: RodState, sampling: ContactSampling):
         side, sigma, offsets = sampling.kernel_arrays()
         out = kernels.sample_points(state.x, state.a1, geo.t, state.theta, geo.twist, geo.m1, geo.m2, side, sigma,
                                     offsets, sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                    np.ascontiguousarray(sampling.end_offsets, float))
+                                    sampling.end_offsets_array())
         cache[id(sampling)] = out
     return out
 
@@ -234,34 +250,53 @@ class Assembly:
         return ab
 
     # -- elastic energy ----------------------------------------------------------------------
-    def elastic(self, rod: DiscreteRod, state: RodState, order: int = 2):
+    def _outputs(self, order: int, out):
+        """The gradient and band arrays a kernel adds into: ``out`` = (grad, band) when given (band
+        may be None below order 2), else new zero arrays."""
+        if out is not None:
+            grad, band = out
+            return grad, (band if order >= 2 else self._no_band), True
+        grad = np.zeros(self.ndof)
+        band = np.zeros((BANDWIDTH + 1, self.ndof)) if order >= 2 else self._no_band
+        return grad, band, False
+
+    def elastic(self, rod: DiscreteRod, state: RodState, order: int = 2, out=None):
         """Stretching, bending and twisting (compiled element loops, :func:`kernels.elastic`).
 
+        Args:
+            out: optional (grad (4N-1,), band (11, 4N-1) or None) to add the derivatives into.
+
         Returns:
-            (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`)
+            (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`); with ``out`` the
+            derivatives are in ``out`` and (energy, None, []) is returned.
         """
         sec = rod.section
         rest = rod.rest
         geo = state.geometry()
         change = source_change(state) if order >= 1 else None
         db, ddb = change if change is not None else (self._no_db, self._no_ddb)
-        grad = np.zeros(self.ndof)
-        band = np.zeros((BANDWIDTH + 1, self.ndof)) if order >= 2 else self._no_band
+        grad, band, given = self._outputs(order, out)
         energy = kernels.elastic(state.x, geo.m1, geo.m2, geo.twist, rest.edge_length, rest.curvature, rest.twist,
                                  rest.voronoi_length, float(sec.EA), float(sec.EI1), float(sec.EI2),
                                  float(sec.GJ), db, ddb, change is not None, order >= 2, grad, band)
+        if given:
+            return energy, None, []
         return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])
 
     # -- contact and friction ----------------------------------------------------------------
     def contact(self, rod: DiscreteRod, state: RodState, sampling: ContactSampling, order: int = 2,
-                friction: FrictionLag | None = None, step: float = 0.0):
+                friction: FrictionLag | None = None, step: float = 0.0, out=None):
         """Contact potential k E(gap) of the sample points with the ground and the obstacles, plus
         (when ``friction`` is given) the friction potential over a step of length ``step`` [s]
         (compiled: :func:`kernels.contact`). Only the points within reach of a plane (or carrying a
         lagged friction force on it) are differentiated.
 
+        Args:
+            out: as in :meth:`elastic`.
+
         Returns:
-            (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`)
+            (energy, gradient (4N-1,) or None, Hessian terms for :meth:`band`); with ``out``
+            (energy, None, []).
         """
         if not rod.has_contact:
             return 0.0, None, []
@@ -273,8 +308,7 @@ class Assembly:
         n_edges = len(geo.t)
         pos_s, r_s, pos_e, r_e = sample_points(state, sampling)
         side, sigma, _ = sampling.kernel_arrays()
-        grad = np.zeros(self.ndof)
-        band = np.zeros((BANDWIDTH + 1, self.ndof)) if order >= 2 else self._no_band
+        grad, band, given = self._outputs(order, out)
         energy = 0.0
         if fric and len(friction.obstacles) != len(rod.obstacles):
             raise ValueError(f"friction lag has {len(friction.obstacles)} obstacles, the rod {len(rod.obstacles)}")
@@ -294,6 +328,8 @@ class Assembly:
                                       float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
                                       lag_ne, lag_pe, float(mu), float(K2), float(step), db, ddb,
                                       change is not None, order, grad, band)
+        if given:
+            return energy, None, []
         return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])
 
 
@@ -303,10 +339,12 @@ def source_change(state: RodState):
     src = state.source_tangents
     if src is None:
         return None
+    if "_source_change" in state.__dict__:  # computed once per state (elastic and contact both need it)
+        return state.__dict__["_source_change"]
     geo = state.geometry()
-    if np.max(np.abs(src - geo.t)) == 0.0:
-        return None
-    return kernels.source_change(src, geo.t, geo.length)
+    out = None if np.max(np.abs(src - geo.t)) == 0.0 else kernels.source_change(src, geo.t, geo.length)
+    state.__dict__["_source_change"] = out
+    return out
 
 
 def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:

@@ -118,9 +118,9 @@ def _source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, o
     slots (node a start, theta index, node b start), db (n_slots, 3), ddb (n_slots, 3, 3)."""
     m = g_loc.shape[0]
     ns = len(slot_a)
-    g_theta = np.empty(ns)
-    for s in range(ns):
-        g_theta[s] = g_loc[slot_t[s]]
+    # the angle gradients of the (at most two) slots, held as scalars (no allocation per element)
+    g_t0 = g_loc[slot_t[0]]
+    g_t1 = g_loc[slot_t[1]] if ns > 1 else 0.0
     if with_hessian:
         # W = I + D, D nonzero only in the angle rows t_s: W^T H W = H + H D + (H D)^T + D^T H D.
         W[:, :] = 0.0  # rows of D (W[s] = D[t_s, :])
@@ -152,16 +152,17 @@ def _source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, o
             a, b = slot_a[s], slot_b[s]
             for i in range(3):
                 for j in range(3):
-                    blk = g_theta[s] * ddb[s, i, j]
+                    blk = (g_t0 if s == 0 else g_t1) * ddb[s, i, j]
                     out[a + i, a + j] += blk
                     out[b + i, b + j] += blk
                     out[a + i, b + j] -= blk
                     out[b + i, a + j] -= blk
         H_loc[:, :] = out
     for s in range(ns):
+        g_ts = g_t0 if s == 0 else g_t1
         for c in range(3):
-            g_loc[slot_a[s] + c] -= g_theta[s] * db[s, c]
-            g_loc[slot_b[s] + c] += g_theta[s] * db[s, c]
+            g_loc[slot_a[s] + c] -= g_ts * db[s, c]
+            g_loc[slot_b[s] + c] += g_ts * db[s, c]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -205,13 +206,14 @@ def source_change(source, t, length):
 # Elastic energy: stretching of edges, bending and twisting of interior nodes
 # ----------------------------------------------------------------------------------------------
 @njit(cache=True)
-def _twist_hessian_ef(te, tf, le, lf, kb, out):
-    """out (6, 6) = ``models.rod.twist_hessian_ef`` of one stencil."""
+def _twist_hessian_ef(te, tf, le, lf, kb, out, w33):
+    """out (6, 6) = ``models.rod.twist_hessian_ef`` of one stencil; w33 (6, 3, 3) scratch."""
     chi = 1.0 + _dot3(te, tf)
-    tt_diag = np.empty((3, 3))
-    tt_off = np.zeros((3, 3))
-    pe = np.empty((3, 3))
-    pf = np.empty((3, 3))
+    tt_diag = w33[0]
+    tt_off = w33[1]
+    pe = w33[2]
+    pf = w33[3]
+    tt_off[:, :] = 0.0
     for i in range(3):
         for j in range(3):
             tt_diag[i, j] = (kb[i] * (te[j] + tf[j]) + (te[i] + tf[i]) * kb[j]) / (4.0 * chi)
@@ -220,8 +222,8 @@ def _twist_hessian_ef(te, tf, le, lf, kb, out):
             pe[i, j] = (d - te[i] * te[j]) / le
             pf[i, j] = (d - tf[i] * tf[j]) / lf
     _skew_into(te, tt_off, 0, 0, -1.0 / chi)
-    t1 = np.empty((3, 3))
-    t2 = np.empty((3, 3))
+    t1 = w33[4]
+    t2 = w33[5]
     _matmul(pe, tt_diag, t1)
     _matmul(t1, pe, t2)
     for i in range(3):
@@ -241,36 +243,50 @@ def _twist_hessian_ef(te, tf, le, lf, kb, out):
 
 
 @njit(cache=True)
+def _element_scratch():
+    """Scratch arrays of the element functions (:func:`_bend_twist_element`, :func:`_stencil_point_element`),
+    allocated once per kernel call: (v3 (12, 3), v6 (5, 6), v8 (4, 8), m36 (2, 3, 6), m66 (4, 6, 6),
+    w33 (6, 3, 3))."""
+    return (np.zeros((12, 3)), np.zeros((5, 6)), np.zeros((4, 8)), np.zeros((2, 3, 6)), np.zeros((4, 6, 6)),
+            np.zeros((6, 3, 3)))
+
+
+@njit(cache=True)
 def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv_l, EI1, EI2, GJ,
-                        grad, hess, with_hessian):
+                        grad, hess, with_hessian, ws):
     """``models.rod.bend_twist`` of one interior node: energy; gradient (8,) and Hessian (8, 8) in
-    (e, f, theta_e, theta_f) written into grad, hess."""
+    (e, f, theta_e, theta_f) written into grad, hess; ``ws`` the scratch of :func:`_element_scratch`
+    (no allocation per element: at ~100 nodes the allocations cost as much as the arithmetic)."""
+    v3, v6, v8, m36, m66, w33 = ws
+    te, tf, nv, kb, M1, M2, w, ue, uf, me, mf = v3[0], v3[1], v3[2], v3[3], v3[4], v3[5], v3[6], v3[7], v3[8], \
+        v3[9], v3[10]
+    dD, dnw, jte, jtf = v6[0], v6[1], v6[2], v6[3]
+    g1, g2, gt = v8[0], v8[1], v8[2]
+    dn, jac = m36[0], m36[1]
+    h6, ddD, blk, th = m66[0], m66[1], m66[2], m66[3]
     le = math.sqrt(_dot3(e, e))
     lf = math.sqrt(_dot3(f, f))
-    te = e / le
-    tf = f / lf
-    nv = np.empty(3)
+    for i in range(3):
+        te[i] = e[i] / le
+        tf[i] = f[i] / lf
     _cross3(e, f, nv)
     D = le * lf + _dot3(e, f)
-    kb = 2.0 * nv / D
-    dn = np.zeros((3, 6))
+    for i in range(3):
+        kb[i] = 2.0 * nv[i] / D
+    dn[:, :] = 0.0
     _skew_into(f, dn, 0, 0, -1.0)
     _skew_into(e, dn, 0, 3, 1.0)
-    dD = np.empty(6)
     for i in range(3):
         dD[i] = lf * te[i] + f[i]
         dD[3 + i] = le * tf[i] + e[i]
-    jac = np.empty((3, 6))
     for c in range(3):
         for i in range(6):
             jac[c, i] = 2.0 * (dn[c, i] / D - nv[c] * dD[i] / (D * D))
-    M1 = m1e + m1f
-    M2 = m2e + m2f
+    for i in range(3):
+        M1[i] = m1e[i] + m1f[i]
+        M2[i] = m2e[i] + m2f[i]
     k1 = 0.5 * _dot3(kb, M2)
     k2 = -0.5 * _dot3(kb, M1)
-    g1 = np.zeros(8)
-    g2 = np.zeros(8)
-    gt = np.zeros(8)
     for i in range(6):
         s1 = 0.0
         s2 = 0.0
@@ -301,16 +317,16 @@ def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv
         return energy
     hess[:, :] = 0.0
     # kb_hess(w), w = 1/2 (c1 M2 - c2 M1)
-    w = 0.5 * (c1 * M2 - c2 * M1)
+    for i in range(3):
+        w[i] = 0.5 * (c1 * M2[i] - c2 * M1[i])
     wn = _dot3(w, nv)
-    dnw = np.zeros(6)
+    dnw[:] = 0.0
     for i in range(6):
         for c in range(3):
             dnw[i] += w[c] * dn[c, i]
-    h6 = np.zeros((6, 6))
+    h6[:, :] = 0.0
     _skew_into(w, h6, 0, 3, -1.0)
     _skew_into(w, h6, 3, 0, 1.0)
-    ddD = np.zeros((6, 6))
     for i in range(3):
         for j in range(3):
             d = 1.0 if i == j else 0.0
@@ -326,12 +342,11 @@ def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv
             v -= (wn / (D * D)) * ddD[i, j]
             hess[i, j] = 2.0 * v
     # cross terms kb x frame
-    ue = 0.5 * (-c1 * m1e - c2 * m2e)
-    uf = 0.5 * (-c1 * m1f - c2 * m2f)
-    me = 0.5 * (c1 * m2e - c2 * m1e)
-    mf = 0.5 * (c1 * m2f - c2 * m1f)
-    jte = np.zeros(6)
-    jtf = np.zeros(6)
+    for i in range(3):
+        ue[i] = 0.5 * (-c1 * m1e[i] - c2 * m2e[i])
+        uf[i] = 0.5 * (-c1 * m1f[i] - c2 * m2f[i])
+        me[i] = 0.5 * (c1 * m2e[i] - c2 * m1e[i])
+        mf[i] = 0.5 * (c1 * m2f[i] - c2 * m1f[i])
     for i in range(6):
         x0 = 0.0
         x1 = 0.0
@@ -348,7 +363,7 @@ def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv
         hess[7, i] += x1
         jte[i] = y0
         jtf[i] = y1
-    blk = np.zeros((6, 6))
+    blk[:, :] = 0.0
     for i in range(6):
         for j in range(3):
             blk[i, j] -= jte[i] * me[j] / le
@@ -362,8 +377,7 @@ def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv
             hess[3 + i, 3 + j] += -0.5 * (mf[i] * kb[j] + kb[i] * mf[j]) / (lf * lf)
     hess[6, 6] += -_dot3(kb, me)
     hess[7, 7] += -_dot3(kb, mf)
-    th = np.empty((6, 6))
-    _twist_hessian_ef(te, tf, le, lf, kb, th)
+    _twist_hessian_ef(te, tf, le, lf, kb, th, w33)
     for i in range(6):
         for j in range(6):
             hess[i, j] += ct * th[i, j]
@@ -390,10 +404,16 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
     g7 = np.zeros(7)
     h7 = np.zeros((7, 7))
     tt = np.empty((3, 3))
+    e = np.empty(3)
+    f = np.empty(3)
+    t = np.empty(3)
+    ws = _element_scratch()
     for k in range(n_edges):
-        e = x[k + 1] - x[k]
+        for i in range(3):
+            e[i] = x[k + 1, i] - x[k, i]
         length = math.sqrt(_dot3(e, e))
-        t = e / length
+        for i in range(3):
+            t[i] = e[i] / length
         strain = length / rest_length[k] - 1.0
         energy += 0.5 * EA * strain * strain * rest_length[k]
         gs = EA * strain
@@ -427,11 +447,12 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
     dbs = np.empty((2, 3))
     ddbs = np.empty((2, 3, 3))
     for k in range(n_edges - 1):
-        e = x[k + 1] - x[k]
-        f = x[k + 2] - x[k + 1]
+        for i in range(3):
+            e[i] = x[k + 1, i] - x[k, i]
+            f[i] = x[k + 2, i] - x[k + 1, i]
         energy += _bend_twist_element(e, f, m1[k], m2[k], m1[k + 1], m2[k + 1], twist[k], kappa_bar[k, 0],
                                       kappa_bar[k, 1], twist_bar[k], 1.0 / voronoi[k], EI1, EI2, GJ,
-                                      g8, h8, with_hessian)
+                                      g8, h8, with_hessian, ws)
         g11[:] = 0.0
         for i in range(8):
             for p in range(2):
@@ -452,27 +473,30 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
 # Contact and friction of the sample points between sections (models.rod.StencilPoints)
 # ----------------------------------------------------------------------------------------------
 @njit(cache=True)
-def _stencil_point_element(e, f, r, t, side, sigma, g, jac, h11, hv, jv, tmp, with_hessian):
+def _stencil_point_element(e, f, r, t, side, sigma, g, jac, h11, hv, jv, tmp, with_hessian, ws):
     """``models.rod.stencil_point_derivatives`` of one point: jac (3, 11) and (with_hessian) the
-    Hessian h11 (11, 11) of g . point, frames transported from the current state."""
+    Hessian h11 (11, 11) of g . point, frames transported from the current state; ``ws`` the
+    scratch of :func:`_element_scratch`."""
+    v3, v6, v8, m36, m66, w33 = ws
+    te, tf, kb, tr, pg = v3[0], v3[1], v3[2], v3[3], v3[4]
+    dth, cross_v = v8[0], v8[1]
+    th = m66[0]
     le = math.sqrt(_dot3(e, e))
     lf = math.sqrt(_dot3(f, f))
-    te = e / le
-    tf = f / lf
-    kb = np.empty(3)
+    for i in range(3):
+        te[i] = e[i] / le
+        tf[i] = f[i] / lf
     _cross3(e, f, kb)
     D = le * lf + _dot3(e, f)
     for i in range(3):
         kb[i] = 2.0 * kb[i] / D
     cm = sigma - 0.5
-    dth = np.empty(8)
     for i in range(3):
         dth[i] = cm / (2.0 * le) * kb[i]
         dth[3 + i] = cm / (2.0 * lf) * kb[i]
     dth[6] = -cm if side else 1.0 - cm
     dth[7] = 1.0 + cm if side else cm
     length = lf if side else le
-    tr = np.empty(3)
     _cross3(t, r, tr)
     off = 3 if side else 0
     for i in range(3):
@@ -491,21 +515,21 @@ def _stencil_point_element(e, f, r, t, side, sigma, g, jac, h11, hv, jv, tmp, wi
     if not with_hessian:
         return
     gt = _dot3(g, t)
-    pg = g - gt * t
+    for i in range(3):
+        pg[i] = g[i] - gt * t[i]
     inv_l2 = 1.0 / (length * length)
     hv[:, :] = 0.0
     for i in range(3):
         for j in range(3):
             hv[off + i, off + j] = (gt * (r[i] * t[j] + t[i] * r[j]) - 0.5 * (r[i] * pg[j] + pg[i] * r[j])) * inv_l2
-    cross_v = np.zeros(8)
+    cross_v[:] = 0.0
     for i in range(3):
         cross_v[off + i] = -(gt / length) * tr[i]
     gr = _dot3(g, r)
     for i in range(8):
         for j in range(8):
             hv[i, j] += cross_v[i] * dth[j] + dth[i] * cross_v[j] - gr * dth[i] * dth[j]
-    th = np.empty((6, 6))
-    _twist_hessian_ef(te, tf, le, lf, kb, th)
+    _twist_hessian_ef(te, tf, le, lf, kb, th, w33)
     c = _dot3(g, tr) * cm
     for i in range(6):
         for j in range(6):
@@ -582,11 +606,12 @@ def normal_force(gap, clearance, delta, K1, stiffness):
 
 
 @njit(cache=True)
-def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian):
+def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian, w):
     """``models.contact.friction_potential`` of one point: energy; dD/du into grad (3,), d2D/du2
-    into hess (3, 3)."""
+    into hess (3, 3); w (3,) scratch."""
     un = _dot3(u, normal)
-    w = u - un * normal
+    for i in range(3):
+        w[i] = u[i] - un * normal[i]
     v = math.sqrt(_dot3(w, w)) / h
     a = 0.5 * K2
     z = a * v
@@ -611,10 +636,9 @@ def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian):
 
 
 @njit(cache=True)
-def _section_point_element(t, length, r, sig, g, jac, h7):
+def _section_point_element(t, length, r, sig, g, jac, h7, tr):
     """``models.rod.section_point_derivatives`` of one point (edge's own frame): jac (3, 7) and the
-    Hessian h7 (7, 7) of g . point, dofs (x0, theta, x1)."""
-    tr = np.empty(3)
+    Hessian h7 (7, 7) of g . point, dofs (x0, theta, x1); tr (3,) scratch."""
     _cross3(t, r, tr)
     for i in range(3):
         for j in range(7):
@@ -689,12 +713,25 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
     e_b = np.array([4])
     db1 = np.empty((1, 3))
     ddb1 = np.empty((1, 3, 3))
+    ws = _element_scratch()
+    e = np.empty(3)
+    f = np.empty(3)
+    w3 = np.empty(3)
+    acc_g11 = np.empty(11)
+    acc_h11 = np.empty((11, 11))
+    acc_g7 = np.empty(7)
+    acc_h7 = np.empty((7, 7))
     for kind in range(2):
         pos = pos_s if kind == 0 else pos_e
         rr = r_s if kind == 0 else r_e
         lag_n = lag_ns if kind == 0 else lag_ne
         lag_p = lag_ps if kind == 0 else lag_pe
+        # The points of one element (a stencil, or an end edge) are summed first, then the source
+        # change (linear in gradient and Hessian) and the scatter are done once per element.
+        acc_g = acc_g11 if kind == 0 else acc_g7
+        acc_h = acc_h11 if kind == 0 else acc_h7
         for row in range(pos.shape[0]):
+            active = False
             for j in range(pos.shape[1]):
                 p = pos[row, j]
                 gap = _dot3(p, normal) - height
@@ -706,41 +743,65 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                 if fn > 0.0:
                     for i in range(3):
                         u[i] = p[i] - lag_p[row, j, i]
-                    energy += _friction(u, normal, fn, h, mu, K2, gD, hD, with_hessian)
+                    energy += _friction(u, normal, fn, h, mu, K2, gD, hD, with_hessian, w3)
                 else:
                     gD[:] = 0.0
                     hD[:, :] = 0.0
                 if order == 0:
                     continue
+                if not active:
+                    active = True
+                    acc_g[:] = 0.0
+                    if with_hessian:
+                        acc_h[:, :] = 0.0
                 for i in range(3):
                     g_pt[i] = stiffness * d1 * normal[i] + gD[i]
                 cc = stiffness * d2
                 if kind == 0:
                     k = row
                     edge = k + (1 if side[j] else 0)
-                    e = x[k + 1] - x[k]
-                    f = x[k + 2] - x[k + 1]
+                    for i in range(3):
+                        e[i] = x[k + 1, i] - x[k, i]
+                        f[i] = x[k + 2, i] - x[k + 1, i]
                     _stencil_point_element(e, f, rr[row, j], t[edge], side[j], sigma[j], g_pt, jac, h11, hv, jv,
-                                           tmp8, with_hessian)
+                                           tmp8, with_hessian, ws)
                     _chain_point(jac, h11, g_pt, cc, normal, hD, g11, with_hessian)
-                    if with_source:
-                        dbs[0] = db[k]
-                        dbs[1] = db[k + 1]
-                        ddbs[0] = ddb[k]
-                        ddbs[1] = ddb[k + 1]
-                        _source_change_into(g11, h11, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11,
-                                            with_hessian)
-                    _scatter(4 * k, g11, h11, grad, band, with_hessian)
+                    _accumulate(g11, h11, acc_g, acc_h, with_hessian)
                 else:
                     edge = end_ids[row]
-                    _section_point_element(t[edge], length[edge], rr[row, j], end_sigma[row, j], g_pt, jac7, h7)
+                    _section_point_element(t[edge], length[edge], rr[row, j], end_sigma[row, j], g_pt, jac7, h7, w3)
                     _chain_point(jac7, h7, g_pt, cc, normal, hD, g7, with_hessian)
-                    if with_source:
-                        db1[0] = db[edge]
-                        ddb1[0] = ddb[edge]
-                        _source_change_into(g7, h7, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian)
-                    _scatter(4 * edge, g7, h7, grad, band, with_hessian)
+                    _accumulate(g7, h7, acc_g, acc_h, with_hessian)
+            if not active:
+                continue
+            if kind == 0:
+                k = row
+                if with_source:
+                    dbs[0] = db[k]
+                    dbs[1] = db[k + 1]
+                    ddbs[0] = ddb[k]
+                    ddbs[1] = ddb[k + 1]
+                    _source_change_into(acc_g, acc_h, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11,
+                                        with_hessian)
+                _scatter(4 * k, acc_g, acc_h, grad, band, with_hessian)
+            else:
+                edge = end_ids[row]
+                if with_source:
+                    db1[0] = db[edge]
+                    ddb1[0] = ddb[edge]
+                    _source_change_into(acc_g, acc_h, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian)
+                _scatter(4 * edge, acc_g, acc_h, grad, band, with_hessian)
     return energy
+
+
+@njit(cache=True)
+def _accumulate(g_loc, h_loc, acc_g, acc_h, with_hessian):
+    for i in range(g_loc.shape[0]):
+        acc_g[i] += g_loc[i]
+    if with_hessian:
+        for i in range(g_loc.shape[0]):
+            for j in range(g_loc.shape[0]):
+                acc_h[i, j] += h_loc[i, j]
 
 
 @njit(cache=True)
@@ -765,11 +826,9 @@ def _chain_point(jac, hloc, g_pt, cc, normal, hD, g_loc, with_hessian):
 # Time-parallel transport of the reference frames (solvers.der.frames)
 # ----------------------------------------------------------------------------------------------
 @njit(cache=True)
-def _parallel_transport(u, t_from, t_to, out):
-    """``models.rod.parallel_transport`` of one vector."""
-    v = np.empty(3)
-    vu = np.empty(3)
-    vvu = np.empty(3)
+def _parallel_transport(u, t_from, t_to, out, w3):
+    """``models.rod.parallel_transport`` of one vector; w3 (3, 3) scratch."""
+    v, vu, vvu = w3[0], w3[1], w3[2]
     _cross3(t_from, t_to, v)
     c = _dot3(t_from, t_to)
     _cross3(v, u, vu)
@@ -786,8 +845,9 @@ def transport_frames(a1, t_old, t_new, ref_prev):
     n = len(t_new)
     out = np.empty((n, 3))
     p = np.empty(3)
+    w3 = np.empty((3, 3))
     for k in range(n):
-        _parallel_transport(a1[k], t_old[k], t_new[k], p)
+        _parallel_transport(a1[k], t_old[k], t_new[k], p, w3)
         pt = _dot3(p, t_new[k])
         for i in range(3):
             p[i] -= pt * t_new[k, i]
@@ -797,9 +857,43 @@ def transport_frames(a1, t_old, t_new, ref_prev):
     ref = np.empty(n - 1)
     cr = np.empty(3)
     for k in range(n - 1):
-        _parallel_transport(out[k], t_new[k], t_new[k + 1], p)
+        _parallel_transport(out[k], t_new[k], t_new[k + 1], p, w3)
         _cross3(p, out[k + 1], cr)
         angle = math.atan2(_dot3(cr, t_new[k + 1]), _dot3(p, out[k + 1]))
         d = angle - ref_prev[k]
         ref[k] = ref_prev[k] + math.atan2(math.sin(d), math.cos(d))
     return out, ref
+
+
+@njit(cache=True)
+def moved_geometry(x, theta, a1_old, t_old, ref_prev):
+    """Everything a displaced state needs, in one pass (``model.RodState.moved`` and ``geometry``):
+    edges e, lengths, unit tangents t, reference directors a1 transported in time from t_old (and
+    the reference twist continued from ref_prev, :func:`transport_frames`), material frames
+    m1 = cos(theta) a1 + sin(theta) t x a1, m2 = t x m1 (``frames.material_frames``) and the
+    integrated twists theta_(k+1) - theta_k + ref_twist_k."""
+    n = len(theta)
+    e = np.empty((n, 3))
+    length = np.empty(n)
+    t = np.empty((n, 3))
+    for k in range(n):
+        for i in range(3):
+            e[k, i] = x[k + 1, i] - x[k, i]
+        length[k] = math.sqrt(e[k, 0] * e[k, 0] + e[k, 1] * e[k, 1] + e[k, 2] * e[k, 2])
+        for i in range(3):
+            t[k, i] = e[k, i] / length[k]
+    a1, ref = transport_frames(a1_old, t_old, t, ref_prev)
+    m1 = np.empty((n, 3))
+    m2 = np.empty((n, 3))
+    a2 = np.empty(3)
+    for k in range(n):
+        _cross3(t[k], a1[k], a2)
+        c = math.cos(theta[k])
+        s_ = math.sin(theta[k])
+        for i in range(3):
+            m1[k, i] = c * a1[k, i] + s_ * a2[i]
+            m2[k, i] = -s_ * a1[k, i] + c * a2[i]
+    twist = np.empty(n - 1)
+    for k in range(n - 1):
+        twist[k] = theta[k + 1] - theta[k] + ref[k]
+    return e, length, t, a1, ref, m1, m2, twist

@@ -99,8 +99,14 @@ class Ground:
     height: float = 0.0
 
     def unit_normal(self) -> np.ndarray:
-        n = np.asarray(self.normal, float)
-        return n / np.linalg.norm(n)
+        """The plane's unit normal (computed once; read-only)."""
+        n = self.__dict__.get("_unit_normal")
+        if n is None:
+            n = np.asarray(self.normal, float)
+            n = n / np.linalg.norm(n)
+            n.flags.writeable = False
+            self.__dict__["_unit_normal"] = n  # frozen dataclass: cache outside its fields
+        return n
 
 
 @dataclass
@@ -286,7 +292,8 @@ class RodState:
         x = self.x + dq[node_dofs(n)]
         theta = self.theta + dq[twist_dofs(n)]
         t_old = self.tangents
-        e = x[1:] - x[:-1]
-        t_new = e / np.sqrt(np.einsum("ki,ki->k", e, e))[:, None]
-        a1, ref = kernels.transport_frames(self.a1, t_old, t_new, self.ref_twist)
-        return RodState(x, theta, self.v.copy(), self.omega.copy(), a1, ref, self.time, t_old)
+        # frames, tangents and twists in one compiled pass (a Newton iterate is a moved state)
+        e, length, t_new, a1, ref, m1, m2, twist = kernels.moved_geometry(x, theta, self.a1, t_old, self.ref_twist)
+        out = RodState(x, theta, self.v.copy(), self.omega.copy(), a1, ref, self.time, t_old)
+        out.__dict__["_geometry"] = Geometry(e, length, t_new, m1, m2, twist)
+        return out

@@ -174,3 +174,23 @@ def test_compiled_normal_force_equals_numpy():
     ref = normal_force(gap, law)
     got = kernels.normal_force(gap, law.clearance, law.delta, law.K1, law.stiffness)
     assert np.max(np.abs(got - ref)) <= TOL * np.max(np.abs(ref))
+
+
+def test_moved_state_geometry_equals_numpy():
+    """RodState.moved's one compiled pass (kernels.moved_geometry) gives the tangents, transported
+    directors, material frames and twists of the numpy formulas (frames.py)."""
+    from lcefem.solvers.der import frames as fr
+    rng = np.random.default_rng(19)
+    n = 9
+    state = ribbon_state(n, rng)
+    moved = state.moved(0.05 * rng.standard_normal(4 * n - 1))
+    geo = moved.geometry()  # set by moved()
+    e = np.diff(moved.x, axis=0)
+    t = e / np.linalg.norm(e, axis=1)[:, None]
+    a1 = fr.transport_directors(state.a1, state.tangents, t)
+    ref = fr.reference_twist(a1, t, state.ref_twist)
+    m1, m2 = fr.material_frames(a1, t, moved.theta)
+    assert np.max(np.abs(geo.t - t)) <= TOL
+    assert np.max(np.abs(moved.a1 - a1)) <= TOL and np.max(np.abs(moved.ref_twist - ref)) <= TOL
+    assert np.max(np.abs(geo.m1 - m1)) <= TOL and np.max(np.abs(geo.m2 - m2)) <= TOL
+    assert np.max(np.abs(geo.twist - (np.diff(moved.theta) + ref))) <= TOL
