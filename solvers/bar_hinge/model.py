@@ -25,6 +25,7 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure, panel_dimension
 from lcefem.models import bar_hinge as law
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import OgdenLaw
+from lcefem.solvers.bar_hinge.ldl import SymbolicLDL
 
 #: Bar groups that are LCE strips (tension-only Ogden bars with a rest length).
 STRIP_GROUPS = ("bottom_strips", "top_strips")
@@ -415,6 +416,14 @@ class ReducedHessian:
         on = self._indices == unique // n
         diag[self._indices[on]] = np.flatnonzero(on)
         self._diagonal = diag
+        self._ldl = None
+
+    @property
+    def ldl(self) -> SymbolicLDL:
+        """The symbolic LDL^T of this pattern (ordering, elimination tree), built on first use."""
+        if self._ldl is None:
+            self._ldl = SymbolicLDL(self._indices, self._indptr, self.n)
+        return self._ldl
 
     def matrix(self, coo_values: np.ndarray) -> sp.csc_matrix:
         data = self._scatter @ coo_values
