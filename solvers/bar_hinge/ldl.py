@@ -170,8 +170,12 @@ class NumericLDL:
         self.symbolic, self._li, self._lx, self.pivots, self._dinv = symbolic, li, lx, d, dinv
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """The solution of K x = rhs, rhs (n,) or (n, k) (one solve per column)."""
         s = self.symbolic
-        x = np.empty(s.n)
-        x[s.perm] = rhs
-        _solve(s.n, s.lp, self._li, self._lx, self._dinv, x)
-        return x[s.perm]
+        rhs = np.asarray(rhs, dtype=float)
+        columns = rhs.reshape(s.n, -1).T  # (k, n)
+        x = np.empty(columns.shape)
+        x[:, s.perm] = columns
+        for column in x:  # rows of a C-ordered array: contiguous
+            _solve(s.n, s.lp, self._li, self._lx, self._dinv, column)
+        return x[:, s.perm].T.reshape(rhs.shape)

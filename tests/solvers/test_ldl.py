@@ -28,6 +28,8 @@ def test_ldl_solve_and_inertia_match_dense(shift):
     rhs = np.linspace(-1.0, 2.0, k.shape[0])
     x = factors.solve(rhs)
     assert np.linalg.norm(k @ x - rhs) <= 1e-10 * np.linalg.norm(rhs) * np.max(np.abs(1 / eig))
+    both = factors.solve(np.column_stack([rhs, 2.0 * rhs]))  # several right-hand sides at once
+    assert np.array_equal(both[:, 0], x) and np.allclose(both[:, 1], 2.0 * x, rtol=1e-14, atol=0)
     # A shift mu I on the diagonal makes it positive definite.
     mu = 1.0 - min(eig.min(), 0.0)
     shifted, negative, _ = _factorize(k, shift=mu, ldl=symbolic)
