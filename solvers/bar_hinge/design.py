@@ -188,7 +188,7 @@ class EquilibriumMap:
         model, params = self.model, self.params
         _, _, coo = model.evaluate(x)
         kmat = self.reduced.matrix(coo)
-        lu = _factorize(kmat, self.reduced.diagonal(kmat))[0]
+        lu = _factorize(kmat, self.reduced.diagonal(kmat), ldl=self.reduced.ldl)[0]
         sens = model.rest_fraction_sensitivity(x)
         rhs = np.zeros((model.ndof, params.size))
         for g, (dofs, values) in sens.items():

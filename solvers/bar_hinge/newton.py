@@ -30,6 +30,7 @@ import scipy.sparse.linalg as sla
 
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.parameters import check, param
+from lcefem.solvers.bar_hinge.ldl import SymbolicLDL
 from lcefem.solvers.bar_hinge.model import BarHingeModel, ReducedHessian
 
 
@@ -119,33 +120,43 @@ class PathResult:
 ZERO_PIVOT = 1e-12
 
 
-def _factorize(matrix: sp.csc_matrix, diagonal: np.ndarray | None = None):
-    """Symmetric-mode SuperLU; returns (lu, negative pivots, zero pivots); the counts are -1 when the
-    inertia is not available (off-diagonal pivoting happened). ``diagonal``: the matrix's diagonal
-    if known (it sets the zero-pivot threshold)."""
+def _factorize(matrix: sp.csc_matrix, diagonal: np.ndarray | None = None, shift: float = 0.0,
+               ldl: SymbolicLDL | None = None):
+    """Factorise ``matrix`` + ``shift`` I; returns (factors with a ``solve`` method, negative pivots,
+    zero pivots). ``ldl``: the symbolic LDL^T of the matrix's pattern (:attr:`ReducedHessian.ldl`):
+    the numeric LDL^T alone, unpivoted, whose D gives the inertia; without it, or when a pivot is
+    exactly zero, symmetric-mode SuperLU, whose counts are -1 when the inertia is not available
+    (off-diagonal pivoting happened). ``diagonal``: the shifted matrix's diagonal if known (it sets
+    the zero-pivot threshold)."""
+    if diagonal is None:
+        diagonal = matrix.diagonal() + shift
+    tol = ZERO_PIVOT * max(float(np.max(np.abs(diagonal))) if diagonal.size else 0.0, 1e-300)
+    factors = ldl.factorize(matrix.data, shift) if ldl is not None else None
+    if factors is not None:
+        pivots = factors.pivots
+        return factors, int(np.count_nonzero(pivots < -tol)), int(np.count_nonzero(np.abs(pivots) <= tol))
+    if shift:
+        matrix = matrix + shift * sp.identity(matrix.shape[0], format="csc")
     lu = sla.splu(matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                   options={"SymmetricMode": True})
     if np.array_equal(lu.perm_r, lu.perm_c):
         pivots = lu.U.diagonal()
-        diagonal = matrix.diagonal() if diagonal is None else diagonal
-        tol = ZERO_PIVOT * max(float(np.max(np.abs(diagonal))), 1e-300)
         return lu, int(np.count_nonzero(pivots < -tol)), int(np.count_nonzero(np.abs(pivots) <= tol))
     return lu, -1, -1
 
 
 def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions, damping: float = 0.0,
-                  diagonal: np.ndarray | None = None):
+                  diagonal: np.ndarray | None = None, ldl: SymbolicLDL | None = None):
     """Solve (K + mu I) d = rhs; mu = 0 if K is positive definite (or inertia control is off); with
     ``damping`` > 0, mu >= damping times the largest diagonal entry. ``diagonal``: K's diagonal if
-    known (the shifted matrices' diagonals follow from it)."""
+    known (the shifted matrices' diagonals follow from it). ``ldl``: see :func:`_factorize`."""
     n = kmat.shape[0]
     diag = kmat.diagonal() if diagonal is None else diagonal
     scale = max(float(np.max(np.abs(diag))) if n else 1.0, 1e-300)
     mu, negative = damping * scale, -1
-    eye = sp.identity(n, format="csc")
     for attempt in range(options.max_shifts):
         try:
-            lu, neg, zero = _factorize(kmat + mu * eye if mu > 0 else kmat, diag + mu)
+            lu, neg, zero = _factorize(kmat, diag + mu, mu, ldl)
         except RuntimeError:  # exactly singular: regularise
             lu, neg, zero = None, n, n
         if attempt == 0:
@@ -255,7 +266,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         if residual <= options.force_tolerance:
             try:
                 kmat = reduced.matrix(coo)
-                negative = _factorize(kmat, reduced.diagonal(kmat))[1]
+                negative = _factorize(kmat, reduced.diagonal(kmat), ldl=reduced.ldl)[1]
             except RuntimeError:
                 negative = -1
             if options.inertia_control and negative > 0 and it < budget and escape():
@@ -271,7 +282,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             damping = min(1e-8 * 10.0 ** (stalled - options.stall_iterations), 1e-2)
         try:
             kmat = reduced.matrix(coo)
-            step, negative, _ = _descent_step(kmat, -r, options, damping, reduced.diagonal(kmat))
+            step, negative, _ = _descent_step(kmat, -r, options, damping, reduced.diagonal(kmat),
+                                              reduced.ldl)
         except np.linalg.LinAlgError as exc:
             return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, str(exc), negative)
         longest = float(np.max(np.abs(step))) if step.size else 0.0
