@@ -43,7 +43,7 @@ import time
 
 import numpy as np
 
-from lcefem.models.errors import ConvergenceError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_MODULI, NeoHookeanSolid
 from lcefem.validation import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, not_judged, write_csv
@@ -57,6 +57,9 @@ SIM_TOLERANCE = 0.003
 #: Band of the FE vs bar-and-hinge comparison of the sweep [-]: issue 14 ("where they agree within
 #: 10 % and where they part").
 MODEL_BAND = 0.10
+#: The dome's converged state at each level of ``lcefem converge gridshell_shapes_fe`` (the next
+#: level's start under ``--prolong``; GridshellFE.save_state).
+STATE_FILE = "dome_state.npz"
 #: Fraction of the ramp from the as-built state the quick level takes [-]: the first path steps
 #: already set the signs and the symmetry (tests/solvers/test_gridshell_problem.py uses 0.04).
 QUICK_FRACTION = 0.1
@@ -96,11 +99,20 @@ def _observed(model, seconds: float) -> dict:
     return obs
 
 
-def run_fe_shape(shape: str, lambdas: dict, **kw) -> tuple[object, dict]:
-    """Build and ramp one shape; returns (model, observables with cost figures)."""
+def run_fe_shape(shape: str, lambdas: dict, *, prolong_from=None, **kw) -> tuple[object, dict]:
+    """Build and ramp one shape; returns (model, observables with cost figures). ``prolong_from``:
+    a state saved on a coarser mesh (GridshellFE.save_state) at the same lambdas, taken as the
+    start of a Newton solve at the full load (GridshellFE.settle) instead of the ramp."""
     model = fe_model(shape, **kw)
     t0 = time.perf_counter()
-    model.ramp(lambdas)
+    if prolong_from is None:
+        model.ramp(lambdas)
+    else:
+        model.prolong_from(prolong_from)
+        model.set_lambda(lambdas)
+        if not np.array_equal(model.target, model.lam.x.array):
+            raise InputError(f"{prolong_from}: saved at other lambdas than {lambdas}")
+        model.settle()
     return model, _observed(model, time.perf_counter() - t0)
 
 
@@ -132,7 +144,7 @@ def _outputs(ctx: CaseContext, model, shape: str, title: str, sources: list[str]
 
 @case("gridshell_shapes_fe", "Robotic surface in 3D FE, Fig. 4 shapes by lambdas (quarter, level 0): "
       "centre curvatures vs bar-and-hinge, the paper's simulation and experiment; under lcefem "
-      "converge the dome alone at each mesh level", fe=True, convergence=True)
+      "converge the dome alone at each mesh level", fe=True, convergence=True, prolong=True)
 def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS
     from lcefem.validation import gridshell_bh as gs
@@ -162,11 +174,15 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
             from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
             lambdas = _partial(lambdas, PUBLISHED_LAMBDA_N, QUICK_FRACTION)
             label = f"{shape} (lambda, {QUICK_FRACTION:g} of the ramp)"
+        prolong = None if ctx.prolong_from is None else ctx.prolong_from / STATE_FILE
         try:
-            model, obs = run_fe_shape(shape, lambdas, quick=ctx.quick, mesh_level=level)
+            model, obs = run_fe_shape(shape, lambdas, quick=ctx.quick, mesh_level=level,
+                                      prolong_from=prolong)
         except ConvergenceError as exc:
             metrics.append(Metric(name, f"{label}: converged", 0.0, "-", 1.0, 0.0, False, str(exc)))
             continue
+        if ctx.level is not None:  # the start of the next level under lcefem converge --prolong
+            model.save_state(ctx.path(STATE_FILE))
         summary["shapes"][shape] = obs
         for key, v in obs.items():
             rows.setdefault(key, []).append(v)
