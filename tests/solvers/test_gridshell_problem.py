@@ -207,6 +207,14 @@ def test_heated_hold_reaches_the_steady_state():
     assert 25.0 < steady["T_mean Tx [C]"] < steady["T_mean Bx [C]"] < m.transition.T_NI
     kx, ky = held["kappa_circle_x [1/mm]"], held["kappa_circle_y [1/mm]"]
     assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
+    # the steady route (HeatedGridshellFE.steady_hold) is the hold's limit: it lands within the
+    # hold's own last-step change of the curvature, and its sweeps end on the temperature tolerance
+    last_change = abs(kx - rows[-2]["kappa_circle_x [1/mm]"])
+    sweeps = m.steady_hold(DOME_PROTOCOL[1][1])
+    assert sweeps[-1]["temperature change [K]"] <= 1e-3
+    assert abs(sweeps[-1]["kappa_circle_x [1/mm]"] - kx) <= last_change
+    with pytest.raises(InputError, match="temperature_tol"):
+        m.steady_hold(DOME_PROTOCOL[1][1], temperature_tol=0.0)
 
 
 def test_prolongation_keeps_a_linear_field_and_each_body_its_own():

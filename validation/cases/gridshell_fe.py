@@ -368,6 +368,8 @@ ADIABATIC_BAND = (0.85, 1.0)
 HEATED_SOURCE = ("seed 001, Results: 'we first apply 0.1 A to each of the top LCE strips and 0.2 A "
                  "to the bottom ... After about 20 s, the currents are switched to I_Bx = I_By = "
                  "0.07 A and I_Tx = I_Ty = 0.04 A ... to keep the robotic surface at a stable dome'")
+FE_STEADY = ("3D FE gridshell, heated route held to the steady state directly "
+             "(HeatedGridshellFE.steady_hold), quarter, level 0, published supports")
 FE_HEATED = "3D FE gridshell, heated route (lcefem.solvers.problems.gridshell.HeatedGridshellFE), quarter, level 0"
 
 
@@ -386,6 +388,94 @@ def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[di
         first, growth, until = HEATED_HOLD
         hold = model.hold(DOME_PROTOCOL[1][1], until, first, growth, on_step=on_step)
     return model, heating, hold
+
+
+def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
+    """Each Fig. 4 shape held at its currents (solvers.problems.gridshell_bh.SHAPE_DRIVES
+    "currents"), straight to the steady state (quarter, level 0): the steady heat equation at those
+    currents -> temperature -> lambda per strip -> the mechanics at that temperature
+    (HeatedGridshellFE.steady_hold, on the shape's published supports). Quick level: the steady
+    heat alone (temperatures and lambdas per channel) on one model for all four (``model``, e.g.
+    the protocol's after its 3 s, whose deformation barely moves the exchange area; the supports
+    do not enter the heat). {shape: observables of the held state}."""
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+    from lcefem.solvers.problems.gridshell import (PUBLISHED_SUPPORTS, GridshellConfig,
+                                                   GridshellSupports, HeatedGridshellFE)
+    from lcefem.validation import gridshell_bh as gs
+
+    out = {}
+    for shape, spec in gs.SHAPES.items():
+        c0 = time.process_time()
+        if quick:
+            model = model or HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0)))
+            model.set_current(spec["currents"])
+            model.heat.steady()
+            obs = {**model.observables(), "newton iterations [-]": 0}
+        else:
+            model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), supports=
+                                                      GridshellSupports(kind=PUBLISHED_SUPPORTS[shape])))
+            rows = model.steady_hold(spec["currents"])
+            obs = {**rows[-1], "newton iterations [-]": sum(r["newton iterations [-]"] for r in rows)}
+        out[shape] = {k: v for k, v in obs.items() if not k.startswith("junction_")}
+        out[shape]["cpu [s]"] = time.process_time() - c0
+        if on_shape is not None:
+            on_shape(shape, out[shape])
+    return out
+
+
+def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | None
+                  ) -> tuple[list[Metric], dict]:
+    """Rows of the held shapes (:func:`_held_shapes`) next to the bar-and-hinge current route and
+    the paper; ``transient``: the dome protocol's last two hold rows (the steady route's check).
+    Returns (metrics, bar-chart series)."""
+    from lcefem.validation import gridshell_bh as gs
+
+    route = gs.CurrentRoute("segment")
+    src = gs.SHAPE_SOURCES["curvatures"]
+    metrics: list[Metric] = []
+    chart = {"3D FE, held (steady)": {}, "bar-and-hinge current route": {}, "paper simulation": {},
+             "paper experiment": {}}
+    for shape, obs in held.items():
+        spec = gs.SHAPES[shape]
+        currents = " / ".join(f"{ch} {spec['currents'][ch]:g}" for ch in ("Tx", "Ty", "Bx", "By"))
+        label = f"held {shape} ({currents} A)"
+        bh_lambdas = gs.lambda_assignments_from_currents(spec["currents"], route)
+        for ch in ("Tx", "Ty", "Bx", "By"):
+            metrics.append(Metric.info(name, f"{label}: steady lambda, {ch}", obs[f"lambda {ch} [-]"],
+                                       "-", f"{FE_STEADY}; model vs model: FE heat equation vs the "
+                                       "lumped steady balance of one grid segment "
+                                       "(models.lumped_heat.stretch_from_current)", bh_lambdas[ch]))
+        if not mechanics:
+            continue  # quick level: the heat alone
+        bh = run_bh_shape(bh_lambdas, spec["support"])
+        kappa = (obs["kappa_circle_x [1/mm]"], obs["kappa_circle_y [1/mm]"])
+        chart["3D FE, held (steady)"][shape] = kappa
+        chart["bar-and-hinge current route"][shape] = (bh[KAPPA_KEYS[0]], bh[KAPPA_KEYS[1]])
+        chart["paper simulation"][shape] = spec["paper_sim"]
+        chart["paper experiment"][shape] = spec["paper_exp"]
+        for i, axis in enumerate("xy"):
+            for against, ref in (("simulation", spec["paper_sim"]), ("experiment", spec["paper_exp"])):
+                if ref[i] is None:
+                    continue
+                metrics.append(Metric.within(name, f"{label}: kappa_{axis} circle vs paper {against}",
+                                             kappa[i], "1/mm", ref[i], SIM_TOLERANCE,
+                                             f"{src}; currents: {gs.SHAPE_SOURCES['currents']}; "
+                                             "tolerance: as gridshell_shapes_fe (sim-exp spread 0.002 "
+                                             "+ precision 0.001)"))
+            metrics.append(Metric.info(name, f"{label}: kappa_{axis} circle vs bar-and-hinge current "
+                                       "route", kappa[i], "1/mm", f"model vs model; {FE_STEADY}; {BH}, "
+                                       "current route 'segment'", bh[KAPPA_KEYS[i]]))
+        metrics.append(Metric.info(name, f"{label}: Newton iterations", obs["newton iterations [-]"],
+                                   "-", FE_STEADY))
+    if mechanics and transient is not None and "dome" in held:
+        last, before = transient
+        key = "kappa_circle_x [1/mm]"
+        metrics.append(Metric.within(
+            name, f"held dome: steady route vs the transient hold at t = {last['time [s]']:g} s, "
+            "kappa_x circle", held["dome"][key], "1/mm", last[key], abs(last[key] - before[key]),
+            "the steady state is the hold's limit (backward Euler tends to it); tolerance: the "
+            "hold's own last-step change of kappa_x (its distance to the limit is smaller)"))
+    return metrics, chart
 
 
 @case("gridshell_heated_fe", "Robotic surface in 3D FE, heated route: the paper's dome protocol (0.1 / "
@@ -464,6 +554,26 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                                        "model vs model: FE heat equation vs the lumped steady balance "
                                        "of one grid segment (models.lumped_heat.stretch_from_current)",
                                        bh_lambdas[ch]))
+    # the four Fig. 4 shapes held at their currents, straight to the steady state
+    held = _held_shapes(ctx.quick, model if ctx.quick else None)
+    held_rows, chart = _held_metrics(name, held, not ctx.quick, (hold[-1], hold[-2]) if hold else None)
+    metrics += held_rows
+    write_csv(ctx.path("gridshell_held_fe.csv"),
+              {"shape index [-]": list(range(len(held))),
+               **{k: [held[s].get(k, math.nan) for s in held]
+                  for k in next(iter(held.values())) if k.endswith("]")}})
+    if chart["3D FE, held (steady)"]:
+        from lcefem.validation import gridshell_bh as gs
+        from lcefem.validation.gridshell_plots import curvature_bar_chart
+
+        shapes = list(chart["3D FE, held (steady)"])
+        sources = [gs.SHAPE_SOURCES["currents"], gs.SHAPE_SOURCES["curvatures"], FE_STEADY, BH]
+        ctx.add_figure(curvature_bar_chart(ctx.path("gridshell_held_fe.png"), shapes, chart, sources),
+                       plots.caption("Centre curvatures (circle measure, dome negative) of the four "
+                                     "Fig. 4 shapes held at their currents: 3D FE steady state vs "
+                                     "bar-and-hinge current route vs the paper; CSV: "
+                                     "gridshell_held_fe.csv (row order " + ", ".join(shapes) + ")",
+                                     sources))
     its = sum(r.get("newton iterations [-]", 0) for r in rows)
     metrics += [Metric.info(name, "Newton iterations", its, "-", FE_HEATED),
                 Metric.info(name, "time steps", len(rows) - 1, "-", FE_HEATED),
