@@ -394,15 +394,13 @@ class GridshellFE:
         return np.unique(arr[np.isin(self._dof_tag, self._tags_of(selector))])
 
     def advance(self, *, on_step: Callable[[GridshellState], None] | None = None,
-                start: float = 0.0, first_step: float | None = None) -> list[GridshellState]:
+                start: float = 0.0) -> list[GridshellState]:
         """Take every strip linearly from its current lambda to its target (path parameter
         t: 0 -> 1; with gravity on, its weight rises with t on the first ramp) with the path
         follower. Raises ConvergenceError (the model keeps the last converged state).
 
         ``start`` in [0, 1): the current state is taken as the path's point t = start (the
-        follower's first trial step is 1 - start, cut on failure): :meth:`settle`'s short ramp.
-        ``first_step``: the first trial increment of t instead of the configuration's (e.g. 1:
-        the whole step from a nearby equilibrium, cut on failure)."""
+        follower's first trial step is 1 - start, cut on failure): :meth:`settle`'s short ramp."""
         if not 0.0 <= start < 1.0:
             raise InputError(f"advance: start = {start}: must lie in [0, 1)")
         lam0 = self.lam.x.array.copy()
@@ -418,11 +416,9 @@ class GridshellFE:
             self.gravity.value = self.gravity_on * ez
 
         control = self.config.control
-        if start > 0.0 and first_step is None:
-            first_step = 1.0 - start
-        if first_step is not None:
-            control = dataclasses.replace(control, first_step=first_step,
-                                          max_step=max(control.max_step, first_step))
+        if start > 0.0:
+            control = dataclasses.replace(control, first_step=1.0 - start,
+                                          max_step=max(control.max_step, 1.0 - start))
         follower = PathFollower(self.problem, set_load, control, self.damping, t0=start)
         states: list[GridshellState] = []
 
