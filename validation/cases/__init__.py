@@ -115,6 +115,8 @@ class CaseContext:
         # Absolute from the start: every path a case builds from ``out`` (``ctx.path``) then means the
         # same file whatever the working directory, and is never joined to ``out`` a second time.
         self.out = pathlib.Path(self.out).absolute()
+        if self.prolong_from is not None:
+            self.prolong_from = pathlib.Path(self.prolong_from).absolute()
 
     def add_figure(self, path: pathlib.Path, caption: str) -> None:
         """Record a figure written by the case; ``caption`` should name the sources of its data.
