@@ -44,6 +44,7 @@ Units: mm, 1/mm, N, MPa, s.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import time
@@ -132,7 +133,15 @@ def run_fe_shape(shape: str, lambdas: dict, *, prolong_from=None, initial=None, 
 
 
 def run_bh_shape(lambdas: dict, support: str) -> dict:
-    """Centre curvatures [1/mm] of the bar-and-hinge gridshell (from the as-built state)."""
+    """Centre curvatures [1/mm] of the bar-and-hinge gridshell (from the as-built state); solved
+    once per (lambdas, support) in a process (gridshell_heated_fe asks for the dome's current
+    route twice: the transient hold's row and the held shapes')."""
+    return dict(_bh_shape(tuple(sorted(lambdas.items())), support))
+
+
+@functools.lru_cache(maxsize=None)
+def _bh_shape(lambdas: tuple, support: str) -> dict:
+    lambdas = dict(lambdas)
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
     from lcefem.validation import gridshell_bh as gs
 
