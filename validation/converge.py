@@ -1,6 +1,6 @@
 """Mesh-convergence study of one case: observed order, Richardson extrapolation, GCI.
 
-``lcefem converge CASE [--levels N] [--out DIR] [--resume] [--quiet]``
+``lcefem converge CASE [--levels N] [--prolong] [--out DIR] [--resume] [--quiet]``
 
 Runs the case at refinement levels 0..N-1 (N >= 4; ``ctx.level = i``, the case sets ``ctx.mesh_size``)
 in ``DIR/level<i>/``; ``--resume`` reuses levels whose outputs are complete (their ``metrics.json``
@@ -13,6 +13,12 @@ the Richardson-extrapolated value and the fine-grid Grid Convergence Index with 
 - ``drifting``: the observed orders of successive level triples differ by more than 20 % of their
   mean (not yet in the asymptotic range);
 - ``mesh-independent``: the value does not change with the mesh (p undefined, GCI 0).
+
+``--prolong`` (cases registered with ``prolong=True``): level 0 is solved as usual, every finer level
+starts from the previous level's converged state interpolated onto its mesh (``ctx.prolong_from``)
+and solves at the full load directly, where a path from scratch is too costly on the fine meshes
+(the FE gridshell dome: ~300 Newton iterations per level from flat). The equilibrium must be the
+same one the path from scratch reaches; the case states how that was checked.
 
 It checks that each refinement ratio h_(i)/h_(i+1) is at least 1.3 (Celik et al. 2008, step 2) and says
 so when not. Writes ``DIR/levels.csv`` (metric values per level, units in the headers),
@@ -112,6 +118,9 @@ def ratio_warnings(mesh_sizes) -> list[str]:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", metavar="CASE", help="a case with convergence support (lcefem validate --list)")
     parser.add_argument("--levels", type=int, default=MIN_LEVELS, help=f"number of levels (>= {MIN_LEVELS})")
+    parser.add_argument("--prolong", action="store_true",
+                        help="start each level from the previous level's solution interpolated onto "
+                        "its mesh (cases that support it)")
     add_out_arguments(parser, None, resume=True)  # default: results/converge/<case>
 
 
@@ -176,16 +185,19 @@ def print_summary(studies: list[MetricConvergence], mesh_sizes, file=None) -> No
     Console(file=file, width=None if _isatty(file) else 180, highlight=False).print(table)
 
 
-def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume: bool = False):
+def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume: bool = False,
+              prolong: bool = False):
     """Run ``case`` at levels 0..levels-1 and analyse; returns (mesh sizes, unit, studies, warnings).
 
-    With ``resume``, a level whose directory holds a complete result of this case is reused."""
+    With ``resume``, a level whose directory holds a complete result of this case is reused; with
+    ``prolong``, level i > 0 gets ``ctx.prolong_from`` = the folder of level i - 1."""
     from tqdm import tqdm
 
     results = []
     for level in tqdm(range(levels), desc=f"converge {case.name}", unit="level", disable=quiet,
                       file=sys.stderr):
-        ctx = CaseContext(out=out / f"level{level}", quick=False, level=level, progress=not quiet)
+        ctx = CaseContext(out=out / f"level{level}", quick=False, level=level, progress=not quiet,
+                          prolong_from=out / f"level{level - 1}" if prolong and level > 0 else None)
         stored = load_complete(case, ctx.out, out, quick=False) if resume else None
         if stored is not None and stored.mesh_size:
             results.append(stored)
@@ -223,6 +235,10 @@ def selected_case(args: argparse.Namespace):
         able = [c.name for c in cases.values() if c.convergence]
         raise InputError(f"case '{case.name}' has no refinement levels; cases with levels: "
                          f"{', '.join(able) or '(none)'}")
+    if getattr(args, "prolong", False) and not case.prolong:
+        able = [c.name for c in cases.values() if c.prolong]
+        raise InputError(f"--prolong: case '{case.name}' cannot start from a coarser level's state; "
+                         f"cases that can: {', '.join(able) or '(none)'}")
     if args.levels < MIN_LEVELS:
         raise InputError(f"--levels = {args.levels}: must be >= {MIN_LEVELS}")
     return case
@@ -236,7 +252,8 @@ def out_folder(args: argparse.Namespace) -> pathlib.Path:
 def main(args: argparse.Namespace) -> int:
     case = selected_case(args)
     out = out_folder(args)
-    h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet, resume=args.resume)
+    h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet, resume=args.resume,
+                                           prolong=args.prolong)
     write_outputs(out, case.name, h, unit, studies, warnings)
     print_summary(studies, h)
     for w in warnings:

@@ -70,7 +70,7 @@ from lcefem.meshes.gridshell_fe import (GridshellFEMesh, build_gridshell_fe, cel
                                         strip_catalogue)
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, GlueBars
 from lcefem.models.heat import GridSegmentCoil, SurfaceExchange, ThermalProperties
-from lcefem.models.errors import InputError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, lce_strain_energy, neo_hookean_strain_energy
 from lcefem.models.lce import (NematicTransition, contraction_ratio, isochoric_uniaxial,
                                spontaneous_stretch)
@@ -393,11 +393,16 @@ class GridshellFE:
         arr = self.target if target else self.lam.x.array
         return np.unique(arr[np.isin(self._dof_tag, self._tags_of(selector))])
 
-    def advance(self, *, on_step: Callable[[GridshellState], None] | None = None
-                ) -> list[GridshellState]:
+    def advance(self, *, on_step: Callable[[GridshellState], None] | None = None,
+                start: float = 0.0) -> list[GridshellState]:
         """Take every strip linearly from its current lambda to its target (path parameter
         t: 0 -> 1; with gravity on, its weight rises with t on the first ramp) with the path
-        follower. Raises ConvergenceError (the model keeps the last converged state)."""
+        follower. Raises ConvergenceError (the model keeps the last converged state).
+
+        ``start`` in [0, 1): the current state is taken as the path's point t = start (the
+        follower's first trial step is 1 - start, cut on failure): :meth:`settle`'s short ramp."""
+        if not 0.0 <= start < 1.0:
+            raise InputError(f"advance: start = {start}: must lie in [0, 1)")
         lam0 = self.lam.x.array.copy()
         dlam = self.target - lam0
         g0 = self.gravity_on
@@ -405,11 +410,16 @@ class GridshellFE:
         ez = np.array([0.0, 0.0, -self._weight_density])
 
         def set_load(t: float) -> None:
-            self.lam.x.array[:] = lam0 + t * dlam
-            self.gravity_on = g0 + t * (g1 - g0)
+            s = t if start == 0.0 else (t - start) / (1.0 - start)
+            self.lam.x.array[:] = lam0 + s * dlam
+            self.gravity_on = g0 + s * (g1 - g0)
             self.gravity.value = self.gravity_on * ez
 
-        follower = PathFollower(self.problem, set_load, self.config.control, self.damping)
+        control = self.config.control
+        if start > 0.0:
+            control = dataclasses.replace(control, first_step=1.0 - start,
+                                          max_step=max(control.max_step, 1.0 - start))
+        follower = PathFollower(self.problem, set_load, control, self.damping, t0=start)
         states: list[GridshellState] = []
 
         def record(t: float, its: int) -> None:
@@ -430,6 +440,79 @@ class GridshellFE:
         """:meth:`set_lambda` then :meth:`advance`."""
         self.set_lambda(drives)
         return self.advance(**kw)
+
+    def settle(self, backoff: float = 0.2, on_step: Callable[[GridshellState], None] | None = None
+               ) -> list[GridshellState]:
+        """Equilibrium at the current lambdas from the current displacement, e.g. one prolonged
+        from a coarser mesh (:meth:`prolong_from`): Newton at the full load first; when it fails,
+        the path follower's cut-and-retry ramps from that displacement (taken as the equilibrium
+        of lambda - ``backoff`` (lambda - lambda_N), the path's t = 1 - backoff) to the full load
+        in halved steps. One path from flat costs ~300 Newton iterations for the dome; from the
+        prolonged state of the next coarser level, a few (README, "FE gridshell, mesh
+        convergence"). Raises ConvergenceError as :meth:`advance`."""
+        if not 0.0 < backoff < 1.0:
+            raise InputError(f"settle: backoff = {backoff}: must lie in (0, 1)")
+        self.target = self.lam.x.array.copy()
+        self.lam.x.array[:] = self.target - backoff * (self.target - self.lambda_N)
+        return self.advance(on_step=on_step, start=1.0 - backoff)
+
+    # ------------------------------------------------------------------ mesh transfer
+    def save_state(self, path) -> pathlib.Path:
+        """The converged state (displacement, lambda per strip tag, weight fraction) and the mesh
+        it lives on (level, layers, symmetry; DOF coordinates to check the rebuild) as ``.npz``,
+        written atomically; read back by :meth:`prolong_from` on a finer mesh (serial)."""
+        path = pathlib.Path(path)
+        m = self.config.mesh
+        tags = np.asarray(sorted(self.strip_tags.values()), dtype=np.int32)
+        lam = np.array([self._tag_value(self.lam.x.array, t) for t in tags])
+        tmp = path.with_name(path.name + ".part.npz")
+        np.savez(tmp, u=self.u.x.array, dof_coordinates=self._X, strip_tags=tags, strip_lambda=lam,
+                 gravity_on=self.gravity_on, level=m.level, ribbon_layers=m.ribbon_layers,
+                 strip_layers=m.strip_layers, symmetry=self.config.symmetry, cells=self.config.cells)
+        tmp.replace(path)
+        return path
+
+    def _tag_value(self, array: np.ndarray, tag: int) -> float:
+        values = np.unique(array[self._dof_tag == tag])
+        if values.size != 1:
+            raise RuntimeError(f"strip tag {tag}: {values.size} lambda values, expected one")
+        return float(values[0])
+
+    def prolong_from(self, path) -> None:
+        """Take the state saved by :meth:`save_state` (a coarser mesh of the same surface, model and
+        layers) as this model's current state: the displacement interpolated material by
+        material (:func:`prolong_by_tag`), each strip tag's lambda (current and target) and the
+        weight fraction. Then :meth:`settle` finds the equilibrium on this mesh."""
+        with np.load(path) as data:
+            saved = {k: data[k] for k in data.files}
+        mine = {"ribbon_layers": self.config.mesh.ribbon_layers, "strip_layers":
+                self.config.mesh.strip_layers, "symmetry": self.config.symmetry,
+                "cells": self.config.cells}
+        for key, value in mine.items():
+            if saved[key].item() != value:
+                raise InputError(f"prolong_from {path}: {key} = {saved[key].item()!r}, this model "
+                                 f"has {value!r}")
+        if MPI.COMM_WORLD.size > 1:
+            raise InputError("prolong_from: serial only (the saved DOF order is one process's)")
+        cfg = self.config
+        mesh0 = dataclasses.replace(cfg.mesh, level=int(saved["level"]))
+        tm0 = build_gridshell_fe(cfg.geometry, self.lambda_N, mesh0, MPI.COMM_SELF,
+                                 cells=cfg.cells, symmetry=cfg.symmetry)
+        u0 = dolfinx.fem.Function(displacement_space(tm0.mesh, 2))
+        X0 = u0.function_space.tabulate_dof_coordinates()
+        if X0.shape != saved["dof_coordinates"].shape or \
+                not np.allclose(X0, saved["dof_coordinates"], rtol=0.0, atol=1e-9):
+            raise InputError(f"prolong_from {path}: the rebuilt level-{mesh0.level} mesh does not "
+                             "match the saved DOF coordinates")
+        u0.x.array[:] = saved["u"]
+        self.u.x.array[:] = prolong_by_tag(u0, tm0.cell_tags, self.V, self.tmesh.cell_tags).ravel()
+        self.u.x.scatter_forward()
+        for tag, lam in zip(saved["strip_tags"], saved["strip_lambda"]):
+            self.lam.x.array[self._dof_tag == tag] = lam
+        self.target = self.lam.x.array.copy()
+        g = float(saved["gravity_on"])
+        self.gravity_on = g
+        self.gravity.value = g * np.array([0.0, 0.0, -self._weight_density])
 
     # ------------------------------------------------------------------ observables
     def _make_stations(self) -> SimpleNamespace:
@@ -556,6 +639,11 @@ class GridshellFE:
 #: strips for about 20 s, then 0.04 A and 0.07 A held"): (start time [s], currents [A] per channel).
 DOME_PROTOCOL = ((0.0, {"Tx": 0.1, "Ty": 0.1, "Bx": 0.2, "By": 0.2}),
                  (20.0, {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}))
+
+#: Largest change [K] of the steady temperature between two sweeps of
+#: :meth:`HeatedGridshellFE.steady_hold` that ends them (chosen: lambda_s(T) is steepest at T_NI,
+#: 0.0169 per K for models.lce.NematicTransition, so 1e-3 K moves lambda by at most 1.7e-5).
+STEADY_TEMPERATURE_TOL = 1e-3
 
 
 class HeatedGridshellFE(GridshellFE):
@@ -719,6 +807,88 @@ class HeatedGridshellFE(GridshellFE):
             follower.control = control
         return rows
 
+    def steady_hold(self, currents: Mapping[str, float], *,
+                    temperature_tol: float = STEADY_TEMPERATURE_TOL, max_sweeps: int = 8,
+                    on_step: Callable[[dict], None] | None = None) -> list[dict]:
+        """The held shape at constant ``currents`` [A] directly, without the transient: the steady
+        heat equation (rho c dT/dt = 0, :meth:`HeatProblem.steady`) on the current deformed body
+        -> temperature -> lambda_s(T) -> the mechanics from the temperature it last saw to that
+        one (the path follower of the lambda route, in T_mech = T_0 + s (T_steady - T_0));
+        repeated while the deformation (the exchange on the deformed faces) moves the steady
+        temperature by more than ``temperature_tol`` [K]. The limit of :meth:`hold` as t -> oo;
+        the clock does not move. One row of observables per sweep."""
+        if not (temperature_tol > 0 and max_sweeps >= 1):
+            raise InputError(f"steady_hold: temperature_tol = {temperature_tol} K (> 0), "
+                             f"max_sweeps = {max_sweeps} (>= 1)")
+        self.set_current(currents)
+        rows, previous = [], None
+        for sweep in range(1, max_sweeps + 1):
+            self.heat.steady()
+            T0, T1 = self.T_mech.x.array.copy(), self.heat.T.x.array.copy()
+
+            def set_load(t: float, T0=T0, T1=T1) -> None:
+                self.T_mech.x.array[:] = T0 + t * (T1 - T0)
+
+            follower = PathFollower(self.problem, set_load, self.config.control, self.damping)
+            started = time.perf_counter()
+            try:
+                follower.follow(1.0, where=f"heated gridshell, steady hold, sweep {sweep}")
+            finally:
+                self.wall_time += time.perf_counter() - started
+                self.last_follower = follower
+            self.T_mech.x.array[:] = T1
+            change = math.inf if previous is None else float(np.max(np.abs(T1 - previous)))
+            rows.append({**self.observables(), "newton iterations [-]": follower.iterations,
+                         "steady sweep [-]": sweep, "temperature change [K]": change})
+            if on_step is not None:
+                on_step(rows[-1])
+            if change <= temperature_tol:
+                return rows
+            previous = T1
+        raise ConvergenceError("heated gridshell, steady hold", f"the steady temperature still "
+                               f"moves {change:.3g} K after {max_sweeps} sweeps")
+
+
+def prolong_by_tag(u_from, tags_from, V_to, tags_to) -> np.ndarray:
+    """Nodal values (n, bs) of the vector field ``u_from`` at the DOF nodes of ``V_to`` (another
+    mesh of the same body), cell tag by cell tag: a node of a tag-k cell takes the value of the
+    tag-k cell of the other mesh that contains it (or, where the meshes' discretised geometry
+    differs, e.g. the arch's chords, the nearest tag-k cell, its polynomial extended). By tag, so
+    that bodies that touch without being bonded (strips over ribbons) each keep their own
+    displacement at the shared surface. Serial."""
+    from dolfinx import geometry
+
+    mesh0 = u_from.function_space.mesh
+    dim = mesh0.topology.dim
+    X = V_to.tabulate_dof_coordinates()
+    dofs = V_to.dofmap.list
+    cell_tag = np.full(dofs.shape[0], -1, dtype=np.int32)
+    cell_tag[tags_to.indices] = tags_to.values
+    out = np.full((X.shape[0], u_from.function_space.dofmap.index_map_bs), np.nan)
+    for tag in np.unique(tags_to.values):
+        cells0 = tags_from.find(int(tag))
+        if cells0.size == 0:
+            raise InputError(f"prolong: cell tag {tag} has no cells on the source mesh")
+        nodes = np.unique(dofs[cell_tag == tag].ravel())
+        nodes = nodes[np.isnan(out[nodes, 0])]  # shared (bonded) nodes: the first tag's value
+        if nodes.size == 0:
+            continue
+        pts = np.ascontiguousarray(X[nodes])
+        tree = geometry.bb_tree(mesh0, dim, entities=cells0)
+        hits = geometry.compute_colliding_cells(mesh0, geometry.compute_collisions_points(tree, pts),
+                                                pts)
+        counts = np.diff(hits.offsets)
+        owner = np.full(nodes.size, -1, dtype=np.int32)
+        owner[counts > 0] = hits.array[hits.offsets[:-1][counts > 0]]
+        lost = np.flatnonzero(owner < 0)
+        if lost.size:
+            mid = geometry.create_midpoint_tree(mesh0, dim, cells0)
+            owner[lost] = geometry.compute_closest_entity(tree, mid, mesh0, pts[lost])
+        out[nodes] = u_from.eval(pts, owner)
+    if np.isnan(out).any():
+        raise RuntimeError("prolong: nodes outside every tagged cell")
+    return out
+
 
 def _is_full_group(name: str, n: int) -> bool:
     """A published group (XD1..YU{n}) or channel name of the full model."""
@@ -740,4 +910,4 @@ def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **conf
 
 __all__ = ["DOME_PROTOCOL", "FIG4_SHAPES", "HeatedGridshellFE", "GridshellConfig", "GridshellFE", "GridshellMaterials",
            "GridshellState", "GridshellSupports", "PUBLISHED_SUPPORTS", "SUPPORT_KINDS",
-           "fig4_shape", "lce_strip_energy", "von_mises"]
+           "fig4_shape", "lce_strip_energy", "prolong_by_tag", "von_mises"]

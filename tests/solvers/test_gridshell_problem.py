@@ -207,3 +207,66 @@ def test_heated_hold_reaches_the_steady_state():
     assert 25.0 < steady["T_mean Tx [C]"] < steady["T_mean Bx [C]"] < m.transition.T_NI
     kx, ky = held["kappa_circle_x [1/mm]"], held["kappa_circle_y [1/mm]"]
     assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
+    # the steady route (HeatedGridshellFE.steady_hold) is the hold's limit: it lands within the
+    # hold's own last-step change of the curvature, and its sweeps end on the temperature tolerance
+    last_change = abs(kx - rows[-2]["kappa_circle_x [1/mm]"])
+    sweeps = m.steady_hold(DOME_PROTOCOL[1][1])
+    assert sweeps[-1]["temperature change [K]"] <= 1e-3
+    assert abs(sweeps[-1]["kappa_circle_x [1/mm]"] - kx) <= last_change
+    with pytest.raises(InputError, match="temperature_tol"):
+        m.steady_hold(DOME_PROTOCOL[1][1], temperature_tol=0.0)
+
+
+def test_prolongation_keeps_a_linear_field_and_each_body_its_own():
+    """prolong_by_tag (lcefem converge --prolong's mesh transfer) from level 0 to level 1: a field
+    linear in X is reproduced exactly at every fine node (Q2 on the trilinear hexes holds it, also
+    where the fine arch nodes lie off the coarse chords and the polynomial is extended); and tag by
+    tag: with the bottom strips and pads lifted by 1 mm on the coarse mesh (every node of theirs
+    but those bonded to the Kapton), each fine strip node takes the lifted value and each fine
+    Kapton node the Kapton's, also where the strips touch the ribbons (at the junctions and tabs)."""
+    import dolfinx
+    from mpi4py import MPI
+
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh, build_gridshell_fe, cell_group
+    from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+    from lcefem.solvers.mechanics import displacement_space
+    from lcefem.solvers.problems.gridshell import prolong_by_tag
+
+    def space(level):
+        tm = build_gridshell_fe(CompositeBeamGeometry(), PUBLISHED_LAMBDA_N,
+                                GridshellFEMesh(level=level), MPI.COMM_SELF)
+        return tm, displacement_space(tm.mesh, 2)
+
+    def nodes(tm, V, group):
+        dofs = V.dofmap.list
+        tag = np.full(dofs.shape[0], -1)
+        tag[tm.cell_tags.indices] = tm.cell_tags.values
+        return np.unique(dofs[np.isin(tag, cell_group(tm, group))].ravel())
+
+    (tm0, V0), (tm1, V1) = space(0), space(1)
+    A = np.array([[0.01, -0.02, 0.03], [0.005, 0.01, -0.04], [-0.02, 0.03, 0.002]])
+    b = np.array([0.1, -0.2, 0.3])
+    u0 = dolfinx.fem.Function(V0)
+    u0.interpolate(lambda x: A @ x + b[:, None])
+    X1 = V1.tabulate_dof_coordinates()
+    linear = X1 @ A.T + b
+    assert np.allclose(prolong_by_tag(u0, tm0.cell_tags, V1, tm1.cell_tags), linear, rtol=0.0,
+                       atol=1e-10)  # [mm]
+
+    # the lower layer (bottom strips and pads) lifted but where it is bonded to the Kapton (the
+    # pads, and the strips' end edges at the junctions)
+    kapton0 = nodes(tm0, V0, "kapton")
+    lower0 = np.union1d(nodes(tm0, V0, "bottom_strips"), nodes(tm0, V0, "bottom_pads"))
+    bonded = np.intersect1d(lower0, kapton0)
+    u0.x.array.reshape(-1, 3)[np.setdiff1d(lower0, kapton0), 2] += 1.0
+    shift = prolong_by_tag(u0, tm0.cell_tags, V1, tm1.cell_tags)[:, 2] - linear[:, 2]
+    # fine strip nodes more than a coarse cell (3 mm, diagonal 4.3 mm) from any bonded node: lifted
+    X0 = V0.tabulate_dof_coordinates()
+    strips1 = nodes(tm1, V1, "bottom_strips")
+    gap = np.min(np.linalg.norm(X1[strips1, None, :2] - X0[None, bonded, :2], axis=2), axis=1)
+    far = strips1[gap > 5.0]
+    assert far.size > 1000
+    assert np.allclose(shift[far], 1.0, atol=1e-10)
+    kapton1 = nodes(tm1, V1, "kapton")  # never lifted, also where the strips touch it
+    assert np.allclose(shift[kapton1], 0.0, atol=1e-10)

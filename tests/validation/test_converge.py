@@ -111,3 +111,31 @@ def test_converge_resume_reuses_complete_levels_only(quadrature_case, tmp_path, 
                      "--resume"]) == 0
     assert calls == [3]
     assert (out / "gci.csv").read_text() == first
+
+
+def test_converge_prolong_hands_each_level_the_previous_folder(quadrature_case, tmp_path, monkeypatch,
+                                                              capsys):
+    """--prolong: level 0 starts from scratch, level i > 0 gets level i - 1's folder (where that level
+    wrote its state), and a case that cannot start from a coarser state is refused by name."""
+    seen = []
+
+    def recording(ctx):
+        seen.append((ctx.level, ctx.prolong_from))
+        if ctx.prolong_from is not None:  # the previous level has finished writing there
+            assert (ctx.prolong_from / "state.txt").read_text() == str(ctx.level - 1)
+        ctx.path("state.txt").write_text(str(ctx.level))
+        return _quadrature_case(ctx)
+
+    monkeypatch.setitem(case_registry._CASES, "test_prolong",
+                        Case("test_prolong", recording, "trapezoid rule", False, True, True))
+    out = tmp_path / "conv"
+    assert cli_main(["converge", "test_prolong", "--levels", "4", "--prolong", "--out", str(out),
+                     "--quiet"]) == 0
+    assert seen == [(0, None)] + [(i, out.absolute() / f"level{i - 1}") for i in (1, 2, 3)]
+    seen.clear()
+    assert cli_main(["converge", "test_prolong", "--levels", "4", "--out", str(tmp_path / "plain"),
+                     "--quiet"]) == 0
+    assert [p for _, p in seen] == [None] * 4  # without --prolong every level starts from scratch
+    assert cli_main(["converge", "test_quadrature", "--levels", "4", "--prolong", "--out",
+                     str(tmp_path / "refused")]) == 2
+    assert "--prolong: case 'test_quadrature' cannot start" in capsys.readouterr().err

@@ -107,11 +107,16 @@ class CaseContext:
     figures: list[tuple[pathlib.Path, str]] = field(default_factory=list)
     case: str = ""  #: name of the running case (set by the runner; Metric.case may be left "")
     mesh_size_unit: str = "mm"  #: unit of ``mesh_size`` (e.g. "mm", or "-" for a count)
+    #: ``lcefem converge --prolong``: the previous (coarser) level's folder; a case registered with
+    #: ``prolong=True`` starts from the state it saved there instead of solving from scratch
+    prolong_from: pathlib.Path | None = None
 
     def __post_init__(self) -> None:
         # Absolute from the start: every path a case builds from ``out`` (``ctx.path``) then means the
         # same file whatever the working directory, and is never joined to ``out`` a second time.
         self.out = pathlib.Path(self.out).absolute()
+        if self.prolong_from is not None:
+            self.prolong_from = pathlib.Path(self.prolong_from).absolute()
 
     def add_figure(self, path: pathlib.Path, caption: str) -> None:
         """Record a figure written by the case; ``caption`` should name the sources of its data.
@@ -133,18 +138,19 @@ class Case:
     description: str
     fe: bool  # needs FEniCSx
     convergence: bool  # meaningful under ``lcefem converge`` (honours ctx.level)
+    prolong: bool = False  # honours ctx.prolong_from (``lcefem converge --prolong``)
 
 
 _CASES: dict[str, Case] = {}
 
 
-def case(name: str, description: str, *, fe: bool, convergence: bool = False):
+def case(name: str, description: str, *, fe: bool, convergence: bool = False, prolong: bool = False):
     """Decorator registering a case function under ``name``."""
 
     def register(func: Callable[[CaseContext], list[Metric]]):
         if name in _CASES:
             raise ValueError(f"case {name!r} registered twice")
-        _CASES[name] = Case(name, func, description, fe, convergence)
+        _CASES[name] = Case(name, func, description, fe, convergence, prolong)
         return func
 
     return register

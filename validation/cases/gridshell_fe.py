@@ -24,7 +24,14 @@
   Its held dome is a registered known disagreement with the paper: the hold currents keep the
   bottom strips below T_NI (50.8 C held), where lambda is 1.401, not the paper's 1.05 (README, "FE gridshell,
   heated route"). Quick level: the first 3 s at 1 s steps (9 Newton iterations, ~10 s CPU): the
-  surface domes (kappa_x = kappa_y < 0) and the dome grows each step.
+  surface domes (kappa_x = kappa_y < 0) and the dome grows each step. Then the four Fig. 4 shapes
+  held at their currents (solvers.problems.gridshell_bh.SHAPE_DRIVES "currents"; the protocol is
+  published for the dome only), straight to the steady state (HeatedGridshellFE.steady_hold:
+  steady heat -> temperature -> lambda -> mechanics) on their published supports: the steady
+  lambda per channel next to the bar-and-hinge current route's (both levels; quick: the heat
+  alone), the held curvatures against the paper and the bar-and-hinge current route, and the
+  dome's steady route against the transient hold (judged: within the hold's last-step change)
+  (full level; CSV gridshell_held_fe.csv, figure).
 
 The table support (dome lambdas on the table, a benchmark only): the FE surface stays a dome and
 the bar-and-hinge one, ramped from flat under its weight, settles as a bowl; both models have the
@@ -37,13 +44,14 @@ Units: mm, 1/mm, N, MPa, s.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import time
 
 import numpy as np
 
-from lcefem.models.errors import ConvergenceError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_MODULI, NeoHookeanSolid
 from lcefem.validation import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, not_judged, write_csv
@@ -57,6 +65,9 @@ SIM_TOLERANCE = 0.003
 #: Band of the FE vs bar-and-hinge comparison of the sweep [-]: issue 14 ("where they agree within
 #: 10 % and where they part").
 MODEL_BAND = 0.10
+#: The dome's converged state at each level of ``lcefem converge gridshell_shapes_fe`` (the next
+#: level's start under ``--prolong``; GridshellFE.save_state).
+STATE_FILE = "dome_state.npz"
 #: Fraction of the ramp from the as-built state the quick level takes [-]: the first path steps
 #: already set the signs and the symmetry (tests/solvers/test_gridshell_problem.py uses 0.04).
 QUICK_FRACTION = 0.1
@@ -96,16 +107,41 @@ def _observed(model, seconds: float) -> dict:
     return obs
 
 
-def run_fe_shape(shape: str, lambdas: dict, **kw) -> tuple[object, dict]:
-    """Build and ramp one shape; returns (model, observables with cost figures)."""
+def run_fe_shape(shape: str, lambdas: dict, *, prolong_from=None, initial=None, **kw
+                 ) -> tuple[object, dict]:
+    """Build and ramp one shape; returns (model, observables with cost figures). Instead of the
+    ramp from as built, a Newton solve at the full load (GridshellFE.settle) from
+    ``prolong_from``: a state saved on a coarser mesh (GridshellFE.save_state) at the same lambdas,
+    or ``initial``: a displacement on this mesh (e.g. the same shape with another Kapton modulus)."""
     model = fe_model(shape, **kw)
     t0 = time.perf_counter()
-    model.ramp(lambdas)
+    if prolong_from is None and initial is None:
+        model.ramp(lambdas)
+        return model, _observed(model, time.perf_counter() - t0)
+    if prolong_from is not None:
+        model.prolong_from(prolong_from)
+        model.set_lambda(lambdas)
+        if not np.array_equal(model.target, model.lam.x.array):
+            raise InputError(f"{prolong_from}: saved at other lambdas than {lambdas}")
+    else:
+        model.u.x.array[:] = initial
+        model.u.x.scatter_forward()
+        model.set_lambda(lambdas)
+        model.lam.x.array[:] = model.target
+    model.settle()
     return model, _observed(model, time.perf_counter() - t0)
 
 
 def run_bh_shape(lambdas: dict, support: str) -> dict:
-    """Centre curvatures [1/mm] of the bar-and-hinge gridshell (from the as-built state)."""
+    """Centre curvatures [1/mm] of the bar-and-hinge gridshell (from the as-built state); solved
+    once per (lambdas, support) in a process (gridshell_heated_fe asks for the dome's current
+    route twice: the transient hold's row and the held shapes')."""
+    return dict(_bh_shape(tuple(sorted(lambdas.items())), support))
+
+
+@functools.lru_cache(maxsize=None)
+def _bh_shape(lambdas: tuple, support: str) -> dict:
+    lambdas = dict(lambdas)
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
     from lcefem.validation import gridshell_bh as gs
 
@@ -132,7 +168,7 @@ def _outputs(ctx: CaseContext, model, shape: str, title: str, sources: list[str]
 
 @case("gridshell_shapes_fe", "Robotic surface in 3D FE, Fig. 4 shapes by lambdas (quarter, level 0): "
       "centre curvatures vs bar-and-hinge, the paper's simulation and experiment; under lcefem "
-      "converge the dome alone at each mesh level", fe=True, convergence=True)
+      "converge the dome alone at each mesh level", fe=True, convergence=True, prolong=True)
 def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS
     from lcefem.validation import gridshell_bh as gs
@@ -162,12 +198,18 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
             from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
             lambdas = _partial(lambdas, PUBLISHED_LAMBDA_N, QUICK_FRACTION)
             label = f"{shape} (lambda, {QUICK_FRACTION:g} of the ramp)"
+        prolong = None if ctx.prolong_from is None else ctx.prolong_from / STATE_FILE
         try:
-            model, obs = run_fe_shape(shape, lambdas, quick=ctx.quick, mesh_level=level)
+            model, obs = run_fe_shape(shape, lambdas, quick=ctx.quick, mesh_level=level,
+                                      prolong_from=prolong)
         except ConvergenceError as exc:
             metrics.append(Metric(name, f"{label}: converged", 0.0, "-", 1.0, 0.0, False, str(exc)))
             continue
+        if ctx.level is not None:  # the start of the next level under lcefem converge --prolong
+            model.save_state(ctx.path(STATE_FILE))
         summary["shapes"][shape] = obs
+        if shape == "dome":
+            dome_u = model.u.x.array.copy()  # the what-if Kapton dome starts from it
         for key, v in obs.items():
             rows.setdefault(key, []).append(v)
         kx, ky = obs["kappa_circle_x [1/mm]"], obs["kappa_circle_y [1/mm]"]
@@ -212,7 +254,10 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
         # issue 16: how far the dome moves with the what-if Kapton modulus fitted to the buckling test
         e_fit = KAPTON_MODULI["buckling_fit"]
         try:
-            _, fit = run_fe_shape("dome", gs.SHAPES["dome"]["lambdas"], kapton_modulus=e_fit)
+            # from the datasheet dome (GridshellFE.settle): 95 Newton iterations instead of 195 from
+            # flat, kappa_x within 2e-11 relative (level 0, README "FE gridshell, cost")
+            _, fit = run_fe_shape("dome", gs.SHAPES["dome"]["lambdas"], kapton_modulus=e_fit,
+                                  initial=dome_u)
             summary["dome, buckling-fit Kapton (what-if)"] = fit
             for i, comp in enumerate(("kappa_x circle", "kappa_y circle")):
                 metrics.append(Metric.info(
@@ -352,6 +397,8 @@ ADIABATIC_BAND = (0.85, 1.0)
 HEATED_SOURCE = ("seed 001, Results: 'we first apply 0.1 A to each of the top LCE strips and 0.2 A "
                  "to the bottom ... After about 20 s, the currents are switched to I_Bx = I_By = "
                  "0.07 A and I_Tx = I_Ty = 0.04 A ... to keep the robotic surface at a stable dome'")
+FE_STEADY = ("3D FE gridshell, heated route held to the steady state directly "
+             "(HeatedGridshellFE.steady_hold), quarter, level 0, published supports")
 FE_HEATED = "3D FE gridshell, heated route (lcefem.solvers.problems.gridshell.HeatedGridshellFE), quarter, level 0"
 
 
@@ -370,6 +417,97 @@ def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[di
         first, growth, until = HEATED_HOLD
         hold = model.hold(DOME_PROTOCOL[1][1], until, first, growth, on_step=on_step)
     return model, heating, hold
+
+
+def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
+    """Each Fig. 4 shape held at its currents (solvers.problems.gridshell_bh.SHAPE_DRIVES
+    "currents"), straight to the steady state (quarter, level 0): the steady heat equation at those
+    currents -> temperature -> lambda per strip -> the mechanics at that temperature
+    (HeatedGridshellFE.steady_hold, on the shape's published supports). Quick level: the steady
+    heat alone (temperatures and lambdas per channel) on one model for all four (``model``, e.g.
+    the protocol's after its 3 s, whose deformation barely moves the exchange area; the supports
+    do not enter the heat). Full level: the dome continues from ``model`` (the protocol's, held
+    at the dome's currents to 2555 s: its steady route is the check of the hold), the other three
+    from the as-built state. {shape: observables of the held state}."""
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+    from lcefem.solvers.problems.gridshell import (PUBLISHED_SUPPORTS, GridshellConfig,
+                                                   GridshellSupports, HeatedGridshellFE)
+    from lcefem.validation import gridshell_bh as gs
+
+    out = {}
+    for shape, spec in gs.SHAPES.items():
+        c0 = time.process_time()
+        if quick:
+            model = model or HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0)))
+            model.set_current(spec["currents"])
+            model.heat.steady()
+            obs = {**model.observables(), "newton iterations [-]": 0}
+        else:
+            held = model if shape == "dome" and model is not None else HeatedGridshellFE(
+                GridshellConfig(mesh=GridshellFEMesh(level=0),
+                                supports=GridshellSupports(kind=PUBLISHED_SUPPORTS[shape])))
+            rows = held.steady_hold(spec["currents"])
+            obs = {**rows[-1], "newton iterations [-]": sum(r["newton iterations [-]"] for r in rows)}
+        out[shape] = {k: v for k, v in obs.items() if not k.startswith("junction_")}
+        out[shape]["cpu [s]"] = time.process_time() - c0
+        if on_shape is not None:
+            on_shape(shape, out[shape])
+    return out
+
+
+def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | None
+                  ) -> tuple[list[Metric], dict]:
+    """Rows of the held shapes (:func:`_held_shapes`) next to the bar-and-hinge current route and
+    the paper; ``transient``: the dome protocol's last two hold rows (the steady route's check).
+    Returns (metrics, bar-chart series)."""
+    from lcefem.validation import gridshell_bh as gs
+
+    route = gs.CurrentRoute("segment")
+    src = gs.SHAPE_SOURCES["curvatures"]
+    metrics: list[Metric] = []
+    chart = {"3D FE, held (steady)": {}, "bar-and-hinge current route": {}, "paper simulation": {},
+             "paper experiment": {}}
+    for shape, obs in held.items():
+        spec = gs.SHAPES[shape]
+        currents = " / ".join(f"{ch} {spec['currents'][ch]:g}" for ch in ("Tx", "Ty", "Bx", "By"))
+        label = f"held {shape} ({currents} A)"
+        bh_lambdas = gs.lambda_assignments_from_currents(spec["currents"], route)
+        for ch in ("Tx", "Ty", "Bx", "By"):
+            metrics.append(Metric.info(name, f"{label}: steady lambda, {ch}", obs[f"lambda {ch} [-]"],
+                                       "-", f"{FE_STEADY}; model vs model: FE heat equation vs the "
+                                       "lumped steady balance of one grid segment "
+                                       "(models.lumped_heat.stretch_from_current)", bh_lambdas[ch]))
+        if not mechanics:
+            continue  # quick level: the heat alone
+        bh = run_bh_shape(bh_lambdas, spec["support"])
+        kappa = (obs["kappa_circle_x [1/mm]"], obs["kappa_circle_y [1/mm]"])
+        chart["3D FE, held (steady)"][shape] = kappa
+        chart["bar-and-hinge current route"][shape] = (bh[KAPPA_KEYS[0]], bh[KAPPA_KEYS[1]])
+        chart["paper simulation"][shape] = spec["paper_sim"]
+        chart["paper experiment"][shape] = spec["paper_exp"]
+        for i, axis in enumerate("xy"):
+            for against, ref in (("simulation", spec["paper_sim"]), ("experiment", spec["paper_exp"])):
+                if ref[i] is None:
+                    continue
+                metrics.append(Metric.within(name, f"{label}: kappa_{axis} circle vs paper {against}",
+                                             kappa[i], "1/mm", ref[i], SIM_TOLERANCE,
+                                             f"{src}; currents: {gs.SHAPE_SOURCES['currents']}; "
+                                             "tolerance: as gridshell_shapes_fe (sim-exp spread 0.002 "
+                                             "+ precision 0.001)"))
+            metrics.append(Metric.info(name, f"{label}: kappa_{axis} circle vs bar-and-hinge current "
+                                       "route", kappa[i], "1/mm", f"model vs model; {FE_STEADY}; {BH}, "
+                                       "current route 'segment'", bh[KAPPA_KEYS[i]]))
+        metrics.append(Metric.info(name, f"{label}: Newton iterations", obs["newton iterations [-]"],
+                                   "-", FE_STEADY))
+    if mechanics and transient is not None and "dome" in held:
+        last, before = transient
+        key = "kappa_circle_x [1/mm]"
+        metrics.append(Metric.within(
+            name, f"held dome: steady route vs the transient hold at t = {last['time [s]']:g} s, "
+            "kappa_x circle", held["dome"][key], "1/mm", last[key], abs(last[key] - before[key]),
+            "the steady state is the hold's limit (backward Euler tends to it); tolerance: the "
+            "hold's own last-step change of kappa_x (its distance to the limit is smaller)"))
+    return metrics, chart
 
 
 @case("gridshell_heated_fe", "Robotic surface in 3D FE, heated route: the paper's dome protocol (0.1 / "
@@ -448,6 +586,26 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                                        "model vs model: FE heat equation vs the lumped steady balance "
                                        "of one grid segment (models.lumped_heat.stretch_from_current)",
                                        bh_lambdas[ch]))
+    # the four Fig. 4 shapes held at their currents, straight to the steady state
+    held = _held_shapes(ctx.quick, model)
+    held_rows, chart = _held_metrics(name, held, not ctx.quick, (hold[-1], hold[-2]) if hold else None)
+    metrics += held_rows
+    write_csv(ctx.path("gridshell_held_fe.csv"),
+              {"shape index [-]": list(range(len(held))),
+               **{k: [held[s].get(k, math.nan) for s in held]
+                  for k in next(iter(held.values())) if k.endswith("]")}})
+    if chart["3D FE, held (steady)"]:
+        from lcefem.validation import gridshell_bh as gs
+        from lcefem.validation.gridshell_plots import curvature_bar_chart
+
+        shapes = list(chart["3D FE, held (steady)"])
+        sources = [gs.SHAPE_SOURCES["currents"], gs.SHAPE_SOURCES["curvatures"], FE_STEADY, BH]
+        ctx.add_figure(curvature_bar_chart(ctx.path("gridshell_held_fe.png"), shapes, chart, sources),
+                       plots.caption("Centre curvatures (circle measure, dome negative) of the four "
+                                     "Fig. 4 shapes held at their currents: 3D FE steady state vs "
+                                     "bar-and-hinge current route vs the paper; CSV: "
+                                     "gridshell_held_fe.csv (row order " + ", ".join(shapes) + ")",
+                                     sources))
     its = sum(r.get("newton iterations [-]", 0) for r in rows)
     metrics += [Metric.info(name, "Newton iterations", its, "-", FE_HEATED),
                 Metric.info(name, "time steps", len(rows) - 1, "-", FE_HEATED),
