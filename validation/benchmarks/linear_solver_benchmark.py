@@ -35,13 +35,15 @@ CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 #: Solver sets (overrides of ``NEWTON_OPTIONS``). ``ldlt``: the default MUMPS LDL^T; ``metis``:
 #: the same with METIS ordering (ICNTL(7) = 5); ``blr*``: MUMPS block low-rank factorisation
 #: (ICNTL(35) = 1, dropping tolerance CNTL(7)) used directly or as a CG preconditioner; ``gamg``:
-#: :data:`lcefem.solvers.mechanics.GAMG_OPTIONS`; ``gamg-*``: one change each.
+#: :data:`lcefem.solvers.mechanics.GAMG_OPTIONS` (CG to 1e-4); ``gamg-*``: one change each
+#: to the same with CG to 1e-8 (``gamg-rtol8``).
 
 
 def _solver_sets() -> dict[str, dict]:
     from lcefem.solvers.mechanics import GAMG_OPTIONS
 
     g = dict(GAMG_OPTIONS)
+    g8 = {**g, "ksp_rtol": 1e-8}  # the variants were measured with exact (1e-8) CG solves
     # the factorisation of the step's first tangent preconditions CG for the rest of the Newton solve
     lag_pc = {"ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200, "snes_lag_preconditioner": 100}
     blr_pc = {"ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200, "mat_mumps_icntl_35": 1}
@@ -55,19 +57,23 @@ def _solver_sets() -> dict[str, dict]:
         "ldlt-lag-cg": {**lag_pc},
         "blr-4-lag-cg": {**lag_pc, "mat_mumps_icntl_35": 1, "mat_mumps_cntl_7": 1e-4},
         "gamg": g,
-        "gamg-t0": {**g, "pc_gamg_threshold": 0.0},
-        "gamg-t-1": {**g, "pc_gamg_threshold": -1.0},
-        "gamg-t05": {**g, "pc_gamg_threshold": 0.05},
-        "gamg-agg0": {**g, "pc_gamg_aggressive_coarsening": 0},
-        "gamg-agg2": {**g, "pc_gamg_aggressive_coarsening": 2},
-        "gamg-sor": {**g, "mg_levels_pc_type": "sor"},
-        "gamg-cheb2": {**g, "mg_levels_ksp_max_it": 2},
-        "gamg-cheb5": {**g, "mg_levels_ksp_max_it": 5},
-        "gamg-esteig": {**g, "mg_levels_ksp_chebyshev_esteig": "0,0.05,0,1.1"},
-        "gamg-reuse": {**g, "pc_gamg_reuse_interpolation": True},
-        "gamg-lag": {**g, "snes_lag_preconditioner": 100},
-        "gamg-rtol6": {**g, "ksp_rtol": 1e-6},
-        "gamg-rtol4": {**g, "ksp_rtol": 1e-4},
+        "gamg-rtol8": g8,
+        "gamg-t0": {**g8, "pc_gamg_threshold": 0.0},
+        "gamg-t-1": {**g8, "pc_gamg_threshold": -1.0},
+        "gamg-t05": {**g8, "pc_gamg_threshold": 0.05},
+        "gamg-agg0": {**g8, "pc_gamg_aggressive_coarsening": 0},
+        "gamg-agg2": {**g8, "pc_gamg_aggressive_coarsening": 2},
+        "gamg-sor": {**g8, "mg_levels_pc_type": "sor"},
+        "gamg-cheb2": {**g8, "mg_levels_ksp_max_it": 2},
+        "gamg-cheb5": {**g8, "mg_levels_ksp_max_it": 5},
+        "gamg-esteig": {**g8, "mg_levels_ksp_chebyshev_esteig": "0,0.05,0,1.1"},
+        "gamg-reuse": {**g8, "pc_gamg_reuse_interpolation": True},
+        "gamg-lag": {**g8, "snes_lag_preconditioner": 100},
+        "gamg-rtol6": {**g8, "ksp_rtol": 1e-6},
+        "gamg-rtol4": {**g8, "ksp_rtol": 1e-4},
+        "gamg-ew": {**g8, "snes_ksp_ew": True},
+        "gamg-sor-rtol4": {**g8, "mg_levels_pc_type": "sor", "ksp_rtol": 1e-4},
+        "ldlt-lag-cg4": {**lag_pc, "ksp_rtol": 1e-4},
     }
 
 
