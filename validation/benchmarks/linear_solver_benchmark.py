@@ -143,6 +143,30 @@ COLUMNS = ["level", "solver", "dofs [-]", "block size [-]", "steps [-]", "cuts [
            "wall [s]", "cpu [s]", "peak memory [MiB]", "residual norm [N]", "stretch [-]", "unused options"]
 
 
+def growth_exponents(rows: list[dict], min_dofs: int = 40_000) -> dict[str, tuple[float, int, int]]:
+    """Per solver set: the exponent p of a least-squares fit cpu/it ~ DOFs^p over the rows with at
+    least ``min_dofs`` DOFs (the issue's target: p <= 1.15 from 50k DOFs), with the DOF range."""
+    import numpy as np
+
+    out = {}
+    for solver in dict.fromkeys(r["solver"] for r in rows):
+        pts = sorted((float(r["dofs [-]"]), float(r["cpu/it [s]"])) for r in rows
+                     if r["solver"] == solver and float(r["dofs [-]"]) >= min_dofs)
+        if len(pts) >= 2:
+            n, t = np.log(np.array(pts)).T
+            out[solver] = (float(np.polyfit(n, t, 1)[0]), int(pts[0][0]), int(pts[-1][0]))
+    return out
+
+
+def _read_csv(paths: list[pathlib.Path]) -> list[dict]:
+    import csv
+    rows = []
+    for path in paths:
+        with open(path, newline="") as fh:
+            rows += list(csv.DictReader(fh))
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sets = _solver_sets()
@@ -152,6 +176,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--newton-its", type=int, default=None,
                         help="only this many Newton iterations straight at the hot core (large meshes)")
     parser.add_argument("--csv", type=pathlib.Path, default=None, help="CSV file of the table")
+    parser.add_argument("--merge", type=pathlib.Path, nargs="+", default=None,
+                        help="no runs: the table and growth exponents of these CSV files (one --csv)")
     parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     for name in args.solvers:
@@ -160,8 +186,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.child:
         print(json.dumps(measure(int(args.child[0]), args.child[1], args.newton_its)))
         return 0
-    rows = []
-    for level in args.levels:
+    rows = _read_csv(args.merge) if args.merge else []
+    for level in [] if args.merge else args.levels:
         for solver in args.solvers:
             cmd = [sys.executable, "-m", "lcefem.validation.benchmarks.linear_solver_benchmark",
                    "--child", str(level), solver]
@@ -175,6 +201,8 @@ def main(argv: list[str] | None = None) -> int:
             rows.append(json.loads([ln for ln in out.stdout.splitlines() if ln.startswith("{")][-1]))
             print_table(rows[-1:], columns=COLUMNS, file=sys.stderr)
     print_table(rows, columns=COLUMNS)
+    for solver, (p, lo, hi) in growth_exponents(rows).items():
+        print(f"{solver}: cpu per iteration ~ DOFs^{p:.2f} from {lo} to {hi} DOFs")
     if args.csv is not None:
         _write_csv(args.csv, COLUMNS, rows)
     return 0
