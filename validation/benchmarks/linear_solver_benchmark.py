@@ -126,7 +126,9 @@ def measure(level: int, solver: str, newton_its: int | None = None) -> dict:
     its = max(t["its"], 1)  # Jacobians = linear solves (Newton's and the tangent predictor's)
     prefix = snes.getOptionsPrefix()
     unused = sorted(k for k in options if not PETSc.Options().used(prefix + k))
-    return {"level": level, "solver": solver, "dofs [-]": sim.ndofs["displacement"],
+    return {"level": level, "solver": solver,
+            "protocol": f"{newton_its} Newton its" if newton_its else "path-followed solve",
+            "dofs [-]": sim.ndofs["displacement"],
             "block size [-]": A.getBlockSize(), "newton its [-]": report.iterations,
             "linear solves [-]": t["its"], "cg its [-]": ksp_its[0],
             "steps [-]": report.substeps, "cuts [-]": report.cuts,
@@ -137,7 +139,7 @@ def measure(level: int, solver: str, newton_its: int | None = None) -> dict:
             "stretch [-]": sim.stretch(), "unused options": " ".join(unused)}
 
 
-COLUMNS = ["level", "solver", "dofs [-]", "block size [-]", "steps [-]", "cuts [-]", "newton its [-]",
+COLUMNS = ["level", "solver", "protocol", "dofs [-]", "block size [-]", "steps [-]", "cuts [-]", "newton its [-]",
            "linear solves [-]", "cg its [-]",
            "s/iteration [s]", "jacobian/it [s]", "pcsetup/it [s]", "kspsolve/it [s]", "cpu/it [s]",
            "wall [s]", "cpu [s]", "peak memory [MiB]", "residual norm [N]", "stretch [-]", "unused options"]
@@ -158,12 +160,36 @@ def growth_exponents(rows: list[dict], min_dofs: int = 40_000) -> dict[str, tupl
     return out
 
 
+def crossover(rows: list[dict], direct: str = "ldlt", iterative: str = "gamg") -> float | None:
+    """DOFs at which ``iterative`` becomes as cheap per iteration (CPU) as ``direct``: the ratio's
+    log interpolated linearly in log DOFs between the two measured sizes around its sign change;
+    None when it does not change sign in the rows."""
+    import numpy as np
+
+    def cost(name):
+        return {float(r["dofs [-]"]): float(r["cpu/it [s]"]) for r in rows if r["solver"] == name}
+    d, i = cost(direct), cost(iterative)
+    pts = sorted((n, np.log(i[n] / d[n])) for n in d.keys() & i.keys())
+    for (n0, r0), (n1, r1) in zip(pts, pts[1:]):
+        if r0 > 0.0 >= r1:
+            return float(np.exp(np.log(n0) + r0 / (r0 - r1) * (np.log(n1) - np.log(n0))))
+    return None
+
+
 def _read_csv(paths: list[pathlib.Path]) -> list[dict]:
     import csv
+
+    def value(text: str):
+        for kind in (int, float):
+            try:
+                return kind(text)
+            except ValueError:
+                pass
+        return text
     rows = []
     for path in paths:
         with open(path, newline="") as fh:
-            rows += list(csv.DictReader(fh))
+            rows += [{k: value(v) for k, v in r.items()} for r in csv.DictReader(fh)]
     return rows
 
 
@@ -201,8 +227,18 @@ def main(argv: list[str] | None = None) -> int:
             rows.append(json.loads([ln for ln in out.stdout.splitlines() if ln.startswith("{")][-1]))
             print_table(rows[-1:], columns=COLUMNS, file=sys.stderr)
     print_table(rows, columns=COLUMNS)
-    for solver, (p, lo, hi) in growth_exponents(rows).items():
-        print(f"{solver}: cpu per iteration ~ DOFs^{p:.2f} from {lo} to {hi} DOFs")
+    for protocol in dict.fromkeys(r.get("protocol", "") for r in rows):
+        same = [r for r in rows if r.get("protocol", "") == protocol]
+        for solver, (p, lo, hi) in growth_exponents(same).items():
+            print(f"{solver}, {protocol}: cpu per iteration ~ DOFs^{p:.2f} from {lo} to {hi} DOFs")
+        sizes = {}
+        for r in same:
+            sizes.setdefault(r["solver"], set()).add(r["dofs [-]"])
+        for it in sorted(n for n in sizes if n.startswith("gamg")
+                         and len(sizes[n] & sizes.get("ldlt", set())) >= 2):
+            n = crossover(same, "ldlt", it)
+            print(f"{it} vs ldlt, {protocol}: crossover "
+                  + (f"at {n:.0f} DOFs" if n else "not in the measured range"))
     if args.csv is not None:
         _write_csv(args.csv, COLUMNS, rows)
     return 0
