@@ -67,9 +67,13 @@ GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type
                 "pc_gamg_threshold": 0.02, "pc_gamg_square_graph": 1, "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}
 
-#: Displacement DOFs (global) from which :func:`solver_options` takes the iterative path when the
-#: caller names no ``pc_type``. PLACEHOLDER
-ITERATIVE_PATH_DOFS = 10**9
+#: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
+#: caller names no ``pc_type``: the measured crossover of CPU time per Newton iteration (Jacobian +
+#: linear solve) on the heated strip, quarter, Q2, one process: CG + GAMG / MUMPS LDL^T = 3.19,
+#: 1.90, 1.43, 0.91 at 46k, 105k, 200k, 339k DOFs, ratio 1 at 3.0e5 by log-log interpolation
+#: (``linear_solver_benchmark --levels 2 3 4 5 --solvers ldlt gamg --newton-its 2``, 2026-11-24,
+#: load 8-15 on 2 cores; the LDL^T peak memory is 5.3 GB there against 1.7 GB for GAMG).
+ITERATIVE_PATH_DOFS = 300_000
 
 
 def solver_options(ndofs: int, overrides: dict | None = None) -> dict:
