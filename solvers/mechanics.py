@@ -57,12 +57,12 @@ LU_OPTIONS = {"pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 #: in this PETSc build), the six rigid-body modes as its near-nullspace and the matrix blocked by 3
 #: (``HyperelasticProblem`` sets both when ``pc_type`` is ``gamg``). ``pc_type = "gamg"`` in the
 #: overrides brings the whole set (CG, not the direct path's ``preonly``). CG stops at a relative
-#: residual of 1e-4 (an inexact Newton): on the strip's hot-core solve at 15k and 46k DOFs Newton
-#: still takes 3 iterations (as with exact solves) and CG 0.46x / 0.55x the iterations of 1e-8;
+#: residual of 1e-4 (an inexact Newton): on the strip's hot-core solve Newton still takes 3
+#: iterations (as with 1e-8 at 15k DOFs, as LDL^T at 46k) and CG 0.46x the iterations of 1e-8 at 15k;
 #: Eisenstat-Walker tolerances (snes_ksp_ew) failed to converge there. Chebyshev/Jacobi stays: SOR
 #: halves the CG iterations but costs more per iteration (1.3x CPU at 46k); thresholds -1, 0, 0.05,
 #: no aggressive coarsening and Chebyshev degree 2 or 5 were no faster at 15k
-#: (``validation/benchmarks/linear_solver_benchmark.py``, README Solvers).
+#: (``validation/benchmarks/linear_solver_benchmark.py``, README "Linear solvers on large meshes").
 GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "gamg",
                 "pc_gamg_threshold": 0.02, "pc_gamg_square_graph": 1, "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}
@@ -71,8 +71,9 @@ GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type
 #: caller names no ``pc_type``: the measured crossover of CPU time per Newton iteration (Jacobian +
 #: linear solve) on the heated strip, quarter, Q2, one process: CG + GAMG / MUMPS LDL^T = 3.19,
 #: 1.90, 1.43, 0.91 at 46k, 105k, 200k, 339k DOFs, ratio 1 at 3.0e5 by log-log interpolation
-#: (``linear_solver_benchmark --levels 2 3 4 5 --solvers ldlt gamg --newton-its 2``, 2026-11-24,
-#: load 8-15 on 2 cores; the LDL^T peak memory is 5.3 GB there against 1.7 GB for GAMG).
+#: (``linear_solver_benchmark --levels 2 3 4 5 --solvers ldlt gamg --newton-its 2``; its rows say
+#: ``gamg-rtol4``, the same options; 2026-11-24,
+#: load 8-15 on 2 cores; the LDL^T peak memory is 5.2 GiB there against 1.6 GiB for GAMG).
 ITERATIVE_PATH_DOFS = 300_000
 
 
