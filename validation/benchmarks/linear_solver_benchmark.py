@@ -32,7 +32,8 @@ from lcefem.validation.benchmarks.fe_benchmark import _timed_solve, _write_csv, 
 #: the 0.2 A transient; a smooth, non-uniform spontaneous strain, so Newton has real work.
 CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 
-#: Solver sets (overrides of ``NEWTON_OPTIONS``). ``ldlt``: the default MUMPS LDL^T; ``metis``:
+#: Solver sets (overrides of ``NEWTON_OPTIONS``). ``auto``: none (the path follows the size);
+#: ``ldlt``: MUMPS LDL^T (the default below ``ITERATIVE_PATH_DOFS``); ``metis``:
 #: the same with METIS ordering (ICNTL(7) = 5); ``blr*``: MUMPS block low-rank factorisation
 #: (ICNTL(35) = 1, dropping tolerance CNTL(7)) used directly or as a CG preconditioner; ``gamg``:
 #: :data:`lcefem.solvers.mechanics.GAMG_OPTIONS` (CG to 1e-4); ``gamg-*``: one change each
@@ -44,14 +45,18 @@ def _solver_sets() -> dict[str, dict]:
 
     g = dict(GAMG_OPTIONS)
     g8 = {**g, "ksp_rtol": 1e-8}  # the variants were measured with exact (1e-8) CG solves
+    # every MUMPS set names its pc_type: above ITERATIVE_PATH_DOFS the default is CG + GAMG
+    ldlt = {"pc_type": "cholesky"}
     # the factorisation of the step's first tangent preconditions CG for the rest of the Newton solve
-    lag_pc = {"ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200, "snes_lag_preconditioner": 100}
-    blr_pc = {"ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200, "mat_mumps_icntl_35": 1}
+    lag_pc = {**ldlt, "ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200,
+              "snes_lag_preconditioner": 100}
+    blr_pc = {**ldlt, "ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200, "mat_mumps_icntl_35": 1}
     return {
-        "ldlt": {},
-        "metis": {"mat_mumps_icntl_7": 5},
+        "auto": {},  # the size decides (solvers.mechanics.solver_options)
+        "ldlt": ldlt,
+        "metis": {**ldlt, "mat_mumps_icntl_7": 5},
         "lu": {"pc_type": "lu"},
-        "blr-8": {"mat_mumps_icntl_35": 1, "mat_mumps_cntl_7": 1e-8},
+        "blr-8": {**ldlt, "mat_mumps_icntl_35": 1, "mat_mumps_cntl_7": 1e-8},
         "blr-6-cg": {**blr_pc, "mat_mumps_cntl_7": 1e-6},
         "blr-4-cg": {**blr_pc, "mat_mumps_cntl_7": 1e-4},
         "ldlt-lag-cg": {**lag_pc},
