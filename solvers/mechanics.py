@@ -55,13 +55,39 @@ LU_OPTIONS = {"pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 
 #: The iterative path: conjugate gradients with smoothed-aggregation algebraic multigrid (hypre is not
 #: in this PETSc build), the six rigid-body modes as its near-nullspace and the matrix blocked by 3
-#: (``HyperelasticProblem`` sets both when ``pc_type`` is ``gamg``). Measured against MUMPS LDL^T in
-#: ``validation/benchmarks/fe_benchmark.py --linear-levels``: on the heated strip's tangent it took
-#: 14x, 8.6x and 3.3x the time of LDL^T at 15k, 46k and 105k DOFs (one loaded core, 184-271 CG
-#: iterations), so it is not selected automatically: no crossover below ~105k DOFs.
-GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 2000, "pc_type": "gamg",
+#: (``HyperelasticProblem`` sets both when ``pc_type`` is ``gamg``). ``pc_type = "gamg"`` in the
+#: overrides brings the whole set (CG, not the direct path's ``preonly``). CG stops at a relative
+#: residual of 1e-4 (an inexact Newton): on the strip's hot-core solve Newton still takes 3
+#: iterations (as with 1e-8 at 15k DOFs, as LDL^T at 46k) and CG 0.46x the iterations of 1e-8 at 15k;
+#: Eisenstat-Walker tolerances (snes_ksp_ew) failed to converge there. Chebyshev/Jacobi stays: SOR
+#: halves the CG iterations but costs more per iteration (1.3x CPU at 46k); thresholds -1, 0, 0.05,
+#: no aggressive coarsening and Chebyshev degree 2 or 5 were no faster at 15k
+#: (``validation/benchmarks/linear_solver_benchmark.py``, README "Linear solvers on large meshes").
+GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "gamg",
                 "pc_gamg_threshold": 0.02, "pc_gamg_square_graph": 1, "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}
+
+#: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
+#: caller names no ``pc_type``: the measured crossover of CPU time per Newton iteration (Jacobian +
+#: linear solve) on the heated strip, quarter, Q2, one process: CG + GAMG / MUMPS LDL^T = 3.19,
+#: 1.90, 1.43, 0.91 at 46k, 105k, 200k, 339k DOFs, ratio 1 at 3.0e5 by log-log interpolation
+#: (``linear_solver_benchmark --levels 2 3 4 5 --solvers ldlt gamg --newton-its 2``; its rows say
+#: ``gamg-rtol4``, the same options; 2026-11-24,
+#: load 8-15 on 2 cores; the LDL^T peak memory is 5.2 GiB there against 1.6 GiB for GAMG).
+ITERATIVE_PATH_DOFS = 300_000
+
+
+def solver_options(ndofs: int, overrides: dict | None = None) -> dict:
+    """PETSc options of a mechanics problem with ``ndofs`` displacement DOFs [-]:
+    :data:`NEWTON_OPTIONS`, then :data:`GAMG_OPTIONS` when the overrides ask for ``pc_type = gamg``
+    or name no ``pc_type`` and ``ndofs >= ITERATIVE_PATH_DOFS``, then the overrides."""
+    overrides = dict(overrides or {})
+    options = dict(NEWTON_OPTIONS)
+    pc = overrides.get("pc_type")
+    if pc == "gamg" or (pc is None and ndofs >= ITERATIVE_PATH_DOFS):
+        options.update(GAMG_OPTIONS)
+    options.update(overrides)
+    return options
 
 
 def rigid_body_modes(V: dolfinx.fem.FunctionSpace) -> PETSc.NullSpace:
@@ -112,7 +138,8 @@ class HyperelasticProblem:
         energy: Pi(u) as a UFL form [mJ], e.g. ``W(F) * dx - dot(t, u) * ds``.
         bcs: Dirichlet conditions (their values may change between solves).
         prefix: PETSc options prefix, unique per problem.
-        petsc_options: overrides of :data:`NEWTON_OPTIONS`.
+        petsc_options: overrides of :data:`NEWTON_OPTIONS`; the linear solver follows the problem
+            size unless they name a ``pc_type`` (:func:`solver_options`).
     """
 
     def __init__(self, u: dolfinx.fem.Function, energy: ufl.Form, bcs=(), *,
@@ -124,16 +151,18 @@ class HyperelasticProblem:
         self.test = ufl.TestFunction(V)
         self.residual = ufl.derivative(energy, u, self.test)
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
-        options = dict(NEWTON_OPTIONS)
-        options.update(petsc_options or {})
+        options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
+                                 petsc_options)
+        self.iterative = options.get("pc_type") == "gamg"
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
             petsc_options_prefix=prefix)
         self.symmetric = options.get("pc_type") in ("cholesky", "gamg")
         if self.symmetric:
             self._problem.A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
-        if options.get("pc_type") == "gamg":
-            self._problem.A.setNearNullSpace(rigid_body_modes(V))
+        self._near_nullspace = rigid_body_modes(V) if self.iterative else None
+        if self.iterative:
+            self._problem.A.setNearNullSpace(self._near_nullspace)
         self.energy_form = dolfinx.fem.form(energy)
         self.last_iterations = 0
         self._bc_dofs = [bc.dof_indices()[0] for bc in self.bcs]
@@ -216,6 +245,8 @@ class HyperelasticProblem:
         A.assemble()
         if self.symmetric:
             A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        if self.iterative:
+            A.setNearNullSpace(self._near_nullspace)
         _, _, (jac, jargs, jkw) = self.snes.getJacobian()
         self.snes.setJacobian(jac, A, None, args=jargs, kargs=jkw)
         self._problem._A.destroy()
