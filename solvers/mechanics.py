@@ -70,10 +70,10 @@ GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type
 #: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
 #: caller names no ``pc_type``: the measured crossover of CPU time per Newton iteration (Jacobian +
 #: linear solve) on the heated strip, quarter, Q2, one process: CG + GAMG / MUMPS LDL^T = 3.19,
-#: 1.90, 1.43, 0.91 at 46k, 105k, 200k, 339k DOFs, ratio 1 at 3.0e5 by log-log interpolation
-#: (``linear_solver_benchmark --levels 2 3 4 5 --solvers ldlt gamg --newton-its 2``; its rows say
-#: ``gamg-rtol4``, the same options; 2026-11-24,
-#: load 8-15 on 2 cores; the LDL^T peak memory is 5.2 GiB there against 1.6 GiB for GAMG).
+#: 1.90, 1.43, 0.91, 0.60 at 46k, 105k, 200k, 339k, 532k DOFs, ratio 1 at 3.0e5 by log-log
+#: interpolation (``linear_solver_benchmark --levels 2 3 4 5 6 --solvers ldlt gamg --newton-its 2``;
+#: its rows say ``gamg-rtol4``, the same options; 2026-11-24, load 8-15 on 2 cores; LDL^T peak
+#: memory 5.2 / 8.6 GiB at 339k / 532k against 1.6 / 2.3 GiB for GAMG).
 ITERATIVE_PATH_DOFS = 300_000
 
 
