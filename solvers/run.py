@@ -255,16 +255,23 @@ class CSVTable:
         self.rows: list[list[float]] = []
         self.comm = comm
         self._fh = None
-        if self.path is not None and _rank(comm) == 0:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._fh = part_name(self.path).open("w", newline="")
-            self._csv = csv.writer(self._fh)
-            self._csv.writerow(self.columns)
+        # The .part file is opened at the first row (or at finalize), not here: a table is built in
+        # Run.__init__, before the ``with`` block whose __exit__ renames it, so an interrupt landing
+        # between the two would leave a bare .part behind.
+        self._writes = self.path is not None and _rank(comm) == 0
+
+    def _open(self) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._fh = part_name(self.path).open("w", newline="")
+        self._csv = csv.writer(self._fh)
+        self._csv.writerow(self.columns)
 
     def append(self, row: dict) -> None:
         values = [float(row[c]) for c in self.columns]
         self.rows.append(values)
-        if self._fh is not None:
+        if self._writes:
+            if self._fh is None:
+                self._open()
             self._csv.writerow([f"{v:.10g}" for v in values])
             self._fh.flush()
 
@@ -279,6 +286,8 @@ class CSVTable:
     def finalize(self, complete: bool = True) -> pathlib.Path | None:
         if self.path is None:
             return None
+        if self._writes and self._fh is None:  # no row yet: the file still gets its header
+            self._open()
         if self._fh is not None and not self._fh.closed:
             self._fh.close()
         target = self.path if complete else partial_name(self.path)
