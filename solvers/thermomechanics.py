@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+import numpy as np
 from petsc4py import PETSc
 
 import dolfinx
@@ -124,15 +125,23 @@ class ThermoMechanicalModel:
 
     def equilibrate(self, where: str) -> continuation.StepReport:
         """Bring the mechanics from the temperature it last saw to the current heat temperature."""
-        T_start = self.T_mech.x.array.copy()
-        T_end = self.heat.T.x.array.copy()
-
-        def set_load(s: float) -> None:
-            self.T_mech.x.array[:] = T_start + s * (T_end - T_start)
-
-        follower = continuation.PathFollower(self.mechanics, set_load, self.path_control)
+        follower = temperature_path(self.mechanics, self.T_mech, self.heat.T.x.array, self.path_control)
         follower.follow(1.0, where)
         return follower.report()
+
+
+def temperature_path(mechanics, T_mech, T_end, control: continuation.PathControl,
+                     damping=None) -> continuation.PathFollower:
+    """A path follower that takes the mechanics from the temperature ``T_mech`` holds now to
+    ``T_end`` [C] (copied): T_mech = T_start + s (T_end - T_start), s: 0 -> 1, cut on failure;
+    ``follow(1.0, where)`` runs it."""
+    T_start = T_mech.x.array.copy()
+    T_end = np.array(T_end, dtype=float, copy=True)
+
+    def set_load(s: float) -> None:
+        T_mech.x.array[:] = T_start + s * (T_end - T_start)
+
+    return continuation.PathFollower(mechanics, set_load, control, damping)
 
 
 class TemperatureFollower:

@@ -181,7 +181,7 @@ class Integrator:
         if self.options.predict:
             qdot = start.qdot()
             dq = h * qdot
-            acc = start.__dict__.get("_acceleration") if extrapolate else None
+            acc = start.acceleration if extrapolate else None
             if acc is not None and h * np.max(np.abs(acc)) <= np.max(np.abs(qdot)):
                 dq += h * h * acc
             guess = start.moved(dq)
@@ -211,11 +211,11 @@ class Integrator:
         new.v = qdot[node_dofs(n)]
         new.omega = qdot[4 * np.arange(n - 1) + 3]
         new.time = start.time + dt
-        new.__dict__["_acceleration"] = (qdot - qdot_n) / dt  # for the next step's extrapolated guess
+        new.acceleration = (qdot - qdot_n) / dt  # for the next step's extrapolated guess
         return new, result
 
     def _advance(self, start: RodState, dt: float, depth: int) -> tuple[RodState, int, int]:
-        extrapolate = self.options.extrapolate and "_acceleration" in start.__dict__
+        extrapolate = self.options.extrapolate and start.acceleration is not None
         new, result = self._attempt(start, dt, extrapolate)
         if new is None and extrapolate:  # the extrapolated guess may be the cause: the inertial one
             tried = result.iterations

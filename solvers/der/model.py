@@ -214,6 +214,8 @@ class RodState:
         source_tangents: tangents (N-1, 3) the reference directors were transported from by
             :meth:`moved` (None: the state's own tangents); the energies' derivatives are taken
             with that source held fixed.
+        acceleration: mean generalised acceleration (4N-1,) [mm/s^2, rad/s^2] of the time step that
+            produced this state (None: not produced by a step); the integrator's extrapolated guess.
     """
 
     x: np.ndarray
@@ -224,6 +226,7 @@ class RodState:
     ref_twist: np.ndarray
     time: float = 0.0
     source_tangents: np.ndarray | None = None
+    acceleration: np.ndarray | None = None
 
     @classmethod
     def from_positions(cls, x: np.ndarray, theta: np.ndarray | None = None,

@@ -85,7 +85,7 @@ from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, che
 from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVES
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.heat import HeatProblem, HeatSetup
-from lcefem.solvers.thermomechanics import TemperatureFollower
+from lcefem.solvers.thermomechanics import TemperatureFollower, temperature_path
 
 PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK, Examples2D.m; "
              "shared/reference/published_reduced_model.md)")
@@ -827,12 +827,8 @@ class HeatedGridshellFE(GridshellFE):
         rows, previous = [], None
         for sweep in range(1, max_sweeps + 1):
             self.heat.steady()
-            T0, T1 = self.T_mech.x.array.copy(), self.heat.T.x.array.copy()
-
-            def set_load(t: float, T0=T0, T1=T1) -> None:
-                self.T_mech.x.array[:] = T0 + t * (T1 - T0)
-
-            follower = PathFollower(self.problem, set_load, self.config.control, self.damping)
+            T1 = self.heat.T.x.array.copy()
+            follower = temperature_path(self.problem, self.T_mech, T1, self.config.control, self.damping)
             started = time.perf_counter()
             try:
                 follower.follow(1.0, where=f"heated gridshell, steady hold, sweep {sweep}")

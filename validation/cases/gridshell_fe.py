@@ -595,7 +595,6 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                **{k: [held[s].get(k, math.nan) for s in held]
                   for k in next(iter(held.values())) if k.endswith("]")}})
     if chart["3D FE, held (steady)"]:
-        from lcefem.validation import gridshell_bh as gs
         from lcefem.validation.gridshell_plots import curvature_bar_chart
 
         shapes = list(chart["3D FE, held (steady)"])
