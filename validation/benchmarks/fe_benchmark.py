@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import json
 import pathlib
 import subprocess
@@ -34,7 +35,7 @@ import sys
 import time
 
 COLUMNS = ["case", "variant", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
-           "jacobians [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
+           "jacobians [-]", "factorisations [-]", "residuals [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
            "other/it [s]", "mechanics [s]", "wall [s]", "cpu [s]", "peak memory [MiB]", "observable",
            "value"]
 
@@ -76,6 +77,9 @@ def _events() -> dict:
     for name in ("PCSetUp", "MatSolve", "SNESSolve"):
         info = PETSc.Log.Event(name).getPerfInfo()
         out[name] = float(info["time"])
+    # numeric factorisations (Cholesky or LU), the unit of cost of a direct-solver Newton step
+    out["factorisations"] = sum(int(PETSc.Log.Event(name).getPerfInfo()["count"])
+                                for name in ("MatCholFctrNum", "MatLUFactorNum"))
     return out
 
 
@@ -90,7 +94,8 @@ def _timed_solve(snes, run):
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     ev = {k: v - ev0[k] for k, v in _events().items()}
     return result, {"wall": wall, "cpu": cpu, "residual": timer.residual, "jacobian": timer.jacobian,
-                    "its": timer.jacobian_calls, "factor": ev["PCSetUp"], "solve": ev["MatSolve"],
+                    "its": timer.jacobian_calls, "residuals": timer.residual_calls,
+                    "factorisations": ev["factorisations"], "factor": ev["PCSetUp"], "solve": ev["MatSolve"],
                     "snes": ev["SNESSolve"]}
 
 
@@ -109,11 +114,21 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 
 
 #: Newton variants of the beam ramp (overrides of the beam's Newton options): the configured full
-#: Newton step; the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
+#: Newton step (``newton-O2``: its kernels compiled with dolfinx's default flags instead of
+#: :data:`lcefem.solvers.mechanics.JIT_OPTIONS`); the step controller's predictors (``tangent``,
+#: ``curved``: :class:`lcefem.solvers.continuation.PathControl`); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
 #: PETSc's critical-point (one or three secant steps), backtracking (on |R|^2), L2 line searches,
 #: steps damped to 0.8 and the trust region.
+#: One Newton step with the beam's direct solver as a nonlinear preconditioner (``npc_`` prefix).
+NEWTON_NPC = {"npc_snes_type": "newtonls", "npc_snes_max_it": 1, "npc_snes_linesearch_type": "basic",
+              "npc_ksp_type": "preonly", "npc_pc_type": "cholesky",
+              "npc_pc_factor_mat_solver_type": "mumps"}
+
 BEAM_VARIANTS = {
     "newton": {},
+    "newton-O2": {"jit_options": {}},
+    "tangent": {"predictor": "tangent"},
+    "curved": {"predictor": "curved"},
     "lag2": {"snes_lag_jacobian": 2, "snes_max_it": 30},
     "lag3": {"snes_lag_jacobian": 3, "snes_max_it": 40},
     "cp": {"snes_linesearch_type": "cp"},
@@ -122,21 +137,37 @@ BEAM_VARIANTS = {
     "bt": {"snes_linesearch_type": "bt"},
     "l2": {"snes_linesearch_type": "l2"},
     "newtontr": {"snes_type": "newtontr"},
+    "nleqerr": {"snes_linesearch_type": "nleqerr"},
+    "ngmres-r": {"snes_type": "ngmres", "snes_npc_side": "right", **NEWTON_NPC},
+    "ngmres-l": {"snes_type": "ngmres", "snes_npc_side": "left", **NEWTON_NPC},
+    "anderson-r": {"snes_type": "anderson", "snes_npc_side": "right", **NEWTON_NPC},
+    "qn-l": {"snes_type": "qn", "snes_npc_side": "left", **NEWTON_NPC},
+    "qn-jac": {"snes_type": "qn", "snes_qn_type": "lbfgs", "snes_qn_scale_type": "jacobian",
+               "snes_max_it": 60},
 }
 
 
 def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
                  variant: str = "newton") -> dict:
     from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.solvers import mechanics
+    from lcefem.solvers.continuation import PathControl
     from lcefem.solvers.problems.composite_beam import BeamFE
 
-    model = BeamFE(mesh=BeamFEMesh(level=level), petsc_options=BEAM_VARIANTS[variant])
+    options = dict(BEAM_VARIANTS[variant])
+    if "jit_options" in options:  # the kernels compiled with other flags (e.g. dolfinx's -O2)
+        mechanics.JIT_OPTIONS = options.pop("jit_options")
+    control = PathControl()
+    if "predictor" in options:  # a predictor of the step controller, not a PETSc option
+        control = dataclasses.replace(control, predictor=options.pop("predictor"))
+    model = BeamFE(mesh=BeamFEMesh(level=level), petsc_options=options, control=control)
     states, t = _timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))
     f = model.last_follower
     t["jacobians"], t["its"] = t["its"], f.iterations  # they differ when the Jacobian is reused
     return {"case": f"beam ramp ({lambda_top:g}, {lambda_bottom:g})", "variant": variant,
             "level": level, "dofs [-]": model.ndofs, "steps [-]": len(states), "cuts [-]": f.cuts,
-            "jacobians [-]": t["jacobians"], "refused iterates [-]": model.problem.inverted_iterates,
+            "jacobians [-]": t["jacobians"], "factorisations [-]": t["factorisations"],
+            "residuals [-]": t["residuals"], "refused iterates [-]": model.problem.inverted_iterates,
             "observable": "curvature [1/mm]", "value": model.curvature(), **_split(t)}
 
 
@@ -237,7 +268,7 @@ def child(args) -> dict:
 
 def print_table(rows: list[dict], file=sys.stdout, columns: list[str] | None = None) -> None:
     short = columns or ["case", "variant", "level", "dofs [-]", "newton its [-]", "its/step [-]",
-             "cuts [-]", "jacobians [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
+             "cuts [-]", "jacobians [-]", "factorisations [-]", "residuals [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
              "wall [s]", "cpu [s]", "peak memory [MiB]", "value"]
     cells = [[_fmt(r.get(k, "")) for k in short] for r in rows]
     widths = [max(len(k), *(len(c[i]) for c in cells)) for i, k in enumerate(short)]
