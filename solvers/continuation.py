@@ -4,9 +4,13 @@ state to a target.
 
 :class:`PathFollower`:
 * predictor: the tangent (Euler) step u <- u - K^-1 R(u; t_new) with the factorised tangent of the
-  last converged state (:meth:`lcefem.solvers.mechanics.HyperelasticProblem.tangent_predictor`),
-  else the secant through the last two converged states, else (also when the secant's state is
-  non-finite or inverts an element) the last state;
+  last converged state (:meth:`lcefem.solvers.mechanics.HyperelasticProblem.tangent_predictor`)
+  plus, by default, the quadratic term of the parabola through the previous converged state
+  (:meth:`PathFollower._curve`: a rotating thin part moves on an arc, which the straight Euler
+  step leaves by h^2/2 times the squared rotation rate, a membrane strain: on the beam's second
+  step the residual after the Euler step is 120 N, after the curved one 2.7 N); else the secant through
+  the last two converged states, else (also when the secant's state is non-finite or inverts an
+  element) the last state;
 * corrector: one Newton solve (SNES); the problem refuses non-finite iterates and inverted elements
   (det F <= 0 at a quadrature point), so a step is never accepted in such a state;
 * step size from the Newton iteration count: h <- h clip(sqrt(n_target/n), 1/2, growth);
@@ -53,12 +57,14 @@ class PathControl:
                                    "tangent predictor: 5 -> 242, 7 -> 234, 10 -> 152 (max_step "
                                    "0.2), 12 -> 162 (max_step 0.25, 3 cuts) Newton iterations",
                                    minimum=1)
-    predictor: str = param("tangent", "-", "'tangent' (Euler step with the converged tangent; the "
-                           "secant when the problem has none or the Euler step is inadmissible), "
-                           "'curved' (the Euler step plus the quadratic term through the previous "
-                           "converged state, kept when its residual is smaller), 'secant' or "
-                           "'none'. Beam ramp (1.33, 1.05), level 0: 234 Newton iterations with "
-                           "the tangent, 301 with the secant")
+    predictor: str = param("curved", "-", "'curved' (the Euler step plus the quadratic term "
+                           "through the previous converged state, kept when admissible and of "
+                           "smaller residual), 'tangent' (Euler step with the converged tangent; "
+                           "the secant when the problem has none or the Euler step is "
+                           "inadmissible), 'secant' or 'none'. Beam ramp (1.33, 1.05), level 0: "
+                           "98 Newton iterations in 15 steps with 'curved', 146 in 20 with "
+                           "'tangent' (234 before the step control's target of 10), 301 with "
+                           "the secant")
     snap_step: float = param(0.01, "-", "chosen: increment of t across a fold", positive=True)
     relaxation_steps: int = param(60, "-", "chosen: most damped (proximal) Newton steps across a fold",
                                   minimum=1)

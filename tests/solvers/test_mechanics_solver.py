@@ -189,6 +189,61 @@ def test_advance_raises_below_the_minimum_increment():
     assert p.state == 0.0  # restored to the last converged state
 
 
+class _Arc:
+    """A stand-in problem whose equilibrium at load t is the point (cos t, sin t) of the unit circle
+    (a rotating part), with the exact tangent as its Euler predictor; records the distance of each
+    Newton start from the equilibrium."""
+
+    def __init__(self):
+        self.load, self.state, self.start_errors = 0.0, np.array([1.0, 0.0]), []
+
+    @staticmethod
+    def equilibrium(t):
+        return np.array([np.cos(t), np.sin(t)])
+
+    def set_load(self, t):
+        self.load = t
+
+    def save(self):
+        return self.state.copy()
+
+    def restore(self, state):
+        self.state = np.array(state, dtype=float)
+
+    def tangent_predictor(self, set_load, t_from, t_to, converged=None):
+        self.state = self.equilibrium(t_from) + (t_to - t_from) * np.array([-np.sin(t_from),
+                                                                             np.cos(t_from)])
+        set_load(t_to)
+        return True
+
+    def residual_norm(self):
+        return float(np.linalg.norm(self.state - self.equilibrium(self.load)))
+
+    def solve(self):
+        self.start_errors.append(self.residual_norm())
+        self.state = self.equilibrium(self.load)
+        return True, 4, "converged"
+
+
+@pytest.mark.parametrize("predictor", ["tangent", "curved"])
+def test_predictor_errors_on_a_rotation_match_their_closed_forms(predictor):
+    """Steps h = 0.05 along the unit circle: the Euler step leaves the arc by
+    |(1 - cos h, h - sin h)| (~h^2/2); the curved predictor (parabola through the previous state,
+    h1 = h) by h^2 (h + h1)/6 + O(h^4) (the third derivative of the arc has length 1)."""
+    h = 0.05
+    p = _Arc()
+    f = PathFollower(p, p.set_load, PathControl(first_step=h, max_step=h, growth=1.0,
+                                                predictor=predictor))
+    f.follow(0.5, "test")
+    np.testing.assert_allclose(p.state, p.equilibrium(0.5), atol=1e-15)
+    euler = np.hypot(1.0 - np.cos(h), h - np.sin(h))
+    errors = np.array(p.start_errors)
+    assert len(errors) == 10
+    np.testing.assert_allclose(errors[0], euler, rtol=1e-9)  # no previous state yet: Euler
+    expected = euler if predictor == "tangent" else h ** 2 * (2 * h) / 6.0
+    np.testing.assert_allclose(errors[1:], expected, rtol=0.05 if predictor == "curved" else 1e-9)
+
+
 def test_tangent_predictor_path_reaches_the_direct_solution():
     """The controller with the tangent predictor (and inadmissible trials cut) reaches the same
     equilibrium as one Newton solve at the full load."""

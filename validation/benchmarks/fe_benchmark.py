@@ -114,9 +114,10 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 
 
 #: Newton variants of the beam ramp (overrides of the beam's Newton options): the configured full
-#: Newton step (``newton-O2``: its kernels compiled with dolfinx's default flags instead of
-#: :data:`lcefem.solvers.mechanics.JIT_OPTIONS`); the step controller's predictors (``tangent``,
-#: ``curved``: :class:`lcefem.solvers.continuation.PathControl`); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
+#: Newton step and the default step controller (``O2``: the kernels compiled with dolfinx's default
+#: flags instead of :data:`lcefem.solvers.mechanics.JIT_OPTIONS`; ``tangent``: the Euler predictor
+#: instead of the curved one; ``before``: both, the state before issue 13's beam-ramp work; ``t12``:
+#: :class:`lcefem.solvers.continuation.PathControl` aiming at 12 iterations with steps up to 0.25); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
 #: PETSc's critical-point (one or three secant steps), backtracking (on |R|^2), L2 line searches,
 #: steps damped to 0.8 and the trust region.
 #: One Newton step with the beam's direct solver as a nonlinear preconditioner (``npc_`` prefix).
@@ -126,9 +127,10 @@ NEWTON_NPC = {"npc_snes_type": "newtonls", "npc_snes_max_it": 1, "npc_snes_lines
 
 BEAM_VARIANTS = {
     "newton": {},
-    "newton-O2": {"jit_options": {}},
+    "before": {"jit_options": {}, "predictor": "tangent"},
+    "O2": {"jit_options": {}},
     "tangent": {"predictor": "tangent"},
-    "curved": {"predictor": "curved"},
+    "t12": {"target_iterations": 12, "max_step": 0.25},
     "lag2": {"snes_lag_jacobian": 2, "snes_max_it": 30},
     "lag3": {"snes_lag_jacobian": 3, "snes_max_it": 40},
     "cp": {"snes_linesearch_type": "cp"},
@@ -157,9 +159,10 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
     options = dict(BEAM_VARIANTS[variant])
     if "jit_options" in options:  # the kernels compiled with other flags (e.g. dolfinx's -O2)
         mechanics.JIT_OPTIONS = options.pop("jit_options")
-    control = PathControl()
-    if "predictor" in options:  # a predictor of the step controller, not a PETSc option
-        control = dataclasses.replace(control, predictor=options.pop("predictor"))
+    # fields of the step controller (predictor, target iterations, ...) are not PETSc options
+    control = dataclasses.replace(PathControl(), **{f.name: options.pop(f.name)
+                                                    for f in dataclasses.fields(PathControl)
+                                                    if f.name in options})
     model = BeamFE(mesh=BeamFEMesh(level=level), petsc_options=options, control=control)
     states, t = _timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))
     f = model.last_follower
