@@ -117,7 +117,8 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 #: Newton step and the default step controller (``O2``: the kernels compiled with dolfinx's default
 #: flags instead of :data:`lcefem.solvers.mechanics.JIT_OPTIONS`; ``tangent``: the Euler predictor
 #: instead of the curved one; ``before``: both, the state before issue 13's beam-ramp work; ``t12``:
-#: :class:`lcefem.solvers.continuation.PathControl` aiming at 12 iterations with steps up to 0.25); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
+#: :class:`lcefem.solvers.continuation.PathControl` aiming at 12 iterations with steps up to 0.25;
+#: ``native``: the kernels compiled for this processor, ``-march=native``); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
 #: PETSc's critical-point (one or three secant steps), backtracking (on |R|^2), L2 line searches,
 #: steps damped to 0.8 and the trust region.
 #: One Newton step with the beam's direct solver as a nonlinear preconditioner (``npc_`` prefix).
@@ -131,6 +132,7 @@ BEAM_VARIANTS = {
     "O2": {"jit_options": {}},
     "tangent": {"predictor": "tangent"},
     "t12": {"target_iterations": 12, "max_step": 0.25},
+    "native": {"jit_extra_flags": ["-march=native"]},
     "lag2": {"snes_lag_jacobian": 2, "snes_max_it": 30},
     "lag3": {"snes_lag_jacobian": 3, "snes_max_it": 40},
     "cp": {"snes_linesearch_type": "cp"},
@@ -159,6 +161,9 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
     options = dict(BEAM_VARIANTS[variant])
     if "jit_options" in options:  # the kernels compiled with other flags (e.g. dolfinx's -O2)
         mechanics.JIT_OPTIONS = options.pop("jit_options")
+    if "jit_extra_flags" in options:  # more compile flags than JIT_OPTIONS's (e.g. -march=native)
+        flags = mechanics.JIT_OPTIONS["cffi_extra_compile_args"] + options.pop("jit_extra_flags")
+        mechanics.JIT_OPTIONS = {**mechanics.JIT_OPTIONS, "cffi_extra_compile_args": flags}
     # fields of the step controller (predictor, target iterations, ...) are not PETSc options
     control = dataclasses.replace(PathControl(), **{f.name: options.pop(f.name)
                                                     for f in dataclasses.fields(PathControl)
