@@ -6,9 +6,10 @@ memory; for the strip's 0.2 A transient and the composite beam's ramp to (lambda
         [--csv results/fe_benchmark.csv] [--strip-steps 6] [--strip-dt 2.0] [--linear-levels 2 3]
         [--beam-variants newton lag2 cp ...]
 
-``--beam-variants``: the beam ramp once per named Newton variant of :data:`BEAM_VARIANTS` (line
-searches, trust region, Jacobian reuse), back to back, each row with its Newton iterations, Jacobian
-assemblies, refused iterates (non-finite or det F <= 0) and curvature.
+``--beam-variants``: the beam ramp once per named variant of :data:`BEAM_VARIANTS` (line searches,
+trust region, Jacobian reuse, nonlinear preconditioning, quasi-Newton, predictors, compile flags),
+back to back, each row with its Newton iterations, Jacobian assemblies, numeric factorisations,
+residual evaluations, refused iterates (non-finite or det F <= 0) and curvature.
 
 ``--linear-levels``: a second table, one tangent of the heated strip per level solved by MUMPS LDL^T
 and by CG + algebraic multigrid (GAMG with the rigid-body near-nullspace, block size 3), and the
