@@ -25,55 +25,12 @@ import numpy as np
 from numba import njit
 
 from lcefem.solvers.der import kernels
+from lcefem.solvers.der.kernels import band_cholesky, band_cholesky_solve
 
 # Return codes of :func:`minimise_step` (the reasons of ``newton.NewtonResult``).
 REASONS = ("residual below force_tol", "update below step_tol", "non-finite residual", "singular Hessian",
            "line search failed", "too many iterations")
 CONVERGED_CODES = (0, 1)
-
-
-@njit(cache=True)
-def band_cholesky(ab):
-    """Lower banded Cholesky factor in place (LAPACK dpbtf2 storage ab[i - j, j] = H[i, j]); returns
-    info (0: done; k > 0: the leading minor of order k is not positive definite)."""
-    kd = ab.shape[0] - 1
-    n = ab.shape[1]
-    for j in range(n):
-        ajj = ab[0, j]
-        if not ajj > 0.0:
-            return j + 1
-        ajj = math.sqrt(ajj)
-        ab[0, j] = ajj
-        kn = min(kd, n - 1 - j)
-        if kn > 0:
-            r = 1.0 / ajj
-            for i in range(1, kn + 1):
-                ab[i, j] *= r
-            for c in range(kn):  # symmetric rank-one update of the trailing block (dsyr, lower)
-                xc = ab[c + 1, j]
-                if xc != 0.0:
-                    temp = -xc
-                    for p in range(c, kn):
-                        ab[p - c, j + 1 + c] += ab[p + 1, j] * temp
-    return 0
-
-
-@njit(cache=True)
-def band_cholesky_solve(factor, x):
-    """Solves L L^T y = x in place with the factor of :func:`band_cholesky` (LAPACK dpbtrs, lower)."""
-    kd = factor.shape[0] - 1
-    n = factor.shape[1]
-    for j in range(n):  # L z = x (dtbsv, lower, no transpose)
-        if x[j] != 0.0:
-            x[j] /= factor[0, j]
-            temp = x[j]
-            for i in range(1, min(kd, n - 1 - j) + 1):
-                x[j + i] -= temp * factor[i, j]
-    for j in range(n - 1, -1, -1):  # L^T y = z (dtbsv, lower, transpose)
-        temp = x[j]
-        for i in range(1, min(kd, n - 1 - j) + 1):
-            temp -= factor[i, j] * x[j + i]
-        x[j] = temp / factor[0, j]
 
 
 @njit(cache=True)
@@ -243,11 +200,15 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
     no_db = np.zeros((1, 3))
     no_ddb = np.zeros((1, 3, 3))
     no_band = np.zeros((1, 1))
+    # Runtime (not literal) orders and flags: numba would compile _evaluate and _mask once per
+    # literal argument (5 + 2 specialisations, ~45 s of compilation on an empty cache) for nothing.
+    energy_only, with_gradient, with_band = np.int64(0), np.int64(1), np.int64(2)
+    moved_state, yes = np.bool_(False), np.bool_(True)
     source = _own_geometry(start_x, start_theta, start_a1, start_ref)
     nd = len(fixed)
     total = np.zeros(nd)
     state = source
-    own = True  # the current state is the source itself
+    own = yes  # the current state is the source itself
     shift = 0.0
     residual = np.inf
     have_checkpoint = False
@@ -266,10 +227,10 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
                 low = min(low, src_t[k, 0] * t[k, 0] + src_t[k, 1] * t[k, 1] + src_t[k, 2] * t[k, 2])
             if low < cos_limit:
                 source, total = state, np.zeros(nd)
-                own, have_d, have_factor = True, False, False
+                own, have_d, have_factor = yes, False, False
         previous = residual
         if not have_d:
-            d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, 2,
+            d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, with_band,
                                                  no_db, no_ddb, no_band)
             d_has_band = True
             have_d = True
@@ -282,10 +243,10 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         if residual <= force_tol and not have_checkpoint:
             return 0, it - 1, residual, state, own, source[6]
         if not d_has_band and (not have_factor or residual > lag_contraction * previous):
-            d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, 2,
+            d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, with_band,
                                                  no_db, no_ddb, no_band)
             d_has_band = True
-            _mask(fixed, d_grad, d_band, True)
+            _mask(fixed, d_grad, d_band, yes)
         if d_has_band:
             factor, shift, ok = _factorise(d_band, max(shift * 0.1, 0.0), max_shift_tries)
             if not ok:
@@ -298,7 +259,7 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
                 step[j] = 0.0
         dx, dth = _max_abs_nodes_twists(step)
         if max(dx, dth) <= step_tol and not have_checkpoint:
-            return 1, it, residual, _moved(source, total + step), False, source[6]
+            return 1, it, residual, _moved(source, total + step), moved_state, source[6]
         scale = min(1.0, max_rotation / dth if dth > 0 else 1.0, max_displacement / dx if dx > 0 else 1.0)
         if scale < 1.0:
             step *= scale
@@ -307,19 +268,19 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         lag = gradient_only and residual <= lag_residual
         trial = _moved(source, total + step)
         if not have_checkpoint and max(dx, dth) * scale <= unchecked_step:
-            state, total, own = trial, total + step, False
+            state, total, own = trial, total + step, moved_state
             if lag:
-                d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, 1,
-                                                     no_db, no_ddb, no_band)
+                d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact,
+                                                     with_gradient, no_db, no_ddb, no_band)
                 d_has_band = False
             else:
                 have_d = False
             continue
-        t_energy, t_grad, t_band = _evaluate(trial, False, source[6], inertia, rest, sampling, contact,
-                                             1 if lag else 2, no_db, no_ddb, no_band)
+        t_energy, t_grad, t_band = _evaluate(trial, moved_state, source[6], inertia, rest, sampling, contact,
+                                             with_gradient if lag else with_band, no_db, no_ddb, no_band)
         finite = np.isfinite(t_energy)
         if finite and t_energy <= d_energy + armijo * slope + allowance:
-            state, total, own = trial, total + step, False
+            state, total, own = trial, total + step, moved_state
             d_energy, d_grad, d_band, d_has_band = t_energy, t_grad, t_band, not lag
             continue
         if finite and watched < watchdog:
@@ -327,7 +288,7 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
                 cp_total, cp_state, cp_own, cp_energy, cp_step, cp_slope = total, state, own, d_energy, step, slope
                 have_checkpoint = True
             watched += 1
-            state, total, own = trial, total + step, False
+            state, total, own = trial, total + step, moved_state
             d_energy, d_grad, d_band, d_has_band = t_energy, t_grad, t_band, not lag
             continue
         # Back to the checkpoint (if any) and backtrack along its direction.
@@ -339,12 +300,12 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         alpha = 0.5
         while True:
             trial = _moved(source, total + alpha * step)
-            e_trial = _evaluate(trial, False, source[6], inertia, rest, sampling, contact, 0, no_db, no_ddb,
+            e_trial = _evaluate(trial, moved_state, source[6], inertia, rest, sampling, contact, energy_only, no_db, no_ddb,
                                 no_band)[0]
             if np.isfinite(e_trial) and e_trial <= energy0 + armijo * alpha * slope + allowance:
                 break
             alpha *= 0.5
             if alpha < min_step:
                 return 4, it, residual, state, own, source[6]
-        state, total, own, have_d = trial, total + alpha * step, False, False
+        state, total, own, have_d = trial, total + alpha * step, moved_state, False
     return 5, max_iterations, residual, state, own, source[6]

@@ -30,6 +30,7 @@ h_new = h min(max_growth, max(max_shrink, safety sqrt(tolerance/err))), within [
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -167,9 +168,8 @@ class StepPotential:
                        np.ascontiguousarray(rest.twist, float), np.ascontiguousarray(rest.voronoi_length, float),
                        float(sec.EA), float(sec.EI1), float(sec.EI2), float(sec.GJ))
         n_edges = rod.n_nodes - 1
-        side, sigma, offsets = self.sampling.kernel_arrays()
-        sampling = (side, sigma, offsets, self.sampling.end_edges(n_edges), self.sampling.end_sigma_rows(n_edges),
-                    self.sampling.end_offsets_array())
+        sampling = self.sampling._cached(("compiled_newton", n_edges), lambda: self.sampling.kernel_arrays() + (
+            self.sampling.end_edges(n_edges), self.sampling.end_sigma_rows(n_edges), self.sampling.end_offsets_array()))
         result = compiled_newton.minimise_step(
             start.x, start.theta, start.a1, start.ref_twist, rod.fixed, inertia, rest_arrays, sampling,
             self._contact_arrays(), _options_tuple(options))
@@ -210,6 +210,7 @@ class StepPotential:
         return (normals, heights) + constants + (bool(fric), lag_ns, lag_ps, lag_ne, lag_pe, mu, K2)
 
 
+@functools.lru_cache(maxsize=16)
 def _options_tuple(o: NewtonOptions) -> tuple:
     """``NewtonOptions`` in the order of :func:`compiled_newton.minimise_step`."""
     return (int(o.max_iterations), float(o.force_tol), float(o.step_tol), float(o.armijo), float(o.min_step),

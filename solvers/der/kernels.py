@@ -897,3 +897,96 @@ def moved_geometry(x, theta, a1_old, t_old, ref_prev):
     for k in range(n - 1):
         twist[k] = theta[k + 1] - theta[k] + ref[k]
     return e, length, t, a1, ref, m1, m2, twist
+
+
+# ----------------------------------------------------------------------------------------------
+# Banded Cholesky (the Newton loop's and the heat step's symmetric banded systems)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def band_cholesky(ab):
+    """Lower banded Cholesky factor in place (LAPACK dpbtf2 storage ab[i - j, j] = H[i, j]); returns
+    info (0: done; k > 0: the leading minor of order k is not positive definite)."""
+    kd = ab.shape[0] - 1
+    n = ab.shape[1]
+    for j in range(n):
+        ajj = ab[0, j]
+        if not ajj > 0.0:
+            return j + 1
+        ajj = math.sqrt(ajj)
+        ab[0, j] = ajj
+        kn = min(kd, n - 1 - j)
+        if kn > 0:
+            r = 1.0 / ajj
+            for i in range(1, kn + 1):
+                ab[i, j] *= r
+            for c in range(kn):  # symmetric rank-one update of the trailing block (dsyr, lower)
+                xc = ab[c + 1, j]
+                if xc != 0.0:
+                    temp = -xc
+                    for p in range(c, kn):
+                        ab[p - c, j + 1 + c] += ab[p + 1, j] * temp
+    return 0
+
+
+@njit(cache=True)
+def band_cholesky_solve(factor, x):
+    """Solves L L^T y = x in place with the factor of :func:`band_cholesky` (LAPACK dpbtrs, lower)."""
+    kd = factor.shape[0] - 1
+    n = factor.shape[1]
+    for j in range(n):  # L z = x (dtbsv, lower, no transpose)
+        if x[j] != 0.0:
+            x[j] /= factor[0, j]
+            temp = x[j]
+            for i in range(1, min(kd, n - 1 - j) + 1):
+                x[j + i] -= temp * factor[i, j]
+    for j in range(n - 1, -1, -1):  # L^T y = z (dtbsv, lower, transpose)
+        temp = x[j]
+        for i in range(1, min(kd, n - 1 - j) + 1):
+            temp -= factor[i, j] * x[j + i]
+        x[j] = temp / factor[0, j]
+
+
+# ----------------------------------------------------------------------------------------------
+# Section heat step (solvers.der.heat.SectionHeat.step)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def heat_solve(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial):
+    """Cell temperatures (n, n_cells) [C] of one implicit-Euler heat step: the banded system
+    (C + G_g + G_a + conduction) T_new = C T + G_g T_ground + G_a T_air assembled (cells of edge k at
+    rows n_cells k ..., in-section pairs (pair_a, pair_b) with conductance per length pair_g
+    [mW/(K mm)], the same cell of neighbouring edges k_axial / mean length) and solved by
+    :func:`band_cholesky`. C (n, 1) [mW/K] = capacity / dt; the rest (n, n_cells).
+    The sums are taken in the order of the numpy assembly it replaces (diagonal: capacity and
+    exchange, then the pair sums, then the axial terms)."""
+    n, nc = G_g.shape
+    nd = n * nc
+    ab = np.zeros((nc + 1, nd))
+    rhs = np.empty(nd)
+    sum_a = np.zeros(nc)
+    sum_b = np.zeros(nc)
+    for k in range(n):
+        base = nc * k
+        sum_a[:] = 0.0
+        sum_b[:] = 0.0
+        for p in range(len(pair_a)):
+            gl = length[k] * pair_g[p]
+            ab[pair_b[p] - pair_a[p], base + pair_a[p]] -= gl
+            sum_a[pair_a[p]] += gl
+            sum_b[pair_b[p]] += gl
+        for c in range(nc):
+            ab[0, base + c] = (C[k, 0] + G_g[k, c] + G_a[k, c]) + (sum_a[c] + sum_b[c])
+            rhs[base + c] = C[k, 0] * T[k, c] + G_g[k, c] * T_ground[k, c] + G_a[k, c] * T_air[k, c]
+    for k in range(n - 1):
+        ga = k_axial / (0.5 * (length[k] + length[k + 1]))
+        for c in range(nc):
+            ab[nc, nc * k + c] -= ga
+            ab[0, nc * k + c] += ga
+    for k in range(n - 1):  # the downstream cells second, as numpy added them
+        ga = k_axial / (0.5 * (length[k] + length[k + 1]))
+        for c in range(nc):
+            ab[0, nc * (k + 1) + c] += ga
+    info = band_cholesky(ab)
+    if info != 0:
+        raise ValueError("heat step: the conductance matrix is not positive definite")
+    band_cholesky_solve(ab, rhs)
+    return rhs.reshape(n, nc)
