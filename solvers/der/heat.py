@@ -160,6 +160,7 @@ class SectionHeat:
         G_g, G_a, T_air, T_ground = self.coefficients(T, geo, T_ground, gradient)
         C = self.capacity[:, None] / dt
         T_new = kernels.heat_solve(C, G_g, G_a, np.ascontiguousarray(T, float), np.ascontiguousarray(T_ground, float),
-                                   T_air, np.ascontiguousarray(geo.length, float), self._pair_a, self._pair_b, self._pair_g, float(self.k_axial))
+                                   T_air, np.ascontiguousarray(geo.length, float), self._pair_a, self._pair_b,
+                                   self._pair_g, float(self.k_axial))
         fluxes = HeatFluxes((G_g * (T_ground - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))
         return T_new, fluxes

@@ -8,6 +8,9 @@ Python/numpy overhead of ~100 calls on small arrays per evaluation (issue 17: ~5
 step). The numpy versions stay the reference: ``tests/solvers/test_der_kernels.py`` checks that both
 give the same energies, gradients and Hessians to round-off.
 
+Also the banded Cholesky factorisation and solve of the Newton loop
+(:mod:`lcefem.solvers.der.compiled_newton`) and the section heat step (:func:`heat_solve`).
+
 Element layouts are those of :mod:`lcefem.solvers.der.assembly`: an edge k touches the 7 dofs
 q[4k : 4k + 7] = (x_k, theta_k, x_(k+1)); the stencil of interior node k + 1 touches the 11 dofs
 q[4k : 4k + 11] = (x_k, theta_k, x_(k+1), theta_(k+1), x_(k+2)).
