@@ -170,9 +170,10 @@ class StepPotential:
         n_edges = rod.n_nodes - 1
         sampling = self.sampling._cached(("compiled_newton", n_edges), lambda: self.sampling.kernel_arrays() + (
             self.sampling.end_edges(n_edges), self.sampling.end_sigma_rows(n_edges), self.sampling.end_offsets_array()))
+        c = np.ascontiguousarray  # one kernel signature whatever the caller's array layouts
         result = compiled_newton.minimise_step(
-            start.x, start.theta, start.a1, start.ref_twist, rod.fixed, inertia, rest_arrays, sampling,
-            self._contact_arrays(), _options_tuple(options))
+            c(start.x, float), c(start.theta, float), c(start.a1, float), c(start.ref_twist, float),
+            c(rod.fixed, bool), inertia, rest_arrays, sampling, self._contact_arrays(), _options_tuple(options))
         code, iterations, residual, (x, theta, a1, ref, e, length, t, m1, m2, twist), own, source_t = result
         state = RodState(x, theta, start.v.copy(), start.omega.copy(), a1, ref, start.time,
                          None if own else source_t)
