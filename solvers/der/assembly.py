@@ -314,6 +314,8 @@ class Assembly:
             raise ValueError(f"friction lag has {len(friction.obstacles)} obstacles, the rod {len(rod.obstacles)}")
         lags = (friction,) + friction.obstacles if fric else (None,) * len(rod.contact_planes())
         for plane, lag in zip(rod.contact_planes(), lags):
+            # (the normal passed as a writeable copy: a read-only array would be a second kernel
+            # signature next to the compiled Newton loop's, compiled again for nothing)
             if fric:
                 lag_ns = lag.stencil_normal if sampling.interpolated else self._no_lag_n
                 lag_ps = lag.stencil_points if sampling.interpolated else self._no_lag_p
@@ -324,7 +326,7 @@ class Assembly:
                 mu, K2 = 0.0, 1.0
             energy += kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
                                       sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                      plane.unit_normal(), float(plane.height), float(law.clearance),
+                                      np.array(plane.unit_normal()), float(plane.height), float(law.clearance),
                                       float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
                                       lag_ne, lag_pe, float(mu), float(K2), float(step), db, ddb,
                                       change is not None, order, grad, band)

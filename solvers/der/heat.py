@@ -13,7 +13,7 @@ of size (w/n_w) x (t/n_t) x l stores heat rho c (w t/(n_w n_t)) l and exchanges 
 
 The coefficients are evaluated on the current geometry and the previous temperatures (radiation
 linearised there); the linear system is symmetric and banded (half-bandwidth n_w n_t) and is
-solved by banded Cholesky (LAPACK dpbtrf/dpbtrs).
+assembled and solved by banded Cholesky in one compiled call (:func:`kernels.heat_solve`).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from lcefem.models.contact import ContactLaw
 from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_film_coefficient
 from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
 from lcefem.models.rod import CORNER_SIGNS
-from lcefem.solvers.der.newton import banded_cholesky, banded_cholesky_solve
+from lcefem.solvers.der import kernels
 
 
 @dataclass
@@ -157,28 +157,10 @@ class SectionHeat:
              gradient=None) -> tuple[np.ndarray, HeatFluxes]:
         """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo`` (plate at
         T_ground + gradient . x, see :meth:`coefficients`)."""
-        n, nc = self.n, self.nc
         G_g, G_a, T_air, T_ground = self.coefficients(T, geo, T_ground, gradient)
         C = self.capacity[:, None] / dt
-        nd = nc * n
-        ab = np.zeros((nc + 1, nd))
-        diag = (C + G_g + G_a).ravel()
-        rhs = (C * T + G_g * T_ground + G_a * T_air).ravel()
-        length = geo.length
-        base = nc * np.arange(n)
-        # In-section pairs (all edges at once; each (pair, edge) fills its own band entry).
-        gl = length[:, None] * self._pair_g[None, :]
-        col_a = base[:, None] + self._pair_a[None, :]
-        ab[(self._pair_b - self._pair_a)[None, :], col_a] -= gl
-        diag += np.bincount(col_a.ravel(), gl.ravel(), nd) + np.bincount((base[:, None] + self._pair_b).ravel(),
-                                                                         gl.ravel(), nd)
-        if n > 1:
-            ga = (self.k_axial / (0.5 * (length[:-1] + length[1:])))[:, None]
-            cols = base[:-1, None] + np.arange(nc)[None, :]
-            ab[nc, cols] -= ga
-            diag[cols] += ga
-            diag[cols + nc] += ga
-        ab[0] = diag
-        T_new = banded_cholesky_solve(banded_cholesky(ab), rhs).reshape(n, nc)
+        T_new = kernels.heat_solve(C, G_g, G_a, np.ascontiguousarray(T, float), np.ascontiguousarray(T_ground, float),
+                                   T_air, np.ascontiguousarray(geo.length, float), self._pair_a, self._pair_b,
+                                   self._pair_g, float(self.k_axial))
         fluxes = HeatFluxes((G_g * (T_ground - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))
         return T_new, fluxes

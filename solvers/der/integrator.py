@@ -30,14 +30,16 @@ h_new = h min(max_growth, max(max_shrink, safety sqrt(tolerance/err))), within [
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.solvers.der import compiled_newton
 from lcefem.solvers.der.assembly import BANDWIDTH, Assembly, ContactSampling, Derivatives, FrictionLag, friction_lag
-from lcefem.solvers.der.model import DiscreteRod, RodState, node_dofs
+from lcefem.solvers.der.model import DiscreteRod, Geometry, RodState, node_dofs
 from lcefem.solvers.der.newton import NewtonOptions, NewtonResult, minimise
 
 METHODS = ("euler", "midpoint")
@@ -55,6 +57,9 @@ class StepOptions:
     # whose Newton loop fails from it is retried from the inertial guess before it is halved.
     extrapolate: bool = False
     newton: NewtonOptions = field(default_factory=NewtonOptions)
+    # The Newton loop in one compiled call (compiled_newton.minimise_step: the same algorithm as
+    # newton.minimise, iterates equal to round-off); False: the Python loop, kept as the reference.
+    compiled: bool = True
 
     def __post_init__(self):
         if self.method not in METHODS:
@@ -154,6 +159,65 @@ class StepPotential:
             return Derivatives(energy, None, None)
         return Derivatives(energy, grad, band)
 
+    def minimise(self, start: RodState, options: NewtonOptions) -> NewtonResult:
+        """``newton.minimise(start, rod.fixed, self, options)`` in one compiled call
+        (:func:`compiled_newton.minimise_step`)."""
+        rod, rest, sec = self.rod, self.rod.rest, self.rod.section
+        inertia = (self.mass, self.q_n, self.q_star, self.load, self.diag, float(self.h), float(rod.damping))
+        rest_arrays = (np.ascontiguousarray(rest.edge_length, float), np.ascontiguousarray(rest.curvature, float),
+                       np.ascontiguousarray(rest.twist, float), np.ascontiguousarray(rest.voronoi_length, float),
+                       float(sec.EA), float(sec.EI1), float(sec.EI2), float(sec.GJ))
+        n_edges = rod.n_nodes - 1
+        sampling = self.sampling._cached(("compiled_newton", n_edges), lambda: self.sampling.kernel_arrays() + (
+            self.sampling.end_edges(n_edges), self.sampling.end_sigma_rows(n_edges), self.sampling.end_offsets_array()))
+        c = np.ascontiguousarray  # one kernel signature whatever the caller's array layouts
+        result = compiled_newton.minimise_step(
+            c(start.x, float), c(start.theta, float), c(start.a1, float), c(start.ref_twist, float),
+            c(rod.fixed, bool), inertia, rest_arrays, sampling, self._contact_arrays(), _options_tuple(options))
+        code, iterations, residual, (x, theta, a1, ref, e, length, t, m1, m2, twist), own, source_t = result
+        state = RodState(x, theta, start.v.copy(), start.omega.copy(), a1, ref, start.time,
+                         None if own else source_t)
+        state.__dict__["_geometry"] = Geometry(e, length, t, m1, m2, twist)
+        return NewtonResult(state, code in compiled_newton.CONVERGED_CODES, iterations, float(residual),
+                            compiled_newton.REASONS[code])
+
+    def _contact_arrays(self) -> tuple:
+        """The planes, the contact law and the lagged friction data of every plane, stacked for
+        :func:`compiled_newton.minimise_step` (the arguments ``Assembly.contact`` passes per plane)."""
+        rod = self.rod
+        planes = rod.contact_planes()
+        normals = np.array([p.unit_normal() for p in planes], float).reshape(len(planes), 3)
+        heights = np.array([p.height for p in planes], float)
+        law = rod.contact
+        fric = self.lag is not None and rod.friction is not None and self.h > 0
+        interpolated = self.sampling.interpolated
+        no_n, no_p = np.zeros((1, 1)), np.zeros((1, 1, 3))
+        lags = (self.lag,) + self.lag.obstacles if fric else (None,) * len(planes)
+        if fric and len(lags) != len(planes):
+            raise ValueError(f"friction lag has {len(lags) - 1} obstacles, the rod {len(rod.obstacles)}")
+        stacks = ([], [], [], [])
+        for lag in lags:
+            arrays = ((lag.stencil_normal, lag.stencil_points) if fric and interpolated else (no_n, no_p)) + (
+                (lag.end_normal, lag.end_points) if fric else (no_n, no_p))
+            for stack, a in zip(stacks, arrays):
+                stack.append(a)
+        lag_ns, lag_ps, lag_ne, lag_pe = (np.ascontiguousarray(np.stack(s), float) if s else np.zeros((0,) + z.shape)
+                                          for s, z in zip(stacks, (no_n, no_p, no_n, no_p)))
+        mu, K2 = (float(rod.friction.mu), float(rod.friction.K2)) if fric else (0.0, 1.0)
+        if law is None:
+            constants = (0.0, 1.0, 1.0, 0.0)
+        else:
+            constants = (float(law.clearance), float(law.delta), float(law.K1), float(law.stiffness))
+        return (normals, heights) + constants + (bool(fric), lag_ns, lag_ps, lag_ne, lag_pe, mu, K2)
+
+
+@functools.lru_cache(maxsize=16)
+def _options_tuple(o: NewtonOptions) -> tuple:
+    """``NewtonOptions`` in the order of :func:`compiled_newton.minimise_step`."""
+    return (int(o.max_iterations), float(o.force_tol), float(o.step_tol), float(o.armijo), float(o.min_step),
+            int(o.max_shift_tries), int(o.watchdog), float(np.cos(o.resource_angle)), float(o.max_rotation),
+            float(o.max_displacement), float(o.unchecked_step), float(o.lag_residual), float(o.lag_contraction))
+
 
 class Integrator:
     """Steps a rod in time; ``rod.rest`` may be replaced between calls (actuation)."""
@@ -189,7 +253,10 @@ class Integrator:
         passes = self.options.friction_iterations if use_friction else 1
         for k in range(passes):
             potential = StepPotential(rod, start, h, self.assembly, self.sampling, lag)
-            result = minimise(guess, rod.fixed, potential, self.options.newton)
+            if self.options.compiled:
+                result = potential.minimise(guess, self.options.newton)
+            else:
+                result = minimise(guess, rod.fixed, potential, self.options.newton)
             iterations += result.iterations
             if not result.converged:
                 result.iterations = iterations

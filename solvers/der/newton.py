@@ -131,6 +131,9 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
     iterations of a step. Far from the solution (residual above ``lag_residual``) the chord rate is
     poor (measured on the rolling ribbon: 0.36 per iteration at 1e-5 N), so full Newton is kept there.
 
+    The integrator runs the same loop compiled (:func:`lcefem.solvers.der.compiled_newton.minimise_step`,
+    ``StepOptions.compiled``); this one is its reference and serves any other potential (statics).
+
     Args:
         evaluate: (state, hessian) -> Derivatives; with hessian False it may leave band None and
             must still give the energy (used by the line search).

@@ -177,3 +177,24 @@ def test_mirrored_twist_rolls_the_other_way():
     assert np.abs(right - left * np.array([1.0, -1.0, 1.0])).max() < 2e-2
     moved = [s.state.x[:, 1].mean() - y for s, y in zip(sims, y0)]
     assert moved[0] < -0.5 and moved[1] > 0.5
+
+
+def test_heat_step_balances_stored_and_exchanged_heat():
+    """Implicit Euler of C dT/dt = exchange + conduction: summed over all cells the conduction
+    cancels, so sum C (T_new - T)/dt = power from the ground - power to the air (the step's own
+    fluxes), to round-off of the banded solve; and at the ambient temperature everywhere (plate
+    included) nothing changes."""
+    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
+                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    geo = sim.heat_geometry()
+    T0 = np.full_like(sim.T, 25.0) + np.linspace(0.0, 5.0, sim.T.size).reshape(sim.T.shape)  # non-uniform
+    dt = 0.5
+    T1, flux = sim.heat.step(T0, dt, geo, 100.0)
+    stored = float((sim.heat.capacity[:, None] / dt * (T1 - T0)).sum())  # [mW]
+    exchanged = float(flux.from_ground.sum() - flux.to_air.sum())
+    assert stored > 0.0
+    assert stored == pytest.approx(exchanged, rel=1e-10)
+    ambient = sim.setup.air.ambient_temperature
+    T_amb = np.full_like(sim.T, ambient)
+    still, _ = sim.heat.step(T_amb, dt, geo, ambient)
+    np.testing.assert_allclose(still, ambient, rtol=0, atol=1e-9)
