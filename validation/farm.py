@@ -88,14 +88,17 @@ class _Board:
         self.next = 0
         self.stopping = False
         self.main_done = threading.Event()
-        self.given: dict[int, int] = {}  # group -> rank it was handed to
+        self.current: dict[int, int] = {}  # rank -> the group it was handed last
+        self.ended: set[int] = set()  # ranks that have asked for work after their last group
 
     def take(self, rank: int) -> int:
         with self.lock:
+            self.current.pop(rank, None)
             if self.stopping or self.next >= len(self.groups):
+                self.ended.add(rank)
                 return STOP
             g, self.next = self.next, self.next + 1
-            self.given[g] = rank
+            self.current[rank] = g
             return g
 
     def stop(self) -> None:
@@ -205,6 +208,8 @@ def _lead(cases, groups, results, run_one, flush, bar, comm) -> list[CaseResult]
             interrupt = _run_group(cases, groups[g], run_one, board.record)
     except KeyboardInterrupt as exc:  # between two cases
         interrupt = exc
+    with board.lock:
+        board.ended.add(0)
     if interrupt is not None:
         board.stop()
     board.main_done.set()
@@ -217,11 +222,11 @@ def _lead(cases, groups, results, run_one, flush, bar, comm) -> list[CaseResult]
             board.stop()
             deadline = min(deadline, time.monotonic() + DRAIN_SECONDS)
     with board.lock:
-        for g, rank in board.given.items():  # handed out, never reported: that rank was stopped
-            for i in groups[g]:
-                if results[i].status == "not run":
-                    results[i] = dataclasses.replace(results[i], status="interrupted", rank=rank,
-                                                     error=f"rank {rank} did not report")
+        for rank, g in board.current.items():  # still in a case when the wait ended: say so
+            i = next((i for i in groups[g] if results[i].status == "not run"), None)
+            if rank not in board.ended and i is not None:
+                results[i] = dataclasses.replace(results[i], status="interrupted", rank=rank,
+                                                 error=f"interrupted (rank {rank} did not report)")
         flush()
         finished = [r.as_dict() for r in results]
     if interrupt is None:
@@ -251,7 +256,7 @@ def _follow(cases, groups, run_one, comm) -> list[CaseResult]:
                 interrupt = _run_group(cases, groups[g], run_one, report)
             except KeyboardInterrupt as exc:  # between two cases
                 interrupt = exc
-    (finished, ending), late = _receive(comm, TAG_END)
+    (finished, ending), _ = _receive(comm, TAG_END)
     results = [CaseResult.from_dict(d) for d in finished]
     if ending is not None:
         raise _interrupt_named(ending) if interrupt is None else interrupt
