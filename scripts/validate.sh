@@ -6,7 +6,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=.venv/bin
-cores=${NPROC:-$(nproc 2>/dev/null || echo 1)}
+# nproc counts OMP_NUM_THREADS as the cores it may use: ask it without, for the cores themselves.
+cores=${NPROC:-$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc 2>/dev/null || echo 1)}
 cases=$("$BIN/lcefem" validate --list | wc -l)
 ranks=$(( cores < cases ? cores : cases ))
 if [ ! -x "$BIN/mpiexec" ]; then

@@ -2,6 +2,7 @@
 files and exit status (issue 13); the hand-out order and the affinity groups."""
 
 import json
+import shutil
 import signal
 import subprocess
 import time
@@ -65,6 +66,23 @@ def test_an_affinity_group_stays_on_one_rank(serial_and_farmed):
     f = _markers(farmed)
     assert f["ribbon_end_spin"]["rank"] == f["ribbon_helical"]["rank"]
     assert f["ribbon_helical"]["wall_time"] < f["ribbon_end_spin"]["wall_time"]
+
+
+@pytest.mark.mpi
+@pytest.mark.slow
+def test_resume_of_a_farmed_run_runs_only_what_is_missing(serial_and_farmed, tmp_path, lcefem_cmd, mpiexec):
+    """--resume under mpiexec reuses the complete cases of a farmed run (their markers) and reruns the
+    one whose marker is gone: the serial answers again."""
+    serial, farmed = serial_and_farmed
+    out = tmp_path / "v"
+    shutil.copytree(farmed, out)
+    (out / "tension_law" / "metrics.json").unlink()
+    res = _validate([mpiexec, "-n", "2"], lcefem_cmd, out, *CASES, "--resume")
+    assert res.returncode == 0, res.stderr[-3000:]
+    assert {m["status"] for m in _markers(out).values()} == {"done"}  # a marker records the run that made it
+    report = (out / "report.md").read_text()
+    assert "| tension_law | done |" in report and "| rod_closed_forms | reused |" in report
+    assert json.loads((out / "metrics.json").read_text()) == json.loads((serial / "metrics.json").read_text())
 
 
 @pytest.mark.mpi
