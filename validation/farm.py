@@ -46,6 +46,25 @@ POLL_SECONDS = 0.02  #: how often a waiting rank looks for a message (a signal i
 DRAIN_SECONDS = 60.0
 
 
+def petsc_world_per_rank() -> None:
+    """Make PETSc's world this rank alone (``MPI.COMM_SELF``); called before PETSc starts.
+
+    The farmed ranks run different cases, so PETSc's own collectives on its world (PetscInitialize
+    and PetscFinalize, petsc4py's garbage clean-up at exit, an object made without a communicator)
+    must never wait for another rank. Measured: with COMM_WORLD as PETSc's world, a farmed quick run
+    ended its last case and then hung at exit (rank 0 in the MPI_Comm_dup of petsc4py's
+    garbage_cleanup, rank 1 in MPI_Finalize)."""
+    import sys
+
+    if "petsc4py.PETSc" in sys.modules:
+        raise RuntimeError("PETSc was started before the farm could give each rank its own world")
+    import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+    import petsc4py
+    from mpi4py import MPI
+
+    petsc4py.init(comm=MPI.COMM_SELF)
+
+
 @functools.cache
 def case_costs(quick: bool) -> dict[str, float]:
     """Expected wall time [s] of each case at the quick or default level (case_costs.toml)."""

@@ -274,6 +274,16 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
     return result
 
 
+def prepare(args: argparse.Namespace) -> None:
+    """Under mpiexec (the cases farmed over the ranks), before any case module starts PETSc: each
+    rank's PETSc world is its own (:func:`lcefem.validation.farm.petsc_world_per_rank`)."""
+    comm = world()
+    if comm is not None and comm.size > 1:
+        from lcefem.validation import farm
+
+        farm.petsc_world_per_rank()
+
+
 def out_folder(args: argparse.Namespace) -> pathlib.Path:
     """--out, once the case names are known good (bad input must not create a folder)."""
     select(list(args.cases), registry())

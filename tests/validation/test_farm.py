@@ -5,6 +5,7 @@ import json
 import shutil
 import signal
 import subprocess
+import sys
 import time
 
 import pytest
@@ -83,6 +84,36 @@ def test_resume_of_a_farmed_run_runs_only_what_is_missing(serial_and_farmed, tmp
     report = (out / "report.md").read_text()
     assert "| tension_law | done |" in report and "| rod_closed_forms | reused |" in report
     assert json.loads((out / "metrics.json").read_text()) == json.loads((serial / "metrics.json").read_text())
+
+
+ONE_RANK_PETSC = """
+import sys
+from lcefem.validation import farm
+farm.petsc_world_per_rank()
+from mpi4py import MPI
+from petsc4py import PETSc
+if MPI.COMM_WORLD.rank == 0:  # a case on rank 0 makes a PETSc object without naming a communicator
+    ksp = PETSc.KSP().create()
+    A = PETSc.Mat().createAIJ([4, 4])
+    A.setUp()
+    A.assemble()
+    sys.stdout.write(f"{ksp.getComm().getSize()} {A.getComm().getSize()}")
+"""
+
+
+@pytest.mark.mpi
+def test_petsc_objects_of_one_rank_never_wait_for_the_other(mpiexec, tmp_path):
+    """Farmed ranks run different cases: a PETSc object made on one rank only, without a communicator
+    (PETSc's world by default), and PETSc's exit clean-up must not wait for the other rank. With
+    COMM_WORLD as PETSc's world this script hangs at exit (seen in a farmed make validate-quick:
+    rank 0 in petsc4py's garbage_cleanup, rank 1 in MPI_Finalize); with each rank's own world it ends,
+    and the objects live on one rank."""
+    script = tmp_path / "one_rank_petsc.py"
+    script.write_text(ONE_RANK_PETSC)
+    res = subprocess.run([mpiexec, "-n", "2", sys.executable, str(script)], capture_output=True, text=True,
+                         timeout=120)
+    assert res.returncode == 0, res.stderr[-3000:]
+    assert res.stdout == "1 1"
 
 
 @pytest.mark.mpi
