@@ -6,11 +6,12 @@
 env:
 	@scripts/bootstrap.sh
 
+# Both farm the cases over one MPI rank per core (scripts/validate.sh; NPROC=1 for a serial run).
 validate: env
-	.venv/bin/lcefem validate --overwrite --out results/validation
+	scripts/validate.sh --overwrite --out results/validation
 
 validate-quick: env
-	.venv/bin/lcefem validate --quick --overwrite --out results/validation-quick
+	scripts/validate.sh --quick --overwrite --out results/validation-quick
 
 test: env
 	.venv/bin/python -m pytest -n 2 --dist loadgroup -q

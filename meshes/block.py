@@ -14,13 +14,14 @@ from mpi4py import MPI
 import dolfinx
 
 from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 
 FACETS = ("x0", "x1", "y0", "y1", "z0", "z1")
 
 
 def build_block(lengths=(1.0, 1.0, 1.0), divisions=(2, 2, 2), cell: str = "hex",
-                comm: MPI.Comm = MPI.COMM_WORLD) -> TaggedMesh:
+                comm: MPI.Comm | None = None) -> TaggedMesh:
     """Structured block mesh of hexahedra (``cell="hex"``) or tetrahedra (``"tet"``)."""
     if any(L <= 0 for L in lengths):
         raise InputError(f"block lengths = {tuple(lengths)} mm: must be > 0")
@@ -29,7 +30,7 @@ def build_block(lengths=(1.0, 1.0, 1.0), divisions=(2, 2, 2), cell: str = "hex",
     cell_type = {"hex": dolfinx.mesh.CellType.hexahedron, "tet": dolfinx.mesh.CellType.tetrahedron}
     if cell not in cell_type:
         raise InputError(f"cell = {cell!r}: allowed hex, tet")
-    mesh = dolfinx.mesh.create_box(comm, [np.zeros(3), np.asarray(lengths, dtype=float)],
+    mesh = dolfinx.mesh.create_box(resolve_comm(comm), [np.zeros(3), np.asarray(lengths, dtype=float)],
                                    [int(n) for n in divisions], cell_type[cell])
     tdim = mesh.topology.dim
     mesh.topology.create_connectivity(tdim - 1, tdim)

@@ -40,6 +40,7 @@ import numpy as np
 from lcefem.meshes._hexgrid import divisions as hex_divisions
 from lcefem.meshes._hexgrid import exterior_faces, tagged_hex_mesh
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
+from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
@@ -442,9 +443,8 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     times the mesh's).
     """
     import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-    from mpi4py import MPI
 
-    comm = MPI.COMM_WORLD if comm is None else comm
+    comm = resolve_comm(comm)
     g = geometry.checked()
     m = mesh.checked()
     if not (isinstance(lambda_N, (int, float)) and lambda_N >= 1.0):

@@ -98,6 +98,7 @@ import numpy as np
 
 from lcefem.meshes._hexgrid import divisions, exterior_faces, tagged_hex_mesh
 from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry, _beam_pieces
+from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
@@ -300,7 +301,8 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
         lambda_N: as-built (nematic) spontaneous stretch [-]: the strips' as-built section is the
             cast one / sqrt(lambda_N) per side.
         mesh: :class:`GridshellFEMesh`.
-        comm: MPI communicator (default COMM_WORLD); the mesh is made on rank 0 and distributed.
+        comm: MPI communicator (default: :func:`lcefem.meshes.communicator.default_comm`); the mesh
+            is made on rank 0 and distributed.
         cells: n, ribbons per direction (the paper's 3 x 3 grid: 3).
         symmetry: "quarter", "half_x", "half_y" or "full" (:data:`RECIPE_SYMMETRY`).
 
@@ -310,9 +312,7 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     ``centre`` c, ``symmetry_factor`` (volumes and forces of the whole surface are this times the
     mesh's), as-built dimensions, ``junction_centres``, ``centre_junction_corners``, counts.
     """
-    from mpi4py import MPI
-
-    comm = MPI.COMM_WORLD if comm is None else comm
+    comm = resolve_comm(comm)
     g = geometry
     if not isinstance(cells, int) or isinstance(cells, bool) or not 1 <= cells <= 39:
         raise InputError(f"cells = {cells!r}: must be an integer from 1 to 39 (ribbons per direction)")

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
+from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
@@ -140,11 +141,9 @@ def build_ribbon_fe(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
     whose ``info`` holds the dimensions, element size and ``symmetry_factor`` (2 for a half model:
     forces on the whole specimen are twice those of the mesh).
     """
-    from mpi4py import MPI
-
     from lcefem.meshes._gmsh import TaggedMesh, gmsh_session, to_dolfinx
 
-    comm = MPI.COMM_WORLD if comm is None else comm
+    comm = resolve_comm(comm)
     s = specimen.checked()
     m = mesh.checked()
     half = m.symmetry == "half"

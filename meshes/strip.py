@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from mpi4py import MPI
 
 from lcefem.meshes._gmsh import TaggedMesh, gmsh_session, to_dolfinx
+from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
@@ -79,11 +80,12 @@ def _divisions(length: float, size: float, multiplier: int) -> int:
 
 
 def build_strip_mesh(geometry: StripGeometry, lambda_N: float, resolution: StripMesh = StripMesh(),
-                     comm: MPI.Comm = MPI.COMM_WORLD) -> TaggedMesh:
+                     comm: MPI.Comm | None = None) -> TaggedMesh:
     """Structured gmsh mesh of the as-built strip (hexahedra, or each hexahedron split into tetrahedra).
 
     Returns a :class:`TaggedMesh` whose ``info`` holds the as-built dimensions and the element size.
     """
+    comm = resolve_comm(comm)
     check(geometry, "geometry")
     check(resolution, "mesh")
     if resolution.cell not in ("hex", "tet"):

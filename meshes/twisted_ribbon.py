@@ -44,7 +44,7 @@ def helicoid(points: np.ndarray, twist_rate: float) -> np.ndarray:
 
 def build_twisted_ribbon(length: float, width: float, thickness: float, twist_rate: float,
                          resolution: TwistedRibbonMesh = TwistedRibbonMesh(),
-                         comm: MPI.Comm = MPI.COMM_WORLD) -> TaggedMesh:
+                         comm: MPI.Comm | None = None) -> TaggedMesh:
     """Structured mesh of the twisted ribbon (lengths in mm, twist rate in rad/mm)."""
     check(resolution, "mesh")
     if not math.isfinite(twist_rate):

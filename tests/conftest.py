@@ -28,6 +28,14 @@ def mpiexec():
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
+def pytest_collection_modifyitems(config, items):
+    """The mpiexec tests (marker ``mpi``) run one after the other on one xdist worker (``make test``:
+    ``-n 2 --dist loadgroup``): two of them side by side would put 4 ranks on the 2 cores."""
+    for item in items:
+        if item.get_closest_marker("mpi"):
+            item.add_marker(pytest.mark.xdist_group("mpi"))
+
+
 def run_quick_case(name: str, out: pathlib.Path) -> list[dict]:
     """Run one registered validation case at its quick (CI) resolution; return its metrics as dicts."""
     from lcefem.validation.cases import CaseContext, registry

@@ -63,7 +63,7 @@ def _mpi_launched() -> bool:
     return any(k in os.environ for k in ("PMI_RANK", "PMI_SIZE", "OMPI_COMM_WORLD_SIZE"))
 
 
-def _world():
+def world():
     """COMM_WORLD when running under mpiexec with more than one rank, else None."""
     if "mpi4py.MPI" not in sys.modules and not _mpi_launched():
         return None
@@ -134,7 +134,7 @@ def main(argv: list[str] | None = None) -> int:
         parser = build_parser(argv)
         args = parser.parse_args(argv)
         skeleton.reinstall_signal_handlers()  # importing PETSc installed its own for SIGTERM
-        comm = _world()
+        comm = world()
         if comm is not None:
             _ERRORS = comm.Dup()
         mod = args._module

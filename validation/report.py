@@ -45,6 +45,7 @@ class CaseResult:
     phenomena: list[dict] = field(default_factory=list)
     error: str = ""  #: one line; the traceback is in DIR/<case>/error.log
     finished: str = ""  #: ISO time
+    rank: int | None = None  #: the MPI rank that ran the case under ``mpiexec -n N lcefem validate``
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -276,8 +277,9 @@ def _md_cell(text: str) -> str:
 
 
 def render_report(results: list[CaseResult], *, command: str, quick: bool, total_wall: float,
-                  title: str = "lcefem validation report") -> str:
-    """The Markdown text of the report (figure paths relative to the report's folder)."""
+                  title: str = "lcefem validation report", ranks: int = 1) -> str:
+    """The Markdown text of the report (figure paths relative to the report's folder); ``ranks``: the
+    MPI ranks the cases were farmed over (1: one after the other)."""
     rows = all_rows(results)
     n_pass = sum(r["passed"] is True for r in rows)
     n_fail = sum(r["passed"] is False and r["value"] is not None for r in rows)
@@ -289,7 +291,8 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
     lines = [f"# {title}", "",
              f"- command: `{command}`",
              f"- resolution: {'quick (coarse, CI)' if quick else 'default'}",
-             f"- written: {now}; total wall time {total_wall:.1f} s",
+             f"- written: {now}; total wall time {total_wall:.1f} s"
+             + (f" on {ranks} MPI ranks (cases farmed, each case on one rank)" if ranks > 1 else ""),
              "- versions: " + ", ".join(f"{k} {v}" for k, v in ver.items()),
              "",
              f"**{len(results)} cases: {n_pass} metrics pass, {n_fail} fail, {n_info} informative; "

@@ -10,6 +10,9 @@ report that lists every selected case with its state and says it is incomplete. 
 fails (state "failed") or that raises ("error") is reported and the run goes on; Ctrl-C or SIGTERM
 stop it (that case "interrupted", the rest "not run").
 
+Under ``mpiexec -n N`` the cases are farmed over the N ranks, each case whole on one rank
+(:mod:`lcefem.validation.farm`): the same files, answers and exit status as the serial run.
+
 Exit status: 0 when every case ran (whether its metrics pass or fail), 1 when a case failed or
 raised an error, 2 on bad input (unknown case, unusable --out), 130 / 143 when interrupted.
 """
@@ -20,6 +23,7 @@ import argparse
 import dataclasses
 import datetime
 import json
+import math
 import pathlib
 import shlex
 import shutil
@@ -33,6 +37,7 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.run import (EXIT_CASE_ERROR, add_out_arguments, raise_if_interrupted,
                                reinstall_signal_handlers, write_json, write_text)
 from lcefem.validation import phenomena, report
+from lcefem.validation.cli import world
 from lcefem.validation.cases import Case, CaseContext, Metric, registry
 from lcefem.validation.report import CaseResult
 
@@ -167,20 +172,27 @@ def print_table(rows: list[dict], title: str, file=None) -> None:
 
 
 def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False, resume: bool = False,
-                   quiet: bool = False, command: str = "lcefem validate") -> list[CaseResult]:
+                   quiet: bool = False, command: str = "lcefem validate", comm=None) -> list[CaseResult]:
     """Run ``cases`` into ``out``; returns their results (an interrupt propagates after the run-level
-    files are written)."""
-    out.mkdir(parents=True, exist_ok=True)
+    files are written). With ``comm`` of more than one rank (every rank calls this) the cases are
+    farmed over its ranks (:mod:`lcefem.validation.farm`); rank 0 writes the run-level files."""
+    farmed = comm is not None and comm.size > 1
+    lead = not farmed or comm.rank == 0
+    if lead:
+        out.mkdir(parents=True, exist_ok=True)
     results = [CaseResult(c.name, c.description, "not run", 0.0, quick=quick) for c in cases]
     t_start = time.perf_counter()
 
     def flush() -> None:
         write_json(out / "metrics.json", report.all_rows(results))
         report.write_report(out / "report.md", results, command=command, quick=quick,
-                            total_wall=time.perf_counter() - t_start)
+                            total_wall=time.perf_counter() - t_start, ranks=comm.size if farmed else 1)
 
-    flush()  # a run killed from now on leaves a report naming every case and its state
-    bar = tqdm(total=len(cases), desc="validate", unit="case", disable=quiet, file=sys.stderr)
+    if lead:
+        flush()  # a run killed from now on leaves a report naming every case and its state
+    bar = tqdm(total=len(cases), desc="validate", unit="case", disable=quiet or not lead, file=sys.stderr)
+    if farmed:
+        return _farm(cases, out, results, flush, bar, comm, quick=quick, resume=resume, quiet=quiet)
     for i, case in enumerate(cases):
         bar.set_postfix_str(case.name)
         results[i] = _run_or_reuse(case, out, quick=quick, resume=resume, quiet=quiet)
@@ -193,9 +205,40 @@ def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False,
     return results
 
 
-def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, quiet: bool) -> CaseResult:
+def _farm(cases, out, results, flush, bar, comm, *, quick: bool, resume: bool, quiet: bool):
+    """:func:`run_validation` over the ranks of ``comm``: largest expected cost first, each case on
+    its rank's MPI.COMM_SELF, no progress bar inside a case (the ranks would write over each other)."""
+    from mpi4py import MPI
+
+    from lcefem.meshes.communicator import case_communicator
+    from lcefem.validation import farm
+
+    costs = farm.case_costs(quick)
+
+    def cost(case: Case) -> float:  # [s]; a case --resume will reuse costs nothing
+        if resume and load_complete(case, out / case.name, out, quick) is not None:
+            return 0.0
+        return costs.get(case.name, math.inf)
+
+    def run_one(case: Case) -> CaseResult:
+        with case_communicator(MPI.COMM_SELF):
+            return _run_or_reuse(case, out, quick=quick, resume=resume, quiet=quiet, progress=False,
+                                 rank=comm.rank)
+
+    groups = farm.schedule(cases, cost) if comm.rank == 0 else None
+    groups = comm.bcast(groups, root=0)  # every rank the same list (a --resume check may race)
+    try:
+        return farm.farm_validation(cases, groups, results, run_one, flush, bar, comm)
+    finally:
+        bar.close()
+
+
+def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, quiet: bool,
+                  progress: bool | None = None, rank: int | None = None) -> CaseResult:
     """One case: reused when --resume finds it complete, else run in an emptied folder; its outcome
-    as a CaseResult (an interrupt is returned in ``.interrupt``, to be raised after the report)."""
+    as a CaseResult (an interrupt is returned in ``.interrupt``, to be raised after the report).
+    ``progress``: the case's own progress bars (default: unless ``quiet``); ``rank``: the MPI rank
+    running it when farmed (recorded in the result)."""
     case_dir = out / case.name
     if resume:
         stored = load_complete(case, case_dir, out, quick)
@@ -203,11 +246,11 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
             return stored
     if case_dir.is_dir():  # the case owns its folder: nothing of an earlier run may remain
         shutil.rmtree(case_dir)
-    ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet)
+    ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet if progress is None else progress)
     t0 = time.perf_counter()
     try:
         try:
-            result = run_case(case, ctx, out)
+            result = dataclasses.replace(run_case(case, ctx, out), rank=rank)
         except Exception as exc:
             # A library may wrap the signal's exception in its own error (numba's compiler turns a
             # Ctrl-C/SIGTERM during a kernel's compilation into a RuntimeError): still an interrupt.
@@ -215,7 +258,7 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
             raise
     except KeyboardInterrupt as exc:
         result = CaseResult(case.name, case.description, "interrupted", time.perf_counter() - t0,
-                            quick=quick, error=f"interrupted ({type(exc).__name__})")
+                            quick=quick, error=f"interrupted ({type(exc).__name__})", rank=rank)
         result.interrupt = exc
         return result
     except Exception as exc:  # a failing case is reported and the run goes on
@@ -226,9 +269,19 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
         if not quiet:
             tqdm.write(f"lcefem validate: case {case.name} {status}: {msg}", file=sys.stderr)
         return CaseResult(case.name, case.description, status, time.perf_counter() - t0, quick=quick,
-                          error=msg)
+                          error=msg, rank=rank)
     write_json(case_dir / MARKER, result.as_dict())  # LAST: marks the case complete
     return result
+
+
+def prepare(args: argparse.Namespace) -> None:
+    """Under mpiexec (the cases farmed over the ranks), before any case module starts PETSc: each
+    rank's PETSc world is its own (:func:`lcefem.validation.farm.petsc_world_per_rank`)."""
+    comm = world()
+    if comm is not None and comm.size > 1:
+        from lcefem.validation import farm
+
+        farm.petsc_world_per_rank()
 
 
 def out_folder(args: argparse.Namespace) -> pathlib.Path:
@@ -247,14 +300,19 @@ def main(args: argparse.Namespace) -> int:
             print(f"{c.name.ljust(width)}  [{tags}]  {c.description}")
         return 0
     selected = select(list(args.cases), cases)
+    comm = world()
+    t_start = time.perf_counter()
     results = run_validation(selected, args.out, quick=args.quick, resume=args.resume, quiet=args.quiet,
-                             command=command_line(args))
+                             command=command_line(args), comm=comm)
+    failed = [r.case for r in results if r.status in ("failed", "error")]
+    if comm is not None and comm.rank != 0:  # rank 0 prints; every rank returns the same status
+        return EXIT_CASE_ERROR if failed else 0
     rows = report.all_rows(results)
     total = sum(r.wall_time for r in results if r.status != "reused")
+    ranks = f" on {comm.size} ranks in {time.perf_counter() - t_start:.1f} s wall" if comm is not None else ""
     print_table(rows, title=f"lcefem validate{' --quick' if args.quick else ''}: {len(results)} cases, "
-                f"{total:.1f} s")
+                f"{total:.1f} s{ranks}")
     print(f"metrics: {args.out / 'metrics.json'}   report: {args.out / 'report.md'}")
-    failed = [r.case for r in results if r.status in ("failed", "error")]
     if failed:
         print(f"lcefem validate: {len(failed)} case(s) failed or raised an error: {', '.join(failed)} "
               f"(see <out>/<case>/error.log)", file=sys.stderr)

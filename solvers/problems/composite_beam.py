@@ -211,7 +211,7 @@ class BeamFE:
                  mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
                  actuation: BeamActuation = BeamActuation(), contact: PenaltyContact = PenaltyContact(),
                  control: PathControl | None = None, petsc_options: dict | None = None,
-                 comm: MPI.Comm = MPI.COMM_WORLD):
+                 comm: MPI.Comm | None = None):
         self.geometry, self.mesh_options, self.materials = geometry, mesh, materials
         self.control = control or PathControl()
         options = dict(BEAM_NEWTON)
@@ -493,7 +493,7 @@ class HeatedBeamFE:
             raise InputError(f"heated = {tuple(heated)}: strip tags among {', '.join(BeamFE.STRIPS)}")
         self.heated, self.coil = tuple(heated), coil
         transition = transition or NematicTransition()
-        self.tmesh = tm = build_beam_mesh(geometry, transition.lambda_N, mesh, MPI.COMM_WORLD)
+        self.tmesh = tm = build_beam_mesh(geometry, transition.lambda_N, mesh, None)
         n = ufl.as_vector([1.0, 0.0, 0.0])
         exposed = [f for f in ("ribbon_top", "ribbon_bottom", "top_strip_underside",
                                "bottom_strip_topside", "surface") if f in tm.facets]

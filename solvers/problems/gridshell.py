@@ -193,7 +193,7 @@ class GridshellFE:
     :meth:`observables`, :meth:`junction_centres`. Output: :meth:`write_fields`.
     """
 
-    def __init__(self, config: GridshellConfig = GridshellConfig(), comm: MPI.Comm = MPI.COMM_WORLD,
+    def __init__(self, config: GridshellConfig = GridshellConfig(), comm: MPI.Comm | None = None,
                  petsc_options: dict | None = None):
         self.config = cfg = config
         supports = cfg.supports.checked()
@@ -495,7 +495,7 @@ class GridshellFE:
             if saved[key].item() != value:
                 raise InputError(f"prolong_from {path}: {key} = {saved[key].item()!r}, this model "
                                  f"has {value!r}")
-        if MPI.COMM_WORLD.size > 1:
+        if self.tmesh.mesh.comm.size > 1:
             raise InputError("prolong_from: serial only (the saved DOF order is one process's)")
         cfg = self.config
         mesh0 = dataclasses.replace(cfg.mesh, level=int(saved["level"]))
@@ -672,7 +672,7 @@ class HeatedGridshellFE(GridshellFE):
 
     def __init__(self, config: GridshellConfig = GridshellConfig(), *, transition=None,
                  thermal=None, exchange=None, coil=None, dt: float = 1.0,
-                 comm: MPI.Comm = MPI.COMM_WORLD, petsc_options: dict | None = None):
+                 comm: MPI.Comm | None = None, petsc_options: dict | None = None):
         self.transition = transition or NematicTransition()
         self.coil = coil or GridSegmentCoil()
         self._heat_materials = (thermal or ThermalProperties(), exchange or SurfaceExchange())

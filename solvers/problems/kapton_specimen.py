@@ -89,7 +89,7 @@ class KaptonSpecimenFE:
     def __init__(self, specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
                  mesh: KaptonFEMesh = KaptonFEMesh(),
                  solid: NeoHookeanSolid = NeoHookeanSolid(), petsc_options: dict | None = None,
-                 comm: MPI.Comm = MPI.COMM_WORLD):
+                 comm: MPI.Comm | None = None):
         self.specimen, self.solid = specimen, solid
         self.tmesh = tm = build_ribbon_fe(specimen, mesh, comm)
         self.V = V = displacement_space(tm.mesh, 2)

@@ -110,11 +110,11 @@ class StripResult:
 class StripSimulation:
     """Builds the strip model once; :meth:`run` steps it in time and records observables."""
 
-    def __init__(self, config: StripConfig, comm: MPI.Comm = MPI.COMM_WORLD):
+    def __init__(self, config: StripConfig, comm: MPI.Comm | None = None):
         self.config = config = config.validated()
-        self.comm = comm
         tr = config.transition
         self.tmesh = tm = build_strip_mesh(config.geometry, tr.lambda_N, config.mesh, comm)
+        self.comm = comm = tm.mesh.comm
         info = tm.info
         self.dims = info
         held = config.run.bc == "held"
@@ -397,7 +397,7 @@ def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransit
 
 
 def run_strip(config: StripConfig, out: pathlib.Path | None = None, progress: bool = True,
-              fields: bool = True, comm: MPI.Comm = MPI.COMM_WORLD) -> StripResult:
+              fields: bool = True, comm: MPI.Comm | None = None) -> StripResult:
     """Build and run one strip simulation (see module docstring)."""
     return StripSimulation(config, comm).run(None if out is None else pathlib.Path(out), progress=progress,
                                              fields=fields)

@@ -31,7 +31,7 @@ ISOTROPIC_TEMPERATURE = 200.0  # C: Q(200 C) < 1e-9, fully isotropic for the cal
 
 def isotropic_tension(stretches, transition: NematicTransition = NematicTransition(),
                       elasticity: LCEElasticity = LCEElasticity(), cell: str = "hex",
-                      divisions=(2, 2, 2), comm: MPI.Comm = MPI.COMM_WORLD) -> np.ndarray:
+                      divisions=(2, 2, 2), comm: MPI.Comm | None = None) -> np.ndarray:
     """Nominal stress [MPa] at each stretch [-] (from the isotropic length), loading monotonically."""
     tm = build_block((1.0, 1.0, 1.0), divisions, cell, comm)
     mesh = tm.mesh
@@ -67,5 +67,5 @@ def isotropic_tension(stretches, transition: NematicTransition = NematicTransiti
         continuation.advance(set_load, problem.solve, problem.save, problem.restore,
                              where=f"isotropic tension at stretch {lam:.3f}")
         current = lam
-        stresses.append(assemble_global(reaction, comm) / isotropic_area)
+        stresses.append(assemble_global(reaction, mesh.comm) / isotropic_area)
     return np.array(stresses)

@@ -104,7 +104,7 @@ class TwistedRibbonFE:
                  temperature: Callable, *, transition: NematicTransition = NematicTransition(),
                  elasticity: LCEElasticity = LCEElasticity(),
                  resolution: TwistedRibbonMesh = TwistedRibbonMesh(), stations: int | None = None,
-                 comm: MPI.Comm = MPI.COMM_WORLD, prefix: str | None = None,
+                 comm: MPI.Comm | None = None, prefix: str | None = None,
                  petsc_options: dict | None = None):
         self.length, self.width, self.twist_rate = length, width, twist_rate
         self.tmesh = tm = build_twisted_ribbon(length, width, thickness, twist_rate, resolution, comm)
@@ -121,7 +121,7 @@ class TwistedRibbonFE:
         a = 1.0 + self.load * (contraction_ratio(temperature(y, z), transition) - 1.0)
         F_s_inv = isochoric_uniaxial(1.0 / a, twisted_director(X, twist_rate))  # = F_s(T)^-1 at s = 1
         energy = lce_strain_energy(deformation_gradient(u) * F_s_inv, elasticity)
-        self.bcs = self._supports(V, tm, width, 1e-6 * thickness, comm)
+        self.bcs = self._supports(V, tm, width, 1e-6 * thickness, mesh.comm)
         options = dict(TWISTED_RIBBON_NEWTON)
         options.update(petsc_options or {})
         self.problem = HyperelasticProblem(u, energy * volume_measure(tm), self.bcs,

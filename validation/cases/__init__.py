@@ -143,6 +143,19 @@ class Case:
 
 _CASES: dict[str, Case] = {}
 
+#: Affinity groups: cases that share an in-process cache, so that ``mpiexec -n N lcefem validate``
+#: runs each group on one rank, in registry order, as the serial run does: the shared work is done
+#: once and each case starts from the state it has in the serial run (same answers for any N).
+AFFINITY: dict[str, tuple[str, ...]] = {
+    # ribbon.ribbon_metrics' _RUNS: every one of them runs the 100 C plate, 0.05 turn/mm ribbon
+    "ribbon_rolling": ("ribbon_threshold", "ribbon_twist_density", "ribbon_helical", "ribbon_end_spin"),
+    # beam_fe._EQUILIBRIA: beam_curvature_fe starts from the map's (1.33, 1.05) equilibrium
+    "beam_fe": ("beam_curvature_map_fe", "beam_curvature_fe"),
+    # Not grouped: gridshell_fe._bh_shape (the bar-and-hinge shape that gridshell_shapes_fe,
+    # gridshell_sweep_fe and gridshell_heated_fe compare with) costs seconds, while the three FE cases
+    # together (2100 s at the full level) would outlast every other rank's work.
+}
+
 
 def case(name: str, description: str, *, fe: bool, convergence: bool = False, prolong: bool = False):
     """Decorator registering a case function under ``name``."""

@@ -12,8 +12,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 
-from mpi4py import MPI
-
+from lcefem.meshes.communicator import default_comm
 from lcefem.models.heat import Coil
 from lcefem.solvers.problems.strip import BOUNDARY_CONDITIONS, StripConfig, run_strip
 from lcefem.solvers.run import add_out_arguments
@@ -56,12 +55,13 @@ def prepare(args: argparse.Namespace) -> StripConfig:
 def main(args: argparse.Namespace) -> int:
     cfg = args.prepared
     result = run_strip(cfg, args.out, progress=not args.quiet, fields=not args.no_fields)
-    if MPI.COMM_WORLD.rank == 0 and cfg.run.steady:
+    first = default_comm().rank == 0  # one rank prints
+    if first and cfg.run.steady:
         obs = result.summary["steady_state"]
         print(f"lcefem: strip {cfg.run.current:g} A ({cfg.run.bc}) steady state: stretch "
               f"{obs['stretch [-]']:.4f}, T_mean {obs['T_mean [C]']:.1f} C, force {obs['force [N]']:.4f} N; "
               f"results in {result.out}")
-    elif MPI.COMM_WORLD.rank == 0:
+    elif first:
         m = result.summary["metrics"]
         print(f"lcefem: strip {cfg.run.current:g} A ({cfg.run.bc}), {result.summary['steps']} steps in "
               f"{result.summary['wall_time [s]']:.1f} s; final stretch {m['final_stretch [-]']:.4f}, "
