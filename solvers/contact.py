@@ -1,5 +1,6 @@
 """Node-wise terms added to a dolfinx Newton problem outside UFL: frictionless unilateral node-to-node
-penalty contact between a strip's free face and a thin ribbon, and a nodal proximal (damping) term.
+penalty contact between a strip's free face and a thin ribbon, a nodal proximal (damping) term and a
+fixed nodal load (:class:`NodalLoad`, the residual homotopy's offset).
 
 Used by the FE composite beam (:func:`lcefem.meshes.composite_beam.build_beam_fe`), whose strips and
 ribbon share their x and y stations: every node p of a strip's unbonded face has, at the same
@@ -247,16 +248,13 @@ def plane_face_nodes(V: dolfinx.fem.FunctionSpace, height: float, tol: float = 1
     return nodes, areas[nodes]
 
 
-class NodalDamping:
-    """Proximal term c/2 sum |u - anchor|^2 over the free DOFs [mJ]; ``weight`` c [N/mm] is 0 (off)
-    except while a path follower relaxes across a fold."""
+class _NodalTerm:
+    """A term on the free DOFs of ``u`` (serial): :func:`attach` marks the constrained ones."""
 
-    def __init__(self, u: dolfinx.fem.Function):
+    def __init__(self, u: dolfinx.fem.Function, what: str):
         if u.function_space.mesh.comm.size > 1:
-            raise NotImplementedError("nodal damping runs in serial only")
+            raise NotImplementedError(f"{what} runs in serial only")
         self.u = u
-        self.weight = 0.0
-        self.anchor = np.zeros(u.x.array.size)
         self.fixed = np.zeros(u.x.array.size, dtype=bool)
 
     def set_constrained(self, bcs) -> None:
@@ -264,6 +262,16 @@ class NodalDamping:
         for bc in bcs:
             idx, _ = bc.dof_indices()
             self.fixed[idx] = True
+
+
+class NodalDamping(_NodalTerm):
+    """Proximal term c/2 sum |u - anchor|^2 over the free DOFs [mJ]; ``weight`` c [N/mm] is 0 (off)
+    except while a path follower relaxes across a fold."""
+
+    def __init__(self, u: dolfinx.fem.Function):
+        super().__init__(u, "nodal damping")
+        self.weight = 0.0
+        self.anchor = np.zeros(u.x.array.size)
 
     def add_residual(self, b: PETSc.Vec) -> None:
         if self.weight == 0.0:
@@ -283,6 +291,31 @@ class NodalDamping:
         A.setDiagonal(d, addv=PETSc.InsertMode.ADD_VALUES)
         A.assemble()
         d.destroy()
+
+
+class NodalLoad(_NodalTerm):
+    """A fixed nodal force vector f [N] (one entry per DOF) scaled by ``factor`` [-]: the residual
+    gains -factor f on the free DOFs (the potential -factor f . u [mJ]; no Jacobian). 0 (off)
+    except while :meth:`lcefem.solvers.problems.gridshell.GridshellFE.settle` follows the residual
+    homotopy R(u) - (1 - s) R(u_0) = 0 from a state u_0 that is no equilibrium (f = R(u_0),
+    factor = 1 - s): u_0 solves it at s = 0, an equilibrium at s = 1."""
+
+    def __init__(self, u: dolfinx.fem.Function):
+        super().__init__(u, "a nodal load")
+        self.factor = 0.0
+        self.force = np.zeros(u.x.array.size)
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        if self.factor == 0.0:
+            return
+        n = b.getLocalSize()
+        r = -self.factor * self.force[:n]
+        r[self.fixed[:n]] = 0.0
+        with b.localForm() as local:
+            local.array[:n] += r
+
+    def add_jacobian(self, A: PETSc.Mat) -> None:
+        """Constant in u: nothing."""
 
 
 def face_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, strip_face: str, ribbon_cells: str,

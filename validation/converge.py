@@ -16,7 +16,8 @@ the Richardson-extrapolated value and the fine-grid Grid Convergence Index with 
 
 ``--prolong`` (cases registered with ``prolong=True``): level 0 is solved as usual, every finer level
 starts from the previous level's converged state interpolated onto its mesh (``ctx.prolong_from``)
-and solves at the full load directly, where a path from scratch is too costly on the fine meshes
+and solves at the full load from there (the FE gridshell: the residual homotopy of
+``GridshellFE.settle``), where a path from scratch is too costly on the fine meshes
 (the FE gridshell dome: ~300 Newton iterations per level from flat). The equilibrium must be the
 same one the path from scratch reaches; the case states how that was checked.
 

@@ -77,7 +77,7 @@ from lcefem.models.lce import (NematicTransition, contraction_ratio, isochoric_u
 from lcefem.models.loads import SurfaceWeight
 from lcefem.models.parameters import check, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures
-from lcefem.solvers.contact import (NodalDamping, PenaltyContact, RigidPlaneContact, attach,
+from lcefem.solvers.contact import (NodalDamping, NodalLoad, PenaltyContact, RigidPlaneContact, attach,
                                     plane_face_nodes)
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
@@ -99,6 +99,10 @@ FIG4_SHAPES = {name: dict(drive["lambdas"]) for name, drive in SHAPE_DRIVES.item
 #: the bar-and-hinge "clamp" (centre junction held) is the FE "centre_clamp".
 PUBLISHED_SUPPORTS = {name: {"clamp": "centre_clamp"}.get(drive["support"], drive["support"])
                       for name, drive in SHAPE_DRIVES.items()}
+#: First trial step of :meth:`GridshellFE.settle`'s residual homotopy [-] (chosen: a tenth of the
+#: start's residual per step; the whole offset at once is full Newton from the start state, which
+#: at level 1 of the dome went 55 -> 919 -> 27 -> 1e4 N to an inverted element).
+SETTLE_FIRST_STEP = 0.1
 #: Support kinds of :class:`GridshellSupports`.
 SUPPORT_KINDS = ("rollers", "centre_clamp", "table")
 
@@ -268,7 +272,9 @@ class GridshellFE:
             nodes, areas = plane_face_nodes(V, z0)
             self.table = RigidPlaneContact(u, nodes, areas, z0, supports.table_stiffness)
         self.damping = NodalDamping(u)  # proximal term of the path follower's relaxation at folds
-        attach(self.problem, [*self.contacts, *([self.table] if self.table else []), self.damping])
+        self.offset = NodalLoad(u)  # the residual homotopy's offset (settle); off otherwise
+        attach(self.problem, [*self.contacts, *([self.table] if self.table else []), self.damping,
+                              self.offset])
 
         # stress measure for output: von Mises of the Cauchy stress, cell-wise (DG0), per material
         Fv = ufl.variable(F)
@@ -396,33 +402,90 @@ class GridshellFE:
         arr = self.target if target else self.lam.x.array
         return np.unique(arr[np.isin(self._dof_tag, self._tags_of(selector))])
 
-    def advance(self, *, on_step: Callable[[GridshellState], None] | None = None,
-                start: float = 0.0) -> list[GridshellState]:
+    def advance(self, *, on_step: Callable[[GridshellState], None] | None = None
+                ) -> list[GridshellState]:
         """Take every strip linearly from its current lambda to its target (path parameter
         t: 0 -> 1; with gravity on, its weight rises with t on the first ramp) with the path
-        follower. Raises ConvergenceError (the model keeps the last converged state).
-
-        ``start`` in [0, 1): the current state is taken as the path's point t = start (the
-        follower's first trial step is 1 - start, cut on failure): :meth:`settle`'s short ramp."""
-        if not 0.0 <= start < 1.0:
-            raise InputError(f"advance: start = {start}: must lie in [0, 1)")
+        follower. Raises ConvergenceError (the model keeps the last converged state)."""
         lam0 = self.lam.x.array.copy()
         dlam = self.target - lam0
         g0 = self.gravity_on
-        g1 = 1.0 if self.config.supports.weight else 0.0
-        ez = np.array([0.0, 0.0, -self._weight_density])
+        g1 = self._full_weight()
 
         def set_load(t: float) -> None:
-            s = t if start == 0.0 else (t - start) / (1.0 - start)
-            self.lam.x.array[:] = lam0 + s * dlam
-            self.gravity_on = g0 + s * (g1 - g0)
-            self.gravity.value = self.gravity_on * ez
+            self.lam.x.array[:] = lam0 + t * dlam
+            self._set_weight(g0 + t * (g1 - g0))
 
-        control = self.config.control
-        if start > 0.0:
-            control = dataclasses.replace(control, first_step=1.0 - start,
-                                          max_step=max(control.max_step, 1.0 - start))
-        follower = PathFollower(self.problem, set_load, control, self.damping, t0=start)
+        states = self._follow(set_load, self.config.control, "gridshell ramp", on_step)
+        self.lam.x.array[:] = self.target  # exactly, not lam0 + 1.0 * dlam
+        return states
+
+    def ramp(self, drives: Mapping[str, float], **kw) -> list[GridshellState]:
+        """:meth:`set_lambda` then :meth:`advance`."""
+        self.set_lambda(drives)
+        return self.advance(**kw)
+
+    def settle(self, first_step: float = SETTLE_FIRST_STEP,
+               on_step: Callable[[GridshellState], None] | None = None) -> list[GridshellState]:
+        """Equilibrium at the target lambdas (and the full weight, if any) from the current
+        displacement u_0, e.g. one prolonged from a coarser mesh (:meth:`prolong_from`) or the
+        equilibrium of other materials, which is no equilibrium here: the residual homotopy
+
+            R(u) - (1 - s) R(u_0) = 0,   s: 0 -> 1,
+
+        (R the nodal force residual [N]; u_0 solves it at s = 0 exactly, an equilibrium solves it
+        at s = 1) followed by the path follower of the ramps (predictor, step cuts; first trial
+        step ``first_step``, growing to the whole remainder), the offset a :class:`NodalLoad`.
+        Each step moves the offset by a fraction of R(u_0), so the path stays on the branch u_0
+        lies near, where full Newton steps from u_0 at the full load can jump to another (README,
+        "The full-ramp study with --prolong"). Raises ConvergenceError as :meth:`advance`;
+        InputError when u_0 is not finite or inverts an element."""
+        if not 0.0 < first_step <= 1.0:
+            raise InputError(f"settle: first_step = {first_step}: must lie in (0, 1]")
+        self.lam.x.array[:] = self.target
+        self._set_weight(self._full_weight())
+        for bc in self.bcs:  # the supports hold exactly (u_0 may carry round-off there)
+            bc.set(self.u.x.array)
+        self.u.x.scatter_forward()
+        if not self.problem.admissible():
+            raise InputError("settle: the start state is not finite or inverts an element")
+        self.offset.force[:] = self.residual()
+
+        def set_load(s: float) -> None:
+            self.offset.factor = 1.0 - s
+
+        control = dataclasses.replace(self.config.control, first_step=first_step, max_step=1.0)
+        try:
+            return self._follow(set_load, control, "gridshell settle (residual homotopy)", on_step)
+        finally:
+            self.offset.factor = 0.0
+
+    def residual(self) -> np.ndarray:
+        """The nodal force residual R(u) [N] at the current state and load (every term: volume,
+        contact, table; zero on the supported DOFs when u meets the supports)."""
+        b = self.problem.snes.getFunction()[0]
+        x, r = b.duplicate(), b.duplicate()
+        try:
+            dolfinx.fem.petsc.assign(self.u, x)
+            self.problem.snes.computeFunction(x, r)
+            return r.array.copy()
+        finally:
+            x.destroy()
+            r.destroy()
+
+    def _full_weight(self) -> float:
+        """Weight fraction at the end of a ramp [-]."""
+        return 1.0 if self.config.supports.weight else 0.0
+
+    def _set_weight(self, fraction: float) -> None:
+        self.gravity_on = fraction
+        self.gravity.value = fraction * np.array([0.0, 0.0, -self._weight_density])
+
+    def _follow(self, set_load: Callable[[float], None], control: PathControl, where: str,
+                on_step: Callable[[GridshellState], None] | None) -> list[GridshellState]:
+        """The path follower from t = 0 (the current state) to 1 at ``set_load(t)``; one
+        :class:`GridshellState` per accepted step (``on_step`` called with it)."""
+        follower = PathFollower(self.problem, set_load, control, self.damping)
         states: list[GridshellState] = []
 
         def record(t: float, its: int) -> None:
@@ -432,32 +495,11 @@ class GridshellFE:
 
         started = time.perf_counter()
         try:
-            follower.follow(1.0, where="gridshell ramp", on_step=record)
+            follower.follow(1.0, where=where, on_step=record)
         finally:
             self.wall_time += time.perf_counter() - started
             self.last_follower = follower
-        self.lam.x.array[:] = self.target  # exactly, not lam0 + 1.0 * dlam
         return states
-
-    def ramp(self, drives: Mapping[str, float], **kw) -> list[GridshellState]:
-        """:meth:`set_lambda` then :meth:`advance`."""
-        self.set_lambda(drives)
-        return self.advance(**kw)
-
-    def settle(self, backoff: float = 0.2, on_step: Callable[[GridshellState], None] | None = None
-               ) -> list[GridshellState]:
-        """Equilibrium at the current lambdas from the current displacement, e.g. one prolonged
-        from a coarser mesh (:meth:`prolong_from`): Newton at the full load first; when it fails,
-        the path follower's cut-and-retry ramps from that displacement (taken as the equilibrium
-        of lambda - ``backoff`` (lambda - lambda_N), the path's t = 1 - backoff) to the full load
-        in halved steps. One path from flat costs ~300 Newton iterations for the dome; from the
-        prolonged state of the next coarser level, a few (README, "FE gridshell, mesh
-        convergence"). Raises ConvergenceError as :meth:`advance`."""
-        if not 0.0 < backoff < 1.0:
-            raise InputError(f"settle: backoff = {backoff}: must lie in (0, 1)")
-        self.target = self.lam.x.array.copy()
-        self.lam.x.array[:] = self.target - backoff * (self.target - self.lambda_N)
-        return self.advance(on_step=on_step, start=1.0 - backoff)
 
     # ------------------------------------------------------------------ mesh transfer
     def save_state(self, path) -> pathlib.Path:
@@ -513,9 +555,7 @@ class GridshellFE:
         for tag, lam in zip(saved["strip_tags"], saved["strip_lambda"]):
             self.lam.x.array[self._dof_tag == tag] = lam
         self.target = self.lam.x.array.copy()
-        g = float(saved["gravity_on"])
-        self.gravity_on = g
-        self.gravity.value = g * np.array([0.0, 0.0, -self._weight_density])
+        self._set_weight(float(saved["gravity_on"]))
 
     # ------------------------------------------------------------------ observables
     def _make_stations(self) -> SimpleNamespace:
