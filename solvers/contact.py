@@ -263,6 +263,14 @@ class _NodalTerm:
             idx, _ = bc.dof_indices()
             self.fixed[idx] = True
 
+    def _add_on_free(self, b: PETSc.Vec, values: np.ndarray) -> None:
+        """b += values (one per local DOF of ``u``) on the free DOFs."""
+        n = b.getLocalSize()
+        r = values[:n].copy()
+        r[self.fixed[:n]] = 0.0
+        with b.localForm() as local:
+            local.array[:n] += r
+
 
 class NodalDamping(_NodalTerm):
     """Proximal term c/2 sum |u - anchor|^2 over the free DOFs [mJ]; ``weight`` c [N/mm] is 0 (off)
@@ -274,13 +282,8 @@ class NodalDamping(_NodalTerm):
         self.anchor = np.zeros(u.x.array.size)
 
     def add_residual(self, b: PETSc.Vec) -> None:
-        if self.weight == 0.0:
-            return
-        n = b.getLocalSize()
-        r = self.weight * (self.u.x.array[:n] - self.anchor[:n])
-        r[self.fixed[:n]] = 0.0
-        with b.localForm() as local:
-            local.array[:n] += r
+        if self.weight != 0.0:
+            self._add_on_free(b, self.weight * (self.u.x.array - self.anchor))
 
     def add_jacobian(self, A: PETSc.Mat) -> None:
         if self.weight == 0.0:
@@ -306,13 +309,8 @@ class NodalLoad(_NodalTerm):
         self.force = np.zeros(u.x.array.size)
 
     def add_residual(self, b: PETSc.Vec) -> None:
-        if self.factor == 0.0:
-            return
-        n = b.getLocalSize()
-        r = -self.factor * self.force[:n]
-        r[self.fixed[:n]] = 0.0
-        with b.localForm() as local:
-            local.array[:n] += r
+        if self.factor != 0.0:
+            self._add_on_free(b, -self.factor * self.force)
 
     def add_jacobian(self, A: PETSc.Mat) -> None:
         """Constant in u: nothing."""

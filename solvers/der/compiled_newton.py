@@ -37,28 +37,8 @@ CONVERGED_CODES = (0, 1)
 @njit(cache=True)
 def _own_geometry(x, theta, a1, ref):
     """(x, theta, a1, ref, e, length, t, m1, m2, twist) of a state with its own frames (``RodState.geometry``)."""
-    n = len(theta)
-    e = np.empty((n, 3))
-    length = np.empty(n)
-    t = np.empty((n, 3))
-    m1 = np.empty((n, 3))
-    m2 = np.empty((n, 3))
-    a2 = np.empty(3)
-    for k in range(n):
-        for i in range(3):
-            e[k, i] = x[k + 1, i] - x[k, i]
-        length[k] = math.sqrt(e[k, 0] * e[k, 0] + e[k, 1] * e[k, 1] + e[k, 2] * e[k, 2])
-        for i in range(3):
-            t[k, i] = e[k, i] / length[k]
-        kernels._cross3(t[k], a1[k], a2)
-        c = math.cos(theta[k])
-        s_ = math.sin(theta[k])
-        for i in range(3):
-            m1[k, i] = c * a1[k, i] + s_ * a2[i]
-            m2[k, i] = -s_ * a1[k, i] + c * a2[i]
-    twist = np.empty(n - 1)
-    for k in range(n - 1):
-        twist[k] = theta[k + 1] - theta[k] + ref[k]
+    e, length, t = kernels.edge_tangents(x)
+    m1, m2, twist = kernels.material_frames_twist(t, a1, theta, ref)
     return x, theta, a1, ref, e, length, t, m1, m2, twist
 
 

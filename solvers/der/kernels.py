@@ -869,13 +869,9 @@ def transport_frames(a1, t_old, t_new, ref_prev):
 
 
 @njit(cache=True)
-def moved_geometry(x, theta, a1_old, t_old, ref_prev):
-    """Everything a displaced state needs, in one pass (``model.RodState.moved`` and ``geometry``):
-    edges e, lengths, unit tangents t, reference directors a1 transported in time from t_old (and
-    the reference twist continued from ref_prev, :func:`transport_frames`), material frames
-    m1 = cos(theta) a1 + sin(theta) t x a1, m2 = t x m1 (``frames.material_frames``) and the
-    integrated twists theta_(k+1) - theta_k + ref_twist_k."""
-    n = len(theta)
+def edge_tangents(x):
+    """Edges e_k = x_(k+1) - x_k [mm], their lengths [mm] and unit tangents t_k = e_k / |e_k|."""
+    n = len(x) - 1
     e = np.empty((n, 3))
     length = np.empty(n)
     t = np.empty((n, 3))
@@ -885,7 +881,14 @@ def moved_geometry(x, theta, a1_old, t_old, ref_prev):
         length[k] = math.sqrt(e[k, 0] * e[k, 0] + e[k, 1] * e[k, 1] + e[k, 2] * e[k, 2])
         for i in range(3):
             t[k, i] = e[k, i] / length[k]
-    a1, ref = transport_frames(a1_old, t_old, t, ref_prev)
+    return e, length, t
+
+
+@njit(cache=True)
+def material_frames_twist(t, a1, theta, ref):
+    """Material frames m1 = cos(theta) a1 + sin(theta) t x a1, m2 = -sin(theta) a1 + cos(theta)
+    t x a1 (``frames.material_frames``) and the integrated twists theta_(k+1) - theta_k + ref_k [rad]."""
+    n = len(theta)
     m1 = np.empty((n, 3))
     m2 = np.empty((n, 3))
     a2 = np.empty(3)
@@ -899,6 +902,19 @@ def moved_geometry(x, theta, a1_old, t_old, ref_prev):
     twist = np.empty(n - 1)
     for k in range(n - 1):
         twist[k] = theta[k + 1] - theta[k] + ref[k]
+    return m1, m2, twist
+
+
+@njit(cache=True)
+def moved_geometry(x, theta, a1_old, t_old, ref_prev):
+    """Everything a displaced state needs, in one pass (``model.RodState.moved`` and ``geometry``):
+    edges e, lengths, unit tangents t, reference directors a1 transported in time from t_old (and
+    the reference twist continued from ref_prev, :func:`transport_frames`), material frames
+    m1 = cos(theta) a1 + sin(theta) t x a1, m2 = t x m1 (``frames.material_frames``) and the
+    integrated twists theta_(k+1) - theta_k + ref_twist_k."""
+    e, length, t = edge_tangents(x)
+    a1, ref = transport_frames(a1_old, t_old, t, ref_prev)
+    m1, m2, twist = material_frames_twist(t, a1, theta, ref)
     return e, length, t, a1, ref, m1, m2, twist
 
 
