@@ -78,6 +78,16 @@ _prefix = itertools.count()
 BEAM_NEWTON = {"snes_linesearch_type": "basic", "snes_max_it": 14, "snes_atol": 1e-7,
                "snes_stol": 1e-11}
 
+#: Step control of the beam's lambda ramps: the shared controller aiming at 12 Newton iterations
+#: per step with steps up to 0.25 of the ramp (the defaults aim at 10 with steps up to 0.2). Chosen
+#: by the ramp to (1.33, 1.05) (``fe_benchmark --beam-levels 0 1 --beam-variants newton t10``,
+#: issue 13): level 0 89 Newton iterations in 13 steps against 98 in 15; level 1 (18,072 DOFs, quiet
+#: machine, one process per core) 90 iterations / 33.5 s CPU against 93 / 37.1 s, the curvature the
+#: same to 1e-9 (validation/data/fe_benchmark_beam_ramp.csv). A Newton step on this beam costs
+#: the same however long the path step (README, "Newton variants of the 4-segment beam's ramp"),
+#: so fewer, longer steps pay until they start to be cut.
+BEAM_CONTROL = PathControl(target_iterations=12, max_step=0.25)
+
 
 def _unique_prefix(stem: str) -> str:
     """dolfinx 0.11 NonlinearProblems need distinct PETSc options prefixes."""
@@ -213,7 +223,7 @@ class BeamFE:
                  control: PathControl | None = None, petsc_options: dict | None = None,
                  comm: MPI.Comm | None = None):
         self.geometry, self.mesh_options, self.materials = geometry, mesh, materials
-        self.control = control or PathControl()
+        self.control = control or BEAM_CONTROL
         options = dict(BEAM_NEWTON)
         options.update(petsc_options or {})
         self.actuation, self.contact_options = actuation, contact

@@ -117,8 +117,10 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 #: Newton variants of the beam ramp (overrides of the beam's Newton options): the configured full
 #: Newton step and the default step controller (``O2``: the kernels compiled with dolfinx's default
 #: flags instead of :data:`lcefem.solvers.mechanics.JIT_OPTIONS`; ``tangent``: the Euler predictor
-#: instead of the curved one; ``before``: both, the state before issue 13's beam-ramp work; ``t12``:
-#: :class:`lcefem.solvers.continuation.PathControl` aiming at 12 iterations with steps up to 0.25;
+#: instead of the curved one; ``before``: both, and the step control aiming at 10 iterations with
+#: steps up to 0.2, the state before issue 13's beam-ramp work; ``t12``: the beam's step control
+#: (:data:`lcefem.solvers.problems.composite_beam.BEAM_CONTROL`, 12 iterations, steps up to 0.25),
+#: ``t10``: the shared defaults (10 iterations, steps up to 0.2);
 #: ``native``: the kernels compiled for this processor, ``-march=native``); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
 #: PETSc's critical-point (one or three secant steps), backtracking (on |R|^2), L2 line searches,
 #: steps damped to 0.8 and the trust region.
@@ -129,7 +131,8 @@ NEWTON_NPC = {"npc_snes_type": "newtonls", "npc_snes_max_it": 1, "npc_snes_lines
 
 BEAM_VARIANTS = {
     "newton": {},
-    "before": {"jit_options": {}, "predictor": "tangent"},
+    "before": {"jit_options": {}, "predictor": "tangent", "target_iterations": 10, "max_step": 0.2},
+    "t10": {"target_iterations": 10, "max_step": 0.2},
     "O2": {"jit_options": {}},
     "tangent": {"predictor": "tangent"},
     "t12": {"target_iterations": 12, "max_step": 0.25},
@@ -157,7 +160,7 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
     from lcefem.meshes.composite_beam import BeamFEMesh
     from lcefem.solvers import mechanics
     from lcefem.solvers.continuation import PathControl
-    from lcefem.solvers.problems.composite_beam import BeamFE
+    from lcefem.solvers.problems.composite_beam import BEAM_CONTROL, BeamFE
 
     options = dict(BEAM_VARIANTS[variant])
     if "jit_options" in options:  # the kernels compiled with other flags (e.g. dolfinx's -O2)
@@ -166,7 +169,7 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
         flags = mechanics.JIT_OPTIONS["cffi_extra_compile_args"] + options.pop("jit_extra_flags")
         mechanics.JIT_OPTIONS = {**mechanics.JIT_OPTIONS, "cffi_extra_compile_args": flags}
     # fields of the step controller (predictor, target iterations, ...) are not PETSc options
-    control = dataclasses.replace(PathControl(), **{f.name: options.pop(f.name)
+    control = dataclasses.replace(BEAM_CONTROL, **{f.name: options.pop(f.name)
                                                     for f in dataclasses.fields(PathControl)
                                                     if f.name in options})
     model = BeamFE(mesh=BeamFEMesh(level=level), petsc_options=options, control=control)
