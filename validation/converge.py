@@ -14,6 +14,10 @@ the Richardson-extrapolated value and the fine-grid Grid Convergence Index with 
   mean (not yet in the asymptotic range);
 - ``mesh-independent``: the value does not change with the mesh (p undefined, GCI 0).
 
+Under ``mpiexec -n N`` without ``--prolong`` the levels are independent and farmed over the N ranks,
+finest first, each whole on one rank (the serial answers; rank 0 writes the study): the wall time is
+about the finest level's rather than the sum. With ``--prolong`` they run in order, each on all ranks.
+
 ``--prolong`` (cases registered with ``prolong=True``): level 0 is solved as usual, every finer level
 starts from the previous level's converged state interpolated onto its mesh (``ctx.prolong_from``)
 and solves at the full load from there (the FE gridshell: the residual homotopy of
@@ -31,16 +35,18 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import io
 import math
 import pathlib
 import shutil
 import sys
+import time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from lcefem.models.errors import InputError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.run import add_out_arguments, write_json, write_text
 from lcefem.validation import gci as gci_mod
 from lcefem.validation import plots
@@ -187,29 +193,23 @@ def print_summary(studies: list[MetricConvergence], mesh_sizes, file=None) -> No
 
 
 def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume: bool = False,
-              prolong: bool = False):
+              prolong: bool = False, comm=None):
     """Run ``case`` at levels 0..levels-1 and analyse; returns (mesh sizes, unit, studies, warnings).
 
     With ``resume``, a level whose directory holds a complete result of this case is reused; with
-    ``prolong``, level i > 0 gets ``ctx.prolong_from`` = the folder of level i - 1."""
+    ``prolong``, level i > 0 gets ``ctx.prolong_from`` = the folder of level i - 1. With ``comm`` of
+    more than one rank and no ``prolong`` (every rank calls this), the levels are farmed over its
+    ranks, finest first (:func:`_farm_levels`); every rank returns the same analysis."""
     from tqdm import tqdm
 
-    results = []
-    for level in tqdm(range(levels), desc=f"converge {case.name}", unit="level", disable=quiet,
-                      file=sys.stderr):
-        ctx = CaseContext(out=out / f"level{level}", quick=False, level=level, progress=not quiet,
-                          prolong_from=out / f"level{level - 1}" if prolong and level > 0 else None)
-        stored = load_complete(case, ctx.out, out, quick=False) if resume else None
-        if stored is not None and stored.mesh_size:
-            results.append(stored)
-            continue
-        if ctx.out.is_dir():  # the level owns its folder: nothing of an earlier run may remain
-            shutil.rmtree(ctx.out)
-        res = run_case(case, ctx, out)
-        if res.mesh_size is None or not res.mesh_size > 0:
-            raise RuntimeError(f"case {case.name} did not set ctx.mesh_size (> 0) at level {level}")
-        write_json(ctx.out / MARKER, res.as_dict())  # LAST: this level is complete
-        results.append(res)
+    if comm is not None and comm.size > 1 and not prolong:
+        results = _farm_levels(case, out, levels, quiet=quiet, resume=resume, comm=comm)
+    else:
+        results = []
+        for level in tqdm(range(levels), desc=f"converge {case.name}", unit="level", disable=quiet,
+                          file=sys.stderr):
+            results.append(_run_level(case, out, level, resume=resume, prolong=prolong,
+                                      progress=not quiet))
     h = [r.mesh_size for r in results]
     unit = results[0].mesh_size_unit or "-"
     names: dict[str, str] = {}
@@ -224,6 +224,96 @@ def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume:
             vals.append(float(found[0]) if found and found[0] is not None else math.nan)
         studies.append(analyse(h, vals, name, metric_unit))
     return h, unit, studies, ratio_warnings(h)
+
+
+def _run_level(case, out: pathlib.Path, level: int, *, resume: bool, prolong: bool, progress: bool,
+               rank: int | None = None):
+    """One level of the study in ``out/level<i>``: reused when ``resume`` finds it complete, else
+    run in an emptied folder; its CaseResult (exceptions propagate). ``rank``: the MPI rank running
+    it when farmed (recorded in the result)."""
+    ctx = CaseContext(out=out / f"level{level}", quick=False, level=level, progress=progress,
+                      prolong_from=out / f"level{level - 1}" if prolong and level > 0 else None)
+    stored = load_complete(case, ctx.out, out, quick=False) if resume else None
+    if stored is not None and stored.mesh_size:
+        return stored
+    if ctx.out.is_dir():  # the level owns its folder: nothing of an earlier run may remain
+        shutil.rmtree(ctx.out)
+    res = dataclasses.replace(run_case(case, ctx, out), rank=rank)
+    if res.mesh_size is None or not res.mesh_size > 0:
+        raise RuntimeError(f"case {case.name} did not set ctx.mesh_size (> 0) at level {level}")
+    write_json(ctx.out / MARKER, res.as_dict())  # LAST: this level is complete
+    return res
+
+
+def _farm_levels(case, out: pathlib.Path, levels: int, *, quiet: bool, resume: bool, comm) -> list:
+    """``mpiexec -n N lcefem converge`` (without ``--prolong``, so the levels are independent): the
+    levels handed out over the N ranks by :mod:`lcefem.validation.farm`, finest (costliest) first,
+    each level whole on its rank's ``MPI.COMM_SELF``, so its answers are the serial run's. A level
+    that raises ends the study with its one-line error after the other ranks have finished theirs
+    (its traceback in ``out/level<i>/error.log``); an interrupt stops every rank (exit 130 / 143)."""
+    import traceback
+
+    from mpi4py import MPI
+    from tqdm import tqdm
+
+    from lcefem.meshes.communicator import case_communicator
+    from lcefem.solvers.run import raise_if_interrupted
+    from lcefem.validation import farm
+    from lcefem.validation.report import CaseResult
+
+    items = list(range(levels))
+    results = [CaseResult(case.name, case.description, "not run", 0.0, level=i) for i in items]
+
+    def run_one(level: int) -> CaseResult:
+        t0 = time.perf_counter()
+        try:
+            try:
+                with case_communicator(MPI.COMM_SELF):
+                    return _run_level(case, out, level, resume=resume, prolong=False, progress=False,
+                                      rank=comm.rank)
+            except Exception as exc:
+                raise_if_interrupted(exc)
+                raise
+        except KeyboardInterrupt as exc:
+            res = CaseResult(case.name, case.description, "interrupted", time.perf_counter() - t0,
+                             level=level, error=f"interrupted ({type(exc).__name__})", rank=comm.rank)
+            res.interrupt = exc
+            return res
+        except Exception as exc:
+            (out / f"level{level}").mkdir(parents=True, exist_ok=True)
+            write_text(out / f"level{level}" / "error.log", traceback.format_exc())
+            msg = f"level {level}: {type(exc).__name__}: {exc}".splitlines()[0]
+            status = "failed" if isinstance(exc, ConvergenceError) else "error"
+            return CaseResult(case.name, case.description, status, time.perf_counter() - t0,
+                              level=level, error=msg, rank=comm.rank)
+
+    groups = [[i] for i in reversed(items)]  # the finest level costs most: first out
+    bar = tqdm(total=levels, desc=f"converge {case.name} ({comm.size} ranks)", unit="level",
+               disable=quiet or comm.rank != 0, file=sys.stderr)
+    try:
+        results = farm.farm_validation(items, groups, results, run_one, lambda: None, bar, comm)
+    finally:
+        bar.close()
+    failed = [r for r in results if r.status != "done"]
+    if failed:  # every rank raises the same error (the CLI's exit agreement)
+        r = failed[0]
+        where = f"converge {case.name}"
+        why = f"{r.error or r.status} (traceback in {out / f'level{r.level}' / 'error.log'})"
+        raise ConvergenceError(where, why) if r.status == "failed" else RuntimeError(f"{where}: {why}")
+    return results
+
+
+def prepare(args: argparse.Namespace) -> None:
+    """Under mpiexec without --prolong (the levels farmed over the ranks), before any case module
+    starts PETSc: each rank's PETSc world is its own (:func:`lcefem.validation.farm.petsc_world_per_rank`).
+    With --prolong the levels run in order, each solved on all the ranks (their FE in parallel)."""
+    from lcefem.validation.cli import world
+
+    comm = world()
+    if comm is not None and comm.size > 1 and not args.prolong:
+        from lcefem.validation import farm
+
+        farm.petsc_world_per_rank()
 
 
 def selected_case(args: argparse.Namespace):
@@ -253,8 +343,13 @@ def out_folder(args: argparse.Namespace) -> pathlib.Path:
 def main(args: argparse.Namespace) -> int:
     case = selected_case(args)
     out = out_folder(args)
+    from lcefem.validation.cli import world
+
+    comm = world()
     h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet, resume=args.resume,
-                                           prolong=args.prolong)
+                                           prolong=args.prolong, comm=comm)
+    if comm is not None and comm.rank != 0:  # rank 0 writes and prints the study
+        return 0
     write_outputs(out, case.name, h, unit, studies, warnings)
     print_summary(studies, h)
     for w in warnings:
