@@ -29,6 +29,7 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMultigrid
 from lcefem.solvers.run import raise_if_interrupted
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
@@ -99,7 +100,10 @@ def solver_options(ndofs: int, overrides: dict | None = None) -> dict:
     overrides = dict(overrides or {})
     options = dict(NEWTON_OPTIONS)
     pc = overrides.get("pc_type")
-    if pc == "gamg" or (pc is None and ndofs >= ITERATIVE_PATH_DOFS):
+    if pc == "pmg":  # not a PETSc name: PCMG with the Q1 level built by HyperelasticProblem
+        del overrides["pc_type"]
+        options.update(PMG_OPTIONS)
+    elif pc == "gamg" or (pc is None and ndofs >= ITERATIVE_PATH_DOFS):
         options.update(GAMG_OPTIONS)
     options.update(overrides)
     return options
@@ -168,11 +172,11 @@ class HyperelasticProblem:
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
         options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
                                  petsc_options)
-        self.iterative = options.get("pc_type") == "gamg"
+        self.iterative = options.get("pc_type") in ("gamg", "mg")
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
             petsc_options_prefix=prefix, jit_options=JIT_OPTIONS)
-        self.symmetric = options.get("pc_type") in ("cholesky", "gamg")
+        self.symmetric = options.get("pc_type") in ("cholesky", "gamg", "mg")
         if self.symmetric:
             self._problem.A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         self._near_nullspace = rigid_body_modes(V) if self.iterative else None
@@ -189,6 +193,19 @@ class HyperelasticProblem:
         snes = self.snes
         self._b = snes.getFunction()[0]
         snes.setFunction(self._assemble_residual, self._b)
+        # p-multigrid (pc_type = "pmg"): the Q1 Galerkin operator follows every assembled tangent
+        self.pmultigrid = PMultigrid(V, rigid_body_modes) if options.get("pc_type") == "mg" else None
+        if self.pmultigrid is not None:
+            A, P, (jac, jargs, jkw) = snes.getJacobian()
+            snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})
+
+    def _assemble_jacobian_pmg(self, snes, x, A, P, assemble) -> None:
+        """SNES Jacobian callback of the p-multigrid path: the tangent, then its Q1 Galerkin
+        operator (when that operator is new, the PCMG gets its transfer and coarse operators)."""
+        jac, jargs, jkw = assemble
+        jac(snes, x, A, P, *jargs, **jkw)
+        if self.pmultigrid.update(A if P is None else P):
+            self.pmultigrid.configure(snes.getKSP())
 
     def _assemble_residual(self, snes, x, b) -> None:
         """SNES residual callback: R(x), lifted only when the lifting is not identically zero; NaN

@@ -40,6 +40,14 @@ CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 #: to the same with CG to 1e-8 (``gamg-rtol8``).
 
 
+#: ``pmg``: :data:`lcefem.solvers.pmultigrid.PMG_OPTIONS` (Q2 -> Q1 p-multigrid, one SOR sweep on
+#: Q2, GAMG on Q1); ``pmg-cheb``: Chebyshev(3)/Jacobi smoothing on Q2 instead; ``pmg-sor2``: two SOR
+#: sweeps; ``*-direct``: the Q1 level factorised (MUMPS LDL^T) instead of one GAMG cycle.
+_PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
+                  "mg_levels_ksp_max_it": 3}
+_PMG_DIRECT_COARSE = {"mg_coarse_pc_type": "cholesky", "mg_coarse_pc_factor_mat_solver_type": "mumps"}
+
+
 def _solver_sets() -> dict[str, dict]:
     from lcefem.solvers.mechanics import GAMG_OPTIONS
 
@@ -79,6 +87,11 @@ def _solver_sets() -> dict[str, dict]:
         "gamg-ew": {**g8, "snes_ksp_ew": True},
         "gamg-sor-rtol4": {**g8, "mg_levels_pc_type": "sor", "ksp_rtol": 1e-4},
         "ldlt-lag-cg4": {**lag_pc, "ksp_rtol": 1e-4},
+        "pmg": {"pc_type": "pmg"},
+        "pmg-cheb": {"pc_type": "pmg", **_PMG_CHEBYSHEV},
+        "pmg-sor2": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2},
+        "pmg-direct": {"pc_type": "pmg", **_PMG_DIRECT_COARSE},
+        "pmg-sor2-direct": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2, **_PMG_DIRECT_COARSE},
     }
 
 
