@@ -93,17 +93,21 @@ GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type
 ITERATIVE_PATH_DOFS = 300_000
 
 
-def solver_options(ndofs: int, overrides: dict | None = None) -> dict:
-    """PETSc options of a mechanics problem with ``ndofs`` displacement DOFs [-]:
-    :data:`NEWTON_OPTIONS`, then :data:`GAMG_OPTIONS` when the overrides ask for ``pc_type = gamg``
-    or name no ``pc_type`` and ``ndofs >= ITERATIVE_PATH_DOFS``, then the overrides."""
+def solver_options(ndofs: int, overrides: dict | None = None, degree: int = 2) -> dict:
+    """PETSc options of a mechanics problem with ``ndofs`` displacement DOFs [-] of polynomial
+    ``degree``: :data:`NEWTON_OPTIONS`, then the iterative path's set when the overrides name it
+    (``pc_type = "pmg"``: :data:`PMG_OPTIONS`; ``pc_type = "gamg"``: :data:`GAMG_OPTIONS`) or name
+    no ``pc_type`` and ``ndofs >= ITERATIVE_PATH_DOFS`` (p-multigrid for degree >= 2, GAMG for
+    linear elements, which have no lower degree to go to), then the overrides."""
     overrides = dict(overrides or {})
     options = dict(NEWTON_OPTIONS)
     pc = overrides.get("pc_type")
+    if pc is None and ndofs >= ITERATIVE_PATH_DOFS:
+        pc = "pmg" if degree >= 2 else "gamg"
     if pc == "pmg":  # not a PETSc name: PCMG with the Q1 level built by HyperelasticProblem
-        del overrides["pc_type"]
+        overrides.pop("pc_type", None)
         options.update(PMG_OPTIONS)
-    elif pc == "gamg" or (pc is None and ndofs >= ITERATIVE_PATH_DOFS):
+    elif pc == "gamg":
         options.update(GAMG_OPTIONS)
     options.update(overrides)
     return options
@@ -171,7 +175,7 @@ class HyperelasticProblem:
         self.residual = ufl.derivative(energy, u, self.test)
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
         options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
-                                 petsc_options)
+                                 petsc_options, V.ufl_element().embedded_superdegree)
         self.iterative = options.get("pc_type") in ("gamg", "mg")
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
@@ -194,7 +198,7 @@ class HyperelasticProblem:
         self._b = snes.getFunction()[0]
         snes.setFunction(self._assemble_residual, self._b)
         # p-multigrid (pc_type = "pmg"): the Q1 Galerkin operator follows every assembled tangent
-        self.pmultigrid = PMultigrid(V, rigid_body_modes) if options.get("pc_type") == "mg" else None
+        self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP()) if options.get("pc_type") == "mg" else None
         if self.pmultigrid is not None:
             A, P, (jac, jargs, jkw) = snes.getJacobian()
             snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})

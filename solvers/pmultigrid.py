@@ -45,12 +45,18 @@ class PMultigrid:
     Args:
         V: the displacement space (vector Lagrange of degree >= 2) [mm].
         near_nullspace: a function of a space returning its rigid-body modes (PETSc.NullSpace).
+        ksp: the Newton KSP, whose PC (set from the options) must be a two-level PCMG.
     """
 
-    def __init__(self, V: dolfinx.fem.FunctionSpace, near_nullspace):
+    def __init__(self, V: dolfinx.fem.FunctionSpace, near_nullspace, ksp: PETSc.KSP):
+        pc = ksp.getPC()
+        if pc.getType() != PETSc.PC.Type.MG or pc.getMGLevels() != 2:
+            raise ValueError('[petsc] pc_type = "pmg": pc_mg_levels must stay 2 (the fine and the '
+                             f'linear level), got {pc.getMGLevels()}')
         degree = V.ufl_element().embedded_superdegree
         if degree < 2:
-            raise ValueError(f"p-multigrid: the displacement space has degree {degree}; it needs >= 2")
+            raise ValueError(f'[petsc] pc_type = "pmg": needs displacements of degree >= 2, these have '
+                             f'degree {degree} (use pc_type = "gamg")')
         mesh = V.mesh
         self.coarse_space = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
         # rows: fine (Q2) DOFs, columns: coarse (Q1) DOFs; ghost contributions summed by assemble
@@ -85,9 +91,5 @@ class PMultigrid:
         """Give the KSP's PCMG (two levels, from the options) its interpolation and the coarse
         operator (call after :meth:`update` has run once)."""
         pc = ksp.getPC()
-        if pc.getType() != PETSc.PC.Type.MG or pc.getMGLevels() != 2:
-            raise ValueError("p-multigrid: the [petsc] options must keep pc_type = mg with "
-                             "pc_mg_levels = 2 (got pc_type = "
-                             f"{pc.getType()}, levels {pc.getMGLevels() if pc.getType() == 'mg' else '-'})")
         pc.setMGInterpolation(1, self.P)
         pc.getMGCoarseSolve().setOperators(self.coarse_matrix, self.coarse_matrix)

@@ -317,10 +317,14 @@ def test_path_tolerance_loosens_and_restores():
 
 def test_linear_solver_follows_the_size_unless_named():
     from lcefem.solvers.mechanics import GAMG_OPTIONS, ITERATIVE_PATH_DOFS, solver_options
+    from lcefem.solvers.pmultigrid import PMG_OPTIONS
 
     assert solver_options(ITERATIVE_PATH_DOFS - 1)["pc_type"] == "cholesky"
     large = solver_options(ITERATIVE_PATH_DOFS)
-    assert {k: large[k] for k in GAMG_OPTIONS} == GAMG_OPTIONS
+    assert {k: large[k] for k in PMG_OPTIONS} == PMG_OPTIONS
+    # linear elements have no lower degree: their iterative path is GAMG on the matrix itself
+    linear = solver_options(ITERATIVE_PATH_DOFS, degree=1)
+    assert {k: linear[k] for k in GAMG_OPTIONS} == GAMG_OPTIONS
     assert solver_options(ITERATIVE_PATH_DOFS, {"pc_type": "cholesky"})["ksp_type"] == "preonly"
     # naming gamg brings the whole iterative set (CG, not the direct path's preonly)
     assert solver_options(10, {"pc_type": "gamg"})["ksp_type"] == "cg"
@@ -339,9 +343,9 @@ def test_pmultigrid_transfer_is_exact_for_linear_fields():
     from lcefem.solvers.pmultigrid import PMultigrid
     from lcefem.solvers.problems.strip import StripConfig, StripSimulation
 
-    sim = StripSimulation(StripConfig(mesh=StripMesh(level=0)))
+    sim = StripSimulation(StripConfig(mesh=StripMesh(level=0), petsc={"pc_type": "pmg"}))
     V = displacement_space(sim.model.u.function_space.mesh)
-    pmg = PMultigrid(V, rigid_body_modes)
+    pmg = PMultigrid(V, rigid_body_modes, sim.model.mechanics.snes.getKSP())
     assert pmg.coarse_dofs == 3 * V.mesh.geometry.index_map().size_global  # one node a vertex
     coarse, fine = (rigid_body_modes(W).getVecs() for W in (pmg.coarse_space, V))
     # the orthonormalised modes span the same space: P c lies in span(fine) with |P c| > 0

@@ -1,4 +1,4 @@
-"""Linear solvers inside Newton on large meshes: the direct (MUMPS) and iterative (CG + GAMG) paths.
+"""Linear solvers inside Newton on large meshes: the direct (MUMPS) and iterative (CG + GAMG, CG + p-MG) paths.
 
     python -m lcefem.validation.benchmarks.linear_solver_benchmark --levels 2 3 4
         [--solvers ldlt gamg ...] [--csv results/linear_solver_benchmark.csv] [--max-memory 8000]
@@ -252,7 +252,7 @@ def main(argv: list[str] | None = None) -> int:
         sizes = {}
         for r in same:
             sizes.setdefault(r["solver"], set()).add(r["dofs [-]"])
-        for it in sorted(n for n in sizes if n.startswith("gamg")
+        for it in sorted(n for n in sizes if n.startswith(("gamg", "pmg", "auto"))
                          and len(sizes[n] & sizes.get("ldlt", set())) >= 2):
             n = crossover(same, "ldlt", it)
             print(f"{it} vs ldlt, {protocol}: crossover "
