@@ -177,6 +177,7 @@ class HyperelasticProblem:
         options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
                                  petsc_options, V.ufl_element().embedded_superdegree)
         self.iterative = options.get("pc_type") in ("gamg", "mg")
+        _drop_stale_options(prefix, options)
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
             petsc_options_prefix=prefix, jit_options=JIT_OPTIONS)
@@ -393,6 +394,17 @@ class HyperelasticProblem:
         face and 0 elsewhere, this is the force [N] the body exerts on that face's support."""
         return dolfinx.fem.form(ufl.replace(self.residual, {self.test: weight}),
                                 jit_options=JIT_OPTIONS)
+
+
+def _drop_stale_options(prefix: str, options: dict) -> None:
+    """Remove from PETSc's options database every option under ``prefix`` that ``options`` does not
+    set. The options a problem sets stay in the database after it is built (multigrid reads its
+    level smoothers' options only at set-up), so without this a later problem of the same prefix
+    would inherit them (``pc_mg_levels`` of a p-multigrid is an error for GAMG)."""
+    db = PETSc.Options()
+    for name in db.getAll():
+        if name.startswith(prefix) and name[len(prefix):] not in options:
+            db.delValue(name)
 
 
 def _det_F_expression(u):

@@ -2,12 +2,12 @@
 
 The fine level is the Q2 tangent K (the Jacobian SNES assembles), smoothed by Chebyshev/Jacobi;
 the coarse level is the Galerkin operator K_1 = P^T K P of the linear (Q1/P1) vector space on the
-same mesh, P the interpolation Q1 -> Q2 (exact: every Q1 function is a Q2 function), solved by one
-V-cycle of smoothed-aggregation AMG (GAMG) with the six rigid-body modes of the Q1 space as its
-near-nullspace. Aggregation multigrid handles the linear element's matrix (27-point node stencil,
-nodes at the cell corners only) far better than the quadratic one's (edge, face and cell nodes
-coupled across a 125-point stencil), and the smoother only has to remove what Q1 cannot represent
-within a cell.
+same mesh, P the interpolation Q1 -> Q2 (exact: every Q1 function is a Q2 function), factorised
+(MUMPS LDL^T) or cycled by smoothed-aggregation AMG (GAMG) with the six rigid-body modes of the Q1
+space as its near-nullspace. The Q1 operator has 1/8 of the DOFs and a 27-point node stencil (the
+Q2 one couples edge, face and cell nodes across 125 points), so its factorisation is cheap; the
+smoother only has to remove what Q1 cannot represent within a cell. Aggregation multigrid on the
+Q2 matrix itself needs 2-3x the CG iterations (near-incompressible LCE, stretched cells).
 
 PETSc's PCMG drives the cycle (options under the problem's prefix: ``mg_levels_*`` for the Q2
 smoother, ``mg_coarse_*`` for the Q1 solve, e.g. ``mg_coarse_pc_gamg_threshold``).
@@ -27,16 +27,27 @@ import dolfinx.fem.petsc
 #: The PETSc options of the p-multigrid path (overrides of the Newton options; the problem's
 #: ``pc_type = "pmg"`` brings them): CG to a relative 1e-4 (inexact Newton, as for GAMG), PCMG with
 #: two levels and a multiplicative V-cycle; on Q2 one symmetric SOR sweep (PETSc's local SSOR, so
-#: block Jacobi across processes) before and after the coarse correction; on Q1 one GAMG V-cycle
-#: (threshold 0.02, Chebyshev(3)/Jacobi, as :data:`lcefem.solvers.mechanics.GAMG_OPTIONS`).
+#: block Jacobi across processes) before and after the coarse correction; the Q1 level factorised by
+#: MUMPS LDL^T (1/8 of the DOFs with a 27-point node stencil: 2.4 s of PCSetUp per Newton iteration
+#: at 532k fine DOFs). Measured on the hot-core strip (``linear_solver_benchmark``, README "Linear
+#: solvers on large meshes"): with the Q1 level exact the CG iterations per solve stay at 48-55 from
+#: 105k to 532k DOFs; one GAMG cycle on Q1 instead (``mg_coarse_pc_type = "gamg"`` with
+#: :data:`PMG_GAMG_COARSE`, memory-scalable) needs 91-111 and 1.6-1.7x the CPU time; two SOR sweeps cut
+#: the iterations by 15-25 % for 1.2x the CPU, Chebyshev(3)/Jacobi was 1.5x the CPU of one sweep
+#: at 46k, and threshold 0.05, no aggressive coarsening, SOR or two cycles on the Q1 GAMG changed
+#: less than 5 %.
 PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "mg",
                "pc_mg_levels": 2, "pc_mg_type": "multiplicative", "pc_mg_cycle_type": "v",
                "mg_levels_ksp_type": "richardson", "mg_levels_pc_type": "sor",
                "mg_levels_ksp_max_it": 1,
-               "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "gamg",
-               "mg_coarse_pc_gamg_threshold": 0.02, "mg_coarse_pc_gamg_square_graph": 1,
-               "mg_coarse_mg_levels_ksp_type": "chebyshev", "mg_coarse_mg_levels_pc_type": "jacobi",
-               "mg_coarse_mg_levels_ksp_max_it": 3}
+               "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "cholesky",
+               "mg_coarse_pc_factor_mat_solver_type": "mumps"}
+
+#: One GAMG V-cycle on the Q1 level instead of its factorisation (with ``pc_type = "pmg"``): the
+#: settings of :data:`lcefem.solvers.mechanics.GAMG_OPTIONS` (threshold 0.02, Chebyshev(3)/Jacobi).
+PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg", "mg_coarse_pc_gamg_threshold": 0.02,
+                   "mg_coarse_pc_gamg_square_graph": 1, "mg_coarse_mg_levels_ksp_type": "chebyshev",
+                   "mg_coarse_mg_levels_pc_type": "jacobi", "mg_coarse_mg_levels_ksp_max_it": 3}
 
 
 class PMultigrid:
