@@ -84,13 +84,17 @@ GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type
                 "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}
 
 #: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
-#: caller names no ``pc_type``: the measured crossover of CPU time per Newton iteration (Jacobian +
-#: linear solve) on the heated strip, quarter, Q2, one process: CG + GAMG / MUMPS LDL^T = 3.19,
-#: 1.90, 1.43, 0.91, 0.60 at 46k, 105k, 200k, 339k, 532k DOFs, ratio 1 at 3.0e5 by log-log
-#: interpolation (``linear_solver_benchmark --levels 2 3 4 5 6 --solvers ldlt gamg --newton-its 2``;
-#: its rows say ``gamg-rtol4``, the same options; 2026-11-24, load 8-15 on 2 cores; LDL^T peak
-#: memory 5.2 / 8.6 GiB at 339k / 532k against 1.6 / 2.3 GiB for GAMG).
-ITERATIVE_PATH_DOFS = 300_000
+#: caller names no ``pc_type``: CG + p-multigrid (:data:`lcefem.solvers.pmultigrid.PMG_OPTIONS`) for
+#: quadratic elements. CPU time per Newton iteration (Jacobian + linear solve) on the heated strip,
+#: quarter, Q2, one process, p-MG / MUMPS LDL^T: 1.12 at 46k DOFs (3.33 / 2.97 s, back to back),
+#: 0.70, 0.49 (back to back), 0.28, 0.20 at 105k, 200k, 339k, 532k (``linear_solver_benchmark
+#: --levels 2 3 4 5 6 --solvers ldlt pmg --newton-its 2``, 2026-11-25, load 3-6 on 2 cores; the LDL^T
+#: rows above 200k from 2026-11-24); ratio 1 at 5.6e4 DOFs by log-log interpolation. The switch is
+#: set at 1e5, where p-MG is 1.4x cheaper, rather than at the crossover: CG needs a positive
+#: definite tangent, and the bodies that can buckle or touch (ribbon, beam with contact) were only
+#: measured on the direct path; below 1e5 the gain would be under 1.4x. (With GAMG the ratio was 1
+#: at 3.0e5.)
+ITERATIVE_PATH_DOFS = 100_000
 
 
 def solver_options(ndofs: int, overrides: dict | None = None, degree: int = 2) -> dict:

@@ -55,7 +55,7 @@ def _solver_sets() -> dict[str, dict]:
 
     g = dict(GAMG_OPTIONS)
     g8 = {**g, "ksp_rtol": 1e-8}  # the variants were measured with exact (1e-8) CG solves
-    # every MUMPS set names its pc_type: above ITERATIVE_PATH_DOFS the default is CG + GAMG
+    # every MUMPS set names its pc_type: above ITERATIVE_PATH_DOFS the default is CG + p-multigrid
     ldlt = {"pc_type": "cholesky"}
     # the factorisation of the step's first tangent preconditions CG for the rest of the Newton solve
     lag_pc = {**ldlt, "ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200,
@@ -90,7 +90,6 @@ def _solver_sets() -> dict[str, dict]:
         "gamg-sor-rtol4": {**g8, "mg_levels_pc_type": "sor", "ksp_rtol": 1e-4},
         "ldlt-lag-cg4": {**lag_pc, "ksp_rtol": 1e-4},
         "pmg": {"pc_type": "pmg"},
-        "pmg-direct": {"pc_type": "pmg"},  # TEMPORARY alias for the running level-6 benchmark
         "pmg-sor2": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2},
         "pmg-cheb": {"pc_type": "pmg", **_PMG_CHEBYSHEV},
         "pmg-gamg": {"pc_type": "pmg", **PMG_GAMG_COARSE},
