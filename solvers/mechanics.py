@@ -83,6 +83,12 @@ GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type
                 "pc_gamg_threshold": 0.02, "pc_gamg_square_graph": 1, "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}
 
+#: One GAMG V-cycle on the linear level of the p-multigrid instead of its factorisation (with
+#: ``pc_type = "pmg"``): the AMG settings of :data:`GAMG_OPTIONS` under the coarse solver's prefix.
+PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg",
+                   **{f"mg_coarse_{k}": v for k, v in GAMG_OPTIONS.items()
+                      if k.startswith(("pc_gamg_", "mg_levels_"))}}
+
 #: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
 #: caller names no ``pc_type``: CG + p-multigrid (:data:`lcefem.solvers.pmultigrid.PMG_OPTIONS`) for
 #: quadratic elements. CPU time per Newton iteration (Jacobian + linear solve) on the heated strip,

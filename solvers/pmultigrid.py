@@ -28,27 +28,19 @@ import dolfinx.fem.petsc
 #: ``pc_type = "pmg"`` brings them): CG to a relative 1e-4 (inexact Newton, as for GAMG), PCMG with
 #: two levels and a multiplicative V-cycle; on Q2 one symmetric SOR sweep (PETSc's local SSOR, so
 #: block Jacobi across processes) before and after the coarse correction; the Q1 level factorised by
-#: MUMPS LDL^T (1/8 of the DOFs with a 27-point node stencil: 2.4 s of PCSetUp per Newton iteration
-#: at 532k fine DOFs). Measured on the hot-core strip (``linear_solver_benchmark``, README "Linear
-#: solvers on large meshes"): with the Q1 level exact the CG iterations per solve stay at 48-55 from
-#: 105k to 532k DOFs; one GAMG cycle on Q1 instead (``mg_coarse_pc_type = "gamg"`` with
-#: :data:`PMG_GAMG_COARSE`, memory-scalable) needs 91-111 and 1.6-1.7x the CPU time; two SOR sweeps cut
-#: the iterations by 15-25 % for 1.2x the CPU, Chebyshev(3)/Jacobi was 1.5x the CPU of one sweep
-#: at 46k, and threshold 0.05, no aggressive coarsening, SOR or two cycles on the Q1 GAMG changed
-#: less than 5 %.
+#: MUMPS LDL^T (1/8 of the DOFs with a 27-point node stencil; its PCSetUp, wall: 0.4 s at 105k fine
+#: DOFs, 9.8 s at 532k, 34 s at 1.11M). Measured on the hot-core strip (``linear_solver_benchmark``,
+#: README "Linear solvers on large meshes"): CG iterations per solve 43-60 from 46k to 1.11M DOFs;
+#: one GAMG cycle on Q1 instead (:data:`lcefem.solvers.mechanics.PMG_GAMG_COARSE`, memory-scalable)
+#: needs 86-113 and 1.6-2.0x the CPU time; two SOR sweeps cut the iterations by
+#: 15-25 % for 1.2x the CPU, Chebyshev(3)/Jacobi was 1.5x the CPU of one sweep at 46k, and threshold
+#: 0.05, no aggressive coarsening, SOR or two cycles on the Q1 GAMG changed less than 5 %.
 PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "mg",
                "pc_mg_levels": 2, "pc_mg_type": "multiplicative", "pc_mg_cycle_type": "v",
                "mg_levels_ksp_type": "richardson", "mg_levels_pc_type": "sor",
                "mg_levels_ksp_max_it": 1,
                "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "cholesky",
                "mg_coarse_pc_factor_mat_solver_type": "mumps"}
-
-#: One GAMG V-cycle on the Q1 level instead of its factorisation (with ``pc_type = "pmg"``): the
-#: settings of :data:`lcefem.solvers.mechanics.GAMG_OPTIONS` (threshold 0.02, Chebyshev(3)/Jacobi).
-PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg", "mg_coarse_pc_gamg_threshold": 0.02,
-                   "mg_coarse_pc_gamg_square_graph": 1, "mg_coarse_mg_levels_ksp_type": "chebyshev",
-                   "mg_coarse_mg_levels_pc_type": "jacobi", "mg_coarse_mg_levels_ksp_max_it": 3}
-
 
 class PMultigrid:
     """Two-level p-multigrid (degree ``V``'s -> 1) for the tangent of the vector space ``V``.

@@ -381,7 +381,7 @@ def test_pmultigrid_gives_the_direct_newton_solution(coarse):
     level factorised or cycled by GAMG) and by MUMPS LDL^T: the same equilibrium to the Newton
     tolerance; the coarse operator is the Galerkin P^T K P of the Q1 space (one block of 3 per mesh
     vertex, about 1/8 of the Q2 DOFs), recomputed with every tangent."""
-    from lcefem.solvers.pmultigrid import PMG_GAMG_COARSE
+    from lcefem.solvers.mechanics import PMG_GAMG_COARSE
 
     extra = {**PMG_GAMG_COARSE, "mg_coarse_pc_gamg_coarse_eq_limit": 100} if coarse == "gamg" else {}
     sims = _hot_core_strips((("cholesky", {}), ("pmg", extra)))

@@ -42,7 +42,7 @@ CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 
 #: ``pmg``: :data:`lcefem.solvers.pmultigrid.PMG_OPTIONS` (Q2 -> Q1 p-multigrid, one SOR sweep on
 #: Q2, the Q1 level factorised by MUMPS LDL^T); ``pmg-gamg``: one GAMG cycle on Q1 instead
-#: (:data:`lcefem.solvers.pmultigrid.PMG_GAMG_COARSE`); ``pmg-cheb``: Chebyshev(3)/Jacobi smoothing
+#: (:data:`lcefem.solvers.mechanics.PMG_GAMG_COARSE`); ``pmg-cheb``: Chebyshev(3)/Jacobi smoothing
 #: on Q2; ``*sor2``: two SOR sweeps. (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named
 #: after what ran: ``pmg-gamg`` and ``pmg-gamg-sor2``.)
 _PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
@@ -50,8 +50,7 @@ _PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacob
 
 
 def _solver_sets() -> dict[str, dict]:
-    from lcefem.solvers.mechanics import GAMG_OPTIONS
-    from lcefem.solvers.pmultigrid import PMG_GAMG_COARSE
+    from lcefem.solvers.mechanics import GAMG_OPTIONS, PMG_GAMG_COARSE
 
     g = dict(GAMG_OPTIONS)
     g8 = {**g, "ksp_rtol": 1e-8}  # the variants were measured with exact (1e-8) CG solves
