@@ -209,8 +209,9 @@ class HyperelasticProblem:
         self._b = snes.getFunction()[0]
         snes.setFunction(self._assemble_residual, self._b)
         # p-multigrid (pc_type = "pmg"): the Q1 Galerkin operator follows every assembled tangent
-        self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP()) if options.get("pc_type") == "mg" else None
-        if self.pmultigrid is not None:
+        self.pmultigrid = None
+        if options.get("pc_type") == "mg":
+            self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP())
             A, P, (jac, jargs, jkw) = snes.getJacobian()
             snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})
 

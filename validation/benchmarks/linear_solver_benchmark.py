@@ -1,4 +1,4 @@
-"""Linear solvers inside Newton on large meshes: the direct (MUMPS) and iterative (CG + GAMG, CG + p-MG) paths.
+"""Linear solvers inside Newton on large meshes: direct (MUMPS), CG + GAMG and CG + p-multigrid.
 
     python -m lcefem.validation.benchmarks.linear_solver_benchmark --levels 2 3 4
         [--solvers ldlt gamg ...] [--csv results/linear_solver_benchmark.csv] [--max-memory 8000]
