@@ -29,6 +29,7 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMultigrid
 from lcefem.solvers.run import raise_if_interrupted
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
@@ -82,24 +83,43 @@ GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type
                 "pc_gamg_threshold": 0.02, "pc_gamg_square_graph": 1, "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}
 
+#: One GAMG V-cycle on the linear level of the p-multigrid instead of its factorisation (with
+#: ``pc_type = "pmg"``): the AMG settings of :data:`GAMG_OPTIONS` under the coarse solver's prefix.
+PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg",
+                   **{f"mg_coarse_{k}": v for k, v in GAMG_OPTIONS.items()
+                      if k.startswith(("pc_gamg_", "mg_levels_"))}}
+
 #: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
-#: caller names no ``pc_type``: the measured crossover of CPU time per Newton iteration (Jacobian +
-#: linear solve) on the heated strip, quarter, Q2, one process: CG + GAMG / MUMPS LDL^T = 3.19,
-#: 1.90, 1.43, 0.91, 0.60 at 46k, 105k, 200k, 339k, 532k DOFs, ratio 1 at 3.0e5 by log-log
-#: interpolation (``linear_solver_benchmark --levels 2 3 4 5 6 --solvers ldlt gamg --newton-its 2``;
-#: its rows say ``gamg-rtol4``, the same options; 2026-11-24, load 8-15 on 2 cores; LDL^T peak
-#: memory 5.2 / 8.6 GiB at 339k / 532k against 1.6 / 2.3 GiB for GAMG).
+#: caller names no ``pc_type``: CG + p-multigrid (:data:`lcefem.solvers.pmultigrid.PMG_OPTIONS`) for
+#: quadratic elements. CPU time per Newton iteration (Jacobian + linear solve) on the heated strip,
+#: quarter, Q2, one process, p-MG / MUMPS LDL^T: 1.12 at 46k DOFs (3.33 / 2.97 s, back to back),
+#: 0.70, 0.49 (back to back), 0.28, 0.20 at 105k, 200k, 339k, 532k (``linear_solver_benchmark
+#: --levels 2 3 4 5 6 --solvers ldlt pmg --newton-its 2``, 2026-11-25, load 3-6 on 2 cores; the LDL^T
+#: rows above 200k from 2026-11-24); ratio 1 at 5.6e4 DOFs by log-log interpolation. That protocol
+#: (two Newton iterations from the cast state) flatters CG: over the whole path-followed solve
+#: (``--levels 2 4 --solvers ldlt pmg``) the later tangents need 83 (46k) and 126 (200k) CG
+#: iterations per solve against 43 and 52, Newton 4 iterations against LDL^T's 3 at 200k, and p-MG
+#: took 181 s CPU against 136 s for LDL^T at 200k. So the switch stays at 3e5, where the
+#: two-iteration ratio is 3.6x (339k) and the GAMG crossover was; CG also needs a positive
+#: definite tangent, and the bodies that can buckle or touch were measured on the direct path only.
 ITERATIVE_PATH_DOFS = 300_000
 
 
-def solver_options(ndofs: int, overrides: dict | None = None) -> dict:
-    """PETSc options of a mechanics problem with ``ndofs`` displacement DOFs [-]:
-    :data:`NEWTON_OPTIONS`, then :data:`GAMG_OPTIONS` when the overrides ask for ``pc_type = gamg``
-    or name no ``pc_type`` and ``ndofs >= ITERATIVE_PATH_DOFS``, then the overrides."""
+def solver_options(ndofs: int, overrides: dict | None = None, degree: int = 2) -> dict:
+    """PETSc options of a mechanics problem with ``ndofs`` displacement DOFs [-] of polynomial
+    ``degree``: :data:`NEWTON_OPTIONS`, then the iterative path's set when the overrides name it
+    (``pc_type = "pmg"``: :data:`PMG_OPTIONS`; ``pc_type = "gamg"``: :data:`GAMG_OPTIONS`) or name
+    no ``pc_type`` and ``ndofs >= ITERATIVE_PATH_DOFS`` (p-multigrid for degree >= 2, GAMG for
+    linear elements, which have no lower degree to go to), then the overrides."""
     overrides = dict(overrides or {})
     options = dict(NEWTON_OPTIONS)
     pc = overrides.get("pc_type")
-    if pc == "gamg" or (pc is None and ndofs >= ITERATIVE_PATH_DOFS):
+    if pc is None and ndofs >= ITERATIVE_PATH_DOFS:
+        pc = "pmg" if degree >= 2 else "gamg"
+    if pc == "pmg":  # not a PETSc name: PCMG with the Q1 level built by HyperelasticProblem
+        overrides.pop("pc_type", None)
+        options.update(PMG_OPTIONS)
+    elif pc == "gamg":
         options.update(GAMG_OPTIONS)
     options.update(overrides)
     return options
@@ -167,12 +187,13 @@ class HyperelasticProblem:
         self.residual = ufl.derivative(energy, u, self.test)
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
         options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
-                                 petsc_options)
-        self.iterative = options.get("pc_type") == "gamg"
+                                 petsc_options, V.ufl_element().embedded_superdegree)
+        self.iterative = options.get("pc_type") in ("gamg", "mg")
+        _drop_stale_options(prefix, options)
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
             petsc_options_prefix=prefix, jit_options=JIT_OPTIONS)
-        self.symmetric = options.get("pc_type") in ("cholesky", "gamg")
+        self.symmetric = options.get("pc_type") in ("cholesky", "gamg", "mg")
         if self.symmetric:
             self._problem.A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         self._near_nullspace = rigid_body_modes(V) if self.iterative else None
@@ -189,6 +210,20 @@ class HyperelasticProblem:
         snes = self.snes
         self._b = snes.getFunction()[0]
         snes.setFunction(self._assemble_residual, self._b)
+        # p-multigrid (pc_type = "pmg"): the Q1 Galerkin operator follows every assembled tangent
+        self.pmultigrid = None
+        if options.get("pc_type") == "mg":
+            self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP())
+            A, P, (jac, jargs, jkw) = snes.getJacobian()
+            snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})
+
+    def _assemble_jacobian_pmg(self, snes, x, A, P, assemble) -> None:
+        """SNES Jacobian callback of the p-multigrid path: the tangent, then its Q1 Galerkin
+        operator (when that operator is new, the PCMG gets its transfer and coarse operators)."""
+        jac, jargs, jkw = assemble
+        jac(snes, x, A, P, *jargs, **jkw)
+        if self.pmultigrid.update(A if P is None else P):
+            self.pmultigrid.configure(snes.getKSP())
 
     def _assemble_residual(self, snes, x, b) -> None:
         """SNES residual callback: R(x), lifted only when the lifting is not identically zero; NaN
@@ -372,6 +407,17 @@ class HyperelasticProblem:
         face and 0 elsewhere, this is the force [N] the body exerts on that face's support."""
         return dolfinx.fem.form(ufl.replace(self.residual, {self.test: weight}),
                                 jit_options=JIT_OPTIONS)
+
+
+def _drop_stale_options(prefix: str, options: dict) -> None:
+    """Remove from PETSc's options database every option under ``prefix`` that ``options`` does not
+    set. The options a problem sets stay in the database after it is built (multigrid reads its
+    level smoothers' options only at set-up), so without this a later problem of the same prefix
+    would inherit them (``pc_mg_levels`` of a p-multigrid is an error for GAMG)."""
+    db = PETSc.Options()
+    for name in db.getAll():
+        if name.startswith(prefix) and name[len(prefix):] not in options:
+            db.delValue(name)
 
 
 def _det_F_expression(u):

@@ -75,8 +75,11 @@ _prefix = itertools.count()
 #: stalls on the as-built beam's near-mechanism), few iterations before a cut; converged when the
 #: nodal force residual is below 1e-7 N (the strips carry 0.1-1 N; round-off leaves ~1e-8 N on the
 #: thin Kapton elements) or the Newton step has shrunk to round-off (relative 1e-11).
+#: (``pc_type = "cholesky"``: MUMPS LDL^T at every size, not the automatic iterative path above
+#: ``mechanics.ITERATIVE_PATH_DOFS``: CG + p-multigrid did not finish the level-0 ramp to (1.33,
+#: 1.05) in 900 s wall, where LDL^T takes 98 Newton iterations and 6.8 s CPU; 2026-11-25.)
 BEAM_NEWTON = {"snes_linesearch_type": "basic", "snes_max_it": 14, "snes_atol": 1e-7,
-               "snes_stol": 1e-11}
+               "snes_stol": 1e-11, "pc_type": "cholesky"}
 
 #: Step control of the beam's lambda ramps: the shared controller aiming at 12 Newton iterations
 #: per step with steps up to 0.25 of the ramp (the defaults aim at 10 with steps up to 0.2). Chosen

@@ -317,13 +317,48 @@ def test_path_tolerance_loosens_and_restores():
 
 def test_linear_solver_follows_the_size_unless_named():
     from lcefem.solvers.mechanics import GAMG_OPTIONS, ITERATIVE_PATH_DOFS, solver_options
+    from lcefem.solvers.pmultigrid import PMG_OPTIONS
 
     assert solver_options(ITERATIVE_PATH_DOFS - 1)["pc_type"] == "cholesky"
     large = solver_options(ITERATIVE_PATH_DOFS)
-    assert {k: large[k] for k in GAMG_OPTIONS} == GAMG_OPTIONS
+    assert {k: large[k] for k in PMG_OPTIONS} == PMG_OPTIONS
+    # linear elements have no lower degree: their iterative path is GAMG on the matrix itself
+    linear = solver_options(ITERATIVE_PATH_DOFS, degree=1)
+    assert {k: linear[k] for k in GAMG_OPTIONS} == GAMG_OPTIONS
     assert solver_options(ITERATIVE_PATH_DOFS, {"pc_type": "cholesky"})["ksp_type"] == "preonly"
     # naming gamg brings the whole iterative set (CG, not the direct path's preonly)
     assert solver_options(10, {"pc_type": "gamg"})["ksp_type"] == "cg"
+    # "pmg" is ours, not PETSc's: it brings PCMG with two levels and is not passed on as a type
+    pmg = solver_options(10, {"pc_type": "pmg", "mg_levels_ksp_max_it": 2})
+    assert (pmg["ksp_type"], pmg["pc_type"], pmg["pc_mg_levels"]) == ("cg", "mg", 2)
+    assert pmg["mg_levels_ksp_max_it"] == 2
+
+
+def test_pmultigrid_transfer_is_exact_for_linear_fields():
+    """The Q1 -> Q2 interpolation P of the p-multigrid reproduces every Q1 field: the six
+    rigid-body modes of Q1 (linear in x) map onto those of Q2 (to round-off), on the strip's mesh
+    (any number of processes: P's ghost rows are summed once)."""
+    from lcefem.meshes.strip import StripMesh
+    from lcefem.solvers.mechanics import displacement_space, rigid_body_modes
+    from lcefem.solvers.pmultigrid import PMultigrid
+    from lcefem.solvers.problems.strip import StripConfig, StripSimulation
+
+    sim = StripSimulation(StripConfig(mesh=StripMesh(level=0), petsc={"pc_type": "pmg"}))
+    V = displacement_space(sim.model.u.function_space.mesh)
+    pmg = PMultigrid(V, rigid_body_modes, sim.model.mechanics.snes.getKSP())
+    assert pmg.coarse_dofs == 3 * V.mesh.geometry.index_map().size_global  # one node a vertex
+    coarse, fine = (rigid_body_modes(W).getVecs() for W in (pmg.coarse_space, V))
+    # the orthonormalised modes span the same space: P c lies in span(fine) with |P c| > 0
+    F = np.array([f.getArray() for f in fine]).T
+    for c in coarse:
+        y = pmg.P.createVecLeft()
+        pmg.P.mult(c, y)
+        local = y.getArray()
+        residual = local - F @ np.linalg.lstsq(F, local, rcond=None)[0] if V.mesh.comm.size == 1 \
+            else None
+        assert y.norm() > 1.0
+        if residual is not None:
+            assert np.max(np.abs(residual)) < 1e-12 * np.max(np.abs(local))
 
 
 def test_iterative_path_gives_the_direct_newton_solution():
@@ -331,26 +366,62 @@ def test_iterative_path_gives_the_direct_newton_solution():
     (forced, with a coarse grid of <= 100 equations so that level 0's 2325 DOFs get a three-level
     hierarchy) and by MUMPS LDL^T: the same equilibrium to the Newton tolerance (snes_rtol times the
     displacement; measured difference 4e-15 mm of 1.69 mm)."""
+    sims = _hot_core_strips((("cholesky", {}), ("gamg", {"pc_gamg_coarse_eq_limit": 100})))
+    ksp = sims["gamg"].model.mechanics.snes.getKSP()
+    assert (ksp.getType(), ksp.getPC().getType()) == ("cg", "gamg")
+    assert ksp.getPC().getMGLevels() >= 3 and min(sims["gamg"].cg_its) > 10  # multigrid, not a coarse solve
+    A = ksp.getOperators()[0]
+    assert A.getBlockSize() == 3 and A.getNearNullSpace().getVecs()
+    _assert_same_displacement(sims["cholesky"], sims["gamg"])
+
+
+@pytest.mark.parametrize("coarse", ["cholesky", "gamg"])
+def test_pmultigrid_gives_the_direct_newton_solution(coarse):
+    """The same hot-core strip (level 0) by CG + Q2 -> Q1 p-multigrid (``pc_type = "pmg"``, the Q1
+    level factorised or cycled by GAMG) and by MUMPS LDL^T: the same equilibrium to the Newton
+    tolerance; the coarse operator is the Galerkin P^T K P of the Q1 space (one block of 3 per mesh
+    vertex, about 1/8 of the Q2 DOFs), recomputed with every tangent."""
+    from lcefem.solvers.mechanics import PMG_GAMG_COARSE
+
+    extra = {**PMG_GAMG_COARSE, "mg_coarse_pc_gamg_coarse_eq_limit": 100} if coarse == "gamg" else {}
+    sims = _hot_core_strips((("cholesky", {}), ("pmg", extra)))
+    mech = sims["pmg"].model.mechanics
+    pc = mech.snes.getKSP().getPC()
+    assert (mech.snes.getKSP().getType(), pc.getType(), pc.getMGLevels()) == ("cg", "mg", 2)
+    assert pc.getMGCoarseSolve().getPC().getType() == coarse
+    K1 = pc.getMGCoarseSolve().getOperators()[0]
+    assert K1.handle == mech.pmultigrid.coarse_matrix.handle and K1.getNearNullSpace().getVecs()
+    fine_dofs = mech.u.function_space.dofmap.index_map.size_global * 3
+    assert K1.getSize()[0] == mech.pmultigrid.coarse_dofs < fine_dofs / 4
+    # one Galerkin product per tangent (Newton's and the predictor's), every CG solve iterated
+    assert mech.pmultigrid.updates == len(sims["pmg"].cg_its) and min(sims["pmg"].cg_its) > 5
+    _assert_same_displacement(sims["cholesky"], sims["pmg"])
+
+
+def _assert_same_displacement(direct, other) -> None:
+    """u equal to the Newton tolerance: snes_rtol times the largest displacement [mm]."""
     from lcefem.solvers.mechanics import NEWTON_OPTIONS
+
+    u_direct, u_other = direct.model.u.x.array, other.model.u.x.array
+    assert np.max(np.abs(u_direct)) > 1.0  # mm: the hot core contracts the strip
+    np.testing.assert_allclose(u_other, u_direct, rtol=0,
+                               atol=NEWTON_OPTIONS["snes_rtol"] * np.max(np.abs(u_direct)))
+
+
+def _hot_core_strips(solvers) -> dict:
+    """The level-0 strip brought to the benchmark's hot-core temperature with each (pc_type,
+    extra options) of ``solvers``; each simulation carries ``cg_its``, its Krylov iterations per
+    linear solve."""
     from lcefem.meshes.strip import StripMesh
     from lcefem.solvers.problems.strip import StripConfig, StripSimulation
     from lcefem.validation.benchmarks.linear_solver_benchmark import hot_core
 
     sims = {}
-    cg_its = []
-    for pc, extra in (("cholesky", {}), ("gamg", {"pc_gamg_coarse_eq_limit": 100})):
+    for pc, extra in solvers:
         sim = StripSimulation(StripConfig(mesh=StripMesh(level=0), petsc={"pc_type": pc, **extra}))
-        if pc == "gamg":
-            sim.model.mechanics.snes.getKSP().setPostSolve(
-                lambda ksp, b, x: cg_its.append(ksp.getIterationNumber()))
+        sim.cg_its = []
+        sim.model.mechanics.snes.getKSP().setPostSolve(
+            lambda ksp, b, x, its=sim.cg_its: its.append(ksp.getIterationNumber()))
         sim.set_temperature(hot_core(sim.dims))
         sims[pc] = sim
-    ksp = sims["gamg"].model.mechanics.snes.getKSP()
-    assert (ksp.getType(), ksp.getPC().getType()) == ("cg", "gamg")
-    assert ksp.getPC().getMGLevels() >= 3 and min(cg_its) > 10  # multigrid, not a coarse solve
-    A = ksp.getOperators()[0]
-    assert A.getBlockSize() == 3 and A.getNearNullSpace().getVecs()
-    u_direct, u_gamg = (sims[pc].model.u.x.array for pc in ("cholesky", "gamg"))
-    assert np.max(np.abs(u_direct)) > 1.0  # mm: the hot core contracts the strip
-    np.testing.assert_allclose(u_gamg, u_direct, rtol=0,
-                               atol=NEWTON_OPTIONS["snes_rtol"] * np.max(np.abs(u_direct)))
+    return sims

@@ -43,15 +43,20 @@ def test_two_ranks_equal_serial(tmp_path, lcefem_cmd, mpiexec):
 
 
 @pytest.mark.mpi
-def test_two_ranks_iterative_path_equal_serial(tmp_path, lcefem_cmd, mpiexec):
-    """CG + GAMG (forced by the case file) on 2 ranks: the aggregates differ from the serial ones,
-    the Newton solution does not (to its tolerance, snes_rtol = 1e-10: within 1e-8 relative)."""
+@pytest.mark.parametrize("petsc", ['pc_type = "gamg"\npc_gamg_coarse_eq_limit = 100',
+                                   'pc_type = "pmg"'],
+                         ids=["gamg", "pmg"])
+def test_two_ranks_iterative_path_equal_serial(tmp_path, lcefem_cmd, mpiexec, petsc):
+    """CG + GAMG, and CG + Q2 -> Q1 p-multigrid (its transfer P built, its Galerkin coarse
+    operator P^T K P computed and factorised across ranks), forced by the case file on 2 ranks: the aggregates
+    differ from the serial ones, the Newton solution does not (to its tolerance, snes_rtol = 1e-10:
+    within 1e-8 relative)."""
     case = tmp_path / "case.toml"
-    case.write_text('[petsc]\npc_type = "gamg"\npc_gamg_coarse_eq_limit = 100\n')
+    case.write_text(f"[petsc]\n{petsc}\n")
     args = ["run", "strip", "--current", "0.2", "--duration", "6", "--dt", "3", "--bc", "held",
             "--mesh-level", "0", "--config", str(case), "--quiet", "--no-fields"]
     serial, parallel = _serial_and_two_ranks(args, tmp_path, lcefem_cmd, mpiexec)
     for out in (serial, parallel):
         resolved = json.loads((out / "summary.json").read_text())
-        assert "gamg" in json.dumps(resolved)  # the path asked for is the one that ran
+        assert petsc.split('"')[1] in json.dumps(resolved)  # the path asked for is the one that ran
     _assert_same_history(serial, parallel, min_force=0.1)

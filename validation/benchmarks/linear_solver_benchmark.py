@@ -1,4 +1,4 @@
-"""Linear solvers inside Newton on large meshes: the direct (MUMPS) and iterative (CG + GAMG) paths.
+"""Linear solvers inside Newton on large meshes: direct (MUMPS), CG + GAMG and CG + p-multigrid.
 
     python -m lcefem.validation.benchmarks.linear_solver_benchmark --levels 2 3 4
         [--solvers ldlt gamg ...] [--csv results/linear_solver_benchmark.csv] [--max-memory 8000]
@@ -40,12 +40,21 @@ CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 #: to the same with CG to 1e-8 (``gamg-rtol8``).
 
 
+#: ``pmg``: :data:`lcefem.solvers.pmultigrid.PMG_OPTIONS` (Q2 -> Q1 p-multigrid, one SOR sweep on
+#: Q2, the Q1 level factorised by MUMPS LDL^T); ``pmg-gamg``: one GAMG cycle on Q1 instead
+#: (:data:`lcefem.solvers.mechanics.PMG_GAMG_COARSE`); ``pmg-cheb``: Chebyshev(3)/Jacobi smoothing
+#: on Q2; ``*sor2``: two SOR sweeps. (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named
+#: after what ran: ``pmg-gamg`` and ``pmg-gamg-sor2``.)
+_PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
+                  "mg_levels_ksp_max_it": 3}
+
+
 def _solver_sets() -> dict[str, dict]:
-    from lcefem.solvers.mechanics import GAMG_OPTIONS
+    from lcefem.solvers.mechanics import GAMG_OPTIONS, PMG_GAMG_COARSE
 
     g = dict(GAMG_OPTIONS)
     g8 = {**g, "ksp_rtol": 1e-8}  # the variants were measured with exact (1e-8) CG solves
-    # every MUMPS set names its pc_type: above ITERATIVE_PATH_DOFS the default is CG + GAMG
+    # every MUMPS set names its pc_type: above ITERATIVE_PATH_DOFS the default is CG + p-multigrid
     ldlt = {"pc_type": "cholesky"}
     # the factorisation of the step's first tangent preconditions CG for the rest of the Newton solve
     lag_pc = {**ldlt, "ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200,
@@ -79,6 +88,11 @@ def _solver_sets() -> dict[str, dict]:
         "gamg-ew": {**g8, "snes_ksp_ew": True},
         "gamg-sor-rtol4": {**g8, "mg_levels_pc_type": "sor", "ksp_rtol": 1e-4},
         "ldlt-lag-cg4": {**lag_pc, "ksp_rtol": 1e-4},
+        "pmg": {"pc_type": "pmg"},
+        "pmg-sor2": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2},
+        "pmg-cheb": {"pc_type": "pmg", **_PMG_CHEBYSHEV},
+        "pmg-gamg": {"pc_type": "pmg", **PMG_GAMG_COARSE},
+        "pmg-gamg-sor2": {"pc_type": "pmg", **PMG_GAMG_COARSE, "mg_levels_ksp_max_it": 2},
     }
 
 
@@ -239,7 +253,7 @@ def main(argv: list[str] | None = None) -> int:
         sizes = {}
         for r in same:
             sizes.setdefault(r["solver"], set()).add(r["dofs [-]"])
-        for it in sorted(n for n in sizes if n.startswith("gamg")
+        for it in sorted(n for n in sizes if n.startswith(("gamg", "pmg", "auto"))
                          and len(sizes[n] & sizes.get("ldlt", set())) >= 2):
             n = crossover(same, "ldlt", it)
             print(f"{it} vs ldlt, {protocol}: crossover "

@@ -1,0 +1,98 @@
+"""p-multigrid for the quadratic (Q2/P2) displacement tangent: two levels on the same mesh.
+
+The fine level is the Q2 tangent K (the Jacobian SNES assembles), smoothed by Chebyshev/Jacobi;
+the coarse level is the Galerkin operator K_1 = P^T K P of the linear (Q1/P1) vector space on the
+same mesh, P the interpolation Q1 -> Q2 (exact: every Q1 function is a Q2 function), factorised
+(MUMPS LDL^T) or cycled by smoothed-aggregation AMG (GAMG) with the six rigid-body modes of the Q1
+space as its near-nullspace. The Q1 operator has 1/8 of the DOFs and a 27-point node stencil (the
+Q2 one couples edge, face and cell nodes across 125 points), so its factorisation is cheap; the
+smoother only has to remove what Q1 cannot represent within a cell. Aggregation multigrid on the
+Q2 matrix itself needs 2-3x the CG iterations (near-incompressible LCE, stretched cells).
+
+PETSc's PCMG drives the cycle (options under the problem's prefix: ``mg_levels_*`` for the Q2
+smoother, ``mg_coarse_*`` for the Q1 solve, e.g. ``mg_coarse_pc_gamg_threshold``).
+:class:`PMultigrid` builds P once and recomputes K_1 whenever SNES assembles a new K
+(:meth:`update`, called from the Jacobian callback), so the coarse AMG hierarchy is rebuilt with
+the tangent, as GAMG on K would be.
+"""
+
+from __future__ import annotations
+
+import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from petsc4py import PETSc
+
+import dolfinx
+import dolfinx.fem.petsc
+
+#: The PETSc options of the p-multigrid path (overrides of the Newton options; the problem's
+#: ``pc_type = "pmg"`` brings them): CG to a relative 1e-4 (inexact Newton, as for GAMG), PCMG with
+#: two levels and a multiplicative V-cycle; on Q2 one symmetric SOR sweep (PETSc's local SSOR, so
+#: block Jacobi across processes) before and after the coarse correction; the Q1 level factorised by
+#: MUMPS LDL^T (1/8 of the DOFs with a 27-point node stencil; its PCSetUp, wall: 0.4 s at 105k fine
+#: DOFs, 9.8 s at 532k, 34 s at 1.11M). Measured on the hot-core strip (``linear_solver_benchmark``,
+#: README "Linear solvers on large meshes"): CG iterations per solve 43-60 from 46k to 1.11M DOFs;
+#: one GAMG cycle on Q1 instead (:data:`lcefem.solvers.mechanics.PMG_GAMG_COARSE`, memory-scalable)
+#: needs 86-113 and 1.6-2.0x the CPU time; two SOR sweeps cut the iterations by
+#: 15-25 % for 1.2x the CPU, Chebyshev(3)/Jacobi was 1.5x the CPU of one sweep at 46k, and threshold
+#: 0.05, no aggressive coarsening, SOR or two cycles on the Q1 GAMG changed less than 5 %.
+PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "mg",
+               "pc_mg_levels": 2, "pc_mg_type": "multiplicative", "pc_mg_cycle_type": "v",
+               "mg_levels_ksp_type": "richardson", "mg_levels_pc_type": "sor",
+               "mg_levels_ksp_max_it": 1,
+               "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "cholesky",
+               "mg_coarse_pc_factor_mat_solver_type": "mumps"}
+
+class PMultigrid:
+    """Two-level p-multigrid (degree ``V``'s -> 1) for the tangent of the vector space ``V``.
+
+    Args:
+        V: the displacement space (vector Lagrange of degree >= 2) [mm].
+        near_nullspace: a function of a space returning its rigid-body modes (PETSc.NullSpace).
+        ksp: the Newton KSP, whose PC (set from the options) must be a two-level PCMG.
+    """
+
+    def __init__(self, V: dolfinx.fem.FunctionSpace, near_nullspace, ksp: PETSc.KSP):
+        pc = ksp.getPC()
+        if pc.getType() != PETSc.PC.Type.MG or pc.getMGLevels() != 2:
+            raise ValueError('[petsc] pc_type = "pmg": pc_mg_levels must stay 2 (the fine and the '
+                             f'linear level), got {pc.getMGLevels()}')
+        degree = V.ufl_element().embedded_superdegree
+        if degree < 2:
+            raise ValueError(f'[petsc] pc_type = "pmg": needs displacements of degree >= 2, these have '
+                             f'degree {degree} (use pc_type = "gamg")')
+        mesh = V.mesh
+        self.coarse_space = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
+        # rows: fine (Q2) DOFs, columns: coarse (Q1) DOFs; ghost contributions summed by assemble
+        self.P = dolfinx.fem.petsc.interpolation_matrix(self.coarse_space, V)
+        self.P.assemble()
+        self.coarse_nullspace = near_nullspace(self.coarse_space)
+        self.coarse_matrix = None
+        self._fine = None  # the tangent matrix K_1 was computed from (its sparsity is K_1's)
+        self.updates = 0  # Galerkin products computed (tests, benchmarks)
+
+    @property
+    def coarse_dofs(self) -> int:
+        return self.P.getSize()[1]
+
+    def update(self, K: PETSc.Mat) -> bool:
+        """K_1 <- P^T K P, in place while K is the same matrix (same sparsity), with the rigid-body
+        near-nullspace and symmetry flag GAMG needs. Returns True when K_1 is a new matrix (first
+        call, or K replaced, e.g. by a contact pattern): the PCMG must then be given it."""
+        self.updates += 1
+        if self._fine is not None and self._fine.handle == K.handle:
+            K.ptap(self.P, result=self.coarse_matrix)
+            return False
+        if self.coarse_matrix is not None:
+            self.coarse_matrix.destroy()
+        self._fine = K
+        self.coarse_matrix = K.ptap(self.P)
+        self.coarse_matrix.setNearNullSpace(self.coarse_nullspace)
+        self.coarse_matrix.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        return True
+
+    def configure(self, ksp: PETSc.KSP) -> None:
+        """Give the KSP's PCMG (two levels, from the options) its interpolation and the coarse
+        operator (call after :meth:`update` has run once)."""
+        pc = ksp.getPC()
+        pc.setMGInterpolation(1, self.P)
+        pc.getMGCoarseSolve().setOperators(self.coarse_matrix, self.coarse_matrix)
