@@ -3,13 +3,14 @@ cantilever problems against PyElastica (and DisMech) where they are installed.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
         [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
-        [--skip-peers] [--csv out.csv]
+        [--skip-peers] [--heat-dt 0.02] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
 ``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s, or
 with adaptive steps (``--error-tolerance`` > 0 [mm], ``RibbonNumerics.error_tolerance``; the run
 advances record interval by record interval, 0.05 s, as ``run_ribbon`` does): CPU and wall ms per step (and the CPU ms of the mechanics step alone; the rest is the section heat
-step and the natural shape of the new temperatures), Newton iterations per step, and
+step and the natural shape of the new temperatures; ``--heat-dt``: also with that multirate heat step,
+``RibbonNumerics.heat_dt``), Newton iterations per step, and
 the real-time factor (simulated seconds per CPU second, > 1: faster than real time; CPU time because
 the machine is shared, wall time printed next to it). ``--baseline DIR`` runs the same loop with
 ``lcefem`` imported from DIR (e.g. ``git archive <commit> | tar -x -C DIR/lcefem``), in a child
@@ -52,16 +53,18 @@ import numpy as np
 
 
 def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0,
-               error_tolerance: float = 0.0, record: float = 0.05) -> dict:
+               error_tolerance: float = 0.0, record: float = 0.05, heat_dt: float = 0.0) -> dict:
     """Settle, heat for ``warmup`` simulated seconds (untimed: the ribbon starts to roll), then time
     ``duration`` simulated seconds of the rolling ribbon (fixed steps of dt, or adaptive steps to
     every record time when ``error_tolerance`` [mm] > 0)."""
     from lcefem.models.ribbon import RibbonGeometry
     from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
 
-    # an older package (--baseline) has fixed steps only and no such field
-    has_control = "error_tolerance" in {f.name for f in dataclasses.fields(RibbonNumerics)}
-    control = {"error_tolerance": error_tolerance} if has_control else {}
+    # an older package (--baseline) has fixed steps only and no such fields
+    fields = {f.name for f in dataclasses.fields(RibbonNumerics)}
+    control = {"error_tolerance": error_tolerance} if "error_tolerance" in fields else {}
+    if heat_dt:
+        control["heat_dt"] = heat_dt
     setup = RibbonSetup(geometry=RibbonGeometry(), ground_temperature=ground_temperature,
                         numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt, **control))
     t0 = time.perf_counter()
@@ -109,14 +112,15 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
             "centroid": [float(v) for v in st.x.mean(axis=0)], "speed": float(np.hypot(*st.v.mean(axis=0)[:2]))}
 
 
-def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None, error_tolerance: float = 0.0) -> dict:
+def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None, error_tolerance: float = 0.0,
+                    heat_dt: float = 0.0) -> dict:
     """:func:`ribbon_run` in a child process, with ``lcefem`` from ``path`` when given (fixed steps
     only there: an older package may not have the adaptive ones)."""
     env = dict(os.environ)
     if path:
         env["PYTHONPATH"] = os.path.abspath(path) + os.pathsep + env.get("PYTHONPATH", "")
     out = subprocess.run([sys.executable, os.path.abspath(__file__), "--ribbon-worker", str(nodes), str(duration),
-                          str(warmup)] + ([str(error_tolerance)] if error_tolerance else []),
+                          str(warmup), str(error_tolerance), str(heat_dt)],
                          env=env, cwd="/", capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -318,14 +322,20 @@ def main(argv: list[str] | None = None) -> int:
                              "(the ribbon heats and starts rolling)")
     parser.add_argument("--error-tolerance", type=float, nargs="+", default=[0.0],
                         help="ribbon step control: 0 fixed 0.01 s steps, > 0 adaptive with this local error [mm]")
+    parser.add_argument("--heat-dt", type=float, nargs="+", default=[],
+                        help="also run the ribbon (fixed steps) with these multirate heat steps [s] "
+                             "(RibbonNumerics.heat_dt; the default run has 0: a heat step every step)")
     parser.add_argument("--ribbon-worker", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.ribbon_worker:
-        n, duration, warmup, *tol = args.ribbon_worker
-        print(json.dumps(ribbon_run(int(n), float(duration), float(warmup), error_tolerance=float(tol[0]) if tol else 0.0)))
+        n, duration, warmup, tol, heat_dt = args.ribbon_worker
+        print(json.dumps(ribbon_run(int(n), float(duration), float(warmup), error_tolerance=float(tol),
+                                    heat_dt=float(heat_dt))))
         return 0
     if args.duration <= 0:
         parser.error(f"--duration {args.duration}: must be > 0 s")
+    if any(h <= 0 for h in args.heat_dt):
+        parser.error(f"--heat-dt {args.heat_dt}: each must be > 0 s")
     print(f"DER benchmark: {platform.processor() or platform.machine()}, python {platform.python_version()}, "
           f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}")
     table = []
@@ -335,6 +345,8 @@ def main(argv: list[str] | None = None) -> int:
         for n in args.nodes:
             runs = {("now" if tol == 0 else f"tol {tol:g}"): ribbon_in_child(n, args.duration, args.warmup, None, tol)
                     for tol in args.error_tolerance}
+            for heat_dt in args.heat_dt:
+                runs[f"heat {heat_dt:g}"] = ribbon_in_child(n, args.duration, args.warmup, None, heat_dt=heat_dt)
             if args.baseline:
                 runs["baseline"] = ribbon_in_child(n, args.duration, args.warmup, args.baseline)
             for label, r in runs.items():
