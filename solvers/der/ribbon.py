@@ -454,7 +454,7 @@ CONTRACTION_TABLE = (-50.0, 350.0, 0.05)
 @functools.lru_cache(maxsize=8)
 def tabulated_contraction(transition: NematicTransition) -> TabulatedLaw:
     """a(T) = ``models.lce.contraction_ratio`` tabulated on ``CONTRACTION_TABLE`` (one table per transition)."""
-    return TabulatedLaw.of(lambda T: contraction_ratio(T, transition), *CONTRACTION_TABLE)
+    return TabulatedLaw.of(functools.partial(contraction_ratio, transition=transition), *CONTRACTION_TABLE)
 
 
 def _interpolated(a: RestShape, b: RestShape, frac: float) -> RestShape:
