@@ -289,6 +289,21 @@ class RibbonSimulation:
         self._perturb(num.perturbation)
         self._y_start = float(self.state.x[:, 1].mean())
 
+    def __getstate__(self):
+        """Pickled without the tabulated a(T) (rebuilt on loading): a pickle that an older package
+        can load too (der_benchmark --same-state)."""
+        state = dict(self.__dict__)
+        state.pop("contraction", None)
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.contraction = tabulated_contraction(self.setup.transition)
+        if "_heat_elapsed" not in state:  # pickled by a package without the multirate heat step
+            self._heat_elapsed = 0.0
+            self._rest_from = self._rest_to = self.programmed.rest_shape(self.T, self.grid, self.setup.transition,
+                                                                         self.contraction)
+
     # -- stepping ----------------------------------------------------------------------------
     @property
     def state(self) -> RodState:

@@ -229,3 +229,16 @@ def test_multirate_heat_steps_stay_within_the_implicit_euler_step_error():
     coarse = _heated(0.1, 100)
     assert np.max(fine.T) > 40.0  # the ribbon is heating: the comparison is not vacuous
     assert 0.0 < np.max(np.abs(coarse.T - fine.T)) <= 0.5 * (0.1 - 0.02) * rate
+
+
+def test_a_pickled_simulation_continues_as_the_original():
+    """Pickled without its a(T) table (rebuilt on loading), a simulation steps on bit for bit."""
+    import pickle
+
+    sim = _heated(0.04, 5)
+    copy = pickle.loads(pickle.dumps(sim))
+    assert "contraction" not in sim.__getstate__()
+    for _ in range(5):
+        sim.step(0.02)
+        copy.step(0.02)
+    assert np.array_equal(sim.state.x, copy.state.x) and np.array_equal(sim.T, copy.T)

@@ -3,7 +3,7 @@ cantilever problems against PyElastica (and DisMech) where they are installed.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
         [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
-        [--skip-peers] [--heat-dt 0.02] [--csv out.csv]
+        [--skip-peers] [--heat-dt 0.02] [--same-state ROUNDS] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
 ``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s, or
@@ -40,9 +40,12 @@ import importlib.util
 import json
 import math
 import os
+import pickle
 import platform
+import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -53,10 +56,13 @@ import numpy as np
 
 
 def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0,
-               error_tolerance: float = 0.0, record: float = 0.05, heat_dt: float = 0.0) -> dict:
+               error_tolerance: float = 0.0, record: float = 0.05, heat_dt: float = 0.0,
+               save_state: str | None = None, load_state: str | None = None) -> dict:
     """Settle, heat for ``warmup`` simulated seconds (untimed: the ribbon starts to roll), then time
     ``duration`` simulated seconds of the rolling ribbon (fixed steps of dt, or adaptive steps to
-    every record time when ``error_tolerance`` [mm] > 0)."""
+    every record time when ``error_tolerance`` [mm] > 0). ``save_state``: pickle the simulation there
+    after the warm-up instead of timing; ``load_state``: time from that pickle instead of warming up
+    (fixed steps; every code from the same state)."""
     from lcefem.models.ribbon import RibbonGeometry
     from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
 
@@ -68,14 +74,25 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
     setup = RibbonSetup(geometry=RibbonGeometry(), ground_temperature=ground_temperature,
                         numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt, **control))
     t0 = time.perf_counter()
-    sim = RibbonSimulation(setup)
-    sim.step(dt)  # first step: numba compilation or cache load, outside the timing
     adaptive = error_tolerance > 0
-    if adaptive:
-        sim.advance(sim.time + warmup)
+    if load_state:
+        with open(load_state, "rb") as fh:
+            sim = pickle.load(fh)
+        sim.setup = dataclasses.replace(sim.setup, numerics=dataclasses.replace(sim.setup.numerics, **control))
+        sim.step(dt)  # numba compilation or cache load, outside the timing
     else:
-        for _ in range(int(round(warmup / dt))):
-            sim.step(dt)
+        sim = RibbonSimulation(setup)
+        sim.step(dt)  # first step: numba compilation or cache load, outside the timing
+        if adaptive:
+            sim.advance(sim.time + warmup)
+        else:
+            for _ in range(int(round(warmup / dt))):
+                sim.step(dt)
+        if save_state:
+            with open(save_state + ".part", "wb") as fh:
+                pickle.dump(sim, fh)
+            os.replace(save_state + ".part", save_state)
+            return {"saved": save_state}
     build = time.perf_counter() - t0
     its0 = sim.integrator.total_iterations
     steps0 = getattr(sim, "steps_taken", 0)
@@ -113,14 +130,15 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
 
 
 def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None, error_tolerance: float = 0.0,
-                    heat_dt: float = 0.0) -> dict:
-    """:func:`ribbon_run` in a child process, with ``lcefem`` from ``path`` when given (fixed steps
-    only there: an older package may not have the adaptive ones)."""
+                    **options) -> dict:
+    """:func:`ribbon_run` (keyword ``options``: heat_dt, save_state, load_state) in a child process,
+    with ``lcefem`` from ``path`` when given (fixed steps only there: an older package may not have
+    the adaptive ones)."""
     env = dict(os.environ)
     if path:
         env["PYTHONPATH"] = os.path.abspath(path) + os.pathsep + env.get("PYTHONPATH", "")
-    out = subprocess.run([sys.executable, os.path.abspath(__file__), "--ribbon-worker", str(nodes), str(duration),
-                          str(warmup), str(error_tolerance), str(heat_dt)],
+    kwargs = dict(nodes=nodes, duration=duration, warmup=warmup, error_tolerance=error_tolerance, **options)
+    out = subprocess.run([sys.executable, os.path.abspath(__file__), "--ribbon-worker", json.dumps(kwargs)],
                          env=env, cwd="/", capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -309,6 +327,37 @@ def peers(c: Cantilever) -> list[dict]:
     return rows
 
 
+def same_state_rounds(nodes: int, args) -> list[dict]:
+    """``--same-state``: warm up once (this code), then time the baseline, this code and each
+    ``--heat-dt`` from that state, alternating, ``args.same_state`` rounds; prints and returns the
+    best and median CPU ms per step of each."""
+    codes = ([("baseline", args.baseline, {})] if args.baseline else []) + [("now", None, {})] + [
+        (f"heat {h:g}", None, {"heat_dt": h}) for h in args.heat_dt]
+    with tempfile.TemporaryDirectory() as tmp:
+        state = os.path.join(tmp, f"ribbon_{nodes}.pickle")
+        ribbon_in_child(nodes, args.duration, args.warmup, None, save_state=state)
+        runs = {label: [] for label, _, _ in codes}
+        for _ in range(args.same_state):
+            for label, path, options in codes:
+                runs[label].append(ribbon_in_child(nodes, args.duration, args.warmup, path, load_state=state, **options))
+    rows = []
+    for label, rs in runs.items():
+        cpu = [r["cpu_ms_per_step"] for r in rs]
+        r = rs[0]
+        print(f"  {nodes:4d} nodes {label:10s}: best {min(cpu):6.2f} / median {statistics.median(cpu):6.2f} ms/step "
+              f"of {len(cpu)}, {r['newton_per_step']:.2f} Newton/step, {args.duration / (1e-3 * min(cpu) * r['steps']):.2f}"
+              f" x real time from the best; centroid {r['centroid'][0]:.9f} {r['centroid'][1]:.9f} mm", flush=True)
+        rows.append({"problem": f"rolling ribbon {nodes} nodes, same state", "code": label,
+                     "ms_per_step": min(cpu), "median_ms_per_step": statistics.median(cpu),
+                     "newton_per_step": r["newton_per_step"], "steps": r["steps"],
+                     "realtime_factor": args.duration / (1e-3 * min(cpu) * r["steps"])})
+    if "baseline" in runs:
+        best = {label: min(x["cpu_ms_per_step"] for x in rs) for label, rs in runs.items()}
+        print(f"  {nodes:4d} nodes speed-up from the best: " + ", ".join(
+            f"{label} {best['baseline'] / v:.2f} x" for label, v in best.items() if label != "baseline"))
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--nodes", type=int, nargs="+", default=[31, 100])
@@ -325,12 +374,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--heat-dt", type=float, nargs="+", default=[],
                         help="also run the ribbon (fixed steps) with these multirate heat steps [s] "
                              "(RibbonNumerics.heat_dt; the default run has 0: a heat step every step)")
-    parser.add_argument("--ribbon-worker", nargs="+", help=argparse.SUPPRESS)
+    parser.add_argument("--same-state", type=int, default=0, metavar="ROUNDS",
+                        help="time every code ROUNDS times, alternating, from one warmed-up state (pickled by "
+                             "this code, fixed steps); best and median CPU time (a shared machine scatters single "
+                             "runs by +-15 %%)")
+    parser.add_argument("--ribbon-worker", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.ribbon_worker:
-        n, duration, warmup, tol, heat_dt = args.ribbon_worker
-        print(json.dumps(ribbon_run(int(n), float(duration), float(warmup), error_tolerance=float(tol),
-                                    heat_dt=float(heat_dt))))
+        print(json.dumps(ribbon_run(**json.loads(args.ribbon_worker))))
         return 0
     if args.duration <= 0:
         parser.error(f"--duration {args.duration}: must be > 0 s")
@@ -343,6 +394,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"rolling ribbon, 100 C plate, dt 0.01 s (fixed, or the first adaptive step), {args.duration:g} s "
               f"timed after {args.warmup:g} s of heating (CPU time; wall in brackets):")
         for n in args.nodes:
+            if args.same_state > 0:
+                table += same_state_rounds(n, args)
+                continue
             runs = {("now" if tol == 0 else f"tol {tol:g}"): ribbon_in_child(n, args.duration, args.warmup, None, tol)
                     for tol in args.error_tolerance}
             for heat_dt in args.heat_dt:
