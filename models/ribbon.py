@@ -184,19 +184,22 @@ class NaturalStrains:
 
 
 def natural_strains(cell_temperatures: np.ndarray, grid: SectionGrid,
-                    transition: NematicTransition) -> NaturalStrains:
+                    transition: NematicTransition, contraction=None) -> NaturalStrains:
     """Beam eigenstrain resultants of eps*(y) = a(T(y)) - 1 over the section.
 
     eps_bar = <eps*>, kappa_bar_i = -int eps* y_i dA / int y_i^2 dA, by the section quadrature of
     :meth:`SectionGrid.quadrature_rule` (T interpolated between the cell centres; a linear
-    eigenstrain eps* = e0 - k y_i gives exactly kappa_bar_i = k).
+    eigenstrain eps* = e0 - k y_i gives exactly kappa_bar_i = k). ``contraction``: a(T) on an array of
+    temperatures [C] (default ``contraction_ratio`` of ``transition``; the rolling ribbon passes a
+    tabulated one, ``solvers.der.tabulated``).
     """
     T = np.asarray(cell_temperatures, float)
     interpolate, moments = _resultant_matrices(grid.width, grid.thickness, grid.n_width, grid.n_thickness,
                                                grid.quadrature)
     # Two matrix products (cells -> points, points -> resultants) instead of einsums: the rolling
     # ribbon evaluates this once per time step on ~100 sections.
-    eps = contraction_ratio(T @ interpolate, transition) - 1.0  # (..., points)
+    points = T @ interpolate
+    eps = (contraction_ratio(points, transition) if contraction is None else contraction(points)) - 1.0
     r = eps @ moments  # (..., 3): <eps*>, kappa_bar_1, kappa_bar_2
     return NaturalStrains(r[..., 0], np.ascontiguousarray(r[..., 1:]), 1.0 + r[..., 0])
 

@@ -117,8 +117,13 @@ def _scatter(base, g_loc, H_loc, grad, band, with_hessian):
 
 @njit(cache=True)
 def _source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, out, with_hessian):
-    """Chain rule of ``models.rod.apply_source_change`` for one element, in place on g_loc, H_loc;
-    slots (node a start, theta index, node b start), db (n_slots, 3), ddb (n_slots, 3, 3)."""
+    """Chain rule of ``models.rod.apply_source_change`` for one element, in place on g_loc and on the
+    lower triangle of H_loc (the only part :func:`_scatter` reads); slots (node a start, theta index,
+    node b start), db (n_slots, 3), ddb (n_slots, 3, 3).
+
+    D (the change of the angle rows t_s) has six nonzero columns per slot, so H D and D^T H D run
+    over those only, and over the lower triangle (issue 17: 2.6x fewer operations at 11 dofs; the
+    same sums in the same order, so the same lower triangle bit for bit)."""
     m = g_loc.shape[0]
     ns = len(slot_a)
     # the angle gradients of the (at most two) slots, held as scalars (no allocation per element)
@@ -126,11 +131,14 @@ def _source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, o
     g_t1 = g_loc[slot_t[1]] if ns > 1 else 0.0
     if with_hessian:
         # W = I + D, D nonzero only in the angle rows t_s: W^T H W = H + H D + (H D)^T + D^T H D.
-        W[:, :] = 0.0  # rows of D (W[s] = D[t_s, :])
+        # Row s of D: -db at the columns of node a, +db at those of node b (W[s, 0:6] the values,
+        # W[s, 6:12] the columns).
         for s in range(ns):
             for c in range(3):
-                W[s, slot_a[s] + c] = -db[s, c]
-                W[s, slot_b[s] + c] = db[s, c]
+                W[s, c] = -db[s, c]
+                W[s, 3 + c] = db[s, c]
+                W[s, 6 + c] = slot_a[s] + c
+                W[s, 9 + c] = slot_b[s] + c
         for i in range(m):
             for j in range(m):
                 tmp[i, j] = 0.0
@@ -138,29 +146,35 @@ def _source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, o
             t = slot_t[s]
             for i in range(m):
                 hit = H_loc[i, t]
-                for j in range(m):
-                    tmp[i, j] += hit * W[s, j]
+                for c in range(6):
+                    tmp[i, int(W[s, 6 + c])] += hit * W[s, c]
         for i in range(m):
-            for j in range(m):
+            for j in range(i + 1):
                 out[i, j] = H_loc[i, j] + tmp[i, j] + tmp[j, i]
         for s in range(ns):
             for s2 in range(ns):
                 hss = H_loc[slot_t[s], slot_t[s2]]
-                for i in range(m):
-                    v = hss * W[s, i]
+                for ci in range(6):
+                    i = int(W[s, 6 + ci])
+                    v = hss * W[s, ci]
                     if v != 0.0:
-                        for j in range(m):
-                            out[i, j] += v * W[s2, j]
+                        for cj in range(6):
+                            j = int(W[s2, 6 + cj])
+                            if j <= i:
+                                out[i, j] += v * W[s2, cj]
         for s in range(ns):
-            a, b = slot_a[s], slot_b[s]
+            a, b = slot_a[s], slot_b[s]  # a + 3 <= b: the (a, b) block is upper, (b, a) lower
+            g_ts = g_t0 if s == 0 else g_t1
             for i in range(3):
                 for j in range(3):
-                    blk = (g_t0 if s == 0 else g_t1) * ddb[s, i, j]
-                    out[a + i, a + j] += blk
-                    out[b + i, b + j] += blk
-                    out[a + i, b + j] -= blk
+                    blk = g_ts * ddb[s, i, j]
+                    if j <= i:
+                        out[a + i, a + j] += blk
+                        out[b + i, b + j] += blk
                     out[b + i, a + j] -= blk
-        H_loc[:, :] = out
+        for i in range(m):
+            for j in range(i + 1):
+                H_loc[i, j] = out[i, j]
     for s in range(ns):
         g_ts = g_t0 if s == 0 else g_t1
         for c in range(3):
@@ -441,7 +455,7 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
     g11 = np.empty(11)
     h11 = np.empty((11, 11))
     tmp = np.empty((8, 11))
-    W = np.empty((11, 11))
+    W = np.empty((2, 12))  # rows of D: values and columns (_source_change_into)
     tmp11 = np.empty((11, 11))
     out11 = np.empty((11, 11))
     slot_a = np.array([0, 4])
@@ -696,7 +710,7 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
     jv = np.empty((3, 8))
     tmp8 = np.empty((8, 11))
     g11 = np.empty(11)
-    W = np.empty((11, 11))
+    W = np.empty((2, 12))
     tmp11 = np.empty((11, 11))
     out11 = np.empty((11, 11))
     slot_a = np.array([0, 4])
@@ -708,7 +722,7 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
     jac7 = np.empty((3, 7))
     h7 = np.empty((7, 7))
     g7 = np.empty(7)
-    W7 = np.empty((7, 7))
+    W7 = np.empty((1, 12))
     tmp7 = np.empty((7, 7))
     out7 = np.empty((7, 7))
     e_a = np.array([0])

@@ -12,6 +12,7 @@ gravity) for given section temperatures, for comparisons with the 3D FE model.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -21,7 +22,7 @@ from lcefem.models.contact import ContactLaw, FrictionLaw, Wall
 from lcefem.models.errors import InputError
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
-from lcefem.models.lce import NematicTransition
+from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.models.parameters import param
 from lcefem.models.ribbon import (GroundHeatExchange, HelicoidCoupling, RibbonGeometry, SectionGrid,
                                   natural_strains)
@@ -35,6 +36,7 @@ from lcefem.solvers.der.integrator import Integrator, StepControl, StepOptions
 from lcefem.solvers.der.model import DiscreteRod, Ground, RestShape, RodState, lumped_masses
 from lcefem.solvers.der.newton import NewtonOptions
 from lcefem.solvers.der.static import solve_static, statically_determinate_support
+from lcefem.solvers.der.tabulated import TabulatedLaw
 
 
 @dataclass(frozen=True)
@@ -81,6 +83,16 @@ class RibbonNumerics:
                            "Newton reuses the last Hessian factor while the residual falls at least 4x per "
                            "iteration (newton.minimise): the same equilibria to force_tol, fewer Hessian "
                            "evaluations; 0: a fresh Hessian every iteration", minimum=0.0)
+    heat_dt: float = param(0.0, "s", "chosen: multirate heat step. The section heat step is taken once this much "
+                           "mechanics time has passed, over that whole time, on the geometry at its end, and the "
+                           "mechanics steps in between take the natural shape interpolated linearly in time "
+                           "between those of the last two heat steps (a thermal lag of heat_dt instead of dt; "
+                           "interpolated because a natural shape that jumps every few steps shakes the contacts: "
+                           "3x the Newton iterations while rolling). 0: a heat step after every mechanics step. "
+                           "Why it may be longer: the thermal time t^2/alpha ~ 5 s is 500x the mechanics step. "
+                           "Measured (issue 17, 31 nodes, 60 s): 0.02 s moves the 100 C speed by -0.25 % (0.05 s: "
+                           "-2.1 %), but with 0.005 s steps at 140 C it stops the rolling, hence the default 0 "
+                           "(README, Rolling-step cost, fourth pass)", minimum=0.0)
     section_quadrature: int = param(4, "-", "chosen: Gauss points per cell and direction of the eigenstrain "
                                     "resultants; one-face bending within 1e-5 of the beam closed form on the "
                                     "6 x 2 grid (rod_closed_forms case; 1 point: -27 %)", minimum=1)
@@ -186,10 +198,10 @@ class ProgrammedShape:
         return cls(np.linalg.norm(e, axis=1), kappa, twist, twisted_director, coupling)
 
     def rest_shape(self, cell_temperatures: np.ndarray, grid: SectionGrid,
-                   transition: NematicTransition) -> RestShape:
+                   transition: NematicTransition, contraction=None) -> RestShape:
         """Natural shape at the given section cell temperatures (N-1, n_cells) [C] (module docstring
-        of :mod:`lcefem.models.ribbon`)."""
-        ns = natural_strains(cell_temperatures, grid, transition)
+        of :mod:`lcefem.models.ribbon`; ``contraction`` as in ``natural_strains``)."""
+        ns = natural_strains(cell_temperatures, grid, transition, contraction)
         node = lambda v: 0.5 * (v[:-1] + v[1:])  # noqa: E731  edges -> interior nodes
         vor = self.voronoi
         curvature = self.curvature + node(ns.curvature) * vor[:, None]
@@ -240,7 +252,11 @@ class RibbonSimulation:
         node_mass, edge_inertia = lumped_masses(section, self.programmed.edge_length)
         self.grid = SectionGrid(g.width, g.thickness, num.cells_width, num.cells_thickness, num.section_quadrature)
         self.T = np.full((n - 1, self.grid.n_cells), s.air.ambient_temperature)
-        rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
+        self.contraction = tabulated_contraction(s.transition)
+        rest = self.programmed.rest_shape(self.T, self.grid, s.transition, self.contraction)
+        # natural shapes of the last two heat steps' temperatures, and the mechanics time since the last one
+        self._rest_from = self._rest_to = rest
+        self._heat_elapsed = 0.0
         gravity = np.array([0.0, 0.0, -STANDARD_GRAVITY])
         walls = tuple(Ground(*w.plane(state.x)) for w in s.walls)
         self.rod = DiscreteRod(section, rest, node_mass, edge_inertia, gravity=gravity, damping=num.damping,
@@ -272,6 +288,21 @@ class RibbonSimulation:
             self._settle(num.settle_time)
         self._perturb(num.perturbation)
         self._y_start = float(self.state.x[:, 1].mean())
+
+    def __getstate__(self):
+        """Pickled without the tabulated a(T) (rebuilt on loading): a pickle that an older package
+        can load too (der_benchmark --same-state)."""
+        state = dict(self.__dict__)
+        state.pop("contraction", None)
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.contraction = tabulated_contraction(self.setup.transition)
+        if "_heat_elapsed" not in state:  # pickled by a package without the multirate heat step
+            self._heat_elapsed = 0.0
+            self._rest_from = self._rest_to = self.programmed.rest_shape(self.T, self.grid, self.setup.transition,
+                                                                         self.contraction)
 
     # -- stepping ----------------------------------------------------------------------------
     @property
@@ -324,11 +355,20 @@ class RibbonSimulation:
                 self.next_dt = max(self.next_dt, planned)
 
     def step(self, dt: float):
-        """One mechanics step of dt [s] then the heat step on the new geometry; with adaptive steps a
-        step whose error estimate exceeds the tolerance is retried with a smaller step, so the step
-        taken may be shorter than dt (``last_report.dt``)."""
+        """One mechanics step of dt [s], then the heat step on the new geometry once ``numerics.heat_dt``
+        of mechanics time has passed since the last one (after every step with 0); the mechanics take
+        the natural shape interpolated between the last two heat steps' at the step's end (their
+        latest with heat_dt = 0). With adaptive steps a step whose error estimate exceeds the
+        tolerance is retried with a smaller step, so the step taken may be shorter than dt
+        (``last_report.dt``)."""
         s = self.setup
-        self.rod.rest = self.programmed.rest_shape(self.T, self.grid, s.transition)
+        span = s.numerics.heat_dt
+        # the natural shape at t - (span + dt)/2 from the last two heat steps (the heat step takes the
+        # geometry at its interval's end, span/2 ahead of the interval's middle: together the
+        # heat-to-mechanics delay stays dt/2, that of the single-rate staggered scheme; an interpolation
+        # lagging by span instead slowed the 100 C rolling by 6 % at span 0.05 s, issue 17)
+        frac = 1.0 if span <= dt else min(2.0, 0.5 + (self._heat_elapsed + 0.5 * dt) / span)
+        self.rod.rest = self._rest_to if frac == 1.0 else _interpolated(self._rest_from, self._rest_to, frac)
         while True:
             new, report = self.integrator.trial(dt)
             if self.control is None:
@@ -341,15 +381,21 @@ class RibbonSimulation:
             self.rejected += 1
             dt = proposal
         self.integrator.state = new
+        self.time = self.state.time
+        self.steps_taken += 1
+        self.last_report = report
+        self._heat_elapsed += dt
+        if self._heat_elapsed < span * (1.0 - 1e-9):
+            return report
+        dt, self._heat_elapsed = self._heat_elapsed, 0.0
         gradient = None
         if s.numerics.plate_gradient:
             # zero at the starting centreline: the mean plate temperature under the ribbon is T_ground
             gradient = np.array([0.0, s.numerics.plate_gradient, 0.0])
         T_ground = s.ground_temperature - (s.numerics.plate_gradient * self._y_start)
         self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), T_ground, gradient)
-        self.time = self.state.time
-        self.steps_taken += 1
-        self.last_report = report
+        rest = self.programmed.rest_shape(self.T, self.grid, s.transition, self.contraction)
+        self._rest_from, self._rest_to = self._rest_to, rest
         return report
 
     # -- observables -------------------------------------------------------------------------
@@ -415,6 +461,23 @@ class RibbonSimulation:
         out[1:-1] = 0.5 * (te[:-1] + te[1:])
         out[0], out[-1] = te[0], te[-1]
         return out
+
+
+#: Range and spacing of the tabulated contraction ratio a(T) [C]: the plates and the air span 20-140 C
+#: (outside it a(T) is evaluated exactly); max error ~1e-10 (``tabulated.TabulatedLaw.max_error``)
+CONTRACTION_TABLE = (-50.0, 350.0, 0.05)
+
+
+@functools.lru_cache(maxsize=8)
+def tabulated_contraction(transition: NematicTransition) -> TabulatedLaw:
+    """a(T) = ``models.lce.contraction_ratio`` tabulated on ``CONTRACTION_TABLE`` (one table per transition)."""
+    return TabulatedLaw.of(functools.partial(contraction_ratio, transition=transition), *CONTRACTION_TABLE)
+
+
+def _interpolated(a: RestShape, b: RestShape, frac: float) -> RestShape:
+    """(1 - frac) a + frac b, field by field [mm, -, rad]."""
+    return RestShape(a.edge_length + frac * (b.edge_length - a.edge_length),
+                     a.curvature + frac * (b.curvature - a.curvature), a.twist + frac * (b.twist - a.twist))
 
 
 # ----------------------------------------------------------------------------------------------

@@ -3,13 +3,14 @@ cantilever problems against PyElastica (and DisMech) where they are installed.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
         [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
-        [--skip-peers] [--csv out.csv]
+        [--skip-peers] [--heat-dt 0.02] [--same-state ROUNDS] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
 ``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s, or
 with adaptive steps (``--error-tolerance`` > 0 [mm], ``RibbonNumerics.error_tolerance``; the run
 advances record interval by record interval, 0.05 s, as ``run_ribbon`` does): CPU and wall ms per step (and the CPU ms of the mechanics step alone; the rest is the section heat
-step and the natural shape of the new temperatures), Newton iterations per step, and
+step and the natural shape of the new temperatures; ``--heat-dt``: also with that multirate heat step,
+``RibbonNumerics.heat_dt``), Newton iterations per step, and
 the real-time factor (simulated seconds per CPU second, > 1: faster than real time; CPU time because
 the machine is shared, wall time printed next to it). ``--baseline DIR`` runs the same loop with
 ``lcefem`` imported from DIR (e.g. ``git archive <commit> | tar -x -C DIR/lcefem``), in a child
@@ -39,9 +40,12 @@ import importlib.util
 import json
 import math
 import os
+import pickle
 import platform
+import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -52,27 +56,43 @@ import numpy as np
 
 
 def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0,
-               error_tolerance: float = 0.0, record: float = 0.05) -> dict:
+               error_tolerance: float = 0.0, record: float = 0.05, heat_dt: float = 0.0,
+               save_state: str | None = None, load_state: str | None = None) -> dict:
     """Settle, heat for ``warmup`` simulated seconds (untimed: the ribbon starts to roll), then time
     ``duration`` simulated seconds of the rolling ribbon (fixed steps of dt, or adaptive steps to
-    every record time when ``error_tolerance`` [mm] > 0)."""
+    every record time when ``error_tolerance`` [mm] > 0). ``save_state``: pickle the simulation there
+    after the warm-up instead of timing; ``load_state``: time from that pickle instead of warming up
+    (fixed steps; every code from the same state)."""
     from lcefem.models.ribbon import RibbonGeometry
     from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
 
-    # an older package (--baseline) has fixed steps only and no such field
-    has_control = "error_tolerance" in {f.name for f in dataclasses.fields(RibbonNumerics)}
-    control = {"error_tolerance": error_tolerance} if has_control else {}
+    # an older package (--baseline) has fixed steps only and no such fields
+    fields = {f.name for f in dataclasses.fields(RibbonNumerics)}
+    control = {"error_tolerance": error_tolerance} if "error_tolerance" in fields else {}
+    if heat_dt:
+        control["heat_dt"] = heat_dt
     setup = RibbonSetup(geometry=RibbonGeometry(), ground_temperature=ground_temperature,
                         numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt, **control))
     t0 = time.perf_counter()
-    sim = RibbonSimulation(setup)
-    sim.step(dt)  # first step: numba compilation or cache load, outside the timing
     adaptive = error_tolerance > 0
-    if adaptive:
-        sim.advance(sim.time + warmup)
+    if load_state:
+        with open(load_state, "rb") as fh:
+            sim = pickle.load(fh)
+        sim.setup = dataclasses.replace(sim.setup, numerics=dataclasses.replace(sim.setup.numerics, **control))
+        sim.step(dt)  # numba compilation or cache load, outside the timing
     else:
-        for _ in range(int(round(warmup / dt))):
-            sim.step(dt)
+        sim = RibbonSimulation(setup)
+        sim.step(dt)  # first step: numba compilation or cache load, outside the timing
+        if adaptive:
+            sim.advance(sim.time + warmup)
+        else:
+            for _ in range(int(round(warmup / dt))):
+                sim.step(dt)
+        if save_state:
+            with open(save_state + ".part", "wb") as fh:
+                pickle.dump(sim, fh)
+            os.replace(save_state + ".part", save_state)
+            return {"saved": save_state}
     build = time.perf_counter() - t0
     its0 = sim.integrator.total_iterations
     steps0 = getattr(sim, "steps_taken", 0)
@@ -109,14 +129,16 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
             "centroid": [float(v) for v in st.x.mean(axis=0)], "speed": float(np.hypot(*st.v.mean(axis=0)[:2]))}
 
 
-def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None, error_tolerance: float = 0.0) -> dict:
-    """:func:`ribbon_run` in a child process, with ``lcefem`` from ``path`` when given (fixed steps
-    only there: an older package may not have the adaptive ones)."""
+def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None, error_tolerance: float = 0.0,
+                    **options) -> dict:
+    """:func:`ribbon_run` (keyword ``options``: heat_dt, save_state, load_state) in a child process,
+    with ``lcefem`` from ``path`` when given (fixed steps only there: an older package may not have
+    the adaptive ones)."""
     env = dict(os.environ)
     if path:
         env["PYTHONPATH"] = os.path.abspath(path) + os.pathsep + env.get("PYTHONPATH", "")
-    out = subprocess.run([sys.executable, os.path.abspath(__file__), "--ribbon-worker", str(nodes), str(duration),
-                          str(warmup)] + ([str(error_tolerance)] if error_tolerance else []),
+    kwargs = dict(nodes=nodes, duration=duration, warmup=warmup, error_tolerance=error_tolerance, **options)
+    out = subprocess.run([sys.executable, os.path.abspath(__file__), "--ribbon-worker", json.dumps(kwargs)],
                          env=env, cwd="/", capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -305,6 +327,37 @@ def peers(c: Cantilever) -> list[dict]:
     return rows
 
 
+def same_state_rounds(nodes: int, args) -> list[dict]:
+    """``--same-state``: warm up once (this code), then time the baseline, this code and each
+    ``--heat-dt`` from that state, alternating, ``args.same_state`` rounds; prints and returns the
+    best and median CPU ms per step of each."""
+    codes = ([("baseline", args.baseline, {})] if args.baseline else []) + [("now", None, {})] + [
+        (f"heat {h:g}", None, {"heat_dt": h}) for h in args.heat_dt]
+    with tempfile.TemporaryDirectory() as tmp:
+        state = os.path.join(tmp, f"ribbon_{nodes}.pickle")
+        ribbon_in_child(nodes, args.duration, args.warmup, None, save_state=state)
+        runs = {label: [] for label, _, _ in codes}
+        for _ in range(args.same_state):
+            for label, path, options in codes:
+                runs[label].append(ribbon_in_child(nodes, args.duration, args.warmup, path, load_state=state, **options))
+    rows = []
+    for label, rs in runs.items():
+        cpu = [r["cpu_ms_per_step"] for r in rs]
+        r = rs[0]
+        print(f"  {nodes:4d} nodes {label:10s}: best {min(cpu):6.2f} / median {statistics.median(cpu):6.2f} ms/step "
+              f"of {len(cpu)}, {r['newton_per_step']:.2f} Newton/step, {args.duration / (1e-3 * min(cpu) * r['steps']):.2f}"
+              f" x real time from the best; centroid {r['centroid'][0]:.9f} {r['centroid'][1]:.9f} mm", flush=True)
+        rows.append({"problem": f"rolling ribbon {nodes} nodes, same state", "code": label,
+                     "ms_per_step": min(cpu), "median_ms_per_step": statistics.median(cpu),
+                     "newton_per_step": r["newton_per_step"], "steps": r["steps"],
+                     "realtime_factor": args.duration / (1e-3 * min(cpu) * r["steps"])})
+    if "baseline" in runs:
+        best = {label: min(x["cpu_ms_per_step"] for x in rs) for label, rs in runs.items()}
+        print(f"  {nodes:4d} nodes speed-up from the best: " + ", ".join(
+            f"{label} {best['baseline'] / v:.2f} x" for label, v in best.items() if label != "baseline"))
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--nodes", type=int, nargs="+", default=[31, 100])
@@ -318,14 +371,22 @@ def main(argv: list[str] | None = None) -> int:
                              "(the ribbon heats and starts rolling)")
     parser.add_argument("--error-tolerance", type=float, nargs="+", default=[0.0],
                         help="ribbon step control: 0 fixed 0.01 s steps, > 0 adaptive with this local error [mm]")
-    parser.add_argument("--ribbon-worker", nargs="+", help=argparse.SUPPRESS)
+    parser.add_argument("--heat-dt", type=float, nargs="+", default=[],
+                        help="also run the ribbon (fixed steps) with these multirate heat steps [s] "
+                             "(RibbonNumerics.heat_dt; the default run has 0: a heat step every step)")
+    parser.add_argument("--same-state", type=int, default=0, metavar="ROUNDS",
+                        help="time every code ROUNDS times, alternating, from one warmed-up state (pickled by "
+                             "this code, fixed steps); best and median CPU time (a shared machine scatters single "
+                             "runs by +-15 %%)")
+    parser.add_argument("--ribbon-worker", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.ribbon_worker:
-        n, duration, warmup, *tol = args.ribbon_worker
-        print(json.dumps(ribbon_run(int(n), float(duration), float(warmup), error_tolerance=float(tol[0]) if tol else 0.0)))
+        print(json.dumps(ribbon_run(**json.loads(args.ribbon_worker))))
         return 0
     if args.duration <= 0:
         parser.error(f"--duration {args.duration}: must be > 0 s")
+    if any(h <= 0 for h in args.heat_dt):
+        parser.error(f"--heat-dt {args.heat_dt}: each must be > 0 s")
     print(f"DER benchmark: {platform.processor() or platform.machine()}, python {platform.python_version()}, "
           f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}")
     table = []
@@ -333,8 +394,13 @@ def main(argv: list[str] | None = None) -> int:
         print(f"rolling ribbon, 100 C plate, dt 0.01 s (fixed, or the first adaptive step), {args.duration:g} s "
               f"timed after {args.warmup:g} s of heating (CPU time; wall in brackets):")
         for n in args.nodes:
+            if args.same_state > 0:
+                table += same_state_rounds(n, args)
+                continue
             runs = {("now" if tol == 0 else f"tol {tol:g}"): ribbon_in_child(n, args.duration, args.warmup, None, tol)
                     for tol in args.error_tolerance}
+            for heat_dt in args.heat_dt:
+                runs[f"heat {heat_dt:g}"] = ribbon_in_child(n, args.duration, args.warmup, None, heat_dt=heat_dt)
             if args.baseline:
                 runs["baseline"] = ribbon_in_child(n, args.duration, args.warmup, args.baseline)
             for label, r in runs.items():
