@@ -1,6 +1,6 @@
 """p-multigrid for the quadratic (Q2/P2) displacement tangent: two levels on the same mesh.
 
-The fine level is the Q2 tangent K (the Jacobian SNES assembles), smoothed by Chebyshev/Jacobi;
+The fine level is the Q2 tangent K (the Jacobian SNES assembles), smoothed by one SSOR sweep;
 the coarse level is the Galerkin operator K_1 = P^T K P of the linear (Q1/P1) vector space on the
 same mesh, P the interpolation Q1 -> Q2 (exact: every Q1 function is a Q2 function), factorised
 (MUMPS LDL^T) or cycled by smoothed-aggregation AMG (GAMG) with the six rigid-body modes of the Q1
@@ -24,6 +24,8 @@ from petsc4py import PETSc
 import dolfinx
 import dolfinx.fem.petsc
 
+from lcefem.models.errors import InputError
+
 #: The PETSc options of the p-multigrid path (overrides of the Newton options; the problem's
 #: ``pc_type = "pmg"`` brings them): CG to a relative 1e-4 (inexact Newton, as for GAMG), PCMG with
 #: two levels and a multiplicative V-cycle; on Q2 one symmetric SOR sweep (PETSc's local SSOR, so
@@ -42,6 +44,7 @@ PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type"
                "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "cholesky",
                "mg_coarse_pc_factor_mat_solver_type": "mumps"}
 
+
 class PMultigrid:
     """Two-level p-multigrid (degree ``V``'s -> 1) for the tangent of the vector space ``V``.
 
@@ -54,11 +57,11 @@ class PMultigrid:
     def __init__(self, V: dolfinx.fem.FunctionSpace, near_nullspace, ksp: PETSc.KSP):
         pc = ksp.getPC()
         if pc.getType() != PETSc.PC.Type.MG or pc.getMGLevels() != 2:
-            raise ValueError('[petsc] pc_type = "pmg": pc_mg_levels must stay 2 (the fine and the '
+            raise InputError('[petsc] pc_type = "pmg": pc_mg_levels must stay 2 (the fine and the '
                              f'linear level), got {pc.getMGLevels()}')
         degree = V.ufl_element().embedded_superdegree
         if degree < 2:
-            raise ValueError(f'[petsc] pc_type = "pmg": needs displacements of degree >= 2, these have '
+            raise InputError(f'[petsc] pc_type = "pmg": needs displacements of degree >= 2, these have '
                              f'degree {degree} (use pc_type = "gamg")')
         mesh = V.mesh
         self.coarse_space = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))

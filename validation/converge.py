@@ -41,7 +41,6 @@ import math
 import pathlib
 import shutil
 import sys
-import time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -51,7 +50,7 @@ from lcefem.solvers.run import add_out_arguments, write_json, write_text
 from lcefem.validation import gci as gci_mod
 from lcefem.validation import plots
 from lcefem.validation.cases import CaseContext, registry
-from lcefem.validation.validate import MARKER, _isatty, load_complete, run_case
+from lcefem.validation.validate import MARKER, _isatty, guarded_run, load_complete, run_case
 
 MIN_LEVELS = 4
 MIN_RATIO = 1.3  # Celik et al. 2008: refinement ratio r = h_coarse/h_fine should exceed 1.3
@@ -251,13 +250,10 @@ def _farm_levels(case, out: pathlib.Path, levels: int, *, quiet: bool, resume: b
     each level whole on its rank's ``MPI.COMM_SELF``, so its answers are the serial run's. A level
     that raises ends the study with its one-line error after the other ranks have finished theirs
     (its traceback in ``out/level<i>/error.log``); an interrupt stops every rank (exit 130 / 143)."""
-    import traceback
-
     from mpi4py import MPI
     from tqdm import tqdm
 
     from lcefem.meshes.communicator import case_communicator
-    from lcefem.solvers.run import raise_if_interrupted
     from lcefem.validation import farm
     from lcefem.validation.report import CaseResult
 
@@ -265,27 +261,11 @@ def _farm_levels(case, out: pathlib.Path, levels: int, *, quiet: bool, resume: b
     results = [CaseResult(case.name, case.description, "not run", 0.0, level=i) for i in items]
 
     def run_one(level: int) -> CaseResult:
-        t0 = time.perf_counter()
-        try:
-            try:
-                with case_communicator(MPI.COMM_SELF):
-                    return _run_level(case, out, level, resume=resume, prolong=False, progress=False,
-                                      rank=comm.rank)
-            except Exception as exc:
-                raise_if_interrupted(exc)
-                raise
-        except KeyboardInterrupt as exc:
-            res = CaseResult(case.name, case.description, "interrupted", time.perf_counter() - t0,
-                             level=level, error=f"interrupted ({type(exc).__name__})", rank=comm.rank)
-            res.interrupt = exc
-            return res
-        except Exception as exc:
-            (out / f"level{level}").mkdir(parents=True, exist_ok=True)
-            write_text(out / f"level{level}" / "error.log", traceback.format_exc())
-            msg = f"level {level}: {type(exc).__name__}: {exc}".splitlines()[0]
-            status = "failed" if isinstance(exc, ConvergenceError) else "error"
-            return CaseResult(case.name, case.description, status, time.perf_counter() - t0,
-                              level=level, error=msg, rank=comm.rank)
+        with case_communicator(MPI.COMM_SELF):
+            return guarded_run(case, out / f"level{level}",
+                               lambda: _run_level(case, out, level, resume=resume, prolong=False,
+                                                  progress=False, rank=comm.rank),
+                               rank=comm.rank, level=level, label=f"level {level}: ")
 
     groups = [[i] for i in reversed(items)]  # the finest level costs most: first out
     bar = tqdm(total=levels, desc=f"converge {case.name} ({comm.size} ranks)", unit="level",

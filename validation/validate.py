@@ -247,10 +247,25 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
     if case_dir.is_dir():  # the case owns its folder: nothing of an earlier run may remain
         shutil.rmtree(case_dir)
     ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet if progress is None else progress)
+    result = guarded_run(case, case_dir, lambda: run_case(case, ctx, out), quick=quick, rank=rank,
+                         quiet=quiet)
+    if result.status == "done":
+        write_json(case_dir / MARKER, result.as_dict())  # LAST: marks the case complete
+    return result
+
+
+def guarded_run(case: Case, case_dir: pathlib.Path, run, *, quick: bool = False, rank: int | None = None,
+                level: int | None = None, quiet: bool = True, label: str = "") -> CaseResult:
+    """``run()`` (a CaseResult) with its outcome always returned: an interrupt as status
+    "interrupted" (the exception in ``.interrupt``, to be raised after the report), a
+    ConvergenceError as "failed" and any other exception as "error", with its traceback in
+    ``case_dir/error.log`` and a one-line message (``label`` before it, e.g. the mesh level;
+    printed unless ``quiet``). ``rank``: the MPI rank running it when farmed."""
     t0 = time.perf_counter()
+    meta = {"quick": quick, "rank": rank, "level": level}
     try:
         try:
-            result = dataclasses.replace(run_case(case, ctx, out), rank=rank)
+            return dataclasses.replace(run(), rank=rank)
         except Exception as exc:
             # A library may wrap the signal's exception in its own error (numba's compiler turns a
             # Ctrl-C/SIGTERM during a kernel's compilation into a RuntimeError): still an interrupt.
@@ -258,20 +273,18 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
             raise
     except KeyboardInterrupt as exc:
         result = CaseResult(case.name, case.description, "interrupted", time.perf_counter() - t0,
-                            quick=quick, error=f"interrupted ({type(exc).__name__})", rank=rank)
+                            error=f"interrupted ({type(exc).__name__})", **meta)
         result.interrupt = exc
         return result
     except Exception as exc:  # a failing case is reported and the run goes on
         case_dir.mkdir(parents=True, exist_ok=True)
         write_text(case_dir / "error.log", traceback.format_exc())
-        msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
+        msg = f"{label}{type(exc).__name__}: {exc}".splitlines()[0]
         status = "failed" if isinstance(exc, ConvergenceError) else "error"
         if not quiet:
             tqdm.write(f"lcefem validate: case {case.name} {status}: {msg}", file=sys.stderr)
-        return CaseResult(case.name, case.description, status, time.perf_counter() - t0, quick=quick,
-                          error=msg, rank=rank)
-    write_json(case_dir / MARKER, result.as_dict())  # LAST: marks the case complete
-    return result
+        return CaseResult(case.name, case.description, status, time.perf_counter() - t0, error=msg,
+                          **meta)
 
 
 def prepare(args: argparse.Namespace) -> None:
