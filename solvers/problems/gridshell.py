@@ -84,6 +84,7 @@ from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, as
 from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
 from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVES
 from lcefem.solvers.continuation import PathControl, PathFollower
+from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.heat import HeatProblem, HeatSetup
 from lcefem.solvers.thermomechanics import TemperatureFollower, temperature_path
 
@@ -660,20 +661,22 @@ class GridshellFE:
             self.stress.interpolate(expr, cells0=cells)
         self.stress.x.scatter_forward()
 
+    def _cell_fields(self) -> list[dolfinx.fem.Function]:
+        """The DG0 fields of cells.xdmf: lambda [-], von Mises stress [MPa], director."""
+        self.update_stress()
+        return [self.lam, self.stress, self.director]
+
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
-        """ParaView files of the current state in ``folder``: displacement.bp (Q2, VTX) and
-        cells.xdmf (lambda [-], von Mises stress [MPa], director, one value per cell)."""
+        """ParaView files of the current state in ``folder``: displacement.bp (Q2, VTX, written as
+        .part and renamed) and cells.xdmf (lambda [-], von Mises stress [MPa], director, one value
+        per cell)."""
         folder = pathlib.Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        comm = self.tmesh.mesh.comm
-        self.update_stress()
-        disp = folder / "displacement.bp"
-        with dolfinx.io.VTXWriter(comm, disp, [self.u], engine="BP4") as w:
-            w.write(t)
+        disp = write_snapshot(folder, "displacement.bp", [self.u], t)
         cells = folder / "cells.xdmf"
-        with dolfinx.io.XDMFFile(comm, cells, "w") as f:
+        with dolfinx.io.XDMFFile(self.tmesh.mesh.comm, cells, "w") as f:
             f.write_mesh(self.tmesh.mesh)
-            for fn in (self.lam, self.stress, self.director):
+            for fn in self._cell_fields():
                 f.write_function(fn, t)
         return [disp, cells]
 
@@ -731,6 +734,15 @@ class HeatedGridshellFE(GridshellFE):
                 tags = cell_group(self.tmesh, ch)
                 self._channel_T[ch] = (dolfinx.fem.form(self.heat.T * dx(tags)),
                                        assemble_global(dolfinx.fem.form(1.0 * dx(tags)), comm_))
+        # Output of the heated state (write_fields): lambda_s(T) [-] on the temperature space and
+        # at the strips' cell midpoints; the pads, glue and ribbons are passive (lambda_N).
+        lam_T = spontaneous_stretch(self.heat.T, self.transition)
+        self.lambda_s = dolfinx.fem.Function(self.heat.V, name="spontaneous_stretch")
+        self._lambda_s_expr = dolfinx.fem.Expression(lam_T, self.heat.V.element.interpolation_points)
+        self._lam_cells = dolfinx.fem.Function(self.V0, name="lambda")
+        self._lam_cells_expr = dolfinx.fem.Expression(lam_T, self.V0.element.interpolation_points)
+        tags = self.tmesh.cell_tags
+        self._strip_cells = tags.indices[np.isin(tags.values, list(self.strip_tags.values()))]
 
     def _strip_stretch_ratio(self, u):
         """a = lambda_s(T)/lambda_N (UFL) with T the temperature the mechanics sees; builds the
@@ -787,6 +799,24 @@ class HeatedGridshellFE(GridshellFE):
         out["T_max [C]"] = self.heat.max_temperature()
         out.update(super().observables())
         return out
+
+    def _cell_fields(self) -> list[dolfinx.fem.Function]:
+        """As :meth:`GridshellFE._cell_fields`, with lambda the strips' spontaneous stretch
+        lambda_s(T) [-] at their cell midpoints (the prescribed-lambda field is not used here)."""
+        self._lam_cells.x.array[:] = self.lambda_N
+        self._lam_cells.interpolate(self._lam_cells_expr, cells0=self._strip_cells)
+        self._lam_cells.x.scatter_forward()
+        return [self._lam_cells, *super()._cell_fields()[1:]]
+
+    def write_fields(self, folder, t: float | None = None) -> list[pathlib.Path]:
+        """:meth:`GridshellFE.write_fields` at the simulated time (default) plus temperature.bp
+        (VTX): the temperature T [C] and the spontaneous stretch lambda_s(T) [-] on Q1 (meaningful
+        in the LCE strips; the pads, glue and ribbons are passive)."""
+        t = self.time if t is None else t
+        files = super().write_fields(folder, t)
+        self.lambda_s.interpolate(self._lambda_s_expr)
+        files.append(write_snapshot(folder, "temperature.bp", [self.heat.T, self.lambda_s], t))
+        return files
 
     def advance_time(self, dt: float) -> dict[str, float]:
         """One heat step of ``dt`` [s] and the mechanics to the new temperature; returns the

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from lcefem.models.errors import InputError
+from lcefem.models.lce import spontaneous_stretch
 from lcefem.solvers.problems.gridshell import (FIG4_SHAPES, GridshellConfig, GridshellFE, PathControl,
                                                fig4_shape)
 
@@ -157,7 +158,7 @@ def test_table_carries_the_weight():
     assert -1e-4 < float(m.table.gaps().min()) < 0.0  # [mm]
 
 
-def test_heated_route_first_second():
+def test_heated_route_first_second(tmp_path):
     """Heated route, dome protocol, first second (quarter, level 0): each channel's coil heats its
     strips at nearly the adiabatic rate q/(rho c), q = I^2 R / (L W_s H) (the heated beam's power
     density): never faster (no other source), within 15 % of it (the strips lose heat by conduction
@@ -181,6 +182,21 @@ def test_heated_route_first_second():
     assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
     with pytest.raises(InputError):
         m.set_lambda({"Tx": 1.2})
+    # ParaView fields of the heated state: at a uniform T_NI the strips' cell lambda is the
+    # transition's lambda_s(T_NI) (Q = Q0/2), the passive pads, glue and ribbons keep lambda_N
+    m.heat.T.x.array[:] = m.transition.T_NI
+    files = m.write_fields(tmp_path)
+    assert [f.name for f in files] == ["displacement.bp", "cells.xdmf", "temperature.bp"]
+    assert all(f.exists() for f in files)
+    lam = m._cell_fields()[0].x.array
+    strips = np.zeros(lam.size, dtype=bool)
+    strips[m._cell_dof[m._strip_cells]] = True  # the DG0 dofs of the strip cells
+    assert strips.any() and not strips.all()
+    at_tni = float(spontaneous_stretch(m.transition.T_NI, m.transition))
+    assert 1.0 < at_tni < m.lambda_N
+    np.testing.assert_allclose(lam[strips], at_tni, rtol=1e-12)
+    np.testing.assert_array_equal(lam[~strips], m.lambda_N)
+    np.testing.assert_allclose(m.lambda_s.x.array, at_tni, rtol=1e-12)
 
 
 def test_heated_hold_reaches_the_steady_state():
