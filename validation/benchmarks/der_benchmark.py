@@ -62,7 +62,7 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
     ``duration`` simulated seconds of the rolling ribbon (fixed steps of dt, or adaptive steps to
     every record time when ``error_tolerance`` [mm] > 0). ``save_state``: pickle the simulation there
     after the warm-up instead of timing; ``load_state``: time from that pickle instead of warming up
-    (fixed steps; every code from the same state)."""
+    (fixed steps; every code from the same state, with its own solver options)."""
     from lcefem.models.ribbon import RibbonGeometry
     from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
 
@@ -79,6 +79,11 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
         with open(load_state, "rb") as fh:
             sim = pickle.load(fh)
         sim.setup = dataclasses.replace(sim.setup, numerics=dataclasses.replace(sim.setup.numerics, **control))
+        # The pickle carries the solver options of the code that warmed up; every code steps with its own
+        # (those a fresh simulation of this package builds; no settling needed for them).
+        own = RibbonSimulation(dataclasses.replace(setup, numerics=dataclasses.replace(setup.numerics,
+                                                                                       settle_time=0.0)))
+        sim.options = sim.integrator.options = own.options
         sim.step(dt)  # numba compilation or cache load, outside the timing
     else:
         sim = RibbonSimulation(setup)
