@@ -90,6 +90,12 @@ class RibbonNumerics:
                           "iterations. Measured (issue 17, rolling, 70-73 s on the 100 C plate, same state): 5.15 -> "
                           "4.00 Newton/step and 4.6 -> 3.5 Hessians/step at 100 nodes, 13.0 -> 6.0 Newton/step at "
                           "31 nodes; the 16-node landing 312 -> 89 iterations (README, fifth pass)", minimum=0)
+    elastic_hessian_at_source: bool = param(
+        False, "-", "chosen: True: the Newton iterates of a step take the elastic Hessian of their transport source "
+        "(StepOptions.elastic_hessian_at_source; inertia, contact and friction Hessians their own). Measured (issue "
+        "17, rolling, same state): 17-19 % less mechanics CPU at 60 and 100 nodes, 4 % at 31; but the default-level "
+        "100 C speed (31 nodes, 60 s) 2.495 +- 0.005 mm/s against 2.520 +- 0.014 with exact Hessians (imperfection "
+        "0.0099 / 0.01 / 0.0101 rad/s), a shift as large as that spread, hence off by default (README, fifth pass)")
     heat_dt: float = param(0.0, "s", "chosen: multirate heat step. The section heat step is taken once this much "
                            "mechanics time has passed, over that whole time, on the geometry at its end, and the "
                            "mechanics steps in between take the natural shape of the last two heat steps taken "
@@ -276,7 +282,8 @@ class RibbonSimulation:
                                unchecked_step=1e-4 * g.thickness, lag_residual=num.lag_tol * weight,
                                watchdog=num.watchdog)
         # extrapolated guess: rolling is smooth, and it saves ~0.5 Newton iterations per step (issue 17)
-        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, extrapolate=True, newton=newton)
+        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, extrapolate=True, newton=newton,
+                                   elastic_hessian_at_source=num.elastic_hessian_at_source)
         self.integrator = Integrator(self.rod, state, self.options, on_failure=on_failure)
         self.control = None
         if num.error_tolerance > 0:
