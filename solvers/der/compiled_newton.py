@@ -7,8 +7,9 @@ more than ``resource_angle``, the elastic and contact/friction kernels of
 :mod:`lcefem.solvers.der.kernels` added into the inertial gradient and band, fixed dofs masked, the
 banded Cholesky factor of H + lambda I (Levenberg shift grown tenfold), the lagged-Hessian (chord)
 steps below ``lag_residual``, the step limits, the unchecked steps, the Armijo test with the watchdog
-and the backtracking line search (and ``StepOptions.elastic_hessian_at_source``). Why: at the ribbon's sizes the Python around the kernels (state
-objects, masks, the trial logic, scipy's LAPACK wrappers) cost as much as the kernels (issue 17).
+and the backtracking line search (and ``StepOptions.elastic_hessian_at_source``). Why: at the ribbon's
+sizes the Python around the kernels (state objects, masks, the trial logic, scipy's LAPACK wrappers)
+cost as much as the kernels (issue 17).
 
 The banded Cholesky (:func:`kernels.band_cholesky`) is LAPACK's unblocked lower ``dpbtf2`` /
 ``dpbtrs`` written out (dpbtrf takes the unblocked path for half-bandwidths below its block size,

@@ -63,8 +63,10 @@ class StepOptions:
     # True: a Newton iterate moved from a transport source takes the source's elastic Hessian (its
     # gradient, the inertia, contact and friction terms stay its own): a modified Newton, because
     # within a step the shape moves by ~0.01 mm while the contact and friction Hessians change with
-    # every iterate; it saves ~35 % of a Hessian evaluation (100-node ribbon: 587 -> ~370 us; issue 17). The
-    # converged state is the same minimiser (to force_tol); iterations converge linearly near it.
+    # every iterate; it saves ~35 % of a Hessian evaluation (100-node ribbon: 587 -> ~370 us, issue
+    # 17). Newton still stops within force_tol of a minimiser of the same step potential (converging
+    # linearly near it), but in a contact event its other route may reach another one (README, DER,
+    # fifth pass: the 60 s ribbon 1 % slower), hence off by default.
     elastic_hessian_at_source: bool = False
 
     def __post_init__(self):

@@ -339,8 +339,8 @@ def peers(c: Cantilever) -> list[dict]:
 
 def same_state_rounds(nodes: int, args) -> list[dict]:
     """``--same-state``: warm up once (this code), then time the baseline, this code, each
-    ``--heat-dt`` and ``--source-elastic`` from that state, alternating, ``args.same_state`` rounds; prints and returns the
-    best and median CPU ms per step of each."""
+    ``--heat-dt`` and ``--source-elastic`` from that state, alternating, ``args.same_state`` rounds;
+    prints and returns the best and median CPU ms per step of each."""
     codes = ([("baseline", args.baseline, {})] if args.baseline else []) + [("now", None, {})] + [
         (f"heat {h:g}", None, {"heat_dt": h}) for h in args.heat_dt] + (
         [("el. source", None, {"elastic_hessian_at_source": True})] if args.source_elastic else [])
