@@ -65,8 +65,9 @@ class StepOptions:
     # within a step the shape moves by ~0.01 mm while the contact and friction Hessians change with
     # every iterate; it saves ~35 % of a Hessian evaluation (100-node ribbon: 587 -> ~370 us, issue
     # 17). Newton still stops within force_tol of a minimiser of the same step potential (converging
-    # linearly near it), yet the 60 s ribbon rolls 1 % slower with it, for a reason not found (README,
-    # DER, fifth pass), hence off by default.
+    # linearly near it); the 60 s ribbon's paths agree to 1e-8 mm until the rolling onset, which
+    # parts them, and its 30-60 s mean speed came out 1 % lower in eight runs (README, DER, fifth
+    # pass), hence off by default.
     elastic_hessian_at_source: bool = False
 
     def __post_init__(self):

@@ -95,8 +95,8 @@ class RibbonNumerics:
         "(StepOptions.elastic_hessian_at_source; inertia, contact and friction Hessians their own). Measured (issue "
         "17, rolling, same state): 17-19 % less mechanics CPU at 60 and 100 nodes, 4 % at 31; but the default-level "
         "100 C speed (31 nodes, 60 s) 2.495 +- 0.005 mm/s against 2.520 +- 0.014 with exact Hessians (imperfection "
-        "0.0099 / 0.01 / 0.0101 rad/s), a shift as large as that spread and not understood, hence off by default "
-        "(README, fifth pass)")
+        "0.0099 / 0.01 / 0.0101 rad/s); the paths agree to 1e-8 mm until the rolling onset (35 s), which parts "
+        "them, so the shift may be the onset's sensitivity; off until settled (README, fifth pass)")
     heat_dt: float = param(0.0, "s", "chosen: multirate heat step. The section heat step is taken once this much "
                            "mechanics time has passed, over that whole time, on the geometry at its end, and the "
                            "mechanics steps in between take the natural shape of the last two heat steps taken "
