@@ -7,8 +7,9 @@ more than ``resource_angle``, the elastic and contact/friction kernels of
 :mod:`lcefem.solvers.der.kernels` added into the inertial gradient and band, fixed dofs masked, the
 banded Cholesky factor of H + lambda I (Levenberg shift grown tenfold), the lagged-Hessian (chord)
 steps below ``lag_residual``, the step limits, the unchecked steps, the Armijo test with the watchdog
-and the backtracking line search. Why: at the ribbon's sizes the Python around the kernels (state
-objects, masks, the trial logic, scipy's LAPACK wrappers) cost as much as the kernels (issue 17).
+and the backtracking line search (and ``StepOptions.elastic_hessian_at_source``). Why: at the ribbon's
+sizes the Python around the kernels (state objects, masks, the trial logic, scipy's LAPACK wrappers)
+cost as much as the kernels (issue 17).
 
 The banded Cholesky (:func:`kernels.band_cholesky`) is LAPACK's unblocked lower ``dpbtf2`` /
 ``dpbtrs`` written out (dpbtrf takes the unblocked path for half-bandwidths below its block size,
@@ -73,9 +74,12 @@ def _q(st):
 
 
 @njit(cache=True)
-def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no_ddb, no_band):
+def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no_ddb, no_band, source_elastic,
+              elastic_band):
     """``StepPotential.evaluate``: (energy, grad, band) of the state ``st`` (``own``: its frames are its
-    own, no source change); order 0 energy, 1 with gradient, 2 with the lower band."""
+    own, no source change); order 0 energy, 1 with gradient, 2 with the lower band. ``source_elastic``
+    (``StepOptions.elastic_hessian_at_source``): the elastic part of the band of a source (own) state
+    is stored in ``elastic_band`` and a moved state takes that one instead of its own."""
     mass, q_n, q_star, load, diag, h, damping = inertia
     rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ = rest
     side, sigma, offsets, end_ids, end_sigma, end_offsets = sampling
@@ -100,8 +104,18 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
         if np.max(np.abs(src_t - t)) != 0.0:
             db, ddb = kernels.source_change(src_t, t, length)
             with_source = True
-    energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
-                              db, ddb, with_source, order >= 2, grad, band)
+    if order >= 2 and source_elastic:
+        if own:
+            elastic_band[:, :] = 0.0
+            energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
+                                      db, ddb, with_source, True, grad, elastic_band)
+        else:
+            energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
+                                      db, ddb, with_source, False, grad, no_band)
+        band += elastic_band
+    else:
+        energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
+                                  db, ddb, with_source, order >= 2, grad, band)
     if len(heights):
         pos_s, r_s, pos_e, r_e = kernels.sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
                                                        end_sigma, end_offsets)
@@ -166,9 +180,11 @@ def _max_abs_nodes_twists(step):
 
 
 @njit(cache=True)
-def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, rest, sampling, contact, options):
+def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, rest, sampling, contact, options,
+                  source_elastic):
     """``newton.minimise`` of the step potential from the state (start_x, start_theta, start_a1,
-    start_ref) (its own frames: the start is the first source).
+    start_ref) (its own frames: the start is the first source); ``source_elastic``: the iterates moved
+    from a source take its elastic Hessian (``StepOptions.elastic_hessian_at_source``).
 
     options = (max_iterations, force_tol, step_tol, armijo, min_step, max_shift_tries, watchdog,
     cos(resource_angle), max_rotation, max_displacement, unchecked_step, lag_residual, lag_contraction).
@@ -187,6 +203,7 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
     moved_state, yes = np.bool_(False), np.bool_(True)
     source = _own_geometry(start_x, start_theta, start_a1, start_ref)
     nd = len(fixed)
+    elastic_band = np.zeros((11, nd)) if source_elastic else no_band  # the source's elastic Hessian
     total = np.zeros(nd)
     state = source
     own = yes  # the current state is the source itself
@@ -212,7 +229,7 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         previous = residual
         if not have_d:
             d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, with_band,
-                                                 no_db, no_ddb, no_band)
+                                                 no_db, no_ddb, no_band, source_elastic, elastic_band)
             d_has_band = True
             have_d = True
         _mask(fixed, d_grad, d_band, d_has_band)
@@ -225,7 +242,7 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
             return 0, it - 1, residual, state, own, source[6]
         if not d_has_band and (not have_factor or residual > lag_contraction * previous):
             d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, with_band,
-                                                 no_db, no_ddb, no_band)
+                                                 no_db, no_ddb, no_band, source_elastic, elastic_band)
             d_has_band = True
             _mask(fixed, d_grad, d_band, yes)
         if d_has_band:
@@ -252,13 +269,15 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
             state, total, own = trial, total + step, moved_state
             if lag:
                 d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact,
-                                                     with_gradient, no_db, no_ddb, no_band)
+                                                     with_gradient, no_db, no_ddb, no_band, source_elastic,
+                                                     elastic_band)
                 d_has_band = False
             else:
                 have_d = False
             continue
         t_energy, t_grad, t_band = _evaluate(trial, moved_state, source[6], inertia, rest, sampling, contact,
-                                             with_gradient if lag else with_band, no_db, no_ddb, no_band)
+                                             with_gradient if lag else with_band, no_db, no_ddb, no_band,
+                                             source_elastic, elastic_band)
         finite = np.isfinite(t_energy)
         if finite and t_energy <= d_energy + armijo * slope + allowance:
             state, total, own = trial, total + step, moved_state
@@ -282,7 +301,7 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         while True:
             trial = _moved(source, total + alpha * step)
             e_trial = _evaluate(trial, moved_state, source[6], inertia, rest, sampling, contact, energy_only, no_db,
-                                no_ddb, no_band)[0]
+                                no_ddb, no_band, source_elastic, elastic_band)[0]
             if np.isfinite(e_trial) and e_trial <= energy0 + armijo * alpha * slope + allowance:
                 break
             alpha *= 0.5

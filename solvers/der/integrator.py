@@ -60,6 +60,15 @@ class StepOptions:
     # The Newton loop in one compiled call (compiled_newton.minimise_step: the same algorithm as
     # newton.minimise, iterates equal to round-off); False: the Python loop, kept as the reference.
     compiled: bool = True
+    # True: a Newton iterate moved from a transport source takes the source's elastic Hessian (its
+    # gradient, the inertia, contact and friction terms stay its own): a modified Newton, because
+    # within a step the shape moves by ~0.01 mm while the contact and friction Hessians change with
+    # every iterate; it saves ~35 % of a Hessian evaluation (100-node ribbon: 587 -> ~370 us, issue
+    # 17). Newton still stops within force_tol of a minimiser of the same step potential (converging
+    # linearly near it); the 60 s ribbon's paths agree to 1e-8 mm until the rolling onset, which
+    # parts them, and its 30-60 s mean speed came out 1 % lower in eight runs (README, DER, fifth
+    # pass), hence off by default.
+    elastic_hessian_at_source: bool = False
 
     def __post_init__(self):
         if self.method not in METHODS:
@@ -122,8 +131,10 @@ class StepPotential:
     """The incremental potential Phi of one implicit step of length h from ``start``."""
 
     def __init__(self, rod: DiscreteRod, start: RodState, h: float, assembly: Assembly,
-                 sampling: ContactSampling, lag: FrictionLag | None):
+                 sampling: ContactSampling, lag: FrictionLag | None, elastic_hessian_at_source: bool = False):
         self.rod, self.h, self.asm, self.lag, self.sampling = rod, h, assembly, lag, sampling
+        self.source_elastic = elastic_hessian_at_source  # StepOptions.elastic_hessian_at_source
+        self._elastic_band = None  # the elastic Hessian of the last source evaluated (own frames)
         self.mass = rod.mass_vector()
         self.q_n = start.q()
         self.q_star = self.q_n + h * start.qdot()
@@ -153,7 +164,15 @@ class StepPotential:
                 band = np.zeros((BANDWIDTH + 1, len(q)))
                 band[0] = self.diag
             out = (grad, band)
-        energy += self.asm.elastic(self.rod, state, order, out=out)[0]
+        if order >= 2 and self.source_elastic:
+            if state.source_tangents is None:  # a source: its elastic Hessian, kept for the iterates moved from it
+                self._elastic_band = np.zeros_like(band)
+                energy += self.asm.elastic(self.rod, state, 2, out=(grad, self._elastic_band))[0]
+            else:
+                energy += self.asm.elastic(self.rod, state, 1, out=(grad, None))[0]
+            band += self._elastic_band
+        else:
+            energy += self.asm.elastic(self.rod, state, order, out=out)[0]
         energy += self.asm.contact(self.rod, state, self.sampling, order, friction=self.lag, step=h, out=out)[0]
         if order == 0:
             return Derivatives(energy, None, None)
@@ -173,7 +192,8 @@ class StepPotential:
         c = np.ascontiguousarray  # one kernel signature whatever the caller's array layouts
         result = compiled_newton.minimise_step(
             c(start.x, float), c(start.theta, float), c(start.a1, float), c(start.ref_twist, float),
-            c(rod.fixed, bool), inertia, rest_arrays, sampling, self._contact_arrays(), _options_tuple(options))
+            c(rod.fixed, bool), inertia, rest_arrays, sampling, self._contact_arrays(), _options_tuple(options),
+            bool(self.source_elastic))
         code, iterations, residual, (x, theta, a1, ref, e, length, t, m1, m2, twist), own, source_t = result
         state = RodState(x, theta, start.v.copy(), start.omega.copy(), a1, ref, start.time,
                          None if own else source_t)
@@ -252,7 +272,8 @@ class Integrator:
         result = None
         passes = self.options.friction_iterations if use_friction else 1
         for k in range(passes):
-            potential = StepPotential(rod, start, h, self.assembly, self.sampling, lag)
+            potential = StepPotential(rod, start, h, self.assembly, self.sampling, lag,
+                                      self.options.elastic_hessian_at_source)
             if self.options.compiled:
                 result = potential.minimise(guess, self.options.newton)
             else:

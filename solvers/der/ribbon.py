@@ -83,6 +83,20 @@ class RibbonNumerics:
                            "Newton reuses the last Hessian factor while the residual falls at least 4x per "
                            "iteration (newton.minimise): the same equilibria to force_tol, fewer Hessian "
                            "evaluations; 0: a fresh Hessian every iteration", minimum=0.0)
+    watchdog: int = param(0, "-", "chosen: full Newton steps allowed to raise the incremental potential before the "
+                          "line search backtracks (NewtonOptions.watchdog; 3 elsewhere). In a contact event the full "
+                          "step slides the ribbon along a soft (inertia-only) direction, 0.2-0.7 mm against a "
+                          "~0.01 mm correction, and the watched steps cycled back to the checkpoint for up to 30 "
+                          "iterations. Measured (issue 17, rolling, 70-73 s on the 100 C plate, same state): 5.15 -> "
+                          "4.00 Newton/step and 4.6 -> 3.5 Hessians/step at 100 nodes, 13.0 -> 6.0 Newton/step at "
+                          "31 nodes; the 16-node landing 312 -> 89 iterations (README, fifth pass)", minimum=0)
+    elastic_hessian_at_source: bool = param(
+        False, "-", "chosen: True: the Newton iterates of a step take the elastic Hessian of their transport source "
+        "(StepOptions.elastic_hessian_at_source; inertia, contact and friction Hessians their own). Measured (issue "
+        "17, rolling, same state): 17-19 % less mechanics CPU at 60 and 100 nodes, 4 % at 31; but the default-level "
+        "100 C speed (31 nodes, 60 s) 2.495 +- 0.005 mm/s against 2.520 +- 0.014 with exact Hessians (imperfection "
+        "0.0099 / 0.01 / 0.0101 rad/s); the paths agree to 1e-8 mm until the rolling onset (35 s), which parts "
+        "them, so the shift may be the onset's sensitivity; off until settled (README, fifth pass)")
     heat_dt: float = param(0.0, "s", "chosen: multirate heat step. The section heat step is taken once this much "
                            "mechanics time has passed, over that whole time, on the geometry at its end, and the "
                            "mechanics steps in between take the natural shape of the last two heat steps taken "
@@ -266,9 +280,11 @@ class RibbonSimulation:
         weight = float(node_mass.max() * STANDARD_GRAVITY)
         newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
                                max_rotation=0.2, max_displacement=0.25 * g.thickness,
-                               unchecked_step=1e-4 * g.thickness, lag_residual=num.lag_tol * weight)
+                               unchecked_step=1e-4 * g.thickness, lag_residual=num.lag_tol * weight,
+                               watchdog=num.watchdog)
         # extrapolated guess: rolling is smooth, and it saves ~0.5 Newton iterations per step (issue 17)
-        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, extrapolate=True, newton=newton)
+        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, extrapolate=True, newton=newton,
+                                   elastic_hessian_at_source=num.elastic_hessian_at_source)
         self.integrator = Integrator(self.rod, state, self.options, on_failure=on_failure)
         self.control = None
         if num.error_tolerance > 0:

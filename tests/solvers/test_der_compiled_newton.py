@@ -65,11 +65,13 @@ def _run_both(make, steps, dt):
     return py, cc, rep_py
 
 
-def test_ribbon_on_the_hot_plate_same_iterates():
+@pytest.mark.parametrize("at_source", [False, True])
+def test_ribbon_on_the_hot_plate_same_iterates(at_source):
     """16-node ribbon settled on the 100 C plate, 25 steps of 0.02 s heating (contact, friction,
-    lagged Hessians and a moving source every step)."""
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
-                                       numerics=RibbonNumerics(nodes=16, dt=0.02, settle_time=0.1)))
+    lagged Hessians and a moving source every step), with exact Hessians and with the elastic Hessian
+    of the transport source (``StepOptions.elastic_hessian_at_source``)."""
+    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(
+        nodes=16, dt=0.02, settle_time=0.1, elastic_hessian_at_source=at_source)))
     state = sim.state.copy()
     state.acceleration = sim.state.acceleration
 

@@ -166,17 +166,24 @@ def test_mirrored_twist_rolls_the_other_way():
     start (m1 = +z at s = 0) and the imperfection spin into its mirror image, so the left-handed
     ribbon's path must be the mirror image of the right-handed one's: the same x and z, opposite y.
     6 s on a 100 C plate (24 nodes, 0.02 s): both move ~0.9 mm sideways, opposite ways; the paths
-    agree with the mirror image to 3.7e-3 mm (measured; the Newton tolerance lets contact events
-    differ slightly), asserted within 2e-2 mm, 2 % of the sideways motion."""
+    agree with the mirror image to 2e-10 mm with Newton converged to 1e-7 node weights, asserted
+    within 2e-2 mm, 2 % of the sideways motion. (At the default force_tol, 1e-5, the two Newton
+    loops stop at slightly different iterates and a contact event at 3-3.5 s amplifies that: 3.7e-3 mm
+    at 6 s with watched Newton steps, 2.7e-2 mm without, issue 17: a test of the tolerance's
+    footprint, not of the symmetry.)"""
     sims = [RibbonSimulation(RibbonSetup(geometry=RibbonGeometry(twist_density=tw), ground_temperature=100.0,
-                                         numerics=RibbonNumerics(nodes=24, dt=0.02))) for tw in (0.05, -0.05)]
+                                         numerics=RibbonNumerics(nodes=24, dt=0.02, force_tol=1e-7)))
+            for tw in (0.05, -0.05)]
     y0 = [s.state.x[:, 1].mean() for s in sims]
     for s in sims:
         s.advance(6.0)
     right, left = (s.state.x for s in sims)
     assert np.abs(right - left * np.array([1.0, -1.0, 1.0])).max() < 2e-2
     moved = [s.state.x[:, 1].mean() - y for s, y in zip(sims, y0)]
-    assert moved[0] < -0.5 and moved[1] > 0.5
+    # Which way the pair goes is not asserted: the settled ribbon is symmetric under a half turn about
+    # the vertical, and the Newton path of the landing picks the side (with and without watched steps
+    # the right-handed ribbon's 20 s paths are exact mirror images, y -> -y, to 0.01 mm; issue 17).
+    assert moved[0] * moved[1] < 0 and min(abs(m) for m in moved) > 0.5
 
 
 def test_heat_step_balances_stored_and_exchanged_heat():

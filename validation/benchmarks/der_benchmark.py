@@ -3,14 +3,15 @@ cantilever problems against PyElastica (and DisMech) where they are installed.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
         [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
-        [--skip-peers] [--heat-dt 0.02] [--same-state ROUNDS] [--csv out.csv]
+        [--skip-peers] [--heat-dt 0.02] [--source-elastic] [--same-state ROUNDS] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
 ``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s, or
 with adaptive steps (``--error-tolerance`` > 0 [mm], ``RibbonNumerics.error_tolerance``; the run
 advances record interval by record interval, 0.05 s, as ``run_ribbon`` does): CPU and wall ms per step (and the CPU ms of the mechanics step alone; the rest is the section heat
 step and the natural shape of the new temperatures; ``--heat-dt``: also with that multirate heat step,
-``RibbonNumerics.heat_dt``), Newton iterations per step, and
+``RibbonNumerics.heat_dt``; ``--source-elastic``: also with ``RibbonNumerics.elastic_hessian_at_source``),
+Newton iterations per step, and
 the real-time factor (simulated seconds per CPU second, > 1: faster than real time; CPU time because
 the machine is shared, wall time printed next to it). ``--baseline DIR`` runs the same loop with
 ``lcefem`` imported from DIR (e.g. ``git archive <commit> | tar -x -C DIR/lcefem``), in a child
@@ -57,12 +58,13 @@ import numpy as np
 
 def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0,
                error_tolerance: float = 0.0, record: float = 0.05, heat_dt: float = 0.0,
+               elastic_hessian_at_source: bool = False,
                save_state: str | None = None, load_state: str | None = None) -> dict:
     """Settle, heat for ``warmup`` simulated seconds (untimed: the ribbon starts to roll), then time
     ``duration`` simulated seconds of the rolling ribbon (fixed steps of dt, or adaptive steps to
     every record time when ``error_tolerance`` [mm] > 0). ``save_state``: pickle the simulation there
     after the warm-up instead of timing; ``load_state``: time from that pickle instead of warming up
-    (fixed steps; every code from the same state)."""
+    (fixed steps; every code from the same state, with its own solver options)."""
     from lcefem.models.ribbon import RibbonGeometry
     from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
 
@@ -71,6 +73,8 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
     control = {"error_tolerance": error_tolerance} if "error_tolerance" in fields else {}
     if heat_dt:
         control["heat_dt"] = heat_dt
+    if elastic_hessian_at_source:
+        control["elastic_hessian_at_source"] = True
     setup = RibbonSetup(geometry=RibbonGeometry(), ground_temperature=ground_temperature,
                         numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt, **control))
     t0 = time.perf_counter()
@@ -79,6 +83,13 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
         with open(load_state, "rb") as fh:
             sim = pickle.load(fh)
         sim.setup = dataclasses.replace(sim.setup, numerics=dataclasses.replace(sim.setup.numerics, **control))
+        # The pickle carries the solver options of the code that warmed up; every code steps with its own
+        # (those a fresh simulation of this package builds; no settling needed for them).
+        own = RibbonSimulation(dataclasses.replace(setup, numerics=dataclasses.replace(setup.numerics,
+                                                                                       settle_time=0.0)))
+        sim.integrator.options = own.integrator.options
+        if hasattr(sim, "options"):  # (an older package keeps them on the integrator only)
+            sim.options = own.integrator.options
         sim.step(dt)  # numba compilation or cache load, outside the timing
     else:
         sim = RibbonSimulation(setup)
@@ -131,7 +142,8 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
 
 def ribbon_in_child(nodes: int, duration: float, warmup: float, path: str | None, error_tolerance: float = 0.0,
                     **options) -> dict:
-    """:func:`ribbon_run` (keyword ``options``: heat_dt, save_state, load_state) in a child process,
+    """:func:`ribbon_run` (keyword ``options``: heat_dt, elastic_hessian_at_source, save_state, load_state) in a
+    child process,
     with ``lcefem`` from ``path`` when given (fixed steps only there: an older package may not have
     the adaptive ones)."""
     env = dict(os.environ)
@@ -328,11 +340,12 @@ def peers(c: Cantilever) -> list[dict]:
 
 
 def same_state_rounds(nodes: int, args) -> list[dict]:
-    """``--same-state``: warm up once (this code), then time the baseline, this code and each
-    ``--heat-dt`` from that state, alternating, ``args.same_state`` rounds; prints and returns the
-    best and median CPU ms per step of each."""
+    """``--same-state``: warm up once (this code), then time the baseline, this code, each
+    ``--heat-dt`` and ``--source-elastic`` from that state, alternating, ``args.same_state`` rounds;
+    prints and returns the best and median CPU ms per step of each."""
     codes = ([("baseline", args.baseline, {})] if args.baseline else []) + [("now", None, {})] + [
-        (f"heat {h:g}", None, {"heat_dt": h}) for h in args.heat_dt]
+        (f"heat {h:g}", None, {"heat_dt": h}) for h in args.heat_dt] + (
+        [("el. source", None, {"elastic_hessian_at_source": True})] if args.source_elastic else [])
     with tempfile.TemporaryDirectory() as tmp:
         state = os.path.join(tmp, f"ribbon_{nodes}.pickle")
         ribbon_in_child(nodes, args.duration, args.warmup, None, save_state=state)
@@ -371,6 +384,8 @@ def main(argv: list[str] | None = None) -> int:
                              "(the ribbon heats and starts rolling)")
     parser.add_argument("--error-tolerance", type=float, nargs="+", default=[0.0],
                         help="ribbon step control: 0 fixed 0.01 s steps, > 0 adaptive with this local error [mm]")
+    parser.add_argument("--source-elastic", action="store_true",
+                        help="also run the ribbon (fixed steps) with RibbonNumerics.elastic_hessian_at_source")
     parser.add_argument("--heat-dt", type=float, nargs="+", default=[],
                         help="also run the ribbon (fixed steps) with these multirate heat steps [s] "
                              "(RibbonNumerics.heat_dt; the default run has 0: a heat step every step)")
@@ -401,6 +416,9 @@ def main(argv: list[str] | None = None) -> int:
                     for tol in args.error_tolerance}
             for heat_dt in args.heat_dt:
                 runs[f"heat {heat_dt:g}"] = ribbon_in_child(n, args.duration, args.warmup, None, heat_dt=heat_dt)
+            if args.source_elastic:
+                runs["el. source"] = ribbon_in_child(n, args.duration, args.warmup, None,
+                                                     elastic_hessian_at_source=True)
             if args.baseline:
                 runs["baseline"] = ribbon_in_child(n, args.duration, args.warmup, args.baseline)
             for label, r in runs.items():
