@@ -118,7 +118,9 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 #: Newton step and the default step controller (``O2``: the kernels compiled with dolfinx's default
 #: flags instead of :data:`lcefem.solvers.mechanics.JIT_OPTIONS`; ``tangent``: the Euler predictor
 #: instead of the curved one; ``before``: both, and the step control aiming at 10 iterations with
-#: steps up to 0.2, the state before issue 13's beam-ramp work; ``t12``: the beam's step control
+#: steps up to 0.2 and the whole tangent stored (AIJ), the state before issue 13's beam-ramp work;
+#: ``aij``: the whole tangent stored instead of its upper triangle in node blocks
+#: (:data:`lcefem.solvers.mechanics.PACKED_TANGENT`); ``t12``: the beam's step control
 #: (:data:`lcefem.solvers.problems.composite_beam.BEAM_CONTROL`, 12 iterations, steps up to 0.25),
 #: ``t10``: the shared defaults (10 iterations, steps up to 0.2);
 #: ``native``: the kernels compiled for this processor, ``-march=native``); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
@@ -131,7 +133,9 @@ NEWTON_NPC = {"npc_snes_type": "newtonls", "npc_snes_max_it": 1, "npc_snes_lines
 
 BEAM_VARIANTS = {
     "newton": {},
-    "before": {"jit_options": {}, "predictor": "tangent", "target_iterations": 10, "max_step": 0.2},
+    "before": {"jit_options": {}, "packed_tangent": False, "predictor": "tangent",
+               "target_iterations": 10, "max_step": 0.2},
+    "aij": {"packed_tangent": False},
     "t10": {"target_iterations": 10, "max_step": 0.2},
     "O2": {"jit_options": {}},
     "tangent": {"predictor": "tangent"},
@@ -165,6 +169,8 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
     options = dict(BEAM_VARIANTS[variant])
     if "jit_options" in options:  # the kernels compiled with other flags (e.g. dolfinx's -O2)
         mechanics.JIT_OPTIONS = options.pop("jit_options")
+    if "packed_tangent" in options:  # AIJ instead of the upper triangle in node blocks (SBAIJ)
+        mechanics.PACKED_TANGENT = options.pop("packed_tangent")
     if "jit_extra_flags" in options:  # more compile flags than JIT_OPTIONS's (e.g. -march=native)
         flags = mechanics.JIT_OPTIONS["cffi_extra_compile_args"] + options.pop("jit_extra_flags")
         mechanics.JIT_OPTIONS = {**mechanics.JIT_OPTIONS, "cffi_extra_compile_args": flags}
