@@ -120,7 +120,9 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 #: instead of the curved one; ``before``: both, and the step control aiming at 10 iterations with
 #: steps up to 0.2 and the whole tangent stored (AIJ), the state before issue 13's beam-ramp work;
 #: ``aij``: the whole tangent stored instead of its upper triangle in node blocks
-#: (:data:`lcefem.solvers.mechanics.PACKED_TANGENT`); ``t12``: the beam's step control
+#: (:data:`lcefem.solvers.mechanics.PACKED_TANGENT`); ``metis``: METIS's ordering instead of
+#: :data:`lcefem.solvers.problems.composite_beam.BEAM_ORDERING`'s; ``base``: both, the default of
+#: 2026-11-25; ``t12``: the beam's step control
 #: (:data:`lcefem.solvers.problems.composite_beam.BEAM_CONTROL`, 12 iterations, steps up to 0.25),
 #: ``t10``: the shared defaults (10 iterations, steps up to 0.2);
 #: ``native``: the kernels compiled for this processor, ``-march=native``); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
@@ -136,6 +138,8 @@ BEAM_VARIANTS = {
     "before": {"jit_options": {}, "packed_tangent": False, "predictor": "tangent",
                "target_iterations": 10, "max_step": 0.2},
     "aij": {"packed_tangent": False},
+    "metis": {"mat_mumps_icntl_7": 5},
+    "base": {"packed_tangent": False, "mat_mumps_icntl_7": 5},
     "t10": {"target_iterations": 10, "max_step": 0.2},
     "O2": {"jit_options": {}},
     "tangent": {"predictor": "tangent"},
