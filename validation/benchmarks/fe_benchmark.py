@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import csv
 import dataclasses
+import datetime
 import json
 import pathlib
 import subprocess
@@ -38,7 +39,7 @@ import time
 COLUMNS = ["case", "variant", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
            "jacobians [-]", "factorisations [-]", "residuals [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
            "other/it [s]", "mechanics [s]", "wall [s]", "cpu [s]", "peak memory [MiB]", "observable",
-           "value"]
+           "value", "date"]
 
 
 class SnesTimer:
@@ -285,6 +286,7 @@ def child(args) -> dict:
         row = measure_beam(int(level), args.lambda_top, args.lambda_bottom, args.beam_variant)
     row["its/step [-]"] = row["newton its [-]"] / max(row["steps [-]"], 1)
     row["peak memory [MiB]"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    row["date"] = datetime.date.today().isoformat()  # rows of different days share one CSV
     return row
 
 
