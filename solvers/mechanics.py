@@ -4,7 +4,8 @@ The residual R(u; v) = dPi/du [v] and its Jacobian are derived by UFL from the e
 material law enters only through its strain energy density (mJ/mm^3). PETSc SNES (Newton with a
 line search) solves each load step; the caller cuts steps on failure
 (:mod:`lcefem.solvers.continuation`). The tangent is the Hessian of an energy, so it is symmetric
-and MUMPS factorises it as LDL^T (indefinite Cholesky: about half the work and memory of LU).
+and MUMPS factorises it as LDL^T (indefinite Cholesky: about half the work and memory of LU);
+in serial only its upper triangle is stored (:data:`PACKED_TANGENT`).
 
 Three things every iterate gets (:class:`HyperelasticProblem`):
 * the residual skips the Dirichlet lifting when every prescribed value is zero and the iterate
@@ -451,10 +452,10 @@ def _upper_block_matrix(pattern, bs: int, comm) -> PETSc.Mat:
     Why: the tangent is the Hessian of an energy, so its lower triangle repeats the upper one and
     the LDL^T factorisation reads only the upper one. Storing the upper triangle in node blocks
     halves the entries the assembly inserts, and MUMPS takes it without extracting the triangle:
-    composite beam, level 1 (18,072 DOFs), one Jacobian 0.215 -> 0.145 s CPU and one LDL^T
-    factorisation (PCSetUp) 0.378 -> 0.282 s CPU, the same solution to round-off (2026-11-26,
-    loaded machine, back to back). (dolfinx's own ``kind="sbaij"`` matrix preallocates the full
-    rows and gave a wrong matrix-vector product.)"""
+    composite beam, level 1 (18,072 DOFs), one Jacobian 0.215 -> 0.145 s CPU; its ramp to
+    (1.33, 1.05) 44.1 -> 39.2 s CPU (mean of two, back to back on a loaded machine, 2026-11-26),
+    the same iterations and curvature bit for bit. (dolfinx's own ``kind="sbaij"`` matrix gave a
+    wrong matrix-vector product on the level-0 beam: relative error ~1.)"""
     edges, offsets = pattern.graph
     n = len(offsets) - 1
     rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(offsets))
