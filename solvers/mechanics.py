@@ -4,7 +4,8 @@ The residual R(u; v) = dPi/du [v] and its Jacobian are derived by UFL from the e
 material law enters only through its strain energy density (mJ/mm^3). PETSc SNES (Newton with a
 line search) solves each load step; the caller cuts steps on failure
 (:mod:`lcefem.solvers.continuation`). The tangent is the Hessian of an energy, so it is symmetric
-and MUMPS factorises it as LDL^T (indefinite Cholesky: about half the work and memory of LU).
+and MUMPS factorises it as LDL^T (indefinite Cholesky: about half the work and memory of LU);
+in serial only its upper triangle is stored (:data:`PACKED_TANGENT`).
 
 Three things every iterate gets (:class:`HyperelasticProblem`):
 * the residual skips the Dirichlet lifting when every prescribed value is zero and the iterate
@@ -105,6 +106,12 @@ PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg",
 ITERATIVE_PATH_DOFS = 300_000
 
 
+#: The direct path (``pc_type = "cholesky"``) in serial stores the tangent's upper triangle in node
+#: blocks (SBAIJ, :func:`_upper_block_matrix`) instead of the whole matrix (AIJ); False keeps AIJ
+#: (the benchmarks' reference). Parallel runs keep AIJ: the packed matrix was measured in serial only.
+PACKED_TANGENT = True
+
+
 def solver_options(ndofs: int, overrides: dict | None = None, degree: int = 2) -> dict:
     """PETSc options of a mechanics problem with ``ndofs`` displacement DOFs [-] of polynomial
     ``degree``: :data:`NEWTON_OPTIONS`, then the iterative path's set when the overrides name it
@@ -194,7 +201,13 @@ class HyperelasticProblem:
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
             petsc_options_prefix=prefix, jit_options=JIT_OPTIONS)
         self.symmetric = options.get("pc_type") in ("cholesky", "gamg", "mg")
-        if self.symmetric:
+        self.packed = (PACKED_TANGENT and options.get("pc_type") == "cholesky"
+                       and V.mesh.comm.size == 1)
+        if self.packed:
+            pattern = dolfinx.fem.create_sparsity_pattern(self._problem.J)
+            pattern.finalize()
+            self._use_matrix(pattern, np.empty((0, 1), dtype=np.int32))
+        elif self.symmetric:
             self._problem.A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         self._near_nullspace = rigid_body_modes(V) if self.iterative else None
         if self.iterative:
@@ -273,26 +286,37 @@ class HyperelasticProblem:
         """Add node couplings outside the form to the Jacobian's sparsity pattern: each row of
         ``blocks`` (local node = block indices) couples all its nodes with one another. Rebuilds
         the matrix (call before the first solve; serial or node sets owned by one process)."""
-        from dolfinx.cpp.la.petsc import create_matrix
-
-        J_form = self._problem.J
-        pattern = dolfinx.fem.create_sparsity_pattern(J_form)
-        for row in np.asarray(blocks, dtype=np.int32).reshape(len(blocks), -1):
+        blocks = np.asarray(blocks, dtype=np.int32).reshape(len(blocks), -1)
+        pattern = dolfinx.fem.create_sparsity_pattern(self._problem.J)
+        for row in blocks:
             pattern.insert(row, row)
         pattern.finalize()
-        A = create_matrix(self.u.function_space.mesh.comm, pattern, None)
-        A.setOptionsPrefix(self._problem.A.getOptionsPrefix())
-        # Fill the whole pattern once: a final assembly squeezes out entries never set, and the
-        # couplings would then need a reallocation at their first nonzero value.
-        dolfinx.fem.petsc.assemble_matrix(A, J_form, bcs=self.bcs)
-        A.assemble(PETSc.Mat.AssemblyType.FLUSH)
+        self._use_matrix(pattern, blocks)
+
+    def _use_matrix(self, pattern, blocks: np.ndarray) -> None:
+        """Give SNES a new Jacobian matrix with every entry of the finalised node ``pattern``
+        allocated and set (to zero), so that no assembly reallocates: SBAIJ of its upper triangle
+        on the packed direct path (:func:`_upper_block_matrix`), else AIJ, filled by one assembly
+        of the form and zeros on the couplings of ``blocks`` (a final assembly squeezes out
+        entries never set, and the couplings would then need a reallocation at their first
+        nonzero value)."""
+        from dolfinx.cpp.la.petsc import create_matrix
+
+        old = self._problem.A
         bs = self.u.function_space.dofmap.index_map_bs
-        dofs = (bs * np.asarray(blocks, dtype=np.int32)[:, :, None] + np.arange(bs, dtype=np.int32))
-        dofs = dofs.reshape(len(blocks), -1)
-        zeros = np.zeros((dofs.shape[1], dofs.shape[1]))
-        for row in dofs:
-            A.setValues(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
-        A.assemble()
+        if self.packed:
+            A = _upper_block_matrix(pattern, bs, old.comm)
+            A.setLGMap(*old.getLGMap())
+        else:
+            A = create_matrix(self.u.function_space.mesh.comm, pattern, None)
+            dolfinx.fem.petsc.assemble_matrix(A, self._problem.J, bcs=self.bcs)
+            A.assemble(PETSc.Mat.AssemblyType.FLUSH)
+            dofs = (bs * blocks[:, :, None] + np.arange(bs, dtype=np.int32)).reshape(len(blocks), -1)
+            zeros = np.zeros((dofs.shape[1], dofs.shape[1]))
+            for row in dofs:
+                A.setValues(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
+            A.assemble()
+        A.setOptionsPrefix(old.getOptionsPrefix())
         if self.symmetric:
             A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         if self.iterative:
@@ -418,6 +442,31 @@ def _drop_stale_options(prefix: str, options: dict) -> None:
     for name in db.getAll():
         if name.startswith(prefix) and name[len(prefix):] not in options:
             db.delValue(name)
+
+
+def _upper_block_matrix(pattern, bs: int, comm) -> PETSc.Mat:
+    """A serial SBAIJ matrix (block size ``bs``: one node's displacement) holding the blocks of the
+    finalised node sparsity ``pattern`` on and above the diagonal, all set to zero; insertions
+    below the diagonal are ignored, a new nonzero is an error.
+
+    Why: the tangent is the Hessian of an energy, so its lower triangle repeats the upper one and
+    the LDL^T factorisation reads only the upper one. Storing the upper triangle in node blocks
+    halves the entries the assembly inserts, and MUMPS takes it without extracting the triangle:
+    composite beam, level 1 (18,072 DOFs), one Jacobian 0.215 -> 0.145 s CPU; its ramp to
+    (1.33, 1.05) 44.1 -> 39.2 s CPU (mean of two, back to back on a loaded machine, 2026-11-26),
+    the same iterations and curvature bit for bit. (dolfinx's own ``kind="sbaij"`` matrix gave a
+    wrong matrix-vector product on the level-0 beam: relative error ~1.)"""
+    edges, offsets = pattern.graph
+    n = len(offsets) - 1
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(offsets))
+    upper = edges >= rows
+    keys = np.unique(rows[upper] * n + edges[upper])  # row-major, columns sorted in each row
+    starts = np.zeros(n + 1, dtype=PETSc.IntType)
+    np.cumsum(np.bincount(keys // n, minlength=n), out=starts[1:])
+    A = PETSc.Mat().createSBAIJ(n * bs, bs, csr=(starts, (keys % n).astype(PETSc.IntType)), comm=comm)
+    A.setOption(PETSc.Mat.Option.IGNORE_LOWER_TRIANGULAR, True)
+    A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+    return A
 
 
 def _det_F_expression(u):

@@ -1,8 +1,8 @@
 """The Newton problem and the shared step controller (solvers/mechanics.py, solvers/continuation.py):
 the residual without lifting equals dolfinx's lifted residual when every Dirichlet value is zero,
 LDL^T and LU give the same equilibrium, inverted or non-finite iterates are refused, the controller
-cuts, recovers and never grows straight into a known failure, and the contact pairs are in the
-Jacobian's preallocated pattern."""
+cuts, recovers and never grows straight into a known failure, the contact pairs are in the
+Jacobian's preallocated pattern, and the direct path's upper-triangle storage is the whole tangent."""
 
 import dolfinx_solver  # noqa: F401
 import numpy as np
@@ -274,6 +274,52 @@ def test_contact_couplings_are_preallocated():
     dolfinx.fem.petsc.assign(u, x)
     model.problem.snes.computeJacobian(x, A, P)
     assert A.getInfo()["mallocs"] == 0
+
+
+def test_packed_tangent_is_the_whole_tangent(monkeypatch):
+    """The direct path stores the tangent's upper triangle in node blocks (SBAIJ); with strip-ribbon
+    pairs closed (their Hessian inserted entry by entry, lower entries dropped) and the proximal
+    term on, K v equals the whole tangent's (AIJ) to round-off, and one Newton correction
+    K^-1 R agrees to the factorisations' round-off."""
+    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.solvers import mechanics
+    from lcefem.solvers.problems.composite_beam import BeamFE
+
+    rng = np.random.default_rng(3)
+    noise = None
+    out = {}
+    for packed in (True, False):
+        monkeypatch.setattr(mechanics, "PACKED_TANGENT", packed)
+        model = BeamFE(mesh=BeamFEMesh(level=0))
+        model.set_lambdas(1.37, 1.2)
+        u = model.u
+        if noise is None:
+            noise = 1e-3 * rng.standard_normal(u.x.array.size)
+        u.x.array[:] = noise
+        for c in model.contacts:  # strips pushed 0.2 mm into the ribbon
+            u.x.array.reshape(-1, 3)[c.pairs[:, 0], 2] += 0.2 if c is model.contacts[1] else -0.2
+        assert all(np.sum(c.gaps() < 0) > 0 for c in model.contacts)
+        model.damping.weight = 0.3  # N/mm: proximal term on the diagonal
+        problem = model.problem
+        assert problem.packed == packed
+        x = problem._problem.x
+        dolfinx.fem.petsc.assign(u, x)
+        A, P, _ = problem.snes.getJacobian()
+        problem.snes.computeJacobian(x, A, P)
+        assert A.getType() == ("seqsbaij" if packed else "seqaij")
+        r = x.duplicate()
+        problem.snes.computeFunction(x, r)
+        v = x.duplicate()
+        v.array[:] = np.sin(np.arange(v.getSize()))
+        ksp = problem.snes.getKSP()
+        ksp.setOperators(A, P)
+        du = x.duplicate()
+        ksp.solve(r, du)
+        out[packed] = ((A * v).array.copy(), du.array.copy())
+    Kv, Kv_whole = out[True][0], out[False][0]
+    assert np.linalg.norm(Kv - Kv_whole) < 1e-13 * np.linalg.norm(Kv_whole)
+    du, du_whole = out[True][1], out[False][1]
+    assert np.linalg.norm(du - du_whole) < 1e-8 * np.linalg.norm(du_whole)
 
 
 def test_rigid_body_modes_have_no_strain_energy():

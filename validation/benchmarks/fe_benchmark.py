@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import csv
 import dataclasses
+import datetime
 import json
 import pathlib
 import subprocess
@@ -38,7 +39,7 @@ import time
 COLUMNS = ["case", "variant", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
            "jacobians [-]", "factorisations [-]", "residuals [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
            "other/it [s]", "mechanics [s]", "wall [s]", "cpu [s]", "peak memory [MiB]", "observable",
-           "value"]
+           "value", "date"]
 
 
 class SnesTimer:
@@ -118,7 +119,11 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 #: Newton step and the default step controller (``O2``: the kernels compiled with dolfinx's default
 #: flags instead of :data:`lcefem.solvers.mechanics.JIT_OPTIONS`; ``tangent``: the Euler predictor
 #: instead of the curved one; ``before``: both, and the step control aiming at 10 iterations with
-#: steps up to 0.2, the state before issue 13's beam-ramp work; ``t12``: the beam's step control
+#: steps up to 0.2 and the whole tangent stored (AIJ), the state before issue 13's beam-ramp work;
+#: ``aij``: the whole tangent stored instead of its upper triangle in node blocks
+#: (:data:`lcefem.solvers.mechanics.PACKED_TANGENT`); ``metis``: METIS's ordering instead of
+#: :data:`lcefem.solvers.problems.composite_beam.BEAM_ORDERING`'s; ``base``: both, the default of
+#: 2026-11-25; ``t12``: the beam's step control
 #: (:data:`lcefem.solvers.problems.composite_beam.BEAM_CONTROL`, 12 iterations, steps up to 0.25),
 #: ``t10``: the shared defaults (10 iterations, steps up to 0.2);
 #: ``native``: the kernels compiled for this processor, ``-march=native``); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
@@ -131,7 +136,11 @@ NEWTON_NPC = {"npc_snes_type": "newtonls", "npc_snes_max_it": 1, "npc_snes_lines
 
 BEAM_VARIANTS = {
     "newton": {},
-    "before": {"jit_options": {}, "predictor": "tangent", "target_iterations": 10, "max_step": 0.2},
+    "before": {"jit_options": {}, "packed_tangent": False, "predictor": "tangent",
+               "target_iterations": 10, "max_step": 0.2},
+    "aij": {"packed_tangent": False},
+    "metis": {"mat_mumps_icntl_7": 5},
+    "base": {"packed_tangent": False, "mat_mumps_icntl_7": 5},
     "t10": {"target_iterations": 10, "max_step": 0.2},
     "O2": {"jit_options": {}},
     "tangent": {"predictor": "tangent"},
@@ -165,6 +174,8 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
     options = dict(BEAM_VARIANTS[variant])
     if "jit_options" in options:  # the kernels compiled with other flags (e.g. dolfinx's -O2)
         mechanics.JIT_OPTIONS = options.pop("jit_options")
+    if "packed_tangent" in options:  # AIJ instead of the upper triangle in node blocks (SBAIJ)
+        mechanics.PACKED_TANGENT = options.pop("packed_tangent")
     if "jit_extra_flags" in options:  # more compile flags than JIT_OPTIONS's (e.g. -march=native)
         flags = mechanics.JIT_OPTIONS["cffi_extra_compile_args"] + options.pop("jit_extra_flags")
         mechanics.JIT_OPTIONS = {**mechanics.JIT_OPTIONS, "cffi_extra_compile_args": flags}
@@ -275,6 +286,7 @@ def child(args) -> dict:
         row = measure_beam(int(level), args.lambda_top, args.lambda_bottom, args.beam_variant)
     row["its/step [-]"] = row["newton its [-]"] / max(row["steps [-]"], 1)
     row["peak memory [MiB]"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    row["date"] = datetime.date.today().isoformat()  # rows of different days share one CSV
     return row
 
 
