@@ -89,6 +89,7 @@ def _solver_sets() -> dict[str, dict]:
         "gamg-sor-rtol4": {**g8, "mg_levels_pc_type": "sor", "ksp_rtol": 1e-4},
         "ldlt-lag-cg4": {**lag_pc, "ksp_rtol": 1e-4},
         "pmg": {"pc_type": "pmg"},
+        "pmg-aij": {"pc_type": "pmg", "pmg_smoother_mat_type": "aij"},
         "pmg-sor2": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2},
         "pmg-cheb": {"pc_type": "pmg", **_PMG_CHEBYSHEV},
         "pmg-gamg": {"pc_type": "pmg", **PMG_GAMG_COARSE},
