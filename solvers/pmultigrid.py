@@ -42,7 +42,10 @@ from lcefem.models.errors import InputError
 #: a third of AIJ's index traffic, and SOR then inverts each node's 3x3 block. On the hot-state
 #: tangent of the 46k strip one CG solve took 6.7-6.8 s CPU with 102 iterations against 8.3-9.0 s
 #: with 108 on AIJ (1.27x), one product K x 1.21x faster, the copy 0.105 s CPU per tangent
-#: (the Jacobian 0.9 s); the copy adds BAIJ's 2/3 of K's memory.
+#: (the Jacobian 0.9 s); over the path-followed solve 188.6 against 203.8 s CPU at 200k DOFs
+#: (1.08x, back to back), 1.0-1.07x at 46k. The copy costs memory: 3.2 GiB peak at 532k against
+#: 2.4. Chebyshev(2) with the SOR sweep as its preconditioner halves the CG iterations of the
+#: hot-state solves (172 against 371 at 46k) for the same or 1.12x the CPU, so it is not kept.
 PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "mg",
                "pc_mg_levels": 2, "pc_mg_type": "multiplicative", "pc_mg_cycle_type": "v",
                "mg_levels_ksp_type": "richardson", "mg_levels_pc_type": "sor",
