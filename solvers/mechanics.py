@@ -118,6 +118,10 @@ FINAL_STEP_FORCING = 0.02
 #: took 181 s CPU against 136 s for LDL^T at 200k. So the switch stays at 3e5, where the
 #: two-iteration ratio is 3.6x (339k) and the GAMG crossover was; CG also needs a positive
 #: definite tangent, and the bodies that can buckle or touch were measured on the direct path only.
+#: With :data:`FINAL_STEP_FORCING` and the BAIJ smoother (2026-11-26, same-day pairs) p-MG takes
+#: LDL^T's 3 Newton iterations on the path, and LDL^T / p-MG for the whole solve is 0.43 (46k),
+#: 1.01 (105k), 1.49 (200k), and 1.89 at 532k (602 s against the 1138 s of 2026-11-25): the switch
+#: stays here.
 ITERATIVE_PATH_DOFS = 300_000
 
 
