@@ -90,6 +90,22 @@ PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg",
                    **{f"mg_coarse_{k}": v for k, v in GAMG_OPTIONS.items()
                       if k.startswith(("pc_gamg_", "mg_levels_"))}}
 
+#: Forcing of the last Newton step on the iterative paths [-]: from the third Newton step on, when
+#: the quadratic model of the iteration, |R_k+1| ~ |R_k|^3 / |R_k-1|^2, expects Newton's tolerance
+#: t (``snes_atol``, or ``snes_rtol`` |R_0| if larger) to be met by this step, CG solves it to the
+#: relative tolerance min(ksp_rtol, FINAL_STEP_FORCING t / |R_k|) instead of ksp_rtol alone. Why:
+#: CG stops on the preconditioned residual, and on the strip's tangents the true one then is
+#: 8.5-10x larger (relative 1.0e-3 after 1e-4 at 46k DOFs); over the path-followed solve at 200k
+#: Newton went 2.0e-2, 1.3e-4, 2.1e-6, 1.8e-9 N (atol 1e-9 N) and took a 4th iteration (136 CG
+#: iterations) for a residual the exact solve leaves at 1.8e-11 N (LDL^T: 3 iterations). 0.02
+#: leaves a margin of ~5 for that ratio. Not from the second step: the first step from the
+#: predicted state is not yet quadratic (the model said 1.8e-9 N at 46k, 1.5e-11 N at 2.3k DOFs,
+#: where LDL^T left 1.1e-6 and 5.7e-9 N). Eisenstat-Walker forcing (``snes_ksp_ew``, versions 1-3,
+#: rtol0 = rtol_max = 1e-2) was tried on the 46k path: the loose first solves cost 4-5 Newton
+#: iterations and 295-383 CG iterations against 3 and 331 (the defaults 0.3 / 0.9 did not converge
+#: in 25 iterations).
+FINAL_STEP_FORCING = 0.02
+
 #: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
 #: caller names no ``pc_type``: CG + p-multigrid (:data:`lcefem.solvers.pmultigrid.PMG_OPTIONS`) for
 #: quadratic elements. CPU time per Newton iteration (Jacobian + linear solve) on the heated strip,
@@ -103,6 +119,10 @@ PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg",
 #: took 181 s CPU against 136 s for LDL^T at 200k. So the switch stays at 3e5, where the
 #: two-iteration ratio is 3.6x (339k) and the GAMG crossover was; CG also needs a positive
 #: definite tangent, and the bodies that can buckle or touch were measured on the direct path only.
+#: With :data:`FINAL_STEP_FORCING` and the BAIJ smoother (2026-11-26, same-day pairs) p-MG takes
+#: LDL^T's 3 Newton iterations on the path, and LDL^T / p-MG for the whole solve is 0.43 (46k),
+#: 1.01 (105k), 1.49 (200k), and 1.89 at 532k (602 s against the 1138 s of 2026-11-25): the switch
+#: stays here.
 ITERATIVE_PATH_DOFS = 300_000
 
 
@@ -229,6 +249,30 @@ class HyperelasticProblem:
             self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP())
             A, P, (jac, jargs, jkw) = snes.getJacobian()
             snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})
+        self._ksp_rtol = options.get("ksp_rtol")
+        self._newton_norms = []  # |R_k| [N] of the Newton solve under way (the forcing's model)
+        self._predicting = False
+        if self.iterative:
+            snes.getKSP().setPreSolve(self._final_step_forcing)
+
+    def _final_step_forcing(self, ksp, b, x) -> None:
+        """KSP pre-solve hook of the iterative paths: the relative tolerance of this linear solve,
+        tightened on the Newton step expected to converge (:data:`FINAL_STEP_FORCING`); the tangent
+        predictor's solve keeps the configured one."""
+        rtol = self._ksp_rtol
+        if not self._predicting:
+            k = self.snes.getIterationNumber()
+            if k == 0:
+                self._newton_norms = []
+            norm = b.norm()
+            self._newton_norms.append(norm)
+            if k >= 2 and len(self._newton_norms) >= 3 and norm > 0.0:
+                snes_rtol, atol, _, _ = self.snes.getTolerances()
+                target = max(atol, snes_rtol * self._newton_norms[0])
+                previous = self._newton_norms[-2]
+                if norm ** 3 / previous ** 2 < target:
+                    rtol = min(rtol, FINAL_STEP_FORCING * target / norm)
+        ksp.setTolerances(rtol=rtol)
 
     def _assemble_jacobian_pmg(self, snes, x, A, P, assemble) -> None:
         """SNES Jacobian callback of the p-multigrid path: the tangent, then its Q1 Galerkin
@@ -357,7 +401,11 @@ class HyperelasticProblem:
             vecs = [r, du]
             snes.computeFunction(x, r)
             if np.isfinite(r.norm()):
-                ksp.solve(r, du)
+                self._predicting = True
+                try:
+                    ksp.solve(r, du)
+                finally:
+                    self._predicting = False
                 x.axpy(-1.0, du)
                 dolfinx.fem.petsc.assign(x, self.u)
                 self.u.x.scatter_forward()

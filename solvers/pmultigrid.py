@@ -37,12 +37,21 @@ from lcefem.models.errors import InputError
 #: needs 86-113 and 1.6-2.0x the CPU time; two SOR sweeps cut the iterations by
 #: 15-25 % for 1.2x the CPU, Chebyshev(3)/Jacobi was 1.5x the CPU of one sweep at 46k, and threshold
 #: 0.05, no aggressive coarsening, SOR or two cycles on the Q1 GAMG changed less than 5 %.
+#: ``pmg_smoother_mat_type`` (ours, not PETSc's): the SOR sweeps and the level residual run on a copy
+#: of K in 3x3 node blocks (BAIJ, refreshed with every tangent; the Galerkin product needs AIJ):
+#: a third of AIJ's index traffic, and SOR then inverts each node's 3x3 block. On the hot-state
+#: tangent of the 46k strip one CG solve took 6.7-6.8 s CPU with 102 iterations against 8.3-9.0 s
+#: with 108 on AIJ (1.27x), one product K x 1.21x faster, the copy 0.105 s CPU per tangent
+#: (the Jacobian 0.9 s); over the path-followed solve 188.6 against 203.8 s CPU at 200k DOFs
+#: (1.08x, back to back), 1.0-1.07x at 46k. The copy costs memory: 3.2 GiB peak at 532k against
+#: 2.4. Chebyshev(2) with the SOR sweep as its preconditioner halves the CG iterations of the
+#: hot-state solves (172 against 371 at 46k) for the same or 1.12x the CPU, so it is not kept.
 PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "mg",
                "pc_mg_levels": 2, "pc_mg_type": "multiplicative", "pc_mg_cycle_type": "v",
                "mg_levels_ksp_type": "richardson", "mg_levels_pc_type": "sor",
                "mg_levels_ksp_max_it": 1,
                "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "cholesky",
-               "mg_coarse_pc_factor_mat_solver_type": "mumps"}
+               "mg_coarse_pc_factor_mat_solver_type": "mumps", "pmg_smoother_mat_type": "baij"}
 
 
 class PMultigrid:
@@ -71,6 +80,13 @@ class PMultigrid:
         self.coarse_nullspace = near_nullspace(self.coarse_space)
         self.coarse_matrix = None
         self._fine = None  # the tangent matrix K_1 was computed from (its sparsity is K_1's)
+        self.smoothed_matrix = None  # K copied into node blocks (BAIJ) for the Q2 smoother
+        # "aij": the smoother sweeps K itself (no copy); "baij": see PMG_OPTIONS
+        kind = PETSc.Options(ksp.getOptionsPrefix()).getString("pmg_smoother_mat_type", "baij")
+        if kind not in ("aij", "baij"):
+            raise InputError(f'[petsc] pmg_smoother_mat_type: "aij" or "baij", got {kind!r}')
+        parallel = V.mesh.comm.size > 1
+        self.smoother_mat_type = ("mpi" if parallel else "seq") + kind
         self.updates = 0  # Galerkin products computed (tests, benchmarks)
 
     @property
@@ -84,11 +100,16 @@ class PMultigrid:
         self.updates += 1
         if self._fine is not None and self._fine.handle == K.handle:
             K.ptap(self.P, result=self.coarse_matrix)
+            if self.smoothed_matrix is not K:
+                K.convert(self.smoother_mat_type, self.smoothed_matrix)
             return False
-        if self.coarse_matrix is not None:
-            self.coarse_matrix.destroy()
+        for m in (self.coarse_matrix, self.smoothed_matrix):
+            if m is not None and m is not self._fine:
+                m.destroy()
         self._fine = K
         self.coarse_matrix = K.ptap(self.P)
+        self.smoothed_matrix = (K if self.smoother_mat_type == K.getType()
+                                else K.convert(self.smoother_mat_type, PETSc.Mat()))
         self.coarse_matrix.setNearNullSpace(self.coarse_nullspace)
         self.coarse_matrix.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         return True
@@ -99,3 +120,6 @@ class PMultigrid:
         pc = ksp.getPC()
         pc.setMGInterpolation(1, self.P)
         pc.getMGCoarseSolve().setOperators(self.coarse_matrix, self.coarse_matrix)
+        # PCMG keeps a fine-level operator that is not the KSP's (it re-reads the KSP's only when
+        # the smoother's is the same matrix), so the SOR sweeps and the level residual run on BAIJ
+        pc.getMGSmoother(1).setOperators(self.smoothed_matrix, self.smoothed_matrix)

@@ -441,6 +441,15 @@ def test_pmultigrid_gives_the_direct_newton_solution(coarse):
     assert K1.getSize()[0] == mech.pmultigrid.coarse_dofs < fine_dofs / 4
     # one Galerkin product per tangent (Newton's and the predictor's), every CG solve iterated
     assert mech.pmultigrid.updates == len(sims["pmg"].cg_its) and min(sims["pmg"].cg_its) > 5
+    # the Q2 smoother sweeps a node-block (BAIJ) copy of the last tangent: the same operator
+    K, S = mech.snes.getKSP().getOperators()[0], pc.getMGSmoother(1).getOperators()[0]
+    assert S.getType() == "seqbaij" and S.getBlockSize() == 3 and S.handle != K.handle
+    v, Kv, Sv = K.createVecRight(), K.createVecLeft(), K.createVecLeft()
+    v.setRandom()
+    K.mult(v, Kv)
+    S.mult(v, Sv)
+    Sv.axpy(-1.0, Kv)
+    assert Sv.norm() < 1e-12 * Kv.norm()
     _assert_same_displacement(sims["cholesky"], sims["pmg"])
 
 
@@ -454,10 +463,33 @@ def _assert_same_displacement(direct, other) -> None:
                                atol=NEWTON_OPTIONS["snes_rtol"] * np.max(np.abs(u_direct)))
 
 
+def test_final_newton_step_is_solved_to_the_newton_tolerance(monkeypatch):
+    """CG stops on the preconditioned residual, which on the strip's tangents is ~10x smaller than
+    the true one: with Newton's tolerance at 1e-12 N (level-0 hot-core strip), CG to a relative 1e-4
+    leaves 3.4e-12 N after the third Newton step and costs a fourth linear solve, while LDL^T meets
+    it in three. The final-step forcing (:data:`FINAL_STEP_FORCING`) solves that step to
+    0.02 t / |R_k| (1.8e-13 N left) and Newton takes LDL^T's three steps (four linear solves with
+    the predictor's); the earlier steps keep ksp_rtol."""
+    import lcefem.solvers.mechanics as mechanics
+
+    tight = {"snes_atol": 1e-12, "snes_rtol": 1e-12}
+    its = {}
+    for name, forcing in (("forced", mechanics.FINAL_STEP_FORCING), ("unforced", 1e30)):
+        monkeypatch.setattr(mechanics, "FINAL_STEP_FORCING", forcing)
+        sims = _hot_core_strips((("pmg", tight),))
+        its[name] = len(sims["pmg"].cg_its)
+        if name == "forced":
+            rtols, rhs = sims["pmg"].cg_rtols, sims["pmg"].rhs_norms
+            assert rtols[:-1] == [1e-4] * (len(rtols) - 1)  # predictor and Newton steps 1-2
+            assert rtols[-1] == pytest.approx(0.02 * 1e-12 / rhs[-1])
+    direct = len(_hot_core_strips((("cholesky", tight),))["cholesky"].cg_its)
+    assert its["forced"] == direct == 4 and its["unforced"] == 5
+
+
 def _hot_core_strips(solvers) -> dict:
     """The level-0 strip brought to the benchmark's hot-core temperature with each (pc_type,
-    extra options) of ``solvers``; each simulation carries ``cg_its``, its Krylov iterations per
-    linear solve."""
+    extra options) of ``solvers``; each simulation carries ``cg_its``, ``cg_rtols`` and
+    ``rhs_norms``: per linear solve its Krylov iterations, relative tolerance and |b| [N]."""
     from lcefem.meshes.strip import StripMesh
     from lcefem.solvers.problems.strip import StripConfig, StripSimulation
     from lcefem.validation.benchmarks.linear_solver_benchmark import hot_core
@@ -465,9 +497,13 @@ def _hot_core_strips(solvers) -> dict:
     sims = {}
     for pc, extra in solvers:
         sim = StripSimulation(StripConfig(mesh=StripMesh(level=0), petsc={"pc_type": pc, **extra}))
-        sim.cg_its = []
-        sim.model.mechanics.snes.getKSP().setPostSolve(
-            lambda ksp, b, x, its=sim.cg_its: its.append(ksp.getIterationNumber()))
+        sim.cg_its, sim.cg_rtols, sim.rhs_norms = [], [], []
+
+        def record(ksp, b, x, sim=sim):
+            sim.cg_its.append(ksp.getIterationNumber())
+            sim.cg_rtols.append(ksp.getTolerances()[0])
+            sim.rhs_norms.append(b.norm())
+        sim.model.mechanics.snes.getKSP().setPostSolve(record)
         sim.set_temperature(hot_core(sim.dims))
         sims[pc] = sim
     return sims

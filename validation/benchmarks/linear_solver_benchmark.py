@@ -43,7 +43,8 @@ CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 #: ``pmg``: :data:`lcefem.solvers.pmultigrid.PMG_OPTIONS` (Q2 -> Q1 p-multigrid, one SOR sweep on
 #: Q2, the Q1 level factorised by MUMPS LDL^T); ``pmg-gamg``: one GAMG cycle on Q1 instead
 #: (:data:`lcefem.solvers.mechanics.PMG_GAMG_COARSE`); ``pmg-cheb``: Chebyshev(3)/Jacobi smoothing
-#: on Q2; ``*sor2``: two SOR sweeps. (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named
+#: on Q2; ``pmg-chebsor``: Chebyshev(2) with the SOR sweep as its preconditioner; ``pmg-aij``:
+#: the SOR sweeps on K itself instead of its BAIJ copy; ``*sor2``: two SOR sweeps. (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named
 #: after what ran: ``pmg-gamg`` and ``pmg-gamg-sor2``.)
 _PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
                   "mg_levels_ksp_max_it": 3}
@@ -89,8 +90,10 @@ def _solver_sets() -> dict[str, dict]:
         "gamg-sor-rtol4": {**g8, "mg_levels_pc_type": "sor", "ksp_rtol": 1e-4},
         "ldlt-lag-cg4": {**lag_pc, "ksp_rtol": 1e-4},
         "pmg": {"pc_type": "pmg"},
+        "pmg-aij": {"pc_type": "pmg", "pmg_smoother_mat_type": "aij"},
         "pmg-sor2": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2},
         "pmg-cheb": {"pc_type": "pmg", **_PMG_CHEBYSHEV},
+        "pmg-chebsor": {"pc_type": "pmg", "mg_levels_ksp_type": "chebyshev", "mg_levels_ksp_max_it": 2},
         "pmg-gamg": {"pc_type": "pmg", **PMG_GAMG_COARSE},
         "pmg-gamg-sor2": {"pc_type": "pmg", **PMG_GAMG_COARSE, "mg_levels_ksp_max_it": 2},
     }
