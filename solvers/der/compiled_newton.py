@@ -104,18 +104,16 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
         if np.max(np.abs(src_t - t)) != 0.0:
             db, ddb = kernels.source_change(src_t, t, length)
             with_source = True
-    if order >= 2 and source_elastic:
-        if own:
-            elastic_band[:, :] = 0.0
-            energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
-                                      db, ddb, with_source, True, grad, elastic_band)
-        else:
-            energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
-                                      db, ddb, with_source, False, grad, no_band)
+    # with source_elastic a source (own) state's elastic Hessian goes to elastic_band, a moved state
+    # computes none of its own, and both take elastic_band into the band
+    keep_source = order >= 2 and source_elastic
+    if keep_source and own:
+        elastic_band[:, :] = 0.0
+    energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
+                              db, ddb, with_source, order >= 2 and (own or not source_elastic), grad,
+                              (elastic_band if own else no_band) if keep_source else band)
+    if keep_source:
         band += elastic_band
-    else:
-        energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
-                                  db, ddb, with_source, order >= 2, grad, band)
     if len(heights):
         pos_s, r_s, pos_e, r_e = kernels.sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
                                                        end_sigma, end_offsets)
