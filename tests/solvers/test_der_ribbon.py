@@ -2,6 +2,8 @@
 the ribbon simulation's bookkeeping."""
 
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -205,6 +207,24 @@ def test_heat_step_balances_stored_and_exchanged_heat():
     T_amb = np.full_like(sim.T, ambient)
     still, _ = sim.heat.step(T_amb, dt, geo, ambient)
     np.testing.assert_allclose(still, ambient, rtol=0, atol=1e-9)
+
+
+def test_compiled_heat_step_equals_the_numpy_reference():
+    """kernels.heat_step (coefficients, solve and fluxes in one call) against SectionHeat.coefficients
+    in numpy with the same solve: the same temperatures and fluxes to round-off, with and without a
+    plate gradient and with the midpoint sections' corner gaps (HeatGeometry without corner_gap)."""
+    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
+                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    geo = sim.heat_geometry()
+    geo.corner_gap[3, 2] = -0.01  # one corner pressed into the plate: contact conduction
+    T0 = np.full_like(sim.T, 25.0) + np.linspace(0.0, 5.0, sim.T.size).reshape(sim.T.shape)
+    bare = dataclasses.replace(geo, corner_gap=None)
+    for g, gradient in ((geo, None), (geo, np.array([0.0, 0.3, 0.1])), (bare, None)):
+        T1, f1 = sim.heat.step(T0, 0.5, g, 100.0, gradient)
+        T2, f2 = sim.heat.step(T0, 0.5, g, 100.0, gradient, compiled=False)
+        np.testing.assert_allclose(T1, T2, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(f1.from_ground, f2.from_ground, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(f1.to_air, f2.to_air, rtol=1e-12, atol=1e-14)
 
 
 def _heated(heat_dt: float, steps: int, dt: float = 0.02) -> RibbonSimulation:
