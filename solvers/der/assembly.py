@@ -187,10 +187,10 @@ def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
         law = rod.contact
         normal = kernels.normal_force(np.ascontiguousarray(gap), float(law.clearance), float(law.delta),
                                       float(law.K1), float(law.stiffness))
-        pos = np.full(gap.shape + (3,), np.nan)
-        elem, col = np.nonzero((normal > 0.0) | all_points)
-        if len(elem):
-            pos[elem, col] = point_positions(state, sampling, kind, elem, col)[0]
+        # the sample positions where a point has a force (all with all_points), NaN elsewhere: one
+        # np.where instead of full + nonzero + fancy indexing (the same values, ~2x less time, issue 17)
+        points = sample_points(state, sampling)[0 if kind == "stencil" else 2]
+        pos = points.copy() if all_points else np.where((normal > 0.0)[..., None], points, np.nan)
         out += [normal, pos]
     return FrictionLag(*out)
 
@@ -380,17 +380,28 @@ def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSamp
 
 def edge_corner_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:
     """Smallest gap [mm] of each section point kind (e.g. each corner) over the samples of each edge,
-    shape (N-1, len(offsets)); +inf without a ground."""
+    shape (N-1, len(offsets)); +inf without a ground. One compiled pass over the sample points
+    (:func:`kernels.edge_min_gaps`; the gaps as :func:`all_gaps` computes them)."""
     n_edges = rod.n_nodes - 1
     k = len(sampling.offsets)
     if rod.ground is None:
         return np.full((n_edges, k), np.inf)
-    gs, ge = all_gaps(rod, state, sampling)
-    ids = sampling.end_edges(n_edges)
-    out = np.full((n_edges, k), np.inf)
-    out[ids] = np.minimum(out[ids], ge.reshape(len(ids), -1, k).min(axis=1))
-    if gs is not None:
-        side = sampling.stencil.side.astype(bool)
-        out[:-1] = np.minimum(out[:-1], gs[:, ~side].reshape(len(gs), -1, k).min(axis=1))
-        out[1:] = np.minimum(out[1:], gs[:, side].reshape(len(gs), -1, k).min(axis=1))
-    return out
+    pos_s, _, pos_e, _ = sample_points(state, sampling)
+    side, slot_s, slot_e = sampling._cached("edge_min_gaps", lambda: _gap_slots(sampling))
+    return kernels.edge_min_gaps(pos_s, pos_e, side, slot_s, sampling.end_edges(n_edges), slot_e, n_edges, k,
+                                 rod.ground.unit_normal(), float(rod.ground.height), sampling.interpolated)
+
+
+def _gap_slots(sampling: ContactSampling) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For :func:`kernels.edge_min_gaps`: the edge (0: the stencil's first, 1: its second) and section
+    point kind of every stencil point, and the kind of every end-edge point (points of one edge are
+    stored kind-fastest: ``ContactSampling.of``)."""
+    k = len(sampling.offsets)
+    side, _, _ = sampling.kernel_arrays()
+    side = np.ascontiguousarray(side, np.int64)
+    slot_s = np.zeros(len(side), np.int64)
+    for flag in (0, 1):
+        cols = np.nonzero(side == flag)[0]
+        slot_s[cols] = np.arange(len(cols)) % k
+    slot_e = np.arange(sampling.end_sigma.shape[1]) % k
+    return side, slot_s, np.ascontiguousarray(slot_e, np.int64)

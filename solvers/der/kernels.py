@@ -992,6 +992,29 @@ def band_cholesky_solve(factor, x):
         x[j] = temp / factor[0, j]
 
 
+@njit(cache=True)
+def edge_min_gaps(pos_s, pos_e, side, slot_s, end_ids, slot_e, n_edges, k, normal, height, interpolated):
+    """``assembly.edge_corner_gaps``: the smallest gap [mm] (position . normal - height) of each of
+    the k section point kinds over the sample points of each edge, (n_edges, k), +inf where an edge
+    has none. pos_s (N-2, p_s, 3) the stencil points (point j on edge s + side[j], kind slot_s[j];
+    used when ``interpolated``), pos_e (n_end, p_e, 3) those of the edges end_ids (kind slot_e[j])."""
+    out = np.full((n_edges, k), np.inf)
+    for r in range(len(end_ids)):
+        edge = end_ids[r]
+        for j in range(pos_e.shape[1]):
+            g = pos_e[r, j, 0] * normal[0] + pos_e[r, j, 1] * normal[1] + pos_e[r, j, 2] * normal[2] - height
+            if g < out[edge, slot_e[j]]:
+                out[edge, slot_e[j]] = g
+    if interpolated:
+        for s in range(pos_s.shape[0]):
+            for j in range(pos_s.shape[1]):
+                g = pos_s[s, j, 0] * normal[0] + pos_s[s, j, 1] * normal[1] + pos_s[s, j, 2] * normal[2] - height
+                edge = s + side[j]
+                if g < out[edge, slot_s[j]]:
+                    out[edge, slot_s[j]] = g
+    return out
+
+
 # ----------------------------------------------------------------------------------------------
 # Section heat step (solvers.der.heat.SectionHeat.step)
 # ----------------------------------------------------------------------------------------------

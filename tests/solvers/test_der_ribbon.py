@@ -227,6 +227,27 @@ def test_compiled_heat_step_equals_the_numpy_reference():
         np.testing.assert_allclose(f1.to_air, f2.to_air, rtol=1e-12, atol=1e-14)
 
 
+def test_edge_corner_gaps_are_the_smallest_sample_gaps_per_edge_and_corner():
+    """The compiled edge_corner_gaps against the gaps of all sample points (all_gaps) reduced in numpy:
+    each corner's smallest gap over the samples of each edge, the stencil points assigned to their
+    edge by ``side``, the outer halves of the end edges from the end-edge set."""
+    from lcefem.solvers.der.assembly import all_gaps, edge_corner_gaps
+    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
+                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    rod, sampling = sim.rod, sim.integrator.sampling
+    state = sim.state.moved(np.random.default_rng(3).normal(0.0, 0.05, 4 * rod.n_nodes - 1))
+    gs, ge = all_gaps(rod, state, sampling)
+    k = len(sampling.offsets)
+    n_edges = rod.n_nodes - 1
+    ref = np.full((n_edges, k), np.inf)
+    ids = sampling.end_edges(n_edges)
+    ref[ids] = np.minimum(ref[ids], ge.reshape(len(ids), -1, k).min(axis=1))
+    side = sampling.stencil.side.astype(bool)
+    ref[:-1] = np.minimum(ref[:-1], gs[:, ~side].reshape(len(gs), -1, k).min(axis=1))
+    ref[1:] = np.minimum(ref[1:], gs[:, side].reshape(len(gs), -1, k).min(axis=1))
+    np.testing.assert_array_equal(edge_corner_gaps(rod, state, sampling), ref)
+
+
 def _heated(heat_dt: float, steps: int, dt: float = 0.02) -> RibbonSimulation:
     sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(
         nodes=16, dt=dt, settle_time=0.04, heat_dt=heat_dt)))
