@@ -571,12 +571,18 @@ def sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
     r_s = np.empty((ns, ps, 3))
     a2 = np.empty(3)
     for k in range(ns):
+        last_edge, last_sigma = -1, np.nan
+        c, s_ = 1.0, 0.0
         for j in range(ps):
             edge = k + (1 if side[j] else 0)
-            th = theta[edge] + (sigma[j] - 0.5) * twist[k]
-            c = math.cos(th)
-            s_ = math.sin(th)
-            _cross3(t[edge], a1[edge], a2)
+            # the section points of one sample section (e.g. its four corners) share the frame angle:
+            # its cos, sin and a2 once per section (the same values; 4x fewer sin/cos, issue 17)
+            if edge != last_edge or sigma[j] != last_sigma:
+                last_edge, last_sigma = edge, sigma[j]
+                th = theta[edge] + (sigma[j] - 0.5) * twist[k]
+                c = math.cos(th)
+                s_ = math.sin(th)
+                _cross3(t[edge], a1[edge], a2)
             for i in range(3):
                 mm1 = c * a1[edge, i] + s_ * a2[i]
                 mm2 = -s_ * a1[edge, i] + c * a2[i]
