@@ -14,7 +14,8 @@ from scipy.linalg import lapack
 from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.rod import RodSection, rectangular_section
 from lcefem.models.units import STANDARD_GRAVITY
-from lcefem.solvers.der.kernels import band_cholesky, band_cholesky_solve
+from lcefem.solvers.der.kernels import (band_cholesky, band_cholesky_rows, band_cholesky_solve,
+                                        band_cholesky_solve_rows)
 from lcefem.solvers.der.integrator import Integrator, StepOptions
 from lcefem.solvers.der.model import DiscreteRod, Ground, RestShape, RodState, lumped_masses, n_dofs
 from lcefem.solvers.der.newton import NewtonOptions
@@ -46,6 +47,14 @@ def test_band_cholesky_matches_lapack():
     bad = ab.copy()
     bad[0, 7] = -1.0  # the leading minor of order 8 is not positive definite (LAPACK's info)
     assert band_cholesky(bad.copy()) == lapack.dpbtrf(bad, lower=1)[1] == 8
+    # the transposed storage (the compiled Newton loop and the heat step): the same factor and solve bit for bit
+    rows = np.ascontiguousarray(ab.T)
+    assert band_cholesky_rows(rows) == 0
+    np.testing.assert_array_equal(rows.T, mine)
+    y = rhs.copy()
+    band_cholesky_solve_rows(rows, y)
+    np.testing.assert_array_equal(y, x)
+    assert band_cholesky_rows(np.ascontiguousarray(bad.T)) == 8
 
 
 def _run_both(make, steps, dt):
