@@ -13,7 +13,8 @@ of size (w/n_w) x (t/n_t) x l stores heat rho c (w t/(n_w n_t)) l and exchanges 
 
 The coefficients are evaluated on the current geometry and the previous temperatures (radiation
 linearised there); the linear system is symmetric and banded (half-bandwidth n_w n_t) and is
-assembled and solved by banded Cholesky in one compiled call (:func:`kernels.heat_solve`).
+assembled and solved by banded Cholesky; coefficients, solve and fluxes are one compiled call
+(:func:`kernels.heat_step`), with :meth:`SectionHeat.coefficients` in numpy as the reference.
 """
 
 from __future__ import annotations
@@ -157,8 +158,8 @@ class SectionHeat:
              gradient=None, compiled: bool = True) -> tuple[np.ndarray, HeatFluxes]:
         """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo`` (plate at
         T_ground + gradient . x, see :meth:`coefficients`). ``compiled``: the exchange coefficients,
-        the solve and the fluxes in one compiled call (:func:`kernels.heat_step`; at 100 nodes 0.52 ->
-        0.25 ms per step, issue 17); False: :meth:`coefficients` in numpy, kept as the reference (the
+        the solve and the fluxes in one compiled call (:func:`kernels.heat_step`; at 100 nodes 0.51 ->
+        0.25 ms per call timed alone, issue 17); False: :meth:`coefficients` in numpy, kept as the reference (the
         same temperatures to round-off, ``tests/solvers/test_der_ribbon.py``)."""
         if compiled:
             corner = geo.corner_gap if geo.corner_gap is not None else self._midpoint_corner_gaps(geo)

@@ -9,7 +9,8 @@ step). The numpy versions stay the reference: ``tests/solvers/test_der_kernels.p
 give the same energies, gradients and Hessians to round-off.
 
 Also the banded Cholesky factorisation and solve of the Newton loop
-(:mod:`lcefem.solvers.der.compiled_newton`) and the section heat step (:func:`heat_solve`).
+(:mod:`lcefem.solvers.der.compiled_newton`), the section heat step (:func:`heat_step`: exchange
+coefficients, solve, fluxes) and the corner gaps per edge (:func:`edge_min_gaps`).
 
 Element layouts are those of :mod:`lcefem.solvers.der.assembly`: an edge k touches the 7 dofs
 q[4k : 4k + 7] = (x_k, theta_k, x_(k+1)); the stencil of interior node k + 1 touches the 11 dofs
