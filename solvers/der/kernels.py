@@ -25,6 +25,7 @@ import numpy as np
 from numba import njit
 
 from lcefem.models.rod import STENCIL_MAP
+from lcefem.models.units import STEFAN_BOLTZMANN, ZERO_CELSIUS_K
 
 # ``models.rod.STENCIL_MAP`` as index lists: local variable i -> stencil dofs _MAP_IDX[i] with signs _MAP_SGN[i]
 # (two entries for the edge vectors e = x_k - x_(k-1), f = x_(k+1) - x_k; one, padded with sign 0, for
@@ -1113,8 +1114,8 @@ def heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p
     n, nc = T.shape
     film, ambient, emissivity = air
     k_air, gap_floor, plate_emissivity, boundary_layer, contact_conductance = ground
-    sigma = 5.670374419e-11  # models.units.STEFAN_BOLTZMANN [mW/(mm^2 K^4)]
-    kelvin = 273.15  # models.units.ZERO_CELSIUS_K
+    sigma = STEFAN_BOLTZMANN  # [mW/(mm^2 K^4)]; numba freezes module globals at compilation
+    kelvin = ZERO_CELSIUS_K
     tak_amb = ambient + kelvin
     G_g = np.zeros((n, nc))
     G_a = np.zeros((n, nc))
