@@ -69,6 +69,11 @@ PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type"
 #: hot tangent of the 46k path (the three Newton right-hand sides) CG took 15/15/15 iterations and
 #: 6.1 s CPU against 83/102/109 and 26 s with one SOR sweep; weight 0.5: 16-18 its, 7.5 s; one plane
 #: per block 23-27 its (0.5), two 15-20 (0.7); Chebyshev(2) instead of Richardson 10-11 its, 5.6-7.3 s.
+#: Over the path-followed solve of the hot-core strip (``linear_solver_benchmark --levels 2 3 4
+#: --solvers pmg-planes pmg``, back to back, 2026-11-26) 51-55 CG iterations for the whole path
+#: against 371-485, 1.93x / 2.25x / 2.53x less CPU at 46k / 105k / 200k DOFs, and 344 s CPU at 532k
+#: (SOR: 602 s; MUMPS LDL^T 1138 s: 3.3x), the stretch LDL^T's to 1.3e-14; peak memory 4.3 GiB at
+#: 532k against 3.2 (the block factors). README "Linear solvers on large meshes".
 #: Weight 0.7: a block couples to one block on either side (Q2 spans three node planes), so the
 #: blocks' inverse times K has eigenvalues below ~2 and 0.7 keeps the sweep contracting (SPD cycle,
 #: as CG needs). Needs planes of nodes (structured, transfinite meshes such as the strip's); on an
