@@ -21,6 +21,9 @@ from __future__ import annotations
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 from petsc4py import PETSc
 
+import numpy as np
+from mpi4py import MPI
+
 import dolfinx
 import dolfinx.fem.petsc
 
@@ -52,6 +55,61 @@ PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type"
                "mg_levels_ksp_max_it": 1,
                "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "cholesky",
                "mg_coarse_pc_factor_mat_solver_type": "mumps", "pmg_smoother_mat_type": "baij"}
+
+
+#: The Q2 smoother by node planes (``pc_type = "pmg"`` with these overrides; ``pmg_smoother_blocks``
+#: is ours, not PETSc's): one damped block-Jacobi sweep (additive Schwarz without overlap, weight
+#: 0.7) before and after the coarse correction, a block being the DOFs of
+#: :data:`PLANES_PER_BLOCK` consecutive node planes normal to the mesh's longest axis (slices of the
+#: strip's cross-section), factorised by PETSc's sparse Cholesky. Why: the slow modes of the
+#: hot-state tangent are not smooth (their Q1 interpolant misses 87-100 % of the ten slowest, 46k
+#: DOFs, so no coarse operator on Q1 can fix them: selective reduced integration of the volumetric
+#: energy on Q1 took 4-5x the CG iterations) but element-scale modes strongly coupled within the
+#: section of stretched cells (axial aspect 4), which a point SOR sweep relaxes node by node. On the
+#: hot tangent of the 46k path (the three Newton right-hand sides) CG took 15/15/15 iterations and
+#: 6.1 s CPU against 83/102/109 and 26 s with one SOR sweep; weight 0.5: 16-18 its, 7.5 s; one plane
+#: per block 23-27 its (0.5), two 15-20 (0.7); Chebyshev(2) instead of Richardson 10-11 its, 5.6-7.3 s.
+#: Over the path-followed solve of the hot-core strip (``linear_solver_benchmark --levels 2 3 4
+#: --solvers pmg-planes pmg``, back to back, 2026-11-26) 51-55 CG iterations for the whole path
+#: against 371-485, 1.93x / 2.25x / 2.53x less CPU at 46k / 105k / 200k DOFs, and 344 s CPU at 532k
+#: (SOR: 602 s; MUMPS LDL^T 1138 s: 3.3x), the stretch LDL^T's to 1.3e-14; peak memory 4.3 GiB at
+#: 532k against 3.2 (the block factors). README "Linear solvers on large meshes".
+#: Weight 0.7: a block couples to one block on either side (Q2 spans three node planes), so the
+#: blocks' inverse times K has eigenvalues below ~2 and 0.7 keeps the sweep contracting (SPD cycle,
+#: as CG needs). Needs planes of nodes (structured, transfinite meshes such as the strip's); on an
+#: unstructured mesh the blocks are a few nodes and the sweep is close to point-block Jacobi.
+PMG_PLANE_SMOOTHER = {"pmg_smoother_blocks": "planes", "pmg_smoother_mat_type": "aij",
+                      "mg_levels_pc_type": "asm", "mg_levels_pc_asm_type": "basic",
+                      "mg_levels_pc_asm_overlap": 0, "mg_levels_sub_pc_type": "cholesky",
+                      "mg_levels_ksp_richardson_scale": 0.7}
+
+#: Node planes per block of :data:`PMG_PLANE_SMOOTHER` [-]: 3 (15 CG its per solve at 46k) against
+#: 2 (15-20) and 1 (23-27 with weight 0.5), the same CPU for 2 and 3.
+PLANES_PER_BLOCK = 3
+
+
+def node_planes(V: dolfinx.fem.FunctionSpace, per_block: int = PLANES_PER_BLOCK) -> list[PETSc.IS]:
+    """The owned DOFs of ``V`` grouped by node planes normal to the mesh's longest axis, ``per_block``
+    consecutive planes a block (global PETSc numbering, one IS per block on this process): a plane
+    is the nodes whose coordinate along that axis agrees to 1e-6 of the extent."""
+    mesh = V.mesh
+    comm = mesh.comm
+    x = mesh.geometry.x
+    lo = np.array([comm.allreduce(float(v), op=MPI.MIN) for v in x.min(axis=0)])
+    hi = np.array([comm.allreduce(float(v), op=MPI.MAX) for v in x.max(axis=0)])
+    axis = int(np.argmax(hi - lo))
+    index_map, bs = V.dofmap.index_map, V.dofmap.index_map_bs
+    n = index_map.size_local
+    coord = V.tabulate_dof_coordinates()[:n, axis]
+    key = np.round((coord - lo[axis]) / (1e-6 * (hi[axis] - lo[axis])))
+    order = np.argsort(key, kind="stable")
+    starts = np.flatnonzero(np.r_[True, np.diff(key[order]) != 0])
+    first = index_map.local_range[0] * bs
+    planes = []
+    for nodes in np.split(order, starts[per_block::per_block]):
+        dofs = first + (bs * np.sort(nodes)[:, None] + np.arange(bs)).ravel()
+        planes.append(PETSc.IS().createGeneral(dofs.astype(PETSc.IntType), comm=PETSc.COMM_SELF))
+    return planes
 
 
 class PMultigrid:
@@ -87,6 +145,11 @@ class PMultigrid:
             raise InputError(f'[petsc] pmg_smoother_mat_type: "aij" or "baij", got {kind!r}')
         parallel = V.mesh.comm.size > 1
         self.smoother_mat_type = ("mpi" if parallel else "seq") + kind
+        # "planes": the Q2 smoother is block Jacobi over node planes (PMG_PLANE_SMOOTHER)
+        blocks = PETSc.Options(ksp.getOptionsPrefix()).getString("pmg_smoother_blocks", "none")
+        if blocks not in ("none", "planes"):
+            raise InputError(f'[petsc] pmg_smoother_blocks: "none" or "planes", got {blocks!r}')
+        self.smoother_blocks = node_planes(V) if blocks == "planes" else None
         self.updates = 0  # Galerkin products computed (tests, benchmarks)
 
     @property
@@ -122,4 +185,9 @@ class PMultigrid:
         pc.getMGCoarseSolve().setOperators(self.coarse_matrix, self.coarse_matrix)
         # PCMG keeps a fine-level operator that is not the KSP's (it re-reads the KSP's only when
         # the smoother's is the same matrix), so the SOR sweeps and the level residual run on BAIJ
-        pc.getMGSmoother(1).setOperators(self.smoothed_matrix, self.smoothed_matrix)
+        smoother = pc.getMGSmoother(1)
+        smoother.setOperators(self.smoothed_matrix, self.smoothed_matrix)
+        if self.smoother_blocks is not None:
+            # before PCSetUp, which would otherwise split the process's DOFs into one block
+            smoother.getPC().setType(PETSc.PC.Type.ASM)
+            smoother.getPC().setASMLocalSubdomains(len(self.smoother_blocks), self.smoother_blocks)

@@ -44,7 +44,8 @@ CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 #: Q2, the Q1 level factorised by MUMPS LDL^T); ``pmg-gamg``: one GAMG cycle on Q1 instead
 #: (:data:`lcefem.solvers.mechanics.PMG_GAMG_COARSE`); ``pmg-cheb``: Chebyshev(3)/Jacobi smoothing
 #: on Q2; ``pmg-chebsor``: Chebyshev(2) with the SOR sweep as its preconditioner; ``pmg-aij``:
-#: the SOR sweeps on K itself instead of its BAIJ copy; ``*sor2``: two SOR sweeps. (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named
+#: the SOR sweeps on K itself instead of its BAIJ copy; ``pmg-planes``: block Jacobi over node
+#: planes on Q2 (:data:`lcefem.solvers.pmultigrid.PMG_PLANE_SMOOTHER`); ``*sor2``: two SOR sweeps. (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named
 #: after what ran: ``pmg-gamg`` and ``pmg-gamg-sor2``.)
 _PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
                   "mg_levels_ksp_max_it": 3}
@@ -52,6 +53,7 @@ _PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacob
 
 def _solver_sets() -> dict[str, dict]:
     from lcefem.solvers.mechanics import GAMG_OPTIONS, PMG_GAMG_COARSE
+    from lcefem.solvers.pmultigrid import PMG_PLANE_SMOOTHER
 
     g = dict(GAMG_OPTIONS)
     g8 = {**g, "ksp_rtol": 1e-8}  # the variants were measured with exact (1e-8) CG solves
@@ -91,6 +93,7 @@ def _solver_sets() -> dict[str, dict]:
         "ldlt-lag-cg4": {**lag_pc, "ksp_rtol": 1e-4},
         "pmg": {"pc_type": "pmg"},
         "pmg-aij": {"pc_type": "pmg", "pmg_smoother_mat_type": "aij"},
+        "pmg-planes": {"pc_type": "pmg", **PMG_PLANE_SMOOTHER},
         "pmg-sor2": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2},
         "pmg-cheb": {"pc_type": "pmg", **_PMG_CHEBYSHEV},
         "pmg-chebsor": {"pc_type": "pmg", "mg_levels_ksp_type": "chebyshev", "mg_levels_ksp_max_it": 2},
