@@ -30,7 +30,7 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes._gmsh import TaggedMesh
-from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMultigrid
+from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
 from lcefem.solvers.run import raise_if_interrupted
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
@@ -125,6 +125,17 @@ FINAL_STEP_FORCING = 0.02
 #: stays here.
 ITERATIVE_PATH_DOFS = 300_000
 
+#: The Q2 smoother of the p-multigrid that :func:`solver_options` selects by size: block Jacobi over
+#: node planes (:data:`lcefem.solvers.pmultigrid.PMG_PLANE_SMOOTHER`) instead of PMG_OPTIONS's one
+#: SOR sweep, which stays for ``pc_type = "pmg"`` named by the caller. Why: over the strip's
+#: path-followed solve (``linear_solver_benchmark --solvers pmg-planes pmg ldlt``, 2026-11-26) the
+#: plane blocks took 51-55 CG iterations for the whole path at 46k-532k DOFs against 371-485, 1.93 /
+#: 2.25 / 2.53x less CPU than SOR at 46k / 105k / 200k, and LDL^T / planes is 3.1-3.6 at 200k and 3.3
+#: at 532k (344 s CPU against 1138 s); README "Linear solvers on large meshes". The blocks need node
+#: planes across the longest axis (transfinite hexahedral meshes: the strip, the twisted ribbon); the
+#: bodies that reach this size on unstructured meshes would get a sweep close to point-block Jacobi.
+AUTOMATIC_PMG_SMOOTHER = PMG_PLANE_SMOOTHER
+
 
 #: The direct path (``pc_type = "cholesky"``) in serial stores the tangent's upper triangle in node
 #: blocks (SBAIJ, :func:`_upper_block_matrix`) instead of the whole matrix (AIJ); False keeps AIJ
@@ -141,11 +152,14 @@ def solver_options(ndofs: int, overrides: dict | None = None, degree: int = 2) -
     overrides = dict(overrides or {})
     options = dict(NEWTON_OPTIONS)
     pc = overrides.get("pc_type")
-    if pc is None and ndofs >= ITERATIVE_PATH_DOFS:
+    automatic = pc is None and ndofs >= ITERATIVE_PATH_DOFS
+    if automatic:
         pc = "pmg" if degree >= 2 else "gamg"
     if pc == "pmg":  # not a PETSc name: PCMG with the Q1 level built by HyperelasticProblem
         overrides.pop("pc_type", None)
         options.update(PMG_OPTIONS)
+        if automatic:  # the size-selected path smooths by node planes (AUTOMATIC_PMG_SMOOTHER)
+            options.update(AUTOMATIC_PMG_SMOOTHER)
     elif pc == "gamg":
         options.update(GAMG_OPTIONS)
     options.update(overrides)

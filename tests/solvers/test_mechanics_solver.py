@@ -363,11 +363,14 @@ def test_path_tolerance_loosens_and_restores():
 
 def test_linear_solver_follows_the_size_unless_named():
     from lcefem.solvers.mechanics import GAMG_OPTIONS, ITERATIVE_PATH_DOFS, solver_options
-    from lcefem.solvers.pmultigrid import PMG_OPTIONS
+    from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER
 
     assert solver_options(ITERATIVE_PATH_DOFS - 1)["pc_type"] == "cholesky"
     large = solver_options(ITERATIVE_PATH_DOFS)
-    assert {k: large[k] for k in PMG_OPTIONS} == PMG_OPTIONS
+    # the size-selected p-multigrid smooths by node planes; a named "pmg" keeps PMG_OPTIONS's SOR
+    expected = {**PMG_OPTIONS, **PMG_PLANE_SMOOTHER}
+    assert {k: large[k] for k in expected} == expected
+    assert solver_options(10, {"pc_type": "pmg"})["mg_levels_pc_type"] == PMG_OPTIONS["mg_levels_pc_type"]
     # linear elements have no lower degree: their iterative path is GAMG on the matrix itself
     linear = solver_options(ITERATIVE_PATH_DOFS, degree=1)
     assert {k: linear[k] for k in GAMG_OPTIONS} == GAMG_OPTIONS
