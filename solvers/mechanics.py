@@ -122,7 +122,11 @@ FINAL_STEP_FORCING = 0.02
 #: With :data:`FINAL_STEP_FORCING` and the BAIJ smoother (2026-11-26, same-day pairs) p-MG takes
 #: LDL^T's 3 Newton iterations on the path, and LDL^T / p-MG for the whole solve is 0.43 (46k),
 #: 1.01 (105k), 1.49 (200k), and 1.89 at 532k (602 s against the 1138 s of 2026-11-25): the switch
-#: stays here.
+#: stays here. With the smoother by node planes (:data:`AUTOMATIC_PMG_SMOOTHER`, 2026-11-26) LDL^T /
+#: p-MG over the path is 0.66 (46k), 1.65 (105k), 3.1-3.6 (200k), 3.3 (532k): crossover ~7e4 DOFs by
+#: log-log interpolation. The switch still stays at 3e5: only the strip was measured there, LDL^T
+#: fits in memory below it (2.8 GiB at 200k), and moving it would move the strip's finer
+#: convergence levels onto CG (same equilibria to the Newton tolerance, other round-off).
 ITERATIVE_PATH_DOFS = 300_000
 
 #: The Q2 smoother of the p-multigrid that :func:`solver_options` selects by size: block Jacobi over
