@@ -476,8 +476,11 @@ class HyperelasticProblem:
         self.u.x.scatter_forward()
         ok = reason > 0 and bool(np.all(np.isfinite(self.u.x.array)))
         # only Newton's own KSP ends holding the tangent of the converged state (a quasi-Newton or
-        # nonlinearly preconditioned SNES factorises elsewhere or at an earlier iterate)
-        self.tangent_current = ok and self.snes.getType() == PETSc.SNES.Type.NEWTONLS
+        # nonlinearly preconditioned SNES factorises elsewhere or at an earlier iterate), and only
+        # after an iteration: a start already within tolerance converges at iteration 0 without a
+        # Jacobian, and the KSP holds an older tangent or none (the tangent predictor then failed
+        # on an unassembled matrix and the path went on without a prediction)
+        self.tangent_current = ok and its > 0 and self.snes.getType() == PETSc.SNES.Type.NEWTONLS
         return ok, its, f"SNES reason {reason} ({_snes_reason_name(reason)}) after {its} iterations"
 
     def save(self) -> np.ndarray:

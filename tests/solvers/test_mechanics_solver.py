@@ -257,6 +257,19 @@ def test_tangent_predictor_path_reaches_the_direct_solution():
     np.testing.assert_allclose(path.u.x.array, direct.u.x.array, rtol=0, atol=1e-8)
 
 
+def test_tangent_predictor_after_a_solve_without_iterations():
+    """A Newton solve that starts within tolerance (iteration 0) assembles no tangent, so the
+    predictor must assemble its own: the same Euler step as from a problem never solved."""
+    solved, t_solved, _ = _block(0.0, "test_zero_its_")
+    ok, its, reason = solved.solve()
+    assert ok and its == 0, reason
+    fresh, t_fresh, _ = _block(0.0, "test_zero_its_ref_")
+    assert solved.tangent_predictor(lambda s: setattr(t_solved, "value", s), 0.0, 0.1)
+    assert fresh.tangent_predictor(lambda s: setattr(t_fresh, "value", s), 0.0, 0.1)
+    assert np.max(np.abs(fresh.u.x.array)) > 0.1  # a real step: ~t L / E = 0.4 mm at the tip
+    np.testing.assert_allclose(solved.u.x.array, fresh.u.x.array, rtol=0, atol=1e-12)
+
+
 def test_contact_couplings_are_preallocated():
     """The beam's Jacobian holds the strip-ribbon pairs before the first assembly: assembling with
     every pair in contact allocates nothing new."""
