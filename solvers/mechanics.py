@@ -130,14 +130,10 @@ FINAL_STEP_FORCING = 0.02
 ITERATIVE_PATH_DOFS = 300_000
 
 #: The Q2 smoother of the p-multigrid that :func:`solver_options` selects by size: block Jacobi over
-#: node planes (:data:`lcefem.solvers.pmultigrid.PMG_PLANE_SMOOTHER`) instead of PMG_OPTIONS's one
-#: SOR sweep, which stays for ``pc_type = "pmg"`` named by the caller. Why: over the strip's
-#: path-followed solve (``linear_solver_benchmark --solvers pmg-planes pmg ldlt``, 2026-11-26) the
-#: plane blocks took 51-55 CG iterations for the whole path at 46k-532k DOFs against 371-485, 1.93 /
-#: 2.25 / 2.53x less CPU than SOR at 46k / 105k / 200k, and LDL^T / planes is 3.1-3.6 at 200k and 3.3
-#: at 532k (344 s CPU against 1138 s); README "Linear solvers on large meshes". The blocks need node
-#: planes across the longest axis (transfinite hexahedral meshes: the strip, the twisted ribbon); the
-#: bodies that reach this size on unstructured meshes would get a sweep close to point-block Jacobi.
+#: node planes (:data:`lcefem.solvers.pmultigrid.PMG_PLANE_SMOOTHER`, whose comment gives the
+#: measurements) instead of PMG_OPTIONS's one SOR sweep, which stays for ``pc_type = "pmg"`` named by
+#: the caller. The blocks need node planes across the longest axis (transfinite hexahedral meshes:
+#: the strip, the twisted ribbon); on unstructured meshes the sweep is close to point-block Jacobi.
 AUTOMATIC_PMG_SMOOTHER = PMG_PLANE_SMOOTHER
 
 
