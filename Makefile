@@ -1,7 +1,8 @@
 # Two commands on a fresh machine (each creates .venv when missing):
 #   make validate   - the main job: the validation report in results/validation
 #   make test       - the test suite
-.PHONY: env validate validate-quick test benchmark clean
+#   make docs       - the documentation site in docs/_build/html (warnings are errors)
+.PHONY: env validate validate-quick test docs benchmark clean
 
 env:
 	@scripts/bootstrap.sh
@@ -16,5 +17,13 @@ validate-quick: env
 test: env
 	.venv/bin/python -m pytest -n 2 --dist loadgroup -q
 
+# -E: read every page again (autosummary regenerates the API pages), so a warning is never hidden
+# by a cached page.
+docs:
+	@scripts/bootstrap.sh docs
+	rm -rf docs/_autosummary
+	.venv/bin/python -m sphinx -E -W --keep-going -q -b html docs docs/_build/html
+	@echo "lcefem: documentation in docs/_build/html/index.html"
+
 clean:
-	rm -rf results .pytest_cache
+	rm -rf results .pytest_cache docs/_build docs/_autosummary

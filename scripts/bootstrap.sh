@@ -1,10 +1,19 @@
 #!/usr/bin/env bash
 # Create .venv from a Python >= 3.12 that really runs, and install lcefem with pinned dependencies.
-# Usage: scripts/bootstrap.sh   (idempotent: does nothing when .venv is up to date)
+# Usage: scripts/bootstrap.sh [docs]   (idempotent: does nothing when .venv is up to date;
+#        "docs" also installs the pinned documentation group, make docs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=.venv
 STAMP=$VENV/.lcefem-installed
+DOCS_STAMP=$VENV/.lcefem-docs-installed
+WANT_DOCS=0
+[ "${1:-}" = docs ] && WANT_DOCS=1
+
+docs_ready() {  # the docs group is installed and not older than the pins
+    [ "$WANT_DOCS" = 0 ] || { [ -f "$DOCS_STAMP" ] && [ "$DOCS_STAMP" -nt pyproject.toml ] \
+        && [ "$DOCS_STAMP" -nt requirements.lock ]; }
+}
 
 runs_312() {  # true when "$1" is an interpreter that starts and is >= 3.12
     "$1" -c 'import sys; sys.exit(0 if sys.version_info >= (3, 12) else 1)' >/dev/null 2>&1
@@ -31,6 +40,10 @@ find_python() {
 
 if [ -f "$STAMP" ] && [ "$STAMP" -nt pyproject.toml ] && [ "$STAMP" -nt requirements.lock ] \
         && "$VENV/bin/python" -c 'import lcefem.models' >/dev/null 2>&1; then
+    docs_ready && exit 0
+    "$VENV/bin/python" -m pip install --quiet -c requirements.lock -e ".[test,docs]"
+    touch "$DOCS_STAMP"
+    echo "lcefem: documentation tools ready in $VENV"
     exit 0
 fi
 
@@ -45,6 +58,11 @@ if [ ! -x "$VENV/bin/python" ] || ! runs_312 "$VENV/bin/python"; then
     "$PY" -m venv "$VENV"
 fi
 "$VENV/bin/python" -m pip install --quiet --upgrade "pip==26.3"
-"$VENV/bin/python" -m pip install --quiet -c requirements.lock -e ".[test]"
+if [ "$WANT_DOCS" = 1 ]; then
+    "$VENV/bin/python" -m pip install --quiet -c requirements.lock -e ".[test,docs]"
+    touch "$DOCS_STAMP"
+else
+    "$VENV/bin/python" -m pip install --quiet -c requirements.lock -e ".[test]"
+fi
 touch "$STAMP"
 echo "lcefem: environment ready in $VENV"

@@ -1,0 +1,65 @@
+"""Sphinx configuration of the lcefem documentation (MyST Markdown pages in docs/).
+
+Build: ``make docs`` (creates the environment with the pinned ``docs`` group when missing, then
+``sphinx-build -W``: every warning is an error). The HTML lands in docs/_build/html.
+"""
+
+import pathlib
+import re
+import tomllib
+
+# MPI must be loaded before dolfinx/petsc4py (the FEniCSx wheel); autodoc imports the solvers.
+import dolfinx_solver  # noqa: F401
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+project = "lcefem"
+author = "the lcefem developers"
+copyright = "2026, the lcefem developers"
+release = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+version = release
+
+extensions = [
+    "myst_parser",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+]
+
+source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+root_doc = "index"
+# Pages are the *.md files of docs/ (new ones are picked up by the index's glob); the rest of docs/
+# is data (convergence tables and plots, images, patches of unmerged experiments, example scripts).
+exclude_patterns = ["_build", "experiments", "convergence", "images", "examples/*.py", "README.md"]
+templates_path = ["_templates"]
+
+myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
+myst_heading_anchors = 3
+
+autosummary_generate = True
+autosummary_imported_members = False
+autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False,
+                           # a package's __all__ re-exports its modules' names: document each once
+                           "ignore-module-all": True}
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"
+autodoc_preserve_defaults = True
+autoclass_content = "class"
+
+
+def _docstring_as_text(app, what, name, obj, options, lines):
+    """Docstrings here are plain text (units, formulas in Unicode, tables), not reStructuredText:
+    render each one as a preformatted block so that its layout survives and no markup is guessed."""
+    if not lines or not any(line.strip() for line in lines):
+        return
+    text = [re.sub(r"``([^`]*)``", r"\1", line) for line in lines]
+    lines[:] = ["::", ""] + ["    " + line for line in text] + [""]
+
+
+def setup(app):
+    app.connect("autodoc-process-docstring", _docstring_as_text)
+
+
+html_theme = "furo"
+html_title = f"lcefem {release}"
+html_static_path = []
