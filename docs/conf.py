@@ -31,7 +31,6 @@ root_doc = "index"
 # Pages are the *.md files of docs/ (new ones are picked up by the index's glob); the rest of docs/
 # is data (convergence tables and plots, images, patches of unmerged experiments, example scripts).
 exclude_patterns = ["_build", "experiments", "convergence", "images", "examples/*.py", "README.md"]
-templates_path = ["_templates"]
 
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
