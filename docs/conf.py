@@ -4,6 +4,7 @@ Build: ``make docs`` (creates the environment with the pinned ``docs`` group whe
 ``sphinx-build -W``: every warning is an error). The HTML lands in docs/_build/html.
 """
 
+import dataclasses
 import pathlib
 import re
 import tomllib
@@ -46,9 +47,30 @@ autodoc_preserve_defaults = True
 autoclass_content = "class"
 
 
+def _parameter_lines(cls):
+    """One line per parameter field of a dataclass (``lcefem.models.parameters.param``: unit and
+    source in the field's metadata): ``name = default [unit]: source``."""
+    try:
+        fields = dataclasses.fields(cls)
+    except TypeError:
+        return []
+    rows = [f for f in fields if "unit" in f.metadata]
+    if not rows:
+        return []
+    out = ["", "Parameters (field = default [unit]: source):"]
+    for f in rows:
+        default = "" if f.default is dataclasses.MISSING else f" = {f.default!r}"
+        out.append(f"  {f.name}{default} [{f.metadata['unit']}]: {f.metadata['source']}")
+    return out
+
+
 def _docstring_as_text(app, what, name, obj, options, lines):
     """Docstrings here are plain text (units, formulas in Unicode, tables), not reStructuredText:
-    render each one as a preformatted block so that its layout survives and no markup is guessed."""
+    render each one as a preformatted block so that its layout survives and no markup is guessed.
+    A parameter dataclass lists its fields with unit and source (Sphinx shows undocumented
+    attributes with their value only)."""
+    if what == "class" and isinstance(obj, type):
+        lines.extend(_parameter_lines(obj))
     if not lines or not any(line.strip() for line in lines):
         return
     text = [re.sub(r"``([^`]*)``", r"\1", line) for line in lines]
