@@ -21,9 +21,9 @@ test: env
 # by a cached page.
 docs:
 	@scripts/bootstrap.sh docs
-	rm -rf docs/_autosummary
+	rm -rf docs/_autosummary docs/_generated
 	.venv/bin/python -m sphinx -E -W --keep-going -q -b html docs docs/_build/html
 	@echo "lcefem: documentation in docs/_build/html/index.html"
 
 clean:
-	rm -rf results .pytest_cache docs/_build docs/_autosummary
+	rm -rf results .pytest_cache docs/_build docs/_autosummary docs/_generated
