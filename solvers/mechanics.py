@@ -30,6 +30,7 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.solvers import cost
 from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
 from lcefem.solvers.run import raise_if_interrupted
 
@@ -230,6 +231,10 @@ class HyperelasticProblem:
         options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
                                  petsc_options, V.ufl_element().embedded_superdegree)
         self.iterative = options.get("pc_type") in ("gamg", "mg")
+        if not self.iterative:  # a direct factorisation that cannot fit: refuse before assembling
+            ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+            cost.Estimate().memory("mesh (its level or size)", f"{ndofs} displacement DOFs factorised directly",
+                                   cost.fe_memory(ndofs)).check()
         _drop_stale_options(prefix, options)
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,

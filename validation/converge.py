@@ -53,6 +53,10 @@ from lcefem.validation.cases import CaseContext, registry
 from lcefem.validation.validate import MARKER, _isatty, guarded_run, load_complete, run_case
 
 MIN_LEVELS = 4
+#: Most levels a study may ask for: the meshes refine up to level 8 (StripMesh, CompositeBeamMesh,
+#: GridshellFEMesh, KaptonRibbonMesh: ``maximum=8``), so levels 0..8; more would fail at level 9 after
+#: running every coarser one.
+MAX_LEVELS = 9
 MIN_RATIO = 1.3  # Celik et al. 2008: refinement ratio r = h_coarse/h_fine should exceed 1.3
 DRIFT_TOL = 0.20  # relative spread of successive observed orders flagged as drift (not one power of h)
 ZERO_REL = 1e-12  # differences below this fraction of |value| count as zero
@@ -310,8 +314,9 @@ def selected_case(args: argparse.Namespace):
         able = [c.name for c in cases.values() if c.prolong]
         raise InputError(f"--prolong: case '{case.name}' cannot start from a coarser level's state; "
                          f"cases that can: {', '.join(able) or '(none)'}")
-    if args.levels < MIN_LEVELS:
-        raise InputError(f"--levels = {args.levels}: must be >= {MIN_LEVELS}")
+    if not MIN_LEVELS <= args.levels <= MAX_LEVELS:
+        raise InputError(f"--levels = {args.levels}: must be between {MIN_LEVELS} and {MAX_LEVELS} "
+                         "(the meshes' refinement levels 0..8)")
     return case
 
 

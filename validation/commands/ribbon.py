@@ -57,6 +57,11 @@ def config_from_args(args: argparse.Namespace) -> RibbonConfig:
     cfg = config_from_toml(args.config, RibbonConfig())
     cfg = override(cfg, "run", ground_temperature=args.ground_temperature, duration=args.duration)
     cfg = override(cfg, "geometry", twist_density=args.twist_density, helix_radius=args.helix_radius)
+    if cfg.geometry.is_helical:  # wound untwisted (initial_ribbon_state): report what is simulated
+        if args.twist_density not in (None, 0.0):
+            raise InputError(f"--twist-density = {args.twist_density} turns/mm: a helical ribbon "
+                             f"(helix radius {cfg.geometry.helix_radius} mm) is untwisted; give one of the two")
+        cfg = override(cfg, "geometry", twist_density=0.0)
     return override(cfg, "numerics", nodes=args.nodes, dt=args.dt, error_tolerance=args.error_tolerance)
 
 
