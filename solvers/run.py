@@ -178,6 +178,39 @@ def check_row(row: dict, where: str) -> None:
             raise PhysicalBoundsError(where, f"{key} = {value:.6g}: not {TEMPERATURE_RANGE}")
 
 
+# -- reading case files -------------------------------------------------------------------------
+def read_text(path, name: str) -> str:
+    """The one decoding path of every file lcefem reads from the user (case files, schedules): UTF-8
+    (TOML's encoding; a UTF-8 byte-order mark is skipped), else one InputError naming ``name`` (e.g.
+    ``config = 'case.toml'``) and what was found: UTF-16, binary, undecodable bytes, unreadable."""
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise InputError(f"{name}: file not found" if not path.exists() else f"{name}: not a file")
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise InputError(f"{name}: UTF-16 text; save it as UTF-8 (TOML files are UTF-8)")
+    if b"\x00" in data:
+        raise InputError(f"{name}: a binary file (NUL bytes), not a UTF-8 TOML text file")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{name}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start}); "
+                         "save it as UTF-8 (TOML files are UTF-8)") from None
+
+
+def read_toml(path, name: str) -> dict:
+    """A TOML file through :func:`read_text`; bad syntax is an InputError naming ``name``."""
+    import tomllib
+
+    try:
+        return tomllib.loads(read_text(path, name))
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{name}: invalid TOML ({exc})") from None
+
+
 # -- writers with the .part convention ----------------------------------------------------------
 def partial_name(path: pathlib.Path) -> pathlib.Path:
     """history.csv -> history.partial.csv; beam_steps -> beam_steps.partial."""
@@ -368,6 +401,9 @@ def _pid_alive(pid: int) -> bool:
 def _check_out_path(out, flag: str) -> pathlib.Path:
     if out is None or str(out).strip() == "":
         raise InputError(f"{flag} = '': must name a folder")
+    bad = _not_utf8(str(out))
+    if bad:
+        raise InputError(f"{flag} {bad}")
     out = pathlib.Path(out)
     if out.exists() and not out.is_dir():
         raise InputError(f"{flag} = '{out}': is a file, not a folder")
@@ -453,9 +489,23 @@ def _barrier_quietly(comm) -> None:
         comm.barrier()
 
 
+def _not_utf8(text: str) -> str | None:
+    """None, or the message for a name that is not valid UTF-8 (bytes the shell passed through, held by
+    Python as lone surrogates): dolfinx, ADIOS2 and VTK take UTF-8 names and fail deep inside on it."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return (f"= {text.encode('utf-8', 'surrogateescape').decode('utf-8', 'backslashreplace')!r}: "
+                "not valid UTF-8; choose a UTF-8 name")
+    return None
+
+
 def _out_path(text: str) -> pathlib.Path:
     if not text.strip():  # pathlib would read "" as the working directory
         raise argparse.ArgumentTypeError("--out = '': must name a folder")
+    bad = _not_utf8(text)
+    if bad:
+        raise argparse.ArgumentTypeError(f"--out {bad}")
     return pathlib.Path(text)
 
 
