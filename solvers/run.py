@@ -84,6 +84,18 @@ def reinstall_signal_handlers() -> None:
             signal.signal(signal.SIGPIPE, signal.SIG_IGN)
 
 
+def keep_petsc_off_signals() -> None:
+    """PETSc, when it initialises (the first import of petsc4py.PETSc, which may come inside a case
+    or a plot long after the command line took the signals), installs a handler of its own that ends
+    the process on SIGTERM with status 15 ("Caught signal number 15") and no clean-up: the lock stays,
+    .part files stay. PETSc's option -no_signal_handler, read from PETSC_OPTIONS at initialisation,
+    stops that at the root; :func:`reinstall_signal_handlers` still guards the cases where PETSc was
+    initialised before (a library user's own session)."""
+    options = os.environ.get("PETSC_OPTIONS", "")
+    if "-no_signal_handler" not in options.split():
+        os.environ["PETSC_OPTIONS"] = f"{options} -no_signal_handler".strip()
+
+
 def restore_signal_handlers(previous: dict) -> None:
     _installed.clear()
     for sig, handler in previous.items():

@@ -129,6 +129,7 @@ def main(argv: list[str] | None = None) -> int:
     global _ERRORS
     argv = sys.argv[1:] if argv is None else list(argv)
     previous = skeleton.install_signal_handlers()
+    skeleton.keep_petsc_off_signals()
     comm = None
     try:
         parser = build_parser(argv)

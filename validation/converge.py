@@ -325,17 +325,49 @@ def out_folder(args: argparse.Namespace) -> pathlib.Path:
     return args.out or pathlib.Path("results/converge") / selected_case(args).name
 
 
+#: the study's own files, under their final names only once all are written (convergence.json last:
+#: the marker of a complete study); a study stopped while writing them leaves ``study.partial/``
+STUDY_FILES = ("levels.csv", "gci.csv", "convergence.png", "convergence.json")
+
+
+def write_study(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
+                studies: list[MetricConvergence], warnings: list[str]) -> None:
+    """:func:`write_outputs` into ``out/study.part/``, then each file moved to ``out`` (the marker
+    convergence.json last); an interrupt or error on the way renames the folder ``study.partial/``."""
+    from lcefem.solvers.run import replace
+
+    staging = out / "study.part"
+    if staging.exists():
+        shutil.rmtree(staging)
+    try:
+        write_outputs(staging, case_name, mesh_sizes, mesh_unit, studies, warnings)
+        for name in STUDY_FILES:
+            replace(staging / name, out / name)
+        staging.rmdir()
+    except BaseException:
+        if staging.exists():
+            partial = out / "study.partial"
+            if partial.exists():
+                shutil.rmtree(partial)
+            replace(staging, partial)
+        raise
+
+
 def main(args: argparse.Namespace) -> int:
     case = selected_case(args)
     out = out_folder(args)
     from lcefem.validation.cli import world
 
     comm = world()
+    if comm is None or comm.rank == 0:  # an earlier study's results must not pass for this one's
+        for name in (*STUDY_FILES, "study.partial"):
+            target = out / name
+            shutil.rmtree(target) if target.is_dir() else target.unlink(missing_ok=True)
     h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet, resume=args.resume,
                                            prolong=args.prolong, comm=comm)
     if comm is not None and comm.rank != 0:  # rank 0 writes and prints the study
         return 0
-    write_outputs(out, case.name, h, unit, studies, warnings)
+    write_study(out, case.name, h, unit, studies, warnings)
     print_summary(studies, h)
     for w in warnings:
         print(f"warning: {w}")

@@ -76,7 +76,10 @@ def run_case(case: Case, ctx: CaseContext, root: pathlib.Path) -> CaseResult:
     ctx.case = case.name
     ctx.out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    metrics = case.run(ctx)
+    try:
+        metrics = case.run(ctx)
+    finally:  # a case may have started a library that took the signals (gmsh, PETSc): take them back
+        reinstall_signal_handlers()
     wall = time.perf_counter() - t0
     if not isinstance(metrics, (list, tuple)):
         raise TypeError(f"case {case.name} returned {type(metrics).__name__}, expected a list of Metric")
