@@ -24,6 +24,7 @@ import argparse
 import contextlib
 import csv
 import dataclasses
+import errno
 import json
 import math
 import os
@@ -190,6 +191,57 @@ def check_row(row: dict, where: str) -> None:
             raise PhysicalBoundsError(where, f"{key} = {value:.6g}: not {TEMPERATURE_RANGE}")
 
 
+# -- disk errors ---------------------------------------------------------------------------------
+#: errno -> (what happened, what to do): the causes of a write that fails, each named in one line
+DISK_ERRORS = {
+    errno.ENOSPC: ("no space left on the device", "free space or choose another --out"),
+    errno.EDQUOT: ("disk quota exceeded", "free space in your quota or choose another --out"),
+    errno.EROFS: ("read-only file system", "choose a writable --out"),
+    errno.EACCES: ("permission denied", "choose a folder you may write to"),
+    errno.EPERM: ("operation not permitted", "choose a folder you may write to"),
+}
+
+
+def is_disk_error(exc: BaseException) -> bool:
+    """An OSError whose cause is the disk or its permissions (:data:`DISK_ERRORS`): no case can
+    succeed after it, so validate stops rather than carry on."""
+    return isinstance(exc, OSError) and exc.errno in DISK_ERRORS
+
+
+def disk_error_message(exc: OSError) -> str:
+    """One line: the file, the cause (with its errno name) and what to do."""
+    where = f"'{exc.filename}'" if exc.filename else "a file"
+    if exc.errno in DISK_ERRORS:
+        cause, todo = DISK_ERRORS[exc.errno]
+        return f"cannot write {where}: {cause} ({errno.errorcode[exc.errno]}); {todo}"
+    return f"cannot write {where}: {exc.strerror or exc}"
+
+
+@contextlib.contextmanager
+def naming(path):
+    """Re-raise an OSError without a file name (a write() on a full disk) as one naming ``path``."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is None and exc.errno is not None:
+            raise OSError(exc.errno, exc.strerror or os.strerror(exc.errno), str(path)) from None
+        raise
+
+
+def library_os_error(exc: BaseException) -> OSError | None:
+    """The OSError behind a C++ library's error text (ADIOS2: "couldn't write to file PATH : errno =
+    28: No space left on device"), with its file named; None if the text names no errno."""
+    import re
+
+    text = re.sub(r"\x1b\[[0-9;]*m", "", str(exc))
+    found = re.search(r"errno\s*=\s*(\d+)", text)
+    if not found:
+        return None
+    code = int(found.group(1))
+    path = re.search(r"file\s+(\S+)\s*:", text)
+    return OSError(code, os.strerror(code), path.group(1) if path else None)
+
+
 # -- reading case files -------------------------------------------------------------------------
 def read_text(path, name: str) -> str:
     """The one decoding path of every file lcefem reads from the user (case files, schedules): UTF-8
@@ -273,12 +325,19 @@ def json_text(data) -> str:
 
 
 def write_text(path: pathlib.Path, text: str, comm=None) -> pathlib.Path:
-    """Write ``text`` under ``path.part`` and rename (from rank 0 of ``comm``)."""
+    """Write ``text`` under ``path.part`` and rename (from rank 0 of ``comm``). A write that fails
+    (a full disk) removes its ``.part`` (giving the space back) and leaves ``path`` as it was."""
     path = pathlib.Path(path)
     if _rank(comm) == 0:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = part_name(path)
-        tmp.write_text(text, encoding="utf-8")
+        try:
+            with naming(tmp):
+                tmp.write_text(text, encoding="utf-8")
+        except BaseException:
+            with contextlib.suppress(OSError):
+                tmp.unlink(missing_ok=True)
+            raise
         os.replace(tmp, path)
     _barrier(comm)
     return path
@@ -317,8 +376,9 @@ class CSVTable:
         if self._writes:
             if self._fh is None:
                 self._open()
-            self._csv.writerow([f"{v:.10g}" for v in values])
-            self._fh.flush()
+            with naming(part_name(self.path)):
+                self._csv.writerow([f"{v:.10g}" for v in values])
+                self._fh.flush()
 
     def column(self, name: str):
         import numpy as np
@@ -334,7 +394,8 @@ class CSVTable:
         if self._writes and self._fh is None:  # no row yet: the file still gets its header
             self._open()
         if self._fh is not None and not self._fh.closed:
-            self._fh.close()
+            with naming(part_name(self.path)):
+                self._fh.close()
         target = self.path if complete else partial_name(self.path)
         _barrier(self.comm)
         if _rank(self.comm) == 0 and part_name(self.path).exists():

@@ -90,8 +90,10 @@ def _classify(exc: BaseException) -> tuple[int, str]:
     if isinstance(exc, ConvergenceError):
         return EXIT_CONVERGENCE, f"lcefem: stopped: {exc}"
     if isinstance(exc, OSError):
-        where = f"'{exc.filename}': " if exc.filename else ""
-        return EXIT_INPUT, f"lcefem: error: cannot write {where}{exc.strerror or exc}"
+        return EXIT_INPUT, f"lcefem: error: {skeleton.disk_error_message(exc)}"
+    disk = skeleton.library_os_error(exc) if isinstance(exc, RuntimeError) else None
+    if disk is not None:  # a C++ writer's (ADIOS2, VTK) error text naming an errno and its file
+        return EXIT_INPUT, f"lcefem: error: {skeleton.disk_error_message(disk)}"
     if type(exc).__module__.startswith("petsc4py"):  # raised while setting up: an option PETSc rejects
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         return EXIT_INPUT, f"lcefem: error: PETSc refused the set-up ({first}); check the [petsc] options"
