@@ -45,7 +45,21 @@ EXIT_SIGINT = 128 + signal.SIGINT  # 130, the shell's convention
 EXIT_SIGTERM = 128 + signal.SIGTERM  # 143
 
 LOCK = ".lcefem.lock"  #: "pid host" of the run writing the folder
-STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it)
+STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it) and by which command
+STAMP_TEXT = "written by lcefem; --overwrite may empty this folder\ncommand: {command}\n"
+
+
+def stamped_command(out: pathlib.Path) -> str | None:
+    """The command recorded in ``out``'s marker (``run strip``, ``validate``, ``converge CASE``), None
+    when there is none (no marker, or one written before commands were recorded)."""
+    try:
+        text = (pathlib.Path(out) / STAMP).read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return None
+    for line in text.splitlines():
+        if line.startswith("command:"):
+            return line[len("command:"):].strip() or None
+    return None
 
 
 # -- signals ------------------------------------------------------------------------------------
@@ -483,7 +497,7 @@ def _check_out_path(out, flag: str) -> pathlib.Path:
     return out
 
 
-def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str) -> None:
+def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str, command: str | None) -> None:
     """Rank 0's part of :func:`claim_out` (raises InputError)."""
     try:
         out.mkdir(parents=True, exist_ok=True)
@@ -505,6 +519,11 @@ def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str) ->
         with os.fdopen(fd, "w") as fh:
             fh.write(f"{os.getpid()} {socket.gethostname()}\n")
         others = [p for p in out.iterdir() if p.name not in (LOCK, STAMP)]
+        previous = stamped_command(out)
+        if others and resume and command and previous and previous != command:
+            raise _release(out, InputError(
+                f"{flag} = '{out}': holds the results of `lcefem {previous}`; --resume continues only "
+                f"a folder of `lcefem {command}`: choose another folder"))
         if others and not resume:
             if not overwrite:
                 raise _release(out, InputError(
@@ -517,9 +536,16 @@ def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str) ->
                     "lcefem output folders: choose another folder"))
             for p in others:  # the previous run's state (failure.json, summary.json, ...) goes
                 shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
-        (out / STAMP).write_text("written by lcefem; --overwrite may empty this folder\n")
+        (out / STAMP).write_text(STAMP_TEXT.format(command=command or previous or "unknown"))
     except OSError as exc:
         raise InputError(f"{flag} = '{out}': cannot write there ({exc.strerror or exc})") from None
+
+
+def _inside(path: pathlib.Path, folder: pathlib.Path) -> bool:
+    try:
+        return path.resolve().is_relative_to(folder.resolve())
+    except (OSError, RuntimeError):
+        return False
 
 
 def _release(out: pathlib.Path, exc: BaseException) -> BaseException:
@@ -529,16 +555,24 @@ def _release(out: pathlib.Path, exc: BaseException) -> BaseException:
 
 @contextlib.contextmanager
 def claim_out(out, *, resume: bool | None = False, overwrite: bool = False, comm=None,
-              flag: str = "--out"):
+              flag: str = "--out", command: str | None = None, inputs: dict | None = None):
     """Own ``out`` while the body runs: check the path, refuse another run's results (unless
     ``resume`` or ``overwrite``, which empties an lcefem folder first), hold a lock file naming
-    this process. ``resume=None``: the command has no --resume. Errors are InputError on every rank."""
+    this process. ``resume=None``: the command has no --resume. ``command`` (e.g. ``run strip``) is
+    recorded in the folder's marker; --resume refuses a folder another command wrote. ``inputs``
+    (flag -> path: the case files the command reads) may not lie inside a folder --overwrite empties.
+    Errors are InputError on every rank."""
     out = _check_out_path(out, flag)
+    if overwrite and out.is_dir():
+        for name, path in (inputs or {}).items():
+            if path is not None and _inside(pathlib.Path(path), out):
+                raise InputError(f"{name} = '{path}': inside --out = '{out}', which --overwrite empties; "
+                                 "move the file out of the folder first")
     created = not out.exists()
     message = None
     if _rank(comm) == 0:
         try:
-            _take(out, resume, overwrite, flag)
+            _take(out, resume, overwrite, flag, command)
         except InputError as exc:
             message = str(exc)
     if comm is not None and comm.size > 1:
