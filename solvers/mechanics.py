@@ -264,10 +264,12 @@ class HyperelasticProblem:
         snes.setFunction(self._assemble_residual, self._b)
         # p-multigrid (pc_type = "pmg"): the Q1 Galerkin operator follows every assembled tangent
         self.pmultigrid = None
+        A, P, (jac, jargs, jkw) = snes.getJacobian()
         if options.get("pc_type") == "mg":
             self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP())
-            A, P, (jac, jargs, jkw) = snes.getJacobian()
             snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})
+        else:
+            snes.setJacobian(self._assemble_jacobian, A, P, kargs={"assemble": (jac, jargs, jkw)})
         self._ksp_rtol = options.get("ksp_rtol")
         self._newton_norms = []  # |R_k| [N] of the Newton solve under way (the forcing's model)
         self._predicting = False
@@ -293,9 +295,19 @@ class HyperelasticProblem:
                     rtol = min(rtol, FINAL_STEP_FORCING * target / norm)
         ksp.setTolerances(rtol=rtol)
 
+    def _assemble_jacobian(self, snes, x, A, P, assemble) -> None:
+        """SNES Jacobian callback: dolfinx's, after honouring an interrupt an earlier callback
+        swallowed (PETSc turns an exception raised inside a callback into an error code; a
+        Ctrl-C that landed in an assembly left the matrix unassembled, and every later solve failed
+        with "Object is in wrong state" instead of stopping)."""
+        raise_if_interrupted()
+        jac, jargs, jkw = assemble
+        jac(snes, x, A, P, *jargs, **jkw)
+
     def _assemble_jacobian_pmg(self, snes, x, A, P, assemble) -> None:
         """SNES Jacobian callback of the p-multigrid path: the tangent, then its Q1 Galerkin
         operator (when that operator is new, the PCMG gets its transfer and coarse operators)."""
+        raise_if_interrupted()
         jac, jargs, jkw = assemble
         jac(snes, x, A, P, *jargs, **jkw)
         if self.pmultigrid.update(A if P is None else P):
@@ -306,6 +318,7 @@ class HyperelasticProblem:
         when x is non-finite or inverts an element."""
         from dolfinx.fem.petsc import apply_lifting, assemble_vector, assign, set_bc
 
+        raise_if_interrupted()  # one swallowed inside an earlier callback (see _assemble_jacobian)
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         assign(x, self.u)
         with b.localForm() as local:
@@ -429,7 +442,8 @@ class HyperelasticProblem:
                 dolfinx.fem.petsc.assign(x, self.u)
                 self.u.x.scatter_forward()
                 ok = ksp.getConvergedReason() > 0 and self.admissible()
-        except PETSc.Error:
+        except PETSc.Error as exc:
+            raise_if_interrupted(exc)  # an interrupt in a callback is not a failed prediction
             ok = False
         for v in vecs:
             v.destroy()
@@ -471,6 +485,7 @@ class HyperelasticProblem:
         except PETSc.Error as exc:  # e.g. a factorisation failure
             raise_if_interrupted(exc)  # Ctrl-C inside a PETSc callback is not a failed solve
             return False, self.snes.getIterationNumber(), f"PETSc error {exc}"
+        raise_if_interrupted()  # a callback's interrupt PETSc reported as a diverged reason
         reason = self.snes.getConvergedReason()
         its = self.snes.getIterationNumber()
         self.last_iterations = its

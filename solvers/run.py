@@ -113,6 +113,7 @@ def keep_petsc_off_signals() -> None:
 
 def restore_signal_handlers(previous: dict) -> None:
     _installed.clear()
+    _received.clear()  # a later run in this process (lcefem as a library) starts uninterrupted
     for sig, handler in previous.items():
         signal.signal(sig, handler)
 
@@ -697,7 +698,10 @@ class Run:
         self._failure_hooks.append(hook)
 
     def record(self, row: dict, where: str, at: float | None = None, postfix: str | None = None) -> None:
-        """Check ``row`` against physical bounds, append it to the history, advance the bar."""
+        """Check ``row`` against physical bounds, append it to the history, advance the bar. An
+        interrupt a library swallowed (raised inside one of its callbacks) stops the run here at
+        the latest."""
+        raise_if_interrupted()
         check_row(row, where)
         if self.history is not None:
             self.history.append(row)
