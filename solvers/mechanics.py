@@ -30,6 +30,7 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.models.errors import InputError
 from lcefem.solvers import cost
 from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
 from lcefem.solvers.run import raise_if_interrupted
@@ -221,10 +222,12 @@ class HyperelasticProblem:
 
     def __init__(self, u: dolfinx.fem.Function, energy: ufl.Form, bcs=(), *,
                  prefix: str = "lcefem_mech_", petsc_options: dict | None = None,
-                 check_inversion: bool = True):
+                 check_inversion: bool = True, user_options=()):
         self.u = u
         V = u.function_space
         self.bcs = list(bcs)
+        #: the options a user gave (a case file's [petsc]): each must be read by the solver
+        self._unchecked_options = [prefix + str(k) for k in user_options]
         self.test = ufl.TestFunction(V)
         self.residual = ufl.derivative(energy, u, self.test)
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
@@ -488,6 +491,8 @@ class HyperelasticProblem:
         raise_if_interrupted()  # a callback's interrupt PETSc reported as a diverged reason
         reason = self.snes.getConvergedReason()
         its = self.snes.getIterationNumber()
+        if its > 0 and self._unchecked_options:
+            self._check_options_used()
         self.last_iterations = its
         self.u.x.scatter_forward()
         ok = reason > 0 and bool(np.all(np.isfinite(self.u.x.array)))
@@ -498,6 +503,20 @@ class HyperelasticProblem:
         # on an unassembled matrix and the path went on without a prediction)
         self.tangent_current = ok and its > 0 and self.snes.getType() == PETSc.SNES.Type.NEWTONLS
         return ok, its, f"SNES reason {reason} ({_snes_reason_name(reason)}) after {its} iterations"
+
+    def _check_options_used(self) -> None:
+        """After the first solve that assembled and factorised a tangent, every option the user gave
+        has been read by the SNES, KSP, PC or factorisation that it configures; one that was not is
+        unknown or misspelt (PETSc only warns at exit, after a run that ignored it): InputError."""
+        db = PETSc.Options()
+        unused = [name for name in self._unchecked_options if not db.used(name)]
+        self._unchecked_options = []
+        if unused:
+            prefix = self._problem.solver.getOptionsPrefix() or ""
+            names = ", ".join(n[len(prefix):] if n.startswith(prefix) else n for n in unused)
+            raise InputError(f"[petsc] {names}: not read by this problem's solver (SNES, KSP, PC, "
+                             "factorisation): an unknown or misspelt option, or one this solver "
+                             "does not use; see the PETSc manual pages")
 
     def save(self) -> np.ndarray:
         return self.u.x.array.copy()

@@ -186,6 +186,7 @@ def main(argv: list[str] | None = None) -> int:
         code, message = _classify(exc)
         return _end(code, message, comm)
     finally:
+        skeleton.forget_solver_options()  # before PETSc's exit report of unused options
         skeleton.restore_signal_handlers(previous)  # lcefem used as a library goes back to normal
 
 
