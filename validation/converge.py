@@ -322,7 +322,8 @@ def selected_case(args: argparse.Namespace):
 
 def out_folder(args: argparse.Namespace) -> pathlib.Path:
     """--out (default results/converge/<case>), once the input is known good."""
-    return args.out or pathlib.Path("results/converge") / selected_case(args).name
+    case = selected_case(args)  # checked even with --out: bad input must not touch a folder
+    return args.out or pathlib.Path("results/converge") / case.name
 
 
 #: the study's own files, under their final names only once all are written (convergence.json last:
