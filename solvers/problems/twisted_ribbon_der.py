@@ -85,10 +85,10 @@ class RibbonConfig:
                              f"ribbon (geometry.helix_radius = {self.geometry.helix_radius} mm) is untwisted; "
                              "give one of the two")
         edge = self.geometry.length / (self.numerics.nodes - 1)
-        if self.geometry.twist_density * edge > 0.25:  # the frame's twist per edge aliases beyond
-            raise InputError(f"geometry.twist_density = {self.geometry.twist_density} turns/mm: more than a "
-                             f"quarter turn per rod edge ({edge:.3g} mm at numerics.nodes = "
-                             f"{self.numerics.nodes}); at most {0.25 / edge:.3g} turns/mm, or more nodes")
+        if self.geometry.twist_density * edge > 0.5:  # beyond half a turn per edge the frames alias (Nyquist)
+            raise InputError(f"geometry.twist_density = {self.geometry.twist_density} turns/mm: more than "
+                             f"half a turn per rod edge ({edge:.3g} mm at numerics.nodes = "
+                             f"{self.numerics.nodes}); at most {0.5 / edge:.3g} turns/mm, or more nodes")
         self.estimate().check()
         return self
 
