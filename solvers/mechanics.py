@@ -20,6 +20,8 @@ Three things every iterate gets (:class:`HyperelasticProblem`):
 
 from __future__ import annotations
 
+import atexit
+
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 import numpy as np
 import ufl
@@ -33,7 +35,7 @@ from lcefem.meshes._gmsh import TaggedMesh
 from lcefem.models.errors import InputError
 from lcefem.solvers import cost
 from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
-from lcefem.solvers.run import raise_if_interrupted
+from lcefem.solvers.run import forget_solver_options, raise_if_interrupted
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
 #: spontaneous deformation asks for enormous tables (70 GiB seen); 4 integrates P2/Q2 stiffness well.
@@ -535,6 +537,15 @@ class HyperelasticProblem:
         face and 0 elsewhere, this is the force [N] the body exerts on that face's support."""
         return dolfinx.fem.form(ufl.replace(self.residual, {self.test: weight}),
                                 jit_options=JIT_OPTIONS)
+
+
+# lcefem's problems leave their options in PETSc's database (their solvers read some only when they
+# need them); at exit, before PETSc finalises (petsc4py registered its finalisation at import, earlier,
+# and atexit runs the latest first), they are removed, so that an option a problem never needed (a
+# beam confirmed in 0 Newton iterations never factorises: mat_mumps_icntl_7) is not reported as
+# "options you set that were not used" (lcefem.solvers.run.forget_solver_options; the command line
+# also calls it when a command ends).
+atexit.register(forget_solver_options)
 
 
 def _drop_stale_options(prefix: str, options: dict) -> None:
