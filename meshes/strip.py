@@ -79,6 +79,29 @@ def _divisions(length: float, size: float, multiplier: int) -> int:
     return multiplier * max(1, int(math.ceil(length / size - 1e-9)))
 
 
+def strip_mesh_counts(geometry: StripGeometry, lambda_N: float, resolution: StripMesh) -> dict:
+    """Cells and quadratic (Q2/P2) nodes of :func:`build_strip_mesh`'s mesh, counted without building it
+    (floats: a nonsense size gives a huge or infinite count rather than an overflow). Hexahedra
+    exactly; tetrahedra: 6 per hexahedron (gmsh's split of a transfinite hexahedron), nodes as the
+    hexahedra's (a lower bound: the diagonals add edge nodes)."""
+    dims = geometry.as_built(lambda_N)
+    L, W, H, c = dims["length"], dims["width"], dims["thickness"], dims["coil_side"]
+    quarter = resolution.symmetry == "quarter"
+    ys = [0.0, 0.5 * (W - c), 0.5 * W, 0.5 * (W + c), W][:3 if quarter else 5]
+    zs = [0.0, 0.5 * (H - c), 0.5 * H, 0.5 * (H + c), H][:3 if quarter else 5]
+    m = float(resolution.level + 1)
+
+    def div(length: float, size: float) -> float:
+        ratio = length / size if size > 0 else math.inf
+        return m * max(1.0, math.ceil(ratio - 1e-9) if math.isfinite(ratio) else math.inf)
+
+    nx = div(L, resolution.size * resolution.axial_aspect)
+    ny = sum(div(b - a, resolution.size) for a, b in zip(ys[:-1], ys[1:]))
+    nz = sum(div(b - a, resolution.size) for a, b in zip(zs[:-1], zs[1:]))
+    return {"cells": nx * ny * nz * (6.0 if resolution.cell == "tet" else 1.0),
+            "nodes": (2 * nx + 1) * (2 * ny + 1) * (2 * nz + 1)}
+
+
 def build_strip_mesh(geometry: StripGeometry, lambda_N: float, resolution: StripMesh = StripMesh(),
                      comm: MPI.Comm | None = None) -> TaggedMesh:
     """Structured gmsh mesh of the as-built strip (hexahedra, or each hexahedron split into tetrahedra).

@@ -27,6 +27,7 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.der.output import write_vtp
 from lcefem.solvers.run import CSVTable as HistoryCSV  # noqa: F401  (one CSV writer for every run)
 from lcefem.solvers.run import FrameSeries, Run, part_name, partial_name, replace, write_json  # noqa: F401
+from lcefem.solvers.run import library_os_error
 
 class FieldExport:
     """VTX (ADIOS2 .bp) time series of dolfinx Functions sharing one element, readable by ParaView."""
@@ -37,17 +38,45 @@ class FieldExport:
 
         self.path = pathlib.Path(path)
         self.comm = comm
-        self._writer = dolfinx.io.VTXWriter(comm, part_name(self.path), functions, engine="BP4")
+        self._broken = False
+        try:
+            self._writer = dolfinx.io.VTXWriter(comm, part_name(self.path), functions, engine="BP4")
+        except RuntimeError as exc:
+            raise library_os_error(exc) or exc from None
+
+    def _fail(self, exc: RuntimeError) -> BaseException:
+        """The error of a failed ADIOS2 write or close (a full disk) as an OSError naming the file.
+        ADIOS2's engine then retries the write in its C++ destructor, which throws there and aborts
+        the process (std::terminate, exit 134): the broken writer is kept alive to the end of the
+        process (one reference never released), so the command ends with its own exit status."""
+        import ctypes
+
+        if not self._broken:
+            self._broken = True
+            ctypes.pythonapi.Py_IncRef(ctypes.py_object(self._writer._cpp_object))
+        return library_os_error(exc) or exc
 
     def write(self, t: float) -> None:
-        self._writer.write(t)
+        if self._broken:
+            return
+        try:
+            self._writer.write(t)
+        except RuntimeError as exc:
+            raise self._fail(exc) from None
 
     def finalize(self, complete: bool = True) -> None:
-        self._writer.close()
+        error = None
+        if not self._broken:
+            try:
+                self._writer.close()
+            except RuntimeError as exc:  # the series is incomplete: it goes under its partial name
+                error, complete = self._fail(exc), False
         self.comm.barrier()
         if self.comm.rank == 0 and part_name(self.path).exists():
             replace(part_name(self.path), self.path if complete else partial_name(self.path))
         self.comm.barrier()
+        if error is not None:
+            raise error
 
 
 def write_snapshot(folder, name: str, functions: list[dolfinx.fem.Function], t: float = 0.0

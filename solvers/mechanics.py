@@ -20,6 +20,8 @@ Three things every iterate gets (:class:`HyperelasticProblem`):
 
 from __future__ import annotations
 
+import atexit
+
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 import numpy as np
 import ufl
@@ -30,8 +32,10 @@ import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes._gmsh import TaggedMesh
+from lcefem.models.errors import InputError
+from lcefem.solvers import cost
 from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
-from lcefem.solvers.run import raise_if_interrupted
+from lcefem.solvers.run import forget_solver_options, raise_if_interrupted
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
 #: spontaneous deformation asks for enormous tables (70 GiB seen); 4 integrates P2/Q2 stiffness well.
@@ -220,16 +224,22 @@ class HyperelasticProblem:
 
     def __init__(self, u: dolfinx.fem.Function, energy: ufl.Form, bcs=(), *,
                  prefix: str = "lcefem_mech_", petsc_options: dict | None = None,
-                 check_inversion: bool = True):
+                 check_inversion: bool = True, user_options=()):
         self.u = u
         V = u.function_space
         self.bcs = list(bcs)
+        #: the options a user gave (a case file's [petsc]): each must be read by the solver
+        self._unchecked_options = [prefix + str(k) for k in user_options]
         self.test = ufl.TestFunction(V)
         self.residual = ufl.derivative(energy, u, self.test)
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
         options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
                                  petsc_options, V.ufl_element().embedded_superdegree)
         self.iterative = options.get("pc_type") in ("gamg", "mg")
+        if not self.iterative:  # a direct factorisation that cannot fit: refuse before assembling
+            ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+            cost.Estimate().memory("mesh (its level or size)", f"{ndofs} displacement DOFs factorised directly",
+                                   cost.fe_memory(ndofs)).check()
         _drop_stale_options(prefix, options)
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
             self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
@@ -259,10 +269,12 @@ class HyperelasticProblem:
         snes.setFunction(self._assemble_residual, self._b)
         # p-multigrid (pc_type = "pmg"): the Q1 Galerkin operator follows every assembled tangent
         self.pmultigrid = None
+        A, P, (jac, jargs, jkw) = snes.getJacobian()
         if options.get("pc_type") == "mg":
             self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP())
-            A, P, (jac, jargs, jkw) = snes.getJacobian()
             snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})
+        else:
+            snes.setJacobian(self._assemble_jacobian, A, P, kargs={"assemble": (jac, jargs, jkw)})
         self._ksp_rtol = options.get("ksp_rtol")
         self._newton_norms = []  # |R_k| [N] of the Newton solve under way (the forcing's model)
         self._predicting = False
@@ -288,9 +300,19 @@ class HyperelasticProblem:
                     rtol = min(rtol, FINAL_STEP_FORCING * target / norm)
         ksp.setTolerances(rtol=rtol)
 
+    def _assemble_jacobian(self, snes, x, A, P, assemble) -> None:
+        """SNES Jacobian callback: dolfinx's, after honouring an interrupt an earlier callback
+        swallowed (PETSc turns an exception raised inside a callback into an error code; a
+        Ctrl-C that landed in an assembly left the matrix unassembled, and every later solve failed
+        with "Object is in wrong state" instead of stopping)."""
+        raise_if_interrupted()
+        jac, jargs, jkw = assemble
+        jac(snes, x, A, P, *jargs, **jkw)
+
     def _assemble_jacobian_pmg(self, snes, x, A, P, assemble) -> None:
         """SNES Jacobian callback of the p-multigrid path: the tangent, then its Q1 Galerkin
         operator (when that operator is new, the PCMG gets its transfer and coarse operators)."""
+        raise_if_interrupted()
         jac, jargs, jkw = assemble
         jac(snes, x, A, P, *jargs, **jkw)
         if self.pmultigrid.update(A if P is None else P):
@@ -301,6 +323,7 @@ class HyperelasticProblem:
         when x is non-finite or inverts an element."""
         from dolfinx.fem.petsc import apply_lifting, assemble_vector, assign, set_bc
 
+        raise_if_interrupted()  # one swallowed inside an earlier callback (see _assemble_jacobian)
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         assign(x, self.u)
         with b.localForm() as local:
@@ -424,7 +447,8 @@ class HyperelasticProblem:
                 dolfinx.fem.petsc.assign(x, self.u)
                 self.u.x.scatter_forward()
                 ok = ksp.getConvergedReason() > 0 and self.admissible()
-        except PETSc.Error:
+        except PETSc.Error as exc:
+            raise_if_interrupted(exc)  # an interrupt in a callback is not a failed prediction
             ok = False
         for v in vecs:
             v.destroy()
@@ -466,8 +490,11 @@ class HyperelasticProblem:
         except PETSc.Error as exc:  # e.g. a factorisation failure
             raise_if_interrupted(exc)  # Ctrl-C inside a PETSc callback is not a failed solve
             return False, self.snes.getIterationNumber(), f"PETSc error {exc}"
+        raise_if_interrupted()  # a callback's interrupt PETSc reported as a diverged reason
         reason = self.snes.getConvergedReason()
         its = self.snes.getIterationNumber()
+        if its > 0 and self._unchecked_options:
+            self._check_options_used()
         self.last_iterations = its
         self.u.x.scatter_forward()
         ok = reason > 0 and bool(np.all(np.isfinite(self.u.x.array)))
@@ -478,6 +505,20 @@ class HyperelasticProblem:
         # on an unassembled matrix and the path went on without a prediction)
         self.tangent_current = ok and its > 0 and self.snes.getType() == PETSc.SNES.Type.NEWTONLS
         return ok, its, f"SNES reason {reason} ({_snes_reason_name(reason)}) after {its} iterations"
+
+    def _check_options_used(self) -> None:
+        """After the first solve that assembled and factorised a tangent, every option the user gave
+        has been read by the SNES, KSP, PC or factorisation that it configures; one that was not is
+        unknown or misspelt (PETSc only warns at exit, after a run that ignored it): InputError."""
+        db = PETSc.Options()
+        unused = [name for name in self._unchecked_options if not db.used(name)]
+        self._unchecked_options = []
+        if unused:
+            prefix = self._problem.solver.getOptionsPrefix() or ""
+            names = ", ".join(n[len(prefix):] if n.startswith(prefix) else n for n in unused)
+            raise InputError(f"[petsc] {names}: not read by this problem's solver (SNES, KSP, PC, "
+                             "factorisation): an unknown or misspelt option, or one this solver "
+                             "does not use; see the PETSc manual pages")
 
     def save(self) -> np.ndarray:
         return self.u.x.array.copy()
@@ -496,6 +537,15 @@ class HyperelasticProblem:
         face and 0 elsewhere, this is the force [N] the body exerts on that face's support."""
         return dolfinx.fem.form(ufl.replace(self.residual, {self.test: weight}),
                                 jit_options=JIT_OPTIONS)
+
+
+# lcefem's problems leave their options in PETSc's database (their solvers read some only when they
+# need them); at exit, before PETSc finalises (petsc4py registered its finalisation at import, earlier,
+# and atexit runs the latest first), they are removed, so that an option a problem never needed (a
+# beam confirmed in 0 Newton iterations never factorises: mat_mumps_icntl_7) is not reported as
+# "options you set that were not used" (lcefem.solvers.run.forget_solver_options; the command line
+# also calls it when a command ends).
+atexit.register(forget_solver_options)
 
 
 def _drop_stale_options(prefix: str, options: dict) -> None:

@@ -24,6 +24,7 @@ import argparse
 import contextlib
 import csv
 import dataclasses
+import errno
 import json
 import math
 import os
@@ -44,7 +45,21 @@ EXIT_SIGINT = 128 + signal.SIGINT  # 130, the shell's convention
 EXIT_SIGTERM = 128 + signal.SIGTERM  # 143
 
 LOCK = ".lcefem.lock"  #: "pid host" of the run writing the folder
-STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it)
+STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it) and by which command
+STAMP_TEXT = "written by lcefem; --overwrite may empty this folder\ncommand: {command}\n"
+
+
+def stamped_command(out: pathlib.Path) -> str | None:
+    """The command recorded in ``out``'s marker (``run strip``, ``validate``, ``converge CASE``), None
+    when there is none (no marker, or one written before commands were recorded)."""
+    try:
+        text = (pathlib.Path(out) / STAMP).read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return None
+    for line in text.splitlines():
+        if line.startswith("command:"):
+            return line[len("command:"):].strip() or None
+    return None
 
 
 # -- signals ------------------------------------------------------------------------------------
@@ -84,8 +99,38 @@ def reinstall_signal_handlers() -> None:
             signal.signal(signal.SIGPIPE, signal.SIG_IGN)
 
 
+def keep_petsc_off_signals() -> None:
+    """PETSc, when it initialises (the first import of petsc4py.PETSc, which may come inside a case
+    or a plot long after the command line took the signals), installs a handler of its own that ends
+    the process on SIGTERM with status 15 ("Caught signal number 15") and no clean-up: the lock stays,
+    .part files stay. PETSc's option -no_signal_handler, read from PETSC_OPTIONS at initialisation,
+    stops that at the root; :func:`reinstall_signal_handlers` still guards the cases where PETSc was
+    initialised before (a library user's own session)."""
+    options = os.environ.get("PETSC_OPTIONS", "")
+    if "-no_signal_handler" not in options.split():
+        os.environ["PETSC_OPTIONS"] = f"{options} -no_signal_handler".strip()
+
+
+def forget_solver_options(prefix: str = "lcefem_") -> None:
+    """Remove lcefem's solver options (prefix ``lcefem_``) from PETSc's options database when a
+    command ends. Each problem puts its options there for its own SNES, KSP and factorisation, which
+    read them when they first need them; a problem that never needed one (a beam confirmed in 0
+    Newton iterations never factorises, so ``mat_mumps_icntl_7`` is never read) left it for PETSc to
+    report at exit as "options you set that were not used". Options a user gives are checked
+    when the solver has read its own (lcefem.solvers.mechanics: an unread [petsc] option is refused)."""
+    petsc = sys.modules.get("petsc4py.PETSc")
+    if petsc is None:
+        return
+    with contextlib.suppress(Exception):
+        db = petsc.Options()
+        for name in db.getAll():
+            if name.startswith(prefix):
+                db.delValue(name)
+
+
 def restore_signal_handlers(previous: dict) -> None:
     _installed.clear()
+    _received.clear()  # a later run in this process (lcefem as a library) starts uninterrupted
     for sig, handler in previous.items():
         signal.signal(sig, handler)
 
@@ -178,6 +223,90 @@ def check_row(row: dict, where: str) -> None:
             raise PhysicalBoundsError(where, f"{key} = {value:.6g}: not {TEMPERATURE_RANGE}")
 
 
+# -- disk errors ---------------------------------------------------------------------------------
+#: errno -> (what happened, what to do): the causes of a write that fails, each named in one line
+DISK_ERRORS = {
+    errno.ENOSPC: ("no space left on the device", "free space or choose another --out"),
+    errno.EDQUOT: ("disk quota exceeded", "free space in your quota or choose another --out"),
+    errno.EROFS: ("read-only file system", "choose a writable --out"),
+    errno.EACCES: ("permission denied", "choose a folder you may write to"),
+    errno.EPERM: ("operation not permitted", "choose a folder you may write to"),
+}
+
+
+def is_disk_error(exc: BaseException) -> bool:
+    """An OSError whose cause is the disk or its permissions (:data:`DISK_ERRORS`): no case can
+    succeed after it, so validate stops rather than carry on."""
+    return isinstance(exc, OSError) and exc.errno in DISK_ERRORS
+
+
+def disk_error_message(exc: OSError) -> str:
+    """One line: the file, the cause (with its errno name) and what to do."""
+    where = f"'{exc.filename}'" if exc.filename else "a file"
+    if exc.errno in DISK_ERRORS:
+        cause, todo = DISK_ERRORS[exc.errno]
+        return f"cannot write {where}: {cause} ({errno.errorcode[exc.errno]}); {todo}"
+    return f"cannot write {where}: {exc.strerror or exc}"
+
+
+@contextlib.contextmanager
+def naming(path):
+    """Re-raise an OSError without a file name (a write() on a full disk) as one naming ``path``."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is None and exc.errno is not None:
+            raise OSError(exc.errno, exc.strerror or os.strerror(exc.errno), str(path)) from None
+        raise
+
+
+def library_os_error(exc: BaseException) -> OSError | None:
+    """The OSError behind a C++ library's error text (ADIOS2: "couldn't write to file PATH : errno =
+    28: No space left on device"), with its file named; None if the text names no errno."""
+    import re
+
+    text = re.sub(r"\x1b\[[0-9;]*m", "", str(exc))
+    found = re.search(r"errno\s*=\s*(\d+)", text)
+    if not found:
+        return None
+    code = int(found.group(1))
+    path = re.search(r"file\s+(\S+)\s*:", text)
+    return OSError(code, os.strerror(code), path.group(1) if path else None)
+
+
+# -- reading case files -------------------------------------------------------------------------
+def read_text(path, name: str) -> str:
+    """The one decoding path of every file lcefem reads from the user (case files, schedules): UTF-8
+    (TOML's encoding; a UTF-8 byte-order mark is skipped), else one InputError naming ``name`` (e.g.
+    ``config = 'case.toml'``) and what was found: UTF-16, binary, undecodable bytes, unreadable."""
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise InputError(f"{name}: file not found" if not path.exists() else f"{name}: not a file")
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise InputError(f"{name}: UTF-16 text; save it as UTF-8 (TOML files are UTF-8)")
+    if b"\x00" in data:
+        raise InputError(f"{name}: a binary file (NUL bytes), not a UTF-8 TOML text file")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{name}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start}); "
+                         "save it as UTF-8 (TOML files are UTF-8)") from None
+
+
+def read_toml(path, name: str) -> dict:
+    """A TOML file through :func:`read_text`; bad syntax is an InputError naming ``name``."""
+    import tomllib
+
+    try:
+        return tomllib.loads(read_text(path, name))
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{name}: invalid TOML ({exc})") from None
+
+
 # -- writers with the .part convention ----------------------------------------------------------
 def partial_name(path: pathlib.Path) -> pathlib.Path:
     """history.csv -> history.partial.csv; beam_steps -> beam_steps.partial."""
@@ -228,12 +357,19 @@ def json_text(data) -> str:
 
 
 def write_text(path: pathlib.Path, text: str, comm=None) -> pathlib.Path:
-    """Write ``text`` under ``path.part`` and rename (from rank 0 of ``comm``)."""
+    """Write ``text`` under ``path.part`` and rename (from rank 0 of ``comm``). A write that fails
+    (a full disk) removes its ``.part`` (giving the space back) and leaves ``path`` as it was."""
     path = pathlib.Path(path)
     if _rank(comm) == 0:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = part_name(path)
-        tmp.write_text(text, encoding="utf-8")
+        try:
+            with naming(tmp):
+                tmp.write_text(text, encoding="utf-8")
+        except BaseException:
+            with contextlib.suppress(OSError):
+                tmp.unlink(missing_ok=True)
+            raise
         os.replace(tmp, path)
     _barrier(comm)
     return path
@@ -272,8 +408,9 @@ class CSVTable:
         if self._writes:
             if self._fh is None:
                 self._open()
-            self._csv.writerow([f"{v:.10g}" for v in values])
-            self._fh.flush()
+            with naming(part_name(self.path)):
+                self._csv.writerow([f"{v:.10g}" for v in values])
+                self._fh.flush()
 
     def column(self, name: str):
         import numpy as np
@@ -289,7 +426,8 @@ class CSVTable:
         if self._writes and self._fh is None:  # no row yet: the file still gets its header
             self._open()
         if self._fh is not None and not self._fh.closed:
-            self._fh.close()
+            with naming(part_name(self.path)):
+                self._fh.close()
         target = self.path if complete else partial_name(self.path)
         _barrier(self.comm)
         if _rank(self.comm) == 0 and part_name(self.path).exists():
@@ -368,13 +506,16 @@ def _pid_alive(pid: int) -> bool:
 def _check_out_path(out, flag: str) -> pathlib.Path:
     if out is None or str(out).strip() == "":
         raise InputError(f"{flag} = '': must name a folder")
+    bad = _not_utf8(str(out))
+    if bad:
+        raise InputError(f"{flag} {bad}")
     out = pathlib.Path(out)
     if out.exists() and not out.is_dir():
         raise InputError(f"{flag} = '{out}': is a file, not a folder")
     return out
 
 
-def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str) -> None:
+def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str, command: str | None) -> None:
     """Rank 0's part of :func:`claim_out` (raises InputError)."""
     try:
         out.mkdir(parents=True, exist_ok=True)
@@ -396,6 +537,11 @@ def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str) ->
         with os.fdopen(fd, "w") as fh:
             fh.write(f"{os.getpid()} {socket.gethostname()}\n")
         others = [p for p in out.iterdir() if p.name not in (LOCK, STAMP)]
+        previous = stamped_command(out)
+        if others and resume and command and previous and previous != command:
+            raise _release(out, InputError(
+                f"{flag} = '{out}': holds the results of `lcefem {previous}`; --resume continues only "
+                f"a folder of `lcefem {command}`: choose another folder"))
         if others and not resume:
             if not overwrite:
                 raise _release(out, InputError(
@@ -408,9 +554,16 @@ def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str) ->
                     "lcefem output folders: choose another folder"))
             for p in others:  # the previous run's state (failure.json, summary.json, ...) goes
                 shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
-        (out / STAMP).write_text("written by lcefem; --overwrite may empty this folder\n")
+        (out / STAMP).write_text(STAMP_TEXT.format(command=command or previous or "unknown"))
     except OSError as exc:
         raise InputError(f"{flag} = '{out}': cannot write there ({exc.strerror or exc})") from None
+
+
+def _inside(path: pathlib.Path, folder: pathlib.Path) -> bool:
+    try:
+        return path.resolve().is_relative_to(folder.resolve())
+    except (OSError, RuntimeError):
+        return False
 
 
 def _release(out: pathlib.Path, exc: BaseException) -> BaseException:
@@ -420,16 +573,24 @@ def _release(out: pathlib.Path, exc: BaseException) -> BaseException:
 
 @contextlib.contextmanager
 def claim_out(out, *, resume: bool | None = False, overwrite: bool = False, comm=None,
-              flag: str = "--out"):
+              flag: str = "--out", command: str | None = None, inputs: dict | None = None):
     """Own ``out`` while the body runs: check the path, refuse another run's results (unless
     ``resume`` or ``overwrite``, which empties an lcefem folder first), hold a lock file naming
-    this process. ``resume=None``: the command has no --resume. Errors are InputError on every rank."""
+    this process. ``resume=None``: the command has no --resume. ``command`` (e.g. ``run strip``) is
+    recorded in the folder's marker; --resume refuses a folder another command wrote. ``inputs``
+    (flag -> path: the case files the command reads) may not lie inside a folder --overwrite empties.
+    Errors are InputError on every rank."""
     out = _check_out_path(out, flag)
+    if overwrite and out.is_dir():
+        for name, path in (inputs or {}).items():
+            if path is not None and _inside(pathlib.Path(path), out):
+                raise InputError(f"{name} = '{path}': inside --out = '{out}', which --overwrite empties; "
+                                 "move the file out of the folder first")
     created = not out.exists()
     message = None
     if _rank(comm) == 0:
         try:
-            _take(out, resume, overwrite, flag)
+            _take(out, resume, overwrite, flag, command)
         except InputError as exc:
             message = str(exc)
     if comm is not None and comm.size > 1:
@@ -453,9 +614,23 @@ def _barrier_quietly(comm) -> None:
         comm.barrier()
 
 
+def _not_utf8(text: str) -> str | None:
+    """None, or the message for a name that is not valid UTF-8 (bytes the shell passed through, held by
+    Python as lone surrogates): dolfinx, ADIOS2 and VTK take UTF-8 names and fail deep inside on it."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return (f"= {text.encode('utf-8', 'surrogateescape').decode('utf-8', 'backslashreplace')!r}: "
+                "not valid UTF-8; choose a UTF-8 name")
+    return None
+
+
 def _out_path(text: str) -> pathlib.Path:
     if not text.strip():  # pathlib would read "" as the working directory
         raise argparse.ArgumentTypeError("--out = '': must name a folder")
+    bad = _not_utf8(text)
+    if bad:
+        raise argparse.ArgumentTypeError(f"--out {bad}")
     return pathlib.Path(text)
 
 
@@ -540,7 +715,10 @@ class Run:
         self._failure_hooks.append(hook)
 
     def record(self, row: dict, where: str, at: float | None = None, postfix: str | None = None) -> None:
-        """Check ``row`` against physical bounds, append it to the history, advance the bar."""
+        """Check ``row`` against physical bounds, append it to the history, advance the bar. An
+        interrupt a library swallowed (raised inside one of its callbacks) stops the run here at
+        the latest."""
+        raise_if_interrupted()
         check_row(row, where)
         if self.history is not None:
             self.history.append(row)

@@ -102,7 +102,8 @@ class ThermoMechanicalModel:
             energy -= external_work(self.u)
         self.bcs = dirichlet(V)
         self.mechanics = HyperelasticProblem(self.u, energy, self.bcs, prefix=f"{prefix}mech_",
-                                             petsc_options=petsc_options)
+                                             petsc_options=petsc_options,
+                                             user_options=tuple(petsc_options or ()))
         self.lce_regions = list(lce)
 
     def set_lce_parameters(self, index: int, transition: NematicTransition | None = None,

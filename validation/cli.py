@@ -11,6 +11,7 @@ exit (an error on one rank aborts them all) and rank 0 prints.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import sys
@@ -26,7 +27,8 @@ EXIT_CONVERGENCE = skeleton.EXIT_SOLVER
 #: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
 COMMANDS = ("validate", "converge", "uncertainty", "design")
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
-AGREE_SECONDS = 3.0  #: how long a failing rank waits for the others before aborting them
+AGREE_SECONDS = 3.0
+INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (--overwrite must spare them)  #: how long a failing rank waits for the others before aborting them
 
 
 class _Parser(argparse.ArgumentParser):
@@ -90,12 +92,33 @@ def _classify(exc: BaseException) -> tuple[int, str]:
     if isinstance(exc, ConvergenceError):
         return EXIT_CONVERGENCE, f"lcefem: stopped: {exc}"
     if isinstance(exc, OSError):
-        where = f"'{exc.filename}': " if exc.filename else ""
-        return EXIT_INPUT, f"lcefem: error: cannot write {where}{exc.strerror or exc}"
+        return EXIT_INPUT, f"lcefem: error: {skeleton.disk_error_message(exc)}"
+    disk = skeleton.library_os_error(exc) if isinstance(exc, RuntimeError) else None
+    if disk is not None:  # a C++ writer's (ADIOS2, VTK) error text naming an errno and its file
+        return EXIT_INPUT, f"lcefem: error: {skeleton.disk_error_message(disk)}"
     if type(exc).__module__.startswith("petsc4py"):  # raised while setting up: an option PETSc rejects
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         return EXIT_INPUT, f"lcefem: error: PETSc refused the set-up ({first}); check the [petsc] options"
     return 1, "".join(traceback.format_exception(exc)).rstrip()  # a bug: keep the traceback
+
+
+def _failure_json(out, exc: ConvergenceError, args, comm) -> None:
+    """failure.json of a run that stopped (exit 3) before its run skeleton wrote one: during set-up
+    (the first solve of a problem being built), or in a command without a Run."""
+    import pathlib
+
+    if out is None or (comm is not None and comm.rank != 0):
+        return
+    path = pathlib.Path(out) / "failure.json"
+    if path.exists() or not pathlib.Path(out).is_dir():
+        return
+    prepared = getattr(args, "prepared", None)
+    config = prepared.resolved() if hasattr(prepared, "resolved") else None
+    with contextlib.suppress(Exception):  # the original error matters more than this record
+        skeleton.write_json(path, {
+            "status": "failed", "kind": "out of physical bounds" if isinstance(exc, skeleton.PhysicalBoundsError)
+            else "no convergence", "where": getattr(exc, "where", ""), "reason": getattr(exc, "reason", str(exc)),
+            "last_converged": None, "config": config})
 
 
 def _end(code: int, message: str, comm) -> int:
@@ -129,6 +152,7 @@ def main(argv: list[str] | None = None) -> int:
     global _ERRORS
     argv = sys.argv[1:] if argv is None else list(argv)
     previous = skeleton.install_signal_handlers()
+    skeleton.keep_petsc_off_signals()
     comm = None
     try:
         parser = build_parser(argv)
@@ -146,15 +170,23 @@ def main(argv: list[str] | None = None) -> int:
         if hasattr(mod, "prepare"):  # bad input is refused before the output folder is touched
             args.prepared = mod.prepare(args)
         out = mod.out_folder(args) if hasattr(mod, "out_folder") else args.out
+        command = f"run {args.target}" if args.command == "run" else (
+            f"converge {args.case}" if args.command == "converge" else args.command)
+        inputs = {f"--{flag}": getattr(args, flag, None) for flag in INPUT_FILES}
         with skeleton.claim_out(out, resume=getattr(args, "resume", None), overwrite=args.overwrite,
-                                comm=comm):
-            return int(mod.main(args) or 0)
+                                comm=comm, command=command, inputs=inputs):
+            try:
+                return int(mod.main(args) or 0)
+            except ConvergenceError as exc:  # stopped before its Run existed: failure.json still says why
+                _failure_json(out, exc, args, comm)
+                raise
     except BaseException as exc:
         if isinstance(exc, SystemExit):
             raise
         code, message = _classify(exc)
         return _end(code, message, comm)
     finally:
+        skeleton.forget_solver_options()  # before PETSc's exit report of unused options
         skeleton.restore_signal_handlers(previous)  # lcefem used as a library goes back to normal
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import pathlib
-import tomllib
 from typing import Any
 
 from lcefem.models.errors import InputError
@@ -13,13 +12,10 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
     """Read a TOML case file; raise InputError for a missing file, bad syntax or an unknown section."""
     if path is None:
         return {}
+    from lcefem.solvers.run import read_toml
+
     path = pathlib.Path(path)
-    if not path.is_file():
-        raise InputError(f"config = {str(path)!r}: file not found")
-    try:
-        data = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"config = {str(path)!r}: invalid TOML ({exc})") from exc
+    data = read_toml(path, f"config = {str(path)!r}")
     for key, value in data.items():
         if key not in allowed_sections:
             raise InputError(f"unknown section '[{key}]' in {path.name}; allowed: "

@@ -53,6 +53,10 @@ from lcefem.validation.cases import CaseContext, registry
 from lcefem.validation.validate import MARKER, _isatty, guarded_run, load_complete, run_case
 
 MIN_LEVELS = 4
+#: Most levels a study may ask for: the meshes refine up to level 8 (StripMesh, CompositeBeamMesh,
+#: GridshellFEMesh, KaptonRibbonMesh: ``maximum=8``), so levels 0..8; more would fail at level 9 after
+#: running every coarser one.
+MAX_LEVELS = 9
 MIN_RATIO = 1.3  # Celik et al. 2008: refinement ratio r = h_coarse/h_fine should exceed 1.3
 DRIFT_TOL = 0.20  # relative spread of successive observed orders flagged as drift (not one power of h)
 ZERO_REL = 1e-12  # differences below this fraction of |value| count as zero
@@ -310,14 +314,44 @@ def selected_case(args: argparse.Namespace):
         able = [c.name for c in cases.values() if c.prolong]
         raise InputError(f"--prolong: case '{case.name}' cannot start from a coarser level's state; "
                          f"cases that can: {', '.join(able) or '(none)'}")
-    if args.levels < MIN_LEVELS:
-        raise InputError(f"--levels = {args.levels}: must be >= {MIN_LEVELS}")
+    if not MIN_LEVELS <= args.levels <= MAX_LEVELS:
+        raise InputError(f"--levels = {args.levels}: must be between {MIN_LEVELS} and {MAX_LEVELS} "
+                         "(the meshes' refinement levels 0..8)")
     return case
 
 
 def out_folder(args: argparse.Namespace) -> pathlib.Path:
     """--out (default results/converge/<case>), once the input is known good."""
-    return args.out or pathlib.Path("results/converge") / selected_case(args).name
+    case = selected_case(args)  # checked even with --out: bad input must not touch a folder
+    return args.out or pathlib.Path("results/converge") / case.name
+
+
+#: the study's own files, under their final names only once all are written (convergence.json last:
+#: the marker of a complete study); a study stopped while writing them leaves ``study.partial/``
+STUDY_FILES = ("levels.csv", "gci.csv", "convergence.png", "convergence.json")
+
+
+def write_study(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
+                studies: list[MetricConvergence], warnings: list[str]) -> None:
+    """:func:`write_outputs` into ``out/study.part/``, then each file moved to ``out`` (the marker
+    convergence.json last); an interrupt or error on the way renames the folder ``study.partial/``."""
+    from lcefem.solvers.run import replace
+
+    staging = out / "study.part"
+    if staging.exists():
+        shutil.rmtree(staging)
+    try:
+        write_outputs(staging, case_name, mesh_sizes, mesh_unit, studies, warnings)
+        for name in STUDY_FILES:
+            replace(staging / name, out / name)
+        staging.rmdir()
+    except BaseException:
+        if staging.exists():
+            partial = out / "study.partial"
+            if partial.exists():
+                shutil.rmtree(partial)
+            replace(staging, partial)
+        raise
 
 
 def main(args: argparse.Namespace) -> int:
@@ -326,11 +360,15 @@ def main(args: argparse.Namespace) -> int:
     from lcefem.validation.cli import world
 
     comm = world()
+    if comm is None or comm.rank == 0:  # an earlier study's results must not pass for this one's
+        for name in (*STUDY_FILES, "study.partial"):
+            target = out / name
+            shutil.rmtree(target) if target.is_dir() else target.unlink(missing_ok=True)
     h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet, resume=args.resume,
                                            prolong=args.prolong, comm=comm)
     if comm is not None and comm.rank != 0:  # rank 0 writes and prints the study
         return 0
-    write_outputs(out, case.name, h, unit, studies, warnings)
+    write_study(out, case.name, h, unit, studies, warnings)
     print_summary(studies, h)
     for w in warnings:
         print(f"warning: {w}")

@@ -59,6 +59,15 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
 
     from lcefem.validation.plots import _footer, save_figure
 
+    def drawn(values: dict) -> bool:
+        return any(v is not None and np.isfinite(v) for s in shapes for v in values.get(s, (None, None)))
+
+    # a series without a single value (e.g. the current route, not run at the quick level) gets no
+    # legend entry, which would name bars that are not there; the footer says it was left out
+    empty = [label for label, values in series.items() if not drawn(values)]
+    series = {label: values for label, values in series.items() if drawn(values)}
+    if empty:
+        sources = [*sources, f"no values, not drawn: {', '.join(empty)}"]
     fig = Figure(figsize=(11, 4.5), layout="constrained")
     axes = fig.subplots(1, 2, sharey=True)
     width = 0.8 / max(len(series), 1)
@@ -73,7 +82,8 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
         ax.set_title(f"{comp} at the centre junction (dome negative)", fontsize=9)
         ax.grid(alpha=0.3, axis="y")
     axes[0].set_ylabel("curvature [1/mm]")
-    axes[1].legend(fontsize=7)
+    if series:
+        axes[1].legend(fontsize=7)
     _footer(fig, sources)
     return save_figure(fig, pathlib.Path(path), 150)
 

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.figure import Figure
+from lcefem.solvers.run import naming
 
 KINDS = ("model", "experiment", "closed form", "published model", "reference")
 _STYLE = {
@@ -107,7 +108,12 @@ def save_figure(fig: Figure, path: pathlib.Path, dpi: int) -> pathlib.Path:
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.stem + ".part" + path.suffix)  # keeps the .png suffix for the writer
-    fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png")
+    try:
+        with naming(tmp):
+            fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png")
+    except BaseException:
+        tmp.unlink(missing_ok=True)  # a full disk: give the space back, leave no half figure
+        raise
     tmp.replace(path)
     return path
 

@@ -58,6 +58,7 @@ CHANNELS = ("Tx", "Ty", "Bx", "By")
 DEFAULT_SAMPLES = 8  #: forward solves per band: small, each warm-started solve of the dome takes 1-200 s
 #: (an asymmetric sample breaks the dome's symmetry near a bifurcation: 95-1314 Newton iterations
 #: measured; 5 dome samples took 45 min on 2 cores at load 8-17)
+MAX_SOBOL = 8192  #: largest --sobol-samples: chosen, 8 x the default (98,304 surrogate evaluations)
 DEFAULT_SOBOL = 1024  #: SALib base samples on the surrogate (N (2 G + 2) evaluations, G = 5 kinds)
 Q2_VALID = 0.9  #: leave-one-out Q^2 above which the surrogate's Sobol indices are reported as valid
 #: Path from the nominal equilibrium to a sample: a sample is a small perturbation, so try the whole
@@ -232,6 +233,10 @@ class BandsConfig:
             raise InputError(f"--samples {self.samples}: must be between 4 and 10000")
         if self.sobol_samples < 2 or self.sobol_samples & (self.sobol_samples - 1):
             raise InputError(f"--sobol-samples {self.sobol_samples}: must be a power of 2")
+        if self.sobol_samples > MAX_SOBOL:  # N (2 G + 2) surrogate evaluations and their arrays
+            raise InputError(f"--sobol-samples {self.sobol_samples}: must be <= {MAX_SOBOL}")
+        if not 0 <= self.seed < 2**32:
+            raise InputError(f"--seed {self.seed}: must be between 0 and 2^32 - 1 (numpy's seed)")
         if self.thermal_model not in gs.THERMAL_MODELS:
             raise InputError(f"--thermal-model {self.thermal_model!r}: allowed {', '.join(gs.THERMAL_MODELS)}")
         return self

@@ -20,6 +20,7 @@ raised an error, 2 on bad input (unknown case, unusable --out), 130 / 143 when i
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import datetime
 import json
@@ -34,7 +35,8 @@ import traceback
 from tqdm import tqdm
 
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.run import (EXIT_CASE_ERROR, add_out_arguments, raise_if_interrupted,
+from lcefem.solvers.run import (EXIT_CASE_ERROR, add_out_arguments, disk_error_message, is_disk_error,
+                               library_os_error, raise_if_interrupted,
                                reinstall_signal_handlers, write_json, write_text)
 from lcefem.validation import phenomena, report
 from lcefem.validation.cli import world
@@ -76,7 +78,10 @@ def run_case(case: Case, ctx: CaseContext, root: pathlib.Path) -> CaseResult:
     ctx.case = case.name
     ctx.out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    metrics = case.run(ctx)
+    try:
+        metrics = case.run(ctx)
+    finally:  # a case may have started a library that took the signals (gmsh, PETSc): take them back
+        reinstall_signal_handlers()
     wall = time.perf_counter() - t0
     if not isinstance(metrics, (list, tuple)):
         raise TypeError(f"case {case.name} returned {type(metrics).__name__}, expected a list of Metric")
@@ -195,7 +200,15 @@ def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False,
         return _farm(cases, out, results, flush, bar, comm, quick=quick, resume=resume, quiet=quiet)
     for i, case in enumerate(cases):
         bar.set_postfix_str(case.name)
-        results[i] = _run_or_reuse(case, out, quick=quick, resume=resume, quiet=quiet)
+        try:
+            results[i] = _run_or_reuse(case, out, quick=quick, resume=resume, quiet=quiet)
+        except OSError as exc:  # a full disk (guarded_run lets only disk errors through): stop here
+            results[i] = CaseResult(case.name, case.description, "error", 0.0, quick=quick,
+                                    error=disk_error_message(exc))
+            bar.close()
+            with contextlib.suppress(OSError):  # on a full disk the report may stay the last one written
+                flush()
+            raise
         flush()
         if results[i].status == "interrupted":
             bar.close()
@@ -270,21 +283,33 @@ def guarded_run(case: Case, case_dir: pathlib.Path, run, *, quick: bool = False,
             # A library may wrap the signal's exception in its own error (numba's compiler turns a
             # Ctrl-C/SIGTERM during a kernel's compilation into a RuntimeError): still an interrupt.
             raise_if_interrupted(exc)
+            disk = library_os_error(exc) if isinstance(exc, RuntimeError) else None
+            if disk is not None and is_disk_error(disk):
+                raise disk from None
             raise
     except KeyboardInterrupt as exc:
         result = CaseResult(case.name, case.description, "interrupted", time.perf_counter() - t0,
                             error=f"interrupted ({type(exc).__name__})", **meta)
         result.interrupt = exc
         return result
+    except OSError as exc:
+        if is_disk_error(exc):  # a full disk: no later case can write either; stop (report stays INCOMPLETE)
+            raise
+        return _errored(case, case_dir, exc, t0, meta, label, quiet)
     except Exception as exc:  # a failing case is reported and the run goes on
-        case_dir.mkdir(parents=True, exist_ok=True)
-        write_text(case_dir / "error.log", traceback.format_exc())
-        msg = f"{label}{type(exc).__name__}: {exc}".splitlines()[0]
-        status = "failed" if isinstance(exc, ConvergenceError) else "error"
-        if not quiet:
-            tqdm.write(f"lcefem validate: case {case.name} {status}: {msg}", file=sys.stderr)
-        return CaseResult(case.name, case.description, status, time.perf_counter() - t0, error=msg,
-                          **meta)
+        return _errored(case, case_dir, exc, t0, meta, label, quiet)
+
+
+def _errored(case, case_dir, exc, t0, meta, label, quiet) -> CaseResult:
+    """The CaseResult of a case that raised ``exc`` (inside its except clause): traceback in
+    ``case_dir/error.log``, one line on stderr."""
+    case_dir.mkdir(parents=True, exist_ok=True)
+    write_text(case_dir / "error.log", traceback.format_exc())
+    msg = f"{label}{type(exc).__name__}: {exc}".splitlines()[0]
+    status = "failed" if isinstance(exc, ConvergenceError) else "error"
+    if not quiet:
+        tqdm.write(f"lcefem validate: case {case.name} {status}: {msg}", file=sys.stderr)
+    return CaseResult(case.name, case.description, status, time.perf_counter() - t0, error=msg, **meta)
 
 
 def prepare(args: argparse.Namespace) -> None:

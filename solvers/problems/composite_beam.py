@@ -249,7 +249,7 @@ class BeamFE:
         energy = sum(w * dx(tm.cell_tag(name)) for name, w in self.energy_density.items())
         self.bcs = beam_supports(tm, V)
         self.problem = HyperelasticProblem(u, energy, self.bcs, prefix=_unique_prefix("beamfe"),
-                                           petsc_options=options)
+                                           petsc_options=options, user_options=tuple(petsc_options or ()))
         self.contacts = make_contacts(tm, u, contact)
         self.damping = NodalDamping(u)  # proximal term of PathFollower's relaxation across folds
         attach(self.problem, [*self.contacts, self.damping])

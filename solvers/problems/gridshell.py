@@ -264,7 +264,7 @@ class GridshellFE:
         options.update(petsc_options or {})
         self.problem = HyperelasticProblem(u, energy, self.bcs,
                                            prefix=f"lcefem_gridshell{next(_prefix)}_",
-                                           petsc_options=options)
+                                           petsc_options=options, user_options=tuple(petsc_options or ()))
         self.problem.snes.setDivergenceTolerance(1e30)
         self.contacts = make_contacts(tm, u, cfg.contact)
         self.table = None

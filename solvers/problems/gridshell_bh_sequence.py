@@ -42,7 +42,6 @@ import dataclasses
 import math
 import pathlib
 import time
-import tomllib
 from dataclasses import dataclass
 
 import numpy as np
@@ -161,13 +160,10 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
 
 
 def load_schedule(path) -> Schedule:
+    from lcefem.solvers.run import read_toml
+
     path = pathlib.Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"--schedule '{path}': cannot read ({exc.strerror or exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"--schedule '{path}': not valid TOML ({exc})") from None
+    data = read_toml(path, f"--schedule '{path}'")
     return schedule_from_dict(data, f"--schedule '{path}'")
 
 

@@ -102,7 +102,8 @@ class KaptonSpecimenFE:
         dx = volume_measure(tm)
         energy = neo_hookean_strain_energy(deformation_gradient(u), solid) * dx
         self.problem = HyperelasticProblem(u, energy, self.bcs, prefix=f"lcefem_kaptonfe{next(_prefix)}_",
-                                           petsc_options=petsc_options)
+                                           petsc_options=petsc_options,
+                                           user_options=tuple(petsc_options or ()))
         weight = dolfinx.fem.Function(V)
         weight.x.array[3 * right] = 1.0
         self._reaction = self.problem.reaction_form(weight)

@@ -36,13 +36,14 @@ from petsc4py import PETSc
 
 import dolfinx
 
-from lcefem.meshes.strip import StripGeometry, StripMesh, build_strip_mesh
+from lcefem.meshes.strip import StripGeometry, StripMesh, build_strip_mesh, strip_mesh_counts
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition, spontaneous_stretch, temperature_for_stretch
 from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, MAX_CURRENT
 from lcefem.models.parameters import param
+from lcefem.solvers import cost
 from lcefem.solvers.exports import FieldExport
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure
@@ -93,7 +94,21 @@ class StripConfig:
             raise InputError(f"mesh.cell = {self.mesh.cell!r}: allowed hex, tet")
         if self.run.tip_load and self.run.bc != "free":
             raise InputError("run.tip_load: only with run.bc = 'free'")
+        self.estimate().check()
         return self
+
+    def estimate(self) -> cost.Estimate:
+        """Steps, cells, DOFs and memory of this run, before the mesh is built (lcefem.solvers.cost)."""
+        counts = strip_mesh_counts(self.geometry, self.transition.lambda_N, self.mesh)
+        dofs = 3.0 * counts["nodes"]
+        est = cost.Estimate().count("cells", counts["cells"]).count("dofs", dofs)
+        est.memory(f"mesh.size = {self.mesh.size} mm, mesh.level = {self.mesh.level}",
+                   f"{cost.describe(counts['cells'], 'cells')} ({cost.describe(dofs, 'DOFs')})",
+                   cost.fe_memory(dofs))
+        if not self.run.steady:
+            cost.time_steps(f"run.dt = {self.run.dt} s (run.duration = {self.run.duration} s)",
+                            self.run.duration, self.run.dt, est)
+        return est
 
     def resolved(self) -> dict:
         return resolved(self)
@@ -317,7 +332,8 @@ class StripSimulation:
                     for e in exports:
                         e.write(row["time [s]"] if math.isfinite(row["time [s]"]) else 0.0)
 
-            summary = {"power [mW]": self.power, "mesh": self._mesh_summary()}
+            summary = {"power [mW]": self.power, "mesh": self._mesh_summary(),
+                       "cost estimate": cfg.estimate().as_dict()}
             if cfg.run.steady:
                 obs = self.steady_state()
                 record(obs, 0, "steady state")

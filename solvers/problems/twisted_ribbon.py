@@ -126,7 +126,7 @@ class TwistedRibbonFE:
         options.update(petsc_options or {})
         self.problem = HyperelasticProblem(u, energy * volume_measure(tm), self.bcs,
                                            prefix=prefix or f"lcefem_twisted_ribbon{next(_prefix)}_",
-                                           petsc_options=options)
+                                           petsc_options=options, user_options=tuple(petsc_options or ()))
         self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
         self.element_size = tm.info["element_size"]
         xs = _stations(length, length / resolution.along, stations)  # level-0 faces are faces at every level

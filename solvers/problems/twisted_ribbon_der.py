@@ -35,6 +35,7 @@ from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition
 from lcefem.models.parameters import param
 from lcefem.models.ribbon import GroundHeatExchange, RibbonGeometry
+from lcefem.solvers import cost
 from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import HISTORY_COLUMNS, RibbonNumerics, RibbonSetup, RibbonSimulation
 from lcefem.solvers.analysis.rolling import rolling_metrics
@@ -78,7 +79,26 @@ class RibbonConfig:
             raise InputError(f"numerics.dt = {self.numerics.dt} s: must be <= run.duration = {self.run.duration} s")
         if self.numerics.contact_samples > 1 and self.numerics.contact_samples % 2:
             raise InputError(f"numerics.contact_samples = {self.numerics.contact_samples}: must be 1 or even")
+        if self.geometry.is_helical and self.geometry.twist_density not in (0.0, RibbonGeometry().twist_density):
+            # initial_ribbon_state winds a helix untwisted: a twist density would be reported, not used
+            raise InputError(f"geometry.twist_density = {self.geometry.twist_density} turns/mm: a helical "
+                             f"ribbon (geometry.helix_radius = {self.geometry.helix_radius} mm) is untwisted; "
+                             "give one of the two")
+        edge = self.geometry.length / (self.numerics.nodes - 1)
+        if self.geometry.twist_density * edge > 0.5:  # beyond half a turn per edge the frames alias (Nyquist)
+            raise InputError(f"geometry.twist_density = {self.geometry.twist_density} turns/mm: more than "
+                             f"half a turn per rod edge ({edge:.3g} mm at numerics.nodes = "
+                             f"{self.numerics.nodes}); at most {0.5 / edge:.3g} turns/mm, or more nodes")
+        self.estimate().check()
         return self
+
+    def estimate(self) -> cost.Estimate:
+        """Nodes, steps and memory of this run (lcefem.solvers.cost)."""
+        n = self.numerics.nodes
+        est = cost.Estimate().count("nodes", n)
+        est.memory(f"numerics.nodes = {n}", f"{n} rod nodes", n * cost.ROD_NODE_MEMORY)
+        return cost.time_steps(f"numerics.dt = {self.numerics.dt} s (run.duration = {self.run.duration} s)",
+                               self.run.duration, self.numerics.dt, est)
 
     def resolved(self) -> dict:
         return resolved(self)

@@ -88,7 +88,7 @@ def test_converge_command_end_to_end(quadrature_case, tmp_path, capsys):
 
 def test_converge_bad_input_exits_2(quadrature_case, tmp_path, capsys):
     assert cli_main(["converge", "test_quadrature", "--levels", "3", "--out", str(tmp_path)]) == 2
-    assert "--levels = 3: must be >= 4" in capsys.readouterr().err
+    assert "--levels = 3: must be between 4 and 9" in capsys.readouterr().err
     assert cli_main(["converge", "test_no_levels", "--out", str(tmp_path)]) == 2
     assert "cases with levels: " in capsys.readouterr().err
     assert cli_main(["converge", "no_such_case", "--out", str(tmp_path)]) == 2

@@ -200,7 +200,7 @@ def test_full_disk_during_a_run_one_line_exit_2_and_partial_files(capsys, tmp_pa
     out = tmp_path / "full"
     code, err = cli(capsys, *BEAM, "--out", out)
     assert code == 2
-    assert f"cannot write '{out / 'history.csv.part'}': No space left on device" in one_line(err)
+    assert f"cannot write '{out / 'history.csv.part'}': no space left on the device (ENOSPC)" in one_line(err)
     assert {"history.partial.csv", "beam_steps.partial", "beam.partial.pvd"} == results(out)
     assert len((out / "history.partial.csv").read_text().splitlines()) == 3  # header + 2 rows
 

@@ -201,10 +201,16 @@ def write_csv(path: pathlib.Path, columns: dict[str, Sequence[float]], *, fmt: s
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".part")
-    with tmp.open("w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(names)
-        for row in zip(*cols):
-            writer.writerow([fmt.format(float(v)) for v in row])
+    from lcefem.solvers.run import naming
+
+    try:
+        with naming(tmp), tmp.open("w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(names)
+            for row in zip(*cols):
+                writer.writerow([fmt.format(float(v)) for v in row])
+    except BaseException:
+        tmp.unlink(missing_ok=True)  # a full disk: give the space back
+        raise
     tmp.replace(path)
     return path

@@ -48,10 +48,11 @@ def config_from_toml(path, base: GridshellBHRunConfig | None = None) -> Gridshel
     data = load_toml(path, {*GridshellBHRunConfig.PARAM_SECTIONS, "lambda", "current"})
     kw = {name: with_overrides(getattr(base, name), table, name) for name, table in data.items()
           if name in GridshellBHRunConfig.PARAM_SECTIONS}
+    # TOML keys are strings: strip ids ("3") become integers as on the command line (parse_assignments)
     if "lambda" in data:
-        kw["lambdas"] = dict(data["lambda"])
+        kw["lambdas"] = {int(k) if k.isdigit() else k: v for k, v in data["lambda"].items()}
     if "current" in data:
-        kw["currents"] = dict(data["current"])
+        kw["currents"] = {int(k) if k.isdigit() else k: v for k, v in data["current"].items()}
     return dataclasses.replace(base, **kw)
 
 

@@ -14,6 +14,7 @@ import argparse
 import dataclasses
 
 from lcefem.models.errors import InputError
+from lcefem.models.ribbon import RibbonGeometry
 from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, run_ribbon
 from lcefem.solvers.run import add_out_arguments
 from lcefem.validation.config import config_from_toml, override
@@ -57,6 +58,12 @@ def config_from_args(args: argparse.Namespace) -> RibbonConfig:
     cfg = config_from_toml(args.config, RibbonConfig())
     cfg = override(cfg, "run", ground_temperature=args.ground_temperature, duration=args.duration)
     cfg = override(cfg, "geometry", twist_density=args.twist_density, helix_radius=args.helix_radius)
+    if cfg.geometry.is_helical:  # wound untwisted (initial_ribbon_state): report what is simulated
+        if args.twist_density not in (None, 0.0):
+            raise InputError(f"--twist-density = {args.twist_density} turns/mm: a helical ribbon "
+                             f"(helix radius {cfg.geometry.helix_radius} mm) is untwisted; give one of the two")
+        if cfg.geometry.twist_density == RibbonGeometry().twist_density:  # the default, not a choice
+            cfg = override(cfg, "geometry", twist_density=0.0)  # (another value: validated() refuses it)
     return override(cfg, "numerics", nodes=args.nodes, dt=args.dt, error_tolerance=args.error_tolerance)
 
 
