@@ -144,3 +144,33 @@ def gridshell_scales_bh(ctx: CaseContext) -> list[Metric]:
         "(dome negative); the seed compares the Fig. 4 circle measure (bare) with the Fig. 5A quadratic "
         "fit (scales). CSV rows in order " + ", ".join(table["shape"]), [SCALES_SOURCE, BH]))
     return metrics
+
+
+SEQUENCE_SOURCE = ("seed 001, Fig. 5A and movie S1: flat -> table -> dome -> saddle -> cylinder with the "
+                   "cover scales; schedule validation/data/gridshell_fig5a_schedule.toml (its header gives "
+                   "each number's source); curvatures: 'These nine points were then used to fit a "
+                   "quadratic surface' (Materials and Methods)")
+
+
+@case("gridshell_scale_sequence_bh", "Robotic surface with cover scales, the Fig. 5A current schedule: "
+      "curvatures over time on the quadratic fit through the nine scale centres; movie and ParaView series",
+      fe=False)
+def gridshell_scale_sequence_bh(ctx: CaseContext) -> list[Metric]:
+    from lcefem.validation import fig5_tasks
+
+    name = ctx.case or "gridshell_scale_sequence_bh"
+    # quick: one output (quasi-static solve, movie frame) every 15 s instead of 5 s
+    summary = fig5_tasks.scale_sequence(ctx.path("sequence"), output_interval=15.0 if ctx.quick else None)
+    ctx.add_figure(ctx.path("sequence/curvature_vs_time.png"), plots.caption(
+        "Centre curvatures of the covered surface over the Fig. 5A schedule (quadratic fit through the "
+        "nine scale centres, and the circle measure); movie sequence/sequence.gif, ParaView "
+        "sequence/sequence.pvd.", [SEQUENCE_SOURCE, BH]))
+    metrics = []
+    for label, v in summary["phase_end"].items():
+        for comp in ("x", "y"):
+            metrics.append(Metric.info(name, f"end of '{label}' (t = {v['time [s]']:g} s): quadratic-fit "
+                                       f"kappa_{comp}", v[f"quad kappa_{comp} [1/mm]"], "1/mm", SEQUENCE_SOURCE))
+    metrics += [Metric.info(name, "outputs", summary["outputs"], "-", BH),
+                Metric.info(name, "cold restarts", summary["cold restarts"], "-", BH),
+                Metric.info(name, "wall time", summary["wall_time [s]"], "s", BH)]
+    return metrics
