@@ -136,3 +136,49 @@ def surface_frame(structure, x, scales, title: str, ball=None) -> np.ndarray:
         draw_surface(ax, structure, x, scales, ball)
         ax.set_title(title, fontsize=9)
     return frame_image(draw)
+
+
+def ball_trajectory_plot(path, traj: dict, times: dict, half_width: float, radius: float) -> pathlib.Path:
+    """Top view of the ball's path (footprint square) and its x, y against time (phases marked)."""
+    from lcefem.validation.plots import save_figure
+
+    fig = _figure((10, 4))
+    a, b = fig.subplots(1, 2, width_ratios=(1, 1.6))
+    a.plot(traj["u [mm]"], traj["v [mm]"], lw=1)
+    a.plot(traj["u [mm]"][0], traj["v [mm]"][0], "go", label="start (corner scale)")
+    a.plot(traj["u [mm]"][-1], traj["v [mm]"][-1], "rs", label="end")
+    w = half_width
+    a.plot([-w, w, w, -w, -w], [-w, -w, w, w, -w], "k-", lw=0.8, label="scales' footprint")
+    a.set_aspect("equal")
+    a.set_xlabel("x - x_c [mm]")
+    a.set_ylabel("y - y_c [mm]")
+    a.legend(fontsize=7)
+    t = traj["time [s]"]
+    b.plot(t, traj["u [mm]"], label="x - x_c [mm]")
+    b.plot(t, traj["v [mm]"], label="y - y_c [mm]")
+    for name, value in times.items():
+        b.axvline(value, color="0.8", lw=0.8)
+        b.text(value, 1.0, " " + name, rotation=90, va="top", fontsize=7, transform=b.get_xaxis_transform())
+    b.axhspan(-radius, radius, color="0.9", label="within one ball radius of the centre")
+    b.set_xlabel("time [s]")
+    b.set_ylabel("ball centre [mm]")
+    b.legend(fontsize=7, loc="lower left")
+    return save_figure(fig, pathlib.Path(path), 120)
+
+
+def pad_height_plot(path, record, rows: dict, flat: float) -> pathlib.Path:
+    """Pad height [mm] against its mass [g]: the loads of Fig. 5C and the ramp on to the give-way load."""
+    from lcefem.validation.plots import save_figure
+
+    fig = _figure((6.5, 4))
+    ax = fig.add_subplot()
+    if record:
+        m, h = np.array(record).T
+        ax.plot(m / 1e-6, h, "-", color="0.5", label="ramp beyond 200 g")
+    ax.plot(rows["pad mass [g]"], rows["pad height [mm]"], "o", label="Fig. 5C loads (100, 150, 200 g)")
+    ax.axhline(flat, color="k", lw=0.8, ls="--", label="pad on the flat surface")
+    ax.set_xlabel("pad mass [g]")
+    ax.set_ylabel("pad height above the table plane [mm]")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    return save_figure(fig, pathlib.Path(path), 120)
