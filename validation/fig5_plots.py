@@ -10,7 +10,6 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from lcefem.solvers.analysis.curvature import junction_centre_points
 from lcefem.solvers.exports import ribbon_triangles
 
 
