@@ -211,9 +211,12 @@ class QuasiStaticSurface:
     def __init__(self, structure: BarHingeStructure, support: str = "rollers",
                  materials: BarHingeMaterials = BarHingeMaterials(),
                  newton: NewtonOptions = gs.GRIDSHELL_NEWTON, path: PathOptions = gs.GRIDSHELL_PATH,
-                 start: tuple[dict, np.ndarray] | None = None):
+                 start: tuple[dict, np.ndarray] | None = None, scales=None):
         self.structure = structure
         self.setup = gs.setup_gridshell(None, support, structure=structure, materials=materials)
+        if scales is not None:  # the cover-scale layer (lcefem.models.cover_scales.CoverScales)
+            from lcefem.solvers.problems.gridshell_bh_scales import cover_setup
+            self.setup = cover_setup(self.setup, scales, materials)
         self.newton, self.path = newton, path
         if start is None:
             self.fractions = {g: v.copy() for g, v in self.setup.targets.items()}
@@ -282,16 +285,19 @@ def columns_for(schedule: Schedule) -> list[str]:
 
 def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool = True,
                  structure: BarHingeStructure | None = None, frames: bool = True,
-                 config: dict | None = None, snapshot=None, report=None) -> dict:
+                 config: dict | None = None, snapshot=None, report=None, scales=None,
+                 frame=None) -> dict:
     """Run a schedule through the run skeleton (outputs in the module docstring); returns the summary
     (with ``history``: the columns as lists). With ``out``: ``snapshot(out, phase, label, t,
     structure, x, support)`` at the last output of each phase and ``report(out, history, schedule)``
-    before the summary is written (optional: the validation's figures)."""
+    before the summary is written (optional: the validation's figures). ``scales``: a
+    :class:`lcefem.models.cover_scales.CoverScales` puts the cover scales on the surface;
+    ``frame(k, t, structure, x)`` is called at every output (e.g. a movie's frames)."""
     structure = structure or build_gridshell_bar_hinge()
     check_selections(schedule, structure)
     times = schedule.output_times()
     temps, lambdas = strip_histories(schedule, times)
-    surface = QuasiStaticSurface(structure, schedule.support)
+    surface = QuasiStaticSurface(structure, schedule.support, scales=scales)
     snapshots = phase_ends(schedule, times)
     bar = Progress(float(times[-1]), "sequence", "s", ".0f", progress)
     started = time.perf_counter()
@@ -313,6 +319,8 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
             run.record(row, where=f"t = {t:.4g} s", at=float(t))
             if vtk is not None:
                 vtk.write(float(t), x, surface.setup.model.bar_forces(x))
+            if frame is not None:
+                frame(k, float(t), structure, x)
             if out is not None and snapshot is not None and k in snapshots:
                 label = schedule.labels[snapshots[k]] if schedule.labels else f"phase {snapshots[k]}"
                 snapshot(pathlib.Path(out), snapshots[k], label, float(t), structure, x, schedule.support)
@@ -321,6 +329,7 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
             report(pathlib.Path(out), history, schedule)
         return run.complete({
             "model": "bar-hinge gridshell, quasi-static sequence", "support": schedule.support,
+            "cover scales": dataclasses.asdict(scales) if scales is not None else None,
             "thermal model": schedule.thermal_model, "outputs": len(times),
             "cold restarts": surface.cold_restarts, "wall_time [s]": time.perf_counter() - started,
             "final": {c: float(history[c][-1]) for c in CURVATURE_COLUMNS},

@@ -95,6 +95,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
                    "sequence (lcefem.solvers.problems.gridshell_bh_sequence; e.g. validation/data/"
                    "gridshell_fig5a_schedule.toml)")
+    p.add_argument("--scales", action="store_true", help="cover scales on (Kapton disks, seed 001 Fig. 5; "
+                   "lcefem.models.cover_scales): with --schedule the covered sequence and its movie "
+                   "sequence.gif; with --task always on")
+    p.add_argument("--task", choices=("sequence", "ball", "weights"), help="a Fig. 5 task of seed 001 on "
+                   "the covered surface (lcefem.validation.fig5_tasks; docs/fig5_tasks.md): the Fig. 5A "
+                   "schedule (or --schedule FILE), the ball manoeuvre, the weights on the table")
     p.add_argument("--config", help="TOML case file (sections: run, lambda, current, "
                    + ", ".join(GridshellBHRunConfig.PARAM_SECTIONS[1:]) + ")")
     add_out_arguments(p, "results/gridshell")
@@ -118,6 +124,9 @@ def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
 
 def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
     """The validated configuration (before the output folder is claimed)."""
+    if getattr(args, "task", None) or getattr(args, "scales", False):
+        from lcefem.validation import fig5_tasks
+        return fig5_tasks.prepare(args)
     if getattr(args, "schedule", None):
         from lcefem.validation import gridshell_sequence
         return gridshell_sequence.prepare(args)
@@ -125,6 +134,9 @@ def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
 
 
 def main(args: argparse.Namespace) -> int:
+    if getattr(args, "task", None) or getattr(args, "scales", False):
+        from lcefem.validation import fig5_tasks
+        return fig5_tasks.main(args)
     if getattr(args, "schedule", None):
         from lcefem.validation import gridshell_sequence
         return gridshell_sequence.main(args)
