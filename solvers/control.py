@@ -278,6 +278,11 @@ class ShapeController:
         self._pinv = (vt.T * (s / (s ** 2 + mu))) @ u.T
         self.p_ref = self.p_star.copy()
 
+    def curvature_resolution(self, noise: float) -> float:
+        """1 SD [1/mm] of the curvature estimate from one scan with height noise ``noise`` [mm]
+        (the larger of x and y): what the sensor resolves."""
+        return float(noise * np.sqrt(np.max(np.sum(self.K ** 2, axis=1))))
+
     def p_hat(self) -> np.ndarray:
         return np.minimum(free_stretch(self.T_hat, self.heat), PUBLISHED_LAMBDA_N)
 
