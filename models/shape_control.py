@@ -83,7 +83,7 @@ class BoostGuard:
     def account(self, currents: np.ndarray, dt: float) -> None:
         above = np.asarray(currents) > self.limits.sustained * (1.0 + 1e-9)
         ended = (~above) & (self.boosting > 0.0)
-        self.resting = np.where(ended, 0.0, np.where(above, self.resting, self.resting + dt))
+        self.resting = np.where(ended, dt, np.where(above, self.resting, self.resting + dt))
         self.boosting = np.where(above, self.boosting + dt, 0.0)
 
 

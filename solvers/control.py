@@ -377,7 +377,7 @@ def simulate(surface: Surface, draw: dict, *, mode: str = "channels", feedback: 
     result = RunResult(*(np.empty(0) for _ in range(5)))
     boost = np.zeros(S.shape[1])
     phases = scenario.phases()
-    fail = failing_strip(surface, S)
+    fail = failing_strip(surface, S) if any(n == "failure" for n, _, _ in phases) else -1
     t = 0.0
     for name, start, end in phases:
         if name == "load":
