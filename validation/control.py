@@ -286,7 +286,7 @@ def control_figures(out: pathlib.Path, req: ControlRequest, pair: dict) -> list[
     return paths
 
 
-def control_movie(path: pathlib.Path, req: ControlRequest, pair: dict, frames: int = 60) -> pathlib.Path:
+def control_movie(path: pathlib.Path, req: ControlRequest, pair: dict, frames: int = 40) -> pathlib.Path:
     """The nine junction centres (heights by the tangent map; in-plane positions of the target)
     of both loops against the target, as a GIF (matplotlib's Pillow writer)."""
     import matplotlib
@@ -323,7 +323,7 @@ def control_movie(path: pathlib.Path, req: ControlRequest, pair: dict, frames: i
 
     anim = FuncAnimation(fig, draw, frames=frames)
     part = path.with_name(path.stem + ".part" + path.suffix)
-    anim.save(part, writer=PillowWriter(fps=8))
+    anim.save(part, writer=PillowWriter(fps=6), dpi=60)
     plt.close(fig)
     rename(part, path)
     return path
