@@ -25,8 +25,11 @@ Controller (:class:`ShapeController`): internal-model control with the design Ja
       currents: p_hat = lambda_s(T_hat).
     * Output disturbance d = h_measured - (h* + J_u (p_hat - p*)) (J_u: the height rows of J summed
       over the strips of each input: the four channels, or every strip), low-pass filtered.
-    * Reference p_ref = p* - J_u^+ d_f (Tikhonov-regularised least squares, clipped to the lambdas a
-      sustained current can hold and lambda_N), i.e. the iterated inverse-model correction.
+    * Curvature deviation K d_f (linear minimum-variance estimate from the heights, prior: the
+      measured lambda_N spread per strip and an unknown centre load; noise: the sensor's).
+    * Reference p_ref = p* + argmin |J_k,u dp + K d_f|^2 + mu |dp|^2 (J_k,u: the circle curvatures
+      per input lambda; bounded least squares within the lambdas a sustained current can hold and
+      lambda_N), i.e. the iterated inverse-model correction.
     * Current = holding current of p_ref (nominal steady map) + K (T_ref - T_hat), clipped to the
       paper's limits (:class:`lcefem.models.shape_control.BoostGuard`).
     * Open loop is the same controller with d_f = 0: the nominal feed-forward (and boost) alone.
@@ -44,6 +47,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.optimize import lsq_linear
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
@@ -273,9 +277,10 @@ class ShapeController:
         self.T_hat = np.full(S.shape[1], heat.ambient)
         self.d = np.zeros(k)
         self.guard = BoostGuard(limits, S.shape[1])
-        u, s, vt = np.linalg.svd(self.Jk, full_matrices=False)
-        mu = settings.regularisation * s[0] ** 2
-        self._pinv = (vt.T * (s / (s ** 2 + mu))) @ u.T
+        s = np.linalg.svd(self.Jk, compute_uv=False)
+        # reference solve: min |J_k,u dp + K d|^2 + mu |dp|^2 over the bounds (bounded least squares:
+        # a channel at its limit leaves the correction to the others, which clipping would not)
+        self._A = np.vstack([self.Jk, np.sqrt(settings.regularisation) * s[0] * np.eye(S.shape[1])])
         self.p_ref = self.p_star.copy()
 
     def curvature_resolution(self, noise: float) -> float:
@@ -291,7 +296,10 @@ class ShapeController:
         if self.settings.feedback:
             d = heights - (self.h_star + self.J @ (self.p_hat() - self.p_star))
             self.d += min(dt / self.settings.filter_time, 1.0) * (d - self.d)
-            self.p_ref = np.clip(self.p_star - self._pinv @ (self.K @ self.d), self.lower, self.upper)
+            b = np.concatenate([-(self.K @ self.d), np.zeros(self.p_star.size)])
+            lo, hi = self.lower - self.p_star, self.upper - self.p_star
+            self.p_ref = self.p_star + np.clip(lsq_linear(self._A, b, bounds=(lo, hi),
+                                                          method="bvls").x, lo, hi)
         T_ref = self.maps.temperature(self.p_ref)
         hold = np.where(self.p_ref >= self.upper - 1e-12, 0.0, self.maps.hold_current(T_ref))
         current = hold + self.settings.thermal_gain * (T_ref - self.T_hat)
