@@ -207,6 +207,7 @@ class SurfacePlant:
         self.failed = np.zeros(n, dtype=bool)
         self.weight = 0.0  # payload weight [N]
         self.anchor: tuple | None = None
+        self.J: np.ndarray | None = None  # sensitivities at the last anchor (relinearise)
 
     def strip_currents(self, S: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         return (S @ np.asarray(inputs)) * self.draw["current_factor"] * (~self.failed)
@@ -220,15 +221,21 @@ class SurfacePlant:
         lam_n = self.draw["lambda_N"]
         return self.lambda_N * np.minimum(free_stretch(self.T, self.heat), lam_n) / lam_n
 
-    def output(self) -> np.ndarray:
-        return self.surface.tangent(self.lambdas(), self.weight, self.anchor)
-
-    def solve_full(self) -> np.ndarray:
-        """Full equilibrium now; re-anchors the tangent map there; returns its observables."""
+    def solve_full(self, relinearise: bool = False) -> np.ndarray:
+        """Full equilibrium now; re-anchors the tangent map there (with ``relinearise`` and no
+        payload, also its sensitivities: self.J); returns its observables."""
         p = self.lambdas()
-        y, _ = self.surface.full(p, self.weight)
+        y, x = self.surface.full(p, self.weight)
         self.anchor = (p, self.weight, y)
+        if relinearise and self.weight == 0.0 and x is not None:
+            self.J = self.surface.eq.jacobian(x)
         return y
+
+    def output(self) -> np.ndarray:
+        if self.J is None or self.anchor is None:
+            return self.surface.tangent(self.lambdas(), self.weight, self.anchor)
+        p_a, w_a, y_a = self.anchor
+        return y_a + self.J @ (self.lambdas() - p_a) + (self.weight - w_a) * self.surface.G
 
 
 # ------------------------------------------------------------------------------------- controller
@@ -264,12 +271,10 @@ class ShapeController:
         # Linear minimum-variance estimate of the circle curvatures' deviation from the heights'
         # deviation: prior on the strip lambdas (the measured lambda_N spread) and a centre load,
         # the sensor's noise; K = J_k P J_h^T (J_h P J_h^T + R)^-1.
-        jk = np.column_stack([surface.J[k:k + 2], surface.G[k:k + 2]])
-        jh = np.column_stack([surface.J[:k], surface.G[:k]])
-        prior = np.concatenate([(spread.lambda_N_relative_sd * surface.p_star) ** 2,
-                                [settings.load_prior ** 2]])
-        noise = max(sensor.noise, 1e-6) ** 2
-        self.K = (jk * prior) @ jh.T @ np.linalg.inv((jh * prior) @ jh.T + noise * np.eye(k))
+        self._prior = np.concatenate([(spread.lambda_N_relative_sd * surface.p_star) ** 2,
+                                      [settings.load_prior ** 2]])
+        self._noise = max(sensor.noise, 1e-6) ** 2
+        self.K = self.estimator(surface.J)
         self.Jk = surface.J[k:k + 2] @ S  # circle curvatures per input lambda
         self.maps = SteadyMaps(heat)
         self.lower = self.maps.stretch_at_current(limits.sustained)  # held by a sustained current
@@ -282,6 +287,26 @@ class ShapeController:
         # a channel at its limit leaves the correction to the others, which clipping would not)
         self._A = np.vstack([self.Jk, np.sqrt(settings.regularisation) * s[0] * np.eye(S.shape[1])])
         self.p_ref = self.p_star.copy()
+
+    def estimator(self, J: np.ndarray) -> np.ndarray:
+        """K = J_k P J_h^T (J_h P J_h^T + R)^-1 for sensitivities J (obs x strips)."""
+        k, G = self.surface.heights, self.surface.G
+        jk = np.column_stack([J[k:k + 2], G[k:k + 2]])
+        jh = np.column_stack([J[:k], G[:k]])
+        return (jk * self._prior) @ jh.T @ np.linalg.inv((jh * self._prior) @ jh.T + self._noise * np.eye(k))
+
+    def relinearise(self, J: np.ndarray, lambdas: np.ndarray) -> None:
+        """Use the sensitivities J (obs x strips) of a full equilibrium at strip lambdas ``lambdas``
+        from now on (the model's outputs stay continuous at p_hat)."""
+        k = self.surface.heights
+        p_hat = self.p_hat()
+        h_now = self.h_star + self.J @ (p_hat - self.p_star)
+        self.J = J[:k] @ self.S
+        self.Jk = J[k:k + 2] @ self.S
+        self.K = self.estimator(J)
+        self.h_star = h_now - self.J @ (p_hat - self.p_star)
+        s = np.linalg.svd(self.Jk, compute_uv=False)
+        self._A = np.vstack([self.Jk, np.sqrt(self.settings.regularisation) * s[0] * np.eye(self.S.shape[1])])
 
     def curvature_resolution(self, noise: float) -> float:
         """1 SD [1/mm] of the curvature estimate from one scan with height noise ``noise`` [mm]
@@ -325,6 +350,9 @@ class Scenario:
     full_under_load: bool = param(False, "-", "solve the full equilibrium under the payload too (slow: "
                                   "the 100 g point load bends the soft surface by centimetres, a "
                                   "ramp of minutes); False: the load phase runs on the tangent map")
+    relinearise: bool = param(False, "-", "at each full solve (no payload) recompute the exact "
+                              "sensitivities there, for the plant's tangent map and the controller's "
+                              "model (0.15-0.3 s per model step, control_benchmark)")
     dt: float = param(1.0, "s", "sensor and control period (HeightSensor.period) and heat step",
                       positive=True)
 
@@ -399,7 +427,9 @@ def simulate(surface: Surface, draw: dict, *, mode: str = "channels", feedback: 
         nsteps = int(round((end - start) / dt))
         for i in range(nsteps):
             if not anchored and end - t <= scenario.refine + 1e-9 and scenario.refine > 0:
-                plant.solve_full()
+                plant.solve_full(scenario.relinearise)
+                if scenario.relinearise and feedback and plant.J is not None:
+                    ctrl.relinearise(plant.J, plant.lambdas())
                 anchored = True
             y = plant.output()
             h = y[:k] + rng.normal(0.0, sensor.noise, k)
