@@ -2,7 +2,7 @@
 
 ``lcefem control --shape dome|saddle|cylinder|table [--inputs channels|strips] [--seed S]
 [--ambient-offset K] [--payload-g G] [--noise-mm N] [--max-current A] [--sustained-current A]
-[--settle S] [--no-load] [--no-failure] [--full-under-load] [--no-movie] --out DIR [--overwrite]
+[--settle S] [--no-load] [--no-failure] [--full-under-load] [--relinearise] [--no-movie] --out DIR [--overwrite]
 [--quiet]``
 
 From flat, the surface is driven to a Fig. 4 target (the nominal bar-and-hinge surface at the
@@ -106,6 +106,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-failure", action="store_true", help="skip the strip failure")
     p.add_argument("--full-under-load", action="store_true",
                    help="full equilibria under the payload too (slow; default: tangent map)")
+    p.add_argument("--relinearise", action="store_true",
+                   help="recompute the sensitivities at each full solve (plant tangent map and controller)")
     p.add_argument("--no-movie", action="store_true", help="skip control.gif")
     add_out_arguments(p, "results/control")
 
@@ -117,7 +119,7 @@ def prepare(args: argparse.Namespace) -> ControlRequest:
             raise InputError(f"--{name.replace('_', '-')} = {v}: must be a finite number")
     sc = ctl.Scenario(settle=args.settle, load_phase=0.0 if args.no_load else ctl.Scenario().load_phase,
                       failure_phase=0.0 if args.no_failure else ctl.Scenario().failure_phase,
-                      full_under_load=args.full_under_load)
+                      full_under_load=args.full_under_load, relinearise=args.relinearise)
     return ControlRequest(str(args.shape), str(args.inputs), args.seed,
                           PlantSpread(ambient_offset=args.ambient_offset, payload_mass=args.payload_g * 1e-6),
                           HeightSensor(noise=args.noise_mm),
