@@ -44,6 +44,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.gridshell_fe",
     "lcefem.validation.cases.gridshell_uncertainty",
     "lcefem.validation.cases.gridshell_design_bh",
+    "lcefem.validation.cases.gridshell_bh_vs_fe",
 ]
 
 
