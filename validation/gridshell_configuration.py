@@ -7,7 +7,8 @@ For every recipe (:data:`lcefem.solvers.problems.gridshell_bh.RECIPES`) it runs 
 configuration (its published support, glue squares, bar law A f P(p), no strip-ribbon contact), the
 published configuration with one departure (:data:`~lcefem.solvers.problems.gridshell_bh.DEPARTURES`)
 at a time, all departures together, and the configuration shipped before issue 30 (all departures,
-on the middle ribbons' rollers for every recipe but the saddle). Per run: converged, centre curvatures
+on the middle ribbons' rollers for every recipe but the saddle; for dome, cylinder and table the
+same as all departures, so not repeated). Per run: converged, centre curvatures
 by the circle (Fig. 4) and the nine-point quadratic fit, z range, the nine junction centres' RMS
 distance to the published run's after a rigid (Kabsch) fit, increments, Newton iterations, wall time.
 Writes ``configuration_effects.csv`` (units in the header) and ``configuration_effects.md`` into DIR
@@ -117,6 +118,8 @@ def measure(recipes, variants=VARIANTS, echo=print) -> list[dict]:
         for label, (deps, override) in variants.items():
             if label == "+middle_rollers" and g.RECIPES[recipe][1] != "rollers":
                 continue  # no effect where the published support is the clamp
+            if override == "former" and g.RECIPES[recipe][1] == "rollers":
+                continue  # the same as "all departures" (middle rollers included)
             r = run_variant(recipe, deps, override)
             r["variant"] = label
             if label == "published" and r["converged"]:
