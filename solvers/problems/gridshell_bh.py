@@ -417,6 +417,11 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
 #: The paper's Fig. 4 programs: lambda and current per channel, and the support (sources:
 #: :data:`SHAPE_DRIVE_SOURCES`; the curvatures the paper reports are validation data,
 #: lcefem.validation.gridshell_bh.SHAPES).
+#: Supports: the published script's (Examples2D.m: the 8 outer-ribbon rollers for dome, cylinder
+#: and table, the centre clamp for the saddle), as the 3D FE gridshell holds them; on them the
+#: cylinder curves 0.0152 / 0.0089 1/mm against 0.0131 / 0.0111 on the middle ribbons' ends (paper:
+#: 0.018 / 0; FE: 0.0147 / 0.0047), table and dome do not change (issue 30,
+#: docs/gridshell_configuration.md).
 SHAPE_DRIVES = {
     "table": {"lambdas": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
               "currents": {"Tx": 0.2, "Ty": 0.2, "Bx": 0.2, "By": 0.2}, "support": "rollers"},
