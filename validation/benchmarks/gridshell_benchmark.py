@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import importlib
 import platform
 import time
 
@@ -27,10 +28,13 @@ import numpy as np
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
-from lcefem.solvers.bar_hinge import newton as newton_module
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.run import write_json
 from lcefem.validation import gridshell_bh as gs
+
+
+#: The Newton module (the package re-exports its function ``newton`` under the same name).
+newton_module = importlib.import_module("lcefem.solvers.bar_hinge.newton")
 
 
 class EigenTimer:
