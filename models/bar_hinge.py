@@ -20,7 +20,9 @@ Every law is an energy with analytic first and second derivatives, vectorised ov
   (f = 1) to f = lambda/lambda_N (lambda relative to the isotropic length, as the paper's lambda).
   The strip volume is conserved: a bar carries the energy V W(p) with V = A_iso L0/lambda_N, A_iso
   its share of the isotropic (cast) section, so the axial force is V W'(p)/L_r = (A_iso/lambda) P(p)
-  with P the Ogden nominal stress of the isotropic-phase tension test (seed 001, Fig. 2E). W = 0 for
+  with P the Ogden nominal stress of the isotropic-phase tension test (seed 001, Fig. 2E). The
+  published model's law is A f P(p) instead (``force_law = "published"``): an energy volume
+  V = A f^2 L0 that follows the rest fraction f. W = 0 for
   p < 1 (a slack strip carries nothing). The tangents are exact (the published code's cable
   tangent misses a factor 1/f^2; see shared/reference/published_reduced_model.md).
 * **Rotational springs**: the enhanced-linear law of Liu & Paulino 2017 (Sec. 3b): moment per unit
@@ -55,6 +57,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_RATIO, OgdenLaw
 from lcefem.models.parameters import param
 
@@ -68,6 +71,10 @@ PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_Li
 
 # A law maps a stretch (or an angle) to (energy density, first derivative, second derivative).
 Law = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+#: Axial force laws of the LCE strip bars (:class:`LCEStripBars`.force_law).
+FORCE_LAWS = ("volume", "published")
 
 
 # --------------------------------------------------------------------------- parameters
@@ -111,6 +118,17 @@ class LCEStripBars:
     bars_per_strip: int = param(2, "-", "seed 001 'Numerical simulation': each strip is two identical "
                                 "bars along the ribbon edges, each with half the section",
                                 minimum=1)
+    force_law: str = param("volume", "-", "axial force of a strip bar at stretch p from its rest "
+                           "length: 'volume' (ours: (A/lambda) P(p), the cast section A = 5 mm^2 per bar "
+                           "thinned by the rest stretch lambda at constant volume) or 'published' ("
+                           + PUBLISHED + ": A f P(p) with the rest fraction f = lambda/lambda_N; "
+                           "ratio volume/published = 1/(lambda_N f^2): 1.27 at f = 0.75, 0.79 at "
+                           "f = 0.95)")
+
+    def checked(self) -> "LCEStripBars":
+        if self.force_law not in FORCE_LAWS:
+            raise InputError(f"lce.force_law = {self.force_law!r}: allowed {', '.join(FORCE_LAWS)}")
+        return self
 
     def rest_fraction(self, stretch):
         """Rest-length fraction f = lambda/lambda_N [-] for the paper's relative length lambda."""

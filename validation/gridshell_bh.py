@@ -17,9 +17,10 @@ from __future__ import annotations
 from lcefem.models.lumped_heat import (  # noqa: F401
     THERMAL_MODELS, CurrentRoute, lambda_assignments_from_currents, stretch_from_current)
 from lcefem.solvers.problems.gridshell_bh import (  # noqa: F401
-    GRIDSHELL_NEWTON, GRIDSHELL_PATH, RECIPE_SOURCE, RECIPES, SHAPE_DRIVE_SOURCES, SHAPE_DRIVES, SUPPORTS,
+    DEPARTURES, GRIDSHELL_NEWTON, GRIDSHELL_PATH, RECIPE_SOURCE, RECIPES, SHAPE_DRIVE_SOURCES, SHAPE_DRIVES, SUPPORTS,
     GridshellBH, GridshellBHConfig, GridshellSetup, GridshellSolution, add_table, centre_height,
-    check_lambda_values, lumped_node_weights, payload_forces, prepare_structure, ribbon_nodes,
+    check_lambda_values, lumped_node_weights, payload_forces, prepare_structure, published_configuration,
+    ribbon_nodes,
     setup_from_model, setup_gridshell, shape_summary, solve_gridshell, solve_payload, support_dofs,
     targets_from_lambdas, targets_from_recipe)
 from lcefem.validation.reference_data import reference

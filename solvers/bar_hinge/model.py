@@ -44,10 +44,19 @@ class BarSet:
     modulus: np.ndarray | None = None  # [MPa], stiffening bars
     exponents: tuple[float, float] = (5.0, 1.0)
     rest_fraction: np.ndarray | None = None  # f = L_r/L0 [-], LCE bars
+    published_area: float | None = None  # A [mm^2] of the published law A f P(p) (None: volume law)
 
     @property
     def rest_length(self) -> np.ndarray:
         return self.length0 if self.rest_fraction is None else self.rest_fraction * self.length0
+
+    @property
+    def energy_volume(self) -> np.ndarray:
+        """V [mm^3] of the bar energy V W(p): the material volume, or, with the published law
+        A f P(p), A f^2 L0 (so that V W'(p)/L_r = A f P(p))."""
+        if self.published_area is None:
+            return self.volume
+        return self.published_area * self.rest_fraction ** 2 * self.length0
 
     def law(self, ogden: OgdenLaw):
         if self.kind == "lce":
@@ -109,6 +118,7 @@ class BarHingeModel:
         self.structure = structure
         self.kapton, self.lce, self.glue, self.contact, self.ogden = kapton, lce, glue, contact, ogden
         self.strip_contact = strip_contact
+        lce.checked()
 
         def section(group: str, key: str) -> float:
             value = structure.sections.get(group, {}).get(key)
@@ -137,9 +147,11 @@ class BarHingeModel:
                                             np.full(length0.size, glue.youngs_modulus), exps))
             elif name in STRIP_GROUPS:
                 # Volume conserved: V = (A_iso / bars per strip) * L_iso, L_iso = L0/lambda_N.
-                volume = section(name, "section") / lce.bars_per_strip * length0 / lce.lambda_N
+                area = section(name, "section") / lce.bars_per_strip
+                volume = area * length0 / lce.lambda_N
                 self.bar_sets.append(BarSet(name, pairs, length0, volume, "lce",
-                                            rest_fraction=np.ones(length0.size)))
+                                            rest_fraction=np.ones(length0.size),
+                                            published_area=area if lce.force_law == "published" else None))
             else:
                 raise InputError(f"bar group {name!r}: no material law (allowed: kapton, glue, "
                                  f"{', '.join(STRIP_GROUPS)})")
@@ -285,7 +297,8 @@ class BarHingeModel:
                                       derivatives=derivatives)
             elif kind == "lce":
                 rest = np.concatenate([g.rest_length for g in block["sets"]])
-                out = law.bar_element(xs[0], xs[1], rest, block["volume"],
+                volume = np.concatenate([g.energy_volume for g in block["sets"]])
+                out = law.bar_element(xs[0], xs[1], rest, volume,
                                       lambda lam: law.tension_only_ogden_law(lam, self.ogden),
                                       derivatives=derivatives)
             elif kind == "hinge":
@@ -345,8 +358,8 @@ class BarHingeModel:
     def bar_forces(self, x) -> dict[str, np.ndarray]:
         """Axial force [N] (tension positive) of every bar, by group."""
         x = np.asarray(x, dtype=float).reshape(-1, 3)
-        return {b.name: law.axial_force(x[b.nodes[:, 0]], x[b.nodes[:, 1]], b.rest_length, b.volume,
-                                        b.law(self.ogden)) for b in self.bar_sets}
+        return {b.name: law.axial_force(x[b.nodes[:, 0]], x[b.nodes[:, 1]], b.rest_length,
+                                        b.energy_volume, b.law(self.ogden)) for b in self.bar_sets}
 
     def contact_forces(self, x) -> dict[str, np.ndarray]:
         """Contact pressure force k <g0 - g>_+ [N] of every contact, by group."""
@@ -361,8 +374,9 @@ class BarHingeModel:
         """d(gradient)/d f_b of every LCE bar b, by strip group: (dofs (m, 6), values (m, 6)) [N].
 
         With rest length L_r = f L0, stretch l = L/L_r and axial force F = V w'(l)/L_r, the bar's
-        gradient is F (-u, u) (u its unit vector), and dF/df = -V (l w''(l) + w'(l))/(f L_r); the
-        other elements do not depend on f. Used for exact design sensitivities (implicit function
+        gradient is F (-u, u) (u its unit vector), and dF/df = -V (l w''(l) + w'(l))/(f L_r) with
+        the material volume V (the volume law), A (w'(l) - l w''(l)) with the published law
+        F = A f w'(l) (V = A f^2 L0); the other elements do not depend on f. Used for exact design sensitivities (implicit function
         theorem: dx/df = -K^-1 d(gradient)/df at an equilibrium).
         """
         x = np.asarray(x, dtype=float).reshape(-1, 3)
@@ -373,7 +387,8 @@ class BarHingeModel:
             rest = b.rest_length
             lam = length / rest
             _, dw, d2w = law.tension_only_ogden_law(lam, self.ogden)
-            dforce = -b.volume * (lam * d2w + dw) / (b.rest_fraction * rest)
+            sign = -1.0 if b.published_area is None else 1.0
+            dforce = b.energy_volume * (sign * dw - lam * d2w) / (b.rest_fraction * rest)
             u = d / length[:, None]
             values = np.concatenate([-dforce[:, None] * u, dforce[:, None] * u], axis=1)
             dofs = (3 * b.nodes[:, :, None] + np.arange(3)).reshape(b.nodes.shape[0], -1)

@@ -11,12 +11,16 @@ linearly from the current ones to the targets: the paper's quasi-static route) b
 * Actuation: a target rest fraction f = lambda/lambda_N per strip bar (lambda relative to the
   isotropic length).
 * Supports (:data:`SUPPORTS`):
-  - "clamp": the published saddle support, the four corner nodes of the centre junction held (12
-    DOFs);
-  - "rollers": the published support of the other shapes, "8 roller supports at the ribbon ends on
-    the perimeter": we take both edge nodes at both ends of the middle x and y ribbons (8 nodes, z
-    held), plus the three in-plane rigid-body motions removed at the centre junction (corner 0 in x
-    and y, corner 1 in y), which carry no reaction in equilibrium;
+  - "clamp": the published support of saddle, cone, twisted, wave and dustpan (Examples2D.m), the
+    four corner nodes of the centre junction held in x, y, z (12 DOFs);
+  - "rollers": the published support of dome, cylinder and table (Examples2D.m): the nodes at
+    (30, 0), (30, 141), (111, 0), (111, 141), (141, 30), (141, 111), (0, 30), (0, 111), the outer
+    edge node at each end of the four OUTER ribbons, held in z, plus (30, 0) in x and y, (30, 141)
+    in x and (111, 0) in y (12 DOFs; shared/reference/gridshell_recipes.md);
+  - "middle_rollers" (our former reading of "8 roller supports at the ribbon ends on the
+    perimeter", kept as an option): both edge nodes at both ends of the middle x and y ribbons
+    (8 nodes, z held), plus the three in-plane rigid-body motions removed at the centre junction
+    (corner 0 in x and y, corner 1 in y), which carry no reaction in equilibrium;
   - "table": the experiment (seed 001, "lightweight (33 g) and not anchored to the table"): the
     surface's own weight (33 g lumped on the nodes), frictionless unilateral contact of the bottom
     strips' ends with a rigid table plane, and only the in-plane rigid-body motions removed as
@@ -41,7 +45,7 @@ import math
 import pathlib
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -71,7 +75,7 @@ GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iter
 GRIDSHELL_NEWTON = NewtonOptions(force_tolerance=1.0e-6)
 
 
-SUPPORTS = ("clamp", "rollers", "table")
+SUPPORTS = ("clamp", "rollers", "middle_rollers", "table")
 
 
 def check_lambda_values(values: dict[str, np.ndarray], lambda_N: float, name: str) -> None:
@@ -118,6 +122,21 @@ def add_table(structure: BarHingeStructure, geometry: CompositeBeamGeometry, lam
                                            "depth": geometry.strip_thickness}
 
 
+def published_roller_dofs(structure: BarHingeStructure) -> np.ndarray:
+    """The published 8 rollers (module docstring): the outer edge node at each end of the outer
+    ribbons held in z, and the three in-plane holds of Examples2D.m, for any number of ribbons (the
+    as-built coordinates of the 3 x 3 grid: (30, 0) x y z, (30, 141) x z, (111, 0) y z, and z at
+    (111, 141), (141, 30), (141, 111), (0, 30), (0, 111))."""
+    n = structure.info["ribbons"]
+    ex, ey = structure.node_sets["ribbon_ends_x"], structure.node_sets["ribbon_ends_y"]
+    # x ribbons: side 0 at the lower y; y ribbons: side 0 at the higher x (meshes.gridshell).
+    # ends[r, end, side]: ribbon r, end 0 (low) / 1 (high).
+    a, b, c, d = ey[0, 0, 1], ey[0, 1, 1], ey[n - 1, 0, 0], ey[n - 1, 1, 0]  # (30,0) (30,141) (111,0) (111,141)
+    xs = [ex[0, 1, 0], ex[n - 1, 1, 1], ex[0, 0, 0], ex[n - 1, 0, 1]]  # (141,30) (141,111) (0,30) (0,111)
+    return np.unique(np.concatenate([held_dofs([a, b, c, d, *xs], "z"), held_dofs([a], "xy"),
+                                     held_dofs([b], "x"), held_dofs([c], "y")]))
+
+
 def support_dofs(structure: BarHingeStructure, support: str) -> np.ndarray:
     """Held DOFs of a support kind (module docstring)."""
     c = structure.node_sets["centre_junction"]
@@ -126,6 +145,8 @@ def support_dofs(structure: BarHingeStructure, support: str) -> np.ndarray:
         return held_dofs(c, "xyz")
     n = structure.info["ribbons"]
     if support == "rollers":
+        return published_roller_dofs(structure)
+    if support == "middle_rollers":
         ends = np.concatenate([structure.node_sets["ribbon_ends_x"][n // 2].ravel(),
                                structure.node_sets["ribbon_ends_y"][n // 2].ravel()])
         return np.unique(np.concatenate([held_dofs(ends, "z"), inplane]))
@@ -396,6 +417,11 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
 #: The paper's Fig. 4 programs: lambda and current per channel, and the support (sources:
 #: :data:`SHAPE_DRIVE_SOURCES`; the curvatures the paper reports are validation data,
 #: lcefem.validation.gridshell_bh.SHAPES).
+#: Supports: the published script's (Examples2D.m: the 8 outer-ribbon rollers for dome, cylinder
+#: and table, the centre clamp for the saddle), as the 3D FE gridshell holds them; on them the
+#: cylinder curves 0.0152 / 0.0089 1/mm against 0.0131 / 0.0111 on the middle ribbons' ends (paper:
+#: 0.018 / 0; FE: 0.0147 / 0.0047), table and dome do not change (issue 30,
+#: docs/gridshell_configuration.md).
 SHAPE_DRIVES = {
     "table": {"lambdas": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
               "currents": {"Tx": 0.2, "Ty": 0.2, "Bx": 0.2, "By": 0.2}, "support": "rollers"},
@@ -424,14 +450,55 @@ RECIPES = {
     "dome": ({"XD": 0.75, "YD": 0.75, "XU": 0.95, "YU": 0.95}, "rollers"),
     "cylinder": ({"XD": 0.95, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "rollers"),
     "table": ({"XD": 0.75, "YD": 0.75, "XU": 0.72, "YU": 0.72}, "rollers"),
-    "cone": ({"XD1": 0.75, "XD2": 0.85, "XD3": 0.95, "YD": 0.90, "XU": 0.95, "YU": 0.90}, "rollers"),
+    "cone": ({"XD1": 0.75, "XD2": 0.85, "XD3": 0.95, "YD": 0.90, "XU": 0.95, "YU": 0.90}, "clamp"),
     "twisted": ({"XD1": 0.85, "XD2": 0.80, "XD3": 0.95, "YD": 0.90, "XU1": 0.95, "XU2": 0.80,
-                 "XU3": 0.85, "YU": 0.90}, "rollers"),
+                 "XU3": 0.85, "YU": 0.90}, "clamp"),
     "wave": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.75, "YD": 0.90, "XU:x<70.5": 0.75, "XU:x>70.5": 0.95,
-              "YU": 0.90}, "rollers"),
+              "YU": 0.90}, "clamp"),
     "dustpan": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.85, "YD": 0.95, "XU:x<70.5": 0.80,
-                 "XU:x>70.5": 0.95, "YU": 0.80}, "rollers"),
+                 "XU:x>70.5": 0.95, "YU": 0.80}, "clamp"),
 }
+#: Our departures from the published configuration, each a named option (``run.departures``,
+#: ``--departure``) on top of it: what it changes and why we have it.
+DEPARTURES = {
+    "contact": "frictionless unilateral strip-ribbon contact (mesh.contact = true; the published model "
+               "has only the weak strip-panel springs, so a strip can pass through its ribbon)",
+    "contracting_squares": "the raised top squares contract with the top strips (mesh.top_junction = "
+                           "'lce', as lambda_T of Eq. 2 assumes; published: non-contracting glue bars)",
+    "volume_law": "strip bar force (A/lambda) P(p) at constant volume (lce.force_law = 'volume'; "
+                  "published: A f P(p))",
+    "middle_rollers": "the 8 rollers on both edges of the middle ribbons' ends ('middle_rollers', our "
+                      "former reading; published: the outer ribbons' outer-edge end nodes); only where "
+                      "the published support is 'rollers'",
+}
+#: How a run is configured (``run.configuration``): "published" = the published model's supports,
+#: glue squares, bar law and no contact (+ ``run.departures``); "case" = the mesh, lce sections and
+#: support as given (our defaults: contact, contracting squares, volume law). Default: "published"
+#: with --recipe, "case" otherwise.
+CONFIGURATIONS = ("published", "case")
+
+
+def parse_departures(text, name: str = "run.departures") -> tuple[str, ...]:
+    """'contact,volume_law' (or a list) -> ('contact', 'volume_law'), each checked."""
+    items = text if isinstance(text, (list, tuple)) else [t for t in str(text or "").split(",")]
+    out = tuple(t.strip() for t in items if str(t).strip())
+    for t in out:
+        if t not in DEPARTURES:
+            raise InputError(f"{name}: unknown departure {t!r} (allowed: {', '.join(DEPARTURES)})")
+    return out
+
+
+def published_configuration(mesh: BeamBarHingeMesh, lce: law.LCEStripBars, support: str,
+                            departures=()) -> tuple[BeamBarHingeMesh, law.LCEStripBars, str]:
+    """(mesh, lce, support) of the published model (no contact, glue squares, A f P(p), the given
+    published support) with the named :data:`DEPARTURES` applied."""
+    dep = parse_departures(departures)
+    mesh = replace(mesh, contact="contact" in dep,
+                   top_junction="lce" if "contracting_squares" in dep else "glue")
+    lce = replace(lce, force_law="volume" if "volume_law" in dep else "published")
+    if "middle_rollers" in dep and support == "rollers":
+        support = "middle_rollers"
+    return mesh, lce, support
 RECIPE_SOURCE = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK), restated in "
                  "shared/reference/gridshell_recipes.md")
 
@@ -444,8 +511,14 @@ class GridshellRun:
                        + " (seed 001; lambdas per channel)")
     recipe: str = param("", "-", "one of the published recipes: " + ", ".join(RECIPES)
                         + " (" + RECIPE_SOURCE + ")")
-    support: str = param("", "-", "clamp, rollers or table (default: the published support of the "
-                         "shape/recipe, rollers otherwise)")
+    support: str = param("", "-", "clamp, rollers, middle_rollers or table (default: the published "
+                         "support of the shape/recipe, rollers otherwise)")
+    configuration: str = param("", "-", "'published' (the published model: no strip-ribbon contact, "
+                               "glue squares, bar law A f P(p), its supports; plus run.departures) or "
+                               "'case' (the mesh and lce sections as given); default: published with "
+                               "a recipe, case otherwise")
+    departures: str = param("", "-", "comma-separated departures from the published configuration: "
+                            + ", ".join(DEPARTURES) + " (only with configuration 'published')")
 
     def checked(self) -> "GridshellRun":
         if self.shape and self.shape not in SHAPE_DRIVES:
@@ -456,7 +529,17 @@ class GridshellRun:
             raise InputError("run.shape and run.recipe: give one of them")
         if self.support and self.support not in SUPPORTS:
             raise InputError(f"run.support = {self.support!r}: allowed {', '.join(SUPPORTS)}")
+        if self.configuration and self.configuration not in CONFIGURATIONS:
+            raise InputError(f"run.configuration = {self.configuration!r}: allowed "
+                             f"{', '.join(CONFIGURATIONS)}")
+        if parse_departures(self.departures) and self.resolved_configuration != "published":
+            raise InputError("run.departures: only with run.configuration = 'published' (the default "
+                             "of --recipe)")
         return self
+
+    @property
+    def resolved_configuration(self) -> str:
+        return self.configuration or ("published" if self.recipe else "case")
 
 
 @dataclass(frozen=True)
@@ -501,7 +584,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         return self
 
     @property
-    def support(self) -> str:
+    def named_support(self) -> str:
         if self.run.support:
             return self.run.support
         if self.run.shape:
@@ -510,12 +593,37 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
             return RECIPES[self.run.recipe][1]
         return "rollers"
 
+    @property
+    def effective(self) -> tuple[BeamBarHingeMesh, law.LCEStripBars, str]:
+        """(mesh, lce, support) the run uses: the published configuration with the departures, or
+        the sections as given (``run.configuration``)."""
+        if self.run.resolved_configuration == "published":
+            support = self.named_support
+            if not self.run.support and self.run.shape:  # the published support of the shape
+                support = "clamp" if SHAPE_DRIVES[self.run.shape]["support"] == "clamp" else "rollers"
+            return published_configuration(self.mesh, self.lce, support, self.run.departures)
+        return self.mesh, self.lce, self.named_support
+
+    @property
+    def support(self) -> str:
+        return self.effective[2]
+
+    @property
+    def effective_materials(self) -> law.BarHingeMaterials:
+        return replace(self.materials, lce=self.effective[1])
+
     def resolved(self) -> dict:
         out = {name: describe(getattr(self, name)) for name in self.PARAM_SECTIONS}
         out["current_route"]["segment"]["value"] = describe(self.current_route.segment)
         out["lambda"] = dict(self.lambdas)
         out["current"] = dict(self.currents)
-        out["support (resolved)"] = self.support
+        mesh, lce, support = self.effective
+        out["support (resolved)"] = support
+        out["configuration (resolved)"] = {
+            "configuration": self.run.resolved_configuration,
+            "departures": list(parse_departures(self.run.departures)),
+            "mesh.contact": mesh.contact, "mesh.top_junction": mesh.top_junction,
+            "lce.force_law": lce.force_law}
         return out
 
 
@@ -557,9 +665,10 @@ def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool =
     summary is written."""
     cfg = cfg.validated()
     out = pathlib.Path(out)
-    structure = build_gridshell_bar_hinge(cfg.geometry, cfg.layout, cfg.mesh)
+    mesh, _, support = cfg.effective
+    structure = build_gridshell_bar_hinge(cfg.geometry, cfg.layout, mesh)
     targets, drive = strip_targets(cfg, structure)
-    setup = setup_gridshell(targets, cfg.support, cfg.geometry, cfg.layout, cfg.mesh, cfg.materials,
+    setup = setup_gridshell(targets, support, cfg.geometry, cfg.layout, mesh, cfg.effective_materials,
                             cfg.weight, structure=structure)
     model = setup.model
     quad = cfg.layout.ribbons >= 3

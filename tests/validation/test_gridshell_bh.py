@@ -14,7 +14,7 @@ from lcefem.validation import gridshell_bh as gs
 ONE = GridshellLayout(ribbons=1)
 
 
-def _solve(lambdas, support="rollers", layout=ONE, tolerance=None):
+def _solve(lambdas, support="middle_rollers", layout=ONE, tolerance=None):
     s = build_gridshell_bar_hinge(layout=layout)
     setup = gs.setup_gridshell(gs.targets_from_lambdas(s, lambdas), support, structure=s)
     options = gs.GRIDSHELL_NEWTON if tolerance is None else NewtonOptions(force_tolerance=tolerance)
@@ -114,7 +114,7 @@ def test_problem_class_matches_the_study_route():
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
     lambdas = {"Tx": 1.33, "Bx": 1.05}
     ref = _solve(lambdas)
-    g = GridshellBH(build_gridshell_bar_hinge(layout=ONE), GridshellBHConfig(support="rollers"))
+    g = GridshellBH(build_gridshell_bar_hinge(layout=ONE), GridshellBHConfig(support="middle_rollers"))
     g.set_lambda(lambdas)
     g.advance()
     obs = g.observables()

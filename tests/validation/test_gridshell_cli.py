@@ -53,3 +53,24 @@ def test_non_convergence_writes_failure_json_and_exits_3(tmp_path):
     assert failure["status"] == "failed" and failure["last_converged"]["load factor [-]"] == 0.0
     assert (out / "history.partial.csv").is_file() and (out / "last_converged.vtp").is_file()
     assert not (out / "summary.json").exists()
+
+
+def test_recipe_departures_from_the_command_line(tmp_path, capsys):
+    # --recipe runs the published configuration; --departure names our departures (issue 30)
+    assert main(["run", "gridshell", "--recipe", "cone", "--departure", "contakt",
+                 "--out", str(tmp_path / "a")]) == 2
+    assert "unknown departure 'contakt'" in capsys.readouterr().err
+    assert main(["run", "gridshell", "--shape", "dome", "--departure", "contact",
+                 "--out", str(tmp_path / "b")]) == 2
+    assert "only with run.configuration = 'published'" in capsys.readouterr().err
+    import argparse
+
+    from lcefem.validation.commands import gridshell as cmd
+    p = argparse.ArgumentParser()
+    cmd.add_arguments(p)
+    cfg = cmd.prepare(p.parse_args(["--recipe", "dome", "--departure", "contact,volume_law",
+                                    "--departure", "middle_rollers"]))
+    resolved = cfg.resolved()["configuration (resolved)"]
+    assert resolved == {"configuration": "published", "departures": ["contact", "volume_law", "middle_rollers"],
+                        "mesh.contact": True, "mesh.top_junction": "glue", "lce.force_law": "volume"}
+    assert cfg.support == "middle_rollers"

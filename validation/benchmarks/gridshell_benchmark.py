@@ -1,5 +1,6 @@
 """Wall time of the 3 x 3 gridshell (bar-and-hinge) per shape: the paper's four Fig. 4 shapes (lambda
-route, paper supports) and the eight published recipes; increments, Newton iterations, failed
+route, paper supports) and the eight published recipes (in the published configuration, issue 30);
+the number and time of the lowest-eigenpair solves of the snap-throughs (what limits the dome); increments, Newton iterations, failed
 increments, whether the target was reached exactly, centre curvatures (both measures) and z range;
 with ``--set design``, the inverse design (four channels) from the paper's measured curvatures of
 each Fig. 4 shape (table: flat): time per inverse solve (with the forward check from as built),
@@ -17,31 +18,69 @@ Not a test: it prints figures for the report (the published MATLAB/Octave code: 
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import importlib
 import platform
 import time
 
 import numpy as np
 
+from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.run import write_json
 from lcefem.validation import gridshell_bh as gs
 
 
+#: The Newton module (the package re-exports its function ``newton`` under the same name).
+newton_module = importlib.import_module("lcefem.solvers.bar_hinge.newton")
+
+
+class EigenTimer:
+    """Counts the lowest-eigenpair solves of the Newton escapes (snap-throughs) and their time: the
+    dense eigh of the ~2500 free DOFs is what makes the dome slow (issue 30: 5-10 s per call on one
+    idle core, ~100 s under BLAS thread contention on the shared machine)."""
+
+    def __init__(self):
+        self.calls, self.seconds = 0, 0.0
+        self._original = newton_module._negative_curvature_direction
+
+    def __enter__(self):
+        def timed(kmat):
+            t0 = time.perf_counter()
+            try:
+                return self._original(kmat)
+            finally:
+                self.calls += 1
+                self.seconds += time.perf_counter() - t0
+        newton_module._negative_curvature_direction = timed
+        return self
+
+    def __exit__(self, *exc):
+        newton_module._negative_curvature_direction = self._original
+
+
 def run_one(kind: str, name: str) -> dict:
     t0 = time.perf_counter()
-    structure = build_gridshell_bar_hinge()
     if kind == "shape":
+        structure = build_gridshell_bar_hinge()
         spec = gs.SHAPES[name]
         targets, support = gs.targets_from_lambdas(structure, spec["lambdas"]), spec["support"]
-    else:
+        materials = BarHingeMaterials()
+    else:  # the published configuration (issue 30)
         recipe, support = gs.RECIPES[name]
+        mesh, lce, support = gs.published_configuration(BeamBarHingeMesh(), LCEStripBars(), support)
+        structure = build_gridshell_bar_hinge(mesh=mesh)
         targets = gs.targets_from_recipe(structure, recipe)
-    setup = gs.setup_gridshell(targets, support, structure=structure)
+        materials = dataclasses.replace(BarHingeMaterials(), lce=lce)
+    setup = gs.setup_gridshell(targets, support, structure=structure, materials=materials)
     t_setup = time.perf_counter() - t0
     row = {"kind": kind, "name": name, "support": support, "setup [s]": t_setup}
     try:
-        sol = gs.solve_gridshell(setup)
+        with EigenTimer() as eig:
+            sol = gs.solve_gridshell(setup)
+        row.update(**{"eigen solves [-]": eig.calls, "eigen solve time [s]": eig.seconds})
     except ConvergenceError as exc:
         row.update(converged=False, reason=str(exc), **{"solve [s]": time.perf_counter() - t0 - t_setup})
         return row
@@ -113,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     print(f"{'kind':7s} {'name':9s} {'support':8s} {'ok':3s} {'reached':7s} {'incr':>4s} {'newton':>6s} "
           f"{'fail':>4s} {'solve s':>8s} {'circ x':>8s} {'circ y':>8s} {'quad x':>8s} {'quad y':>8s} "
-          f"{'z rng':>6s}", flush=True)
+          f"{'z rng':>6s} {'eig':>4s} {'eig s':>6s}", flush=True)
     rows = []
     for kind, name in jobs:
         r = run_one(kind, name)
@@ -121,7 +160,8 @@ def main(argv: list[str] | None = None) -> int:
         if r["converged"]:
             print(f"{kind:7s} {name:9s} {r['support']:8s} yes {str(r['reached']):7s} {r['increments']:4d} "
                   f"{r['newton']:6d} {r['failed']:4d} {r['solve [s]']:8.1f} {r['circle_x']:8.4f} "
-                  f"{r['circle_y']:8.4f} {r['quad_kx']:8.4f} {r['quad_ky']:8.4f} {r['z_range [mm]']:6.2f}",
+                  f"{r['circle_y']:8.4f} {r['quad_kx']:8.4f} {r['quad_ky']:8.4f} {r['z_range [mm]']:6.2f} "
+                  f"{r['eigen solves [-]']:4d} {r['eigen solve time [s]']:6.1f}",
                   flush=True)
         else:
             print(f"{kind:7s} {name:9s} {r['support']:8s} NO  ({r['reason']}) {r['solve [s]']:.1f} s",

@@ -2,7 +2,8 @@
 by strip lambdas, a published recipe or coil currents.
 
 ``lcefem run gridshell [--shape dome|saddle|cylinder|table | --recipe NAME | --lambda Tx=1.33,...
-| --current Tx=0.04,...] [--support clamp|rollers|table] [--thermal-model segment|eq1]
+| --current Tx=0.04,...] [--support clamp|rollers|middle_rollers|table]
+[--configuration published|case] [--departure NAME] [--thermal-model segment|eq1]
 [--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
 ``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
 
@@ -10,10 +11,13 @@ Selections (``--lambda``/``--current`` keys, applied in order): channels Tx, Ty,
 Fig. 4A), T / B (a layer), families XD, YD, XU, YU, groups XD1..YU3, half planes like XD:x<70.5,
 or strip ids (see lcefem.meshes.gridshell). Unnamed strips stay as built (lambda_N = 1.4; current 0).
 ``--shape`` takes the paper's Fig. 4 lambdas (with ``--current``-route twins in the case
-``gridshell_shapes_bh``); ``--recipe`` a published recipe (rest fractions P0) with its published
-support. Case file sections: run (shape, recipe, support), lambda, current (tables of selection =
-value), and the parameter sections geometry, layout, mesh, kapton, lce, glue, strip_contact, contact,
-weight, current_route, solver, path.
+``gridshell_shapes_bh``); ``--recipe`` a published recipe (rest fractions P0) in the published
+configuration (Examples2D.m: its support, glue squares, bar law A f P(p), no strip-ribbon contact),
+our departures one ``--departure contact,contracting_squares,volume_law,middle_rollers`` away
+(``--configuration case``: the mesh and lce sections as given; docs/gridshell_configuration.md).
+Case file sections: run (shape, recipe, support, configuration, departures), lambda, current
+(tables of selection = value), and the parameter sections geometry, layout, mesh, kapton, lce, glue,
+strip_contact, contact, weight, current_route, solver, path.
 
 Outputs in --out DIR: summary.json (resolved configuration, per-strip lambdas, centre curvatures by
 both measures with their sign convention, z range, increments, Newton iterations, wall time),
@@ -36,7 +40,8 @@ import pathlib
 from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
-from lcefem.solvers.problems.gridshell_bh import RECIPES, SHAPE_DRIVES, SUPPORTS, GridshellBHRunConfig, run_gridshell
+from lcefem.solvers.problems.gridshell_bh import (CONFIGURATIONS, DEPARTURES, RECIPES, SHAPE_DRIVES, SUPPORTS,
+                                                 GridshellBHRunConfig, run_gridshell)
 from lcefem.solvers.run import add_out_arguments
 from lcefem.validation.config import load_toml
 
@@ -91,6 +96,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--thermal-model", choices=THERMAL_MODELS, help="current -> lambda: 'segment' "
                    "(our lumped 25 ohm segment, default) or 'eq1' (the paper's Eq. 1 estimate)")
     p.add_argument("--support", choices=SUPPORTS, help="supports (default: the published ones)")
+    p.add_argument("--configuration", choices=CONFIGURATIONS, help="'published' (the published "
+                   "model: its supports, glue squares, bar law A f P(p), no strip-ribbon contact; "
+                   "default with --recipe) or 'case' (the mesh and lce sections as given; default "
+                   "otherwise)")
+    p.add_argument("--departure", action="append", dest="departures", metavar="NAME",
+                   help="a departure from the published configuration (repeatable or comma-separated): "
+                   + "; ".join(f"{k}: {v}" for k, v in DEPARTURES.items()))
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
     p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
                    "sequence (lcefem.solvers.problems.gridshell_bh_sequence; e.g. validation/data/"
@@ -108,8 +120,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
     cfg = config_from_toml(args.config)
-    run = {k: v for k, v in {"shape": args.shape, "recipe": args.recipe,
-                             "support": args.support}.items() if v is not None}
+    departures = ",".join(args.departures) if getattr(args, "departures", None) else None
+    run = {k: v for k, v in {"shape": args.shape, "recipe": args.recipe, "support": args.support,
+                             "configuration": getattr(args, "configuration", None),
+                             "departures": departures}.items() if v is not None}
     kw = {"run": with_overrides(cfg.run, run, "run")}
     if args.lambdas is not None:
         kw["lambdas"] = parse_assignments(args.lambdas, "lambda")

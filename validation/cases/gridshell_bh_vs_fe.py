@@ -1,0 +1,217 @@
+"""Cross-validation of the two gridshell models (issue 30): the bar-and-hinge (BH) against the 3D FE
+on identical supports and lambdas, the four Fig. 4 shapes, with the FE results stored in
+validation/data (running the FE gridshell takes minutes to hours).
+
+- ``gridshell_bh_vs_fe``: the BH gridshell in the configuration that matches the FE model's physics
+  (:data:`AS_FE`: the published supports and glue squares, strip-ribbon contact as the FE's penalty
+  contact, the constant-volume bar law as the FE's incompressible LCE) against the stored FE centre
+  curvatures, both measures. Judged rows "<shape>: circle kappa_<x|y> BH vs FE": within 10 % of the
+  FE or 0.002 1/mm, the larger (the issue's target). At the full level, controlled changes of the
+  BH (one at a time) on every shape whose difference exceeds 10 %: the hinge factor doubled, the
+  contracting squares, the contact removed, the published bar law, the middle ribbons' rollers:
+  informative rows that show which of them moves the BH towards the FE. The quick level runs table,
+  saddle and cylinder (not the dome, minutes) and the beam map's 2 x 2 corners.
+- The beam map: the 4-segment composite beam's curvature over [1.05, 1.33]^2 (5 x 5) against the
+  stored FE map (level 0), ours judged, the FE's configuration and controlled changes informative.
+
+FE references (:data:`FE_REFERENCE`): gridshell_fe_fig4_quarter_level0.json (quarter model, mesh
+level 0, 26,904 Q2 DOFs; the published supports) and, for the dome, the mesh-converged level 2 of
+gridshell_fe_dome_full_ramp_from_flat_levels.json (levels 0-2: circle -0.02217, -0.01952, -0.01933
+1/mm, observed order 3.6, GCI of the finest level 0.0037 1/mm): the level-0 circle of the dome is 15 %
+off its extrapolated value, which is the stated discretisation error of the other three shapes' FE
+values (level 0 only).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import time
+
+from lcefem.meshes.composite_beam import BeamBarHingeMesh
+from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+from lcefem.models import bar_hinge as law
+from lcefem.models.errors import ConvergenceError
+from lcefem.validation import gridshell_bh as gs
+from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
+from lcefem.validation.reference_data import DATA_DIR
+
+BH = "bar-and-hinge gridshell (lcefem.solvers.problems.gridshell_bh)"
+#: The BH configuration that matches the FE model: published supports and glue squares + contact
+#: (the FE's penalty contact) + the constant-volume bar law (the FE's incompressible LCE).
+AS_FE = ("contact", "volume_law")
+#: The issue's target: BH within 10 % of the FE, or 0.002 1/mm, the larger.
+REL_TOL, ABS_TOL = 0.10, 0.002
+#: Controlled changes of the BH (label -> (departures, kapton bending factor multiplier, support)).
+CHANGES = {
+    "hinge factor x2": (AS_FE, 2.0, None),
+    "contracting squares": ((*AS_FE, "contracting_squares"), 1.0, None),
+    "no contact (published)": (("volume_law",), 1.0, None),
+    "published bar law A f P": (("contact",), 1.0, None),
+    "middle ribbons' rollers": ((*AS_FE, "middle_rollers"), 1.0, None),
+}
+
+
+def _fe_reference() -> dict:
+    """{shape: {measure: value [1/mm]}} and the source of each."""
+    level0 = json.loads((DATA_DIR / "gridshell_fe_fig4_quarter_level0.json").read_text())
+    dome = json.loads((DATA_DIR / "gridshell_fe_dome_full_ramp_from_flat_levels.json").read_text())
+    out = {}
+    for shape in ("table", "dome", "saddle", "cylinder"):
+        v = level0["shapes"][shape]
+        out[shape] = {"circle_x": v["kappa_circle_x [1/mm]"], "circle_y": v["kappa_circle_y [1/mm]"],
+                      "quad_kx": v["kappa_quad_x [1/mm]"], "quad_ky": v["kappa_quad_y [1/mm]"],
+                      "source": "3D FE, quarter model, mesh level 0 (validation/data/"
+                                "gridshell_fe_fig4_quarter_level0.json); level-0 error of the dome's "
+                                "circle: 15 % (its levels 0-2)"}
+    fine = dome["levels"]["2"]["final"]
+    out["dome"] = {"circle_x": fine["kappa_circle_x [1/mm]"], "circle_y": fine["kappa_circle_y [1/mm]"],
+                   "quad_kx": fine["kappa_quad_x [1/mm]"], "quad_ky": fine["kappa_quad_y [1/mm]"],
+                   "source": "3D FE, quarter model, mesh level 2 (validation/data/gridshell_fe_dome_full_"
+                             "ramp_from_flat_levels.json; GCI of level 2 on the circle 0.0037 1/mm)"}
+    return out
+
+
+def solve_bh(shape: str, departures=AS_FE, bending=1.0, support=None):
+    """The BH gridshell with the Fig. 4 lambdas of ``shape`` in the published configuration plus
+    ``departures``, the Kapton hinge factor times ``bending``; returns (curvatures or None, seconds,
+    why)."""
+    spec = gs.SHAPE_DRIVES[shape]
+    published_support = "clamp" if spec["support"] == "clamp" else "rollers"
+    mesh, lce, sup = gs.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(),
+                                                support or published_support, departures)
+    base = law.BarHingeMaterials()
+    kapton = dataclasses.replace(base.kapton, bending_factor=base.kapton.bending_factor * bending)
+    materials = dataclasses.replace(base, lce=lce, kapton=kapton)
+    s = build_gridshell_bar_hinge(mesh=mesh)
+    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, spec["lambdas"]), sup, structure=s,
+                               materials=materials)
+    t0 = time.perf_counter()
+    try:
+        sol = gs.solve_gridshell(setup)
+    except ConvergenceError as exc:
+        return None, time.perf_counter() - t0, str(exc)
+    return sol.curvatures, time.perf_counter() - t0, ""
+
+
+def _tolerance(fe: float) -> float:
+    return max(REL_TOL * abs(fe), ABS_TOL)
+
+
+#: Beam-map variants of the BH (label -> (mesh, materials)): ours (beam_curvature_map_bh's), and the
+#: configuration of the FE beam (its bond pads are passive: the top strip does not contract over
+#: the junction, i.e. glue squares), plus controlled changes of the latter.
+def _beam_variants() -> dict:
+    base = law.BarHingeMaterials()
+    glue = BeamBarHingeMesh(top_junction="glue")
+    return {
+        "ours (contracting squares)": (BeamBarHingeMesh(), base),
+        "as FE (glue squares)": (glue, base),
+        "as FE, published bar law A f P": (glue, dataclasses.replace(base, lce=law.LCEStripBars(force_law="published"))),
+        "as FE, hinge factor x2": (glue, dataclasses.replace(base, kapton=law.KaptonBarHinge(bending_factor=11.0))),
+        "as FE, strip-panel springs at the strip's bending stiffness": (
+            glue, dataclasses.replace(base, strip_contact=law.StripContactSprings(stiffness=STRIP_BENDING_SPRING))),
+    }
+
+
+#: Stiffness per unit hinge length [N mm/(rad mm)] of a strip end clamped against rotation by the
+#: strip's own bending: 4 E I/(L w) with E I = 0.53 MPa x 5 x 2^3/12 mm^4 = 1.77 N mm^2 (the 5 x 2 mm
+#: strip at 3 mu_0 of the published Ogden law), L = 30 mm, w = 7 mm (the hinge's axis: the ribbon
+#: width): 0.034 (a controlled change, not a calibrated value).
+STRIP_BENDING_SPRING = 4.0 * 0.53 * 5.0 * 2.0 ** 3 / 12.0 / (30.0 * 7.0)
+
+
+def _beam_map(ctx: CaseContext, name: str) -> list[Metric]:
+    """The 4-segment composite beam's curvature map, BH vs the stored FE map (level 0)."""
+    import numpy as np
+
+    from lcefem.solvers.problems import composite_beam_bh as beam_bh
+
+    data = json.loads((DATA_DIR / "beam_fe_curvature_map_level0.json").read_text())
+    lt, lb = np.array(data["lambda_top [-]"]), np.array(data["lambda_bottom [-]"])
+    kfe = np.array(data["FE curvature [1/mm]"])
+    pick = np.ones(lt.size, dtype=bool)
+    if ctx.quick:  # the 2 x 2 corners
+        pick = np.isin(lt, (lt.min(), lt.max())) & np.isin(lb, (lb.min(), lb.max()))
+    src = "3D FE composite beam, mesh level 0 (validation/data/beam_fe_curvature_map_level0.json: " \
+          "level 0 within 1.1 % of the extrapolated curvature at (1.33, 1.05)); " + BH
+    out = []
+    variants = _beam_variants()
+    if ctx.quick:
+        variants = dict(list(variants.items())[:2])
+    for label, (mesh, mats) in variants.items():
+        kbh = np.array([beam_bh.solve_beam(float(a), float(b), mesh=mesh, materials=mats).curvature
+                        for a, b in zip(lt[pick], lb[pick])])
+        ref = kfe[pick]
+        excess = np.abs(kbh - ref) / np.maximum(REL_TOL * np.abs(ref), ABS_TOL)
+        worst = int(np.argmax(excess))
+        where = f"worst at (lambda_T, lambda_B) = ({lt[pick][worst]:.2f}, {lb[pick][worst]:.2f}): BH " \
+                f"{kbh[worst]:.4f}, FE {ref[worst]:.4f} 1/mm"
+        metric = f"beam map: largest |kappa_BH - kappa_FE| in units of the tolerance, BH vs FE ({label})"
+        if label.startswith("ours"):
+            out.append(Metric.within(name, metric, float(excess.max()), "-", 0.0, 1.0,
+                                     src + "; tolerance per point: 10 % of the FE or 0.002 1/mm; " + where))
+        else:
+            out.append(Metric.info(name, metric, float(excess.max()), "-",
+                                   NOT_JUDGED + "a configuration / controlled change; " + src + "; " + where,
+                                   reference=1.0))
+        out.append(Metric.info(name, f"beam map: RMS (kappa_BH - kappa_FE) ({label})",
+                               float(np.sqrt(np.mean((kbh - ref) ** 2))), "1/mm", src))
+    return out
+
+
+@case("gridshell_bh_vs_fe", "Robotic surface: bar-and-hinge vs 3D FE on identical supports and lambdas "
+      "(Fig. 4 shapes), with controlled changes of the BH where they differ by > 10 %", fe=False)
+def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
+    name = ctx.case or "gridshell_bh_vs_fe"
+    fe = _fe_reference()
+    metrics: list[Metric] = []
+    rows = {k: [] for k in ("shape", "variant", "circle_x", "circle_y", "quad_kx", "quad_ky", "seconds")}
+    # The quick level leaves out the dome: its snap-through (a dense eigensolve of ~2500 DOFs per
+    # escape) takes 1-10 min on the shared machine (docs/gridshell_configuration.md, speed).
+    shapes = ("table", "saddle", "cylinder") if ctx.quick else ("table", "dome", "saddle", "cylinder")
+    for shape in shapes:
+        ref = fe[shape]
+        k, secs, why = solve_bh(shape)
+        src = f"{ref['source']}; {BH}, published supports and glue squares + contact + volume law"
+        if k is None:
+            metrics.append(Metric(name, f"{shape}: BH converged", 0.0, "-", 1.0, 0.0, False, why))
+            continue
+        comps = ("x",) if shape in ("table", "dome") else ("x", "y")  # x = y by symmetry
+        far = False
+        for c in comps:
+            key = f"circle_{c}"
+            m = Metric.within(name, f"{shape}: circle kappa_{c} BH vs FE", k[key], "1/mm", ref[key],
+                              _tolerance(ref[key]), src + "; tolerance: 10 % or 0.002 1/mm (issue 30)")
+            metrics.append(m)
+            far |= not m.passed
+            q = f"quad_k{c}"
+            metrics.append(Metric.info(name, f"{shape}: quadratic-fit kappa_{c} BH vs FE", k[q], "1/mm",
+                                       NOT_JUDGED + "the Fig. 5 measure, informative here; " + src,
+                                       reference=ref[q]))
+        for key, v in zip(rows, [shape, "as FE", k["circle_x"], k["circle_y"], k["quad_kx"], k["quad_ky"], secs]):
+            rows[key].append(v)
+        if ctx.quick or not far:
+            continue
+        for label, (deps, bending, support) in CHANGES.items():
+            kc, secs_c, why_c = solve_bh(shape, deps, bending, support)
+            vals = [kc[c] if kc else math.nan for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")]
+            for key, v in zip(rows, [shape, label, *vals, secs_c]):
+                rows[key].append(v)
+            for c in comps:
+                key = f"circle_{c}"
+                metrics.append(Metric.info(
+                    name, f"{shape}: circle kappa_{c} BH vs FE, controlled change: {label}",
+                    kc[key] if kc else math.nan, "1/mm",
+                    NOT_JUDGED + "a controlled change that shows the cause of the difference; "
+                    + (why_c or src), reference=ref[key]))
+    metrics += _beam_map(ctx, name)
+    write_csv(ctx.path("gridshell_bh_vs_fe.csv"), {
+        "row [-]": list(range(len(rows["shape"]))),
+        "circle kappa_x [1/mm]": rows["circle_x"], "circle kappa_y [1/mm]": rows["circle_y"],
+        "quad kappa_x [1/mm]": rows["quad_kx"], "quad kappa_y [1/mm]": rows["quad_ky"],
+        "wall time [s]": rows["seconds"]})
+    (ctx.path("gridshell_bh_vs_fe_rows.txt")).write_text(
+        "\n".join(f"{i}: {s} / {v}" for i, (s, v) in enumerate(zip(rows["shape"], rows["variant"]))) + "\n")
+    return metrics
