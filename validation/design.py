@@ -49,8 +49,11 @@ class DesignRequest:
             if not math.isfinite(v) or abs(v) > 0.2:
                 raise InputError(f"--{name} = {v}: a curvature in 1/mm with |kappa| <= 0.2 (a radius "
                                  "of at least 5 mm)")
-        if self.height is not None and not math.isfinite(self.height):
-            raise InputError(f"--target-height = {self.height}: must be a finite height in mm")
+        # A centre cannot rise or sink by more than the surface's own side, 141 mm (4 x 30 mm segments
+        # + 3 x 7 mm junctions, published reduced-order model; docs/sources.md).
+        if self.height is not None and not (math.isfinite(self.height) and abs(self.height) <= 141.0):
+            raise InputError(f"--target-height = {self.height}: a finite height in mm with |H| <= 141 "
+                             "(the surface's side length)")
         if self.channels not in gd.CHANNEL_MODES:
             raise InputError(f"--channels = {self.channels!r}: allowed {', '.join(gd.CHANNEL_MODES)}")
         if self.ribbons < 1 or self.ribbons % 2 == 0:

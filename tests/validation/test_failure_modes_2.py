@@ -73,7 +73,7 @@ MEANINGFUL = {
     ("run beam --model fe", "--current", "0"), ("run beam --model fe", "--mesh-level", "0"),
     ("run ribbon-buckling --model fe", "--mesh-level", "0"), ("uncertainty gridshell", "--seed", "0"),
     ("design --target-ky -0.016", "--target-kx", "0"),
-    *(("design --target-kx -0.016 --target-ky -0.016", "--target-height", v) for v in ("0", "-1", "1e300")),
+    *(("design --target-kx -0.016 --target-ky -0.016", "--target-height", v) for v in ("0", "-1")),
 }
 NONSENSE = [(c, o, v) for c, opts in OPTIONS.items() for o in opts for v in VALUES if (c, o, v) not in MEANINGFUL]
 
