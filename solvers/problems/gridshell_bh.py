@@ -513,6 +513,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     def resolved(self) -> dict:
         out = {name: describe(getattr(self, name)) for name in self.PARAM_SECTIONS}
         out["current_route"]["segment"]["value"] = describe(self.current_route.segment)
+        out["current_route"]["strip"]["value"] = describe(self.current_route.strip)
         out["lambda"] = dict(self.lambdas)
         out["current"] = dict(self.currents)
         out["support (resolved)"] = self.support
