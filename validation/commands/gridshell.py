@@ -1,8 +1,8 @@
 """The robotic surface (seed 001, Fig. 4, 5): the n x n gridshell in the bar-and-hinge model, driven
 by strip lambdas, a published recipe or coil currents.
 
-``lcefem run gridshell [--shape dome|saddle|cylinder|table | --recipe NAME | --lambda Tx=1.33,...
-| --current Tx=0.04,...] [--support clamp|rollers|table] [--thermal-model segment|eq1]
+``lcefem run gridshell [--shape dome|saddle|cylinder|table [--route lambda|current] | --recipe NAME | --lambda Tx=1.33,...
+| --current Tx=0.04,...] [--support clamp|rollers|table] [--thermal-model strip|segment|eq1]
 [--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
 ``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
 
@@ -36,7 +36,7 @@ import pathlib
 from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
-from lcefem.solvers.problems.gridshell_bh import RECIPES, SHAPE_DRIVES, SUPPORTS, GridshellBHRunConfig, run_gridshell
+from lcefem.solvers.problems.gridshell_bh import RECIPES, ROUTES, SHAPE_DRIVES, SUPPORTS, GridshellBHRunConfig, run_gridshell
 from lcefem.solvers.run import add_out_arguments
 from lcefem.validation.config import load_toml
 
@@ -82,13 +82,17 @@ def report(out, cfg: GridshellBHRunConfig, structure, x, drive: dict) -> None:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--shape", help="the paper's Fig. 4 shape: " + ", ".join(SHAPE_DRIVES))
+    p.add_argument("--route", choices=ROUTES, help="with --shape: 'lambda' (the Fig. 4 lambdas, default) "
+                   "or 'current' (the paper's rule: Eq. 1 inverted at those lambdas through the grid "
+                   "strip's 130 ohm coil, then the current route's thermal model)")
     p.add_argument("--recipe", help="a published recipe: " + ", ".join(RECIPES))
     p.add_argument("--lambda", dest="lambdas", help="lambdas [-] per selection, e.g. "
                    "Tx=1.33,Ty=1.33,Bx=1.05,By=1.05 (1 isotropic .. 1.4 as built)")
     p.add_argument("--current", dest="currents", help="currents [A] per selection, e.g. "
                    "Tx=0.04,Ty=0.04,Bx=0.07,By=0.07")
-    p.add_argument("--thermal-model", choices=THERMAL_MODELS, help="current -> lambda: 'segment' "
-                   "(our lumped 25 ohm segment, default) or 'eq1' (the paper's Eq. 1 estimate)")
+    p.add_argument("--thermal-model", choices=THERMAL_MODELS, help="current -> lambda: 'strip' "
+                   "(our lumped grid strip, 130 ohm over 80 mm isotropic, calibrated exchange; default), "
+                   "'segment' (a 25 ohm segment) or 'eq1' (the paper's Eq. 1 estimate)")
     p.add_argument("--support", choices=SUPPORTS, help="supports (default: the published ones)")
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
     p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
@@ -101,8 +105,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
     cfg = config_from_toml(args.config)
-    run = {k: v for k, v in {"shape": args.shape, "recipe": args.recipe,
-                             "support": args.support}.items() if v is not None}
+    run = {k: v for k, v in {"shape": args.shape, "recipe": args.recipe, "support": args.support,
+                             "route": getattr(args, "route", None)}.items() if v is not None}
     kw = {"run": with_overrides(cfg.run, run, "run")}
     if args.lambdas is not None:
         kw["lambdas"] = parse_assignments(args.lambdas, "lambda")
