@@ -23,6 +23,20 @@ about five such segments in series (or one ribbon's four segments and three 7 mm
 the same 0.83 ohm/mm, 117.5 ohm, plus leads); the channel current I_Tx etc. flows through each
 segment of a coil, so each segment dissipates I^2 x 25 ohm.
 
+The grid strip (issue 31, docs/gridshell_thermal.md): seed 001 says the free strips' "active lengths of
+80 mm in their isotropic phase and 130.22 mm in nematic phase ... are also preserved in the 3x3 grid
+design", and that the grid's coils range "from 126 to 134 ohms" per LCE strip (Discussion of Fig. 4),
+while the channel currents are "the average applied current to each LCE strip" (Fig. 4A text) and
+were chosen "according to Fig. 2C" (the free strip's Eq. 1). A grid strip (one layer's line across the
+surface: 4 segments of 30 mm and 3 junction pieces, 141 mm nematic, 12 strips = 48 segments) thus
+carries a ~130 ohm coil over ~80 mm isotropic: 1.63 ohm/mm against the segment reading's 25 ohm over
+21.4 mm (1.17 ohm/mm) and the free strip's 1.83 ohm/mm. The "25 ohm per segment" then holds for the
+4 x 30 mm segments only if the 3 junction pieces and leads take the other ~30 ohm; the strip reading
+(:data:`GRID_STRIP`, thermal model 'strip', the default) spreads the coil uniformly, as the fabrication
+(one coil stretched to the designated length, fig. S8) does. Its exchange is the free strip's
+calibrated one with the convective film coefficient scaled by one grid factor
+(:attr:`CurrentRoute.exchange_factor`, calibrated on the dome protocol only).
+
 Units: mm, s, mW, C, ohm, A.
 """
 
@@ -35,10 +49,10 @@ import numpy as np
 from scipy.optimize import brentq
 
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
-from lcefem.models.empirical import Eq1, eq1_stretch
+from lcefem.models.empirical import Eq1, eq1_power, eq1_stretch
 from lcefem.models.errors import InputError
-from lcefem.models.heat import (Coil, GridSegmentCoil, SurfaceExchange, ThermalProperties, joule_power,
-                                radiative_film_coefficient)
+from lcefem.models.heat import (GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil, SurfaceExchange,
+                                ThermalProperties, joule_power, radiative_film_coefficient)
 from lcefem.models.lce import NematicTransition, spontaneous_stretch
 from lcefem.models.parameters import param
 
@@ -69,6 +83,24 @@ class HeatedStrip:
 
 #: The free strip of seed 001, Fig. 2 (Eq. 1 was measured on it): 146.6 ohm over 80 mm isotropic.
 FREE_STRIP = HeatedStrip(resistance=Coil().resistance, isotropic_length=80.0)
+
+#: Coil resistance of one LCE strip of the grid [ohm]: midpoint of seed 001's "ranging from 126 to 134
+#: ohms" (Results, discussion of Fig. 4); the range is GRID_STRING_RESISTANCE_RANGE (models.heat).
+GRID_STRIP_RESISTANCE = 0.5 * (GRID_STRING_RESISTANCE_RANGE[0] + GRID_STRING_RESISTANCE_RANGE[1])
+#: Active isotropic length of one LCE strip of the grid [mm]: seed 001, "active lengths of 80 mm in
+#: their isotropic phase ... are also preserved in the 3x3 grid design for consistency".
+GRID_STRIP_ISOTROPIC_LENGTH = 80.0
+#: One LCE strip of the grid as a lumped body (the 'strip' reading, module docstring).
+GRID_STRIP = HeatedStrip(resistance=GRID_STRIP_RESISTANCE, isotropic_length=GRID_STRIP_ISOTROPIC_LENGTH)
+
+
+def grid_segment_resistance(segment_isotropic_length: float = 30.0 / PUBLISHED_LAMBDA_N,
+                            strip: HeatedStrip = GRID_STRIP) -> float:
+    """Resistance [ohm] of the part of a grid strip's coil inside one segment of isotropic length
+    ``segment_isotropic_length`` [mm] when the coil is spread uniformly over the strip's active length
+    (the 'strip' reading): R_strip l_seg / l_strip (34.8 ohm for a 30 mm nematic segment, vs the text's
+    25 ohm)."""
+    return strip.resistance * segment_isotropic_length / strip.isotropic_length
 
 
 @dataclass(frozen=True)
@@ -168,25 +200,64 @@ def transient_temperature(schedule, duration: float, strip: HeatedStrip = Heated
 
 
 # -- the gridshell's current route ----------------------------------------------------------------
-THERMAL_MODELS = ("segment", "eq1")
+THERMAL_MODELS = ("strip", "segment", "eq1")
+
+#: The grid's one calibrated heat-exchange parameter [-]: the convective film coefficient of a strip in
+#: the sandwich over the free strip's calibrated one (models.heat.SurfaceExchange, 5.8 W/(m^2 K), fitted
+#: on the free strip hanging vertically in still air). Calibrated on the dome protocol only (seed 001:
+#: hold 0.04 A top / 0.07 A bottom after the 20 s actuation pulse, measured centre curvature
+#: -0.016 1/mm, circle measure) with the bar-and-hinge current route:
+#: ``python -m lcefem.validation.grid_exchange_calibration`` -> validation/data/
+#: grid_exchange_calibration.json (0.9512; the uncalibrated 1.0 gives -0.0146 1/mm). Published bound
+#: (docs/gridshell_thermal.md): 0.5-2.3, from the natural-convection correlations (Incropera; Nu =
+#: 0.54 Ra^1/4 upper / 0.27 lower face with L = A/P, 0.59 Ra^1/4 vertical faces) for a horizontal
+#: 5 x 2 mm strip with all faces exposed (upper end) or its upper face covered by the 7 mm Kapton
+#: ribbon (lower end), over the vertical 80 mm strip's 6.9 W/(m^2 K) scaled to the calibrated 5.8.
+GRID_EXCHANGE_FACTOR = 0.9512
 
 
 @dataclass(frozen=True)
 class CurrentRoute:
     """How a channel current becomes a strip's lambda."""
 
-    thermal_model: str = param("segment", "-", "'segment': our lumped steady heat balance of one 25 ohm, "
-                               "30 mm grid segment with the calibrated exchange and transition "
-                               "(models.lumped_heat); 'eq1': the paper's own estimate, Eq. 1 at the "
+    thermal_model: str = param("strip", "-", "'strip': our lumped steady heat balance of one grid LCE "
+                               "strip (~130 ohm coil over 80 mm isotropic, seed 001) with the free "
+                               "strip's calibrated transition and the grid's calibrated exchange "
+                               "factor (models.lumped_heat, docs/gridshell_thermal.md); 'segment': the "
+                               "same balance for one 25 ohm, 30 mm segment (the earlier reading, "
+                               "under-powered); 'eq1': the paper's own estimate, Eq. 1 at the "
                                "power I^2 R of a 146.6 ohm strip coil (seed 001: 'We can estimate the "
                                "required current for each LCE strip by the imposed stretch, using Eq. 1')")
     segment: HeatedStrip = field(default_factory=HeatedStrip)
+    strip: HeatedStrip = field(default_factory=lambda: GRID_STRIP)
+    exchange_factor: float = param(GRID_EXCHANGE_FACTOR, "-", "grid strip's convective film coefficient "
+                                   "over the free strip's (thermal model 'strip'); calibrated on the "
+                                   "dome protocol (validation/data/grid_exchange_calibration.json)",
+                                   positive=True)
 
     def checked(self) -> "CurrentRoute":
         if self.thermal_model not in THERMAL_MODELS:
             raise InputError(f"current.thermal_model = {self.thermal_model!r}: allowed "
                              f"{', '.join(THERMAL_MODELS)}")
         return self
+
+    def lumped(self) -> tuple[HeatedStrip, "LumpedThermal"]:
+        """The lumped body and its thermal model for the 'strip' and 'segment' thermal models (the
+        exchange factor applies to the grid strip only)."""
+        if self.thermal_model == "segment":
+            return self.segment, LumpedThermal()
+        return self.strip, grid_thermal(self.exchange_factor)
+
+
+def grid_thermal(exchange_factor: float = GRID_EXCHANGE_FACTOR) -> LumpedThermal:
+    """The lumped thermal model of a grid strip: the free strip's calibrated transition, capacity and
+    radiation, its convective film coefficient times ``exchange_factor`` [-]."""
+    if not (math.isfinite(exchange_factor) and exchange_factor > 0):
+        raise InputError(f"exchange_factor = {exchange_factor}: must be > 0")
+    ex = SurfaceExchange()
+    return LumpedThermal(exchange=SurfaceExchange(film_coefficient=ex.film_coefficient * exchange_factor,
+                                                  emissivity=ex.emissivity,
+                                                  ambient_temperature=ex.ambient_temperature))
 
 
 def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
@@ -196,7 +267,8 @@ def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
     if route.checked().thermal_model == "eq1":
         lam = float(eq1_stretch(Coil().power(current), Eq1()))
     else:
-        lam = steady_stretch(current, route.segment, LumpedThermal())
+        strip, model = route.lumped()
+        lam = steady_stretch(current, strip, model)
     return min(lam, lambda_N)
 
 
@@ -204,3 +276,32 @@ def lambda_assignments_from_currents(currents: dict, route: CurrentRoute = Curre
                                      lambda_N: float = PUBLISHED_LAMBDA_N) -> dict:
     """{selection: current [A]} -> {selection: lambda [-]} through :func:`stretch_from_current`."""
     return {k: stretch_from_current(float(v), route, lambda_N) for k, v in currents.items()}
+
+
+def eq1_current(stretch: float, resistance: float = GRID_STRIP_RESISTANCE) -> float:
+    """The paper's rule for a hold current [A]: Eq. 1 inverted at ``stretch`` [-] (the power P that
+    holds a free strip there, seed 001: 'We can estimate the required current for each LCE strip by
+    the imposed stretch, using Eq. 1'), through a coil of ``resistance`` [ohm]: I = sqrt(P / R)
+    (0.064 A at lambda 1.33 and 0.079 A at 1.05 for the grid's 130 ohm coils; the dome's protocol
+    used 0.04 / 0.07 A, 'according to Fig. 2C')."""
+    if not 1.0 < stretch < 1.0 + Eq1().gamma_1:
+        raise InputError(f"stretch = {stretch}: must lie strictly between 1 and {1.0 + Eq1().gamma_1}")
+    return math.sqrt(eq1_power(stretch, Eq1()) / (resistance * 1e3))
+
+
+def shape_currents(lambdas: dict, resistance: float = GRID_STRIP_RESISTANCE) -> dict:
+    """{channel: lambda [-]} -> {channel: hold current [A]} by the paper's rule (:func:`eq1_current`)."""
+    return {k: eq1_current(float(v), resistance) for k, v in lambdas.items()}
+
+
+def pulse_currents(hold: dict) -> dict:
+    """The actuation pulse before a hold (seed 001, dome: 'we first apply 0.1 A to each of the top LCE
+    strips and 0.2 A to the bottom ... after about 20 s, the currents are switched'; 'the other
+    geometries are programmed similarly'): 0.2 A [A] on the channels whose hold current is the
+    largest (the most contracted), 0.1 A on the others."""
+    top = max(hold.values())
+    return {k: (0.2 if math.isclose(v, top, rel_tol=1e-9) else 0.1) for k, v in hold.items()}
+
+
+#: Duration of the actuation pulse [s] (seed 001, Results: 'after about 20 s').
+PULSE_DURATION = 20.0

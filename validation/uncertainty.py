@@ -45,7 +45,7 @@ from lcefem.models.empirical import eq1_stretch
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil
 from lcefem.models.hyperelastic import OgdenLaw
-from lcefem.models.lumped_heat import HeatedStrip, steady_stretch
+from lcefem.models.lumped_heat import GRID_STRIP, HeatedStrip, grid_thermal, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
 from lcefem.solvers.run import Progress, Run, add_out_arguments, write_text
 from lcefem.validation import gridshell_bh as gs
@@ -111,19 +111,32 @@ class StretchLaw:
     @property
     def coil_resistance(self) -> float:
         """Nominal coil resistance [ohm] the set currents meet (Coil: Eq. 1's free strip, 146.6 ohm;
-        GridSegmentCoil: a 25 ohm grid segment)."""
+        GridSegmentCoil: a 25 ohm grid segment; 'strip': the grid strip's 130 ohm, issue 31)."""
+        if self.thermal_model == "strip":
+            return GRID_STRIP.resistance
         return Coil().resistance if self.thermal_model == "eq1" else GridSegmentCoil().resistance
 
     def __call__(self, power):
         power = np.asarray(power, dtype=float)
         if self.thermal_model == "eq1":
             return eq1_stretch(power)
-        # the segment's steady stretch depends on I^2 R only: tabulate over the power once
-        table_p, table_l = _segment_table()
+        # the lumped steady stretch depends on I^2 R only: tabulate over the power once
+        table_p, table_l = _segment_table() if self.thermal_model == "segment" else _strip_table()
         return np.interp(power, table_p, table_l)
 
 
 _SEGMENT_TABLE: list = []
+_STRIP_TABLE: list = []
+
+
+def _strip_table():
+    """(power [mW], steady lambda [-]) of the grid strip with the calibrated grid exchange (issue 31)."""
+    if not _STRIP_TABLE:
+        r = GRID_STRIP.resistance
+        currents = np.linspace(0.0, 0.3, 601)
+        lam = np.array([steady_stretch(float(i), GRID_STRIP, grid_thermal()) for i in currents])
+        _STRIP_TABLE[:] = [currents ** 2 * r * 1.0e3, lam]  # mW
+    return _STRIP_TABLE
 
 
 def _segment_table():

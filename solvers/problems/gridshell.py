@@ -69,7 +69,8 @@ from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell_fe import (GridshellFEMesh, build_gridshell_fe, cell_group,
                                         strip_catalogue)
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, GlueBars
-from lcefem.models.heat import GridSegmentCoil, SurfaceExchange, ThermalProperties
+from lcefem.models.heat import Coil, ThermalProperties
+from lcefem.models.lumped_heat import grid_segment_resistance, grid_thermal
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, lce_strain_energy, neo_hookean_strain_energy
 from lcefem.models.lce import (NematicTransition, contraction_ratio, isochoric_uniaxial,
@@ -703,10 +704,15 @@ class HeatedGridshellFE(GridshellFE):
     mechanics from the old to the new temperature (:class:`lcefem.solvers.thermomechanics.
     TemperatureFollower`).
 
-    Power: the heated beam's, one 30 mm grid segment's coil (:class:`GridSegmentCoil`, 25 ohm)
-    spread over a 30 mm strip's as-built volume, q = I^2 R / (L W_s H) [mW/mm^3], in every LCE cell
-    of a driven strip (cell-wise field: each strip tag its own current); the glue squares where
-    the top strips cross (4.2 of a top strip's 30 mm) are not heated.
+    Power: the grid strip's coil (issue 31, :data:`lcefem.models.lumped_heat.GRID_STRIP`: ~130 ohm
+    over 80 mm isotropic, seed 001) spread uniformly, i.e. the part of it in one 30 mm segment
+    (:func:`lcefem.models.lumped_heat.grid_segment_resistance`, 34.8 ohm; the earlier 25 ohm segment
+    reading under-powered the strips by 28 %) over a 30 mm strip's as-built volume,
+    q = I^2 R / (L W_s H) [mW/mm^3], in every LCE cell of a driven strip (cell-wise field: each strip
+    tag its own current); the glue squares where the top strips cross (4.2 of a top strip's 30 mm)
+    are not heated. Exchange: the free strip's calibrated convection times the grid's one calibrated
+    factor (:func:`lcefem.models.lumped_heat.grid_thermal`, calibrated on the bar-and-hinge dome
+    protocol), and radiation.
 
     Drive: :meth:`set_current` per channel, group or strip tag (as :meth:`GridshellFE.set_lambda`);
     step: :meth:`advance_time`; a schedule: :meth:`run_protocol`. The mesh is built at the
@@ -717,8 +723,8 @@ class HeatedGridshellFE(GridshellFE):
                  thermal=None, exchange=None, coil=None, dt: float = 1.0,
                  comm: MPI.Comm | None = None, petsc_options: dict | None = None):
         self.transition = transition or NematicTransition()
-        self.coil = coil or GridSegmentCoil()
-        self._heat_materials = (thermal or ThermalProperties(), exchange or SurfaceExchange())
+        self.coil = coil or Coil(resistance=grid_segment_resistance())
+        self._heat_materials = (thermal or ThermalProperties(), exchange or grid_thermal().exchange)
         super().__init__(dataclasses.replace(config, lambda_N=self.transition.lambda_N), comm,
                          petsc_options)
         g = self.config.geometry

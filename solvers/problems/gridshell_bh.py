@@ -57,7 +57,7 @@ from lcefem.models import units
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.loads import SurfaceWeight
-from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents
+from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents, shape_currents
 from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
@@ -503,6 +503,10 @@ RECIPE_SOURCE = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRo
                  "shared/reference/gridshell_recipes.md")
 
 
+#: How a named shape is driven (GridshellRun.route).
+ROUTES = ("lambda", "current")
+
+
 @dataclass(frozen=True)
 class GridshellRun:
     """What the experimenter chooses: a named shape or recipe, and the support."""
@@ -519,8 +523,15 @@ class GridshellRun:
                                "a recipe, case otherwise")
     departures: str = param("", "-", "comma-separated departures from the published configuration: "
                             + ", ".join(DEPARTURES) + " (only with configuration 'published')")
+    route: str = param("lambda", "-", "with a shape: 'lambda' (the Fig. 4 lambdas) or 'current' (the "
+                       "currents the paper's rule gives at those lambdas, Eq. 1 inverted through the "
+                       "grid strip's coil, models.lumped_heat.shape_currents, through the current route)")
 
     def checked(self) -> "GridshellRun":
+        if self.route not in ROUTES:
+            raise InputError(f"run.route = {self.route!r}: allowed {', '.join(ROUTES)}")
+        if self.route == "current" and not self.shape:
+            raise InputError("run.route = 'current': needs a shape (--shape); give currents with --current")
         if self.shape and self.shape not in SHAPE_DRIVES:
             raise InputError(f"run.shape = {self.shape!r}: allowed {', '.join(SHAPE_DRIVES)}")
         if self.recipe and self.recipe not in RECIPES:
@@ -615,6 +626,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     def resolved(self) -> dict:
         out = {name: describe(getattr(self, name)) for name in self.PARAM_SECTIONS}
         out["current_route"]["segment"]["value"] = describe(self.current_route.segment)
+        out["current_route"]["strip"]["value"] = describe(self.current_route.strip)
         out["lambda"] = dict(self.lambdas)
         out["current"] = dict(self.currents)
         mesh, lce, support = self.effective
@@ -633,6 +645,14 @@ def strip_targets(cfg: GridshellBHRunConfig, structure: BarHingeStructure) -> tu
     if cfg.run.recipe:
         recipe = RECIPES[cfg.run.recipe][0]
         return targets_from_recipe(structure, recipe), {"recipe": cfg.run.recipe, "P0": recipe}
+    if cfg.run.shape and cfg.run.route == "current":
+        currents = shape_currents(SHAPE_DRIVES[cfg.run.shape]["lambdas"], cfg.current_route.strip.resistance)
+        lambdas = lambda_assignments_from_currents(currents, cfg.current_route, lam_n)
+        return targets_from_lambdas(structure, lambdas, lam_n, "current"), {
+            "shape": cfg.run.shape, "route": "current", "current [A]": currents,
+            "current rule": "Eq. 1 inverted at the Fig. 4 lambdas through the grid strip's coil "
+                            "(models.lumped_heat.eq1_current)",
+            "lambda (from current)": lambdas, "thermal model": cfg.current_route.thermal_model}
     if cfg.run.shape:
         lambdas = SHAPE_DRIVES[cfg.run.shape]["lambdas"]
         return targets_from_lambdas(structure, lambdas, lam_n), {"shape": cfg.run.shape, "lambda": lambdas}

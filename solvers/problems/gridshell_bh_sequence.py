@@ -11,7 +11,7 @@ schedule file::
     end = 240.0                      # s: last output time (> the last switch time, <= MAX_DURATION)
     output_interval = 5.0            # s: one quasi-static solve and one frame per interval
     support = "rollers"              # clamp | rollers | table (one support for the whole sequence)
-    thermal_model = "eq1"            # segment | eq1 (see THERMAL_STRIPS)
+    thermal_model = "eq1"            # strip | segment | eq1 (see THERMAL_STRIPS)
     labels = ["actuate", "dome", "..."]   # optional: a name per switch time
     heat_step = 0.05                 # s: implicit-Euler step of the heat balance (optional)
 
@@ -52,7 +52,8 @@ from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.lce import spontaneous_stretch
 from lcefem.models.limits import MAX_CURRENT, MAX_DURATION
-from lcefem.models.lumped_heat import FREE_STRIP, HeatedStrip, LumpedThermal, implicit_euler_step
+from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
+                                       implicit_euler_step)
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.exports import BarHingeVTK
 from lcefem.solvers.problems import gridshell_bh as gs
@@ -62,7 +63,9 @@ from lcefem.solvers.run import Progress, Run
 #: default); 'eq1' is the free strip of Fig. 2 (146.6 ohm, 80 mm isotropic) on which Eq. 1 was
 #: measured: its lumped steady stretch is within 0.03 of Eq. 1 (tests/models/test_lumped_heat.py), so
 #: this is the transient twin of the current route's 'eq1' (the paper's own current choice).
-THERMAL_STRIPS = {"segment": HeatedStrip(), "eq1": FREE_STRIP}
+#: 'strip' is one LCE strip of the grid (~130 ohm over 80 mm isotropic, seed 001) with the grid's
+#: calibrated exchange factor (models.lumped_heat.grid_thermal; docs/gridshell_thermal.md).
+THERMAL_STRIPS = {"segment": HeatedStrip(), "eq1": FREE_STRIP, "strip": GRID_STRIP}
 SCHEDULE_KEYS = {"times", "end", "output_interval", "support", "thermal_model", "labels", "heat_step"}
 CURVATURE_COLUMNS = ["circle kappa_x [1/mm]", "circle kappa_y [1/mm]", "quad kappa_x [1/mm]",
                      "quad kappa_y [1/mm]"]
@@ -175,7 +178,7 @@ def check_selections(schedule: Schedule, structure: BarHingeStructure) -> None:
 
 # -------------------------------------------------------------------------------- heat
 def strip_histories(schedule: Schedule, times: np.ndarray, strips: dict | None = None,
-                    model: LumpedThermal = LumpedThermal(), lambda_N: float = PUBLISHED_LAMBDA_N):
+                    model: LumpedThermal | None = None, lambda_N: float = PUBLISHED_LAMBDA_N):
     """Temperatures [C] and stretches [-] per selection at ``times`` [s] (from ambient at t = 0).
 
     ``strips``: selection -> :class:`HeatedStrip` (default: the schedule's thermal model for all; a
@@ -183,6 +186,8 @@ def strip_histories(schedule: Schedule, times: np.ndarray, strips: dict | None =
     steps of at most ``schedule.heat_step`` inside each output interval; a step carries the current
     of the interval holding its midpoint. lambda = min(lambda_s(T), lambda_N)."""
     default = THERMAL_STRIPS[schedule.thermal_model]
+    if model is None:  # the grid strip's exchange carries the calibrated grid factor
+        model = grid_thermal() if schedule.thermal_model == "strip" else LumpedThermal()
     strips = {sel: (strips or {}).get(sel, default) for sel in schedule.currents}
     T = {sel: model.exchange.ambient_temperature for sel in schedule.currents}
     temps = {sel: np.empty(len(times)) for sel in schedule.currents}

@@ -43,3 +43,28 @@ def test_free_strip_reaches_T_NI_within_about_10_s_at_0_2_A():
     t_ni = t[np.argmax(T >= NematicTransition().T_NI)]
     assert 8.0 <= t_ni <= 12.0
     assert lam[-1] == pytest.approx(1.0, abs=0.01)  # fully contracted within 30 s
+
+
+def test_grid_strip_carries_the_coil_of_the_text_over_the_free_strips_active_length():
+    # seed 001: 126-134 ohm per grid strip, 80 mm isotropic active length "preserved in the 3x3 grid":
+    # 1.63 ohm/mm, between the 25 ohm segment reading (1.17) and the free strip (1.83 ohm/mm).
+    from lcefem.models.lumped_heat import GRID_STRIP, grid_segment_resistance
+    per_mm = GRID_STRIP.resistance / GRID_STRIP.isotropic_length
+    assert per_mm == pytest.approx(1.625, abs=1e-9)
+    assert HeatedStrip().resistance / HeatedStrip().isotropic_length < per_mm < FREE_STRIP.resistance / 80.0
+    assert grid_segment_resistance() == pytest.approx(130.0 * (30.0 / 1.4) / 80.0, rel=1e-12)
+
+
+def test_eq1_current_inverts_eq1_through_the_grid_coil():
+    # the paper's rule: P from Eq. 1 at lambda, I = sqrt(P/R); Eq. 1 at that power gives lambda back.
+    from lcefem.models.lumped_heat import eq1_current
+    for lam in (1.05, 1.33):
+        i = eq1_current(lam, 130.0)
+        assert float(eq1_stretch(joule_power(i, 130.0))) == pytest.approx(lam, abs=1e-9)
+
+
+def test_larger_grid_exchange_factor_leaves_the_strip_longer():
+    # more loss at the same power: a cooler strip, closer to nematic (monotone, the calibration's premise)
+    from lcefem.models.lumped_heat import CurrentRoute, stretch_from_current
+    lams = [stretch_from_current(0.07, CurrentRoute(exchange_factor=f), 1.426) for f in (0.8, 1.0, 1.5)]
+    assert lams[0] < lams[1] < lams[2]

@@ -71,7 +71,7 @@ def test_signs_and_four_fold_symmetry_of_a_one_cell_dome():
 
 def test_current_route_reproduces_the_lambda_route():
     lam = {"Tx": 1.33, "Ty": 1.2, "Bx": 1.05, "By": 1.1}
-    currents = {k: current_for_stretch(v) for k, v in lam.items()}
+    currents = {k: current_for_stretch(v, *gs.CurrentRoute().lumped()) for k, v in lam.items()}
     back = gs.lambda_assignments_from_currents(currents)
     for k in lam:
         assert back[k] == pytest.approx(lam[k], abs=1e-9)

@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 from lcefem.validation.cli import main
 
@@ -40,7 +41,7 @@ def test_current_route_from_the_command_line(tmp_path):
     assert rc == 0
     summary = json.loads((out / "summary.json").read_text())
     lam = summary["drive"]["lambda (from current)"]
-    assert 1.0 < lam["B"] < 1.2 and lam["T"] == 1.4  # 0.09 A contracts a 25 ohm segment; 0 A: as built
+    assert 1.0 < lam["B"] < 1.2 and lam["T"] == 1.4  # 0.09 A contracts a grid strip; 0 A: as built
 
 
 def test_non_convergence_writes_failure_json_and_exits_3(tmp_path):
@@ -74,3 +75,26 @@ def test_recipe_departures_from_the_command_line(tmp_path, capsys):
     assert resolved == {"configuration": "published", "departures": ["contact", "volume_law", "middle_rollers"],
                         "mesh.contact": True, "mesh.top_junction": "glue", "lce.force_law": "volume"}
     assert cfg.support == "middle_rollers"
+
+
+def test_shape_from_the_papers_rule_of_currents(tmp_path, capsys):
+    # --route current: Eq. 1 inverted at the Fig. 4 lambdas through the 130 ohm grid coil (0.0640 A at
+    # 1.33, 0.0786 A at 1.05), back through the calibrated strip route to within 0.015 of those lambdas
+    # (the strip model at the grid factor is Eq. 1's neighbour: 1.341 / 1.053)
+    out = tmp_path / "rule"
+    assert main(["run", "gridshell", "--ribbons", "1", "--shape", "dome", "--route", "current", "--quiet",
+                 "--out", str(out)]) == 0
+    drive = json.loads((out / "summary.json").read_text())["drive"]
+    assert drive["current [A]"]["Tx"] == pytest.approx(0.0640, abs=1e-4)
+    assert drive["current [A]"]["Bx"] == pytest.approx(0.0786, abs=1e-4)
+    assert drive["lambda (from current)"]["Tx"] == pytest.approx(1.33, abs=0.015)
+    assert drive["lambda (from current)"]["Bx"] == pytest.approx(1.05, abs=0.015)
+    capsys.readouterr()
+    # bad input: one line naming the field, exit 2 (no FE run is started)
+    for argv, msg in ((["--route", "current"], "needs a shape"),
+                      (["--model", "fe", "--shape", "dome"], "--route"),
+                      (["--model", "fe", "--shape", "dome", "--route", "current", "--current", "Tx=0.1"],
+                       "--current: not with --model fe"),
+                      (["--mesh-level", "1", "--shape", "dome"], "--mesh-level: only with --model fe")):
+        assert main(["run", "gridshell", *argv, "--out", str(tmp_path / "bad")]) == 2
+        assert msg in capsys.readouterr().err

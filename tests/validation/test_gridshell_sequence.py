@@ -11,7 +11,8 @@ import pytest
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.errors import InputError
 from lcefem.models.lce import spontaneous_stretch
-from lcefem.models.lumped_heat import FREE_STRIP, HeatedStrip, LumpedThermal, steady_temperature
+from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
+                                       steady_temperature)
 from lcefem.validation import gridshell_sequence as seq
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
@@ -73,7 +74,8 @@ def test_shipped_schedules_parse():
         seq.check_selections(sched, build_gridshell_bar_hinge())
 
 
-@pytest.mark.parametrize("thermal_model, strip", [("segment", HeatedStrip()), ("eq1", FREE_STRIP)])
+@pytest.mark.parametrize("thermal_model, strip", [("segment", HeatedStrip()), ("eq1", FREE_STRIP),
+                                                   ("strip", GRID_STRIP)])
 def test_constant_current_reaches_the_closed_form_steady_state(thermal_model, strip):
     # tau = C / (dLoss/dT) ~ 100 s: after 2000 s the transient is e^-20 below the steady state, which
     # implicit Euler shares exactly (its fixed point is the root of I^2 R = loss(T)).
@@ -81,7 +83,8 @@ def test_constant_current_reaches_the_closed_form_steady_state(thermal_model, st
     sched = seq.Schedule((0.0,), {"Tx": (current,)}, end=2000.0, output_interval=500.0,
                          thermal_model=thermal_model, heat_step=0.5)
     temps, lambdas = seq.strip_histories(sched, sched.output_times())
-    T_ss = steady_temperature(current, strip)
+    # the grid strip carries the calibrated grid exchange (models.lumped_heat.grid_thermal)
+    T_ss = steady_temperature(current, strip, grid_thermal() if thermal_model == "strip" else LumpedThermal())
     assert temps["Tx"][0] == pytest.approx(LumpedThermal().exchange.ambient_temperature)
     assert temps["Tx"][-1] == pytest.approx(T_ss, abs=1e-6)
     assert np.all(np.diff(temps["Tx"]) > -1e-9)  # heating from ambient is monotonic

@@ -466,7 +466,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
     Returns (metrics, bar-chart series)."""
     from lcefem.validation import gridshell_bh as gs
 
-    route = gs.CurrentRoute("segment")
+    route = gs.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
     src = gs.SHAPE_SOURCES["curvatures"]
     metrics: list[Metric] = []
     chart = {"3D FE, held (steady)": {}, "bar-and-hinge current route": {}, "paper simulation": {},
@@ -479,7 +479,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
         for ch in ("Tx", "Ty", "Bx", "By"):
             metrics.append(Metric.info(name, f"{label}: steady lambda, {ch}", obs[f"lambda {ch} [-]"],
                                        "-", f"{FE_STEADY}; model vs model: FE heat equation vs the "
-                                       "lumped steady balance of one grid segment "
+                                       "lumped steady balance of one grid strip "
                                        "(models.lumped_heat.stretch_from_current)", bh_lambdas[ch]))
         if not mechanics:
             continue  # quick level: the heat alone
@@ -500,7 +500,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
                                              "+ precision 0.001)"))
             metrics.append(Metric.info(name, f"{label}: kappa_{axis} circle vs bar-and-hinge current "
                                        "route", kappa[i], "1/mm", f"model vs model; {FE_STEADY}; {BH}, "
-                                       "current route 'segment'", bh[KAPPA_KEYS[i]]))
+                                       "current route 'strip'", bh[KAPPA_KEYS[i]]))
         metrics.append(Metric.info(name, f"{label}: Newton iterations", obs["newton iterations [-]"],
                                    "-", FE_STEADY))
     if mechanics and transient is not None and "dome" in held:
@@ -541,7 +541,8 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
         metrics.append(Metric.between(
             name, f"first {first['time [s]']:g} s at {current:g} A, {ch} strips: temperature rise / "
             "adiabatic q/(rho c) t", rise / adiabatic, "-", *ADIABATIC_BAND,
-            "closed form: q = I^2 R/(L W_s H) of a 25 ohm grid segment (models.heat.GridSegmentCoil), "
+            "closed form: q = I^2 R/(L W_s H) of the grid strip coil's 34.8 ohm per 30 mm segment "
+            "(models.lumped_heat.grid_segment_resistance), "
             "rho c of models.heat.ThermalProperties; band: never above (no other source), losses to "
             "pads, glue and air within 15 %"))
     # the dome while heated: both curvatures negative and still growing at the end of the heating
@@ -577,12 +578,12 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                                    held["kappa_circle_x [1/mm]"] / prev["kappa_circle_x [1/mm]"] - 1.0,
                                    "-", f"{FE_HEATED}: the held state is steady when this is small"))
         # the bar-and-hinge current route: the hold currents' steady lambdas on the dome's rollers
-        route = gs.CurrentRoute("segment")
+        route = gs.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
         bh_lambdas = gs.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], route)
         bh = run_bh_shape(bh_lambdas, gs.SHAPES["dome"]["support"])
         metrics.append(Metric.info(name, f"{label}: kappa_x circle vs bar-and-hinge current route",
                                    held["kappa_circle_x [1/mm]"], "1/mm",
-                                   f"model vs model; {FE_HEATED}; {BH}, current route 'segment'",
+                                   f"model vs model; {FE_HEATED}; {BH}, current route 'strip'",
                                    bh[KAPPA_KEYS[0]]))
         for ch, layer in (("Bx", "bottom"), ("Tx", "top")):
             metrics.append(Metric.info(name, f"{label}: {layer} strips' mean temperature",
@@ -590,7 +591,7 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
             metrics.append(Metric.info(name, f"{label}: {layer} strips' lambda vs the bar-and-hinge "
                                        "current route's steady lambda", held[f"lambda {ch} [-]"], "-",
                                        "model vs model: FE heat equation vs the lumped steady balance "
-                                       "of one grid segment (models.lumped_heat.stretch_from_current)",
+                                       "of one grid strip (models.lumped_heat.stretch_from_current)",
                                        bh_lambdas[ch]))
     # the four Fig. 4 shapes held at their currents, straight to the steady state
     held = _held_shapes(ctx.quick, model)

@@ -1,9 +1,9 @@
 """The robotic surface (seed 001, Fig. 4, 5): the n x n gridshell in the bar-and-hinge model, driven
 by strip lambdas, a published recipe or coil currents.
 
-``lcefem run gridshell [--shape dome|saddle|cylinder|table | --recipe NAME | --lambda Tx=1.33,...
-| --current Tx=0.04,...] [--support clamp|rollers|middle_rollers|table]
-[--configuration published|case] [--departure NAME] [--thermal-model segment|eq1]
+``lcefem run gridshell [--shape dome|saddle|cylinder|table [--route lambda|current] | --recipe NAME
+| --lambda Tx=1.33,... | --current Tx=0.04,...] [--support clamp|rollers|middle_rollers|table]
+[--configuration published|case] [--departure NAME] [--thermal-model strip|segment|eq1]
 [--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
 ``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
 
@@ -40,9 +40,10 @@ import pathlib
 from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
-from lcefem.solvers.problems.gridshell_bh import (CONFIGURATIONS, DEPARTURES, RECIPES, SHAPE_DRIVES, SUPPORTS,
-                                                 GridshellBHRunConfig, run_gridshell)
+from lcefem.solvers.problems.gridshell_bh import (CONFIGURATIONS, DEPARTURES, RECIPES, ROUTES, SHAPE_DRIVES,
+                                                 SUPPORTS, GridshellBHRunConfig, run_gridshell)
 from lcefem.solvers.run import add_out_arguments
+from lcefem.validation.commands import MODELS
 from lcefem.validation.config import load_toml
 
 PARALLEL = False  # a serial (numpy/scipy) model: ranks would race on one folder
@@ -87,14 +88,21 @@ def report(out, cfg: GridshellBHRunConfig, structure, x, drive: dict) -> None:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--model", choices=MODELS, default="bar-hinge", help="bar-and-hinge model (default) or "
+                   "the 3D FE heated gridshell (quarter model; only --shape NAME --route current)")
+    p.add_argument("--mesh-level", type=int, help="FE only: mesh level (default 0)")
     p.add_argument("--shape", help="the paper's Fig. 4 shape: " + ", ".join(SHAPE_DRIVES))
+    p.add_argument("--route", choices=ROUTES, help="with --shape: 'lambda' (the Fig. 4 lambdas, default) "
+                   "or 'current' (the paper's rule: Eq. 1 inverted at those lambdas through the grid "
+                   "strip's 130 ohm coil, then the current route's thermal model)")
     p.add_argument("--recipe", help="a published recipe: " + ", ".join(RECIPES))
     p.add_argument("--lambda", dest="lambdas", help="lambdas [-] per selection, e.g. "
                    "Tx=1.33,Ty=1.33,Bx=1.05,By=1.05 (1 isotropic .. 1.4 as built)")
     p.add_argument("--current", dest="currents", help="currents [A] per selection, e.g. "
                    "Tx=0.04,Ty=0.04,Bx=0.07,By=0.07")
-    p.add_argument("--thermal-model", choices=THERMAL_MODELS, help="current -> lambda: 'segment' "
-                   "(our lumped 25 ohm segment, default) or 'eq1' (the paper's Eq. 1 estimate)")
+    p.add_argument("--thermal-model", choices=THERMAL_MODELS, help="current -> lambda: 'strip' "
+                   "(our lumped grid strip, 130 ohm over 80 mm isotropic, calibrated exchange; default), "
+                   "'segment' (a 25 ohm segment) or 'eq1' (the paper's Eq. 1 estimate)")
     p.add_argument("--support", choices=SUPPORTS, help="supports (default: the published ones)")
     p.add_argument("--configuration", choices=CONFIGURATIONS, help="'published' (the published "
                    "model: its supports, glue squares, bar law A f P(p), no strip-ribbon contact; "
@@ -123,7 +131,8 @@ def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
     departures = ",".join(args.departures) if getattr(args, "departures", None) else None
     run = {k: v for k, v in {"shape": args.shape, "recipe": args.recipe, "support": args.support,
                              "configuration": getattr(args, "configuration", None),
-                             "departures": departures}.items() if v is not None}
+                             "departures": departures,
+                             "route": getattr(args, "route", None)}.items() if v is not None}
     kw = {"run": with_overrides(cfg.run, run, "run")}
     if args.lambdas is not None:
         kw["lambdas"] = parse_assignments(args.lambdas, "lambda")
@@ -138,6 +147,10 @@ def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
 
 def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
     """The validated configuration (before the output folder is claimed)."""
+    if getattr(args, "model", "bar-hinge") == "fe":
+        return prepare_fe(args)
+    if getattr(args, "mesh_level", None) is not None:
+        raise InputError("--mesh-level: only with --model fe")
     if getattr(args, "task", None) or getattr(args, "scales", False):
         from lcefem.validation import fig5_tasks
         return fig5_tasks.prepare(args)
@@ -147,7 +160,66 @@ def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
     return config_from_args(args).validated()
 
 
+def prepare_fe(args: argparse.Namespace) -> dict:
+    """--model fe: the heated FE gridshell held at a Fig. 4 shape's currents (the paper's rule)."""
+    flags = {"recipe": "--recipe", "lambdas": "--lambda", "currents": "--current", "schedule": "--schedule",
+             "config": "--config", "thermal_model": "--thermal-model", "ribbons": "--ribbons",
+             "support": "--support"}
+    for name, flag in flags.items():
+        if getattr(args, name, None):
+            raise InputError(f"{flag}: not with --model fe (it takes --shape NAME --route current)")
+    if not args.shape or args.shape not in SHAPE_DRIVES:
+        raise InputError(f"--shape = {args.shape!r}: --model fe needs one of {', '.join(SHAPE_DRIVES)}")
+    if getattr(args, "route", None) != "current":
+        raise InputError("--route: --model fe runs the current route only (--route current); the FE "
+                         "lambda route is the case gridshell_shapes_fe")
+    level = 0 if args.mesh_level is None else args.mesh_level
+    if not 0 <= level <= 3:
+        raise InputError(f"--mesh-level = {level}: allowed 0..3")
+    return {"model": "fe", "shape": args.shape, "mesh_level": level}
+
+
+def run_fe_current(spec: dict, out: pathlib.Path) -> dict:
+    """The heated FE gridshell (quarter, published support of the shape) held at the currents the
+    paper's rule gives at the shape's Fig. 4 lambdas (models.lumped_heat.shape_currents), straight to
+    the steady state (HeatedGridshellFE.steady_hold); writes summary.json; returns it."""
+    import time
+
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+    from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
+    from lcefem.solvers.problems.gridshell import (PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports,
+                                                   HeatedGridshellFE)
+    from lcefem.solvers.run import write_json
+
+    shape = spec["shape"]
+    currents = shape_currents(SHAPE_DRIVES[shape]["lambdas"], GRID_STRIP_RESISTANCE)
+    started = time.process_time()
+    model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=spec["mesh_level"]),
+                                              symmetry="quarter",
+                                              supports=GridshellSupports(kind=PUBLISHED_SUPPORTS[shape])))
+    rows = model.steady_hold(currents)
+    held = {k: v for k, v in rows[-1].items() if not k.startswith("junction_")}
+    summary = {"model": "3D FE heated gridshell (HeatedGridshellFE.steady_hold), quarter",
+               "shape": shape, "mesh level": spec["mesh_level"], "support": PUBLISHED_SUPPORTS[shape],
+               "current [A]": currents, "current rule": "Eq. 1 inverted at the Fig. 4 lambdas through "
+               "the grid strip's 130 ohm coil (models.lumped_heat.eq1_current)",
+               "held": held, "sweeps": len(rows), "cpu [s]": time.process_time() - started}
+    write_json(out / "summary.json", summary)
+    return summary
+
+
 def main(args: argparse.Namespace) -> int:
+    if isinstance(getattr(args, "prepared", None), dict) and args.prepared.get("model") == "fe":
+        s = run_fe_current(args.prepared, pathlib.Path(args.out))
+        h = s["held"]
+        print(f"lcefem: gridshell (fe, {s['support']}, level {s['mesh level']}) {s['shape']} from currents "
+              + ", ".join(f"{k} {v:.4f} A" for k, v in s["current [A]"].items())
+              + f": centre curvature x/y [1/mm]: circle {h['kappa_circle_x [1/mm]']:.4f}/"
+              f"{h['kappa_circle_y [1/mm]']:.4f}, quadratic fit {h['kappa_quad_x [1/mm]']:.4f}/"
+              f"{h['kappa_quad_y [1/mm]']:.4f}; lambda T/B "
+              + "/".join(f"{h[f'lambda {c} [-]']:.3f}" for c in ("Tx", "Ty", "Bx", "By") if f"lambda {c} [-]" in h)
+              + f"; {s['cpu [s]']:.0f} s CPU; results in {args.out}")
+        return 0
     if getattr(args, "task", None) or getattr(args, "scales", False):
         from lcefem.validation import fig5_tasks
         return fig5_tasks.main(args)
