@@ -34,9 +34,10 @@ from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition
 from lcefem.models.parameters import param
-from lcefem.models.ribbon import GroundHeatExchange, RibbonGeometry
+from lcefem.models.ribbon import SEED000_RIBBON, GroundHeatExchange, RibbonGeometry
 from lcefem.solvers.der.output import PolylineSeries, polydata
-from lcefem.solvers.der.ribbon import HISTORY_COLUMNS, RibbonNumerics, RibbonSetup, RibbonSimulation
+from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSetup,
+                                       RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
 from lcefem.solvers.run import CSVTable, Progress, Run, check_config, resolved, write_json
 
@@ -60,10 +61,10 @@ class RibbonRun:
 @dataclass(frozen=True)
 class RibbonConfig:
     run: RibbonRun = field(default_factory=RibbonRun)
-    geometry: RibbonGeometry = field(default_factory=RibbonGeometry)
+    geometry: RibbonGeometry = ROLLING_RIBBON
     numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
-    transition: NematicTransition = field(default_factory=NematicTransition)
-    elasticity: LCEElasticity = field(default_factory=LCEElasticity)
+    transition: NematicTransition = field(default_factory=SEED000_RIBBON.transition)
+    elasticity: LCEElasticity = field(default_factory=SEED000_RIBBON.elasticity)
     thermal: ThermalProperties = field(default_factory=ThermalProperties)
     air: SurfaceExchange = field(default_factory=SurfaceExchange)
     ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
