@@ -1,0 +1,95 @@
+"""Convergence of the rolling ribbon's speed in nodes and time step (issue 32).
+
+    nice python -m lcefem.validation.benchmarks.ribbon_convergence --out rows.jsonl [--duration 40]
+        T,nodes,dt [T,nodes,dt ...]
+    python -m lcefem.validation.benchmarks.ribbon_convergence --table rows.jsonl [more.jsonl ...]
+        --csv validation/data/ribbon_convergence.csv
+
+The first form runs the default ribbon (``RibbonConfig()``: the seed-000 ribbon LCE with its twist
+locked, 60 x 4 x 0.8 mm, 0.05 turns/mm) on a plate at T [C] with the given rod nodes and fixed step dt
+[s] for ``--duration`` seconds after settling, and appends one JSON row per run (rolling metrics of the
+last half: average speed, end spin rates, twist-density variation; CPU seconds) to ``--out``; several
+processes may share the work. The second form writes the CSV table (units in the headers) with the
+relative change of each speed against the finest run of its temperature.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import os
+import pathlib
+import sys
+import time
+
+COLUMNS = ["average_speed [mm/s]", "rolls", "spin_rate_start [rad/s]", "spin_rate_end [rad/s]",
+           "spin_rate_ratio [-]", "twist_density_mean [turns/mm]", "twist_density_variation [-]", "T_mean_final [C]"]
+
+
+def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]]) -> None:
+    from lcefem.solvers.der.ribbon import RibbonNumerics
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun, run_ribbon
+
+    for T, nodes, dt in jobs:
+        cfg = RibbonConfig(run=RibbonRun(ground_temperature=T, duration=duration, output_interval=0.0),
+                           numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt))
+        t0 = time.process_time()
+        m = run_ribbon(cfg, None, progress=False, fields=False).metrics
+        row = {k: float(m[k]) for k in COLUMNS}
+        row.update({"T": T, "nodes": nodes, "dt": dt, "duration": duration, "cpu": time.process_time() - t0})
+        with open(out, "a") as f:
+            f.write(json.dumps(row) + "\n")
+
+
+def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
+    rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
+    rows.sort(key=lambda r: (r["T"], r["nodes"], -r["dt"]))
+    finest = {}
+    for r in rows:
+        key = r["T"]
+        if key not in finest or (r["nodes"], -r["dt"]) > (finest[key]["nodes"], -finest[key]["dt"]):
+            finest[key] = r
+    header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "average speed [mm/s]",
+              "change against the finest run [-]", "rolls [-]", "end spin-rate ratio [-]",
+              "twist density variation [-]", "T mean final [C]", "CPU [s]"]
+    lines = [",".join(header)]
+    for r in rows:
+        ref = finest[r["T"]]["average_speed [mm/s]"]
+        change = (r["average_speed [mm/s]"] - ref) / ref if abs(ref) > 1e-3 else float("nan")
+        lines.append(",".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in (
+            r["T"], int(r["nodes"]), r["dt"], r["duration"], r["average_speed [mm/s]"], change, r["rolls"],
+            r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"])))
+    tmp = csv.with_suffix(".csv.part")
+    tmp.write_text("\n".join(lines) + "\n")
+    os.replace(tmp, csv)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("jobs", nargs="*", help="T,nodes,dt")
+    ap.add_argument("--out", type=pathlib.Path)
+    ap.add_argument("--duration", type=float, default=40.0)
+    ap.add_argument("--table", type=pathlib.Path, nargs="*")
+    ap.add_argument("--csv", type=pathlib.Path)
+    a = ap.parse_args(argv)
+    if a.table:
+        if a.csv is None:
+            print("--csv: needed with --table", file=sys.stderr)
+            return 2
+        table(a.table, a.csv)
+        return 0
+    if a.out is None or not a.jobs:
+        print("--out and at least one T,nodes,dt job are needed", file=sys.stderr)
+        return 2
+    try:
+        jobs = [(float(t), int(n), float(d)) for t, n, d in (j.split(",") for j in a.jobs)]
+    except ValueError:
+        print("jobs: each must be T,nodes,dt (e.g. 100,60,0.01)", file=sys.stderr)
+        return 2
+    run(a.out, a.duration, jobs)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
