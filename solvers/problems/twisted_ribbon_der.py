@@ -49,10 +49,10 @@ class RibbonRun:
     """What the experimenter sets."""
 
     ground_temperature: float = param(100.0, "C", "chosen: seed 000 / press release: the real ribbons roll on "
-                                      "surfaces of at least ~55 C; the model's threshold is 80-100 C (issue 17, "
-                                      "ribbon_threshold: no rolling at 80 C, 2.3 mm/s at 100 C, a registered known "
-                                      "disagreement), so the default run uses 100 C, where the model rolls",
-                                      minimum=-50.0, maximum=DECOMPOSITION_TEMPERATURE)
+                                      "surfaces of at least ~55 C; the model's threshold is 80-100 C (issue 32, "
+                                      "ribbon_threshold: the seed-000 ribbon LCE does not roll at 80 C, rolls at 100 C; "
+                                      "a registered known disagreement), so the default run uses 100 C, where the model "
+                                      "rolls", minimum=-50.0, maximum=DECOMPOSITION_TEMPERATURE)
     duration: float = param(60.0, "s", "chosen: heated time after settling", positive=True)
     output_interval: float = param(0.5, "s", "chosen: time between field frames (0: no fields)", minimum=0.0)
     record_interval: float = param(0.05, "s", "chosen: time between history rows", positive=True)

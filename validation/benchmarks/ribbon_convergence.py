@@ -10,7 +10,7 @@ locked, 60 x 4 x 0.8 mm, 0.05 turns/mm) on a plate at T [C] with the given rod n
 [s] for ``--duration`` seconds after settling, and appends one JSON row per run (rolling metrics of the
 last half: average speed, end spin rates, twist-density variation; CPU seconds) to ``--out``; several
 processes may share the work. The second form writes the CSV table (units in the headers) with the
-relative change of each speed against the finest run of its temperature.
+relative change of each speed against the run at half its step and against the next node count.
 """
 
 from __future__ import annotations
@@ -42,23 +42,30 @@ def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]]
             f.write(json.dumps(row) + "\n")
 
 
+def _change(value: float, reference: dict | None) -> float:
+    """(value - reference speed)/reference speed; nan without a reference or when it does not roll."""
+    if reference is None or not reference["rolls"] or abs(reference["average_speed [mm/s]"]) < 1e-3:
+        return float("nan")
+    return (value - reference["average_speed [mm/s]"]) / reference["average_speed [mm/s]"]
+
+
 def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
+    """CSV of every run with the relative change of its speed against the run at half its step (same
+    nodes) and against the run with the next larger node count (same step)."""
     rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
     rows.sort(key=lambda r: (r["T"], r["nodes"], -r["dt"]))
-    finest = {}
-    for r in rows:
-        key = r["T"]
-        if key not in finest or (r["nodes"], -r["dt"]) > (finest[key]["nodes"], -finest[key]["dt"]):
-            finest[key] = r
-    header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "average speed [mm/s]",
-              "change against the finest run [-]", "rolls [-]", "end spin-rate ratio [-]",
-              "twist density variation [-]", "T mean final [C]", "CPU [s]"]
+    by = {(r["T"], int(r["nodes"]), r["dt"]): r for r in rows}
+    header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "average speed [mm/s]", "rolls [-]",
+              "change against half the step [-]", "change against the next node count [-]",
+              "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]"]
     lines = [",".join(header)]
     for r in rows:
-        ref = finest[r["T"]]["average_speed [mm/s]"]
-        change = (r["average_speed [mm/s]"] - ref) / ref if abs(ref) > 1e-3 else float("nan")
-        lines.append(",".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in (
-            r["T"], int(r["nodes"]), r["dt"], r["duration"], r["average_speed [mm/s]"], change, r["rolls"],
+        T, n, dt = r["T"], int(r["nodes"]), r["dt"]
+        finer_nodes = sorted(m for (T2, m, d2) in by if T2 == T and d2 == dt and m > n)
+        v = r["average_speed [mm/s]"]
+        lines.append(",".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in (
+            T, n, dt, r["duration"], v, r["rolls"], _change(v, by.get((T, n, dt / 2))),
+            _change(v, by.get((T, finer_nodes[0], dt)) if finer_nodes else None),
             r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"])))
     tmp = csv.with_suffix(".csv.part")
     tmp.write_text("\n".join(lines) + "\n")
