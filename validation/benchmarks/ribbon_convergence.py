@@ -72,6 +72,35 @@ def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
     os.replace(tmp, csv)
 
 
+def plot(paths: list[pathlib.Path], png: pathlib.Path) -> None:
+    """PNG of the average speed against plate temperature, one curve per (nodes, dt, duration), with the
+    ~55 C threshold reported for the real ribbons (press release on Zhao et al. 2022)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from lcefem.validation.plots import save_figure
+
+    rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
+    groups: dict[tuple, list] = {}
+    for r in rows:
+        groups.setdefault((int(r["nodes"]), r["dt"], r["duration"]), []).append(r)
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for (n, dt, dur), rs in sorted(groups.items()):
+        rs.sort(key=lambda r: r["T"])
+        ax.plot([r["T"] for r in rs], [r["average_speed [mm/s]"] for r in rs], "o-",
+                label=f"{n} nodes, {dt:g} s, {dur:g} s run (last half)")
+    ax.axvline(55.0, color="k", ls="--", lw=1, label="reported threshold, 'at least 55 C'")
+    ax.set_xlabel("plate temperature [C]")
+    ax.set_ylabel("average rolling speed [mm/s]")
+    ax.set_title("DER ribbon, seed-000 ribbon LCE (seed: 'warmer surface, faster')", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    save_figure(fig, png, 120)
+    plt.close(fig)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("jobs", nargs="*", help="T,nodes,dt")
@@ -79,12 +108,15 @@ def main(argv=None) -> int:
     ap.add_argument("--duration", type=float, default=40.0)
     ap.add_argument("--table", type=pathlib.Path, nargs="*")
     ap.add_argument("--csv", type=pathlib.Path)
+    ap.add_argument("--plot", type=pathlib.Path, help="with --table: also a PNG of speed against temperature")
     a = ap.parse_args(argv)
     if a.table:
         if a.csv is None:
             print("--csv: needed with --table", file=sys.stderr)
             return 2
         table(a.table, a.csv)
+        if a.plot is not None:
+            plot(a.table, a.plot)
         return 0
     if a.out is None or not a.jobs:
         print("--out and at least one T,nodes,dt job are needed", file=sys.stderr)
