@@ -118,7 +118,8 @@ class RibbonLCE:
     actuation strain against temperature, T_NI, dimensions and mass; those are assumed within the
     bounds given, and one of them, ``T_NI``, is calibrated on one case (see its source).
 
-    Attributes map onto the solver's laws by :meth:`transition` (Warner-Terentjev sigmoid of
+    The density is ``ThermalProperties.density`` (1.15 g/cm^3 assumed, RM257-thiol networks 1.1-1.2).
+    The attributes map onto the solver's laws by :meth:`transition` (Warner-Terentjev sigmoid of
     ``models.lce``) and :meth:`elasticity` (the seed-001 invariant law scaled to the ribbon's small-strain
     shear modulus E/3, E = 3 mu incompressible).
     """
@@ -131,15 +132,14 @@ class RibbonLCE:
     actuation_stretch: float = param(1.35, "-", "lambda_N, as-built over fully heated length along the fibres: "
                                      "35 % stress-free actuation at 100 % programming strain (" + SAED_2016 + "); "
                                      "the ribbons' own programming strain is not given", minimum=1.0)
-    T_NI: float = param(80.0, "C", "assumed: midpoint of the order parameter's sigmoid; bound 60-100 C for "
-                        "thiol-acrylate RM257 LCEs; not given for seed 000's ribbons. Chosen with "
-                        "``transition_width`` so that the fibres contract 5 % at 55 C, the press release's "
-                        "threshold, and keep contracting up to ~140 C", )
+    T_NI: float = param(80.0, "C", "assumed: midpoint of the order parameter's sigmoid, bound 60-100 C for "
+                        "thiol-acrylate RM257 LCEs; not given for seed 000's ribbons. With the 15 K width the fibres "
+                        "contract 1.2 / 3.9 / 13 / 21 / 26 % at 40 / 55 / 80 / 100 / 180 C: gradually over the "
+                        "plates' range. Not calibrated on a rolling case: T_NI 50-80 C all leave the 55 C plate "
+                        "without rolling (issue 32, docs/ribbon.md)")
     transition_width: float = param(15.0, "K", "assumed: width of the sigmoid; two-stage thiol-acrylate LCEs "
                                     "contract gradually over 40-140 C (broad transition of a polydisperse "
                                     "network), against 6.2 K calibrated for seed 001's strips", positive=True)
-    density: float = param(1.15e-9, "t/mm^3", "assumed 1.15 g/cm^3 (RM257-thiol networks 1.1-1.2), as "
-                           "ThermalProperties", positive=True)
 
     def transition(self) -> NematicTransition:
         """The ribbon's nematic-isotropic transition (models.lce law, T_ref 25 C as built)."""

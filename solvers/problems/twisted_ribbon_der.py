@@ -31,10 +31,8 @@ from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.errors import InputError
 from lcefem.models.limits import DECOMPOSITION_TEMPERATURE
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
-from lcefem.models.hyperelastic import LCEElasticity
-from lcefem.models.lce import NematicTransition
 from lcefem.models.parameters import param
-from lcefem.models.ribbon import SEED000_RIBBON, GroundHeatExchange, RibbonGeometry
+from lcefem.models.ribbon import SEED000_RIBBON, GroundHeatExchange, RibbonGeometry, RibbonLCE
 from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSetup,
                                        RibbonSimulation)
@@ -63,8 +61,7 @@ class RibbonConfig:
     run: RibbonRun = field(default_factory=RibbonRun)
     geometry: RibbonGeometry = ROLLING_RIBBON
     numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
-    transition: NematicTransition = field(default_factory=SEED000_RIBBON.transition)
-    elasticity: LCEElasticity = field(default_factory=SEED000_RIBBON.elasticity)
+    material: RibbonLCE = SEED000_RIBBON
     thermal: ThermalProperties = field(default_factory=ThermalProperties)
     air: SurfaceExchange = field(default_factory=SurfaceExchange)
     ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
@@ -85,7 +82,8 @@ class RibbonConfig:
         return resolved(self)
 
     def setup(self) -> RibbonSetup:
-        return RibbonSetup(self.geometry, self.run.ground_temperature, self.transition, self.elasticity,
+        return RibbonSetup(self.geometry, self.run.ground_temperature, self.material.transition(),
+                           self.material.elasticity(),
                            self.thermal, self.air, self.ground_heat, self.contact, self.friction, self.numerics)
 
 
