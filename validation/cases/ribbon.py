@@ -8,11 +8,14 @@
   the ~55 C reported for the real ribbons.
 - ``ribbon_twist_density``: speed and contact points against the twist density.
 - ``ribbon_helical``: an untwisted helical ribbon of the same material on the same plate.
-- ``ribbon_end_spin``: whether both ends spin at the same rate in steady rolling.
+- ``ribbon_end_spin``: whether both ends spin at the same rate and the twist density stays constant in
+  steady rolling.
 
-What is not known (and so is assumed, labelled in the parameters): the ribbons' dimensions, the
-heat transfer from the plate (contact conductance, warm-air layer), friction, and the seed's speed
-values (its Fig. 5 is not in the text); the model's speeds are therefore trends, not predictions.
+The ribbon is seed 000's own LCE (``models.ribbon.SEED000_RIBBON``) with its programmed twist locked
+(``solvers.der.ribbon.ROLLING_RIBBON``; issue 32, docs/ribbon.md). What is not known (and so is
+assumed, labelled in the parameters): the ribbons' dimensions, modulus and transition, the heat
+transfer from the plate (contact conductance, warm-air layer), friction, and the seed's speed values
+(its Fig. 5 is not in the text); the model's speeds are therefore trends, not predictions.
 """
 
 from __future__ import annotations
