@@ -51,21 +51,23 @@ def _change(value: float, reference: dict | None) -> float:
 
 def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
     """CSV of every run with the relative change of its speed against the run at half its step (same
-    nodes) and against the run with the next larger node count (same step)."""
+    nodes) and against the run with the next larger node count (same step), both of the same duration."""
     rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
-    rows.sort(key=lambda r: (r["T"], r["nodes"], -r["dt"]))
-    by = {(r["T"], int(r["nodes"]), r["dt"]): r for r in rows}
+    # one row per (T, nodes, dt, duration): a run repeated by two processes is deterministic
+    rows = list({(r["T"], int(r["nodes"]), r["dt"], r["duration"]): r for r in rows}.values())
+    rows.sort(key=lambda r: (r["duration"], r["T"], r["nodes"], -r["dt"]))
+    by = {(r["T"], int(r["nodes"]), r["dt"], r["duration"]): r for r in rows}
     header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "average speed [mm/s]", "rolls [-]",
               "change against half the step [-]", "change against the next node count [-]",
               "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]"]
     lines = [",".join(header)]
     for r in rows:
-        T, n, dt = r["T"], int(r["nodes"]), r["dt"]
-        finer_nodes = sorted(m for (T2, m, d2) in by if T2 == T and d2 == dt and m > n)
+        T, n, dt, dur = r["T"], int(r["nodes"]), r["dt"], r["duration"]
+        finer_nodes = sorted(m for (T2, m, d2, u2) in by if T2 == T and d2 == dt and u2 == dur and m > n)
         v = r["average_speed [mm/s]"]
         lines.append(",".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in (
-            T, n, dt, r["duration"], v, r["rolls"], _change(v, by.get((T, n, dt / 2))),
-            _change(v, by.get((T, finer_nodes[0], dt)) if finer_nodes else None),
+            T, n, dt, dur, v, r["rolls"], _change(v, by.get((T, n, dt / 2, dur))),
+            _change(v, by.get((T, finer_nodes[0], dt, dur)) if finer_nodes else None),
             r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"])))
     tmp = csv.with_suffix(".csv.part")
     tmp.write_text("\n".join(lines) + "\n")
