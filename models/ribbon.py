@@ -116,7 +116,8 @@ class RibbonLCE:
     strain (Saed et al. 2016), the >= 55 C threshold and "warmer, faster" (press release). Not found
     (the PNAS supplementary information is not in the stored corpora): the ribbon's modulus, its
     actuation strain against temperature, T_NI, dimensions and mass; those are assumed within the
-    bounds given, and one of them, ``T_NI``, is calibrated on one case (see its source).
+    bounds given, and none is calibrated on a rolling case. Sources: ``ZHAO_2022``, ``PRESS_RELEASE``,
+    ``SAED_2016`` (module constants, quoted in docs/ribbon.md).
 
     The density is ``ThermalProperties.density`` (1.15 g/cm^3 assumed, RM257-thiol networks 1.1-1.2).
     The attributes map onto the solver's laws by :meth:`transition` (Warner-Terentjev sigmoid of
