@@ -59,6 +59,13 @@ class RibbonGeometry:
     twist_density: float = param(0.05, "turns/mm", "assumed: 3 turns over 60 mm; seed 000 Fig. 5 "
                                  "varies the twist density (number of turns per unit length)",
                                  minimum=0.0)
+    twist_lock: float = param(0.0, "-", "fraction of the heated helicoid's twist release that the programmed network "
+                              "suppresses: 0 keeps the free-ribbon helicoid coupling (HelicoidCoupling, the director "
+                              "field alone); 1 keeps the programmed number of turns (natural twist per as-built "
+                              "length tau_0 at every temperature: the twist locked by the second-stage crosslinking "
+                              "in the twisted state, seed 000's 'twist density remains constant'). The seed-000 "
+                              "ribbon material (SEED000_RIBBON) sets 1; the static 3D FE comparison keeps 0",
+                              minimum=0.0, maximum=1.0)
     helix_radius: float = param(0.0, "mm", "0 for a twisted ribbon (straight centreline); > 0 makes "
                                 "an untwisted helical ribbon of that centreline radius (seed 000, "
                                 "Fig. 8)", minimum=0.0)
@@ -80,6 +87,77 @@ class RibbonGeometry:
         c = self.helix_pitch / (2.0 * math.pi)
         d = self.helix_radius ** 2 + c ** 2
         return self.helix_radius / d, c / d
+
+
+# ----------------------------------------------------------------------------------------------
+# The seed-000 ribbon's LCE (issue 32)
+# ----------------------------------------------------------------------------------------------
+ZHAO_2022 = ("Zhao, Chi, Hong, Li, Yang, Yin, 'Twisting for soft intelligent autonomous robot in unstructured "
+             "environments', PNAS 119 (2022) e2200265119 (abstract, PMC9295757)")
+PRESS_RELEASE = ("NC State press release on Zhao et al. 2022 ('Twisted soft robots navigate mazes', 2022): 'a "
+                 "surface that is at least 55 degrees Celsius ... the portion of the ribbon touching the surface "
+                 "contracts, while the portion exposed to the air does not ... the warmer the surface, the faster "
+                 "it rolls'")
+SAED_2016 = ("Saed, Torbati, Nair, Yakacki, 'Synthesis of programmable main-chain liquid-crystalline elastomers "
+             "using a two-stage thiol-acrylate reaction', J. Vis. Exp. 107 (2016) e53546: RM257/EDDET/PETMP, "
+             "programmed by stretching before the second-stage photo-crosslinking; stress-free actuation 35 % "
+             "at 100 % programming strain, up to 115 % at 400 %")
+
+
+@dataclass(frozen=True)
+class RibbonLCE:
+    """The LCE of the twisted ribbons of seed 000 (Zhao et al., PNAS 2022), one parameter set for every
+    plate temperature.
+
+    Seed 000: the ribbons are "fabricated by mechanically stretching and twisting of a rectangular flat
+    LCE strip ... synthesized in two-stage polymerization", i.e. a two-stage thiol-acrylate main-chain
+    LCE (RM257/EDDET/PETMP type, Saed et al. 2016) whose second-stage crosslinking fixes the stretched
+    and twisted shape. What the stored public text gives: the chemistry family and its actuation
+    strain (Saed et al. 2016), the >= 55 C threshold and "warmer, faster" (press release). Not found
+    (the PNAS supplementary information is not in the stored corpora): the ribbon's modulus, its
+    actuation strain against temperature, T_NI, dimensions and mass; those are assumed within the
+    bounds given, and none is calibrated on a rolling case. Sources: ``ZHAO_2022``, ``PRESS_RELEASE``,
+    ``SAED_2016`` (module constants, quoted in docs/ribbon.md).
+
+    The density is ``ThermalProperties.density`` (1.15 g/cm^3 assumed, RM257-thiol networks 1.1-1.2).
+    The attributes map onto the solver's laws by :meth:`transition` (Warner-Terentjev sigmoid of
+    ``models.lce``) and :meth:`elasticity` (the seed-001 invariant law scaled to the ribbon's small-strain
+    shear modulus E/3, E = 3 mu incompressible).
+    """
+
+    youngs_modulus: float = param(2.6, "MPa", "assumed: small-strain modulus of the stretched, aligned ribbon "
+                                  "along its fibres, bound 1-10 MPa (monodomain main-chain thiol-acrylate LCEs "
+                                  "at room temperature; not found for seed 000's ribbons); 5 x the isotropic "
+                                  "seed-001 fit (0.53 MPa), with which the ribbon sagged flat and rolled only from "
+                                  "90-100 C (issue 32)", positive=True)
+    actuation_stretch: float = param(1.35, "-", "lambda_N, as-built over fully heated length along the fibres: "
+                                     "35 % stress-free actuation at 100 % programming strain (" + SAED_2016 + "); "
+                                     "the ribbons' own programming strain is not given", minimum=1.0)
+    T_NI: float = param(80.0, "C", "assumed: midpoint of the order parameter's sigmoid, bound 60-100 C for "
+                        "thiol-acrylate RM257 LCEs; not given for seed 000's ribbons. With the 15 K width the fibres "
+                        "contract 1.2 / 3.9 / 13 / 21 / 26 % at 40 / 55 / 80 / 100 / 180 C: gradually over the "
+                        "plates' range. Not calibrated on a rolling case: T_NI 50-80 C all leave the 55 C plate "
+                        "without rolling (issue 32, docs/ribbon.md)")
+    transition_width: float = param(15.0, "K", "assumed: width of the sigmoid; two-stage thiol-acrylate LCEs "
+                                    "contract gradually over 40-140 C (broad transition of a polydisperse "
+                                    "network), against 6.2 K calibrated for seed 001's strips", positive=True)
+
+    def transition(self) -> NematicTransition:
+        """The ribbon's nematic-isotropic transition (models.lce law, T_ref 25 C as built)."""
+        return NematicTransition(T_NI=self.T_NI, width=self.transition_width, lambda_N=self.actuation_stretch)
+
+    def elasticity(self):
+        """The seed-001 invariant law (``LCEElasticity``) scaled to mu = E/3 (bulk modulus with it)."""
+        from lcefem.models.hyperelastic import LCEElasticity
+
+        base = LCEElasticity()
+        k = self.youngs_modulus / 3.0 / base.shear_modulus
+        return LCEElasticity(c10=base.c10 * k, c01=base.c01 * k, c30=base.c30 * k,
+                             bulk_modulus=base.bulk_modulus * k)
+
+
+#: The seed-000 ribbon's LCE with its defaults (issue 32).
+SEED000_RIBBON = RibbonLCE()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -262,6 +340,13 @@ class HelicoidCoupling:
         k_w = youngs_modulus * w * t * tau0 ** 2 * w ** 4 / 180.0
         gj = shear_modulus * torsion_constant_rectangle(w, t)
         return cls((k_w + 2.0 * gj) / (k_w + gj), tau0 ** 2 * (w ** 2 / 12.0) * gj / (k_w + gj))
+
+    def locked(self, fraction: float) -> "HelicoidCoupling":
+        """The coupling with ``fraction`` of its twist release and stretch correction suppressed
+        (``RibbonGeometry.twist_lock``): 0 returns it unchanged, 1 keeps tau_bar = tau_0 per as-built
+        length and stretch = a at every contraction."""
+        keep = 1.0 - fraction
+        return HelicoidCoupling(self.release * keep, self.stretch_coefficient * keep)
 
     def twist_factor(self, contraction) -> np.ndarray:
         """tau_bar/tau_0 = 1 + r c [-] at the mean fibre contraction a."""

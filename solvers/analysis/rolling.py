@@ -27,7 +27,8 @@ def window(history: dict[str, np.ndarray], start_fraction: float = 0.5) -> np.nd
 
 def rolling_metrics(history: dict[str, np.ndarray], start_fraction: float = 0.5) -> dict[str, float]:
     """Average speed [mm/s] (net centroid distance over the window's time), end spin rates [rad/s]
-    (least-squares slopes), their ratio, mean contact points, final twist density, and ``rolls``."""
+    (least-squares slopes), their ratio, mean contact points, final and mean twist density and its
+    relative variation (max - min)/mean over the window, and ``rolls``."""
     h = {k: np.asarray(v, float) for k, v in history.items()}
     w = window(h, start_fraction)
     t = h["time [s]"][w]
@@ -43,6 +44,8 @@ def rolling_metrics(history: dict[str, np.ndarray], start_fraction: float = 0.5)
     turn1 = h["spin_end [rad]"][w][-1] - h["spin_end [rad]"][w][0]
     rolls = bool(distance >= ROLL_DISTANCE and abs(turn0) >= ROLL_ANGLE and abs(turn1) >= ROLL_ANGLE
                  and turn0 * turn1 > 0)
+    twist = h["twist_density [turns/mm]"][w]
+    mean_twist = float(np.mean(twist))
     total = math.hypot(h["centroid_x [mm]"][-1] - h["centroid_x [mm]"][0],
                        h["centroid_y [mm]"][-1] - h["centroid_y [mm]"][0])
     return {
@@ -54,6 +57,10 @@ def rolling_metrics(history: dict[str, np.ndarray], start_fraction: float = 0.5)
         "spin_rate_ratio [-]": float(s1 / s0) if abs(s0) > 1e-12 else float("nan"),
         "contact_points [-]": float(np.mean(h["contact_points [-]"][w])),
         "twist_density_final [turns/mm]": float(h["twist_density [turns/mm]"][-1]),
+        "twist_density_mean [turns/mm]": mean_twist,
+        # (max - min)/mean of the interior twist density over the window: 0 for a constant twist density
+        "twist_density_variation [-]": float((twist.max() - twist.min()) / abs(mean_twist))
+        if abs(mean_twist) > 1e-12 else float("nan"),
         "T_mean_final [C]": float(h["T_mean [C]"][-1]),
         "T_max_final [C]": float(h["T_max [C]"][-1]),
         "rolls": rolls,

@@ -24,8 +24,8 @@ from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.models.parameters import param
-from lcefem.models.ribbon import (GroundHeatExchange, HelicoidCoupling, RibbonGeometry, SectionGrid,
-                                  natural_strains)
+from lcefem.models.ribbon import (SEED000_RIBBON, GroundHeatExchange, HelicoidCoupling, RibbonGeometry,
+                                  SectionGrid, natural_strains)
 from lcefem.models.rod import (RodSection, cross, material_curvatures, rectangular_section,
                                signed_angle)
 from lcefem.models.units import STANDARD_GRAVITY
@@ -129,7 +129,7 @@ def programmed_shape(geometry: RibbonGeometry, state: RodState,
     if geometry.is_helical:
         return ProgrammedShape.of_state(state, twisted_director=False)
     mu = elasticity.shear_modulus
-    return ProgrammedShape.of_state(state, True, HelicoidCoupling.of(geometry, 3.0 * mu, mu))
+    return ProgrammedShape.of_state(state, True, HelicoidCoupling.of(geometry, 3.0 * mu, mu).locked(geometry.twist_lock))
 
 
 def corner_radius(geometry: RibbonGeometry) -> float:
@@ -235,14 +235,21 @@ HISTORY_COLUMNS = ["time [s]", "centroid_x [mm]", "centroid_y [mm]", "centroid_z
                    "newton_iterations [-]", "step_cuts [-]"]
 
 
+#: The rolling ribbon's as-built shape (issue 32): the assumed 60 x 4 x 0.8 mm, 0.05 turns/mm ribbon with
+#: its programmed twist locked (``RibbonGeometry.twist_lock`` = 1: seed 000's ribbons keep their twist
+#: density while rolling). The static FE comparisons keep the director-only coupling (twist_lock 0).
+ROLLING_RIBBON = RibbonGeometry(twist_lock=1.0)
+
+
 @dataclass
 class RibbonSetup:
-    """Everything that defines a rolling-ribbon run besides the run length."""
+    """Everything that defines a rolling-ribbon run besides the run length. The material defaults to
+    seed 000's ribbon LCE (``models.ribbon.SEED000_RIBBON``, issue 32)."""
 
-    geometry: RibbonGeometry = field(default_factory=RibbonGeometry)
+    geometry: RibbonGeometry = ROLLING_RIBBON
     ground_temperature: float = 80.0
-    transition: NematicTransition = field(default_factory=NematicTransition)
-    elasticity: LCEElasticity = field(default_factory=LCEElasticity)
+    transition: NematicTransition = field(default_factory=SEED000_RIBBON.transition)
+    elasticity: LCEElasticity = field(default_factory=SEED000_RIBBON.elasticity)
     thermal: ThermalProperties = field(default_factory=ThermalProperties)
     air: SurfaceExchange = field(default_factory=SurfaceExchange)
     ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)

@@ -31,13 +31,12 @@ from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.errors import InputError
 from lcefem.models.limits import DECOMPOSITION_TEMPERATURE
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
-from lcefem.models.hyperelastic import LCEElasticity
-from lcefem.models.lce import NematicTransition
 from lcefem.models.parameters import param
-from lcefem.models.ribbon import GroundHeatExchange, RibbonGeometry
+from lcefem.models.ribbon import SEED000_RIBBON, GroundHeatExchange, RibbonGeometry, RibbonLCE
 from lcefem.solvers import cost
 from lcefem.solvers.der.output import PolylineSeries, polydata
-from lcefem.solvers.der.ribbon import HISTORY_COLUMNS, RibbonNumerics, RibbonSetup, RibbonSimulation
+from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSetup,
+                                       RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
 from lcefem.solvers.run import CSVTable, Progress, Run, check_config, resolved, write_json
 
@@ -49,10 +48,10 @@ class RibbonRun:
     """What the experimenter sets."""
 
     ground_temperature: float = param(100.0, "C", "chosen: seed 000 / press release: the real ribbons roll on "
-                                      "surfaces of at least ~55 C; the model's threshold is 80-100 C (issue 17, "
-                                      "ribbon_threshold: no rolling at 80 C, 2.3 mm/s at 100 C, a registered known "
-                                      "disagreement), so the default run uses 100 C, where the model rolls",
-                                      minimum=-50.0, maximum=DECOMPOSITION_TEMPERATURE)
+                                      "surfaces of at least ~55 C; the model's threshold is 80-100 C (issue 32, "
+                                      "ribbon_threshold: the seed-000 ribbon LCE does not roll at 80 C, rolls at 100 C; "
+                                      "a registered known disagreement), so the default run uses 100 C, where the model "
+                                      "rolls", minimum=-50.0, maximum=DECOMPOSITION_TEMPERATURE)
     duration: float = param(60.0, "s", "chosen: heated time after settling", positive=True)
     output_interval: float = param(0.5, "s", "chosen: time between field frames (0: no fields)", minimum=0.0)
     record_interval: float = param(0.05, "s", "chosen: time between history rows", positive=True)
@@ -61,10 +60,9 @@ class RibbonRun:
 @dataclass(frozen=True)
 class RibbonConfig:
     run: RibbonRun = field(default_factory=RibbonRun)
-    geometry: RibbonGeometry = field(default_factory=RibbonGeometry)
+    geometry: RibbonGeometry = ROLLING_RIBBON
     numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
-    transition: NematicTransition = field(default_factory=NematicTransition)
-    elasticity: LCEElasticity = field(default_factory=LCEElasticity)
+    material: RibbonLCE = SEED000_RIBBON
     thermal: ThermalProperties = field(default_factory=ThermalProperties)
     air: SurfaceExchange = field(default_factory=SurfaceExchange)
     ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
@@ -104,7 +102,8 @@ class RibbonConfig:
         return resolved(self)
 
     def setup(self) -> RibbonSetup:
-        return RibbonSetup(self.geometry, self.run.ground_temperature, self.transition, self.elasticity,
+        return RibbonSetup(self.geometry, self.run.ground_temperature, self.material.transition(),
+                           self.material.elasticity(),
                            self.thermal, self.air, self.ground_heat, self.contact, self.friction, self.numerics)
 
 

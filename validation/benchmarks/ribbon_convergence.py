@@ -1,0 +1,136 @@
+"""Convergence of the rolling ribbon's speed in nodes and time step (issue 32).
+
+    nice python -m lcefem.validation.benchmarks.ribbon_convergence --out rows.jsonl [--duration 40]
+        T,nodes,dt [T,nodes,dt ...]
+    python -m lcefem.validation.benchmarks.ribbon_convergence --table rows.jsonl [more.jsonl ...]
+        --csv validation/data/ribbon_convergence.csv
+
+The first form runs the default ribbon (``RibbonConfig()``: the seed-000 ribbon LCE with its twist
+locked, 60 x 4 x 0.8 mm, 0.05 turns/mm) on a plate at T [C] with the given rod nodes and fixed step dt
+[s] for ``--duration`` seconds after settling, and appends one JSON row per run (rolling metrics of the
+last half: average speed, end spin rates, twist-density variation; CPU seconds) to ``--out``; several
+processes may share the work. The second form writes the CSV table (units in the headers) with the
+relative change of each speed against the run at half its step and against the next node count.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import os
+import pathlib
+import sys
+import time
+
+COLUMNS = ["average_speed [mm/s]", "rolls", "spin_rate_start [rad/s]", "spin_rate_end [rad/s]",
+           "spin_rate_ratio [-]", "twist_density_mean [turns/mm]", "twist_density_variation [-]", "T_mean_final [C]"]
+
+
+def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]]) -> None:
+    from lcefem.solvers.der.ribbon import RibbonNumerics
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun, run_ribbon
+
+    for T, nodes, dt in jobs:
+        cfg = RibbonConfig(run=RibbonRun(ground_temperature=T, duration=duration, output_interval=0.0),
+                           numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt))
+        t0 = time.process_time()
+        m = run_ribbon(cfg, None, progress=False, fields=False).metrics
+        row = {k: float(m[k]) for k in COLUMNS}
+        row.update({"T": T, "nodes": nodes, "dt": dt, "duration": duration, "cpu": time.process_time() - t0})
+        with open(out, "a") as f:
+            f.write(json.dumps(row) + "\n")
+
+
+def _change(value: float, reference: dict | None) -> float:
+    """(value - reference speed)/reference speed; nan without a reference or when it does not roll."""
+    if reference is None or not reference["rolls"] or abs(reference["average_speed [mm/s]"]) < 1e-3:
+        return float("nan")
+    return (value - reference["average_speed [mm/s]"]) / reference["average_speed [mm/s]"]
+
+
+def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
+    """CSV of every run with the relative change of its speed against the run at half its step (same
+    nodes) and against the run with the next larger node count (same step), both of the same duration."""
+    rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
+    # one row per (T, nodes, dt, duration): a run repeated by two processes is deterministic
+    rows = list({(r["T"], int(r["nodes"]), r["dt"], r["duration"]): r for r in rows}.values())
+    rows.sort(key=lambda r: (r["duration"], r["T"], r["nodes"], -r["dt"]))
+    by = {(r["T"], int(r["nodes"]), r["dt"], r["duration"]): r for r in rows}
+    header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "average speed [mm/s]", "rolls [-]",
+              "change against half the step [-]", "change against the next node count [-]",
+              "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]"]
+    lines = [",".join(header)]
+    for r in rows:
+        T, n, dt, dur = r["T"], int(r["nodes"]), r["dt"], r["duration"]
+        finer_nodes = sorted(m for (T2, m, d2, u2) in by if T2 == T and d2 == dt and u2 == dur and m > n)
+        v = r["average_speed [mm/s]"]
+        lines.append(",".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in (
+            T, n, dt, dur, v, r["rolls"], _change(v, by.get((T, n, dt / 2, dur))),
+            _change(v, by.get((T, finer_nodes[0], dt, dur)) if finer_nodes else None),
+            r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"])))
+    tmp = csv.with_suffix(".csv.part")
+    tmp.write_text("\n".join(lines) + "\n")
+    os.replace(tmp, csv)
+
+
+def plot(paths: list[pathlib.Path], png: pathlib.Path) -> None:
+    """PNG of the average speed against plate temperature, one curve per (nodes, dt, duration), with the
+    ~55 C threshold reported for the real ribbons (press release on Zhao et al. 2022)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from lcefem.validation.plots import save_figure
+
+    rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
+    groups: dict[tuple, list] = {}
+    for r in rows:
+        groups.setdefault((int(r["nodes"]), r["dt"], r["duration"]), []).append(r)
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for (n, dt, dur), rs in sorted(groups.items()):
+        rs.sort(key=lambda r: r["T"])
+        ax.plot([r["T"] for r in rs], [r["average_speed [mm/s]"] for r in rs], "o-",
+                label=f"{n} nodes, {dt:g} s, {dur:g} s run (last half)")
+    ax.axvline(55.0, color="k", ls="--", lw=1, label="reported threshold, 'at least 55 C'")
+    ax.set_xlabel("plate temperature [C]")
+    ax.set_ylabel("average rolling speed [mm/s]")
+    ax.set_title("DER ribbon, seed-000 ribbon LCE (seed: 'warmer surface, faster')", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    save_figure(fig, png, 120)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("jobs", nargs="*", help="T,nodes,dt")
+    ap.add_argument("--out", type=pathlib.Path)
+    ap.add_argument("--duration", type=float, default=40.0)
+    ap.add_argument("--table", type=pathlib.Path, nargs="*")
+    ap.add_argument("--csv", type=pathlib.Path)
+    ap.add_argument("--plot", type=pathlib.Path, help="with --table: also a PNG of speed against temperature")
+    a = ap.parse_args(argv)
+    if a.table:
+        if a.csv is None:
+            print("--csv: needed with --table", file=sys.stderr)
+            return 2
+        table(a.table, a.csv)
+        if a.plot is not None:
+            plot(a.table, a.plot)
+        return 0
+    if a.out is None or not a.jobs:
+        print("--out and at least one T,nodes,dt job are needed", file=sys.stderr)
+        return 2
+    try:
+        jobs = [(float(t), int(n), float(d)) for t, n, d in (j.split(",") for j in a.jobs)]
+    except ValueError:
+        print("jobs: each must be T,nodes,dt (e.g. 100,60,0.01)", file=sys.stderr)
+        return 2
+    run(a.out, a.duration, jobs)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
