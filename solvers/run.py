@@ -71,9 +71,29 @@ _received: list[int] = []  # signals received by this process (checked by solver
 _installed: list[bool] = []  # [True] while the command line owns SIGINT and SIGTERM
 
 
+_deferred: list[bool] = []  # [True] inside deferred_signals(): record the signal, raise at the next check
+
+
 def _on_signal(signum, frame):
     _received.append(signum)
+    if _deferred:
+        return
     raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+
+@contextlib.contextmanager
+def deferred_signals():
+    """Within this block SIGINT/SIGTERM are recorded, not raised where they land: the next
+    :func:`raise_if_interrupted` (every :meth:`Run.record`) raises them. For loops of compiled code
+    (numba) whose steps take milliseconds: an exception raised inside numba's or ctypes' C callbacks
+    (e.g. while numba loads a cached kernel) crashed the process with SIGSEGV instead of exit 143,
+    measured in test_interrupted_ribbon_leaves_only_partial_frames on a fresh clone."""
+    _deferred[:] = [True]
+    try:
+        yield
+    finally:
+        _deferred.clear()
+    raise_if_interrupted()
 
 
 def install_signal_handlers() -> dict:

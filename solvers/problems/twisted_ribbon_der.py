@@ -38,7 +38,7 @@ from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSetup,
                                        RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
-from lcefem.solvers.run import CSVTable, Progress, Run, check_config, resolved, write_json
+from lcefem.solvers.run import CSVTable, Progress, Run, check_config, deferred_signals, resolved, write_json
 
 CENTROID_COLUMNS = ["time [s]", "x [mm]", "y [mm]", "z [mm]"]
 
@@ -210,21 +210,23 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
 
         record()
         write_fields(0, -1)
-        if sim.control is None:
-            for step in range(1, n_steps + 1):
-                sim.step(dt)
-                write_fields(step, step - 1)
-                if step % rec_every == 0 or step == n_steps:
+        # A signal is honoured at the next record (a few ms of compiled steps), never inside numba.
+        with deferred_signals():
+            if sim.control is None:
+                for step in range(1, n_steps + 1):
+                    sim.step(dt)
+                    write_fields(step, step - 1)
+                    if step % rec_every == 0 or step == n_steps:
+                        record()
+            else:
+                # Adaptive steps land on the record times of fixed steps of dt (frames at the record
+                # time that reaches or passes each frame time).
+                previous = 0
+                for step in [*range(rec_every, n_steps, rec_every), n_steps]:
+                    sim.advance(step * dt)
+                    write_fields(step, previous)
                     record()
-        else:
-            # Adaptive steps land on the record times of fixed steps of dt (frames at the record
-            # time that reaches or passes each frame time).
-            previous = 0
-            for step in [*range(rec_every, n_steps, rec_every), n_steps]:
-                sim.advance(step * dt)
-                write_fields(step, previous)
-                record()
-                previous = step
+                    previous = step
         wall = time.perf_counter() - started
         hist = run.history.as_arrays()
         metrics = rolling_metrics(hist)

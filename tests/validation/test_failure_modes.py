@@ -132,12 +132,12 @@ BAD_INPUTS = [
     (["run", "ribbon", "--quiet", "--config", "{case}"],
      "air.ambient_temperature = -400.0 C: must be between -273.15 C (absolute zero) and 300.0 C"),
     (["run", "ribbon", "--quiet", "--config", "{case}"],
-     "transition.T_NI = 500.0 C: must be between -273.15 C (absolute zero) and 300.0 C"),
+     "material.T_NI = 500.0 C: must be between -273.15 C (absolute zero) and 300.0 C"),
     (BEAM + ["--config", "{case}"], "kapton.youngs_modulus = 0.0"),
     (["run", "ribbon", "--quiet", "--ground-temperature", "450"], "run.ground_temperature = 450.0"),
 ]
 CASE_FILES = {4: "[mesh]\nlevel = 1.5\n", 5: "[air]\nambient_temperature = -400.0\n",
-              6: "[transition]\nT_NI = 500.0\n", 7: "[kapton]\nyoungs_modulus = 0.0\n"}
+              6: "[material]\nT_NI = 500.0\n", 7: "[kapton]\nyoungs_modulus = 0.0\n"}
 
 
 @pytest.mark.parametrize("i", range(len(BAD_INPUTS)))

@@ -119,7 +119,7 @@ def test_design_command_writes_summary_and_csv(tmp_path, capsys):
     assert s["same equilibrium as the ramp from as built"] is True
     ramp = s["achieved (forward run from as built) [1/mm]"]
     assert ramp["kappa_x"] == pytest.approx(-0.01, abs=2 * gd.REACHED)
-    assert set(s["currents [A]"]) == {"segment", "eq1"}
+    assert set(s["currents [A]"]) == {"strip", "segment", "eq1"}
     rows = np.loadtxt(out / "design.csv", delimiter=",", skiprows=1)
     assert rows.shape == (4, 4) and np.all((rows[:, 1] >= 1.05) & (rows[:, 1] <= 1.4))
     assert main(["design", "--target-kx", "0.5", "--target-ky", "0", "--out", str(tmp_path / "e")]) == 2
