@@ -8,6 +8,7 @@ that fails the test instead of running).
 import errno
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -290,6 +291,48 @@ def test_converge_sigterm_then_resume(lcefem_cmd, tmp_path):
     assert res.returncode == 0, res.stderr
     assert json.loads((out / "level0" / "metrics.json").read_text())["status"] == "done"
     assert (out / "convergence.json").exists()
+
+
+@pytest.mark.slow
+def test_validate_sigkill_then_resume(lcefem_cmd, tmp_path):
+    """SIGKILL (no clean-up at all) during validate: the lock names a dead pid and is taken over,
+    --resume keeps the case whose completion marker exists and runs the rest."""
+    out = tmp_path / "v"
+    cases = ["tension_law", "ribbon_buckling_bh"]
+    proc = subprocess.Popen(lcefem_cmd + ["validate", *cases, "--quick", "--quiet", "--out", str(out)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    end = time.monotonic() + 120
+    while not (out / "tension_law" / "metrics.json").exists():
+        assert time.monotonic() < end and proc.poll() is None
+        time.sleep(0.05)
+    proc.kill()
+    proc.wait(timeout=60)
+    res = subprocess.run(lcefem_cmd + ["validate", *cases, "--quick", "--quiet", "--resume", "--out", str(out)],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    report = (out / "report.md").read_text()
+    assert "INCOMPLETE" not in report
+    assert re.search(r"^\| tension_law \| reused \|", report, re.MULTILINE), report[:2000]
+    assert not (out / LOCK).exists()
+
+
+@pytest.mark.slow
+def test_run_sigkill_then_overwrite(lcefem_cmd, tmp_path):
+    """A run killed by SIGKILL leaves only .part files and its lock (nothing final-named); the next
+    command into the folder takes the dead run's lock over with --overwrite and completes."""
+    out = tmp_path / "rib"
+    argv = ["run", "ribbon", "--duration", "2", "--nodes", "20", "--quiet", "--out", str(out)]
+    proc = subprocess.Popen(lcefem_cmd + argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    end = time.monotonic() + 120
+    while not list(out.glob("*.part")):
+        assert time.monotonic() < end and proc.poll() is None
+        time.sleep(0.05)
+    proc.kill()
+    proc.wait(timeout=60)
+    assert not (out / "summary.json").exists() and not (out / "history.csv").exists()
+    res = subprocess.run(lcefem_cmd + argv + ["--overwrite"], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert json.loads((out / "summary.json").read_text())["status"] == "completed"
 
 
 # -- 5. full disks ------------------------------------------------------------------------------
