@@ -218,9 +218,11 @@ def phenomena_lines(results: list["CaseResult"]) -> list[str]:
         for p in res.phenomena:
             values = "; ".join(f"{k} = {fmt_number(v)}" for k, v in p["values"].items()) or \
                 f"no metric matches {p['selector']}"
-            lines.append("| " + " | ".join(_md_cell(c) for c in (
-                res.case, p["phenomenon"], f"{p['selector']} {p['condition']}", values,
-                "yes" if p["holds"] else "NOT SHOWN", p["why"])) + " |")
+            # the condition as a code span: its regular expression ([^)] ...) is not Markdown
+            condition = "`" + _md_cell(f"{p['selector']} {p['condition']}") + "`"
+            lines.append("| " + " | ".join((_md_cell(res.case), _md_cell(p["phenomenon"]), condition,
+                                            _md_cell(values), "yes" if p["holds"] else "NOT SHOWN",
+                                            _md_cell(p["why"]))) + " |")
     return lines + [""]
 
 
