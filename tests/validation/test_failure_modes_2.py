@@ -22,28 +22,8 @@ from lcefem.solvers import run as skeleton
 from lcefem.validation import cli as cli_module
 from lcefem.validation.cli import main as cli_main
 
-BEAM = ["run", "beam", "--segments", "2", "--lambda-top", "1.38", "--quiet"]  # 2 s bar-and-hinge run
-STRIP = ["run", "strip", "--mesh-level", "0", "--quiet", "--no-fields"]
-LOCK = ".lcefem.lock"
-
-
-def cli(capsys, *args) -> tuple[int, str]:
-    capsys.readouterr()
-    try:
-        code = cli_main([str(a) for a in args])
-    except SystemExit as exc:  # argparse
-        code = exc.code
-    return code, capsys.readouterr().err
-
-
-def one_line(err: str) -> str:
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    return lines[0]
-
-
-def results(out) -> set[str]:
-    return {p.name for p in out.iterdir() if not p.name.startswith(".")} if out.exists() else set()
+# The first catalogue's helpers: the same in-process command line, one-line check and folder listing.
+from tests.validation.test_failure_modes import BEAM, LOCK, STRIP, cli, one_line, results  # noqa: E402
 
 
 # -- 1. every option of every command with nonsense values: refused in argument checking --------
