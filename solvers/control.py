@@ -59,7 +59,7 @@ from lcefem.models.shape_control import (BoostGuard, CurrentLimits, HeightSensor
                                          payload_weight, strip_temperature_step)
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
 from lcefem.solvers.bar_hinge.design import EquilibriumMap, strip_parameters
-from lcefem.solvers.bar_hinge.newton import _factorize, follow_path
+from lcefem.solvers.bar_hinge.newton import follow_path
 from lcefem.solvers.problems import gridshell_bh as gs
 
 SHAPES = tuple(gs.SHAPE_DRIVES)
@@ -179,15 +179,7 @@ def build_surface(shape: str, layout: GridshellLayout = GridshellLayout(),
 def payload_sensitivity(eq: EquilibriumMap, x: np.ndarray, force: np.ndarray) -> np.ndarray:
     """d obs / d s of the equilibrium under extra nodal forces s * force (K dx = force on the free
     DOFs; the observables differentiated along dx as EquilibriumMap.jacobian does)."""
-    model = eq.model
-    _, _, coo = model.evaluate(x)
-    kmat = eq.reduced.matrix(coo)
-    lu = _factorize(kmat, eq.reduced.diagonal(kmat), ldl=eq.reduced.ldl)[0]
-    dx = np.zeros(model.ndof)
-    dx[eq.free] = lu.solve(np.ascontiguousarray(force[eq.free]))
-    h = 1.0e-4 / max(float(np.max(np.abs(dx))), 1e-300)
-    xf = np.asarray(x, dtype=float).reshape(-1)
-    return (eq.observable((xf + h * dx).reshape(-1, 3)) - eq.observable((xf - h * dx).reshape(-1, 3))) / (2 * h)
+    return eq.directional_derivative(x, eq.tangent_solve(x, force))
 
 
 def curvature_error(surface: Surface, y) -> float:

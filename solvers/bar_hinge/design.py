@@ -183,12 +183,32 @@ class EquilibriumMap:
         self.stats.seconds += time.perf_counter() - t0
         return x, its, restarted
 
+    def tangent_solve(self, x: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        """dx on all DOFs (held ones zero) with K(x) dx = rhs on the free DOFs [mm per unit of rhs];
+        ``rhs`` of shape (ndof,) or (ndof, m)."""
+        _, _, coo = self.model.evaluate(x)
+        kmat = self.reduced.matrix(coo)
+        lu = _factorize(kmat, self.reduced.diagonal(kmat), ldl=self.reduced.ldl)[0]
+        rhs = np.asarray(rhs, dtype=float)
+        dx = np.zeros(rhs.shape)
+        dx[self.free] = lu.solve(np.ascontiguousarray(rhs[self.free]))
+        return dx
+
+    def directional_derivative(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """d obs along the displacement direction v at x, by central differences with the step
+        OBSERVABLE_STEP / max|v| (zero for v = 0)."""
+        big = float(np.max(np.abs(v)))
+        if big == 0.0:
+            return np.zeros_like(self.observable(x))
+        h = OBSERVABLE_STEP / big
+        xf = np.asarray(x, dtype=float).reshape(-1)
+        hi = self.observable((xf + h * v).reshape(-1, 3))
+        lo = self.observable((xf - h * v).reshape(-1, 3))
+        return (hi - lo) / (2.0 * h)
+
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """d obs/d p at the equilibrium x (the model's rest fractions must be those of x)."""
         model, params = self.model, self.params
-        _, _, coo = model.evaluate(x)
-        kmat = self.reduced.matrix(coo)
-        lu = _factorize(kmat, self.reduced.diagonal(kmat), ldl=self.reduced.ldl)[0]
         sens = model.rest_fraction_sensitivity(x)
         rhs = np.zeros((model.ndof, params.size))
         for g, (dofs, values) in sens.items():
@@ -198,21 +218,8 @@ class EquilibriumMap:
                 if np.any(on):
                     rhs[:, j] += np.bincount(dofs[on].ravel(), weights=values[on].ravel(),
                                              minlength=model.ndof) / params.lambda_N
-        dx = np.zeros((model.ndof, params.size))
-        dx[self.free] = -lu.solve(np.ascontiguousarray(rhs[self.free]))
-        xf = np.asarray(x, dtype=float).reshape(-1)
-        jac = []
-        for j in range(params.size):
-            v = dx[:, j]
-            big = float(np.max(np.abs(v)))
-            if big == 0.0:
-                jac.append(np.zeros_like(self.observable(x)))
-                continue
-            h = OBSERVABLE_STEP / big
-            hi = self.observable((xf + h * v).reshape(-1, 3))
-            lo = self.observable((xf - h * v).reshape(-1, 3))
-            jac.append((hi - lo) / (2.0 * h))
-        return np.column_stack(jac)
+        dx = -self.tangent_solve(x, rhs)
+        return np.column_stack([self.directional_derivative(x, dx[:, j]) for j in range(params.size)])
 
     def reseed(self, x: np.ndarray, p) -> None:
         """Continue from another known equilibrium x (n, 3) at design variables p (e.g. the one a
