@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from lcefem.models import units
 from lcefem.models.errors import InputError
 from lcefem.models.lce import CALIBRATED
@@ -75,14 +77,15 @@ GRID_STRING_RESISTANCE_RANGE: tuple[float, float] = (126.0, 134.0)
 
 
 def joule_power(current: float, resistance: float) -> float:
-    """Electric power P = I^2 R [mW] for a current I [A] through a resistance R [ohm].
+    """Electric power P = I^2 R [mW] for a current I [A] through a resistance R [ohm] (scalars or
+    arrays of strips).
 
     Raises:
         InputError: for a negative current (the experiments' currents are magnitudes).
     """
-    if current < 0:
+    if np.any(np.asarray(current) < 0):
         raise InputError(f"current = {current} A: must be >= 0 A")
-    if resistance <= 0:
+    if np.any(np.asarray(resistance) <= 0):
         raise InputError(f"resistance = {resistance} ohm: must be > 0 ohm")
     return current ** 2 * resistance * units.W
 

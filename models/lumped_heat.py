@@ -161,22 +161,24 @@ def heat_capacity(strip: HeatedStrip, model: LumpedThermal = LumpedThermal()) ->
 
 
 def implicit_euler_step(T_previous: float, current: float, dt: float, strip: HeatedStrip = HeatedStrip(),
-                        model: LumpedThermal = LumpedThermal()) -> float:
+                        model: LumpedThermal = LumpedThermal(), resistance=None) -> float:
     """Temperature [C] after one implicit-Euler step dt [s] of the lumped balance
     C (T - T_k)/dt = I^2 R - loss(T) (:func:`heat_loss`, C = :func:`heat_capacity`), at ``current`` [A]
-    during the step (Newton on T; the loss is smooth and increasing, so it converges from T_k)."""
+    during the step (Newton on T; the loss is smooth and increasing, so it converges from T_k).
+    ``T_previous`` and ``current`` may be arrays of strips (then the result is one), with per-strip
+    coil resistances [ohm] in ``resistance`` (default: ``strip.resistance``)."""
     cap = heat_capacity(strip, model)
-    power = joule_power(current, strip.resistance)
-    T = T_previous
+    power = joule_power(current, strip.resistance if resistance is None else resistance)
+    T = T_previous if np.ndim(T_previous) == 0 else np.asarray(T_previous, dtype=float)
     for _ in range(30):
         eps = 1e-4
         r = cap * (T - T_previous) / dt - power + heat_loss(T, strip, model)
         dr = cap / dt + (heat_loss(T + eps, strip, model) - heat_loss(T - eps, strip, model)) / (2 * eps)
         step = r / dr
-        T -= step
-        if abs(step) < 1e-9:
+        T = T - step
+        if np.max(np.abs(step)) < 1e-9:
             break
-    return float(T)
+    return float(T) if np.ndim(T) == 0 else T
 
 
 def transient_temperature(schedule, duration: float, strip: HeatedStrip = HeatedStrip(),

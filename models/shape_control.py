@@ -30,7 +30,7 @@ from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, GridSegmentCoil
 from lcefem.models.lce import spontaneous_stretch
-from lcefem.models.lumped_heat import HeatedStrip, LumpedThermal, heat_capacity, heat_loss
+from lcefem.models.lumped_heat import HeatedStrip, LumpedThermal, heat_loss, implicit_euler_step
 from lcefem.models.parameters import param
 
 #: Nominal string resistance [ohm]: mid-range of the measured 126-134 ohm (seed 001, Results).
@@ -147,22 +147,9 @@ class StripHeat:
 def strip_temperature_step(T: np.ndarray, currents: np.ndarray, resistances: np.ndarray, dt: float,
                            heat: StripHeat = StripHeat()) -> np.ndarray:
     """Temperatures [C] after one implicit-Euler step dt [s] of C (T - T_k)/dt = I^2 R - loss(T)
-    for every strip at once (:func:`lcefem.models.lumped_heat.implicit_euler_step`, vectorised;
-    Newton from T_k, the loss smooth and increasing)."""
-    T_prev = np.asarray(T, dtype=float)
-    power = np.asarray(currents, dtype=float) ** 2 * np.asarray(resistances, dtype=float) * 1.0e3  # mW
-    cap = heat_capacity(heat.segment, heat.model)
-    T = T_prev.copy()
-    for _ in range(30):
-        eps = 1e-4
-        r = cap * (T - T_prev) / dt - power + heat_loss(T, heat.segment, heat.model)
-        dr = cap / dt + (heat_loss(T + eps, heat.segment, heat.model)
-                         - heat_loss(T - eps, heat.segment, heat.model)) / (2 * eps)
-        step = r / dr
-        T = T - step
-        if np.max(np.abs(step)) < 1e-9:
-            break
-    return T
+    for every strip at once (:func:`lcefem.models.lumped_heat.implicit_euler_step` on arrays)."""
+    return implicit_euler_step(np.asarray(T, dtype=float), np.asarray(currents, dtype=float), dt,
+                               heat.segment, heat.model, resistance=np.asarray(resistances, dtype=float))
 
 
 def free_stretch(T, heat: StripHeat = StripHeat()) -> np.ndarray:
