@@ -22,7 +22,7 @@ import numpy as np
 from lcefem.models import rod as rodlaw
 from lcefem.models.contact import normal_force
 from lcefem.solvers.der import kernels
-from lcefem.solvers.der.model import DiscreteRod, Ground, RodState, n_dofs
+from lcefem.solvers.der.model import Box, DiscreteRod, Ground, RodState, n_dofs
 
 BANDWIDTH = 10
 
@@ -129,10 +129,13 @@ def sample_points(state: RodState, sampling: ContactSampling):
     return out
 
 
-def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling, plane: Ground | None = None):
-    """Gaps [mm] of every sample point to the ground (or to ``plane``): (stencil (N-2, p_s) or None,
-    ends (n_end, p_e))."""
+def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling, plane: Ground | Box | None = None):
+    """Gaps [mm] of every sample point to the ground (or to ``plane``, a plane or a box): (stencil
+    (N-2, p_s) or None, ends (n_end, p_e))."""
     plane = rod.ground if plane is None else plane
+    if isinstance(plane, Box):
+        pos_s, _, pos_e, _ = sample_points(state, sampling)
+        return (plane.gaps(pos_s) if sampling.interpolated else None), plane.gaps(pos_e)
     nrm = plane.unit_normal()
     h = plane.height
     pos_s, _, pos_e, _ = sample_points(state, sampling)
@@ -162,22 +165,29 @@ class FrictionLag:
     end_normal: np.ndarray
     end_points: np.ndarray
     obstacles: tuple["FrictionLag", ...] = ()  # the same for each of ``rod.obstacles``
+    boxes: tuple["FrictionLag", ...] = ()  # the same for each of ``rod.boxes``
 
     def with_normals_of(self, new: "FrictionLag") -> "FrictionLag":
         """These start-of-step points with the normal forces of ``new`` (re-solves with updated forces)."""
         return FrictionLag(new.stencil_normal, self.stencil_points, new.end_normal, self.end_points,
-                           tuple(a.with_normals_of(b) for a, b in zip(self.obstacles, new.obstacles)))
+                           tuple(a.with_normals_of(b) for a, b in zip(self.obstacles, new.obstacles)),
+                           tuple(a.with_normals_of(b) for a, b in zip(self.boxes, new.boxes)))
+
+    def all_lags(self) -> tuple["FrictionLag", ...]:
+        """The ground's, the walls' and the boxes' lags, in the order of ``DiscreteRod.contact_shapes``."""
+        return (self,) + self.obstacles + self.boxes
 
 
 def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
-                 all_points: bool = False, plane: Ground | None = None) -> FrictionLag:
+                 all_points: bool = False, plane: Ground | Box | None = None) -> FrictionLag:
     """Sample points and contact normal forces of ``state`` (the start of a step) on the ground (and,
-    in ``obstacles``, on each obstacle), or on ``plane`` alone; positions of all points with
+    in ``obstacles`` and ``boxes``, on each wall and box), or on ``plane`` alone; positions of all points with
     ``all_points``, else only of those with a normal force."""
-    if plane is None and rod.obstacles:
+    if plane is None and (rod.obstacles or rod.boxes):
         ground = friction_lag(rod, state, sampling, all_points, rod.ground)
         walls = tuple(friction_lag(rod, state, sampling, all_points, w) for w in rod.obstacles)
-        return dataclasses.replace(ground, obstacles=walls)
+        boxes = tuple(friction_lag(rod, state, sampling, all_points, b) for b in rod.boxes)
+        return dataclasses.replace(ground, obstacles=walls, boxes=boxes)
     gs, ge = all_gaps(rod, state, sampling, plane)
     out = []
     for kind, gap in (("stencil", gs), ("edge", ge)):
@@ -215,6 +225,7 @@ class Assembly:
         self._no_db, self._no_ddb = np.zeros((1, 3)), np.zeros((1, 3, 3))  # placeholders (same source)
         self._no_band = np.zeros((1, 1))  # placeholder (no Hessian)
         self._no_lag_n, self._no_lag_p = np.zeros((1, 1)), np.zeros((1, 1, 3))  # placeholders (no friction)
+        self._no_box = np.zeros(7)  # placeholder (a plane)
 
     # -- scatter ---------------------------------------------------------------------------
     def gradient(self, g_edges, g_stencils, edge_rows=None, stencil_rows=None) -> np.ndarray:
@@ -286,7 +297,7 @@ class Assembly:
     # -- contact and friction ----------------------------------------------------------------
     def contact(self, rod: DiscreteRod, state: RodState, sampling: ContactSampling, order: int = 2,
                 friction: FrictionLag | None = None, step: float = 0.0, out=None):
-        """Contact potential k E(gap) of the sample points with the ground and the obstacles, plus
+        """Contact potential k E(gap) of the sample points with the ground, the walls and the boxes, plus
         (when ``friction`` is given) the friction potential over a step of length ``step`` [s]
         (compiled: :func:`kernels.contact`). Only the points within reach of a plane (or carrying a
         lagged friction force on it) are differentiated.
@@ -310,10 +321,12 @@ class Assembly:
         side, sigma, _ = sampling.kernel_arrays()
         grad, band, given = self._outputs(order, out)
         energy = 0.0
-        if fric and len(friction.obstacles) != len(rod.obstacles):
-            raise ValueError(f"friction lag has {len(friction.obstacles)} obstacles, the rod {len(rod.obstacles)}")
-        lags = (friction,) + friction.obstacles if fric else (None,) * len(rod.contact_planes())
-        for plane, lag in zip(rod.contact_planes(), lags):
+        if fric and (len(friction.obstacles) != len(rod.obstacles) or len(friction.boxes) != len(rod.boxes)):
+            raise ValueError(f"friction lag has {len(friction.obstacles)} obstacles and {len(friction.boxes)} boxes, "
+                             f"the rod {len(rod.obstacles)} and {len(rod.boxes)}")
+        shapes = rod.contact_shapes()
+        lags = friction.all_lags() if fric else (None,) * len(shapes)
+        for plane, lag in zip(shapes, lags):
             # (the normal passed as a writeable copy: a read-only array would be a second kernel
             # signature next to the compiled Newton loop's, compiled again for nothing)
             if fric:
@@ -324,12 +337,16 @@ class Assembly:
             else:
                 lag_ns, lag_ps, lag_ne, lag_pe = self._no_lag_n, self._no_lag_p, self._no_lag_n, self._no_lag_p
                 mu, K2 = 0.0, 1.0
+            is_box = isinstance(plane, Box)
+            normal = np.array(rod.ground.unit_normal() if is_box else plane.unit_normal())
+            height = 0.0 if is_box else float(plane.height)
             energy += kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
                                       sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                      np.array(plane.unit_normal()), float(plane.height), float(law.clearance),
+                                      normal, height, float(law.clearance),
                                       float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
                                       lag_ne, lag_pe, float(mu), float(K2), float(step), db, ddb,
-                                      change is not None, order, grad, band)
+                                      change is not None, order, grad, band,
+                                      plane.array() if is_box else self._no_box, is_box)
         if given:
             return energy, None, []
         return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])

@@ -83,7 +83,7 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
     mass, q_n, q_star, load, diag, h, damping = inertia
     rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ = rest
     side, sigma, offsets, end_ids, end_sigma, end_offsets = sampling
-    (normals, heights, clearance, delta, K1, stiffness, fric, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2) = contact
+    (normals, heights, boxes, clearance, delta, K1, stiffness, fric, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2) = contact
     x, theta, a1, ref, e, length, t, m1, m2, twist = st
     nd = len(mass)
     q = _q(st)
@@ -115,14 +115,19 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
     if keep_source:
         band += elastic_band
     if len(heights):
+        no_box = np.zeros(7)
         pos_s, r_s, pos_e, r_e = kernels.sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
                                                        end_sigma, end_offsets)
         e_contact = 0.0
-        for p in range(len(heights)):
+        n_planes = len(heights)
+        for p in range(n_planes + len(boxes)):
+            is_box = p >= n_planes
+            box = boxes[p - n_planes] if is_box else no_box
+            plane = 0 if is_box else p
             e_contact += kernels.contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma,
-                                         normals[p], heights[p], clearance, delta, K1, stiffness, fric, lag_ns[p],
-                                         lag_ps[p], lag_ne[p], lag_pe[p], mu, K2, h, db, ddb, with_source, order,
-                                         grad, band)
+                                         normals[plane], heights[plane], clearance, delta, K1, stiffness, fric,
+                                         lag_ns[p], lag_ps[p], lag_ne[p], lag_pe[p], mu, K2, h, db, ddb, with_source,
+                                         order, grad, band, box, is_box)
         energy += e_contact
     return energy, grad, band
 

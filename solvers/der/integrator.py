@@ -212,9 +212,11 @@ class StepPotential:
         fric = self.lag is not None and rod.friction is not None and self.h > 0
         interpolated = self.sampling.interpolated
         no_n, no_p = np.zeros((1, 1)), np.zeros((1, 1, 3))
-        lags = (self.lag,) + self.lag.obstacles if fric else (None,) * len(planes)
-        if fric and len(lags) != len(planes):
-            raise ValueError(f"friction lag has {len(lags) - 1} obstacles, the rod {len(rod.obstacles)}")
+        boxes = np.array([b.array() for b in rod.boxes], float).reshape(len(rod.boxes), 7)
+        lags = self.lag.all_lags() if fric else (None,) * (len(planes) + len(boxes))
+        if fric and len(lags) != len(planes) + len(boxes):
+            raise ValueError(f"friction lag has {len(lags) - 1} obstacles, the rod {len(rod.obstacles)} walls and "
+                             f"{len(rod.boxes)} boxes")
         stacks = ([], [], [], [])
         for lag in lags:
             arrays = ((lag.stencil_normal, lag.stencil_points) if fric and interpolated else (no_n, no_p)) + (
@@ -228,7 +230,7 @@ class StepPotential:
             constants = (0.0, 1.0, 1.0, 0.0)
         else:
             constants = (float(law.clearance), float(law.delta), float(law.K1), float(law.stiffness))
-        return (normals, heights) + constants + (bool(fric), lag_ns, lag_ps, lag_ne, lag_pe, mu, K2)
+        return (normals, heights, boxes) + constants + (bool(fric), lag_ns, lag_ps, lag_ne, lag_pe, mu, K2)
 
 
 def _stacked(arrays: list) -> np.ndarray:

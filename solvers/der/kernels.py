@@ -697,10 +697,13 @@ def _section_point_element(t, length, r, sig, g, jac, h7, tr):
 @njit(cache=True)
 def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma, normal, height, clearance, delta, K1,
             stiffness, with_friction, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2, h, db, ddb, with_source, order,
-            grad, band):
-    """Contact potential k E(gap) of all sample points with the plane {n.p = height} plus (with
-    friction) the friction potential of the points with a lagged normal force; ``order`` 0 energy,
-    1 with gradient, 2 with Hessian (added into grad and band). Returns the energy [mJ].
+            grad, band, box, is_box):
+    """Contact potential k E(gap) of all sample points with the plane {n.p = height} (or, with
+    ``is_box``, with the rounded box ``box`` = (lo, hi, radius) of ``model.Box``: gap, normal and the
+    gap's Hessian per point, :func:`box_gap`) plus (with friction) the friction potential of the
+    points with a lagged normal force (on a box, tangential to the box's normal at the lagged
+    point); ``order`` 0 energy, 1 with gradient, 2 with Hessian (added into grad and band). Returns
+    the energy [mJ].
 
     Mirrors ``Assembly.contact``: a point is differentiated when within reach of the plane or
     carrying a lagged friction force.
@@ -746,6 +749,10 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
     acc_h11 = np.empty((11, 11))
     acc_g7 = np.empty(7)
     acc_h7 = np.empty((7, 7))
+    nrm = normal.copy()  # the point's contact normal (the plane's, or the box's at the point)
+    nfr = normal.copy()  # the friction's normal (the box's at the lagged point)
+    hg = np.zeros((3, 3))  # Hessian of a box gap
+    hg_lag = np.zeros((3, 3))
     for kind in range(2):
         pos = pos_s if kind == 0 else pos_e
         rr = r_s if kind == 0 else r_e
@@ -759,7 +766,10 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
             active = False
             for j in range(pos.shape[1]):
                 p = pos[row, j]
-                gap = _dot3(p, normal) - height
+                if is_box:
+                    gap = box_gap(p, box, nrm, hg)
+                else:
+                    gap = _dot3(p, normal) - height
                 fn = lag_n[row, j] if with_friction else 0.0
                 if not (gap < clearance + delta or fn > 0.0):
                     continue
@@ -768,19 +778,25 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                 if fn > 0.0:
                     for i in range(3):
                         u[i] = p[i] - lag_p[row, j, i]
-                    energy += _friction(u, normal, fn, h, mu, K2, gD, hD, with_hessian, w3)
+                    if is_box:
+                        box_gap(lag_p[row, j], box, nfr, hg_lag)
+                    energy += _friction(u, nfr, fn, h, mu, K2, gD, hD, with_hessian, w3)
                 else:
                     gD[:] = 0.0
                     hD[:, :] = 0.0
                 if order == 0:
                     continue
+                if is_box and with_hessian and d1 != 0.0:
+                    for a in range(3):
+                        for b in range(3):
+                            hD[a, b] += stiffness * d1 * hg[a, b]
                 if not active:
                     active = True
                     acc_g[:] = 0.0
                     if with_hessian:
                         acc_h[:, :] = 0.0
                 for i in range(3):
-                    g_pt[i] = stiffness * d1 * normal[i] + gD[i]
+                    g_pt[i] = stiffness * d1 * nrm[i] + gD[i]
                 cc = stiffness * d2
                 if kind == 0:
                     k = row
@@ -790,12 +806,12 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                         f[i] = x[k + 2, i] - x[k + 1, i]
                     _stencil_point_element(e, f, rr[row, j], t[edge], side[j], sigma[j], g_pt, jac, h11, hv, jv,
                                            tmp8, with_hessian, ws)
-                    _chain_point(jac, h11, g_pt, cc, normal, hD, g11, with_hessian)
+                    _chain_point(jac, h11, g_pt, cc, nrm, hD, g11, with_hessian)
                     _accumulate(g11, h11, acc_g, acc_h, with_hessian)
                 else:
                     edge = end_ids[row]
                     _section_point_element(t[edge], length[edge], rr[row, j], end_sigma[row, j], g_pt, jac7, h7, w3)
-                    _chain_point(jac7, h7, g_pt, cc, normal, hD, g7, with_hessian)
+                    _chain_point(jac7, h7, g_pt, cc, nrm, hD, g7, with_hessian)
                     _accumulate(g7, h7, acc_g, acc_h, with_hessian)
             if not active:
                 continue
@@ -817,6 +833,53 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                     _source_change_into(acc_g, acc_h, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian)
                 _scatter(4 * edge, acc_g, acc_h, grad, band, with_hessian)
     return energy
+
+
+@njit(cache=True)
+def box_gap(p, box, n, hg):
+    """Gap [mm] of the point p to the rounded box ``box`` = (lo (3), hi (3), radius) of ``model.Box``;
+    the outward unit normal (the gap's gradient) into n (3,) and the gap's Hessian into hg (3, 3).
+    Beyond the inner box [lo + r, hi - r]: gap = D - r with D the distance to it, Hessian (P - n n^T)/D,
+    P the axes along which p lies beyond it. Inside the inner box (a penetration deeper than the edge
+    radius): minus the depth below the nearest face, minus r, with that face's normal and no curvature."""
+    r = box[6]
+    d2 = 0.0
+    for i in range(3):
+        lo = box[i] + r
+        hi = box[3 + i] - r
+        if p[i] < lo:
+            n[i] = p[i] - lo
+        elif p[i] > hi:
+            n[i] = p[i] - hi
+        else:
+            n[i] = 0.0
+        d2 += n[i] * n[i]
+    if d2 > 0.0:
+        D = math.sqrt(d2)
+        for i in range(3):
+            n[i] /= D
+        for i in range(3):
+            for j in range(3):
+                hg[i, j] = -n[i] * n[j] / D
+            if n[i] != 0.0:
+                hg[i, i] += 1.0 / D
+        return D - r
+    best = math.inf
+    axis = 0
+    sign = 1.0
+    for i in range(3):
+        a = p[i] - (box[i] + r)
+        b = (box[3 + i] - r) - p[i]
+        if a < best:
+            best, axis, sign = a, i, -1.0
+        if b < best:
+            best, axis, sign = b, i, 1.0
+    for i in range(3):
+        n[i] = 0.0
+        for j in range(3):
+            hg[i, j] = 0.0
+    n[axis] = sign
+    return -best - r
 
 
 @njit(cache=True)

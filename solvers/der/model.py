@@ -109,6 +109,46 @@ class Ground:
         return n
 
 
+@dataclass(frozen=True)
+class Box:
+    """A rigid axis-aligned block with rounded edges: the outer box [lo, hi] [mm] with its edges and
+    corners rounded to ``radius`` [mm], i.e. the points within ``radius`` of the inner box
+    [lo + radius, hi - radius]. A point's gap is its distance to the inner box minus the radius, the
+    signed distance to the rounded surface outside the inner box: continuous with a continuous
+    gradient (the outward unit normal), so the smooth contact law of the planes applies unchanged;
+    its Hessian (P - n n^T)/D (P the axes along which the point lies beyond the inner box, D the
+    distance) is bounded by 1/radius on the rounded edges and zero on the flat faces."""
+
+    lo: tuple[float, float, float]
+    hi: tuple[float, float, float]
+    radius: float
+
+    def __post_init__(self):
+        lo, hi = np.asarray(self.lo, float), np.asarray(self.hi, float)
+        if lo.shape != (3,) or hi.shape != (3,):
+            raise InputError(f"box lo = {self.lo}, hi = {self.hi}: must be three coordinates each [mm]")
+        if not self.radius > 0:
+            raise InputError(f"box radius = {self.radius} mm: must be > 0 mm")
+        if np.any(hi - lo <= 2.0 * self.radius):
+            raise InputError(f"box lo = {self.lo}, hi = {self.hi} mm: each side must exceed twice the edge "
+                             f"radius {self.radius} mm")
+
+    def array(self) -> np.ndarray:
+        """(lo, hi, radius) as a (7,) float array (for the kernels)."""
+        return np.array(tuple(self.lo) + tuple(self.hi) + (self.radius,), float)
+
+    def gaps(self, points: np.ndarray) -> np.ndarray:
+        """Gaps [mm] of points (..., 3) to the rounded box (negative inside)."""
+        p = np.asarray(points, float)
+        r = self.radius
+        lo = np.asarray(self.lo, float) + r
+        hi = np.asarray(self.hi, float) - r
+        d = np.maximum(lo - p, 0.0) + np.maximum(p - hi, 0.0)
+        outside = np.sqrt(np.einsum("...i,...i->...", d, d))
+        inside = -np.minimum(p - lo, hi - p).min(axis=-1)
+        return np.where(outside > 0.0, outside, np.minimum(inside, 0.0)) - r
+
+
 @dataclass
 class DiscreteRod:
     """Everything a step needs besides the state.
@@ -122,6 +162,7 @@ class DiscreteRod:
         ground, contact, friction: optional rigid plane with the smooth laws of seed 000.
         obstacles: further rigid planes (walls standing on the ground) with the same contact and
             friction laws; each is a half-space {p : n.p < height} the rod stays out of.
+        boxes: rigid blocks of finite size (:class:`Box`) with the same contact and friction laws.
         contact_offsets: (p, 2) cross-section points (a, b) [mm] (offset a m1 + b m2 from the
             centreline) that touch the ground: the ribbon's four corners by default, so that a flat
             ribbon touches with its face (two corners per section) or with an edge; the centreline
@@ -142,6 +183,7 @@ class DiscreteRod:
     contact: ContactLaw | None = None
     friction: FrictionLaw | None = None
     obstacles: tuple[Ground, ...] = ()
+    boxes: tuple[Box, ...] = ()
     contact_offsets: np.ndarray | None = None
     contact_samples: int = 2
     fixed: np.ndarray | None = None
@@ -154,8 +196,9 @@ class DiscreteRod:
         if self.contact_samples < 1:
             raise InputError(f"contact_samples = {self.contact_samples}: must be >= 1")
         self.obstacles = tuple(self.obstacles)
-        if self.obstacles and (self.ground is None or self.contact is None):
-            raise InputError("obstacles: walls need a ground and a contact law")
+        self.boxes = tuple(self.boxes)
+        if (self.obstacles or self.boxes) and (self.ground is None or self.contact is None):
+            raise InputError("obstacles: walls and boxes need a ground and a contact law")
         if self.fixed is None:
             self.fixed = np.zeros(n_dofs(n), bool)
         if self.external_force is None:
@@ -179,6 +222,10 @@ class DiscreteRod:
     def contact_planes(self) -> tuple[Ground, ...]:
         """The ground and the obstacles (empty without contact)."""
         return (self.ground,) + self.obstacles if self.has_contact else ()
+
+    def contact_shapes(self) -> tuple:
+        """The ground, the walls and the boxes (empty without contact)."""
+        return self.contact_planes() + self.boxes if self.has_contact else ()
 
     def mass_vector(self) -> np.ndarray:
         """Diagonal of the lumped mass matrix (4N-1,) [t for nodes, t mm^2 for edge angles]."""
