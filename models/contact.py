@@ -171,3 +171,47 @@ class Wall:
         side = 1.0 if self.direction > 0 else -1.0
         normal = -side * np.array([-np.sin(a), np.cos(a), 0.0])
         return tuple(float(v) for v in normal), float(np.min(np.asarray(centreline) @ normal) - self.distance)
+
+
+@dataclass(frozen=True)
+class Block:
+    """A rigid block of finite size standing on the plate in the rolling ribbon's path (seed 000, Fig. 1:
+    the robot meets an obstacle and turns or reverses), with the plate's contact and friction laws.
+    Axis-aligned: its width runs along the as-built ribbon's axis (x), its depth along the rolling
+    direction (y); placed relative to the as-built ribbon's centre line. No heat exchange with the ribbon
+    (the block is taken at the air's temperature, its contacts short)."""
+
+    width: float = param(0.0, "mm", "chosen: extent along the ribbon's axis; 0: no block", minimum=0.0)
+    height: float = param(10.0, "mm", "chosen: above the plate; taller than the ribbon's 4 mm width, so the "
+                          "rolling ribbon (its section spins about the axis, reaching ~2 mm above it) cannot "
+                          "climb it", positive=True)
+    depth: float = param(10.0, "mm", "chosen: extent along the rolling direction", positive=True)
+    distance: float = param(5.0, "mm", "chosen: from the ribbon's centre line to the block's near face (the "
+                            "ribbon's half width is 2 mm: ~3 mm of rolling before contact)", positive=True)
+    offset: float = param(0.0, "mm", "chosen: the block's centre along the ribbon's axis from the ribbon's "
+                          "middle: 0 hits the middle, +-(length - width)/2 lines its edge up with an end")
+    direction: float = param(1.0, "-", "side of the ribbon the block stands on: +1 towards +y, -1 towards -y "
+                             "(the side the ribbon rolls to: validation/ribbon_obstacle.py prints it)",
+                             minimum=-1.0, maximum=1.0)
+    friction: float = param(0.5, "-", "assumed: friction coefficient of the ribbon on the block's faces, as on "
+                            "the plate (FrictionLaw.mu: an elastomer on a hard surface)", minimum=0.0)
+    edge_radius: float = param(0.5, "mm", "assumed: rounding of the block's edges (a machined or printed "
+                               "block's edges are rounded to ~0.1-1 mm); the contact's normal turns "
+                               "smoothly around an edge over this radius", positive=True)
+
+    @property
+    def present(self) -> bool:
+        return self.width > 0
+
+    def box(self, centreline: np.ndarray) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """(lo, hi) corners [mm] of the block for the as-built centre line (N, 3) [mm] along x; the
+        bottom lies an edge radius (plus 1 mm) below the plate, so that its lower edges' rounding is
+        buried and the plate meets the block's faces at a right angle."""
+        c = np.asarray(centreline, float)
+        xmid = 0.5 * (c[:, 0].min() + c[:, 0].max())
+        side = 1.0 if self.direction > 0 else -1.0
+        near = (c[:, 1].max() + self.distance) if side > 0 else (c[:, 1].min() - self.distance)
+        far = near + side * self.depth
+        x0, x1 = xmid + self.offset - 0.5 * self.width, xmid + self.offset + 0.5 * self.width
+        bottom = -(self.edge_radius + 1.0)
+        return ((x0, min(near, far), bottom), (x1, max(near, far), self.height))

@@ -225,7 +225,7 @@ class Assembly:
         self._no_db, self._no_ddb = np.zeros((1, 3)), np.zeros((1, 3, 3))  # placeholders (same source)
         self._no_band = np.zeros((1, 1))  # placeholder (no Hessian)
         self._no_lag_n, self._no_lag_p = np.zeros((1, 1)), np.zeros((1, 1, 3))  # placeholders (no friction)
-        self._no_box = np.zeros(7)  # placeholder (a plane)
+        self._no_box = np.zeros(8)  # placeholder (a plane)
 
     # -- scatter ---------------------------------------------------------------------------
     def gradient(self, g_edges, g_stencils, edge_rows=None, stencil_rows=None) -> np.ndarray:

@@ -115,7 +115,7 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
     if keep_source:
         band += elastic_band
     if len(heights):
-        no_box = np.zeros(7)
+        no_box = np.zeros(8)
         pos_s, r_s, pos_e, r_e = kernels.sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
                                                        end_sigma, end_offsets)
         e_contact = 0.0

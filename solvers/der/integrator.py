@@ -212,7 +212,7 @@ class StepPotential:
         fric = self.lag is not None and rod.friction is not None and self.h > 0
         interpolated = self.sampling.interpolated
         no_n, no_p = np.zeros((1, 1)), np.zeros((1, 1, 3))
-        boxes = np.array([b.array() for b in rod.boxes], float).reshape(len(rod.boxes), 7)
+        boxes = np.array([b.array() for b in rod.boxes], float).reshape(len(rod.boxes), 8)
         lags = self.lag.all_lags() if fric else (None,) * (len(planes) + len(boxes))
         if fric and len(lags) != len(planes) + len(boxes):
             raise ValueError(f"friction lag has {len(lags) - 1} obstacles, the rod {len(rod.obstacles)} walls and "

@@ -699,7 +699,7 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
             stiffness, with_friction, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2, h, db, ddb, with_source, order,
             grad, band, box, is_box):
     """Contact potential k E(gap) of all sample points with the plane {n.p = height} (or, with
-    ``is_box``, with the rounded box ``box`` = (lo, hi, radius) of ``model.Box``: gap, normal and the
+    ``is_box``, with the rounded box ``box`` = (lo, hi, radius, friction) of ``model.Box``: gap, normal and the
     gap's Hessian per point, :func:`box_gap`) plus (with friction) the friction potential of the
     points with a lagged normal force (on a box, tangential to the box's normal at the lagged
     point); ``order`` 0 energy, 1 with gradient, 2 with Hessian (added into grad and band). Returns
@@ -753,6 +753,8 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
     nfr = normal.copy()  # the friction's normal (the box's at the lagged point)
     hg = np.zeros((3, 3))  # Hessian of a box gap
     hg_lag = np.zeros((3, 3))
+    if is_box and box[7] >= 0.0:  # the box's own friction coefficient
+        mu = box[7]
     for kind in range(2):
         pos = pos_s if kind == 0 else pos_e
         rr = r_s if kind == 0 else r_e

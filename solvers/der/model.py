@@ -122,6 +122,7 @@ class Box:
     lo: tuple[float, float, float]
     hi: tuple[float, float, float]
     radius: float
+    friction: float | None = None  # friction coefficient on the box [-]; None: the rod's friction law's
 
     def __post_init__(self):
         lo, hi = np.asarray(self.lo, float), np.asarray(self.hi, float)
@@ -129,13 +130,16 @@ class Box:
             raise InputError(f"box lo = {self.lo}, hi = {self.hi}: must be three coordinates each [mm]")
         if not self.radius > 0:
             raise InputError(f"box radius = {self.radius} mm: must be > 0 mm")
+        if self.friction is not None and not self.friction >= 0:
+            raise InputError(f"box friction = {self.friction}: must be >= 0")
         if np.any(hi - lo <= 2.0 * self.radius):
             raise InputError(f"box lo = {self.lo}, hi = {self.hi} mm: each side must exceed twice the edge "
                              f"radius {self.radius} mm")
 
     def array(self) -> np.ndarray:
-        """(lo, hi, radius) as a (7,) float array (for the kernels)."""
-        return np.array(tuple(self.lo) + tuple(self.hi) + (self.radius,), float)
+        """(lo, hi, radius, friction coefficient or -1 for the rod's) as an (8,) float array (for the kernels)."""
+        mu = -1.0 if self.friction is None else float(self.friction)
+        return np.array(tuple(self.lo) + tuple(self.hi) + (self.radius, mu), float)
 
     def gaps(self, points: np.ndarray) -> np.ndarray:
         """Gaps [mm] of points (..., 3) to the rounded box (negative inside)."""

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lcefem.models.contact import ContactLaw, FrictionLaw, Wall
+from lcefem.models.contact import Block, ContactLaw, FrictionLaw, Wall
 from lcefem.models.errors import InputError
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
@@ -33,7 +33,7 @@ from lcefem.solvers.der import frames as fr
 from lcefem.solvers.der.assembly import all_gaps, edge_corner_gaps, node_contact_forces
 from lcefem.solvers.der.heat import HeatGeometry, SectionHeat
 from lcefem.solvers.der.integrator import Integrator, StepControl, StepOptions
-from lcefem.solvers.der.model import DiscreteRod, Ground, RestShape, RodState, lumped_masses
+from lcefem.solvers.der.model import Box, DiscreteRod, Ground, RestShape, RodState, lumped_masses
 from lcefem.solvers.der.newton import NewtonOptions
 from lcefem.solvers.der.static import solve_static, statically_determinate_support
 from lcefem.solvers.der.tabulated import TabulatedLaw
@@ -257,6 +257,7 @@ class RibbonSetup:
     friction: FrictionLaw = field(default_factory=FrictionLaw)
     numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
     walls: tuple[Wall, ...] = ()  # obstacles on the plate, placed relative to the as-built ribbon
+    blocks: tuple[Block, ...] = ()  # blocks of finite size on the plate (those of width 0 are left out)
 
 
 class RibbonSimulation:
@@ -281,9 +282,10 @@ class RibbonSimulation:
         self._heat_elapsed = 0.0
         gravity = np.array([0.0, 0.0, -STANDARD_GRAVITY])
         walls = tuple(Ground(*w.plane(state.x)) for w in s.walls)
+        boxes = tuple(Box(*b.box(state.x), b.edge_radius, b.friction) for b in s.blocks if b.present)
         self.rod = DiscreteRod(section, rest, node_mass, edge_inertia, gravity=gravity, damping=num.damping,
                                ground=Ground(), contact=s.contact, friction=s.friction, obstacles=walls,
-                               contact_samples=num.contact_samples)
+                               boxes=boxes, contact_samples=num.contact_samples)
         weight = float(node_mass.max() * STANDARD_GRAVITY)
         newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
                                max_rotation=0.2, max_displacement=0.25 * g.thickness,
@@ -442,6 +444,14 @@ class RibbonSimulation:
         for wall in self.rod.obstacles:
             gs, ge = all_gaps(self.rod, self.state, self.integrator.sampling, wall)
             out.append(min(ge.min(), gs.min() if gs is not None else np.inf))
+        return np.array(out)
+
+    def block_gaps(self) -> np.ndarray:
+        """Smallest gap [mm] of the ribbon's sample points to each block, (n_blocks,)."""
+        out = []
+        for box in self.rod.boxes:
+            gs, ge = all_gaps(self.rod, self.state, self.integrator.sampling, box)
+            out.append(min(ge.min(), gs.min()) if gs is not None else ge.min())
         return np.array(out)
 
     def corner_gaps(self) -> np.ndarray:

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lcefem.models.contact import ContactLaw, FrictionLaw
+from lcefem.models.contact import Block, ContactLaw, FrictionLaw
 from lcefem.models.errors import InputError
 from lcefem.models.limits import DECOMPOSITION_TEMPERATURE
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
@@ -68,9 +68,16 @@ class RibbonConfig:
     ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
     contact: ContactLaw = field(default_factory=ContactLaw)
     friction: FrictionLaw = field(default_factory=FrictionLaw)
+    obstacle: Block = field(default_factory=Block)  # a block on the plate (width 0: none)
 
     def validated(self) -> "RibbonConfig":
         check_config(self)
+        ob = self.obstacle
+        if ob.present:
+            for name in ("width", "depth", "height"):
+                if getattr(ob, name) <= 2.0 * ob.edge_radius:
+                    raise InputError(f"obstacle.{name} = {getattr(ob, name)} mm: must exceed twice "
+                                     f"obstacle.edge_radius = {ob.edge_radius} mm")
         if self.numerics.method not in ("euler", "midpoint"):
             raise InputError(f"numerics.method = {self.numerics.method!r}: allowed euler, midpoint")
         if self.numerics.dt > self.run.duration:
@@ -104,7 +111,8 @@ class RibbonConfig:
     def setup(self) -> RibbonSetup:
         return RibbonSetup(self.geometry, self.run.ground_temperature, self.material.transition(),
                            self.material.elasticity(),
-                           self.thermal, self.air, self.ground_heat, self.contact, self.friction, self.numerics)
+                           self.thermal, self.air, self.ground_heat, self.contact, self.friction, self.numerics,
+                           blocks=(self.obstacle,) if self.obstacle.present else ())
 
 
 # -- fields -----------------------------------------------------------------------------------

@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 
 from lcefem.solvers.der.ribbon import ROLLING_RIBBON, RibbonNumerics
 from lcefem.validation import rod_verification as rv
@@ -347,4 +348,108 @@ def ribbon_end_spin(ctx: CaseContext) -> list[Metric]:
     metrics.append(Metric.within(c, f"twist-density variation (max - min)/mean in the last half at {HOT:g} C",
                                  r["twist_density_variation [-]"], "-", 0.0, STEADY_TOLERANCE,
                                  f"{SEED}: its twist density remains constant ({state}); +-10 % (issue 32)"))
+    return metrics
+
+
+# ----------------------------------------------------------------------------------------------
+# Obstacles of finite size
+# ----------------------------------------------------------------------------------------------
+#: The blocks of ``ribbon_obstacle_block`` [mm]: 10 mm tall (the rolling ribbon reaches ~2 mm above its
+#: axis, so it cannot climb them), 10 mm from the centre line to the near face (rolling before the hit),
+#: a 20 mm block across the middle of the 60 mm ribbon, and a 10 mm block meeting its last 5 mm.
+BLOCK_HEIGHT, BLOCK_DISTANCE, MIDDLE_WIDTH, END_WIDTH, END_OVERLAP = 10.0, 10.0, 20.0, 10.0, 5.0
+#: Runs on the 100 C plate: quick 24 nodes / 0.02 s / 60 s, full 61 nodes / 0.01 s / 120 s (the end hit
+#: happens ~10 s after rolling starts; 120 s leave the pinned ribbon ~100 s to snap).
+BLOCK_QUICK = {"nodes": 24, "dt": 0.02, "duration": 60.0}
+BLOCK_FULL = {"nodes": 61, "dt": 0.01, "duration": 120.0}
+#: A ribbon that ends the run this far [mm] back from where it first touched the block has reversed
+#: (a ribbon's width is 4 mm: several widths, not a rebound in the contact's 0.05 mm band).
+REVERSED = 10.0
+
+
+def block_outcome(rows: list[dict], side: float, face: float, delta: float) -> dict:
+    """What a run against a block did (rows of ``ribbon_blocks.run``): first contact time (nan: never
+    touched: gap below the contact's smoothing width ``delta``), deepest penetration [mm], advance of
+    the centroid past the block's near face ``face`` [mm] along ``side``, how far it ended back from
+    where it first touched [mm], whether it passed (centroid beyond the face) or reversed, and the turn
+    of its axis from the first contact to the end [deg]."""
+    gaps = np.array([r["block_gap [mm]"] for r in rows])
+    y = side * np.array([r["centroid_y [mm]"] for r in rows])
+    axis = np.array([r["axis_angle [deg]"] for r in rows])
+    touched = np.nonzero(gaps < delta)[0]
+    if not len(touched):
+        return {"contact_time [s]": float("nan"), "penetration [mm]": float(max(0.0, -gaps.min())),
+                "advance_past_face [mm]": float(y.max() - side * face), "back_from_contact [mm]": float("nan"),
+                "passed": 0.0, "reversed": 0.0, "turn [deg]": float("nan")}
+    i = touched[0]
+    back = float(y[i] - y[-1])
+    return {"contact_time [s]": float(rows[i]["time [s]"]), "penetration [mm]": float(max(0.0, -gaps.min())),
+            "advance_past_face [mm]": float(y.max() - side * face), "back_from_contact [mm]": back,
+            "passed": float(y[-1] > side * face), "reversed": float(back > REVERSED),
+            "turn [deg]": float(axis[-1] - axis[i])}
+
+
+@case("ribbon_obstacle_block", "The rolling twisted ribbon meets a block of finite size on the 100 C plate: hit "
+      "in the middle and near an end (seed 000 Fig. 1; press release: an end hit turns and passes, a middle "
+      "hit snaps)", fe=False)
+def ribbon_obstacle_block(ctx: CaseContext) -> list[Metric]:
+    from lcefem.models.contact import Block
+    from lcefem.validation.ribbon_blocks import COLUMNS, movie, run
+
+    c = ctx.case or "ribbon_obstacle_block"
+    s = dict(BLOCK_QUICK if ctx.quick else BLOCK_FULL)
+    base = RibbonConfig(run=RibbonRun(ground_temperature=HOT, duration=s["duration"], output_interval=0.0),
+                        numerics=dataclasses.replace(RibbonNumerics(), nodes=s["nodes"], dt=s["dt"]))
+    every = 0.5
+    free, _, _ = run(base, "none", s["duration"], every, verbose=False)
+    # The block stands in the ribbon's path: on the side it rolls to without a block (set by the
+    # discretisation's own asymmetry, RibbonNumerics.perturbation; the same run until the first contact)
+    side = 1.0 if free[-1]["centroid_y [mm]"] >= free[0]["centroid_y [mm]"] else -1.0
+    length = base.geometry.length
+    blocks = {"middle": Block(width=MIDDLE_WIDTH, height=BLOCK_HEIGHT, distance=BLOCK_DISTANCE, direction=side),
+              "end": Block(width=END_WIDTH, height=BLOCK_HEIGHT, distance=BLOCK_DISTANCE, direction=side,
+                           offset=0.5 * (length + END_WIDTH) - END_OVERLAP)}
+    rows, out = list(free), {}
+    delta = base.contact.delta
+    for name, block in blocks.items():
+        cfg = dataclasses.replace(base, obstacle=block).validated()
+        r, frames, boxes = run(cfg, name, s["duration"], every, verbose=False)
+        rows += r
+        (lo, hi), = boxes
+        face = lo[1] if side > 0 else hi[1]
+        out[name] = block_outcome(r, side, face, delta)
+        gif = movie(ctx.path(f"ribbon_block_{name}.gif"), frames, boxes,
+                    f"{HOT:g} C plate, {name} hit", frame_step=2)
+        ctx.add_figure(gif, f"DER ribbon ({s['nodes']} nodes) meeting a {block.width:g} mm wide, {BLOCK_HEIGHT:g} mm "
+                       f"tall block ({name} hit), top view of its edge lines every {2 * every:g} s")
+    placements = ["none", "middle", "end"]
+    cols = {"placement [0 none, 1 middle, 2 end]": [placements.index(r["placement"]) for r in rows]}
+    cols.update({k: [float(r[k]) for r in rows] for k in COLUMNS if k != "placement"})
+    write_csv(ctx.path("ribbon_obstacle_block.csv"), cols)
+    ctx.mesh_size = 60.0 / (s["nodes"] - 1)
+    free_y = side * np.array([r["centroid_y [mm]"] for r in free])
+    metrics = [Metric.info(c, "free ribbon: distance rolled towards the block's side", float(free_y[-1] - free_y[0]),
+                           "mm", "DER model (the run without a block)")]
+    press = "NC State press release on Zhao et al. (PNAS 2022)"
+    for name, o in out.items():
+        metrics += [Metric.info(c, f"{name} hit: first contact time", o["contact_time [s]"], "s", "DER model"),
+                    Metric.info(c, f"{name} hit: distance back from the first contact at the end", o["back_from_contact [mm]"],
+                                "mm", "DER model"),
+                    Metric.info(c, f"{name} hit: turn of the ribbon's axis after the first contact", o["turn [deg]"],
+                                "deg", "DER model"),
+                    Metric.within(c, f"{name} hit: deepest penetration into the block", o["penetration [mm]"], "mm",
+                                  0.0, delta, "a rigid block: the contact law lets points into its smoothing band "
+                                  f"only (ContactLaw.delta = {delta:g} mm)"),
+                    Metric.within(c, f"{name} hit: centroid's advance past the block's near face", max(0.0, o["advance_past_face [mm]"]),
+                                  "mm", 0.0, 0.0, "a rigid block taller than the ribbon stops its centre line in front "
+                                  "of the block")]
+    metrics.append(Metric.within(c, "end hit: the ribbon gets past the block (1 = yes)", out["end"]["passed"], "-", 1.0,
+                                 0.0, f"{press}: 'if one end of the ribbon encounters an object, the ribbon rotates "
+                                 "slightly to get around the obstacle'"))
+    metrics.append(Metric.within(c, f"middle hit: the ribbon leaves the block, ending {REVERSED:g} mm or more back from "
+                                 "it (1 = yes)", out["middle"]["reversed"], "-", 1.0, 0.0,
+                                 f"{press}: 'if the central part of the robot encounters an object, it snaps ... to "
+                                 "jump slightly and reorient itself'; seed 000: snapping triggered by mechanical forces"))
+    metrics.append(Metric.info(c, f"end hit: the ribbon leaves the block, ending {REVERSED:g} mm or more back from it "
+                               "(1 = yes)", out["end"]["reversed"], "-", "DER model"))
     return metrics

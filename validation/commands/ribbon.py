@@ -1,7 +1,8 @@
 """A twisted LCE ribbon on a hot plate, as a discrete elastic rod with contact, friction and heat (seed 000).
 
 ``lcefem run ribbon [--ground-temperature C] [--twist-density TURNS/MM] [--duration S] [--nodes N]
-[--dt S] [--helix-radius MM] [--config FILE.toml] [--no-fields] [--out DIR] [--quiet]``
+[--dt S] [--helix-radius MM] [--obstacle WIDTH HEIGHT] [--obstacle-offset MM] [--obstacle-distance MM]
+[--config FILE.toml] [--no-fields] [--out DIR] [--quiet]``
 
 The problem, its time loop and outputs: :mod:`lcefem.solvers.problems.twisted_ribbon_der` (centerline
 and surface VTK series, centroid.csv, history.csv, summary.json); this module adds trajectory.png
@@ -42,6 +43,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "(default 0: fixed steps of dt; 0.01 checked in the README)")
     p.add_argument("--helix-radius", type=float, help="> 0: an untwisted helical ribbon of this centreline "
                                                        "radius [mm] instead")
+    p.add_argument("--obstacle", type=float, nargs=2, metavar=("WIDTH", "HEIGHT"),
+                   help="a block on the plate in the ribbon's path, WIDTH along the ribbon's axis and HEIGHT [mm] "
+                        "(the [obstacle] section of the case file has its depth, side and edge radius)")
+    p.add_argument("--obstacle-offset", type=float, help="the block's centre along the ribbon's axis from the "
+                                                         "ribbon's middle [mm] (default 0: hit in the middle)")
+    p.add_argument("--obstacle-distance", type=float, help="from the ribbon's centre line to the block's near face "
+                                                           "[mm] (default 5)")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(f.name for f in dataclasses.fields(RibbonConfig)))
     p.add_argument("--no-fields", action="store_true", help="skip the VTK field files")
     add_out_arguments(p, "results/ribbon")
@@ -64,6 +72,16 @@ def config_from_args(args: argparse.Namespace) -> RibbonConfig:
                              f"(helix radius {cfg.geometry.helix_radius} mm) is untwisted; give one of the two")
         if cfg.geometry.twist_density == RibbonGeometry().twist_density:  # the default, not a choice
             cfg = override(cfg, "geometry", twist_density=0.0)  # (another value: validated() refuses it)
+    width, height = args.obstacle if args.obstacle is not None else (None, None)
+    for name, value in (("--obstacle WIDTH", width), ("--obstacle HEIGHT", height),
+                        ("--obstacle-distance", args.obstacle_distance)):
+        if value is not None and not value > 0:
+            raise InputError(f"{name} = {value} mm: must be > 0 mm")
+    cfg = override(cfg, "obstacle", width=width, height=height, offset=args.obstacle_offset,
+                   distance=args.obstacle_distance)
+    if (args.obstacle_offset is not None or args.obstacle_distance is not None) and not cfg.obstacle.present:
+        raise InputError("--obstacle-offset/--obstacle-distance: give the block's size with --obstacle WIDTH HEIGHT "
+                         "(or obstacle.width in the case file)")
     return override(cfg, "numerics", nodes=args.nodes, dt=args.dt, error_tolerance=args.error_tolerance)
 
 
