@@ -1,5 +1,6 @@
 """``lcefem run ribbon``: bad input exits 2 with a one-line message; a short run writes complete outputs."""
 
+import dataclasses
 import json
 import subprocess
 
@@ -13,6 +14,9 @@ from lcefem.validation.cli import main
     (["--duration", "-1"], "--duration = -1.0 s: must be > 0 s"),
     (["--nodes", "0"], "--nodes = 0: must be >= 3"),
     (["--config", "/nonexistent/case.toml"], "file not found"),
+    (["--obstacle", "0", "10"], "--obstacle WIDTH = 0.0 mm: must be > 0 mm"),
+    (["--obstacle-offset", "5"], "--obstacle-offset/--obstacle-distance: give the block's size"),
+    (["--obstacle", "0.8", "10"], "obstacle.width = 0.8 mm: must exceed twice obstacle.edge_radius"),
 ])
 def test_bad_input_exits_2(argv, message, capsys, tmp_path):
     code = main(["run", "ribbon", "--quiet", "--out", str(tmp_path / "out"), *argv])
@@ -66,3 +70,27 @@ def test_config_from_args_rejects_bad_dt(tmp_path):
                      nodes=None, dt=0.0)
     with pytest.raises(InputError, match="--dt"):
         config_from_args(args)
+
+
+def test_obstacle_reaches_the_rod(tmp_path):
+    """--obstacle places a box of that width and height in the ribbon's path, centred on its middle."""
+    import argparse
+
+    from lcefem.solvers.der.ribbon import RibbonSimulation
+    from lcefem.validation.commands import ribbon
+
+    parser = argparse.ArgumentParser()
+    ribbon.add_arguments(parser)
+    args = parser.parse_args(["--obstacle", "20", "8", "--obstacle-distance", "6", "--nodes", "12"])
+    cfg = ribbon.config_from_args(args).validated()
+    setup = cfg.setup()
+    assert len(setup.blocks) == 1
+    sim = RibbonSimulation(dataclasses.replace(setup, numerics=dataclasses.replace(setup.numerics, settle_time=0.0)))
+    (box,) = sim.rod.boxes
+    x = sim.state.x
+    mid = 0.5 * (x[:, 0].min() + x[:, 0].max())
+    assert box.hi[0] - box.lo[0] == pytest.approx(20.0)
+    assert 0.5 * (box.hi[0] + box.lo[0]) == pytest.approx(mid)
+    assert box.hi[2] == pytest.approx(8.0)
+    assert box.lo[1] - x[:, 1].max() == pytest.approx(6.0)  # the near face on the +y side
+    assert sim.block_gaps()[0] == pytest.approx(6.0 - 0.5 * cfg.geometry.width, abs=0.2)
