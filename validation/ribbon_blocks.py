@@ -107,13 +107,17 @@ def movie(path: pathlib.Path, frames, boxes, title: str, frame_step: int = 1) ->
 
     from lcefem.validation.fig5_plots import frame_image, write_gif
 
-    # a fixed window: the ribbon's start and, with a block, 45 mm before it (a ribbon rolling away leaves it)
+    # a fixed window: the ribbon's start and, with a block, 45 mm in front of it (a ribbon rolling away leaves it)
     start = frames[0][1].reshape(-1, 2)
     lo = start.min(0) - np.array([10.0, 15.0])
     hi = start.max(0) + np.array([10.0, 45.0])
     for b_lo, b_hi in boxes:
-        lo = np.array([min(lo[0], b_lo[0] - 5.0), min(b_lo[1], b_hi[1]) - 45.0])
-        hi = np.array([max(hi[0], b_hi[0] + 5.0), max(b_lo[1], b_hi[1]) + 5.0])
+        if start[:, 1].mean() > b_hi[1]:  # the ribbon starts on the +y side of the block
+            lo = np.array([min(lo[0], b_lo[0] - 5.0), b_lo[1] - 5.0])
+            hi = np.array([max(hi[0], b_hi[0] + 5.0), b_hi[1] + 45.0])
+        else:
+            lo = np.array([min(lo[0], b_lo[0] - 5.0), b_lo[1] - 45.0])
+            hi = np.array([max(hi[0], b_hi[0] + 5.0), b_hi[1] + 5.0])
     images = []
     for t, lines in frames[::frame_step]:
         def draw(fig, t=t, lines=lines):
