@@ -418,10 +418,11 @@ def ribbon_obstacle_block(ctx: CaseContext) -> list[Metric]:
         (lo, hi), = boxes
         face = lo[1] if side > 0 else hi[1]
         out[name] = block_outcome(r, side, face, delta)
+        step = 6 if ctx.quick else 2  # frames of the movie: every 3 s (quick) or 1 s
         gif = movie(ctx.path(f"ribbon_block_{name}.gif"), frames, boxes,
-                    f"{HOT:g} C plate, {name} hit", frame_step=2)
+                    f"{HOT:g} C plate, {name} hit", frame_step=step)
         ctx.add_figure(gif, f"DER ribbon ({s['nodes']} nodes) meeting a {block.width:g} mm wide, {BLOCK_HEIGHT:g} mm "
-                       f"tall block ({name} hit), top view of its edge lines every {2 * every:g} s")
+                       f"tall block ({name} hit), top view of its edge lines every {step * every:g} s")
     placements = ["none", "middle", "end"]
     cols = {"placement [0 none, 1 middle, 2 end]": [placements.index(r["placement"]) for r in rows]}
     cols.update({k: [float(r[k]) for r in rows] for k in COLUMNS if k != "placement"})
