@@ -77,6 +77,12 @@ class RibbonNumerics:
                                   "i.e. gradients up to ~0.01-0.1 K/mm)")
     contact_samples: int = param(2, "-", "chosen: sections sampled per edge for contact (frame angle "
                                  "interpolated with the twist)", minimum=1)
+    contact_spacing: float = param(0.0, "mm", "chosen: > 0 sets the contact sections per edge from a length instead of "
+                                   "contact_samples: the smallest even count whose spacing along the as-built edge is at most "
+                                   "this (at least 2). 0: contact_samples per edge whatever the edge length (the default). "
+                                   "Measured (issue 32, 140 C, 180 s; validation/data/ribbon_node_study.csv): at a sample "
+                                   "spacing of 0.19-0.3 mm 31 / 61 / 101 / 161 nodes roll at 6.92 / 7.70 / 8.06 / 8.23 mm/s, "
+                                   "against 4.24 / 7.15 / 8.06 / 8.23 with 2 sections per edge", minimum=0.0)
     cells_width: int = param(6, "-", "chosen: heat cells across the width", minimum=1)
     cells_thickness: int = param(2, "-", "chosen: heat cells through the thickness", minimum=1)
     lag_tol: float = param(0.1, "-", "chosen: below this residual (relative to a node's weight, like force_tol) "
@@ -111,6 +117,15 @@ class RibbonNumerics:
     section_quadrature: int = param(4, "-", "chosen: Gauss points per cell and direction of the eigenstrain "
                                     "resultants; one-face bending within 1e-5 of the beam closed form on the "
                                     "6 x 2 grid (rod_closed_forms case; 1 point: -27 %)", minimum=1)
+
+
+def contact_samples_per_edge(numerics: RibbonNumerics, length: float) -> int:
+    """Contact sections per edge: ``numerics.contact_samples``, or with ``contact_spacing`` > 0 the smallest
+    even count (at least 2) whose spacing along an as-built edge of a rod of ``length`` [mm] is at most it."""
+    if numerics.contact_spacing <= 0:
+        return numerics.contact_samples
+    edge = length / (numerics.nodes - 1)
+    return max(2, 2 * math.ceil(edge / numerics.contact_spacing / 2.0 - 1e-9))
 
 
 def lce_ribbon_section(geometry: RibbonGeometry, elasticity: LCEElasticity = LCEElasticity(),
@@ -285,7 +300,7 @@ class RibbonSimulation:
         boxes = tuple(Box(*b.box(state.x), b.edge_radius, b.friction) for b in s.blocks if b.present)
         self.rod = DiscreteRod(section, rest, node_mass, edge_inertia, gravity=gravity, damping=num.damping,
                                ground=Ground(), contact=s.contact, friction=s.friction, obstacles=walls,
-                               boxes=boxes, contact_samples=num.contact_samples)
+                               boxes=boxes, contact_samples=contact_samples_per_edge(num, g.length))
         weight = float(node_mass.max() * STANDARD_GRAVITY)
         newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
                                max_rotation=0.2, max_displacement=0.25 * g.thickness,

@@ -319,3 +319,18 @@ def test_a_pickled_simulation_continues_as_the_original():
         sim.step(0.02)
         copy.step(0.02)
     assert np.array_equal(sim.state.x, copy.state.x) and np.array_equal(sim.T, copy.T)
+
+
+def test_contact_spacing_sets_the_samples_per_edge():
+    """RibbonNumerics.contact_spacing: the smallest even count (>= 2) with a spacing along the edge at most
+    the given length; 0 keeps contact_samples."""
+    import dataclasses
+
+    from lcefem.solvers.der.ribbon import RibbonNumerics, contact_samples_per_edge
+
+    for nodes, expected in ((31, 8), (61, 4), (101, 4), (161, 2)):
+        num = dataclasses.replace(RibbonNumerics(), nodes=nodes, contact_spacing=0.25)
+        k = contact_samples_per_edge(num, 60.0)
+        assert k == expected
+        assert 60.0 / (nodes - 1) / k <= 0.25 < 60.0 / (nodes - 1) / max(k - 2, 1) or k == 2
+    assert contact_samples_per_edge(dataclasses.replace(RibbonNumerics(), nodes=31), 60.0) == RibbonNumerics().contact_samples
