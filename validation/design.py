@@ -8,7 +8,7 @@ equilibrium has the target centre curvatures (the paper's circle measure, dome n
 squares with exact sensitivities (:mod:`lcefem.validation.gridshell_design`), then the currents of
 both current routes (segment, eq1), and checks the lambdas by a forward run from the as-built state.
 
-Outputs in --out DIR (through the run skeleton lcefem.solvers.run.Run): summary.json (target,
+Outputs in --out DIR (through the run skeleton lcefem.solvers.runtime.run.Run): summary.json (target,
 lambdas, currents per route, achieved curvatures in the design loop and in the forward check,
 residual [1/mm], optimiser record, forward solves, Newton iterations, wall time) and design.csv
 (one row per design variable, numbered in the order of summary.json's "lambdas [-]": channels Tx,
@@ -26,7 +26,8 @@ from dataclasses import dataclass
 
 from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.models.errors import InputError
-from lcefem.solvers.run import Progress, Run, add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.validation import gridshell_bh as gs
 from lcefem.validation import gridshell_design as gd
 

@@ -47,7 +47,9 @@ from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCo
 from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.models.lumped_heat import GRID_STRIP, HeatedStrip, grid_thermal, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
-from lcefem.solvers.run import Progress, Run, add_out_arguments, write_text
+from lcefem.solvers.runtime.files import write_text
+from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.validation import gridshell_bh as gs
 from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.validation.gridshell_sequence import QuasiStaticSurface

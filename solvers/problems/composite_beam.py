@@ -63,7 +63,8 @@ from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContac
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import FieldExport, write_snapshot
 from lcefem.solvers.problems.composite_beam_bh import SIGN_CONVENTION, BeamRun
-from lcefem.solvers.run import Progress, Run, check_config, resolved
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import plane_clamp, point_support

@@ -63,7 +63,8 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
 from lcefem.solvers.exports import bar_hinge_run
-from lcefem.solvers.run import Progress, write_text
+from lcefem.solvers.runtime.files import write_text
+from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
 GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iterations=8,

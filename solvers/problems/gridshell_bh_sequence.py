@@ -27,7 +27,7 @@ and the cap at the as-built lambda_N of the strip bars (a longer strip is slack)
 surface follows with rest fractions lambda/lambda_N; the mechanics is quasi-static (the heat time
 constant, ~100 s, is far above the surface's inertial times).
 
-Outputs (through the run skeleton, lcefem.solvers.run.Run): ``history.csv`` (time [s], per-selection
+Outputs (through the run skeleton, lcefem.solvers.runtime.run.Run): ``history.csv`` (time [s], per-selection
 current [A], temperature [C], lambda [-], centre curvatures by the circle and the quadratic-fit measure
 [1/mm], z range [mm], Newton iterations), ``sequence.pvd`` + ``sequence_steps/*.vtp`` (ParaView frame
 series, time = simulated seconds), ``summary.json``; and what the hooks add (the command line:
@@ -57,7 +57,7 @@ from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, Lump
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.exports import BarHingeVTK
 from lcefem.solvers.problems import gridshell_bh as gs
-from lcefem.solvers.run import Progress, Run
+from lcefem.solvers.runtime.run import Progress, Run
 
 #: The lumped body per thermal model: 'segment' is one 25 ohm, 30 mm grid segment (the current route's
 #: default); 'eq1' is the free strip of Fig. 2 (146.6 ohm, 80 mm isotropic) on which Eq. 1 was
@@ -163,7 +163,7 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
 
 
 def load_schedule(path) -> Schedule:
-    from lcefem.solvers.run import read_toml
+    from lcefem.solvers.runtime.inputs import read_toml
 
     path = pathlib.Path(path)
     data = read_toml(path, f"--schedule '{path}'")

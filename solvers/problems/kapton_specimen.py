@@ -47,7 +47,8 @@ from lcefem.models.parameters import param
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import FieldExport, write_snapshot
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
-from lcefem.solvers.run import Progress, Run, check_config, resolved
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import clamp_face, mirror_planes

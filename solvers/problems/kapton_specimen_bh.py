@@ -33,7 +33,8 @@ from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, held_dofs, newton)
 from lcefem.solvers.exports import bar_hinge_run
-from lcefem.solvers.run import Progress, check_config, resolved
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the end shortening (0 -> 50 %); small increments resolve the force curve.
 SPECIMEN_PATH = PathOptions(initial_increment=0.01, max_increment=0.02, easy_iterations=10)

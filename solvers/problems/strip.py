@@ -48,7 +48,8 @@ from lcefem.solvers.exports import FieldExport
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure
 from lcefem.solvers.thermomechanics import LCERegion, ThermoMechanicalModel
-from lcefem.solvers.run import Progress, Run, check_config, resolved
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.supports import clamp_face, component_bc, mirror_planes, nodes_on_line, plane_clamp
 
 COLUMNS = ["time [s]", "T_mean [C]", "T_max [C]", "T_surface [C]", "stretch [-]", "force [N]",

@@ -29,7 +29,7 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
-from lcefem.solvers.run import write_json
+from lcefem.solvers.runtime.files import write_json
 from lcefem.validation import gridshell_bh as gs
 
 

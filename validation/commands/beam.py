@@ -33,7 +33,7 @@ import dataclasses
 from lcefem.models import bar_hinge as law
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.composite_beam_bh import BeamConfig, run_beam
-from lcefem.solvers.run import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation import reference_data
 from lcefem.validation.commands import MODELS, parallel_if_fe
 from lcefem.validation.config import config_from_toml, override
