@@ -149,3 +149,24 @@ def test_no_import_cycle_through_the_command_line():
     bad = [name for name in SOURCES if name != "lcefem.validation.cli"
            and "lcefem.validation.cli" in targets(name)]
     assert not bad, bad
+
+
+def test_the_current_bound_lives_once():
+    """A coil current's bound MAX_CURRENT is read only by lcefem.models.limits (current_param's
+    metadata, check_current); every other check of a current calls check_current."""
+    import numpy as np
+    import pytest
+
+    from lcefem.models.errors import InputError
+    from lcefem.models.limits import MAX_CURRENT, check_current, current_param
+
+    users = sorted(name for name, path in SOURCES.items() if name != "lcefem.models.limits"
+                   and any(isinstance(n, ast.Name) and n.id == "MAX_CURRENT"
+                           for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))))
+    assert users == []
+    assert current_param(0.2, "test").metadata["maximum"] == MAX_CURRENT
+    assert check_current("current", 0.2) == 0.2
+    assert check_current("currents", np.array([0.0, MAX_CURRENT])) is not None
+    for bad in (-0.1, MAX_CURRENT * 1.01, float("nan"), np.array([0.1, 2.0]), "0.1"):
+        with pytest.raises(InputError, match=r"^current"):
+            check_current("current", bad)

@@ -55,7 +55,7 @@ from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_stra
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.lce import isochoric_uniaxial
-from lcefem.models.limits import check_lambda
+from lcefem.models.limits import check_lambda, current_param
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import signed_circle_curvature
 from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
@@ -63,6 +63,7 @@ from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContac
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import FieldExport, write_snapshot
 from lcefem.solvers.problems.composite_beam_bh import SIGN_CONVENTION, BeamRun
+from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
@@ -294,11 +295,13 @@ class BeamFE:
                 "curvature [1/mm]": self.curvature(), "contact force [N]": self.contact_force(),
                 "min gap [mm]": self.min_gap()}
 
-    def advance(self, *, on_step: Callable[[BeamState], None] | None = None,
+    def advance(self, dt: float = 1.0, *, on_step: Callable[[BeamState], None] | None = None,
                 progress: Callable[[float], None] | None = None) -> list[BeamState]:
         """Take the strips linearly from their current lengths to the targets of :meth:`set_lambda`
-        (load parameter t: 0 -> 1) with :class:`PathFollower`; one :class:`BeamState` per accepted
-        step. Raises ConvergenceError (the model keeps the last converged state)."""
+        (load parameter t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way) with
+        :class:`PathFollower`; one :class:`BeamState` per accepted step. Raises ConvergenceError
+        (the model keeps the last converged state)."""
+        dt = check_quasi_static_step(dt)
         lambda_top, lambda_bottom = self.target["top_strips"], self.target["bottom_strips"]
         lt0, lb0 = self.lambda_top, self.lambda_bottom
 
@@ -317,7 +320,7 @@ class BeamFE:
             if progress is not None:
                 progress(t)
 
-        follower.follow(1.0, where=f"beam ramp to lambda_T = {lambda_top:g}, lambda_B = "
+        follower.follow(dt, where=f"beam ramp to lambda_T = {lambda_top:g}, lambda_B = "
                         f"{lambda_bottom:g}", on_step=record)
         self.last_follower = follower
         return states
@@ -333,6 +336,27 @@ class BeamFE:
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
         """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
         return [write_snapshot(folder, "displacement.bp", [self.u], t)]
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "lambda [-]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return self.STRIPS
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_lambda(drives)
+
+    def fields(self) -> dict:
+        return {"displacement [mm]": self.u}
+
+    def save_state(self) -> dict:
+        return {"u": copy_arrays([self.u]), "lambdas": (self.lambda_top, self.lambda_bottom),
+                "target": dict(self.target)}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays([self.u], state["u"])
+        self.set_lambdas(*state["lambdas"])
+        self.target = dict(state["target"])
 
 
 def build_beam_mesh(geometry, lambda_N, mesh, comm):
@@ -462,8 +486,8 @@ def curvature_map_fe(lambdas, geometry: CompositeBeamGeometry = CompositeBeamGeo
 class HeatedBeamRun:
     """A coil current through one group of strips (the heat model has one power density)."""
 
-    current: float = param(0.0, "A", "0 (default) prescribes lambda_T, lambda_B instead; seed 001 used "
-                           "0.2 A for rapid contraction, 0.1 A for slow (Fig. 2A-B)", minimum=0.0)
+    current: float = current_param(0.0, "0 (default) prescribes lambda_T, lambda_B instead; seed 001 "
+                                   "used 0.2 A for rapid contraction, 0.1 A for slow (Fig. 2A-B)")
     heated: str = param("bottom", "-", "strips carrying the current: 'bottom', 'top' or 'both' (the "
                         "others stay at room temperature, as built)")
     duration: float = param(12.0, "s", "chosen: part of the 0.2 A transient (T_NI reached in about 10 s, "
@@ -583,6 +607,30 @@ class HeatedBeamFE:
         temperature (the one path follower, load parameter = time); returns the observables."""
         its = self.stepper.advance(dt, where=f"heated beam, t = {self.time + dt:.4g} s")
         return self.observables(its)
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "current [A]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return self.heated
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_current(drives)
+
+    def fields(self) -> dict:
+        return {"displacement [mm]": self.u, "temperature [C]": self.model.heat.T}
+
+    def _state_functions(self) -> list:
+        return [self.u, self.model.heat.T, self.model.heat.T_old, self.model.T_mech]
+
+    def save_state(self) -> dict:
+        return {"arrays": copy_arrays(self._state_functions()), "time": self.time,
+                "current": self.current}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays(self._state_functions(), state["arrays"])
+        self.time = state["time"]
+        self.set_current({tag: state["current"] for tag in self.heated})
 
 
 def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),

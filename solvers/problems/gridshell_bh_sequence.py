@@ -51,7 +51,7 @@ from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.lce import spontaneous_stretch
-from lcefem.models.limits import MAX_CURRENT, MAX_DURATION
+from lcefem.models.limits import MAX_DURATION, check_current
 from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
                                        implicit_euler_step)
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
@@ -153,9 +153,7 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
             raise InputError(f"{field}: must be a list of {len(times)} currents [A] (one per switch time)")
         vals = tuple(_number(v, f"{field}[{i}]") for i, v in enumerate(values))
         for i, v in enumerate(vals):
-            if not 0.0 <= v <= MAX_CURRENT:
-                raise InputError(f"{field}[{i}] = {v} A: must be between 0 and {MAX_CURRENT} A "
-                                 "(lcefem.models.limits)")
+            check_current(f"{field}[{i}]", v)
         currents[int(sel) if sel.isdigit() else sel] = vals
     if not currents:
         raise InputError(f"{where}: section [currents] is empty (give e.g. Tx = [0.1, 0.04])")

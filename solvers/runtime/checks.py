@@ -8,7 +8,7 @@ import dataclasses
 import math
 
 from lcefem.models.errors import InputError, PhysicalBoundsError
-from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, MAX_CURRENT, MAX_DURATION
+from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, MAX_DURATION, check_current
 
 TEMPERATURE_RANGE = (f"between {ABSOLUTE_ZERO} C (absolute zero) and {DECOMPOSITION_TEMPERATURE} C "
                      "(decomposition, lcefem.models.limits)")
@@ -20,9 +20,10 @@ def check_temperature(name: str, value: float) -> None:
 
 
 def check_physical(config, section: str = "") -> None:
-    """Bounds every parameter must satisfy whatever its section: currents [A] in [0, MAX_CURRENT],
-    durations [s] up to MAX_DURATION, temperatures [C] above absolute
-    zero and below decomposition, moduli [MPa] > 0 (other stiffness coefficients >= 0), integer fields integers.
+    """Bounds every parameter must satisfy whatever its section: currents [A] (the one check,
+    lcefem.models.limits.check_current), durations [s] up to MAX_DURATION, temperatures [C] above
+    absolute zero and below decomposition, moduli [MPa] > 0 (other stiffness coefficients >= 0),
+    integer fields integers.
     Walks nested dataclasses; the message names the field (``section.field``)."""
     for f in dataclasses.fields(config):
         value = getattr(config, f.name)
@@ -37,9 +38,8 @@ def check_physical(config, section: str = "") -> None:
         if not math.isfinite(value):
             raise InputError(f"{name} = {value}: must be a finite number")
         unit = f.metadata.get("unit")
-        if unit == "A" and "current" in f.name and not 0.0 <= value <= MAX_CURRENT:
-            raise InputError(f"{name} = {value} A: must be between 0 and {MAX_CURRENT} A (5 x the largest "
-                             "current of seed 001, lcefem.models.limits)")
+        if unit == "A" and "current" in f.name:
+            check_current(name, value)
         if unit == "s" and "duration" in f.name and value > MAX_DURATION:
             raise InputError(f"{name} = {value} s: must be <= {MAX_DURATION} s (lcefem.models.limits)")
         if unit == "C":
