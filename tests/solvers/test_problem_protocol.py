@@ -23,6 +23,7 @@ MARKS = {"observables", "observe", "set_lambda", "set_current", "set_shortening"
 #: can move their contents: they are written as functions over a setup, not as a problem class).
 WITHOUT_PROBLEM_OBJECT = {
     "composite_beam_bh": "functions over BeamSetup (run_beam); edited in parallel this session",
+    "composite_beam_run": "the FE beam's run (BeamFEConfig, run_beam_fe) around composite_beam's problems",
     "kapton_specimen_bh": "functions over KaptonSpecimenSetup (run_specimen)",
     "twisted_ribbon_der": "the rolling ribbon's problem is lcefem.solvers.der's Simulation; "
                           "edited in parallel this session",
