@@ -24,7 +24,6 @@ MARKS = {"observables", "observe", "set_lambda", "set_current", "set_shortening"
 WITHOUT_PROBLEM_OBJECT = {
     "composite_beam_bh": "functions over BeamSetup (run_beam); edited in parallel this session",
     "composite_beam_run": "the FE beam's run (BeamFEConfig, run_beam_fe) around composite_beam's problems",
-    "kapton_specimen_bh": "functions over KaptonSpecimenSetup (run_specimen)",
     "twisted_ribbon_der": "the rolling ribbon's problem is lcefem.solvers.der's Simulation; "
                           "edited in parallel this session",
     "tension_specimen": "one function (a closed-form check of the LCE law)",
@@ -57,7 +56,7 @@ def test_the_walk_finds_the_problems_and_only_the_listed_modules_lack_one():
     found = problem_classes()
     assert {m for m, names in found.items() if not names} == set(WITHOUT_PROBLEM_OBJECT)
     assert {"StripSimulation", "BeamFE", "HeatedBeamFE", "KaptonSpecimenFE", "TwistedRibbonFE",
-            "GridshellFE", "HeatedGridshellFE", "GridshellBH"} <= {n for _, n in CLASSES}
+            "GridshellFE", "HeatedGridshellFE", "GridshellBH", "KaptonSpecimenBH"} <= {n for _, n in CLASSES}
 
 
 @pytest.mark.parametrize("module, name", CLASSES, ids=[n for _, n in CLASSES])
@@ -132,3 +131,29 @@ def test_fe_twisted_ribbon_as_a_problem():
     assert ribbon.observables() == half
     with pytest.raises(InputError, match="'tip'"):
         ribbon.set_drives({"tip": 0.5})
+
+
+def test_bar_and_hinge_specimen_as_a_problem_is_the_one_call_path():
+    """KaptonSpecimenBH driven through the protocol reaches the force of solve_specimen_buckling
+    (the same path follower, same steps) at 1 % compression; in two halves it reaches the same
+    elastic equilibrium; restore_state goes back to the flat specimen."""
+    from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenBH, solve_specimen_buckling
+
+    one_call = solve_specimen_buckling(0.01)
+    k = KaptonSpecimenBH()
+    assert isinstance(k, Problem)
+    flat = k.save_state()
+    k.set_drives({"right_clamp": 0.01 * k.specimen.length})
+    k.advance(1.0)
+    obs = k.observables()
+    assert unnamed(obs) == [] and unnamed(k.fields()) == []
+    assert obs["compression [-]"] == pytest.approx(0.01, rel=1e-12)
+    assert obs["force [N]"] == pytest.approx(one_call.force[-1], rel=1e-12)
+    k.restore_state(flat)
+    assert k.observables()["force [N]"] == 0.0
+    k.set_drives({"right_clamp": 0.01 * k.specimen.length})
+    k.advance(0.5)
+    k.advance(1.0)
+    assert k.observables()["force [N]"] == pytest.approx(one_call.force[-1], rel=1e-6)
+    with pytest.raises(InputError, match="left_clamp|'left'"):
+        k.set_drives({"left": 0.1})
