@@ -28,7 +28,7 @@ from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.solvers.runtime.run import Progress, Run
-from lcefem.validation import gridshell_bh as gs
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation import gridshell_design as gd
 
 PARALLEL = False
@@ -59,8 +59,8 @@ class DesignRequest:
             raise InputError(f"--channels = {self.channels!r}: allowed {', '.join(gd.CHANNEL_MODES)}")
         if self.ribbons < 1 or self.ribbons % 2 == 0:
             raise InputError(f"--ribbons = {self.ribbons}: an odd number >= 1 (the centre junction)")
-        if self.support not in gs.SUPPORTS:
-            raise InputError(f"--support = {self.support!r}: allowed {', '.join(gs.SUPPORTS)}")
+        if self.support not in problem_bh.SUPPORTS:
+            raise InputError(f"--support = {self.support!r}: allowed {', '.join(problem_bh.SUPPORTS)}")
         return self
 
 
