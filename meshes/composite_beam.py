@@ -382,7 +382,7 @@ class BeamFEMesh:
         return self
 
 
-def _beam_pieces(g: CompositeBeamGeometry, tab: float) -> list[tuple[float, float, str, int]]:
+def beam_pieces(g: CompositeBeamGeometry, tab: float) -> list[tuple[float, float, str, int]]:
     """(x0, x1, kind, segment or junction index) along the beam: tab, flank, crown, flank, junction, ..."""
     s_lo, s_hi = g.crown_edges
     pieces = [(-tab, 0.0, "tab", -1)]
@@ -457,7 +457,7 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
         raise InputError(f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
                          f"narrower than the ribbon ({W} mm)")
     x_mid = 0.5 * g.total_length
-    pieces = _beam_pieces(g, m.end_tab)
+    pieces = beam_pieces(g, m.end_tab)
     if quarter:
         kept = []
         for x0, x1, kind, idx in pieces:

@@ -97,7 +97,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes._hexgrid import divisions, exterior_faces, tagged_hex_mesh
-from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry, _beam_pieces
+from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry, beam_pieces
 from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
@@ -220,7 +220,7 @@ def _axis_pieces(g: CompositeBeamGeometry, n: int, tab: float, ws: float, cut: b
     ``in_band`` for the junction's middle part. With ``cut`` only t >= centre is kept."""
     beam = dataclasses.replace(g, segments=n + 1)
     out = []
-    for t0, t1, kind, idx in _beam_pieces(beam, tab):
+    for t0, t1, kind, idx in beam_pieces(beam, tab):
         if kind == "junction":
             c = 0.5 * (t0 + t1)
             out += [(t0, c - 0.5 * ws, kind, idx, (idx, "lo"), False),

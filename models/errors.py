@@ -17,3 +17,10 @@ class ConvergenceError(RuntimeError):
         super().__init__(f"no convergence at {where}: {reason}")
         self.where = where
         self.reason = reason
+
+
+class PhysicalBoundsError(ConvergenceError):
+    """A result left its physical bounds (exit 3): the model is outside what it describes."""
+
+    def __str__(self) -> str:
+        return f"result out of physical bounds at {self.where}: {self.reason}"

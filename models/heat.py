@@ -9,6 +9,7 @@ import numpy as np
 from lcefem.models import units
 from lcefem.models.errors import InputError
 from lcefem.models.lce import CALIBRATED
+from lcefem.models.limits import check_current
 from lcefem.models.parameters import param
 
 
@@ -81,10 +82,10 @@ def joule_power(current: float, resistance: float) -> float:
     arrays of strips).
 
     Raises:
-        InputError: for a negative current (the experiments' currents are magnitudes).
+        InputError: for a current outside [0, MAX_CURRENT] (the experiments' currents are
+            magnitudes; lcefem.models.limits.check_current).
     """
-    if np.any(np.asarray(current) < 0):
-        raise InputError(f"current = {current} A: must be >= 0 A")
+    check_current("current", current)
     if np.any(np.asarray(resistance) <= 0):
         raise InputError(f"resistance = {resistance} ohm: must be > 0 ohm")
     return current ** 2 * resistance * units.W

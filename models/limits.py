@@ -1,4 +1,4 @@
-"""Physical limits every input and every result must respect (checked by lcefem.solvers.run).
+"""Physical limits every input and every result must respect (checked by lcefem.solvers.runtime.checks).
 
 Beyond them the models describe nothing real: a run is refused (inputs, exit 2) or stopped
 (results, exit 3) with the field named.
@@ -6,7 +6,10 @@ Beyond them the models describe nothing real: a run is refused (inputs, exit 2) 
 
 import math
 
+import numpy as np
+
 from lcefem.models.errors import InputError
+from lcefem.models.parameters import param
 
 #: Absolute zero [C].
 ABSOLUTE_ZERO = -273.15
@@ -23,6 +26,24 @@ DECOMPOSITION_TEMPERATURE = 300.0
 #: is 25 times the 0.2 A power and drives the coil past the decomposition temperature within about a
 #: second, which the result check then reports; larger currents are typing errors, not experiments.
 MAX_CURRENT = 1.0
+CURRENT_RANGE = f"between 0 and {MAX_CURRENT:g} A (5 x the largest current of seed 001, lcefem.models.limits)"
+
+
+def current_param(default: float, source: str):
+    """A coil-current field [A] of a parameter dataclass: its bounds [0, :data:`MAX_CURRENT`] in its
+    metadata, checked with every bounded field (lcefem.models.parameters.check)."""
+    return param(default, "A", source, minimum=0.0, maximum=MAX_CURRENT)
+
+
+def check_current(name: str, value):
+    """A coil current I [A] (a number or an array of strips' currents) in [0, :data:`MAX_CURRENT`]:
+    the one check of a current, wherever it enters; raises InputError naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.ndarray, np.number, list, tuple)):
+        raise InputError(f"{name} = {value!r}: must be a current [A] {CURRENT_RANGE}")
+    arr = np.asarray(value, dtype=float)
+    if not (np.all(np.isfinite(arr)) and np.all(arr >= 0.0) and np.all(arr <= MAX_CURRENT)):
+        raise InputError(f"{name} = {value} A: must be {CURRENT_RANGE}")
+    return value
 
 #: Longest simulated heating time [s]: an hour, far beyond the strips' thermal time constant (about
 #: 10 s, seed 001) and the ribbon's rolling demonstrations (about a minute).

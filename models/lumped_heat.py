@@ -54,6 +54,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.heat import (GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil, SurfaceExchange,
                                 ThermalProperties, joule_power, radiative_film_coefficient)
 from lcefem.models.lce import NematicTransition, spontaneous_stretch
+from lcefem.models.limits import check_current
 from lcefem.models.parameters import param
 
 
@@ -125,8 +126,7 @@ def steady_temperature(current: float, strip: HeatedStrip = HeatedStrip(),
                        model: LumpedThermal = LumpedThermal()) -> float:
     """Steady temperature [C] of the strip carrying ``current`` [A]: root of I^2 R = loss(T)
     (the loss increases monotonically with T, so the root is unique; Brent's method)."""
-    if not (isinstance(current, (int, float)) and math.isfinite(current) and 0.0 <= current <= 1.0):
-        raise InputError(f"current = {current}: must be between 0 and 1 A")
+    check_current("current", current)
     power = joule_power(current, strip.resistance)
     lo = model.exchange.ambient_temperature
     if power == 0.0:

@@ -2,17 +2,17 @@
 
 Every file is written under a ``.part`` name and renamed when :meth:`finalize` is called; a failed
 run calls :meth:`finalize(complete=False)`, which renames to ``*.partial.*`` instead (the convention
-of lcefem.solvers.run, whose CSV and JSON writers are re-exported here).
+of lcefem.solvers.runtime.files).
 
 * :class:`FieldExport`, :func:`write_snapshot` — VTX (ADIOS2 .bp) series of dolfinx Functions (the
   FE problems); FEniCSx is imported when one is built, so the bar-and-hinge and rod runs start
   without it.
 * :class:`BarHingeVTK` — one VTK PolyData file (.vtp) per converged step in ``<stem>_steps/`` and a
-  ParaView collection ``<stem>.pvd`` over them (lcefem.solvers.run.FrameSeries): the ribbon's N5B8
+  ParaView collection ``<stem>.pvd`` over them (lcefem.solvers.runtime.files.FrameSeries): the ribbon's N5B8
   triangles and the strip and glue bars as lines, with point data ``displacement [mm]`` and cell data
   ``element`` (0 ribbon, 1 bottom strip, 2 top strip, 3 glue) and ``axial force [N]`` (tension
   positive; 0 on triangles).
-* :func:`bar_hinge_run` — the run skeleton (lcefem.solvers.run.Run) around a path-following
+* :func:`bar_hinge_run` — the run skeleton (lcefem.solvers.runtime.run.Run) around a path-following
   bar-and-hinge run.
 """
 
@@ -25,9 +25,8 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.der.output import write_vtp
-from lcefem.solvers.run import CSVTable as HistoryCSV  # noqa: F401  (one CSV writer for every run)
-from lcefem.solvers.run import FrameSeries, Run, part_name, partial_name, replace, write_json  # noqa: F401
-from lcefem.solvers.run import library_os_error
+from lcefem.solvers.runtime.files import FrameSeries, library_os_error, part_name, partial_name, replace
+from lcefem.solvers.runtime.run import Run
 
 class FieldExport:
     """VTX (ADIOS2 .bp) time series of dolfinx Functions sharing one element, readable by ParaView."""
@@ -154,7 +153,7 @@ class BarHingeVTK(FrameSeries):
 @contextlib.contextmanager
 def bar_hinge_run(out: pathlib.Path, stem: str, structure: BarHingeStructure, model, *, config: dict,
                   columns: list[str], row, progress):
-    """A path-following run of a bar-and-hinge model into ``out`` (lcefem.solvers.run.Run): yields
+    """A path-following run of a bar-and-hinge model into ``out`` (lcefem.solvers.runtime.run.Run): yields
     ``(run, on_step)``; ``on_step(state)`` records ``row(state)`` and writes the step's VTK frame. A
     failed run also keeps ``last_converged.vtp``."""
     with Run(out, config=config, columns=columns, progress=progress) as run:

@@ -34,8 +34,9 @@ import dolfinx.fem.petsc
 from lcefem.meshes._gmsh import TaggedMesh
 from lcefem.models.errors import InputError
 from lcefem.solvers import cost
+from lcefem.solvers.interrupts import raise_if_interrupted
+from lcefem.solvers.petsc_options import forget_solver_options
 from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
-from lcefem.solvers.run import forget_solver_options, raise_if_interrupted
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
 #: spontaneous deformation asks for enormous tables (70 GiB seen); 4 integrates P2/Q2 stiffness well.
@@ -543,7 +544,7 @@ class HyperelasticProblem:
 # need them); at exit, before PETSc finalises (petsc4py registered its finalisation at import, earlier,
 # and atexit runs the latest first), they are removed, so that an option a problem never needed (a
 # beam confirmed in 0 Newton iterations never factorises: mat_mumps_icntl_7) is not reported as
-# "options you set that were not used" (lcefem.solvers.run.forget_solver_options; the command line
+# "options you set that were not used" (lcefem.solvers.petsc_options.forget_solver_options; the command line
 # also calls it when a command ends).
 atexit.register(forget_solver_options)
 

@@ -2,7 +2,7 @@
 ``lcefem uncertainty gridshell``, ``lcefem design``.
 
 Every command goes through :func:`main`: signal handlers, the output folder's claim and lock
-(lcefem.solvers.run), and one mapping of failures to a one-line message and an exit status:
+(lcefem.solvers.runtime), and one mapping of failures to a one-line message and an exit status:
 0 done, 1 a validation case raised an error, 2 bad input or unusable output folder, 3 solver failure
 or a result out of physical bounds, 130 Ctrl-C, 143 SIGTERM. Under mpiexec every rank agrees on the
 exit (an error on one rank aborts them all) and rank 0 prints.
@@ -18,12 +18,19 @@ import sys
 import time
 import traceback
 
-from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers import run as skeleton
+from lcefem.models.errors import ConvergenceError, InputError, PhysicalBoundsError
+from lcefem.solvers.interrupts import Terminated, interrupt_in
+from lcefem.solvers.petsc_options import forget_solver_options
+from lcefem.solvers.runtime.exits import EXIT_INPUT, interrupt_exit_code
+from lcefem.solvers.runtime.exits import EXIT_SOLVER as EXIT_CONVERGENCE
+from lcefem.solvers.runtime.files import disk_error_message, library_os_error, write_json
+from lcefem.solvers.runtime.outdir import claim_out
+from lcefem.solvers.runtime.ranks import world, world_rank
+from lcefem.solvers.runtime.run import finish_pending
+from lcefem.solvers.runtime.signals import (install_signal_handlers, keep_petsc_off_signals,
+                                            reinstall_signal_handlers, restore_signal_handlers)
 from lcefem.validation.commands import RUN_TARGETS
 
-EXIT_INPUT = skeleton.EXIT_INPUT
-EXIT_CONVERGENCE = skeleton.EXIT_SOLVER
 #: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
 COMMANDS = ("validate", "converge", "uncertainty", "design", "control")
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
@@ -33,7 +40,7 @@ INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (-
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse's own errors: one line, exit 2
-        if _world_rank() == 0:
+        if world_rank() == 0:
             sys.stderr.write(f"{self.prog}: error: {message}\n")
         self.exit(EXIT_INPUT)
 
@@ -61,29 +68,12 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def _mpi_launched() -> bool:
-    return any(k in os.environ for k in ("PMI_RANK", "PMI_SIZE", "OMPI_COMM_WORLD_SIZE"))
-
-
-def world():
-    """COMM_WORLD when running under mpiexec with more than one rank, else None."""
-    if "mpi4py.MPI" not in sys.modules and not _mpi_launched():
-        return None
-    import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-    from mpi4py import MPI
-    return MPI.COMM_WORLD if MPI.COMM_WORLD.size > 1 else None
-
-
-def _world_rank() -> int:
-    return int(os.environ.get("PMI_RANK", os.environ.get("OMPI_COMM_WORLD_RANK", "0")))
-
-
 def _classify(exc: BaseException) -> tuple[int, str]:
     """(exit status, one-line message) of an exception ending a command."""
-    exc = skeleton.interrupt_in(exc) or exc  # a signal wrapped in a library's error is still a signal
+    exc = interrupt_in(exc) or exc  # a signal wrapped in a library's error is still a signal
     if isinstance(exc, KeyboardInterrupt):
-        name = "SIGTERM" if isinstance(exc, skeleton.Terminated) else "Ctrl-C"
-        return (skeleton.interrupt_exit_code(exc),
+        name = "SIGTERM" if isinstance(exc, Terminated) else "Ctrl-C"
+        return (interrupt_exit_code(exc),
                 f"lcefem: interrupted ({name}); converged steps are kept as *.partial.* files")
     if isinstance(exc, BrokenPipeError):  # the reader went away (``| head``): stop quietly, as Unix tools do
         return EXIT_BROKEN_PIPE, ""
@@ -92,10 +82,10 @@ def _classify(exc: BaseException) -> tuple[int, str]:
     if isinstance(exc, ConvergenceError):
         return EXIT_CONVERGENCE, f"lcefem: stopped: {exc}"
     if isinstance(exc, OSError):
-        return EXIT_INPUT, f"lcefem: error: {skeleton.disk_error_message(exc)}"
-    disk = skeleton.library_os_error(exc) if isinstance(exc, RuntimeError) else None
+        return EXIT_INPUT, f"lcefem: error: {disk_error_message(exc)}"
+    disk = library_os_error(exc) if isinstance(exc, RuntimeError) else None
     if disk is not None:  # a C++ writer's (ADIOS2, VTK) error text naming an errno and its file
-        return EXIT_INPUT, f"lcefem: error: {skeleton.disk_error_message(disk)}"
+        return EXIT_INPUT, f"lcefem: error: {disk_error_message(disk)}"
     if type(exc).__module__.startswith("petsc4py"):  # raised while setting up: an option PETSc rejects
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         return EXIT_INPUT, f"lcefem: error: PETSc refused the set-up ({first}); check the [petsc] options"
@@ -115,8 +105,8 @@ def _failure_json(out, exc: ConvergenceError, args, comm) -> None:
     prepared = getattr(args, "prepared", None)
     config = prepared.resolved() if hasattr(prepared, "resolved") else None
     with contextlib.suppress(Exception):  # the original error matters more than this record
-        skeleton.write_json(path, {
-            "status": "failed", "kind": "out of physical bounds" if isinstance(exc, skeleton.PhysicalBoundsError)
+        write_json(path, {
+            "status": "failed", "kind": "out of physical bounds" if isinstance(exc, PhysicalBoundsError)
             else "no convergence", "where": getattr(exc, "where", ""), "reason": getattr(exc, "reason", str(exc)),
             "last_converged": None, "config": config})
 
@@ -135,11 +125,11 @@ def _end(code: int, message: str, comm) -> int:
     deadline = time.monotonic() + AGREE_SECONDS
     while not req.Test():
         if time.monotonic() > deadline:
-            skeleton.finish_pending(agreed=False)
+            finish_pending(agreed=False)
             print(f"{message} [rank {comm.rank}; aborting the other ranks]", file=sys.stderr, flush=True)
             comm.Abort(code)
         time.sleep(0.01)
-    skeleton.finish_pending(agreed=True)
+    finish_pending(agreed=True)
     if comm.rank == 0:
         print(message, file=sys.stderr, flush=True)
     return code
@@ -151,13 +141,13 @@ _ERRORS = None  # a duplicate of COMM_WORLD: failing ranks agree there without d
 def main(argv: list[str] | None = None) -> int:
     global _ERRORS
     argv = sys.argv[1:] if argv is None else list(argv)
-    previous = skeleton.install_signal_handlers()
-    skeleton.keep_petsc_off_signals()
+    previous = install_signal_handlers()
+    keep_petsc_off_signals()
     comm = None
     try:
         parser = build_parser(argv)
         args = parser.parse_args(argv)
-        skeleton.reinstall_signal_handlers()  # importing PETSc installed its own for SIGTERM
+        reinstall_signal_handlers()  # importing PETSc installed its own for SIGTERM
         comm = world()
         if comm is not None:
             _ERRORS = comm.Dup()
@@ -173,8 +163,8 @@ def main(argv: list[str] | None = None) -> int:
         command = f"run {args.target}" if args.command == "run" else (
             f"converge {args.case}" if args.command == "converge" else args.command)
         inputs = {f"--{flag}": getattr(args, flag, None) for flag in INPUT_FILES}
-        with skeleton.claim_out(out, resume=getattr(args, "resume", None), overwrite=args.overwrite,
-                                comm=comm, command=command, inputs=inputs):
+        with claim_out(out, resume=getattr(args, "resume", None), overwrite=args.overwrite,
+                       comm=comm, command=command, inputs=inputs):
             try:
                 return int(mod.main(args) or 0)
             except ConvergenceError as exc:  # stopped before its Run existed: failure.json still says why
@@ -186,8 +176,8 @@ def main(argv: list[str] | None = None) -> int:
         code, message = _classify(exc)
         return _end(code, message, comm)
     finally:
-        skeleton.forget_solver_options()  # before PETSc's exit report of unused options
-        skeleton.restore_signal_handlers(previous)  # lcefem used as a library goes back to normal
+        forget_solver_options()  # before PETSc's exit report of unused options
+        restore_signal_handlers(previous)  # lcefem used as a library goes back to normal
 
 
 if __name__ == "__main__":

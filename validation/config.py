@@ -12,7 +12,7 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
     """Read a TOML case file; raise InputError for a missing file, bad syntax or an unknown section."""
     if path is None:
         return {}
-    from lcefem.solvers.run import read_toml
+    from lcefem.solvers.runtime.inputs import read_toml
 
     path = pathlib.Path(path)
     data = read_toml(path, f"config = {str(path)!r}")

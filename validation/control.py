@@ -35,7 +35,9 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import describe
 from lcefem.models.shape_control import CurrentLimits, HeightSensor, PlantSpread
 from lcefem.solvers import control as ctl
-from lcefem.solvers.run import Progress, Run, add_out_arguments, replace as rename
+from lcefem.solvers.runtime.files import replace as rename
+from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.run import Progress, Run
 
 PARALLEL = False  # serial numpy/scipy bar-and-hinge model
 LOOPS = ("open", "closed")

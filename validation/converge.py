@@ -46,11 +46,12 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.run import add_out_arguments, write_json, write_text
+from lcefem.solvers.runtime.files import write_json, write_text
+from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation import gci as gci_mod
 from lcefem.validation import plots
 from lcefem.validation.cases import CaseContext, registry
-from lcefem.validation.validate import MARKER, _isatty, guarded_run, load_complete, run_case
+from lcefem.validation.validate import MARKER, guarded_run, is_terminal, load_complete, run_case
 
 MIN_LEVELS = 4
 #: Most levels a study may ask for: the meshes refine up to level 8 (StripMesh, CompositeBeamMesh,
@@ -192,7 +193,7 @@ def print_summary(studies: list[MetricConvergence], mesh_sizes, file=None) -> No
         table.add_column(escape(h), overflow="fold")
     for r in rows:
         table.add_row(*(escape(c) for c in r))
-    Console(file=file, width=None if _isatty(file) else 180, highlight=False).print(table)
+    Console(file=file, width=None if is_terminal(file) else 180, highlight=False).print(table)
 
 
 def run_study(case, out: pathlib.Path, levels: int, quiet: bool = False, resume: bool = False,
@@ -291,7 +292,7 @@ def prepare(args: argparse.Namespace) -> None:
     """Under mpiexec without --prolong (the levels farmed over the ranks), before any case module
     starts PETSc: each rank's PETSc world is its own (:func:`lcefem.validation.farm.petsc_world_per_rank`).
     With --prolong the levels run in order, each solved on all the ranks (their FE in parallel)."""
-    from lcefem.validation.cli import world
+    from lcefem.solvers.runtime.ranks import world
 
     comm = world()
     if comm is not None and comm.size > 1 and not args.prolong:
@@ -335,7 +336,7 @@ def write_study(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
                 studies: list[MetricConvergence], warnings: list[str]) -> None:
     """:func:`write_outputs` into ``out/study.part/``, then each file moved to ``out`` (the marker
     convergence.json last); an interrupt or error on the way renames the folder ``study.partial/``."""
-    from lcefem.solvers.run import replace
+    from lcefem.solvers.runtime.files import replace
 
     staging = out / "study.part"
     if staging.exists():
@@ -357,7 +358,7 @@ def write_study(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
 def main(args: argparse.Namespace) -> int:
     case = selected_case(args)
     out = out_folder(args)
-    from lcefem.validation.cli import world
+    from lcefem.solvers.runtime.ranks import world
 
     comm = world()
     if comm is None or comm.rank == 0:  # an earlier study's results must not pass for this one's

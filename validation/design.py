@@ -8,7 +8,7 @@ equilibrium has the target centre curvatures (the paper's circle measure, dome n
 squares with exact sensitivities (:mod:`lcefem.validation.gridshell_design`), then the currents of
 both current routes (segment, eq1), and checks the lambdas by a forward run from the as-built state.
 
-Outputs in --out DIR (through the run skeleton lcefem.solvers.run.Run): summary.json (target,
+Outputs in --out DIR (through the run skeleton lcefem.solvers.runtime.run.Run): summary.json (target,
 lambdas, currents per route, achieved curvatures in the design loop and in the forward check,
 residual [1/mm], optimiser record, forward solves, Newton iterations, wall time) and design.csv
 (one row per design variable, numbered in the order of summary.json's "lambdas [-]": channels Tx,
@@ -26,8 +26,9 @@ from dataclasses import dataclass
 
 from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.models.errors import InputError
-from lcefem.solvers.run import Progress, Run, add_out_arguments
-from lcefem.validation import gridshell_bh as gs
+from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation import gridshell_design as gd
 
 PARALLEL = False
@@ -58,8 +59,8 @@ class DesignRequest:
             raise InputError(f"--channels = {self.channels!r}: allowed {', '.join(gd.CHANNEL_MODES)}")
         if self.ribbons < 1 or self.ribbons % 2 == 0:
             raise InputError(f"--ribbons = {self.ribbons}: an odd number >= 1 (the centre junction)")
-        if self.support not in gs.SUPPORTS:
-            raise InputError(f"--support = {self.support!r}: allowed {', '.join(gs.SUPPORTS)}")
+        if self.support not in problem_bh.SUPPORTS:
+            raise InputError(f"--support = {self.support!r}: allowed {', '.join(problem_bh.SUPPORTS)}")
         return self
 
 

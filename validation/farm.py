@@ -42,7 +42,7 @@ STOP = -1  #: the answer to "next?" when no group is left
 STOPPED = "stopped"  #: a rank's "next?" after an interrupt: hand it nothing more
 POLL_SECONDS = 0.02  #: how often a waiting rank looks for a message (a signal is handled in between)
 #: After an interrupt, how long rank 0 waits for the other ranks' reports [s]: longer than a numba
-#: kernel's compilation, which Python cannot interrupt (15 s seen, solvers/run.py interrupt_in).
+#: kernel's compilation, which Python cannot interrupt (15 s seen, solvers/interrupts.py interrupt_in).
 DRAIN_SECONDS = 60.0
 
 
@@ -184,7 +184,7 @@ def _receive(comm, tag: int):
 
 
 def _interrupt_named(error: str) -> KeyboardInterrupt:
-    from lcefem.solvers.run import Terminated
+    from lcefem.solvers.interrupts import Terminated
 
     return Terminated() if "Terminated" in error else KeyboardInterrupt()
 

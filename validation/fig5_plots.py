@@ -81,7 +81,7 @@ def render_covered(path, structure, x, scales, title: str, ball=None) -> pathlib
 
 def scale_chart(path, chart: dict, sources: Sequence[str]) -> pathlib.Path:
     """Grouped bars per shape: kappa_x and kappa_y [1/mm] of each series ({shape: {label: (kx, ky)}})."""
-    from lcefem.validation.plots import _footer, save_figure
+    from lcefem.validation.plots import save_figure, sources_footer
 
     fig = _figure((11, 4.5))
     axes = fig.subplots(1, 2, sharey=True)
@@ -99,7 +99,7 @@ def scale_chart(path, chart: dict, sources: Sequence[str]) -> pathlib.Path:
         ax.grid(alpha=0.3, axis="y")
     axes[0].set_ylabel("curvature [1/mm]")
     axes[1].legend(fontsize=7)
-    _footer(fig, sources)
+    sources_footer(fig, sources)
     return save_figure(fig, pathlib.Path(path), 130)
 
 

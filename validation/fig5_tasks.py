@@ -14,7 +14,7 @@ import numpy as np
 
 from lcefem.models.cover_scales import CoverScales
 from lcefem.solvers.problems.gridshell_bh_sequence import load_schedule, phase_ends, run_sequence
-from lcefem.solvers.run import write_text
+from lcefem.solvers.runtime.files import write_text
 from lcefem.validation import fig5_plots
 
 DATA = pathlib.Path(__file__).resolve().parent / "data"

@@ -2,27 +2,17 @@
 cases, the benchmark and the tests: the paper's Fig. 4 settings with the curvatures it reports
 (:data:`SHAPES`, validation data of validation/data/seed001.toml).
 
-Everything else is re-exported from where it is defined, for the studies, cases and benchmarks
-that import it from here: the problem, its supports, ramp, observables, the paper's programs
-(:data:`~lcefem.solvers.problems.gridshell_bh.SHAPE_DRIVES`), the published recipes and
-:func:`setup_gridshell` from :mod:`lcefem.solvers.problems.gridshell_bh`; the current route
-(currents per channel/group -> lambdas through the strip's thermal model, :func:`stretch_from_current`)
-from :mod:`lcefem.models.lumped_heat`.
+The problem, its supports, ramp, observables, the paper's programs and the published recipes are
+:mod:`lcefem.solvers.problems.gridshell_bh`'s; the current route (currents per channel/group ->
+lambdas through the strip's thermal model) is :mod:`lcefem.models.lumped_heat`'s: import them from
+there.
 
 Units: mm, N, t, s, A, 1/mm.
 """
 
 from __future__ import annotations
 
-from lcefem.models.lumped_heat import (  # noqa: F401
-    THERMAL_MODELS, CurrentRoute, lambda_assignments_from_currents, stretch_from_current)
-from lcefem.solvers.problems.gridshell_bh import (  # noqa: F401
-    DEPARTURES, GRIDSHELL_NEWTON, GRIDSHELL_PATH, RECIPE_SOURCE, RECIPES, SHAPE_DRIVE_SOURCES, SHAPE_DRIVES, SUPPORTS,
-    GridshellBH, GridshellBHConfig, GridshellSetup, GridshellSolution, add_table, centre_height,
-    check_lambda_values, lumped_node_weights, payload_forces, prepare_structure, published_configuration,
-    ribbon_nodes,
-    setup_from_model, setup_gridshell, shape_summary, solve_gridshell, solve_payload, support_dofs,
-    targets_from_lambdas, targets_from_recipe)
+from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVE_SOURCES, SHAPE_DRIVES
 from lcefem.validation.reference_data import reference
 
 SEED = "seed 001"

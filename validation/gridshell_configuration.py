@@ -31,7 +31,7 @@ from lcefem.models import bar_hinge as law
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.analysis.curvature import junction_centre_points
 from lcefem.solvers.problems import gridshell_bh as g
-from lcefem.solvers.run import write_text
+from lcefem.solvers.runtime.files import write_text
 
 #: The variants measured: label -> (departures, support override or None).
 VARIANTS = {

@@ -37,7 +37,8 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import NewtonOptions
 from lcefem.solvers.bar_hinge.design import (DesignResult, EquilibriumMap, solve_design,
                                              strip_parameters)
-from lcefem.validation import gridshell_bh as gs
+from lcefem.models import lumped_heat
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 
 #: Lower bound of the design lambdas [-]: the paper's most contracted Fig. 4 setting (seed 001,
 #: Results: lambda = 1.05 for the contracted channels).
@@ -78,14 +79,14 @@ def curvature_observable(structure: BarHingeStructure, height: bool = False):
     return obs
 
 
-def current_for_lambda(lam: float, route: gs.CurrentRoute = gs.CurrentRoute(),
+def current_for_lambda(lam: float, route: lumped_heat.CurrentRoute = lumped_heat.CurrentRoute(),
                        lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
     """Current [A] that holds a grid strip at ``lam`` through the route (inverse of
     :func:`~lcefem.validation.gridshell_bh.stretch_from_current`); 0 A for a lambda at or above the
     strip's unheated lambda."""
     def f(i):
         with np.errstate(over="ignore"):  # Eq. 1's exponential at large powers: lambda -> 1
-            return gs.stretch_from_current(i, route, lambda_N) - lam
+            return lumped_heat.stretch_from_current(i, route, lambda_N) - lam
     if f(0.0) <= 1e-12:
         return 0.0
     if f(1.0) > 0:
@@ -115,10 +116,10 @@ def setup_design(mode: str = "4", support: str = "rollers", height: bool = False
                  newton: NewtonOptions = DESIGN_NEWTON) -> GridshellDesign:
     """The design problem on a fresh surface (``layout``: ribbons per direction)."""
     structure = build_gridshell_bar_hinge(layout=layout)
-    setup = gs.setup_gridshell(None, support, structure=structure)
+    setup = problem_bh.setup_gridshell(None, support, structure=structure)
     params = strip_parameters(structure, channel_selections(structure, mode), lambda_N)
     eq = EquilibriumMap(setup.model, setup.held, params, curvature_observable(structure, height),
-                        newton_options=newton, path_options=gs.GRIDSHELL_PATH)
+                        newton_options=newton, path_options=problem_bh.GRIDSHELL_PATH)
     return GridshellDesign(structure, support, mode, eq, lambda_N, height)
 
 
@@ -179,8 +180,8 @@ def forward_check(design: GridshellDesign, p) -> dict:
     """Curvatures of a forward run from the as-built state at design variables p (the path of
     ``lcefem run gridshell``)."""
     params = design.eq.params
-    setup = gs.setup_gridshell(params.rest_fractions(p), design.support, structure=design.structure)
-    sol = gs.solve_gridshell(setup)
+    setup = problem_bh.setup_gridshell(params.rest_fractions(p), design.support, structure=design.structure)
+    sol = problem_bh.solve_gridshell(setup)
     return {"circle_x": float(sol.curvatures["circle_x"]), "circle_y": float(sol.curvatures["circle_y"]),
             "x": sol.final.x, "seconds": sol.path.seconds}
 
@@ -192,8 +193,8 @@ def lambdas_by_name(design: GridshellDesign, p) -> dict:
 def currents_for(design: GridshellDesign, p) -> dict[str, dict[str, float]]:
     """{route: {name: current [A]}} for both current routes."""
     out = {}
-    for model in gs.THERMAL_MODELS:
-        route = gs.CurrentRoute(thermal_model=model)
+    for model in lumped_heat.THERMAL_MODELS:
+        route = lumped_heat.CurrentRoute(thermal_model=model)
         out[model] = {str(k): current_for_lambda(float(v), route, design.lambda_N)
                       for k, v in zip(design.names, p)}
     return out

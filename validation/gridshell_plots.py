@@ -57,7 +57,7 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
     {shape: (kappa_x, kappa_y)} (None for a missing value)."""
     from matplotlib.figure import Figure
 
-    from lcefem.validation.plots import _footer, save_figure
+    from lcefem.validation.plots import save_figure, sources_footer
 
     def drawn(values: dict) -> bool:
         return any(v is not None and np.isfinite(v) for s in shapes for v in values.get(s, (None, None)))
@@ -84,7 +84,7 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
     axes[0].set_ylabel("curvature [1/mm]")
     if series:
         axes[1].legend(fontsize=7)
-    _footer(fig, sources)
+    sources_footer(fig, sources)
     return save_figure(fig, pathlib.Path(path), 150)
 
 

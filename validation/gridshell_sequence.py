@@ -1,9 +1,8 @@
 """``lcefem run gridshell --schedule FILE.toml``: programmed shape sequences of the robotic surface
 (seed 001, Fig. 5A and 5C). The schedule, the heat balance per selection and the quasi-static surface
-are :mod:`lcefem.solvers.problems.gridshell_bh_sequence` (its names are re-exported here for the
-studies and tests that import them from this module); this module holds the command line (prepare,
-main, dispatched from lcefem.validation.commands.gridshell) and the figures: curvature_vs_time.png
-and snapshot_NN.png (a render at the end of each phase NN of the schedule).
+are :mod:`lcefem.solvers.problems.gridshell_bh_sequence` (import them from there); this module
+holds the command line (prepare, main, dispatched from lcefem.validation.commands.gridshell) and the
+figures: curvature_vs_time.png and snapshot_NN.png (a render at the end of each phase NN of the schedule).
 """
 
 from __future__ import annotations
@@ -13,10 +12,8 @@ import pathlib
 
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.errors import InputError
-from lcefem.solvers.problems.gridshell_bh_sequence import (  # noqa: F401
-    CURVATURE_COLUMNS, SCHEDULE_KEYS, THERMAL_STRIPS, QuasiStaticSurface, Schedule, check_selections,
-    columns_for, load_schedule, phase_ends, rest_fractions, run_sequence, schedule_from_dict,
-    strip_histories)
+from lcefem.solvers.problems.gridshell_bh_sequence import (CURVATURE_COLUMNS, Schedule, check_selections,
+                                                         load_schedule, run_sequence)
 from lcefem.validation.plots import save_figure
 
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.figure import Figure
-from lcefem.solvers.run import naming
+from lcefem.solvers.runtime.files import naming
 
 KINDS = ("model", "experiment", "closed form", "published model", "reference")
 _STYLE = {
@@ -91,7 +91,7 @@ def _check_kind(kind: str) -> None:
 _FOOTER_PT = 6.5
 
 
-def _footer(fig: Figure, sources: Sequence[str]) -> None:
+def sources_footer(fig: Figure, sources: Sequence[str]) -> None:
     """Write the sources under the axes and keep the axes clear of them (constrained layout)."""
     src = "; ".join(dict.fromkeys(s for s in sources if s))
     if not src:
@@ -174,7 +174,7 @@ def comparison_plot(path: pathlib.Path, series: Sequence[Series], *, xlabel: str
         ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    _footer(fig, sources)
+    sources_footer(fig, sources)
     return save_figure(fig, path, dpi)
 
 
@@ -224,7 +224,7 @@ def convergence_plot(path: pathlib.Path, mesh_sizes: Sequence[float], series: Se
         ax.grid(True, which="both", alpha=0.3)
     if title:
         fig.suptitle(title, fontsize=10)
-    _footer(fig, sources)
+    sources_footer(fig, sources)
     return save_figure(fig, path, dpi)
 
 
@@ -289,5 +289,5 @@ def map_plot(path: pathlib.Path, x: Sequence[float], y: Sequence[float], z: np.n
         ax.legend(fontsize=8, loc="upper left")
     if title:
         ax.set_title(title, fontsize=10)
-    _footer(fig, sources)
+    sources_footer(fig, sources)
     return save_figure(fig, path, dpi)

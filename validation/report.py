@@ -18,7 +18,7 @@ import pathlib
 import platform
 from dataclasses import asdict, dataclass, field
 
-from lcefem.solvers.run import write_text
+from lcefem.solvers.runtime.files import write_text
 
 METRIC_KEYS = ("case", "metric", "value", "unit", "reference", "tolerance", "passed", "source")
 #: done (this run), reused (--resume), failed (the solver failed or a result left its physical bounds),

@@ -47,10 +47,14 @@ from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCo
 from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.models.lumped_heat import GRID_STRIP, HeatedStrip, grid_thermal, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
-from lcefem.solvers.run import Progress, Run, add_out_arguments, write_text
+from lcefem.solvers.runtime.files import write_text
+from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.validation import gridshell_bh as gs
+from lcefem.models import lumped_heat
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.models.bar_hinge import BarHingeMaterials
-from lcefem.validation.gridshell_sequence import QuasiStaticSurface
+from lcefem.solvers.problems.gridshell_bh_sequence import QuasiStaticSurface
 
 PARALLEL = False  # serial numpy/scipy bar-and-hinge model
 TARGETS = ("gridshell",)
@@ -63,7 +67,7 @@ DEFAULT_SOBOL = 1024  #: SALib base samples on the surrogate (N (2 G + 2) evalua
 Q2_VALID = 0.9  #: leave-one-out Q^2 above which the surrogate's Sobol indices are reported as valid
 #: Path from the nominal equilibrium to a sample: a sample is a small perturbation, so try the whole
 #: step first (halved on failure, as the default ramp) instead of the as-built ramp's 0.1 increments.
-WARM_PATH = dataclasses.replace(gs.GRIDSHELL_PATH, initial_increment=1.0, max_increment=1.0)
+WARM_PATH = dataclasses.replace(problem_bh.GRIDSHELL_PATH, initial_increment=1.0, max_increment=1.0)
 
 #: The string resistance range [ohm] (models.heat) and its mid-range, the nominal string.
 STRING_RESISTANCE = GRID_STRING_RESISTANCE_RANGE
@@ -250,8 +254,8 @@ class BandsConfig:
             raise InputError(f"--sobol-samples {self.sobol_samples}: must be <= {MAX_SOBOL}")
         if not 0 <= self.seed < 2**32:
             raise InputError(f"--seed {self.seed}: must be between 0 and 2^32 - 1 (numpy's seed)")
-        if self.thermal_model not in gs.THERMAL_MODELS:
-            raise InputError(f"--thermal-model {self.thermal_model!r}: allowed {', '.join(gs.THERMAL_MODELS)}")
+        if self.thermal_model not in lumped_heat.THERMAL_MODELS:
+            raise InputError(f"--thermal-model {self.thermal_model!r}: allowed {', '.join(lumped_heat.THERMAL_MODELS)}")
         return self
 
 
@@ -295,14 +299,14 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     started = time.perf_counter()
 
     def targets(fr: np.ndarray) -> dict:
-        return gs.targets_from_recipe(structure, dict(zip(CHANNELS, map(float, fr))))
+        return problem_bh.targets_from_recipe(structure, dict(zip(CHANNELS, map(float, fr))))
 
     def surface(modulus: float, start=None) -> QuasiStaticSurface:
         ogden = OgdenLaw()
         materials = dataclasses.replace(BarHingeMaterials(),
                                         ogden=OgdenLaw(tuple(modulus * m for m in ogden.mu), ogden.alpha))
         return QuasiStaticSurface(structure, spec["support"], materials, start=start,
-                                  path=gs.GRIDSHELL_PATH if start is None else WARM_PATH)
+                                  path=problem_bh.GRIDSHELL_PATH if start is None else WARM_PATH)
 
     x_nom = nominal_row(inputs)
     f_nom = rest_fractions_of(x_nom, cfg.shape, law)[0]
@@ -412,7 +416,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"Monte Carlo forward solves (default {DEFAULT_SAMPLES}: small, the solves are slow)")
     p.add_argument("--sobol-samples", type=int, default=DEFAULT_SOBOL,
                    help=f"SALib base samples on the surrogate, a power of 2 (default {DEFAULT_SOBOL})")
-    p.add_argument("--thermal-model", choices=gs.THERMAL_MODELS, default="eq1",
+    p.add_argument("--thermal-model", choices=lumped_heat.THERMAL_MODELS, default="eq1",
                    help="current -> lambda: 'eq1' (the paper's estimate, default) or 'segment'")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     add_out_arguments(p, None)

@@ -35,11 +35,13 @@ import traceback
 from tqdm import tqdm
 
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.run import (EXIT_CASE_ERROR, add_out_arguments, disk_error_message, is_disk_error,
-                               library_os_error, raise_if_interrupted,
-                               reinstall_signal_handlers, write_json, write_text)
+from lcefem.solvers.interrupts import raise_if_interrupted
+from lcefem.solvers.runtime.exits import EXIT_CASE_ERROR
+from lcefem.solvers.runtime.files import disk_error_message, is_disk_error, library_os_error, write_json, write_text
+from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.signals import reinstall_signal_handlers
 from lcefem.validation import phenomena, report
-from lcefem.validation.cli import world
+from lcefem.solvers.runtime.ranks import world
 from lcefem.validation.cases import Case, CaseContext, Metric, registry
 from lcefem.validation.report import CaseResult
 
@@ -140,7 +142,7 @@ def _use_rich() -> bool:
     return True
 
 
-def _isatty(file) -> bool:
+def is_terminal(file) -> bool:
     return bool(getattr(file, "isatty", lambda: False)())
 
 
@@ -165,7 +167,7 @@ def print_table(rows: list[dict], title: str, file=None) -> None:
         for row in body:
             style = colour.get(row[-1], "bold magenta")
             table.add_row(*(escape(c) for c in row[:-1]), f"[{style}]{escape(row[-1])}[/]")
-        width = None if _isatty(file) else 160
+        width = None if is_terminal(file) else 160
         Console(file=file, width=width, highlight=False).print(table)
         return
     widths = [max(len(h), *(len(row[i]) for row in body)) if body else len(h) for i, h in enumerate(header)]

@@ -2,7 +2,7 @@
 
 * :class:`PolylineSeries`: a VTK PolyData time series, frames ``<name>_steps/<name>_NNNNN.vtp`` (in
   ``<name>_steps.part/`` during the run) and the index ``<name>.pvd`` (``.partial`` names for a
-  failed run), the convention of lcefem.solvers.run.FrameSeries.
+  failed run), the convention of lcefem.solvers.runtime.files.FrameSeries.
 * ``CSVSeries``: the run skeleton's CSV table (units in the headers, same naming rules).
 
 Only numpy and VTK (the ``vtk`` wheel that pyvista uses); no FEniCSx.
@@ -16,7 +16,7 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import numpy_to_vtk
 
-from lcefem.solvers.run import CSVTable, FrameSeries
+from lcefem.solvers.runtime.files import CSVTable, FrameSeries
 
 
 def polydata(points: np.ndarray, lines: list[np.ndarray] | None = None, quads: np.ndarray | None = None,
@@ -52,7 +52,7 @@ def polydata(points: np.ndarray, lines: list[np.ndarray] | None = None, quads: n
 
 
 class PolylineSeries(FrameSeries):
-    """A ParaView time series of PolyData frames (lcefem.solvers.run.FrameSeries)."""
+    """A ParaView time series of PolyData frames (lcefem.solvers.runtime.files.FrameSeries)."""
 
     def __init__(self, folder: pathlib.Path, name: str):
         super().__init__(folder, name)
@@ -71,4 +71,4 @@ def write_vtp(path: pathlib.Path, data: vtk.vtkPolyData) -> None:
         raise OSError(f"could not write {path}")
 
 
-CSVSeries = CSVTable  # one CSV writer for every run (lcefem.solvers.run)
+CSVSeries = CSVTable  # one CSV writer for every run (lcefem.solvers.runtime.files)

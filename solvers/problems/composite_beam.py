@@ -18,8 +18,8 @@ problem, used by ``lcefem run beam --model fe``, the validation cases of
   :func:`curvature_map_fe` sweeps a grid with one model.
 * :func:`beam_fe_heated` — the same beam driven by a coil current through the heat model
   (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`).
-* :class:`BeamFEConfig`, :func:`run_beam_fe` — ``lcefem run beam --model fe``: the configuration
-  sections and one run (lambda ramp or coil current) through the run skeleton.
+* ``lcefem run beam --model fe`` (its configuration sections and one run through the run
+  skeleton) is :mod:`lcefem.solvers.problems.composite_beam_run`.
 
 Curvature: the same stations and circle fit as the bar-and-hinge beam
 (:func:`lcefem.meshes.composite_beam.middle_station_indices`,
@@ -48,22 +48,20 @@ import dolfinx.fem.petsc
 
 from lcefem.meshes.composite_beam import (BeamFEMesh, CompositeBeamGeometry, build_beam_fe,
                                           middle_station_indices)
-from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
                                         neo_hookean_strain_energy)
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.lce import isochoric_uniaxial
-from lcefem.models.limits import check_lambda
+from lcefem.models.limits import check_lambda, current_param
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import signed_circle_curvature
 from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
                                     face_pairs)
 from lcefem.solvers.continuation import PathControl, PathFollower
-from lcefem.solvers.exports import FieldExport, write_snapshot
-from lcefem.solvers.problems.composite_beam_bh import SIGN_CONVENTION, BeamRun
-from lcefem.solvers.run import Progress, Run, check_config, resolved
+from lcefem.solvers.exports import write_snapshot
+from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import plane_clamp, point_support
@@ -293,11 +291,13 @@ class BeamFE:
                 "curvature [1/mm]": self.curvature(), "contact force [N]": self.contact_force(),
                 "min gap [mm]": self.min_gap()}
 
-    def advance(self, *, on_step: Callable[[BeamState], None] | None = None,
+    def advance(self, dt: float = 1.0, *, on_step: Callable[[BeamState], None] | None = None,
                 progress: Callable[[float], None] | None = None) -> list[BeamState]:
         """Take the strips linearly from their current lengths to the targets of :meth:`set_lambda`
-        (load parameter t: 0 -> 1) with :class:`PathFollower`; one :class:`BeamState` per accepted
-        step. Raises ConvergenceError (the model keeps the last converged state)."""
+        (load parameter t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way) with
+        :class:`PathFollower`; one :class:`BeamState` per accepted step. Raises ConvergenceError
+        (the model keeps the last converged state)."""
+        dt = check_quasi_static_step(dt)
         lambda_top, lambda_bottom = self.target["top_strips"], self.target["bottom_strips"]
         lt0, lb0 = self.lambda_top, self.lambda_bottom
 
@@ -316,7 +316,7 @@ class BeamFE:
             if progress is not None:
                 progress(t)
 
-        follower.follow(1.0, where=f"beam ramp to lambda_T = {lambda_top:g}, lambda_B = "
+        follower.follow(dt, where=f"beam ramp to lambda_T = {lambda_top:g}, lambda_B = "
                         f"{lambda_bottom:g}", on_step=record)
         self.last_follower = follower
         return states
@@ -332,6 +332,27 @@ class BeamFE:
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
         """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
         return [write_snapshot(folder, "displacement.bp", [self.u], t)]
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "lambda [-]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return self.STRIPS
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_lambda(drives)
+
+    def fields(self) -> dict:
+        return {"displacement [mm]": self.u}
+
+    def save_state(self) -> dict:
+        return {"u": copy_arrays([self.u]), "lambdas": (self.lambda_top, self.lambda_bottom),
+                "target": dict(self.target)}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays([self.u], state["u"])
+        self.set_lambdas(*state["lambdas"])
+        self.target = dict(state["target"])
 
 
 def build_beam_mesh(geometry, lambda_N, mesh, comm):
@@ -461,8 +482,8 @@ def curvature_map_fe(lambdas, geometry: CompositeBeamGeometry = CompositeBeamGeo
 class HeatedBeamRun:
     """A coil current through one group of strips (the heat model has one power density)."""
 
-    current: float = param(0.0, "A", "0 (default) prescribes lambda_T, lambda_B instead; seed 001 used "
-                           "0.2 A for rapid contraction, 0.1 A for slow (Fig. 2A-B)", minimum=0.0)
+    current: float = current_param(0.0, "0 (default) prescribes lambda_T, lambda_B instead; seed 001 "
+                                   "used 0.2 A for rapid contraction, 0.1 A for slow (Fig. 2A-B)")
     heated: str = param("bottom", "-", "strips carrying the current: 'bottom', 'top' or 'both' (the "
                         "others stay at room temperature, as built)")
     duration: float = param(12.0, "s", "chosen: part of the 0.2 A transient (T_NI reached in about 10 s, "
@@ -583,6 +604,30 @@ class HeatedBeamFE:
         its = self.stepper.advance(dt, where=f"heated beam, t = {self.time + dt:.4g} s")
         return self.observables(its)
 
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "current [A]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return self.heated
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_current(drives)
+
+    def fields(self) -> dict:
+        return {"displacement [mm]": self.u, "temperature [C]": self.model.heat.T}
+
+    def _state_functions(self) -> list:
+        return [self.u, self.model.heat.T, self.model.heat.T_old, self.model.T_mech]
+
+    def save_state(self) -> dict:
+        return {"arrays": copy_arrays(self._state_functions()), "time": self.time,
+                "current": self.current}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays(self._state_functions(), state["arrays"])
+        self.time = state["time"]
+        self.set_current({tag: state["current"] for tag in self.heated})
+
 
 def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
                    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
@@ -611,110 +656,3 @@ def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
         if on_step is not None:
             on_step(rows[-1])
     return beam.model, rows, beam.stations
-
-
-# -- one run (``lcefem run beam --model fe``) ------------------------------------------------------
-@dataclass(frozen=True)
-class BeamFEConfig:
-    """The FE beam's sections: run (lambdas), heat_run (a coil current instead), geometry, mesh,
-    kapton, lce, actuation, contact, path, eq2."""
-
-    run: BeamRun = field(default_factory=BeamRun)
-    heat_run: HeatedBeamRun = field(default_factory=HeatedBeamRun)
-    geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
-    mesh: BeamFEMesh = field(default_factory=BeamFEMesh)
-    kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
-    lce: LCEElasticity = field(default_factory=LCEElasticity)
-    actuation: BeamActuation = field(default_factory=BeamActuation)
-    contact: PenaltyContact = field(default_factory=PenaltyContact)
-    path: PathControl = field(default_factory=PathControl)
-    eq2: Eq2 = field(default_factory=Eq2)
-
-    def validated(self) -> "BeamFEConfig":
-        check_config(self)
-        self.geometry.checked()
-        self.mesh.checked()
-        self.heat_run.checked()
-        for name in ("lambda_top", "lambda_bottom"):
-            check_lambda(f"run.{name}", getattr(self.run, name), self.actuation.lambda_N)
-        return self
-
-    @property
-    def materials(self) -> FEMaterials:
-        return FEMaterials(self.kapton, self.lce)
-
-    def resolved(self) -> dict:
-        return resolved(self)
-
-
-FE_COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",
-              "eq2 curvature [1/mm]", "contact force [N]", "min gap [mm]", "newton iterations [-]"]
-HEAT_COLUMNS = ["time [s]", "curvature [1/mm]", "T_mean bottom_strips [C]", "T_mean top_strips [C]",
-                "T_mean kapton [C]", "contact force [N]", "newton iterations [-]"]
-
-
-def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
-    """Run the FE beam through the run skeleton: the lambda ramp (history.csv of :data:`FE_COLUMNS`,
-    displacement.bp, summary.json) or, when ``heat_run.current`` > 0, the coil current
-    (:func:`beam_fe_heated`; history.csv of :data:`HEAT_COLUMNS`). Returns the summary.
-    ``report(out, cfg, model, history) -> dict`` (optional: the validation's plots and notes) runs
-    before the summary is written; its entries join the results."""
-    cfg = cfg.validated()
-    out = pathlib.Path(out)
-    if cfg.heat_run.current > 0:
-        return _run_beam_fe_heated(cfg, out, progress, report)
-    lam_t, lam_b = cfg.run.lambda_top, cfg.run.lambda_bottom
-    started = time.perf_counter()
-    model = BeamFE(cfg.geometry, cfg.mesh, cfg.materials, cfg.actuation, cfg.contact, cfg.path)
-    bar = Progress(1.0, f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
-    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
-        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
-        fields.write(0.0)
-
-        def on_step(state) -> None:
-            run.record({"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
-                        "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
-                        "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top, state.lambda_bottom,
-                                                                    cfg.eq2)),
-                        "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
-                        "newton iterations [-]": state.iterations},
-                       where=f"lambda = ({state.lambda_top:.5g}, {state.lambda_bottom:.5g})",
-                       at=state.load_factor)
-            fields.write(state.load_factor)
-
-        model.ramp(lam_t, lam_b, on_step=on_step)
-        history = run.history
-        extra = report(out, cfg, model, history) if report is not None else {}
-        follower = model.last_follower
-        return run.complete({
-            "model": "fe",
-            "results": {
-                "curvature [1/mm]": model.curvature(),
-                "eq2 curvature [1/mm]": float(eq2_curvature(lam_t, lam_b, cfg.eq2)),
-                **(extra or {}), "sign convention": SIGN_CONVENTION,
-                "contact force [N]": model.contact_force(), "min gap [mm]": model.min_gap(),
-                "folds crossed": follower.snaps,
-            },
-            "dofs": model.ndofs, "cells": model.tmesh.info["cells"], "symmetry": model.tmesh.info["symmetry"],
-            "steps": len(history.rows), "newton_iterations": follower.iterations,
-            "cut_steps": follower.cuts, "wall_time [s]": time.perf_counter() - started,
-        })
-
-
-def _run_beam_fe_heated(cfg: BeamFEConfig, out: pathlib.Path, progress: bool, report) -> dict:
-    run_cfg = cfg.heat_run
-    bar = Progress(run_cfg.duration, f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",
-                   enabled=progress)
-    started = time.perf_counter()
-    coil = GridSegmentCoil()
-    with Run(out, config=cfg.resolved(), columns=HEAT_COLUMNS, progress=bar) as run:
-        model, rows, _ = beam_fe_heated(
-            run_cfg, cfg.geometry, cfg.mesh, cfg.materials, cfg.contact, coil=coil,
-            on_step=lambda row: run.record(row, where=f"t = {row['time [s]']:.4g} s", at=row["time [s]"]))
-        extra = report(out, cfg, model, run.history) if report is not None else {}
-        return run.complete({
-            "model": "fe", "drive": "current",
-            "results": {"curvature [1/mm]": float(run.history.column("curvature [1/mm]")[-1]),
-                        "T_mean bottom strips [C]": float(run.history.column("T_mean bottom_strips [C]")[-1]),
-                        "coil resistance per strip [ohm]": coil.resistance, **(extra or {})},
-            "steps": len(rows) - 1, "wall_time [s]": time.perf_counter() - started})

@@ -32,7 +32,8 @@ from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, isostatic_supports)
 from lcefem.solvers.exports import bar_hinge_run
-from lcefem.solvers.run import Progress, check_config, resolved
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the actuation ramp (see PathOptions).
 BEAM_PATH = PathOptions(initial_increment=0.05, max_increment=0.2, easy_iterations=10)

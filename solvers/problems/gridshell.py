@@ -84,6 +84,7 @@ from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, as
                                       deformation_gradient, displacement_space, volume_measure)
 from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
 from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVES
+from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.heat import HeatProblem, HeatSetup
@@ -404,22 +405,24 @@ class GridshellFE:
         arr = self.target if target else self.lam.x.array
         return np.unique(arr[np.isin(self._dof_tag, self._tags_of(selector))])
 
-    def advance(self, *, on_step: Callable[[GridshellState], None] | None = None
+    def advance(self, dt: float = 1.0, *, on_step: Callable[[GridshellState], None] | None = None
                 ) -> list[GridshellState]:
         """Take every strip linearly from its current lambda to its target (path parameter
-        t: 0 -> 1; with gravity on, its weight rises with t on the first ramp) with the path
-        follower. Raises ConvergenceError (the model keeps the last converged state)."""
+        t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way; with gravity on, its weight rises
+        with t on the first ramp) with the path follower. Raises ConvergenceError (the model keeps
+        the last converged state)."""
+        dt = check_quasi_static_step(dt)
         lam0 = self.lam.x.array.copy()
-        dlam = self.target - lam0
+        dlam = dt * (self.target - lam0)
         g0 = self.gravity_on
-        g1 = self._full_weight()
+        g1 = g0 + dt * (self._full_weight() - g0)
 
         def set_load(t: float) -> None:
             self.lam.x.array[:] = lam0 + t * dlam
             self._set_weight(g0 + t * (g1 - g0))
 
         states = self._follow(set_load, self.config.control, "gridshell ramp", on_step)
-        self.lam.x.array[:] = self.target  # exactly, not lam0 + 1.0 * dlam
+        self.lam.x.array[:] = self.target if dt == 1.0 else lam0 + dlam  # exactly, not lam0 + 1.0 * dlam
         return states
 
     def ramp(self, drives: Mapping[str, float], **kw) -> list[GridshellState]:
@@ -504,10 +507,13 @@ class GridshellFE:
         return states
 
     # ------------------------------------------------------------------ mesh transfer
-    def save_state(self, path) -> pathlib.Path:
+    def save_state(self, path=None) -> pathlib.Path | dict:
         """The converged state (displacement, lambda per strip tag, weight fraction) and the mesh
         it lives on (level, layers, symmetry; DOF coordinates to check the rebuild) as ``.npz``,
-        written atomically; read back by :meth:`prolong_from` on a finer mesh (serial)."""
+        written atomically; read back by :meth:`prolong_from` on a finer mesh (serial). Without a
+        path: an in-memory copy for :meth:`restore_state` (the Problem protocol)."""
+        if path is None:
+            return self.memory_state()
         path = pathlib.Path(path)
         m = self.config.mesh
         tags = np.asarray(sorted(self.strip_tags.values()), dtype=np.int32)
@@ -680,6 +686,33 @@ class GridshellFE:
             for fn in self._cell_fields():
                 f.write_function(fn, t)
         return [disp, cells]
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "lambda [-]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        """Strip tags, then the groups and channels made of strips (:meth:`set_lambda`)."""
+        strips = set(self.strip_tags.values())
+        groups = [g for g, tags in self.info["cell_groups"].items() if tags and set(tags) <= strips]
+        return (*self.strip_tags, *groups)
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_lambda(drives)
+
+    def fields(self) -> dict:
+        lam, stress, director = GridshellFE._cell_fields(self)
+        return {"displacement [mm]": self.u, "lambda [-]": lam, "von Mises stress [MPa]": stress,
+                "director [-]": director}
+
+    def memory_state(self) -> dict:
+        """What :meth:`advance` changes: displacement, lambda and its targets, weight fraction."""
+        return {"arrays": copy_arrays([self.u, self.lam]), "target": self.target.copy(),
+                "gravity_on": self.gravity_on}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays([self.u, self.lam], state["arrays"])
+        self.target = state["target"].copy()
+        self._set_weight(state["gravity_on"])
 
 # --------------------------------------------------------------------------- heated route
 #: The paper's dome protocol (seed 001, Results: "0.1 A on the top strips and 0.2 A on the bottom
@@ -922,6 +955,34 @@ class HeatedGridshellFE(GridshellFE):
             previous = T1
         raise ConvergenceError("heated gridshell, steady hold", f"the steady temperature still "
                                f"moves {change:.3g} K after {max_sweeps} sweeps")
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "current [A]"
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_current(drives)
+
+    def advance(self, dt: float, **unused) -> dict[str, float]:
+        """One time step of ``dt`` [s] (:meth:`advance_time`): the heated gridshell's time is
+        simulated time; its lambda follows the temperature, not targets."""
+        return self.advance_time(dt)
+
+    def fields(self) -> dict:
+        out = super().fields()
+        out["lambda [-]"] = self._cell_fields()[0]  # lambda_s(T) at the strips' midpoints
+        self.lambda_s.interpolate(self._lambda_s_expr)
+        return {**out, "temperature [C]": self.heat.T, "spontaneous stretch [-]": self.lambda_s}
+
+    def memory_state(self) -> dict:
+        return {**super().memory_state(), "heat": copy_arrays([self.heat.T, self.heat.T_old, self.T_mech]),
+                "time": self.time, "currents": self.currents.copy(), "power": copy_arrays([self.power])}
+
+    def restore_state(self, state: dict) -> None:
+        super().restore_state(state)
+        put_arrays([self.heat.T, self.heat.T_old, self.T_mech], state["heat"])
+        put_arrays([self.power], state["power"])
+        self.currents[:] = state["currents"]
+        self.stepper.time = state["time"]
 
 
 def prolong_by_tag(u_from, tags_from, V_to, tags_to) -> np.ndarray:

@@ -51,11 +51,13 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, panel_dimensions
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
-from lcefem.meshes.gridshell import GridshellLayout, STRIP_GROUPS, build_gridshell_bar_hinge, resolve_bar_values
+from lcefem.meshes.gridshell import (CHANNELS, FAMILIES, GridshellLayout, STRIP_GROUPS,
+                                    build_gridshell_bar_hinge, resolve_bar_values)
 from lcefem.models import bar_hinge as law
 from lcefem.models import units
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
+from lcefem.models.limits import check_current
 from lcefem.models.loads import SurfaceWeight
 from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents, shape_currents
 from lcefem.models.parameters import check, describe, param
@@ -63,7 +65,9 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
 from lcefem.solvers.exports import bar_hinge_run
-from lcefem.solvers.run import Progress, write_text
+from lcefem.solvers.problems.protocol import check_quasi_static_step
+from lcefem.solvers.runtime.files import write_text
+from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
 GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iterations=8,
@@ -356,12 +360,15 @@ class GridshellBH:
         """Target lambda [-] of every bar of a strip group."""
         return self._target[group] * self.lambda_N
 
-    def advance(self, *, on_step: Callable[[PathState], None] | None = None,
+    def advance(self, dt: float = 1.0, *, on_step: Callable[[PathState], None] | None = None,
                 progress: Callable[[float], None] | None = None) -> PathResult:
-        """Ramp the rest fractions from the current state to the targets (t: 0 -> 1) from the current
-        positions; raises ConvergenceError when the increment falls below its minimum."""
+        """Ramp the rest fractions from the current state to the targets (t: 0 -> 1; ``dt`` < 1 stops
+        at that fraction of the way) from the current positions; raises ConvergenceError when the
+        increment falls below its minimum."""
+        dt = check_quasi_static_step(dt)
         start = {g: v.copy() for g, v in self._current.items()}
-        target = {g: v.copy() for g, v in self._target.items()}
+        target = {g: v.copy() if dt == 1.0 else start[g] + dt * (v - start[g])
+                  for g, v in self._target.items()}
         model, held = self.model, self.setup.held
 
         def load(t: float) -> np.ndarray:
@@ -386,6 +393,31 @@ class GridshellBH:
         out["z range [mm]"] = s["z_range [mm]"]
         out["centre height [mm]"] = centre_height(self.structure, self.x)
         return out
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "lambda [-]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        """Layers, channels, families and groups (strip ids and half planes also select:
+        :func:`lcefem.meshes.gridshell.resolve_bar_values`)."""
+        return ("T", "B", *CHANNELS, *FAMILIES, *sorted(self.structure.info["groups"]))
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_lambda(drives)
+
+    def fields(self) -> dict:
+        return {"node positions [mm]": self.x}
+
+    def save_state(self) -> dict:
+        return {"x": self.x.copy(), "current": {g: v.copy() for g, v in self._current.items()},
+                "target": {g: v.copy() for g, v in self._target.items()}, "steps": len(self.history)}
+
+    def restore_state(self, state: dict) -> None:
+        self.x = state["x"].copy()
+        self._current = {g: v.copy() for g, v in state["current"].items()}
+        self._target = {g: v.copy() for g, v in state["target"].items()}
+        del self.history[state["steps"]:]
+        self.model.set_rest_fractions(self._current)
 
 
 def _selection_masks(structure: BarHingeStructure, key) -> dict[str, np.ndarray]:
@@ -590,8 +622,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
             if not isinstance(v, (int, float)) or isinstance(v, bool):
                 raise InputError(f"{sel} = {v!r}: must be a number")
         for sel, v in self.currents.items():
-            if not 0.0 <= v <= 1.0:
-                raise InputError(f"current {sel} = {v}: must be between 0 and 1 A")
+            check_current(f"current {sel}", v)
         return self
 
     @property

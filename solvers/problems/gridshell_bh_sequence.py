@@ -27,7 +27,7 @@ and the cap at the as-built lambda_N of the strip bars (a longer strip is slack)
 surface follows with rest fractions lambda/lambda_N; the mechanics is quasi-static (the heat time
 constant, ~100 s, is far above the surface's inertial times).
 
-Outputs (through the run skeleton, lcefem.solvers.run.Run): ``history.csv`` (time [s], per-selection
+Outputs (through the run skeleton, lcefem.solvers.runtime.run.Run): ``history.csv`` (time [s], per-selection
 current [A], temperature [C], lambda [-], centre curvatures by the circle and the quadratic-fit measure
 [1/mm], z range [mm], Newton iterations), ``sequence.pvd`` + ``sequence_steps/*.vtp`` (ParaView frame
 series, time = simulated seconds), ``summary.json``; and what the hooks add (the command line:
@@ -51,13 +51,13 @@ from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.lce import spontaneous_stretch
-from lcefem.models.limits import MAX_CURRENT, MAX_DURATION
+from lcefem.models.limits import MAX_DURATION, check_current
 from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
                                        implicit_euler_step)
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.exports import BarHingeVTK
 from lcefem.solvers.problems import gridshell_bh as gs
-from lcefem.solvers.run import Progress, Run
+from lcefem.solvers.runtime.run import Progress, Run
 
 #: The lumped body per thermal model: 'segment' is one 25 ohm, 30 mm grid segment (the current route's
 #: default); 'eq1' is the free strip of Fig. 2 (146.6 ohm, 80 mm isotropic) on which Eq. 1 was
@@ -153,9 +153,7 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
             raise InputError(f"{field}: must be a list of {len(times)} currents [A] (one per switch time)")
         vals = tuple(_number(v, f"{field}[{i}]") for i, v in enumerate(values))
         for i, v in enumerate(vals):
-            if not 0.0 <= v <= MAX_CURRENT:
-                raise InputError(f"{field}[{i}] = {v} A: must be between 0 and {MAX_CURRENT} A "
-                                 "(lcefem.models.limits)")
+            check_current(f"{field}[{i}]", v)
         currents[int(sel) if sel.isdigit() else sel] = vals
     if not currents:
         raise InputError(f"{where}: section [currents] is empty (give e.g. Tx = [0.1, 0.04])")
@@ -163,7 +161,7 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
 
 
 def load_schedule(path) -> Schedule:
-    from lcefem.solvers.run import read_toml
+    from lcefem.solvers.runtime.inputs import read_toml
 
     path = pathlib.Path(path)
     data = read_toml(path, f"--schedule '{path}'")

@@ -27,7 +27,7 @@ import itertools
 import math
 import pathlib
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
@@ -41,13 +41,15 @@ import dolfinx.fem.petsc
 
 from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry, build_ribbon_fe
 from lcefem.models import buckling
-from lcefem.models.errors import ConvergenceError
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
 from lcefem.models.parameters import param
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import FieldExport, write_snapshot
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
-from lcefem.solvers.run import Progress, Run, check_config, resolved
+from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import clamp_face, mirror_planes
@@ -112,6 +114,7 @@ class KaptonSpecimenFE:
         self.length = specimen.length
         self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
         self._mid = self._node((0.5 * self.length, 0.0, 0.5 * specimen.thickness))
+        self.target_shortening = 0.0  # [mm] reached by advance()
 
     def _node(self, point) -> int:
         X = self.V.tabulate_dof_coordinates()
@@ -247,6 +250,44 @@ class KaptonSpecimenFE:
             if on_step is not None:
                 on_step(float(c), follower.iterations - before)
         return follower
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "end shortening [mm]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return ("clamp_right",)  # the moved clamp face; clamp_left is held
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        """Target end shortening [mm] of the moved clamp (0 <= d < L), reached by :meth:`advance`."""
+        for tag, value in drives.items():
+            if tag not in self.drive_tags():
+                raise InputError(f"drive {tag!r}: not a driven face of the specimen (allowed clamp_right)")
+            if not isinstance(value, (int, float)) or not 0.0 <= value < self.length:
+                raise InputError(f"end shortening[{tag}] = {value} mm: must be in [0, {self.length:g}) mm")
+            self.target_shortening = float(value)
+
+    def advance(self, dt: float = 1.0) -> PathFollower:
+        """From the present end shortening the fraction ``dt`` (0 < dt <= 1) of the way to the
+        target of :meth:`set_drives`, with the path follower of :meth:`follow` (load parameter:
+        compression = shortening / L)."""
+        dt = check_quasi_static_step(dt)
+        start = -float(self.end.value[0]) / self.length
+        goal = start + dt * (self.target_shortening / self.length - start)
+        follower = PathFollower(self.problem, lambda c: self.set_shortening(c * self.length),
+                                PathControl(first_step=1.0, max_step=1.0, min_step=1e-3), t0=start)
+        if goal != start:
+            follower.follow(goal, where=f"ribbon compression {100 * goal:.3g} %")
+        return follower
+
+    def fields(self) -> dict:
+        return {"displacement [mm]": self.u}
+
+    def save_state(self) -> dict:
+        return {"u": copy_arrays([self.u]), "shortening": -float(self.end.value[0])}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays([self.u], state["u"])
+        self.set_shortening(state["shortening"])
 
 
 __all__ = ["CriticalLoad", "KaptonSpecimenFE", "KaptonSpecimenFEPath"]

@@ -5,6 +5,7 @@
 * :func:`critical_load` — the bifurcation load of the perfect (flat) specimen: the end shortening at
   which the tangent stiffness of the straight equilibrium first loses positive definiteness
   (Sylvester inertia of the sparse LDL^T), found by bisection.
+* :class:`KaptonSpecimenBH` — the same specimen as a problem object (drive: end shortening [mm]).
 * Closed forms: :mod:`lcefem.models.buckling` (Euler, elastica),
   :func:`lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness`; :func:`closed_forms` of a configuration.
 * :class:`KaptonSpecimenConfig`, :func:`run_specimen` — ``lcefem run ribbon-buckling``: the
@@ -33,7 +34,9 @@ from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, held_dofs, newton)
 from lcefem.solvers.exports import bar_hinge_run
-from lcefem.solvers.run import Progress, check_config, resolved
+from lcefem.solvers.problems.protocol import check_quasi_static_step
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the end shortening (0 -> 50 %); small increments resolve the force curve.
 SPECIMEN_PATH = PathOptions(initial_increment=0.01, max_increment=0.02, easy_iterations=10)
@@ -172,6 +175,72 @@ def critical_load(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
         else:
             hi = mid
     return state(lo)[1], lo
+
+
+class KaptonSpecimenBH:
+    """The bar-and-hinge specimen as a problem (lcefem.solvers.problems.protocol.Problem): the
+    right clamp's end shortening [mm] is the drive, reached by :meth:`advance` along the path
+    follower from the present state (:func:`solve_specimen_buckling` is the same path in one call)."""
+
+    drive = "end shortening [mm]"
+
+    def __init__(self, specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+                 mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
+                 materials: BarHingeMaterials = BarHingeMaterials(), *,
+                 newton_options: NewtonOptions = NewtonOptions(), path: PathOptions = SPECIMEN_PATH):
+        self.specimen, self.newton_options, self.path = specimen, newton_options, path
+        self.structure, self.model, left, right = specimen_model(specimen, mesh, materials)
+        self.held = np.concatenate([left, right])
+        self.right_x = right[right % 3 == 0]
+        self._base = self.structure.nodes.reshape(-1)[self.held].copy()
+        self._moving = np.isin(self.held, self.right_x)
+        self.x = self.structure.nodes.copy()
+        self.shortening = self.target_shortening = 0.0  # [mm]
+        self.force = 0.0  # [N] compressive, at the present state
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return ("right_clamp",)  # the moved clamp's node set; left_clamp is held
+
+    def set_drives(self, drives) -> None:
+        for tag, value in drives.items():
+            if tag not in self.drive_tags():
+                raise InputError(f"drive {tag!r}: not a driven clamp of the specimen (allowed right_clamp)")
+            if not isinstance(value, (int, float)) or not 0.0 <= value < 0.95 * self.specimen.length:
+                raise InputError(f"end shortening[{tag}] = {value} mm: must be in [0, "
+                                 f"{0.95 * self.specimen.length:g}) mm (95 % of the free length)")
+            self.target_shortening = float(value)
+
+    def advance(self, dt: float = 1.0) -> PathResult:
+        """The fraction ``dt`` (0 < dt <= 1) of the way from the present end shortening to the
+        target; raises ConvergenceError (the present state is kept)."""
+        start = self.shortening
+        goal = start + check_quasi_static_step(dt) * (self.target_shortening - start)
+        result = follow_path(self.model, self.x, self.held,
+                             lambda t: self._base - np.where(self._moving, start + t * (goal - start), 0.0),
+                             newton_options=self.newton_options, path_options=self.path)
+        last = result.states[-1]
+        self.x, self.shortening = last.x.copy(), goal
+        self.force = compressive_force(last.reactions, self.held, self.right_x)
+        return result
+
+    def observables(self) -> dict[str, float]:
+        mid = np.argmin(np.abs(self.structure.nodes[:, 0] - 0.5 * self.specimen.length)
+                        + np.abs(self.structure.nodes[:, 1]))
+        return {"end shortening [mm]": self.shortening,
+                "compression [-]": self.shortening / self.specimen.length, "force [N]": self.force,
+                "mid-span deflection [mm]": float(self.x[mid, 2] - self.structure.nodes[mid, 2])}
+
+    def fields(self) -> dict:
+        return {"node positions [mm]": self.x}
+
+    def save_state(self) -> dict:
+        return {"x": self.x.copy(), "shortening": self.shortening, "target": self.target_shortening,
+                "force": self.force}
+
+    def restore_state(self, state: dict) -> None:
+        self.x = state["x"].copy()
+        self.shortening, self.target_shortening, self.force = (state["shortening"], state["target"],
+                                                               state["force"])
 
 
 # -- one run (``lcefem run ribbon-buckling``) ---------------------------------------------------

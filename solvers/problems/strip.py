@@ -41,14 +41,16 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition, spontaneous_stretch, temperature_for_stretch
-from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, MAX_CURRENT
+from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check_current, current_param
 from lcefem.models.parameters import param
 from lcefem.solvers import cost
 from lcefem.solvers.exports import FieldExport
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure
+from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
 from lcefem.solvers.thermomechanics import LCERegion, ThermoMechanicalModel
-from lcefem.solvers.run import Progress, Run, check_config, resolved
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.supports import clamp_face, component_bc, mirror_planes, nodes_on_line, plane_clamp
 
 COLUMNS = ["time [s]", "T_mean [C]", "T_max [C]", "T_surface [C]", "stretch [-]", "force [N]",
@@ -60,8 +62,7 @@ BOUNDARY_CONDITIONS = ("free", "held")
 class StripRun:
     """What the experimenter sets: current, duration, boundary condition."""
 
-    current: float = param(0.2, "A", "seed 001: 0.1, 0.15, 0.2 A transients; 0.04-0.09 A hold currents",
-                           minimum=0.0, maximum=MAX_CURRENT)
+    current: float = current_param(0.2, "seed 001: 0.1, 0.15, 0.2 A transients; 0.04-0.09 A hold currents")
     duration: float = param(30.0, "s", "seed 001: 0.2 A kept under 30 s", positive=True)
     dt: float = param(0.5, "s", "chosen: time step (backward Euler)", positive=True)
     bc: str = param("free", "-", "'free' (one end clamped, other free) or 'held' (both ends clamped "
@@ -198,6 +199,7 @@ class StripSimulation:
             spontaneous_stretch(self.model.heat.T, tr), self.model.heat.V.element.interpolation_points)
         self.ndofs = {"displacement": V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
                       "temperature": self.model.heat.V.dofmap.index_map.size_global}
+        self.time = 0.0  # [s] simulated by advance()
 
     # -- drives -----------------------------------------------------------------------------
     #: Cell tags that carry a coil (the heated cells of the heat problem).
@@ -210,8 +212,7 @@ class StripSimulation:
             if tag not in self.COILS:
                 raise InputError(f"drive {tag!r}: not a coil tag of the strip (allowed "
                                  f"{', '.join(self.COILS)})")
-            if not isinstance(current, (int, float)) or not 0.0 <= current <= MAX_CURRENT:
-                raise InputError(f"current[{tag}] = {current}: must be between 0 and {MAX_CURRENT} A")
+            check_current(f"current[{tag}]", current)
             self.power = self.config.coil.power(float(current))  # [mW]
             self.model.heat.power_density.value = self.power / self._coil_volume
 
@@ -266,7 +267,9 @@ class StripSimulation:
     def advance(self, dt: float, where: str | None = None):
         """One backward-Euler heat step of ``dt`` [s], then the mechanics to the new temperature
         (the one path follower); returns the step report (iterations, cuts)."""
-        return self.model.step(dt, where=where or f"step of {dt:g} s")
+        report = self.model.step(dt, where=where or f"step of {dt:g} s")
+        self.time += dt
+        return report
 
     # -- observables ------------------------------------------------------------------------
     def stretch(self) -> float:
@@ -371,6 +374,34 @@ class StripSimulation:
                 "cell_type": self.config.mesh.cell, "symmetry": self.config.mesh.symmetry,
                 "element_size [mm]": self.dims["element_size"], "dofs": self.ndofs,
                 "mpi_ranks": self.comm.size}
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "current [A]"
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return self.COILS
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        self.set_current(drives)
+
+    def observables(self) -> dict[str, float]:
+        return self.observe(self.time)
+
+    def fields(self) -> dict:
+        self.lambda_s.interpolate(self._lambda_expr)
+        return {"displacement [mm]": self.model.u, "temperature [C]": self.model.heat.T,
+                "spontaneous stretch [-]": self.lambda_s}
+
+    def _state_functions(self) -> list:
+        return [self.model.u, self.model.heat.T, self.model.heat.T_old, self.model.T_mech]
+
+    def save_state(self) -> dict:
+        return {"arrays": copy_arrays(self._state_functions()), "time": self.time, "power": self.power}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays(self._state_functions(), state["arrays"])
+        self.time, self.power = state["time"], state["power"]
+        self.model.heat.power_density.value = self.power / self._coil_volume
 
 
 def _as_arrays(rows: list[dict]) -> dict[str, np.ndarray]:

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import itertools
 import pathlib
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
@@ -47,6 +47,7 @@ from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.mechanics import (HyperelasticProblem, deformation_gradient, displacement_space,
                                       volume_measure)
 from lcefem.solvers.probes import PointProbe
+from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
 
 __all__ = ["TWISTED_RIBBON_NEWTON", "TwistedRibbonFE", "TwistedRibbonSolution", "solve_twisted_ribbon"]
 
@@ -135,6 +136,7 @@ class TwistedRibbonFE:
         self._reference = {k: helicoid(v, twist_rate) for k, v in straight.items()}
         self._span = xs[-1] - xs[0]
         self._probe = PointProbe(mesh, np.vstack([self._reference[k] for k in ("centre", "plus", "minus")]))
+        self.target_load = 1.0  # [-] the load fraction advance() goes to
 
     @staticmethod
     def _supports(V, tm, width: float, tol: float, comm) -> list:
@@ -156,11 +158,15 @@ class TwistedRibbonFE:
         """Fraction s [-] of the spontaneous-stretch change a(T) - 1 applied."""
         self.load.value = value
 
-    def advance(self, target: float = 1.0, first: float = 0.25, predictor: str = "none") -> continuation.StepReport:
-        """Ramp the load from the current state to ``target`` by the shared step controller
-        (:class:`continuation.PathFollower`, trying ``first`` as the first increment and halving
-        failed ones down to 1/256); ``predictor``: "none" (each increment starts from the last
-        converged state) or "tangent" (Euler predictor)."""
+    def advance(self, dt: float = 1.0, *, first: float = 0.25,
+                predictor: str = "none") -> continuation.StepReport:
+        """Ramp the load the fraction ``dt`` (0 < dt <= 1) of the way from the current state to its
+        target (:meth:`set_drives`, as built 1: the full temperature field) by the shared step
+        controller (:class:`continuation.PathFollower`, trying ``first`` as the first increment and
+        halving failed ones down to 1/256); ``predictor``: "none" (each increment starts from the
+        last converged state) or "tangent" (Euler predictor)."""
+        start = float(self.load.value)
+        target = start + check_quasi_static_step(dt) * (self.target_load - start)
         follower = continuation.PathFollower(self.problem, self.set_load, continuation.PathControl(
             first_step=min(1.0, first), max_step=1.0, min_step=1.0 / 256.0, predictor=predictor),
             t0=float(self.load.value))
@@ -188,6 +194,30 @@ class TwistedRibbonFE:
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
         """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
         return [write_snapshot(folder, "displacement.bp", [self.u], t)]
+
+    # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
+    drive = "load fraction [-]"  # of the spontaneous-stretch change a(T) - 1 (set_load)
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return ("body",)  # the mesh's one cell tag: the whole ribbon is heated
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        for tag, value in drives.items():
+            if tag not in self.drive_tags():
+                raise InputError(f"drive {tag!r}: not a cell tag of the twisted ribbon (allowed body)")
+            if not isinstance(value, (int, float)) or not 0.0 <= value <= 1.0:
+                raise InputError(f"load fraction[{tag}] = {value}: must be in [0, 1]")
+            self.target_load = float(value)
+
+    def fields(self) -> dict:
+        return {"displacement [mm]": self.u}
+
+    def save_state(self) -> dict:
+        return {"u": copy_arrays([self.u]), "load": float(self.load.value)}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays([self.u], state["u"])
+        self.set_load(state["load"])
 
 
 def solve_twisted_ribbon(length: float, width: float, thickness: float, twist_rate: float,

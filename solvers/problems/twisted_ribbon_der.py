@@ -38,7 +38,10 @@ from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSetup,
                                        RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
-from lcefem.solvers.run import CSVTable, Progress, Run, check_config, deferred_signals, resolved, write_json
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.files import CSVTable, write_json
+from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.solvers.runtime.signals import deferred_signals
 
 CENTROID_COLUMNS = ["time [s]", "x [mm]", "y [mm]", "z [mm]"]
 

@@ -28,8 +28,9 @@ def test_gridshell_inputs_sample_the_measured_spreads():
     assert ln.std() / ln.mean() == pytest.approx(8.01 / 130.22, rel=0.03)  # seed 001: 130.22 +- 8.01 mm
     # the nominal inputs give the current route's lambdas (Eq. 1 at the paper's dome currents)
     from lcefem.validation import gridshell_bh as gs
+    from lcefem.models import lumped_heat
     f = unc.rest_fractions_of(unc.nominal_row(inputs), "dome", unc.StretchLaw("eq1"))[0]
-    lam = gs.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], gs.CurrentRoute("eq1"))
+    lam = lumped_heat.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], lumped_heat.CurrentRoute("eq1"))
     assert f * 1.4 == pytest.approx([lam[c] for c in unc.CHANNELS], rel=1e-12)
 
 

@@ -1,5 +1,5 @@
 """The catalogue of issue 10: every way a run can go wrong ends in one line, a documented exit status
-and an output folder that says what happened (lcefem.solvers.run, through the command line).
+and an output folder that says what happened (lcefem.solvers.runtime, through the command line).
 
 Exit statuses: 2 bad input or unusable --out, 3 solver failure or a result out of physical bounds,
 130 Ctrl-C, 143 SIGTERM. Fast targets only: the bar-and-hinge beam (2 segments), the rod ribbon, and
@@ -187,16 +187,16 @@ def test_full_disk_during_a_run_one_line_exit_2_and_partial_files(capsys, tmp_pa
     partial, no failure.json (not a physics failure), no summary."""
     import errno
 
-    from lcefem.solvers import run as skeleton
+    from lcefem.solvers.runtime.files import CSVTable
 
-    append = skeleton.CSVTable.append
+    append = CSVTable.append
 
     def filling(self, row):
         if len(self.rows) == 2 and self.path is not None:
             raise OSError(errno.ENOSPC, "No space left on device", str(self.path) + ".part")
         append(self, row)
 
-    monkeypatch.setattr(skeleton.CSVTable, "append", filling)
+    monkeypatch.setattr(CSVTable, "append", filling)
     out = tmp_path / "full"
     code, err = cli(capsys, *BEAM, "--out", out)
     assert code == 2
@@ -354,32 +354,32 @@ def test_a_reader_closing_the_pipe_ends_the_listing_quietly(lcefem_cmd):
 def test_a_signal_wrapped_in_a_library_error_is_an_interrupt_not_a_case_error(tmp_path, monkeypatch):
     """numba's compiler turns a SIGTERM that arrives while it compiles a kernel into a RuntimeError
     (seen in ribbon_twist_density): the case is reported interrupted, with no error.log."""
-    from lcefem.solvers import run as skeleton
+    from lcefem.solvers import interrupts
     from lcefem.validation.cases import Case
     from lcefem.validation.validate import _run_or_reuse
 
     def compiling(ctx):
-        skeleton._received.append(signal.SIGTERM)  # what the handler records before raising
+        interrupts.received.append(signal.SIGTERM)  # what the handler records before raising
         try:
-            raise skeleton.Terminated()
+            raise interrupts.Terminated()
         except KeyboardInterrupt as exc:
             raise RuntimeError("no compiled object yet") from exc
 
-    monkeypatch.setattr(skeleton, "_received", [])
+    monkeypatch.setattr(interrupts, "received", [])
     case = Case("wrapped_signal", compiling, "raises a wrapped SIGTERM", fe=False, convergence=False)
     result = _run_or_reuse(case, tmp_path, quick=True, resume=False, quiet=True)
-    assert result.status == "interrupted" and isinstance(result.interrupt, skeleton.Terminated)
+    assert result.status == "interrupted" and isinstance(result.interrupt, interrupts.Terminated)
     assert not (tmp_path / "wrapped_signal" / "error.log").exists()
 
 
 def test_a_wrapped_signal_ends_a_command_with_the_signal_status(monkeypatch):
     """The same wrapped SIGTERM ending `lcefem run ...` exits 143 with the interrupt line, not as a bug
     (status 1 and a traceback)."""
-    from lcefem.solvers import run as skeleton
+    from lcefem.solvers import interrupts
     from lcefem.validation.cli import _classify
 
-    monkeypatch.setattr(skeleton, "_received", [signal.SIGTERM])
+    monkeypatch.setattr(interrupts, "received", [signal.SIGTERM])
     code, message = _classify(RuntimeError("no compiled object yet"))
     assert code == 143 and message.startswith("lcefem: interrupted (SIGTERM)")
-    monkeypatch.setattr(skeleton, "_received", [])
+    monkeypatch.setattr(interrupts, "received", [])
     assert _classify(RuntimeError("a bug"))[0] == 1

@@ -18,7 +18,9 @@ import pytest
 
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers import cost
-from lcefem.solvers import run as skeleton
+from lcefem.solvers.interrupts import Terminated
+from lcefem.solvers.runtime.files import CSVTable, library_os_error, write_text
+from lcefem.solvers.runtime.outdir import STAMP_TEXT, stamped_command
 from lcefem.validation import cli as cli_module
 from lcefem.validation.cli import main as cli_main
 
@@ -69,7 +71,7 @@ def test_nonsense_option_value_refused_in_argument_checking(command, option, val
     def claimed(*args, **kwargs):
         raise _Claimed()
 
-    monkeypatch.setattr(cli_module.skeleton, "claim_out", claimed)
+    monkeypatch.setattr(cli_module, "claim_out", claimed)
     out = tmp_path / "out"
     code, err = cli(capsys, *command.split(), option, value, "--out", out, "--quiet")
     assert code == 2, err
@@ -173,11 +175,11 @@ def test_petsc_never_takes_sigterm(tmp_path):
     """Started after the command line, PETSc would end the process with status 15 on SIGTERM (its
     handler, "Caught signal number 15"); with -no_signal_handler the run's own handler raises."""
     code = ("import os, signal, sys, time\n"
-            "from lcefem.solvers import run\n"
-            "run.install_signal_handlers(); run.keep_petsc_off_signals()\n"
+            "from lcefem.solvers.runtime import signals\n"
+            "signals.install_signal_handlers(); signals.keep_petsc_off_signals()\n"
             "import dolfinx_solver\nfrom petsc4py import PETSc\n"
             "try:\n    os.kill(os.getpid(), signal.SIGTERM); time.sleep(5)\n"
-            "except run.Terminated:\n    sys.exit(143)\n")
+            "except signals.Terminated:\n    sys.exit(143)\n")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
                          env={**os.environ, "PETSC_OPTIONS": ""})
     assert res.returncode == 143, res.stderr
@@ -198,7 +200,7 @@ def test_converge_interrupted_while_plotting_leaves_no_final_names(capsys, tmp_p
     _fake_study(monkeypatch)
 
     def killed(*args, **kwargs):
-        raise skeleton.Terminated()
+        raise Terminated()
 
     monkeypatch.setattr(plots, "convergence_plot", killed)
     out = tmp_path / "study"
@@ -214,7 +216,7 @@ def test_converge_resume_replaces_an_earlier_study_s_files(capsys, tmp_path, mon
     _fake_study(monkeypatch)
     out = tmp_path / "study"
     out.mkdir()
-    (out / ".lcefem-out").write_text(skeleton.STAMP_TEXT.format(command="converge rod_closed_forms"))
+    (out / ".lcefem-out").write_text(STAMP_TEXT.format(command="converge rod_closed_forms"))
     (out / "study.partial").mkdir()
     (out / "gci.csv").write_text("stale")
     code, err = cli(capsys, "converge", "rod_closed_forms", "--quiet", "--resume", "--out", out)
@@ -323,7 +325,7 @@ def test_run_sigkill_then_overwrite(lcefem_cmd, tmp_path):
 def test_disk_errors_classified_by_cause_naming_the_file(code, cause, capsys, tmp_path, monkeypatch):
     import csv
 
-    append = skeleton.CSVTable.append
+    append = CSVTable.append
 
     class Full:  # the history file on a disk that fails: write() raises without a file name
         closed = False
@@ -344,7 +346,7 @@ def test_disk_errors_classified_by_cause_naming_the_file(code, cause, capsys, tm
             self._csv = csv.writer(self._fh)
         append(self, row)
 
-    monkeypatch.setattr(skeleton.CSVTable, "append", failing)
+    monkeypatch.setattr(CSVTable, "append", failing)
     out = tmp_path / "disk"
     rc, err = cli(capsys, *BEAM, "--out", out)
     assert rc == 2
@@ -354,7 +356,7 @@ def test_disk_errors_classified_by_cause_naming_the_file(code, cause, capsys, tm
 
 def test_a_failed_write_gives_its_space_back_and_keeps_the_old_file(tmp_path, monkeypatch):
     target = tmp_path / "report.md"
-    skeleton.write_text(target, "old")
+    write_text(target, "old")
     real = type(target).write_text
 
     def full(self, *args, **kwargs):
@@ -363,7 +365,7 @@ def test_a_failed_write_gives_its_space_back_and_keeps_the_old_file(tmp_path, mo
 
     monkeypatch.setattr(type(target), "write_text", full)
     with pytest.raises(OSError) as info:
-        skeleton.write_text(target, "new")
+        write_text(target, "new")
     assert info.value.filename == str(tmp_path / "report.md.part")
     monkeypatch.undo()
     assert target.read_text() == "old" and not (tmp_path / "report.md.part").exists()
@@ -373,9 +375,9 @@ def test_adios2_error_text_becomes_an_os_error_naming_the_file():
     text = ("\x1b[1;36m[Sat Nov 28 2026]\x1b[1;34m [ADIOS2 EXCEPTION]\x1b[0m <Toolkit> <transport::file::"
             "FilePOSIX> <Write> : couldn't write to file /r/thermal.bp.part/md.0 : errno = 28: No space "
             "left on device\x1b[0m\n: iostream error")
-    exc = skeleton.library_os_error(RuntimeError(text))
+    exc = library_os_error(RuntimeError(text))
     assert (exc.errno, exc.filename) == (errno.ENOSPC, "/r/thermal.bp.part/md.0")
-    assert skeleton.library_os_error(RuntimeError("no errno here")) is None
+    assert library_os_error(RuntimeError("no errno here")) is None
 
 
 def test_validate_on_a_full_disk_stops_with_report_incomplete(capsys, tmp_path, monkeypatch):
@@ -402,7 +404,7 @@ def beam_folder(tmp_path_factory):
 
 
 def test_the_folder_marker_records_the_command(beam_folder):
-    assert skeleton.stamped_command(beam_folder) == "run beam"
+    assert stamped_command(beam_folder) == "run beam"
 
 
 @pytest.mark.parametrize("command", [["validate", "tension_law", "--quick"],

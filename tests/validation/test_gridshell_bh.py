@@ -9,26 +9,27 @@ from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
 from lcefem.models.lumped_heat import current_for_stretch
 from lcefem.solvers.bar_hinge import NewtonOptions, isostatic_supports
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
-from lcefem.validation import gridshell_bh as gs
+from lcefem.models import lumped_heat
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 
 ONE = GridshellLayout(ribbons=1)
 
 
 def _solve(lambdas, support="middle_rollers", layout=ONE, tolerance=None):
     s = build_gridshell_bar_hinge(layout=layout)
-    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, lambdas), support, structure=s)
-    options = gs.GRIDSHELL_NEWTON if tolerance is None else NewtonOptions(force_tolerance=tolerance)
-    return gs.solve_gridshell(setup, newton_options=options)
+    setup = problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, lambdas), support, structure=s)
+    options = problem_bh.GRIDSHELL_NEWTON if tolerance is None else NewtonOptions(force_tolerance=tolerance)
+    return problem_bh.solve_gridshell(setup, newton_options=options)
 
 
 def test_one_cell_grid_reproduces_the_composite_beam():
-    beam = beam_bh.solve_beam(1.33, 1.05, CompositeBeamGeometry(segments=2), path=gs.GRIDSHELL_PATH,
-                              newton_options=gs.GRIDSHELL_NEWTON)
+    beam = beam_bh.solve_beam(1.33, 1.05, CompositeBeamGeometry(segments=2), path=problem_bh.GRIDSHELL_PATH,
+                              newton_options=problem_bh.GRIDSHELL_NEWTON)
     s = build_gridshell_bar_hinge(layout=ONE)
-    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, {"Tx": 1.33, "Bx": 1.05}), structure=s)
+    setup = problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, {"Tx": 1.33, "Bx": 1.05}), structure=s)
     c = s.node_sets["centre_junction"]
     setup.held = isostatic_supports(c[0], c[3], c[1])  # as the beam: no reactions
-    sol = gs.solve_gridshell(setup)
+    sol = problem_bh.solve_gridshell(setup)
     # The y ribbon (as built, stress free) and the LCE square edges across the x strips instead of
     # the beam's glue bars differ; measured 2e-4 relative.
     assert -sol.curvatures["circle_x"] == pytest.approx(beam.curvature, rel=1e-3)
@@ -71,8 +72,8 @@ def test_signs_and_four_fold_symmetry_of_a_one_cell_dome():
 
 def test_current_route_reproduces_the_lambda_route():
     lam = {"Tx": 1.33, "Ty": 1.2, "Bx": 1.05, "By": 1.1}
-    currents = {k: current_for_stretch(v, *gs.CurrentRoute().lumped()) for k, v in lam.items()}
-    back = gs.lambda_assignments_from_currents(currents)
+    currents = {k: current_for_stretch(v, *lumped_heat.CurrentRoute().lumped()) for k, v in lam.items()}
+    back = lumped_heat.lambda_assignments_from_currents(currents)
     for k in lam:
         assert back[k] == pytest.approx(lam[k], abs=1e-9)
     a = _solve(lam)
@@ -81,9 +82,9 @@ def test_current_route_reproduces_the_lambda_route():
 
 
 def test_slack_current_caps_at_the_as_built_length():
-    assert gs.stretch_from_current(0.0) == 1.4
-    assert gs.stretch_from_current(0.2) == pytest.approx(1.0, abs=1e-3)
-    assert gs.stretch_from_current(0.07, gs.CurrentRoute(thermal_model="eq1")) == pytest.approx(1.115,
+    assert lumped_heat.stretch_from_current(0.0) == 1.4
+    assert lumped_heat.stretch_from_current(0.2) == pytest.approx(1.0, abs=1e-3)
+    assert lumped_heat.stretch_from_current(0.07, lumped_heat.CurrentRoute(thermal_model="eq1")) == pytest.approx(1.115,
                                                                                               abs=1e-3)
 
 
@@ -91,7 +92,7 @@ def test_weight_and_table_contact():
     # 33 g (seed 001) under standard gravity, lumped on the nodes; the gradient of the energy with the
     # dead load and the table contacts matches central finite differences (exact tangents).
     s = build_gridshell_bar_hinge(layout=ONE)
-    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, {"T": 1.2, "B": 1.1}), "table", structure=s)
+    setup = problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, {"T": 1.2, "B": 1.1}), "table", structure=s)
     assert setup.weight.reshape(-1, 3)[:, 2].sum() == pytest.approx(-33e-6 * 9806.65, rel=1e-12)
     model = setup.model
     setup.load(1.0)

@@ -7,6 +7,8 @@ import pytest
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
 from lcefem.solvers.bar_hinge.design import objective_and_gradient
 from lcefem.validation import gridshell_bh as gs
+from lcefem.models import lumped_heat
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation import gridshell_design as gd
 
 ONE = GridshellLayout(ribbons=1)
@@ -14,7 +16,7 @@ ONE = GridshellLayout(ribbons=1)
 
 def test_rest_fraction_sensitivity_is_the_derivative_of_the_gradient():
     s = build_gridshell_bar_hinge(layout=ONE)
-    m = gs.setup_gridshell(None, "rollers", structure=s).model
+    m = problem_bh.setup_gridshell(None, "rollers", structure=s).model
     m.set_rest_fractions({"top_strips": 0.8, "bottom_strips": 0.9})
     x = m.reference + np.random.default_rng(1).normal(scale=0.05, size=m.reference.shape)
     f0 = m.rest_fractions()
@@ -87,22 +89,22 @@ def test_random_strip_lambdas_shape_is_recovered():
     rng = np.random.default_rng(7)
     p_true = rng.uniform(1.05, 1.35, d.eq.params.size)
     truth = gd.forward_check(d, p_true)
-    z_true = gs.centre_height(d.structure, truth["x"])
+    z_true = problem_bh.centre_height(d.structure, truth["x"])
     res = gd.inverse(d, truth["circle_x"], truth["circle_y"], height=z_true)
     assert np.linalg.norm(res.residual[:2]) <= gd.REACHED
     check = res.check
     assert abs(check["circle_x"] - truth["circle_x"]) < 1e-4
     assert abs(check["circle_y"] - truth["circle_y"]) < 1e-4
-    assert gs.centre_height(d.structure, check["x"]) == pytest.approx(z_true, abs=1e-2)  # [mm]
+    assert problem_bh.centre_height(d.structure, check["x"]) == pytest.approx(z_true, abs=1e-2)  # [mm]
 
 
 def test_currents_invert_the_current_route():
-    for model in gs.THERMAL_MODELS:
-        route = gs.CurrentRoute(thermal_model=model)
+    for model in lumped_heat.THERMAL_MODELS:
+        route = lumped_heat.CurrentRoute(thermal_model=model)
         for lam in (1.05, 1.2, 1.33):
             i = gd.current_for_lambda(lam, route)
             assert 0 < i < 1
-            assert gs.stretch_from_current(i, route) == pytest.approx(lam, abs=1e-9)
+            assert lumped_heat.stretch_from_current(i, route) == pytest.approx(lam, abs=1e-9)
         assert gd.current_for_lambda(1.4, route) == 0.0
 
 

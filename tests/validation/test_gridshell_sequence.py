@@ -13,7 +13,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.lce import spontaneous_stretch
 from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
                                        steady_temperature)
-from lcefem.validation import gridshell_sequence as seq
+from lcefem.solvers.problems import gridshell_bh_sequence as seq
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 GOOD = {"schedule": {"times": [0.0, 20.0], "end": 60.0, "output_interval": 10.0},

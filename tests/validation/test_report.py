@@ -3,7 +3,7 @@
 import json
 import math
 
-from lcefem.solvers.run import json_safe
+from lcefem.solvers.runtime.files import json_safe
 from lcefem.validation import report
 from lcefem.validation.cases import Metric
 from lcefem.validation.report import CaseResult

@@ -85,7 +85,7 @@ def _events() -> dict:
     return out
 
 
-def _timed_solve(snes, run):
+def timed_solve(snes, run):
     """Run ``run()`` with ``snes`` instrumented; returns (result, timings)."""
     from petsc4py import PETSc
     PETSc.Log.begin()
@@ -107,7 +107,7 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 
     sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=steps * dt, dt=dt),
                                       mesh=StripMesh(level=level)))
-    res, t = _timed_solve(sim.model.mechanics.snes,
+    res, t = timed_solve(sim.model.mechanics.snes,
                           lambda: sim.run(None, progress=False, fields=False))
     cuts = int(sum(res.history["step_cuts [-]"][1:]))
     return {"case": "strip 0.2 A", "level": level, "dofs [-]": sim.ndofs["displacement"],
@@ -184,7 +184,7 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
                                                     for f in dataclasses.fields(PathControl)
                                                     if f.name in options})
     model = BeamFE(mesh=BeamFEMesh(level=level), petsc_options=options, control=control)
-    states, t = _timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))
+    states, t = timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))
     f = model.last_follower
     t["jacobians"], t["its"] = t["its"], f.iterations  # they differ when the Jacobian is reused
     return {"case": f"beam ramp ({lambda_top:g}, {lambda_bottom:g})", "variant": variant,
@@ -352,16 +352,16 @@ def main(argv: list[str] | None = None) -> int:
     if linear:
         print_table(linear, columns=LINEAR_COLUMNS + ["peak memory [MiB]"])
     if args.csv is not None:
-        _write_csv(args.csv, COLUMNS, rows)
+        write_table_csv(args.csv, COLUMNS, rows)
         if linear:
-            _write_csv(args.csv.with_name(args.csv.stem + "_linear.csv"),
+            write_table_csv(args.csv.with_name(args.csv.stem + "_linear.csv"),
                        LINEAR_COLUMNS + ["peak memory [MiB]"], linear)
     return 0
 
 
-def _write_csv(path: pathlib.Path, columns: list[str], rows: list[dict]) -> None:
+def write_table_csv(path: pathlib.Path, columns: list[str], rows: list[dict]) -> None:
     """The table under a temporary name, renamed when complete."""
-    from lcefem.solvers.run import part_name, replace
+    from lcefem.solvers.runtime.files import part_name, replace
 
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(part_name(path), "w", newline="") as fh:

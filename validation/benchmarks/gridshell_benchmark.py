@@ -29,8 +29,9 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
-from lcefem.solvers.run import write_json
+from lcefem.solvers.runtime.files import write_json
 from lcefem.validation import gridshell_bh as gs
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 
 
 #: The Newton module (the package re-exports its function ``newton`` under the same name).
@@ -66,20 +67,20 @@ def run_one(kind: str, name: str) -> dict:
     if kind == "shape":
         structure = build_gridshell_bar_hinge()
         spec = gs.SHAPES[name]
-        targets, support = gs.targets_from_lambdas(structure, spec["lambdas"]), spec["support"]
+        targets, support = problem_bh.targets_from_lambdas(structure, spec["lambdas"]), spec["support"]
         materials = BarHingeMaterials()
     else:  # the published configuration (issue 30)
-        recipe, support = gs.RECIPES[name]
-        mesh, lce, support = gs.published_configuration(BeamBarHingeMesh(), LCEStripBars(), support)
+        recipe, support = problem_bh.RECIPES[name]
+        mesh, lce, support = problem_bh.published_configuration(BeamBarHingeMesh(), LCEStripBars(), support)
         structure = build_gridshell_bar_hinge(mesh=mesh)
-        targets = gs.targets_from_recipe(structure, recipe)
+        targets = problem_bh.targets_from_recipe(structure, recipe)
         materials = dataclasses.replace(BarHingeMaterials(), lce=lce)
-    setup = gs.setup_gridshell(targets, support, structure=structure, materials=materials)
+    setup = problem_bh.setup_gridshell(targets, support, structure=structure, materials=materials)
     t_setup = time.perf_counter() - t0
     row = {"kind": kind, "name": name, "support": support, "setup [s]": t_setup}
     try:
         with EigenTimer() as eig:
-            sol = gs.solve_gridshell(setup)
+            sol = problem_bh.solve_gridshell(setup)
         row.update(**{"eigen solves [-]": eig.calls, "eigen solve time [s]": eig.seconds})
     except ConvergenceError as exc:
         row.update(converged=False, reason=str(exc), **{"solve [s]": time.perf_counter() - t0 - t_setup})
@@ -87,7 +88,7 @@ def run_one(kind: str, name: str) -> dict:
     x = sol.final.x
     reached = all(np.array_equal(setup.model.rest_fractions()[g], setup.targets[g])
                   for g in setup.targets)
-    summ = gs.shape_summary(structure, x)
+    summ = problem_bh.shape_summary(structure, x)
     row.update(converged=True, reached=reached, **{"solve [s]": sol.path.seconds},
                increments=len(sol.path.states) - 1, newton=int(sum(sol.path.newton_iterations)),
                failed=sol.path.failed_increments,
@@ -127,7 +128,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.set in ("shapes", "all"):
         jobs += [("shape", n) for n in gs.SHAPES]
     if args.set in ("recipes", "all"):
-        jobs += [("recipe", n) for n in gs.RECIPES]
+        jobs += [("recipe", n) for n in problem_bh.RECIPES]
     if args.only:
         keep = set(args.only.split(","))
         jobs = [j for j in jobs if j[1] in keep]

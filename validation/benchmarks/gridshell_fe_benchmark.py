@@ -55,7 +55,7 @@ def run_heated(level: int, symmetry: str, duration: float, dt: float, csv: str |
     """The dome protocol on the heated route; prints and (``csv``) writes a row per step."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell import DOME_PROTOCOL, GridshellConfig, HeatedGridshellFE
-    from lcefem.solvers.run import write_text
+    from lcefem.solvers.runtime.files import write_text
 
     t0 = time.perf_counter()
     model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=level), symmetry=symmetry),
@@ -126,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
                   f"{r['apex_height_above_table [mm]']:.3f} mm above it, "
                   f"{r['table_contact_nodes [-]']} nodes in contact")
     if args.json:
-        from lcefem.solvers.run import write_json
+        from lcefem.solvers.runtime.files import write_json
 
         write_json(args.json, rows)  # .part then rename, strict JSON
     return 0

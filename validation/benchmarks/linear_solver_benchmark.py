@@ -25,7 +25,7 @@ import pathlib
 import subprocess
 import sys
 
-from lcefem.validation.benchmarks.fe_benchmark import _timed_solve, _write_csv, print_table
+from lcefem.validation.benchmarks.fe_benchmark import print_table, timed_solve, write_table_csv
 
 #: Temperatures of the prescribed field :func:`hot_core` [C]: the coil's core at 80 C (above
 #: T_NI = 68.9 C, so the core contracts) and the surface near 40 C, roughly the strip ~10 s into
@@ -143,10 +143,10 @@ def measure(level: int, solver: str, newton_its: int | None = None) -> dict:
         model = sim.model
         T = sim._nodal_field(hot_core(sim.dims), "temperature", model.heat.T.x.array)
         model.heat.T.x.array[:] = model.T_mech.x.array[:] = T
-        (_, n_its, _), t = _timed_solve(snes, model.mechanics.solve)
+        (_, n_its, _), t = timed_solve(snes, model.mechanics.solve)
         report = StepReport(substeps=0, cuts=0, iterations=n_its)
     else:
-        report, t = _timed_solve(snes, lambda: sim.set_temperature(hot_core(sim.dims)))
+        report, t = timed_solve(snes, lambda: sim.set_temperature(hot_core(sim.dims)))
     ksp_time = PETSc.Log.Event("KSPSolve").getPerfInfo()["time"] - ksp0
     its = max(t["its"], 1)  # Jacobians = linear solves (Newton's and the tangent predictor's)
     prefix = snes.getOptionsPrefix()
@@ -265,7 +265,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{it} vs ldlt, {protocol}: crossover "
                   + (f"at {n:.0f} DOFs" if n else "not in the measured range"))
     if args.csv is not None:
-        _write_csv(args.csv, COLUMNS, rows)
+        write_table_csv(args.csv, COLUMNS, rows)
     return 0
 
 

@@ -204,7 +204,7 @@ def write_csv(path: pathlib.Path, columns: dict[str, Sequence[float]], *, fmt: s
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".part")
-    from lcefem.solvers.run import naming
+    from lcefem.solvers.runtime.files import naming
 
     try:
         with naming(tmp), tmp.open("w", newline="") as fh:

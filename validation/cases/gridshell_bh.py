@@ -28,6 +28,8 @@ from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
 from lcefem.models.lumped_heat import shape_currents
 from lcefem.validation import gridshell_bh as gs
+from lcefem.models import lumped_heat
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation import plots
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.gridshell_configuration import penetration
@@ -47,14 +49,14 @@ STRIP_TOLERANCE = 0.003
 #: instead of 437 Newton iterations in the accepted increments, 12 failed increments instead of 9),
 #: centre curvatures -0.0235880802067 -> -0.0235880804102 (circle x) and -0.0128560699730 ->
 #: -0.0128560697177 1/mm (quadratic x): 3e-10 apart, the Newton tolerance's level.
-QUICK_NEWTON = dataclasses.replace(gs.GRIDSHELL_NEWTON, max_iterations=25)
+QUICK_NEWTON = dataclasses.replace(problem_bh.GRIDSHELL_NEWTON, max_iterations=25)
 
 
-def _solve(structure, targets, support, newton_options=gs.GRIDSHELL_NEWTON):
-    setup = gs.setup_gridshell(targets, support, structure=structure)
+def _solve(structure, targets, support, newton_options=problem_bh.GRIDSHELL_NEWTON):
+    setup = problem_bh.setup_gridshell(targets, support, structure=structure)
     t0 = time.perf_counter()
     try:
-        sol = gs.solve_gridshell(setup, newton_options=newton_options)
+        sol = problem_bh.solve_gridshell(setup, newton_options=newton_options)
     except ConvergenceError as exc:
         return None, time.perf_counter() - t0, str(exc)
     return sol, time.perf_counter() - t0, ""
@@ -73,11 +75,11 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
     # route; the current routes add two more solves per shape and run at the default level.
     routes = [("lambda", None)]
     if not ctx.quick:
-        routes += [("current (segment)", gs.CurrentRoute("segment")), ("current (eq1)", gs.CurrentRoute("eq1")),
+        routes += [("current (segment)", lumped_heat.CurrentRoute("segment")), ("current (eq1)", lumped_heat.CurrentRoute("eq1")),
                    # issue 31: the grid strip (calibrated on the dome protocol only), judged against
                    # the experiment at the experiment's currents and at the paper's rule (Eq. 1
                    # inverted at the Fig. 4 lambdas, docs/gridshell_thermal.md)
-                   ("current (strip)", gs.CurrentRoute()), ("current (strip, rule)", gs.CurrentRoute())]
+                   ("current (strip)", lumped_heat.CurrentRoute()), ("current (strip, rule)", lumped_heat.CurrentRoute())]
     for shape, spec in gs.SHAPES.items():
         chart["paper simulation"][shape] = spec["paper_sim"]
         chart["paper experiment"][shape] = spec["paper_exp"]
@@ -86,14 +88,14 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
             if current is None:
                 lambdas = spec["lambdas"]
             elif route.endswith("rule)"):
-                lambdas = gs.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), current)
+                lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), current)
             else:
-                lambdas = gs.lambda_assignments_from_currents(spec["currents"], current)
-            sol, secs, why = _solve(s, gs.targets_from_lambdas(s, lambdas), spec["support"],
-                                    QUICK_NEWTON if ctx.quick else gs.GRIDSHELL_NEWTON)
+                lambdas = lumped_heat.lambda_assignments_from_currents(spec["currents"], current)
+            sol, secs, why = _solve(s, problem_bh.targets_from_lambdas(s, lambdas), spec["support"],
+                                    QUICK_NEWTON if ctx.quick else problem_bh.GRIDSHELL_NEWTON)
             k = sol.curvatures if sol is not None else {}
             vals = [k.get(c, math.nan) for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")]
-            zr = gs.shape_summary(s, sol.final.x)["z_range [mm]"] if sol is not None else math.nan
+            zr = problem_bh.shape_summary(s, sol.final.x)["z_range [mm]"] if sol is not None else math.nan
             for key, v in zip(rows, [shape, route, sol is not None, *vals, zr, secs]):
                 rows[key].append(v)
             if route == "lambda" and sol is not None:
@@ -155,16 +157,16 @@ def gridshell_recipes_bh(ctx: CaseContext) -> list[Metric]:
     name = ctx.case or "gridshell_recipes_bh"
     metrics = []
     # Quick level: the four recipes that are not Fig. 4 shapes (gridshell_shapes_bh runs those).
-    recipes = {k: v for k, v in gs.RECIPES.items() if not (ctx.quick and k in gs.SHAPES)}
+    recipes = {k: v for k, v in problem_bh.RECIPES.items() if not (ctx.quick and k in gs.SHAPES)}
     for recipe, (p0, published_support) in recipes.items():
-        mesh, lce, support = gs.published_configuration(BeamBarHingeMesh(), LCEStripBars(),
+        mesh, lce, support = problem_bh.published_configuration(BeamBarHingeMesh(), LCEStripBars(),
                                                         published_support)
         s = build_gridshell_bar_hinge(mesh=mesh)
-        setup = gs.setup_gridshell(gs.targets_from_recipe(s, p0), support, structure=s,
+        setup = problem_bh.setup_gridshell(problem_bh.targets_from_recipe(s, p0), support, structure=s,
                                    materials=dataclasses.replace(BarHingeMaterials(), lce=lce))
         t0 = time.perf_counter()
         try:
-            sol = gs.solve_gridshell(setup)
+            sol = problem_bh.solve_gridshell(setup)
         except ConvergenceError as exc:
             metrics.append(Metric(name, f"{recipe}: converged and reached its target", 0.0, "-", 1.0, 0.0,
                                   False, str(exc)))
@@ -173,8 +175,8 @@ def gridshell_recipes_bh(ctx: CaseContext) -> list[Metric]:
         reached = all(np.array_equal(setup.model.rest_fractions()[g], setup.targets[g])
                       for g in setup.targets)
         metrics.append(Metric.within(name, f"{recipe}: converged and reached its target", float(reached),
-                                     "-", 1.0, 0.0, gs.RECIPE_SOURCE))
-        summ = gs.shape_summary(s, sol.final.x)
+                                     "-", 1.0, 0.0, problem_bh.RECIPE_SOURCE))
+        summ = problem_bh.shape_summary(s, sol.final.x)
         metrics += [Metric.info(name, f"{recipe}: increments", len(sol.path.states) - 1, "-", BH),
                     Metric.info(name, f"{recipe}: Newton iterations", sum(sol.path.newton_iterations), "-", BH),
                     Metric.info(name, f"{recipe}: wall time", secs, "s", BH),
@@ -188,5 +190,5 @@ def gridshell_recipes_bh(ctx: CaseContext) -> list[Metric]:
         render_gridshell(ctx.path(f"recipe_{recipe}.png"), s, sol.final.x, f"recipe {recipe} ({support})")
         ctx.add_figure(ctx.path(f"recipe_{recipe}.png"), plots.caption(
             f"Published recipe '{recipe}' in the published configuration ({support}).",
-            [gs.RECIPE_SOURCE, BH]))
+            [problem_bh.RECIPE_SOURCE, BH]))
     return metrics

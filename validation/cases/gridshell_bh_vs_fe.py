@@ -33,7 +33,7 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models import bar_hinge as law
 from lcefem.models.errors import ConvergenceError
-from lcefem.validation import gridshell_bh as gs
+from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.reference_data import DATA_DIR
 
@@ -77,19 +77,19 @@ def solve_bh(shape: str, departures=AS_FE, bending=1.0, support=None):
     """The BH gridshell with the Fig. 4 lambdas of ``shape`` in the published configuration plus
     ``departures``, the Kapton hinge factor times ``bending``; returns (curvatures or None, seconds,
     why)."""
-    spec = gs.SHAPE_DRIVES[shape]
+    spec = problem_bh.SHAPE_DRIVES[shape]
     published_support = "clamp" if spec["support"] == "clamp" else "rollers"
-    mesh, lce, sup = gs.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(),
+    mesh, lce, sup = problem_bh.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(),
                                                 support or published_support, departures)
     base = law.BarHingeMaterials()
     kapton = dataclasses.replace(base.kapton, bending_factor=base.kapton.bending_factor * bending)
     materials = dataclasses.replace(base, lce=lce, kapton=kapton)
     s = build_gridshell_bar_hinge(mesh=mesh)
-    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, spec["lambdas"]), sup, structure=s,
+    setup = problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, spec["lambdas"]), sup, structure=s,
                                materials=materials)
     t0 = time.perf_counter()
     try:
-        sol = gs.solve_gridshell(setup)
+        sol = problem_bh.solve_gridshell(setup)
     except ConvergenceError as exc:
         return None, time.perf_counter() - t0, str(exc)
     return sol.curvatures, time.perf_counter() - t0, ""

@@ -31,6 +31,7 @@ import numpy as np
 from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.solvers.problems.gridshell_bh import centre_height
 from lcefem.validation import gridshell_bh as gs
+from lcefem.models import lumped_heat
 from lcefem.validation import gridshell_design as gd
 from lcefem.validation.cases import CaseContext, Metric, case, not_judged, write_csv
 from lcefem.validation.gridshell_plots import reachable_set_figure
@@ -127,7 +128,7 @@ def paper_targets(ctx: CaseContext, name: str) -> list[Metric]:
         metrics.append(Metric.info(name, f"{shape}: time per inverse solve", seconds, "s", src))
         for ch in design.names:
             cur = summ["currents [A]"]
-            for route in gs.THERMAL_MODELS:
+            for route in lumped_heat.THERMAL_MODELS:
                 metrics.append(Metric.info(name, f"{shape}: current {ch} ({route} route)", cur[route][ch],
                                            "A", gs.SHAPE_SOURCES["currents"],
                                            reference=spec["currents"][ch]))

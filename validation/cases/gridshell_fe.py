@@ -148,10 +148,10 @@ def run_bh_shape(lambdas: dict, support: str) -> dict:
 def _bh_shape(lambdas: tuple, support: str) -> dict:
     lambdas = dict(lambdas)
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-    from lcefem.validation import gridshell_bh as gs
+    from lcefem.solvers.problems import gridshell_bh as problem_bh
 
     s = build_gridshell_bar_hinge()
-    sol = gs.solve_gridshell(gs.setup_gridshell(gs.targets_from_lambdas(s, lambdas), support,
+    sol = problem_bh.solve_gridshell(problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, lambdas), support,
                                                 structure=s))
     k = sol.curvatures
     return dict(zip(KAPPA_KEYS, (float(k[c]) for c in ("circle_x", "circle_y", "quad_kx", "quad_ky"))))
@@ -465,8 +465,9 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
     the paper; ``transient``: the dome protocol's last two hold rows (the steady route's check).
     Returns (metrics, bar-chart series)."""
     from lcefem.validation import gridshell_bh as gs
+    from lcefem.models import lumped_heat
 
-    route = gs.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
+    route = lumped_heat.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
     src = gs.SHAPE_SOURCES["curvatures"]
     metrics: list[Metric] = []
     chart = {"3D FE, held (steady)": {}, "bar-and-hinge current route": {}, "paper simulation": {},
@@ -475,7 +476,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
         spec = gs.SHAPES[shape]
         currents = " / ".join(f"{ch} {spec['currents'][ch]:g}" for ch in ("Tx", "Ty", "Bx", "By"))
         label = f"held {shape} ({currents} A)"
-        bh_lambdas = gs.lambda_assignments_from_currents(spec["currents"], route)
+        bh_lambdas = lumped_heat.lambda_assignments_from_currents(spec["currents"], route)
         for ch in ("Tx", "Ty", "Bx", "By"):
             metrics.append(Metric.info(name, f"{label}: steady lambda, {ch}", obs[f"lambda {ch} [-]"],
                                        "-", f"{FE_STEADY}; model vs model: FE heat equation vs the "
@@ -519,6 +520,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
       "centre curvature against time, peak and held dome vs bar-and-hinge and the paper", fe=True)
 def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
     from lcefem.validation import gridshell_bh as gs
+    from lcefem.models import lumped_heat
 
     name = ctx.case or "gridshell_heated_fe"
     ctx.mesh_size = 3.0  # [mm] level 0 (meshes.gridshell_fe.GridshellFEMesh.size)
@@ -578,8 +580,8 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                                    held["kappa_circle_x [1/mm]"] / prev["kappa_circle_x [1/mm]"] - 1.0,
                                    "-", f"{FE_HEATED}: the held state is steady when this is small"))
         # the bar-and-hinge current route: the hold currents' steady lambdas on the dome's rollers
-        route = gs.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
-        bh_lambdas = gs.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], route)
+        route = lumped_heat.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
+        bh_lambdas = lumped_heat.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], route)
         bh = run_bh_shape(bh_lambdas, gs.SHAPES["dome"]["support"])
         metrics.append(Metric.info(name, f"{label}: kappa_x circle vs bar-and-hinge current route",
                                    held["kappa_circle_x [1/mm]"], "1/mm",

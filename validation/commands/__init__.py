@@ -3,11 +3,11 @@ when that target runs.
 
 A module here holds argparse and printing only: the configuration classes, the problem, its time
 loop or load path and its outputs are in lcefem.solvers.problems (run through the run skeleton,
-lcefem.solvers.run.Run, and the writers of lcefem.solvers.exports); plots and comparisons with
+lcefem.solvers.runtime.run.Run, and the writers of lcefem.solvers.exports); plots and comparisons with
 measurements come from lcefem.validation and are handed to the run as a report hook.
 
 Each module defines ``add_arguments(parser)`` (argparse; --out/--overwrite/--quiet from
-lcefem.solvers.run.add_out_arguments), ``prepare(args)`` (the validated configuration, before the
+lcefem.solvers.runtime.outdir.add_out_arguments), ``prepare(args)`` (the validated configuration, before the
 output folder is claimed), ``main(args) -> int`` (runs the problem, prints one line) and, when it
 cannot run under mpiexec, ``PARALLEL = False`` (or a function of args). Add a target by adding its
 module name here.

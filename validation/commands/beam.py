@@ -33,7 +33,7 @@ import dataclasses
 from lcefem.models import bar_hinge as law
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.composite_beam_bh import BeamConfig, run_beam
-from lcefem.solvers.run import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation import reference_data
 from lcefem.validation.commands import MODELS, parallel_if_fe
 from lcefem.validation.config import config_from_toml, override
@@ -111,7 +111,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def config_from_args(args: argparse.Namespace):
     if args.model == "fe":
-        from lcefem.solvers.problems.composite_beam import BeamFEConfig  # FEniCSx only when asked
+        from lcefem.solvers.problems.composite_beam_run import BeamFEConfig  # FEniCSx only when asked
         cfg = config_from_toml(args.config, BeamFEConfig())
         cfg = override(cfg, "heat_run", current=args.current, heated=args.heated, duration=args.duration)
         cfg = override(cfg, "mesh", level=args.mesh_level)
@@ -133,7 +133,7 @@ def prepare(args: argparse.Namespace):
 def main(args: argparse.Namespace) -> int:
     cfg = args.prepared
     if args.model == "fe":
-        from lcefem.solvers.problems.composite_beam import run_beam_fe
+        from lcefem.solvers.problems.composite_beam_run import run_beam_fe
         summary = run_beam_fe(cfg, args.out, progress=not args.quiet, report=report_fe)
         r = summary["results"]
         if summary.get("drive") == "current":

@@ -26,7 +26,7 @@ marked), history.csv (one row per converged
 increment), gridshell.pvd + gridshell_steps/*.vtp (ParaView: N5B8 ribbon triangles, strip and glue
 bars; displacement, element kind, axial force). Files carry .part names until the run completes; a
 run that stops leaves *.partial.* files, last_converged.vtp and failure.json (exit code 3), through
-the run skeleton (lcefem.solvers.run.Run). The problem, the drives and the run:
+the run skeleton (lcefem.solvers.runtime.run.Run). The problem, the drives and the run:
 lcefem.solvers.problems.gridshell_bh (GridshellBHRunConfig, run_gridshell); this module parses the
 command line and the case file, renders gridshell.png and prints one line.
 """
@@ -42,7 +42,7 @@ from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
 from lcefem.solvers.problems.gridshell_bh import (CONFIGURATIONS, DEPARTURES, RECIPES, ROUTES, SHAPE_DRIVES,
                                                  SUPPORTS, GridshellBHRunConfig, run_gridshell)
-from lcefem.solvers.run import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation.commands import MODELS
 from lcefem.validation.config import load_toml
 
@@ -189,7 +189,7 @@ def run_fe_current(spec: dict, out: pathlib.Path) -> dict:
     from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
     from lcefem.solvers.problems.gridshell import (PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports,
                                                    HeatedGridshellFE)
-    from lcefem.solvers.run import write_json
+    from lcefem.solvers.runtime.files import write_json
 
     shape = spec["shape"]
     currents = shape_currents(SHAPE_DRIVES[shape]["lambdas"], GRID_STRIP_RESISTANCE)

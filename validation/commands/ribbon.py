@@ -17,7 +17,7 @@ import dataclasses
 from lcefem.models.errors import InputError
 from lcefem.models.ribbon import RibbonGeometry
 from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, run_ribbon
-from lcefem.solvers.run import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation.config import config_from_toml, override
 
 #: Serial only (numpy/scipy); under mpiexec every rank would write the same files.

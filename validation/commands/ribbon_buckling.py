@@ -38,7 +38,7 @@ import numpy as np
 from lcefem.models import buckling
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenConfig, run_specimen
-from lcefem.solvers.run import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation import plots
 from lcefem.validation.commands import MODELS, parallel_if_fe
 from lcefem.validation.config import config_from_toml, override

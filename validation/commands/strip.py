@@ -15,7 +15,7 @@ import dataclasses
 from lcefem.meshes.communicator import default_comm
 from lcefem.models.heat import Coil
 from lcefem.solvers.problems.strip import BOUNDARY_CONDITIONS, StripConfig, run_strip
-from lcefem.solvers.run import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation.config import config_from_toml, override
 
 

@@ -1,0 +1,131 @@
+"""One run of the FE composite beam (``lcefem run beam --model fe``): the configuration sections
+(:class:`BeamFEConfig`) and :func:`run_beam_fe` through the run skeleton (lcefem.solvers.runtime.run),
+around the problems of :mod:`lcefem.solvers.problems.composite_beam` (the lambda ramp of
+:class:`~lcefem.solvers.problems.composite_beam.BeamFE`, or a coil current through
+:func:`~lcefem.solvers.problems.composite_beam.beam_fe_heated`)."""
+
+from __future__ import annotations
+
+import pathlib
+import time
+from dataclasses import dataclass, field
+
+from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+from lcefem.models.empirical import Eq2, eq2_curvature
+from lcefem.models.heat import GridSegmentCoil
+from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
+from lcefem.models.limits import check_lambda
+from lcefem.solvers.contact import PenaltyContact
+from lcefem.solvers.continuation import PathControl
+from lcefem.solvers.exports import FieldExport
+from lcefem.solvers.problems.composite_beam import (BeamActuation, BeamFE, FEMaterials, HeatedBeamRun,
+                                                    beam_fe_heated)
+from lcefem.solvers.problems.composite_beam_bh import SIGN_CONVENTION, BeamRun
+from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runtime.run import Progress, Run
+
+
+@dataclass(frozen=True)
+class BeamFEConfig:
+    """The FE beam's sections: run (lambdas), heat_run (a coil current instead), geometry, mesh,
+    kapton, lce, actuation, contact, path, eq2."""
+
+    run: BeamRun = field(default_factory=BeamRun)
+    heat_run: HeatedBeamRun = field(default_factory=HeatedBeamRun)
+    geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
+    mesh: BeamFEMesh = field(default_factory=BeamFEMesh)
+    kapton: NeoHookeanSolid = field(default_factory=NeoHookeanSolid)
+    lce: LCEElasticity = field(default_factory=LCEElasticity)
+    actuation: BeamActuation = field(default_factory=BeamActuation)
+    contact: PenaltyContact = field(default_factory=PenaltyContact)
+    path: PathControl = field(default_factory=PathControl)
+    eq2: Eq2 = field(default_factory=Eq2)
+
+    def validated(self) -> "BeamFEConfig":
+        check_config(self)
+        self.geometry.checked()
+        self.mesh.checked()
+        self.heat_run.checked()
+        for name in ("lambda_top", "lambda_bottom"):
+            check_lambda(f"run.{name}", getattr(self.run, name), self.actuation.lambda_N)
+        return self
+
+    @property
+    def materials(self) -> FEMaterials:
+        return FEMaterials(self.kapton, self.lce)
+
+    def resolved(self) -> dict:
+        return resolved(self)
+
+
+FE_COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",
+              "eq2 curvature [1/mm]", "contact force [N]", "min gap [mm]", "newton iterations [-]"]
+HEAT_COLUMNS = ["time [s]", "curvature [1/mm]", "T_mean bottom_strips [C]", "T_mean top_strips [C]",
+                "T_mean kapton [C]", "contact force [N]", "newton iterations [-]"]
+
+
+def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
+    """Run the FE beam through the run skeleton: the lambda ramp (history.csv of :data:`FE_COLUMNS`,
+    displacement.bp, summary.json) or, when ``heat_run.current`` > 0, the coil current
+    (:func:`beam_fe_heated`; history.csv of :data:`HEAT_COLUMNS`). Returns the summary.
+    ``report(out, cfg, model, history) -> dict`` (optional: the validation's plots and notes) runs
+    before the summary is written; its entries join the results."""
+    cfg = cfg.validated()
+    out = pathlib.Path(out)
+    if cfg.heat_run.current > 0:
+        return run_beam_fe_heated(cfg, out, progress, report)
+    lam_t, lam_b = cfg.run.lambda_top, cfg.run.lambda_bottom
+    started = time.perf_counter()
+    model = BeamFE(cfg.geometry, cfg.mesh, cfg.materials, cfg.actuation, cfg.contact, cfg.path)
+    bar = Progress(1.0, f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
+    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
+        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
+        fields.write(0.0)
+
+        def on_step(state) -> None:
+            run.record({"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
+                        "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
+                        "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top, state.lambda_bottom,
+                                                                    cfg.eq2)),
+                        "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
+                        "newton iterations [-]": state.iterations},
+                       where=f"lambda = ({state.lambda_top:.5g}, {state.lambda_bottom:.5g})",
+                       at=state.load_factor)
+            fields.write(state.load_factor)
+
+        model.ramp(lam_t, lam_b, on_step=on_step)
+        history = run.history
+        extra = report(out, cfg, model, history) if report is not None else {}
+        follower = model.last_follower
+        return run.complete({
+            "model": "fe",
+            "results": {
+                "curvature [1/mm]": model.curvature(),
+                "eq2 curvature [1/mm]": float(eq2_curvature(lam_t, lam_b, cfg.eq2)),
+                **(extra or {}), "sign convention": SIGN_CONVENTION,
+                "contact force [N]": model.contact_force(), "min gap [mm]": model.min_gap(),
+                "folds crossed": follower.snaps,
+            },
+            "dofs": model.ndofs, "cells": model.tmesh.info["cells"], "symmetry": model.tmesh.info["symmetry"],
+            "steps": len(history.rows), "newton_iterations": follower.iterations,
+            "cut_steps": follower.cuts, "wall_time [s]": time.perf_counter() - started,
+        })
+
+
+def run_beam_fe_heated(cfg: BeamFEConfig, out: pathlib.Path, progress: bool, report) -> dict:
+    run_cfg = cfg.heat_run
+    bar = Progress(run_cfg.duration, f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",
+                   enabled=progress)
+    started = time.perf_counter()
+    coil = GridSegmentCoil()
+    with Run(out, config=cfg.resolved(), columns=HEAT_COLUMNS, progress=bar) as run:
+        model, rows, _ = beam_fe_heated(
+            run_cfg, cfg.geometry, cfg.mesh, cfg.materials, cfg.contact, coil=coil,
+            on_step=lambda row: run.record(row, where=f"t = {row['time [s]']:.4g} s", at=row["time [s]"]))
+        extra = report(out, cfg, model, run.history) if report is not None else {}
+        return run.complete({
+            "model": "fe", "drive": "current",
+            "results": {"curvature [1/mm]": float(run.history.column("curvature [1/mm]")[-1]),
+                        "T_mean bottom strips [C]": float(run.history.column("T_mean bottom_strips [C]")[-1]),
+                        "coil resistance per strip [ohm]": coil.resistance, **(extra or {})},
+            "steps": len(rows) - 1, "wall_time [s]": time.perf_counter() - started})

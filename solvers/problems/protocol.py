@@ -1,0 +1,95 @@
+"""The one interface every body's problem implements (:class:`Problem`), whatever it solves: the
+FE strip, beam, specimen, ribbon and gridshell, their bar-and-hinge counterparts.
+
+A run, a study or a test can then drive any body the same way::
+
+    problem.set_drives({"bottom_strips": 1.2})     # by tag (strip tag, group, channel, coil)
+    problem.advance(1.0)                           # its own time: seconds, or a load parameter
+    row = problem.observables()                    # {"curvature [1/mm]": ..., ...}
+    saved = problem.save_state(); ...; problem.restore_state(saved)
+
+What a drive is (a spontaneous stretch, a coil current, an end shortening) is stated once per class
+in :attr:`Problem.drive`, "name [unit]" like every observable.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from typing import Any, Protocol, runtime_checkable
+
+#: "name [unit]": a name, one space, the unit in brackets ("[-]" for a ratio), nothing after.
+NAME_WITH_UNIT = re.compile(r"^\S.* \[[^\[\]]+\]$")
+
+
+@runtime_checkable
+class Problem(Protocol):
+    """A body's problem, built once from a configuration and a mesh (forms compiled once), then
+    driven, advanced and observed.
+
+    ``drive``: what :meth:`set_drives` sets, "name [unit]" (e.g. ``"lambda [-]"``,
+    ``"current [A]"``).
+    """
+
+    drive: str
+
+    def drive_tags(self) -> tuple[str, ...]:
+        """The tags :meth:`set_drives` accepts (strip tags, groups, channels, coils)."""
+        ...
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        """The drive per tag (in :attr:`drive`'s unit), from now on; a tag not in
+        :meth:`drive_tags` or a value out of bounds is an InputError naming it."""
+        ...
+
+    def advance(self, dt: float) -> Any:
+        """Move forward by ``dt`` of the problem's own time: seconds [s] for a heated problem (one
+        time step), the fraction 0 < dt <= 1 of the way from the present drives to those set for a
+        quasi-static one (1 reaches them). Raises ConvergenceError, keeping the last converged
+        state."""
+        ...
+
+    def observables(self) -> dict[str, float]:
+        """The named observables of the present state, keys "name [unit]"."""
+        ...
+
+    def fields(self) -> dict[str, Any]:
+        """The fields of the present state by "name [unit]" (dolfinx Functions for the FE problems,
+        node arrays for the reduced-order ones), what ParaView shows."""
+        ...
+
+    def save_state(self) -> Any:
+        """An in-memory copy of the present state (everything :meth:`advance` changes)."""
+        ...
+
+    def restore_state(self, state: Any) -> None:
+        """Go back to a state returned by :meth:`save_state` of this problem."""
+        ...
+
+
+def check_quasi_static_step(dt: float) -> float:
+    """``dt`` of a quasi-static problem's :meth:`Problem.advance`: the fraction (0, 1] of the way
+    to the targets; else an InputError naming it."""
+    from lcefem.models.errors import InputError
+
+    if not isinstance(dt, (int, float)) or not 0.0 < dt <= 1.0:
+        raise InputError(f"dt = {dt}: a quasi-static problem advances by a fraction of the way to "
+                         "its targets, 0 < dt <= 1")
+    return float(dt)
+
+
+def unnamed(names) -> list[str]:
+    """The names not of the form "name [unit]" (:data:`NAME_WITH_UNIT`)."""
+    return [n for n in names if not NAME_WITH_UNIT.match(n)]
+
+
+def copy_arrays(functions) -> list:
+    """Copies of the (owned and ghost) values of dolfinx Functions: the FE part of a saved state."""
+    return [f.x.array.copy() for f in functions]
+
+
+def put_arrays(functions, arrays) -> None:
+    """Values saved by :func:`copy_arrays` back into the same Functions."""
+    for f, a in zip(functions, arrays, strict=True):
+        f.x.array[:] = a
+        f.x.scatter_forward()
