@@ -32,6 +32,7 @@ from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, isostatic_supports)
 from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.problems.strip_beams import bar_hinge_model
 from lcefem.solvers.run import Progress, check_config, resolved
 
 #: Default stepping of the actuation ramp (see PathOptions).
@@ -93,7 +94,7 @@ def setup_beam(lambda_top: float, lambda_bottom: float,
     check_lambda("lambda_top", lambda_top, lam_n)
     check_lambda("lambda_bottom", lambda_bottom, lam_n)
     structure = build_beam_bar_hinge(geometry, mesh)
-    model = BarHingeModel.from_materials(structure, materials)
+    model = bar_hinge_model(structure, materials)
     held = isostatic_supports(*structure.node_sets["centre_support"])
     return BeamSetup(lambda_top, lambda_bottom, structure, model, held,
                      beam_load(model, lambda_top, lambda_bottom, held))

@@ -63,6 +63,7 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
 from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.problems.strip_beams import bar_hinge_model
 from lcefem.solvers.run import Progress, write_text
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
@@ -323,7 +324,7 @@ class GridshellBH:
     def __init__(self, structure: BarHingeStructure, config: GridshellBHConfig = GridshellBHConfig()):
         self.structure, self.config = structure, config
         prepare_structure(structure, config.support, config.geometry, config.materials.lce.lambda_N)
-        model = BarHingeModel.from_materials(structure, config.materials)
+        model = bar_hinge_model(structure, config.materials)
         self.setup = setup_from_model(structure, model, config.support, None, config.weight)
         self.x = structure.nodes.copy()
         self._current = model.rest_fractions()
@@ -410,7 +411,7 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
         raise InputError(f"support = {support!r}: allowed {', '.join(SUPPORTS)}")
     structure = structure or build_gridshell_bar_hinge(geometry, layout, mesh)
     prepare_structure(structure, support, geometry, materials.lce.lambda_N)
-    return setup_from_model(structure, BarHingeModel.from_materials(structure, materials), support,
+    return setup_from_model(structure, bar_hinge_model(structure, materials), support,
                             rest_fractions, weight)
 
 
