@@ -25,7 +25,7 @@ from lcefem.validation.commands import RUN_TARGETS
 EXIT_INPUT = skeleton.EXIT_INPUT
 EXIT_CONVERGENCE = skeleton.EXIT_SOLVER
 #: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
-COMMANDS = ("validate", "converge", "uncertainty", "design", "control")
+COMMANDS = ("validate", "converge", "uncertainty", "design", "control", "calibrate")
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
 AGREE_SECONDS = 3.0
 INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (--overwrite must spare them)  #: how long a failing rank waits for the others before aborting them
