@@ -4,8 +4,8 @@ The bar-and-hinge (BH) model with the strip element (``mesh.strip_element = "bea
 centroid offset and their own bending stiffness) has two free parameters: the published hinge
 factor of the Kapton ribbon (``kapton.bending_factor``, 5.5, itself a fit) and the multiplier of the
 strips' E I (``lce.bending_factor``, 1 = the as-built section at 3 mu_0). This command fits them by
-:func:`scipy.optimize.least_squares` (trust-region reflective, in log space, bounds below) against
-the stored 3D FE results:
+:func:`scipy.optimize.least_squares` (trust-region reflective) against
+the stored 3D FE results (fitted variable 1 + ln(value/published), bounds in :data:`PARAMETERS`):
 
 * the Fig. 4 shapes (table, dome, saddle, cylinder) on identical supports and lambdas, circle
   curvatures at the centre junction (validation/data/gridshell_fe_fig4_quarter_level0.json; the
@@ -160,15 +160,21 @@ def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", 
     from scipy.optimize import least_squares
 
     targets = fe_targets(shapes, beam_points)
-    x0 = np.log([PARAMETERS[n][2] for n in names])
-    lo = np.log([PARAMETERS[n][3] for n in names])
-    hi = np.log([PARAMETERS[n][4] for n in names])
-    cache: dict[tuple, dict] = {}
+    # Fitted variable u = 1 + ln(value/published): u0 = 1, so that least_squares' relative
+    # finite-difference step (diff_step |u|) is a 5 % change of every parameter.
+    pub = np.array([PARAMETERS[n][2] for n in names])
+    x0 = np.ones(len(names))
+    lo = 1.0 + np.log(np.array([PARAMETERS[n][3] for n in names]) / pub)
+    hi = 1.0 + np.log(np.array([PARAMETERS[n][4] for n in names]) / pub)
+    cache: dict[bytes, dict] = {}
+
+    def value(x) -> np.ndarray:
+        return pub * np.exp(np.asarray(x, dtype=float) - 1.0)
 
     def run(x) -> dict:
-        key = tuple(np.round(x, 12))
+        key = np.round(np.asarray(x, dtype=float), 12).tobytes()
         if key not in cache:
-            values = dict(zip(names, np.exp(x)))
+            values = dict(zip(names, value(x)))
             t0 = time.process_time()
             cache[key] = evaluate(materials_with(values), targets)
             r = residual_vector(cache[key])
@@ -186,7 +192,7 @@ def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", 
     return {
         "model": "bar-and-hinge with the strip element (mesh.strip_element = 'beam')",
         "parameters": {f"{PARAMETERS[n][0]}.{PARAMETERS[n][1]}": float(v)
-                       for n, v in zip(names, np.exp(fit.x))},
+                       for n, v in zip(names, value(fit.x))},
         "published values": {f"{PARAMETERS[n][0]}.{PARAMETERS[n][1]}": PARAMETERS[n][2] for n in names},
         "bounds": {f"{PARAMETERS[n][0]}.{PARAMETERS[n][1]}": [PARAMETERS[n][3], PARAMETERS[n][4]]
                    for n in names},

@@ -471,6 +471,9 @@ DEPARTURES = {
     "middle_rollers": "the 8 rollers on both edges of the middle ribbons' ends ('middle_rollers', our "
                       "former reading; published: the outer ribbons' outer-edge end nodes); only where "
                       "the published support is 'rollers'",
+    "strip_beam": "the strip element (mesh.strip_element = 'beam'): each LCE strip acts at its centroid, "
+                  "t_p/2 + h_s/2 = 0.909 mm off the ribbon, and has its own bending stiffness E I "
+                  "(published: two-node bars on the ribbon's nodes; docs/gridshell_calibration.md)",
 }
 #: How a run is configured (``run.configuration``): "published" = the published model's supports,
 #: glue squares, bar law and no contact (+ ``run.departures``); "case" = the mesh, lce sections and
@@ -495,7 +498,8 @@ def published_configuration(mesh: BeamBarHingeMesh, lce: law.LCEStripBars, suppo
     published support) with the named :data:`DEPARTURES` applied."""
     dep = parse_departures(departures)
     mesh = replace(mesh, contact="contact" in dep,
-                   top_junction="lce" if "contracting_squares" in dep else "glue")
+                   top_junction="lce" if "contracting_squares" in dep else "glue",
+                   strip_element="beam" if "strip_beam" in dep else "bar")
     lce = replace(lce, force_law="volume" if "volume_law" in dep else "published")
     if "middle_rollers" in dep and support == "rollers":
         support = "middle_rollers"
