@@ -13,6 +13,13 @@ validation/data (running the FE gridshell takes minutes to hours).
   saddle and cylinder (not the dome, minutes) and the beam map's 2 x 2 corners.
 - The beam map: the 4-segment composite beam's curvature over [1.05, 1.33]^2 (5 x 5) against the
   stored FE map (level 0), ours judged, the FE's configuration and controlled changes informative.
+- The strip element (``mesh.strip_element = "beam"``: the strips' centroid offset and own bending)
+  with the FE-calibrated parameters of validation/data/bar_hinge_calibration.json (``lcefem
+  calibrate bar-hinge``): judged rows "<shape>: circle kappa_<x|y> BH vs FE (strip element,
+  FE-calibrated)" on the four shapes (the dome included: with the strip element it takes seconds)
+  and the beam map (the FE beam's configuration: its top strips contract over the junctions; quick:
+  the 4 corners); at the full level the offset alone, the bending alone and both at the published
+  factors, informative (docs/gridshell_calibration.md).
 
 FE references (:data:`FE_REFERENCE`): gridshell_fe_fig4_quarter_level0.json (quarter model, mesh
 level 0, 26,904 Q2 DOFs; the published supports) and, for the dome, the mesh-converged level 2 of
