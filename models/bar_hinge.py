@@ -39,6 +39,10 @@ Every law is an energy with analytic first and second derivatives, vectorised ov
   differentiating that gradient (checked against finite differences in tests/models).
 * **N5B8 bar areas** of a W x H panel of thickness t (Filipov, Liu, Tachi, Schenk, Paulino, "Bar and
   hinge models for scalable analysis of origami", Int. J. Solids Struct. 124:26-45, 2017, Sec. 4.1).
+* **Strip bending** (added here; the published model's strips are bars only,
+  ``mesh.strip_element``): a straight strip piece clamped to its two bonded panels as an
+  Euler-Bernoulli beam, U = (2EI/L)(d_a^2 + d_a d_b + d_b^2) with d_a, d_b its end rotations relative
+  to its chord, measured as changes of dihedral angles (:func:`strip_beam_element`).
 * **Strip-ribbon contact** (added here; the published model has none): frictionless unilateral
   point-plane penalty k <g0 - g>_+^2/2 with the signed distance g of a point to a plane through three
   nodes, its gradient and Hessian. Without it a free composite beam lets its ribbon pass through its
