@@ -224,6 +224,7 @@ def apply_strip_element(structure: BarHingeStructure, g: CompositeBeamGeometry, 
         return ends[key]
 
     rows = []
+    top_ends: dict[int, int] = {}  # crown-edge ribbon node -> its top strip's centroid node
     for pc in pieces:
         a, b = list(pc.a), list(pc.b)
         if offset:
@@ -231,6 +232,9 @@ def apply_strip_element(structure: BarHingeStructure, g: CompositeBeamGeometry, 
                 a = [centroid(pc.a[r], pc.a[1 - r], pc.pad_a[r], pc.side_a) for r in (0, 1)]
             if pc.side_b:
                 b = [centroid(pc.b[r], pc.b[1 - r], pc.pad_b[r], pc.side_b) for r in (0, 1)]
+            for ends_, new_, side in ((pc.a, a, pc.side_a), (pc.b, b, pc.side_b)):
+                if side > 0:
+                    top_ends.update({int(ends_[r]): int(new_[r]) for r in (0, 1)})
             bars = structure.bars[pc.group]
             for r in (0, 1):
                 old = {int(pc.a[r]): a[r], int(pc.b[r]): b[r]}
@@ -238,6 +242,16 @@ def apply_strip_element(structure: BarHingeStructure, g: CompositeBeamGeometry, 
                 bars[i] = [old.get(int(v), int(v)) for v in bars[i]]
         for r in (0, 1):
             rows.append((a[r], a[1 - r], pc.pad_a[r], b[r], b[1 - r], pc.pad_b[r]))
+    if offset and "top_strip_contact" in structure.contacts:
+        # The ribbon under a top strip stays e below the strip's centroid line (its underside, as
+        # built at the crown edge), the plane through the centroid nodes and the raised square.
+        rows_c = structure.contacts["top_strip_contact"]
+        moved = np.isin(rows_c[:, 1:], list(top_ends)).any(axis=1)
+        for col in (1, 2, 3):
+            rows_c[:, col] = [top_ends.get(int(v), int(v)) for v in rows_c[:, col]]
+        rest = structure.contact_rest.get("top_strip_contact")
+        if rest is not None:
+            structure.contact_rest["top_strip_contact"] = np.where(moved, rest + e, rest)
     if element in ("bending", "beam"):
         structure.info["strip_beams"] = np.asarray(rows, dtype=np.int64)
         structure.sections["strip_beams"] = {"second_moment": 0.5 * strip_second_moment(g, lambda_N)}
