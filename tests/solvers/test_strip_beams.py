@@ -81,7 +81,7 @@ def test_strip_element_brings_the_beam_within_10_percent_of_the_3d_fe():
     # The 3D FE composite beam at (lambda_T, lambda_B) = (1.33, 1.05), mesh level 0 (1.1 % from its
     # extrapolated value): 0.02564 1/mm. The FE's top strips contract over the junctions (its passive
     # pads are the bonds), as mesh.top_junction = 'lce'. Bars alone: 0.0386 (+51 %); the strip
-    # element (centroid offset + own bending, E I = 0.92 N mm^2): 0.0277 (+8 %).
+    # element (centroid offset + own bending, E I = 0.92 N mm^2): 0.0272 (+6 %).
     fe = json.loads((DATA_DIR / "beam_fe_curvature_map_level0.json").read_text())
     k_fe = [k for a, b, k in zip(fe["lambda_top [-]"], fe["lambda_bottom [-]"], fe["FE curvature [1/mm]"])
             if (a, b) == (1.33, 1.05)][0]
