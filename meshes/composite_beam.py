@@ -41,6 +41,7 @@ from lcefem.meshes._hexgrid import divisions as hex_divisions
 from lcefem.meshes._hexgrid import exterior_faces, tagged_hex_mesh
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
 from lcefem.meshes.communicator import resolve_comm
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
@@ -133,11 +134,128 @@ class BeamBarHingeMesh:
                           "its bottom strip, the ribbon under a top strip stays below it, and the "
                           "raised top square rests on its junction")
 
+    strip_element: str = param("bar", "-", "how an LCE strip acts on the ribbon: 'bar' (" + PUBLISHED
+                               + ": two-node bars on the ribbon's nodes, no bending stiffness), "
+                               "'offset' (the bars act at the strip's centroid, t_p/2 + h_s/2 off the "
+                               "ribbon's mid-surface, on rigid links to the bonded panel), 'bending' "
+                               "(the strip's own bending stiffness E I, a beam element clamped to its "
+                               "bonded panels), 'beam' (both; added here, docs/gridshell_calibration.md)")
+
     def checked(self) -> "BeamBarHingeMesh":
         check(self, "mesh")
         if self.top_junction not in ("lce", "glue"):
             raise InputError(f"mesh.top_junction = {self.top_junction!r}: allowed 'lce' or 'glue'")
+        if self.strip_element not in STRIP_ELEMENTS:
+            raise InputError(f"mesh.strip_element = {self.strip_element!r}: allowed "
+                             + ", ".join(repr(e) for e in STRIP_ELEMENTS))
         return self
+
+
+#: How an LCE strip acts on the ribbon (BeamBarHingeMesh.strip_element).
+STRIP_ELEMENTS = ("bar", "offset", "bending", "beam")
+
+
+@dataclass
+class StripPiece:
+    """One straight piece of an LCE strip between two bonded ends, for the strip element: the end
+    nodes on each rail (a = (rail 0, rail 1), b likewise), a node of the panel each end is bonded
+    to (per rail, on the far side of the end from the piece where there is one), the side of the
+    ribbon the strip lies on at each end (-1 below, +1 above, 0: the end node already sits at the
+    strip's centroid, e.g. a raised square), and the piece's bar on each rail (group, index)."""
+
+    a: tuple[int, int]
+    pad_a: tuple[int, int]
+    side_a: int
+    b: tuple[int, int]
+    pad_b: tuple[int, int]
+    side_b: int
+    group: str
+    bars: tuple[int, int]
+
+
+def strip_centroid_offset(g: CompositeBeamGeometry, lambda_N: float) -> float:
+    """Distance [mm] from the ribbon's mid-surface to a bonded strip's centroid: t_p/2 + h_s/2 with
+    the as-built strip thickness h_s = t_a/sqrt(lambda_N) (isochoric spontaneous stretch; the FE
+    beam's and gridshell's geometry, :func:`build_beam_fe`): 0.0635 + 0.845 = 0.909 mm."""
+    return 0.5 * g.ribbon_thickness + 0.5 * g.strip_thickness / math.sqrt(lambda_N)
+
+
+def strip_second_moment(g: CompositeBeamGeometry, lambda_N: float) -> float:
+    """Second moment of area [mm^4] of the as-built strip section about its width axis,
+    w_s h_s^3/12 with (w_s, h_s) = (w_a, t_a)/sqrt(lambda_N) (as the FE's strips): 1.70 mm^4."""
+    f = 1.0 / math.sqrt(lambda_N)
+    return g.strip_width * f * (g.strip_thickness * f) ** 3 / 12.0
+
+
+def apply_strip_element(structure: BarHingeStructure, g: CompositeBeamGeometry, element: str,
+                        pieces: list[StripPiece], lambda_N: float, raised: np.ndarray) -> None:
+    """Give the strips their centroid offset and/or bending element (``element``, see
+    :attr:`BeamBarHingeMesh.strip_element`); 'bar' leaves the structure as it is.
+
+    * offset: each strip end on the ribbon gets a node at the strip's centroid, e =
+      :func:`strip_centroid_offset` along the ribbon's normal (on the strip's side), tied to the
+      end node, its neighbour across the width and its bonded-panel node by three bars of the glue
+      group (a rigid tripod: E A = 8.9 kN against strip forces below 1 N), and the strip's bar moves
+      to it; the ``raised`` nodes (the raised squares the top strips run over) rise by e so that a
+      top strip stays straight as built.
+    * bending: one :func:`lcefem.models.bar_hinge.strip_beam_element` per piece and rail (half the
+      section's second moment each), ``info["strip_beams"]`` (m, 6) rows (a, a2, pa, b, b2, pb)
+      and ``sections["strip_beams"] = {"second_moment": I/2}``.
+    """
+    if element == "bar":
+        return
+    offset = element in ("offset", "beam")
+    e = strip_centroid_offset(g, lambda_N)
+    x = structure.nodes
+    if offset and len(raised):
+        structure.nodes[np.asarray(raised, dtype=np.int64)] += (0.0, 0.0, e)
+    ends: dict[tuple, int] = {}  # (end node, across, pad, side) -> its centroid node
+
+    def centroid(node: int, across: int, pad: int, side: int) -> int:
+        key = (node, across, pad, side)
+        if key not in ends:
+            n = np.cross(x[across] - x[node], x[pad] - x[node])
+            n = n / np.linalg.norm(n)
+            if n[2] * side < 0:
+                n = -n
+            p = int(structure.add_nodes([x[node] + e * n])[0])
+            structure.add_bars("glue", [(p, node), (p, across), (p, pad)])
+            ends[key] = p
+        return ends[key]
+
+    rows = []
+    top_ends: dict[int, int] = {}  # crown-edge ribbon node -> its top strip's centroid node
+    for pc in pieces:
+        a, b = list(pc.a), list(pc.b)
+        if offset:
+            if pc.side_a:
+                a = [centroid(pc.a[r], pc.a[1 - r], pc.pad_a[r], pc.side_a) for r in (0, 1)]
+            if pc.side_b:
+                b = [centroid(pc.b[r], pc.b[1 - r], pc.pad_b[r], pc.side_b) for r in (0, 1)]
+            for ends_, new_, side in ((pc.a, a, pc.side_a), (pc.b, b, pc.side_b)):
+                if side > 0:
+                    top_ends.update({int(ends_[r]): int(new_[r]) for r in (0, 1)})
+            bars = structure.bars[pc.group]
+            for r in (0, 1):
+                old = {int(pc.a[r]): a[r], int(pc.b[r]): b[r]}
+                i = pc.bars[r]
+                bars[i] = [old.get(int(v), int(v)) for v in bars[i]]
+        for r in (0, 1):
+            rows.append((a[r], a[1 - r], pc.pad_a[r], b[r], b[1 - r], pc.pad_b[r]))
+    if offset and "top_strip_contact" in structure.contacts:
+        # The ribbon under a top strip stays e below the strip's centroid line (its underside, as
+        # built at the crown edge), the plane through the centroid nodes and the raised square.
+        rows_c = structure.contacts["top_strip_contact"]
+        moved = np.isin(rows_c[:, 1:], list(top_ends)).any(axis=1)
+        for col in (1, 2, 3):
+            rows_c[:, col] = [top_ends.get(int(v), int(v)) for v in rows_c[:, col]]
+        rest = structure.contact_rest.get("top_strip_contact")
+        if rest is not None:
+            structure.contact_rest["top_strip_contact"] = np.where(moved, rest + e, rest)
+    if element in ("bending", "beam"):
+        structure.info["strip_beams"] = np.asarray(rows, dtype=np.int64)
+        structure.sections["strip_beams"] = {"second_moment": 0.5 * strip_second_moment(g, lambda_N)}
+    structure.info["strip_element"] = element
 
 
 def strip_contact_rows(end_a, end_b, panel_a, panel_b, far_a, far_b):
@@ -224,10 +342,19 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
     hinge_rows = []
     # Bottom strips: chords between the segment's end stations, one bar per ribbon edge.
     bottom_of_bar = []
+    pieces: list[StripPiece] = []
     for s in range(g.segments):
+        idx = []
         for side in (0, 1):
-            structure.add_bars("bottom_strips", [(node(s, 0, side), node(s, last, side))])
+            idx += list(structure.add_bars("bottom_strips", [(node(s, 0, side), node(s, last, side))]))
             bottom_of_bar.append(s)
+        # Bonded panels: the junctions on either side (the flank panel at a free end).
+        pieces.append(StripPiece(
+            (node(s, 0, 0), node(s, 0, 1)),
+            tuple(node(s - 1, last, k) if s > 0 else node(s, 1, k) for k in (0, 1)), -1,
+            (node(s, last, 0), node(s, last, 1)),
+            tuple(node(s + 1, 0, k) if s + 1 < g.segments else node(s, last - 1, k) for k in (0, 1)),
+            -1, "bottom_strips", (int(idx[0]), int(idx[1]))))
         hinge_rows += strip_contact_rows(node(s, 0, 0), node(s, 0, 1), node(s, 1, 0), node(s, 1, 1),
                                           node(s, last, 0), node(s, last, 1))
         hinge_rows += strip_contact_rows(node(s, last, 0), node(s, last, 1), node(s, last - 1, 0),
@@ -256,8 +383,14 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
             glue = [(j1, j2), (j4, j3)]
         else:
             glue = [(j1, j3), (j2, j4), (j1, j2), (j2, j3), (j3, j4), (j4, j1)]
-        structure.add_bars("top_strips", lce)
+        idx = structure.add_bars("top_strips", lce)
         top_of_bar += [j] * len(lce)
+        # Crown-edge pieces bonded to the crown panel, square pieces to the raised square.
+        pieces.append(StripPiece((left[0], left[1]), (node(j, nf, 0), node(j, nf, 1)), 1,
+                                 (j1, j2), (j4, j3), 0, "top_strips", (int(idx[0]), int(idx[1]))))
+        pieces.append(StripPiece((j4, j3), (j1, j2), 0, (right[0], right[1]),
+                                 (node(j + 1, nf + 1, 0), node(j + 1, nf + 1, 1)), 1, "top_strips",
+                                 (int(idx[2]), int(idx[3]))))
         structure.add_bars("glue", glue)
         hinge_rows += strip_contact_rows(left[0], left[1], node(j, nf + 2, 0), node(j, nf + 2, 1),
                                           j1, j2)
@@ -294,6 +427,8 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
     structure.node_sets["middle_panel"] = mid_panel
     structure.node_sets["centre_support"] = np.array([mid_panel[0], mid_panel[3], mid_panel[1]])
     strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf))
+    apply_strip_element(structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N,
+                        np.asarray(squares, dtype=np.int64).reshape(-1))
     structure.info.update(
         segments=g.segments, flank_panels=nf, top_junction=m.top_junction,
         panel_kind=kinds, bottom_strip_of_bar=np.asarray(bottom_of_bar),

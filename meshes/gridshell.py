@@ -48,9 +48,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
-from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry,
-                                          strip_contact_rows, strip_sections)
+from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry, StripPiece,
+                                          apply_strip_element, strip_contact_rows, strip_sections)
 from lcefem.meshes.gridshell_fe import junction_centres
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
@@ -188,15 +189,23 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
         strips.append(Strip(len(strips), layer, direction, r, k, (float(mid[0]), float(mid[1]))))
         return strips[-1].id
 
+    pieces: list[StripPiece] = []  # for mesh.strip_element (apply_strip_element)
     # Bottom strips: chords of every segment along both ribbon edges.
     for direction in DIRECTIONS:
         for r in range(n):
             for s in range(nseg):
                 sid = new_strip("bottom", direction, r, s, g.segment_start(s) + 0.5 * lx)
                 nd = lambda a, side: node(direction, r, s, a, side)  # noqa: E731
+                idx = []
                 for side in (0, 1):
-                    structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))])
+                    idx += list(structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))]))
                     strip_of_bar["bottom_strips"].append(sid)
+                pieces.append(StripPiece(
+                    (nd(0, 0), nd(0, 1)),
+                    tuple(node(direction, r, s - 1, last, k) if s > 0 else nd(1, k) for k in (0, 1)), -1,
+                    (nd(last, 0), nd(last, 1)),
+                    tuple(node(direction, r, s + 1, 0, k) if s + 1 < nseg else nd(last - 1, k)
+                          for k in (0, 1)), -1, "bottom_strips", (int(idx[0]), int(idx[1]))))
                 hinge_rows += strip_contact_rows(nd(0, 0), nd(0, 1), nd(1, 0), nd(1, 1),
                                                  nd(last, 0), nd(last, 1))
                 hinge_rows += strip_contact_rows(nd(last, 0), nd(last, 1), nd(last - 1, 0),
@@ -244,8 +253,15 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                 bars = [(left[0], e0), (left[1], e1), (x0, right[0]), (x1, right[1])]
                 if m.top_junction == "lce":
                     bars += [(e0, x0), (e1, x1)]
-                structure.add_bars("top_strips", bars)
+                idx = structure.add_bars("top_strips", bars)
                 strip_of_bar["top_strips"] += [sid] * len(bars)
+                pieces.append(StripPiece(
+                    (left[0], left[1]), tuple(node(direction, r, j, nf, k) for k in (0, 1)), 1,
+                    (int(e0), int(e1)), (int(x0), int(x1)), 0, "top_strips", (int(idx[0]), int(idx[1]))))
+                pieces.append(StripPiece(
+                    (int(x0), int(x1)), (int(e0), int(e1)), 0, (right[0], right[1]),
+                    tuple(node(direction, r, j + 1, nf + 1, k) for k in (0, 1)), 1, "top_strips",
+                    (int(idx[2]), int(idx[3]))))
                 hinge_rows += strip_contact_rows(left[0], left[1], node(direction, r, j, nf + 2, 0),
                                                  node(direction, r, j, nf + 2, 1), e0, e1)
                 hinge_rows += strip_contact_rows(right[0], right[1],
@@ -285,6 +301,7 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     sets["centre_junction"] = jc[n // 2, n // 2]
     # As the composite beam's, with two contact rows per point (the two triangles of a strip quad).
     strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
+    apply_strip_element(structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N, squares.reshape(-1))
 
     groups: dict[str, list[int]] = {}
     for st in strips:

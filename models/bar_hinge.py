@@ -39,6 +39,10 @@ Every law is an energy with analytic first and second derivatives, vectorised ov
   differentiating that gradient (checked against finite differences in tests/models).
 * **N5B8 bar areas** of a W x H panel of thickness t (Filipov, Liu, Tachi, Schenk, Paulino, "Bar and
   hinge models for scalable analysis of origami", Int. J. Solids Struct. 124:26-45, 2017, Sec. 4.1).
+* **Strip bending** (added here; the published model's strips are bars only,
+  ``mesh.strip_element``): a straight strip piece clamped to its two bonded panels as an
+  Euler-Bernoulli beam, U = (2EI/L)(d_a^2 + d_a d_b + d_b^2) with d_a, d_b its end rotations relative
+  to its chord, measured as changes of dihedral angles (:func:`strip_beam_element`).
 * **Strip-ribbon contact** (added here; the published model has none): frictionless unilateral
   point-plane penalty k <g0 - g>_+^2/2 with the signed distance g of a point to a plane through three
   nodes, its gradient and Hessian. Without it a free composite beam lets its ribbon pass through its
@@ -124,6 +128,15 @@ class LCEStripBars:
                            + PUBLISHED + ": A f P(p) with the rest fraction f = lambda/lambda_N; "
                            "ratio volume/published = 1/(lambda_N f^2): 1.27 at f = 0.75, 0.79 at "
                            "f = 0.95)")
+
+    bending_modulus: float = param(0.543, "MPa", "small-strain Young's modulus 3 mu_0 of the published "
+                                   "Ogden law (models.hyperelastic.OgdenLaw; the incompressible LCE): "
+                                   "the strips' own bending stiffness E I (only with mesh.strip_element "
+                                   "'bending' or 'beam')", positive=True)
+    bending_factor: float = param(1.0, "-", "multiplier of the strips' E I (1: the as-built section's, "
+                                  "E w_s h_s^3/12); a calibration parameter of `lcefem calibrate "
+                                  "bar-hinge` (only with mesh.strip_element 'bending' or 'beam')",
+                                  minimum=0.0)
 
     def checked(self) -> "LCEStripBars":
         if self.force_law not in FORCE_LAWS:
@@ -518,6 +531,69 @@ def unilateral_contact_element(x_p, x_a, x_b, x_c, rest_gap, stiffness, *, deriv
                 + (-k * pen[active])[:, None, None] * out[2]
     if derivatives == 1:
         return energy, grad
+    return energy, grad, hess
+
+
+def strip_beam_element(x_a, x_a2, x_pa, x_b, x_b2, x_pb, stiffness, rest_a, rest_b, *,
+                       derivatives: int = 2):
+    """Bending energy of a straight LCE strip piece clamped at both ends (an Euler-Bernoulli beam
+    element in terms of its end rotations relative to its chord), with gradient and Hessian.
+
+    The piece runs from a to b (its line of action: the strip's centroid); a2 and b2 are the nodes
+    across the strip's width at each end, and pa, pb a node of the panel (frame) each end is clamped
+    to. The end rotations relative to the chord, about the width axis, are the changes of two
+    dihedral angles (:func:`dihedral_angle`): d_a = theta(a -> a2; pa, b) - theta_a0 and
+    d_b = theta(b -> b2; pb, a) - theta_b0 (both axes point the same way across the width, so d_a
+    and d_b are rotations in the same sense; each wrapped to (-pi, pi]). With the beam's end moments
+    M_a = (2EI/L)(2 d_a + d_b), M_b = (2EI/L)(d_a + 2 d_b) (slope-deflection equations, e.g.
+    Timoshenko & Young, Theory of Structures, ch. 9) the energy is
+
+        U = (2 E I/L) (d_a^2 + d_a d_b + d_b^2),
+
+    so that a uniform curvature kappa (d_a = -d_b = kappa L/2) stores E I kappa^2 L/2.
+
+    Args:
+        x_a, x_a2, x_pa, x_b, x_b2, x_pb: node positions [mm], (n, 3) each.
+        stiffness: 2 E I/L [N mm], (n,); rest_a, rest_b: as-built dihedral angles [rad], (n,).
+    Returns:
+        energy (n,) [mJ]; gradient (n, 18) [N] ordered (a, a2, pa, b, b2, pb); Hessian (n, 18, 18) [N/mm].
+    """
+    out_a = dihedral_angle(x_a, x_a2, x_pa, x_b, derivatives=derivatives)
+    out_b = dihedral_angle(x_b, x_b2, x_pb, x_a, derivatives=derivatives)
+    th_a = out_a if derivatives == 0 else out_a[0]
+    th_b = out_b if derivatives == 0 else out_b[0]
+    d_a = np.mod(th_a - rest_a + np.pi, 2.0 * np.pi) - np.pi
+    d_b = np.mod(th_b - rest_b + np.pi, 2.0 * np.pi) - np.pi
+    c = np.asarray(stiffness, dtype=float)
+    energy = c * (d_a * d_a + d_a * d_b + d_b * d_b)
+    if derivatives == 0:
+        return energy
+    n = d_a.shape[0]
+    # node slots of each hinge's (j, k, i, l) in (a, a2, pa, b, b2, pb)
+    slots_a, slots_b = (0, 1, 2, 3), (3, 4, 5, 0)
+
+    def spread(g12, slots):
+        g = np.zeros((n, 18))
+        for q, s in enumerate(slots):
+            g[:, 3 * s:3 * s + 3] += g12[:, 3 * q:3 * q + 3]
+        return g
+
+    ga, gb = spread(out_a[1], slots_a), spread(out_b[1], slots_b)
+    m_a, m_b = c * (2.0 * d_a + d_b), c * (d_a + 2.0 * d_b)
+    grad = m_a[:, None] * ga + m_b[:, None] * gb
+    if derivatives == 1:
+        return energy, grad
+
+    def spread2(h12, slots):
+        h = np.zeros((n, 18, 18))
+        for p, sp_ in enumerate(slots):
+            for q, sq in enumerate(slots):
+                h[:, 3 * sp_:3 * sp_ + 3, 3 * sq:3 * sq + 3] += h12[:, 3 * p:3 * p + 3, 3 * q:3 * q + 3]
+        return h
+
+    hess = c[:, None, None] * (2.0 * _outer(ga, ga) + _outer(ga, gb) + _outer(gb, ga)
+                                + 2.0 * _outer(gb, gb)) \
+        + m_a[:, None, None] * spread2(out_a[2], slots_a) + m_b[:, None, None] * spread2(out_b[2], slots_b)
     return energy, grad, hess
 
 

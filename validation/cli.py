@@ -32,7 +32,7 @@ from lcefem.solvers.runtime.signals import (install_signal_handlers, keep_petsc_
 from lcefem.validation.commands import RUN_TARGETS
 
 #: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
-COMMANDS = ("validate", "converge", "uncertainty", "design", "control")
+COMMANDS = ("validate", "converge", "uncertainty", "design", "control", "calibrate")
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
 AGREE_SECONDS = 3.0
 INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (--overwrite must spare them)  #: how long a failing rank waits for the others before aborting them

@@ -34,6 +34,7 @@ from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions,
 from lcefem.solvers.exports import bar_hinge_run
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.run import Progress
+from lcefem.solvers.problems.strip_beams import bar_hinge_model
 
 #: Default stepping of the actuation ramp (see PathOptions).
 BEAM_PATH = PathOptions(initial_increment=0.05, max_increment=0.2, easy_iterations=10)
@@ -94,7 +95,7 @@ def setup_beam(lambda_top: float, lambda_bottom: float,
     check_lambda("lambda_top", lambda_top, lam_n)
     check_lambda("lambda_bottom", lambda_bottom, lam_n)
     structure = build_beam_bar_hinge(geometry, mesh)
-    model = BarHingeModel.from_materials(structure, materials)
+    model = bar_hinge_model(structure, materials)
     held = isostatic_supports(*structure.node_sets["centre_support"])
     return BeamSetup(lambda_top, lambda_bottom, structure, model, held,
                      beam_load(model, lambda_top, lambda_bottom, held))

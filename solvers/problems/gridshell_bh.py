@@ -65,6 +65,7 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
 from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.problems.strip_beams import bar_hinge_model
 from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.run import Progress
@@ -327,7 +328,7 @@ class GridshellBH:
     def __init__(self, structure: BarHingeStructure, config: GridshellBHConfig = GridshellBHConfig()):
         self.structure, self.config = structure, config
         prepare_structure(structure, config.support, config.geometry, config.materials.lce.lambda_N)
-        model = BarHingeModel.from_materials(structure, config.materials)
+        model = bar_hinge_model(structure, config.materials)
         self.setup = setup_from_model(structure, model, config.support, None, config.weight)
         self.x = structure.nodes.copy()
         self._current = model.rest_fractions()
@@ -442,7 +443,7 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
         raise InputError(f"support = {support!r}: allowed {', '.join(SUPPORTS)}")
     structure = structure or build_gridshell_bar_hinge(geometry, layout, mesh)
     prepare_structure(structure, support, geometry, materials.lce.lambda_N)
-    return setup_from_model(structure, BarHingeModel.from_materials(structure, materials), support,
+    return setup_from_model(structure, bar_hinge_model(structure, materials), support,
                             rest_fractions, weight)
 
 
@@ -502,6 +503,9 @@ DEPARTURES = {
     "middle_rollers": "the 8 rollers on both edges of the middle ribbons' ends ('middle_rollers', our "
                       "former reading; published: the outer ribbons' outer-edge end nodes); only where "
                       "the published support is 'rollers'",
+    "strip_beam": "the strip element (mesh.strip_element = 'beam'): each LCE strip acts at its centroid, "
+                  "t_p/2 + h_s/2 = 0.909 mm off the ribbon, and has its own bending stiffness E I "
+                  "(published: two-node bars on the ribbon's nodes; docs/gridshell_calibration.md)",
 }
 #: How a run is configured (``run.configuration``): "published" = the published model's supports,
 #: glue squares, bar law and no contact (+ ``run.departures``); "case" = the mesh, lce sections and
@@ -526,7 +530,8 @@ def published_configuration(mesh: BeamBarHingeMesh, lce: law.LCEStripBars, suppo
     published support) with the named :data:`DEPARTURES` applied."""
     dep = parse_departures(departures)
     mesh = replace(mesh, contact="contact" in dep,
-                   top_junction="lce" if "contracting_squares" in dep else "glue")
+                   top_junction="lce" if "contracting_squares" in dep else "glue",
+                   strip_element="beam" if "strip_beam" in dep else "bar")
     lce = replace(lce, force_law="volume" if "volume_law" in dep else "published")
     if "middle_rollers" in dep and support == "rollers":
         support = "middle_rollers"

@@ -13,6 +13,13 @@ validation/data (running the FE gridshell takes minutes to hours).
   saddle and cylinder (not the dome, minutes) and the beam map's 2 x 2 corners.
 - The beam map: the 4-segment composite beam's curvature over [1.05, 1.33]^2 (5 x 5) against the
   stored FE map (level 0), ours judged, the FE's configuration and controlled changes informative.
+- The strip element (``mesh.strip_element = "beam"``: the strips' centroid offset and own bending)
+  with the FE-calibrated parameters of validation/data/bar_hinge_calibration.json (``lcefem
+  calibrate bar-hinge``): judged rows "<shape>: circle kappa_<x|y> BH vs FE (strip element,
+  FE-calibrated)" on the four shapes (the dome included: with the strip element it takes seconds)
+  and the beam map (the FE beam's configuration: its top strips contract over the junctions; quick:
+  the 4 corners); at the full level the offset alone, the bending alone and both at the published
+  factors, informative (docs/gridshell_calibration.md).
 
 FE references (:data:`FE_REFERENCE`): gridshell_fe_fig4_quarter_level0.json (quarter model, mesh
 level 0, 26,904 Q2 DOFs; the published supports) and, for the dome, the mesh-converged level 2 of
@@ -53,7 +60,7 @@ CHANGES = {
 }
 
 
-def _fe_reference() -> dict:
+def fe_reference() -> dict:
     """{shape: {measure: value [1/mm]}} and the source of each."""
     level0 = json.loads((DATA_DIR / "gridshell_fe_fig4_quarter_level0.json").read_text())
     dome = json.loads((DATA_DIR / "gridshell_fe_dome_full_ramp_from_flat_levels.json").read_text())
@@ -165,7 +172,7 @@ def _beam_map(ctx: CaseContext, name: str) -> list[Metric]:
       "(Fig. 4 shapes), with controlled changes of the BH where they differ by > 10 %", fe=False)
 def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
     name = ctx.case or "gridshell_bh_vs_fe"
-    fe = _fe_reference()
+    fe = fe_reference()
     metrics: list[Metric] = []
     rows = {k: [] for k in ("shape", "variant", "circle_x", "circle_y", "quad_kx", "quad_ky", "seconds")}
     # The quick level leaves out the dome: its snap-through (a dense eigensolve of ~2500 DOFs per
@@ -207,6 +214,7 @@ def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
                     NOT_JUDGED + "a controlled change that shows the cause of the difference; "
                     + (why_c or src), reference=ref[key]))
     metrics += _beam_map(ctx, name)
+    metrics += _strip_element(ctx, name, fe)
     write_csv(ctx.path("gridshell_bh_vs_fe.csv"), {
         "row [-]": list(range(len(rows["shape"]))),
         "circle kappa_x [1/mm]": rows["circle_x"], "circle kappa_y [1/mm]": rows["circle_y"],
@@ -215,3 +223,73 @@ def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
     (ctx.path("gridshell_bh_vs_fe_rows.txt")).write_text(
         "\n".join(f"{i}: {s} / {v}" for i, (s, v) in enumerate(zip(rows["shape"], rows["variant"]))) + "\n")
     return metrics
+
+
+#: The strip element's controlled changes (label -> mesh.strip_element), published factors.
+STRIP_CHANGES = {"strip centroid offset alone": "offset", "strip bending alone": "bending",
+                 "strip element (offset + bending)": "beam"}
+
+
+def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
+    """The BH with the strip element (mesh.strip_element = 'beam') and the FE-calibrated parameters
+    of validation/data/bar_hinge_calibration.json (``lcefem calibrate bar-hinge``), judged against
+    the FE on the four shapes and the beam map; at the full level, the offset alone, the bending
+    alone and both at the published factors (informative, controlled changes)."""
+    import numpy as np
+
+    from lcefem.validation import calibrate as cal
+
+    record = cal.load()
+    out: list[Metric] = []
+    if record is None:
+        return [Metric(name, "calibrated set: parameter file present", 0.0, "-", 1.0, 0.0, False,
+                       "validation/data/bar_hinge_calibration.json missing: run lcefem calibrate bar-hinge")]
+    mats = cal.calibrated_materials(record)
+    params = ", ".join(f"{k} = {v:.4g}" for k, v in record["parameters"].items())
+    src = (f"{BH} with the strip element (mesh.strip_element = 'beam'), FE-calibrated: {params} "
+           "(validation/data/bar_hinge_calibration.json, lcefem calibrate bar-hinge); published supports "
+           "and glue squares + contact + volume law")
+    for shape in ("table", "dome", "saddle", "cylinder"):
+        ref = fe[shape]
+        k = cal.solve_shape(shape, mats)
+        if k is None:
+            out.append(Metric(name, f"{shape}: BH converged (strip element, FE-calibrated)", 0.0, "-", 1.0,
+                              0.0, False, src))
+            continue
+        for c in cal.components(shape):
+            out.append(Metric.within(name, f"{shape}: circle kappa_{c[-1]} BH vs FE (strip element, "
+                                     "FE-calibrated)", k[c], "1/mm", ref[c], _tolerance(ref[c]),
+                                     ref["source"] + "; " + src + "; tolerance: 10 % or 0.002 1/mm"))
+        if ctx.quick:
+            continue
+        for label, element in STRIP_CHANGES.items():
+            kc = cal.solve_shape(shape, law.BarHingeMaterials(), element)
+            for c in cal.components(shape):
+                out.append(Metric.info(name, f"{shape}: circle kappa_{c[-1]} BH vs FE, controlled change: "
+                                       f"{label}", kc[c] if kc else math.nan, "1/mm",
+                                       NOT_JUDGED + "published hinge factor and strip E I; " + BH,
+                                       reference=ref[c]))
+    targets = cal.fe_targets((), "corners" if ctx.quick else "all")
+    lt, lb, kfe = targets["beam"]
+    fe_src = ("3D FE composite beam, mesh level 0 (validation/data/beam_fe_curvature_map_level0.json; "
+              "its top strips contract over the junctions: BH mesh.top_junction = 'lce')")
+    variants = {"strip element, FE-calibrated": ("beam", mats)}
+    if not ctx.quick:
+        variants.update({f"{label}, published factors": (el, law.BarHingeMaterials())
+                         for label, el in STRIP_CHANGES.items()})
+    for label, (element, m) in variants.items():
+        kbh = cal.solve_beam_map(lt, lb, m, element)
+        excess = np.abs(kbh - kfe) / np.maximum(REL_TOL * np.abs(kfe), ABS_TOL)
+        w = int(np.nanargmax(excess))
+        where = (f"worst at (lambda_T, lambda_B) = ({lt[w]:.2f}, {lb[w]:.2f}): BH {kbh[w]:.4f}, FE "
+                 f"{kfe[w]:.4f} 1/mm")
+        metric = f"beam map: largest |kappa_BH - kappa_FE| in units of the tolerance, BH vs FE ({label})"
+        if label.endswith("FE-calibrated"):
+            out.append(Metric.within(name, metric, float(np.nanmax(excess)), "-", 0.0, 1.0,
+                                     fe_src + "; " + src + "; tolerance per point: 10 % of the FE or "
+                                     "0.002 1/mm; " + where))
+        else:
+            out.append(Metric.info(name, metric, float(np.nanmax(excess)), "-",
+                                   NOT_JUDGED + "a controlled change; " + fe_src + "; " + where,
+                                   reference=1.0))
+    return out

@@ -30,6 +30,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 
+from lcefem.meshes.composite_beam import STRIP_ELEMENTS
 from lcefem.models import bar_hinge as law
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.composite_beam_bh import BeamConfig, run_beam
@@ -103,6 +104,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--heated", choices=("bottom", "top", "both"), help="FE only: strips carrying "
                    "--current (default bottom)")
     p.add_argument("--duration", type=float, help="FE only: heating time [s] (default 12)")
+    p.add_argument("--strip-element", choices=STRIP_ELEMENTS, help="bar-and-hinge only: how the LCE "
+                   "strips act on the ribbon (mesh.strip_element): bar (published, default), offset (at "
+                   "the strip's centroid), bending (own E I), beam (both)")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
         f.name for f in dataclasses.fields(BeamConfig)) + " (bar-hinge); run, heat_run, geometry, mesh, "
         "kapton, lce, actuation, contact, path, eq2 (fe)")
@@ -117,12 +121,15 @@ def config_from_args(args: argparse.Namespace):
         cfg = override(cfg, "mesh", level=args.mesh_level)
     else:
         cfg = config_from_toml(args.config, BeamConfig())
+        cfg = override(cfg, "mesh", strip_element=getattr(args, "strip_element", None))
     cfg = override(cfg, "run", lambda_top=args.lambda_top, lambda_bottom=args.lambda_bottom)
     return override(cfg, "geometry", segments=args.segments)
 
 
 def prepare(args: argparse.Namespace):
     """The validated configuration of the chosen model (before the output folder is touched)."""
+    if args.model == "fe" and getattr(args, "strip_element", None) is not None:
+        raise InputError("--strip-element: only with --model bar-hinge")
     if args.model != "fe":
         for name in ("mesh_level", "current", "heated", "duration"):
             if getattr(args, name, None) is not None:

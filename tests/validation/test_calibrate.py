@@ -1,0 +1,45 @@
+"""`lcefem calibrate bar-hinge`: input checks, the parameter file, and the stored calibration."""
+
+import json
+
+import pytest
+
+from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.validation import calibrate as cal
+from lcefem.validation.cli import main as cli_main
+
+
+@pytest.mark.parametrize("args, field", [(["--shapes", "dome,bowl"], "--shapes"),
+                                         (["--parameters", "eta"], "--parameters"),
+                                         (["--max-evaluations", "0"], "--max-evaluations")])
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, args, field):
+    assert cli_main(["calibrate", "bar-hinge", *args, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and field in err[0]
+    assert not (tmp_path / "o").exists()
+
+
+def test_one_shape_fit_writes_the_parameter_file_with_residuals(tmp_path):
+    # The table alone, the strip E I factor alone, one evaluation: the file holds the fitted value,
+    # the residual per shape in units of the tolerance (the BH table with the strip element is
+    # -0.0039 against the FE's -0.0045 1/mm: within 0.002) and the command.
+    out = tmp_path / "cal"
+    assert cli_main(["calibrate", "bar-hinge", "--shapes", "table", "--parameters", "strip_bending_factor",
+                     "--beam-points", "none", "--max-evaluations", "1", "--out", str(out), "--quiet"]) == 0
+    rec = json.loads((out / "bar_hinge_calibration.json").read_text())
+    assert set(rec["parameters"]) == {"lce.bending_factor"}
+    row = rec["fitted"]["shapes"]["table"]["circle_x"]
+    assert row["FE [1/mm]"] == pytest.approx(-0.0045, abs=5e-5)
+    assert row["residual [-]"] == pytest.approx((row["BH [1/mm]"] - row["FE [1/mm]"]) / 0.002)
+    assert abs(row["residual [-]"]) <= 1.0
+    assert rec["command"].startswith("lcefem calibrate bar-hinge")
+
+
+def test_stored_calibration_applies_to_the_materials():
+    rec = cal.load()
+    assert rec is not None, "validation/data/bar_hinge_calibration.json: run lcefem calibrate bar-hinge"
+    m = cal.calibrated_materials(rec, BarHingeMaterials())
+    assert m.lce.bending_factor == rec["parameters"]["lce.bending_factor"]
+    assert m.kapton.bending_factor == rec["parameters"]["kapton.bending_factor"]
+    for name, (section, fld, _, lo, hi) in cal.PARAMETERS.items():
+        assert lo <= rec["parameters"][f"{section}.{fld}"] <= hi
