@@ -209,6 +209,18 @@ def marker_curvature_sd(surface: Surface, noise: float) -> np.ndarray:
     return np.array(out)
 
 
+def sensor_resolution(surface: Surface, settings: ControllerSettings, noise: float) -> float:
+    """1 SD [1/mm] of the fed-back circle curvature from one scan with noise ``noise`` [mm], the larger
+    of x and y: the markers' (:func:`marker_curvature_sd`), or the height estimator's; 0 for the
+    oracle."""
+    if settings.sensing == "markers":
+        return float(marker_curvature_sd(surface, noise).max())
+    if settings.sensing == "oracle":
+        return 0.0
+    S, _ = surface.selection("channels")
+    return ShapeController(surface, S, settings).curvature_resolution(noise)
+
+
 def curvature_error(surface: Surface, y) -> float:
     """max |circle kappa - target| over x and y [1/mm]."""
     k = surface.heights
@@ -273,7 +285,7 @@ class ControllerSettings:
     load_prior: float = param(1.0, "N", "assumed: prior SD of an unknown centre load in the curvature "
                               "estimator (a 100 g weight is 0.98 N)", minimum=0.0)
     feedback: bool = param(True, "-", "False: open loop (nominal feed-forward and boost only)")
-    sensing: str = param("heights", "-", "what the loop feeds back: 'heights' (the nine junction-centre "
+    sensing: str = param("markers", "-", "what the loop feeds back: 'heights' (the nine junction-centre "
                          "heights; the circle curvatures estimated through K), 'markers' (the circle "
                          "curvatures measured through the points of the circle measure: the ends of "
                          "the middle ribbons and the centre, with the sensor's noise per coordinate), "
@@ -385,8 +397,10 @@ class Scenario:
     load_phase: float = param(200.0, "s", "assumed: duration after the payload step (0: none)", minimum=0.0)
     failure_phase: float = param(200.0, "s", "assumed: duration after one strip fails (0: none)",
                                  minimum=0.0)
-    refine: float = param(60.0, "s", "assumed: the last part of each phase runs on the tangent map "
-                          "re-anchored at a full solve", minimum=0.0)
+    refine: float = param(240.0, "s", "assumed: the last part of each phase runs on the tangent map "
+                          "re-anchored at a full solve every refine_every (from flat: from 60 s on, "
+                          "once the strips are near their targets; the tangent map at the target "
+                          "alone left the cylinder's draw 2 at 0.00066 1/mm, this 0.00004)", minimum=0.0)
     refine_every: float = param(20.0, "s", "assumed: within the refine window a full solve re-anchors "
                                 "the tangent map this often (the loop then acts on the full "
                                 "equilibrium's error, not on the tangent map's, at 3 solves per window)",

@@ -2,7 +2,7 @@
 
 ``lcefem control --shape dome|saddle|cylinder|table [--inputs channels|strips] [--seed S]
 [--ambient-offset K] [--payload-g G] [--noise-mm N] [--max-current A] [--sustained-current A]
-[--settle S] [--no-load] [--no-failure] [--full-under-load] [--relinearise] [--no-movie] --out DIR [--overwrite]
+[--settle S] [--no-load] [--no-failure] [--full-under-load] [--relinearise] [--sensing markers|heights|oracle] [--no-movie] --out DIR [--overwrite]
 [--quiet]``
 
 From flat, the surface is driven to a Fig. 4 target (the nominal bar-and-hinge surface at the
@@ -52,10 +52,13 @@ class ControlRequest:
     scenario: ctl.Scenario = ctl.Scenario()
     ribbons: int = 3
     movie: bool = True
+    settings: ctl.ControllerSettings = ctl.ControllerSettings()
 
     def validated(self) -> "ControlRequest":
         if self.shape not in ctl.SHAPES:
             raise InputError(f"--shape = {self.shape!r}: allowed {', '.join(ctl.SHAPES)}")
+        if self.settings.sensing not in ctl.SENSING:
+            raise InputError(f"--sensing = {self.settings.sensing!r}: allowed {', '.join(ctl.SENSING)}")
         if self.inputs not in ctl.INPUT_MODES:
             raise InputError(f"--inputs = {self.inputs!r}: allowed {', '.join(ctl.INPUT_MODES)}")
         if self.ribbons < 3 or self.ribbons % 2 == 0:
@@ -83,7 +86,7 @@ class ControlRequest:
         return {"shape": self.shape, "inputs": self.inputs, "seed": self.seed, "ribbons": self.ribbons,
                 "spread": describe(self.spread), "sensor": describe(self.sensor),
                 "limits": describe(self.limits), "scenario": describe(self.scenario),
-                "controller": describe(ctl.ControllerSettings())}
+                "controller": describe(self.settings)}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -108,6 +111,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="full equilibria under the payload too (slow; default: tangent map)")
     p.add_argument("--relinearise", action="store_true",
                    help="recompute the sensitivities at each full solve (plant tangent map and controller)")
+    p.add_argument("--sensing", default=ctl.ControllerSettings().sensing,
+                   help="feedback: markers (circle curvatures through the ends of the middle ribbons and "
+                   "the centre, noisy), heights (the nine junction-centre heights, curvature estimated), "
+                   "oracle (true curvature, noise-free)")
     p.add_argument("--no-movie", action="store_true", help="skip control.gif")
     add_out_arguments(p, "results/control")
 
@@ -124,7 +131,8 @@ def prepare(args: argparse.Namespace) -> ControlRequest:
                           PlantSpread(ambient_offset=args.ambient_offset, payload_mass=args.payload_g * 1e-6),
                           HeightSensor(noise=args.noise_mm),
                           CurrentLimits(maximum=args.max_current, sustained=args.sustained_current),
-                          sc, args.ribbons, not args.no_movie).validated()
+                          sc, args.ribbons, not args.no_movie,
+                          ctl.ControllerSettings(sensing=str(args.sensing))).validated()
 
 
 def run_pair(req: ControlRequest, surface: ctl.Surface | None = None, progress=None) -> dict:
@@ -135,7 +143,7 @@ def run_pair(req: ControlRequest, surface: ctl.Surface | None = None, progress=N
     for k, loop in enumerate(LOOPS):
         out[loop] = ctl.simulate(surface, draw, mode=req.inputs, feedback=loop == "closed",
                                  scenario=req.scenario, spread=req.spread, sensor=req.sensor,
-                                 limits=req.limits, seed=req.seed,
+                                 limits=req.limits, settings=req.settings, seed=req.seed,
                                  progress=None if progress is None else
                                  (lambda t, k=k: progress(k * req_total(req) + t)))
     return out
