@@ -10,7 +10,8 @@ Plant (:class:`SurfacePlant`)
       (drawn); its rest fraction f = min(lambda_s, lambda_N,j)/lambda_N,j, i.e. design lambda
       p_j = 1.4 f_j on the bar-and-hinge model built at lambda_N = 1.4.
     * Mechanics: quasi-static. The full bar-and-hinge equilibrium (:class:`Surface`, warm-started)
-      is solved at *anchor* instants; between anchors the outputs follow the tangent map
+      is solved at *anchor* instants (every ``Scenario.refine_every`` in the last ``Scenario.refine``
+      of each phase, and at its end); between anchors the outputs follow the tangent map
       y(p) = y(p_a) + J (p - p_a) (J: the exact sensitivities of the observables to the 42 strip
       lambdas at the target's equilibrium, implicit-function theorem; before the first anchor the
       tangent at the target itself). Every error this module reports at the end of a phase is a full
@@ -18,16 +19,21 @@ Plant (:class:`SurfacePlant`)
     * Payload: a point weight on the centre pad (the four corners of the raised centre square),
       linear compliance between anchors, ramped in the full solve.
 
-Sensor: the nine junction-centre heights with Gaussian noise (:class:`HeightSensor`).
+Sensor: the nine junction-centre heights with Gaussian noise (:class:`HeightSensor`) and, with
+``ControllerSettings.sensing = "markers"`` (default), the circle curvatures measured through their own
+points (the ends of the middle ribbons and the centre, :func:`marker_curvature_sd`). The first design
+fed back the heights only, the curvature estimated through K (``sensing = "heights"``): the estimate
+is what left the dome and the saddle outside the tolerance (docs/control.md, controlled changes).
 
 Controller (:class:`ShapeController`): internal-model control with the design Jacobian.
     * A nominal thermal observer per input (nominal 25 ohm segment, 25 C) integrates the commanded
       currents: p_hat = lambda_s(T_hat).
-    * Output disturbance d = h_measured - (h* + J_u (p_hat - p*)) (J_u: the height rows of J summed
-      over the strips of each input: the four channels, or every strip), low-pass filtered.
-    * Curvature deviation K d_f (linear minimum-variance estimate from the heights, prior: the
+    * Curvature disturbance d = kappa_measured - (kappa* + J_k,u (p_hat - p*)), low-pass filtered
+      (J_k,u: the circle-curvature rows of J summed over the strips of each input: the four
+      channels, or every strip). With sensing "heights": d = K (h_measured - (h* + J_h,u (p_hat -
+      p*))), K the linear minimum-variance estimate of the curvatures from the heights (prior: the
       measured lambda_N spread per strip and an unknown centre load; noise: the sensor's).
-    * Reference p_ref = p* + argmin |J_k,u dp + K d_f|^2 + mu |dp|^2 (J_k,u: the circle curvatures
+    * Reference p_ref = p* + argmin |J_k,u dp + d_f|^2 + mu |dp|^2 (J_k,u: the circle curvatures
       per input lambda; bounded least squares within the lambdas a sustained current can hold and
       lambda_N), i.e. the iterated inverse-model correction.
     * Current = holding current of p_ref (nominal steady map) + K (T_ref - T_hat), clipped to the

@@ -8,8 +8,9 @@
 From flat, the surface is driven to a Fig. 4 target (the nominal bar-and-hinge surface at the
 paper's lambdas) twice with the same drawn strips (resistance, current factor and lambda_N per strip
 from the measured spreads, seeded; an ambient offset): open loop (the nominal current feed-forward
-and the paper's 0.2 A boost) and closed loop (the nine junction-centre heights, noisy, fed back
-through the design Jacobian; :mod:`lcefem.solvers.control`). Then a payload step on the centre
+and the paper's 0.2 A boost) and closed loop (the circle curvatures measured through markers at the
+ends of the middle ribbons and the centre, noisy, fed back through the design Jacobian; ``--sensing
+heights`` estimates them from the nine junction-centre heights instead; :mod:`lcefem.solvers.control`). Then a payload step on the centre
 (default 100 g) and, with the payload removed, one strip failing (its coil open).
 
 Outputs (run skeleton): history.csv (time [s], phase, per loop: input currents [A], circle
