@@ -2,14 +2,15 @@
 
 ``lcefem control --shape dome|saddle|cylinder|table [--inputs channels|strips] [--seed S]
 [--ambient-offset K] [--payload-g G] [--noise-mm N] [--max-current A] [--sustained-current A]
-[--settle S] [--no-load] [--no-failure] [--full-under-load] [--relinearise] [--no-movie] --out DIR [--overwrite]
+[--settle S] [--no-load] [--no-failure] [--full-under-load] [--relinearise] [--sensing markers|heights|oracle] [--no-movie] --out DIR [--overwrite]
 [--quiet]``
 
 From flat, the surface is driven to a Fig. 4 target (the nominal bar-and-hinge surface at the
 paper's lambdas) twice with the same drawn strips (resistance, current factor and lambda_N per strip
 from the measured spreads, seeded; an ambient offset): open loop (the nominal current feed-forward
-and the paper's 0.2 A boost) and closed loop (the nine junction-centre heights, noisy, fed back
-through the design Jacobian; :mod:`lcefem.solvers.control`). Then a payload step on the centre
+and the paper's 0.2 A boost) and closed loop (the circle curvatures measured through markers at the
+ends of the middle ribbons and the centre, noisy, fed back through the design Jacobian; ``--sensing
+heights`` estimates them from the nine junction-centre heights instead; :mod:`lcefem.solvers.control`). Then a payload step on the centre
 (default 100 g) and, with the payload removed, one strip failing (its coil open).
 
 Outputs (run skeleton): history.csv (time [s], phase, per loop: input currents [A], circle
@@ -54,10 +55,13 @@ class ControlRequest:
     scenario: ctl.Scenario = ctl.Scenario()
     ribbons: int = 3
     movie: bool = True
+    settings: ctl.ControllerSettings = ctl.ControllerSettings()
 
     def validated(self) -> "ControlRequest":
         if self.shape not in ctl.SHAPES:
             raise InputError(f"--shape = {self.shape!r}: allowed {', '.join(ctl.SHAPES)}")
+        if self.settings.sensing not in ctl.SENSING:
+            raise InputError(f"--sensing = {self.settings.sensing!r}: allowed {', '.join(ctl.SENSING)}")
         if self.inputs not in ctl.INPUT_MODES:
             raise InputError(f"--inputs = {self.inputs!r}: allowed {', '.join(ctl.INPUT_MODES)}")
         if self.ribbons < 3 or self.ribbons % 2 == 0:
@@ -85,7 +89,7 @@ class ControlRequest:
         return {"shape": self.shape, "inputs": self.inputs, "seed": self.seed, "ribbons": self.ribbons,
                 "spread": describe(self.spread), "sensor": describe(self.sensor),
                 "limits": describe(self.limits), "scenario": describe(self.scenario),
-                "controller": describe(ctl.ControllerSettings())}
+                "controller": describe(self.settings)}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -110,6 +114,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="full equilibria under the payload too (slow; default: tangent map)")
     p.add_argument("--relinearise", action="store_true",
                    help="recompute the sensitivities at each full solve (plant tangent map and controller)")
+    p.add_argument("--sensing", default=ctl.ControllerSettings().sensing,
+                   help="feedback: markers (circle curvatures through the ends of the middle ribbons and "
+                   "the centre, noisy), heights (the nine junction-centre heights, curvature estimated), "
+                   "oracle (true curvature, noise-free)")
     p.add_argument("--no-movie", action="store_true", help="skip control.gif")
     add_out_arguments(p, "results/control")
 
@@ -126,7 +134,8 @@ def prepare(args: argparse.Namespace) -> ControlRequest:
                           PlantSpread(ambient_offset=args.ambient_offset, payload_mass=args.payload_g * 1e-6),
                           HeightSensor(noise=args.noise_mm),
                           CurrentLimits(maximum=args.max_current, sustained=args.sustained_current),
-                          sc, args.ribbons, not args.no_movie).validated()
+                          sc, args.ribbons, not args.no_movie,
+                          ctl.ControllerSettings(sensing=str(args.sensing))).validated()
 
 
 def run_pair(req: ControlRequest, surface: ctl.Surface | None = None, progress=None) -> dict:
@@ -137,7 +146,7 @@ def run_pair(req: ControlRequest, surface: ctl.Surface | None = None, progress=N
     for k, loop in enumerate(LOOPS):
         out[loop] = ctl.simulate(surface, draw, mode=req.inputs, feedback=loop == "closed",
                                  scenario=req.scenario, spread=req.spread, sensor=req.sensor,
-                                 limits=req.limits, seed=req.seed,
+                                 limits=req.limits, settings=req.settings, seed=req.seed,
                                  progress=None if progress is None else
                                  (lambda t, k=k: progress(k * req_total(req) + t)))
     return out
