@@ -207,6 +207,28 @@ def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarra
     return float(vals[0]), vecs[:, 0]
 
 
+#: Negative curvature of the tangent above -NEGLIGIBLE_CURVATURE times its largest diagonal entry is
+#: numerically zero: no escape is tried. Chosen from the dome of Fig. 4 (largest diagonal entry
+#: 1485 N/mm): at its fold the lowest eigenvalues of the tangent are -1e-11 to -8e-8 N/mm
+#: (7e-15 to 5e-11 of the largest entry), with several further eigenvalues within 1e-12 to 2e-8 N/mm of
+#: zero (near-mechanisms of slack strips and contacts): all 10 escapes along such a direction there
+#: ended in a failed increment, after a dense eigh each (2 s CPU).
+NEGLIGIBLE_CURVATURE = 1.0e-10
+
+
+def _negligible_negative_curvature(kmat: sp.csc_matrix, reduced: ReducedHessian) -> bool:
+    """True when K + tau I is positive definite, tau = NEGLIGIBLE_CURVATURE times the largest diagonal
+    entry (Sylvester's law on its LDL^T, one factorisation): the lowest eigenvalue of K is above -tau,
+    no direction of K lowers the energy by more than tau/2 |v|^2."""
+    diag = reduced.diagonal(kmat)
+    tau = NEGLIGIBLE_CURVATURE * max(float(np.max(np.abs(diag))) if diag.size else 0.0, 1e-300)
+    try:
+        _, negative, zero = _factorize(kmat, diag + tau, tau, reduced.ldl)
+    except RuntimeError:
+        return False
+    return negative == 0 and zero == 0
+
+
 #: Up to this many free DOFs the lowest eigenpair comes from a dense eigh (above, a dense matrix of
 #: 8 n^2 bytes and an O(n^3) solve are too much: Lanczos).
 DENSE_EIGEN = 4000
@@ -239,6 +261,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         if escapes >= 20:
             return False
         kmat = reduced.matrix(coo)
+        if _negligible_negative_curvature(kmat, reduced):
+            return False
         lowest, vec = _negative_curvature_direction(kmat)
         if lowest >= 0:
             return False
