@@ -52,7 +52,9 @@ class NewtonOptions:
                             "tangents at folds of the path", positive=True)
     stall_iterations: int = param(0, "-", "chosen: after this many Newton iterations without halving "
                                   "the residual (0: never), the steps are damped (K + mu I, mu from "
-                                  "1e-8 of the largest stiffness, x10 per further stalled iteration): "
+                                  "1e-8 of the largest stiffness, x10 after a damped step that did not "
+                                  "lower the residual, /10 after one that did, at most 1e-2; undamped "
+                                  "again once the residual is halved): "
                                   "near contact and slack-strip kinks of the tangent, undamped Newton "
                                   "cycles a few 1e-6 N above the tolerance", minimum=0)
     snap_iterations: int = param(1000, "-", "chosen: extra iterations allowed once a state has lost "
@@ -234,6 +236,18 @@ def _negligible_negative_curvature(kmat: sp.csc_matrix, reduced: ReducedHessian)
 DENSE_EIGEN = 4000
 
 
+def _stall(best: float, stalled: int, level: int, residual: float, previous: float, damping: float
+           ) -> tuple[float, int, int]:
+    """Stall bookkeeping after an accepted step: (best residual, stalled iterations, damping level).
+    Halving the best residual ends the stall (no damping); a damped step lowers the damping when it
+    lowered the residual, else raises it (at most 1e-2 of the largest stiffness)."""
+    if residual <= 0.5 * best:
+        return residual, 0, 0
+    if damping:
+        level = max(level - 1, 0) if residual < previous else min(level + 1, 6)
+    return best, stalled + 1, level
+
+
 def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
            options: NewtonOptions = NewtonOptions(), reduced: ReducedHessian | None = None
            ) -> NewtonResult:
@@ -254,6 +268,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
     escapes = 0
     it = 0
     best, stalled = residual, 0  # iterations since the residual was last halved
+    level = 0  # damping exponent of the stalled iterations (mu = 1e-8 * 10^level of the largest entry)
 
     def escape() -> bool:
         """Step along negative curvature until the energy drops; False if it cannot."""
@@ -301,9 +316,10 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             break
         it += 1
         r = grad[free]
+        r_old = residual
         damping = 0.0
         if options.stall_iterations and stalled >= options.stall_iterations:
-            damping = min(1e-8 * 10.0 ** (stalled - options.stall_iterations), 1e-2)
+            damping = 1e-8 * 10.0 ** level
         try:
             kmat = reduced.matrix(coo)
             step, negative, _ = _descent_step(kmat, -r, options, damping, reduced.diagonal(kmat),
@@ -331,7 +347,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             x = trial
             energy, grad, coo = model.evaluate(x)
             residual = float(np.linalg.norm(grad[free]))
-            best, stalled = (residual, 0) if residual <= 0.5 * best else (best, stalled + 1)
+            best, stalled, level = _stall(best, stalled, level, residual, r_old, damping)
             continue
         # The energy cannot resolve the step: backtrack on the residual instead (near a kink of the
         # tangent, e.g. a contact switching on, the full step can overshoot while a part of it helps).
@@ -350,12 +366,13 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
                 break
             alpha *= 0.5
         if reduced_step:
-            best, stalled = (residual, 0) if residual <= 0.5 * best else (best, stalled + 1)
+            best, stalled, level = _stall(best, stalled, level, residual, r_old, damping)
             continue
         if options.inertia_control and negative > 0 and escape():
             continue
         if options.stall_iterations and damping < 1e-2 and it < budget:
             # no usable step: damp the next ones (a gradient-like step near a kink still helps)
+            level = min(level + 1, 6) if damping else level
             stalled = max(stalled + 1, options.stall_iterations)
             continue
         return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, "line search failed",
