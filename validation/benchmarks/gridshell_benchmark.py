@@ -1,18 +1,26 @@
-"""Wall time of the 3 x 3 gridshell (bar-and-hinge) per shape: the paper's four Fig. 4 shapes (lambda
-route, paper supports) and the eight published recipes (in the published configuration, issue 30);
-the number and time of the lowest-eigenpair solves of the snap-throughs (what limits the dome); increments, Newton iterations, failed
-increments, whether the target was reached exactly, centre curvatures (both measures) and z range;
-with ``--set design``, the inverse design (four channels) from the paper's measured curvatures of
-each Fig. 4 shape (table: flat): time per inverse solve (with the forward check from as built),
-optimiser evaluations, forward solves, Newton iterations, residual; with ``--fe`` also the 3D FE
-gridshell (quarter model, level 0, the shape's published support) ramped from as built to the
-lambdas found: its centre curvatures against the target (issue 15: the design confirmed in FE).
+"""CPU and wall time of the 3 x 3 gridshell (bar-and-hinge) per shape: the paper's four Fig. 4 shapes
+(lambda route, paper supports) and the eight published recipes (in the published configuration,
+issue 30); the number and CPU time of the lowest-eigenpair solves of the snap-throughs;
+increments, Newton iterations, failed increments, whether the target was reached exactly, centre
+curvatures (both measures) and z range; with ``--set design``, the inverse design (four channels)
+from the paper's measured curvatures of each Fig. 4 shape (table: flat): CPU and wall time per
+inverse solve (with the forward check from as built), optimiser evaluations, forward solves, Newton
+iterations, eigen solves, residual and the lambdas found; with ``--fe`` also the 3D FE gridshell
+(quarter model, level 0, the shape's published support) ramped from as built to the lambdas found:
+its centre curvatures against the target (issue 15: the design confirmed in FE).
+
+``--save FILE.npz`` keeps the final states (positions; design: lambdas), ``--compare FILE.npz``
+prints each run's distance from them (ribbon nodes / all nodes [mm]; design: largest lambda
+change): with ``--baseline`` (the solver before issue 30's speed-up: escapes along any negative
+curvature, no stall damping) this is the side-by-side check that a speed-up keeps the answers.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.gridshell_benchmark [--only dome,saddle]
-        [--set shapes|recipes|all|design] [--fe] [--json FILE]
+        [--set shapes|recipes|all|design] [--baseline] [--stall N] [--save F] [--compare F] [--fe]
+        [--json FILE]
 
 Not a test: it prints figures for the report (the published MATLAB/Octave code: 5-27 min per shape,
-300 fixed increments). The machine load matters: run it alone.
+300 fixed increments). CPU time is of this process (time.process_time): wall time depends on the
+machine's load.
 """
 
 from __future__ import annotations
@@ -134,6 +142,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--baseline", action="store_true", help="the solver as before issue 30's speed-up "
                    "(an escape along any negative curvature, however small; no stall damping), for a side-by-side "
                    "run")
+    p.add_argument("--stall", type=int, help="Newton's stall_iterations for the shape and recipe runs "
+                   "(default: the gridshell's, GRIDSHELL_NEWTON)")
     p.add_argument("--save", help="write the final positions of every converged run to this .npz")
     p.add_argument("--compare", help="print the largest nodal distance [mm] of each final state from "
                    "the one saved in this .npz, over the ribbon nodes and over all nodes (a floating "
@@ -145,6 +155,8 @@ def main(argv: list[str] | None = None) -> int:
         global NEWTON
         newton_module.NEGLIGIBLE_CURVATURE = 0.0
         NEWTON = dataclasses.replace(NEWTON, stall_iterations=0)
+    if args.stall is not None:
+        NEWTON = dataclasses.replace(NEWTON, stall_iterations=args.stall)
     jobs = []
     if args.set in ("shapes", "all"):
         jobs += [("shape", n) for n in gs.SHAPES]
