@@ -74,7 +74,7 @@ GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iter
 #: stalls between 1e-8 and 1e-7 N. Stall damping after 5 iterations without halving the residual:
 #: near the dome's fold the slack top strips' raised square floats (4 tangent eigenvalues ~1e-8 N/mm)
 #: and undamped steps there are cut by the trust radius, so the ribbons hardly move (Fig. 4 dome:
-#: 53 increments, 24 failed, 678 Newton iterations, 22.6 s CPU -> 13, 1 and 196, 2.3 s; the same
+#: 53 increments, 24 failed, 678 Newton iterations, 22.6 s CPU -> 15, 1 and 237, 2.3 s; the same
 #: equilibrium: ribbon nodes within 1e-5 mm, only the 4 floating nodes move, along those modes).
 GRIDSHELL_NEWTON = NewtonOptions(force_tolerance=1.0e-6, stall_iterations=5)
 
