@@ -256,7 +256,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
     With inertia control, a point where the gradient vanishes but the tangent is indefinite (a
     saddle: the state has lost stability) is left along the eigenvector of the lowest eigenvalue,
     and the iteration continues to a stable state (a snap-through), with ``snap_iterations`` more
-    iterations allowed.
+    iterations allowed; not when that curvature is numerically zero (above -NEGLIGIBLE_CURVATURE
+    times the largest stiffness: a floating node, not a lost stability), where the step is declined.
     """
     x = np.array(x0, dtype=float).reshape(-1)
     free = np.asarray(free, dtype=np.int64)
