@@ -37,6 +37,7 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
+from lcefem.solvers.problems.gridshell_bh import RAMP_NEWTON
 from lcefem.solvers.run import write_json
 from lcefem.validation import gridshell_bh as gs
 
@@ -70,7 +71,7 @@ class EigenTimer:
 
 
 #: Newton settings of the shape and recipe runs (--baseline: as before issue 30's speed-up).
-NEWTON = gs.GRIDSHELL_NEWTON
+NEWTON = RAMP_NEWTON
 
 
 def run_one(kind: str, name: str) -> dict:
@@ -143,7 +144,7 @@ def main(argv: list[str] | None = None) -> int:
                    "(an escape along any negative curvature, however small; no stall damping), for a side-by-side "
                    "run")
     p.add_argument("--stall", type=int, help="Newton's stall_iterations for the shape and recipe runs "
-                   "(default: the gridshell's, GRIDSHELL_NEWTON)")
+                   "(default: the ramp's, RAMP_NEWTON)")
     p.add_argument("--save", help="write the final positions of every converged run to this .npz")
     p.add_argument("--compare", help="print the largest nodal distance [mm] of each final state from "
                    "the one saved in this .npz, over the ribbon nodes and over all nodes (a floating "
