@@ -52,7 +52,9 @@ class NewtonOptions:
                             "tangents at folds of the path", positive=True)
     stall_iterations: int = param(0, "-", "chosen: after this many Newton iterations without halving "
                                   "the residual (0: never), the steps are damped (K + mu I, mu from "
-                                  "1e-8 of the largest stiffness, x10 per further stalled iteration): "
+                                  "1e-8 of the largest stiffness, x10 after a damped step that did not "
+                                  "lower the residual, /10 after one that did, at most 1e-2; undamped "
+                                  "again once the residual is halved): "
                                   "near contact and slack-strip kinks of the tangent, undamped Newton "
                                   "cycles a few 1e-6 N above the tolerance", minimum=0)
     snap_iterations: int = param(1000, "-", "chosen: extra iterations allowed once a state has lost "
@@ -207,9 +209,43 @@ def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarra
     return float(vals[0]), vecs[:, 0]
 
 
+#: Negative curvature of the tangent above -NEGLIGIBLE_CURVATURE times its largest diagonal entry is
+#: numerically zero: no escape is tried. Chosen from the dome of Fig. 4 (largest diagonal entry
+#: 1485 N/mm): at its fold the lowest eigenvalues of the tangent are -1e-11 to -8e-8 N/mm
+#: (7e-15 to 5e-11 of the largest entry), with several further eigenvalues within 1e-12 to 2e-8 N/mm of
+#: zero (near-mechanisms of slack strips and contacts): all 10 escapes along such a direction there
+#: ended in a failed increment, after a dense eigh each (2 s CPU).
+NEGLIGIBLE_CURVATURE = 1.0e-10
+
+
+def _negligible_negative_curvature(kmat: sp.csc_matrix, reduced: ReducedHessian) -> bool:
+    """True when K + tau I is positive definite, tau = NEGLIGIBLE_CURVATURE times the largest diagonal
+    entry (Sylvester's law on its LDL^T, one factorisation): the lowest eigenvalue of K is above -tau,
+    no direction of K lowers the energy by more than tau/2 |v|^2."""
+    diag = reduced.diagonal(kmat)
+    tau = NEGLIGIBLE_CURVATURE * max(float(np.max(np.abs(diag))) if diag.size else 0.0, 1e-300)
+    try:
+        _, negative, zero = _factorize(kmat, diag + tau, tau, reduced.ldl)
+    except RuntimeError:
+        return False
+    return negative == 0 and zero == 0
+
+
 #: Up to this many free DOFs the lowest eigenpair comes from a dense eigh (above, a dense matrix of
 #: 8 n^2 bytes and an O(n^3) solve are too much: Lanczos).
 DENSE_EIGEN = 4000
+
+
+def _stall(best: float, stalled: int, level: int, residual: float, previous: float, damping: float
+           ) -> tuple[float, int, int]:
+    """Stall bookkeeping after an accepted step: (best residual, stalled iterations, damping level).
+    Halving the best residual ends the stall (no damping); a damped step lowers the damping when it
+    lowered the residual, else raises it (at most 1e-2 of the largest stiffness)."""
+    if residual <= 0.5 * best:
+        return residual, 0, 0
+    if damping:
+        level = max(level - 1, 0) if residual < previous else min(level + 1, 6)
+    return best, stalled + 1, level
 
 
 def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
@@ -220,7 +256,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
     With inertia control, a point where the gradient vanishes but the tangent is indefinite (a
     saddle: the state has lost stability) is left along the eigenvector of the lowest eigenvalue,
     and the iteration continues to a stable state (a snap-through), with ``snap_iterations`` more
-    iterations allowed.
+    iterations allowed; not when that curvature is numerically zero (above -NEGLIGIBLE_CURVATURE
+    times the largest stiffness: a floating node, not a lost stability), where the step is declined.
     """
     x = np.array(x0, dtype=float).reshape(-1)
     free = np.asarray(free, dtype=np.int64)
@@ -232,6 +269,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
     escapes = 0
     it = 0
     best, stalled = residual, 0  # iterations since the residual was last halved
+    level = 0  # damping exponent of the stalled iterations (mu = 1e-8 * 10^level of the largest entry)
 
     def escape() -> bool:
         """Step along negative curvature until the energy drops; False if it cannot."""
@@ -239,6 +277,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         if escapes >= 20:
             return False
         kmat = reduced.matrix(coo)
+        if _negligible_negative_curvature(kmat, reduced):
+            return False
         lowest, vec = _negative_curvature_direction(kmat)
         if lowest >= 0:
             return False
@@ -277,9 +317,10 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             break
         it += 1
         r = grad[free]
+        r_old = residual
         damping = 0.0
         if options.stall_iterations and stalled >= options.stall_iterations:
-            damping = min(1e-8 * 10.0 ** (stalled - options.stall_iterations), 1e-2)
+            damping = 1e-8 * 10.0 ** level
         try:
             kmat = reduced.matrix(coo)
             step, negative, _ = _descent_step(kmat, -r, options, damping, reduced.diagonal(kmat),
@@ -307,7 +348,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             x = trial
             energy, grad, coo = model.evaluate(x)
             residual = float(np.linalg.norm(grad[free]))
-            best, stalled = (residual, 0) if residual <= 0.5 * best else (best, stalled + 1)
+            best, stalled, level = _stall(best, stalled, level, residual, r_old, damping)
             continue
         # The energy cannot resolve the step: backtrack on the residual instead (near a kink of the
         # tangent, e.g. a contact switching on, the full step can overshoot while a part of it helps).
@@ -326,12 +367,13 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
                 break
             alpha *= 0.5
         if reduced_step:
-            best, stalled = (residual, 0) if residual <= 0.5 * best else (best, stalled + 1)
+            best, stalled, level = _stall(best, stalled, level, residual, r_old, damping)
             continue
         if options.inertia_control and negative > 0 and escape():
             continue
         if options.stall_iterations and damping < 1e-2 and it < budget:
             # no usable step: damp the next ones (a gradient-like step near a kink still helps)
+            level = min(level + 1, 6) if damping else level
             stalled = max(stalled + 1, options.stall_iterations)
             continue
         return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, "line search failed",
