@@ -3,14 +3,15 @@ cantilever problems against PyElastica (and DisMech) where they are installed.
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
         [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
-        [--skip-peers] [--heat-dt 0.02] [--source-elastic] [--same-state ROUNDS] [--csv out.csv]
+        [--skip-peers] [--heat-dt 0.02] [--contact-spacing 0.25] [--source-elastic] [--same-state ROUNDS] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
 ``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s, or
 with adaptive steps (``--error-tolerance`` > 0 [mm], ``RibbonNumerics.error_tolerance``; the run
 advances record interval by record interval, 0.05 s, as ``run_ribbon`` does): CPU and wall ms per step (and the CPU ms of the mechanics step alone; the rest is the section heat
 step and the natural shape of the new temperatures; ``--heat-dt``: also with that multirate heat step,
-``RibbonNumerics.heat_dt``; ``--source-elastic``: also with ``RibbonNumerics.elastic_hessian_at_source``),
+``RibbonNumerics.heat_dt``; ``--contact-spacing``: also with contact sections that far apart [mm],
+``RibbonNumerics.contact_spacing``; ``--source-elastic``: also with ``RibbonNumerics.elastic_hessian_at_source``),
 Newton iterations per step, and
 the real-time factor (simulated seconds per CPU second, > 1: faster than real time; CPU time because
 the machine is shared, wall time printed next to it). ``--baseline DIR`` runs the same loop with
@@ -58,7 +59,7 @@ import numpy as np
 
 def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, ground_temperature: float = 100.0,
                error_tolerance: float = 0.0, record: float = 0.05, heat_dt: float = 0.0,
-               elastic_hessian_at_source: bool = False,
+               elastic_hessian_at_source: bool = False, contact_spacing: float = 0.0,
                save_state: str | None = None, load_state: str | None = None) -> dict:
     """Settle, heat for ``warmup`` simulated seconds (untimed: the ribbon starts to roll), then time
     ``duration`` simulated seconds of the rolling ribbon (fixed steps of dt, or adaptive steps to
@@ -74,6 +75,8 @@ def ribbon_run(nodes: int, duration: float, warmup: float, dt: float = 0.01, gro
         control["heat_dt"] = heat_dt
     if elastic_hessian_at_source:
         control["elastic_hessian_at_source"] = True
+    if contact_spacing:
+        control["contact_spacing"] = contact_spacing
     # the default rolling ribbon of the package (issue 32: the seed-000 ribbon LCE, its twist locked)
     setup = RibbonSetup(ground_temperature=ground_temperature,
                         numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt, **control))
@@ -396,6 +399,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--heat-dt", type=float, nargs="+", default=[],
                         help="also run the ribbon (fixed steps) with these multirate heat steps [s] "
                              "(RibbonNumerics.heat_dt; the default run has 0: a heat step every step)")
+    parser.add_argument("--contact-spacing", type=float, nargs="+", default=[],
+                        help="also run the ribbon (fixed steps) with contact sections this far apart [mm] "
+                             "(RibbonNumerics.contact_spacing; the default run has its own)")
     parser.add_argument("--same-state", type=int, default=0, metavar="ROUNDS",
                         help="time every code ROUNDS times, alternating, from one warmed-up state (pickled by "
                              "this code, fixed steps); best and median CPU time (a shared machine scatters single "
@@ -411,6 +417,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--duration {args.duration}: must be > 0 s")
     if any(h <= 0 for h in args.heat_dt):
         parser.error(f"--heat-dt {args.heat_dt}: each must be > 0 s")
+    if any(s <= 0 for s in args.contact_spacing):
+        parser.error(f"--contact-spacing {args.contact_spacing}: each must be > 0 mm")
     print(f"DER benchmark: {platform.processor() or platform.machine()}, python {platform.python_version()}, "
           f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}")
     table = []
@@ -425,6 +433,9 @@ def main(argv: list[str] | None = None) -> int:
                     for tol in args.error_tolerance}
             for heat_dt in args.heat_dt:
                 runs[f"heat {heat_dt:g}"] = ribbon_in_child(n, args.duration, args.warmup, None, heat_dt=heat_dt)
+            for spacing in args.contact_spacing:
+                runs[f"cs {spacing:g}"] = ribbon_in_child(n, args.duration, args.warmup, None,
+                                                          contact_spacing=spacing)
             if args.source_elastic:
                 runs["el. source"] = ribbon_in_child(n, args.duration, args.warmup, None,
                                                      elastic_hessian_at_source=True)

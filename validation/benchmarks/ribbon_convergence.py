@@ -1,7 +1,7 @@
 """Convergence of the rolling ribbon's speed in nodes and time step (issue 32).
 
     nice python -m lcefem.validation.benchmarks.ribbon_convergence --out rows.jsonl [--duration 40]
-        T,nodes,dt [T,nodes,dt ...]
+        [--contact-spacing 0.25] T,nodes,dt [T,nodes,dt ...]
     python -m lcefem.validation.benchmarks.ribbon_convergence --table rows.jsonl [more.jsonl ...]
         --csv validation/data/ribbon_convergence.csv
 
@@ -27,17 +27,18 @@ COLUMNS = ["average_speed [mm/s]", "rolls", "spin_rate_start [rad/s]", "spin_rat
            "spin_rate_ratio [-]", "twist_density_mean [turns/mm]", "twist_density_variation [-]", "T_mean_final [C]"]
 
 
-def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]]) -> None:
+def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]], contact_spacing: float = 0.0) -> None:
     from lcefem.solvers.der.ribbon import RibbonNumerics
     from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun, run_ribbon
 
     for T, nodes, dt in jobs:
         cfg = RibbonConfig(run=RibbonRun(ground_temperature=T, duration=duration, output_interval=0.0),
-                           numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt))
+                           numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt,
+                                                           contact_spacing=contact_spacing))
         t0 = time.process_time()
         m = run_ribbon(cfg, None, progress=False, fields=False).metrics
         row = {k: float(m[k]) for k in COLUMNS}
-        row.update({"T": T, "nodes": nodes, "dt": dt, "duration": duration, "cpu": time.process_time() - t0})
+        row.update({"T": T, "nodes": nodes, "dt": dt, "duration": duration, "contact_spacing": contact_spacing, "cpu": time.process_time() - t0})
         with open(out, "a") as f:
             f.write(json.dumps(row) + "\n")
 
@@ -53,21 +54,25 @@ def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
     """CSV of every run with the relative change of its speed against the run at half its step (same
     nodes) and against the run with the next larger node count (same step), both of the same duration."""
     rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
-    # one row per (T, nodes, dt, duration): a run repeated by two processes is deterministic
-    rows = list({(r["T"], int(r["nodes"]), r["dt"], r["duration"]): r for r in rows}.values())
-    rows.sort(key=lambda r: (r["duration"], r["T"], r["nodes"], -r["dt"]))
-    by = {(r["T"], int(r["nodes"]), r["dt"], r["duration"]): r for r in rows}
-    header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "average speed [mm/s]", "rolls [-]",
+    # one row per (T, nodes, dt, duration, contact spacing): a run repeated by two processes is deterministic
+    for r in rows:
+        r.setdefault("contact_spacing", 0.0)
+    rows = list({(r["T"], int(r["nodes"]), r["dt"], r["duration"], r["contact_spacing"]): r for r in rows}.values())
+    rows.sort(key=lambda r: (r["contact_spacing"], r["duration"], r["T"], r["nodes"], -r["dt"]))
+    by = {(r["T"], int(r["nodes"]), r["dt"], r["duration"], r["contact_spacing"]): r for r in rows}
+    header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "contact spacing [mm]",
+              "average speed [mm/s]", "rolls [-]",
               "change against half the step [-]", "change against the next node count [-]",
               "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]"]
     lines = [",".join(header)]
     for r in rows:
-        T, n, dt, dur = r["T"], int(r["nodes"]), r["dt"], r["duration"]
-        finer_nodes = sorted(m for (T2, m, d2, u2) in by if T2 == T and d2 == dt and u2 == dur and m > n)
+        T, n, dt, dur, cs = r["T"], int(r["nodes"]), r["dt"], r["duration"], r["contact_spacing"]
+        finer_nodes = sorted(m for (T2, m, d2, u2, c2) in by if T2 == T and d2 == dt and u2 == dur and c2 == cs
+                             and m > n)
         v = r["average_speed [mm/s]"]
         lines.append(",".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in (
-            T, n, dt, dur, v, r["rolls"], _change(v, by.get((T, n, dt / 2, dur))),
-            _change(v, by.get((T, finer_nodes[0], dt, dur)) if finer_nodes else None),
+            T, n, dt, dur, cs, v, r["rolls"], _change(v, by.get((T, n, dt / 2, dur, cs))),
+            _change(v, by.get((T, finer_nodes[0], dt, dur, cs)) if finer_nodes else None),
             r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"])))
     tmp = csv.with_suffix(".csv.part")
     tmp.write_text("\n".join(lines) + "\n")
@@ -108,6 +113,8 @@ def main(argv=None) -> int:
     ap.add_argument("jobs", nargs="*", help="T,nodes,dt")
     ap.add_argument("--out", type=pathlib.Path)
     ap.add_argument("--duration", type=float, default=40.0)
+    ap.add_argument("--contact-spacing", type=float, default=0.0,
+                    help="[mm] RibbonNumerics.contact_spacing of the runs (0: contact_samples per edge)")
     ap.add_argument("--table", type=pathlib.Path, nargs="*")
     ap.add_argument("--csv", type=pathlib.Path)
     ap.add_argument("--plot", type=pathlib.Path, help="with --table: also a PNG of speed against temperature")
@@ -128,7 +135,7 @@ def main(argv=None) -> int:
     except ValueError:
         print("jobs: each must be T,nodes,dt (e.g. 100,60,0.01)", file=sys.stderr)
         return 2
-    run(a.out, a.duration, jobs)
+    run(a.out, a.duration, jobs, a.contact_spacing)
     return 0
 
 
