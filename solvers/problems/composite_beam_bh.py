@@ -34,7 +34,7 @@ from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions,
 from lcefem.solvers.exports import bar_hinge_run
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.run import Progress
-from lcefem.solvers.problems.strip_beams import bar_hinge_model
+from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 
 #: Default stepping of the actuation ramp (see PathOptions).
 BEAM_PATH = PathOptions(initial_increment=0.05, max_increment=0.2, easy_iterations=10)

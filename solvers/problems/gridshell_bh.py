@@ -65,7 +65,7 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
 from lcefem.solvers.exports import bar_hinge_run
-from lcefem.solvers.problems.strip_beams import bar_hinge_model
+from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.run import Progress

@@ -13,7 +13,7 @@ from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.errors import InputError
 from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
-from lcefem.solvers.problems.strip_beams import StripBeamModel, bar_hinge_model
+from lcefem.solvers.bar_hinge.strip_beams import StripBeamModel, bar_hinge_model
 from lcefem.validation.reference_data import DATA_DIR
 
 

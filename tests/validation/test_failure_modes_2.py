@@ -471,7 +471,8 @@ def test_helix_reports_no_twist(tmp_path):
     from lcefem.validation.commands.ribbon import config_from_args
 
     args = Namespace(config=None, ground_temperature=None, duration=None, twist_density=None, helix_radius=2.0,
-                     nodes=None, dt=None, error_tolerance=None)
+                     nodes=None, dt=None, error_tolerance=None, obstacle=None,
+                     obstacle_offset=None, obstacle_distance=None)
     assert config_from_args(args).geometry.twist_density == 0.0
 
 
