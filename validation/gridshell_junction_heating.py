@@ -24,21 +24,21 @@ import time
 
 from lcefem.solvers.problems.gridshell import JUNCTION_HEATING
 
-#: seed 001, Results: the dome's hold currents [A] (0.04 A top, 0.07 A bottom).
-DOME_HOLD = {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}
 DATA = pathlib.Path(__file__).parent / "data"
-MEASURED = {"dome": (-0.016, -0.016), "saddle": (-0.012, 0.015), "cylinder": (0.017, 0.0)}
+MEASURED = {"dome": (-0.016, -0.016), "saddle": (-0.012, 0.015), "cylinder": (0.017, 0.0),
+            "table": (None, None)}
 
 
 def shape_hold_currents(shape: str, which: str) -> dict:
-    """Currents [A] per channel: the dome protocol's hold or the paper's rule at the Fig. 4 lambdas."""
+    """Currents [A] per channel: 'protocol' the experiment's hold (the dome's 0.04 / 0.07 A; the
+    other shapes the same Fig. 2C pair, validation.gridshell_bh.SHAPES) or 'rule' the paper's rule
+    at the Fig. 4 lambdas (models.lumped_heat.shape_currents)."""
     from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
     from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVES
+    from lcefem.validation import gridshell_bh as gs
 
     if which == "protocol":
-        if shape != "dome":
-            raise SystemExit("--currents protocol: the protocol's currents are the dome's only")
-        return dict(DOME_HOLD)
+        return dict(gs.SHAPES[shape]["currents"])
     return shape_currents(SHAPE_DRIVES[shape]["lambdas"], GRID_STRIP_RESISTANCE)
 
 
