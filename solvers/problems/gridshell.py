@@ -724,6 +724,10 @@ DOME_PROTOCOL = ((0.0, {"Tx": 0.1, "Ty": 0.1, "Bx": 0.2, "By": 0.2}),
 #: :meth:`HeatedGridshellFE.steady_hold` that ends them (chosen: lambda_s(T) is steepest at T_NI,
 #: 0.0169 per K for models.lce.NematicTransition, so 1e-3 K moves lambda by at most 1.7e-5).
 STEADY_TEMPERATURE_TOL = 1e-3
+#: Where the coils' heat goes (HeatedGridshellFE ``junction_heating``): "off" the strips only (the
+#: default), "added" also the pads and glue squares the coils pass, at the strips' power density,
+#: "spread" the same with each coil's power unchanged (spread over its strips and those pads).
+JUNCTION_HEATING = ("off", "added", "spread")
 
 
 class HeatedGridshellFE(GridshellFE):
@@ -743,7 +747,12 @@ class HeatedGridshellFE(GridshellFE):
     reading under-powered the strips by 28 %) over a 30 mm strip's as-built volume,
     q = I^2 R / (L W_s H) [mW/mm^3], in every LCE cell of a driven strip (cell-wise field: each strip
     tag its own current); the glue squares where the top strips cross (4.2 of a top strip's 30 mm)
-    are not heated. Exchange: the free strip's calibrated convection times the grid's one calibrated
+    are not heated, nor are the bond pads (``junction_heating`` "off", the default). "added" continues
+    each coil through the pads and glue squares of its layer at its strips' power density (power
+    added); "spread" spreads each coil's unchanged power over its strips and the pads it passes
+    (:meth:`_junction_coil_map`; the seed's coils lie in the grid-shaped mould channels, so they run
+    through the junctions): the controlled changes that measure the heat the strips lose into
+    unheated junctions. Exchange: the free strip's calibrated convection times the grid's one calibrated
     factor (:func:`lcefem.models.lumped_heat.grid_thermal`, calibrated on the bar-and-hinge dome
     protocol), and radiation.
 
@@ -754,8 +763,12 @@ class HeatedGridshellFE(GridshellFE):
 
     def __init__(self, config: GridshellConfig = GridshellConfig(), *, transition=None,
                  thermal=None, exchange=None, coil=None, dt: float = 1.0,
+                 junction_heating: str = "off",
                  comm: MPI.Comm | None = None, petsc_options: dict | None = None):
         self.transition = transition or NematicTransition()
+        if junction_heating not in JUNCTION_HEATING:
+            raise InputError(f"junction_heating = {junction_heating!r}: allowed {', '.join(JUNCTION_HEATING)}")
+        self.junction_heating = junction_heating
         self.coil = coil or Coil(resistance=grid_segment_resistance())
         self._heat_materials = (thermal or ThermalProperties(), exchange or grid_thermal().exchange)
         super().__init__(dataclasses.replace(config, lambda_N=self.transition.lambda_N), comm,
@@ -782,6 +795,55 @@ class HeatedGridshellFE(GridshellFE):
         self._lam_cells_expr = dolfinx.fem.Expression(lam_T, self.V0.element.interpolation_points)
         tags = self.tmesh.cell_tags
         self._strip_cells = tags.indices[np.isin(tags.values, list(self.strip_tags.values()))]
+        self._pad_sources, self._coil_share = None, {}
+        if self.junction_heating != "off":
+            self._pad_sources = self._junction_coil_map()
+
+    def _junction_coil_map(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The coil continued through the unheated LCE of a layer (``junction_heating`` "added" or
+        "spread", :data:`JUNCTION_HEATING`): for every
+        bond pad ("bottom_pads": under the junctions and tabs; "top_pads": the crowns) and glue
+        square (the top strips' crossing) DG0 dof, the strip dof whose power density it takes, once
+        per coil passing through it. A coil passes where the pad lies in its strip's band
+        (|y - c_r| < W_s/2 for an x strip of ribbon r, |x - c_r| < W_s/2 for a y strip): one coil
+        in the arms and crowns, two where the x and y bands cross (the junction's centre square, the
+        glue square). The strip dof is the nearest one of the same layer and direction: its current
+        is the current of the coil through the pad. Returns [(pad dofs, strip dofs)], one pair per
+        (layer, direction). For "spread" it also sets the share of each channel's coil power that
+        stays in its strips (:attr:`_coil_share`: strip volume / (strip volume + the volume of the
+        pads its coil passes), the model's own volumes)."""
+        from scipy.spatial import cKDTree
+
+        msh = self.tmesh.mesh
+        ncells = msh.topology.index_map(3).size_local + msh.topology.index_map(3).num_ghosts
+        mid = dolfinx.mesh.compute_midpoints(msh, 3, np.arange(ncells, dtype=np.int32))
+        dof_mid = np.empty((self.lam.x.array.size, 3))
+        dof_mid[self._cell_dof] = mid
+        centres = np.asarray(self.info["junction_centres"])
+        half = 0.5 * self.info["strip_width"] + 1e-9
+        strips = self.info["strips"]
+        tag_of = {name: self.tmesh.cell_tag(name) for name in strips}
+        volume = dolfinx.fem.assemble_vector(dolfinx.fem.form(
+            ufl.TestFunction(self.V0) * volume_measure(self.tmesh, QUADRATURE_DEGREE))).array  # [mm^3]
+        out = []
+        for layer, pad_groups in (("bottom", ("bottom_pads",)), ("top", ("top_pads", "glue"))):
+            pad_tags = [t for g in pad_groups if g in self.info["cell_groups"] for t in cell_group(self.tmesh, g)]
+            pads = np.flatnonzero(np.isin(self._dof_tag, pad_tags))
+            for d, across in (("x", 1), ("y", 0)):
+                own = [tag_of[n] for n, s in strips.items() if s["layer"] == layer and s["direction"] == d]
+                sdofs = np.flatnonzero(np.isin(self._dof_tag, own))
+                if pads.size == 0 or sdofs.size == 0:
+                    continue
+                dist = np.abs(dof_mid[pads, across][:, None] - centres[None, :]).min(axis=1)
+                in_band = pads[dist < half]
+                if in_band.size == 0:
+                    continue
+                _, nearest = cKDTree(dof_mid[sdofs]).query(dof_mid[in_band])
+                out.append((in_band, sdofs[nearest]))
+                if self.junction_heating == "spread":
+                    v = volume[sdofs].sum()
+                    self._coil_share[f"{layer[0].upper()}{d}"] = float(v / (v + volume[in_band].sum()))
+        return out
 
     def _strip_stretch_ratio(self, u):
         """a = lambda_s(T)/lambda_N (UFL) with T the temperature the mechanics sees; builds the
@@ -819,6 +881,15 @@ class HeatedGridshellFE(GridshellFE):
             cells = np.isin(self._dof_tag, self._tags_of(selector))
             self.currents[cells] = float(current)
             self.power.x.array[cells] = q
+        for ch, share in self._coil_share.items():  # "spread": each coil's power unchanged
+            if ch in self.info["cell_groups"]:
+                cells = np.isin(self._dof_tag, cell_group(self.tmesh, ch))
+                self.power.x.array[cells] = share * np.vectorize(self.power_density)(self.currents[cells])
+        if self._pad_sources is not None:  # the coils through the pads and glue squares
+            pad_all = np.unique(np.concatenate([p for p, _ in self._pad_sources]))
+            self.power.x.array[pad_all] = 0.0
+            for pads, sources in self._pad_sources:
+                np.add.at(self.power.x.array, pads, self.power.x.array[sources])
 
     def set_lambda(self, drives):
         raise InputError("the heated gridshell is driven by set_current (currents [A]); "

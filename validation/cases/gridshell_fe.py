@@ -515,6 +515,55 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
     return metrics, chart
 
 
+#: Stored runs of the FE current route (issue 31): the rule's currents at mesh level 1 (``lcefem run
+#: gridshell --model fe --shape NAME --route current --mesh-level 1``, one summary per shape) and the
+#: dome protocol's junction-heating change (``python -m lcefem.validation.gridshell_junction_heating``).
+#: Each takes 10-60 min of one core, so the case reads them instead of running them.
+CURRENT_ROUTE_LEVEL1 = "gridshell_fe_current_route_level1.json"
+JUNCTION_HEATING_DOME = "gridshell_junction_heating_dome_protocol_l0.json"
+
+
+def _stored_current_route_rows(name: str) -> list[Metric]:
+    """Judged rows of the stored FE current-route runs (:data:`CURRENT_ROUTE_LEVEL1`): each
+    shape's circle curvatures from the rule's currents at level 1 against the experiment (within
+    :data:`SIM_TOLERANCE`); and info rows of the dome protocol with the junctions cold (the default)
+    and heated (:data:`JUNCTION_HEATING_DOME`)."""
+    from lcefem.validation import gridshell_bh as gs
+    from lcefem.validation.reference_data import DATA_DIR
+
+    metrics: list[Metric] = []
+    path = DATA_DIR / CURRENT_ROUTE_LEVEL1
+    if path.exists():
+        runs = json.loads(path.read_text())["runs"]
+        for shape, run in runs.items():
+            held, exp = run["held"], gs.SHAPES[shape]["paper_exp"]
+            currents = " / ".join(f"{ch} {run['current [A]'][ch]:.4f}" for ch in ("Tx", "Ty", "Bx", "By"))
+            src = (f"3D FE heated gridshell, quarter, mesh level {run['mesh level']}, "
+                   f"{run['support']} (validation/data/{CURRENT_ROUTE_LEVEL1}); currents: "
+                   f"{run['current rule']}; {gs.SHAPE_SOURCES['curvatures']}")
+            for i, axis in enumerate("xy"):
+                metrics.append(Metric.within(
+                    name, f"{shape} from the rule's currents ({currents} A), level {run['mesh level']}: "
+                    f"kappa_{axis} circle vs paper experiment", held[f"kappa_circle_{axis} [1/mm]"], "1/mm",
+                    exp[i], SIM_TOLERANCE, src + "; tolerance: as gridshell_shapes_fe"))
+    path = DATA_DIR / JUNCTION_HEATING_DOME
+    if path.exists():
+        doc = json.loads(path.read_text())
+        for key, run in doc["runs"].items():
+            held = run["held"]
+            src = (f"3D FE heated gridshell, quarter, level {doc['mesh level']}, dome protocol hold "
+                   f"0.04 / 0.07 A, junction_heating '{run['junction_heating']}' "
+                   f"(validation/data/{JUNCTION_HEATING_DOME})")
+            metrics.append(Metric.info(name, f"held dome, {key}: kappa_x circle", held["kappa_circle_x [1/mm]"],
+                                       "1/mm", f"{NOT_JUDGED}a controlled change of the model; {src}",
+                                       doc["measured circle x/y [1/mm] (seed 001)"][0]))
+            metrics.append(Metric.info(name, f"held dome, {key}: bottom strips' mean temperature",
+                                       held["T_mean Bx [C]"], "C", f"model vs model: the lumped grid strip's "
+                                       f"steady temperature at 0.07 A; {src}",
+                                       doc["lumped grid strip (steady)"]["Bx"]["T [C]"]))
+    return metrics
+
+
 @case("gridshell_heated_fe", "Robotic surface in 3D FE, heated route: the paper's dome protocol (0.1 / "
       "0.2 A for 20 s, then 0.04 / 0.07 A held), quarter, level 0: early heating rate vs adiabatic, "
       "centre curvature against time, peak and held dome vs bar-and-hinge and the paper", fe=True)
@@ -614,6 +663,8 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                                      "bar-and-hinge current route vs the paper; CSV: "
                                      "gridshell_held_fe.csv (row order " + ", ".join(shapes) + ")",
                                      sources))
+    if not ctx.quick:
+        metrics += _stored_current_route_rows(name)
     its = sum(r.get("newton iterations [-]", 0) for r in rows)
     metrics += [Metric.info(name, "Newton iterations", its, "-", FE_HEATED),
                 Metric.info(name, "time steps", len(rows) - 1, "-", FE_HEATED),
