@@ -49,7 +49,10 @@ PARAMETERS = {
     "hinge_factor": ("kapton", "bending_factor", 5.5, 0.5, 55.0),
 }
 #: The configuration of the FE gridshell in the BH (published supports and glue squares + these).
+#: The BH configuration that matches the FE model: published supports and glue squares + contact
+#: (the FE's penalty contact) + the constant-volume bar law (the FE's incompressible LCE).
 AS_FE = ("contact", "volume_law")
+#: The issue's target: BH within 10 % of the FE, or 0.002 1/mm, the larger.
 REL_TOL, ABS_TOL = 0.10, 0.002
 FAILED = 10.0  #: residual of a solve that does not converge
 STORED = DATA_DIR / "bar_hinge_calibration.json"
@@ -65,10 +68,28 @@ def materials_with(values: dict[str, float], base: law.BarHingeMaterials = law.B
     return out
 
 
+def fe_reference() -> dict:
+    """{shape: {measure: value [1/mm]}} and the source of each."""
+    level0 = json.loads((DATA_DIR / "gridshell_fe_fig4_quarter_level0.json").read_text())
+    dome = json.loads((DATA_DIR / "gridshell_fe_dome_full_ramp_from_flat_levels.json").read_text())
+    out = {}
+    for shape in ("table", "dome", "saddle", "cylinder"):
+        v = level0["shapes"][shape]
+        out[shape] = {"circle_x": v["kappa_circle_x [1/mm]"], "circle_y": v["kappa_circle_y [1/mm]"],
+                      "quad_kx": v["kappa_quad_x [1/mm]"], "quad_ky": v["kappa_quad_y [1/mm]"],
+                      "source": "3D FE, quarter model, mesh level 0 (validation/data/"
+                                "gridshell_fe_fig4_quarter_level0.json); level-0 error of the dome's "
+                                "circle: 15 % (its levels 0-2)"}
+    fine = dome["levels"]["2"]["final"]
+    out["dome"] = {"circle_x": fine["kappa_circle_x [1/mm]"], "circle_y": fine["kappa_circle_y [1/mm]"],
+                   "quad_kx": fine["kappa_quad_x [1/mm]"], "quad_ky": fine["kappa_quad_y [1/mm]"],
+                   "source": "3D FE, quarter model, mesh level 2 (validation/data/gridshell_fe_dome_full_"
+                             "ramp_from_flat_levels.json; GCI of level 2 on the circle 0.0037 1/mm)"}
+    return out
+
+
 def fe_targets(shapes=SHAPES, beam_points: str = "all") -> dict:
     """{"shapes": {shape: {"circle_x": kappa, ...}}, "beam": (lambda_T, lambda_B, kappa) arrays}."""
-    from lcefem.validation.cases.gridshell_bh_vs_fe import fe_reference
-
     fe = fe_reference()
     d = json.loads((DATA_DIR / "beam_fe_curvature_map_level0.json").read_text())
     lt, lb, k = (np.array(d[c]) for c in ("lambda_top [-]", "lambda_bottom [-]", "FE curvature [1/mm]"))
@@ -95,17 +116,24 @@ def solve_shape(shape: str, materials: law.BarHingeMaterials, strip_element: str
     path does not converge."""
     from lcefem.solvers.problems import gridshell_bh as gs
 
-    spec = gs.SHAPE_DRIVES[shape]
-    support = "clamp" if spec["support"] == "clamp" else "rollers"
-    mesh, lce, support = gs.published_configuration(BeamBarHingeMesh(), materials.lce, support, departures)
-    mesh = dataclasses.replace(mesh, strip_element=strip_element)
-    s = build_gridshell_bar_hinge(mesh=mesh)
-    setup = gs.setup_gridshell(gs.targets_from_lambdas(s, spec["lambdas"]), support, structure=s,
-                               materials=dataclasses.replace(materials, lce=lce))
     try:
-        return gs.solve_gridshell(setup).curvatures
+        return gs.solve_gridshell(shape_setup(shape, materials, strip_element, departures)).curvatures
     except ConvergenceError:
         return None
+
+
+def shape_setup(shape: str, materials: law.BarHingeMaterials, strip_element: str = "beam",
+                departures=AS_FE, support: str | None = None):
+    """The BH gridshell set up at the Fig. 4 lambdas of ``shape`` in the published configuration +
+    ``departures``, on ``support`` (default: the shape's published one), with ``strip_element``."""
+    from lcefem.solvers.problems import gridshell_bh as gs
+
+    spec = gs.SHAPE_DRIVES[shape]
+    mesh, lce, support = gs.published_configuration(BeamBarHingeMesh(), materials.lce,
+                                                    support or spec["support"], departures)
+    s = build_gridshell_bar_hinge(mesh=dataclasses.replace(mesh, strip_element=strip_element))
+    return gs.setup_gridshell(gs.targets_from_lambdas(s, spec["lambdas"]), support, structure=s,
+                              materials=dataclasses.replace(materials, lce=lce))
 
 
 def solve_beam_map(lt, lb, materials: law.BarHingeMaterials, strip_element: str = "beam",

@@ -37,19 +37,14 @@ import math
 import time
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
-from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models import bar_hinge as law
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.problems import gridshell_bh as problem_bh
+from lcefem.validation.calibrate import ABS_TOL, AS_FE, REL_TOL, fe_reference, shape_setup, tolerance
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.reference_data import DATA_DIR
 
 BH = "bar-and-hinge gridshell (lcefem.solvers.problems.gridshell_bh)"
-#: The BH configuration that matches the FE model: published supports and glue squares + contact
-#: (the FE's penalty contact) + the constant-volume bar law (the FE's incompressible LCE).
-AS_FE = ("contact", "volume_law")
-#: The issue's target: BH within 10 % of the FE, or 0.002 1/mm, the larger.
-REL_TOL, ABS_TOL = 0.10, 0.002
 #: Controlled changes of the BH (label -> (departures, kapton bending factor multiplier, support)).
 CHANGES = {
     "hinge factor x2": (AS_FE, 2.0, None),
@@ -60,50 +55,21 @@ CHANGES = {
 }
 
 
-def fe_reference() -> dict:
-    """{shape: {measure: value [1/mm]}} and the source of each."""
-    level0 = json.loads((DATA_DIR / "gridshell_fe_fig4_quarter_level0.json").read_text())
-    dome = json.loads((DATA_DIR / "gridshell_fe_dome_full_ramp_from_flat_levels.json").read_text())
-    out = {}
-    for shape in ("table", "dome", "saddle", "cylinder"):
-        v = level0["shapes"][shape]
-        out[shape] = {"circle_x": v["kappa_circle_x [1/mm]"], "circle_y": v["kappa_circle_y [1/mm]"],
-                      "quad_kx": v["kappa_quad_x [1/mm]"], "quad_ky": v["kappa_quad_y [1/mm]"],
-                      "source": "3D FE, quarter model, mesh level 0 (validation/data/"
-                                "gridshell_fe_fig4_quarter_level0.json); level-0 error of the dome's "
-                                "circle: 15 % (its levels 0-2)"}
-    fine = dome["levels"]["2"]["final"]
-    out["dome"] = {"circle_x": fine["kappa_circle_x [1/mm]"], "circle_y": fine["kappa_circle_y [1/mm]"],
-                   "quad_kx": fine["kappa_quad_x [1/mm]"], "quad_ky": fine["kappa_quad_y [1/mm]"],
-                   "source": "3D FE, quarter model, mesh level 2 (validation/data/gridshell_fe_dome_full_"
-                             "ramp_from_flat_levels.json; GCI of level 2 on the circle 0.0037 1/mm)"}
-    return out
 
 
 def solve_bh(shape: str, departures=AS_FE, bending=1.0, support=None):
     """The BH gridshell with the Fig. 4 lambdas of ``shape`` in the published configuration plus
     ``departures``, the Kapton hinge factor times ``bending``; returns (curvatures or None, seconds,
     why)."""
-    spec = problem_bh.SHAPE_DRIVES[shape]
-    published_support = "clamp" if spec["support"] == "clamp" else "rollers"
-    mesh, lce, sup = problem_bh.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(),
-                                                support or published_support, departures)
     base = law.BarHingeMaterials()
     kapton = dataclasses.replace(base.kapton, bending_factor=base.kapton.bending_factor * bending)
-    materials = dataclasses.replace(base, lce=lce, kapton=kapton)
-    s = build_gridshell_bar_hinge(mesh=mesh)
-    setup = problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, spec["lambdas"]), sup, structure=s,
-                               materials=materials)
+    setup = shape_setup(shape, dataclasses.replace(base, kapton=kapton), "bar", departures, support)
     t0 = time.perf_counter()
     try:
         sol = problem_bh.solve_gridshell(setup)
     except ConvergenceError as exc:
         return None, time.perf_counter() - t0, str(exc)
     return sol.curvatures, time.perf_counter() - t0, ""
-
-
-def _tolerance(fe: float) -> float:
-    return max(REL_TOL * abs(fe), ABS_TOL)
 
 
 #: Beam-map variants of the BH (label -> (mesh, materials)): ours (beam_curvature_map_bh's), and the
@@ -190,7 +156,7 @@ def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
         for c in comps:
             key = f"circle_{c}"
             m = Metric.within(name, f"{shape}: circle kappa_{c} BH vs FE", k[key], "1/mm", ref[key],
-                              _tolerance(ref[key]), src + "; tolerance: 10 % or 0.002 1/mm (issue 30)")
+                              tolerance(ref[key]), src + "; tolerance: 10 % or 0.002 1/mm (issue 30)")
             metrics.append(m)
             far |= not m.passed
             q = f"quad_k{c}"
@@ -258,7 +224,7 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
             continue
         for c in cal.components(shape):
             out.append(Metric.within(name, f"{shape}: circle kappa_{c[-1]} BH vs FE (strip element, "
-                                     "FE-calibrated)", k[c], "1/mm", ref[c], _tolerance(ref[c]),
+                                     "FE-calibrated)", k[c], "1/mm", ref[c], tolerance(ref[c]),
                                      ref["source"] + "; " + src + "; tolerance: 10 % or 0.002 1/mm"))
         if ctx.quick:
             continue
