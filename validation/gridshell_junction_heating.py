@@ -77,7 +77,7 @@ def run(shape: str, currents: dict, level: int, junction_heating: str) -> dict:
             held[f"T_mean {group} [C]"] = assemble_global(dolfinx.fem.form(model.heat.T * dx(tags)), comm) / vol
     power = assemble_global(dolfinx.fem.form(model.power * dx), comm)
     held["Joule power, model [mW]"] = power
-    return {"junction_heating": junction_heating, "coil share in the strips [-]": model._coil_share,
+    return {"junction_heating": junction_heating, "coil share in the strips [-]": model.coil_share,
             "held": held, "sweeps": len(rows),
             "dofs": int(model.ndofs), "cpu [s]": time.process_time() - started}
 

@@ -795,7 +795,7 @@ class HeatedGridshellFE(GridshellFE):
         self._lam_cells_expr = dolfinx.fem.Expression(lam_T, self.V0.element.interpolation_points)
         tags = self.tmesh.cell_tags
         self._strip_cells = tags.indices[np.isin(tags.values, list(self.strip_tags.values()))]
-        self._pad_sources, self._coil_share = None, {}
+        self._pad_sources, self.coil_share = None, {}
         if self.junction_heating != "off":
             self._pad_sources = self._junction_coil_map()
 
@@ -810,7 +810,7 @@ class HeatedGridshellFE(GridshellFE):
         glue square). The strip dof is the nearest one of the same layer and direction: its current
         is the current of the coil through the pad. Returns [(pad dofs, strip dofs)], one pair per
         (layer, direction). For "spread" it also sets the share of each channel's coil power that
-        stays in its strips (:attr:`_coil_share`: strip volume / (strip volume + the volume of the
+        stays in its strips (:attr:`coil_share`: strip volume / (strip volume + the volume of the
         pads its coil passes), the model's own volumes)."""
         from scipy.spatial import cKDTree
 
@@ -842,7 +842,7 @@ class HeatedGridshellFE(GridshellFE):
                 out.append((in_band, sdofs[nearest]))
                 if self.junction_heating == "spread":
                     v = volume[sdofs].sum()
-                    self._coil_share[f"{layer[0].upper()}{d}"] = float(v / (v + volume[in_band].sum()))
+                    self.coil_share[f"{layer[0].upper()}{d}"] = float(v / (v + volume[in_band].sum()))
         return out
 
     def _strip_stretch_ratio(self, u):
@@ -881,7 +881,7 @@ class HeatedGridshellFE(GridshellFE):
             cells = np.isin(self._dof_tag, self._tags_of(selector))
             self.currents[cells] = float(current)
             self.power.x.array[cells] = q
-        for ch, share in self._coil_share.items():  # "spread": each coil's power unchanged
+        for ch, share in self.coil_share.items():  # "spread": each coil's power unchanged
             if ch in self.info["cell_groups"]:
                 cells = np.isin(self._dof_tag, cell_group(self.tmesh, ch))
                 self.power.x.array[cells] = share * np.vectorize(self.power_density)(self.currents[cells])

@@ -371,7 +371,7 @@ def test_junction_heating_continues_each_coil_through_its_pads():
                           junction_heating="spread")
     s.set_current({"Bx": 0.07, "By": 0.07, "Tx": 0.04, "Ty": 0.04})
     assert total(s) == pytest.approx(strips_only, rel=1e-12)
-    assert all(0.5 < share < 1.0 for share in s._coil_share.values())
+    assert all(0.5 < share < 1.0 for share in s.coil_share.values())
     s.heat.steady()
     spread = s.observables()["T_mean Bx [C]"]
     assert spread < cold
