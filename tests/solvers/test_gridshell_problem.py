@@ -117,7 +117,8 @@ def test_single_cell_grid_against_the_composite_beam():
     same sign (the grid's dome is negative, the beam's positive: Eq. 2's sign), the ratio in
     CELL_RATIO at two actuations and nearly the same at both (a fixed stiffening at small
     curvature: within 3 %), kx = ky (the cell is symmetric under x <-> y) to solver tolerance."""
-    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.composite_beam import BeamFE
 
