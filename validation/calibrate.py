@@ -128,8 +128,9 @@ def shape_setup(shape: str, materials: law.BarHingeMaterials, strip_element: str
     ``departures``, on ``support`` (default: the shape's published one), with ``strip_element``."""
     from lcefem.solvers.problems import gridshell_bh as gs
     from lcefem.solvers.problems import gridshell_bh_run as gs_run
+    from lcefem.validation.programs import SHAPE_DRIVES
 
-    spec = gs_run.SHAPE_DRIVES[shape]
+    spec = SHAPE_DRIVES[shape]
     mesh, lce, support = gs_run.published_configuration(BeamBarHingeMesh(), materials.lce,
                                                         support or spec["support"], departures)
     s = build_gridshell_bar_hinge(mesh=dataclasses.replace(mesh, strip_element=strip_element))
