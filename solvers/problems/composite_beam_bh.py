@@ -7,6 +7,8 @@ cases and the benchmarks.
 
 * :func:`setup_beam` — structure, model, held DOFs and the ramp, built before solving;
 * :func:`solve_beam` — the ramp from the as-built state (:func:`lcefem.solvers.bar_hinge.follow_path`);
+* :class:`CompositeBeamBH` — the same beam as a problem (the Problem protocol: drives lambda per
+  strip tag, advance, observables, save/restore);
 * :class:`BeamConfig`, :func:`run_beam` — ``lcefem run beam``: the configuration sections and one
   run through the run skeleton (history.csv, beam.pvd + beam_steps/*.vtp, summary.json).
 
@@ -26,12 +28,14 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
 from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.empirical import Eq2, eq2_curvature
+from lcefem.models.errors import InputError
 from lcefem.models.limits import check_lambda
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, isostatic_supports)
 from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
@@ -120,6 +124,76 @@ def solve_beam(lambda_top: float, lambda_bottom: float,
                          progress=progress)
     return BeamSolution(lambda_top, lambda_bottom, setup.structure, setup.model, result,
                         beam_curvature(setup.structure, result.states[-1].x))
+
+
+class CompositeBeamBH:
+    """The bar-and-hinge beam as a problem (lcefem.solvers.problems.protocol.Problem): the strips'
+    relative lengths lambda_T, lambda_B [-] are the drives (tags ``top_strips``, ``bottom_strips``),
+    reached by :meth:`advance` along the path follower from the present state, the rest fractions
+    ramped linearly as in :func:`solve_beam` (which is the same path in one call)."""
+
+    drive = "lambda [-]"
+
+    def __init__(self, geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                 mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
+                 materials: BarHingeMaterials = BarHingeMaterials(), *,
+                 newton_options: NewtonOptions = NewtonOptions(), path: PathOptions = BEAM_PATH):
+        self.lambda_N = materials.lce.lambda_N
+        self.newton_options, self.path = newton_options, path
+        setup = setup_beam(self.lambda_N, self.lambda_N, geometry, mesh, materials)
+        self.structure, self.model, self.held = setup.structure, setup.model, setup.held
+        self._fixed = self.model.reference.reshape(-1)[self.held].copy()
+        self.x = self.structure.nodes.copy()
+        self.lambdas = {tag: self.lambda_N for tag in self.drive_tags()}  # reached [-]
+        self.targets = dict(self.lambdas)  # set [-]
+
+    def drive_tags(self) -> tuple[str, ...]:
+        present = {b.name for b in self.model.strip_sets()}
+        return tuple(t for t in ("top_strips", "bottom_strips") if t in present)
+
+    def set_drives(self, drives) -> None:
+        for tag, value in drives.items():
+            if tag not in self.drive_tags():
+                raise InputError(f"drive {tag!r}: not a strip tag of the beam (allowed "
+                                 f"{', '.join(self.drive_tags())})")
+            self.targets[tag] = check_lambda(f"lambda[{tag}]", value, self.lambda_N)
+
+    def advance(self, dt: float = 1.0) -> PathResult:
+        """The fraction ``dt`` (0 < dt <= 1) of the way from the present lambdas to the targets;
+        raises ConvergenceError (the present state is kept)."""
+        frac = check_quasi_static_step(dt)
+        start = dict(self.lambdas)
+        goal = {k: start[k] + frac * (self.targets[k] - start[k]) for k in start}
+
+        def load(t: float) -> np.ndarray:
+            self.model.set_rest_fractions({k: (start[k] + t * (goal[k] - start[k])) / self.lambda_N
+                                           for k in start})
+            return self._fixed
+
+        try:
+            result = follow_path(self.model, self.x, self.held, load,
+                                 newton_options=self.newton_options, path_options=self.path)
+        except Exception:
+            self.model.set_rest_fractions({k: v / self.lambda_N for k, v in start.items()})
+            raise
+        self.x, self.lambdas = result.states[-1].x.copy(), goal
+        self.model.set_rest_fractions({k: v / self.lambda_N for k, v in goal.items()})
+        return result
+
+    def observables(self) -> dict[str, float]:
+        return {**{f"lambda {k} [-]": v for k, v in self.lambdas.items()},
+                "curvature [1/mm]": float(beam_curvature(self.structure, self.x))}
+
+    def fields(self) -> dict:
+        return {"node positions [mm]": self.x}
+
+    def save_state(self) -> dict:
+        return {"x": self.x.copy(), "lambdas": dict(self.lambdas), "targets": dict(self.targets)}
+
+    def restore_state(self, state: dict) -> None:
+        self.x = state["x"].copy()
+        self.lambdas, self.targets = dict(state["lambdas"]), dict(state["targets"])
+        self.model.set_rest_fractions({k: v / self.lambda_N for k, v in self.lambdas.items()})
 
 
 # -- one run (``lcefem run beam``) ---------------------------------------------------------------

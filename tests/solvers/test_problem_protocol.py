@@ -22,7 +22,6 @@ MARKS = {"observables", "observe", "set_lambda", "set_current", "set_shortening"
 #: Modules of solvers/problems without a problem object, each with why (left for a session that
 #: can move their contents: they are written as functions over a setup, not as a problem class).
 WITHOUT_PROBLEM_OBJECT = {
-    "composite_beam_bh": "functions over BeamSetup (run_beam); edited in parallel this session",
     "composite_beam_run": "the FE beam's run (BeamFEConfig, run_beam_fe) around composite_beam's problems",
     "twisted_ribbon_der": "the rolling ribbon's problem is lcefem.solvers.der's Simulation; "
                           "edited in parallel this session",
@@ -57,7 +56,8 @@ def test_the_walk_finds_the_problems_and_only_the_listed_modules_lack_one():
     found = problem_classes()
     assert {m for m, names in found.items() if not names} == set(WITHOUT_PROBLEM_OBJECT)
     assert {"StripSimulation", "BeamFE", "HeatedBeamFE", "KaptonSpecimenFE", "TwistedRibbonFE",
-            "GridshellFE", "HeatedGridshellFE", "GridshellBH", "KaptonSpecimenBH"} <= {n for _, n in CLASSES}
+            "GridshellFE", "HeatedGridshellFE", "GridshellBH", "KaptonSpecimenBH",
+            "CompositeBeamBH"} <= {n for _, n in CLASSES}
 
 
 @pytest.mark.parametrize("module, name", CLASSES, ids=[n for _, n in CLASSES])
@@ -158,3 +158,33 @@ def test_bar_and_hinge_specimen_as_a_problem_is_the_one_call_path():
     assert k.observables()["force [N]"] == pytest.approx(one_call.force[-1], rel=1e-6)
     with pytest.raises(InputError, match="left_clamp|'left'"):
         k.set_drives({"left": 0.1})
+
+
+def test_bar_and_hinge_beam_as_a_problem_is_the_one_call_path():
+    """CompositeBeamBH driven through the protocol to the dome's lambdas (seed 001 Fig. 4C: 1.33 top,
+    1.05 bottom) reaches the curvature of solve_beam (the same ramp, same steps); in two halves the
+    same elastic equilibrium; restore_state goes back to the straight beam; a lambda out of
+    [1, lambda_N] and an unknown tag are refused by name."""
+    from lcefem.solvers.problems.composite_beam_bh import CompositeBeamBH, solve_beam
+
+    one_call = solve_beam(1.33, 1.05)
+    b = CompositeBeamBH()
+    assert isinstance(b, Problem) and set(b.drive_tags()) == {"top_strips", "bottom_strips"}
+    straight = b.save_state()
+    assert b.observables()["curvature [1/mm]"] == pytest.approx(0.0, abs=1e-12)
+    b.set_drives({"top_strips": 1.33, "bottom_strips": 1.05})
+    b.advance(1.0)
+    obs = b.observables()
+    assert unnamed(obs) == [] and unnamed(b.fields()) == []
+    assert obs["lambda top_strips [-]"] == 1.33 and obs["lambda bottom_strips [-]"] == 1.05
+    assert obs["curvature [1/mm]"] == pytest.approx(one_call.curvature, rel=1e-12)
+    b.restore_state(straight)
+    b.set_drives({"top_strips": 1.33, "bottom_strips": 1.05})
+    b.advance(0.5)
+    assert b.observables()["lambda top_strips [-]"] == pytest.approx(0.5 * (b.lambda_N + 1.33))
+    b.advance(1.0)
+    assert b.observables()["curvature [1/mm]"] == pytest.approx(one_call.curvature, rel=1e-6)
+    with pytest.raises(InputError, match=r"^lambda\[top_strips\] = 1.6"):
+        b.set_drives({"top_strips": 1.6})
+    with pytest.raises(InputError, match="'glue'"):
+        b.set_drives({"glue": 1.2})
