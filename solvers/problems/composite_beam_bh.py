@@ -34,9 +34,9 @@ from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, isostatic_supports)
-from lcefem.solvers.exports import bar_hinge_run
 from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runner import BarHingeFrames, HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 
@@ -158,21 +158,26 @@ class CompositeBeamBH:
                                  f"{', '.join(self.drive_tags())})")
             self.targets[tag] = check_lambda(f"lambda[{tag}]", value, self.lambda_N)
 
-    def advance(self, dt: float = 1.0) -> PathResult:
-        """The fraction ``dt`` (0 < dt <= 1) of the way from the present lambdas to the targets;
-        raises ConvergenceError (the present state is kept)."""
+    def advance(self, dt: float = 1.0, on_step: Callable[[PathState], None] | None = None,
+                progress: Callable[[float], None] | None = None) -> PathResult:
+        """The fraction ``dt`` (0 < dt <= 1) of the way from the present lambdas to the targets,
+        the rest fractions f = lambda/lambda_N ramped linearly (from the as-built state the ramp of
+        :func:`beam_load`, to the last bit); ``on_step(state)`` after every converged increment
+        (its ``t`` the fraction of this advance), ``progress(t)``. Raises ConvergenceError (the
+        present state is kept)."""
         frac = check_quasi_static_step(dt)
         start = dict(self.lambdas)
         goal = {k: start[k] + frac * (self.targets[k] - start[k]) for k in start}
+        f0 = {k: float(self.model.lce.rest_fraction(v)) for k, v in start.items()}
+        f1 = {k: float(self.model.lce.rest_fraction(v)) for k, v in goal.items()}
 
         def load(t: float) -> np.ndarray:
-            self.model.set_rest_fractions({k: (start[k] + t * (goal[k] - start[k])) / self.lambda_N
-                                           for k in start})
+            self.model.set_rest_fractions({k: f0[k] + t * (f1[k] - f0[k]) for k in start})
             return self._fixed
 
         try:
-            result = follow_path(self.model, self.x, self.held, load,
-                                 newton_options=self.newton_options, path_options=self.path)
+            result = follow_path(self.model, self.x, self.held, load, newton_options=self.newton_options,
+                                 path_options=self.path, on_step=on_step, progress=progress)
         except Exception:
             self.model.set_rest_fractions({k: v / self.lambda_N for k, v in start.items()})
             raise
@@ -238,15 +243,16 @@ SIGN_CONVENTION = ("positive when the beam bends towards its bottom strips (top 
 
 
 def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
-    """Ramp the bar-and-hinge beam to ``config.run``'s lambdas through the run skeleton and write
-    history.csv (:data:`COLUMNS`), beam.pvd + beam_steps/*.vtp and summary.json into ``out``;
-    returns the summary. ``report(out, config, solution, history) -> dict`` (optional: the
-    validation's plots and notes) runs before the summary is written; its entries join the results."""
+    """Drive :class:`CompositeBeamBH` to ``config.run``'s lambdas through the runner
+    (:func:`lcefem.solvers.runner.run_quasi_static`) and write history.csv (:data:`COLUMNS`),
+    beam.pvd + beam_steps/*.vtp and summary.json into ``out``; returns the summary.
+    ``report(out, config, solution, history) -> dict`` (optional: the validation's plots and notes)
+    runs before the summary is written; its entries join the results."""
     cfg = config.validated()
     out = pathlib.Path(out)
     lam_t, lam_b, lam_n = cfg.run.lambda_top, cfg.run.lambda_bottom, cfg.lce.lambda_N
-    setup = setup_beam(lam_t, lam_b, cfg.geometry, cfg.mesh, cfg.materials)
-    structure, model = setup.structure, setup.model
+    problem = CompositeBeamBH(cfg.geometry, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    structure, model = problem.structure, problem.model
 
     def row(state) -> dict:
         forces = model.bar_forces(state.x)
@@ -259,15 +265,14 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, repor
                 if "top_strips" in forces else 0.0,
                 "newton iterations [-]": state.iterations}
 
-    bar = Progress(1.0, f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
     started = time.perf_counter()
-    with bar_hinge_run(out, "beam", structure, model, config=cfg.resolved(), columns=COLUMNS, row=row,
-                       progress=bar) as (run, on_step):
-        solution = solve_beam(lam_t, lam_b, newton_options=cfg.solver, path=cfg.path,
-                              on_step=on_step, progress=bar.to, setup=setup)
+
+    def summarize(run, path: PathResult) -> dict:
+        solution = BeamSolution(lam_t, lam_b, structure, model, path,
+                                beam_curvature(structure, path.states[-1].x))
         history = run.history
         extra = report(out, cfg, solution, history) if report is not None else {}
-        return run.complete({
+        return {
             "model": "bar-hinge",
             "results": {
                 "curvature [1/mm]": solution.curvature,
@@ -277,9 +282,17 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, repor
                 "bottom strip force [N]": float(history.column("bottom strip force [N]")[-1]),
                 "top strip force [N]": float(history.column("top strip force [N]")[-1]),
             },
-            "dofs": int(solution.model.ndof), "nodes": int(structure.num_nodes),
-            "increments": len(solution.path.states) - 1,
-            "newton_iterations": int(sum(solution.path.newton_iterations)),
-            "failed_increments": solution.path.failed_increments,
+            "dofs": int(model.ndof), "nodes": int(structure.num_nodes),
+            "increments": len(path.states) - 1,
+            "newton_iterations": int(sum(path.newton_iterations)),
+            "failed_increments": path.failed_increments,
             "wall_time [s]": time.perf_counter() - started,
-        })
+        }
+
+    drives = {tag: {"top_strips": lam_t, "bottom_strips": lam_b}[tag] for tag in problem.drive_tags()}
+    return run_quasi_static(problem, drives, out, config=cfg.resolved(),
+                            history=HistoryExport(tuple(COLUMNS), row),
+                            frames=BarHingeFrames("beam", structure, model),
+                            progress=Progress(1.0, f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", "load",
+                                              ".3f", progress),
+                            summarize=summarize)
