@@ -52,15 +52,16 @@ class BarHingeFrames:
 
 def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
                      history: HistoryExport, frames: BarHingeFrames, progress: Progress,
-                     summarize: Callable[[Any, Any], dict]) -> dict:
+                     summarize: Callable[[Any, Any], dict], progress_scale: float = 1.0) -> dict:
     """One run of a quasi-static bar-and-hinge problem: ``problem.set_drives(drives)``, then
     ``problem.advance(1.0)`` (the whole way), each converged increment recorded by the exports;
     ``summarize(run, path_result)`` gives the summary's entries (after the history is complete,
-    before summary.json is written). Returns the summary."""
+    before summary.json is written); the bar shows ``progress_scale`` x the fraction of the way.
+    Returns the summary."""
     with bar_hinge_run(pathlib.Path(out), frames.stem, frames.structure, frames.model, config=config,
                        columns=list(history.columns), row=history.row, progress=progress) as (run, on_step):
         problem.set_drives(drives)
-        result = problem.advance(1.0, on_step=on_step, progress=progress.to)
+        result = problem.advance(1.0, on_step=on_step, progress=lambda t: progress.to(progress_scale * t))
         return run.complete(summarize(run, result))
 
 
