@@ -6,11 +6,15 @@ configuration).
 
 Export objects (one per output, each built by the body's run from its problem):
 
-* :class:`HistoryExport` — history.csv, one row per converged increment, columns "name [unit]";
-* :class:`BarHingeFrames` — ParaView: ``<stem>.pvd`` + ``<stem>_steps/*.vtp`` (ribbon triangles,
-  bars, displacement, axial force), and ``last_converged.vtp`` when a run fails;
+* :class:`HistoryExport` — history.csv, one row per converged step, columns "name [unit]";
+* fields for ParaView (:mod:`lcefem.solvers.exports`): :class:`~lcefem.solvers.exports.BarHingeFrames`
+  (``<stem>.pvd`` + ``<stem>_steps/*.vtp``, ``last_converged.vtp`` when a run fails) or
+  :class:`~lcefem.solvers.exports.FEFields` (a VTX .bp series of the problem's Functions);
 * the summary: ``summarize(run, result) -> dict`` (the body's results; renders and the validation's
   measured values come from its ``report`` hook), written last as summary.json.
+
+A body's run is then its problem, its columns and its summary (``run_beam``, ``run_specimen``,
+``run_beam_fe``).
 
 Units: those of the problem (mm, N, s).
 """
@@ -22,18 +26,23 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from lcefem.solvers.exports import bar_hinge_run
 from lcefem.solvers.problems.protocol import unnamed
-from lcefem.solvers.runtime.run import Progress
+from lcefem.solvers.runtime.run import Progress, Run
+
+
+def _load_factor_where(state) -> str:
+    return f"load factor {state.t:.4g}"
 
 
 @dataclass(frozen=True)
 class HistoryExport:
-    """history.csv: ``columns`` ("name [unit]") filled by ``row(state)`` at every converged
-    increment of the path follower."""
+    """history.csv: ``columns`` ("name [unit]") filled by ``row(state)`` at every converged step;
+    ``where(state)`` names the step (failure.json), ``at(state)`` (optional) moves the progress bar."""
 
     columns: tuple[str, ...]
     row: Callable[[Any], dict]
+    where: Callable[[Any], str] = _load_factor_where
+    at: Callable[[Any], float] | None = None
 
     def __post_init__(self):
         bad = unnamed(self.columns)
@@ -41,28 +50,31 @@ class HistoryExport:
             raise ValueError(f"history columns without a unit: {bad}")
 
 
-@dataclass(frozen=True)
-class BarHingeFrames:
-    """ParaView frames of a bar-and-hinge problem: ``<stem>.pvd`` + ``<stem>_steps/*.vtp``."""
-
-    stem: str
-    structure: Any
-    model: Any
-
-
 def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
-                     history: HistoryExport, frames: BarHingeFrames, progress: Progress,
-                     summarize: Callable[[Any, Any], dict], progress_scale: float = 1.0) -> dict:
-    """One run of a quasi-static bar-and-hinge problem: ``problem.set_drives(drives)``, then
-    ``problem.advance(1.0)`` (the whole way), each converged increment recorded by the exports;
-    ``summarize(run, path_result)`` gives the summary's entries (after the history is complete,
-    before summary.json is written); the bar shows ``progress_scale`` x the fraction of the way.
-    Returns the summary."""
-    with bar_hinge_run(pathlib.Path(out), frames.stem, frames.structure, frames.model, config=config,
-                       columns=list(history.columns), row=history.row, progress=progress) as (run, on_step):
+                     history: HistoryExport, fields, progress: Progress,
+                     summarize: Callable[[Any, Any], dict], progress_scale: float | None = 1.0) -> dict:
+    """One run of a quasi-static problem: ``problem.set_drives(drives)``, then
+    ``problem.advance(1.0, on_step=..., progress=...)`` (the whole way), each converged step
+    recorded by the exports (``fields``: an export object with ``open(run, out)``);
+    ``summarize(run, result)`` gives the summary's entries (after the history is complete, before
+    summary.json is written); the bar shows ``progress_scale`` x the fraction of the way (None: only
+    ``history.at``). Returns the summary."""
+    out = pathlib.Path(out)
+    with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
+        writer = fields.open(run, out)
+        last = []
+
+        def on_step(state) -> None:
+            run.record(history.row(state), where=history.where(state),
+                       at=None if history.at is None else history.at(state))
+            writer.write(state)
+            last[:] = [state]
+
+        run.on_failure(lambda folder: last and writer.last_converged(folder, last[0]))
         problem.set_drives(drives)
-        result = problem.advance(1.0, on_step=on_step, progress=lambda t: progress.to(progress_scale * t))
+        result = problem.advance(1.0, on_step=on_step, progress=None if progress_scale is None else
+                                 (lambda t: progress.to(progress_scale * t)))
         return run.complete(summarize(run, result))
 
 
-__all__ = ["BarHingeFrames", "HistoryExport", "run_quasi_static"]
+__all__ = ["HistoryExport", "run_quasi_static"]

@@ -36,7 +36,8 @@ from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions,
                                       follow_path, isostatic_supports)
 from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runner import BarHingeFrames, HistoryExport, run_quasi_static
+from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 
@@ -292,7 +293,7 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, repor
     drives = {tag: {"top_strips": lam_t, "bottom_strips": lam_b}[tag] for tag in problem.drive_tags()}
     return run_quasi_static(problem, drives, out, config=cfg.resolved(),
                             history=HistoryExport(tuple(COLUMNS), row),
-                            frames=BarHingeFrames("beam", structure, model),
+                            fields=BarHingeFrames("beam", structure, model),
                             progress=Progress(1.0, f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", "load",
                                               ".3f", progress),
                             summarize=summarize)

@@ -18,11 +18,12 @@ from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
 from lcefem.models.limits import check_lambda
 from lcefem.solvers.contact import PenaltyContact
 from lcefem.solvers.continuation import PathControl
-from lcefem.solvers.exports import FieldExport
+from lcefem.solvers.exports import FEFields
 from lcefem.solvers.problems.composite_beam import (BeamActuation, BeamFE, FEMaterials, HeatedBeamRun,
                                                     beam_fe_heated)
 from lcefem.solvers.problems.composite_beam_bh import SIGN_CONVENTION, BeamRun
 from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress, Run
 
 
@@ -78,27 +79,21 @@ def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, rep
     lam_t, lam_b = cfg.run.lambda_top, cfg.run.lambda_bottom
     started = time.perf_counter()
     model = BeamFE(cfg.geometry, cfg.mesh, cfg.materials, cfg.actuation, cfg.contact, cfg.path)
-    bar = Progress(1.0, f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
-    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
-        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
-        fields.write(0.0)
+    check_lambda("lambda_top", lam_t, cfg.actuation.lambda_N)
+    check_lambda("lambda_bottom", lam_b, cfg.actuation.lambda_N)
 
-        def on_step(state) -> None:
-            run.record({"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
-                        "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
-                        "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top, state.lambda_bottom,
-                                                                    cfg.eq2)),
-                        "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
-                        "newton iterations [-]": state.iterations},
-                       where=f"lambda = ({state.lambda_top:.5g}, {state.lambda_bottom:.5g})",
-                       at=state.load_factor)
-            fields.write(state.load_factor)
+    def row(state) -> dict:
+        return {"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
+                "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
+                "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top, state.lambda_bottom, cfg.eq2)),
+                "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
+                "newton iterations [-]": state.iterations}
 
-        model.ramp(lam_t, lam_b, on_step=on_step)
+    def summarize(run, states) -> dict:
         history = run.history
         extra = report(out, cfg, model, history) if report is not None else {}
         follower = model.last_follower
-        return run.complete({
+        return {
             "model": "fe",
             "results": {
                 "curvature [1/mm]": model.curvature(),
@@ -110,7 +105,17 @@ def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, rep
             "dofs": model.ndofs, "cells": model.tmesh.info["cells"], "symmetry": model.tmesh.info["symmetry"],
             "steps": len(history.rows), "newton_iterations": follower.iterations,
             "cut_steps": follower.cuts, "wall_time [s]": time.perf_counter() - started,
-        })
+        }
+
+    history = HistoryExport(tuple(FE_COLUMNS), row,
+                            where=lambda s: f"lambda = ({s.lambda_top:.5g}, {s.lambda_bottom:.5g})",
+                            at=lambda s: s.load_factor)
+    fields = FEFields("displacement.bp", (model.u,), model.tmesh.mesh.comm, lambda s: s.load_factor)
+    return run_quasi_static(model, {"top_strips": lam_t, "bottom_strips": lam_b}, out, config=cfg.resolved(),
+                            history=history, fields=fields,
+                            progress=Progress(1.0, f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", "load",
+                                              ".3f", progress),
+                            summarize=summarize, progress_scale=None)
 
 
 def run_beam_fe_heated(cfg: BeamFEConfig, out: pathlib.Path, progress: bool, report) -> dict:

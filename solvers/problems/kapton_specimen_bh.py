@@ -35,7 +35,8 @@ from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions,
                                       follow_path, held_dofs, newton)
 from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runner import BarHingeFrames, HistoryExport, run_quasi_static
+from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the end shortening (0 -> 50 %); small increments resolve the force curve.
@@ -346,6 +347,6 @@ def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool
 
     return run_quasi_static(problem, {"right_clamp": compression_max * length}, out, config=cfg.resolved(),
                             history=HistoryExport(tuple(COLUMNS), row),
-                            frames=BarHingeFrames("ribbon", problem.structure, model),
+                            fields=BarHingeFrames("ribbon", problem.structure, model),
                             progress=Progress(100 * compression_max, "ribbon buckling", "%", enabled=progress),
                             summarize=summarize, progress_scale=100 * compression_max)
