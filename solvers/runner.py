@@ -13,14 +13,16 @@ Export objects (one per output, each built by the body's run from its problem):
 * the summary: ``summarize(run, result) -> dict`` (the body's results; renders and the validation's
   measured values come from its ``report`` hook), written last as summary.json.
 
-A body's run is then its problem, its columns and its summary (``run_beam``, ``run_specimen``,
-``run_beam_fe``).
+A body's run is then its problem, its columns and its summary: quasi-static bodies through
+:func:`run_quasi_static` (``run_beam``, ``run_specimen``, ``run_beam_fe``), heated ones in time
+through :func:`run_in_time` (the heated FE beam).
 
 Units: those of the problem (mm, N, s).
 """
 
 from __future__ import annotations
 
+import math
 import pathlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -77,4 +79,45 @@ def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *,
         return run.complete(summarize(run, result))
 
 
-__all__ = ["HistoryExport", "run_quasi_static"]
+
+def _time_where(row) -> str:
+    return f"t = {row['time [s]']:.4g} s"
+
+
+def _time_at(row) -> float:
+    return row["time [s]"]
+
+
+def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, duration: float, dt: float,
+                config: dict, columns, progress: Progress, summarize: Callable[[Any, list], dict],
+                fields=None) -> dict:
+    """One run of a heated problem in time: ``problem.set_drives(drives)``, then equal steps of
+    at most ``dt`` [s] to ``duration`` [s] (``problem.advance(step)`` each, the problem's clock
+    ``time`` [s] set to k x step exactly, not a sum of steps); history.csv gets ``columns`` of
+    ``problem.observables()`` at 0 and after every step ("t = ... s" names a failed step);
+    ``fields`` (optional export object) one frame per step; ``summarize(run, rows)`` the summary's
+    entries. Returns the summary."""
+    out = None if out is None else pathlib.Path(out)
+    steps = max(1, int(math.ceil(duration / dt - 1e-9)))
+    step = duration / steps
+    history = HistoryExport(tuple(columns), dict, where=_time_where, at=_time_at)
+    with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
+        writer = None if fields is None else fields.open(run, out)
+
+        def record(row: dict) -> None:
+            run.record(row, where=history.where(row), at=history.at(row))
+            if writer is not None:
+                writer.write(row)
+
+        problem.set_drives(drives)
+        rows = [problem.observables()]
+        record(rows[0])
+        for k in range(1, steps + 1):
+            rows.append(problem.advance(step))
+            problem.time = k * step
+            rows[-1]["time [s]"] = problem.time
+            record(rows[-1])
+        return run.complete(summarize(run, rows))
+
+
+__all__ = ["HistoryExport", "run_in_time", "run_quasi_static"]
