@@ -5,7 +5,7 @@ Why not gmsh for these bodies: gmsh's fragment merges every pair of coincident f
 strip's unbonded face must keep its own nodes (only a contact term keeps it off the ribbon); a
 tensor-product grid also gives the strip and ribbon nodes the same (x, y) stations, which the
 node-pair contact of :func:`lcefem.solvers.contact.face_pairs` needs. The FE composite beam
-(:func:`lcefem.meshes.composite_beam.build_beam_fe`) and the gridshell (:mod:`lcefem.meshes.gridshell_fe`)
+(:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`) and the gridshell (:mod:`lcefem.meshes.gridshell_fe`)
 call these functions.
 
 Cells are hex8 in dolfinx's (lexicographic) vertex order: vertex ``a + 2 b + 4 c`` at the corner

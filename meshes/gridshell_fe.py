@@ -1,6 +1,6 @@
 """The robotic surface of seed 001 (Fig. 4) as a 3D continuum: a hexahedral (Q2-ready) mesh of the
 n x n gridshell of Kapton ribbons with bottom and top LCE strips, with the dimensions of the FE
-composite beam (:func:`lcefem.meshes.composite_beam.build_beam_fe`, :class:`CompositeBeamGeometry`)
+composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`, :class:`CompositeBeamGeometry`)
 and the layout and connectivity of the published reduced-order model
 (shared/reference/gridshell_recipes.md, published_reduced_model.md).
 
@@ -97,7 +97,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes._hexgrid import divisions, exterior_faces, tagged_hex_mesh
-from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry, beam_pieces
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.composite_beam_fe import BeamFEMesh, beam_pieces
 from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
@@ -123,7 +124,7 @@ _BEAM = BeamFEMesh()
 @dataclass(frozen=True)
 class GridshellFEMesh:
     """Structured hexahedral discretisation of the gridshell: the FE beam's choices
-    (:class:`~lcefem.meshes.composite_beam.BeamFEMesh`; its symmetry is the builder's argument
+    (:class:`~lcefem.meshes.composite_beam_fe.BeamFEMesh`; its symmetry is the builder's argument
     here). Level l multiplies every piece's level-0 in-plane element count (``ceil(length/size)``)
     by l + 1 (nested levels); the through-thickness counts are fixed, as in the beam."""
 

@@ -2,7 +2,7 @@
 penalty contact between a strip's free face and a thin ribbon, a nodal proximal (damping) term and a
 fixed nodal load (:class:`NodalLoad`, the residual homotopy's offset).
 
-Used by the FE composite beam (:func:`lcefem.meshes.composite_beam.build_beam_fe`), whose strips and
+Used by the FE composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`), whose strips and
 ribbon share their x and y stations: every node p of a strip's unbonded face has, at the same
 reference (x, y), a node q on the ribbon face towards the strip and a node r on the ribbon's other
 face. With the ribbon's current thickness direction m = (q - r)/|q - r| (pointing to the strip's

@@ -69,7 +69,8 @@ from lcefem.solvers.bar_hinge.design import EquilibriumMap, strip_parameters
 from lcefem.solvers.bar_hinge.newton import follow_path
 from lcefem.solvers.problems import gridshell_bh as gs
 
-SHAPES = tuple(gs.SHAPE_DRIVES)
+from lcefem.solvers.problems import gridshell_bh_run as gs_run
+SHAPES = tuple(gs_run.SHAPE_DRIVES)
 INPUT_MODES = ("channels", "strips")
 SENSING = ("heights", "markers", "oracle")
 CURVATURES = ("circle kappa_x", "circle kappa_y", "quad kappa_x", "quad kappa_y")
@@ -161,10 +162,10 @@ def build_surface(shape: str, layout: GridshellLayout = GridshellLayout(),
                   lambda_N: float = PUBLISHED_LAMBDA_N) -> Surface:
     """The target's equilibrium (ramp from the as-built state, as ``lcefem run gridshell``), its
     observables and exact sensitivities to every strip's lambda and to a centre payload."""
-    if shape not in gs.SHAPE_DRIVES:
+    if shape not in gs_run.SHAPE_DRIVES:
         raise InputError(f"shape = {shape!r}: allowed {', '.join(SHAPES)}")
     t0 = time.perf_counter()
-    spec = gs.SHAPE_DRIVES[shape]
+    spec = gs_run.SHAPE_DRIVES[shape]
     structure = build_gridshell_bar_hinge(layout=layout)
     setup = gs.setup_gridshell(None, spec["support"], structure=structure)
     strips = structure.info["strips"]

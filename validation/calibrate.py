@@ -139,10 +139,11 @@ def shape_setup(shape: str, materials: law.BarHingeMaterials, strip_element: str
     """The BH gridshell set up at the Fig. 4 lambdas of ``shape`` in the published configuration +
     ``departures``, on ``support`` (default: the shape's published one), with ``strip_element``."""
     from lcefem.solvers.problems import gridshell_bh as gs
+    from lcefem.solvers.problems import gridshell_bh_run as gs_run
 
-    spec = gs.SHAPE_DRIVES[shape]
-    mesh, lce, support = gs.published_configuration(BeamBarHingeMesh(), materials.lce,
-                                                    support or spec["support"], departures)
+    spec = gs_run.SHAPE_DRIVES[shape]
+    mesh, lce, support = gs_run.published_configuration(BeamBarHingeMesh(), materials.lce,
+                                                        support or spec["support"], departures)
     s = build_gridshell_bar_hinge(mesh=dataclasses.replace(mesh, strip_element=strip_element))
     return gs.setup_gridshell(gs.targets_from_lambdas(s, spec["lambdas"]), support, structure=s,
                               materials=dataclasses.replace(materials, lce=lce))

@@ -12,7 +12,7 @@ Units: mm, N, t, s, A, 1/mm.
 
 from __future__ import annotations
 
-from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVE_SOURCES, SHAPE_DRIVES
+from lcefem.solvers.problems.gridshell_bh_run import SHAPE_DRIVE_SOURCES, SHAPE_DRIVES
 from lcefem.validation.reference_data import reference
 
 SEED = "seed 001"

@@ -22,7 +22,7 @@ import json
 import pathlib
 import time
 
-from lcefem.solvers.problems.gridshell import JUNCTION_HEATING
+from lcefem.solvers.problems.gridshell_heated import JUNCTION_HEATING
 
 DATA = pathlib.Path(__file__).parent / "data"
 MEASURED = {"dome": (-0.016, -0.016), "saddle": (-0.012, 0.015), "cylinder": (0.017, 0.0),
@@ -34,7 +34,7 @@ def shape_hold_currents(shape: str, which: str) -> dict:
     other shapes the same Fig. 2C pair, validation.gridshell_bh.SHAPES) or 'rule' the paper's rule
     at the Fig. 4 lambdas (models.lumped_heat.shape_currents)."""
     from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
-    from lcefem.solvers.problems.gridshell_bh import SHAPE_DRIVES
+    from lcefem.solvers.problems.gridshell_bh_run import SHAPE_DRIVES
     from lcefem.validation import gridshell_bh as gs
 
     if which == "protocol":
@@ -59,8 +59,8 @@ def run(shape: str, currents: dict, level: int, junction_heating: str) -> dict:
 
     from lcefem.meshes.gridshell_fe import GridshellFEMesh, cell_group
     from lcefem.solvers.mechanics import assemble_global, volume_measure, QUADRATURE_DEGREE
-    from lcefem.solvers.problems.gridshell import (PUBLISHED_SUPPORTS, GridshellConfig,
-                                                   GridshellSupports, HeatedGridshellFE)
+    from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
     started = time.process_time()
     model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=level), symmetry="quarter",

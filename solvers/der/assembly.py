@@ -22,6 +22,7 @@ import numpy as np
 from lcefem.models import rod as rodlaw
 from lcefem.models.contact import normal_force
 from lcefem.solvers.der import kernels
+from lcefem.solvers.der import contact_kernels
 from lcefem.solvers.der.model import Box, DiscreteRod, Ground, RodState, n_dofs
 
 BANDWIDTH = 10
@@ -122,7 +123,7 @@ def sample_points(state: RodState, sampling: ContactSampling):
         geo = state.geometry()
         n_edges = len(geo.t)
         side, sigma, offsets = sampling.kernel_arrays()
-        out = kernels.sample_points(state.x, state.a1, geo.t, state.theta, geo.twist, geo.m1, geo.m2, side, sigma,
+        out = contact_kernels.sample_points(state.x, state.a1, geo.t, state.theta, geo.twist, geo.m1, geo.m2, side, sigma,
                                     offsets, sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
                                     sampling.end_offsets_array())
         cache[id(sampling)] = out
@@ -195,7 +196,7 @@ def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
             out += [None, None]
             continue
         law = rod.contact
-        normal = kernels.normal_force(np.ascontiguousarray(gap), float(law.clearance), float(law.delta),
+        normal = contact_kernels.normal_force(np.ascontiguousarray(gap), float(law.clearance), float(law.delta),
                                       float(law.K1), float(law.stiffness))
         # the sample positions where a point has a force (all with all_points), NaN elsewhere: one
         # np.where instead of full + nonzero + fancy indexing (the same values, ~2x less time, issue 17)
@@ -299,7 +300,7 @@ class Assembly:
                 friction: FrictionLag | None = None, step: float = 0.0, out=None):
         """Contact potential k E(gap) of the sample points with the ground, the walls and the boxes, plus
         (when ``friction`` is given) the friction potential over a step of length ``step`` [s]
-        (compiled: :func:`kernels.contact`). Only the points within reach of a plane (or carrying a
+        (compiled: :func:`contact_kernels.contact`). Only the points within reach of a plane (or carrying a
         lagged friction force on it) are differentiated.
 
         Args:
@@ -340,7 +341,7 @@ class Assembly:
             is_box = isinstance(plane, Box)
             normal = np.array(rod.ground.unit_normal() if is_box else plane.unit_normal())
             height = 0.0 if is_box else float(plane.height)
-            energy += kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
+            energy += contact_kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
                                       sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
                                       normal, height, float(law.clearance),
                                       float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
@@ -398,19 +399,19 @@ def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSamp
 def edge_corner_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:
     """Smallest gap [mm] of each section point kind (e.g. each corner) over the samples of each edge,
     shape (N-1, len(offsets)); +inf without a ground. One compiled pass over the sample points
-    (:func:`kernels.edge_min_gaps`; the gaps as :func:`all_gaps` computes them)."""
+    (:func:`contact_kernels.edge_min_gaps`; the gaps as :func:`all_gaps` computes them)."""
     n_edges = rod.n_nodes - 1
     k = len(sampling.offsets)
     if rod.ground is None:
         return np.full((n_edges, k), np.inf)
     pos_s, _, pos_e, _ = sample_points(state, sampling)
     side, slot_s, slot_e = sampling._cached("edge_min_gaps", lambda: _gap_slots(sampling))
-    return kernels.edge_min_gaps(pos_s, pos_e, side, slot_s, sampling.end_edges(n_edges), slot_e, n_edges, k,
+    return contact_kernels.edge_min_gaps(pos_s, pos_e, side, slot_s, sampling.end_edges(n_edges), slot_e, n_edges, k,
                                  rod.ground.unit_normal(), float(rod.ground.height), sampling.interpolated)
 
 
 def _gap_slots(sampling: ContactSampling) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """For :func:`kernels.edge_min_gaps`: the edge (0: the stencil's first, 1: its second) and section
+    """For :func:`contact_kernels.edge_min_gaps`: the edge (0: the stencil's first, 1: its second) and section
     point kind of every stencil point, and the kind of every end-edge point (points of one edge are
     stored kind-fastest: ``ContactSampling.of``)."""
     k = len(sampling.offsets)

@@ -11,7 +11,7 @@ and the backtracking line search (and ``StepOptions.elastic_hessian_at_source``)
 sizes the Python around the kernels (state objects, masks, the trial logic, scipy's LAPACK wrappers)
 cost as much as the kernels (issue 17).
 
-The banded Cholesky (:func:`kernels.band_cholesky`) is LAPACK's unblocked lower ``dpbtf2`` /
+The banded Cholesky (:func:`banded.band_cholesky`) is LAPACK's unblocked lower ``dpbtf2`` /
 ``dpbtrs`` written out (dpbtrf takes the unblocked path for half-bandwidths below its block size,
 10 < 32 here), so the factors agree with the Python path's to round-off (the order of the rank-one
 updates is LAPACK's; BLAS kernels may fuse multiply-adds differently).
@@ -27,7 +27,9 @@ import numpy as np
 from numba import njit
 
 from lcefem.solvers.der import kernels
-from lcefem.solvers.der.kernels import band_cholesky, band_cholesky_solve
+from lcefem.solvers.der import contact_kernels
+from lcefem.solvers.der import frame_kernels
+from lcefem.solvers.der.banded import band_cholesky, band_cholesky_solve
 
 # Return codes of :func:`minimise_step` (the reasons of ``newton.NewtonResult``).
 REASONS = ("residual below force_tol", "update below step_tol", "non-finite residual", "singular Hessian",
@@ -38,8 +40,8 @@ CONVERGED_CODES = (0, 1)
 @njit(cache=True)
 def _own_geometry(x, theta, a1, ref):
     """(x, theta, a1, ref, e, length, t, m1, m2, twist) of a state with its own frames (``RodState.geometry``)."""
-    e, length, t = kernels.edge_tangents(x)
-    m1, m2, twist = kernels.material_frames_twist(t, a1, theta, ref)
+    e, length, t = frame_kernels.edge_tangents(x)
+    m1, m2, twist = frame_kernels.material_frames_twist(t, a1, theta, ref)
     return x, theta, a1, ref, e, length, t, m1, m2, twist
 
 
@@ -56,7 +58,7 @@ def _moved(src, dq):
     theta = np.empty(n - 1)
     for k in range(n - 1):
         theta[k] = theta0[k] + dq[4 * k + 3]
-    e, length, t, a1, ref, m1, m2, twist = kernels.moved_geometry(x, theta, a10, t0, ref0)
+    e, length, t, a1, ref, m1, m2, twist = frame_kernels.moved_geometry(x, theta, a10, t0, ref0)
     return x, theta, a1, ref, e, length, t, m1, m2, twist
 
 
@@ -116,7 +118,7 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
         band += elastic_band
     if len(heights):
         no_box = np.zeros(8)
-        pos_s, r_s, pos_e, r_e = kernels.sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
+        pos_s, r_s, pos_e, r_e = contact_kernels.sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
                                                        end_sigma, end_offsets)
         e_contact = 0.0
         n_planes = len(heights)
@@ -124,7 +126,7 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
             is_box = p >= n_planes
             box = boxes[p - n_planes] if is_box else no_box
             plane = 0 if is_box else p
-            e_contact += kernels.contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma,
+            e_contact += contact_kernels.contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma,
                                          normals[plane], heights[plane], clearance, delta, K1, stiffness, fric,
                                          lag_ns[p], lag_ps[p], lag_ne[p], lag_pe[p], mu, K2, h, db, ddb, with_source,
                                          order, grad, band, box, is_box)

@@ -14,7 +14,7 @@ of size (w/n_w) x (t/n_t) x l stores heat rho c (w t/(n_w n_t)) l and exchanges 
 The coefficients are evaluated on the current geometry and the previous temperatures (radiation
 linearised there); the linear system is symmetric and banded (half-bandwidth n_w n_t) and is
 assembled and solved by banded Cholesky; coefficients, solve and fluxes are one compiled call
-(:func:`kernels.heat_step`), with :meth:`SectionHeat.coefficients` in numpy as the reference.
+(:func:`heat_kernels.heat_step`), with :meth:`SectionHeat.coefficients` in numpy as the reference.
 """
 
 from __future__ import annotations
@@ -27,9 +27,7 @@ from lcefem.models.contact import ContactLaw
 from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_film_coefficient
 from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
 from lcefem.models.rod import CORNER_SIGNS
-from lcefem.solvers.der import kernels
-
-
+from lcefem.solvers.der import heat_kernels
 @dataclass
 class HeatGeometry:
     """Per edge: midpoint c (n, 3), material frame m1, m2 (n, 3), length l (n,) [mm], and optionally
@@ -158,27 +156,27 @@ class SectionHeat:
              gradient=None, compiled: bool = True) -> tuple[np.ndarray, HeatFluxes]:
         """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo`` (plate at
         T_ground + gradient . x, see :meth:`coefficients`). ``compiled``: the exchange coefficients,
-        the solve and the fluxes in one compiled call (:func:`kernels.heat_step`; at 100 nodes 0.51 ->
+        the solve and the fluxes in one compiled call (:func:`heat_kernels.heat_step`; at 100 nodes 0.51 ->
         0.25 ms per call timed alone, issue 17); False: :meth:`coefficients` in numpy, kept as the reference (the
         same temperatures to round-off, ``tests/solvers/test_der_ribbon.py``)."""
         if compiled:
             corner = geo.corner_gap if geo.corner_gap is not None else self._midpoint_corner_gaps(geo)
             c = np.ascontiguousarray
             g = np.zeros(3) if gradient is None else np.asarray(gradient, float)
-            T_new, from_ground, to_air = kernels.heat_step(
+            T_new, from_ground, to_air = heat_kernels.heat_step(
                 c(T, float), float(dt), c(geo.centre, float), c(geo.m1, float), c(geo.m2, float),
                 c(geo.length, float), c(corner, float), float(T_ground), g, self._kernel_data())
             return T_new, HeatFluxes(from_ground, to_air)
         G_g, G_a, T_air, T_ground = self.coefficients(T, geo, T_ground, gradient)
         C = self.capacity[:, None] / dt
-        T_new = kernels.heat_solve(C, G_g, G_a, np.ascontiguousarray(T, float), np.ascontiguousarray(T_ground, float),
+        T_new = heat_kernels.heat_solve(C, G_g, G_a, np.ascontiguousarray(T, float), np.ascontiguousarray(T_ground, float),
                                    T_air, np.ascontiguousarray(geo.length, float), self._pair_a, self._pair_b,
                                    self._pair_g, float(self.k_axial))
         fluxes = HeatFluxes((G_g * (T_ground - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))
         return T_new, fluxes
 
     def _kernel_data(self) -> tuple:
-        """The model's constant data in the argument order of :func:`kernels.heat_step` (one signature:
+        """The model's constant data in the argument order of :func:`heat_kernels.heat_step` (one signature:
         int64 indices, float64 arrays and floats); built on first use (also for a pickled model)."""
         data = self.__dict__.get("_kernel_tuple")
         if data is None:

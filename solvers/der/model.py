@@ -17,9 +17,7 @@ from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.errors import InputError
 from lcefem.models.rod import CORNER_SIGNS, RodSection
 from lcefem.solvers.der import frames as fr
-from lcefem.solvers.der import kernels
-
-
+from lcefem.solvers.der import frame_kernels
 def n_dofs(n_nodes: int) -> int:
     return 4 * n_nodes - 1
 
@@ -347,7 +345,7 @@ class RodState:
         theta = self.theta + dq[twist_dofs(n)]
         t_old = self.tangents
         # frames, tangents and twists in one compiled pass (a Newton iterate is a moved state)
-        e, length, t_new, a1, ref, m1, m2, twist = kernels.moved_geometry(x, theta, self.a1, t_old, self.ref_twist)
+        e, length, t_new, a1, ref, m1, m2, twist = frame_kernels.moved_geometry(x, theta, self.a1, t_old, self.ref_twist)
         out = RodState(x, theta, self.v.copy(), self.omega.copy(), a1, ref, self.time, t_old)
         out.__dict__["_geometry"] = Geometry(e, length, t_new, m1, m2, twist)
         return out

@@ -3,7 +3,7 @@ problem, used by ``lcefem run beam --model fe``, the validation cases of
 :mod:`lcefem.validation.cases.beam_fe` and the benchmark. (The Kapton buckling specimen is
 :mod:`lcefem.solvers.problems.kapton_specimen`.)
 
-* :class:`BeamFE` — the composite beam of :func:`lcefem.meshes.composite_beam.build_beam_fe`:
+* :class:`BeamFE` — the composite beam of :func:`lcefem.meshes.composite_beam_fe.build_beam_fe`:
   Kapton as a compressible neo-Hookean solid, the LCE strips with the elastic energy
   W(F U(a)^-1) of :mod:`lcefem.models.hyperelastic`, U(a) = a n(x)n + a^-1/2 (I - n(x)n) along the
   strip axis n = e_x (:func:`lcefem.models.lce.isochoric_uniaxial`) with a = lambda/lambda_N the
@@ -46,8 +46,8 @@ from petsc4py import PETSc
 import dolfinx
 import dolfinx.fem.petsc
 
-from lcefem.meshes.composite_beam import (BeamFEMesh, CompositeBeamGeometry, build_beam_fe,
-                                          middle_station_indices)
+from lcefem.meshes.composite_beam import CompositeBeamGeometry, middle_station_indices
+from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
                                         neo_hookean_strain_energy)
@@ -139,7 +139,7 @@ def beam_supports(tmesh, V) -> list:
 
 class BeamStations:
     """Deformed curvature stations of the FE beam from the nodes at the reference points of
-    :func:`lcefem.meshes.composite_beam.fe_stations` (mirrored about x = x_mid in the quarter model)."""
+    :func:`lcefem.meshes.composite_beam_fe.fe_stations` (mirrored about x = x_mid in the quarter model)."""
 
     def __init__(self, tmesh, V):
         info = tmesh.info

@@ -10,7 +10,8 @@ import pathlib
 import time
 from dataclasses import dataclass, field
 
-from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.composite_beam_fe import BeamFEMesh
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid

@@ -31,9 +31,9 @@ linearly from the current ones to the targets: the paper's quasi-static route) b
 
 The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`, :func:`solve_gridshell`,
 ...) are used by the study (:mod:`lcefem.validation.gridshell_bh`: the paper's curvatures), which
-re-exports them. The paper's Fig. 4 programs (:data:`SHAPE_DRIVES`), the published recipes
-(:data:`RECIPES`), and one run of ``lcefem run gridshell`` (:class:`GridshellBHRunConfig`,
-:func:`run_gridshell`) are at the end of this file; the current route (currents -> lambdas) is
+re-exports them. The paper's Fig. 4 programs (``SHAPE_DRIVES``), the published recipes
+(``RECIPES``), and one run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
+are in :mod:`lcefem.solvers.problems.gridshell_bh_run`; the current route (currents -> lambdas) is
 :class:`lcefem.models.lumped_heat.CurrentRoute`.
 
 Units: mm, N, t, s.
@@ -42,8 +42,6 @@ Units: mm, N, t, s.
 from __future__ import annotations
 
 import math
-import pathlib
-import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
@@ -57,18 +55,12 @@ from lcefem.models import bar_hinge as law
 from lcefem.models import units
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
-from lcefem.models.limits import check_current
 from lcefem.models.loads import SurfaceWeight
-from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents, shape_currents
-from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
-from lcefem.solvers.exports import bar_hinge_run
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 from lcefem.solvers.problems.protocol import check_quasi_static_step
-from lcefem.solvers.runtime.files import write_text
-from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
 GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iterations=8,
@@ -437,7 +429,6 @@ def _selection_masks(structure: BarHingeStructure, key) -> dict[str, np.ndarray]
     return {g: v != 0.0 for g, v in values.items()}
 
 
-# -- the paper's programs and one run (``lcefem run gridshell``) ----------------------------------
 def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support: str = "rollers",
                     geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
                     layout: GridshellLayout = GridshellLayout(),
@@ -455,326 +446,3 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
     return setup_from_model(structure, bar_hinge_model(structure, materials), support,
                             rest_fractions, weight)
 
-
-#: The paper's Fig. 4 programs: lambda and current per channel, and the support (sources:
-#: :data:`SHAPE_DRIVE_SOURCES`; the curvatures the paper reports are validation data,
-#: lcefem.validation.gridshell_bh.SHAPES).
-#: Supports: the published script's (Examples2D.m: the 8 outer-ribbon rollers for dome, cylinder
-#: and table, the centre clamp for the saddle), as the 3D FE gridshell holds them; on them the
-#: cylinder curves 0.0152 / 0.0089 1/mm against 0.0131 / 0.0111 on the middle ribbons' ends (paper:
-#: 0.018 / 0; FE: 0.0147 / 0.0047), table and dome do not change (issue 30,
-#: docs/gridshell_configuration.md).
-SHAPE_DRIVES = {
-    "table": {"lambdas": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
-              "currents": {"Tx": 0.2, "Ty": 0.2, "Bx": 0.2, "By": 0.2}, "support": "rollers"},
-    "dome": {"lambdas": {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05},
-             "currents": {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}, "support": "rollers"},
-    "saddle": {"lambdas": {"Tx": 1.33, "Ty": 1.05, "Bx": 1.05, "By": 1.33},
-               "currents": {"Tx": 0.04, "Ty": 0.07, "Bx": 0.07, "By": 0.04}, "support": "clamp"},
-    "cylinder": {"lambdas": {"Tx": 1.05, "Ty": 1.33, "Bx": 1.33, "By": 1.33},
-                 "currents": {"Tx": 0.07, "Ty": 0.04, "Bx": 0.04, "By": 0.04}, "support": "rollers"},
-}
-SHAPE_DRIVE_SOURCES = {
-    "lambdas": "seed 001, Results (Fig. 4 B-E): dome lambda_T = 1.33, lambda_B = 1.05; saddle Tx = By = "
-               "1.33, Ty = Bx = 1.05; cylinder Ty = Bx = By = 1.33, Tx = 1.05; table all 1.05",
-    "currents": "dome: seed 001, Results: 'I_Bx = I_By = 0.07 A and I_Tx = I_Ty = 0.04 A, according to "
-                "Fig. 2C' (after ~20 s at 0.1 A top / 0.2 A bottom); saddle and cylinder: the same "
-                "Fig. 2C pair (0.07 A for lambda = 1.05, 0.04 A for 1.33) channel by channel, as the "
-                "text says 'the other geometries are programmed similarly'; table: 0.2 A on all "
-                "strips (Fig. 5C: 'we applied 0.2 A to all LCE strips', then 0.1 A), i.e. fully "
-                "contracted (lambda = 1, Eq. 1)",
-}
-
-#: The published model's recipes: target rest fraction P0 per group (lambda = 1.4 P0), and support
-#: (shared/reference/gridshell_recipes.md).
-RECIPES = {
-    "saddle": ({"XD": 0.75, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "clamp"),
-    "dome": ({"XD": 0.75, "YD": 0.75, "XU": 0.95, "YU": 0.95}, "rollers"),
-    "cylinder": ({"XD": 0.95, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "rollers"),
-    "table": ({"XD": 0.75, "YD": 0.75, "XU": 0.72, "YU": 0.72}, "rollers"),
-    "cone": ({"XD1": 0.75, "XD2": 0.85, "XD3": 0.95, "YD": 0.90, "XU": 0.95, "YU": 0.90}, "clamp"),
-    "twisted": ({"XD1": 0.85, "XD2": 0.80, "XD3": 0.95, "YD": 0.90, "XU1": 0.95, "XU2": 0.80,
-                 "XU3": 0.85, "YU": 0.90}, "clamp"),
-    "wave": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.75, "YD": 0.90, "XU:x<70.5": 0.75, "XU:x>70.5": 0.95,
-              "YU": 0.90}, "clamp"),
-    "dustpan": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.85, "YD": 0.95, "XU:x<70.5": 0.80,
-                 "XU:x>70.5": 0.95, "YU": 0.80}, "clamp"),
-}
-#: Our departures from the published configuration, each a named option (``run.departures``,
-#: ``--departure``) on top of it: what it changes and why we have it.
-DEPARTURES = {
-    "contact": "frictionless unilateral strip-ribbon contact (mesh.contact = true; the published model "
-               "has only the weak strip-panel springs, so a strip can pass through its ribbon)",
-    "contracting_squares": "the raised top squares contract with the top strips (mesh.top_junction = "
-                           "'lce', as lambda_T of Eq. 2 assumes; published: non-contracting glue bars)",
-    "volume_law": "strip bar force (A/lambda) P(p) at constant volume (lce.force_law = 'volume'; "
-                  "published: A f P(p))",
-    "middle_rollers": "the 8 rollers on both edges of the middle ribbons' ends ('middle_rollers', our "
-                      "former reading; published: the outer ribbons' outer-edge end nodes); only where "
-                      "the published support is 'rollers'",
-    "strip_beam": "the strip element (mesh.strip_element = 'beam'): each LCE strip acts at its centroid, "
-                  "t_p/2 + h_s/2 = 0.909 mm off the ribbon, and has its own bending stiffness E I "
-                  "(published: two-node bars on the ribbon's nodes; docs/gridshell_calibration.md)",
-}
-#: How a run is configured (``run.configuration``): "published" = the published model's supports,
-#: glue squares, bar law and no contact (+ ``run.departures``); "case" = the mesh, lce sections and
-#: support as given (our defaults: contact, contracting squares, volume law). Default: "published"
-#: with --recipe, "case" otherwise.
-CONFIGURATIONS = ("published", "case")
-
-
-def parse_departures(text, name: str = "run.departures") -> tuple[str, ...]:
-    """'contact,volume_law' (or a list) -> ('contact', 'volume_law'), each checked."""
-    items = text if isinstance(text, (list, tuple)) else [t for t in str(text or "").split(",")]
-    out = tuple(t.strip() for t in items if str(t).strip())
-    for t in out:
-        if t not in DEPARTURES:
-            raise InputError(f"{name}: unknown departure {t!r} (allowed: {', '.join(DEPARTURES)})")
-    return out
-
-
-def published_configuration(mesh: BeamBarHingeMesh, lce: law.LCEStripBars, support: str,
-                            departures=()) -> tuple[BeamBarHingeMesh, law.LCEStripBars, str]:
-    """(mesh, lce, support) of the published model (no contact, glue squares, A f P(p), the given
-    published support) with the named :data:`DEPARTURES` applied."""
-    dep = parse_departures(departures)
-    mesh = replace(mesh, contact="contact" in dep,
-                   top_junction="lce" if "contracting_squares" in dep else "glue",
-                   strip_element="beam" if "strip_beam" in dep else "bar")
-    lce = replace(lce, force_law="volume" if "volume_law" in dep else "published")
-    if "middle_rollers" in dep and support == "rollers":
-        support = "middle_rollers"
-    return mesh, lce, support
-RECIPE_SOURCE = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK), restated in "
-                 "shared/reference/gridshell_recipes.md")
-
-
-#: How a named shape is driven (GridshellRun.route).
-ROUTES = ("lambda", "current")
-
-
-@dataclass(frozen=True)
-class GridshellRun:
-    """What the experimenter chooses: a named shape or recipe, and the support."""
-
-    shape: str = param("", "-", "one of the paper's Fig. 4 shapes: " + ", ".join(SHAPE_DRIVES)
-                       + " (seed 001; lambdas per channel)")
-    recipe: str = param("", "-", "one of the published recipes: " + ", ".join(RECIPES)
-                        + " (" + RECIPE_SOURCE + ")")
-    support: str = param("", "-", "clamp, rollers, middle_rollers or table (default: the published "
-                         "support of the shape/recipe, rollers otherwise)")
-    configuration: str = param("", "-", "'published' (the published model: no strip-ribbon contact, "
-                               "glue squares, bar law A f P(p), its supports; plus run.departures) or "
-                               "'case' (the mesh and lce sections as given); default: published with "
-                               "a recipe, case otherwise")
-    departures: str = param("", "-", "comma-separated departures from the published configuration: "
-                            + ", ".join(DEPARTURES) + " (only with configuration 'published')")
-    route: str = param("lambda", "-", "with a shape: 'lambda' (the Fig. 4 lambdas) or 'current' (the "
-                       "currents the paper's rule gives at those lambdas, Eq. 1 inverted through the "
-                       "grid strip's coil, models.lumped_heat.shape_currents, through the current route)")
-
-    def checked(self) -> "GridshellRun":
-        if self.route not in ROUTES:
-            raise InputError(f"run.route = {self.route!r}: allowed {', '.join(ROUTES)}")
-        if self.route == "current" and not self.shape:
-            raise InputError("run.route = 'current': needs a shape (--shape); give currents with --current")
-        if self.shape and self.shape not in SHAPE_DRIVES:
-            raise InputError(f"run.shape = {self.shape!r}: allowed {', '.join(SHAPE_DRIVES)}")
-        if self.recipe and self.recipe not in RECIPES:
-            raise InputError(f"run.recipe = {self.recipe!r}: allowed {', '.join(RECIPES)}")
-        if self.shape and self.recipe:
-            raise InputError("run.shape and run.recipe: give one of them")
-        if self.support and self.support not in SUPPORTS:
-            raise InputError(f"run.support = {self.support!r}: allowed {', '.join(SUPPORTS)}")
-        if self.configuration and self.configuration not in CONFIGURATIONS:
-            raise InputError(f"run.configuration = {self.configuration!r}: allowed "
-                             f"{', '.join(CONFIGURATIONS)}")
-        if parse_departures(self.departures) and self.resolved_configuration != "published":
-            raise InputError("run.departures: only with run.configuration = 'published' (the default "
-                             "of --recipe)")
-        return self
-
-    @property
-    def resolved_configuration(self) -> str:
-        return self.configuration or ("published" if self.recipe else "case")
-
-
-@dataclass(frozen=True)
-class GridshellBHRunConfig(law.BarHingeMaterials):
-    """The bar-and-hinge gridshell's sections: its materials (kapton, lce, glue, strip_contact,
-    contact, ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
-    plus the run, geometry, layout, mesh, weight, current route, solver and path sections, and the
-    drives: lambdas [-] or currents [A] per selection."""
-
-    run: GridshellRun = field(default_factory=GridshellRun)
-    geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
-    layout: GridshellLayout = field(default_factory=GridshellLayout)
-    mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
-    weight: SurfaceWeight = field(default_factory=SurfaceWeight)
-    current_route: CurrentRoute = field(default_factory=CurrentRoute)
-    solver: NewtonOptions = field(default_factory=lambda: RAMP_NEWTON)
-    path: PathOptions = field(default_factory=lambda: GRIDSHELL_PATH)
-    lambdas: dict = field(default_factory=dict)  # selection -> lambda [-]
-    currents: dict = field(default_factory=dict)  # selection -> current [A]
-
-    PARAM_SECTIONS = ("run", "geometry", "layout", "mesh", "kapton", "lce", "glue", "strip_contact",
-                      "contact", "weight", "current_route", "solver", "path")
-
-    def validated(self) -> "GridshellBHRunConfig":
-        for name in self.PARAM_SECTIONS:
-            check(getattr(self, name), name)
-        self.run.checked()
-        self.layout.checked()
-        self.mesh.checked()
-        self.current_route.checked()
-        named = bool(self.run.shape or self.run.recipe)
-        if named and (self.lambdas or self.currents):
-            raise InputError("--lambda/--current: not with --shape or --recipe (they set the strips)")
-        if self.lambdas and self.currents:
-            raise InputError("--lambda and --current: give one of them")
-        for sel, v in {**self.lambdas, **self.currents}.items():
-            if not isinstance(v, (int, float)) or isinstance(v, bool):
-                raise InputError(f"{sel} = {v!r}: must be a number")
-        for sel, v in self.currents.items():
-            check_current(f"current {sel}", v)
-        return self
-
-    @property
-    def named_support(self) -> str:
-        if self.run.support:
-            return self.run.support
-        if self.run.shape:
-            return SHAPE_DRIVES[self.run.shape]["support"]
-        if self.run.recipe:
-            return RECIPES[self.run.recipe][1]
-        return "rollers"
-
-    @property
-    def effective(self) -> tuple[BeamBarHingeMesh, law.LCEStripBars, str]:
-        """(mesh, lce, support) the run uses: the published configuration with the departures, or
-        the sections as given (``run.configuration``)."""
-        if self.run.resolved_configuration == "published":
-            support = self.named_support
-            if not self.run.support and self.run.shape:  # the published support of the shape
-                support = "clamp" if SHAPE_DRIVES[self.run.shape]["support"] == "clamp" else "rollers"
-            return published_configuration(self.mesh, self.lce, support, self.run.departures)
-        return self.mesh, self.lce, self.named_support
-
-    @property
-    def support(self) -> str:
-        return self.effective[2]
-
-    @property
-    def effective_materials(self) -> law.BarHingeMaterials:
-        return replace(self.materials, lce=self.effective[1])
-
-    def resolved(self) -> dict:
-        out = {name: describe(getattr(self, name)) for name in self.PARAM_SECTIONS}
-        out["current_route"]["segment"]["value"] = describe(self.current_route.segment)
-        out["current_route"]["strip"]["value"] = describe(self.current_route.strip)
-        out["lambda"] = dict(self.lambdas)
-        out["current"] = dict(self.currents)
-        mesh, lce, support = self.effective
-        out["support (resolved)"] = support
-        out["configuration (resolved)"] = {
-            "configuration": self.run.resolved_configuration,
-            "departures": list(parse_departures(self.run.departures)),
-            "mesh.contact": mesh.contact, "mesh.top_junction": mesh.top_junction,
-            "lce.force_law": lce.force_law}
-        return out
-
-
-def strip_targets(cfg: GridshellBHRunConfig, structure: BarHingeStructure) -> tuple[dict, dict]:
-    """(rest fractions per bar by group, description of the drive) for the configuration."""
-    lam_n = cfg.lce.lambda_N
-    if cfg.run.recipe:
-        recipe = RECIPES[cfg.run.recipe][0]
-        return targets_from_recipe(structure, recipe), {"recipe": cfg.run.recipe, "P0": recipe}
-    if cfg.run.shape and cfg.run.route == "current":
-        currents = shape_currents(SHAPE_DRIVES[cfg.run.shape]["lambdas"], cfg.current_route.strip.resistance)
-        lambdas = lambda_assignments_from_currents(currents, cfg.current_route, lam_n)
-        return targets_from_lambdas(structure, lambdas, lam_n, "current"), {
-            "shape": cfg.run.shape, "route": "current", "current [A]": currents,
-            "current rule": "Eq. 1 inverted at the Fig. 4 lambdas through the grid strip's coil "
-                            "(models.lumped_heat.eq1_current)",
-            "lambda (from current)": lambdas, "thermal model": cfg.current_route.thermal_model}
-    if cfg.run.shape:
-        lambdas = SHAPE_DRIVES[cfg.run.shape]["lambdas"]
-        return targets_from_lambdas(structure, lambdas, lam_n), {"shape": cfg.run.shape, "lambda": lambdas}
-    if cfg.currents:
-        lambdas = lambda_assignments_from_currents(cfg.currents, cfg.current_route, lam_n)
-        return targets_from_lambdas(structure, lambdas, lam_n, "current"), {
-            "current [A]": cfg.currents, "lambda (from current)": lambdas,
-            "thermal model": cfg.current_route.thermal_model}
-    return targets_from_lambdas(structure, cfg.lambdas, lam_n), {"lambda": cfg.lambdas}
-
-
-def write_nodes_csv(path: pathlib.Path, reference: np.ndarray, x: np.ndarray) -> pathlib.Path:
-    """Node table with units: id, as-built x0, y0, z0 and final x, y, z [mm] (.part, then renamed)."""
-    lines = ["node id [-],x0 [mm],y0 [mm],z0 [mm],x [mm],y [mm],z [mm]"]
-    lines += [f"{i}," + ",".join(f"{v:.9g}" for v in (*r, *xi)) for i, (r, xi) in enumerate(zip(reference, x))]
-    return write_text(path, "\n".join(lines) + "\n")
-
-
-COLUMNS = ["load factor [-]", "circle kappa_x [1/mm]", "circle kappa_y [1/mm]", "quad kappa_x [1/mm]",
-           "quad kappa_y [1/mm]", "z range [mm]", "newton iterations [-]"]
-SIGN = ("kappa = d^2 w/ds^2 with w along the centre junction's normal on the top strips' side: "
-        "negative for a dome (cap), positive for a bowl (seed 001: dome negative)")
-
-
-def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
-    """Ramp the gridshell to the configured drives through the run skeleton and write history.csv
-    (:data:`COLUMNS`; the quadratic fit needs >= 3 x 3 junctions), gridshell.pvd +
-    gridshell_steps/*.vtp, nodes.csv and summary.json into ``out``; returns the summary.
-    ``report(out, cfg, structure, x, drive)`` (optional: the validation's render) runs before the
-    summary is written."""
-    cfg = cfg.validated()
-    out = pathlib.Path(out)
-    mesh, _, support = cfg.effective
-    structure = build_gridshell_bar_hinge(cfg.geometry, cfg.layout, mesh)
-    targets, drive = strip_targets(cfg, structure)
-    setup = setup_gridshell(targets, support, cfg.geometry, cfg.layout, mesh, cfg.effective_materials,
-                            cfg.weight, structure=structure)
-    model = setup.model
-    quad = cfg.layout.ribbons >= 3
-    columns = [c for c in COLUMNS if quad or not c.startswith("quad")]
-
-    def row(state) -> dict:
-        summ = shape_summary(structure, state.x)
-        values = {"load factor [-]": state.t, "circle kappa_x [1/mm]": summ["circle_x"],
-                  "circle kappa_y [1/mm]": summ["circle_y"], "z range [mm]": summ["z_range [mm]"],
-                  "newton iterations [-]": state.iterations}
-        if quad:
-            values.update({"quad kappa_x [1/mm]": summ["quad_kx"], "quad kappa_y [1/mm]": summ["quad_ky"]})
-        return values
-
-    bar = Progress(1.0, "gridshell", "load", ".3f", progress)
-    started = time.perf_counter()
-    with bar_hinge_run(out, "gridshell", structure, model, config=cfg.resolved(), columns=columns,
-                       row=row, progress=bar) as (run, on_step):
-        solution = solve_gridshell(setup, newton_options=cfg.solver, path=cfg.path, on_step=on_step,
-                                   progress=bar.to)
-        wall = time.perf_counter() - started
-        x = solution.final.x
-        write_nodes_csv(out / "nodes.csv", structure.nodes, x)
-        if report is not None:
-            report(out, cfg, structure, x, drive)
-        final_fraction = model.rest_fractions()
-        reached = all(np.array_equal(final_fraction[g], setup.targets[g]) for g in setup.targets)
-        lam_n = cfg.lce.lambda_N
-        per_strip: dict[int, list[float]] = {}
-        for g, ids in structure.info["strip_of_bar"].items():
-            for sid, f in zip(ids, setup.targets[g]):
-                per_strip.setdefault(int(sid), []).append(float(f) * lam_n)
-        return run.complete({
-            "model": "bar-hinge gridshell", "drive": drive, "support": cfg.support,
-            "strips": [{"id": s.id, "group": s.group, "channel": s.channel, "midpoint [mm]": s.midpoint,
-                        "lambda [-]": float(np.mean(per_strip[s.id]))}
-                       for s in structure.info["strips"]],
-            "results": {**shape_summary(structure, x), "sign convention": SIGN,
-                        "target reached exactly": bool(reached)},
-            "dofs": int(model.ndof), "nodes": int(structure.num_nodes),
-            "increments": len(solution.path.states) - 1,
-            "newton_iterations": int(sum(solution.path.newton_iterations)),
-            "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
-        })

@@ -8,8 +8,8 @@ import ufl
 
 import dolfinx
 
-from lcefem.meshes.composite_beam import (FE_CELLS, BeamFEMesh, CompositeBeamGeometry, build_beam_fe,
-                                          fe_stations)
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.composite_beam_fe import FE_CELLS, BeamFEMesh, build_beam_fe, fe_stations
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 

@@ -14,7 +14,8 @@ import ufl
 
 import dolfinx
 
-from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry, build_beam_fe
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
 from lcefem.meshes.gridshell_fe import (CHANNELS, MATERIAL_CELLS, RECIPE_SYMMETRY, GridshellFEMesh,
                                         build_gridshell_fe, cell_group)
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N

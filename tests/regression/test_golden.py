@@ -82,7 +82,8 @@ def test_composite_beam_bar_and_hinge_at_1p33_1p05():
 def test_composite_beam_fe_at_1p33_1p05():
     """Level-0 quarter model with 2 segments (the 4-segment beam takes 90 s; 2 segments run the same
     mesh builder, actuation, contact and path follower in 19 s): curvature [1/mm]."""
-    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers.problems.composite_beam import BeamFE
 
     beam = BeamFE(geometry=CompositeBeamGeometry(segments=2), mesh=BeamFEMesh(level=0))

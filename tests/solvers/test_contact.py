@@ -8,7 +8,8 @@ from petsc4py import PETSc
 
 import dolfinx
 
-from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry, build_beam_fe
+from lcefem.meshes.composite_beam import CompositeBeamGeometry
+from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
 from lcefem.solvers.contact import NodalDamping, NodePairContact, face_pairs, gap_and_derivatives
 from lcefem.solvers.mechanics import displacement_space

@@ -1,6 +1,6 @@
 """Contact with a rigid block of finite size (``model.Box``: an axis-aligned box with rounded edges).
 
-- The compiled gap (``kernels.box_gap``) equals the numpy one, its normal is the gradient of the gap
+- The compiled gap (``contact_kernels.box_gap``) equals the numpy one, its normal is the gradient of the gap
   and its Hessian the gradient of the normal (central differences, on a face, an edge and a corner).
 - The step potential with a box (contact and friction, the rod across the box's rounded edge) has the
   gradient and Hessian of its energy's central differences (tolerances of test_der_derivatives).
@@ -16,7 +16,7 @@ from lcefem.models.contact import ContactLaw, FrictionLaw, normal_force
 from lcefem.models.errors import InputError
 from lcefem.models.rod import rectangular_section
 from lcefem.models.units import STANDARD_GRAVITY
-from lcefem.solvers.der import kernels
+from lcefem.solvers.der import contact_kernels
 from lcefem.solvers.der.assembly import Assembly, ContactSampling, FrictionLag, all_gaps, friction_lag
 from lcefem.solvers.der.integrator import Integrator, StepOptions, StepPotential
 from lcefem.solvers.der.model import Box, DiscreteRod, Ground, RestShape, RodState, lumped_masses
@@ -32,7 +32,7 @@ def test_box_gap_gradient_and_hessian(point):
     p = np.array(point)
     box = BOX.array()
     n, hg = np.empty(3), np.empty((3, 3))
-    gap = kernels.box_gap(p, box, n, hg)
+    gap = contact_kernels.box_gap(p, box, n, hg)
     assert gap == pytest.approx(float(BOX.gaps(p)), abs=1e-14)
     h = 1e-6
     eye = np.eye(3)
@@ -42,9 +42,9 @@ def test_box_gap_gradient_and_hessian(point):
     nn, hh = np.empty(3), np.empty((3, 3))
     H_fd = np.empty((3, 3))
     for i, e in enumerate(eye):
-        kernels.box_gap(p + h * e, box, nn, hh)
+        contact_kernels.box_gap(p + h * e, box, nn, hh)
         a = nn.copy()
-        kernels.box_gap(p - h * e, box, nn, hh)
+        contact_kernels.box_gap(p - h * e, box, nn, hh)
         H_fd[:, i] = (a - nn) / (2 * h)
     assert np.allclose(hg, H_fd, atol=1e-6)
 

@@ -14,8 +14,7 @@ from scipy.linalg import lapack
 from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.rod import RodSection, rectangular_section
 from lcefem.models.units import STANDARD_GRAVITY
-from lcefem.solvers.der.kernels import (band_cholesky, band_cholesky_rows, band_cholesky_solve,
-                                        band_cholesky_solve_rows)
+from lcefem.solvers.der.banded import band_cholesky, band_cholesky_rows, band_cholesky_solve, band_cholesky_solve_rows
 from lcefem.solvers.der.integrator import Integrator, StepOptions
 from lcefem.solvers.der.model import DiscreteRod, Ground, RestShape, RodState, lumped_masses, n_dofs
 from lcefem.solvers.der.newton import NewtonOptions

@@ -9,6 +9,8 @@ import pytest
 from lcefem.models import rod as rodlaw
 from lcefem.models.contact import ContactLaw, contact_energy, friction_potential, normal_force
 from lcefem.solvers.der import kernels
+from lcefem.solvers.der import contact_kernels
+from lcefem.solvers.der import frame_kernels
 from lcefem.solvers.der.assembly import (EDGE_SLOTS, STENCIL_SLOTS, Assembly, ContactSampling, FrictionLag,
                                          friction_lag)
 from tests.solvers.test_der_derivatives import ribbon_rod, ribbon_state
@@ -162,7 +164,7 @@ def test_compiled_frame_transport_equals_numpy():
     t_new = e / np.linalg.norm(e, axis=1)[:, None]
     a1_ref = fr.transport_directors(state.a1, t_old, t_new)
     ref_ref = fr.reference_twist(a1_ref, t_new, state.ref_twist + 2 * np.pi)  # continued past a full turn
-    a1, ref = kernels.transport_frames(state.a1, t_old, t_new, state.ref_twist + 2 * np.pi)
+    a1, ref = frame_kernels.transport_frames(state.a1, t_old, t_new, state.ref_twist + 2 * np.pi)
     assert np.max(np.abs(a1 - a1_ref)) <= TOL
     assert np.max(np.abs(ref - ref_ref)) <= TOL * np.max(np.abs(ref_ref))
 
@@ -172,12 +174,12 @@ def test_compiled_normal_force_equals_numpy():
     law = ContactLaw(delta=0.05, stiffness=2.0, clearance=0.1)
     gap = np.linspace(-0.2, 0.3, 301).reshape(7, 43)
     ref = normal_force(gap, law)
-    got = kernels.normal_force(gap, law.clearance, law.delta, law.K1, law.stiffness)
+    got = contact_kernels.normal_force(gap, law.clearance, law.delta, law.K1, law.stiffness)
     assert np.max(np.abs(got - ref)) <= TOL * np.max(np.abs(ref))
 
 
 def test_moved_state_geometry_equals_numpy():
-    """RodState.moved's one compiled pass (kernels.moved_geometry) gives the tangents, transported
+    """RodState.moved's one compiled pass (frame_kernels.moved_geometry) gives the tangents, transported
     directors, material frames and twists of the numpy formulas (frames.py)."""
     from lcefem.solvers.der import frames as fr
     rng = np.random.default_rng(19)

@@ -7,8 +7,8 @@ import pytest
 
 from lcefem.models.errors import InputError
 from lcefem.models.lce import spontaneous_stretch
-from lcefem.solvers.problems.gridshell import (FIG4_SHAPES, GridshellConfig, GridshellFE, PathControl,
-                                               fig4_shape)
+from lcefem.solvers.continuation import PathControl
+from lcefem.solvers.problems.gridshell import FIG4_SHAPES, GridshellConfig, GridshellFE, fig4_shape
 
 
 #: Fraction of the Fig. 4 ramps the tests take (the whole dome ramp takes ~100 path steps, tens of
@@ -117,7 +117,8 @@ def test_single_cell_grid_against_the_composite_beam():
     same sign (the grid's dome is negative, the beam's positive: Eq. 2's sign), the ratio in
     CELL_RATIO at two actuations and nearly the same at both (a fixed stiffening at small
     curvature: within 3 %), kx = ky (the cell is symmetric under x <-> y) to solver tolerance."""
-    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.composite_beam import BeamFE
 
@@ -166,7 +167,7 @@ def test_heated_route_first_second(tmp_path):
     bottom channel heats 4 x faster than the top (0.2 vs 0.1 A); the centre starts to dome (both
     curvatures negative, equal in x and y to solver tolerance); set_lambda is refused."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell import DOME_PROTOCOL, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
 
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
     rows = m.run_protocol(DOME_PROTOCOL, duration=1.0, dt=1.0)
@@ -208,7 +209,7 @@ def test_heated_hold_reaches_the_steady_state():
     than the top (0.07 vs 0.04 A, power 3x) and below T_NI (the hold keeps them nematic-side), and
     the centre domes (both curvatures negative and equal). Bad input is refused by name."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell import DOME_PROTOCOL, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
 
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
     with pytest.raises(InputError, match="first_dt"):
@@ -247,7 +248,7 @@ def test_prolongation_keeps_a_linear_field_and_each_body_its_own():
     from lcefem.meshes.gridshell_fe import GridshellFEMesh, build_gridshell_fe, cell_group
     from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
     from lcefem.solvers.mechanics import displacement_space
-    from lcefem.solvers.problems.gridshell import prolong_by_tag
+    from lcefem.solvers.transfer import prolong_by_tag
 
     def space(level):
         tm = build_gridshell_fe(CompositeBeamGeometry(), PUBLISHED_LAMBDA_N,
@@ -329,7 +330,7 @@ def test_junction_heating_continues_each_coil_through_its_pads():
     by conduction into them; "spread" keeps each coil's total power and leaves the strips colder
     than the default (the pads pass their share on to the Kapton); an unknown mode is refused."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh, cell_group
-    from lcefem.solvers.problems.gridshell import HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
                           junction_heating="added")

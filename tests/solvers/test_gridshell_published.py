@@ -14,7 +14,8 @@ from lcefem.models.errors import InputError
 from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import gridshell_bh as g
 
-PUBLISHED_MESH, PUBLISHED_LCE, _ = g.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "clamp")
+from lcefem.solvers.problems import gridshell_bh_run as grun
+PUBLISHED_MESH, PUBLISHED_LCE, _ = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "clamp")
 
 
 def _held_points(structure, dofs):
@@ -34,7 +35,7 @@ def test_published_supports_per_recipe():
                        (141.0, 30.0): "z", (141.0, 111.0): "z", (0.0, 30.0): "z", (0.0, 111.0): "z"}
     clamp = _held_points(s, g.support_dofs(s, "clamp"))
     assert clamp == {(67.0, 67.0): "xyz", (74.0, 67.0): "xyz", (74.0, 74.0): "xyz", (67.0, 74.0): "xyz"}
-    supports = {name: support for name, (_, support) in g.RECIPES.items()}
+    supports = {name: support for name, (_, support) in grun.RECIPES.items()}
     assert supports == {"saddle": "clamp", "cone": "clamp", "twisted": "clamp", "wave": "clamp",
                         "dustpan": "clamp", "dome": "rollers", "cylinder": "rollers", "table": "rollers"}
 
@@ -52,7 +53,7 @@ def test_published_structure_has_120_lce_and_54_glue_bars():
 
 def test_recipe_rest_fractions():
     s = build_gridshell_bar_hinge(mesh=PUBLISHED_MESH)
-    t = g.targets_from_recipe(s, g.RECIPES["wave"][0])
+    t = g.targets_from_recipe(s, grun.RECIPES["wave"][0])
     mid = {grp: 0.5 * (s.nodes[s.bars[grp][:, 0]] + s.nodes[s.bars[grp][:, 1]]) for grp in t}
     sob = s.info["strip_of_bar"]
     strips = s.info["strips"]
@@ -103,19 +104,19 @@ def test_published_force_law_is_A_f_P_and_its_sensitivity_is_exact():
 
 
 def test_departures_and_configurations():
-    mesh, lce, support = g.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "rollers",
+    mesh, lce, support = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "rollers",
                                                    "contact,volume_law,middle_rollers")
     assert (mesh.contact, mesh.top_junction, lce.force_law, support) == (True, "glue", "volume",
                                                                          "middle_rollers")
     with pytest.raises(InputError, match="unknown departure"):
-        g.parse_departures("contakt")
-    cfg = g.GridshellBHRunConfig(run=g.GridshellRun(recipe="cone"))
+        grun.parse_departures("contakt")
+    cfg = grun.GridshellBHRunConfig(run=grun.GridshellRun(recipe="cone"))
     assert cfg.run.resolved_configuration == "published" and cfg.support == "clamp"
     assert cfg.effective[0].contact is False and cfg.effective_materials.lce.force_law == "published"
-    shape = g.GridshellBHRunConfig(run=g.GridshellRun(shape="dome"))
+    shape = grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome"))
     assert shape.run.resolved_configuration == "case" and shape.effective[0].contact is True
     with pytest.raises(InputError, match="departures"):
-        g.GridshellBHRunConfig(run=g.GridshellRun(shape="dome", departures="contact")).validated()
+        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", departures="contact")).validated()
 
 
 #: Golden values of the published recipes (published configuration; circle and quadratic-fit centre
@@ -129,7 +130,7 @@ GOLDEN = {
 
 @pytest.mark.parametrize("recipe", sorted(GOLDEN))
 def test_published_recipe_golden_values(recipe):
-    p0, support = g.RECIPES[recipe]
+    p0, support = grun.RECIPES[recipe]
     s = build_gridshell_bar_hinge(mesh=PUBLISHED_MESH)
     mats = dataclasses.replace(law.BarHingeMaterials(), lce=PUBLISHED_LCE)
     setup = g.setup_gridshell(g.targets_from_recipe(s, p0), support, structure=s, materials=mats)

@@ -273,7 +273,7 @@ def test_tangent_predictor_after_a_solve_without_iterations():
 def test_contact_couplings_are_preallocated():
     """The beam's Jacobian holds the strip-ribbon pairs before the first assembly: assembling with
     every pair in contact allocates nothing new."""
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers.problems.composite_beam import BeamFE
 
     model = BeamFE(mesh=BeamFEMesh(level=0))
@@ -294,7 +294,7 @@ def test_packed_tangent_is_the_whole_tangent(monkeypatch):
     pairs closed (their Hessian inserted entry by entry, lower entries dropped) and the proximal
     term on, K v equals the whole tangent's (AIJ) to round-off, and one Newton correction
     K^-1 R agrees to the factorisations' round-off."""
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers import mechanics
     from lcefem.solvers.problems.composite_beam import BeamFE
 

@@ -46,7 +46,7 @@ def test_ribbon_critical_load_between_beam_and_plate_euler_loads(ribbon):
 
 
 def _beam(symmetry: str):
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers.problems.composite_beam import BeamFE, PathControl
     return BeamFE(mesh=BeamFEMesh(level=0, symmetry=symmetry),
                   control=PathControl(first_step=0.25, max_step=0.5))
@@ -73,7 +73,8 @@ def test_curvature_map_sweep_equals_ramps_from_the_as_built_state():
     """curvature_map_fe continues each grid point from its neighbour with a larger first increment
     (NEIGHBOUR_FIRST_STEP): the swept curvatures are those of ramps from the as-built state (2-segment
     level-0 beam, grid {0.98, 1} lambda_N)."""
-    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers.problems.composite_beam import BeamFE, curvature_map_fe
     lam_n = 1.4
     geometry = CompositeBeamGeometry(segments=2)
@@ -136,7 +137,7 @@ def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_str
     strips' mean temperature rises by q/(rho c) (adiabatic: convection and conduction into the pads
     remove a few per cent; 5 % tolerance), the unheated bottom strips stay at 25 C, and the contracting
     top strips bend the beam towards them (negative curvature)."""
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.models.heat import ThermalProperties
     from lcefem.solvers.problems.composite_beam import HeatedBeamRun, beam_fe_heated
 
@@ -152,7 +153,8 @@ def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_str
 def test_beam_drives_are_addressed_by_strip_tag():
     """The FE beams take drives per strip tag (as the gridshell): lambda per tag for BeamFE, current per
     heated tag for HeatedBeamFE; unknown tags and lambdas outside [1, lambda_N] are refused by name."""
-    from lcefem.meshes.composite_beam import BeamFEMesh, CompositeBeamGeometry
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.models.errors import InputError
     from lcefem.solvers.problems.composite_beam import BeamFE, HeatedBeamFE
 

@@ -26,7 +26,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--lambda-top", type=float, default=1.33)
     parser.add_argument("--lambda-bottom", type=float, default=1.05)
     args = parser.parse_args(argv)
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.meshes.kapton_ribbon import KaptonFEMesh
     from lcefem.solvers.problems import composite_beam as beam_fe, kapton_specimen
 

@@ -166,7 +166,7 @@ BEAM_VARIANTS = {
 
 def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
                  variant: str = "newton") -> dict:
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers import mechanics
     from lcefem.solvers.continuation import PathControl
     from lcefem.solvers.problems.composite_beam import BEAM_CONTROL, BeamFE

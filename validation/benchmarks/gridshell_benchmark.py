@@ -43,6 +43,7 @@ from lcefem.validation import gridshell_bh as gs
 from lcefem.solvers.problems import gridshell_bh as problem_bh
 
 
+from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
 #: The Newton module (the package re-exports its function ``newton`` under the same name).
 newton_module = importlib.import_module("lcefem.solvers.bar_hinge.newton")
 
@@ -83,8 +84,8 @@ def run_one(kind: str, name: str) -> dict:
         targets, support = problem_bh.targets_from_lambdas(structure, spec["lambdas"]), spec["support"]
         materials = BarHingeMaterials()
     else:  # the published configuration (issue 30)
-        recipe, support = problem_bh.RECIPES[name]
-        mesh, lce, support = problem_bh.published_configuration(BeamBarHingeMesh(), LCEStripBars(), support)
+        recipe, support = problem_bh_run.RECIPES[name]
+        mesh, lce, support = problem_bh_run.published_configuration(BeamBarHingeMesh(), LCEStripBars(), support)
         structure = build_gridshell_bar_hinge(mesh=mesh)
         targets = problem_bh.targets_from_recipe(structure, recipe)
         materials = dataclasses.replace(BarHingeMaterials(), lce=lce)
@@ -163,7 +164,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.set in ("shapes", "all"):
         jobs += [("shape", n) for n in gs.SHAPES]
     if args.set in ("recipes", "all"):
-        jobs += [("recipe", n) for n in problem_bh.RECIPES]
+        jobs += [("recipe", n) for n in problem_bh_run.RECIPES]
     if args.only:
         keep = set(args.only.split(","))
         jobs = [j for j in jobs if j[1] in keep]

@@ -54,7 +54,8 @@ def run_shape(shape: str, level: int, symmetry: str, kapton: str = "datasheet",
 def run_heated(level: int, symmetry: str, duration: float, dt: float, csv: str | None) -> list[dict]:
     """The dome protocol on the heated route; prints and (``csv``) writes a row per step."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell import DOME_PROTOCOL, GridshellConfig, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell import GridshellConfig
+    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
     from lcefem.solvers.runtime.files import write_text
 
     t0 = time.perf_counter()

@@ -180,7 +180,7 @@ def ribbon_buckling_fe(ctx: CaseContext) -> list[Metric]:
 
 def _direct(level: int, lambda_top: float, lambda_bottom: float):
     """The FE beam ramped from the as-built state to (lambda_T, lambda_B) at a mesh level."""
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers.problems import composite_beam as beam_fe
 
     model = beam_fe.BeamFE(mesh=BeamFEMesh(level=level))
@@ -209,7 +209,7 @@ def _keep_equilibrium(level: int):
 def _equilibrium(level: int, lambda_top: float, lambda_bottom: float):
     """(model, wall time [s], Newton iterations, reused): the beam at (lambda_T, lambda_B), from a
     kept equilibrium confirmed by Newton when there is one, else :func:`_direct`."""
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers.problems import composite_beam as beam_fe
 
     kept = _EQUILIBRIA.get(_key(level, lambda_top, lambda_bottom))
@@ -237,7 +237,7 @@ def _render(ctx: CaseContext, model, name: str, title: str, sources) -> None:
 @case("beam_curvature_map_fe", "Composite beam curvature kappa(lambda_T, lambda_B) over [1.05, 1.33]^2: "
       "3D FE vs Eq. 2 vs bar-and-hinge (seed 001, Fig. 3B)", fe=True)
 def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers.problems import composite_beam as beam_fe
 
     name = ctx.case or "beam_curvature_map_fe"
@@ -338,7 +338,7 @@ def beam_curvature_map_fe(ctx: CaseContext) -> list[Metric]:
 @case("beam_curvature_fe", "Composite beam curvature at (lambda_T, lambda_B) = (1.33, 1.05) in 3D FE at "
       "one mesh level (for lcefem converge); Eq. 2 and bar-and-hinge alongside", fe=True, convergence=True)
 def beam_curvature_fe(ctx: CaseContext) -> list[Metric]:
-    from lcefem.meshes.composite_beam import BeamFEMesh
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh
 
     name = ctx.case or "beam_curvature_fe"
     eta = reference("eq2.eta")

@@ -30,6 +30,7 @@ from lcefem.models.lumped_heat import shape_currents
 from lcefem.validation import gridshell_bh as gs
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
+from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
 from lcefem.validation import plots
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.gridshell_configuration import penetration
@@ -198,9 +199,9 @@ def gridshell_recipes_bh(ctx: CaseContext) -> list[Metric]:
     name = ctx.case or "gridshell_recipes_bh"
     metrics = []
     # Quick level: the four recipes that are not Fig. 4 shapes (gridshell_shapes_bh runs those).
-    recipes = {k: v for k, v in problem_bh.RECIPES.items() if not (ctx.quick and k in gs.SHAPES)}
+    recipes = {k: v for k, v in problem_bh_run.RECIPES.items() if not (ctx.quick and k in gs.SHAPES)}
     for recipe, (p0, published_support) in recipes.items():
-        mesh, lce, support = problem_bh.published_configuration(BeamBarHingeMesh(), LCEStripBars(),
+        mesh, lce, support = problem_bh_run.published_configuration(BeamBarHingeMesh(), LCEStripBars(),
                                                         published_support)
         s = build_gridshell_bar_hinge(mesh=mesh)
         setup = problem_bh.setup_gridshell(problem_bh.targets_from_recipe(s, p0), support, structure=s,
@@ -216,7 +217,7 @@ def gridshell_recipes_bh(ctx: CaseContext) -> list[Metric]:
         reached = all(np.array_equal(setup.model.rest_fractions()[g], setup.targets[g])
                       for g in setup.targets)
         metrics.append(Metric.within(name, f"{recipe}: converged and reached its target", float(reached),
-                                     "-", 1.0, 0.0, problem_bh.RECIPE_SOURCE))
+                                     "-", 1.0, 0.0, problem_bh_run.RECIPE_SOURCE))
         summ = problem_bh.shape_summary(s, sol.final.x)
         metrics += [Metric.info(name, f"{recipe}: increments", len(sol.path.states) - 1, "-", BH),
                     Metric.info(name, f"{recipe}: Newton iterations", sum(sol.path.newton_iterations), "-", BH),
@@ -231,5 +232,5 @@ def gridshell_recipes_bh(ctx: CaseContext) -> list[Metric]:
         render_gridshell(ctx.path(f"recipe_{recipe}.png"), s, sol.final.x, f"recipe {recipe} ({support})")
         ctx.add_figure(ctx.path(f"recipe_{recipe}.png"), plots.caption(
             f"Published recipe '{recipe}' in the published configuration ({support}).",
-            [problem_bh.RECIPE_SOURCE, BH]))
+            [problem_bh_run.RECIPE_SOURCE, BH]))
     return metrics

@@ -16,7 +16,7 @@
   within 10 % and where they part; CSV and figure. Quick level: the first two points of the sweep
   at a tenth of the way.
 - ``gridshell_heated_fe``: the heated route on the paper's dome protocol (0.1 A top / 0.2 A bottom
-  for 20 s, then 0.04 / 0.07 A held; :class:`lcefem.solvers.problems.gridshell.HeatedGridshellFE`,
+  for 20 s, then 0.04 / 0.07 A held; :class:`lcefem.solvers.problems.gridshell_heated.HeatedGridshellFE`,
   quarter, level 0, the published rollers): the first second's heating against the adiabatic
   closed form (judged), the centre curvature against time (CSV, figure), the peak and the held
   dome next to the bar-and-hinge current route and the paper. Full level: the 20 s of heating at
@@ -25,7 +25,7 @@
   bottom strips below T_NI (50.8 C held), where lambda is 1.401, not the paper's 1.05 (README, "FE gridshell,
   heated route"). Quick level: the first 3 s at 1 s steps (9 Newton iterations, ~10 s CPU): the
   surface domes (kappa_x = kappa_y < 0) and the dome grows each step. Then the four Fig. 4 shapes
-  held at their currents (solvers.problems.gridshell_bh.SHAPE_DRIVES "currents"; the protocol is
+  held at their currents (solvers.problems.gridshell_bh_run.SHAPE_DRIVES "currents"; the protocol is
   published for the dome only), straight to the steady state (HeatedGridshellFE.steady_hold:
   steady heat -> temperature -> lambda -> mechanics) on their published supports: the steady
   lambda per channel next to the bar-and-hinge current route's (both levels; quick: the heat
@@ -89,8 +89,8 @@ def fe_model(shape: str, *, kapton_modulus: float = KAPTON_DATASHEET_MODULUS, qu
     """The FE gridshell of a Fig. 4 shape with its published support (or ``support``: a
     GridshellSupports kind, e.g. 'table'), quarter model (level 0 unless asked); the quick level
     takes bigger path steps (a partial ramp)."""
-    from lcefem.solvers.problems.gridshell import (GridshellMaterials, GridshellSupports, PathControl,
-                                                   fig4_shape)
+    from lcefem.solvers.continuation import PathControl
+    from lcefem.solvers.problems.gridshell import GridshellMaterials, GridshellSupports, fig4_shape
 
     kw = {"control": PathControl(first_step=0.15, max_step=0.5)} if quick else {}
     if support is not None:
@@ -403,14 +403,15 @@ HEATED_SOURCE = ("seed 001, Results: 'we first apply 0.1 A to each of the top LC
                  "0.07 A and I_Tx = I_Ty = 0.04 A ... to keep the robotic surface at a stable dome'")
 FE_STEADY = ("3D FE gridshell, heated route held to the steady state directly "
              "(HeatedGridshellFE.steady_hold), quarter, level 0, published supports")
-FE_HEATED = "3D FE gridshell, heated route (lcefem.solvers.problems.gridshell.HeatedGridshellFE), quarter, level 0"
+FE_HEATED = "3D FE gridshell, heated route (lcefem.solvers.problems.gridshell_heated.HeatedGridshellFE), quarter, level 0"
 
 
 def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[dict]]:
     """The dome protocol on the heated FE gridshell (quarter, level 0): (model, heating rows from
     t = 0, hold rows) at the case's level (HEATED_QUICK / HEATED_FULL_DT, HEATED_HOLD)."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell import DOME_PROTOCOL, GridshellConfig, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell import GridshellConfig
+    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
 
     duration, dt = HEATED_QUICK if quick else (DOME_PROTOCOL[1][0], HEATED_FULL_DT)
     model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
@@ -424,7 +425,7 @@ def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[di
 
 
 def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
-    """Each Fig. 4 shape held at its currents (solvers.problems.gridshell_bh.SHAPE_DRIVES
+    """Each Fig. 4 shape held at its currents (solvers.problems.gridshell_bh_run.SHAPE_DRIVES
     "currents"), straight to the steady state (quarter, level 0): the steady heat equation at those
     currents -> temperature -> lambda per strip -> the mechanics at that temperature
     (HeatedGridshellFE.steady_hold, on the shape's published supports). Quick level: the steady
@@ -434,8 +435,8 @@ def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
     at the dome's currents to 2555 s: its steady route is the check of the hold), the other three
     from the as-built state. {shape: observables of the held state}."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell import (PUBLISHED_SUPPORTS, GridshellConfig,
-                                                   GridshellSupports, HeatedGridshellFE)
+    from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
     from lcefem.validation import gridshell_bh as gs
 
     out = {}

@@ -40,8 +40,9 @@ import pathlib
 from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
-from lcefem.solvers.problems.gridshell_bh import (CONFIGURATIONS, DEPARTURES, RECIPES, ROUTES, SHAPE_DRIVES,
-                                                 SUPPORTS, GridshellBHRunConfig, run_gridshell)
+from lcefem.solvers.problems.gridshell_bh import SUPPORTS
+from lcefem.solvers.problems.gridshell_bh_run import (CONFIGURATIONS, DEPARTURES, RECIPES, ROUTES,
+                                                      SHAPE_DRIVES, GridshellBHRunConfig, run_gridshell)
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation.commands import MODELS
 from lcefem.validation.config import load_toml
@@ -187,8 +188,8 @@ def run_fe_current(spec: dict, out: pathlib.Path) -> dict:
 
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
-    from lcefem.solvers.problems.gridshell import (PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports,
-                                                   HeatedGridshellFE)
+    from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
     from lcefem.solvers.runtime.files import write_json
 
     shape = spec["shape"]
