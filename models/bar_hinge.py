@@ -43,6 +43,11 @@ Every law is an energy with analytic first and second derivatives, vectorised ov
   ``mesh.strip_element``): a straight strip piece clamped to its two bonded panels as an
   Euler-Bernoulli beam, U = (2EI/L)(d_a^2 + d_a d_b + d_b^2) with d_a, d_b its end rotations relative
   to its chord, measured as changes of dihedral angles (:func:`strip_beam_element`).
+* **Panel torsion** (added here, ``kapton.twist = "plate"``; the published panels twist with every
+  spoke hinge, GJ = k D^3/(2 W), 13.6 x the film's G w t^3/3 on the gridshell's 2.3 x 7 mm panels):
+  the spokes keep beta k and a panel bending element (1 - beta) k restores the bending mode, so that
+  a one-panel-wide ribbon twists as the plate strip (:func:`panel_twist_fraction`,
+  :func:`panel_bending_element`).
 * **Strip-ribbon contact** (added here; the published model has none): frictionless unilateral
   point-plane penalty k <g0 - g>_+^2/2 with the signed distance g of a point to a plane through three
   nodes, its gradient and Hessian. Without it a free composite beam lets its ribbon pass through its
