@@ -3,6 +3,8 @@ fall above 120 C).
 
     nice python -m lcefem.validation.benchmarks.ribbon_heat_study --out rows.jsonl [--duration 120]
         [--window 15] [--nodes 61] [--dt 0.01] [--set section.field=value ...] T [T ...]
+    python -m lcefem.validation.benchmarks.ribbon_heat_study --table rows.jsonl [more.jsonl ...]
+        --csv validation/data/ribbon_heat_study.csv
 
 Runs the default ribbon (``RibbonConfig()``) on a plate at each T [C] with the changes of ``--set``
 (``numerics.cells_thickness=4``, ``ground_heat.boundary_layer=2``, ``material.transition_width=30``,
@@ -96,16 +98,50 @@ def run_one(T_plate: float, duration: float, window: float, nodes: int, dt: floa
             "windows": rows, "cpu [s]": round(time.process_time() - t0, 1)}
 
 
+def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
+    """CSV with one line per run and window (units in the headers); a run repeated is kept once."""
+    runs = {}
+    for p in paths:
+        for line in open(p):
+            if line.strip():
+                r = json.loads(line)
+                runs[(r["T"], r["nodes"], r["dt"], r["duration"], tuple(r["changes"]))] = r
+    keys = ["t_end [s]", "speed [mm/s]", "T_mean [C]", "T_hot_layer [C]", "T_cold_layer [C]", "T_max [C]",
+            "contraction_difference [-]", "natural_curvature_mean [1/mm]", "natural_curvature_max [1/mm]",
+            "contact_points [-]"]
+    lines = [",".join(["change [-]", "plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]",
+                       "speed over the last half [mm/s]", "CPU [s]"] + ["window " + k for k in keys])]
+    for (T, n, dt, dur, changes), r in sorted(runs.items()):
+        for w in r["windows"]:
+            lines.append(",".join([" ".join(changes) or "defaults", f"{T:g}", str(n), f"{dt:g}", f"{dur:g}",
+                                   f"{r['speed_last_half [mm/s]']:g}", f"{r['cpu [s]']:g}"]
+                                  + [str(w.get(k, "")) for k in keys]))
+    tmp = csv.with_suffix(".csv.part")
+    tmp.write_text("\n".join(lines) + "\n")
+    os.replace(tmp, csv)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("plates", nargs="+", type=float, help="plate temperatures [C]")
-    ap.add_argument("--out", type=pathlib.Path, required=True)
+    ap.add_argument("plates", nargs="*", type=float, help="plate temperatures [C]")
+    ap.add_argument("--out", type=pathlib.Path)
+    ap.add_argument("--table", type=pathlib.Path, nargs="*")
+    ap.add_argument("--csv", type=pathlib.Path)
     ap.add_argument("--duration", type=float, default=120.0)
     ap.add_argument("--window", type=float, default=15.0)
     ap.add_argument("--nodes", type=int, default=61)
     ap.add_argument("--dt", type=float, default=0.01)
     ap.add_argument("--set", action="append", default=[], dest="changes")
     a = ap.parse_args(argv)
+    if a.table:
+        if a.csv is None:
+            print("--csv: needed with --table", file=sys.stderr)
+            return 2
+        table(a.table, a.csv)
+        return 0
+    if a.out is None or not a.plates:
+        print("--out and at least one plate temperature are needed", file=sys.stderr)
+        return 2
     for T in a.plates:
         row = run_one(T, a.duration, a.window, a.nodes, a.dt, a.changes)
         with open(a.out, "a") as f:
