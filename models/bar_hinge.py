@@ -43,6 +43,11 @@ Every law is an energy with analytic first and second derivatives, vectorised ov
   ``mesh.strip_element``): a straight strip piece clamped to its two bonded panels as an
   Euler-Bernoulli beam, U = (2EI/L)(d_a^2 + d_a d_b + d_b^2) with d_a, d_b its end rotations relative
   to its chord, measured as changes of dihedral angles (:func:`strip_beam_element`).
+* **Panel torsion** (added here, ``kapton.twist = "plate"``; the published panels twist with every
+  spoke hinge, GJ = k D^3/(2 W), 13.6 x the film's G w t^3/3 on the gridshell's 2.3 x 7 mm panels):
+  the spokes keep beta k and a panel bending element (1 - beta) k restores the bending mode, so that
+  a one-panel-wide ribbon twists as the plate strip (:func:`panel_twist_fraction`,
+  :func:`panel_bending_element`).
 * **Strip-ribbon contact** (added here; the published model has none): frictionless unilateral
   point-plane penalty k <g0 - g>_+^2/2 with the signed distance g of a point to a plane through three
   nodes, its gradient and Hessian. Without it a free composite beam lets its ribbon pass through its
@@ -79,6 +84,8 @@ Law = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 #: Axial force laws of the LCE strip bars (:class:`LCEStripBars`.force_law).
 FORCE_LAWS = ("volume", "published")
+#: Torsion models of the Kapton panels (:class:`KaptonBarHinge`.twist).
+TWIST_MODELS = ("n5b8", "plate")
 
 
 # --------------------------------------------------------------------------- parameters
@@ -107,6 +114,22 @@ class KaptonBarHinge:
                                minimum=1.0, maximum=179.0)
     linear_to: float = param(330.0, "deg", "enhanced-linear law, theta2 (" + PUBLISHED + ")",
                              minimum=181.0, maximum=359.0)
+    twist: str = param("n5b8", "-", "torsion of the panels: 'n5b8' (" + PUBLISHED + ": every spoke "
+                       "hinge with k; a one-panel-wide ribbon then has GJ = k D^3/(2 W), 13.6 x the "
+                       "plate's G w t^3/3 for the gridshell's 2.3 x 7 mm panels) or 'plate' (added "
+                       "here: the spokes' twist mode scaled so that GJ = G w t^3/3 with G = E/(2 (1 + "
+                       "nu)), the bending modes unchanged; :func:`panel_twist_fraction`, "
+                       "docs/gridshell_calibration.md)")
+
+    def checked(self) -> "KaptonBarHinge":
+        if self.twist not in TWIST_MODELS:
+            raise InputError(f"kapton.twist = {self.twist!r}: allowed {', '.join(TWIST_MODELS)}")
+        return self
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E/(2 (1 + nu)) [MPa] of the isotropic film (datasheet E and nu)."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
 
     def hinge_stiffness(self, thickness: float) -> float:
         """k [N mm/(rad mm)] = bending_factor E t^3/(12 hinge_spacing) for a ribbon thickness t [mm]."""
@@ -632,3 +655,88 @@ def n5b8_ribbon_bending_stiffness(hinge_stiffness: float, panel_length: float, w
     w, h = panel_length, width
     d3 = (w * w + h * h) ** 1.5
     return hinge_stiffness * w * h * d3 / (2.0 * h ** 3 + d3)
+
+
+def n5b8_ribbon_twist_stiffness(hinge_stiffness: float, panel_length, width):
+    """Torsional stiffness GJ [N mm^2] of a chain of N5B8 panels W x H (H = width, one panel across
+    it) with every spoke hinge of stiffness k per unit length and rigid bars.
+
+    In a uniform twist tau (z = tau x y) the corners of a panel rise and fall by tau W H/4, the
+    centre node stays on the axis and the fold hinges between panels stay flat; each of the four
+    spokes (length D/2, D^2 = W^2 + H^2) folds by tau D/2. The panel stores 4 k (D/2)(tau D/2)^2/2
+    = k D^3 tau^2/4 = (GJ W/2) tau^2, so GJ = k D^3/(2 W) (derived here; checked against the
+    bar-and-hinge energy in tests/models/test_panel_twist.py). For the gridshell's panels
+    (k = 0.698 N mm/(rad mm)): 60.7 N mm^2 (2.3 x 7 mm flanks), 48.4 (7 x 7 mm), against the plate's
+    G w t^3/3 = 4.46 N mm^2.
+    """
+    w = np.asarray(panel_length, dtype=float)
+    d3 = (w * w + np.asarray(width, dtype=float) ** 2) ** 1.5
+    return hinge_stiffness * d3 / (2.0 * w)
+
+
+def panel_twist_fraction(kapton: KaptonBarHinge, thickness: float, width, height):
+    """Fraction beta [-] of the spokes' stiffness left in the twist mode of W x H panels
+    (``kapton.twist = "plate"``): beta = (G H t^3/3)/(k D^3/(2 W)) = 2 G W H t^3/(3 k D^3), which
+    gives a one-panel-wide ribbon the plate strip's torsional stiffness G w t^3/3 (Timoshenko &
+    Goodier, Theory of Elasticity, torsion of a thin rectangle) whichever side runs along it
+    (beta is symmetric in W and H). 1 with ``twist = "n5b8"``.
+    """
+    w = np.asarray(width, dtype=float)
+    h = np.asarray(height, dtype=float)
+    if kapton.checked().twist == "n5b8":
+        return np.ones(np.broadcast(w, h).shape)
+    k = kapton.hinge_stiffness(thickness)
+    return 2.0 * kapton.shear_modulus * w * h * thickness ** 3 / (3.0 * k * (w * w + h * h) ** 1.5)
+
+
+#: Spoke m of an N5B8 panel (centre c, corners 0..3 in cyclic order) is the hinge (c, m; m - 1, m + 1)
+#: (:func:`lcefem.meshes.bar_hinge_structure.n5b8_structure`): its nodes' slots in (c, 0, 1, 2, 3).
+SPOKE_SLOTS = tuple((0, 1 + m, 1 + (m - 1) % 4, 1 + (m + 1) % 4) for m in range(4))
+
+
+def panel_bending_element(x_c, x_0, x_1, x_2, x_3, lengths, rest, stiffness, *, derivatives: int = 2):
+    """The N5B8 panel's bending (pyramid) mode as one spring: with the spokes' fold angle changes
+    d_m (m = 0..3, each wrapped to (-pi, pi]) and lengths L_m,
+
+        U = k_p (sum_m L_m d_m)^2/(2 sum_m L_m).
+
+    In a rectangle's two out-of-plane modes the spokes fold by (d, d, d, d) (bending: the centre
+    rises against the corners) or by (d, -d, d, -d) (twist: the corners rise and fall in turn);
+    U stores 2 k_p L d^2 (L = D/2) of the first, as four spokes of stiffness k_p do, and nothing of
+    the second. So spokes of stiffness beta k plus this element with k_p = (1 - beta) k keep the
+    panel's bending of the published model and scale its twist by beta (``kapton.twist = "plate"``,
+    :func:`panel_twist_fraction`).
+
+    Args:
+        x_c, x_0..x_3: centre and corner positions [mm], (n, 3) each; lengths L_m [mm] and rest
+            (as-built) spoke angles [rad], (n, 4); stiffness k_p [N mm/(rad mm)], (n,).
+    Returns:
+        energy (n,) [mJ]; gradient (n, 15) [N] ordered (c, 0, 1, 2, 3); Hessian (n, 15, 15) [N/mm].
+    """
+    xs = (x_c, x_0, x_1, x_2, x_3)
+    n = x_c.shape[0]
+    lengths = np.asarray(lengths, dtype=float)
+    outs = [dihedral_angle(*(xs[s] for s in SPOKE_SLOTS[m]), derivatives=derivatives) for m in range(4)]
+    theta = np.stack([o if derivatives == 0 else o[0] for o in outs], axis=1)
+    d = np.mod(theta - rest + np.pi, 2.0 * np.pi) - np.pi
+    total = np.sum(lengths, axis=1)
+    c = np.asarray(stiffness, dtype=float) / total
+    s = np.sum(lengths * d, axis=1)
+    energy = 0.5 * c * s * s
+    if derivatives == 0:
+        return energy
+    g = np.zeros((n, 15))
+    for m in range(4):
+        for q, slot in enumerate(SPOKE_SLOTS[m]):
+            g[:, 3 * slot:3 * slot + 3] += lengths[:, m, None] * outs[m][1][:, 3 * q:3 * q + 3]
+    grad = (c * s)[:, None] * g
+    if derivatives == 1:
+        return energy, grad
+    hess = c[:, None, None] * _outer(g, g)
+    for m in range(4):
+        weight = (c * s * lengths[:, m])[:, None, None]
+        for a, sa in enumerate(SPOKE_SLOTS[m]):
+            for b, sb in enumerate(SPOKE_SLOTS[m]):
+                hess[:, 3 * sa:3 * sa + 3, 3 * sb:3 * sb + 3] += \
+                    weight * outs[m][2][:, 3 * a:3 * a + 3, 3 * b:3 * b + 3]
+    return energy, grad, hess

@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -69,8 +70,6 @@ from lcefem.solvers.bar_hinge.design import EquilibriumMap, strip_parameters
 from lcefem.solvers.bar_hinge.newton import follow_path
 from lcefem.solvers.problems import gridshell_bh as gs
 
-from lcefem.solvers.problems import gridshell_bh_run as gs_run
-SHAPES = tuple(gs_run.SHAPE_DRIVES)
 INPUT_MODES = ("channels", "strips")
 SENSING = ("heights", "markers", "oracle")
 CURVATURES = ("circle kappa_x", "circle kappa_y", "quad kappa_x", "quad kappa_y")
@@ -158,14 +157,17 @@ class Surface:
         return self.eq.observable(x), x
 
 
-def build_surface(shape: str, layout: GridshellLayout = GridshellLayout(),
+def build_surface(shape: str, drive: Mapping, layout: GridshellLayout = GridshellLayout(),
                   lambda_N: float = PUBLISHED_LAMBDA_N) -> Surface:
     """The target's equilibrium (ramp from the as-built state, as ``lcefem run gridshell``), its
-    observables and exact sensitivities to every strip's lambda and to a centre payload."""
-    if shape not in gs_run.SHAPE_DRIVES:
-        raise InputError(f"shape = {shape!r}: allowed {', '.join(SHAPES)}")
+    observables and exact sensitivities to every strip's lambda and to a centre payload. ``shape``
+    names the target; ``drive`` is its program, the caller's data: {"lambdas": {channel: lambda
+    [-]}, "support"}."""
+    missing = [k for k in ("lambdas", "support") if k not in drive]
+    if missing:
+        raise InputError(f"drive of shape {shape!r}: missing {', '.join(missing)}")
     t0 = time.perf_counter()
-    spec = gs_run.SHAPE_DRIVES[shape]
+    spec = drive
     structure = build_gridshell_bar_hinge(layout=layout)
     setup = gs.setup_gridshell(None, spec["support"], structure=structure)
     strips = structure.info["strips"]

@@ -12,6 +12,9 @@ of lcefem.solvers.runtime.files).
   triangles and the strip and glue bars as lines, with point data ``displacement [mm]`` and cell data
   ``element`` (0 ribbon, 1 bottom strip, 2 top strip, 3 glue) and ``axial force [N]`` (tension
   positive; 0 on triangles).
+* :class:`BarHingeFrames`, :class:`FEFields` — export objects of a run (lcefem.solvers.runner):
+  each opens its writer in the run's folder, writes one frame per converged step and, for the
+  bar-and-hinge frames, the last converged state of a failed run.
 * :func:`bar_hinge_run` — the run skeleton (lcefem.solvers.runtime.run.Run) around a path-following
   bar-and-hinge run.
 """
@@ -20,6 +23,8 @@ from __future__ import annotations
 
 import contextlib
 import pathlib
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -150,21 +155,72 @@ class BarHingeVTK(FrameSeries):
         replace(tmp, path)
 
 
+@dataclass(frozen=True)
+class BarHingeFrames:
+    """Export object: ParaView frames of a bar-and-hinge run, ``<stem>.pvd`` + ``<stem>_steps/*.vtp``
+    (one per converged increment, at its load factor), and ``last_converged.vtp`` when it fails.
+    :meth:`open` gives the writer of one run."""
+
+    stem: str
+    structure: BarHingeStructure
+    model: object  # the BarHingeModel (its bar forces)
+
+    def open(self, run: Run, out: pathlib.Path) -> "_BarHingeFramesWriter":
+        return _BarHingeFramesWriter(run.output(BarHingeVTK(out, self.stem, self.structure)), self.model)
+
+
+class _BarHingeFramesWriter:
+    def __init__(self, vtk: BarHingeVTK, model):
+        self.vtk, self.model = vtk, model
+
+    def write(self, state) -> None:
+        self.vtk.write(state.t, state.x, self.model.bar_forces(state.x))
+
+    def last_converged(self, folder: pathlib.Path, state) -> None:
+        self.vtk.write_single(folder / "last_converged.vtp", state.x, self.model.bar_forces(state.x))
+
+
+@dataclass(frozen=True)
+class FEFields:
+    """Export object: a VTX (.bp) series of dolfinx Functions (``name`` in the run's folder), the
+    start at time 0 and then one frame per converged step at ``time(state)``."""
+
+    name: str
+    functions: tuple
+    comm: object
+    time: Callable[[object], float]
+
+    def open(self, run: Run, out: pathlib.Path) -> "_FEFieldsWriter":
+        fields = run.output(FieldExport(out / self.name, list(self.functions), self.comm))
+        fields.write(0.0)
+        return _FEFieldsWriter(fields, self.time)
+
+
+class _FEFieldsWriter:
+    def __init__(self, fields: FieldExport, time):
+        self.fields, self.time = fields, time
+
+    def write(self, state) -> None:
+        self.fields.write(self.time(state))
+
+    def last_converged(self, folder: pathlib.Path, state) -> None:
+        pass  # the series itself is kept as *.partial.* up to the last converged step
+
+
 @contextlib.contextmanager
 def bar_hinge_run(out: pathlib.Path, stem: str, structure: BarHingeStructure, model, *, config: dict,
                   columns: list[str], row, progress):
     """A path-following run of a bar-and-hinge model into ``out`` (lcefem.solvers.runtime.run.Run): yields
-    ``(run, on_step)``; ``on_step(state)`` records ``row(state)`` and writes the step's VTK frame. A
-    failed run also keeps ``last_converged.vtp``."""
+    ``(run, on_step)``; ``on_step(state)`` records ``row(state)`` and writes the step's VTK frame
+    (:class:`BarHingeFrames`). A failed run also keeps ``last_converged.vtp``."""
     with Run(out, config=config, columns=columns, progress=progress) as run:
-        vtk = run.output(BarHingeVTK(out, stem, structure))
+        frames = BarHingeFrames(stem, structure, model).open(run, out)
         last = []
 
         def on_step(state) -> None:
             run.record(row(state), where=f"load factor {state.t:.4g}")
-            vtk.write(state.t, state.x, model.bar_forces(state.x))
+            frames.write(state)
             last[:] = [state]
 
-        run.on_failure(lambda folder: last and vtk.write_single(
-            folder / "last_converged.vtp", last[0].x, model.bar_forces(last[0].x)))
+        run.on_failure(lambda folder: last and frames.last_converged(folder, last[0]))
         yield run, on_step

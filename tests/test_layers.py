@@ -22,11 +22,7 @@ NUMERICS = ("lcefem.solvers.mechanics", "lcefem.solvers.heat", "lcefem.solvers.t
 WRITERS = ("lcefem.solvers.der.output",)
 
 #: Private names still imported across modules, each with why it is not renamed yet.
-PRIVATE_ALLOWED = {
-    # solvers/bar_hinge/newton.py is being edited by a concurrent session (speed work on the
-    # Newton solver): renaming its factorisation would silently break the calls it adds.
-    ("lcefem.solvers.bar_hinge.design", "_factorize"),
-}
+PRIVATE_ALLOWED: set[tuple[str, str]] = set()
 
 
 def module_name(path: pathlib.Path) -> str:

@@ -1,7 +1,9 @@
 """Calibrate the bar-and-hinge model's free parameters against the stored 3D FE (``lcefem calibrate bar-hinge``).
 
 The bar-and-hinge (BH) model with the strip element (``mesh.strip_element = "beam"``: the LCE strips'
-centroid offset and their own bending stiffness) has two free parameters: the published hinge
+centroid offset and their own bending stiffness) and the plate's torsion of the Kapton panels
+(``kapton.twist = "plate"``: GJ = G w t^3/3 instead of the N5B8 panels' 13.6 x; :data:`TWIST`, not
+fitted: a closed form of the datasheet film) has two free parameters: the published hinge
 factor of the Kapton ribbon (``kapton.bending_factor``, 5.5, itself a fit) and the multiplier of the
 strips' E I (``lce.bending_factor``, 1 = the as-built section at 3 mu_0). This command fits them by
 :func:`scipy.optimize.least_squares` (trust-region reflective) against
@@ -52,16 +54,26 @@ PARAMETERS = {
 #: The BH configuration that matches the FE model: published supports and glue squares + contact
 #: (the FE's penalty contact) + the constant-volume bar law (the FE's incompressible LCE).
 AS_FE = ("contact", "volume_law")
+#: The Kapton panels' torsion in the FE-equivalent BH (models.bar_hinge.KaptonBarHinge.twist): the
+#: plate's G w t^3/3, as the FE's continuum film (docs/gridshell_calibration.md). Fixed, not fitted.
+TWIST = "plate"
 #: The issue's target: BH within 10 % of the FE, or 0.002 1/mm, the larger.
 REL_TOL, ABS_TOL = 0.10, 0.002
 FAILED = 10.0  #: residual of a solve that does not converge
 STORED = DATA_DIR / "bar_hinge_calibration.json"
 
 
-def materials_with(values: dict[str, float], base: law.BarHingeMaterials = law.BarHingeMaterials()
+def fe_equivalent(base: law.BarHingeMaterials = law.BarHingeMaterials(), twist: str = TWIST
+                  ) -> law.BarHingeMaterials:
+    """``base`` with the Kapton panels' torsion ``twist`` (default :data:`TWIST`)."""
+    return dataclasses.replace(base, kapton=dataclasses.replace(base.kapton, twist=twist))
+
+
+def materials_with(values: dict[str, float], base: law.BarHingeMaterials | None = None
                    ) -> law.BarHingeMaterials:
-    """``base`` with the named parameters set (names of :data:`PARAMETERS`)."""
-    out = base
+    """``base`` (default: the FE-equivalent materials, :func:`fe_equivalent`) with the named
+    parameters set (names of :data:`PARAMETERS`)."""
+    out = fe_equivalent() if base is None else base
     for name, v in values.items():
         section, fld = PARAMETERS[name][:2]
         out = dataclasses.replace(out, **{section: dataclasses.replace(getattr(out, section), **{fld: float(v)})})
@@ -128,8 +140,9 @@ def shape_setup(shape: str, materials: law.BarHingeMaterials, strip_element: str
     ``departures``, on ``support`` (default: the shape's published one), with ``strip_element``."""
     from lcefem.solvers.problems import gridshell_bh as gs
     from lcefem.solvers.problems import gridshell_bh_run as gs_run
+    from lcefem.validation.programs import SHAPE_DRIVES
 
-    spec = gs_run.SHAPE_DRIVES[shape]
+    spec = SHAPE_DRIVES[shape]
     mesh, lce, support = gs_run.published_configuration(BeamBarHingeMesh(), materials.lce,
                                                         support or spec["support"], departures)
     s = build_gridshell_bar_hinge(mesh=dataclasses.replace(mesh, strip_element=strip_element))
@@ -184,7 +197,7 @@ def residual_vector(result: dict) -> np.ndarray:
 
 
 def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", max_evaluations: int = 30,
-              log=print) -> dict:
+              log=print, twist: str = TWIST) -> dict:
     """Least-squares fit of the named parameters (see the module docstring); returns the record
     written to the parameter file."""
     from scipy.optimize import least_squares
@@ -206,7 +219,7 @@ def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", 
         if key not in cache:
             values = dict(zip(names, value(x)))
             t0 = time.process_time()
-            cache[key] = evaluate(materials_with(values), targets)
+            cache[key] = evaluate(materials_with(values, fe_equivalent(twist=twist)), targets)
             r = residual_vector(cache[key])
             log(f"lcefem: calibrate bar-hinge: {', '.join(f'{n} = {v:.4g}' for n, v in values.items())}: "
                 f"cost {0.5 * float(r @ r):.4g}, max |r| {np.abs(r).max():.3g} "
@@ -220,7 +233,9 @@ def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", 
     final = run(fit.x)
     r0, r1 = residual_vector(initial), residual_vector(final)
     return {
-        "model": "bar-and-hinge with the strip element (mesh.strip_element = 'beam')",
+        "model": "bar-and-hinge with the strip element (mesh.strip_element = 'beam') and the Kapton "
+                 f"panels' torsion kapton.twist = '{twist}'",
+        "fixed": {"kapton.twist": twist},
         "parameters": {f"{PARAMETERS[n][0]}.{PARAMETERS[n][1]}": float(v)
                        for n, v in zip(names, value(fit.x))},
         "published values": {f"{PARAMETERS[n][0]}.{PARAMETERS[n][1]}": PARAMETERS[n][2] for n in names},
@@ -243,6 +258,31 @@ def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", 
     }
 
 
+#: The bar-and-hinge model sets that inverse design and prediction bands can run (``--model-set``):
+#: 'published' (the default: the published model's elements and factors, two-node strip bars, the
+#: N5B8 panels' torsion, hinge factor 5.5) or 'fe-calibrated' (the strip element 'beam', the
+#: plate's torsion and the fitted factors of :data:`STORED`: within 10 % / 0.002 1/mm of the 3D FE
+#: on the Fig. 4 shapes and the beam map). Either runs in the caller's configuration (supports,
+#: squares, contact, bar law). The default is not switched yet: docs/gridshell_calibration.md,
+#: "Defaults" (the table's design round trip, 1.5e-4 against 1e-4 1/mm).
+MODEL_SETS = ("published", "fe-calibrated")
+DEFAULT_MODEL_SET = "published"
+
+
+def model_set(name: str, base: law.BarHingeMaterials = law.BarHingeMaterials()
+              ) -> tuple[str, law.BarHingeMaterials]:
+    """(mesh.strip_element, materials) of the model set ``name`` (:data:`MODEL_SETS`), the
+    materials built on ``base``."""
+    if name == "published":
+        return "bar", base
+    if name != "fe-calibrated":
+        raise InputError(f"model_set = {name!r}: allowed {', '.join(MODEL_SETS)}")
+    record = load()
+    if record is None:
+        raise InputError(f"model_set = 'fe-calibrated': {STORED} missing (lcefem calibrate bar-hinge)")
+    return "beam", calibrated_materials(record, base)
+
+
 def load(path: pathlib.Path = STORED) -> dict | None:
     """The stored calibration record, or None."""
     path = pathlib.Path(path)
@@ -251,11 +291,14 @@ def load(path: pathlib.Path = STORED) -> dict | None:
 
 def calibrated_materials(record: dict, base: law.BarHingeMaterials = law.BarHingeMaterials()
                          ) -> law.BarHingeMaterials:
-    """``base`` with the record's fitted parameters ("section.field": value)."""
+    """``base`` with the record's fixed choices and fitted parameters ("section.field": value; a
+    record without "fixed" predates kapton.twist and keeps the published 'n5b8')."""
     out = base
-    for key, v in record["parameters"].items():
+    items = [*record.get("fixed", {"kapton.twist": "n5b8"}).items(),
+             *((k, float(v)) for k, v in record["parameters"].items())]
+    for key, v in items:
         section, fld = key.split(".")
-        out = dataclasses.replace(out, **{section: dataclasses.replace(getattr(out, section), **{fld: float(v)})})
+        out = dataclasses.replace(out, **{section: dataclasses.replace(getattr(out, section), **{fld: v})})
     return out
 
 
@@ -266,6 +309,7 @@ class CalibrateConfig:
     shapes: tuple[str, ...]
     beam_points: str
     max_evaluations: int
+    twist: str = TWIST
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -279,6 +323,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="beam-map points in the fit: all 25, the 4 corners, or none (default all)")
     p.add_argument("--max-evaluations", type=int, default=30,
                    help="most residual evaluations of least_squares (default 30; each ~10-30 s)")
+    p.add_argument("--twist", choices=law.TWIST_MODELS, default=TWIST,
+                   help="the Kapton panels' torsion (kapton.twist): plate (G w t^3/3, the FE's film; "
+                        "default) or n5b8 (the published panels', 13.6 x stiffer)")
     add_out_arguments(p, None)
 
 
@@ -294,7 +341,8 @@ def prepare(args: argparse.Namespace) -> CalibrateConfig:
     if args.max_evaluations < 1:
         raise InputError(f"--max-evaluations = {args.max_evaluations}: must be >= 1")
     return CalibrateConfig(_split(args.parameters, PARAMETERS, "--parameters"),
-                           _split(args.shapes, SHAPES, "--shapes"), args.beam_points, args.max_evaluations)
+                           _split(args.shapes, SHAPES, "--shapes"), args.beam_points, args.max_evaluations,
+                           getattr(args, "twist", TWIST))
 
 
 def out_folder(args: argparse.Namespace) -> pathlib.Path:
@@ -305,10 +353,10 @@ def main(args: argparse.Namespace) -> int:
     cfg = args.prepared
     out = out_folder(args)
     record = calibrate(cfg.parameters, cfg.shapes, cfg.beam_points, cfg.max_evaluations,
-                       log=(lambda *a: None) if args.quiet else print)
+                       log=(lambda *a: None) if args.quiet else print, twist=cfg.twist)
     record["command"] = ("lcefem calibrate bar-hinge --parameters " + ",".join(cfg.parameters) + " --shapes "
                          + ",".join(cfg.shapes) + f" --beam-points {cfg.beam_points} --max-evaluations "
-                         + str(cfg.max_evaluations))
+                         + str(cfg.max_evaluations) + f" --twist {cfg.twist}")
     path = write_text(pathlib.Path(out) / "bar_hinge_calibration.json", json.dumps(record, indent=1) + "\n")
     print(f"lcefem: fitted {', '.join(f'{k} = {v:.4g}' for k, v in record['parameters'].items())}; "
           f"max |residual| {record['max |residual| (published values, fitted)'][0]:.3g} -> "

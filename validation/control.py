@@ -39,6 +39,7 @@ from lcefem.solvers import control as ctl
 from lcefem.solvers.runtime.files import replace as rename
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.validation.programs import SHAPE_DRIVES
 
 PARALLEL = False  # serial numpy/scipy bar-and-hinge model
 LOOPS = ("open", "closed")
@@ -58,8 +59,8 @@ class ControlRequest:
     settings: ctl.ControllerSettings = ctl.ControllerSettings()
 
     def validated(self) -> "ControlRequest":
-        if self.shape not in ctl.SHAPES:
-            raise InputError(f"--shape = {self.shape!r}: allowed {', '.join(ctl.SHAPES)}")
+        if self.shape not in SHAPE_DRIVES:
+            raise InputError(f"--shape = {self.shape!r}: allowed {', '.join(SHAPE_DRIVES)}")
         if self.settings.sensing not in ctl.SENSING:
             raise InputError(f"--sensing = {self.settings.sensing!r}: allowed {', '.join(ctl.SENSING)}")
         if self.inputs not in ctl.INPUT_MODES:
@@ -93,7 +94,7 @@ class ControlRequest:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--shape", default="dome", help="target: " + ", ".join(ctl.SHAPES) + " (seed 001, Fig. 4)")
+    p.add_argument("--shape", default="dome", help="target: " + ", ".join(SHAPE_DRIVES) + " (seed 001, Fig. 4)")
     p.add_argument("--inputs", default="channels", help="channels (Tx, Ty, Bx, By) or strips (every strip "
                    "its own current)")
     p.add_argument("--seed", type=int, default=1, help="seed of the drawn strips and the sensor noise")
@@ -140,7 +141,7 @@ def prepare(args: argparse.Namespace) -> ControlRequest:
 
 def run_pair(req: ControlRequest, surface: ctl.Surface | None = None, progress=None) -> dict:
     """Open and closed loop on the same drawn plant: {"surface", "draw", "open", "closed", "names"}."""
-    surface = surface or ctl.build_surface(req.shape, GridshellLayout(ribbons=req.ribbons))
+    surface = surface or ctl.build_surface(req.shape, SHAPE_DRIVES[req.shape], GridshellLayout(ribbons=req.ribbons))
     draw = ctl.draw_plant(surface, req.spread, req.seed)
     out = {"surface": surface, "draw": draw, "names": surface.selection(req.inputs)[1]}
     for k, loop in enumerate(LOOPS):
@@ -178,7 +179,7 @@ def loop_summary(surface: ctl.Surface, r: ctl.RunResult) -> dict:
 def run_control(req: ControlRequest, out: pathlib.Path | None, progress: bool = True) -> dict:
     started = time.perf_counter()
     bar = Progress(2 * req_total(req), "control", "s", ".0f", progress)
-    surface = ctl.build_surface(req.shape, GridshellLayout(ribbons=req.ribbons))
+    surface = ctl.build_surface(req.shape, SHAPE_DRIVES[req.shape], GridshellLayout(ribbons=req.ribbons))
     names = surface.selection(req.inputs)[1]
     with Run(out, config=req.resolved(), columns=history_columns(names), progress=bar) as run:
         pair = run_pair(req, surface, progress=bar.to)

@@ -29,6 +29,7 @@ from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.problems import gridshell_bh as problem_bh
+from lcefem.validation import calibrate
 from lcefem.validation import gridshell_design as gd
 
 PARALLEL = False
@@ -44,6 +45,7 @@ class DesignRequest:
     support: str
     check: bool
     ribbons: int = 3
+    model_set: str = calibrate.DEFAULT_MODEL_SET
 
     def validated(self) -> "DesignRequest":
         for name, v in (("target-kx", self.kx), ("target-ky", self.ky)):
@@ -61,6 +63,8 @@ class DesignRequest:
             raise InputError(f"--ribbons = {self.ribbons}: an odd number >= 1 (the centre junction)")
         if self.support not in problem_bh.SUPPORTS:
             raise InputError(f"--support = {self.support!r}: allowed {', '.join(problem_bh.SUPPORTS)}")
+        if self.model_set not in calibrate.MODEL_SETS:
+            raise InputError(f"--model-set = {self.model_set!r}: allowed {', '.join(calibrate.MODEL_SETS)}")
         return self
 
 
@@ -75,21 +79,26 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--support", default="rollers", help="clamp, rollers or table (default rollers)")
     p.add_argument("--ribbons", type=int, default=3, help="ribbons per direction (default 3)")
     p.add_argument("--no-check", action="store_true", help="skip the forward run from the as-built state")
+    p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET,
+                   help="bar-and-hinge elements and factors: published (default) or fe-calibrated (the "
+                        "strip element, the plate's torsion and the factors fitted to the 3D FE; "
+                        "docs/gridshell_calibration.md)")
     add_out_arguments(p, "results/design")
 
 
 def prepare(args: argparse.Namespace) -> DesignRequest:
     return DesignRequest(args.target_kx, args.target_ky, args.target_height, str(args.channels),
-                         args.support, not args.no_check, args.ribbons).validated()
+                         args.support, not args.no_check, args.ribbons, args.model_set).validated()
 
 
 def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = True) -> dict:
     started = time.perf_counter()
     design = gd.setup_design(req.channels, req.support, height=req.height is not None,
-                             layout=GridshellLayout(ribbons=req.ribbons))
+                             layout=GridshellLayout(ribbons=req.ribbons), model_set=req.model_set)
     config = {"target": {"kappa_x [1/mm]": req.kx, "kappa_y [1/mm]": req.ky,
                          "centre height [mm]": req.height},
               "channels": req.channels, "support": req.support, "ribbons": req.ribbons,
+              "model set": req.model_set,
               "bounds [-]": [gd.LAMBDA_MIN, design.lambda_N],
               "observable": "circle curvature through the centre junction and the middle ribbon's ends "
                             "(seed 001, gridshell without cover scales)"}

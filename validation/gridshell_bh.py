@@ -2,8 +2,9 @@
 cases, the benchmark and the tests: the paper's Fig. 4 settings with the curvatures it reports
 (:data:`SHAPES`, validation data of validation/data/seed001.toml).
 
-The problem, its supports, ramp, observables, the paper's programs and the published recipes are
-:mod:`lcefem.solvers.problems.gridshell_bh`'s; the current route (currents per channel/group ->
+The problem, its supports, ramp and observables are :mod:`lcefem.solvers.problems.gridshell_bh`'s; the
+paper's programs and the published recipes are :mod:`lcefem.validation.programs`' (validation/data/
+programs.toml); the current route (currents per channel/group ->
 lambdas through the strip's thermal model) is :mod:`lcefem.models.lumped_heat`'s: import them from
 there.
 
@@ -12,7 +13,7 @@ Units: mm, N, t, s, A, 1/mm.
 
 from __future__ import annotations
 
-from lcefem.solvers.problems.gridshell_bh_run import SHAPE_DRIVE_SOURCES, SHAPE_DRIVES
+from lcefem.validation.programs import SHAPE_DRIVE_SOURCES, SHAPE_DRIVES
 from lcefem.validation.reference_data import reference
 
 SEED = "seed 001"

@@ -3,7 +3,7 @@ published recipes (issue 30; the table of docs/gridshell_configuration.md).
 
     python -m lcefem.validation.gridshell_configuration [--recipes dome,saddle] [--out DIR]
 
-For every recipe (:data:`lcefem.solvers.problems.gridshell_bh_run.RECIPES`) it runs the published
+For every recipe (:data:`lcefem.validation.programs.RECIPES`) it runs the published
 configuration (its published support, glue squares, bar law A f P(p), no strip-ribbon contact), the
 published configuration with one departure (:data:`~lcefem.solvers.problems.gridshell_bh_run.DEPARTURES`)
 at a time, all departures together, and the configuration shipped before issue 30 (all departures,
@@ -32,6 +32,7 @@ from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.analysis.curvature import junction_centre_points
 from lcefem.solvers.problems import gridshell_bh as g
 from lcefem.solvers.problems import gridshell_bh_run as grun
+from lcefem.validation.programs import RECIPES
 from lcefem.solvers.runtime.files import write_text
 
 #: The variants measured: label -> (departures, support override or None).
@@ -75,7 +76,7 @@ def penetration(mesh: BeamBarHingeMesh, x: np.ndarray) -> float:
 
 def run_variant(recipe: str, departures, support_override) -> dict:
     """One recipe in one configuration: the numbers of the table (NaN where it did not converge)."""
-    p0, support = grun.RECIPES[recipe]
+    p0, support = RECIPES[recipe]
     if support_override == "former":
         mesh, lce, _ = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), support, departures)
         support = former_support(recipe)
@@ -117,9 +118,9 @@ def measure(recipes, variants=VARIANTS, echo=print) -> list[dict]:
     for recipe in recipes:
         base = None
         for label, (deps, override) in variants.items():
-            if label == "+middle_rollers" and grun.RECIPES[recipe][1] != "rollers":
+            if label == "+middle_rollers" and RECIPES[recipe][1] != "rollers":
                 continue  # no effect where the published support is the clamp
-            if override == "former" and grun.RECIPES[recipe][1] == "rollers":
+            if override == "former" and RECIPES[recipe][1] == "rollers":
                 continue  # the same as "all departures" (middle rollers included)
             r = run_variant(recipe, deps, override)
             r["variant"] = label
@@ -157,13 +158,13 @@ def write_tables(rows: list[dict], out: pathlib.Path) -> None:
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--recipes", default=",".join(grun.RECIPES), help="comma-separated recipes")
+    p.add_argument("--recipes", default=",".join(RECIPES), help="comma-separated recipes")
     p.add_argument("--out", default="results/gridshell_configuration")
     args = p.parse_args(argv)
     recipes = [r.strip() for r in args.recipes.split(",") if r.strip()]
     for r in recipes:
-        if r not in grun.RECIPES:
-            p.error(f"--recipes: unknown recipe {r!r} (allowed: {', '.join(grun.RECIPES)})")
+        if r not in RECIPES:
+            p.error(f"--recipes: unknown recipe {r!r} (allowed: {', '.join(RECIPES)})")
     rows = measure(recipes)
     write_tables(rows, pathlib.Path(args.out))
     return 0

@@ -30,8 +30,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
+from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import CHANNELS, GridshellLayout, build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
 from lcefem.solvers.bar_hinge import NewtonOptions
@@ -39,6 +40,8 @@ from lcefem.solvers.bar_hinge.design import (DesignResult, EquilibriumMap, solve
                                              strip_parameters)
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
+from lcefem.validation import calibrate
+from lcefem.validation.calibrate import DEFAULT_MODEL_SET
 
 #: Lower bound of the design lambdas [-]: the paper's most contracted Fig. 4 setting (seed 001,
 #: Results: lambda = 1.05 for the contracted channels).
@@ -105,6 +108,8 @@ class GridshellDesign:
     eq: EquilibriumMap
     lambda_N: float
     height: bool
+    materials: BarHingeMaterials = dataclasses.field(default_factory=BarHingeMaterials)
+    model_set: str = DEFAULT_MODEL_SET
 
     @property
     def names(self) -> list[str]:
@@ -113,14 +118,16 @@ class GridshellDesign:
 
 def setup_design(mode: str = "4", support: str = "rollers", height: bool = False,
                  lambda_N: float = PUBLISHED_LAMBDA_N, layout: GridshellLayout = GridshellLayout(),
-                 newton: NewtonOptions = DESIGN_NEWTON) -> GridshellDesign:
-    """The design problem on a fresh surface (``layout``: ribbons per direction)."""
-    structure = build_gridshell_bar_hinge(layout=layout)
-    setup = problem_bh.setup_gridshell(None, support, structure=structure)
+                 newton: NewtonOptions = DESIGN_NEWTON, model_set: str = DEFAULT_MODEL_SET) -> GridshellDesign:
+    """The design problem on a fresh surface (``layout``: ribbons per direction; ``model_set``: the
+    bar-and-hinge elements and factors, :data:`lcefem.validation.calibrate.MODEL_SETS`)."""
+    element, materials = calibrate.model_set(model_set)
+    structure = build_gridshell_bar_hinge(layout=layout, mesh=BeamBarHingeMesh(strip_element=element))
+    setup = problem_bh.setup_gridshell(None, support, structure=structure, materials=materials)
     params = strip_parameters(structure, channel_selections(structure, mode), lambda_N)
     eq = EquilibriumMap(setup.model, setup.held, params, curvature_observable(structure, height),
                         newton_options=newton, path_options=problem_bh.GRIDSHELL_PATH)
-    return GridshellDesign(structure, support, mode, eq, lambda_N, height)
+    return GridshellDesign(structure, support, mode, eq, lambda_N, height, materials, model_set)
 
 
 #: Forward check: the design-loop equilibrium and the ramp from the as-built state agree when their
@@ -180,7 +187,8 @@ def forward_check(design: GridshellDesign, p) -> dict:
     """Curvatures of a forward run from the as-built state at design variables p (the path of
     ``lcefem run gridshell``)."""
     params = design.eq.params
-    setup = problem_bh.setup_gridshell(params.rest_fractions(p), design.support, structure=design.structure)
+    setup = problem_bh.setup_gridshell(params.rest_fractions(p), design.support, structure=design.structure,
+                                       materials=design.materials)
     sol = problem_bh.solve_gridshell(setup)
     return {"circle_x": float(sol.curvatures["circle_x"]), "circle_y": float(sol.curvatures["circle_y"]),
             "x": sol.final.x, "seconds": sol.path.seconds}

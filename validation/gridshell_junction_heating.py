@@ -34,7 +34,7 @@ def shape_hold_currents(shape: str, which: str) -> dict:
     other shapes the same Fig. 2C pair, validation.gridshell_bh.SHAPES) or 'rule' the paper's rule
     at the Fig. 4 lambdas (models.lumped_heat.shape_currents)."""
     from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
-    from lcefem.solvers.problems.gridshell_bh_run import SHAPE_DRIVES
+    from lcefem.validation.programs import SHAPE_DRIVES
     from lcefem.validation import gridshell_bh as gs
 
     if which == "protocol":
@@ -59,7 +59,8 @@ def run(shape: str, currents: dict, level: int, junction_heating: str) -> dict:
 
     from lcefem.meshes.gridshell_fe import GridshellFEMesh, cell_group
     from lcefem.solvers.mechanics import assemble_global, volume_measure, QUADRATURE_DEGREE
-    from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports
+    from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellSupports
+    from lcefem.validation.programs import PUBLISHED_SUPPORTS
     from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
     started = time.process_time()

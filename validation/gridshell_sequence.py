@@ -10,7 +10,9 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 
+from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+from lcefem.validation import calibrate
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.gridshell_bh_sequence import (CURVATURE_COLUMNS, Schedule, check_selections,
                                                          load_schedule, run_sequence)
@@ -69,9 +71,14 @@ def prepare(args) -> Schedule:
 def main(args) -> int:
     """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.commands.gridshell)."""
     schedule = args.prepared
+    # the bar-and-hinge model set of design and bands (calibrate.DEFAULT_MODEL_SET)
+    element, materials = calibrate.model_set(calibrate.DEFAULT_MODEL_SET)
+    structure = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
+    config = {"schedule": dataclasses.asdict(schedule), "model set": calibrate.DEFAULT_MODEL_SET}
     summary = run_sequence(schedule, pathlib.Path(args.out), progress=not args.quiet, snapshot=snapshot,
                            report=lambda out, history, sched: plot_curvatures(out / "curvature_vs_time.png",
-                                                                              history, sched))
+                                                                              history, sched),
+                           structure=structure, materials=materials, config=config)
     f = summary["final"]
     print(f"lcefem: gridshell sequence ({summary['support']}, thermal model {summary['thermal model']}): "
           f"{summary['outputs']} outputs to t = {schedule.end:g} s; final centre curvature x/y [1/mm]: "

@@ -53,8 +53,9 @@ from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.validation import gridshell_bh as gs
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
-from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.solvers.problems.gridshell_bh_sequence import QuasiStaticSurface
+from lcefem.meshes.composite_beam import BeamBarHingeMesh
+from lcefem.validation import calibrate
 
 PARALLEL = False  # serial numpy/scipy bar-and-hinge model
 TARGETS = ("gridshell",)
@@ -242,6 +243,7 @@ class BandsConfig:
     sobol_samples: int = DEFAULT_SOBOL
     thermal_model: str = "eq1"
     seed: int = 0
+    model_set: str = calibrate.DEFAULT_MODEL_SET
 
     def checked(self) -> "BandsConfig":
         if self.shape not in gs.SHAPES:
@@ -256,6 +258,8 @@ class BandsConfig:
             raise InputError(f"--seed {self.seed}: must be between 0 and 2^32 - 1 (numpy's seed)")
         if self.thermal_model not in lumped_heat.THERMAL_MODELS:
             raise InputError(f"--thermal-model {self.thermal_model!r}: allowed {', '.join(lumped_heat.THERMAL_MODELS)}")
+        if self.model_set not in calibrate.MODEL_SETS:
+            raise InputError(f"--model-set {self.model_set!r}: allowed {', '.join(calibrate.MODEL_SETS)}")
         return self
 
 
@@ -295,7 +299,8 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     spec = gs.SHAPES[cfg.shape]
     law = StretchLaw(cfg.thermal_model)
     inputs = gridshell_inputs(cfg.shape)
-    structure = build_gridshell_bar_hinge()
+    element, base = calibrate.model_set(cfg.model_set)
+    structure = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
     started = time.perf_counter()
 
     def targets(fr: np.ndarray) -> dict:
@@ -303,7 +308,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
 
     def surface(modulus: float, start=None) -> QuasiStaticSurface:
         ogden = OgdenLaw()
-        materials = dataclasses.replace(BarHingeMaterials(),
+        materials = dataclasses.replace(base,
                                         ogden=OgdenLaw(tuple(modulus * m for m in ogden.mu), ogden.alpha))
         return QuasiStaticSurface(structure, spec["support"], materials, start=start,
                                   path=problem_bh.GRIDSHELL_PATH if start is None else WARM_PATH)
@@ -320,7 +325,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     F = rest_fractions_of(X, cfg.shape, law)
     bar = Progress(float(cfg.samples), f"bands {cfg.shape}", "solves", ".0f", progress)
     config = {"shape": cfg.shape, "support": spec["support"], "currents [A]": spec["currents"],
-              "thermal model": cfg.thermal_model, "samples": cfg.samples, "seed": cfg.seed,
+              "thermal model": cfg.thermal_model, "model set": cfg.model_set, "samples": cfg.samples, "seed": cfg.seed,
               "inputs": [dataclasses.asdict(i) for i in inputs]}
     with Run(out, config=config, columns=sample_columns(), history="samples.csv", progress=bar) as run:
         Y = np.full((cfg.samples, len(OUTPUTS)), np.nan)
@@ -419,11 +424,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--thermal-model", choices=lumped_heat.THERMAL_MODELS, default="eq1",
                    help="current -> lambda: 'eq1' (the paper's estimate, default) or 'segment'")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET,
+                   help="bar-and-hinge elements and factors: published (default) or fe-calibrated "
+                        "(docs/gridshell_calibration.md)")
     add_out_arguments(p, None)
 
 
 def prepare(args: argparse.Namespace) -> BandsConfig:
-    return BandsConfig(args.shape, args.samples, args.sobol_samples, args.thermal_model, args.seed).checked()
+    return BandsConfig(args.shape, args.samples, args.sobol_samples, args.thermal_model, args.seed,
+                       args.model_set).checked()
 
 
 def out_folder(args: argparse.Namespace) -> pathlib.Path:

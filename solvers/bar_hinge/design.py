@@ -37,7 +37,7 @@ import scipy.optimize as opt
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.bar_hinge.model import BarHingeModel, ReducedHessian
-from lcefem.solvers.bar_hinge.newton import (NewtonOptions, PathOptions, _factorize, follow_path)
+from lcefem.solvers.bar_hinge.newton import (NewtonOptions, PathOptions, factorize, follow_path)
 
 #: Largest nodal move [mm] of the central difference of the observables along dx/dp (the shapes'
 #: features are 1-100 mm: truncation ~ (1e-4/1)^2 relative, round-off ~ 1e-16 * 100 mm / 1e-4 mm).
@@ -188,7 +188,7 @@ class EquilibriumMap:
         ``rhs`` of shape (ndof,) or (ndof, m)."""
         _, _, coo = self.model.evaluate(x)
         kmat = self.reduced.matrix(coo)
-        lu = _factorize(kmat, self.reduced.diagonal(kmat), ldl=self.reduced.ldl)[0]
+        lu = factorize(kmat, self.reduced.diagonal(kmat), ldl=self.reduced.ldl)[0]
         rhs = np.asarray(rhs, dtype=float)
         dx = np.zeros(rhs.shape)
         dx[self.free] = lu.solve(np.ascontiguousarray(rhs[self.free]))

@@ -5,10 +5,11 @@ material laws of :mod:`lcefem.models.bar_hinge` into element arrays and evaluate
 positions x (n, 3) [mm],
 
     Pi(x) = sum_bars V w(L/L_r) + sum_hinges L_h psi(theta) + sum_contacts k <g0 - g>_+^2/2
-            - f_ext . (x - X)   [mJ],
+            [+ sum_panels U_p]  - f_ext . (x - X)   [mJ],
 
-with the gradient dPi/dx [N] (the internal minus the external forces; at a held node the reaction)
-and the Hessian [N/mm] as a scipy.sparse CSR matrix whose sparsity pattern is computed once. The
+(U_p: the panels' bending elements of ``kapton.twist = "plate"``,
+:func:`lcefem.models.bar_hinge.panel_bending_element`), with the gradient dPi/dx [N] (the internal
+minus the external forces; at a held node the reaction) and the Hessian [N/mm] as a scipy.sparse CSR matrix whose sparsity pattern is computed once. The
 external forces f_ext [N] (3n,) are dead loads (weight, a payload), zero unless set with
 :meth:`BarHingeModel.set_external_forces`.
 """
@@ -155,8 +156,10 @@ class BarHingeModel:
             else:
                 raise InputError(f"bar group {name!r}: no material law (allowed: kapton, glue, "
                                  f"{', '.join(STRIP_GROUPS)})")
-        k_ribbon = kapton.hinge_stiffness(structure.thickness)
+        k_ribbon = kapton.checked().hinge_stiffness(structure.thickness)
         t1, t2 = math.radians(kapton.linear_from), math.radians(kapton.linear_to)
+        # kapton.twist = "plate": spokes beta k (their twist mode) + a panel bending element (1 - beta) k
+        self.panel_set = self._panel_bending_set(k_ribbon) if kapton.twist == "plate" else None
         self.hinge_sets: list[HingeSet] = []
         for name, rows in structure.hinges.items():
             if rows.shape[0] == 0:
@@ -166,6 +169,8 @@ class BarHingeModel:
                                            x0[rows[:, 3]], derivatives=0)
             if name in ("bend", "fold"):
                 k = np.full(axis.size, k_ribbon)
+                if name == "bend" and self.panel_set is not None:
+                    k = k_ribbon * np.repeat(self.panel_set["beta"], 4)
                 rest = structure.hinge_rest.get(name, theta_ref)
                 lo, hi = t1, t2
             elif name == "strip_contact":
@@ -191,6 +196,27 @@ class BarHingeModel:
         self.external_force = np.zeros(self.ndof)
 
     # ------------------------------------------------------------------ set-up
+    def _panel_bending_set(self, k_ribbon: float) -> dict:
+        """Per panel: nodes (centre, corners), spoke lengths and rest angles, the twist fraction beta
+        (:func:`law.panel_twist_fraction`) and the bending element's stiffness (1 - beta) k."""
+        s = self.structure
+        bend = s.hinges.get("bend", np.zeros((0, 4), dtype=np.int64))
+        p = s.panels.shape[0]
+        rows = bend.reshape(-1, 4, 4) if bend.shape[0] == 4 * p else None
+        if rows is None or not (np.all(rows[:, :, 0] == s.panel_centres[:, None])
+                                and np.all(rows[:, :, 1] == s.panels)):
+            raise InputError("kapton.twist = 'plate': the structure's bend hinges must be the N5B8 "
+                             "spokes, four per panel in panel order (meshes.bar_hinge_structure)")
+        nodes = np.concatenate([s.panel_centres[:, None], s.panels], axis=1)
+        x0 = s.nodes
+        flat = rows.reshape(-1, 4)
+        rest = law.dihedral_angle(*(x0[flat[:, c]] for c in range(4)), derivatives=0).reshape(p, 4)
+        lengths = np.linalg.norm(x0[rows[:, :, 1]] - x0[rows[:, :, 0]], axis=2)
+        width, height = panel_dimensions(s)
+        beta = law.panel_twist_fraction(self.kapton, s.thickness, width, height)
+        return {"nodes": nodes, "lengths": lengths, "rest": rest, "beta": beta,
+                "stiffness": (1.0 - beta) * k_ribbon}
+
     def _kapton_areas(self) -> np.ndarray:
         s = self.structure
         width, height = panel_dimensions(s)
@@ -238,6 +264,10 @@ class BarHingeModel:
             nodes = block["nodes"]
             block["dofs"] = (3 * nodes[:, :, None] + np.arange(3)).reshape(nodes.shape[0], -1)
             self._blocks.append(block)
+        if getattr(self, "panel_set", None) is not None:
+            nodes = self.panel_set["nodes"]
+            self._blocks.append({"kind": "panel", "nodes": nodes, **self.panel_set,
+                                 "dofs": (3 * nodes[:, :, None] + np.arange(3)).reshape(nodes.shape[0], -1)})
         dofs = [b["dofs"] for b in self._blocks]
         start = 0
         for b in self._blocks:  # each block's slice of the COO values
@@ -303,6 +333,9 @@ class BarHingeModel:
                                       derivatives=derivatives)
             elif kind == "hinge":
                 out = self._hinges(block, xs, derivatives, values)
+            elif kind == "panel":
+                out = law.panel_bending_element(*xs, block["lengths"], block["rest"], block["stiffness"],
+                                                derivatives=derivatives)
             else:
                 out = law.unilateral_contact_element(*xs, block["rest_gap"], block["stiffness"],
                                                      derivatives=derivatives)

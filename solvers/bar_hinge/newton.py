@@ -122,7 +122,7 @@ class PathResult:
 ZERO_PIVOT = 1e-12
 
 
-def _factorize(matrix: sp.csc_matrix, diagonal: np.ndarray | None = None, shift: float = 0.0,
+def factorize(matrix: sp.csc_matrix, diagonal: np.ndarray | None = None, shift: float = 0.0,
                ldl: SymbolicLDL | None = None):
     """Factorise ``matrix`` + ``shift`` I; returns (factors with a ``solve`` method, negative pivots,
     zero pivots). ``ldl``: the symbolic LDL^T of the matrix's pattern (:attr:`ReducedHessian.ldl`):
@@ -151,14 +151,14 @@ def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions, 
                   diagonal: np.ndarray | None = None, ldl: SymbolicLDL | None = None):
     """Solve (K + mu I) d = rhs; mu = 0 if K is positive definite (or inertia control is off); with
     ``damping`` > 0, mu >= damping times the largest diagonal entry. ``diagonal``: K's diagonal if
-    known (the shifted matrices' diagonals follow from it). ``ldl``: see :func:`_factorize`."""
+    known (the shifted matrices' diagonals follow from it). ``ldl``: see :func:`factorize`."""
     n = kmat.shape[0]
     diag = kmat.diagonal() if diagonal is None else diagonal
     scale = max(float(np.max(np.abs(diag))) if n else 1.0, 1e-300)
     mu, negative = damping * scale, -1
     for attempt in range(options.max_shifts):
         try:
-            lu, neg, zero = _factorize(kmat, diag + mu, mu, ldl)
+            lu, neg, zero = factorize(kmat, diag + mu, mu, ldl)
         except RuntimeError:  # exactly singular: regularise
             lu, neg, zero = None, n, n
         if attempt == 0:
@@ -197,7 +197,7 @@ def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarra
     shift = 1e-8 * scale
     for _ in range(12):
         try:
-            lu, neg, zero = _factorize(kmat + shift * eye)
+            lu, neg, zero = factorize(kmat + shift * eye)
         except RuntimeError:
             neg, zero = -1, -1
         if neg == 0 and zero == 0:
@@ -225,7 +225,7 @@ def _negligible_negative_curvature(kmat: sp.csc_matrix, reduced: ReducedHessian)
     diag = reduced.diagonal(kmat)
     tau = NEGLIGIBLE_CURVATURE * max(float(np.max(np.abs(diag))) if diag.size else 0.0, 1e-300)
     try:
-        _, negative, zero = _factorize(kmat, diag + tau, tau, reduced.ldl)
+        _, negative, zero = factorize(kmat, diag + tau, tau, reduced.ldl)
     except RuntimeError:
         return False
     return negative == 0 and zero == 0
@@ -306,7 +306,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         if residual <= options.force_tolerance:
             try:
                 kmat = reduced.matrix(coo)
-                negative = _factorize(kmat, reduced.diagonal(kmat), ldl=reduced.ldl)[1]
+                negative = factorize(kmat, reduced.diagonal(kmat), ldl=reduced.ldl)[1]
             except RuntimeError:
                 negative = -1
             if options.inertia_control and negative > 0 and it < budget and escape():

@@ -7,6 +7,8 @@ cases and the benchmarks.
 
 * :func:`setup_beam` — structure, model, held DOFs and the ramp, built before solving;
 * :func:`solve_beam` — the ramp from the as-built state (:func:`lcefem.solvers.bar_hinge.follow_path`);
+* :class:`CompositeBeamBH` — the same beam as a problem (the Problem protocol: drives lambda per
+  strip tag, advance, observables, save/restore);
 * :class:`BeamConfig`, :func:`run_beam` — ``lcefem run beam``: the configuration sections and one
   run through the run skeleton (history.csv, beam.pvd + beam_steps/*.vtp, summary.json).
 
@@ -26,13 +28,16 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
 from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.empirical import Eq2, eq2_curvature
+from lcefem.models.errors import InputError
 from lcefem.models.limits import check_lambda
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, isostatic_supports)
-from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 
@@ -122,6 +127,81 @@ def solve_beam(lambda_top: float, lambda_bottom: float,
                         beam_curvature(setup.structure, result.states[-1].x))
 
 
+class CompositeBeamBH:
+    """The bar-and-hinge beam as a problem (lcefem.solvers.problems.protocol.Problem): the strips'
+    relative lengths lambda_T, lambda_B [-] are the drives (tags ``top_strips``, ``bottom_strips``),
+    reached by :meth:`advance` along the path follower from the present state, the rest fractions
+    ramped linearly as in :func:`solve_beam` (which is the same path in one call)."""
+
+    drive = "lambda [-]"
+
+    def __init__(self, geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                 mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
+                 materials: BarHingeMaterials = BarHingeMaterials(), *,
+                 newton_options: NewtonOptions = NewtonOptions(), path: PathOptions = BEAM_PATH):
+        self.lambda_N = materials.lce.lambda_N
+        self.newton_options, self.path = newton_options, path
+        setup = setup_beam(self.lambda_N, self.lambda_N, geometry, mesh, materials)
+        self.structure, self.model, self.held = setup.structure, setup.model, setup.held
+        self._fixed = self.model.reference.reshape(-1)[self.held].copy()
+        self.x = self.structure.nodes.copy()
+        self.lambdas = {tag: self.lambda_N for tag in self.drive_tags()}  # reached [-]
+        self.targets = dict(self.lambdas)  # set [-]
+
+    def drive_tags(self) -> tuple[str, ...]:
+        present = {b.name for b in self.model.strip_sets()}
+        return tuple(t for t in ("top_strips", "bottom_strips") if t in present)
+
+    def set_drives(self, drives) -> None:
+        for tag, value in drives.items():
+            if tag not in self.drive_tags():
+                raise InputError(f"drive {tag!r}: not a strip tag of the beam (allowed "
+                                 f"{', '.join(self.drive_tags())})")
+            self.targets[tag] = check_lambda(f"lambda[{tag}]", value, self.lambda_N)
+
+    def advance(self, dt: float = 1.0, on_step: Callable[[PathState], None] | None = None,
+                progress: Callable[[float], None] | None = None) -> PathResult:
+        """The fraction ``dt`` (0 < dt <= 1) of the way from the present lambdas to the targets,
+        the rest fractions f = lambda/lambda_N ramped linearly (from the as-built state the ramp of
+        :func:`beam_load`, to the last bit); ``on_step(state)`` after every converged increment
+        (its ``t`` the fraction of this advance), ``progress(t)``. Raises ConvergenceError (the
+        present state is kept)."""
+        frac = check_quasi_static_step(dt)
+        start = dict(self.lambdas)
+        goal = {k: start[k] + frac * (self.targets[k] - start[k]) for k in start}
+        f0 = {k: float(self.model.lce.rest_fraction(v)) for k, v in start.items()}
+        f1 = {k: float(self.model.lce.rest_fraction(v)) for k, v in goal.items()}
+
+        def load(t: float) -> np.ndarray:
+            self.model.set_rest_fractions({k: f0[k] + t * (f1[k] - f0[k]) for k in start})
+            return self._fixed
+
+        try:
+            result = follow_path(self.model, self.x, self.held, load, newton_options=self.newton_options,
+                                 path_options=self.path, on_step=on_step, progress=progress)
+        except Exception:
+            self.model.set_rest_fractions({k: v / self.lambda_N for k, v in start.items()})
+            raise
+        self.x, self.lambdas = result.states[-1].x.copy(), goal
+        self.model.set_rest_fractions({k: v / self.lambda_N for k, v in goal.items()})
+        return result
+
+    def observables(self) -> dict[str, float]:
+        return {**{f"lambda {k} [-]": v for k, v in self.lambdas.items()},
+                "curvature [1/mm]": float(beam_curvature(self.structure, self.x))}
+
+    def fields(self) -> dict:
+        return {"node positions [mm]": self.x}
+
+    def save_state(self) -> dict:
+        return {"x": self.x.copy(), "lambdas": dict(self.lambdas), "targets": dict(self.targets)}
+
+    def restore_state(self, state: dict) -> None:
+        self.x = state["x"].copy()
+        self.lambdas, self.targets = dict(state["lambdas"]), dict(state["targets"])
+        self.model.set_rest_fractions({k: v / self.lambda_N for k, v in self.lambdas.items()})
+
+
 # -- one run (``lcefem run beam``) ---------------------------------------------------------------
 @dataclass(frozen=True)
 class BeamRun:
@@ -164,15 +244,16 @@ SIGN_CONVENTION = ("positive when the beam bends towards its bottom strips (top 
 
 
 def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
-    """Ramp the bar-and-hinge beam to ``config.run``'s lambdas through the run skeleton and write
-    history.csv (:data:`COLUMNS`), beam.pvd + beam_steps/*.vtp and summary.json into ``out``;
-    returns the summary. ``report(out, config, solution, history) -> dict`` (optional: the
-    validation's plots and notes) runs before the summary is written; its entries join the results."""
+    """Drive :class:`CompositeBeamBH` to ``config.run``'s lambdas through the runner
+    (:func:`lcefem.solvers.runner.run_quasi_static`) and write history.csv (:data:`COLUMNS`),
+    beam.pvd + beam_steps/*.vtp and summary.json into ``out``; returns the summary.
+    ``report(out, config, solution, history) -> dict`` (optional: the validation's plots and notes)
+    runs before the summary is written; its entries join the results."""
     cfg = config.validated()
     out = pathlib.Path(out)
     lam_t, lam_b, lam_n = cfg.run.lambda_top, cfg.run.lambda_bottom, cfg.lce.lambda_N
-    setup = setup_beam(lam_t, lam_b, cfg.geometry, cfg.mesh, cfg.materials)
-    structure, model = setup.structure, setup.model
+    problem = CompositeBeamBH(cfg.geometry, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    structure, model = problem.structure, problem.model
 
     def row(state) -> dict:
         forces = model.bar_forces(state.x)
@@ -185,15 +266,14 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, repor
                 if "top_strips" in forces else 0.0,
                 "newton iterations [-]": state.iterations}
 
-    bar = Progress(1.0, f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
     started = time.perf_counter()
-    with bar_hinge_run(out, "beam", structure, model, config=cfg.resolved(), columns=COLUMNS, row=row,
-                       progress=bar) as (run, on_step):
-        solution = solve_beam(lam_t, lam_b, newton_options=cfg.solver, path=cfg.path,
-                              on_step=on_step, progress=bar.to, setup=setup)
+
+    def summarize(run, path: PathResult) -> dict:
+        solution = BeamSolution(lam_t, lam_b, structure, model, path,
+                                beam_curvature(structure, path.states[-1].x))
         history = run.history
         extra = report(out, cfg, solution, history) if report is not None else {}
-        return run.complete({
+        return {
             "model": "bar-hinge",
             "results": {
                 "curvature [1/mm]": solution.curvature,
@@ -203,9 +283,17 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, repor
                 "bottom strip force [N]": float(history.column("bottom strip force [N]")[-1]),
                 "top strip force [N]": float(history.column("top strip force [N]")[-1]),
             },
-            "dofs": int(solution.model.ndof), "nodes": int(structure.num_nodes),
-            "increments": len(solution.path.states) - 1,
-            "newton_iterations": int(sum(solution.path.newton_iterations)),
-            "failed_increments": solution.path.failed_increments,
+            "dofs": int(model.ndof), "nodes": int(structure.num_nodes),
+            "increments": len(path.states) - 1,
+            "newton_iterations": int(sum(path.newton_iterations)),
+            "failed_increments": path.failed_increments,
             "wall_time [s]": time.perf_counter() - started,
-        })
+        }
+
+    drives = {tag: {"top_strips": lam_t, "bottom_strips": lam_b}[tag] for tag in problem.drive_tags()}
+    return run_quasi_static(problem, drives, out, config=cfg.resolved(),
+                            history=HistoryExport(tuple(COLUMNS), row),
+                            fields=BarHingeFrames("beam", structure, model),
+                            progress=Progress(1.0, f"beam lambda_T={lam_t:g} lambda_B={lam_b:g}", "load",
+                                              ".3f", progress),
+                            summarize=summarize)

@@ -1,8 +1,9 @@
 """One run of the FE composite beam (``lcefem run beam --model fe``): the configuration sections
 (:class:`BeamFEConfig`) and :func:`run_beam_fe` through the run skeleton (lcefem.solvers.runtime.run),
-around the problems of :mod:`lcefem.solvers.problems.composite_beam` (the lambda ramp of
+around the problems of :mod:`lcefem.solvers.problems.composite_beam`, both through the runner
+(:mod:`lcefem.solvers.runner`): the lambda ramp of
 :class:`~lcefem.solvers.problems.composite_beam.BeamFE`, or a coil current through
-:func:`~lcefem.solvers.problems.composite_beam.beam_fe_heated`)."""
+:class:`~lcefem.solvers.problems.composite_beam.HeatedBeamFE` in time."""
 
 from __future__ import annotations
 
@@ -15,15 +16,17 @@ from lcefem.meshes.composite_beam_fe import BeamFEMesh
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
+from lcefem.models.errors import InputError
 from lcefem.models.limits import check_lambda
 from lcefem.solvers.contact import PenaltyContact
 from lcefem.solvers.continuation import PathControl
-from lcefem.solvers.exports import FieldExport
-from lcefem.solvers.problems.composite_beam import (BeamActuation, BeamFE, FEMaterials, HeatedBeamRun,
-                                                    beam_fe_heated)
+from lcefem.solvers.exports import FEFields
+from lcefem.solvers.problems.composite_beam import (HEATED_STRIPS, BeamActuation, BeamFE, FEMaterials,
+                                                    HeatedBeamFE, HeatedBeamRun)
 from lcefem.solvers.problems.composite_beam_bh import SIGN_CONVENTION, BeamRun
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.solvers.runner import HistoryExport, run_in_time, run_quasi_static
+from lcefem.solvers.runtime.run import Progress
 
 
 @dataclass(frozen=True)
@@ -68,7 +71,7 @@ HEAT_COLUMNS = ["time [s]", "curvature [1/mm]", "T_mean bottom_strips [C]", "T_m
 def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
     """Run the FE beam through the run skeleton: the lambda ramp (history.csv of :data:`FE_COLUMNS`,
     displacement.bp, summary.json) or, when ``heat_run.current`` > 0, the coil current
-    (:func:`beam_fe_heated`; history.csv of :data:`HEAT_COLUMNS`). Returns the summary.
+    (:func:`run_beam_fe_heated`; history.csv of :data:`HEAT_COLUMNS`). Returns the summary.
     ``report(out, cfg, model, history) -> dict`` (optional: the validation's plots and notes) runs
     before the summary is written; its entries join the results."""
     cfg = cfg.validated()
@@ -78,27 +81,21 @@ def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, rep
     lam_t, lam_b = cfg.run.lambda_top, cfg.run.lambda_bottom
     started = time.perf_counter()
     model = BeamFE(cfg.geometry, cfg.mesh, cfg.materials, cfg.actuation, cfg.contact, cfg.path)
-    bar = Progress(1.0, f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", "load", ".3f", progress)
-    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
-        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
-        fields.write(0.0)
+    check_lambda("lambda_top", lam_t, cfg.actuation.lambda_N)
+    check_lambda("lambda_bottom", lam_b, cfg.actuation.lambda_N)
 
-        def on_step(state) -> None:
-            run.record({"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
-                        "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
-                        "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top, state.lambda_bottom,
-                                                                    cfg.eq2)),
-                        "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
-                        "newton iterations [-]": state.iterations},
-                       where=f"lambda = ({state.lambda_top:.5g}, {state.lambda_bottom:.5g})",
-                       at=state.load_factor)
-            fields.write(state.load_factor)
+    def row(state) -> dict:
+        return {"load factor [-]": state.load_factor, "lambda_top [-]": state.lambda_top,
+                "lambda_bottom [-]": state.lambda_bottom, "curvature [1/mm]": state.curvature,
+                "eq2 curvature [1/mm]": float(eq2_curvature(state.lambda_top, state.lambda_bottom, cfg.eq2)),
+                "contact force [N]": state.contact_force, "min gap [mm]": state.min_gap,
+                "newton iterations [-]": state.iterations}
 
-        model.ramp(lam_t, lam_b, on_step=on_step)
+    def summarize(run, states) -> dict:
         history = run.history
         extra = report(out, cfg, model, history) if report is not None else {}
         follower = model.last_follower
-        return run.complete({
+        return {
             "model": "fe",
             "results": {
                 "curvature [1/mm]": model.curvature(),
@@ -110,23 +107,42 @@ def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, rep
             "dofs": model.ndofs, "cells": model.tmesh.info["cells"], "symmetry": model.tmesh.info["symmetry"],
             "steps": len(history.rows), "newton_iterations": follower.iterations,
             "cut_steps": follower.cuts, "wall_time [s]": time.perf_counter() - started,
-        })
+        }
+
+    history = HistoryExport(tuple(FE_COLUMNS), row,
+                            where=lambda s: f"lambda = ({s.lambda_top:.5g}, {s.lambda_bottom:.5g})",
+                            at=lambda s: s.load_factor)
+    fields = FEFields("displacement.bp", (model.u,), model.tmesh.mesh.comm, lambda s: s.load_factor)
+    return run_quasi_static(model, {"top_strips": lam_t, "bottom_strips": lam_b}, out, config=cfg.resolved(),
+                            history=history, fields=fields,
+                            progress=Progress(1.0, f"beam (FE) lambda_T={lam_t:g} lambda_B={lam_b:g}", "load",
+                                              ".3f", progress),
+                            summarize=summarize, progress_scale=None)
 
 
 def run_beam_fe_heated(cfg: BeamFEConfig, out: pathlib.Path, progress: bool, report) -> dict:
-    run_cfg = cfg.heat_run
-    bar = Progress(run_cfg.duration, f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",
-                   enabled=progress)
+    """The heated FE beam (:class:`HeatedBeamFE`, ``heat_run.current`` through the ``heat_run.heated``
+    strips) in time through the runner (:func:`lcefem.solvers.runner.run_in_time`)."""
+    run_cfg = cfg.heat_run.checked()
+    if not run_cfg.current > 0:
+        raise InputError(f"heat_run.current = {run_cfg.current} A: must be > 0 A for a heated run")
     started = time.perf_counter()
     coil = GridSegmentCoil()
-    with Run(out, config=cfg.resolved(), columns=HEAT_COLUMNS, progress=bar) as run:
-        model, rows, _ = beam_fe_heated(
-            run_cfg, cfg.geometry, cfg.mesh, cfg.materials, cfg.contact, coil=coil,
-            on_step=lambda row: run.record(row, where=f"t = {row['time [s]']:.4g} s", at=row["time [s]"]))
-        extra = report(out, cfg, model, run.history) if report is not None else {}
-        return run.complete({
+    beam = HeatedBeamFE(HEATED_STRIPS[run_cfg.heated], cfg.geometry, cfg.mesh, cfg.materials, cfg.contact,
+                        None, None, None, None, coil, dt=run_cfg.dt)
+
+    def summarize(run, rows) -> dict:
+        extra = report(out, cfg, beam.model, run.history) if report is not None else {}
+        return {
             "model": "fe", "drive": "current",
             "results": {"curvature [1/mm]": float(run.history.column("curvature [1/mm]")[-1]),
                         "T_mean bottom strips [C]": float(run.history.column("T_mean bottom_strips [C]")[-1]),
                         "coil resistance per strip [ohm]": coil.resistance, **(extra or {})},
-            "steps": len(rows) - 1, "wall_time [s]": time.perf_counter() - started})
+            "steps": len(rows) - 1, "wall_time [s]": time.perf_counter() - started}
+
+    return run_in_time(beam, {tag: run_cfg.current for tag in beam.heated}, out, duration=run_cfg.duration,
+                       dt=run_cfg.dt, config=cfg.resolved(), columns=HEAT_COLUMNS,
+                       progress=Progress(run_cfg.duration,
+                                         f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",
+                                         enabled=progress),
+                       summarize=summarize)

@@ -81,7 +81,6 @@ from lcefem.solvers.contact import (NodalDamping, NodalLoad, PenaltyContact, Rig
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
 from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
-from lcefem.solvers.problems.gridshell_bh_run import SHAPE_DRIVES
 from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
@@ -92,13 +91,6 @@ PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_Li
 _prefix = itertools.count()
 #: Standard gravity [mm/s^2] (m/s^2 x 1e3: lengths in mm).
 STANDARD_GRAVITY = 9.80665e3
-#: The paper's lambda settings of the four Fig. 4 shapes, per channel (seed 001, Fig. 4 B-E; defined
-#: once, in the bar-and-hinge gridshell problem).
-FIG4_SHAPES = {name: dict(drive["lambdas"]) for name, drive in SHAPE_DRIVES.items()}
-#: Supports of each shape in the published example script (shared/reference/gridshell_recipes.md);
-#: the bar-and-hinge "clamp" (centre junction held) is the FE "centre_clamp".
-PUBLISHED_SUPPORTS = {name: {"clamp": "centre_clamp"}.get(drive["support"], drive["support"])
-                      for name, drive in SHAPE_DRIVES.items()}
 #: First trial step of :meth:`GridshellFE.settle`'s residual homotopy [-] (chosen: a tenth of the
 #: start's residual per step; the whole offset at once is full Newton from the start state, which
 #: at level 1 of the dome went 55 -> 919 -> 27 -> 1e4 N to an inverted element).
@@ -720,16 +712,5 @@ def _is_full_group(name: str, n: int) -> bool:
             and 1 <= int(name[2:]) <= n)
 
 
-def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **config) -> GridshellFE:
-    """A :class:`GridshellFE` with the published supports of a Fig. 4 shape (not yet ramped)."""
-    if name not in FIG4_SHAPES:
-        raise InputError(f"shape {name!r}: allowed {', '.join(FIG4_SHAPES)}")
-    supports = config.pop("supports", GridshellSupports(kind=PUBLISHED_SUPPORTS[name]))
-    cfg = GridshellConfig(mesh=GridshellFEMesh(level=mesh_level), symmetry=symmetry,
-                          supports=supports, **config)
-    return GridshellFE(cfg)
-
-
-__all__ = ["FIG4_SHAPES", "GridshellConfig", "GridshellFE", "GridshellMaterials",
-           "GridshellState", "GridshellSupports", "PUBLISHED_SUPPORTS", "SUPPORT_KINDS",
-           "fig4_shape", "lce_strip_energy", "von_mises"]
+__all__ = ["GridshellConfig", "GridshellFE", "GridshellMaterials", "GridshellState",
+           "GridshellSupports", "SUPPORT_KINDS", "lce_strip_energy", "von_mises"]

@@ -31,9 +31,9 @@ linearly from the current ones to the targets: the paper's quasi-static route) b
 
 The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`, :func:`solve_gridshell`,
 ...) are used by the study (:mod:`lcefem.validation.gridshell_bh`: the paper's curvatures), which
-re-exports them. The paper's Fig. 4 programs (``SHAPE_DRIVES``), the published recipes
-(``RECIPES``), and one run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
-are in :mod:`lcefem.solvers.problems.gridshell_bh_run`; the current route (currents -> lambdas) is
+re-exports them. One run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
+is in :mod:`lcefem.solvers.problems.gridshell_bh_run`; the paper's Fig. 4 programs and the published
+recipes are validation data (:mod:`lcefem.validation.programs`); the current route (currents -> lambdas) is
 :class:`lcefem.models.lumped_heat.CurrentRoute`.
 
 Units: mm, N, t, s.

@@ -1,7 +1,9 @@
 """One run of ``lcefem run gridshell`` in the bar-and-hinge model (:class:`GridshellBHRunConfig`,
-:func:`run_gridshell`) and the programs it runs: the paper's Fig. 4 drives (:data:`SHAPE_DRIVES`),
-the published recipes (:data:`RECIPES`) and the configuration departures (:data:`DEPARTURES`). The
-problem itself is :class:`lcefem.solvers.problems.gridshell_bh.GridshellBH`.
+:func:`run_gridshell`) and the configuration departures (:data:`DEPARTURES`). The programs it runs
+(named shapes: lambdas, currents and support per shape; named recipes: P0 per group and support) are
+given with the configuration (``GridshellBHRunConfig.shapes``, ``.recipes``): the experiments' data,
+which the caller reads (the command line: lcefem.validation.programs). The problem itself is
+:class:`lcefem.solvers.problems.gridshell_bh.GridshellBH`.
 
 Units: mm, N, t, s.
 """
@@ -32,50 +34,6 @@ from lcefem.solvers.problems.gridshell_bh import (GRIDSHELL_PATH, RAMP_NEWTON, S
                                                  targets_from_recipe)
 
 
-
-#: :data:`SHAPE_DRIVE_SOURCES`; the curvatures the paper reports are validation data,
-#: lcefem.validation.gridshell_bh.SHAPES).
-#: Supports: the published script's (Examples2D.m: the 8 outer-ribbon rollers for dome, cylinder
-#: and table, the centre clamp for the saddle), as the 3D FE gridshell holds them; on them the
-#: cylinder curves 0.0152 / 0.0089 1/mm against 0.0131 / 0.0111 on the middle ribbons' ends (paper:
-#: 0.018 / 0; FE: 0.0147 / 0.0047), table and dome do not change (issue 30,
-#: docs/gridshell_configuration.md).
-SHAPE_DRIVES = {
-    "table": {"lambdas": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
-              "currents": {"Tx": 0.2, "Ty": 0.2, "Bx": 0.2, "By": 0.2}, "support": "rollers"},
-    "dome": {"lambdas": {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05},
-             "currents": {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}, "support": "rollers"},
-    "saddle": {"lambdas": {"Tx": 1.33, "Ty": 1.05, "Bx": 1.05, "By": 1.33},
-               "currents": {"Tx": 0.04, "Ty": 0.07, "Bx": 0.07, "By": 0.04}, "support": "clamp"},
-    "cylinder": {"lambdas": {"Tx": 1.05, "Ty": 1.33, "Bx": 1.33, "By": 1.33},
-                 "currents": {"Tx": 0.07, "Ty": 0.04, "Bx": 0.04, "By": 0.04}, "support": "rollers"},
-}
-SHAPE_DRIVE_SOURCES = {
-    "lambdas": "seed 001, Results (Fig. 4 B-E): dome lambda_T = 1.33, lambda_B = 1.05; saddle Tx = By = "
-               "1.33, Ty = Bx = 1.05; cylinder Ty = Bx = By = 1.33, Tx = 1.05; table all 1.05",
-    "currents": "dome: seed 001, Results: 'I_Bx = I_By = 0.07 A and I_Tx = I_Ty = 0.04 A, according to "
-                "Fig. 2C' (after ~20 s at 0.1 A top / 0.2 A bottom); saddle and cylinder: the same "
-                "Fig. 2C pair (0.07 A for lambda = 1.05, 0.04 A for 1.33) channel by channel, as the "
-                "text says 'the other geometries are programmed similarly'; table: 0.2 A on all "
-                "strips (Fig. 5C: 'we applied 0.2 A to all LCE strips', then 0.1 A), i.e. fully "
-                "contracted (lambda = 1, Eq. 1)",
-}
-
-#: The published model's recipes: target rest fraction P0 per group (lambda = 1.4 P0), and support
-#: (shared/reference/gridshell_recipes.md).
-RECIPES = {
-    "saddle": ({"XD": 0.75, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "clamp"),
-    "dome": ({"XD": 0.75, "YD": 0.75, "XU": 0.95, "YU": 0.95}, "rollers"),
-    "cylinder": ({"XD": 0.95, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "rollers"),
-    "table": ({"XD": 0.75, "YD": 0.75, "XU": 0.72, "YU": 0.72}, "rollers"),
-    "cone": ({"XD1": 0.75, "XD2": 0.85, "XD3": 0.95, "YD": 0.90, "XU": 0.95, "YU": 0.90}, "clamp"),
-    "twisted": ({"XD1": 0.85, "XD2": 0.80, "XD3": 0.95, "YD": 0.90, "XU1": 0.95, "XU2": 0.80,
-                 "XU3": 0.85, "YU": 0.90}, "clamp"),
-    "wave": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.75, "YD": 0.90, "XU:x<70.5": 0.75, "XU:x>70.5": 0.95,
-              "YU": 0.90}, "clamp"),
-    "dustpan": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.85, "YD": 0.95, "XU:x<70.5": 0.80,
-                 "XU:x>70.5": 0.95, "YU": 0.80}, "clamp"),
-}
 #: Our departures from the published configuration, each a named option (``run.departures``,
 #: ``--departure``) on top of it: what it changes and why we have it.
 DEPARTURES = {
@@ -121,8 +79,6 @@ def published_configuration(mesh: BeamBarHingeMesh, lce: law.LCEStripBars, suppo
     if "middle_rollers" in dep and support == "rollers":
         support = "middle_rollers"
     return mesh, lce, support
-RECIPE_SOURCE = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK), restated in "
-                 "shared/reference/gridshell_recipes.md")
 
 
 #: How a named shape is driven (GridshellRun.route).
@@ -133,10 +89,10 @@ ROUTES = ("lambda", "current")
 class GridshellRun:
     """What the experimenter chooses: a named shape or recipe, and the support."""
 
-    shape: str = param("", "-", "one of the paper's Fig. 4 shapes: " + ", ".join(SHAPE_DRIVES)
-                       + " (seed 001; lambdas per channel)")
-    recipe: str = param("", "-", "one of the published recipes: " + ", ".join(RECIPES)
-                        + " (" + RECIPE_SOURCE + ")")
+    shape: str = param("", "-", "a named shape of the configuration's programs (shapes: lambdas and "
+                       "currents per channel, support)")
+    recipe: str = param("", "-", "a named recipe of the configuration's programs (recipes: rest "
+                        "fraction P0 per group, support)")
     support: str = param("", "-", "clamp, rollers, middle_rollers or table (default: the published "
                          "support of the shape/recipe, rollers otherwise)")
     configuration: str = param("", "-", "'published' (the published model: no strip-ribbon contact, "
@@ -154,10 +110,6 @@ class GridshellRun:
             raise InputError(f"run.route = {self.route!r}: allowed {', '.join(ROUTES)}")
         if self.route == "current" and not self.shape:
             raise InputError("run.route = 'current': needs a shape (--shape); give currents with --current")
-        if self.shape and self.shape not in SHAPE_DRIVES:
-            raise InputError(f"run.shape = {self.shape!r}: allowed {', '.join(SHAPE_DRIVES)}")
-        if self.recipe and self.recipe not in RECIPES:
-            raise InputError(f"run.recipe = {self.recipe!r}: allowed {', '.join(RECIPES)}")
         if self.shape and self.recipe:
             raise InputError("run.shape and run.recipe: give one of them")
         if self.support and self.support not in SUPPORTS:
@@ -192,6 +144,11 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     path: PathOptions = field(default_factory=lambda: GRIDSHELL_PATH)
     lambdas: dict = field(default_factory=dict)  # selection -> lambda [-]
     currents: dict = field(default_factory=dict)  # selection -> current [A]
+    #: The named programs run.shape and run.recipe choose from (the experiments' data, given by the
+    #: caller): shape -> {"lambdas": {channel: lambda [-]}, "currents": {channel: current [A]},
+    #: "support"}; recipe -> ({group: P0 [-]}, support).
+    shapes: dict = field(default_factory=dict)
+    recipes: dict = field(default_factory=dict)
 
     PARAM_SECTIONS = ("run", "geometry", "layout", "mesh", "kapton", "lce", "glue", "strip_contact",
                       "contact", "weight", "current_route", "solver", "path")
@@ -200,6 +157,10 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         for name in self.PARAM_SECTIONS:
             check(getattr(self, name), name)
         self.run.checked()
+        if self.run.shape and self.run.shape not in self.shapes:
+            raise InputError(f"run.shape = {self.run.shape!r}: allowed {', '.join(self.shapes)}")
+        if self.run.recipe and self.run.recipe not in self.recipes:
+            raise InputError(f"run.recipe = {self.run.recipe!r}: allowed {', '.join(self.recipes)}")
         self.layout.checked()
         self.mesh.checked()
         self.current_route.checked()
@@ -220,9 +181,9 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         if self.run.support:
             return self.run.support
         if self.run.shape:
-            return SHAPE_DRIVES[self.run.shape]["support"]
+            return self.shapes[self.run.shape]["support"]
         if self.run.recipe:
-            return RECIPES[self.run.recipe][1]
+            return self.recipes[self.run.recipe][1]
         return "rollers"
 
     @property
@@ -232,7 +193,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         if self.run.resolved_configuration == "published":
             support = self.named_support
             if not self.run.support and self.run.shape:  # the published support of the shape
-                support = "clamp" if SHAPE_DRIVES[self.run.shape]["support"] == "clamp" else "rollers"
+                support = "clamp" if self.shapes[self.run.shape]["support"] == "clamp" else "rollers"
             return published_configuration(self.mesh, self.lce, support, self.run.departures)
         return self.mesh, self.lce, self.named_support
 
@@ -264,10 +225,10 @@ def strip_targets(cfg: GridshellBHRunConfig, structure: BarHingeStructure) -> tu
     """(rest fractions per bar by group, description of the drive) for the configuration."""
     lam_n = cfg.lce.lambda_N
     if cfg.run.recipe:
-        recipe = RECIPES[cfg.run.recipe][0]
+        recipe = cfg.recipes[cfg.run.recipe][0]
         return targets_from_recipe(structure, recipe), {"recipe": cfg.run.recipe, "P0": recipe}
     if cfg.run.shape and cfg.run.route == "current":
-        currents = shape_currents(SHAPE_DRIVES[cfg.run.shape]["lambdas"], cfg.current_route.strip.resistance)
+        currents = shape_currents(cfg.shapes[cfg.run.shape]["lambdas"], cfg.current_route.strip.resistance)
         lambdas = lambda_assignments_from_currents(currents, cfg.current_route, lam_n)
         return targets_from_lambdas(structure, lambdas, lam_n, "current"), {
             "shape": cfg.run.shape, "route": "current", "current [A]": currents,
@@ -275,7 +236,7 @@ def strip_targets(cfg: GridshellBHRunConfig, structure: BarHingeStructure) -> tu
                             "(models.lumped_heat.eq1_current)",
             "lambda (from current)": lambdas, "thermal model": cfg.current_route.thermal_model}
     if cfg.run.shape:
-        lambdas = SHAPE_DRIVES[cfg.run.shape]["lambdas"]
+        lambdas = cfg.shapes[cfg.run.shape]["lambdas"]
         return targets_from_lambdas(structure, lambdas, lam_n), {"shape": cfg.run.shape, "lambda": lambdas}
     if cfg.currents:
         lambdas = lambda_assignments_from_currents(cfg.currents, cfg.current_route, lam_n)

@@ -289,18 +289,20 @@ def columns_for(schedule: Schedule) -> list[str]:
 def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool = True,
                  structure: BarHingeStructure | None = None, frames: bool = True,
                  config: dict | None = None, snapshot=None, report=None, scales=None,
-                 frame=None) -> dict:
+                 frame=None, materials: BarHingeMaterials = BarHingeMaterials()) -> dict:
     """Run a schedule through the run skeleton (outputs in the module docstring); returns the summary
     (with ``history``: the columns as lists). With ``out``: ``snapshot(out, phase, label, t,
     structure, x, support)`` at the last output of each phase and ``report(out, history, schedule)``
     before the summary is written (optional: the validation's figures). ``scales``: a
     :class:`lcefem.models.cover_scales.CoverScales` puts the cover scales on the surface;
-    ``frame(k, t, structure, x)`` is called at every output (e.g. a movie's frames)."""
+    ``frame(k, t, structure, x)`` is called at every output (e.g. a movie's frames). ``materials``
+    and ``structure`` choose the model (e.g. the FE-calibrated set of
+    :func:`lcefem.validation.calibrate.model_set`: a structure with ``strip_element = "beam"``)."""
     structure = structure or build_gridshell_bar_hinge()
     check_selections(schedule, structure)
     times = schedule.output_times()
     temps, lambdas = strip_histories(schedule, times)
-    surface = QuasiStaticSurface(structure, schedule.support, scales=scales)
+    surface = QuasiStaticSurface(structure, schedule.support, materials, scales=scales)
     snapshots = phase_ends(schedule, times)
     bar = Progress(float(times[-1]), "sequence", "s", ".0f", progress)
     started = time.perf_counter()

@@ -37,11 +37,6 @@ from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
 from lcefem.solvers.thermomechanics import TemperatureFollower, temperature_path
 
 _prefix = itertools.count()
-#: The paper's dome protocol (seed 001, Results: "0.1 A on the top strips and 0.2 A on the bottom
-#: strips for about 20 s, then 0.04 A and 0.07 A held"): (start time [s], currents [A] per channel).
-DOME_PROTOCOL = ((0.0, {"Tx": 0.1, "Ty": 0.1, "Bx": 0.2, "By": 0.2}),
-                 (20.0, {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}))
-
 #: Largest change [K] of the steady temperature between two sweeps of
 #: :meth:`HeatedGridshellFE.steady_hold` that ends them (chosen: lambda_s(T) is steepest at T_NI,
 #: 0.0169 per K for models.lce.NematicTransition, so 1e-3 K moves lambda by at most 1.7e-5).
@@ -260,7 +255,7 @@ class HeatedGridshellFE(GridshellFE):
             self.wall_time += time.perf_counter() - started
         return {**self.observables(), "newton iterations [-]": its}
 
-    def run_protocol(self, protocol=DOME_PROTOCOL, duration: float = 60.0, dt: float = 1.0,
+    def run_protocol(self, protocol, duration: float = 60.0, dt: float = 1.0,
                      on_step: Callable[[dict], None] | None = None) -> list[dict]:
         """Currents switched at the protocol's times ((t [s], {selector: I [A]}), first at 0),
         held until the next switch, stepped with ``dt`` [s] up to ``duration`` [s]; one row of
@@ -378,4 +373,4 @@ class HeatedGridshellFE(GridshellFE):
         self.stepper.time = state["time"]
 
 
-__all__ = ["DOME_PROTOCOL", "JUNCTION_HEATING", "STEADY_TEMPERATURE_TOL", "HeatedGridshellFE"]
+__all__ = ["JUNCTION_HEATING", "STEADY_TEMPERATURE_TOL", "HeatedGridshellFE"]

@@ -33,9 +33,10 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, held_dofs, newton)
-from lcefem.solvers.exports import bar_hinge_run
 from lcefem.solvers.problems.protocol import check_quasi_static_step
 from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the end shortening (0 -> 50 %); small increments resolve the force curve.
@@ -210,14 +211,18 @@ class KaptonSpecimenBH:
                                  f"{0.95 * self.specimen.length:g}) mm (95 % of the free length)")
             self.target_shortening = float(value)
 
-    def advance(self, dt: float = 1.0) -> PathResult:
+    def advance(self, dt: float = 1.0, on_step: Callable[[PathState], None] | None = None,
+                progress: Callable[[float], None] | None = None) -> PathResult:
         """The fraction ``dt`` (0 < dt <= 1) of the way from the present end shortening to the
-        target; raises ConvergenceError (the present state is kept)."""
+        target (from the flat specimen the path of :func:`setup_specimen`, to the last bit);
+        ``on_step(state)`` after every converged increment, ``progress(t)``. Raises
+        ConvergenceError (the present state is kept)."""
         start = self.shortening
         goal = start + check_quasi_static_step(dt) * (self.target_shortening - start)
         result = follow_path(self.model, self.x, self.held,
                              lambda t: self._base - np.where(self._moving, start + t * (goal - start), 0.0),
-                             newton_options=self.newton_options, path_options=self.path)
+                             newton_options=self.newton_options, path_options=self.path, on_step=on_step,
+                             progress=progress)
         last = result.states[-1]
         self.x, self.shortening = last.x.copy(), goal
         self.force = compressive_force(last.reactions, self.held, self.right_x)
@@ -292,47 +297,56 @@ COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterat
 
 def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True,
                  report=None) -> dict:
-    """The bar-and-hinge buckling test through the run skeleton: the path to ``run.compression``
-    (history.csv of :data:`COLUMNS`, ribbon.pvd + ribbon_steps/*.vtp), the critical load of the
-    perfect specimen and the closed forms (summary.json); returns the summary.
+    """The bar-and-hinge buckling test: :class:`KaptonSpecimenBH` driven to ``run.compression``
+    through the runner (:func:`lcefem.solvers.runner.run_quasi_static`; history.csv of
+    :data:`COLUMNS`, ribbon.pvd + ribbon_steps/*.vtp), the critical load of the perfect specimen
+    and the closed forms (summary.json); returns the summary.
     ``report(out, cfg, solution, critical_load [N], closed_forms) -> dict`` (optional: the
     validation's plot and measured values) runs before the summary is written; its entries join
     the results."""
     cfg = config.validated()
     out = pathlib.Path(out)
-    setup = setup_specimen(cfg.run.compression, cfg.specimen, cfg.mesh, cfg.materials)
-    model, length = setup.model, cfg.specimen.length
+    problem = KaptonSpecimenBH(cfg.specimen, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    model, length, compression_max = problem.model, cfg.specimen.length, cfg.run.compression
+
+    def force(state) -> float:
+        return compressive_force(state.reactions, problem.held, problem.right_x)
 
     def row(state) -> dict:
-        c = state.t * cfg.run.compression
-        return {"compression [-]": c, "end shortening [mm]": c * length, "force [N]": setup.force(state),
+        c = state.t * compression_max
+        return {"compression [-]": c, "end shortening [mm]": c * length, "force [N]": force(state),
                 "newton iterations [-]": state.iterations}
 
-    bar = Progress(100 * cfg.run.compression, "ribbon buckling", "%", enabled=progress)
     started = time.perf_counter()
-    with bar_hinge_run(out, "ribbon", setup.structure, model, config=cfg.resolved(), columns=COLUMNS,
-                       row=row, progress=bar) as (run, on_step):
-        solution = solve_specimen_buckling(
-            newton_options=cfg.solver, path=cfg.path, on_step=on_step,
-            progress=lambda t: bar.to(100 * t * cfg.run.compression), setup=setup)
+
+    def summarize(run, path: PathResult) -> dict:
+        solution = KaptonSpecimenSolution(problem.structure, model, path,
+                                          np.array([s.t * compression_max for s in path.states]),
+                                          np.array([force(s) for s in path.states]), float(compression_max))
         p_cr, shortening_cr = critical_load(cfg.specimen, cfg.mesh, cfg.materials)
         wall = time.perf_counter() - started
         euler = closed_forms(cfg)
         extra = report(out, cfg, solution, p_cr, euler) if report is not None else {}
-        compression, force = solution.compression, solution.force
-        return run.complete({
+        compression, force_ = solution.compression, solution.force
+        return {
             "model": "bar-hinge",
             "results": {
                 "critical load [N]": p_cr, "critical end shortening [mm]": shortening_cr,
                 **(extra or {}),
                 **{f"{k} [N]": v for k, v in euler.items()},
-                "force at final compression [N]": float(force[-1]),
+                "force at final compression [N]": float(force_[-1]),
                 "final compression [-]": float(compression[-1]),
-                "force ratio final / critical [-]": float(force[-1] / p_cr),
+                "force ratio final / critical [-]": float(force_[-1] / p_cr),
                 "elastica force ratio at final compression [-]":
                     buckling.elastica_force_ratio(float(compression[-1])),
             },
-            "dofs": int(model.ndof), "increments": len(solution.path.states) - 1,
-            "newton_iterations": int(sum(solution.path.newton_iterations)),
-            "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
-        })
+            "dofs": int(model.ndof), "increments": len(path.states) - 1,
+            "newton_iterations": int(sum(path.newton_iterations)),
+            "failed_increments": path.failed_increments, "wall_time [s]": wall,
+        }
+
+    return run_quasi_static(problem, {"right_clamp": compression_max * length}, out, config=cfg.resolved(),
+                            history=HistoryExport(tuple(COLUMNS), row),
+                            fields=BarHingeFrames("ribbon", problem.structure, model),
+                            progress=Progress(100 * compression_max, "ribbon buckling", "%", enabled=progress),
+                            summarize=summarize, progress_scale=100 * compression_max)

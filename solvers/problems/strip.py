@@ -314,7 +314,10 @@ class StripSimulation:
                                "heat-mechanics fixed-point iterations")
 
     # -- time loop --------------------------------------------------------------------------
-    def run(self, out: pathlib.Path | None = None, progress: bool = True, fields: bool = True) -> StripResult:
+    def run(self, out: pathlib.Path | None = None, progress: bool = True, fields: bool = True,
+            crossing_temperature: float | None = None) -> StripResult:
+        """The run (history.csv, fields, summary.json in ``out``); ``crossing_temperature`` [C]: the
+        summary's metrics report when it is crossed (:func:`transient_metrics`)."""
         cfg = self.config
         bar = Progress(cfg.run.duration, f"strip {cfg.run.current:g} A {cfg.run.bc}", "s",
                        enabled=progress and not cfg.run.steady, comm=self.comm)
@@ -342,12 +345,12 @@ class StripSimulation:
                 record(obs, 0, "steady state")
                 summary["steady_state"] = obs
             else:
-                summary.update(self._transient(record))
+                summary.update(self._transient(record, crossing_temperature))
             summary["wall_time [s]"] = time.perf_counter() - started
             summary = run.complete(summary)
         return StripResult(run.history.as_arrays(), summary, out, self.model)
 
-    def _transient(self, record) -> dict:
+    def _transient(self, record, crossing_temperature: float | None = None) -> dict:
         """Backward-Euler steps to run.duration; returns the summary entries of a transient."""
         cfg = self.config
         n_steps = max(1, int(math.ceil(cfg.run.duration / cfg.run.dt - 1e-9)))
@@ -366,7 +369,7 @@ class StripSimulation:
             record(rows[-1], step, where)
         return {"as_built": {k: self.dims[k] for k in ("length", "width", "thickness", "coil_side",
                                                         "length_isotropic", "lambda_N")},
-                "metrics": transient_metrics(_as_arrays(rows), cfg.transition),
+                "metrics": transient_metrics(_as_arrays(rows), cfg.transition, crossing_temperature),
                 "steps": n_steps, "dt [s]": dt, "newton_iterations": total_its}
 
     def _mesh_summary(self) -> dict:
@@ -420,20 +423,23 @@ def first_crossing(t: np.ndarray, y: np.ndarray, level: float, rising: bool = Tr
     return float(t[i - 1] + (t[i] - t[i - 1]) * (-s[i - 1]) / (s[i] - s[i - 1]))
 
 
-#: Temperature whose crossing time seed 001 reports ('T_NI (~70 C) within 10 s' at 0.2 A) [C].
-SEED_T_NI = 70.0
-
-
-def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransition) -> dict:
-    """Times to 70 C (mean and surface temperature) and to 95 % of the full contraction
-    (lambda_N -> 1), final values, and the largest force with the time to reach 95 % of it."""
+def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransition,
+                      crossing_temperature: float | None = None) -> dict:
+    """Times to ``crossing_temperature`` [C] (mean and surface temperature; keys
+    "time_to_<T>C_mean [s]", "time_to_<T>C_surface [s]"; only if it is given: a temperature an
+    experiment reports the crossing of), to 95 % of the full contraction (lambda_N -> 1), final
+    values, and the largest force with the time to reach 95 % of it."""
     t = history["time [s]"]
     lam_n = transition.lambda_N
     target95 = lam_n - 0.95 * (lam_n - 1.0)
     force = history["force [N]"]
+    crossing = {}
+    if crossing_temperature is not None:
+        T = float(crossing_temperature)
+        crossing = {f"time_to_{T:g}C_mean [s]": first_crossing(t, history["T_mean [C]"], T),
+                    f"time_to_{T:g}C_surface [s]": first_crossing(t, history["T_surface [C]"], T)}
     return {
-        "time_to_70C_mean [s]": first_crossing(t, history["T_mean [C]"], SEED_T_NI),
-        "time_to_70C_surface [s]": first_crossing(t, history["T_surface [C]"], SEED_T_NI),
+        **crossing,
         "time_to_95pct_contraction [s]": first_crossing(t, history["stretch [-]"], target95, rising=False),
         "final_stretch [-]": float(history["stretch [-]"][-1]),
         "final_T_mean [C]": float(history["T_mean [C]"][-1]),
@@ -444,7 +450,9 @@ def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransit
 
 
 def run_strip(config: StripConfig, out: pathlib.Path | None = None, progress: bool = True,
-              fields: bool = True, comm: MPI.Comm | None = None) -> StripResult:
-    """Build and run one strip simulation (see module docstring)."""
+              fields: bool = True, comm: MPI.Comm | None = None,
+              crossing_temperature: float | None = None) -> StripResult:
+    """Build and run one strip simulation (see module docstring); ``crossing_temperature`` [C]: see
+    :func:`transient_metrics`."""
     return StripSimulation(config, comm).run(None if out is None else pathlib.Path(out), progress=progress,
-                                             fields=fields)
+                                             fields=fields, crossing_temperature=crossing_temperature)

@@ -250,3 +250,57 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
             "rejected_steps": sim.rejected,
             "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run_cfg.duration})
     return RibbonResult(hist, metrics, summary, out, sim)
+
+
+# -- the rolling ribbon as a problem (the Problem protocol) -------------------------------------
+class RollingRibbonDER:
+    """The rolling ribbon as a problem (lcefem.solvers.problems.protocol.Problem) around the rod
+    simulation :class:`lcefem.solvers.der.ribbon.RibbonSimulation`: the drive is the plate's
+    temperature [C] (tag ``plate``, read by every heat step from then on), :meth:`advance` moves
+    the simulated time by ``dt`` [s] (fixed or adaptive steps, as :func:`run_ribbon`), the
+    observables are the rod's history row, the fields its centreline's point data."""
+
+    drive = "ground temperature [C]"
+
+    def __init__(self, config: RibbonConfig = RibbonConfig()):
+        self.config = config.validated()
+        self.sim = RibbonSimulation(self.config.setup())
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return ("plate",)
+
+    def set_drives(self, drives) -> None:
+        import dataclasses
+
+        for tag, value in drives.items():
+            if tag not in self.drive_tags():
+                raise InputError(f"drive {tag!r}: the ribbon's only drive is the plate (allowed plate)")
+            if (not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value)
+                    or not -50.0 <= value <= DECOMPOSITION_TEMPERATURE):
+                raise InputError(f"ground temperature[{tag}] = {value} C: must be between -50 C and "
+                                 f"{DECOMPOSITION_TEMPERATURE} C (decomposition)")
+            self.sim.setup = dataclasses.replace(self.sim.setup, ground_temperature=float(value))
+
+    def advance(self, dt: float) -> dict:
+        """``dt`` [s] more of simulated time; returns the observables."""
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+            raise InputError(f"dt = {dt} s: must be > 0")
+        self.sim.advance(self.sim.time + float(dt))
+        return self.observables()
+
+    def observables(self) -> dict[str, float]:
+        return {**self.sim.observe(), "ground temperature [C]": float(self.sim.setup.ground_temperature)}
+
+    def fields(self) -> dict:
+        return {"node positions [mm]": self.sim.state.x, **centerline_fields(self.sim)}
+
+    def save_state(self) -> bytes:
+        """The whole simulation pickled (rod state, section temperatures, step control, clocks)."""
+        import pickle
+
+        return pickle.dumps(self.sim)
+
+    def restore_state(self, state: bytes) -> None:
+        import pickle
+
+        self.sim = pickle.loads(state)

@@ -11,6 +11,7 @@ from lcefem.models.shape_control import (BoostGuard, CurrentLimits, HeightSensor
                                          draw_strips, free_stretch, strip_temperature_step)
 from lcefem.solvers import control as ctl
 from lcefem.validation.cli import main as cli_main
+from lcefem.validation.programs import SHAPE_DRIVES
 
 
 class LinearSurface(ctl.Surface):
@@ -88,7 +89,7 @@ def test_marker_curvature_sd_matches_sampling():
     """The marker sensor's curvature SD (linearised) equals the SD of the circle through the three
     points perturbed by 0.1 mm Gaussian noise per coordinate (4000 samples: 1.1 % sampling SD)."""
     from lcefem.solvers.analysis.curvature import centre_frame, junction_centre_points, signed_circle_curvature
-    surface = ctl.build_surface("cylinder")
+    surface = ctl.build_surface("cylinder", SHAPE_DRIVES["cylinder"])
     sd = ctl.marker_curvature_sd(surface, 0.1)
     st, x = surface.structure, surface.x_star.reshape(-1, 3)
     up = centre_frame(st, x)[1][2]

@@ -8,7 +8,8 @@ import pytest
 from lcefem.models.errors import InputError
 from lcefem.models.lce import spontaneous_stretch
 from lcefem.solvers.continuation import PathControl
-from lcefem.solvers.problems.gridshell import FIG4_SHAPES, GridshellConfig, GridshellFE, fig4_shape
+from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellFE
+from lcefem.validation.programs import DOME_PROTOCOL, FIG4_SHAPES, fig4_shape
 
 
 #: Fraction of the Fig. 4 ramps the tests take (the whole dome ramp takes ~100 path steps, tens of
@@ -167,7 +168,7 @@ def test_heated_route_first_second(tmp_path):
     bottom channel heats 4 x faster than the top (0.2 vs 0.1 A); the centre starts to dome (both
     curvatures negative, equal in x and y to solver tolerance); set_lambda is refused."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
     rows = m.run_protocol(DOME_PROTOCOL, duration=1.0, dt=1.0)
@@ -209,7 +210,7 @@ def test_heated_hold_reaches_the_steady_state():
     than the top (0.07 vs 0.04 A, power 3x) and below T_NI (the hold keeps them nematic-side), and
     the centre domes (both curvatures negative and equal). Bad input is refused by name."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
     with pytest.raises(InputError, match="first_dt"):

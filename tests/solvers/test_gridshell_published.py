@@ -15,6 +15,7 @@ from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import gridshell_bh as g
 
 from lcefem.solvers.problems import gridshell_bh_run as grun
+from lcefem.validation.programs import RECIPES, SHAPE_DRIVES
 PUBLISHED_MESH, PUBLISHED_LCE, _ = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "clamp")
 
 
@@ -35,7 +36,7 @@ def test_published_supports_per_recipe():
                        (141.0, 30.0): "z", (141.0, 111.0): "z", (0.0, 30.0): "z", (0.0, 111.0): "z"}
     clamp = _held_points(s, g.support_dofs(s, "clamp"))
     assert clamp == {(67.0, 67.0): "xyz", (74.0, 67.0): "xyz", (74.0, 74.0): "xyz", (67.0, 74.0): "xyz"}
-    supports = {name: support for name, (_, support) in grun.RECIPES.items()}
+    supports = {name: support for name, (_, support) in RECIPES.items()}
     assert supports == {"saddle": "clamp", "cone": "clamp", "twisted": "clamp", "wave": "clamp",
                         "dustpan": "clamp", "dome": "rollers", "cylinder": "rollers", "table": "rollers"}
 
@@ -53,7 +54,7 @@ def test_published_structure_has_120_lce_and_54_glue_bars():
 
 def test_recipe_rest_fractions():
     s = build_gridshell_bar_hinge(mesh=PUBLISHED_MESH)
-    t = g.targets_from_recipe(s, grun.RECIPES["wave"][0])
+    t = g.targets_from_recipe(s, RECIPES["wave"][0])
     mid = {grp: 0.5 * (s.nodes[s.bars[grp][:, 0]] + s.nodes[s.bars[grp][:, 1]]) for grp in t}
     sob = s.info["strip_of_bar"]
     strips = s.info["strips"]
@@ -110,13 +111,16 @@ def test_departures_and_configurations():
                                                                          "middle_rollers")
     with pytest.raises(InputError, match="unknown departure"):
         grun.parse_departures("contakt")
-    cfg = grun.GridshellBHRunConfig(run=grun.GridshellRun(recipe="cone"))
+    programs = {"shapes": SHAPE_DRIVES, "recipes": RECIPES}
+    cfg = grun.GridshellBHRunConfig(run=grun.GridshellRun(recipe="cone"), **programs)
     assert cfg.run.resolved_configuration == "published" and cfg.support == "clamp"
     assert cfg.effective[0].contact is False and cfg.effective_materials.lce.force_law == "published"
-    shape = grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome"))
+    shape = grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome"), **programs)
     assert shape.run.resolved_configuration == "case" and shape.effective[0].contact is True
     with pytest.raises(InputError, match="departures"):
-        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", departures="contact")).validated()
+        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", departures="contact"), **programs).validated()
+    with pytest.raises(InputError, match=r"run.shape = 'dome': allowed $"):
+        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome")).validated()  # no programs given
 
 
 #: Golden values of the published recipes (published configuration; circle and quadratic-fit centre
@@ -130,7 +134,7 @@ GOLDEN = {
 
 @pytest.mark.parametrize("recipe", sorted(GOLDEN))
 def test_published_recipe_golden_values(recipe):
-    p0, support = grun.RECIPES[recipe]
+    p0, support = RECIPES[recipe]
     s = build_gridshell_bar_hinge(mesh=PUBLISHED_MESH)
     mats = dataclasses.replace(law.BarHingeMaterials(), lce=PUBLISHED_LCE)
     setup = g.setup_gridshell(g.targets_from_recipe(s, p0), support, structure=s, materials=mats)

@@ -5,7 +5,7 @@ import pytest
 import scipy.sparse as sp
 
 from lcefem.solvers.bar_hinge.ldl import SymbolicLDL
-from lcefem.solvers.bar_hinge.newton import _factorize
+from lcefem.solvers.bar_hinge.newton import factorize
 
 
 def _symmetric(n, density, seed, shift):
@@ -23,7 +23,7 @@ def test_ldl_solve_and_inertia_match_dense(shift):
     k.sort_indices()
     symbolic = SymbolicLDL(k.indices, k.indptr, k.shape[0])
     eig = np.linalg.eigvalsh(k.toarray())
-    factors, negative, zero = _factorize(k, ldl=symbolic)
+    factors, negative, zero = factorize(k, ldl=symbolic)
     assert (negative, zero) == (int(np.sum(eig < 0)), 0)  # Sylvester's law of inertia
     rhs = np.linspace(-1.0, 2.0, k.shape[0])
     x = factors.solve(rhs)
@@ -32,7 +32,7 @@ def test_ldl_solve_and_inertia_match_dense(shift):
     assert np.array_equal(both[:, 0], x) and np.allclose(both[:, 1], 2.0 * x, rtol=1e-14, atol=0)
     # A shift mu I on the diagonal makes it positive definite.
     mu = 1.0 - min(eig.min(), 0.0)
-    shifted, negative, _ = _factorize(k, shift=mu, ldl=symbolic)
+    shifted, negative, _ = factorize(k, shift=mu, ldl=symbolic)
     assert negative == 0
     assert np.allclose(k @ shifted.solve(rhs) + mu * shifted.solve(rhs), rhs, atol=1e-10)
 
@@ -42,6 +42,6 @@ def test_ldl_zero_pivot_falls_back_to_pivoting_lu():
     k = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 0.0]]))
     symbolic = SymbolicLDL(k.indices, k.indptr, 2)
     assert symbolic.factorize(k.data) is None
-    factors, negative, zero = _factorize(k, ldl=symbolic)
+    factors, negative, zero = factorize(k, ldl=symbolic)
     assert np.allclose(factors.solve(np.array([1.0, 2.0])), [2.0, 1.0])
     assert (negative, zero) == (-1, -1)

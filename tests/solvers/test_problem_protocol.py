@@ -22,10 +22,7 @@ MARKS = {"observables", "observe", "set_lambda", "set_current", "set_shortening"
 #: Modules of solvers/problems without a problem object, each with why (left for a session that
 #: can move their contents: they are written as functions over a setup, not as a problem class).
 WITHOUT_PROBLEM_OBJECT = {
-    "composite_beam_bh": "functions over BeamSetup (run_beam); edited in parallel this session",
     "composite_beam_run": "the FE beam's run (BeamFEConfig, run_beam_fe) around composite_beam's problems",
-    "twisted_ribbon_der": "the rolling ribbon's problem is lcefem.solvers.der's Simulation; "
-                          "edited in parallel this session",
     "tension_specimen": "one function (a closed-form check of the LCE law)",
     "gridshell_bh_ball": "a ball rolling on a given surface history (no body of its own)",
     "gridshell_bh_scales": "load paths for GridshellBH",
@@ -57,7 +54,8 @@ def test_the_walk_finds_the_problems_and_only_the_listed_modules_lack_one():
     found = problem_classes()
     assert {m for m, names in found.items() if not names} == set(WITHOUT_PROBLEM_OBJECT)
     assert {"StripSimulation", "BeamFE", "HeatedBeamFE", "KaptonSpecimenFE", "TwistedRibbonFE",
-            "GridshellFE", "HeatedGridshellFE", "GridshellBH", "KaptonSpecimenBH"} <= {n for _, n in CLASSES}
+            "GridshellFE", "HeatedGridshellFE", "GridshellBH", "KaptonSpecimenBH",
+            "CompositeBeamBH", "RollingRibbonDER"} <= {n for _, n in CLASSES}
 
 
 @pytest.mark.parametrize("module, name", CLASSES, ids=[n for _, n in CLASSES])
@@ -158,3 +156,59 @@ def test_bar_and_hinge_specimen_as_a_problem_is_the_one_call_path():
     assert k.observables()["force [N]"] == pytest.approx(one_call.force[-1], rel=1e-6)
     with pytest.raises(InputError, match="left_clamp|'left'"):
         k.set_drives({"left": 0.1})
+
+
+def test_bar_and_hinge_beam_as_a_problem_is_the_one_call_path():
+    """CompositeBeamBH driven through the protocol to the dome's lambdas (seed 001 Fig. 4C: 1.33 top,
+    1.05 bottom) reaches the curvature of solve_beam (the same ramp, same steps); in two halves the
+    same elastic equilibrium; restore_state goes back to the straight beam; a lambda out of
+    [1, lambda_N] and an unknown tag are refused by name."""
+    from lcefem.solvers.problems.composite_beam_bh import CompositeBeamBH, solve_beam
+
+    one_call = solve_beam(1.33, 1.05)
+    b = CompositeBeamBH()
+    assert isinstance(b, Problem) and set(b.drive_tags()) == {"top_strips", "bottom_strips"}
+    straight = b.save_state()
+    assert b.observables()["curvature [1/mm]"] == pytest.approx(0.0, abs=1e-12)
+    b.set_drives({"top_strips": 1.33, "bottom_strips": 1.05})
+    b.advance(1.0)
+    obs = b.observables()
+    assert unnamed(obs) == [] and unnamed(b.fields()) == []
+    assert obs["lambda top_strips [-]"] == 1.33 and obs["lambda bottom_strips [-]"] == 1.05
+    assert obs["curvature [1/mm]"] == pytest.approx(one_call.curvature, rel=1e-12)
+    b.restore_state(straight)
+    b.set_drives({"top_strips": 1.33, "bottom_strips": 1.05})
+    b.advance(0.5)
+    assert b.observables()["lambda top_strips [-]"] == pytest.approx(0.5 * (b.lambda_N + 1.33))
+    b.advance(1.0)
+    assert b.observables()["curvature [1/mm]"] == pytest.approx(one_call.curvature, rel=1e-6)
+    with pytest.raises(InputError, match=r"^lambda\[top_strips\] = 1.6"):
+        b.set_drives({"top_strips": 1.6})
+    with pytest.raises(InputError, match="'glue'"):
+        b.set_drives({"glue": 1.2})
+
+
+def test_der_rolling_ribbon_as_a_problem():
+    """RollingRibbonDER (11 nodes): the plate's temperature is its drive, advance(dt) moves the
+    clock by dt, the section heats towards the hot plate, and restore_state then the same advance
+    reproduces the same state exactly (the whole simulation is saved)."""
+    from lcefem.solvers.der.ribbon import RibbonNumerics
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RollingRibbonDER
+
+    r = RollingRibbonDER(RibbonConfig(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    assert isinstance(r, Problem)
+    start = r.observables()
+    assert unnamed(start) == [] and unnamed(r.fields()) == []
+    r.set_drives({"plate": 120.0})
+    saved = r.save_state()
+    after = r.advance(0.04)
+    assert after["time [s]"] == pytest.approx(start["time [s]"] + 0.04, abs=1e-12)
+    assert after["ground temperature [C]"] == 120.0
+    assert after["T_max [C]"] > start["T_max [C]"]  # heat enters from the 120 C plate
+    r.restore_state(saved)
+    assert r.observables()["time [s]"] == start["time [s]"]
+    assert r.advance(0.04) == after
+    with pytest.raises(InputError, match="'air'"):
+        r.set_drives({"air": 50.0})
+    with pytest.raises(InputError, match=r"^ground temperature\[plate\] = 900"):
+        r.set_drives({"plate": 900.0})

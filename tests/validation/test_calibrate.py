@@ -32,7 +32,8 @@ def test_one_shape_fit_writes_the_parameter_file_with_residuals(tmp_path):
     assert row["FE [1/mm]"] == pytest.approx(-0.0045, abs=5e-5)
     assert row["residual [-]"] == pytest.approx((row["BH [1/mm]"] - row["FE [1/mm]"]) / 0.002)
     assert abs(row["residual [-]"]) <= 1.0
-    assert rec["command"].startswith("lcefem calibrate bar-hinge")
+    assert rec["command"].startswith("lcefem calibrate bar-hinge") and rec["command"].endswith("--twist plate")
+    assert rec["fixed"] == {"kapton.twist": "plate"}
 
 
 def test_stored_calibration_applies_to_the_materials():
@@ -41,5 +42,9 @@ def test_stored_calibration_applies_to_the_materials():
     m = cal.calibrated_materials(rec, BarHingeMaterials())
     assert m.lce.bending_factor == rec["parameters"]["lce.bending_factor"]
     assert m.kapton.bending_factor == rec["parameters"]["kapton.bending_factor"]
+    # the FE-equivalent BH: the plate's torsion of the Kapton panels (fixed, not fitted)
+    assert rec["fixed"] == {"kapton.twist": "plate"} and m.kapton.twist == "plate"
+    old = {k: v for k, v in rec.items() if k != "fixed"}  # a record from before kapton.twist
+    assert cal.calibrated_materials(old).kapton.twist == "n5b8"
     for name, (section, fld, _, lo, hi) in cal.PARAMETERS.items():
         assert lo <= rec["parameters"][f"{section}.{fld}"] <= hi

@@ -143,3 +143,21 @@ def test_reachable_set_corners_and_symmetry():
     # round-trip tolerance
     for (tx, ty, bx, by), k in rows.items():
         np.testing.assert_allclose(rows[(ty, tx, by, bx)][::-1], k, atol=1e-4)
+
+
+def test_fe_calibrated_model_set_round_trip():
+    # --model-set fe-calibrated: the strip element, the plate's torsion and the fitted factors of
+    # validation/data/bar_hinge_calibration.json; the design's sensitivities stay exact (the added
+    # elements do not depend on the rest fractions), so a one-cell round trip closes within 1e-4.
+    from lcefem.validation import calibrate as cal
+
+    d = gd.setup_design("4", "rollers", layout=ONE, model_set="fe-calibrated")
+    rec = cal.load()
+    assert d.materials.kapton.twist == "plate" and len(d.structure.info["strip_beams"]) > 0
+    assert d.materials.kapton.bending_factor == rec["parameters"]["kapton.bending_factor"]
+    truth = gd.forward_check(d, np.array([1.30, 1.25, 1.10, 1.15]))
+    res = gd.inverse(d, truth["circle_x"], truth["circle_y"])
+    for axis in ("x", "y"):
+        assert res.check[f"circle_{axis}"] == pytest.approx(truth[f"circle_{axis}"], abs=1e-4)
+    published = gd.setup_design("4", "rollers", layout=ONE)
+    assert published.model_set == "published" and published.materials.kapton.twist == "n5b8"

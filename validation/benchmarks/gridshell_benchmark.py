@@ -44,6 +44,7 @@ from lcefem.solvers.problems import gridshell_bh as problem_bh
 
 
 from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
+from lcefem.validation.programs import RECIPES
 #: The Newton module (the package re-exports its function ``newton`` under the same name).
 newton_module = importlib.import_module("lcefem.solvers.bar_hinge.newton")
 
@@ -84,7 +85,7 @@ def run_one(kind: str, name: str) -> dict:
         targets, support = problem_bh.targets_from_lambdas(structure, spec["lambdas"]), spec["support"]
         materials = BarHingeMaterials()
     else:  # the published configuration (issue 30)
-        recipe, support = problem_bh_run.RECIPES[name]
+        recipe, support = RECIPES[name]
         mesh, lce, support = problem_bh_run.published_configuration(BeamBarHingeMesh(), LCEStripBars(), support)
         structure = build_gridshell_bar_hinge(mesh=mesh)
         targets = problem_bh.targets_from_recipe(structure, recipe)
@@ -164,7 +165,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.set in ("shapes", "all"):
         jobs += [("shape", n) for n in gs.SHAPES]
     if args.set in ("recipes", "all"):
-        jobs += [("recipe", n) for n in problem_bh_run.RECIPES]
+        jobs += [("recipe", n) for n in RECIPES]
     if args.only:
         keep = set(args.only.split(","))
         jobs = [j for j in jobs if j[1] in keep]

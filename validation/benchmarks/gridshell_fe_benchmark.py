@@ -31,8 +31,8 @@ def run_shape(shape: str, level: int, symmetry: str, kapton: str = "datasheet",
     ``kapton``: a name of models.hyperelastic.KAPTON_MODULI (issue 16: "datasheet" is the choice);
     ``support``: a GridshellSupports kind (None: the shape's published one)."""
     from lcefem.models.hyperelastic import KAPTON_MODULI, NeoHookeanSolid
-    from lcefem.solvers.problems.gridshell import (FIG4_SHAPES, GridshellMaterials, GridshellSupports,
-                                                   fig4_shape)
+    from lcefem.solvers.problems.gridshell import GridshellMaterials, GridshellSupports
+    from lcefem.validation.programs import FIG4_SHAPES, fig4_shape
 
     t0 = time.perf_counter()
     materials = GridshellMaterials(kapton=NeoHookeanSolid(youngs_modulus=KAPTON_MODULI[kapton]))
@@ -55,8 +55,9 @@ def run_heated(level: int, symmetry: str, duration: float, dt: float, csv: str |
     """The dome protocol on the heated route; prints and (``csv``) writes a row per step."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell import GridshellConfig
-    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
     from lcefem.solvers.runtime.files import write_text
+    from lcefem.validation.programs import DOME_PROTOCOL
 
     t0 = time.perf_counter()
     model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=level), symmetry=symmetry),
@@ -80,12 +81,13 @@ def run_heated(level: int, symmetry: str, duration: float, dt: float, csv: str |
             lines = [",".join(head)] + [",".join(f"{r.get(k, '')}" for k in head) for r in rows]
             write_text(csv, "\n".join(lines) + "\n")  # .part then rename
 
-    model.run_protocol(duration=duration, dt=dt, on_step=on_step)
+    model.run_protocol(DOME_PROTOCOL, duration=duration, dt=dt, on_step=on_step)
     return rows
 
 
 def main(argv: list[str] | None = None) -> int:
-    from lcefem.solvers.problems.gridshell import FIG4_SHAPES, SUPPORT_KINDS
+    from lcefem.solvers.problems.gridshell import SUPPORT_KINDS
+    from lcefem.validation.programs import FIG4_SHAPES
     from lcefem.validation.gridshell_bh import SHAPES
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])

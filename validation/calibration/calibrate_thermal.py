@@ -147,6 +147,7 @@ def residuals(x, model: Surrogate, coil: Coil) -> np.ndarray:
 def check_with_full_model(x) -> dict:
     """Steady stretch at the hold currents and the two transients with the coupled FE model."""
     from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation, transient_metrics
+    from lcefem.validation.programs import SEED_T_NI
     T_NI, width, h, c = x
     base = StripConfig(transition=NematicTransition(T_NI=T_NI, width=width),
                        thermal=ThermalProperties(specific_heat=c * units.J_PER_G_K),
@@ -162,7 +163,7 @@ def check_with_full_model(x) -> dict:
         sim = StripSimulation(dataclasses.replace(base, run=StripRun(current=current, duration=duration,
                                                                      dt=dt)))
         res = sim.run(None, progress=False)
-        out[f"transient_{current}A"] = transient_metrics(res.history, base.transition)
+        out[f"transient_{current}A"] = transient_metrics(res.history, base.transition, SEED_T_NI)
     return out
 
 

@@ -14,12 +14,13 @@ validation/data (running the FE gridshell takes minutes to hours).
 - The beam map: the 4-segment composite beam's curvature over [1.05, 1.33]^2 (5 x 5) against the
   stored FE map (level 0), ours judged, the FE's configuration and controlled changes informative.
 - The strip element (``mesh.strip_element = "beam"``: the strips' centroid offset and own bending)
-  with the FE-calibrated parameters of validation/data/bar_hinge_calibration.json (``lcefem
-  calibrate bar-hinge``): judged rows "<shape>: circle kappa_<x|y> BH vs FE (strip element,
+  and the plate's torsion of the Kapton panels (``kapton.twist = "plate"``) with the FE-calibrated
+  parameters of validation/data/bar_hinge_calibration.json (``lcefem calibrate bar-hinge``): judged rows "<shape>: circle kappa_<x|y> BH vs FE (strip element,
   FE-calibrated)" on the four shapes (the dome included: with the strip element it takes seconds)
   and the beam map (the FE beam's configuration: its top strips contract over the junctions; quick:
-  the 4 corners); at the full level the offset alone, the bending alone and both at the published
-  factors, informative (docs/gridshell_calibration.md).
+  the 4 corners); at the full level the offset alone, the bending alone and both, with the N5B8
+  panels' and with the plate's torsion, at the published factors, informative
+  (docs/gridshell_calibration.md).
 
 FE references (:data:`FE_REFERENCE`): gridshell_fe_fig4_quarter_level0.json (quarter model, mesh
 level 0, 26,904 Q2 DOFs; the published supports) and, for the dome, the mesh-converged level 2 of
@@ -191,9 +192,16 @@ def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
     return metrics
 
 
-#: The strip element's controlled changes (label -> mesh.strip_element), published factors.
-STRIP_CHANGES = {"strip centroid offset alone": "offset", "strip bending alone": "bending",
-                 "strip element (offset + bending)": "beam"}
+#: The strip element's and the panels' torsion's controlled changes (label -> (mesh.strip_element,
+#: kapton.twist)), published factors. The dome with bars and the plate's torsion is left out: its
+#: ramp does not converge (stopped after 207 s CPU, docs/gridshell_calibration.md).
+STRIP_CHANGES = {"strip centroid offset alone": ("offset", "n5b8"),
+                 "strip bending alone": ("bending", "n5b8"),
+                 "strip element (offset + bending)": ("beam", "n5b8"),
+                 "plate torsion alone (bars)": ("bar", "plate"),
+                 "strip centroid offset + plate torsion": ("offset", "plate"),
+                 "strip element + plate torsion": ("beam", "plate")}
+SKIP = {("dome", "plate torsion alone (bars)")}
 
 
 def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
@@ -212,7 +220,8 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
                        "validation/data/bar_hinge_calibration.json missing: run lcefem calibrate bar-hinge")]
     mats = cal.calibrated_materials(record)
     params = ", ".join(f"{k} = {v:.4g}" for k, v in record["parameters"].items())
-    src = (f"{BH} with the strip element (mesh.strip_element = 'beam'), FE-calibrated: {params} "
+    fixed = ", ".join(f"{k} = '{v}'" for k, v in record.get("fixed", {}).items())
+    src = (f"{BH} with the strip element (mesh.strip_element = 'beam'), {fixed}, FE-calibrated: {params} "
            "(validation/data/bar_hinge_calibration.json, lcefem calibrate bar-hinge); published supports "
            "and glue squares + contact + volume law")
     for shape in ("table", "dome", "saddle", "cylinder"):
@@ -228,8 +237,10 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
                                      ref["source"] + "; " + src + "; tolerance: 10 % or 0.002 1/mm"))
         if ctx.quick:
             continue
-        for label, element in STRIP_CHANGES.items():
-            kc = cal.solve_shape(shape, law.BarHingeMaterials(), element)
+        for label, (element, twist) in STRIP_CHANGES.items():
+            if (shape, label) in SKIP:
+                continue
+            kc = cal.solve_shape(shape, cal.fe_equivalent(twist=twist), element)
             for c in cal.components(shape):
                 out.append(Metric.info(name, f"{shape}: circle kappa_{c[-1]} BH vs FE, controlled change: "
                                        f"{label}", kc[c] if kc else math.nan, "1/mm",
@@ -241,8 +252,8 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
               "its top strips contract over the junctions: BH mesh.top_junction = 'lce')")
     variants = {"strip element, FE-calibrated": ("beam", mats)}
     if not ctx.quick:
-        variants.update({f"{label}, published factors": (el, law.BarHingeMaterials())
-                         for label, el in STRIP_CHANGES.items()})
+        variants.update({f"{label}, published factors": (el, cal.fe_equivalent(twist=tw))
+                         for label, (el, tw) in STRIP_CHANGES.items()})
     for label, (element, m) in variants.items():
         kbh = cal.solve_beam_map(lt, lb, m, element)
         excess = np.abs(kbh - kfe) / np.maximum(REL_TOL * np.abs(kfe), ABS_TOL)

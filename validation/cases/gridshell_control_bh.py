@@ -27,6 +27,7 @@ from lcefem.models.shape_control import HeightSensor, PlantSpread
 from lcefem.solvers import control as ctl
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.control import ControlRequest, control_figures, run_pair
+from lcefem.validation.programs import SHAPE_DRIVES
 from lcefem.validation.plots import caption
 
 SRC = "issue 37; lcefem.solvers.control (plant: bar-and-hinge gridshell with lumped strip heat and the "
@@ -40,14 +41,14 @@ QUICK_SHAPE = "cylinder"
 def gridshell_control_bh(ctx: CaseContext) -> list[Metric]:
     name = ctx.case or "gridshell_control_bh"
     metrics: list[Metric] = []
-    shapes = [QUICK_SHAPE] if ctx.quick else list(ctl.SHAPES)
+    shapes = [QUICK_SHAPE] if ctx.quick else list(SHAPE_DRIVES)
     draws = DRAWS[:1] if ctx.quick else DRAWS
     scenario = ctl.Scenario(load_phase=0.0, failure_phase=0.0) if ctx.quick else ctl.Scenario()
     rows = {k: [] for k in ("shape index [-]", "seed [-]", "open loop error [1/mm]",
                             "closed loop error [1/mm]", "closed loop time to target [s]",
                             "resolution [1/mm]")}
     for shape in shapes:
-        surface = ctl.build_surface(shape, GridshellLayout())
+        surface = ctl.build_surface(shape, SHAPE_DRIVES[shape], GridshellLayout())
         resolution = ctl.sensor_resolution(surface, ctl.ControllerSettings(), HeightSensor().noise)
         for seed in draws:
             req = ControlRequest(shape, "channels", seed, PlantSpread(), HeightSensor(),
@@ -73,7 +74,7 @@ def gridshell_control_bh(ctx: CaseContext) -> list[Metric]:
                     for loop, r in (("open", o), ("closed", c)):
                         metrics.append(Metric.info(name, f"{tag}: {loop}-loop error after {what}",
                                                    r.phase_errors[ph], "1/mm", SRC))
-            rows["shape index [-]"].append(ctl.SHAPES.index(shape))
+            rows["shape index [-]"].append(list(SHAPE_DRIVES).index(shape))
             rows["seed [-]"].append(seed)
             rows["open loop error [1/mm]"].append(eo)
             rows["closed loop error [1/mm]"].append(ec)

@@ -25,7 +25,7 @@
   bottom strips below T_NI (50.8 C held), where lambda is 1.401, not the paper's 1.05 (README, "FE gridshell,
   heated route"). Quick level: the first 3 s at 1 s steps (9 Newton iterations, ~10 s CPU): the
   surface domes (kappa_x = kappa_y < 0) and the dome grows each step. Then the four Fig. 4 shapes
-  held at their currents (solvers.problems.gridshell_bh_run.SHAPE_DRIVES "currents"; the protocol is
+  held at their currents (validation/data/programs.toml, gridshell_shapes "currents"; the protocol is
   published for the dome only), straight to the steady state (HeatedGridshellFE.steady_hold:
   steady heat -> temperature -> lambda -> mechanics) on their published supports: the steady
   lambda per channel next to the bar-and-hinge current route's (both levels; quick: the heat
@@ -90,7 +90,8 @@ def fe_model(shape: str, *, kapton_modulus: float = KAPTON_DATASHEET_MODULUS, qu
     GridshellSupports kind, e.g. 'table'), quarter model (level 0 unless asked); the quick level
     takes bigger path steps (a partial ramp)."""
     from lcefem.solvers.continuation import PathControl
-    from lcefem.solvers.problems.gridshell import GridshellMaterials, GridshellSupports, fig4_shape
+    from lcefem.solvers.problems.gridshell import GridshellMaterials, GridshellSupports
+    from lcefem.validation.programs import fig4_shape
 
     kw = {"control": PathControl(first_step=0.15, max_step=0.5)} if quick else {}
     if support is not None:
@@ -175,7 +176,7 @@ def _outputs(ctx: CaseContext, model, shape: str, title: str, sources: list[str]
       "centre curvatures vs bar-and-hinge, the paper's simulation and experiment; under lcefem "
       "converge the dome alone at each mesh level", fe=True, convergence=True, prolong=True)
 def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
-    from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS
+    from lcefem.validation.programs import PUBLISHED_SUPPORTS
     from lcefem.validation import gridshell_bh as gs
     from lcefem.validation.gridshell_plots import curvature_bar_chart
 
@@ -411,7 +412,8 @@ def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[di
     t = 0, hold rows) at the case's level (HEATED_QUICK / HEATED_FULL_DT, HEATED_HOLD)."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell import GridshellConfig
-    from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
+    from lcefem.validation.programs import DOME_PROTOCOL
 
     duration, dt = HEATED_QUICK if quick else (DOME_PROTOCOL[1][0], HEATED_FULL_DT)
     model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
@@ -425,7 +427,7 @@ def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[di
 
 
 def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
-    """Each Fig. 4 shape held at its currents (solvers.problems.gridshell_bh_run.SHAPE_DRIVES
+    """Each Fig. 4 shape held at its currents (lcefem.validation.programs.SHAPE_DRIVES
     "currents"), straight to the steady state (quarter, level 0): the steady heat equation at those
     currents -> temperature -> lambda per strip -> the mechanics at that temperature
     (HeatedGridshellFE.steady_hold, on the shape's published supports). Quick level: the steady
@@ -435,7 +437,8 @@ def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
     at the dome's currents to 2555 s: its steady route is the check of the hold), the other three
     from the as-built state. {shape: observables of the held state}."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports
+    from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellSupports
+    from lcefem.validation.programs import PUBLISHED_SUPPORTS
     from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
     from lcefem.validation import gridshell_bh as gs
 

@@ -24,7 +24,7 @@ from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.cover_scales import CoverScales
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.problems import gridshell_bh as gs
-from lcefem.solvers.problems import gridshell_bh_run as gs_run
+from lcefem.validation.programs import SHAPE_DRIVES
 from lcefem.solvers.problems.gridshell_bh_scales import ramp_layer, solve_covered
 from lcefem.validation import fig5_plots, plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
@@ -68,7 +68,7 @@ def gridshell_scales_bh(ctx: CaseContext) -> list[Metric]:
              "disks quad x": [], "disks quad y": [], "seconds": []}
     chart = {}
     for shape in SHAPES:
-        spec = gs_run.SHAPE_DRIVES[shape]
+        spec = SHAPE_DRIVES[shape]
         s = build_gridshell_bar_hinge()
         setup = gs.setup_gridshell(gs.targets_from_lambdas(s, spec["lambdas"]), spec["support"], structure=s)
         t0 = time.perf_counter()

@@ -98,11 +98,12 @@ def _render(ctx: CaseContext, result, name: str, title: str, sources) -> None:
 def _transient(ctx: CaseContext, index: int, duration: float, dt: float) -> list[Metric]:
     """Free strip heated at the index-th transient current of seed 001 (0.1, 0.15, 0.2 A)."""
     from lcefem.solvers.problems.strip import run_strip
+    from lcefem.validation.programs import SEED_T_NI
     currents = reference("strip.transient_currents")
     powers = reference("strip.transient_powers")
     current = currents.value[index]
     cfg = _run_config(ctx, current=current, duration=duration, dt=dt)
-    res = run_strip(cfg, ctx.out / "run", progress=ctx.progress)
+    res = run_strip(cfg, ctx.out / "run", progress=ctx.progress, crossing_temperature=SEED_T_NI)
     ctx.mesh_size = res.summary["mesh"]["element_size [mm]"]
     m = res.summary["metrics"]
     h = res.history
@@ -222,10 +223,11 @@ def strip_steady_eq1(ctx: CaseContext) -> list[Metric]:
       "against the 1.36 N rupture force (seed 001 Fig. 2D)", fe=True, convergence=True)
 def strip_blocked_force(ctx: CaseContext) -> list[Metric]:
     from lcefem.solvers.problems.strip import run_strip
+    from lcefem.validation.programs import SEED_T_NI
     duration = reference("blocked.rise_time").value
     cfg = _run_config(ctx, current=reference("blocked.current").value, duration=duration,
                       dt=_dt(ctx, "held"), bc="held")
-    res = run_strip(cfg, ctx.out / "run", progress=ctx.progress)
+    res = run_strip(cfg, ctx.out / "run", progress=ctx.progress, crossing_temperature=SEED_T_NI)
     ctx.mesh_size = res.summary["mesh"]["element_size [mm]"]
     h, m = res.history, res.summary["metrics"]
     rupture, rise = reference("blocked.rupture_force"), reference("blocked.rise_time")

@@ -41,17 +41,18 @@ from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
 from lcefem.solvers.problems.gridshell_bh import SUPPORTS
-from lcefem.solvers.problems.gridshell_bh_run import (CONFIGURATIONS, DEPARTURES, RECIPES, ROUTES,
-                                                      SHAPE_DRIVES, GridshellBHRunConfig, run_gridshell)
+from lcefem.solvers.problems.gridshell_bh_run import (CONFIGURATIONS, DEPARTURES, ROUTES, GridshellBHRunConfig,
+                                                      run_gridshell)
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation.commands import MODELS
 from lcefem.validation.config import load_toml
+from lcefem.validation.programs import PUBLISHED_SUPPORTS, RECIPES, SHAPE_DRIVES
 
 PARALLEL = False  # a serial (numpy/scipy) model: ranks would race on one folder
 
 
 def config_from_toml(path, base: GridshellBHRunConfig | None = None) -> GridshellBHRunConfig:
-    base = base or GridshellBHRunConfig()
+    base = base or GridshellBHRunConfig(shapes=SHAPE_DRIVES, recipes=RECIPES)
     data = load_toml(path, {*GridshellBHRunConfig.PARAM_SECTIONS, "lambda", "current"})
     kw = {name: with_overrides(getattr(base, name), table, name) for name, table in data.items()
           if name in GridshellBHRunConfig.PARAM_SECTIONS}
@@ -188,7 +189,7 @@ def run_fe_current(spec: dict, out: pathlib.Path) -> dict:
 
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
-    from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports
+    from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellSupports
     from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
     from lcefem.solvers.runtime.files import write_json
 

@@ -15,6 +15,7 @@ import dataclasses
 from lcefem.meshes.communicator import default_comm
 from lcefem.models.heat import Coil
 from lcefem.solvers.problems.strip import BOUNDARY_CONDITIONS, StripConfig, run_strip
+from lcefem.validation.programs import SEED_T_NI
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation.config import config_from_toml, override
 
@@ -54,7 +55,8 @@ def prepare(args: argparse.Namespace) -> StripConfig:
 
 def main(args: argparse.Namespace) -> int:
     cfg = args.prepared
-    result = run_strip(cfg, args.out, progress=not args.quiet, fields=not args.no_fields)
+    result = run_strip(cfg, args.out, progress=not args.quiet, fields=not args.no_fields,
+                       crossing_temperature=SEED_T_NI)
     first = default_comm().rank == 0  # one rank prints
     if first and cfg.run.steady:
         obs = result.summary["steady_state"]

@@ -1,0 +1,123 @@
+"""The runner of a quasi-static body through the Problem protocol
+(:mod:`lcefem.solvers.problems.protocol`): set the drives, advance the whole way, and let export
+objects write what a FEniCSx/ParaView user expects, through the run skeleton
+(:class:`lcefem.solvers.runtime.run.Run`: .part files, failure.json, summary.json with the resolved
+configuration).
+
+Export objects (one per output, each built by the body's run from its problem):
+
+* :class:`HistoryExport` — history.csv, one row per converged step, columns "name [unit]";
+* fields for ParaView (:mod:`lcefem.solvers.exports`): :class:`~lcefem.solvers.exports.BarHingeFrames`
+  (``<stem>.pvd`` + ``<stem>_steps/*.vtp``, ``last_converged.vtp`` when a run fails) or
+  :class:`~lcefem.solvers.exports.FEFields` (a VTX .bp series of the problem's Functions);
+* the summary: ``summarize(run, result) -> dict`` (the body's results; renders and the validation's
+  measured values come from its ``report`` hook), written last as summary.json.
+
+A body's run is then its problem, its columns and its summary: quasi-static bodies through
+:func:`run_quasi_static` (``run_beam``, ``run_specimen``, ``run_beam_fe``), heated ones in time
+through :func:`run_in_time` (the heated FE beam).
+
+Units: those of the problem (mm, N, s).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from lcefem.solvers.problems.protocol import unnamed
+from lcefem.solvers.runtime.run import Progress, Run
+
+
+def _load_factor_where(state) -> str:
+    return f"load factor {state.t:.4g}"
+
+
+@dataclass(frozen=True)
+class HistoryExport:
+    """history.csv: ``columns`` ("name [unit]") filled by ``row(state)`` at every converged step;
+    ``where(state)`` names the step (failure.json), ``at(state)`` (optional) moves the progress bar."""
+
+    columns: tuple[str, ...]
+    row: Callable[[Any], dict]
+    where: Callable[[Any], str] = _load_factor_where
+    at: Callable[[Any], float] | None = None
+
+    def __post_init__(self):
+        bad = unnamed(self.columns)
+        if bad:
+            raise ValueError(f"history columns without a unit: {bad}")
+
+
+def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
+                     history: HistoryExport, fields, progress: Progress,
+                     summarize: Callable[[Any, Any], dict], progress_scale: float | None = 1.0) -> dict:
+    """One run of a quasi-static problem: ``problem.set_drives(drives)``, then
+    ``problem.advance(1.0, on_step=..., progress=...)`` (the whole way), each converged step
+    recorded by the exports (``fields``: an export object with ``open(run, out)``);
+    ``summarize(run, result)`` gives the summary's entries (after the history is complete, before
+    summary.json is written); the bar shows ``progress_scale`` x the fraction of the way (None: only
+    ``history.at``). Returns the summary."""
+    out = pathlib.Path(out)
+    with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
+        writer = fields.open(run, out)
+        last = []
+
+        def on_step(state) -> None:
+            run.record(history.row(state), where=history.where(state),
+                       at=None if history.at is None else history.at(state))
+            writer.write(state)
+            last[:] = [state]
+
+        run.on_failure(lambda folder: last and writer.last_converged(folder, last[0]))
+        problem.set_drives(drives)
+        result = problem.advance(1.0, on_step=on_step, progress=None if progress_scale is None else
+                                 (lambda t: progress.to(progress_scale * t)))
+        return run.complete(summarize(run, result))
+
+
+
+def _time_where(row) -> str:
+    return f"t = {row['time [s]']:.4g} s"
+
+
+def _time_at(row) -> float:
+    return row["time [s]"]
+
+
+def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, duration: float, dt: float,
+                config: dict, columns, progress: Progress, summarize: Callable[[Any, list], dict],
+                fields=None) -> dict:
+    """One run of a heated problem in time: ``problem.set_drives(drives)``, then equal steps of
+    at most ``dt`` [s] to ``duration`` [s] (``problem.advance(step)`` each, the problem's clock
+    ``time`` [s] set to k x step exactly, not a sum of steps); history.csv gets ``columns`` of
+    ``problem.observables()`` at 0 and after every step ("t = ... s" names a failed step);
+    ``fields`` (optional export object) one frame per step; ``summarize(run, rows)`` the summary's
+    entries. Returns the summary."""
+    out = None if out is None else pathlib.Path(out)
+    steps = max(1, int(math.ceil(duration / dt - 1e-9)))
+    step = duration / steps
+    history = HistoryExport(tuple(columns), dict, where=_time_where, at=_time_at)
+    with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
+        writer = None if fields is None else fields.open(run, out)
+
+        def record(row: dict) -> None:
+            run.record(row, where=history.where(row), at=history.at(row))
+            if writer is not None:
+                writer.write(row)
+
+        problem.set_drives(drives)
+        rows = [problem.observables()]
+        record(rows[0])
+        for k in range(1, steps + 1):
+            rows.append(problem.advance(step))
+            problem.time = k * step
+            rows[-1]["time [s]"] = problem.time
+            record(rows[-1])
+        return run.complete(summarize(run, rows))
+
+
+__all__ = ["HistoryExport", "run_in_time", "run_quasi_static"]
