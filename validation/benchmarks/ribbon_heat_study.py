@@ -35,15 +35,18 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 def _replace(cfg, assignment: str):
-    """``cfg`` with one ``section.field=value`` assignment applied (value cast to the field's type)."""
+    """``cfg`` with one ``section.field=value`` assignment applied (value cast to the field's type); a bad
+    assignment is a one-line error and exit 2."""
     try:
         path, value = assignment.split("=", 1)
         section, name = path.split(".", 1)
-    except ValueError:
-        raise SystemExit(f"--set {assignment!r}: expected section.field=value (e.g. numerics.cells_thickness=4)")
-    sub = getattr(cfg, section)
-    old = getattr(sub, name)
-    return dataclasses.replace(cfg, **{section: dataclasses.replace(sub, **{name: type(old)(value)})})
+        sub = getattr(cfg, section)
+        old = getattr(sub, name)
+        return dataclasses.replace(cfg, **{section: dataclasses.replace(sub, **{name: type(old)(value)})})
+    except (ValueError, AttributeError, TypeError):
+        print(f"--set {assignment!r}: expected section.field=value with a field of RibbonConfig "
+              "(e.g. numerics.cells_thickness=4)", file=sys.stderr)
+        raise SystemExit(2)
 
 
 def layer_temperatures(sim):
@@ -142,8 +145,14 @@ def main(argv=None) -> int:
     if a.out is None or not a.plates:
         print("--out and at least one plate temperature are needed", file=sys.stderr)
         return 2
+    from lcefem.models.errors import InputError
+
     for T in a.plates:
-        row = run_one(T, a.duration, a.window, a.nodes, a.dt, a.changes)
+        try:
+            row = run_one(T, a.duration, a.window, a.nodes, a.dt, a.changes)
+        except InputError as e:
+            print(e, file=sys.stderr)
+            return 2
         with open(a.out, "a") as f:
             f.write(json.dumps(row) + "\n")
         print(json.dumps({k: v for k, v in row.items() if k != "windows"}), flush=True)
