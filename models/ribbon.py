@@ -114,7 +114,8 @@ class RibbonLCE:
     LCE (RM257/EDDET/PETMP type, Saed et al. 2016) whose second-stage crosslinking fixes the stretched
     and twisted shape. What the stored public text gives: the chemistry family and its actuation
     strain (Saed et al. 2016), the >= 55 C threshold and "warmer, faster" (press release). Not found
-    (the PNAS supplementary information is not in the stored corpora): the ribbon's modulus, its
+    (the PNAS supplementary information is not in the stored corpora; searched again in issue 32's second
+    pass, docs/ribbon.md): the ribbon's modulus, its
     actuation strain against temperature, T_NI, dimensions and mass; those are assumed within the
     bounds given, and none is calibrated on a rolling case. Sources: ``ZHAO_2022``, ``PRESS_RELEASE``,
     ``SAED_2016`` (module constants, quoted in docs/ribbon.md).
@@ -386,7 +387,10 @@ class GroundHeatExchange:
                                     minimum=0.0, maximum=1.0)
     boundary_layer: float = param(1.0, "mm", "assumed: decay length d_bl of the air temperature over the "
                                   "plate; with 3 mm the whole ribbon warms and untwists instead of being "
-                                  "heated from the contact side (ribbon_threshold case); not measured",
+                                  "heated from the contact side (ribbon_threshold case); not measured. It sets "
+                                  "how fast the rolling falls above 120 C (issue 32, 61 nodes, speed over 60-120 s, "
+                                  "validation/data/ribbon_heat_study.csv): 0.5 / 1 / 2 mm roll at 5.31 / 4.10 / 0.21 "
+                                  "mm/s at 180 C and 6.95 / 6.62 / 6.28 mm/s at 100 C, and none rolls at 55 C",
                                   positive=True)
 
     def air_temperature(self, height, T_ambient: float, T_ground: float):

@@ -84,7 +84,13 @@ class RibbonNumerics:
                                    "spacing of 0.19-0.3 mm 31 / 61 / 101 / 161 nodes roll at 6.92 / 7.70 / 8.06 / 8.23 mm/s, "
                                    "against 4.24 / 7.15 / 8.06 / 8.23 with 2 sections per edge", minimum=0.0)
     cells_width: int = param(6, "-", "chosen: heat cells across the width", minimum=1)
-    cells_thickness: int = param(2, "-", "chosen: heat cells through the thickness", minimum=1)
+    cells_thickness: int = param(2, "-", "chosen: heat cells through the 0.8 mm thickness. Not converged: speed over "
+                                 "60-120 s on the plate (61 nodes, 0.01 s; issue 32, validation/data/ribbon_heat_study.csv): "
+                                 "2 / 4 / 8 cells roll at 6.62 / 8.61 / 9.17 mm/s at 100 C (4 -> 8: +6.5 %) and 4.10 / 2.44 "
+                                 "/ 2.97 mm/s at 180 C; none rolls at 55 C. 4 is the converged choice at 100 C, but with it "
+                                 "the quick level (24 nodes, 0.02 s, 60 s) does not roll at 100 C (ribbon_threshold, "
+                                 "ribbon_end_spin), so the change waits for the threshold sweep at both levels (docs/ribbon.md)",
+                                 minimum=1)
     lag_tol: float = param(0.1, "-", "chosen: below this residual (relative to a node's weight, like force_tol) "
                            "Newton reuses the last Hessian factor while the residual falls at least 4x per "
                            "iteration (newton.minimise): the same equilibria to force_tol, fewer Hessian "
