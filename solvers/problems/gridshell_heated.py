@@ -210,6 +210,18 @@ class HeatedGridshellFE(GridshellFE):
         bound of its early heating."""
         return self.power_density(current) / self._heat_materials[0].volumetric_heat_capacity
 
+    def heat_content(self) -> float:
+        """rho c times the integral of T over the whole model [mJ] (its change over a step is the
+        heat stored: the Joule energy minus the losses, the energy balance of the heated route)."""
+        dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
+        rho_c = self._heat_materials[0].volumetric_heat_capacity
+        return rho_c * assemble_global(dolfinx.fem.form(self.heat.T * dx), self.tmesh.mesh.comm)
+
+    def joule_power(self) -> float:
+        """The coils' total power in the model [mW] (the integral of the power density)."""
+        dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
+        return assemble_global(dolfinx.fem.form(self.power * dx), self.tmesh.mesh.comm)
+
     def set_current(self, drives: Mapping[str, float]) -> None:
         """Coil current I [A] per strip tag, group or channel (a later key overrides an earlier
         one on shared strips), from now on; power density :meth:`power_density` in its LCE cells."""

@@ -160,25 +160,33 @@ def test_table_carries_the_weight():
 
 
 def test_heated_route_first_second(tmp_path):
-    """Heated route, dome protocol, first second (quarter, level 0): each channel's coil heats its
-    strips at nearly the adiabatic rate q/(rho c), q = I^2 R / (L W_s H) (the heated beam's power
-    density): never faster (no other source), within 15 % of it (the strips lose heat by conduction
-    into the unheated pads and glue squares and to the air; measured 0.96 bottom, 0.93 top); the
+    """Heated route, dome protocol, first second (quarter, level 0, junctions heated, the default):
+    the heat stored in the model is the coils' Joule energy less the losses to the air (never more,
+    within 15 %); each channel's coil heats its strips at nearly the adiabatic rate q/(rho c),
+    q = I^2 R / (L W_s H) (the heated beam's power density), within 15 % (the crossings, where two
+    coils pass, heat at twice the rate and feed the strips next to them: measured Tx 1.005); the
     bottom channel heats 4 x faster than the top (0.2 vs 0.1 A); the centre starts to dome (both
     curvatures negative, equal in x and y to solver tolerance); set_lambda is refused."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell_heated import DOME_PROTOCOL, HeatedGridshellFE
 
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
+    assert m.junction_heating == "added"  # the experiment's coil path (JUNCTION_HEATING_DEFAULT)
+    content0 = m.heat_content()
     rows = m.run_protocol(DOME_PROTOCOL, duration=1.0, dt=1.0)
     assert [r["time [s]"] for r in rows] == [0.0, 1.0]
     end = rows[-1]
+    # energy balance of backward Euler over the step: stored = (P - losses) dt, losses >= 0
+    stored = (m.heat_content() - content0) / (m.joule_power() * 1.0)
+    assert 0.85 < stored <= 1.0
     for channel in ("Tx", "Bx", "By"):
         current = DOME_PROTOCOL[0][1][channel]
         assert end[f"current {channel} [A]"] == current
         adiabatic = m.adiabatic_rate(current) * 1.0  # [K] in 1 s
         ratio = (end[f"T_mean {channel} [C]"] - rows[0][f"T_mean {channel} [C]"]) / adiabatic
-        assert 0.85 < ratio <= 1.0, channel
+        # within 15 % of q/(rho c) t; not a bound: the crossings (two coils) heat faster, and heat
+        # flows from them into the strips (measured Tx 1.005)
+        assert 0.85 < ratio < 1.02, channel
     kx, ky = end["kappa_circle_x [1/mm]"], end["kappa_circle_y [1/mm]"]
     assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
     with pytest.raises(InputError):
