@@ -441,7 +441,7 @@ def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
     from the as-built state. {shape: observables of the held state}."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell import PUBLISHED_SUPPORTS, GridshellConfig, GridshellSupports
-    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
+    from lcefem.solvers.problems.gridshell_heated import STEADY_PICARD_ITERATIONS, HeatedGridshellFE
     from lcefem.validation import gridshell_bh as gs
 
     out = {}
@@ -450,7 +450,7 @@ def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
         if quick:
             model = model or HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0)))
             model.set_current(spec["currents"])
-            model.heat.steady()
+            model.heat.steady(max_iterations=STEADY_PICARD_ITERATIONS)
             obs = {**model.observables(), "newton iterations [-]": 0}
         else:
             held = model if shape == "dome" and model is not None else HeatedGridshellFE(
