@@ -1,8 +1,8 @@
 """The controlled change behind the bar-and-hinge vs FE gap of the current route (issue 31,
 docs/gridshell_thermal.md, "FE heated route"): the FE heated gridshell held at the same currents with
-its bond pads and glue squares unheated (the default) and heated by the coils that run through them
-(``HeatedGridshellFE(junction_heating="added" | "spread")``: at the strips' power density, or with
-each coil's power unchanged), against the lumped grid strip (which has no
+its bond pads and glue squares unheated ("off") and heated by the coils that run through them
+(``HeatedGridshellFE(junction_heating="added" | "spread")``: at the strips' power density, the
+default, or with each coil's power unchanged), against the lumped grid strip (which has no
 junctions). One change, everything else equal: mesh, supports, exchange, coil, currents.
 
 Measured per run: each channel's mean strip temperature [C] and lambda_s at it, the pads' and glue
@@ -103,7 +103,7 @@ def main(argv=None) -> int:
     doc = json.loads(out.read_text()) if out.exists() else {}
     doc.update({
         "what": "FE heated gridshell (HeatedGridshellFE.steady_hold, quarter, published supports) at "
-                "the same currents with the junction pads and glue squares unheated (off, the default), "
+                "the same currents with the junction pads and glue squares unheated (off), "
                 "heated by the coils through them at the strips' power density (added: power added) "
                 "or with each coil's power unchanged, spread over its strips and those pads (spread); "
                 "the lumped grid strip at the same currents for reference",

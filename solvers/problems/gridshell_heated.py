@@ -41,10 +41,30 @@ _prefix = itertools.count()
 #: :meth:`HeatedGridshellFE.steady_hold` that ends them (chosen: lambda_s(T) is steepest at T_NI,
 #: 0.0169 per K for models.lce.NematicTransition, so 1e-3 K moves lambda by at most 1.7e-5).
 STEADY_TEMPERATURE_TOL = 1e-3
-#: Where the coils' heat goes (HeatedGridshellFE ``junction_heating``): "off" the strips only (the
-#: default), "added" also the pads and glue squares the coils pass, at the strips' power density,
-#: "spread" the same with each coil's power unchanged (spread over its strips and those pads).
+#: Where the coils' heat goes (HeatedGridshellFE ``junction_heating``): "off" the strips only,
+#: "added" also the pads and glue squares the coils pass, at the strips' power density (the default,
+#: :data:`JUNCTION_HEATING_DEFAULT`), "spread" the same with each coil's power unchanged (spread over
+#: its strips and those pads).
 JUNCTION_HEATING = ("off", "added", "spread")
+#: The experiment's coil path (issue 31): the coil runs through the junctions at the strips' linear
+#: power density. Source: seed 001, Materials and Methods: the LCE was injected into "a high-density
+#: polyethylene mold with grid-shaped channels with heating coils placed inside" and "the heating coil
+#: is integrated inside each LCE strip" (Results), so each coil lies in its line of the moulded grid,
+#: through the junction crossings; it is wound at a uniform pitch ("the resistance of the coil is 1.25
+#: ohms/mm on average before stretch", fig. S8), so a junction piece is heated per unit length as a
+#: segment. The density is the measured coil over the measured active length (126-134 ohm over 80 mm
+#: isotropic, "preserved in the 3x3 grid design"), the same density as the lumped grid strip
+#: (models.lumped_heat.GRID_STRIP) of the bar-and-hinge current route, whose one exchange factor was
+#: calibrated with it. Not "off": a coil that skips the junctions contradicts the grid-shaped channels.
+#: Not "spread": it rescales the measured density by the FE's own pad volumes (the published layout's
+#: bottom line is ~98 mm isotropic at 1.63 ohm/mm with its pads and tabs, the top ~122 mm with its crowns
+#: and glue squares, against the measured 80 mm), a model geometry.
+JUNCTION_HEATING_DEFAULT = "added"
+#: Picard iterations allowed to the steady heat equation (HeatProblem.steady's radiation update).
+#: Measured: the table's 0.2 A on every strip, junctions heated, settles at 315 C with the change per
+#: iteration shrinking by ~0.63 (1e-10 relative after ~55 iterations, more than HeatProblem's 50); the
+#: holds of 0.04-0.08 A settle in ~12.
+STEADY_PICARD_ITERATIONS = 200
 
 
 class HeatedGridshellFE(GridshellFE):
@@ -64,9 +84,9 @@ class HeatedGridshellFE(GridshellFE):
     reading under-powered the strips by 28 %) over a 30 mm strip's as-built volume,
     q = I^2 R / (L W_s H) [mW/mm^3], in every LCE cell of a driven strip (cell-wise field: each strip
     tag its own current); the glue squares where the top strips cross (4.2 of a top strip's 30 mm)
-    are not heated, nor are the bond pads (``junction_heating`` "off", the default). "added" continues
-    each coil through the pads and glue squares of its layer at its strips' power density (power
-    added); "spread" spreads each coil's unchanged power over its strips and the pads it passes
+    are heated by the coil passing through them at its strips' power density (``junction_heating``
+    "added", the default, :data:`JUNCTION_HEATING_DEFAULT`: the experiment's coil path); "off" heats
+    the strips only (neither the glue squares nor the bond pads); "spread" spreads each coil's unchanged power over its strips and the pads it passes
     (:meth:`_junction_coil_map`; the seed's coils lie in the grid-shaped mould channels, so they run
     through the junctions): the controlled changes that measure the heat the strips lose into
     unheated junctions. Exchange: the free strip's calibrated convection times the grid's one calibrated
@@ -80,7 +100,7 @@ class HeatedGridshellFE(GridshellFE):
 
     def __init__(self, config: GridshellConfig = GridshellConfig(), *, transition=None,
                  thermal=None, exchange=None, coil=None, dt: float = 1.0,
-                 junction_heating: str = "off",
+                 junction_heating: str = JUNCTION_HEATING_DEFAULT,
                  comm: MPI.Comm | None = None, petsc_options: dict | None = None):
         self.transition = transition or NematicTransition()
         if junction_heating not in JUNCTION_HEATING:
@@ -189,6 +209,18 @@ class HeatedGridshellFE(GridshellFE):
         """Temperature rate q/(rho c) [K/s] of a strip at ``current`` [A] losing no heat: the upper
         bound of its early heating."""
         return self.power_density(current) / self._heat_materials[0].volumetric_heat_capacity
+
+    def heat_content(self) -> float:
+        """rho c times the integral of T over the whole model [mJ] (its change over a step is the
+        heat stored: the Joule energy minus the losses, the energy balance of the heated route)."""
+        dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
+        rho_c = self._heat_materials[0].volumetric_heat_capacity
+        return rho_c * assemble_global(dolfinx.fem.form(self.heat.T * dx), self.tmesh.mesh.comm)
+
+    def joule_power(self) -> float:
+        """The coils' total power in the model [mW] (the integral of the power density)."""
+        dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
+        return assemble_global(dolfinx.fem.form(self.power * dx), self.tmesh.mesh.comm)
 
     def set_current(self, drives: Mapping[str, float]) -> None:
         """Coil current I [A] per strip tag, group or channel (a later key overrides an earlier
@@ -323,7 +355,7 @@ class HeatedGridshellFE(GridshellFE):
         self.set_current(currents)
         rows, previous = [], None
         for sweep in range(1, max_sweeps + 1):
-            self.heat.steady()
+            self.heat.steady(max_iterations=STEADY_PICARD_ITERATIONS)
             T1 = self.heat.T.x.array.copy()
             follower = temperature_path(self.problem, self.T_mech, T1, self.config.control, self.damping)
             started = time.perf_counter()
@@ -373,4 +405,5 @@ class HeatedGridshellFE(GridshellFE):
         self.stepper.time = state["time"]
 
 
-__all__ = ["JUNCTION_HEATING", "STEADY_TEMPERATURE_TOL", "HeatedGridshellFE"]
+__all__ = ["JUNCTION_HEATING", "JUNCTION_HEATING_DEFAULT", "STEADY_PICARD_ITERATIONS", "STEADY_TEMPERATURE_TOL",
+           "HeatedGridshellFE"]

@@ -161,25 +161,33 @@ def test_table_carries_the_weight():
 
 
 def test_heated_route_first_second(tmp_path):
-    """Heated route, dome protocol, first second (quarter, level 0): each channel's coil heats its
-    strips at nearly the adiabatic rate q/(rho c), q = I^2 R / (L W_s H) (the heated beam's power
-    density): never faster (no other source), within 15 % of it (the strips lose heat by conduction
-    into the unheated pads and glue squares and to the air; measured 0.96 bottom, 0.93 top); the
+    """Heated route, dome protocol, first second (quarter, level 0, junctions heated, the default):
+    the heat stored in the model is the coils' Joule energy less the losses to the air (never more,
+    within 15 %); each channel's coil heats its strips at nearly the adiabatic rate q/(rho c),
+    q = I^2 R / (L W_s H) (the heated beam's power density), within 15 % (the crossings, where two
+    coils pass, heat at twice the rate and feed the strips next to them: measured Tx 1.005); the
     bottom channel heats 4 x faster than the top (0.2 vs 0.1 A); the centre starts to dome (both
     curvatures negative, equal in x and y to solver tolerance); set_lambda is refused."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
+    assert m.junction_heating == "added"  # the experiment's coil path (JUNCTION_HEATING_DEFAULT)
+    content0 = m.heat_content()
     rows = m.run_protocol(DOME_PROTOCOL, duration=1.0, dt=1.0)
     assert [r["time [s]"] for r in rows] == [0.0, 1.0]
     end = rows[-1]
+    # energy balance of backward Euler over the step: stored = (P - losses) dt, losses >= 0
+    stored = (m.heat_content() - content0) / (m.joule_power() * 1.0)
+    assert 0.85 < stored <= 1.0
     for channel in ("Tx", "Bx", "By"):
         current = DOME_PROTOCOL[0][1][channel]
         assert end[f"current {channel} [A]"] == current
         adiabatic = m.adiabatic_rate(current) * 1.0  # [K] in 1 s
         ratio = (end[f"T_mean {channel} [C]"] - rows[0][f"T_mean {channel} [C]"]) / adiabatic
-        assert 0.85 < ratio <= 1.0, channel
+        # within 15 % of q/(rho c) t; not a bound: the crossings (two coils) heat faster, and heat
+        # flows from them into the strips (measured Tx 1.005)
+        assert 0.85 < ratio < 1.02, channel
     kx, ky = end["kappa_circle_x [1/mm]"], end["kappa_circle_y [1/mm]"]
     assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
     with pytest.raises(InputError):
@@ -202,11 +210,12 @@ def test_heated_route_first_second(tmp_path):
 
 
 def test_heated_hold_reaches_the_steady_state():
-    """HeatedGridshellFE.hold: backward-Euler steps growing 4x (50, 200, 800, 3200 s) at the dome's
-    hold currents (0.04 A top, 0.07 A bottom) from the as-built state reach the steady state of the
-    heat equation (HeatProblem.steady, 1/dt = 0): a step dt leaves 1/(1 + dt/tau) of the distance
-    to it, with tau ~ 90 s (the 1 s dome run's relaxation) the four steps leave ~1e-3 of the ~30 K
-    rise, so the channels' mean temperatures agree within 0.1 K. The bottom strips settle warmer
+    """HeatedGridshellFE.hold: backward-Euler steps growing 4x (50, 200, 800, 3200, 12800 s) at the
+    dome's hold currents (0.04 A top, 0.07 A bottom) from the as-built state reach the steady state of
+    the heat equation (HeatProblem.steady, 1/dt = 0): a step dt leaves 1/(1 + dt/tau) of the distance
+    to it. With the junctions heated (the default) the heated pads and ribbons add a slow mode: four
+    steps left Bx 0.14 K short of the steady 66.0 C (tau ~ 250 s), so a fifth step (12800 s) is
+    taken; then the channels' mean temperatures agree within 0.1 K. The bottom strips settle warmer
     than the top (0.07 vs 0.04 A, power 3x) and below T_NI (the hold keeps them nematic-side), and
     the centre domes (both curvatures negative and equal). Bad input is refused by name."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
@@ -215,8 +224,8 @@ def test_heated_hold_reaches_the_steady_state():
     m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"))
     with pytest.raises(InputError, match="first_dt"):
         m.hold(DOME_PROTOCOL[1][1], until=10.0, first_dt=0.0)
-    rows = m.hold(DOME_PROTOCOL[1][1], until=4250.0, first_dt=50.0, growth=4.0)
-    assert [r["time [s]"] for r in rows] == pytest.approx([50.0, 250.0, 1050.0, 4250.0])
+    rows = m.hold(DOME_PROTOCOL[1][1], until=17050.0, first_dt=50.0, growth=4.0)
+    assert [r["time [s]"] for r in rows] == pytest.approx([50.0, 250.0, 1050.0, 4250.0, 17050.0])
     held = rows[-1]
     m.heat.steady()
     steady = m.observables()

@@ -205,6 +205,7 @@ def run_fe_current(spec: dict, out: pathlib.Path) -> dict:
                "shape": shape, "mesh level": spec["mesh_level"], "support": PUBLISHED_SUPPORTS[shape],
                "current [A]": currents, "current rule": "Eq. 1 inverted at the Fig. 4 lambdas through "
                "the grid strip's 130 ohm coil (models.lumped_heat.eq1_current)",
+               "junction_heating": model.junction_heating,
                "held": held, "sweeps": len(rows), "cpu [s]": time.process_time() - started}
     write_json(out / "summary.json", summary)
     return summary
