@@ -9,7 +9,8 @@ These are thin adapters: each calls the route's existing code (models.lumped_hea
 ``steady_stretch`` and ``eq1_stretch``, HeatedGridshellFE's ``steady_hold`` and observables), so
 a change of a route's physics there reaches the adapter unchanged. The configuration section of
 a run (which route, which strip, the exchange factor) stays
-:class:`lcefem.models.lumped_heat.CurrentRoute`; :func:`route_from_config` turns it into a route.
+:class:`lcefem.models.lumped_heat.CurrentRoute`; :func:`route_from_config` turns it into a route
+(``lcefem run gridshell --route current`` and ``--current`` take their lambdas through it).
 
 A study can then compare routes through one call::
 

@@ -22,13 +22,12 @@ Units: those of the problem (mm, N, s).
 
 from __future__ import annotations
 
-import math
 import pathlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from lcefem.solvers.problems.protocol import unnamed
+from lcefem.solvers.problems.protocol import steps_in_time, unnamed
 from lcefem.solvers.runtime.run import Progress, Run
 
 
@@ -98,8 +97,6 @@ def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, dura
     ``fields`` (optional export object) one frame per step; ``summarize(run, rows)`` the summary's
     entries. Returns the summary."""
     out = None if out is None else pathlib.Path(out)
-    steps = max(1, int(math.ceil(duration / dt - 1e-9)))
-    step = duration / steps
     history = HistoryExport(tuple(columns), dict, where=_time_where, at=_time_at)
     with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
         writer = None if fields is None else fields.open(run, out)
@@ -110,13 +107,7 @@ def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, dura
                 writer.write(row)
 
         problem.set_drives(drives)
-        rows = [problem.observables()]
-        record(rows[0])
-        for k in range(1, steps + 1):
-            rows.append(problem.advance(step))
-            problem.time = k * step
-            rows[-1]["time [s]"] = problem.time
-            record(rows[-1])
+        rows = steps_in_time(problem, duration, dt, record)
         return run.complete(summarize(run, rows))
 
 

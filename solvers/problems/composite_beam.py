@@ -61,7 +61,7 @@ from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContac
                                     face_pairs)
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
-from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays, steps_in_time
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import plane_clamp, point_support
@@ -644,15 +644,4 @@ def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
     beam = HeatedBeamFE(HEATED_STRIPS[run.heated], geometry, mesh, materials, contact, control,
                         transition, thermal, exchange, coil, dt=run.dt)
     beam.set_current({tag: run.current for tag in beam.heated})
-    steps = max(1, int(math.ceil(run.duration / run.dt - 1e-9)))
-    dt = run.duration / steps
-    rows = [beam.observables()]
-    if on_step is not None:
-        on_step(rows[0])
-    for k in range(1, steps + 1):
-        rows.append(beam.advance(dt))
-        beam.time = k * dt  # exactly, not a sum of steps
-        rows[-1]["time [s]"] = beam.time
-        if on_step is not None:
-            on_step(rows[-1])
-    return beam.model, rows, beam.stations
+    return beam.model, steps_in_time(beam, run.duration, run.dt, on_step), beam.stations

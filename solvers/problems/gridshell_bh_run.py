@@ -23,9 +23,10 @@ from lcefem.models import bar_hinge as law
 from lcefem.models.errors import InputError
 from lcefem.models.limits import check_current
 from lcefem.models.loads import SurfaceWeight
-from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents, shape_currents
+from lcefem.models.lumped_heat import CurrentRoute, shape_currents
 from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
+from lcefem.solvers.current_routes import route_from_config
 from lcefem.solvers.exports import bar_hinge_run
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.run import Progress
@@ -229,7 +230,7 @@ def strip_targets(cfg: GridshellBHRunConfig, structure: BarHingeStructure) -> tu
         return targets_from_recipe(structure, recipe), {"recipe": cfg.run.recipe, "P0": recipe}
     if cfg.run.shape and cfg.run.route == "current":
         currents = shape_currents(cfg.shapes[cfg.run.shape]["lambdas"], cfg.current_route.strip.resistance)
-        lambdas = lambda_assignments_from_currents(currents, cfg.current_route, lam_n)
+        lambdas = route_from_config(cfg.current_route, lam_n).lambdas(currents)
         return targets_from_lambdas(structure, lambdas, lam_n, "current"), {
             "shape": cfg.run.shape, "route": "current", "current [A]": currents,
             "current rule": "Eq. 1 inverted at the Fig. 4 lambdas through the grid strip's coil "
@@ -239,7 +240,7 @@ def strip_targets(cfg: GridshellBHRunConfig, structure: BarHingeStructure) -> tu
         lambdas = cfg.shapes[cfg.run.shape]["lambdas"]
         return targets_from_lambdas(structure, lambdas, lam_n), {"shape": cfg.run.shape, "lambda": lambdas}
     if cfg.currents:
-        lambdas = lambda_assignments_from_currents(cfg.currents, cfg.current_route, lam_n)
+        lambdas = route_from_config(cfg.current_route, lam_n).lambdas(cfg.currents)
         return targets_from_lambdas(structure, lambdas, lam_n, "current"), {
             "current [A]": cfg.currents, "lambda (from current)": lambdas,
             "thermal model": cfg.current_route.thermal_model}

@@ -14,8 +14,9 @@ in :attr:`Problem.drive`, "name [unit]" like every observable.
 
 from __future__ import annotations
 
+import math
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, Protocol, runtime_checkable
 
 #: "name [unit]": a name, one space, the unit in brackets ("[-]" for a ratio), nothing after.
@@ -65,6 +66,25 @@ class Problem(Protocol):
     def restore_state(self, state: Any) -> None:
         """Go back to a state returned by :meth:`save_state` of this problem."""
         ...
+
+
+def steps_in_time(problem, duration: float, dt: float,
+                  on_row: Callable[[dict], None] | None = None) -> list[dict]:
+    """Observables of ``problem`` at its current state and after each of the equal steps of at most
+    ``dt`` [s] that end at ``duration`` [s] (``problem.advance(step)``); the clock ``problem.time``
+    [s] is set to k x step exactly, not a sum of steps. ``on_row`` sees each row as it comes."""
+    steps = max(1, int(math.ceil(duration / dt - 1e-9)))
+    step = duration / steps
+    rows = [problem.observables()]
+    if on_row is not None:
+        on_row(rows[0])
+    for k in range(1, steps + 1):
+        rows.append(problem.advance(step))
+        problem.time = k * step
+        rows[-1]["time [s]"] = problem.time
+        if on_row is not None:
+            on_row(rows[-1])
+    return rows
 
 
 def check_quasi_static_step(dt: float) -> float:
