@@ -29,6 +29,7 @@ take seconds each.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import functools
 import json
@@ -147,11 +148,58 @@ def measure(model_sets=("published", "fe-calibrated"), shapes=SHAPES, drives=DRI
     return out
 
 
+#: Stored prediction bands of the current route from the rule's currents (validation/data/...).
+RULE_BANDS = DATA / "current_route_bands_rule"
+
+
+@contextlib.contextmanager
+def rule_currents(shape: str):
+    """Within the block, ``shape``'s drive currents (:data:`lcefem.validation.gridshell_bh.SHAPES`
+    "currents", which the Monte Carlo bands of :mod:`lcefem.validation.uncertainty` perturb) are the
+    rule's (Eq. 1 inverted at the Fig. 4 lambdas); restored after."""
+    from lcefem.validation import gridshell_bh as gs
+
+    spec = gs.SHAPES[shape]
+    saved = spec["currents"]
+    spec["currents"] = lumped_heat.shape_currents(spec["lambdas"])
+    try:
+        yield spec["currents"]
+    finally:
+        spec["currents"] = saved
+
+
+def rule_bands(shape: str, samples: int, model_set: str, out: pathlib.Path, seed: int = 0) -> dict:
+    """Monte Carlo prediction bands of the current route from the rule's currents: the measured
+    spreads of :func:`lcefem.validation.uncertainty.gridshell_inputs` (coils 126-134 ohm, current
+    +-5 %, lambda_N SD 6.15 %, Eq. 1 power +-5 %, modulus +-10 %) around the rule's currents, through
+    the lumped grid strip ('strip') and the bar-and-hinge surface of ``model_set``
+    (:func:`lcefem.validation.uncertainty.run_bands`, the same sampling and warm starts)."""
+    from lcefem.validation import uncertainty
+
+    with rule_currents(shape):
+        return uncertainty.run_bands(uncertainty.BandsConfig(shape=shape, samples=samples, thermal_model="strip",
+                                                             seed=seed, model_set=model_set), out, progress=False)
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m lcefem.validation.gridshell_current_route",
                                 description=__doc__.split("\n\n")[0])
-    p.add_argument("--out", type=pathlib.Path, default=STORE)
+    p.add_argument("--out", type=pathlib.Path, default=None,
+                   help=f"output (default {STORE.name}; with --bands the folder, default "
+                        f"{RULE_BANDS.name}/<shape>/)")
+    p.add_argument("--bands", metavar="SHAPE", choices=SHAPES,
+                   help="instead: the prediction bands of the rule's currents for SHAPE")
+    p.add_argument("--samples", type=int, default=64, help="Monte Carlo samples with --bands (default 64)")
+    p.add_argument("--model-set", default="fe-calibrated", help="model set with --bands (default fe-calibrated)")
     a = p.parse_args(argv)
+    if a.bands:
+        out = a.out or RULE_BANDS / a.bands
+        res = rule_bands(a.bands, a.samples, a.model_set, out)
+        for b in res["bands"]:
+            print(f"{a.bands} {b['quantity']}: nominal {b['nominal']:+.4f}, 5-95 % [{b['p5']:+.4f}, "
+                  f"{b['p95']:+.4f}], measured {b['paper measured']}, inside {b['inside']}")
+        return 0
+    a.out = a.out or STORE
     doc = {"what": __doc__.split("\n\n")[0].replace("\n", " "),
            "command": "python -m lcefem.validation.gridshell_current_route",
            "shapes": measure()}

@@ -28,6 +28,7 @@ from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
 from lcefem.models.lumped_heat import shape_currents
 from lcefem.validation import gridshell_bh as gs
+from lcefem.validation import gridshell_current_route as bh_routes
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
@@ -56,7 +57,10 @@ NEWTON = problem_bh.RAMP_NEWTON
 
 
 def _solve(structure, targets, support, newton_options=NEWTON):
-    setup = problem_bh.setup_gridshell(targets, support, structure=structure)
+    return _solve_setup(problem_bh.setup_gridshell(targets, support, structure=structure), newton_options)
+
+
+def _solve_setup(setup, newton_options=NEWTON):
     t0 = time.perf_counter()
     try:
         sol = problem_bh.solve_gridshell(setup, newton_options=newton_options)
@@ -82,7 +86,10 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
                    # issue 31: the grid strip (calibrated on the dome protocol only), judged against
                    # the experiment at the experiment's currents and at the paper's rule (Eq. 1
                    # inverted at the Fig. 4 lambdas, docs/gridshell_thermal.md)
-                   ("current (strip)", lumped_heat.CurrentRoute()), ("current (strip, rule)", lumped_heat.CurrentRoute())]
+                   ("current (strip)", lumped_heat.CurrentRoute()), ("current (strip, rule)", lumped_heat.CurrentRoute()),
+                   # the rule's currents in the FE-calibrated model set (strip element, plate torsion,
+                   # fitted factors, validation.calibrate; within 10 % of the FE at the same lambdas)
+                   ("current (strip, rule, FE-calibrated)", lumped_heat.CurrentRoute())]
     for shape, spec in gs.SHAPES.items():
         chart["paper simulation"][shape] = spec["paper_sim"]
         chart["paper experiment"][shape] = spec["paper_exp"]
@@ -90,11 +97,15 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
             s = build_gridshell_bar_hinge()
             if current is None:
                 lambdas = spec["lambdas"]
-            elif route.endswith("rule)"):
+            elif "rule" in route:
                 lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), current)
             else:
                 lambdas = lumped_heat.lambda_assignments_from_currents(spec["currents"], current)
-            sol, secs, why = _solve(s, problem_bh.targets_from_lambdas(s, lambdas), spec["support"])
+            if route.endswith("FE-calibrated)"):
+                sol, secs, why = _solve_setup(bh_routes.bh_setup(shape, lambdas, "fe-calibrated"))
+                s = sol.setup.structure if sol is not None else s
+            else:
+                sol, secs, why = _solve(s, problem_bh.targets_from_lambdas(s, lambdas), spec["support"])
             k = sol.curvatures if sol is not None else {}
             vals = [k.get(c, math.nan) for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")]
             zr = problem_bh.shape_summary(s, sol.final.x)["z_range [mm]"] if sol is not None else math.nan
@@ -137,6 +148,8 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
                                            "not calibrated on the grid (see README)", sim[i]))
             metrics.append(Metric.info(name, f"{label}: quadratic-fit kappa_x, kappa_y (mean)",
                                        0.5 * (vals[2] + vals[3]), "1/mm", BH))
+    if not ctx.quick:
+        metrics += current_route_support_rows(name)
     write_csv(ctx.path("gridshell_shapes_bh.csv"), {
         "shape [-]": list(range(len(rows["shape"]))), "converged [-]": [float(c) for c in rows["converged"]],
         "circle kappa_x [1/mm]": rows["circle_x"], "circle kappa_y [1/mm]": rows["circle_y"],
@@ -154,6 +167,30 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
     return metrics
 
 
+def current_route_support_rows(name: str) -> list[Metric]:
+    """Informative: the controlled change of the support on the current route from the rule's
+    currents (docs/gridshell_thermal.md): the cylinder resting on the table (seed 001: 'not anchored
+    to the table'; support 'table': weight and unilateral contact) in both model sets."""
+    shape = "cylinder"
+    spec = gs.SHAPES[shape]
+    lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), lumped_heat.CurrentRoute())
+    metrics = []
+    for model_set in ("published", "fe-calibrated"):
+        try:
+            k = bh_routes.bh_curvatures(shape, lambdas, model_set, "table")
+        except ConvergenceError as exc:
+            metrics.append(Metric.info(name, f"{shape} (current (strip, rule), {model_set} set, on the table): "
+                                       "converged", 0.0, "-", f"controlled change of the support: {exc}"))
+            continue
+        for i, axis in enumerate("xy"):
+            metrics.append(Metric.info(
+                name, f"{shape} (current (strip, rule), {model_set} set, on the table): kappa_{axis} circle",
+                k[f"circle_{axis}"], "1/mm", "controlled change of the support (the published rollers -> "
+                f"the table) on the rule's currents; {BH}, model set {model_set}; paper experiment",
+                spec["paper_exp"][i]))
+    return metrics
+
+
 #: Stored prediction bands of the current route (thermal model 'strip') at the experiment's currents
 #: (issue 31): ``lcefem uncertainty gridshell --shape NAME --thermal-model strip --samples N`` per
 #: shape, its bands.csv and summary.json kept under this folder of validation/data (64 samples take
@@ -161,35 +198,47 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
 CURRENT_ROUTE_BANDS = "current_route_bands"
 
 
+#: The same from the rule's currents (python -m lcefem.validation.gridshell_current_route --bands
+#: SHAPE: the FE-calibrated model set, 64 samples, 4-6 min of one core per shape).
+CURRENT_ROUTE_RULE_BANDS = "current_route_bands_rule"
+
+
 def current_route_band_rows(name: str) -> list[Metric]:
     """Judged: is the experiment's circle curvature inside the 5-95 % band of the current route
-    (stored Monte Carlo, :data:`CURRENT_ROUTE_BANDS`), per shape and direction."""
+    (stored Monte Carlo, :data:`CURRENT_ROUTE_BANDS` at the experiment's currents and
+    :data:`CURRENT_ROUTE_RULE_BANDS` at the rule's), per shape and direction."""
     import csv
     import json
 
     from lcefem.validation.reference_data import DATA_DIR
 
     metrics = []
-    for shape in gs.SHAPES:
-        folder = DATA_DIR / CURRENT_ROUTE_BANDS / shape
-        if not (folder / "bands.csv").exists():
-            continue
-        summary = json.loads((folder / "summary.json").read_text())
-        with open(folder / "bands.csv", newline="") as f:
-            bands = {r["quantity"]: r for r in csv.DictReader(f)}
-        exp = gs.SHAPES[shape]["paper_exp"]
-        for i, axis in enumerate("xy"):
-            band = bands[f"circle kappa_{axis}"]
-            if exp[i] is None:
+    for folder_name, route in ((CURRENT_ROUTE_BANDS, "current (strip)"),
+                               (CURRENT_ROUTE_RULE_BANDS, "current (strip, rule)")):
+        for shape in gs.SHAPES:
+            folder = DATA_DIR / folder_name / shape
+            if not (folder / "bands.csv").exists():
                 continue
-            metrics.append(Metric.between(
-                name, f"{shape} (current (strip)): measured kappa_{axis} circle inside the 5-95 % band",
-                exp[i], "1/mm", float(band["p5 [1/mm]"]), float(band["p95 [1/mm]"]),
-                f"{gs.SHAPE_SOURCES['curvatures']}; band: {summary['samples']} Monte Carlo samples of "
-                "the measured spreads (coils 126-134 ohm, current +-5 %, lambda_N SD 6.15 %, power "
-                "+-5 %, modulus +-10 %) through the grid strip's steady heat balance and the "
-                f"bar-and-hinge surface (validation/data/{CURRENT_ROUTE_BANDS}/{shape}/, lcefem "
-                "uncertainty gridshell --thermal-model strip)"))
+            summary = json.loads((folder / "summary.json").read_text())
+            model_set = summary.get("config", {}).get("model set", "published")
+            currents = summary.get("config", {}).get("currents [A]", {})
+            with open(folder / "bands.csv", newline="") as f:
+                bands = {r["quantity"]: r for r in csv.DictReader(f)}
+            exp = gs.SHAPES[shape]["paper_exp"]
+            for i, axis in enumerate("xy"):
+                band = bands[f"circle kappa_{axis}"]
+                if exp[i] is None:
+                    continue
+                label = route if model_set == "published" else f"{route[:-1]}, {model_set})"
+                metrics.append(Metric.between(
+                    name, f"{shape} ({label}): measured kappa_{axis} circle inside the 5-95 % band",
+                    exp[i], "1/mm", float(band["p5 [1/mm]"]), float(band["p95 [1/mm]"]),
+                    f"{gs.SHAPE_SOURCES['curvatures']}; band: {summary['samples']} Monte Carlo samples of "
+                    "the measured spreads (coils 126-134 ohm, current +-5 %, lambda_N SD 6.15 %, power "
+                    "+-5 %, modulus +-10 %) around the currents "
+                    + ", ".join(f"{c} {v:.4f}" for c, v in currents.items())
+                    + f" A through the grid strip's steady heat balance and the bar-and-hinge surface "
+                    f"(model set {model_set}; validation/data/{folder_name}/{shape}/)"))
     return metrics
 
 
