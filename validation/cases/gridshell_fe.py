@@ -31,7 +31,10 @@
   lambda per channel next to the bar-and-hinge current route's (both levels; quick: the heat
   alone), the held curvatures against the paper and the bar-and-hinge current route, and the
   dome's steady route against the transient hold (judged: within the hold's last-step change)
-  (full level; CSV gridshell_held_fe.csv, figure).
+  (full level; CSV gridshell_held_fe.csv, figure). Full level also: the stored FE current route at
+  level 1 (validation/data/gridshell_fe_current_route_level1.json) against the experiment, and the
+  bar-and-hinge current route in the FE-calibrated model set against it at the same currents and
+  at the FE's own channel lambdas (judged; the published set informative).
 
 The table support (dome lambdas on the table, a benchmark only): the FE surface stays a dome and
 the bar-and-hinge one, ramped from flat under its weight, settles as a bowl; both models have the
