@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import pathlib
 import sys
@@ -61,9 +62,24 @@ def _change(value: float, reference: dict | None) -> float:
     return (value - reference["average_speed [mm/s]"]) / reference["average_speed [mm/s]"]
 
 
+def lock_rate(nodes: int, dt: float, contact_spacing: float) -> float:
+    """Spin rate [rad/s] at which the plate contact passes one contact section per step: the twisted edge
+    turns 2 pi tau_0 s per section of as-built spacing s (tau_0 the built twist density [turns/mm]; the
+    locked twist keeps it per as-built length), so 2 pi tau_0 s / dt. A run whose end spin rate equals it
+    (or a whole multiple) rolls in step with the contact sampling, a numerical lock (docs/ribbon.md)."""
+    from lcefem.solvers.der.ribbon import RibbonNumerics, contact_samples_per_edge
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig
+
+    g = RibbonConfig().geometry
+    num = dataclasses.replace(RibbonNumerics(), nodes=nodes, contact_spacing=contact_spacing)
+    s = g.length / (nodes - 1) / contact_samples_per_edge(num, g.length)
+    return 2.0 * math.pi * g.twist_density * s / dt
+
+
 def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
     """CSV of every run with the relative change of its speed against the run at half its step (same
-    nodes) and against the run with the next larger node count (same step), both of the same duration."""
+    nodes) and against the run with the next larger node count (same step), both of the same duration,
+    and its end spin rate over the contact-sampling lock rate (``lock_rate``)."""
     rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
     # one row per (T, nodes, dt, duration, contact spacing): a run repeated by two processes is deterministic
     for r in rows:
@@ -75,7 +91,8 @@ def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
     header = ["changes [-]", "plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "contact spacing [mm]",
               "average speed [mm/s]", "rolls [-]",
               "change against half the step [-]", "change against the next node count [-]",
-              "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]"]
+              "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]",
+              "spin rate over the sampling lock rate [-]"]
     lines = [",".join(header)]
     for r in rows:
         T, n, dt, dur, cs = r["T"], int(r["nodes"]), r["dt"], r["duration"], r["cs"]
@@ -85,7 +102,8 @@ def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
         lines.append(",".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in (
             cs[1] or "defaults", T, n, dt, dur, cs[0], v, r["rolls"], _change(v, by.get((T, n, dt / 2, dur, cs))),
             _change(v, by.get((T, finer_nodes[0], dt, dur, cs)) if finer_nodes else None),
-            r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"])))
+            r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"],
+            abs(r["spin_rate_start [rad/s]"]) / lock_rate(n, dt, cs[0]))))
     tmp = csv.with_suffix(".csv.part")
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, csv)
