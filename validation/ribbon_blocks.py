@@ -157,6 +157,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--ground-temperature", type=float, default=100.0, help="plate temperature [C]")
     parser.add_argument("--every", type=float, default=1.0, help="row and frame interval [s]")
     parser.add_argument("--out", default="results/ribbon_blocks")
+    parser.add_argument("--set", action="append", default=[], dest="changes",
+                        help="section.field=value: a change of RibbonConfig (e.g. material.youngs_modulus=1.0)")
     args = parser.parse_args(argv)
     if args.length is not None and not args.length > 0:
         parser.error(f"--length = {args.length}: must be > 0")
@@ -170,6 +172,10 @@ def main(argv: list[str] | None = None) -> int:
     base = override(RibbonConfig(), "run", ground_temperature=args.ground_temperature, duration=args.duration)
     base = override(base, "numerics", nodes=args.nodes, dt=args.dt)
     base = override(base, "geometry", length=args.length)
+    from lcefem.validation.benchmarks.ribbon_heat_study import _replace
+
+    for change in args.changes:
+        base = _replace(base, change)
     rows = []
     placements = list(args.placements)
     if args.side == 0.0:  # the reference run first: the block goes where the ribbon rolls

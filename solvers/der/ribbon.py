@@ -82,7 +82,12 @@ class RibbonNumerics:
                                    "this (at least 2). 0: contact_samples per edge whatever the edge length (the default). "
                                    "Measured (issue 32, 140 C, 180 s; validation/data/ribbon_node_study.csv): at a sample "
                                    "spacing of 0.19-0.3 mm 31 / 61 / 101 / 161 nodes roll at 6.92 / 7.70 / 8.06 / 8.23 mm/s, "
-                                   "against 4.24 / 7.15 / 8.06 / 8.23 with 2 sections per edge", minimum=0.0)
+                                   "against 4.24 / 7.15 / 8.06 / 8.23 with 2 sections per edge. Keep the lock rate "
+                                   "2 pi twist_density s / dt (the spin at which the plate contact passes one section of "
+                                   "as-built spacing s per step) well above the rolling spin: with s = 0.25 mm and dt = "
+                                   "0.01 s (7.85 rad/s, ~16 mm/s) the 140 and 180 C ribbons lock to it (15.99 mm/s, spin "
+                                   "5 pi/2 rad/s) where dt = 0.005 s rolls at 9.88 mm/s (issue 32, docs/ribbon.md)",
+                                   minimum=0.0)
     cells_width: int = param(6, "-", "chosen: heat cells across the width", minimum=1)
     cells_thickness: int = param(2, "-", "chosen: heat cells through the 0.8 mm thickness. Not converged: speed over "
                                  "60-120 s on the plate (61 nodes, 0.01 s; issue 32, validation/data/ribbon_heat_study.csv): "

@@ -1,7 +1,7 @@
 """Convergence of the rolling ribbon's speed in nodes and time step (issue 32).
 
     nice python -m lcefem.validation.benchmarks.ribbon_convergence --out rows.jsonl [--duration 40]
-        [--contact-spacing 0.25] T,nodes,dt [T,nodes,dt ...]
+        [--contact-spacing 0.25] [--set numerics.cells_thickness=4 ...] T,nodes,dt [T,nodes,dt ...]
     python -m lcefem.validation.benchmarks.ribbon_convergence --table rows.jsonl [more.jsonl ...]
         --csv validation/data/ribbon_convergence.csv
 
@@ -9,7 +9,8 @@ The first form runs the default ribbon (``RibbonConfig()``: the seed-000 ribbon 
 locked, 60 x 4 x 0.8 mm, 0.05 turns/mm) on a plate at T [C] with the given rod nodes and fixed step dt
 [s] for ``--duration`` seconds after settling, and appends one JSON row per run (rolling metrics of the
 last half: average speed, end spin rates, twist-density variation; CPU seconds) to ``--out``; several
-processes may share the work. The second form writes the CSV table (units in the headers) with the
+processes may share the work. ``--set section.field=value`` changes one field of ``RibbonConfig`` for
+every run (as in ``ribbon_heat_study``); the rows record the changes. The second form writes the CSV table (units in the headers) with the
 relative change of each speed against the run at half its step and against the next node count.
 """
 
@@ -18,27 +19,38 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import pathlib
 import sys
 import time
 
+# One BLAS thread (see ribbon_heat_study: a threaded BLAS on a loaded machine cost 40x in natural_strains).
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 COLUMNS = ["average_speed [mm/s]", "rolls", "spin_rate_start [rad/s]", "spin_rate_end [rad/s]",
            "spin_rate_ratio [-]", "twist_density_mean [turns/mm]", "twist_density_variation [-]", "T_mean_final [C]"]
 
 
-def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]], contact_spacing: float = 0.0) -> None:
+def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]], contact_spacing: float = 0.0,
+        changes: list[str] | None = None) -> None:
     from lcefem.solvers.der.ribbon import RibbonNumerics
     from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun, run_ribbon
+    from lcefem.validation.benchmarks.ribbon_heat_study import _replace
 
+    changes = list(changes or [])
     for T, nodes, dt in jobs:
         cfg = RibbonConfig(run=RibbonRun(ground_temperature=T, duration=duration, output_interval=0.0),
                            numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt,
                                                            contact_spacing=contact_spacing))
+        for c in changes:
+            cfg = _replace(cfg, c)
         t0 = time.process_time()
         m = run_ribbon(cfg, None, progress=False, fields=False).metrics
         row = {k: float(m[k]) for k in COLUMNS}
-        row.update({"T": T, "nodes": nodes, "dt": dt, "duration": duration, "contact_spacing": contact_spacing, "cpu": time.process_time() - t0})
+        row.update({"T": T, "nodes": nodes, "dt": dt, "duration": duration, "contact_spacing": contact_spacing,
+                    "changes": changes, "cpu": time.process_time() - t0})
         with open(out, "a") as f:
             f.write(json.dumps(row) + "\n")
 
@@ -50,30 +62,48 @@ def _change(value: float, reference: dict | None) -> float:
     return (value - reference["average_speed [mm/s]"]) / reference["average_speed [mm/s]"]
 
 
+def lock_rate(nodes: int, dt: float, contact_spacing: float) -> float:
+    """Spin rate [rad/s] at which the plate contact passes one contact section per step: the twisted edge
+    turns 2 pi tau_0 s per section of as-built spacing s (tau_0 the built twist density [turns/mm]; the
+    locked twist keeps it per as-built length), so 2 pi tau_0 s / dt. A run whose end spin rate equals it
+    (or a whole multiple) rolls in step with the contact sampling, a numerical lock (docs/ribbon.md)."""
+    from lcefem.solvers.der.ribbon import RibbonNumerics, contact_samples_per_edge
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig
+
+    g = RibbonConfig().geometry
+    num = dataclasses.replace(RibbonNumerics(), nodes=nodes, contact_spacing=contact_spacing)
+    s = g.length / (nodes - 1) / contact_samples_per_edge(num, g.length)
+    return 2.0 * math.pi * g.twist_density * s / dt
+
+
 def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
     """CSV of every run with the relative change of its speed against the run at half its step (same
-    nodes) and against the run with the next larger node count (same step), both of the same duration."""
+    nodes) and against the run with the next larger node count (same step), both of the same duration,
+    and its end spin rate over the contact-sampling lock rate (``lock_rate``)."""
     rows = [json.loads(line) for p in paths for line in open(p) if line.strip()]
     # one row per (T, nodes, dt, duration, contact spacing): a run repeated by two processes is deterministic
     for r in rows:
         r.setdefault("contact_spacing", 0.0)
-    rows = list({(r["T"], int(r["nodes"]), r["dt"], r["duration"], r["contact_spacing"]): r for r in rows}.values())
-    rows.sort(key=lambda r: (r["contact_spacing"], r["duration"], r["T"], r["nodes"], -r["dt"]))
-    by = {(r["T"], int(r["nodes"]), r["dt"], r["duration"], r["contact_spacing"]): r for r in rows}
-    header = ["plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "contact spacing [mm]",
+        r["cs"] = (r["contact_spacing"], " ".join(r.get("changes", [])))  # the run's settings besides T, nodes, dt
+    rows = list({(r["T"], int(r["nodes"]), r["dt"], r["duration"], r["cs"]): r for r in rows}.values())
+    rows.sort(key=lambda r: (r["cs"], r["duration"], r["T"], r["nodes"], -r["dt"]))
+    by = {(r["T"], int(r["nodes"]), r["dt"], r["duration"], r["cs"]): r for r in rows}
+    header = ["changes [-]", "plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]", "contact spacing [mm]",
               "average speed [mm/s]", "rolls [-]",
               "change against half the step [-]", "change against the next node count [-]",
-              "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]"]
+              "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]",
+              "spin rate over the sampling lock rate [-]"]
     lines = [",".join(header)]
     for r in rows:
-        T, n, dt, dur, cs = r["T"], int(r["nodes"]), r["dt"], r["duration"], r["contact_spacing"]
+        T, n, dt, dur, cs = r["T"], int(r["nodes"]), r["dt"], r["duration"], r["cs"]
         finer_nodes = sorted(m for (T2, m, d2, u2, c2) in by if T2 == T and d2 == dt and u2 == dur and c2 == cs
                              and m > n)
         v = r["average_speed [mm/s]"]
         lines.append(",".join(f"{x:.6g}" if isinstance(x, float) else str(x) for x in (
-            T, n, dt, dur, cs, v, r["rolls"], _change(v, by.get((T, n, dt / 2, dur, cs))),
+            cs[1] or "defaults", T, n, dt, dur, cs[0], v, r["rolls"], _change(v, by.get((T, n, dt / 2, dur, cs))),
             _change(v, by.get((T, finer_nodes[0], dt, dur, cs)) if finer_nodes else None),
-            r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"])))
+            r["spin_rate_ratio [-]"], r["twist_density_variation [-]"], r["T_mean_final [C]"], r["cpu"],
+            abs(r["spin_rate_start [rad/s]"]) / lock_rate(n, dt, cs[0]))))
     tmp = csv.with_suffix(".csv.part")
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, csv)
@@ -115,6 +145,8 @@ def main(argv=None) -> int:
     ap.add_argument("--duration", type=float, default=40.0)
     ap.add_argument("--contact-spacing", type=float, default=0.0,
                     help="[mm] RibbonNumerics.contact_spacing of the runs (0: contact_samples per edge)")
+    ap.add_argument("--set", action="append", default=[], dest="changes",
+                    help="section.field=value: a change of RibbonConfig for every run (e.g. numerics.cells_thickness=4)")
     ap.add_argument("--table", type=pathlib.Path, nargs="*")
     ap.add_argument("--csv", type=pathlib.Path)
     ap.add_argument("--plot", type=pathlib.Path, help="with --table: also a PNG of speed against temperature")
@@ -135,7 +167,7 @@ def main(argv=None) -> int:
     except ValueError:
         print("jobs: each must be T,nodes,dt (e.g. 100,60,0.01)", file=sys.stderr)
         return 2
-    run(a.out, a.duration, jobs, a.contact_spacing)
+    run(a.out, a.duration, jobs, a.contact_spacing, a.changes)
     return 0
 
 
