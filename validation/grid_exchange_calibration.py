@@ -24,7 +24,7 @@ import time
 from scipy.optimize import brentq
 
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
-from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents
+from lcefem.models.lumped_heat import CurrentRouteConfig, lambda_assignments_from_currents
 
 #: seed 001, Results: the dome's hold currents [A] and its measured centre curvature [1/mm].
 DOME_HOLD = {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}
@@ -41,7 +41,7 @@ def dome_hold_curvature(factor: float) -> dict:
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
     from lcefem.solvers.problems import gridshell_bh as gs
 
-    lambdas = lambda_assignments_from_currents(DOME_HOLD, CurrentRoute(exchange_factor=factor),
+    lambdas = lambda_assignments_from_currents(DOME_HOLD, CurrentRouteConfig(exchange_factor=factor),
                                                PUBLISHED_LAMBDA_N)
     s = build_gridshell_bar_hinge()
     sol = gs.solve_gridshell(gs.setup_gridshell(gs.targets_from_lambdas(s, lambdas, name="current"),

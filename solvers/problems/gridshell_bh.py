@@ -34,7 +34,7 @@ The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`, :f
 re-exports them. One run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
 is in :mod:`lcefem.solvers.problems.gridshell_bh_run`; the paper's Fig. 4 programs and the published
 recipes are validation data (:mod:`lcefem.validation.programs`); the current route (currents -> lambdas) is
-:class:`lcefem.models.lumped_heat.CurrentRoute`.
+:class:`lcefem.models.lumped_heat.CurrentRouteConfig`.
 
 Units: mm, N, t, s.
 """

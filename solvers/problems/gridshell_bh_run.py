@@ -23,7 +23,7 @@ from lcefem.models import bar_hinge as law
 from lcefem.models.errors import InputError
 from lcefem.models.limits import check_current
 from lcefem.models.loads import SurfaceWeight
-from lcefem.models.lumped_heat import CurrentRoute, shape_currents
+from lcefem.models.lumped_heat import CurrentRouteConfig, shape_currents
 from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
 from lcefem.solvers.current_routes import route_from_config
@@ -140,7 +140,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     layout: GridshellLayout = field(default_factory=GridshellLayout)
     mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
     weight: SurfaceWeight = field(default_factory=SurfaceWeight)
-    current_route: CurrentRoute = field(default_factory=CurrentRoute)
+    current_route: CurrentRouteConfig = field(default_factory=CurrentRouteConfig)
     solver: NewtonOptions = field(default_factory=lambda: RAMP_NEWTON)
     path: PathOptions = field(default_factory=lambda: GRIDSHELL_PATH)
     lambdas: dict = field(default_factory=dict)  # selection -> lambda [-]

@@ -476,7 +476,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
     from lcefem.validation import gridshell_bh as gs
     from lcefem.models import lumped_heat
 
-    route = lumped_heat.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
+    route = lumped_heat.CurrentRouteConfig()  # the grid strip (issue 31), as the FE heat source
     src = gs.SHAPE_SOURCES["curvatures"]
     metrics: list[Metric] = []
     chart = {"3D FE, held (steady)": {}, "bar-and-hinge current route": {}, "paper simulation": {},
@@ -568,7 +568,7 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
             f"validation/data/{CURRENT_ROUTE_LEVEL1}: the FE current route of this shape is {why}; "
             f"run lcefem run gridshell --model fe --shape {shape} --route current --mesh-level 1 --out "
             f"DIR, then python -m lcefem.validation.gridshell_fe_current_store DIR"))
-    route = lumped_heat.CurrentRoute()  # the grid strip, as the FE heat source
+    route = lumped_heat.CurrentRouteConfig()  # the grid strip, as the FE heat source
     for shape, run in runs.items():
         held, exp = run["held"], gs.SHAPES[shape]["paper_exp"]
         currents = " / ".join(f"{ch} {run['current [A]'][ch]:.4f}" for ch in ("Tx", "Ty", "Bx", "By"))
@@ -683,7 +683,7 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                                    held["kappa_circle_x [1/mm]"] / prev["kappa_circle_x [1/mm]"] - 1.0,
                                    "-", f"{FE_HEATED}: the held state is steady when this is small"))
         # the bar-and-hinge current route: the hold currents' steady lambdas on the dome's rollers
-        route = lumped_heat.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
+        route = lumped_heat.CurrentRouteConfig()  # the grid strip (issue 31), as the FE heat source
         bh_lambdas = lumped_heat.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], route)
         bh = run_bh_shape(bh_lambdas, gs.SHAPES["dome"]["support"])
         metrics.append(Metric.info(name, f"{label}: kappa_x circle vs bar-and-hinge current route",
