@@ -296,16 +296,3 @@ def eq1_current(stretch: float, resistance: float = GRID_STRIP_RESISTANCE) -> fl
 def shape_currents(lambdas: dict, resistance: float = GRID_STRIP_RESISTANCE) -> dict:
     """{channel: lambda [-]} -> {channel: hold current [A]} by the paper's rule (:func:`eq1_current`)."""
     return {k: eq1_current(float(v), resistance) for k, v in lambdas.items()}
-
-
-def pulse_currents(hold: dict) -> dict:
-    """The actuation pulse before a hold (seed 001, dome: 'we first apply 0.1 A to each of the top LCE
-    strips and 0.2 A to the bottom ... after about 20 s, the currents are switched'; 'the other
-    geometries are programmed similarly'): 0.2 A [A] on the channels whose hold current is the
-    largest (the most contracted), 0.1 A on the others."""
-    top = max(hold.values())
-    return {k: (0.2 if math.isclose(v, top, rel_tol=1e-9) else 0.1) for k, v in hold.items()}
-
-
-#: Duration of the actuation pulse [s] (seed 001, Results: 'after about 20 s').
-PULSE_DURATION = 20.0
