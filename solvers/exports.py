@@ -183,16 +183,19 @@ class _BarHingeFramesWriter:
 @dataclass(frozen=True)
 class FEFields:
     """Export object: a VTX (.bp) series of dolfinx Functions (``name`` in the run's folder), the
-    start at time 0 and then one frame per converged step at ``time(state)``."""
+    start at time 0 (unless ``start`` is False: a run that records its start as a step) and then
+    one frame per converged step at ``time(state)``."""
 
     name: str
     functions: tuple
     comm: object
     time: Callable[[object], float]
+    start: bool = True
 
     def open(self, run: Run, out: pathlib.Path) -> "_FEFieldsWriter":
         fields = run.output(FieldExport(out / self.name, list(self.functions), self.comm))
-        fields.write(0.0)
+        if self.start:
+            fields.write(0.0)
         return _FEFieldsWriter(fields, self.time)
 
 

@@ -51,16 +51,16 @@ class HistoryExport:
             raise ValueError(f"history columns without a unit: {bad}")
 
 
-def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
-                     history: HistoryExport, fields, progress: Progress,
-                     summarize: Callable[[Any, Any], dict], progress_scale: float | None = 1.0) -> dict:
-    """One run of a quasi-static problem: ``problem.set_drives(drives)``, then
-    ``problem.advance(1.0, on_step=..., progress=...)`` (the whole way), each converged step
-    recorded by the exports (``fields``: an export object with ``open(run, out)``);
-    ``summarize(run, result)`` gives the summary's entries (after the history is complete, before
-    summary.json is written); the bar shows ``progress_scale`` x the fraction of the way (None: only
-    ``history.at``). Returns the summary."""
-    out = pathlib.Path(out)
+def run_path(drive: Callable[[Callable[[Any], None]], Any], out: pathlib.Path, *, config: dict,
+             history: HistoryExport, fields, progress: Progress,
+             summarize: Callable[[Any, Any], dict]) -> dict:
+    """One run of a body along a path of its own (a schedule of drives, a path follower's own
+    targets), inside the run skeleton: ``drive(on_step)`` moves the problem and calls
+    ``on_step(state)`` at every converged step it wants recorded; the exports record each (history
+    row, field frame; the last recorded state is kept by the fields when the run fails);
+    ``summarize(run, result)`` gives the summary's entries (``result``: what ``drive`` returned).
+    Returns the summary."""
+    out = None if out is None else pathlib.Path(out)
     with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
         writer = fields.open(run, out)
         last = []
@@ -72,11 +72,26 @@ def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *,
             last[:] = [state]
 
         run.on_failure(lambda folder: last and writer.last_converged(folder, last[0]))
-        problem.set_drives(drives)
-        result = problem.advance(1.0, on_step=on_step, progress=None if progress_scale is None else
-                                 (lambda t: progress.to(progress_scale * t)))
-        return run.complete(summarize(run, result))
+        return run.complete(summarize(run, drive(on_step)))
 
+
+def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
+                     history: HistoryExport, fields, progress: Progress,
+                     summarize: Callable[[Any, Any], dict], progress_scale: float | None = 1.0) -> dict:
+    """One run of a quasi-static problem (:func:`run_path`): ``problem.set_drives(drives)``, then
+    ``problem.advance(1.0, on_step=..., progress=...)`` (the whole way), each converged step
+    recorded by the exports (``fields``: an export object with ``open(run, out)``);
+    ``summarize(run, result)`` gives the summary's entries (after the history is complete, before
+    summary.json is written); the bar shows ``progress_scale`` x the fraction of the way (None: only
+    ``history.at``). Returns the summary."""
+
+    def drive(on_step):
+        problem.set_drives(drives)
+        return problem.advance(1.0, on_step=on_step, progress=None if progress_scale is None else
+                               (lambda t: progress.to(progress_scale * t)))
+
+    return run_path(drive, out, config=config, history=history, fields=fields, progress=progress,
+                    summarize=summarize)
 
 
 def _time_where(row) -> str:
@@ -111,4 +126,4 @@ def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, dura
         return run.complete(summarize(run, rows))
 
 
-__all__ = ["HistoryExport", "run_in_time", "run_quasi_static"]
+__all__ = ["HistoryExport", "run_in_time", "run_path", "run_quasi_static"]
