@@ -37,13 +37,24 @@ def _load_factor_where(state) -> str:
 
 @dataclass(frozen=True)
 class HistoryExport:
-    """history.csv: ``columns`` ("name [unit]") filled by ``row(state)`` at every converged step;
-    ``where(state)`` names the step (failure.json), ``at(state)`` (optional) moves the progress bar."""
+    """history.csv: ``columns`` ("name [unit]") filled by ``row(state)`` at every converged step
+    (those where ``when(state)`` is true, if given: a run whose steps are finer than its rows);
+    ``where(state)`` names the step (failure.json), ``at(state)`` (optional) moves the progress bar,
+    ``postfix(state)`` (optional) is the bar's note."""
 
     columns: tuple[str, ...]
     row: Callable[[Any], dict]
     where: Callable[[Any], str] = _load_factor_where
     at: Callable[[Any], float] | None = None
+    when: Callable[[Any], bool] | None = None
+    postfix: Callable[[Any], str] | None = None
+
+    def record(self, run, state) -> None:
+        """The row of ``state`` into the run's history (when due)."""
+        if self.when is None or self.when(state):
+            run.record(self.row(state), where=self.where(state),
+                       at=None if self.at is None else self.at(state),
+                       postfix=None if self.postfix is None else self.postfix(state))
 
     def __post_init__(self):
         bad = unnamed(self.columns)
@@ -53,25 +64,27 @@ class HistoryExport:
 
 def run_path(drive: Callable[[Callable[[Any], None]], Any], out: pathlib.Path, *, config: dict,
              history: HistoryExport, fields, progress: Progress,
-             summarize: Callable[[Any, Any], dict]) -> dict:
+             summarize: Callable[[Any, Any], dict], exports: tuple = ()) -> dict:
     """One run of a body along a path of its own (a schedule of drives, a path follower's own
-    targets), inside the run skeleton: ``drive(on_step)`` moves the problem and calls
-    ``on_step(state)`` at every converged step it wants recorded; the exports record each (history
-    row, field frame; the last recorded state is kept by the fields when the run fails);
-    ``summarize(run, result)`` gives the summary's entries (``result``: what ``drive`` returned).
-    Returns the summary."""
+    targets, a rod's time steps), inside the run skeleton: ``drive(on_step)`` moves the problem and
+    calls ``on_step(state)`` at every converged step it wants seen; the history records it (when
+    due) and each export object (``fields``, or None, then ``exports``: each with
+    ``open(run, out)`` giving a writer with ``write(state)`` and ``last_converged(folder, state)``)
+    writes what it wants of it (a frame every n steps, a table row); when the run fails, each
+    writer gets the last state seen. ``summarize(run, result)`` gives the summary's entries
+    (``result``: what ``drive`` returned). Returns the summary."""
     out = None if out is None else pathlib.Path(out)
     with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
-        writer = fields.open(run, out)
+        writers = [export.open(run, out) for export in (fields, *exports) if export is not None]
         last = []
 
         def on_step(state) -> None:
-            run.record(history.row(state), where=history.where(state),
-                       at=None if history.at is None else history.at(state))
-            writer.write(state)
+            history.record(run, state)
+            for writer in writers:
+                writer.write(state)
             last[:] = [state]
 
-        run.on_failure(lambda folder: last and writer.last_converged(folder, last[0]))
+        run.on_failure(lambda folder: last and [w.last_converged(folder, last[0]) for w in writers])
         return run.complete(summarize(run, drive(on_step)))
 
 
