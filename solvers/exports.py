@@ -15,13 +15,10 @@ of lcefem.solvers.runtime.files).
 * :class:`BarHingeFrames`, :class:`FEFields` — export objects of a run (lcefem.solvers.runner):
   each opens its writer in the run's folder, writes one frame per converged step and, for the
   bar-and-hinge frames, the last converged state of a failed run.
-* :func:`bar_hinge_run` — the run skeleton (lcefem.solvers.runtime.run.Run) around a path-following
-  bar-and-hinge run.
 """
 
 from __future__ import annotations
 
-import contextlib
 import pathlib
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -208,22 +205,3 @@ class _FEFieldsWriter:
 
     def last_converged(self, folder: pathlib.Path, state) -> None:
         pass  # the series itself is kept as *.partial.* up to the last converged step
-
-
-@contextlib.contextmanager
-def bar_hinge_run(out: pathlib.Path, stem: str, structure: BarHingeStructure, model, *, config: dict,
-                  columns: list[str], row, progress):
-    """A path-following run of a bar-and-hinge model into ``out`` (lcefem.solvers.runtime.run.Run): yields
-    ``(run, on_step)``; ``on_step(state)`` records ``row(state)`` and writes the step's VTK frame
-    (:class:`BarHingeFrames`). A failed run also keeps ``last_converged.vtp``."""
-    with Run(out, config=config, columns=columns, progress=progress) as run:
-        frames = BarHingeFrames(stem, structure, model).open(run, out)
-        last = []
-
-        def on_step(state) -> None:
-            run.record(row(state), where=f"load factor {state.t:.4g}")
-            frames.write(state)
-            last[:] = [state]
-
-        run.on_failure(lambda folder: last and frames.last_converged(folder, last[0]))
-        yield run, on_step

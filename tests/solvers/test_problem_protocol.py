@@ -10,6 +10,7 @@ import importlib
 import inspect
 import pathlib
 
+import numpy as np
 import pytest
 
 from lcefem.models.errors import InputError
@@ -106,6 +107,17 @@ def test_bar_and_hinge_gridshell_as_a_problem():
         g.set_drives({"nowhere": 1.2})
     g.restore_state(saved)
     assert g.lambda_of("top_strips") == pytest.approx(g.lambda_N)
+    # per-bar rest fractions (a recipe's P0): set as given, other groups kept; a bad group or size
+    # is refused by name
+    bars = g.lambda_of("top_strips").size
+    fractions = np.linspace(0.7, 0.95, bars)
+    g.set_rest_fractions({"top_strips": fractions})
+    assert np.array_equal(g.lambda_of("top_strips"), fractions * g.lambda_N)
+    assert g.lambda_of("bottom_strips") == pytest.approx(g.lambda_N)
+    with pytest.raises(InputError, match="nowhere"):
+        g.set_rest_fractions({"nowhere": fractions})
+    with pytest.raises(InputError, match="top_strips"):
+        g.set_rest_fractions({"top_strips": fractions[:-1]})
 
 
 def test_fe_twisted_ribbon_as_a_problem():
