@@ -181,27 +181,37 @@ class _BarHingeFramesWriter:
 class FEFields:
     """Export object: a VTX (.bp) series of dolfinx Functions (``name`` in the run's folder), the
     start at time 0 (unless ``start`` is False: a run that records its start as a step) and then
-    one frame per converged step at ``time(state)``."""
+    one frame per converged step at ``time(state)``; with ``every`` > 1, only at the steps
+    ``step(state)`` that are multiples of it. ``update()`` (optional) refreshes derived Functions
+    (an interpolated field) before a frame."""
 
     name: str
     functions: tuple
     comm: object
     time: Callable[[object], float]
     start: bool = True
+    every: int = 1
+    step: Callable[[object], int] | None = None
+    update: Callable[[], None] | None = None
 
     def open(self, run: Run, out: pathlib.Path) -> "_FEFieldsWriter":
         fields = run.output(FieldExport(out / self.name, list(self.functions), self.comm))
         if self.start:
             fields.write(0.0)
-        return _FEFieldsWriter(fields, self.time)
+        return _FEFieldsWriter(fields, self)
 
 
 class _FEFieldsWriter:
-    def __init__(self, fields: FieldExport, time):
-        self.fields, self.time = fields, time
+    def __init__(self, fields: FieldExport, spec: FEFields):
+        self.fields, self.spec = fields, spec
 
     def write(self, state) -> None:
-        self.fields.write(self.time(state))
+        spec = self.spec
+        if spec.every > 1 and spec.step(state) % spec.every != 0:
+            return
+        if spec.update is not None:
+            spec.update()
+        self.fields.write(spec.time(state))
 
     def last_converged(self, folder: pathlib.Path, state) -> None:
         pass  # the series itself is kept as *.partial.* up to the last converged step

@@ -64,7 +64,7 @@ class HistoryExport:
 
 def run_path(drive: Callable[[Callable[[Any], None]], Any], out: pathlib.Path, *, config: dict,
              history: HistoryExport, fields, progress: Progress,
-             summarize: Callable[[Any, Any], dict], exports: tuple = ()) -> dict:
+             summarize: Callable[[Any, Any], dict], exports: tuple = (), comm=None) -> dict:
     """One run of a body along a path of its own (a schedule of drives, a path follower's own
     targets, a rod's time steps), inside the run skeleton: ``drive(on_step)`` moves the problem and
     calls ``on_step(state)`` at every converged step it wants seen; the history records it (when
@@ -72,9 +72,10 @@ def run_path(drive: Callable[[Callable[[Any], None]], Any], out: pathlib.Path, *
     ``open(run, out)`` giving a writer with ``write(state)`` and ``last_converged(folder, state)``)
     writes what it wants of it (a frame every n steps, a table row); when the run fails, each
     writer gets the last state seen. ``summarize(run, result)`` gives the summary's entries
-    (``result``: what ``drive`` returned). Returns the summary."""
+    (``result``: what ``drive`` returned); ``comm``: the MPI communicator of a parallel run (rank
+    0 writes the history and summary). Returns the summary."""
     out = None if out is None else pathlib.Path(out)
-    with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
+    with Run(out, config=config, columns=list(history.columns), progress=progress, comm=comm) as run:
         writers = [export.open(run, out) for export in (fields, *exports) if export is not None]
         last = []
 
