@@ -20,6 +20,7 @@ files, failure.json and last_converged_state.json (node positions and edge angle
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pathlib
 import time
@@ -35,7 +36,7 @@ from lcefem.models.parameters import param
 from lcefem.models.ribbon import SEED000_RIBBON, GroundHeatExchange, RibbonGeometry, RibbonLCE
 from lcefem.solvers import cost
 from lcefem.solvers.der.output import PolylineSeries, polydata
-from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSetup,
+from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSections, RibbonSetup,
                                        RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
 from lcefem.solvers.runtime.checks import check_config, resolved
@@ -62,17 +63,18 @@ class RibbonRun:
 
 
 @dataclass(frozen=True)
-class RibbonConfig:
+class RibbonConfig(RibbonSections):
+    """The case file's sections: the physical ones defined once in
+    :class:`lcefem.solvers.der.ribbon.RibbonSections` (geometry, numerics, thermal, air,
+    ground_heat, contact, friction), plus the run, the material and an obstacle."""
+
     run: RibbonRun = field(default_factory=RibbonRun)
-    geometry: RibbonGeometry = ROLLING_RIBBON
-    numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
     material: RibbonLCE = SEED000_RIBBON
-    thermal: ThermalProperties = field(default_factory=ThermalProperties)
-    air: SurfaceExchange = field(default_factory=SurfaceExchange)
-    ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
-    contact: ContactLaw = field(default_factory=ContactLaw)
-    friction: FrictionLaw = field(default_factory=FrictionLaw)
     obstacle: Block = field(default_factory=Block)  # a block on the plate (width 0: none)
+
+    #: The case file's sections in their documented order (summary.json's config, --help).
+    SECTIONS = ("run", "geometry", "numerics", "material", "thermal", "air", "ground_heat", "contact",
+                "friction", "obstacle")
 
     def validated(self) -> "RibbonConfig":
         check_config(self)
@@ -110,16 +112,18 @@ class RibbonConfig:
                                self.run.duration, self.numerics.dt, est)
 
     def resolved(self) -> dict:
-        return resolved(self)
+        out = resolved(self)
+        return {name: out[name] for name in self.SECTIONS}
 
     def setup(self) -> RibbonSetup:
-        return RibbonSetup(self.geometry, self.run.ground_temperature, self.material.transition(),
-                           self.material.elasticity(),
-                           self.thermal, self.air, self.ground_heat, self.contact, self.friction, self.numerics,
+        """The simulation's setup: the same sections, the plate temperature, the material's laws and
+        the obstacle."""
+        sections = {f.name: getattr(self, f.name) for f in dataclasses.fields(RibbonSections)}
+        return RibbonSetup(**sections, ground_temperature=self.run.ground_temperature,
+                           transition=self.material.transition(), elasticity=self.material.elasticity(),
                            blocks=(self.obstacle,) if self.obstacle.present else ())
 
 
-# -- fields -----------------------------------------------------------------------------------
 def _node_average(edge_values: np.ndarray) -> np.ndarray:
     out = np.empty((len(edge_values) + 1,) + edge_values.shape[1:])
     out[1:-1] = 0.5 * (edge_values[:-1] + edge_values[1:])

@@ -224,3 +224,26 @@ def test_der_rolling_ribbon_as_a_problem():
         r.set_drives({"air": 50.0})
     with pytest.raises(InputError, match=r"^ground temperature\[plate\] = 900"):
         r.set_drives({"plate": 900.0})
+
+
+def test_the_ribbons_sections_are_defined_once():
+    """RibbonConfig (the case file) and RibbonSetup (the simulation) take the physical sections
+    from one definition (RibbonSections) and repeat none of them; the setup a config builds
+    carries the config's own sections (the same objects)."""
+    import dataclasses
+
+    from lcefem.models.contact import FrictionLaw
+    from lcefem.solvers.der.ribbon import RibbonSections, RibbonSetup
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun
+
+    shared = {f.name for f in dataclasses.fields(RibbonSections)}
+    assert len(shared) == 7
+    own = {cls: {f.name for f in dataclasses.fields(cls)} - shared for cls in (RibbonConfig, RibbonSetup)}
+    for cls in (RibbonConfig, RibbonSetup):
+        assert issubclass(cls, RibbonSections)
+        assert {n for n, v in vars(cls).get("__annotations__", {}).items()} == own[cls]  # none redeclared
+    assert set(RibbonConfig.SECTIONS) == {f.name for f in dataclasses.fields(RibbonConfig)}
+    cfg = RibbonConfig(run=RibbonRun(ground_temperature=90.0), friction=FrictionLaw(mu=0.3))
+    setup = cfg.setup()
+    assert all(getattr(setup, n) is getattr(cfg, n) for n in shared)
+    assert setup.ground_temperature == 90.0 and setup.blocks == ()
