@@ -15,7 +15,8 @@ Export objects (one per output, each built by the body's run from its problem):
 
 A body's run is then its problem, its columns and its summary: quasi-static bodies through
 :func:`run_quasi_static` (``run_beam``, ``run_specimen``, ``run_beam_fe``), heated ones in time
-through :func:`run_in_time` (the heated FE beam).
+through :func:`run_in_time` (the heated FE beam), and those along a path of their own through
+:func:`run_path` (``run_strip``, ``run_specimen_fe``, ``run_ribbon``, ``run_gridshell``).
 
 Units: those of the problem (mm, N, s).
 """
