@@ -1,6 +1,6 @@
 """Lumped (cross-section averaged) heat balance of a coil-heated LCE strip, and the current ->
 temperature -> lambda map of one grid segment of the robotic surface (seed 001); the gridshell's
-current route (:class:`CurrentRoute`, :func:`stretch_from_current`: a channel current to a strip's
+current route (:class:`CurrentRouteConfig`, :func:`stretch_from_current`: a channel current to a strip's
 steady lambda, by this lumped segment or by the paper's Eq. 1 at the coil power).
 
 Per unit of current strip length, with T uniform over the section (Biot number h t/k ~ 0.006 mm/K
@@ -35,7 +35,7 @@ carries a ~130 ohm coil over ~80 mm isotropic: 1.63 ohm/mm against the segment r
 (:data:`GRID_STRIP`, thermal model 'strip', the default) spreads the coil uniformly, as the fabrication
 (one coil stretched to the designated length, fig. S8) does. Its exchange is the free strip's
 calibrated one with the convective film coefficient scaled by one grid factor
-(:attr:`CurrentRoute.exchange_factor`, calibrated on the dome protocol only).
+(:attr:`CurrentRouteConfig.exchange_factor`, calibrated on the dome protocol only).
 
 Units: mm, s, mW, C, ohm, A.
 """
@@ -219,8 +219,10 @@ GRID_EXCHANGE_FACTOR = 0.9512
 
 
 @dataclass(frozen=True)
-class CurrentRoute:
-    """How a channel current becomes a strip's lambda."""
+class CurrentRouteConfig:
+    """The configuration of the gridshell's current route: how a channel current becomes a strip's
+    lambda (the thermal model and its lumped bodies); the route itself is
+    lcefem.solvers.current_routes (``route_from_config``)."""
 
     thermal_model: str = param("strip", "-", "'strip': our lumped steady heat balance of one grid LCE "
                                "strip (~130 ohm coil over 80 mm isotropic, seed 001) with the free "
@@ -237,7 +239,7 @@ class CurrentRoute:
                                    "dome protocol (validation/data/grid_exchange_calibration.json)",
                                    positive=True)
 
-    def checked(self) -> "CurrentRoute":
+    def checked(self) -> "CurrentRouteConfig":
         if self.thermal_model not in THERMAL_MODELS:
             raise InputError(f"current.thermal_model = {self.thermal_model!r}: allowed "
                              f"{', '.join(THERMAL_MODELS)}")
@@ -262,7 +264,7 @@ def grid_thermal(exchange_factor: float = GRID_EXCHANGE_FACTOR) -> LumpedThermal
                                                   ambient_temperature=ex.ambient_temperature))
 
 
-def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
+def stretch_from_current(current: float, route: CurrentRouteConfig = CurrentRouteConfig(),
                          lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
     """Steady lambda [-] of a grid strip at ``current`` [A], capped at the as-built lambda_N (a strip
     whose free length would exceed its glued length is slack: rest fraction 1)."""
@@ -274,7 +276,7 @@ def stretch_from_current(current: float, route: CurrentRoute = CurrentRoute(),
     return min(lam, lambda_N)
 
 
-def lambda_assignments_from_currents(currents: dict, route: CurrentRoute = CurrentRoute(),
+def lambda_assignments_from_currents(currents: dict, route: CurrentRouteConfig = CurrentRouteConfig(),
                                      lambda_N: float = PUBLISHED_LAMBDA_N) -> dict:
     """{selection: current [A]} -> {selection: lambda [-]} through :func:`stretch_from_current`."""
     return {k: stretch_from_current(float(v), route, lambda_N) for k, v in currents.items()}
@@ -294,16 +296,3 @@ def eq1_current(stretch: float, resistance: float = GRID_STRIP_RESISTANCE) -> fl
 def shape_currents(lambdas: dict, resistance: float = GRID_STRIP_RESISTANCE) -> dict:
     """{channel: lambda [-]} -> {channel: hold current [A]} by the paper's rule (:func:`eq1_current`)."""
     return {k: eq1_current(float(v), resistance) for k, v in lambdas.items()}
-
-
-def pulse_currents(hold: dict) -> dict:
-    """The actuation pulse before a hold (seed 001, dome: 'we first apply 0.1 A to each of the top LCE
-    strips and 0.2 A to the bottom ... after about 20 s, the currents are switched'; 'the other
-    geometries are programmed similarly'): 0.2 A [A] on the channels whose hold current is the
-    largest (the most contracted), 0.1 A on the others."""
-    top = max(hold.values())
-    return {k: (0.2 if math.isclose(v, top, rel_tol=1e-9) else 0.1) for k, v in hold.items()}
-
-
-#: Duration of the actuation pulse [s] (seed 001, Results: 'after about 20 s').
-PULSE_DURATION = 20.0

@@ -9,7 +9,7 @@ These are thin adapters: each calls the route's existing code (models.lumped_hea
 ``steady_stretch`` and ``eq1_stretch``, HeatedGridshellFE's ``steady_hold`` and observables), so
 a change of a route's physics there reaches the adapter unchanged. The configuration section of
 a run (which route, which strip, the exchange factor) stays
-:class:`lcefem.models.lumped_heat.CurrentRoute`; :func:`route_from_config` turns it into a route
+:class:`lcefem.models.lumped_heat.CurrentRouteConfig`; :func:`route_from_config` turns it into a route
 (``lcefem run gridshell --route current`` and ``--current`` take their lambdas through it).
 
 A study can then compare routes through one call::
@@ -107,7 +107,7 @@ class FEHeatedRoute:
         return {k: float(obs[f"lambda {k} [-]"]) for k in currents}
 
 
-def route_from_config(config: lh.CurrentRoute = lh.CurrentRoute(),
+def route_from_config(config: lh.CurrentRouteConfig = lh.CurrentRouteConfig(),
                       lambda_N: float = PUBLISHED_LAMBDA_N) -> LumpedRoute | Eq1Route:
     """The route a run's ``current_route`` section names (thermal_model 'strip', 'segment' or
     'eq1'), the same numbers as :func:`lcefem.models.lumped_heat.stretch_from_current`."""

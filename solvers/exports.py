@@ -15,13 +15,10 @@ of lcefem.solvers.runtime.files).
 * :class:`BarHingeFrames`, :class:`FEFields` — export objects of a run (lcefem.solvers.runner):
   each opens its writer in the run's folder, writes one frame per converged step and, for the
   bar-and-hinge frames, the last converged state of a failed run.
-* :func:`bar_hinge_run` — the run skeleton (lcefem.solvers.runtime.run.Run) around a path-following
-  bar-and-hinge run.
 """
 
 from __future__ import annotations
 
-import contextlib
 import pathlib
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -183,44 +180,38 @@ class _BarHingeFramesWriter:
 @dataclass(frozen=True)
 class FEFields:
     """Export object: a VTX (.bp) series of dolfinx Functions (``name`` in the run's folder), the
-    start at time 0 and then one frame per converged step at ``time(state)``."""
+    start at time 0 (unless ``start`` is False: a run that records its start as a step) and then
+    one frame per converged step at ``time(state)``; with ``every`` > 1, only at the steps
+    ``step(state)`` that are multiples of it. ``update()`` (optional) refreshes derived Functions
+    (an interpolated field) before a frame."""
 
     name: str
     functions: tuple
     comm: object
     time: Callable[[object], float]
+    start: bool = True
+    every: int = 1
+    step: Callable[[object], int] | None = None
+    update: Callable[[], None] | None = None
 
     def open(self, run: Run, out: pathlib.Path) -> "_FEFieldsWriter":
         fields = run.output(FieldExport(out / self.name, list(self.functions), self.comm))
-        fields.write(0.0)
-        return _FEFieldsWriter(fields, self.time)
+        if self.start:
+            fields.write(0.0)
+        return _FEFieldsWriter(fields, self)
 
 
 class _FEFieldsWriter:
-    def __init__(self, fields: FieldExport, time):
-        self.fields, self.time = fields, time
+    def __init__(self, fields: FieldExport, spec: FEFields):
+        self.fields, self.spec = fields, spec
 
     def write(self, state) -> None:
-        self.fields.write(self.time(state))
+        spec = self.spec
+        if spec.every > 1 and spec.step(state) % spec.every != 0:
+            return
+        if spec.update is not None:
+            spec.update()
+        self.fields.write(spec.time(state))
 
     def last_converged(self, folder: pathlib.Path, state) -> None:
         pass  # the series itself is kept as *.partial.* up to the last converged step
-
-
-@contextlib.contextmanager
-def bar_hinge_run(out: pathlib.Path, stem: str, structure: BarHingeStructure, model, *, config: dict,
-                  columns: list[str], row, progress):
-    """A path-following run of a bar-and-hinge model into ``out`` (lcefem.solvers.runtime.run.Run): yields
-    ``(run, on_step)``; ``on_step(state)`` records ``row(state)`` and writes the step's VTK frame
-    (:class:`BarHingeFrames`). A failed run also keeps ``last_converged.vtp``."""
-    with Run(out, config=config, columns=columns, progress=progress) as run:
-        frames = BarHingeFrames(stem, structure, model).open(run, out)
-        last = []
-
-        def on_step(state) -> None:
-            run.record(row(state), where=f"load factor {state.t:.4g}")
-            frames.write(state)
-            last[:] = [state]
-
-        run.on_failure(lambda folder: last and frames.last_converged(folder, last[0]))
-        yield run, on_step

@@ -15,7 +15,8 @@ Export objects (one per output, each built by the body's run from its problem):
 
 A body's run is then its problem, its columns and its summary: quasi-static bodies through
 :func:`run_quasi_static` (``run_beam``, ``run_specimen``, ``run_beam_fe``), heated ones in time
-through :func:`run_in_time` (the heated FE beam).
+through :func:`run_in_time` (the heated FE beam), and those along a path of their own through
+:func:`run_path` (``run_strip``, ``run_specimen_fe``, ``run_ribbon``, ``run_gridshell``).
 
 Units: those of the problem (mm, N, s).
 """
@@ -37,13 +38,24 @@ def _load_factor_where(state) -> str:
 
 @dataclass(frozen=True)
 class HistoryExport:
-    """history.csv: ``columns`` ("name [unit]") filled by ``row(state)`` at every converged step;
-    ``where(state)`` names the step (failure.json), ``at(state)`` (optional) moves the progress bar."""
+    """history.csv: ``columns`` ("name [unit]") filled by ``row(state)`` at every converged step
+    (those where ``when(state)`` is true, if given: a run whose steps are finer than its rows);
+    ``where(state)`` names the step (failure.json), ``at(state)`` (optional) moves the progress bar,
+    ``postfix(state)`` (optional) is the bar's note."""
 
     columns: tuple[str, ...]
     row: Callable[[Any], dict]
     where: Callable[[Any], str] = _load_factor_where
     at: Callable[[Any], float] | None = None
+    when: Callable[[Any], bool] | None = None
+    postfix: Callable[[Any], str] | None = None
+
+    def record(self, run, state) -> None:
+        """The row of ``state`` into the run's history (when due)."""
+        if self.when is None or self.when(state):
+            run.record(self.row(state), where=self.where(state),
+                       at=None if self.at is None else self.at(state),
+                       postfix=None if self.postfix is None else self.postfix(state))
 
     def __post_init__(self):
         bad = unnamed(self.columns)
@@ -51,32 +63,50 @@ class HistoryExport:
             raise ValueError(f"history columns without a unit: {bad}")
 
 
+def run_path(drive: Callable[[Callable[[Any], None]], Any], out: pathlib.Path, *, config: dict,
+             history: HistoryExport, fields, progress: Progress,
+             summarize: Callable[[Any, Any], dict], exports: tuple = (), comm=None) -> dict:
+    """One run of a body along a path of its own (a schedule of drives, a path follower's own
+    targets, a rod's time steps), inside the run skeleton: ``drive(on_step)`` moves the problem and
+    calls ``on_step(state)`` at every converged step it wants seen; the history records it (when
+    due) and each export object (``fields``, or None, then ``exports``: each with
+    ``open(run, out)`` giving a writer with ``write(state)`` and ``last_converged(folder, state)``)
+    writes what it wants of it (a frame every n steps, a table row); when the run fails, each
+    writer gets the last state seen. ``summarize(run, result)`` gives the summary's entries
+    (``result``: what ``drive`` returned); ``comm``: the MPI communicator of a parallel run (rank
+    0 writes the history and summary). Returns the summary."""
+    out = None if out is None else pathlib.Path(out)
+    with Run(out, config=config, columns=list(history.columns), progress=progress, comm=comm) as run:
+        writers = [export.open(run, out) for export in (fields, *exports) if export is not None]
+        last = []
+
+        def on_step(state) -> None:
+            history.record(run, state)
+            for writer in writers:
+                writer.write(state)
+            last[:] = [state]
+
+        run.on_failure(lambda folder: last and [w.last_converged(folder, last[0]) for w in writers])
+        return run.complete(summarize(run, drive(on_step)))
+
+
 def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
                      history: HistoryExport, fields, progress: Progress,
                      summarize: Callable[[Any, Any], dict], progress_scale: float | None = 1.0) -> dict:
-    """One run of a quasi-static problem: ``problem.set_drives(drives)``, then
+    """One run of a quasi-static problem (:func:`run_path`): ``problem.set_drives(drives)``, then
     ``problem.advance(1.0, on_step=..., progress=...)`` (the whole way), each converged step
     recorded by the exports (``fields``: an export object with ``open(run, out)``);
     ``summarize(run, result)`` gives the summary's entries (after the history is complete, before
     summary.json is written); the bar shows ``progress_scale`` x the fraction of the way (None: only
     ``history.at``). Returns the summary."""
-    out = pathlib.Path(out)
-    with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
-        writer = fields.open(run, out)
-        last = []
 
-        def on_step(state) -> None:
-            run.record(history.row(state), where=history.where(state),
-                       at=None if history.at is None else history.at(state))
-            writer.write(state)
-            last[:] = [state]
-
-        run.on_failure(lambda folder: last and writer.last_converged(folder, last[0]))
+    def drive(on_step):
         problem.set_drives(drives)
-        result = problem.advance(1.0, on_step=on_step, progress=None if progress_scale is None else
-                                 (lambda t: progress.to(progress_scale * t)))
-        return run.complete(summarize(run, result))
+        return problem.advance(1.0, on_step=on_step, progress=None if progress_scale is None else
+                               (lambda t: progress.to(progress_scale * t)))
 
+    return run_path(drive, out, config=config, history=history, fields=fields, progress=progress,
+                    summarize=summarize)
 
 
 def _time_where(row) -> str:
@@ -111,4 +141,4 @@ def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, dura
         return run.complete(summarize(run, rows))
 
 
-__all__ = ["HistoryExport", "run_in_time", "run_quasi_static"]
+__all__ = ["HistoryExport", "run_in_time", "run_path", "run_quasi_static"]

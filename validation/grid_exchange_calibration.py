@@ -24,7 +24,7 @@ import time
 from scipy.optimize import brentq
 
 from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
-from lcefem.models.lumped_heat import CurrentRoute, lambda_assignments_from_currents
+from lcefem.models.lumped_heat import CurrentRouteConfig, lambda_assignments_from_currents
 
 #: seed 001, Results: the dome's hold currents [A] and its measured centre curvature [1/mm].
 DOME_HOLD = {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}
@@ -42,7 +42,7 @@ def dome_hold_curvature(factor: float, model_set: str = "published") -> dict:
     default and the calibration of record, or 'fe-calibrated')."""
     from lcefem.validation.gridshell_current_route import bh_curvatures
 
-    lambdas = lambda_assignments_from_currents(DOME_HOLD, CurrentRoute(exchange_factor=factor),
+    lambdas = lambda_assignments_from_currents(DOME_HOLD, CurrentRouteConfig(exchange_factor=factor),
                                                PUBLISHED_LAMBDA_N)
     k = bh_curvatures("dome", lambdas, model_set)
     k = {c: float(k[c]) for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")}

@@ -82,7 +82,7 @@ def curvature_observable(structure: BarHingeStructure, height: bool = False):
     return obs
 
 
-def current_for_lambda(lam: float, route: lumped_heat.CurrentRoute = lumped_heat.CurrentRoute(),
+def current_for_lambda(lam: float, route: lumped_heat.CurrentRouteConfig = lumped_heat.CurrentRouteConfig(),
                        lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
     """Current [A] that holds a grid strip at ``lam`` through the route (inverse of
     :func:`~lcefem.validation.gridshell_bh.stretch_from_current`); 0 A for a lambda at or above the
@@ -202,7 +202,7 @@ def currents_for(design: GridshellDesign, p) -> dict[str, dict[str, float]]:
     """{route: {name: current [A]}} for both current routes."""
     out = {}
     for model in lumped_heat.THERMAL_MODELS:
-        route = lumped_heat.CurrentRoute(thermal_model=model)
+        route = lumped_heat.CurrentRouteConfig(thermal_model=model)
         out[model] = {str(k): current_for_lambda(float(v), route, design.lambda_N)
                       for k, v in zip(design.names, p)}
     return out

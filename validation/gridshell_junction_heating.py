@@ -44,9 +44,9 @@ def shape_hold_currents(shape: str, which: str) -> dict:
 
 def lumped_reference(currents: dict) -> dict:
     """The lumped grid strip's steady temperature [C] and lambda [-] at each channel's current."""
-    from lcefem.models.lumped_heat import CurrentRoute, grid_thermal, steady_temperature, steady_stretch
+    from lcefem.models.lumped_heat import CurrentRouteConfig, grid_thermal, steady_temperature, steady_stretch
 
-    route = CurrentRoute()
+    route = CurrentRouteConfig()
     model = grid_thermal()
     return {ch: {"T [C]": float(steady_temperature(i, route.strip, model)),
                  "lambda [-]": float(steady_stretch(i, route.strip, model))}

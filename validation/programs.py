@@ -9,6 +9,7 @@ Units: lambda [-], current [A], time [s], temperature [C], rest fraction [-].
 
 from __future__ import annotations
 
+import math
 import pathlib
 from collections.abc import Mapping
 
@@ -141,6 +142,19 @@ FIG4_SHAPES = {name: dict(drive["lambdas"]) for name, drive in SHAPE_DRIVES.item
 #: bar-and-hinge "clamp" (centre junction held) is the FE "centre_clamp".
 PUBLISHED_SUPPORTS = {name: {"clamp": "centre_clamp"}.get(drive["support"], drive["support"])
                       for name, drive in SHAPE_DRIVES.items()}
+
+
+def pulse_currents(hold: Mapping[str, float], protocol=DOME_PROTOCOL) -> tuple[float, dict[str, float]]:
+    """The actuation pulse before a hold, from the dome's protocol (seed 001: 'we first apply 0.1 A
+    to each of the top LCE strips and 0.2 A to the bottom ... after about 20 s, the currents are
+    switched'; 'the other geometries are programmed similarly'): (its duration [s], the start of the
+    protocol's second step; {channel: current [A]}), the protocol's larger pulse current on the
+    channels whose ``hold`` current [A] is the largest (the most contracted), its smaller one on the
+    others."""
+    (_, pulse), (duration, _) = protocol[0], protocol[1]
+    low, high = min(pulse.values()), max(pulse.values())
+    top = max(hold.values())
+    return duration, {k: (high if math.isclose(v, top, rel_tol=1e-9) else low) for k, v in hold.items()}
 
 
 def shape_drive(shape: str) -> Mapping:

@@ -267,21 +267,32 @@ HISTORY_COLUMNS = ["time [s]", "centroid_x [mm]", "centroid_y [mm]", "centroid_z
 ROLLING_RIBBON = RibbonGeometry(twist_lock=1.0)
 
 
-@dataclass
-class RibbonSetup:
-    """Everything that defines a rolling-ribbon run besides the run length. The material defaults to
-    seed 000's ribbon LCE (``models.ribbon.SEED000_RIBBON``, issue 32)."""
+@dataclass(frozen=True)
+class RibbonSections:
+    """The rolling ribbon's physical sections, defined once: the as-built shape, the numerics, the
+    heat capacity and conduction, the exchange with air and with the plate, contact and friction.
+    The run's configuration (lcefem.solvers.problems.twisted_ribbon_der.RibbonConfig, the case
+    file's sections of the same names) and the simulation's setup (:class:`RibbonSetup`) both
+    inherit them."""
 
     geometry: RibbonGeometry = ROLLING_RIBBON
-    ground_temperature: float = 80.0
-    transition: NematicTransition = field(default_factory=SEED000_RIBBON.transition)
-    elasticity: LCEElasticity = field(default_factory=SEED000_RIBBON.elasticity)
+    numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
     thermal: ThermalProperties = field(default_factory=ThermalProperties)
     air: SurfaceExchange = field(default_factory=SurfaceExchange)
     ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
     contact: ContactLaw = field(default_factory=ContactLaw)
     friction: FrictionLaw = field(default_factory=FrictionLaw)
-    numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
+
+
+@dataclass(frozen=True)
+class RibbonSetup(RibbonSections):
+    """What :class:`RibbonSimulation` is built from: the sections (:class:`RibbonSections`) plus the
+    plate temperature, the material laws and the obstacles on the plate. The material defaults to
+    seed 000's ribbon LCE (``models.ribbon.SEED000_RIBBON``, issue 32)."""
+
+    ground_temperature: float = 80.0
+    transition: NematicTransition = field(default_factory=SEED000_RIBBON.transition)
+    elasticity: LCEElasticity = field(default_factory=SEED000_RIBBON.elasticity)
     walls: tuple[Wall, ...] = ()  # obstacles on the plate, placed relative to the as-built ribbon
     blocks: tuple[Block, ...] = ()  # blocks of finite size on the plate (those of width 0 are left out)
 

@@ -16,8 +16,9 @@ problem, used by ``lcefem run beam --model fe``, the validation cases of
   shared step controller :class:`lcefem.solvers.continuation.PathFollower` (tangent predictor,
   step size from the Newton iteration count, cutting, damped relaxation across folds);
   :func:`curvature_map_fe` sweeps a grid with one model.
-* :func:`beam_fe_heated` — the same beam driven by a coil current through the heat model
-  (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`).
+* :class:`HeatedBeamFE` — the same beam driven by a coil current through the heat model
+  (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`); its run without outputs is
+  :func:`lcefem.solvers.problems.composite_beam_run.beam_fe_heated`.
 * ``lcefem run beam --model fe`` (its configuration sections and one run through the run
   skeleton) is :mod:`lcefem.solvers.problems.composite_beam_run`.
 
@@ -61,7 +62,7 @@ from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContac
                                     face_pairs)
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
-from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays, steps_in_time
+from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import plane_clamp, point_support
@@ -627,21 +628,3 @@ class HeatedBeamFE:
         put_arrays(self._state_functions(), state["arrays"])
         self.time = state["time"]
         self.set_current({tag: state["current"] for tag in self.heated})
-
-
-def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
-                   geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                   mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
-                   contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
-                   transition=None, thermal=None, exchange=None, coil: GridSegmentCoil = GridSegmentCoil(),
-                   on_step: Callable[[dict], None] | None = None):
-    """A :class:`HeatedBeamFE` with ``run.current`` through the ``run.heated`` strips for
-    ``run.duration`` in equal steps of at most ``run.dt``. Returns (model, history rows, stations):
-    model the ThermoMechanicalModel."""
-    run = run.checked()
-    if not run.current > 0:
-        raise InputError(f"heat_run.current = {run.current} A: must be > 0 A for a heated run")
-    beam = HeatedBeamFE(HEATED_STRIPS[run.heated], geometry, mesh, materials, contact, control,
-                        transition, thermal, exchange, coil, dt=run.dt)
-    beam.set_current({tag: run.current for tag in beam.heated})
-    return beam.model, steps_in_time(beam, run.duration, run.dt, on_step), beam.stations

@@ -146,3 +146,25 @@ def run_beam_fe_heated(cfg: BeamFEConfig, out: pathlib.Path, progress: bool, rep
                                          f"beam (FE) {run_cfg.current:g} A {run_cfg.heated} strips", "s",
                                          enabled=progress),
                        summarize=summarize)
+
+
+def beam_fe_heated(run: HeatedBeamRun = HeatedBeamRun(),
+                   geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                   mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
+                   contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
+                   transition=None, thermal=None, exchange=None, coil: GridSegmentCoil = GridSegmentCoil()):
+    """A :class:`HeatedBeamFE` with ``run.current`` through the ``run.heated`` strips for
+    ``run.duration`` in equal steps of at most ``run.dt``, through the runner without outputs
+    (:func:`lcefem.solvers.runner.run_in_time`, ``out`` None: the rows checked against the
+    physical bounds, nothing written). Returns (model, history rows, stations): model the
+    ThermoMechanicalModel."""
+    run = run.checked()
+    if not run.current > 0:
+        raise InputError(f"heat_run.current = {run.current} A: must be > 0 A for a heated run")
+    beam = HeatedBeamFE(HEATED_STRIPS[run.heated], geometry, mesh, materials, contact, control,
+                        transition, thermal, exchange, coil, dt=run.dt)
+    rows: list[dict] = []
+    run_in_time(beam, {tag: run.current for tag in beam.heated}, None, duration=run.duration, dt=run.dt,
+                config={}, columns=HEAT_COLUMNS, progress=Progress(run.duration, "", "s", enabled=False),
+                summarize=lambda _, found: rows.extend(found) or {})
+    return beam.model, rows, beam.stations

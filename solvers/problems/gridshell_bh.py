@@ -34,7 +34,7 @@ The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`, :f
 re-exports them. One run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
 is in :mod:`lcefem.solvers.problems.gridshell_bh_run`; the paper's Fig. 4 programs and the published
 recipes are validation data (:mod:`lcefem.validation.programs`); the current route (currents -> lambdas) is
-:class:`lcefem.models.lumped_heat.CurrentRoute`.
+:class:`lcefem.models.lumped_heat.CurrentRouteConfig`.
 
 Units: mm, N, t, s.
 """
@@ -357,6 +357,17 @@ class GridshellBH:
             lam[g] = np.where(named[g], values[g], lam[g])
         check_lambda_values(lam, self.lambda_N, "lambda")
         self._target = {g: v / self.lambda_N for g, v in lam.items()}
+
+    def set_rest_fractions(self, fractions: Mapping[str, np.ndarray]) -> None:
+        """Target rest fractions f = lambda/lambda_N [-] per bar by strip group (a recipe's P0, or
+        :func:`targets_from_lambdas`), reached by :meth:`advance`; groups not named keep theirs."""
+        for g, v in fractions.items():
+            if g not in self._target:
+                raise InputError(f"rest fractions for {g!r}: no such strip group (have: {', '.join(self._target)})")
+            v = np.asarray(v, dtype=float)
+            if v.shape != self._target[g].shape or np.any(v <= 0.0):
+                raise InputError(f"rest fractions of {g}: {self._target[g].size} values > 0 expected")
+            self._target[g] = v.copy()
 
     def lambda_of(self, group: str) -> np.ndarray:
         """Target lambda [-] of every bar of a strip group."""

@@ -23,15 +23,16 @@ from lcefem.models import bar_hinge as law
 from lcefem.models.errors import InputError
 from lcefem.models.limits import check_current
 from lcefem.models.loads import SurfaceWeight
-from lcefem.models.lumped_heat import CurrentRoute, shape_currents
+from lcefem.models.lumped_heat import CurrentRouteConfig, shape_currents
 from lcefem.models.parameters import check, describe, param
-from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
+from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, PathResult
 from lcefem.solvers.current_routes import route_from_config
-from lcefem.solvers.exports import bar_hinge_run
+from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.runner import HistoryExport, run_path
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.run import Progress
-from lcefem.solvers.problems.gridshell_bh import (GRIDSHELL_PATH, RAMP_NEWTON, SUPPORTS, setup_gridshell,
-                                                 shape_summary, solve_gridshell, targets_from_lambdas,
+from lcefem.solvers.problems.gridshell_bh import (GRIDSHELL_PATH, RAMP_NEWTON, SUPPORTS, GridshellBH,
+                                                 GridshellBHConfig, shape_summary, targets_from_lambdas,
                                                  targets_from_recipe)
 
 
@@ -140,7 +141,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     layout: GridshellLayout = field(default_factory=GridshellLayout)
     mesh: BeamBarHingeMesh = field(default_factory=BeamBarHingeMesh)
     weight: SurfaceWeight = field(default_factory=SurfaceWeight)
-    current_route: CurrentRoute = field(default_factory=CurrentRoute)
+    current_route: CurrentRouteConfig = field(default_factory=CurrentRouteConfig)
     solver: NewtonOptions = field(default_factory=lambda: RAMP_NEWTON)
     path: PathOptions = field(default_factory=lambda: GRIDSHELL_PATH)
     lambdas: dict = field(default_factory=dict)  # selection -> lambda [-]
@@ -261,7 +262,8 @@ SIGN = ("kappa = d^2 w/ds^2 with w along the centre junction's normal on the top
 
 
 def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
-    """Ramp the gridshell to the configured drives through the run skeleton and write history.csv
+    """Ramp the gridshell (:class:`GridshellBH`, its rest fractions per bar set to the configured
+    drives) through the runner (:func:`lcefem.solvers.runner.run_path`) and write history.csv
     (:data:`COLUMNS`; the quadratic fit needs >= 3 x 3 junctions), gridshell.pvd +
     gridshell_steps/*.vtp, nodes.csv and summary.json into ``out``; returns the summary.
     ``report(out, cfg, structure, x, drive)`` (optional: the validation's render) runs before the
@@ -270,10 +272,11 @@ def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool =
     out = pathlib.Path(out)
     mesh, _, support = cfg.effective
     structure = build_gridshell_bar_hinge(cfg.geometry, cfg.layout, mesh)
-    targets, drive = strip_targets(cfg, structure)
-    setup = setup_gridshell(targets, support, cfg.geometry, cfg.layout, mesh, cfg.effective_materials,
-                            cfg.weight, structure=structure)
-    model = setup.model
+    targets, drive_info = strip_targets(cfg, structure)
+    problem = GridshellBH(structure, GridshellBHConfig(materials=cfg.effective_materials, weight=cfg.weight,
+                                                       geometry=cfg.geometry, support=support,
+                                                       solver=cfg.solver, path=cfg.path))
+    model = problem.model
     quad = cfg.layout.ribbons >= 3
     columns = [c for c in COLUMNS if quad or not c.startswith("quad")]
 
@@ -288,31 +291,36 @@ def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool =
 
     bar = Progress(1.0, "gridshell", "load", ".3f", progress)
     started = time.perf_counter()
-    with bar_hinge_run(out, "gridshell", structure, model, config=cfg.resolved(), columns=columns,
-                       row=row, progress=bar) as (run, on_step):
-        solution = solve_gridshell(setup, newton_options=cfg.solver, path=cfg.path, on_step=on_step,
-                                   progress=bar.to)
+
+    def drive(on_step) -> PathResult:
+        problem.set_rest_fractions(targets)
+        return problem.advance(1.0, on_step=on_step, progress=bar.to)
+
+    def summarize(run, path: PathResult) -> dict:
         wall = time.perf_counter() - started
-        x = solution.final.x
+        x = path.states[-1].x
         write_nodes_csv(out / "nodes.csv", structure.nodes, x)
         if report is not None:
-            report(out, cfg, structure, x, drive)
+            report(out, cfg, structure, x, drive_info)
         final_fraction = model.rest_fractions()
-        reached = all(np.array_equal(final_fraction[g], setup.targets[g]) for g in setup.targets)
+        reached = all(np.array_equal(final_fraction[g], targets[g]) for g in targets)
         lam_n = cfg.lce.lambda_N
         per_strip: dict[int, list[float]] = {}
         for g, ids in structure.info["strip_of_bar"].items():
-            for sid, f in zip(ids, setup.targets[g]):
+            for sid, f in zip(ids, targets[g]):
                 per_strip.setdefault(int(sid), []).append(float(f) * lam_n)
-        return run.complete({
-            "model": "bar-hinge gridshell", "drive": drive, "support": cfg.support,
+        return {
+            "model": "bar-hinge gridshell", "drive": drive_info, "support": cfg.support,
             "strips": [{"id": s.id, "group": s.group, "channel": s.channel, "midpoint [mm]": s.midpoint,
                         "lambda [-]": float(np.mean(per_strip[s.id]))}
                        for s in structure.info["strips"]],
             "results": {**shape_summary(structure, x), "sign convention": SIGN,
                         "target reached exactly": bool(reached)},
             "dofs": int(model.ndof), "nodes": int(structure.num_nodes),
-            "increments": len(solution.path.states) - 1,
-            "newton_iterations": int(sum(solution.path.newton_iterations)),
-            "failed_increments": solution.path.failed_increments, "wall_time [s]": wall,
-        })
+            "increments": len(path.states) - 1,
+            "newton_iterations": int(sum(path.newton_iterations)),
+            "failed_increments": path.failed_increments, "wall_time [s]": wall,
+        }
+
+    return run_path(drive, out, config=cfg.resolved(), history=HistoryExport(tuple(columns), row),
+                    fields=BarHingeFrames("gridshell", structure, model), progress=bar, summarize=summarize)

@@ -12,7 +12,7 @@ project's one path follower (:class:`lcefem.solvers.continuation.PathFollower`).
 * :meth:`KaptonSpecimenFE.add_imperfection` — the first mode as geometric imperfection.
 * :meth:`KaptonSpecimenFE.follow` — displacement-controlled path to the final compression.
 * :class:`KaptonSpecimenFEConfig`, :func:`run_specimen_fe` — ``lcefem run ribbon-buckling --model fe``:
-  the configuration sections and one run through the run skeleton.
+  the configuration sections and one run through the runner (lcefem.solvers.runner.run_path).
 
 Observables (:meth:`KaptonSpecimenFE.observables`), keys "name [unit]": compressive force [N] on the
 whole specimen, mid-span deflection [mm]. Not to be confused with the twisted LCE ribbon
@@ -45,11 +45,12 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
 from lcefem.models.parameters import param
 from lcefem.solvers.continuation import PathControl, PathFollower
-from lcefem.solvers.exports import FieldExport, write_snapshot
+from lcefem.solvers.exports import FEFields, write_snapshot
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
 from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import clamp_face, mirror_planes
@@ -332,23 +333,24 @@ def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bo
     model.add_imperfection(critical.mode, cfg.path.imperfection * length)
     schedule = model.compression_schedule(critical.shortening / length, cfg.run.compression, cfg.path)
     bar = Progress(100 * cfg.run.compression, "ribbon buckling (FE)", "%", enabled=progress)
-    with Run(out, config=cfg.resolved(), columns=FE_COLUMNS, progress=bar) as run:
-        fields = run.output(FieldExport(out / "displacement.bp", [model.u], model.tmesh.mesh.comm))
 
-        def on_step(c: float, its: int) -> None:
-            run.record({"compression [-]": c, "end shortening [mm]": c * length, "force [N]": model.force(),
-                        "mid-span deflection [mm]": model.mid_deflection(), "newton iterations [-]": its},
-                       where=f"compression {c:.4g}", at=100 * c)
-            fields.write(c)
+    def row(step) -> dict:
+        c, its = step
+        return {"compression [-]": c, "end shortening [mm]": c * length, "force [N]": model.force(),
+                "mid-span deflection [mm]": model.mid_deflection(), "newton iterations [-]": its}
 
-        on_step(0.0, 0)
-        follower = model.follow(schedule, on_step=on_step)
+    def drive(on_step):
+        """The compression schedule (the path follower's targets, one row each), from the start."""
+        on_step((0.0, 0))
+        return model.follow(schedule, on_step=lambda c, its: on_step((c, its)))
+
+    def summarize(run, follower) -> dict:
         wall = time.perf_counter() - started
         history = run.history
         extra = report(out, cfg, model, critical, history) if report is not None else {}
         c, f = history.column("compression [-]"), history.column("force [N]")
         at = {p: float(np.interp(p, c, f)) for p in (0.1, 0.25, 0.5) if p <= c[-1] + 1e-12}
-        return run.complete({
+        return {
             "model": "fe",
             "results": {
                 "critical load [N]": critical.force, "critical end shortening [mm]": critical.shortening,
@@ -360,4 +362,10 @@ def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bo
             },
             "dofs": model.ndofs, "increments": len(schedule), "newton_iterations": follower.iterations,
             "cut_steps": follower.cuts, "wall_time [s]": wall,
-        })
+        }
+
+    history = HistoryExport(tuple(FE_COLUMNS), row, where=lambda step: f"compression {step[0]:.4g}",
+                            at=lambda step: 100 * step[0])
+    fields = FEFields("displacement.bp", (model.u,), model.tmesh.mesh.comm, lambda step: step[0], start=False)
+    return run_path(drive, out, config=cfg.resolved(), history=history, fields=fields, progress=bar,
+                    summarize=summarize)

@@ -44,13 +44,14 @@ from lcefem.models.lce import NematicTransition, spontaneous_stretch, temperatur
 from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check_current, current_param
 from lcefem.models.parameters import param
 from lcefem.solvers import cost
-from lcefem.solvers.exports import FieldExport
+from lcefem.solvers.exports import FEFields
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure
 from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
 from lcefem.solvers.thermomechanics import LCERegion, ThermoMechanicalModel
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.supports import clamp_face, component_bc, mirror_planes, nodes_on_line, plane_clamp
 
 COLUMNS = ["time [s]", "T_mean [C]", "T_max [C]", "T_surface [C]", "stretch [-]", "force [N]",
@@ -322,33 +323,38 @@ class StripSimulation:
         bar = Progress(cfg.run.duration, f"strip {cfg.run.current:g} A {cfg.run.bc}", "s",
                        enabled=progress and not cfg.run.steady, comm=self.comm)
         started = time.perf_counter()
-        with Run(out, config=cfg.resolved(), columns=COLUMNS, progress=bar, comm=self.comm) as run:
-            exports = []
-            if out is not None and fields:
-                exports = [run.output(FieldExport(out / "thermal.bp", [self.model.heat.T, self.lambda_s],
-                                                  self.comm)),
-                           run.output(FieldExport(out / "displacement.bp", [self.model.u], self.comm))]
+        # a step seen by the exports: (observed row, step number, where)
+        history = HistoryExport(
+            tuple(COLUMNS), lambda s: s[0], where=lambda s: s[2],
+            at=lambda s: min(s[0]["time [s]"], cfg.run.duration),
+            postfix=lambda s: (f"T_mean={s[0]['T_mean [C]']:.1f}C stretch={s[0]['stretch [-]']:.4f} "
+                               f"F={s[0]['force [N]']:.3f}N"))
+        fields_out = ()
+        if out is not None and fields:
+            common = dict(comm=self.comm, time=lambda s: s[0]["time [s]"] if math.isfinite(s[0]["time [s]"]) else 0.0,
+                          start=False, every=cfg.run.output_every, step=lambda s: s[1])
+            fields_out = (FEFields("thermal.bp", (self.model.heat.T, self.lambda_s),
+                                   update=lambda: self.lambda_s.interpolate(self._lambda_expr), **common),
+                          FEFields("displacement.bp", (self.model.u,), **common))
+        head = {"power [mW]": self.power, "mesh": self._mesh_summary(), "cost estimate": cfg.estimate().as_dict()}
 
-            def record(row, step, where):
-                run.record(row, where, at=min(row["time [s]"], cfg.run.duration),
-                           postfix=f"T_mean={row['T_mean [C]']:.1f}C stretch={row['stretch [-]']:.4f} "
-                                   f"F={row['force [N]']:.3f}N")
-                if exports and step % cfg.run.output_every == 0:
-                    self.lambda_s.interpolate(self._lambda_expr)
-                    for e in exports:
-                        e.write(row["time [s]"] if math.isfinite(row["time [s]"]) else 0.0)
-
-            summary = {"power [mW]": self.power, "mesh": self._mesh_summary(),
-                       "cost estimate": cfg.estimate().as_dict()}
+        def drive(on_step) -> dict:
+            """The steady state (one row) or the transient's steps (one row each)."""
             if cfg.run.steady:
                 obs = self.steady_state()
-                record(obs, 0, "steady state")
-                summary["steady_state"] = obs
-            else:
-                summary.update(self._transient(record, crossing_temperature))
-            summary["wall_time [s]"] = time.perf_counter() - started
-            summary = run.complete(summary)
-        return StripResult(run.history.as_arrays(), summary, out, self.model)
+                on_step((obs, 0, "steady state"))
+                return {"steady_state": obs}
+            return self._transient(lambda row, step, where: on_step((row, step, where)), crossing_temperature)
+
+        found = {}
+
+        def summarize(run, result: dict) -> dict:
+            found["history"] = run.history
+            return {**head, **result, "wall_time [s]": time.perf_counter() - started}
+
+        summary = run_path(drive, out, config=cfg.resolved(), history=history, fields=None, progress=bar,
+                           summarize=summarize, exports=fields_out, comm=self.comm)
+        return StripResult(found["history"].as_arrays(), summary, out, self.model)
 
     def _transient(self, record, crossing_temperature: float | None = None) -> dict:
         """Backward-Euler steps to run.duration; returns the summary entries of a transient."""

@@ -20,6 +20,7 @@ files, failure.json and last_converged_state.json (node positions and edge angle
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pathlib
 import time
@@ -35,12 +36,13 @@ from lcefem.models.parameters import param
 from lcefem.models.ribbon import SEED000_RIBBON, GroundHeatExchange, RibbonGeometry, RibbonLCE
 from lcefem.solvers import cost
 from lcefem.solvers.der.output import PolylineSeries, polydata
-from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSetup,
+from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSections, RibbonSetup,
                                        RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.files import CSVTable, write_json
-from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.runtime.signals import deferred_signals
 
 CENTROID_COLUMNS = ["time [s]", "x [mm]", "y [mm]", "z [mm]"]
@@ -61,17 +63,18 @@ class RibbonRun:
 
 
 @dataclass(frozen=True)
-class RibbonConfig:
+class RibbonConfig(RibbonSections):
+    """The case file's sections: the physical ones defined once in
+    :class:`lcefem.solvers.der.ribbon.RibbonSections` (geometry, numerics, thermal, air,
+    ground_heat, contact, friction), plus the run, the material and an obstacle."""
+
     run: RibbonRun = field(default_factory=RibbonRun)
-    geometry: RibbonGeometry = ROLLING_RIBBON
-    numerics: RibbonNumerics = field(default_factory=RibbonNumerics)
     material: RibbonLCE = SEED000_RIBBON
-    thermal: ThermalProperties = field(default_factory=ThermalProperties)
-    air: SurfaceExchange = field(default_factory=SurfaceExchange)
-    ground_heat: GroundHeatExchange = field(default_factory=GroundHeatExchange)
-    contact: ContactLaw = field(default_factory=ContactLaw)
-    friction: FrictionLaw = field(default_factory=FrictionLaw)
     obstacle: Block = field(default_factory=Block)  # a block on the plate (width 0: none)
+
+    #: The case file's sections in their documented order (summary.json's config, --help).
+    SECTIONS = ("run", "geometry", "numerics", "material", "thermal", "air", "ground_heat", "contact",
+                "friction", "obstacle")
 
     def validated(self) -> "RibbonConfig":
         check_config(self)
@@ -109,16 +112,18 @@ class RibbonConfig:
                                self.run.duration, self.numerics.dt, est)
 
     def resolved(self) -> dict:
-        return resolved(self)
+        out = resolved(self)
+        return {name: out[name] for name in self.SECTIONS}
 
     def setup(self) -> RibbonSetup:
-        return RibbonSetup(self.geometry, self.run.ground_temperature, self.material.transition(),
-                           self.material.elasticity(),
-                           self.thermal, self.air, self.ground_heat, self.contact, self.friction, self.numerics,
+        """The simulation's setup: the same sections, the plate temperature, the material's laws and
+        the obstacle."""
+        sections = {f.name: getattr(self, f.name) for f in dataclasses.fields(RibbonSections)}
+        return RibbonSetup(**sections, ground_temperature=self.run.ground_temperature,
+                           transition=self.material.transition(), elasticity=self.material.elasticity(),
                            blocks=(self.obstacle,) if self.obstacle.present else ())
 
 
-# -- fields -----------------------------------------------------------------------------------
 def _node_average(edge_values: np.ndarray) -> np.ndarray:
     out = np.empty((len(edge_values) + 1,) + edge_values.shape[1:])
     out[1:-1] = 0.5 * (edge_values[:-1] + edge_values[1:])
@@ -179,6 +184,76 @@ class RibbonResult:
     simulation: RibbonSimulation
 
 
+@dataclass(frozen=True)
+class RibbonStep:
+    """What the ribbon's run shows its exports after a step: the step (of dt), the step of the
+    previous call, and the observed row when one is due (else None)."""
+
+    step: int
+    previous: int
+    row: dict | None
+
+
+class RibbonFrames:
+    """Export object: the centreline and surface VTK series (``centerline.pvd``, ``surface.pvd``), a
+    frame when a multiple of ``every`` steps (of dt) lies in (previous, step], and at the last step
+    ``last``."""
+
+    def __init__(self, sim: "RibbonSimulation", every: int, last: int):
+        self.sim, self.every, self.last = sim, every, last
+
+    def open(self, run, out: pathlib.Path) -> "RibbonFrames":
+        self.series = [run.output(PolylineSeries(out, "centerline")), run.output(PolylineSeries(out, "surface"))]
+        return self
+
+    def write(self, state: RibbonStep) -> None:
+        if state.step // self.every > state.previous // self.every or state.step == self.last:
+            sim = self.sim
+            n = len(sim.state.x)
+            t = sim.state.time
+            self.series[0].write(t, polydata(sim.state.x, lines=[np.arange(n)], point_data=centerline_fields(sim)))
+            self.series[1].write(t, surface_polydata(sim))
+
+    def last_converged(self, folder, state) -> None:
+        pass  # the series are kept as *.partial.* up to the last frame
+
+
+class CentroidTable:
+    """Export object: centroid.csv, the centroid [mm] of every history row."""
+
+    def open(self, run, out) -> "CentroidTable":
+        self.table = run.output(CSVTable(None if out is None else out / "centroid.csv", CENTROID_COLUMNS))
+        return self
+
+    def write(self, state: RibbonStep) -> None:
+        row = state.row
+        if row is not None:
+            self.table.append({"time [s]": row["time [s]"], "x [mm]": row["centroid_x [mm]"],
+                               "y [mm]": row["centroid_y [mm]"], "z [mm]": row["centroid_z [mm]"]})
+
+    def last_converged(self, folder, state) -> None:
+        pass
+
+
+@dataclass(frozen=True)
+class LastConvergedState:
+    """Export object: when a step fails, ``last_converged_state.json`` of the integrator's last
+    converged state (the last of ``saved``, filled by the simulation's on_failure)."""
+
+    saved: list
+
+    def open(self, run, out) -> "LastConvergedState":
+        return self
+
+    def write(self, state) -> None:
+        pass
+
+    def last_converged(self, folder, state) -> None:
+        s = self.saved[-1]
+        write_json(folder / "last_converged_state.json",
+                   {"time [s]": float(s.time), "x [mm]": s.x, "theta [rad]": s.theta})
+
+
 def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: bool = True,
                fields: bool = True, label: str = "ribbon", report=None) -> RibbonResult:
     """Build and run one rolling-ribbon simulation (see module docstring); ``out`` None writes
@@ -196,60 +271,48 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
     rec_every = max(1, int(round(run_cfg.record_interval / dt)))
     out_every = max(1, int(round(run_cfg.output_interval / dt))) if run_cfg.output_interval > 0 else 0
     bar = Progress(run_cfg.duration, f"{label} {run_cfg.ground_temperature:g} C", "s", enabled=progress)
-    with Run(out, config=config.resolved(), columns=HISTORY_COLUMNS, progress=bar) as run:
-        centroid = run.output(CSVTable(None if out is None else out / "centroid.csv", CENTROID_COLUMNS))
-        run.on_failure(lambda folder: write_json(folder / "last_converged_state.json", {
-            "time [s]": float(saved[-1].time), "x [mm]": saved[-1].x, "theta [rad]": saved[-1].theta}))
-        series = []
-        if out is not None and fields and out_every:
-            series = [run.output(PolylineSeries(out, "centerline")), run.output(PolylineSeries(out, "surface"))]
 
-        def record() -> None:
-            row = sim.observe()
-            run.record(row, where=f"t = {row['time [s]']:.4g} s", at=row["time [s]"],
-                       postfix=f"y={row['centroid_y [mm]']:.2f}mm T={row['T_mean [C]']:.1f}C")
-            centroid.append({"time [s]": row["time [s]"], "x [mm]": row["centroid_x [mm]"],
-                             "y [mm]": row["centroid_y [mm]"], "z [mm]": row["centroid_z [mm]"]})
-
-        def write_fields(step: int, previous: int) -> None:
-            """A frame when a multiple of out_every steps (of dt) lies in (previous, step], and at the end."""
-            if series and (step // out_every > previous // out_every or step == n_steps):
-                n = len(sim.state.x)
-                t = sim.state.time
-                series[0].write(t, polydata(sim.state.x, lines=[np.arange(n)], point_data=centerline_fields(sim)))
-                series[1].write(t, surface_polydata(sim))
-
-        record()
-        write_fields(0, -1)
+    def drive(on_step):
+        """Fixed steps of dt (every step seen: frames every ``out_every`` steps, rows every
+        ``rec_every``) or adaptive ones landing on the record times of fixed steps of dt (frames at
+        the record that reaches or passes each frame time)."""
+        on_step(RibbonStep(0, -1, sim.observe()))
         # A signal is honoured at the next record (a few ms of compiled steps), never inside numba.
         with deferred_signals():
             if sim.control is None:
                 for step in range(1, n_steps + 1):
                     sim.step(dt)
-                    write_fields(step, step - 1)
-                    if step % rec_every == 0 or step == n_steps:
-                        record()
+                    due = step % rec_every == 0 or step == n_steps
+                    on_step(RibbonStep(step, step - 1, sim.observe() if due else None))
             else:
-                # Adaptive steps land on the record times of fixed steps of dt (frames at the record
-                # time that reaches or passes each frame time).
                 previous = 0
                 for step in [*range(rec_every, n_steps, rec_every), n_steps]:
                     sim.advance(step * dt)
-                    write_fields(step, previous)
-                    record()
+                    on_step(RibbonStep(step, previous, sim.observe()))
                     previous = step
+
+    found = {}
+
+    def summarize(run, _) -> dict:
         wall = time.perf_counter() - started
-        hist = run.history.as_arrays()
-        metrics = rolling_metrics(hist)
+        found["hist"] = hist = run.history.as_arrays()
+        found["metrics"] = metrics = rolling_metrics(hist)
         if out is not None and report is not None:
             report(out, config, hist)
-        summary = run.complete({
+        return {
             "metrics": metrics, "steps": sim.steps_taken, "dt [s]": dt, "nodes": config.numerics.nodes,
             "edge_length [mm]": config.geometry.length / (config.numerics.nodes - 1),
             "newton_iterations": sim.integrator.total_iterations, "step_cuts": sim.integrator.total_cuts,
             "rejected_steps": sim.rejected,
-            "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run_cfg.duration})
-    return RibbonResult(hist, metrics, summary, out, sim)
+            "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run_cfg.duration}
+
+    history = HistoryExport(tuple(HISTORY_COLUMNS), lambda s: s.row, when=lambda s: s.row is not None,
+                            where=lambda s: f"t = {s.row['time [s]']:.4g} s", at=lambda s: s.row["time [s]"],
+                            postfix=lambda s: f"y={s.row['centroid_y [mm]']:.2f}mm T={s.row['T_mean [C]']:.1f}C")
+    frames = RibbonFrames(sim, out_every, n_steps) if out is not None and fields and out_every else None
+    summary = run_path(drive, out, config=config.resolved(), history=history, fields=frames, progress=bar,
+                       summarize=summarize, exports=(CentroidTable(), LastConvergedState(saved)))
+    return RibbonResult(found["hist"], found["metrics"], summary, out, sim)
 
 
 # -- the rolling ribbon as a problem (the Problem protocol) -------------------------------------

@@ -65,6 +65,6 @@ def test_eq1_current_inverts_eq1_through_the_grid_coil():
 
 def test_larger_grid_exchange_factor_leaves_the_strip_longer():
     # more loss at the same power: a cooler strip, closer to nematic (monotone, the calibration's premise)
-    from lcefem.models.lumped_heat import CurrentRoute, stretch_from_current
-    lams = [stretch_from_current(0.07, CurrentRoute(exchange_factor=f), 1.426) for f in (0.8, 1.0, 1.5)]
+    from lcefem.models.lumped_heat import CurrentRouteConfig, stretch_from_current
+    lams = [stretch_from_current(0.07, CurrentRouteConfig(exchange_factor=f), 1.426) for f in (0.8, 1.0, 1.5)]
     assert lams[0] < lams[1] < lams[2]

@@ -17,7 +17,7 @@ DOME_HOLD = {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}
 
 @pytest.mark.parametrize("thermal_model", lh.THERMAL_MODELS)
 def test_a_configured_route_is_the_existing_route(thermal_model):
-    config = lh.CurrentRoute(thermal_model=thermal_model)
+    config = lh.CurrentRouteConfig(thermal_model=thermal_model)
     route = route_from_config(config)
     assert isinstance(route, CurrentRoute) and route.name == thermal_model
     assert route.lambdas(DOME_HOLD) == lh.lambda_assignments_from_currents(DOME_HOLD, config)

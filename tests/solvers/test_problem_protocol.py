@@ -10,6 +10,7 @@ import importlib
 import inspect
 import pathlib
 
+import numpy as np
 import pytest
 
 from lcefem.models.errors import InputError
@@ -106,6 +107,17 @@ def test_bar_and_hinge_gridshell_as_a_problem():
         g.set_drives({"nowhere": 1.2})
     g.restore_state(saved)
     assert g.lambda_of("top_strips") == pytest.approx(g.lambda_N)
+    # per-bar rest fractions (a recipe's P0): set as given, other groups kept; a bad group or size
+    # is refused by name
+    bars = g.lambda_of("top_strips").size
+    fractions = np.linspace(0.7, 0.95, bars)
+    g.set_rest_fractions({"top_strips": fractions})
+    assert np.array_equal(g.lambda_of("top_strips"), fractions * g.lambda_N)
+    assert g.lambda_of("bottom_strips") == pytest.approx(g.lambda_N)
+    with pytest.raises(InputError, match="nowhere"):
+        g.set_rest_fractions({"nowhere": fractions})
+    with pytest.raises(InputError, match="top_strips"):
+        g.set_rest_fractions({"top_strips": fractions[:-1]})
 
 
 def test_fe_twisted_ribbon_as_a_problem():
@@ -212,3 +224,26 @@ def test_der_rolling_ribbon_as_a_problem():
         r.set_drives({"air": 50.0})
     with pytest.raises(InputError, match=r"^ground temperature\[plate\] = 900"):
         r.set_drives({"plate": 900.0})
+
+
+def test_the_ribbons_sections_are_defined_once():
+    """RibbonConfig (the case file) and RibbonSetup (the simulation) take the physical sections
+    from one definition (RibbonSections) and repeat none of them; the setup a config builds
+    carries the config's own sections (the same objects)."""
+    import dataclasses
+
+    from lcefem.models.contact import FrictionLaw
+    from lcefem.solvers.der.ribbon import RibbonSections, RibbonSetup
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun
+
+    shared = {f.name for f in dataclasses.fields(RibbonSections)}
+    assert len(shared) == 7
+    own = {cls: {f.name for f in dataclasses.fields(cls)} - shared for cls in (RibbonConfig, RibbonSetup)}
+    for cls in (RibbonConfig, RibbonSetup):
+        assert issubclass(cls, RibbonSections)
+        assert {n for n, v in vars(cls).get("__annotations__", {}).items()} == own[cls]  # none redeclared
+    assert set(RibbonConfig.SECTIONS) == {f.name for f in dataclasses.fields(RibbonConfig)}
+    cfg = RibbonConfig(run=RibbonRun(ground_temperature=90.0), friction=FrictionLaw(mu=0.3))
+    setup = cfg.setup()
+    assert all(getattr(setup, n) is getattr(cfg, n) for n in shared)
+    assert setup.ground_temperature == 90.0 and setup.blocks == ()

@@ -34,3 +34,58 @@ def test_beam_run_through_the_problem_is_the_one_call_path(tmp_path):
     assert summary["increments"] == len(one_call.path.states) - 1
     assert json.loads((tmp_path / "summary.json").read_text())["status"] == "completed"
     assert (tmp_path / "beam.pvd").is_file()
+
+
+class _Recorder:
+    """An export object that keeps what it saw (and the state it got when the run failed)."""
+
+    def __init__(self):
+        self.seen, self.failed_at = [], None
+
+    def open(self, run, out):
+        return self
+
+    def write(self, state):
+        self.seen.append(state)
+
+    def last_converged(self, folder, state):
+        self.failed_at = state
+
+
+def test_run_path_records_the_due_rows_and_shows_every_step_to_the_exports(tmp_path):
+    """run_path: the history gets only the rows ``when`` marks due, every export sees every step,
+    and the summary is summarize's; a failed step leaves failure.json, no summary.json, and each
+    export gets the last step seen."""
+    from lcefem.models.errors import ConvergenceError
+    from lcefem.solvers.runner import run_path
+    from lcefem.solvers.runtime.run import Progress
+
+    history = HistoryExport(("step [-]", "value [mm]"), lambda s: {"step [-]": s, "value [mm]": 0.5 * s},
+                            when=lambda s: s % 2 == 0, where=lambda s: f"step {s}")
+    rec = _Recorder()
+
+    def drive(on_step):
+        for k in range(5):
+            on_step(k)
+        return "done"
+
+    summary = run_path(drive, tmp_path / "ok", config={}, history=history, fields=None,
+                       progress=Progress(0, "", "", enabled=False), exports=(rec,),
+                       summarize=lambda run, result: {"result": result, "rows": len(run.history.rows)})
+    assert rec.seen == [0, 1, 2, 3, 4]
+    assert summary["result"] == "done" and summary["rows"] == 3
+    with open(tmp_path / "ok" / "history.csv", newline="") as f:
+        assert [float(r["step [-]"]) for r in csv.DictReader(f)] == [0, 2, 4]
+
+    rec = _Recorder()
+
+    def failing(on_step):
+        on_step(0)
+        on_step(1)
+        raise ConvergenceError("step 2", "no convergence")
+
+    with pytest.raises(ConvergenceError):
+        run_path(failing, tmp_path / "bad", config={}, history=history, fields=rec,
+                 progress=Progress(0, "", "", enabled=False), summarize=lambda run, result: {})
+    assert rec.failed_at == 1
+    assert (tmp_path / "bad" / "failure.json").is_file() and not (tmp_path / "bad" / "summary.json").exists()

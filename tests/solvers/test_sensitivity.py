@@ -30,7 +30,7 @@ def test_gridshell_inputs_sample_the_measured_spreads():
     from lcefem.validation import gridshell_bh as gs
     from lcefem.models import lumped_heat
     f = unc.rest_fractions_of(unc.nominal_row(inputs), "dome", unc.StretchLaw("eq1"))[0]
-    lam = lumped_heat.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], lumped_heat.CurrentRoute("eq1"))
+    lam = lumped_heat.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], lumped_heat.CurrentRouteConfig("eq1"))
     assert f * 1.4 == pytest.approx([lam[c] for c in unc.CHANNELS], rel=1e-12)
 
 

@@ -139,7 +139,8 @@ def test_heated_beam_early_heating_is_adiabatic_and_bends_towards_the_heated_str
     top strips bend the beam towards them (negative curvature)."""
     from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.models.heat import ThermalProperties
-    from lcefem.solvers.problems.composite_beam import HeatedBeamRun, beam_fe_heated
+    from lcefem.solvers.problems.composite_beam import HeatedBeamRun
+    from lcefem.solvers.problems.composite_beam_run import beam_fe_heated
 
     model, rows, _ = beam_fe_heated(HeatedBeamRun(current=0.2, heated="top", duration=2.0, dt=1.0),
                                     mesh=BeamFEMesh(level=0))

@@ -72,7 +72,7 @@ def test_signs_and_four_fold_symmetry_of_a_one_cell_dome():
 
 def test_current_route_reproduces_the_lambda_route():
     lam = {"Tx": 1.33, "Ty": 1.2, "Bx": 1.05, "By": 1.1}
-    currents = {k: current_for_stretch(v, *lumped_heat.CurrentRoute().lumped()) for k, v in lam.items()}
+    currents = {k: current_for_stretch(v, *lumped_heat.CurrentRouteConfig().lumped()) for k, v in lam.items()}
     back = lumped_heat.lambda_assignments_from_currents(currents)
     for k in lam:
         assert back[k] == pytest.approx(lam[k], abs=1e-9)
@@ -84,7 +84,7 @@ def test_current_route_reproduces_the_lambda_route():
 def test_slack_current_caps_at_the_as_built_length():
     assert lumped_heat.stretch_from_current(0.0) == 1.4
     assert lumped_heat.stretch_from_current(0.2) == pytest.approx(1.0, abs=1e-3)
-    assert lumped_heat.stretch_from_current(0.07, lumped_heat.CurrentRoute(thermal_model="eq1")) == pytest.approx(1.115,
+    assert lumped_heat.stretch_from_current(0.07, lumped_heat.CurrentRouteConfig(thermal_model="eq1")) == pytest.approx(1.115,
                                                                                               abs=1e-3)
 
 

@@ -100,7 +100,7 @@ def test_random_strip_lambdas_shape_is_recovered():
 
 def test_currents_invert_the_current_route():
     for model in lumped_heat.THERMAL_MODELS:
-        route = lumped_heat.CurrentRoute(thermal_model=model)
+        route = lumped_heat.CurrentRouteConfig(thermal_model=model)
         for lam in (1.05, 1.2, 1.33):
             i = gd.current_for_lambda(lam, route)
             assert 0 < i < 1

@@ -106,3 +106,20 @@ def test_a_bad_programs_file_is_one_line_naming_the_key(tmp_path, old, new, mess
         programs.load_programs(_variant(tmp_path, old, new))
     assert "\n" not in str(err.value)
     assert programs.load_programs(programs.PATH)["shapes"] == GOLDEN_SHAPE_DRIVES
+
+
+def test_the_pulse_before_a_hold_is_the_dome_protocols():
+    """One source for the actuation pulse: the dome protocol's first step. For the dome's hold it
+    gives back that step (0.1 A top, 0.2 A bottom) and its 20 s; each shape's schedule file written
+    from the rule carries the same pulse for its hold currents."""
+    from lcefem.solvers.runtime.inputs import read_toml
+
+    duration, pulse = programs.pulse_currents(GOLDEN_DOME_PROTOCOL[1][1])
+    assert duration == 20.0 and pulse == GOLDEN_DOME_PROTOCOL[0][1]
+    files = sorted((ROOT / "validation" / "data").glob("gridshell_*_current_schedule.toml"))
+    assert len(files) >= 4
+    for path in files:
+        data = read_toml(path, path.name)
+        hold = {k: v[1] for k, v in data["currents"].items()}
+        assert data["schedule"]["times"][1] == duration
+        assert programs.pulse_currents(hold)[1] == {k: v[0] for k, v in data["currents"].items()}, path.name

@@ -82,14 +82,14 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
     # route; the current routes add two more solves per shape and run at the default level.
     routes = [("lambda", None)]
     if not ctx.quick:
-        routes += [("current (segment)", lumped_heat.CurrentRoute("segment")), ("current (eq1)", lumped_heat.CurrentRoute("eq1")),
+        routes += [("current (segment)", lumped_heat.CurrentRouteConfig("segment")), ("current (eq1)", lumped_heat.CurrentRouteConfig("eq1")),
                    # issue 31: the grid strip (calibrated on the dome protocol only), judged against
                    # the experiment at the experiment's currents and at the paper's rule (Eq. 1
                    # inverted at the Fig. 4 lambdas, docs/gridshell_thermal.md)
-                   ("current (strip)", lumped_heat.CurrentRoute()), ("current (strip, rule)", lumped_heat.CurrentRoute()),
+                   ("current (strip)", lumped_heat.CurrentRouteConfig()), ("current (strip, rule)", lumped_heat.CurrentRouteConfig()),
                    # the rule's currents in the FE-calibrated model set (strip element, plate torsion,
                    # fitted factors, validation.calibrate; within 10 % of the FE at the same lambdas)
-                   ("current (strip, rule, FE-calibrated)", lumped_heat.CurrentRoute())]
+                   ("current (strip, rule, FE-calibrated)", lumped_heat.CurrentRouteConfig())]
     for shape, spec in gs.SHAPES.items():
         chart["paper simulation"][shape] = spec["paper_sim"]
         chart["paper experiment"][shape] = spec["paper_exp"]
@@ -173,7 +173,7 @@ def current_route_support_rows(name: str) -> list[Metric]:
     to the table'; support 'table': weight and unilateral contact) in both model sets."""
     shape = "cylinder"
     spec = gs.SHAPES[shape]
-    lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), lumped_heat.CurrentRoute())
+    lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), lumped_heat.CurrentRouteConfig())
     metrics = []
     for model_set in ("published", "fe-calibrated"):
         try:

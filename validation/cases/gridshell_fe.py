@@ -479,7 +479,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
     from lcefem.validation import gridshell_bh as gs
     from lcefem.models import lumped_heat
 
-    route = lumped_heat.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
+    route = lumped_heat.CurrentRouteConfig()  # the grid strip (issue 31), as the FE heat source
     src = gs.SHAPE_SOURCES["curvatures"]
     metrics: list[Metric] = []
     chart = {"3D FE, held (steady)": {}, "bar-and-hinge current route": {}, "paper simulation": {},
@@ -573,7 +573,7 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
             f"DIR, then python -m lcefem.validation.gridshell_fe_current_store DIR"))
     from lcefem.validation import gridshell_current_route as bh_routes
 
-    route = lumped_heat.CurrentRoute()  # the grid strip, as the FE heat source
+    route = lumped_heat.CurrentRouteConfig()  # the grid strip, as the FE heat source
     tol_src = "the issue's 10 % of the FE or 0.002 1/mm, the larger (validation.calibrate.REL_TOL, ABS_TOL)"
     for shape, run in runs.items():
         held, exp = run["held"], gs.SHAPES[shape]["paper_exp"]
@@ -706,7 +706,7 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                                    held["kappa_circle_x [1/mm]"] / prev["kappa_circle_x [1/mm]"] - 1.0,
                                    "-", f"{FE_HEATED}: the held state is steady when this is small"))
         # the bar-and-hinge current route: the hold currents' steady lambdas on the dome's rollers
-        route = lumped_heat.CurrentRoute()  # the grid strip (issue 31), as the FE heat source
+        route = lumped_heat.CurrentRouteConfig()  # the grid strip (issue 31), as the FE heat source
         bh_lambdas = lumped_heat.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], route)
         bh = run_bh_shape(bh_lambdas, gs.SHAPES["dome"]["support"])
         metrics.append(Metric.info(name, f"{label}: kappa_x circle vs bar-and-hinge current route",

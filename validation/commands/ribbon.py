@@ -12,7 +12,6 @@ and surface VTK series, centroid.csv, history.csv, summary.json); this module ad
 from __future__ import annotations
 
 import argparse
-import dataclasses
 
 from lcefem.models.errors import InputError
 from lcefem.models.ribbon import RibbonGeometry
@@ -50,7 +49,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                                                          "ribbon's middle [mm] (default 0: hit in the middle)")
     p.add_argument("--obstacle-distance", type=float, help="from the ribbon's centre line to the block's near face "
                                                            "[mm] (default 5)")
-    p.add_argument("--config", help="TOML case file; sections: " + ", ".join(f.name for f in dataclasses.fields(RibbonConfig)))
+    p.add_argument("--config", help="TOML case file; sections: " + ", ".join(RibbonConfig.SECTIONS))
     p.add_argument("--no-fields", action="store_true", help="skip the VTK field files")
     add_out_arguments(p, "results/ribbon")
 
