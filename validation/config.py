@@ -49,3 +49,29 @@ def override(config, section: str, **values):
     if not table:
         return config
     return dataclasses.replace(config, **{section: with_overrides(getattr(config, section), table, section)})
+
+
+def assign(config, assignment: str, option: str = "--set"):
+    """``config`` with one ``section.field=value`` assignment of a command line applied (the value cast
+    to the field's present type, then type- and bound-checked like a case file). A malformed
+    assignment or an unknown section or field is an InputError naming ``option``."""
+    try:
+        path, text = assignment.split("=", 1)
+        section, name = path.split(".", 1)
+        old = getattr(getattr(config, section), name)
+        value = type(old)(text)
+    except (ValueError, AttributeError, TypeError):
+        raise InputError(f"{option} {assignment!r}: expected section.field=value with a field of "
+                         f"{type(config).__name__} (e.g. numerics.cells_thickness=4)") from None
+    return override(config, section, **{name: value})
+
+
+def assign_or_exit(config, assignment: str, option: str = "--set"):
+    """:func:`assign` for scripts: bad input is one line on stderr and exit 2."""
+    import sys
+
+    try:
+        return assign(config, assignment, option)
+    except InputError as e:
+        print(e, file=sys.stderr)
+        raise SystemExit(2) from None

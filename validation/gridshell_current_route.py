@@ -46,7 +46,7 @@ DRIVES = ("rule", "fig4", "experiment")
 KEYS = ("circle_x", "circle_y", "quad_kx", "quad_ky")
 
 
-def drive_lambdas(shape: str, drive: str, route: lumped_heat.CurrentRoute = lumped_heat.CurrentRoute()
+def drive_lambdas(shape: str, drive: str, route: lumped_heat.CurrentRouteConfig = lumped_heat.CurrentRouteConfig()
                   ) -> tuple[dict | None, dict]:
     """(currents [A] or None, lambdas [-]) of ``shape`` under ``drive`` (:data:`DRIVES`)."""
     from lcefem.validation import gridshell_bh as gs

@@ -172,10 +172,10 @@ def main(argv: list[str] | None = None) -> int:
     base = override(RibbonConfig(), "run", ground_temperature=args.ground_temperature, duration=args.duration)
     base = override(base, "numerics", nodes=args.nodes, dt=args.dt)
     base = override(base, "geometry", length=args.length)
-    from lcefem.validation.benchmarks.ribbon_heat_study import _replace
+    from lcefem.validation.config import assign_or_exit
 
     for change in args.changes:
-        base = _replace(base, change)
+        base = assign_or_exit(base, change)
     rows = []
     placements = list(args.placements)
     if args.side == 0.0:  # the reference run first: the block goes where the ribbon rolls

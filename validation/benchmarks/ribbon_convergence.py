@@ -37,7 +37,7 @@ def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]]
         changes: list[str] | None = None) -> None:
     from lcefem.solvers.der.ribbon import RibbonNumerics
     from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun, run_ribbon
-    from lcefem.validation.benchmarks.ribbon_heat_study import _replace
+    from lcefem.validation.config import assign_or_exit
 
     changes = list(changes or [])
     for T, nodes, dt in jobs:
@@ -45,7 +45,7 @@ def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]]
                            numerics=dataclasses.replace(RibbonNumerics(), nodes=nodes, dt=dt,
                                                            contact_spacing=contact_spacing))
         for c in changes:
-            cfg = _replace(cfg, c)
+            cfg = assign_or_exit(cfg, c)
         t0 = time.process_time()
         m = run_ribbon(cfg, None, progress=False, fields=False).metrics
         row = {k: float(m[k]) for k in COLUMNS}

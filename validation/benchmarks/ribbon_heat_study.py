@@ -34,21 +34,6 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
-def _replace(cfg, assignment: str):
-    """``cfg`` with one ``section.field=value`` assignment applied (value cast to the field's type); a bad
-    assignment is a one-line error and exit 2."""
-    try:
-        path, value = assignment.split("=", 1)
-        section, name = path.split(".", 1)
-        sub = getattr(cfg, section)
-        old = getattr(sub, name)
-        return dataclasses.replace(cfg, **{section: dataclasses.replace(sub, **{name: type(old)(value)})})
-    except (ValueError, AttributeError, TypeError):
-        print(f"--set {assignment!r}: expected section.field=value with a field of RibbonConfig "
-              "(e.g. numerics.cells_thickness=4)", file=sys.stderr)
-        raise SystemExit(2)
-
-
 def layer_temperatures(sim):
     """Per-section hottest and coldest thickness layer (width-averaged) [C], each averaged over the sections."""
     g = sim.grid
@@ -63,11 +48,12 @@ def run_one(T_plate: float, duration: float, window: float, nodes: int, dt: floa
     from lcefem.models.ribbon import natural_strains
     from lcefem.solvers.der.ribbon import RibbonSimulation
     from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun
+    from lcefem.validation.config import assign_or_exit
 
     cfg = RibbonConfig(run=RibbonRun(ground_temperature=T_plate, duration=duration, output_interval=0.0))
     cfg = dataclasses.replace(cfg, numerics=dataclasses.replace(cfg.numerics, nodes=nodes, dt=dt))
     for c in changes:
-        cfg = _replace(cfg, c)
+        cfg = assign_or_exit(cfg, c)
     cfg = cfg.validated()
     t0 = time.process_time()
     sim = RibbonSimulation(cfg.setup())
