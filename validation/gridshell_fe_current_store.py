@@ -18,7 +18,7 @@ import pathlib
 import sys
 
 DATA = pathlib.Path(__file__).parent / "data"
-#: The stored file (read by validation.cases.gridshell_fe._stored_current_route_rows).
+#: The stored file (read by validation.cases.gridshell_heated_fe._stored_current_route_rows).
 STORE = DATA / "gridshell_fe_current_route_level1.json"
 #: Shapes the issue's "Done when" needs from the FE current route (dome and saddle), and the one
 #: it asks of the fast model only (cylinder): a missing one is an explicit row in the case.

@@ -7,8 +7,8 @@ import math
 
 from lcefem.solvers.problems.gridshell_heated import JUNCTION_HEATING_DEFAULT
 from lcefem.validation import gridshell_fe_current_store as store
-from lcefem.validation.cases import gridshell_fe
-from lcefem.validation.cases.gridshell_fe import _stored_current_route_rows
+from lcefem.validation.cases import gridshell_heated_fe
+from lcefem.validation.cases.gridshell_heated_fe import _stored_current_route_rows
 
 
 def _summary(shape: str, level: int, heating: str) -> dict:
@@ -28,8 +28,8 @@ def test_store_refuses_a_level_below_one_by_name(tmp_path, capsys):
 
 def test_missing_or_off_default_runs_are_failing_rows(tmp_path, monkeypatch):
     stored = tmp_path / store.STORE.name  # absolute: DATA_DIR / stored is stored
-    monkeypatch.setattr(gridshell_fe, "CURRENT_ROUTE_LEVEL1", str(stored))
-    monkeypatch.setattr(gridshell_fe, "JUNCTION_HEATING_DOME", str(tmp_path / "none.json"))
+    monkeypatch.setattr(gridshell_heated_fe, "CURRENT_ROUTE_LEVEL1", str(stored))
+    monkeypatch.setattr(gridshell_heated_fe, "JUNCTION_HEATING_DOME", str(tmp_path / "none.json"))
     rows = _stored_current_route_rows("c")  # no stored file at all
     missing = [r for r in rows if "not stored" in r.metric]
     assert {r.metric.split(" ")[0] for r in missing} == set(store.REQUIRED)

@@ -42,6 +42,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.ribbon_fe",
     "lcefem.validation.cases.gridshell_bh",
     "lcefem.validation.cases.gridshell_fe",
+    "lcefem.validation.cases.gridshell_heated_fe",
     "lcefem.validation.cases.gridshell_uncertainty",
     "lcefem.validation.cases.gridshell_design_bh",
     "lcefem.validation.cases.gridshell_fig5_bh",

@@ -20,7 +20,6 @@ Quick level: the cylinder, one draw, no load or failure phase (~20-60 s). Defaul
 
 from __future__ import annotations
 
-import numpy as np
 
 from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.models.shape_control import HeightSensor, PlantSpread
