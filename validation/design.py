@@ -80,9 +80,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--ribbons", type=int, default=3, help="ribbons per direction (default 3)")
     p.add_argument("--no-check", action="store_true", help="skip the forward run from the as-built state")
     p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET,
-                   help="bar-and-hinge elements and factors: published (default) or fe-calibrated (the "
-                        "strip element, the plate's torsion and the factors fitted to the 3D FE; "
-                        "docs/gridshell_calibration.md)")
+                   help="bar-and-hinge elements and factors: fe-calibrated (default: the strip element, "
+                        "the plate's torsion and the factors fitted to the 3D FE) or published (the "
+                        "published model's; docs/gridshell_calibration.md)")
     add_out_arguments(p, "results/design")
 
 

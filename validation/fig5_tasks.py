@@ -12,10 +12,13 @@ import pathlib
 
 import numpy as np
 
+from lcefem.meshes.composite_beam import BeamBarHingeMesh
+from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.cover_scales import CoverScales
 from lcefem.solvers.problems.gridshell_bh_sequence import load_schedule, phase_ends, run_sequence
 from lcefem.solvers.runtime.files import write_text
-from lcefem.validation import fig5_plots
+from lcefem.validation import calibrate, fig5_plots
 
 DATA = pathlib.Path(__file__).resolve().parent / "data"
 FIG5A_SCHEDULE = DATA / "gridshell_fig5a_schedule.toml"
@@ -29,8 +32,9 @@ def write_json(path: pathlib.Path, data: dict) -> pathlib.Path:
 # ------------------------------------------------------------------------------ Fig. 5A sequence
 def scale_sequence(out: pathlib.Path, *, schedule_path=FIG5A_SCHEDULE, output_interval: float | None = None,
                    scales: CoverScales | None = CoverScales(), movie: bool = True, progress: bool = False,
-                   schedule=None) -> dict:
-    """The schedule on the covered surface: history.csv (curvatures by the quadratic fit through the
+                   schedule=None, model_set: str | None = None) -> dict:
+    """The schedule on the covered surface (``model_set``: the bar-and-hinge model set,
+    :data:`lcefem.validation.calibrate.MODEL_SETS`; default the published one): history.csv (curvatures by the quadratic fit through the
     nine scale centres and by the circle), sequence.pvd + sequence_steps/ (ParaView), sequence.gif (a
     frame per output), curvature_vs_time.png and snapshot_NN.png; returns the run summary with
     ``phase_end``: {label: {time, quad kx, quad ky}} at the end of each phase."""
@@ -47,9 +51,16 @@ def scale_sequence(out: pathlib.Path, *, schedule_path=FIG5A_SCHEDULE, output_in
             frames.append(fig5_plots.surface_frame(structure, x, scales, f"t = {t:.0f} s"
                                                    + (" (cover scales)" if scales else "")))
 
+    structure, materials = None, BarHingeMaterials()
+    if model_set is not None:
+        element, materials = calibrate.model_set(model_set)
+        structure = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
     summary = run_sequence(schedule, out, progress=progress, scales=scales, frame=frame, snapshot=snapshot,
                            report=lambda o, history, sched: plot_curvatures(o / "curvature_vs_time.png",
-                                                                            history, sched))
+                                                                            history, sched),
+                           structure=structure, materials=materials,
+                           config={"schedule": dataclasses.asdict(schedule),
+                                   "model set": model_set or "published"})
     if movie and frames:
         fig5_plots.write_gif(out / "sequence.gif", frames, 0.25)
     h = summary["history"]

@@ -425,7 +425,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="current -> lambda: 'eq1' (the paper's estimate, default) or 'segment'")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET,
-                   help="bar-and-hinge elements and factors: published (default) or fe-calibrated "
+                   help="bar-and-hinge elements and factors: fe-calibrated (default) or published "
                         "(docs/gridshell_calibration.md)")
     add_out_arguments(p, None)
 

@@ -15,16 +15,33 @@ import numpy as np
 from lcefem.models.bar_hinge import BarHingeMaterials
 from lcefem.models.cover_scales import CoverScales
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, PathResult, follow_path
+from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.bar_hinge.cover_scales import CoveredModel
+from lcefem.solvers.bar_hinge.strip_beams import StripBeamModel
 from lcefem.solvers.problems import gridshell_bh as gs
+
+
+class CoveredStripBeamModel(CoveredModel, StripBeamModel):
+    """The cover-scale layer on the model with the strips' bending elements (``mesh.strip_element``
+    'bending' or 'beam', e.g. the FE-calibrated model set): energy = the strip-beam model's + the
+    layer's."""
+
+
+def covered_model(structure: BarHingeStructure, materials: BarHingeMaterials = BarHingeMaterials(),
+                  scales: CoverScales = CoverScales(), factor: float = 1.0) -> CoveredModel:
+    """The model of ``structure`` (with its strip bending elements if it has them, as
+    :func:`lcefem.solvers.bar_hinge.strip_beams.bar_hinge_model`) carrying the cover-scale layer."""
+    cls = CoveredStripBeamModel if len(structure.info.get("strip_beams", ())) else CoveredModel
+    return cls.from_materials(structure, materials).attach_scales(scales, factor)
 
 
 def cover_setup(setup: gs.GridshellSetup, scales: CoverScales = CoverScales(),
                 materials: BarHingeMaterials = BarHingeMaterials(), factor: float = 1.0
                 ) -> gs.GridshellSetup:
-    """The setup with a :class:`CoveredModel` (same structure, supports, targets and dead loads; the
+    """The setup with a :class:`CoveredModel` (:func:`covered_model`: with the strips' bending
+    elements when the structure has them; same structure, supports, targets and dead loads; the
     rest fractions copied)."""
-    model = CoveredModel.from_materials(setup.structure, materials).attach_scales(scales, factor)
+    model = covered_model(setup.structure, materials, scales, factor)
     model.set_rest_fractions(setup.model.rest_fractions())
     model.set_external_forces(setup.model.external_force)
     return gs.GridshellSetup(setup.structure, model, setup.held, setup.targets, setup.support,

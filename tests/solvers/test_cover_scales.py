@@ -83,3 +83,30 @@ def test_covered_model_adds_the_layer(structure):
     eps = 1e-3
     fd = (model.layer_energy(x + eps * d) - model.layer_energy(x - eps * d)) / (2 * eps)
     assert fd == pytest.approx(0.7 * (h @ x) @ d, rel=1e-8)
+
+
+def test_covered_model_keeps_the_strip_bending_elements():
+    """With the FE-calibrated model set (strip element 'beam') the covered model is the strip-beam
+    model plus the layer: energy, gradient and Hessian minus the strip-beam model's are the layer's
+    (a covered model without the strip elements would differ by their bending energy, > 0 here)."""
+    from lcefem.meshes.composite_beam import BeamBarHingeMesh
+    from lcefem.solvers.bar_hinge.strip_beams import StripBeamModel, bar_hinge_model
+    from lcefem.solvers.problems.gridshell_bh_scales import CoveredStripBeamModel, covered_model
+    from lcefem.validation import calibrate
+
+    element, materials = calibrate.model_set("fe-calibrated")
+    s = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
+    model = covered_model(s, materials, CoverScales(), factor=0.7)
+    strip = bar_hinge_model(s, materials)
+    assert isinstance(model, CoveredStripBeamModel) and isinstance(strip, StripBeamModel)
+    h = scale_layer_matrix(s, CoverScales())
+    x = (s.nodes + np.random.default_rng(5).normal(scale=0.05, size=s.nodes.shape)).reshape(-1)
+    e1, g1, _ = model.evaluate(x)
+    e0, g0, _ = strip.evaluate(x)
+    assert e1 - e0 == pytest.approx(0.35 * x @ (h @ x), rel=1e-10)
+    assert np.allclose(g1 - g0, 0.7 * (h @ x), rtol=1e-10, atol=1e-12)
+    diff = (model.hessian(x) - strip.hessian(x) - 0.7 * h).tocoo()
+    assert np.max(np.abs(diff.data), initial=0.0) <= 1e-7 * np.max(np.abs(h.data))
+    assert float(np.sum(strip.strip_beam_energy(x))) > 0
+    # the published set's structure keeps the plain covered model
+    assert type(covered_model(build_gridshell_bar_hinge())) is CoveredModel

@@ -159,5 +159,6 @@ def test_fe_calibrated_model_set_round_trip():
     res = gd.inverse(d, truth["circle_x"], truth["circle_y"])
     for axis in ("x", "y"):
         assert res.check[f"circle_{axis}"] == pytest.approx(truth[f"circle_{axis}"], abs=1e-4)
-    published = gd.setup_design("4", "rollers", layout=ONE)
+    assert gd.setup_design("4", "rollers", layout=ONE).model_set == "fe-calibrated"  # the default
+    published = gd.setup_design("4", "rollers", layout=ONE, model_set="published")
     assert published.model_set == "published" and published.materials.kapton.twist == "n5b8"

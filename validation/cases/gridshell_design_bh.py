@@ -11,7 +11,7 @@
   measured curvatures (table: the flat (0, 0)) with the currents found next to the paper's
   currents (informative), and the reachable set of (kappa_x, kappa_y) over a
   :data:`REACHABLE_LEVELS`^4 grid of channel lambdas (figure). The quick level runs the cylinder
-  round trip (~20 s).
+  round trip (~25 s CPU with the default FE-calibrated model set).
 
   Cost of the default level (issue 13): the dome's round trip is not run. It cost 1020 s of the
   case's 2737 s, and the dome's inverse from the paper's measured (-0.016, -0.016) runs the same
