@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 

@@ -51,7 +51,7 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
 from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry, StripPiece,
                                           apply_strip_element, strip_contact_rows, strip_sections)
 from lcefem.meshes.gridshell_fe import junction_centres
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 

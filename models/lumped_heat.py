@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import Eq1, eq1_power, eq1_stretch
 from lcefem.models.errors import InputError
 from lcefem.models.heat import (GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil, SurfaceExchange,

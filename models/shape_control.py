@@ -26,7 +26,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from lcefem.models import units
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, GridSegmentCoil
 from lcefem.models.lce import spontaneous_stretch

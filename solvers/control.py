@@ -58,8 +58,8 @@ from scipy.optimize import lsq_linear
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
-from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
+from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 from lcefem.models.shape_control import (BoostGuard, CurrentLimits, HeightSensor, PlantSpread,
                                          SteadyMaps, StripHeat, draw_strips, free_stretch,

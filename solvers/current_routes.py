@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol, runtime_checkable
 
 from lcefem.models import lumped_heat as lh
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import Eq1, eq1_stretch
 from lcefem.models.errors import InputError
 from lcefem.models.heat import Coil

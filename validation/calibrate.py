@@ -37,7 +37,7 @@ import numpy as np
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.outdir import add_out_arguments
@@ -54,7 +54,7 @@ PARAMETERS = {
 #: The BH configuration that matches the FE model: published supports and glue squares + contact
 #: (the FE's penalty contact) + the constant-volume bar law (the FE's incompressible LCE).
 AS_FE = ("contact", "volume_law")
-#: The Kapton panels' torsion in the FE-equivalent BH (models.bar_hinge.KaptonBarHinge.twist): the
+#: The Kapton panels' torsion in the FE-equivalent BH (models.bar_hinge_materials.KaptonBarHinge.twist): the
 #: plate's G w t^3/3, as the FE's continuum film (docs/gridshell_calibration.md). Fixed, not fitted.
 TWIST = "plate"
 #: The issue's target: BH within 10 % of the FE, or 0.002 1/mm, the larger.

@@ -14,7 +14,7 @@ import numpy as np
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.cover_scales import CoverScales
 from lcefem.solvers.problems.gridshell_bh_sequence import load_schedule, phase_ends, run_sequence
 from lcefem.solvers.runtime.files import write_text

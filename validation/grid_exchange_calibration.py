@@ -23,7 +23,7 @@ import time
 
 from scipy.optimize import brentq
 
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.lumped_heat import CurrentRouteConfig, lambda_assignments_from_currents
 
 #: seed 001, Results: the dome's hold currents [A] and its measured centre curvature [1/mm].

@@ -28,6 +28,7 @@ import numpy as np
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.analysis.curvature import junction_centre_points
 from lcefem.solvers.problems import gridshell_bh as g
@@ -78,13 +79,13 @@ def run_variant(recipe: str, departures, support_override) -> dict:
     """One recipe in one configuration: the numbers of the table (NaN where it did not converge)."""
     p0, support = RECIPES[recipe]
     if support_override == "former":
-        mesh, lce, _ = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), support, departures)
+        mesh, lce, _ = grun.published_configuration(BeamBarHingeMesh(), bhm.LCEStripBars(), support, departures)
         support = former_support(recipe)
     else:
-        mesh, lce, support = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), support,
+        mesh, lce, support = grun.published_configuration(BeamBarHingeMesh(), bhm.LCEStripBars(), support,
                                                        departures)
     s = build_gridshell_bar_hinge(mesh=mesh)
-    materials = dataclasses.replace(law.BarHingeMaterials(), lce=lce)
+    materials = dataclasses.replace(bhm.BarHingeMaterials(), lce=lce)
     setup = g.setup_gridshell(g.targets_from_recipe(s, p0), support, structure=s, materials=materials)
     t0 = time.perf_counter()
     out = {"recipe": recipe, "support": support, "converged": False, "why": ""}

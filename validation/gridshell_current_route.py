@@ -64,7 +64,7 @@ def bh_setup(shape: str, lambdas: dict, model_set: str = "published", lambda_N: 
     ``shape``'s published one; rest fractions lambda / ``lambda_N``, default the published 1.4)."""
     from lcefem.meshes.composite_beam import BeamBarHingeMesh
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-    from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.solvers.problems import gridshell_bh as problem_bh
     from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
     from lcefem.validation import calibrate

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import eq1_stretch
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, panel_dimensions
 from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.solvers.bar_hinge.kernels import hinge_forces, scatter_add
@@ -61,8 +62,8 @@ class BarSet:
 
     def law(self, ogden: OgdenLaw):
         if self.kind == "lce":
-            return lambda lam: law.tension_only_ogden_law(lam, ogden)
-        return lambda lam: law.stiffening_bar_law(lam, self.modulus, self.exponents)
+            return lambda lam: bhm.tension_only_ogden_law(lam, ogden)
+        return lambda lam: bhm.stiffening_bar_law(lam, self.modulus, self.exponents)
 
 
 @dataclass
@@ -79,7 +80,7 @@ class HingeSet:
     theta2: np.ndarray | float
 
     def law(self):
-        return lambda th: law.enhanced_linear_law(th, self.rest_angle, self.stiffness,
+        return lambda th: bhm.enhanced_linear_law(th, self.rest_angle, self.stiffness,
                                                   self.theta1, self.theta2)
 
 
@@ -98,18 +99,18 @@ class BarHingeModel:
 
     @classmethod
     def from_materials(cls, structure: BarHingeStructure,
-                       materials: law.BarHingeMaterials = law.BarHingeMaterials()) -> "BarHingeModel":
+                       materials: bhm.BarHingeMaterials = bhm.BarHingeMaterials()) -> "BarHingeModel":
         """The model of ``structure`` with every law of ``materials`` (the one definition in models)."""
         m = materials
         return cls(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)
 
     def __init__(self, structure: BarHingeStructure,
-                 kapton: law.KaptonBarHinge = law.KaptonBarHinge(),
-                 lce: law.LCEStripBars = law.LCEStripBars(),
-                 glue: law.GlueBars = law.GlueBars(),
-                 contact: law.StripContactSprings = law.StripContactSprings(),
+                 kapton: bhm.KaptonBarHinge = bhm.KaptonBarHinge(),
+                 lce: bhm.LCEStripBars = bhm.LCEStripBars(),
+                 glue: bhm.GlueBars = bhm.GlueBars(),
+                 contact: bhm.StripContactSprings = bhm.StripContactSprings(),
                  ogden: OgdenLaw = OgdenLaw(),
-                 strip_contact: law.StripContact = law.StripContact()):
+                 strip_contact: bhm.StripContact = bhm.StripContact()):
         """
         Args:
             structure: geometry and topology; ``structure.sections`` gives the strips' cast section,
@@ -323,13 +324,13 @@ class BarHingeModel:
             if kind == "stiffening":
                 exps = block["exponents"]
                 out = law.bar_element(xs[0], xs[1], block["length0"], block["volume"],
-                                      lambda lam: law.stiffening_bar_law(lam, block["modulus"], exps),
+                                      lambda lam: bhm.stiffening_bar_law(lam, block["modulus"], exps),
                                       derivatives=derivatives)
             elif kind == "lce":
                 rest = np.concatenate([g.rest_length for g in block["sets"]])
                 volume = np.concatenate([g.energy_volume for g in block["sets"]])
                 out = law.bar_element(xs[0], xs[1], rest, volume,
-                                      lambda lam: law.tension_only_ogden_law(lam, self.ogden),
+                                      lambda lam: bhm.tension_only_ogden_law(lam, self.ogden),
                                       derivatives=derivatives)
             elif kind == "hinge":
                 out = self._hinges(block, xs, derivatives, values)
@@ -361,7 +362,7 @@ class BarHingeModel:
         """:func:`law.hinge_element` of the hinge block, its derivatives from the compiled kernel
         (the Hessian written straight into its slice of ``values`` when given)."""
         theta = law.dihedral_angle(*xs, derivatives=0)
-        psi, moment, dmoment = law.enhanced_linear_law(theta, block["rest"], block["stiffness"],
+        psi, moment, dmoment = bhm.enhanced_linear_law(theta, block["rest"], block["stiffness"],
                                                        block["theta1"], block["theta2"])
         energy = block["length"] * psi
         if derivatives == 0:
@@ -419,7 +420,7 @@ class BarHingeModel:
             length = np.sqrt(np.einsum("ij,ij->i", d, d))
             rest = b.rest_length
             lam = length / rest
-            _, dw, d2w = law.tension_only_ogden_law(lam, self.ogden)
+            _, dw, d2w = bhm.tension_only_ogden_law(lam, self.ogden)
             sign = -1.0 if b.published_area is None else 1.0
             dforce = b.energy_volume * (sign * dw - lam * d2w) / (b.rest_fraction * rest)
             u = d / length[:, None]

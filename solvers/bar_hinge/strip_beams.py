@@ -20,6 +20,7 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.solvers.bar_hinge import BarHingeModel
 
 
@@ -72,7 +73,7 @@ class StripBeamModel(BarHingeModel):
 
 
 def bar_hinge_model(structure: BarHingeStructure,
-                    materials: law.BarHingeMaterials = law.BarHingeMaterials()) -> BarHingeModel:
+                    materials: bhm.BarHingeMaterials = bhm.BarHingeMaterials()) -> BarHingeModel:
     """The model of ``structure``: :class:`StripBeamModel` when it has strip bending elements
     (``mesh.strip_element`` 'bending' or 'beam'), :class:`BarHingeModel` otherwise."""
     if len(structure.info.get("strip_beams", ())):

@@ -49,10 +49,10 @@ import dolfinx.fem.petsc
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry, middle_station_indices
 from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
-from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
                                         neo_hookean_strain_energy)
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.heat import GridSegmentCoil
 from lcefem.models.lce import isochoric_uniaxial
 from lcefem.models.limits import check_lambda, current_param

@@ -26,7 +26,7 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.models.errors import InputError
 from lcefem.models.limits import check_lambda
@@ -214,7 +214,7 @@ class BeamRun:
 @dataclass(frozen=True)
 class BeamConfig(BarHingeMaterials):
     """The bar-and-hinge beam's sections: its materials (kapton, lce, glue, strip_contact, contact,
-    ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
+    ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge_materials.BarHingeMaterials`)
     plus the run, geometry, mesh, Eq. 2 and solver sections."""
 
     run: BeamRun = field(default_factory=BeamRun)

@@ -69,7 +69,7 @@ import dolfinx.io
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell_fe import (GridshellFEMesh, build_gridshell_fe, cell_group,
                                         strip_catalogue)
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, GlueBars
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, GlueBars
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, lce_strain_energy, neo_hookean_strain_energy
 from lcefem.models.lce import (isochoric_uniaxial)
@@ -103,7 +103,7 @@ SUPPORT_KINDS = ("rollers", "centre_clamp", "table")
 class GridshellMaterials(FEMaterials):
     """The FE beam's materials (Kapton, LCE) plus the glue squares where the top strips cross."""
 
-    # E of the published glue bars (models.bar_hinge.GlueBars, 1e4 MPa); nu = 0.34 chosen as Kapton's.
+    # E of the published glue bars (models.bar_hinge_materials.GlueBars, 1e4 MPa); nu = 0.34 chosen as Kapton's.
     # 2e4 times stiffer than the LCE: the raised square is effectively rigid.
     glue: NeoHookeanSolid = field(
         default_factory=lambda: NeoHookeanSolid(youngs_modulus=GlueBars().youngs_modulus))

@@ -51,9 +51,9 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure, panel_dimension
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
 from lcefem.meshes.gridshell import (CHANNELS, FAMILIES, GridshellLayout, STRIP_GROUPS,
                                     build_gridshell_bar_hinge, resolve_bar_values)
-from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as law
 from lcefem.models import units
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.loads import SurfaceWeight
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
@@ -303,7 +303,7 @@ def setup_from_model(structure: BarHingeStructure, model: BarHingeModel, support
 # --------------------------------------------------------------------------- the problem
 @dataclass(frozen=True)
 class GridshellBHConfig:
-    """Material laws (:class:`lcefem.models.bar_hinge.BarHingeMaterials`, the published model's values),
+    """Material laws (:class:`lcefem.models.bar_hinge_materials.BarHingeMaterials`, the published model's values),
     support, solver and path settings."""
 
     materials: law.BarHingeMaterials = field(default_factory=law.BarHingeMaterials)

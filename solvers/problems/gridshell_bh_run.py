@@ -19,7 +19,7 @@ import numpy as np
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
-from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import InputError
 from lcefem.models.limits import check_current
 from lcefem.models.loads import SurfaceWeight
@@ -132,7 +132,7 @@ class GridshellRun:
 @dataclass(frozen=True)
 class GridshellBHRunConfig(law.BarHingeMaterials):
     """The bar-and-hinge gridshell's sections: its materials (kapton, lce, glue, strip_contact,
-    contact, ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge.BarHingeMaterials`)
+    contact, ogden: inherited from the one definition, :class:`lcefem.models.bar_hinge_materials.BarHingeMaterials`)
     plus the run, geometry, layout, mesh, weight, current route, solver and path sections, and the
     drives: lambdas [-] or currents [A] per selection."""
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.cover_scales import CoverScales
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, PathResult, follow_path
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure

@@ -48,7 +48,7 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, BarHingeMaterials
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.lce import spontaneous_stretch
 from lcefem.models.limits import MAX_DURATION, check_current

@@ -33,7 +33,7 @@ import numpy as np
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.models import units
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, BarHingeMaterials
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.cover_scales import CoverScales
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.analysis.curvature import junction_centre_points

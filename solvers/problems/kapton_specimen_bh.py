@@ -27,8 +27,9 @@ import numpy as np
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
 from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models import buckling
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
@@ -262,7 +263,7 @@ class KaptonSpecimenConfig:
     run: KaptonSpecimenRun = field(default_factory=KaptonSpecimenRun)
     specimen: KaptonSpecimenGeometry = field(default_factory=KaptonSpecimenGeometry)
     mesh: KaptonBarHingeMesh = field(default_factory=KaptonBarHingeMesh)
-    kapton: law.KaptonBarHinge = field(default_factory=law.KaptonBarHinge)
+    kapton: bhm.KaptonBarHinge = field(default_factory=bhm.KaptonBarHinge)
     solver: NewtonOptions = field(default_factory=NewtonOptions)
     path: PathOptions = field(default_factory=lambda: SPECIMEN_PATH)
 

@@ -10,7 +10,7 @@ import dolfinx
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.composite_beam_fe import FE_CELLS, BeamFEMesh, build_beam_fe, fe_stations
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 
 G = CompositeBeamGeometry()

@@ -18,7 +18,7 @@ from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
 from lcefem.meshes.gridshell_fe import (CHANNELS, MATERIAL_CELLS, RECIPE_SYMMETRY, GridshellFEMesh,
                                         build_gridshell_fe, cell_group)
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 
 G = CompositeBeamGeometry()

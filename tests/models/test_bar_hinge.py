@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 from lcefem.models import bar_hinge as bh
+
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models.hyperelastic import OgdenLaw, ogden_uniaxial_energy, ogden_uniaxial_nominal_stress
 
 RNG = np.random.default_rng(12345)
@@ -52,44 +54,44 @@ def scalar_fd(law, x):
 def test_stiffening_bar_law_derivatives_and_small_strain_modulus():
     lam = np.linspace(0.7, 1.3, 25)
     e = 2500.0
-    scalar_fd(lambda l: bh.stiffening_bar_law(l, e), lam)
-    w, dw, d2w = bh.stiffening_bar_law(np.array([1.0]), e)
+    scalar_fd(lambda l: bhm.stiffening_bar_law(l, e), lam)
+    w, dw, d2w = bhm.stiffening_bar_law(np.array([1.0]), e)
     assert w[0] == 0.0 and dw[0] == 0.0
     assert d2w[0] == pytest.approx(e, rel=1e-14)  # C0 = E
     # S = (dW/dl)/l is the 2nd Piola stress, and dS/dE = C0 at E = 0 (E = (l^2 - 1)/2).
-    np.testing.assert_allclose(bh.second_piola_stress(lam, e), bh.stiffening_bar_law(lam, e)[1] / lam,
+    np.testing.assert_allclose(bhm.second_piola_stress(lam, e), bhm.stiffening_bar_law(lam, e)[1] / lam,
                                rtol=1e-13)
     green = 1e-7
     lam_e = math.sqrt(1.0 + 2.0 * green)
-    assert bh.second_piola_stress(lam_e, e) / green == pytest.approx(e, rel=1e-5)
+    assert bhm.second_piola_stress(lam_e, e) / green == pytest.approx(e, rel=1e-5)
 
 
 def test_stiffening_bar_law_matches_closed_form_energy():
     # W = C0 [(l^5 - 1)/20 - (l - 1)/4]: the brief's formula with (a1, a2) = (5, 1)
     lam = np.array([0.8, 0.95, 1.0, 1.05, 1.2])
     expected = 3.0 * ((lam ** 5 - 1) / 20.0 + (lam - 1) / (1 * (1 - 5)))
-    np.testing.assert_allclose(bh.stiffening_bar_law(lam, 3.0)[0], expected, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(bhm.stiffening_bar_law(lam, 3.0)[0], expected, rtol=1e-12, atol=1e-15)
 
 
 def test_tension_only_ogden_law():
     ogden = OgdenLaw()
     p = np.linspace(1.001, 1.5, 30)
-    scalar_fd(lambda q: bh.tension_only_ogden_law(q, ogden), p)
-    w, dw, _ = bh.tension_only_ogden_law(p, ogden)
+    scalar_fd(lambda q: bhm.tension_only_ogden_law(q, ogden), p)
+    w, dw, _ = bhm.tension_only_ogden_law(p, ogden)
     np.testing.assert_allclose(w, ogden_uniaxial_energy(p, ogden), rtol=1e-10)
     np.testing.assert_allclose(dw, ogden_uniaxial_nominal_stress(p, ogden), rtol=1e-12)
-    slack = bh.tension_only_ogden_law(np.array([0.5, 0.9, 0.999999, 1.0]), ogden)
+    slack = bhm.tension_only_ogden_law(np.array([0.5, 0.9, 0.999999, 1.0]), ogden)
     for arr in slack:
         np.testing.assert_array_equal(arr, 0.0)
     # small-strain modulus 3 mu0 just above the kink
-    assert bh.tension_only_ogden_law(np.array([1.0 + 1e-9]), ogden)[2][0] == pytest.approx(
+    assert bhm.tension_only_ogden_law(np.array([1.0 + 1e-9]), ogden)[2][0] == pytest.approx(
         3.0 * ogden.shear_modulus, rel=1e-6)
 
 
 def test_enhanced_linear_law():
     k, th0 = 0.7, math.radians(170.0)
     t1, t2 = math.radians(30.0), math.radians(330.0)
-    law = lambda th: bh.enhanced_linear_law(th, th0, k, t1, t2)
+    law = lambda th: bhm.enhanced_linear_law(th, th0, k, t1, t2)
     for region in (np.linspace(0.05, 0.5, 9), np.linspace(0.6, 5.6, 9), np.linspace(5.8, 6.23, 9)):
         scalar_fd(law, region)
     mid = np.linspace(t1, t2, 7)
@@ -106,14 +108,14 @@ def test_enhanced_linear_law():
 
 def test_hinge_stiffness_of_the_published_model():
     # k = 5.5 E tp^3/(12 (Lx + d)/Nx) = 0.698 N mm/(rad mm) (shared/reference/published_reduced_model.md)
-    assert bh.KaptonBarHinge().hinge_stiffness(0.127) == pytest.approx(0.698, abs=5e-4)
-    plain = bh.KaptonBarHinge(bending_factor=1.0).hinge_stiffness(0.127)
+    assert bhm.KaptonBarHinge().hinge_stiffness(0.127) == pytest.approx(0.698, abs=5e-4)
+    plain = bhm.KaptonBarHinge(bending_factor=1.0).hinge_stiffness(0.127)
     assert plain == pytest.approx(2500 * 0.127 ** 3 / 12 / (37 / 11), rel=1e-12)
 
 
 def test_lce_rest_fraction_of_the_published_model():
     # published recipes: fraction 0.75 <-> lambda 1.05, 0.95 <-> lambda 1.33
-    np.testing.assert_allclose(bh.LCEStripBars().rest_fraction([1.05, 1.33, 1.4]), [0.75, 0.95, 1.0])
+    np.testing.assert_allclose(bhm.LCEStripBars().rest_fraction([1.05, 1.33, 1.4]), [0.75, 0.95, 1.0])
 
 
 # ---------------------------------------------------------------------------- kinematics
@@ -144,8 +146,8 @@ def test_bar_element_derivatives():
     x = RNG.normal(size=(6, 6)) + np.array([0, 0, 0, 3.0, 0, 0])
     rest = np.full(6, 2.5)
     vol = RNG.uniform(0.5, 2.0, size=6)
-    laws = [lambda l: bh.stiffening_bar_law(l, 100.0),
-            lambda l: bh.tension_only_ogden_law(l)]
+    laws = [lambda l: bhm.stiffening_bar_law(l, 100.0),
+            lambda l: bhm.tension_only_ogden_law(l)]
     for law in laws:
         assert_derivatives_match_fd(lambda X, d: bh.bar_element(X[:, :3], X[:, 3:], rest, vol, law, derivatives=d), x)
 
@@ -155,7 +157,7 @@ def test_hinge_element_derivatives():
     rest = np.full(6, 2.5)
 
     def law(th):
-        return bh.enhanced_linear_law(th, rest, 0.7)
+        return bhm.enhanced_linear_law(th, rest, 0.7)
 
     assert_derivatives_match_fd(lambda X, d: bh.hinge_element(X[:, 0:3], X[:, 3:6], X[:, 6:9], X[:, 9:12],
                                            np.full(6, 3.0), law, derivatives=d), x)

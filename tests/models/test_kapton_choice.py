@@ -4,7 +4,7 @@ effective free length that reconciles it with the measured buckling load."""
 import math
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
-from lcefem.models.bar_hinge import KaptonBarHinge
+from lcefem.models.bar_hinge_materials import KaptonBarHinge
 from lcefem.models.hyperelastic import (KAPTON_DATASHEET_MODULUS, KAPTON_MODULI,
                                         KAPTON_SPECIMEN_EFFECTIVE_LENGTH, NeoHookeanSolid)
 from lcefem.validation.reference_data import reference

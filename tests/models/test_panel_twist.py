@@ -10,6 +10,7 @@ import scipy.sparse.linalg as spla
 
 from lcefem.meshes.bar_hinge_structure import n5b8_structure
 from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models.errors import InputError
 from lcefem.solvers.bar_hinge import BarHingeModel
 
@@ -28,7 +29,7 @@ def end_energy(panel_length, panels, twist, mode, angle=1e-4):
     """Linear energy [mJ] of the ribbon whose last station is turned by ``angle`` about x (torsion),
     y (bending: the last two stations) or z (in plane), the first station(s) held."""
     s = ribbon(panel_length, panels)
-    m = BarHingeModel(s, kapton=law.KaptonBarHinge(twist=twist))
+    m = BarHingeModel(s, kapton=bhm.KaptonBarHinge(twist=twist))
     x0 = s.nodes
     n = x0.shape[0]
     u = np.zeros((n, 3))
@@ -63,7 +64,7 @@ def ribbon_gj(panel_length, twist, angle=1e-4):
 
 @pytest.mark.parametrize("panel_length", [2.3, 7.0])
 def test_n5b8_ribbon_twists_as_its_closed_form_and_plate_as_the_plate_strip(panel_length):
-    kap = law.KaptonBarHinge()
+    kap = bhm.KaptonBarHinge()
     k = kap.hinge_stiffness(T_RIBBON)
     # published: GJ = k D^3/(2 W): 60.7 N mm^2 (2.3 mm panels), 48.4 (7 mm), 10-14 x the plate's
     # (the two-length extrapolation leaves end effects of ~1e-6)
@@ -83,13 +84,13 @@ def test_plate_twist_leaves_bending_and_in_plane_response_unchanged(mode):
 
 
 def test_twist_fraction_is_symmetric_and_one_for_n5b8():
-    kap = law.KaptonBarHinge(twist="plate")
+    kap = bhm.KaptonBarHinge(twist="plate")
     beta = law.panel_twist_fraction(kap, T_RIBBON, np.array([2.3, 7.0]), np.array([7.0, 2.3]))
     assert beta[0] == pytest.approx(beta[1], rel=1e-14)
     assert beta[0] == pytest.approx(4.4585 / 60.68, rel=1e-3)
-    assert np.all(law.panel_twist_fraction(law.KaptonBarHinge(), T_RIBBON, 2.3, 7.0) == 1.0)
+    assert np.all(law.panel_twist_fraction(bhm.KaptonBarHinge(), T_RIBBON, 2.3, 7.0) == 1.0)
     with pytest.raises(InputError, match="kapton.twist"):
-        law.KaptonBarHinge(twist="shell").checked()
+        bhm.KaptonBarHinge(twist="shell").checked()
 
 
 def panel_state(rng, amplitude):
@@ -140,7 +141,7 @@ def test_panel_element_derivatives_match_finite_differences():
 
 def test_assembled_plate_model_derivatives_match_finite_differences():
     s = ribbon(2.3, 4)
-    m = BarHingeModel(s, kapton=law.KaptonBarHinge(twist="plate"))
+    m = BarHingeModel(s, kapton=bhm.KaptonBarHinge(twist="plate"))
     rng = np.random.default_rng(3)
     x = s.nodes.ravel() + 0.05 * rng.standard_normal(s.nodes.size)
     v = rng.standard_normal(x.size)
@@ -152,4 +153,4 @@ def test_assembled_plate_model_derivatives_match_finite_differences():
     assert np.linalg.norm(fd_h - hv) < 1e-5 * np.linalg.norm(hv)
     # the panel elements are there, and the published model has none
     assert m.panel_set is not None and BarHingeModel(s).panel_set is None
-    assert dataclasses.replace(law.KaptonBarHinge(), twist="plate").twist == "plate"
+    assert dataclasses.replace(bhm.KaptonBarHinge(), twist="plate").twist == "plate"

@@ -9,7 +9,7 @@ import pytest
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
-from lcefem.models import bar_hinge as bh
+from lcefem.models import bar_hinge_materials as bh
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import ogden_uniaxial_nominal_stress
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, follow_path,

@@ -3,6 +3,8 @@
 import numpy as np
 
 from lcefem.models import bar_hinge as law
+
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.solvers.bar_hinge.kernels import hinge_forces
 
 
@@ -15,7 +17,7 @@ def test_hinge_kernel_matches_hinge_element():
     rest, k = rng.uniform(2.0, 4.0, n), rng.uniform(0.1, 1.0, n)
 
     def spring(theta):
-        return law.enhanced_linear_law(theta, rest, k, np.radians(30.0), np.radians(330.0))
+        return bhm.enhanced_linear_law(theta, rest, k, np.radians(30.0), np.radians(330.0))
 
     _, grad_ref, hess_ref = law.hinge_element(xj, xk, xi, xl, length, spring)
     theta = law.dihedral_angle(xj, xk, xi, xl, derivatives=0)

@@ -10,7 +10,7 @@ import dolfinx
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.solvers.contact import NodalDamping, NodePairContact, face_pairs, gap_and_derivatives
 from lcefem.solvers.mechanics import displacement_space
 

@@ -256,7 +256,7 @@ def test_prolongation_keeps_a_linear_field_and_each_body_its_own():
 
     from lcefem.meshes.composite_beam import CompositeBeamGeometry
     from lcefem.meshes.gridshell_fe import GridshellFEMesh, build_gridshell_fe, cell_group
-    from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.solvers.mechanics import displacement_space
     from lcefem.solvers.transfer import prolong_by_tag
 

@@ -9,7 +9,7 @@ import pytest
 from lcefem.meshes.composite_beam import (BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge,
                                           strip_centroid_offset, strip_second_moment)
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.errors import InputError
 from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
@@ -97,7 +97,8 @@ def test_plate_twist_brings_the_saddle_kappa_y_within_tolerance_of_the_3d_fe():
     # the plate's), 0.0128 with kapton.twist = "plate" (GJ = G w t^3/3); tolerance 0.002 1/mm.
     import dataclasses
 
-    from lcefem.models import bar_hinge as law
+
+    from lcefem.models import bar_hinge_materials as law
     from lcefem.validation import calibrate as cal
 
     fe = cal.fe_reference()["saddle"]

@@ -14,7 +14,7 @@ from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeomet
 from lcefem.models.empirical import eq2_curvature
 from lcefem.models import bar_hinge as law
 from lcefem.models import buckling
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.solvers.bar_hinge import BarHingeModel, held_dofs, newton
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.models import hyperelastic

@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.validation import calibrate as cal
 from lcefem.validation.cli import main as cli_main
 

@@ -12,7 +12,7 @@ import dolfinx
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell_fe import GridshellFEMesh, build_gridshell_fe, cell_group
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.hyperelastic import lce_strain_energy, neo_hookean_strain_energy
 from lcefem.models.lce import isochoric_uniaxial
 from lcefem.solvers.mechanics import deformation_gradient, displacement_space, volume_measure

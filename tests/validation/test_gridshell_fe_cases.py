@@ -4,7 +4,7 @@ runs are exercised by tests/validation/test_quick_cases.py."""
 
 import pytest
 
-from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.validation.cases import registry
 from lcefem.validation.cases.gridshell_fe import MODEL_BAND, SWEEP_LAMBDA_B, _partial, agreement
 

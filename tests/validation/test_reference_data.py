@@ -87,7 +87,7 @@ def test_unknown_key_names_close_matches():
 
 def test_each_coil_and_nematic_number_has_one_definition_matching_the_seed():
     """models/ holds the numbers; the seed records in validation/data are the evidence they must match."""
-    from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N, LCEStripBars
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, LCEStripBars
     from lcefem.models.empirical import EQ1_LAMBDA_N, Eq1, Eq2
     from lcefem.models.heat import Coil, GridSegmentCoil
     from lcefem.models.lce import NematicTransition

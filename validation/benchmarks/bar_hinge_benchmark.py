@@ -15,7 +15,7 @@ import numpy as np
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry, build_beam_bar_hinge
 from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
-from lcefem.models.bar_hinge import BarHingeMaterials
+from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh

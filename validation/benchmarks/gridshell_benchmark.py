@@ -35,7 +35,7 @@ import numpy as np
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models.bar_hinge import BarHingeMaterials, LCEStripBars
+from lcefem.models.bar_hinge_materials import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.problems.gridshell_bh import RAMP_NEWTON
 from lcefem.solvers.runtime.files import write_json

@@ -23,6 +23,7 @@ import numpy as np
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
 from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
@@ -33,7 +34,7 @@ from lcefem.validation import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.reference_data import reference
 
-PUBLISHED = law.PUBLISHED
+PUBLISHED = bhm.PUBLISHED
 BH = "bar-and-hinge model (lcefem.solvers.bar_hinge)"
 
 #: Tolerance of the bar-and-hinge critical load against the measured 0.18 N: the published hinge
@@ -70,7 +71,7 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     measured = reference("ribbon.buckling_load")
     plateau_to = reference("ribbon.plateau_compression")
     strain_bound = reference("tension.strain_at_ribbon_load")
-    spec, mesh, mat = KaptonSpecimenGeometry(), KaptonBarHingeMesh(), law.BarHingeMaterials()
+    spec, mesh, mat = KaptonSpecimenGeometry(), KaptonBarHingeMesh(), bhm.BarHingeMaterials()
     kap = mat.kapton
     ctx.mesh_size = spec.length / mesh.panels
     ei = kap.youngs_modulus * spec.second_moment
@@ -81,7 +82,7 @@ def ribbon_buckling_bh(ctx: CaseContext) -> list[Metric]:
     euler_chain = buckling.euler_fixed_fixed(ei_chain, spec.length)
 
     p_cr, _ = kapton_bh.critical_load(spec, mesh, mat)
-    no_factor = law.BarHingeMaterials(kapton=law.KaptonBarHinge(bending_factor=1.0))
+    no_factor = bhm.BarHingeMaterials(kapton=bhm.KaptonBarHinge(bending_factor=1.0))
     p_cr_1, _ = kapton_bh.critical_load(spec, mesh, no_factor)
     fine = KaptonBarHingeMesh(panels=16)
     p_cr_16, _ = kapton_bh.critical_load(spec, fine, mat)

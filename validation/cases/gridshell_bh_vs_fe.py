@@ -38,7 +38,7 @@ import math
 import time
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
-from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation.calibrate import ABS_TOL, AS_FE, REL_TOL, fe_reference, shape_setup, tolerance

@@ -186,7 +186,7 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
         lambdas = spec["lambdas"]
         label = f"{shape} (lambda)"
         if ctx.quick:
-            from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+            from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
             lambdas = _partial(lambdas, PUBLISHED_LAMBDA_N, QUICK_FRACTION)
             label = f"{shape} (lambda, {QUICK_FRACTION:g} of the ramp)"
         prolong = None if ctx.prolong_from is None else ctx.prolong_from / STATE_FILE
@@ -275,7 +275,7 @@ def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
 def sweep_fe(values, *, fraction: float = 1.0, quick: bool = False, on_point=None) -> list[dict]:
     """FE centre curvatures along the lambda_B sweep (lambda_T = SWEEP_LAMBDA_T, rollers), each point
     warm-started from the previous one; ``fraction`` < 1 takes that part of the ramp from as built."""
-    from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 
     model = fe_model("dome", quick=quick)
     out = []
@@ -299,7 +299,7 @@ def agreement(fe: float, bh: float, band: float = MODEL_BAND) -> bool:
 @case("gridshell_sweep_fe", "Robotic surface, lambda_B swept 1.33 -> 1.05 at lambda_T = 1.33: 3D FE vs "
       "bar-and-hinge centre curvature, where they agree within 10 %", fe=True)
 def gridshell_sweep_fe(ctx: CaseContext) -> list[Metric]:
-    from lcefem.models.bar_hinge import PUBLISHED_LAMBDA_N
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 
     name = ctx.case or "gridshell_sweep_fe"
     ctx.mesh_size = 3.0  # [mm] level 0 (meshes.gridshell_fe.GridshellFEMesh.size)

@@ -31,7 +31,7 @@ import argparse
 import dataclasses
 
 from lcefem.meshes.composite_beam import STRIP_ELEMENTS
-from lcefem.models import bar_hinge as law
+from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.composite_beam_bh import BeamConfig, run_beam
 from lcefem.solvers.runtime.outdir import add_out_arguments
