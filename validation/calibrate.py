@@ -143,11 +143,11 @@ def shape_setup(shape: str, materials: law.BarHingeMaterials, strip_element: str
     from lcefem.validation.programs import SHAPE_DRIVES
 
     spec = SHAPE_DRIVES[shape]
-    mesh, lce, support = gs_run.published_configuration(BeamBarHingeMesh(), materials.lce,
-                                                        support or spec["support"], departures)
-    s = build_gridshell_bar_hinge(mesh=dataclasses.replace(mesh, strip_element=strip_element))
+    mesh, materials = as_fe(BeamBarHingeMesh(), materials, strip_element, departures)
+    _, _, support = gs_run.published_configuration(mesh, materials.lce, support or spec["support"], departures)
+    s = build_gridshell_bar_hinge(mesh=mesh)
     return gs.setup_gridshell(gs.targets_from_lambdas(s, spec["lambdas"]), support, structure=s,
-                              materials=dataclasses.replace(materials, lce=lce))
+                              materials=materials)
 
 
 def solve_beam_map(lt, lb, materials: law.BarHingeMaterials, strip_element: str = "beam",
@@ -259,28 +259,70 @@ def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", 
 
 
 #: The bar-and-hinge model sets that inverse design, prediction bands and sequences can run
-#: (``--model-set``): 'fe-calibrated' (the default: the strip element 'beam', the plate's torsion
-#: and the fitted factors of :data:`STORED`: within 10 % / 0.002 1/mm of the 3D FE on the Fig. 4
-#: shapes and the beam map, and closer to the experiment than the published set) or 'published'
-#: (the published model's elements and factors, two-node strip bars, the N5B8 panels' torsion,
-#: hinge factor 5.5). Either runs in the caller's configuration (supports, squares, contact, bar
-#: law). docs/gridshell_calibration.md, "Defaults".
+#: (``--model-set``), each with the configuration it holds (:class:`ModelSet`):
+#:
+#: * 'fe-calibrated' (the default): the strip element 'beam', the plate's torsion and the fitted
+#:   factors of :data:`STORED`, in the configuration they were fitted in (:func:`shape_setup`): glue
+#:   raised squares, strip-ribbon contact, the constant-volume bar law (the published configuration
+#:   + :data:`AS_FE`); within 10 % / 0.002 1/mm of the 3D FE on the Fig. 4 shapes and the beam map;
+#: * 'published': the published model's elements and factors (two-node strip bars, the N5B8 panels'
+#:   torsion, hinge factor 5.5) in our case configuration (the mesh's defaults: contracting squares,
+#:   contact; the constant-volume bar law), as design, bands and sequences ran it before.
+#:
+#: The caller gives the support. docs/gridshell_calibration.md, "Defaults".
 MODEL_SETS = ("published", "fe-calibrated")
 DEFAULT_MODEL_SET = "fe-calibrated"
 
 
-def model_set(name: str, base: law.BarHingeMaterials = law.BarHingeMaterials()
-              ) -> tuple[str, law.BarHingeMaterials]:
-    """(mesh.strip_element, materials) of the model set ``name`` (:data:`MODEL_SETS`), the
-    materials built on ``base``."""
+@dataclasses.dataclass(frozen=True)
+class ModelSet:
+    """A bar-and-hinge model set: its name, the mesh fields it runs with (strip element, raised
+    squares, contact: :class:`lcefem.meshes.composite_beam.BeamBarHingeMesh`) and its materials
+    (factors, the panels' torsion, the strip bar law)."""
+
+    name: str
+    mesh: BeamBarHingeMesh
+    materials: law.BarHingeMaterials
+
+    def structure(self, layout=None):
+        """The gridshell of this model set (``layout``: default :class:`GridshellLayout`)."""
+        from lcefem.meshes.gridshell import GridshellLayout
+
+        return build_gridshell_bar_hinge(layout=layout or GridshellLayout(), mesh=self.mesh)
+
+    @property
+    def configuration(self) -> dict:
+        """The fields that set the model set's configuration (saved with results)."""
+        return {"model set": self.name, "mesh.strip_element": self.mesh.strip_element,
+                "mesh.top_junction": self.mesh.top_junction, "mesh.contact": self.mesh.contact,
+                "mesh.strip_contact": self.mesh.strip_contact, "lce.force_law": self.materials.lce.force_law,
+                "lce.bending_factor": self.materials.lce.bending_factor,
+                "kapton.bending_factor": self.materials.kapton.bending_factor,
+                "kapton.twist": self.materials.kapton.twist}
+
+
+def as_fe(mesh: BeamBarHingeMesh, materials: law.BarHingeMaterials, strip_element: str = "beam",
+          departures=AS_FE) -> tuple[BeamBarHingeMesh, law.BarHingeMaterials]:
+    """(mesh, materials) in the published configuration + ``departures`` with ``strip_element``:
+    the configuration of :func:`shape_setup` (default: the FE gridshell's, :data:`AS_FE`)."""
+    from lcefem.solvers.problems import gridshell_bh_run as gs_run
+
+    mesh, lce, _ = gs_run.published_configuration(mesh, materials.lce, "rollers", departures)
+    return dataclasses.replace(mesh, strip_element=strip_element), dataclasses.replace(materials, lce=lce)
+
+
+def model_set(name: str, base: law.BarHingeMaterials = law.BarHingeMaterials(),
+              mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> ModelSet:
+    """The model set ``name`` (:data:`MODEL_SETS`): its mesh fields and materials, built on ``mesh``
+    (other fields: the caller's) and ``base``."""
     if name == "published":
-        return "bar", base
+        return ModelSet(name, mesh, base)
     if name != "fe-calibrated":
         raise InputError(f"model_set = {name!r}: allowed {', '.join(MODEL_SETS)}")
     record = load()
     if record is None:
         raise InputError(f"model_set = 'fe-calibrated': {STORED} missing (lcefem calibrate bar-hinge)")
-    return "beam", calibrated_materials(record, base)
+    return ModelSet(name, *as_fe(mesh, calibrated_materials(record, base)))
 
 
 def load(path: pathlib.Path = STORED) -> dict | None:

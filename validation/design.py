@@ -80,9 +80,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--ribbons", type=int, default=3, help="ribbons per direction (default 3)")
     p.add_argument("--no-check", action="store_true", help="skip the forward run from the as-built state")
     p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET,
-                   help="bar-and-hinge elements and factors: fe-calibrated (default: the strip element, "
-                        "the plate's torsion and the factors fitted to the 3D FE) or published (the "
-                        "published model's; docs/gridshell_calibration.md)")
+                   help="bar-and-hinge model set with its configuration: fe-calibrated (default: the strip "
+                        "element, the plate's torsion and the factors fitted to the 3D FE, in the glue "
+                        "squares and contact they were fitted in) or published (the published model's "
+                        "elements and factors, contracting squares; docs/gridshell_calibration.md)")
     add_out_arguments(p, "results/design")
 
 
@@ -99,6 +100,7 @@ def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = Tr
                          "centre height [mm]": req.height},
               "channels": req.channels, "support": req.support, "ribbons": req.ribbons,
               "model set": req.model_set,
+              "model set configuration": calibrate.model_set(req.model_set).configuration,
               "bounds [-]": [gd.LAMBDA_MIN, design.lambda_N],
               "observable": "circle curvature through the centre junction and the middle ribbon's ends "
                             "(seed 001, gridshell without cover scales)"}

@@ -12,8 +12,6 @@ import pathlib
 
 import numpy as np
 
-from lcefem.meshes.composite_beam import BeamBarHingeMesh
-from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.cover_scales import CoverScales
 from lcefem.solvers.problems.gridshell_bh_sequence import load_schedule, phase_ends, run_sequence
@@ -53,8 +51,8 @@ def scale_sequence(out: pathlib.Path, *, schedule_path=FIG5A_SCHEDULE, output_in
 
     structure, materials = None, BarHingeMaterials()
     if model_set is not None:
-        element, materials = calibrate.model_set(model_set)
-        structure = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
+        ms = calibrate.model_set(model_set)  # with its configuration (squares, contact, element)
+        structure, materials = ms.structure(), ms.materials
     summary = run_sequence(schedule, out, progress=progress, scales=scales, frame=frame, snapshot=snapshot,
                            report=lambda o, history, sched: plot_curvatures(o / "curvature_vs_time.png",
                                                                             history, sched),

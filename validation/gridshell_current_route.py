@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
 import functools
 import json
 import pathlib
@@ -62,11 +61,9 @@ def bh_setup(shape: str, lambdas: dict, model_set: str = "published", lambda_N: 
              support: str | None = None):
     """The bar-and-hinge gridshell of ``model_set`` set up at ``lambdas`` [-] on ``support`` (default
     ``shape``'s published one; rest fractions lambda / ``lambda_N``, default the published 1.4)."""
-    from lcefem.meshes.composite_beam import BeamBarHingeMesh
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
     from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.solvers.problems import gridshell_bh as problem_bh
-    from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
     from lcefem.validation import calibrate
     from lcefem.validation import gridshell_bh as gs
 
@@ -76,12 +73,10 @@ def bh_setup(shape: str, lambdas: dict, model_set: str = "published", lambda_N: 
         s = build_gridshell_bar_hinge()
         return problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, lambdas, lambda_N), support,
                                           structure=s)
-    element, materials = calibrate.model_set(model_set)
-    mesh, lce, support = problem_bh_run.published_configuration(BeamBarHingeMesh(), materials.lce, support,
-                                                                calibrate.AS_FE)
-    s = build_gridshell_bar_hinge(mesh=dataclasses.replace(mesh, strip_element=element))
+    ms = calibrate.model_set(model_set)  # in the configuration it was fitted in (calibrate.shape_setup)
+    s = ms.structure()
     return problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, lambdas, lambda_N), support,
-                                      structure=s, materials=dataclasses.replace(materials, lce=lce))
+                                      structure=s, materials=ms.materials)
 
 
 def bh_curvatures(shape: str, lambdas: dict, model_set: str = "published", support: str | None = None) -> dict:

@@ -31,8 +31,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
-from lcefem.meshes.composite_beam import BeamBarHingeMesh
-from lcefem.meshes.gridshell import CHANNELS, GridshellLayout, build_gridshell_bar_hinge
+from lcefem.meshes.gridshell import CHANNELS, GridshellLayout
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
@@ -122,8 +121,8 @@ def setup_design(mode: str = "4", support: str = "rollers", height: bool = False
                  newton: NewtonOptions = DESIGN_NEWTON, model_set: str = DEFAULT_MODEL_SET) -> GridshellDesign:
     """The design problem on a fresh surface (``layout``: ribbons per direction; ``model_set``: the
     bar-and-hinge elements and factors, :data:`lcefem.validation.calibrate.MODEL_SETS`)."""
-    element, materials = calibrate.model_set(model_set)
-    structure = build_gridshell_bar_hinge(layout=layout, mesh=BeamBarHingeMesh(strip_element=element))
+    ms = calibrate.model_set(model_set)  # its mesh fields (strip element, squares, contact) and materials
+    structure, materials = ms.structure(layout), ms.materials
     setup = problem_bh.setup_gridshell(None, support, structure=structure, materials=materials)
     params = strip_parameters(structure, channel_selections(structure, mode), lambda_N)
     eq = EquilibriumMap(setup.model, setup.held, params, curvature_observable(structure, height),

@@ -10,7 +10,6 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 
-from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.validation import calibrate
 from lcefem.models.errors import InputError
@@ -72,9 +71,10 @@ def main(args) -> int:
     """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.commands.gridshell)."""
     schedule = args.prepared
     # the bar-and-hinge model set of design and bands (calibrate.DEFAULT_MODEL_SET)
-    element, materials = calibrate.model_set(calibrate.DEFAULT_MODEL_SET)
-    structure = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
-    config = {"schedule": dataclasses.asdict(schedule), "model set": calibrate.DEFAULT_MODEL_SET}
+    model_set = calibrate.model_set(calibrate.DEFAULT_MODEL_SET)  # with its configuration
+    structure, materials = model_set.structure(), model_set.materials
+    config = {"schedule": dataclasses.asdict(schedule), "model set": model_set.name,
+              "model set configuration": model_set.configuration}
     summary = run_sequence(schedule, pathlib.Path(args.out), progress=not args.quiet, snapshot=snapshot,
                            report=lambda out, history, sched: plot_curvatures(out / "curvature_vs_time.png",
                                                                               history, sched),

@@ -39,7 +39,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import eq1_stretch
 from lcefem.models.errors import ConvergenceError, InputError
@@ -54,7 +53,6 @@ from lcefem.validation import gridshell_bh as gs
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.solvers.problems.gridshell_bh_sequence import QuasiStaticSurface
-from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.validation import calibrate
 
 PARALLEL = False  # serial numpy/scipy bar-and-hinge model
@@ -299,8 +297,8 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     spec = gs.SHAPES[cfg.shape]
     law = StretchLaw(cfg.thermal_model)
     inputs = gridshell_inputs(cfg.shape)
-    element, base = calibrate.model_set(cfg.model_set)
-    structure = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
+    model_set = calibrate.model_set(cfg.model_set)  # its configuration (squares, contact, element) too
+    structure, base = model_set.structure(), model_set.materials
     started = time.perf_counter()
 
     def targets(fr: np.ndarray) -> dict:
@@ -325,7 +323,8 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     F = rest_fractions_of(X, cfg.shape, law)
     bar = Progress(float(cfg.samples), f"bands {cfg.shape}", "solves", ".0f", progress)
     config = {"shape": cfg.shape, "support": spec["support"], "currents [A]": spec["currents"],
-              "thermal model": cfg.thermal_model, "model set": cfg.model_set, "samples": cfg.samples, "seed": cfg.seed,
+              "thermal model": cfg.thermal_model, "model set": cfg.model_set,
+              "model set configuration": model_set.configuration, "samples": cfg.samples, "seed": cfg.seed,
               "inputs": [dataclasses.asdict(i) for i in inputs]}
     with Run(out, config=config, columns=sample_columns(), history="samples.csv", progress=bar) as run:
         Y = np.full((cfg.samples, len(OUTPUTS)), np.nan)
@@ -425,8 +424,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="current -> lambda: 'eq1' (the paper's estimate, default) or 'segment'")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET,
-                   help="bar-and-hinge elements and factors: fe-calibrated (default) or published "
-                        "(docs/gridshell_calibration.md)")
+                   help="bar-and-hinge model set with its configuration: fe-calibrated (default; glue "
+                        "squares, contact, strip element 'beam', the fitted factors) or published (two-node "
+                        "strip bars, contracting squares; docs/gridshell_calibration.md)")
     add_out_arguments(p, None)
 
 

@@ -89,13 +89,12 @@ def test_covered_model_keeps_the_strip_bending_elements():
     """With the FE-calibrated model set (strip element 'beam') the covered model is the strip-beam
     model plus the layer: energy, gradient and Hessian minus the strip-beam model's are the layer's
     (a covered model without the strip elements would differ by their bending energy, > 0 here)."""
-    from lcefem.meshes.composite_beam import BeamBarHingeMesh
     from lcefem.solvers.bar_hinge.strip_beams import StripBeamModel, bar_hinge_model
     from lcefem.solvers.problems.gridshell_bh_scales import CoveredStripBeamModel, covered_model
     from lcefem.validation import calibrate
 
-    element, materials = calibrate.model_set("fe-calibrated")
-    s = build_gridshell_bar_hinge(mesh=BeamBarHingeMesh(strip_element=element))
+    ms = calibrate.model_set("fe-calibrated")
+    s, materials = ms.structure(), ms.materials
     model = covered_model(s, materials, CoverScales(), factor=0.7)
     strip = bar_hinge_model(s, materials)
     assert isinstance(model, CoveredStripBeamModel) and isinstance(strip, StripBeamModel)

@@ -48,3 +48,31 @@ def test_stored_calibration_applies_to_the_materials():
     assert cal.calibrated_materials(old).kapton.twist == "n5b8"
     for name, (section, fld, _, lo, hi) in cal.PARAMETERS.items():
         assert lo <= rec["parameters"][f"{section}.{fld}"] <= hi
+
+
+def test_model_set_carries_the_configuration_it_was_fitted_in():
+    # 'fe-calibrated' was fitted in calibrate.shape_setup's configuration (published glue squares +
+    # contact + the constant-volume law, strip element 'beam'): the model set holds exactly that
+    # structure and those materials, so design, bands and sequences run where it was fitted.
+    import numpy as np
+    from lcefem.meshes.composite_beam import BeamBarHingeMesh
+
+    ms = cal.model_set("fe-calibrated")
+    assert (ms.mesh.top_junction, ms.mesh.contact, ms.mesh.strip_element) == ("glue", True, "beam")
+    assert ms.materials.lce.force_law == "volume"
+    fitted = cal.shape_setup("saddle", cal.calibrated_materials(cal.load()))
+    s = ms.structure()
+    assert s.nodes.shape == fitted.structure.nodes.shape and np.array_equal(s.nodes, fitted.structure.nodes)
+    for field in ("bars", "hinges", "contacts"):
+        ours, theirs = getattr(s, field), getattr(fitted.structure, field)
+        assert set(ours) == set(theirs) and all(np.array_equal(ours[k], theirs[k]) for k in ours)
+    assert "glue" in s.bars and len(s.info["strip_beams"]) == len(fitted.structure.info["strip_beams"]) > 0
+    m = fitted.model
+    assert (m.kapton, m.lce, m.glue, m.ogden) == (ms.materials.kapton, ms.materials.lce, ms.materials.glue,
+                                                  ms.materials.ogden)
+    # 'published': the published elements and factors in the mesh's defaults (contracting squares)
+    pub = cal.model_set("published")
+    assert pub.mesh == BeamBarHingeMesh() and pub.materials == BarHingeMaterials()
+    assert cal.model_set("fe-calibrated").configuration["mesh.top_junction"] == "glue"
+    with pytest.raises(cal.InputError, match="model_set"):
+        cal.model_set("bogus")
