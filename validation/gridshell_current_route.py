@@ -29,7 +29,6 @@ take seconds each.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import functools
 import json
 import pathlib
@@ -147,33 +146,19 @@ def measure(model_sets=("published", "fe-calibrated"), shapes=SHAPES, drives=DRI
 RULE_BANDS = DATA / "current_route_bands_rule"
 
 
-@contextlib.contextmanager
-def rule_currents(shape: str):
-    """Within the block, ``shape``'s drive currents (:data:`lcefem.validation.gridshell_bh.SHAPES`
-    "currents", which the Monte Carlo bands of :mod:`lcefem.validation.uncertainty` perturb) are the
-    rule's (Eq. 1 inverted at the Fig. 4 lambdas); restored after."""
-    from lcefem.validation import gridshell_bh as gs
-
-    spec = gs.SHAPES[shape]
-    saved = spec["currents"]
-    spec["currents"] = lumped_heat.shape_currents(spec["lambdas"])
-    try:
-        yield spec["currents"]
-    finally:
-        spec["currents"] = saved
-
-
 def rule_bands(shape: str, samples: int, model_set: str, out: pathlib.Path, seed: int = 0) -> dict:
     """Monte Carlo prediction bands of the current route from the rule's currents: the measured
     spreads of :func:`lcefem.validation.uncertainty.gridshell_inputs` (coils 126-134 ohm, current
     +-5 %, lambda_N SD 6.15 %, Eq. 1 power +-5 %, modulus +-10 %) around the rule's currents, through
     the lumped grid strip ('strip') and the bar-and-hinge surface of ``model_set``
     (:func:`lcefem.validation.uncertainty.run_bands`, the same sampling and warm starts)."""
+    from lcefem.validation import gridshell_bh as gs
     from lcefem.validation import uncertainty
 
-    with rule_currents(shape):
-        return uncertainty.run_bands(uncertainty.BandsConfig(shape=shape, samples=samples, thermal_model="strip",
-                                                             seed=seed, model_set=model_set), out, progress=False)
+    rule = lumped_heat.shape_currents(gs.SHAPES[shape]["lambdas"])
+    return uncertainty.run_bands(uncertainty.BandsConfig(shape=shape, samples=samples, thermal_model="strip",
+                                                         seed=seed, model_set=model_set, currents=rule),
+                                 out, progress=False)
 
 
 def main(argv=None) -> int:

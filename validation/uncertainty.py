@@ -44,6 +44,7 @@ from lcefem.models.empirical import eq1_stretch
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil
 from lcefem.models.hyperelastic import OgdenLaw
+from lcefem.models.limits import check_current
 from lcefem.models.lumped_heat import GRID_STRIP, HeatedStrip, grid_thermal, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
 from lcefem.solvers.runtime.files import write_text
@@ -151,10 +152,11 @@ def _segment_table():
     return _SEGMENT_TABLE
 
 
-def rest_fractions_of(X: np.ndarray, shape: str, law: StretchLaw) -> np.ndarray:
-    """Per-channel rest fractions f_c (m, 4) of input samples X (m, 17) (module docstring)."""
+def rest_fractions_of(X: np.ndarray, shape: str, law: StretchLaw, currents: dict | None = None) -> np.ndarray:
+    """Per-channel rest fractions f_c (m, 4) of input samples X (m, 17) (module docstring) around the
+    nominal ``currents`` [A] per channel (default: the shape's programmed currents)."""
     X = np.atleast_2d(X)
-    currents = gs.SHAPES[shape]["currents"]
+    currents = gs.SHAPES[shape]["currents"] if currents is None else currents
     f = np.empty((X.shape[0], len(CHANNELS)))
     for k, c in enumerate(CHANNELS):
         r, i_fac, lam_n, p_fac = (X[:, 4 * k + j] for j in range(4))
@@ -165,10 +167,10 @@ def rest_fractions_of(X: np.ndarray, shape: str, law: StretchLaw) -> np.ndarray:
     return f
 
 
-def features(X: np.ndarray, shape: str, law: StretchLaw) -> np.ndarray:
+def features(X: np.ndarray, shape: str, law: StretchLaw, currents: dict | None = None) -> np.ndarray:
     """What the mechanics sees: (f_Tx, f_Ty, f_Bx, f_By, modulus factor), (m, 5)."""
     X = np.atleast_2d(X)
-    return np.column_stack([rest_fractions_of(X, shape, law), X[:, -1]])
+    return np.column_stack([rest_fractions_of(X, shape, law, currents), X[:, -1]])
 
 
 # -------------------------------------------------------------------------------- surrogate
@@ -242,6 +244,9 @@ class BandsConfig:
     thermal_model: str = "eq1"
     seed: int = 0
     model_set: str = calibrate.DEFAULT_MODEL_SET
+    #: Nominal currents [A] per channel around which the spreads are drawn (None: the shape's
+    #: programmed currents, validation/data/programs.toml).
+    currents: dict | None = None
 
     def checked(self) -> "BandsConfig":
         if self.shape not in gs.SHAPES:
@@ -258,6 +263,11 @@ class BandsConfig:
             raise InputError(f"--thermal-model {self.thermal_model!r}: allowed {', '.join(lumped_heat.THERMAL_MODELS)}")
         if self.model_set not in calibrate.MODEL_SETS:
             raise InputError(f"--model-set {self.model_set!r}: allowed {', '.join(calibrate.MODEL_SETS)}")
+        if self.currents is not None:
+            if set(self.currents) != set(CHANNELS):
+                raise InputError(f"currents: one per channel, {', '.join(CHANNELS)}; got {', '.join(self.currents)}")
+            for c, i in self.currents.items():
+                check_current(f"currents[{c}]", i)
         return self
 
 
@@ -295,6 +305,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     """Monte Carlo bands, surrogate and Sobol indices of one shape (module docstring)."""
     cfg = cfg.checked()
     spec = gs.SHAPES[cfg.shape]
+    currents = dict(spec["currents"] if cfg.currents is None else cfg.currents)
     law = StretchLaw(cfg.thermal_model)
     inputs = gridshell_inputs(cfg.shape)
     model_set = calibrate.model_set(cfg.model_set)  # its configuration (squares, contact, element) too
@@ -312,7 +323,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
                                   path=problem_bh.GRIDSHELL_PATH if start is None else WARM_PATH)
 
     x_nom = nominal_row(inputs)
-    f_nom = rest_fractions_of(x_nom, cfg.shape, law)[0]
+    f_nom = rest_fractions_of(x_nom, cfg.shape, law, currents)[0]
     nominal = surface(1.0)
     nominal.advance(targets(f_nom))
     start = (nominal.fractions, nominal.x)
@@ -320,9 +331,9 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     nominal_values = {col: nom_summary[key] for col, key in OUTPUTS.items()}
 
     X = sample_inputs(inputs, cfg.samples, cfg.seed)
-    F = rest_fractions_of(X, cfg.shape, law)
+    F = rest_fractions_of(X, cfg.shape, law, currents)
     bar = Progress(float(cfg.samples), f"bands {cfg.shape}", "solves", ".0f", progress)
-    config = {"shape": cfg.shape, "support": spec["support"], "currents [A]": spec["currents"],
+    config = {"shape": cfg.shape, "support": spec["support"], "currents [A]": currents,
               "thermal model": cfg.thermal_model, "model set": cfg.model_set,
               "model set configuration": model_set.configuration, "samples": cfg.samples, "seed": cfg.seed,
               "inputs": [dataclasses.asdict(i) for i in inputs]}
@@ -346,7 +357,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
             row = {"sample [-]": s, "modulus factor [-]": X[s, -1], "newton iterations [-]": surf.iterations}
             for k, c in enumerate(CHANNELS):
                 r, i_fac, lam_n, p_fac = X[s, 4 * k:4 * k + 4]
-                row.update({f"{c} string resistance [ohm]": r, f"{c} current [A]": spec["currents"][c] * i_fac,
+                row.update({f"{c} string resistance [ohm]": r, f"{c} current [A]": currents[c] * i_fac,
                             f"{c} lambda_N [-]": lam_n, f"{c} power factor [-]": p_fac,
                             f"{c} lambda [-]": F[s, k] * max(lam_n, 1.0 + 1e-6), f"{c} rest fraction [-]": F[s, k]})
             if found[s]:
@@ -361,13 +372,13 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
         values = {col: Y[found, j] for j, col in enumerate(OUTPUTS)}
         bands = bands_table(values, nominal_values, cfg.shape)
 
-        Z = features(X[found], cfg.shape, law)
+        Z = features(X[found], cfg.shape, law, currents)
         sur = PolynomialSurrogate.fit(Z, Y[found])
         # Sobol indices need a surrogate that leave-one-out can test (more equilibria than its
         # coefficients); with fewer (e.g. the validation case's 4 samples) they are not computed.
         sobol = {}
         if sur.validated:
-            sobol = sobol_indices(lambda XX: sur(features(XX, cfg.shape, law)), inputs, cfg.sobol_samples,
+            sobol = sobol_indices(lambda XX: sur(features(XX, cfg.shape, law, currents)), inputs, cfg.sobol_samples,
                                   cfg.seed, list(OUTPUTS))
         for j, col in enumerate(OUTPUTS if sobol else ()):
             sobol[col]["surrogate Q2"] = float(sur.q2[j])

@@ -39,12 +39,31 @@ def test_fe_calibrated_set_is_the_fitted_configuration():
     assert published.model.kapton.bending_factor == 5.5 and published.model.kapton.twist == "n5b8"
 
 
-def test_rule_currents_are_restored():
+def test_bands_are_drawn_around_the_currents_given():
+    """The rule's bands draw the spreads around the rule's currents (BandsConfig.currents), leaving
+    the shape's programmed currents untouched; the rule's saddle currents are Eq. 1 inverted at the
+    Fig. 4 lambdas (0.0640 A top x, 0.0786 A top y)."""
+    from lcefem.models import lumped_heat
+    from lcefem.models.errors import InputError
+    from lcefem.validation import uncertainty as unc
+
     before = dict(gs.SHAPES["saddle"]["currents"])
-    with route.rule_currents("saddle") as cur:
-        assert gs.SHAPES["saddle"]["currents"] is cur
-        assert cur["Ty"] == pytest.approx(0.0786, abs=1e-4) and cur["Tx"] == pytest.approx(0.0640, abs=1e-4)
+    rule = lumped_heat.shape_currents(gs.SHAPES["saddle"]["lambdas"])
+    assert rule["Ty"] == pytest.approx(0.0786, abs=1e-4) and rule["Tx"] == pytest.approx(0.0640, abs=1e-4)
+    law = unc.StretchLaw("strip")
+    x = unc.nominal_row(unc.gridshell_inputs("saddle"))
+    f_rule = unc.rest_fractions_of(x, "saddle", law, rule)[0]
+    f_prog = unc.rest_fractions_of(x, "saddle", law)[0]
+    lam_n = unc.PUBLISHED_LAMBDA_N
+    for k, c in enumerate(unc.CHANNELS):  # the nominal row is the steady stretch at the given current
+        power = rule[c] ** 2 * law.coil_resistance * 1.0e3
+        assert f_rule[k] == pytest.approx(min(law(power), lam_n) / lam_n, rel=1e-9)
+    assert not abs(f_rule - f_prog).max() < 1e-6  # the rule's currents differ from the programmed ones
     assert gs.SHAPES["saddle"]["currents"] == before
+    with pytest.raises(InputError, match="currents"):
+        unc.BandsConfig(shape="saddle", currents={"Tx": 0.05}).checked()
+    with pytest.raises(InputError, match=r"currents\[Tx\]"):
+        unc.BandsConfig(shape="saddle", currents={**rule, "Tx": -0.01}).checked()
 
 
 def test_fe_calibrated_bh_at_the_fe_lambdas_meets_the_stored_fe_dome():
