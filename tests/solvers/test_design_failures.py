@@ -27,9 +27,10 @@ class HoleMap:
 
 
 def test_a_trial_without_equilibrium_is_rejected_and_the_design_still_reaches_its_target():
-    # From 1.05 the first trial step towards 1.28^2 lands at 1.198, inside the band (1.19, 1.20):
-    # rejected, the trust region shrinks, and the design steps past the band to the target.
-    eq = HoleMap(1.19, 1.20)
+    # From 1.05 the first trial step towards 1.28^2 (dogbox's Gauss-Newton step, design.METHOD)
+    # overshoots to 1.3052, inside the band (1.30, 1.31): rejected, the trust region shrinks, and
+    # the design reaches the target from below the band.
+    eq = HoleMap(1.30, 1.31)
     res = solve_design(eq, [1.28 ** 2], [1.05], 1.05, 1.4, absolute=1e-9)
     assert eq.hits >= 1
     assert res.p[0] == pytest.approx(1.28, abs=1e-6)
