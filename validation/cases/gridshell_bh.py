@@ -34,7 +34,7 @@ from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
 from lcefem.validation import programs
 from lcefem.validation import plots
-from lcefem.validation.cases import CaseContext, Metric, case, write_csv
+from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.gridshell_configuration import penetration
 from lcefem.validation.gridshell_plots import curvature_bar_chart, render_gridshell
 
@@ -185,8 +185,9 @@ def current_route_support_rows(name: str) -> list[Metric]:
         for i, axis in enumerate("xy"):
             metrics.append(Metric.info(
                 name, f"{shape} (current (strip, rule), {model_set} set, on the table): kappa_{axis} circle",
-                k[f"circle_{axis}"], "1/mm", "controlled change of the support (the published rollers -> "
-                f"the table) on the rule's currents; {BH}, model set {model_set}; paper experiment",
+                k[f"circle_{axis}"], "1/mm", f"{NOT_JUDGED}a controlled change of the support (the published "
+                f"rollers -> the table), the experiment's support being unknown; on the rule's currents; "
+                f"{BH}, model set {model_set}; paper experiment",
                 spec["paper_exp"][i]))
     return metrics
 
