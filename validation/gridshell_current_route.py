@@ -60,7 +60,6 @@ def bh_setup(shape: str, lambdas: dict, model_set: str = "published", lambda_N: 
              support: str | None = None):
     """The bar-and-hinge gridshell of ``model_set`` set up at ``lambdas`` [-] on ``support`` (default
     ``shape``'s published one; rest fractions lambda / ``lambda_N``, default the published 1.4)."""
-    from lcefem.meshes.gridshell import build_gridshell_bar_hinge
     from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.solvers.problems import gridshell_bh as problem_bh
     from lcefem.validation import calibrate
@@ -68,10 +67,6 @@ def bh_setup(shape: str, lambdas: dict, model_set: str = "published", lambda_N: 
 
     lambda_N = PUBLISHED_LAMBDA_N if lambda_N is None else lambda_N
     support = support or gs.SHAPES[shape]["support"]
-    if model_set == "published":
-        s = build_gridshell_bar_hinge()
-        return problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, lambdas, lambda_N), support,
-                                          structure=s)
     ms = calibrate.model_set(model_set)  # in the configuration it was fitted in (calibrate.shape_setup)
     s = ms.structure()
     return problem_bh.setup_gridshell(problem_bh.targets_from_lambdas(s, lambdas, lambda_N), support,
