@@ -157,13 +157,6 @@ def pulse_currents(hold: Mapping[str, float], protocol=DOME_PROTOCOL) -> tuple[f
     return duration, {k: (high if math.isclose(v, top, rel_tol=1e-9) else low) for k, v in hold.items()}
 
 
-def shape_drive(shape: str) -> Mapping:
-    """The Fig. 4 program of ``shape`` ({"lambdas", "currents", "support"}); else an InputError."""
-    if shape not in SHAPE_DRIVES:
-        raise InputError(f"shape = {shape!r}: allowed {', '.join(SHAPE_DRIVES)}")
-    return SHAPE_DRIVES[shape]
-
-
 def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **config):
     """A :class:`lcefem.solvers.problems.gridshell.GridshellFE` with the published supports of a
     Fig. 4 shape (not yet ramped)."""
