@@ -16,7 +16,7 @@ from lcefem.solvers.der.banded import band_cholesky_rows, band_cholesky_solve_ro
 # ----------------------------------------------------------------------------------------------
 # Section heat step (solvers.der.heat.SectionHeat.step)
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heat_solve(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial):
     """Cell temperatures (n, n_cells) [C] of one implicit-Euler heat step: the banded system
     (C + G_g + G_a + conduction) T_new = C T + G_g T_ground + G_a T_air assembled (cells of edge k at
@@ -66,7 +66,7 @@ def heat_solve(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, 
 ITERATIVE_MAX_RATIO = 0.25
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heat_solve_fast(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial):
     """:func:`heat_solve`'s system solved by Gauss-Seidel sweeps from T when it is diagonally dominant
     (off-diagonal row sums at most ``ITERATIVE_MAX_RATIO`` of the diagonal), to round-off: the sweeps
@@ -133,7 +133,7 @@ def heat_solve_fast(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pai
     return heat_solve(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p_cell, p_area, p_axis, p_sign, p_off,
                   corner_cells, corner_off, T_uniform, gradient, air, ground, K1):
     """``SectionHeat.coefficients`` in one loop over edges and patches: the conductances [mW/K] of each
@@ -193,7 +193,7 @@ def heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p
     return G_g, G_a, Q_a, Q_g
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heat_step(T, dt, centre, m1, m2, length, corner_gap, T_uniform, gradient, model):
     """One implicit-Euler heat step in one call: :func:`heat_exchange`, :func:`heat_solve` and the
     fluxes. model = (capacity (n,) [mJ/K], plane normal (3,), plane height [mm], patch cells, areas
