@@ -15,7 +15,7 @@ from numba import njit
 # ----------------------------------------------------------------------------------------------
 # Banded Cholesky (the Newton loop's and the heat step's symmetric banded systems)
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def band_cholesky(ab):
     """Lower banded Cholesky factor in place (LAPACK dpbtf2 storage ab[i - j, j] = H[i, j]); returns
     info (0: done; k > 0: the leading minor of order k is not positive definite).
@@ -36,7 +36,7 @@ def band_cholesky(ab):
     return info
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def band_cholesky_rows(L):
     """:func:`band_cholesky` on the transposed storage L[j, i] = H[j + i, j] (row j: column j of the
     band), in place; returns info. A caller that assembles in this layout skips the two copies
@@ -65,7 +65,7 @@ def band_cholesky_rows(L):
     return info
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def band_cholesky_solve_rows(L, x):
     """:func:`band_cholesky_solve` with the factor of :func:`band_cholesky_rows` (the same
     operations in the same order)."""
@@ -84,7 +84,7 @@ def band_cholesky_solve_rows(L, x):
         x[j] = temp / L[j, 0]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def band_cholesky_solve(factor, x):
     """Solves L L^T y = x in place with the factor of :func:`band_cholesky` (LAPACK dpbtrs, lower)."""
     kd = factor.shape[0] - 1

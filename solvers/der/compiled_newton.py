@@ -37,7 +37,7 @@ REASONS = ("residual below force_tol", "update below step_tol", "non-finite resi
 CONVERGED_CODES = (0, 1)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _own_geometry(x, theta, a1, ref):
     """(x, theta, a1, ref, e, length, t, m1, m2, twist) of a state with its own frames (``RodState.geometry``)."""
     e, length, t = frame_kernels.edge_tangents(x)
@@ -45,7 +45,7 @@ def _own_geometry(x, theta, a1, ref):
     return x, theta, a1, ref, e, length, t, m1, m2, twist
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _moved(src, dq):
     """``RodState.moved``: the source displaced by dq, frames transported from the source's tangents."""
     x0, theta0, a10, ref0 = src[0], src[1], src[2], src[3]
@@ -62,7 +62,7 @@ def _moved(src, dq):
     return x, theta, a1, ref, e, length, t, m1, m2, twist
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _q(st):
     x, theta = st[0], st[1]
     n = len(x)
@@ -75,7 +75,7 @@ def _q(st):
     return q
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no_ddb, no_band, source_elastic,
               elastic_band):
     """``StepPotential.evaluate``: (energy, grad, band) of the state ``st`` (``own``: its frames are its
@@ -134,7 +134,7 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
     return energy, grad, band
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _mask(fixed, grad, band, with_band):
     """``newton._FixedMask.apply``: prescribed rows and columns out of the gradient and the band."""
     nd = len(fixed)
@@ -152,7 +152,7 @@ def _mask(fixed, grad, band, with_band):
             band[0, j] = 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _factorise(band, shift0, max_tries):
     """``newton.factorise_banded_spd``: (factor of H + lambda I, lambda, ok)."""
     lam = 0.0
@@ -170,7 +170,7 @@ def _factorise(band, shift0, max_tries):
     return band, lam, False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _max_abs_nodes_twists(step):
     n_dof = len(step)
     dx = 0.0
@@ -184,7 +184,7 @@ def _max_abs_nodes_twists(step):
     return dx, dth
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, rest, sampling, contact, options,
                   source_elastic):
     """``newton.minimise`` of the step potential from the state (start_x, start_theta, start_a1,

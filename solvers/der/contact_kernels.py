@@ -19,7 +19,7 @@ from lcefem.solvers.der.kernels import element_scratch, stencil_point_element
 # ----------------------------------------------------------------------------------------------
 # All sample points of the contact sampling, and the whole contact + friction potential
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids, end_sigma, end_offsets):
     """Positions and frame offsets r = a m1 + b m2 [mm] of every contact sample point.
 
@@ -66,7 +66,7 @@ def sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
     return pos_s, r_s, pos_e, r_e
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _contact_energy(gap, clearance, delta, K1):
     """``models.contact.contact_energy`` of one point: (E, dE/dgap, d2E/dgap2)."""
     d = clearance - gap
@@ -80,7 +80,7 @@ def _contact_energy(gap, clearance, delta, K1):
     return s * s, -2.0 * s * sig, 2.0 * sig * sig + 2.0 * s * sig * (1.0 - sig) * K1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def normal_force(gap, clearance, delta, K1, stiffness):
     """``models.contact.normal_force`` of an array of gaps (any shape) [N]."""
     out = np.empty(gap.size)
@@ -90,7 +90,7 @@ def normal_force(gap, clearance, delta, K1, stiffness):
     return out.reshape(gap.shape)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian, w):
     """``models.contact.friction_potential`` of one point: energy; dD/du into grad (3,), d2D/du2
     into hess (3, 3); w (3,) scratch."""
@@ -120,7 +120,7 @@ def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian, w):
     return coef * h * logcosh / a
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _section_point_element(t, length, r, sig, g, jac, h7, tr):
     """``models.rod.section_point_derivatives`` of one point (edge's own frame): jac (3, 7) and the
     Hessian h7 (7, 7) of g . point, dofs (x0, theta, x1); tr (3,) scratch."""
@@ -154,7 +154,7 @@ def _section_point_element(t, length, r, sig, g, jac, h7, tr):
     h7[3, 3] = -dot3(g, r)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma, normal, height, clearance, delta, K1,
             stiffness, with_friction, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2, h, db, ddb, with_source, order,
             grad, band, box, is_box):
@@ -297,7 +297,7 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
     return energy
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def box_gap(p, box, n, hg):
     """Gap [mm] of the point p to the rounded box ``box`` = (lo (3), hi (3), radius) of ``model.Box``;
     the outward unit normal (the gap's gradient) into n (3,) and the gap's Hessian into hg (3, 3).
@@ -344,7 +344,7 @@ def box_gap(p, box, n, hg):
     return -best - r
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _accumulate(g_loc, h_loc, acc_g, acc_h, with_hessian):
     for i in range(g_loc.shape[0]):
         acc_g[i] += g_loc[i]
@@ -354,7 +354,7 @@ def _accumulate(g_loc, h_loc, acc_g, acc_h, with_hessian):
                 acc_h[i, j] += h_loc[i, j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _chain_point(jac, hloc, g_pt, cc, normal, hD, g_loc, with_hessian):
     """g_loc = J^T g_pt; hloc += cc (J^T n)(J^T n)^T + J^T hD J (hloc holds the g.point Hessian)."""
     m = jac.shape[1]
@@ -372,7 +372,7 @@ def _chain_point(jac, hloc, g_pt, cc, normal, hD, g_loc, with_hessian):
             hloc[i, j] += s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def edge_min_gaps(pos_s, pos_e, side, slot_s, end_ids, slot_e, n_edges, k, normal, height, interpolated):
     """``assembly.edge_corner_gaps``: the smallest gap [mm] (position . normal - height) of each of
     the k section point kinds over the sample points of each edge, (n_edges, k), +inf where an edge

@@ -15,7 +15,7 @@ from lcefem.solvers.der.kernel_ops import dot3, cross3
 # ----------------------------------------------------------------------------------------------
 # Time-parallel transport of the reference frames (solvers.der.frames)
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _parallel_transport(u, t_from, t_to, out, w3):
     """``models.rod.parallel_transport`` of one vector; w3 (3, 3) scratch."""
     v, vu, vvu = w3[0], w3[1], w3[2]
@@ -27,7 +27,7 @@ def _parallel_transport(u, t_from, t_to, out, w3):
         out[i] = u[i] + vu[i] + vvu[i] / (1.0 + c)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def transport_frames(a1, t_old, t_new, ref_prev):
     """Reference directors transported in time from t_old to t_new and re-orthonormalised
     (``frames.transport_directors``), and the reference twist of the interior nodes continued from
@@ -55,7 +55,7 @@ def transport_frames(a1, t_old, t_new, ref_prev):
     return out, ref
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def edge_tangents(x):
     """Edges e_k = x_(k+1) - x_k [mm], their lengths [mm] and unit tangents t_k = e_k / |e_k|."""
     n = len(x) - 1
@@ -71,7 +71,7 @@ def edge_tangents(x):
     return e, length, t
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def material_frames_twist(t, a1, theta, ref):
     """Material frames m1 = cos(theta) a1 + sin(theta) t x a1, m2 = -sin(theta) a1 + cos(theta)
     t x a1 (``frames.material_frames``) and the integrated twists theta_(k+1) - theta_k + ref_k [rad]."""
@@ -92,7 +92,7 @@ def material_frames_twist(t, a1, theta, ref):
     return m1, m2, twist
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def moved_geometry(x, theta, a1_old, t_old, ref_prev):
     """Everything a displaced state needs, in one pass (``model.RodState.moved`` and ``geometry``):
     edges e, lengths, unit tangents t, reference directors a1 transported in time from t_old (and

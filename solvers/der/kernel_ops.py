@@ -30,19 +30,19 @@ for _i in range(8):
 # ----------------------------------------------------------------------------------------------
 # Small dense helpers (fixed sizes, no allocation in the hot loops beyond the per-call workspaces)
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dot3(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cross3(a, b, out):
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def skew_into(v, out, r0, c0, sign):
     """out[r0:r0+3, c0:c0+3] += sign [v]_x."""
     out[r0 + 0, c0 + 1] += -sign * v[2]
@@ -53,7 +53,7 @@ def skew_into(v, out, r0, c0, sign):
     out[r0 + 2, c0 + 1] += sign * v[0]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def matmul(a, b, out):
     n, m = a.shape
     p = b.shape[1]
@@ -65,7 +65,7 @@ def matmul(a, b, out):
             out[i, j] = s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def to_stencil(h8, h11):
     """h11 (11, 11) = S h8 S^T with S = ``models.rod.STENCIL_MAP``."""
     h11[:, :] = 0.0
@@ -83,7 +83,7 @@ def to_stencil(h8, h11):
                         h11[a, MAP_IDX[j, q]] += v * sb
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rows_to_stencil(j8, j11):
     """j11 (r, 11) = j8 S^T for a (r, 8) Jacobian."""
     j11[:, :] = 0.0
@@ -95,7 +95,7 @@ def rows_to_stencil(j8, j11):
                     j11[r, MAP_IDX[i, p]] += sa * j8[r, i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def scatter(base, g_loc, H_loc, grad, band, with_hessian):
     m = g_loc.shape[0]
     for a in range(m):
@@ -106,7 +106,7 @@ def scatter(base, g_loc, H_loc, grad, band, with_hessian):
                 band[a - c, base + c] += H_loc[a, c]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, out, with_hessian):
     """Chain rule of ``models.rod.apply_source_change`` for one element, in place on g_loc and on the
     lower triangle of H_loc (the only part :func:`scatter` reads); slots (node a start, theta index,

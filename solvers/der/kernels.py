@@ -33,7 +33,7 @@ from lcefem.solvers.der.kernel_ops import (dot3, cross3, skew_into, matmul, to_s
 # ----------------------------------------------------------------------------------------------
 # Holonomy derivatives of the transport source (models.rod.source_change)
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def source_change(source, t, length):
     """dbeta/de (n, 3) and d2beta/de2 (n, 3, 3) per edge (``models.rod.source_change``)."""
     n = len(t)
@@ -70,7 +70,7 @@ def source_change(source, t, length):
 # ----------------------------------------------------------------------------------------------
 # Elastic energy: stretching of edges, bending and twisting of interior nodes
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _twist_hessian_ef(te, tf, le, lf, kb, out, w33):
     """out (6, 6) = ``models.rod.twist_hessian_ef`` of one stencil; w33 (6, 3, 3) scratch."""
     chi = 1.0 + dot3(te, tf)
@@ -107,7 +107,7 @@ def _twist_hessian_ef(te, tf, le, lf, kb, out, w33):
             out[3 + j, i] = -t2[i, j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def element_scratch():
     """Scratch arrays of the element functions (:func:`_bend_twist_element`, :func:`stencil_point_element`),
     allocated once per kernel call: (v3 (12, 3), v6 (5, 6), v8 (4, 8), m36 (2, 3, 6), m66 (4, 6, 6),
@@ -116,7 +116,7 @@ def element_scratch():
             np.zeros((6, 3, 3)))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv_l, EI1, EI2, GJ,
                         grad, hess, with_hessian, ws):
     """``models.rod.bend_twist`` of one interior node: energy; gradient (8,) and Hessian (8, 8) in
@@ -255,7 +255,7 @@ def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv
     return energy
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
             db, ddb, with_source, with_hessian, grad, band):
     """Stretching + bending + twisting of the whole rod; adds the gradient into ``grad`` (4N-1,) and
@@ -337,7 +337,7 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
 # ----------------------------------------------------------------------------------------------
 # Contact and friction of the sample points between sections (models.rod.StencilPoints)
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def stencil_point_element(e, f, r, t, side, sigma, g, jac, h11, hv, jv, tmp, with_hessian, ws):
     """``models.rod.stencil_point_derivatives`` of one point: jac (3, 11) and (with_hessian) the
     Hessian h11 (11, 11) of g . point, frames transported from the current state; ``ws`` the

@@ -24,7 +24,7 @@ _NODES = np.array([-1.0, 0.0, 1.0, 2.0])
 _TO_COEFFICIENTS = np.linalg.inv(_NODES[:, None] ** np.arange(4)[None, :])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def piecewise_cubic(x, lo, inv_h, coefficients, out):
     """out[i] = the interval cubic at x[i] (Horner); nan where x[i] is outside [lo, lo + n h) or not
     finite. Returns the number of such points."""

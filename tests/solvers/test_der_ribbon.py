@@ -256,6 +256,32 @@ def test_compiled_heat_step_equals_the_numpy_reference():
         np.testing.assert_allclose(f1.to_air, f2.to_air, rtol=1e-12, atol=1e-14)
 
 
+def test_iterative_heat_solve_equals_the_banded_cholesky_at_the_rolling_steps():
+    """heat_kernels.heat_solve_fast (Gauss-Seidel while the system is diagonally dominant, the rolling
+    ribbon's 0.005-0.01 s steps) against the banded Cholesky of heat_solve: the same temperatures to
+    round-off (1e-11 K of ~30 K changes); at a 0.5 s step (not dominant) it is the Cholesky itself."""
+    from lcefem.solvers.der import heat_kernels as hk
+    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(
+        nodes=11, dt=0.02, settle_time=0.04, cells_thickness=4)))
+    geo = sim.heat_geometry()
+    geo.corner_gap[3, 2] = -0.01  # contact conduction at one corner
+    T0 = np.full_like(sim.T, 25.0) + np.linspace(0.0, 30.0, sim.T.size).reshape(sim.T.shape)
+    h = sim.heat
+    data = h._kernel_data()
+    G_g, G_a, T_air, T_g = hk.heat_exchange(T0, geo.centre, geo.m1, geo.m2, geo.length, geo.corner_gap, data[1],
+                                            data[2], *data[3:10], 100.0, np.zeros(3), data[10], data[11], data[12])
+    args = (T0, T_g, T_air, np.ascontiguousarray(geo.length), h._pair_a, h._pair_b, h._pair_g, float(h.k_axial))
+    for dt, same in ((0.005, False), (0.01, False), (0.5, True)):
+        C = (h.capacity / dt)[:, None]
+        fast, ref = hk.heat_solve_fast(C, G_g, G_a, *args), hk.heat_solve(C, G_g, G_a, *args)
+        assert np.abs(ref - T0).max() > 0.01
+        if same:
+            assert np.array_equal(fast, ref)
+        else:
+            assert not np.array_equal(fast, ref)  # the iteration, not the Cholesky
+            np.testing.assert_allclose(fast, ref, rtol=0, atol=1e-11)
+
+
 def test_edge_corner_gaps_are_the_smallest_sample_gaps_per_edge_and_corner():
     """The compiled edge_corner_gaps against the gaps of all sample points (all_gaps) reduced in numpy:
     each corner's smallest gap over the samples of each edge, the stencil points assigned to their

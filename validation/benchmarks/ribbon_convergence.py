@@ -4,6 +4,14 @@
         [--contact-spacing 0.25] [--set numerics.cells_thickness=4 ...] T,nodes,dt [T,nodes,dt ...]
     python -m lcefem.validation.benchmarks.ribbon_convergence --table rows.jsonl [more.jsonl ...]
         --csv validation/data/ribbon_convergence.csv
+    nice python -m lcefem.validation.benchmarks.ribbon_convergence --issue-table --out rows.jsonl
+        --csv table.csv [--processes 2]
+
+The third form is issue 32's table in one command: every plate of ``ISSUE_PLATES`` x nodes of
+``ISSUE_NODES`` x step of ``ISSUE_STEPS`` at the converged settings (``ISSUE_SETTINGS``: 180 s, 0.25 mm
+contact sections, 4 thickness cells; ``--duration``, ``--contact-spacing`` and ``--set`` override
+them), the runs not yet in ``--out`` only (a stopped sweep resumes), ``--processes`` at once, then the
+CSV of the second form from ``--out``.
 
 The first form runs the default ribbon (``RibbonConfig()``: the seed-000 ribbon LCE with its twist
 locked, 60 x 4 x 0.8 mm, 0.05 turns/mm) on a plate at T [C] with the given rod nodes and fixed step dt
@@ -53,6 +61,43 @@ def run(out: pathlib.Path, duration: float, jobs: list[tuple[float, int, float]]
                     "changes": changes, "cpu": time.process_time() - t0})
         with open(out, "a") as f:
             f.write(json.dumps(row) + "\n")
+
+
+#: Issue 32 point 3: speed against node count and step at four plates [C], nodes, steps [s]. The
+#: steps halve from 0.01 s; with 0.25 mm contact sections 0.01 s shows the sampling lock (docs/ribbon.md).
+ISSUE_PLATES = (60.0, 100.0, 140.0, 180.0)
+ISSUE_NODES = (31, 61, 101)
+ISSUE_STEPS = (0.01, 0.005, 0.0025)
+#: The converged table's settings (validation/data/ribbon_convergence_cells4.csv): 180 s on the plate,
+#: contact sections 0.25 mm apart, 4 heat cells through the thickness.
+ISSUE_SETTINGS = {"duration": 180.0, "contact_spacing": 0.25, "changes": ["numerics.cells_thickness=4"]}
+
+
+def issue_table(out: pathlib.Path, csv: pathlib.Path, duration: float, contact_spacing: float, changes: list[str],
+                processes: int = 1) -> None:
+    """Runs the grid ``ISSUE_PLATES`` x ``ISSUE_NODES`` x ``ISSUE_STEPS`` (those not yet in ``out`` with
+    the same duration, spacing and changes), ``processes`` at a time, then ``table(out, csv)``."""
+    done = set()
+    if out.exists():
+        for line in open(out):
+            if line.strip():
+                r = json.loads(line)
+                if (r["duration"], r.get("contact_spacing", 0.0), r.get("changes", [])) == (duration, contact_spacing,
+                                                                                          changes):
+                    done.add((r["T"], int(r["nodes"]), r["dt"]))
+    jobs = [(T, n, dt) for T in ISSUE_PLATES for n in ISSUE_NODES for dt in ISSUE_STEPS if (T, n, dt) not in done]
+    # the costliest first (most nodes, smallest step), so the processes finish together
+    jobs.sort(key=lambda j: -j[1] / j[2])
+    print(f"{len(jobs)} runs to do ({len(done)} already in {out})", flush=True)
+    if processes > 1 and len(jobs) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(processes) as pool:
+            for f in [pool.submit(run, out, duration, [j], contact_spacing, changes) for j in jobs]:
+                f.result()
+    else:
+        run(out, duration, jobs, contact_spacing, changes)
+    table([out], csv)
 
 
 def _change(value: float, reference: dict | None) -> float:
@@ -150,7 +195,24 @@ def main(argv=None) -> int:
     ap.add_argument("--table", type=pathlib.Path, nargs="*")
     ap.add_argument("--csv", type=pathlib.Path)
     ap.add_argument("--plot", type=pathlib.Path, help="with --table: also a PNG of speed against temperature")
+    ap.add_argument("--issue-table", action="store_true",
+                    help="run issue 32's grid (ISSUE_PLATES x ISSUE_NODES x ISSUE_STEPS, ISSUE_SETTINGS) into --out "
+                         "and write --csv")
+    ap.add_argument("--processes", type=int, default=1, help="with --issue-table: runs at once")
     a = ap.parse_args(argv)
+    if a.issue_table:
+        if a.out is None or a.csv is None:
+            print("--issue-table: needs --out and --csv", file=sys.stderr)
+            return 2
+        if a.processes < 1:
+            print(f"--processes = {a.processes}: must be >= 1", file=sys.stderr)
+            return 2
+        given = argv if argv is not None else sys.argv[1:]
+        duration = a.duration if "--duration" in given else ISSUE_SETTINGS["duration"]
+        spacing = a.contact_spacing if "--contact-spacing" in given else ISSUE_SETTINGS["contact_spacing"]
+        changes = a.changes or list(ISSUE_SETTINGS["changes"])
+        issue_table(a.out, a.csv, duration, spacing, changes, a.processes)
+        return 0
     if a.table:
         if a.csv is None:
             print("--csv: needed with --table", file=sys.stderr)
