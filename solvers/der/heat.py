@@ -152,13 +152,56 @@ class SectionHeat:
         Q_g += (g_contact * T_corner) @ self._corner_to_cell
         return G_g, G_a, Q_a / np.maximum(G_a, 1e-300), Q_g / np.maximum(G_g, 1e-300)
 
+    def block_coefficients(self, T: np.ndarray, geo: HeatGeometry, blocks) -> tuple[np.ndarray, np.ndarray]:
+        """Exchange conductances [mW/K] of each cell with blocks (n, n_cells) and their conductance-weighted
+        sum of block temperatures [mW] (n, n_cells). ``blocks``: (box, T_block [C], corner gaps (n, 4) [mm])
+        per block, the box a ``solvers.der.model.Box`` (its ``gaps`` and outward normal). The plate's law
+        (``GroundHeatExchange``) with the block's face in place of the plate: a patch whose centroid lies a gap
+        z from the block and whose outward normal faces the block's outward normal n_b by f = max(0, -n . n_b)
+        gets f [k_air/(z + z0) + h_rad(T, T_block)]; a corner at gap g adds G_c w(g) per unit length. The
+        air near the block is the air elsewhere (no boundary layer of the block)."""
+        n, nc = T.shape
+        G = np.zeros((n, nc))
+        Q = np.zeros((n, nc))
+        if not blocks:
+            return G, Q
+        pos = (geo.centre[:, None, :] + self.p_off[None, :, 0, None] * geo.m1[:, None, :]
+               + self.p_off[None, :, 1, None] * geo.m2[:, None, :])
+        nrm = np.where((self.p_axis == 0)[None, :, None], geo.m1[:, None, :], geo.m2[:, None, :]) \
+            * self.p_sign[None, :, None]
+        area = self.p_area[None, :] * geo.length[:, None]
+        Tp = T[:, self.p_cell]
+        for box, T_block, corner in blocks:
+            gap = box.gaps(pos)
+            facing = np.maximum(0.0, -np.einsum("npi,npi->np", nrm, box.normals(pos)))
+            h = self.ground.patch_coefficient(gap, facing, Tp, T_block)
+            G += (h * area) @ self._patch_to_cell
+            Q += (h * area * T_block) @ self._patch_to_cell
+            weight = 0.5 * (1.0 - np.tanh(0.5 * self.contact.K1 * corner))
+            g_contact = self.ground.contact_conductance * geo.length[:, None] * weight
+            G += g_contact @ self._corner_to_cell
+            Q += (g_contact * T_block) @ self._corner_to_cell
+        return G, Q
+
     def step(self, T: np.ndarray, dt: float, geo: HeatGeometry, T_ground: float,
-             gradient=None, compiled: bool = True) -> tuple[np.ndarray, HeatFluxes]:
+             gradient=None, compiled: bool = True, blocks=()) -> tuple[np.ndarray, HeatFluxes]:
         """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo`` (plate at
         T_ground + gradient . x, see :meth:`coefficients`). ``compiled``: the exchange coefficients,
         the solve and the fluxes in one compiled call (:func:`heat_kernels.heat_step`; at 100 nodes 0.51 ->
         0.25 ms per call timed alone, issue 17); False: :meth:`coefficients` in numpy, kept as the reference (the
-        same temperatures to round-off, ``tests/solvers/test_der_ribbon.py``)."""
+        same temperatures to round-off, ``tests/solvers/test_der_ribbon.py``). ``blocks``: blocks that
+        exchange heat (:meth:`block_coefficients`); with any, the numpy path, the blocks' exchange added to
+        the plate's (``HeatFluxes.from_ground`` then counts both)."""
+        if blocks:
+            G_g, G_a, T_air, T_g = self.coefficients(T, geo, T_ground, gradient)
+            G_b, Q_b = self.block_coefficients(T, geo, blocks)
+            G_gb = G_g + G_b
+            T_gb = (G_g * T_g + Q_b) / np.maximum(G_gb, 1e-300)
+            C = self.capacity[:, None] / dt
+            T_new = heat_kernels.heat_solve(C, G_gb, G_a, np.ascontiguousarray(T, float), T_gb, T_air,
+                                            np.ascontiguousarray(geo.length, float), self._pair_a, self._pair_b,
+                                            self._pair_g, float(self.k_axial))
+            return T_new, HeatFluxes((G_gb * (T_gb - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))
         if compiled:
             corner = geo.corner_gap if geo.corner_gap is not None else self._midpoint_corner_gaps(geo)
             c = np.ascontiguousarray

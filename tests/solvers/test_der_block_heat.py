@@ -1,0 +1,68 @@
+"""A block's heat exchange with the ribbon (Block.heat): the plate's law with the block's face in
+place of the plate (solvers/der/heat.py SectionHeat.block_coefficients)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from lcefem.models.contact import Block, ContactLaw
+from lcefem.models.errors import InputError
+from lcefem.models.heat import SurfaceExchange, ThermalProperties
+from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
+from lcefem.solvers.der.heat import HeatGeometry, SectionHeat
+from lcefem.solvers.der.model import Box
+
+
+def test_box_normals_are_the_gradient_of_the_gaps():
+    box = Box((-5.0, 0.0, -2.0), (5.0, 8.0, 6.0), 0.5)
+    rng = np.random.default_rng(3)
+    pts = rng.uniform([-8, -3, -4], [8, 11, 9], size=(200, 3))
+    pts = pts[np.abs(box.gaps(pts)) > 0.05]  # away from the surface's kinks inside
+    h = 1e-6
+    grad = np.stack([(box.gaps(pts + h * e) - box.gaps(pts - h * e)) / (2 * h) for e in np.eye(3)], axis=1)
+    outside = box.gaps(pts) > 0
+    np.testing.assert_allclose(box.normals(pts)[outside], grad[outside], atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(box.normals(pts), axis=1), 1.0, rtol=1e-12)
+
+
+def test_block_temperature_choices():
+    assert Block().block_temperature(100.0, 25.0) is None  # the default: no exchange (as before)
+    assert Block(heat="plate").block_temperature(100.0, 25.0) == 100.0
+    assert Block(heat="ambient").block_temperature(100.0, 25.0) == 25.0
+    assert Block(heat="given", temperature=60.0).block_temperature(100.0, 25.0) == 60.0
+    with pytest.raises(InputError, match="obstacle.heat"):
+        Block(heat="warm").block_temperature(100.0, 25.0)
+
+
+def test_still_section_against_a_hot_block_heats_at_the_contact_rate():
+    """One lumped cell (1 x 1 grid), one 1 mm edge, far above the plate, with no air exchange and no
+    radiation, its +m1 edge touching the near face of a block at 100 C: it exchanges only with the block,
+    by contact conduction G_c l w(0) at each of its two touching corners (w(0) = 1/2) and the air film
+    k_air/z0 over its t x l edge face, so T_b - T = (T_b - T_0) exp(-G t / C), G = l (G_c + k_air t/z0),
+    C = rho c w t l (implicit Euler with small steps)."""
+    w, t, l = 4.0, 0.8, 1.0
+    grid = SectionGrid(w, t, 1, 1)
+    thermal = ThermalProperties()
+    ground = GroundHeatExchange(plate_emissivity=0.0)
+    heat = SectionHeat(1, grid, np.array([l]), thermal, SurfaceExchange(film_coefficient=0.0, emissivity=0.0),
+                       ground, ContactLaw())
+    geo = HeatGeometry(np.array([[0.5, 0.0, 1.0e6]]), np.array([[0.0, 1.0, 0.0]]), np.array([[0.0, 0.0, 1.0]]),
+                       np.array([l]), corner_gap=np.full((1, 4), 1.0e6))
+    box = Box((-10.0, 0.5 * w, 1.0e6 - 10.0), (10.0, 0.5 * w + 10.0, 1.0e6 + 10.0), 0.5)
+    # corners (CORNER_SIGNS order) on the block's side are at gap 0, the others a width away
+    from lcefem.models.rod import CORNER_SIGNS
+    corner = np.where(CORNER_SIGNS[:, 0] > 0, 0.0, w)[None, :]
+    T_b, T0, T_plate = 100.0, 25.0, 25.0
+    G = l * (ground.contact_conductance + ground.air_conductivity * t / ground.gap_floor)
+    C = thermal.volumetric_heat_capacity * w * t * l
+    tau = C / G
+    dt, T = tau / 2000.0, np.full((1, 1), T0)
+    G_b, _ = heat.block_coefficients(T, geo, ((box, T_b, corner),))
+    assert G_b[0, 0] == pytest.approx(G, rel=1e-6)
+    for _ in range(2000):
+        T, _ = heat.step(T, dt, geo, T_plate, blocks=((box, T_b, corner),))
+    assert T[0, 0] == pytest.approx(T_b - (T_b - T0) * math.exp(-1.0), abs=0.01)
+    # the same section without the block keeps its temperature (no other exchange)
+    T_free, _ = heat.step(np.full((1, 1), T0), tau, geo, T_plate)
+    assert T_free[0, 0] == pytest.approx(T0, abs=1e-3)
