@@ -32,20 +32,22 @@ from lcefem.solvers.der.ribbon import RibbonSimulation
 from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig
 from lcefem.validation.config import override
 
-COLUMNS = ["placement", "time [s]", "centroid_x [mm]", "centroid_y [mm]", "velocity_x [mm/s]", "velocity_y [mm/s]",
+COLUMNS = ["placement", "block_heat", "time [s]", "centroid_x [mm]", "centroid_y [mm]", "velocity_x [mm/s]", "velocity_y [mm/s]",
            "heading [deg]", "axis_angle [deg]", "spin_start [rad]", "spin_end [rad]", "block_gap [mm]",
-           "T_mean [C]"]
+           "T_mean [C]", "T_max [C]", "twist_density [turns/mm]", "elastic_energy [mJ]"]
 
 
 def block_for(placement: str, width: float, end_width: float, height: float, distance: float, side: float,
-              length: float, friction: float = Block().friction) -> Block:
+              length: float, friction: float = Block().friction, heat: str = Block().heat,
+              temperature: float = Block().temperature) -> Block:
     if placement == "none":
         return Block()
     if placement == "middle":
-        return Block(width=width, height=height, distance=distance, offset=0.0, direction=side, friction=friction)
+        return Block(width=width, height=height, distance=distance, offset=0.0, direction=side, friction=friction,
+                     heat=heat, temperature=temperature)
     if placement == "end":
         return Block(width=end_width, height=height, distance=distance, offset=0.5 * (length - end_width),
-                     direction=side, friction=friction)
+                     direction=side, friction=friction, heat=heat, temperature=temperature)
     raise ValueError(f"placement {placement!r}: allowed none, middle, end")
 
 
@@ -66,6 +68,14 @@ def edge_lines(sim: RibbonSimulation) -> np.ndarray:
     return np.stack([sim.state.x - hw * m1, sim.state.x + hw * m1])
 
 
+def elastic_energy(sim: RibbonSimulation) -> float:
+    """Elastic energy [mJ] of the ribbon (stretching, bending, twisting against its current natural shape)."""
+    from lcefem.solvers.der.assembly import Assembly
+
+    asm = sim.__dict__.setdefault("_energy_assembly", Assembly(sim.rod.n_nodes))
+    return float(asm.elastic(sim.rod, sim.state, 0)[0])
+
+
 def run(cfg: RibbonConfig, placement: str, duration: float, every: float, verbose: bool = True):
     """One run with ``cfg``'s block: (rows every ``every`` s, frames (time, edge lines (2, N, 2)), boxes (lo, hi))."""
     sim = RibbonSimulation(cfg.setup())
@@ -82,12 +92,15 @@ def run(cfg: RibbonConfig, placement: str, duration: float, every: float, verbos
         v = (c - x_prev) / (sim.state.time - t_prev)
         x_prev, t_prev = c, sim.state.time
         gaps = sim.block_gaps()
-        rows.append({"placement": placement, "time [s]": obs["time [s]"], "centroid_x [mm]": c[0],
+        blk = sim.setup.blocks[0] if sim.setup.blocks else None
+        rows.append({"placement": placement, "block_heat": blk.heat if blk else "", "time [s]": obs["time [s]"], "centroid_x [mm]": c[0],
                      "centroid_y [mm]": c[1], "velocity_x [mm/s]": v[0], "velocity_y [mm/s]": v[1],
                      "heading [deg]": math.degrees(math.atan2(v[1], v[0])),
                      "axis_angle [deg]": axis_angle(sim.state.x), "spin_start [rad]": obs["spin_start [rad]"],
                      "spin_end [rad]": obs["spin_end [rad]"],
-                     "block_gap [mm]": float(gaps.min()) if len(gaps) else float("nan"), "T_mean [C]": obs["T_mean [C]"]})
+                     "block_gap [mm]": float(gaps.min()) if len(gaps) else float("nan"), "T_mean [C]": obs["T_mean [C]"],
+                     "T_max [C]": obs["T_max [C]"], "twist_density [turns/mm]": obs["twist_density [turns/mm]"],
+                     "elastic_energy [mJ]": elastic_energy(sim)})
         frames.append((sim.state.time, edge_lines(sim)[..., :2].copy()))
         r = rows[-1]
         if verbose:
@@ -145,6 +158,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--height", type=float, default=10.0, help="block height [mm]")
     parser.add_argument("--distance", type=float, default=5.0, help="centre line to the block's face [mm]")
     parser.add_argument("--friction", type=float, default=Block().friction, help="friction coefficient on the block")
+    parser.add_argument("--block-heat", default=Block().heat, choices=list(Block.HEAT),
+                        help="the block's heat exchange with the ribbon (models.contact.Block.heat)")
+    parser.add_argument("--block-temperature", type=float, default=Block().temperature,
+                        help="the block's temperature [C] with --block-heat given")
     parser.add_argument("--overlap", type=float, help="end block: how much of the ribbon's end it meets [mm] "
                         "(default: all of --end-width)")
     parser.add_argument("--side", type=float, default=0.0, help="+1: block towards +y, -1: towards -y, 0: on the "
@@ -188,14 +205,15 @@ def main(argv: list[str] | None = None) -> int:
             movie(out / "block_none.gif", frames, [], f"{args.ground_temperature:g} C plate, no block")
     for placement in placements:
         block = block_for(placement, args.width, args.end_width, args.height, args.distance, args.side,
-                          base.geometry.length, args.friction)
+                          base.geometry.length, args.friction, args.block_heat, args.block_temperature)
         if placement == "end" and args.overlap is not None:
             block = dataclasses.replace(block, offset=0.5 * (base.geometry.length + args.end_width) - args.overlap)
         cfg = RibbonConfig(**{**{f: getattr(base, f) for f in base.__dataclass_fields__}, "obstacle": block}).validated()
         r, frames, boxes = run(cfg, placement, args.duration, args.every)
         rows += r
         movie(out / f"block_{placement}.gif", frames, boxes,
-              f"{args.ground_temperature:g} C plate, block: {placement}")
+              f"{args.ground_temperature:g} C plate, block: {placement}"
+              + (f" (block heat: {args.block_heat})" if args.block_heat != "none" else ""))
     tmp = out / "blocks.csv.part"
     with open(tmp, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=COLUMNS)

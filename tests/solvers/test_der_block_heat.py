@@ -40,7 +40,7 @@ def test_still_section_against_a_hot_block_heats_at_the_contact_rate():
     radiation, its +m1 edge touching the near face of a block at 100 C: it exchanges only with the block,
     by contact conduction G_c l w(0) at each of its two touching corners (w(0) = 1/2) and the air film
     k_air/z0 over its t x l edge face, so T_b - T = (T_b - T_0) exp(-G t / C), G = l (G_c + k_air t/z0),
-    C = rho c w t l (implicit Euler with small steps)."""
+    C = rho c w t l (implicit Euler: (1 + dt/tau)^-n)."""
     w, t, l = 4.0, 0.8, 1.0
     grid = SectionGrid(w, t, 1, 1)
     thermal = ThermalProperties()
@@ -57,12 +57,43 @@ def test_still_section_against_a_hot_block_heats_at_the_contact_rate():
     G = l * (ground.contact_conductance + ground.air_conductivity * t / ground.gap_floor)
     C = thermal.volumetric_heat_capacity * w * t * l
     tau = C / G
-    dt, T = tau / 2000.0, np.full((1, 1), T0)
+    n = 200
+    dt, T = tau / n, np.full((1, 1), T0)
     G_b, _ = heat.block_coefficients(T, geo, ((box, T_b, corner),))
     assert G_b[0, 0] == pytest.approx(G, rel=1e-6)
-    for _ in range(2000):
+    for _ in range(n):
         T, _ = heat.step(T, dt, geo, T_plate, blocks=((box, T_b, corner),))
-    assert T[0, 0] == pytest.approx(T_b - (T_b - T0) * math.exp(-1.0), abs=0.01)
+    # implicit Euler's own closed form (1 + dt/tau)^-n, within 0.1 K of the exact exp(-t/tau) at t = tau
+    # (the plate, 1e6 mm below, still conducts ~1e-7 of G through the air: 2e-6 K here)
+    assert T[0, 0] == pytest.approx(T_b - (T_b - T0) * (1.0 + dt / tau) ** -n, abs=1e-4)
+    assert T[0, 0] == pytest.approx(T_b - (T_b - T0) * math.exp(-1.0), abs=0.1)
     # the same section without the block keeps its temperature (no other exchange)
     T_free, _ = heat.step(np.full((1, 1), T0), tau, geo, T_plate)
     assert T_free[0, 0] == pytest.approx(T0, abs=1e-3)
+
+
+def test_ribbon_block_corner_gaps_and_heat_paths():
+    """On a settled 11-node ribbon: a box whose top face is the plate gives the plate's corner gaps
+    (RibbonSimulation.block_corner_gaps against corner_gaps); a block that exchanges no heat (the
+    default) leaves the heat step's compiled path, and a block at a plate temperature of 100 C a
+    millimetre from the ribbon's side warms the cells on that side more than a block at the air's."""
+    from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulation
+
+    num = RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)
+    plain = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=num))
+    plate_box = Box((-100.0, -100.0, -10.0), (200.0, 100.0, 0.0), 0.5)
+    np.testing.assert_allclose(plain.block_corner_gaps(plate_box), plain.corner_gaps(), atol=1e-12)
+
+    def block(heat):
+        return Block(width=20.0, distance=2.0 + 1.0, direction=1.0, heat=heat)
+
+    sims = {h: RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=num, blocks=(block(h),)))
+            for h in ("none", "ambient", "plate")}
+    assert sims["none"].heated_blocks == () and len(sims["plate"].heated_blocks) == 1
+    assert sims["plate"].heated_blocks[0][1] == 100.0 and sims["ambient"].heated_blocks[0][1] == 25.0
+    for sim in (plain, *sims.values()):
+        for _ in range(10):
+            sim.step(0.02)
+    np.testing.assert_array_equal(sims["none"].T, plain.T)  # no exchange: bit for bit the plate-only run
+    rise = {h: sims[h].T - plain.T for h in ("ambient", "plate")}
+    assert rise["plate"].max() > 0.0 > rise["ambient"].min()
