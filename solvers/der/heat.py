@@ -152,9 +152,12 @@ class SectionHeat:
         Q_g += (g_contact * T_corner) @ self._corner_to_cell
         return G_g, G_a, Q_a / np.maximum(G_a, 1e-300), Q_g / np.maximum(G_g, 1e-300)
 
-    def block_coefficients(self, T: np.ndarray, geo: HeatGeometry, blocks) -> tuple[np.ndarray, np.ndarray]:
-        """Exchange conductances [mW/K] of each cell with blocks (n, n_cells) and their conductance-weighted
-        sum of block temperatures [mW] (n, n_cells). ``blocks``: (box, T_block [C], corner gaps (n, 4) [mm])
+    def block_coefficients(self, T: np.ndarray, geo: HeatGeometry, blocks, T_ground: float = None):
+        """Exchange conductances [mW/K] of each cell with blocks (n, n_cells), their conductance-weighted
+        sum of block temperatures [mW] (n, n_cells), and the air exchange the blocks hide (conductance
+        [mW/K] and its weighted air temperatures [mW], (n, n_cells) each: a patch facing a block by f sees
+        the block instead of the air over f, so f of its air film and radiation to the ambient is
+        replaced, not added; T_ground [C] for the air's boundary layer, None: no air hidden). ``blocks``: (box, T_block [C], corner gaps (n, 4) [mm])
         per block, the box a ``solvers.der.model.Box`` (its ``gaps`` and outward normal). The plate's law
         (``GroundHeatExchange``) with the block's face in place of the plate: a patch whose centroid lies a gap
         z from the block and whose outward normal faces the block's outward normal n_b by f = max(0, -n . n_b)
@@ -163,17 +166,29 @@ class SectionHeat:
         n, nc = T.shape
         G = np.zeros((n, nc))
         Q = np.zeros((n, nc))
+        G_hidden = np.zeros((n, nc))
+        Q_hidden = np.zeros((n, nc))
         if not blocks:
-            return G, Q
+            return G, Q, G_hidden, Q_hidden
         pos = (geo.centre[:, None, :] + self.p_off[None, :, 0, None] * geo.m1[:, None, :]
                + self.p_off[None, :, 1, None] * geo.m2[:, None, :])
         nrm = np.where((self.p_axis == 0)[None, :, None], geo.m1[:, None, :], geo.m2[:, None, :]) \
             * self.p_sign[None, :, None]
         area = self.p_area[None, :] * geo.length[:, None]
         Tp = T[:, self.p_cell]
+        nz = self.normal
+        height = pos @ nz - self.height
+        ground_facing = np.maximum(0.0, -(nrm @ nz))
+        h_amb = (self.air.film_coefficient
+                 + radiative_film_coefficient(Tp, self.air.ambient_temperature, self.air.emissivity) * (1.0 - ground_facing))
+        T_air = (self.ground.air_temperature(height, self.air.ambient_temperature, T_ground) if T_ground is not None
+                 else None)
+        seen = np.zeros_like(h_amb)  # fraction of each patch's view taken by blocks
         for box, T_block, corner in blocks:
             gap = box.gaps(pos)
             facing = np.maximum(0.0, -np.einsum("npi,npi->np", nrm, box.normals(pos)))
+            facing = np.minimum(facing, 1.0 - seen)
+            seen += facing
             h = self.ground.patch_coefficient(gap, facing, Tp, T_block)
             G += (h * area) @ self._patch_to_cell
             Q += (h * area * T_block) @ self._patch_to_cell
@@ -181,7 +196,10 @@ class SectionHeat:
             g_contact = self.ground.contact_conductance * geo.length[:, None] * weight
             G += g_contact @ self._corner_to_cell
             Q += (g_contact * T_block) @ self._corner_to_cell
-        return G, Q
+        if T_air is not None:
+            G_hidden = (seen * h_amb * area) @ self._patch_to_cell
+            Q_hidden = (seen * h_amb * area * T_air) @ self._patch_to_cell
+        return G, Q, G_hidden, Q_hidden
 
     def step(self, T: np.ndarray, dt: float, geo: HeatGeometry, T_ground: float,
              gradient=None, compiled: bool = True, blocks=()) -> tuple[np.ndarray, HeatFluxes]:
@@ -194,9 +212,12 @@ class SectionHeat:
         the plate's (``HeatFluxes.from_ground`` then counts both)."""
         if blocks:
             G_g, G_a, T_air, T_g = self.coefficients(T, geo, T_ground, gradient)
-            G_b, Q_b = self.block_coefficients(T, geo, blocks)
+            G_b, Q_b, G_h, Q_h = self.block_coefficients(T, geo, blocks, T_ground)
             G_gb = G_g + G_b
             T_gb = (G_g * T_g + Q_b) / np.maximum(G_gb, 1e-300)
+            G_left = np.maximum(G_a - G_h, 0.0)  # the air's view left to each cell
+            T_air = np.where(G_left > 0.0, (G_a * T_air - Q_h) / np.maximum(G_left, 1e-300), T_air)
+            G_a = G_left
             C = self.capacity[:, None] / dt
             T_new = heat_kernels.heat_solve(C, G_gb, G_a, np.ascontiguousarray(T, float), T_gb, T_air,
                                             np.ascontiguousarray(geo.length, float), self._pair_a, self._pair_b,

@@ -59,7 +59,7 @@ def test_still_section_against_a_hot_block_heats_at_the_contact_rate():
     tau = C / G
     n = 200
     dt, T = tau / n, np.full((1, 1), T0)
-    G_b, _ = heat.block_coefficients(T, geo, ((box, T_b, corner),))
+    G_b, _, _, _ = heat.block_coefficients(T, geo, ((box, T_b, corner),))
     assert G_b[0, 0] == pytest.approx(G, rel=1e-6)
     for _ in range(n):
         T, _ = heat.step(T, dt, geo, T_plate, blocks=((box, T_b, corner),))

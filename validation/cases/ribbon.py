@@ -358,6 +358,14 @@ def ribbon_end_spin(ctx: CaseContext) -> list[Metric]:
 #: axis, so it cannot climb them), 10 mm from the centre line to the near face (rolling before the hit),
 #: a 20 mm block across the middle of the 60 mm ribbon, and a 10 mm block meeting its last 5 mm.
 BLOCK_HEIGHT, BLOCK_DISTANCE, MIDDLE_WIDTH, END_WIDTH, END_OVERLAP = 10.0, 10.0, 20.0, 10.0, 5.0
+#: The blocks' heat exchange with the ribbon (models.contact.Block.heat): at the plate's temperature. The
+#: obstacles of seed 000 stand on the hot surface the robot rolls on; a block standing on a hot plate
+#: conducts from it and, once the run starts, is at or near the plate's temperature (a metal block at it;
+#: the obstacle's material is not given: the plate's temperature is the bound of a block warmed by the
+#: plate alone). Controlled change (issue 32, 61 nodes, 0.01 s, block 5 mm from the centre line): a block at
+#: the air's temperature pins the middle-hit ribbon on the 100 C plate, a block at the plate's sends it back
+#: (docs/ribbon.md, "Obstacles of finite size").
+BLOCK_HEAT = "plate"
 #: Runs on the 100 C plate: quick 24 nodes / 0.02 s / 60 s, full 61 nodes / 0.01 s / 120 s (the end hit
 #: happens ~10 s after rolling starts; 120 s leave the pinned ribbon ~100 s to snap).
 BLOCK_QUICK = {"nodes": 24, "dt": 0.02, "duration": 60.0}
@@ -406,9 +414,10 @@ def ribbon_obstacle_block(ctx: CaseContext) -> list[Metric]:
     # discretisation's own asymmetry, RibbonNumerics.perturbation; the same run until the first contact)
     side = 1.0 if free[-1]["centroid_y [mm]"] >= free[0]["centroid_y [mm]"] else -1.0
     length = base.geometry.length
-    blocks = {"middle": Block(width=MIDDLE_WIDTH, height=BLOCK_HEIGHT, distance=BLOCK_DISTANCE, direction=side),
+    blocks = {"middle": Block(width=MIDDLE_WIDTH, height=BLOCK_HEIGHT, distance=BLOCK_DISTANCE, direction=side,
+                              heat=BLOCK_HEAT),
               "end": Block(width=END_WIDTH, height=BLOCK_HEIGHT, distance=BLOCK_DISTANCE, direction=side,
-                           offset=0.5 * (length + END_WIDTH) - END_OVERLAP)}
+                           offset=0.5 * (length + END_WIDTH) - END_OVERLAP, heat=BLOCK_HEAT)}
     rows, out = list(free), {}
     delta = base.contact.delta
     for name, block in blocks.items():
