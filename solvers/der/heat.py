@@ -28,6 +28,40 @@ from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_fil
 from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
 from lcefem.models.rod import CORNER_SIGNS
 from lcefem.solvers.der import heat_kernels
+def _corner_view(a, b):
+    """View factor from a point to the rectangle [0, a] x [0, b] of a parallel plane, a unit distance away,
+    whose corner lies at the point's foot (Howell's catalogue C-11), extended odd in a and in b."""
+    sa, sb = np.sqrt(1.0 + a * a), np.sqrt(1.0 + b * b)
+    return (a / sa * np.arctan(b / sa) + b / sb * np.arctan(a / sb)) / (2.0 * np.pi)
+
+
+def block_face_view(box, points: np.ndarray, floor: float = 0.0) -> np.ndarray:
+    """View factor (...,) from a point facing it squarely to the face of the axis-aligned ``box`` nearest to
+    each of ``points`` (..., 3) [mm]: the face's rectangle, above the plate at ``floor`` [mm], seen from
+    the point's distance (1 at contact over the face, falling as the block subtends less). Used to limit
+    the plate's law, written for an unbounded plate, to the block's finite face."""
+    p = np.asarray(points, float)
+    lo, hi = np.array(box.lo, float), np.array(box.hi, float)
+    lo[2] = max(lo[2], floor)
+    n = box.normals(p)
+    axis = np.argmax(np.abs(n), axis=-1)
+    out = np.zeros(p.shape[:-1])
+    for k in range(3):
+        sel = axis == k
+        if not np.any(sel):
+            continue
+        q = p[sel]
+        plane = np.where(n[sel][:, k] > 0, hi[k], lo[k])
+        d = np.maximum(np.abs(q[:, k] - plane), 1e-9)
+        u, v = [j for j in range(3) if j != k]
+        f = 0.0
+        for cu, su in ((hi[u], 1.0), (lo[u], -1.0)):
+            for cv, sv in ((hi[v], 1.0), (lo[v], -1.0)):
+                f = f + su * sv * _corner_view((cu - q[:, u]) / d, (cv - q[:, v]) / d)
+        out[sel] = np.clip(f, 0.0, 1.0)
+    return out
+
+
 @dataclass
 class HeatGeometry:
     """Per edge: midpoint c (n, 3), material frame m1, m2 (n, 3), length l (n,) [mm], and optionally
@@ -160,8 +194,10 @@ class SectionHeat:
         replaced, not added; T_ground [C] for the air's boundary layer, None: no air hidden). ``blocks``: (box, T_block [C], corner gaps (n, 4) [mm])
         per block, the box a ``solvers.der.model.Box`` (its ``gaps`` and outward normal). The plate's law
         (``GroundHeatExchange``) with the block's face in place of the plate: a patch whose centroid lies a gap
-        z from the block and whose outward normal faces the block's outward normal n_b by f = max(0, -n . n_b)
-        gets f [k_air/(z + z0) + h_rad(T, T_block)]; a corner at gap g adds G_c w(g) per unit length. The
+        z from the block and whose outward normal faces the block's outward normal n_b by c = max(0, -n . n_b)
+        gets f [k_air/(z + z0) + h_rad(T, T_block)], f = c F, F the view factor of the block's face from the
+        patch (:func:`block_face_view`: 1 at contact, falling with distance as the finite face subtends less;
+        the plate's law is written for an unbounded plate, F = 1); a corner at gap g adds G_c w(g) per unit length. The
         air near the block is the air elsewhere (no boundary layer of the block)."""
         n, nc = T.shape
         G = np.zeros((n, nc))
@@ -187,7 +223,7 @@ class SectionHeat:
         for box, T_block, corner in blocks:
             gap = box.gaps(pos)
             facing = np.maximum(0.0, -np.einsum("npi,npi->np", nrm, box.normals(pos)))
-            facing = np.minimum(facing, 1.0 - seen)
+            facing = np.minimum(facing * block_face_view(box, pos, self.height), 1.0 - seen)
             seen += facing
             h = self.ground.patch_coefficient(gap, facing, Tp, T_block)
             G += (h * area) @ self._patch_to_cell

@@ -97,3 +97,21 @@ def test_ribbon_block_corner_gaps_and_heat_paths():
     np.testing.assert_array_equal(sims["none"].T, plain.T)  # no exchange: bit for bit the plate-only run
     rise = {h: sims[h].T - plain.T for h in ("ambient", "plate")}
     assert rise["plate"].max() > 0.0 > rise["ambient"].min()
+
+
+def test_block_face_view_factor():
+    """Facing a 20 x 10 mm face: ~1 at contact, the closed form of a centred square at a distance, and the
+    plane's 1/2 at its edge line (a half-plane seen from its edge's foot)."""
+    from lcefem.solvers.der.heat import block_face_view
+
+    box = Box((-10.0, 5.0, -20.0), (10.0, 25.0, 20.0), 0.5)  # near face y = 5, 20 x 40 mm
+    assert block_face_view(box, np.array([[0.0, 5.0 - 1e-6, 0.0]]), floor=-20.0)[0] == pytest.approx(1.0, abs=1e-5)
+    assert block_face_view(box, np.array([[0.0, 5.0 - 1e-6, 0.0]]))[0] == pytest.approx(0.5, abs=1e-5)  # on the floor
+    # a centred 20 x 20 square (above the floor at 0 only half of it: 20 x 20 of the 20 x 40 face)
+    d = 10.0
+    a = 10.0 / d
+    square = 4.0 * 2.0 * a / math.sqrt(1 + a * a) * math.atan(a / math.sqrt(1 + a * a)) / (2.0 * math.pi)  # 0.554
+    f = block_face_view(box, np.array([[0.0, 5.0 - d, 0.0]]), floor=-20.0)[0]
+    g = block_face_view(box, np.array([[0.0, 5.0 - d, 10.0]]), floor=0.0)[0]  # foot at the middle of 20 x 20
+    assert g == pytest.approx(square, rel=1e-12)
+    assert 0.0 < f < 1.0 and g < f
