@@ -434,7 +434,7 @@ def ribbon_obstacle_block(ctx: CaseContext) -> list[Metric]:
                        f"tall block ({name} hit), top view of its edge lines every {step * every:g} s")
     placements = ["none", "middle", "end"]
     cols = {"placement [0 none, 1 middle, 2 end]": [placements.index(r["placement"]) for r in rows]}
-    cols.update({k: [float(r[k]) for r in rows] for k in COLUMNS if k != "placement"})
+    cols.update({k: [float(r[k]) for r in rows] for k in COLUMNS if k not in ("placement", "block_heat")})
     write_csv(ctx.path("ribbon_obstacle_block.csv"), cols)
     ctx.mesh_size = 60.0 / (s["nodes"] - 1)
     free_y = side * np.array([r["centroid_y [mm]"] for r in free])
