@@ -362,9 +362,10 @@ BLOCK_HEIGHT, BLOCK_DISTANCE, MIDDLE_WIDTH, END_WIDTH, END_OVERLAP = 10.0, 10.0,
 #: obstacles of seed 000 stand on the hot surface the robot rolls on; a block standing on a hot plate
 #: conducts from it and, once the run starts, is at or near the plate's temperature (a metal block at it;
 #: the obstacle's material is not given: the plate's temperature is the bound of a block warmed by the
-#: plate alone). Controlled change (issue 32, 61 nodes, 0.01 s, block 5 mm from the centre line): a block at
-#: the air's temperature pins the middle-hit ribbon on the 100 C plate, a block at the plate's sends it back
-#: (docs/ribbon.md, "Obstacles of finite size").
+#: plate alone). Controlled change (issue 32, 61 nodes, 0.01 s, 60 s, the case's middle block; docs/ribbon.md,
+#: "The block's temperature"): with no heat exchange the middle-hit ribbon is pinned on the 100 and 140 C
+#: plates; with the block at the plate's temperature it stores elastic energy against the block (0.0019 /
+#: 0.0036 mJ) and snaps back 4-5 mm within 1 s, then rolls away.
 BLOCK_HEAT = "plate"
 #: Runs on the 100 C plate: quick 24 nodes / 0.02 s / 60 s, full 61 nodes / 0.01 s / 120 s (the end hit
 #: happens ~10 s after rolling starts; 120 s leave the pinned ribbon ~100 s to snap).
@@ -397,8 +398,8 @@ def block_outcome(rows: list[dict], side: float, face: float, delta: float) -> d
             "turn [deg]": float(axis[-1] - axis[i])}
 
 
-@case("ribbon_obstacle_block", "The rolling twisted ribbon meets a block of finite size on the 100 C plate: hit "
-      "in the middle and near an end (seed 000 Fig. 1; press release: an end hit turns and passes, a middle "
+@case("ribbon_obstacle_block", "The rolling twisted ribbon meets a block of finite size (at the plate's "
+      "temperature) on the 100 C plate: hit in the middle and near an end (seed 000 Fig. 1; press release: an end hit turns and passes, a middle "
       "hit snaps)", fe=False)
 def ribbon_obstacle_block(ctx: CaseContext) -> list[Metric]:
     from lcefem.models.contact import Block
