@@ -115,3 +115,10 @@ def test_block_face_view_factor():
     g = block_face_view(box, np.array([[0.0, 5.0 - d, 10.0]]), floor=0.0)[0]  # foot at the middle of 20 x 20
     assert g == pytest.approx(square, rel=1e-12)
     assert 0.0 < f < 1.0 and g < f
+
+
+def test_case_file_rejects_an_unknown_block_heat():
+    from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig
+
+    with pytest.raises(InputError, match=r"obstacle.heat = 'hot': allowed none, plate, ambient, given"):
+        RibbonConfig(obstacle=Block(width=20.0, heat="hot")).validated()
