@@ -4,7 +4,7 @@ and reverses").
 
     OMP_NUM_THREADS=1 nice python -m lcefem.validation.ribbon_blocks [--placements none middle end]
         [--width 20] [--end-width 10] [--overlap MM] [--height 10] [--distance 5] [--side 0] [--friction 0.5]
-        [--nodes 60] [--dt 0.01] [--length MM]
+        [--block-heat none|plate|ambient|given] [--block-temperature C] [--nodes 60] [--dt 0.01] [--length MM]
         [--duration 120] [--ground-temperature 100] [--every 1] [--out results/ribbon_blocks]
 
 Each placement is one run of ``lcefem run ribbon`` (the default ribbon and material) with the block of
@@ -12,7 +12,8 @@ the ``[obstacle]`` section: ``middle`` a block of --width centred on the ribbon'
 of --end-width whose far edge lines up with one end of the ribbon (it meets the last --end-width mm of
 the ribbon), ``none`` no block. Printed every --every simulated seconds and written to blocks.csv:
 centroid [mm], velocity [mm/s], heading [deg from +x], axis angle [deg from +x], end spins [rad],
-smallest gap to the block [mm]; block_<placement>.gif: the ribbon's two edge lines and the block seen from
+smallest gap to the block [mm], mean and hottest section temperature [C], twist density [turns/mm] and
+elastic energy [mJ]; block_<placement>.gif: the ribbon's two edge lines and the block seen from
 above. The phenomena (validation/data/phenomena.toml, ribbon_block_*) are judged on these rows.
 """
 
