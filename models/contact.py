@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 
 
@@ -178,8 +179,10 @@ class Block:
     """A rigid block of finite size standing on the plate in the rolling ribbon's path (seed 000, Fig. 1:
     the robot meets an obstacle and turns or reverses), with the plate's contact and friction laws.
     Axis-aligned: its width runs along the as-built ribbon's axis (x), its depth along the rolling
-    direction (y); placed relative to the as-built ribbon's centre line. No heat exchange with the ribbon
-    (the block is taken at the air's temperature, its contacts short)."""
+    direction (y); placed relative to the as-built ribbon's centre line. Heat exchange with the ribbon (``heat``): none
+    (the default, as before: the block's temperature unknown), or at a temperature, by the law the plate
+    uses (``models.ribbon.GroundHeatExchange``: air film and radiation through the patches facing the
+    block, contact conduction G_c along a corner line touching it)."""
 
     width: float = param(0.0, "mm", "chosen: extent along the ribbon's axis; 0: no block", minimum=0.0)
     height: float = param(10.0, "mm", "chosen: above the plate; taller than the ribbon's 4 mm width, so the "
@@ -198,6 +201,20 @@ class Block:
     edge_radius: float = param(0.5, "mm", "assumed: rounding of the block's edges (a machined or printed "
                                "block's edges are rounded to ~0.1-1 mm); the contact's normal turns "
                                "smoothly around an edge over this radius", positive=True)
+    heat: str = param("none", "-", "the block's heat exchange with the ribbon: 'none' (no exchange; seed 000 gives "
+                      "neither the obstacle's material nor its temperature), 'plate' (at the plate's temperature: a "
+                      "block standing on the hot plate conducts from it; a metal block reaches it, a polymer one "
+                      "stays between air and plate), 'ambient' (at the air's: a block just put down), or 'given' "
+                      "(at ``temperature``)")
+    temperature: float = param(25.0, "C", "the block's temperature with heat = 'given' (otherwise unused)")
+
+    HEAT = ("none", "plate", "ambient", "given")
+
+    def block_temperature(self, plate: float, ambient: float) -> float | None:
+        """The block's temperature [C] on a plate at ``plate`` in air at ``ambient`` (None: no exchange)."""
+        if self.heat not in self.HEAT:
+            raise InputError(f"obstacle.heat = {self.heat!r}: allowed {', '.join(self.HEAT)}")
+        return {"none": None, "plate": plate, "ambient": ambient, "given": self.temperature}[self.heat]
 
     @property
     def present(self) -> bool:

@@ -4,7 +4,7 @@ and reverses").
 
     OMP_NUM_THREADS=1 nice python -m lcefem.validation.ribbon_blocks [--placements none middle end]
         [--width 20] [--end-width 10] [--overlap MM] [--height 10] [--distance 5] [--side 0] [--friction 0.5]
-        [--nodes 60] [--dt 0.01] [--length MM]
+        [--block-heat none|plate|ambient|given] [--block-temperature C] [--nodes 60] [--dt 0.01] [--length MM]
         [--duration 120] [--ground-temperature 100] [--every 1] [--out results/ribbon_blocks]
 
 Each placement is one run of ``lcefem run ribbon`` (the default ribbon and material) with the block of
@@ -12,7 +12,8 @@ the ``[obstacle]`` section: ``middle`` a block of --width centred on the ribbon'
 of --end-width whose far edge lines up with one end of the ribbon (it meets the last --end-width mm of
 the ribbon), ``none`` no block. Printed every --every simulated seconds and written to blocks.csv:
 centroid [mm], velocity [mm/s], heading [deg from +x], axis angle [deg from +x], end spins [rad],
-smallest gap to the block [mm]; block_<placement>.gif: the ribbon's two edge lines and the block seen from
+smallest gap to the block [mm], mean and hottest section temperature [C], twist density [turns/mm] and
+elastic energy [mJ]; block_<placement>.gif: the ribbon's two edge lines and the block seen from
 above. The phenomena (validation/data/phenomena.toml, ribbon_block_*) are judged on these rows.
 """
 
@@ -32,20 +33,22 @@ from lcefem.solvers.der.ribbon import RibbonSimulation
 from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig
 from lcefem.validation.config import override
 
-COLUMNS = ["placement", "time [s]", "centroid_x [mm]", "centroid_y [mm]", "velocity_x [mm/s]", "velocity_y [mm/s]",
+COLUMNS = ["placement", "block_heat", "time [s]", "centroid_x [mm]", "centroid_y [mm]", "velocity_x [mm/s]", "velocity_y [mm/s]",
            "heading [deg]", "axis_angle [deg]", "spin_start [rad]", "spin_end [rad]", "block_gap [mm]",
-           "T_mean [C]"]
+           "T_mean [C]", "T_max [C]", "twist_density [turns/mm]", "elastic_energy [mJ]"]
 
 
 def block_for(placement: str, width: float, end_width: float, height: float, distance: float, side: float,
-              length: float, friction: float = Block().friction) -> Block:
+              length: float, friction: float = Block().friction, heat: str = Block().heat,
+              temperature: float = Block().temperature) -> Block:
     if placement == "none":
         return Block()
     if placement == "middle":
-        return Block(width=width, height=height, distance=distance, offset=0.0, direction=side, friction=friction)
+        return Block(width=width, height=height, distance=distance, offset=0.0, direction=side, friction=friction,
+                     heat=heat, temperature=temperature)
     if placement == "end":
         return Block(width=end_width, height=height, distance=distance, offset=0.5 * (length - end_width),
-                     direction=side, friction=friction)
+                     direction=side, friction=friction, heat=heat, temperature=temperature)
     raise ValueError(f"placement {placement!r}: allowed none, middle, end")
 
 
@@ -66,6 +69,14 @@ def edge_lines(sim: RibbonSimulation) -> np.ndarray:
     return np.stack([sim.state.x - hw * m1, sim.state.x + hw * m1])
 
 
+def elastic_energy(sim: RibbonSimulation) -> float:
+    """Elastic energy [mJ] of the ribbon (stretching, bending, twisting against its current natural shape)."""
+    from lcefem.solvers.der.assembly import Assembly
+
+    asm = sim.__dict__.setdefault("_energy_assembly", Assembly(sim.rod.n_nodes))
+    return float(asm.elastic(sim.rod, sim.state, 0)[0])
+
+
 def run(cfg: RibbonConfig, placement: str, duration: float, every: float, verbose: bool = True):
     """One run with ``cfg``'s block: (rows every ``every`` s, frames (time, edge lines (2, N, 2)), boxes (lo, hi))."""
     sim = RibbonSimulation(cfg.setup())
@@ -82,12 +93,15 @@ def run(cfg: RibbonConfig, placement: str, duration: float, every: float, verbos
         v = (c - x_prev) / (sim.state.time - t_prev)
         x_prev, t_prev = c, sim.state.time
         gaps = sim.block_gaps()
-        rows.append({"placement": placement, "time [s]": obs["time [s]"], "centroid_x [mm]": c[0],
+        blk = sim.setup.blocks[0] if sim.setup.blocks else None
+        rows.append({"placement": placement, "block_heat": blk.heat if blk else "", "time [s]": obs["time [s]"], "centroid_x [mm]": c[0],
                      "centroid_y [mm]": c[1], "velocity_x [mm/s]": v[0], "velocity_y [mm/s]": v[1],
                      "heading [deg]": math.degrees(math.atan2(v[1], v[0])),
                      "axis_angle [deg]": axis_angle(sim.state.x), "spin_start [rad]": obs["spin_start [rad]"],
                      "spin_end [rad]": obs["spin_end [rad]"],
-                     "block_gap [mm]": float(gaps.min()) if len(gaps) else float("nan"), "T_mean [C]": obs["T_mean [C]"]})
+                     "block_gap [mm]": float(gaps.min()) if len(gaps) else float("nan"), "T_mean [C]": obs["T_mean [C]"],
+                     "T_max [C]": obs["T_max [C]"], "twist_density [turns/mm]": obs["twist_density [turns/mm]"],
+                     "elastic_energy [mJ]": elastic_energy(sim)})
         frames.append((sim.state.time, edge_lines(sim)[..., :2].copy()))
         r = rows[-1]
         if verbose:
@@ -145,6 +159,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--height", type=float, default=10.0, help="block height [mm]")
     parser.add_argument("--distance", type=float, default=5.0, help="centre line to the block's face [mm]")
     parser.add_argument("--friction", type=float, default=Block().friction, help="friction coefficient on the block")
+    parser.add_argument("--block-heat", default=Block().heat, choices=list(Block.HEAT),
+                        help="the block's heat exchange with the ribbon (models.contact.Block.heat)")
+    parser.add_argument("--block-temperature", type=float, default=Block().temperature,
+                        help="the block's temperature [C] with --block-heat given")
     parser.add_argument("--overlap", type=float, help="end block: how much of the ribbon's end it meets [mm] "
                         "(default: all of --end-width)")
     parser.add_argument("--side", type=float, default=0.0, help="+1: block towards +y, -1: towards -y, 0: on the "
@@ -188,14 +206,15 @@ def main(argv: list[str] | None = None) -> int:
             movie(out / "block_none.gif", frames, [], f"{args.ground_temperature:g} C plate, no block")
     for placement in placements:
         block = block_for(placement, args.width, args.end_width, args.height, args.distance, args.side,
-                          base.geometry.length, args.friction)
+                          base.geometry.length, args.friction, args.block_heat, args.block_temperature)
         if placement == "end" and args.overlap is not None:
             block = dataclasses.replace(block, offset=0.5 * (base.geometry.length + args.end_width) - args.overlap)
         cfg = RibbonConfig(**{**{f: getattr(base, f) for f in base.__dataclass_fields__}, "obstacle": block}).validated()
         r, frames, boxes = run(cfg, placement, args.duration, args.every)
         rows += r
         movie(out / f"block_{placement}.gif", frames, boxes,
-              f"{args.ground_temperature:g} C plate, block: {placement}")
+              f"{args.ground_temperature:g} C plate, block: {placement}"
+              + (f" (block heat: {args.block_heat})" if args.block_heat != "none" else ""))
     tmp = out / "blocks.csv.part"
     with open(tmp, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=COLUMNS)

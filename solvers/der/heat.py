@@ -28,6 +28,40 @@ from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_fil
 from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
 from lcefem.models.rod import CORNER_SIGNS
 from lcefem.solvers.der import heat_kernels
+def _corner_view(a, b):
+    """View factor from a point to the rectangle [0, a] x [0, b] of a parallel plane, a unit distance away,
+    whose corner lies at the point's foot (Howell's catalogue C-11), extended odd in a and in b."""
+    sa, sb = np.sqrt(1.0 + a * a), np.sqrt(1.0 + b * b)
+    return (a / sa * np.arctan(b / sa) + b / sb * np.arctan(a / sb)) / (2.0 * np.pi)
+
+
+def block_face_view(box, points: np.ndarray, floor: float = 0.0) -> np.ndarray:
+    """View factor (...,) from a point facing it squarely to the face of the axis-aligned ``box`` nearest to
+    each of ``points`` (..., 3) [mm]: the face's rectangle, above the plate at ``floor`` [mm], seen from
+    the point's distance (1 at contact over the face, falling as the block subtends less). Used to limit
+    the plate's law, written for an unbounded plate, to the block's finite face."""
+    p = np.asarray(points, float)
+    lo, hi = np.array(box.lo, float), np.array(box.hi, float)
+    lo[2] = max(lo[2], floor)
+    n = box.normals(p)
+    axis = np.argmax(np.abs(n), axis=-1)
+    out = np.zeros(p.shape[:-1])
+    for k in range(3):
+        sel = axis == k
+        if not np.any(sel):
+            continue
+        q = p[sel]
+        plane = np.where(n[sel][:, k] > 0, hi[k], lo[k])
+        d = np.maximum(np.abs(q[:, k] - plane), 1e-9)
+        u, v = [j for j in range(3) if j != k]
+        f = 0.0
+        for cu, su in ((hi[u], 1.0), (lo[u], -1.0)):
+            for cv, sv in ((hi[v], 1.0), (lo[v], -1.0)):
+                f = f + su * sv * _corner_view((cu - q[:, u]) / d, (cv - q[:, v]) / d)
+        out[sel] = np.clip(f, 0.0, 1.0)
+    return out
+
+
 @dataclass
 class HeatGeometry:
     """Per edge: midpoint c (n, 3), material frame m1, m2 (n, 3), length l (n,) [mm], and optionally
@@ -152,13 +186,79 @@ class SectionHeat:
         Q_g += (g_contact * T_corner) @ self._corner_to_cell
         return G_g, G_a, Q_a / np.maximum(G_a, 1e-300), Q_g / np.maximum(G_g, 1e-300)
 
+    def block_coefficients(self, T: np.ndarray, geo: HeatGeometry, blocks, T_ground: float = None):
+        """Exchange conductances [mW/K] of each cell with blocks (n, n_cells), their conductance-weighted
+        sum of block temperatures [mW] (n, n_cells), and the air exchange the blocks hide (conductance
+        [mW/K] and its weighted air temperatures [mW], (n, n_cells) each: a patch facing a block by f sees
+        the block instead of the air over f, so f of its air film and radiation to the ambient is
+        replaced, not added; T_ground [C] for the air's boundary layer, None: no air hidden). ``blocks``: (box, T_block [C], corner gaps (n, 4) [mm])
+        per block, the box a ``solvers.der.model.Box`` (its ``gaps`` and outward normal). The plate's law
+        (``GroundHeatExchange``) with the block's face in place of the plate: a patch whose centroid lies a gap
+        z from the block and whose outward normal faces the block's outward normal n_b by c = max(0, -n . n_b)
+        gets f [k_air/(z + z0) + h_rad(T, T_block)], f = c F, F the view factor of the block's face from the
+        patch (:func:`block_face_view`: 1 at contact, falling with distance as the finite face subtends less;
+        the plate's law is written for an unbounded plate, F = 1); a corner at gap g adds G_c w(g) per unit length. The
+        air near the block is the air elsewhere (no boundary layer of the block)."""
+        n, nc = T.shape
+        G = np.zeros((n, nc))
+        Q = np.zeros((n, nc))
+        G_hidden = np.zeros((n, nc))
+        Q_hidden = np.zeros((n, nc))
+        if not blocks:
+            return G, Q, G_hidden, Q_hidden
+        pos = (geo.centre[:, None, :] + self.p_off[None, :, 0, None] * geo.m1[:, None, :]
+               + self.p_off[None, :, 1, None] * geo.m2[:, None, :])
+        nrm = np.where((self.p_axis == 0)[None, :, None], geo.m1[:, None, :], geo.m2[:, None, :]) \
+            * self.p_sign[None, :, None]
+        area = self.p_area[None, :] * geo.length[:, None]
+        Tp = T[:, self.p_cell]
+        nz = self.normal
+        height = pos @ nz - self.height
+        ground_facing = np.maximum(0.0, -(nrm @ nz))
+        h_amb = (self.air.film_coefficient
+                 + radiative_film_coefficient(Tp, self.air.ambient_temperature, self.air.emissivity) * (1.0 - ground_facing))
+        T_air = (self.ground.air_temperature(height, self.air.ambient_temperature, T_ground) if T_ground is not None
+                 else None)
+        seen = np.zeros_like(h_amb)  # fraction of each patch's view taken by blocks
+        for box, T_block, corner in blocks:
+            gap = box.gaps(pos)
+            facing = np.maximum(0.0, -np.einsum("npi,npi->np", nrm, box.normals(pos)))
+            facing = np.minimum(facing * block_face_view(box, pos, self.height), 1.0 - seen)
+            seen += facing
+            h = self.ground.patch_coefficient(gap, facing, Tp, T_block)
+            G += (h * area) @ self._patch_to_cell
+            Q += (h * area * T_block) @ self._patch_to_cell
+            weight = 0.5 * (1.0 - np.tanh(0.5 * self.contact.K1 * corner))
+            g_contact = self.ground.contact_conductance * geo.length[:, None] * weight
+            G += g_contact @ self._corner_to_cell
+            Q += (g_contact * T_block) @ self._corner_to_cell
+        if T_air is not None:
+            G_hidden = (seen * h_amb * area) @ self._patch_to_cell
+            Q_hidden = (seen * h_amb * area * T_air) @ self._patch_to_cell
+        return G, Q, G_hidden, Q_hidden
+
     def step(self, T: np.ndarray, dt: float, geo: HeatGeometry, T_ground: float,
-             gradient=None, compiled: bool = True) -> tuple[np.ndarray, HeatFluxes]:
+             gradient=None, compiled: bool = True, blocks=()) -> tuple[np.ndarray, HeatFluxes]:
         """Cell temperatures (n, n_cells) [C] after dt [s] from T, on the geometry ``geo`` (plate at
         T_ground + gradient . x, see :meth:`coefficients`). ``compiled``: the exchange coefficients,
         the solve and the fluxes in one compiled call (:func:`heat_kernels.heat_step`; at 100 nodes 0.51 ->
         0.25 ms per call timed alone, issue 17); False: :meth:`coefficients` in numpy, kept as the reference (the
-        same temperatures to round-off, ``tests/solvers/test_der_ribbon.py``)."""
+        same temperatures to round-off, ``tests/solvers/test_der_ribbon.py``). ``blocks``: blocks that
+        exchange heat (:meth:`block_coefficients`); with any, the numpy path, the blocks' exchange added to
+        the plate's (``HeatFluxes.from_ground`` then counts both)."""
+        if blocks:
+            G_g, G_a, T_air, T_g = self.coefficients(T, geo, T_ground, gradient)
+            G_b, Q_b, G_h, Q_h = self.block_coefficients(T, geo, blocks, T_ground)
+            G_gb = G_g + G_b
+            T_gb = (G_g * T_g + Q_b) / np.maximum(G_gb, 1e-300)
+            G_left = np.maximum(G_a - G_h, 0.0)  # the air's view left to each cell
+            T_air = np.where(G_left > 0.0, (G_a * T_air - Q_h) / np.maximum(G_left, 1e-300), T_air)
+            G_a = G_left
+            C = self.capacity[:, None] / dt
+            T_new = heat_kernels.heat_solve(C, G_gb, G_a, np.ascontiguousarray(T, float), T_gb, T_air,
+                                            np.ascontiguousarray(geo.length, float), self._pair_a, self._pair_b,
+                                            self._pair_g, float(self.k_axial))
+            return T_new, HeatFluxes((G_gb * (T_gb - T_new)).sum(1), (G_a * (T_new - T_air)).sum(1))
         if compiled:
             corner = geo.corner_gap if geo.corner_gap is not None else self._midpoint_corner_gaps(geo)
             c = np.ascontiguousarray

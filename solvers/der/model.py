@@ -150,6 +150,24 @@ class Box:
         inside = -np.minimum(p - lo, hi - p).min(axis=-1)
         return np.where(outside > 0.0, outside, np.minimum(inside, 0.0)) - r
 
+    def normals(self, points: np.ndarray) -> np.ndarray:
+        """Outward unit normals (..., 3) of the rounded box at the points nearest to ``points`` (..., 3)
+        (the gradient of :meth:`gaps`; inside the inner box, that of its nearest face)."""
+        p = np.asarray(points, float)
+        r = self.radius
+        lo = np.asarray(self.lo, float) + r
+        hi = np.asarray(self.hi, float) - r
+        d = np.maximum(p - hi, 0.0) - np.maximum(lo - p, 0.0)
+        dist = np.sqrt(np.einsum("...i,...i->...", d, d))
+        out = d / np.maximum(dist, 1e-300)[..., None]
+        inside = dist <= 0.0
+        if np.any(inside):
+            depth = np.concatenate([p - lo, hi - p], axis=-1)  # distances to the faces -x.., +x..
+            face = np.argmin(depth, axis=-1)
+            face_normal = np.concatenate([-np.eye(3), np.eye(3)])[face]
+            out = np.where(inside[..., None], face_normal, out)
+        return out
+
 
 @dataclass
 class DiscreteRod:

@@ -30,7 +30,7 @@ from lcefem.models.rod import (RodSection, cross, material_curvatures, rectangul
                                signed_angle)
 from lcefem.models.units import STANDARD_GRAVITY
 from lcefem.solvers.der import frames as fr
-from lcefem.solvers.der.assembly import all_gaps, edge_corner_gaps, node_contact_forces
+from lcefem.solvers.der.assembly import _gap_slots, all_gaps, edge_corner_gaps, node_contact_forces, sample_points
 from lcefem.solvers.der.heat import HeatGeometry, SectionHeat
 from lcefem.solvers.der.integrator import Integrator, StepControl, StepOptions
 from lcefem.solvers.der.model import Box, DiscreteRod, Ground, RestShape, RodState, lumped_masses
@@ -343,6 +343,11 @@ class RibbonSimulation:
         self.steps_taken = 0  # accepted steps on the hot plate
         self.heat = SectionHeat(n - 1, self.grid, self.programmed.edge_length, s.thermal, s.air,
                                 s.ground_heat, s.contact)
+        # blocks that exchange heat with the ribbon: (box, temperature [C]) (Block.heat; none by default)
+        self.heated_blocks = tuple(
+            (box, b.block_temperature(s.ground_temperature, s.air.ambient_temperature))
+            for b, box in zip([b for b in s.blocks if b.present], boxes)
+            if b.block_temperature(s.ground_temperature, s.air.ambient_temperature) is not None)
         self._spin0 = None
         self._spin_prev = None
         self.time = 0.0
@@ -456,7 +461,8 @@ class RibbonSimulation:
             # zero at the starting centreline: the mean plate temperature under the ribbon is T_ground
             gradient = np.array([0.0, s.numerics.plate_gradient, 0.0])
         T_ground = s.ground_temperature - (s.numerics.plate_gradient * self._y_start)
-        self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), T_ground, gradient)
+        blocks = tuple((box, T_b, self.block_corner_gaps(box)) for box, T_b in self.__dict__.get("heated_blocks", ()))
+        self.T, self.fluxes = self.heat.step(self.T, dt, self.heat_geometry(), T_ground, gradient, blocks=blocks)
         rest = self.programmed.rest_shape(self.T, self.grid, s.transition, self.contraction)
         self._rest_from, self._rest_to = self._rest_to, rest
         return report
@@ -490,6 +496,21 @@ class RibbonSimulation:
             gs, ge = all_gaps(self.rod, self.state, self.integrator.sampling, box)
             out.append(min(ge.min(), gs.min()) if gs is not None else ge.min())
         return np.array(out)
+
+    def block_corner_gaps(self, box: Box) -> np.ndarray:
+        """Smallest gap [mm] of each corner over each edge's samples to the block ``box``, (N-1, 4) (as
+        :meth:`corner_gaps` for the plate)."""
+        sampling = self.integrator.sampling
+        n_edges = self.rod.n_nodes - 1
+        pos_s, _, pos_e, _ = sample_points(self.state, sampling)
+        side, slot_s, slot_e = sampling._cached("edge_min_gaps", lambda: _gap_slots(sampling))
+        out = np.full((n_edges, len(sampling.offsets)), np.inf)
+        ends = sampling.end_edges(n_edges)
+        np.minimum.at(out, (np.repeat(ends, pos_e.shape[1]), np.tile(slot_e, len(ends))), box.gaps(pos_e).ravel())
+        if sampling.interpolated:
+            edges = np.arange(pos_s.shape[0])[:, None] + side[None, :]
+            np.minimum.at(out, (edges.ravel(), np.broadcast_to(slot_s, edges.shape).ravel()), box.gaps(pos_s).ravel())
+        return out
 
     def corner_gaps(self) -> np.ndarray:
         """Smallest gap [mm] of each corner over each edge's samples, (N-1, 4)."""

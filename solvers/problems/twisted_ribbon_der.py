@@ -79,6 +79,7 @@ class RibbonConfig(RibbonSections):
     def validated(self) -> "RibbonConfig":
         check_config(self)
         ob = self.obstacle
+        ob.block_temperature(self.run.ground_temperature, self.air.ambient_temperature)  # obstacle.heat is one of Block.HEAT
         if ob.present:
             for name in ("width", "depth", "height"):
                 if getattr(ob, name) <= 2.0 * ob.edge_radius:
