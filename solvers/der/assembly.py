@@ -405,15 +405,19 @@ def edge_corner_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSamplin
     if rod.ground is None:
         return np.full((n_edges, k), np.inf)
     pos_s, _, pos_e, _ = sample_points(state, sampling)
-    side, slot_s, slot_e = sampling._cached("edge_min_gaps", lambda: _gap_slots(sampling))
+    side, slot_s, slot_e = gap_slots(sampling)
     return contact_kernels.edge_min_gaps(pos_s, pos_e, side, slot_s, sampling.end_edges(n_edges), slot_e, n_edges, k,
                                  rod.ground.unit_normal(), float(rod.ground.height), sampling.interpolated)
 
 
-def _gap_slots(sampling: ContactSampling) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """For :func:`contact_kernels.edge_min_gaps`: the edge (0: the stencil's first, 1: its second) and section
-    point kind of every stencil point, and the kind of every end-edge point (points of one edge are
-    stored kind-fastest: ``ContactSampling.of``)."""
+def gap_slots(sampling: ContactSampling) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For :func:`contact_kernels.edge_min_gaps` and the block's corner gaps: the edge (0: the stencil's first,
+    1: its second) and section point kind of every stencil point, and the kind of every end-edge point
+    (points of one edge are stored kind-fastest: ``ContactSampling.of``); computed once per sampling."""
+    return sampling._cached("edge_min_gaps", lambda: _make_gap_slots(sampling))
+
+
+def _make_gap_slots(sampling: ContactSampling) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     k = len(sampling.offsets)
     side, _, _ = sampling.kernel_arrays()
     side = np.ascontiguousarray(side, np.int64)

@@ -30,7 +30,7 @@ from lcefem.models.rod import (RodSection, cross, material_curvatures, rectangul
                                signed_angle)
 from lcefem.models.units import STANDARD_GRAVITY
 from lcefem.solvers.der import frames as fr
-from lcefem.solvers.der.assembly import _gap_slots, all_gaps, edge_corner_gaps, node_contact_forces, sample_points
+from lcefem.solvers.der.assembly import all_gaps, edge_corner_gaps, gap_slots, node_contact_forces, sample_points
 from lcefem.solvers.der.heat import HeatGeometry, SectionHeat
 from lcefem.solvers.der.integrator import Integrator, StepControl, StepOptions
 from lcefem.solvers.der.model import Box, DiscreteRod, Ground, RestShape, RodState, lumped_masses
@@ -503,7 +503,7 @@ class RibbonSimulation:
         sampling = self.integrator.sampling
         n_edges = self.rod.n_nodes - 1
         pos_s, _, pos_e, _ = sample_points(self.state, sampling)
-        side, slot_s, slot_e = sampling._cached("edge_min_gaps", lambda: _gap_slots(sampling))
+        side, slot_s, slot_e = gap_slots(sampling)
         out = np.full((n_edges, len(sampling.offsets)), np.inf)
         ends = sampling.end_edges(n_edges)
         np.minimum.at(out, (np.repeat(ends, pos_e.shape[1]), np.tile(slot_e, len(ends))), box.gaps(pos_e).ravel())
