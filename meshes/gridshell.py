@@ -345,7 +345,6 @@ def resolve_bar_values(structure: BarHingeStructure, assignments: dict, default:
     * a strip id (int, :class:`Strip`.id).
     """
     info = structure.info
-    strips = info["strips"]
     sob = info["strip_of_bar"]
     out = {g: np.full(sob[g].size, float(default)) for g in STRIP_GROUPS}
     on_line_set: dict[str, np.ndarray] = {g: np.zeros(sob[g].size, dtype=bool) for g in STRIP_GROUPS}
