@@ -22,6 +22,7 @@ from __future__ import annotations
 import pathlib
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -29,6 +30,11 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.der.output import write_vtp
 from lcefem.solvers.runtime.files import FrameSeries, library_os_error, part_name, partial_name, replace
 from lcefem.solvers.runtime.run import Run
+
+if TYPE_CHECKING:  # annotations only: FEniCSx is imported when an FE export is built
+    import dolfinx
+    from mpi4py import MPI
+
 
 class FieldExport:
     """VTX (ADIOS2 .bp) time series of dolfinx Functions sharing one element, readable by ParaView."""

@@ -23,7 +23,6 @@ control_currents.png, control_curvatures.png and control.gif (the nine junction 
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import math
 import pathlib
 import time

@@ -19,7 +19,6 @@ import dataclasses
 import math
 import os
 
-import numpy as np
 
 from lcefem.models.contact import Wall
 from lcefem.models.ribbon import RibbonGeometry

@@ -21,7 +21,6 @@ cuts, states to round-off) on a ribbon on the hot plate, a rod thrown at a wall 
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from numba import njit

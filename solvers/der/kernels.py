@@ -302,7 +302,6 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
     h8 = np.empty((8, 8))
     g11 = np.empty(11)
     h11 = np.empty((11, 11))
-    tmp = np.empty((8, 11))
     W = np.empty((2, 12))  # rows of D: values and columns (source_change_into)
     tmp11 = np.empty((11, 11))
     out11 = np.empty((11, 11))

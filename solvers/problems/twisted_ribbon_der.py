@@ -28,15 +28,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lcefem.models.contact import Block, ContactLaw, FrictionLaw
+from lcefem.models.contact import Block
 from lcefem.models.errors import InputError
 from lcefem.models.limits import DECOMPOSITION_TEMPERATURE
-from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.parameters import param
-from lcefem.models.ribbon import SEED000_RIBBON, GroundHeatExchange, RibbonGeometry, RibbonLCE
+from lcefem.models.ribbon import SEED000_RIBBON, RibbonGeometry, RibbonLCE
 from lcefem.solvers import cost
 from lcefem.solvers.der.output import PolylineSeries, polydata
-from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, ROLLING_RIBBON, RibbonNumerics, RibbonSections, RibbonSetup,
+from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, RibbonSections, RibbonSetup,
                                        RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
 from lcefem.solvers.runtime.checks import check_config, resolved

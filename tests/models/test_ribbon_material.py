@@ -30,7 +30,6 @@ def test_thermal_curvature_fades_once_the_section_passes_the_transition():
     the thickness gives the beam closed form kappa_2 = -a'(T0) g (eps* = a(T) - 1 linear in y2). It is
     largest near T_NI and fades once the whole section is past the transition (the fall of the rolling
     speed above 120 C, issue 32: docs/ribbon.md)."""
-    import numpy as np
 
     from lcefem.models.ribbon import SectionGrid, natural_strains
 

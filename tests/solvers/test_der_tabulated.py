@@ -2,7 +2,6 @@
 the contraction ratio within the interpolation error bound, the law itself outside the table."""
 
 import numpy as np
-import pytest
 
 from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.models.ribbon import SectionGrid, natural_strains
