@@ -12,7 +12,7 @@ from lcefem.validation import gridshell_current_route as route
 
 #: Tolerance on the factor [-] that today's model needs to meet the measured dome, against the stored
 #: one: the factor's third decimal. Measured: the FE-calibrated set needs 0.8561 within 1e-5 (its
-#: calibration's brentq xtol is 1e-4); the published set 0.9516 against the stored 0.9512 (its
+#: calibration's brentq xtol is 1e-4); the published set 0.9508 against the stored 0.9512 (its
 #: configuration moved after its calibration: dome -0.015988 vs the stored -0.015999 1/mm). The two
 #: sets' factors are 0.095 apart, and the other set's factor misses the dome by 0.0025 1/mm.
 FACTOR_TOL = 1e-3
