@@ -273,16 +273,50 @@ def calibrate(names=tuple(PARAMETERS), shapes=SHAPES, beam_points: str = "all", 
 MODEL_SETS = ("published", "fe-calibrated")
 DEFAULT_MODEL_SET = "fe-calibrated"
 
+#: The grid exchange factor [-] of each model set (:attr:`lcefem.models.lumped_heat.CurrentRouteConfig.
+#: exchange_factor`): calibrated with that set's mechanics on the dome protocol (seed 001: hold 0.04 A
+#: top / 0.07 A bottom, measured centre curvature -0.016 1/mm), stored by ``python -m
+#: lcefem.validation.grid_exchange_calibration --model-set NAME``; the one source of each number.
+EXCHANGE_CALIBRATIONS = {"published": DATA_DIR / "grid_exchange_calibration.json",
+                         "fe-calibrated": DATA_DIR / "grid_exchange_calibration_fe_calibrated.json"}
+
+
+def exchange_calibration(name: str) -> dict:
+    """The stored grid exchange calibration of model set ``name`` (:data:`EXCHANGE_CALIBRATIONS`)."""
+    if name not in EXCHANGE_CALIBRATIONS:
+        raise InputError(f"model_set = {name!r}: allowed {', '.join(MODEL_SETS)}")
+    path = EXCHANGE_CALIBRATIONS[name]
+    if not path.exists():
+        raise InputError(f"model_set = {name!r}: {path} missing (python -m "
+                         f"lcefem.validation.grid_exchange_calibration --model-set {name})")
+    return json.loads(path.read_text())
+
+
+def exchange_factor(name: str) -> float:
+    """The grid exchange factor [-] calibrated with model set ``name`` (:func:`exchange_calibration`)."""
+    return float(exchange_calibration(name)["value [-]"])
+
 
 @dataclasses.dataclass(frozen=True)
 class ModelSet:
     """A bar-and-hinge model set: its name, the mesh fields it runs with (strip element, raised
-    squares, contact: :class:`lcefem.meshes.composite_beam.BeamBarHingeMesh`) and its materials
-    (factors, the panels' torsion, the strip bar law)."""
+    squares, contact: :class:`lcefem.meshes.composite_beam.BeamBarHingeMesh`), its materials
+    (factors, the panels' torsion, the strip bar law) and the grid exchange factor [-] calibrated with
+    it (:func:`exchange_factor`: the current route's one thermal parameter)."""
 
     name: str
     mesh: BeamBarHingeMesh
     materials: law.BarHingeMaterials
+    exchange_factor: float
+
+    def current_route(self, route=None, exchange_factor: float | None = None):
+        """``route`` (default :class:`lcefem.models.lumped_heat.CurrentRouteConfig`) with this set's
+        exchange factor, or ``exchange_factor`` [-] when the user gives one explicitly."""
+        from lcefem.models.lumped_heat import CurrentRouteConfig
+
+        route = CurrentRouteConfig() if route is None else route
+        factor = self.exchange_factor if exchange_factor is None else exchange_factor
+        return dataclasses.replace(route, exchange_factor=factor).checked()
 
     def structure(self, layout=None):
         """The gridshell of this model set (``layout``: default :class:`GridshellLayout`)."""
@@ -298,7 +332,8 @@ class ModelSet:
                 "mesh.strip_contact": self.mesh.strip_contact, "lce.force_law": self.materials.lce.force_law,
                 "lce.bending_factor": self.materials.lce.bending_factor,
                 "kapton.bending_factor": self.materials.kapton.bending_factor,
-                "kapton.twist": self.materials.kapton.twist}
+                "kapton.twist": self.materials.kapton.twist,
+                "current.exchange_factor": self.exchange_factor}
 
 
 def as_fe(mesh: BeamBarHingeMesh, materials: law.BarHingeMaterials, strip_element: str = "beam",
@@ -316,13 +351,13 @@ def model_set(name: str, base: law.BarHingeMaterials = law.BarHingeMaterials(),
     """The model set ``name`` (:data:`MODEL_SETS`): its mesh fields and materials, built on ``mesh``
     (other fields: the caller's) and ``base``."""
     if name == "published":
-        return ModelSet(name, mesh, base)
+        return ModelSet(name, mesh, base, exchange_factor(name))
     if name != "fe-calibrated":
         raise InputError(f"model_set = {name!r}: allowed {', '.join(MODEL_SETS)}")
     record = load()
     if record is None:
         raise InputError(f"model_set = 'fe-calibrated': {STORED} missing (lcefem calibrate bar-hinge)")
-    return ModelSet(name, *as_fe(mesh, calibrated_materials(record, base)))
+    return ModelSet(name, *as_fe(mesh, calibrated_materials(record, base)), exchange_factor(name))
 
 
 def load(path: pathlib.Path = STORED) -> dict | None:

@@ -53,12 +53,14 @@ def scale_sequence(out: pathlib.Path, *, schedule_path=FIG5A_SCHEDULE, output_in
     if model_set is not None:
         ms = calibrate.model_set(model_set)  # with its configuration (squares, contact, element)
         structure, materials = ms.structure(), ms.materials
+    factor = calibrate.exchange_factor(model_set or "published")  # calibrated with the set's mechanics
     summary = run_sequence(schedule, out, progress=progress, scales=scales, frame=frame, snapshot=snapshot,
                            report=lambda o, history, sched: plot_curvatures(o / "curvature_vs_time.png",
                                                                             history, sched),
-                           structure=structure, materials=materials,
+                           structure=structure, materials=materials, exchange_factor=factor,
                            config={"schedule": dataclasses.asdict(schedule),
-                                   "model set": model_set or "published"})
+                                   "model set": model_set or "published",
+                                   "current.exchange_factor": factor})
     if movie and frames:
         fig5_plots.write_gif(out / "sequence.gif", frames, 0.25)
     h = summary["history"]
@@ -259,9 +261,10 @@ def weights_task(out: pathlib.Path, *, scales: CoverScales | None = CoverScales(
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
     newton = newton or gs.GRIDSHELL_NEWTON
-    ws = weights_setup(lambda_assignments_from_currents(WEIGHT_CURRENTS["lift"]), scales=scales)
+    route = calibrate.model_set("published").current_route()  # the published set's calibrated factor
+    ws = weights_setup(lambda_assignments_from_currents(WEIGHT_CURRENTS["lift"], route), scales=scales)
     loads = [m * units.GRAM for m in WEIGHT_LOADS_G]
-    r = weights_path(ws, loads, hold_lambdas=lambda_assignments_from_currents(WEIGHT_CURRENTS["hold"]),
+    r = weights_path(ws, loads, hold_lambdas=lambda_assignments_from_currents(WEIGHT_CURRENTS["hold"], route),
                      give_way_mass=give_way_g * units.GRAM, newton=newton, log=log)
     s = ws.setup.structure
     flat = r["flat"]["pad height [mm]"]

@@ -10,8 +10,12 @@ the lumped steady state does not depend on the pulse before the hold (lambda_s(T
 hysteresis), and the quasi-static surface reaches the same dome from the as-built state. Brent's
 method on the factor for the circle measure (mean of x and y) = -0.016 1/mm.
 
-``python -m lcefem.validation.grid_exchange_calibration [--out FILE.json]`` (default
-validation/data/grid_exchange_calibration.json, written to a .part name then renamed).
+``python -m lcefem.validation.grid_exchange_calibration [--model-set NAME] [--out FILE.json]`` (default
+the set's stored calibration, :data:`lcefem.validation.calibrate.EXCHANGE_CALIBRATIONS`:
+validation/data/grid_exchange_calibration.json for 'published',
+grid_exchange_calibration_fe_calibrated.json for 'fe-calibrated'; written to a .part name then
+renamed). Each model set runs its current route with its own factor
+(:attr:`lcefem.validation.calibrate.ModelSet.exchange_factor`).
 """
 
 from __future__ import annotations
@@ -72,19 +76,22 @@ def calibrate(tol: float = 1e-4, model_set: str = "published") -> dict:
         "result at the calibrated value": at,
         "uncalibrated (factor 1.0)": dome_hold_curvature(1.0, model_set),
         "trials": trials,
-        "command": "python -m lcefem.validation.grid_exchange_calibration",
+        "command": f"python -m lcefem.validation.grid_exchange_calibration --model-set {model_set}",
         "wall time [s]": round(time.perf_counter() - started, 1),
     }
 
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--out", default=str(DATA))
+    p.add_argument("--out", default=None, help="output JSON (default: the model set's stored "
+                   "calibration, lcefem.validation.calibrate.EXCHANGE_CALIBRATIONS)")
     p.add_argument("--model-set", default="published", choices=("published", "fe-calibrated"),
                    help="bar-and-hinge model set (default published, the calibration of record)")
     args = p.parse_args(argv)
     result = calibrate(model_set=args.model_set)
-    out = pathlib.Path(args.out)
+    from lcefem.validation.calibrate import EXCHANGE_CALIBRATIONS
+
+    out = pathlib.Path(args.out) if args.out else EXCHANGE_CALIBRATIONS[args.model_set]
     part = out.with_name(out.name + ".part")
     part.write_text(json.dumps(result, indent=2) + "\n")
     part.replace(out)

@@ -5,7 +5,8 @@ Per shape, three drives of the same surface:
 
 - ``rule``: the currents the paper's rule gives (Eq. 1 inverted at the shape's Fig. 4 lambdas through
   the grid strip's 130 ohm coil, :func:`lcefem.models.lumped_heat.shape_currents`), through the
-  lumped grid strip (thermal model 'strip') to the strips' lambdas;
+  lumped grid strip (thermal model 'strip') to the strips' lambdas, with the grid exchange factor
+  calibrated with each model set (:func:`set_route`, validation/data/grid_exchange_calibration*.json);
 - ``fig4``: the Fig. 4 lambdas themselves (the lambda route): the rule against this splits the
   thermal chain from the lambda route;
 - ``experiment``: the currents the experiment applied (the dome's 0.04 / 0.07 A, the same Fig. 2C pair
@@ -54,6 +55,14 @@ def drive_lambdas(shape: str, drive: str, route: lumped_heat.CurrentRouteConfig 
         return None, dict(spec["lambdas"])
     currents = lumped_heat.shape_currents(spec["lambdas"]) if drive == "rule" else dict(spec["currents"])
     return currents, lumped_heat.lambda_assignments_from_currents(currents, route)
+
+
+def set_route(model_set: str, exchange_factor: float | None = None) -> lumped_heat.CurrentRouteConfig:
+    """The current route ('strip') of ``model_set``: its own calibrated grid exchange factor
+    (:attr:`lcefem.validation.calibrate.ModelSet.exchange_factor`), or ``exchange_factor`` [-]."""
+    from lcefem.validation import calibrate
+
+    return calibrate.model_set(model_set).current_route(exchange_factor=exchange_factor)
 
 
 def bh_setup(shape: str, lambdas: dict, model_set: str = "published", lambda_N: float | None = None,
@@ -111,10 +120,13 @@ def measure(model_sets=("published", "fe-calibrated"), shapes=SHAPES, drives=DRI
             row["FE level 1, rule (stored)"] = {k: fe[shape][f"kappa_circle_{a} [1/mm]"] for k, a in
                                                 (("circle_x", "x"), ("circle_y", "y"))}
         for drive in drives:
-            currents, lambdas = drive_lambdas(shape, drive)
-            d = {"currents [A]": currents, "lambdas [-]": lambdas}
-            for ms in model_sets:
-                d[ms] = bh_curvatures(shape, lambdas, ms)
+            currents, _ = drive_lambdas(shape, drive)
+            d = {"currents [A]": currents}
+            for ms in model_sets:  # each set's lambdas through its own calibrated exchange factor
+                route = set_route(ms)
+                _, lambdas = drive_lambdas(shape, drive, route)
+                d[ms] = {**bh_curvatures(shape, lambdas, ms), "lambdas [-]": lambdas,
+                         "exchange factor [-]": route.exchange_factor}
                 log(f"{shape:8s} {drive:10s} {ms:13s} circle {d[ms]['circle_x']:+.4f} / {d[ms]['circle_y']:+.4f} "
                     f"({d[ms]['cpu [s]']:.1f} s CPU)")
             row[drive] = d
@@ -126,9 +138,10 @@ def measure(model_sets=("published", "fe-calibrated"), shapes=SHAPES, drives=DRI
                                          **{ms: bh_curvatures(shape, lambdas, ms) for ms in model_sets}}
         # controlled change of the support: the rule's currents on the table (seed 001: "not
         # anchored to the table"; gridshell_bh "table": weight + unilateral contact)
-        _, lambdas = drive_lambdas(shape, "rule")
-        row["rule, on the table"] = {"lambdas [-]": lambdas,
-                                     **{ms: bh_curvatures(shape, lambdas, ms, "table") for ms in model_sets}}
+        row["rule, on the table"] = {}
+        for ms in model_sets:
+            _, lambdas = drive_lambdas(shape, "rule", set_route(ms))
+            row["rule, on the table"][ms] = {**bh_curvatures(shape, lambdas, ms, "table"), "lambdas [-]": lambdas}
         for key in ("FE channel lambdas", "rule, on the table"):
             if key in row:
                 log(f"{shape:8s} {key}: " + "; ".join(f"{ms} {row[key][ms]['circle_x']:+.4f} / "

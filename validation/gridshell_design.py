@@ -209,10 +209,12 @@ def lambdas_by_name(design: GridshellDesign, p) -> dict:
 
 
 def currents_for(design: GridshellDesign, p) -> dict[str, dict[str, float]]:
-    """{route: {name: current [A]}} for both current routes."""
+    """{route: {name: current [A]}} for every thermal model of the current route ('strip' with the
+    grid exchange factor calibrated with the design's model set, :meth:`calibrate.ModelSet.current_route`)."""
     out = {}
+    ms = calibrate.model_set(design.model_set)
     for model in lumped_heat.THERMAL_MODELS:
-        route = lumped_heat.CurrentRouteConfig(thermal_model=model)
+        route = ms.current_route(lumped_heat.CurrentRouteConfig(thermal_model=model))
         out[model] = {str(k): current_for_lambda(float(v), route, design.lambda_N)
                       for k, v in zip(design.names, p)}
     return out

@@ -78,7 +78,8 @@ def main(args) -> int:
     summary = run_sequence(schedule, pathlib.Path(args.out), progress=not args.quiet, snapshot=snapshot,
                            report=lambda out, history, sched: plot_curvatures(out / "curvature_vs_time.png",
                                                                               history, sched),
-                           structure=structure, materials=materials, config=config)
+                           structure=structure, materials=materials, config=config,
+                           exchange_factor=model_set.exchange_factor)
     f = summary["final"]
     print(f"lcefem: gridshell sequence ({summary['support']}, thermal model {summary['thermal model']}): "
           f"{summary['outputs']} outputs to t = {schedule.end:g} s; final centre curvature x/y [1/mm]: "

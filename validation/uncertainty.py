@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import pathlib
 import time
 from dataclasses import dataclass
@@ -111,6 +112,9 @@ class StretchLaw:
     """Steady lambda [-] of a strip against the Joule power I^2 R [mW] of its coil (vectorised)."""
 
     thermal_model: str = "eq1"
+    #: The grid strip's exchange factor [-] (thermal model 'strip'): the model set's calibrated one
+    #: (:attr:`lcefem.validation.calibrate.ModelSet.exchange_factor`; default the published set's).
+    exchange_factor: float = lumped_heat.GRID_EXCHANGE_FACTOR
 
     @property
     def coil_resistance(self) -> float:
@@ -125,22 +129,25 @@ class StretchLaw:
         if self.thermal_model == "eq1":
             return eq1_stretch(power)
         # the lumped steady stretch depends on I^2 R only: tabulate over the power once
-        table_p, table_l = _segment_table() if self.thermal_model == "segment" else _strip_table()
+        table_p, table_l = (_segment_table() if self.thermal_model == "segment"
+                            else _strip_table(self.exchange_factor))
         return np.interp(power, table_p, table_l)
 
 
 _SEGMENT_TABLE: list = []
-_STRIP_TABLE: list = []
+_STRIP_TABLES: dict = {}
 
 
-def _strip_table():
-    """(power [mW], steady lambda [-]) of the grid strip with the calibrated grid exchange (issue 31)."""
-    if not _STRIP_TABLE:
+def _strip_table(exchange_factor: float = lumped_heat.GRID_EXCHANGE_FACTOR):
+    """(power [mW], steady lambda [-]) of the grid strip with the grid exchange factor
+    ``exchange_factor`` [-] (issue 31), per factor."""
+    if exchange_factor not in _STRIP_TABLES:
         r = GRID_STRIP.resistance
         currents = np.linspace(0.0, 0.3, 601)
-        lam = np.array([steady_stretch(float(i), GRID_STRIP, grid_thermal()) for i in currents])
-        _STRIP_TABLE[:] = [currents ** 2 * r * 1.0e3, lam]  # mW
-    return _STRIP_TABLE
+        model = grid_thermal(exchange_factor)
+        lam = np.array([steady_stretch(float(i), GRID_STRIP, model) for i in currents])
+        _STRIP_TABLES[exchange_factor] = [currents ** 2 * r * 1.0e3, lam]  # mW
+    return _STRIP_TABLES[exchange_factor]
 
 
 def _segment_table():
@@ -247,6 +254,9 @@ class BandsConfig:
     #: Nominal currents [A] per channel around which the spreads are drawn (None: the shape's
     #: programmed currents, validation/data/programs.toml).
     currents: dict | None = None
+    #: Grid exchange factor [-] of the 'strip' thermal model: None, the one calibrated with the model
+    #: set (:attr:`lcefem.validation.calibrate.ModelSet.exchange_factor`); a number overrides it.
+    exchange_factor: float | None = None
 
     def checked(self) -> "BandsConfig":
         if self.shape not in gs.SHAPES:
@@ -268,6 +278,9 @@ class BandsConfig:
                 raise InputError(f"currents: one per channel, {', '.join(CHANNELS)}; got {', '.join(self.currents)}")
             for c, i in self.currents.items():
                 check_current(f"currents[{c}]", i)
+        if self.exchange_factor is not None and not (math.isfinite(self.exchange_factor)
+                                                     and self.exchange_factor > 0):
+            raise InputError(f"--exchange-factor {self.exchange_factor}: must be > 0")
         return self
 
 
@@ -306,9 +319,10 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     cfg = cfg.checked()
     spec = gs.SHAPES[cfg.shape]
     currents = dict(spec["currents"] if cfg.currents is None else cfg.currents)
-    law = StretchLaw(cfg.thermal_model)
-    inputs = gridshell_inputs(cfg.shape)
     model_set = calibrate.model_set(cfg.model_set)  # its configuration (squares, contact, element) too
+    route = model_set.current_route(exchange_factor=cfg.exchange_factor)  # the set's factor unless given
+    law = StretchLaw(cfg.thermal_model, route.exchange_factor)
+    inputs = gridshell_inputs(cfg.shape)
     structure, base = model_set.structure(), model_set.materials
     started = time.perf_counter()
 
@@ -335,7 +349,8 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
     bar = Progress(float(cfg.samples), f"bands {cfg.shape}", "solves", ".0f", progress)
     config = {"shape": cfg.shape, "support": spec["support"], "currents [A]": currents,
               "thermal model": cfg.thermal_model, "model set": cfg.model_set,
-              "model set configuration": model_set.configuration, "samples": cfg.samples, "seed": cfg.seed,
+              "model set configuration": {**model_set.configuration,
+                                          "current.exchange_factor": route.exchange_factor}, "samples": cfg.samples, "seed": cfg.seed,
               "inputs": [dataclasses.asdict(i) for i in inputs]}
     with Run(out, config=config, columns=sample_columns(), history="samples.csv", progress=bar) as run:
         Y = np.full((cfg.samples, len(OUTPUTS)), np.nan)
@@ -438,12 +453,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="bar-and-hinge model set with its configuration: fe-calibrated (default; glue "
                         "squares, contact, strip element 'beam', the fitted factors) or published (two-node "
                         "strip bars, contracting squares; docs/gridshell_calibration.md)")
+    p.add_argument("--exchange-factor", type=float, default=None,
+                   help="grid exchange factor of thermal model 'strip' (default: the one calibrated with "
+                        "the model set, validation/data/grid_exchange_calibration*.json)")
     add_out_arguments(p, None)
 
 
 def prepare(args: argparse.Namespace) -> BandsConfig:
     return BandsConfig(args.shape, args.samples, args.sobol_samples, args.thermal_model, args.seed,
-                       args.model_set).checked()
+                       args.model_set, exchange_factor=args.exchange_factor).checked()
 
 
 def out_folder(args: argparse.Namespace) -> pathlib.Path:

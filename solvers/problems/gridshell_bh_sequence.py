@@ -52,7 +52,7 @@ from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMateri
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.lce import spontaneous_stretch
 from lcefem.models.limits import MAX_DURATION, check_current
-from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
+from lcefem.models.lumped_heat import (FREE_STRIP, GRID_EXCHANGE_FACTOR, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
                                        implicit_euler_step)
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.exports import BarHingeVTK
@@ -289,7 +289,8 @@ def columns_for(schedule: Schedule) -> list[str]:
 def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool = True,
                  structure: BarHingeStructure | None = None, frames: bool = True,
                  config: dict | None = None, snapshot=None, report=None, scales=None,
-                 frame=None, materials: BarHingeMaterials = BarHingeMaterials()) -> dict:
+                 frame=None, materials: BarHingeMaterials = BarHingeMaterials(),
+                 exchange_factor: float = GRID_EXCHANGE_FACTOR) -> dict:
     """Run a schedule through the run skeleton (outputs in the module docstring); returns the summary
     (with ``history``: the columns as lists). With ``out``: ``snapshot(out, phase, label, t,
     structure, x, support)`` at the last output of each phase and ``report(out, history, schedule)``
@@ -297,11 +298,14 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
     :class:`lcefem.models.cover_scales.CoverScales` puts the cover scales on the surface;
     ``frame(k, t, structure, x)`` is called at every output (e.g. a movie's frames). ``materials``
     and ``structure`` choose the model (e.g. the FE-calibrated set of
-    :func:`lcefem.validation.calibrate.model_set`: a structure with ``strip_element = "beam"``)."""
+    :func:`lcefem.validation.calibrate.model_set`: a structure with ``strip_element = "beam"``);
+    ``exchange_factor`` [-] is the grid strip's (thermal model 'strip'), the one calibrated with the
+    model set (default: the published set's, :data:`lcefem.models.lumped_heat.GRID_EXCHANGE_FACTOR`)."""
     structure = structure or build_gridshell_bar_hinge()
     check_selections(schedule, structure)
     times = schedule.output_times()
-    temps, lambdas = strip_histories(schedule, times)
+    thermal = grid_thermal(exchange_factor) if schedule.thermal_model == "strip" else LumpedThermal()
+    temps, lambdas = strip_histories(schedule, times, model=thermal)
     surface = QuasiStaticSurface(structure, schedule.support, materials, scales=scales)
     snapshots = phase_ends(schedule, times)
     bar = Progress(float(times[-1]), "sequence", "s", ".0f", progress)

@@ -86,10 +86,12 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
                    # issue 31: the grid strip (calibrated on the dome protocol only), judged against
                    # the experiment at the experiment's currents and at the paper's rule (Eq. 1
                    # inverted at the Fig. 4 lambdas, docs/gridshell_thermal.md)
-                   ("current (strip)", lumped_heat.CurrentRouteConfig()), ("current (strip, rule)", lumped_heat.CurrentRouteConfig()),
+                   # (each model set with the exchange factor calibrated with it, bh_routes.set_route)
+                   ("current (strip)", bh_routes.set_route("published")),
+                   ("current (strip, rule)", bh_routes.set_route("published")),
                    # the rule's currents in the FE-calibrated model set (strip element, plate torsion,
                    # fitted factors, validation.calibrate; within 10 % of the FE at the same lambdas)
-                   ("current (strip, rule, FE-calibrated)", lumped_heat.CurrentRouteConfig())]
+                   ("current (strip, rule, FE-calibrated)", bh_routes.set_route("fe-calibrated"))]
     for shape, spec in gs.SHAPES.items():
         chart["paper simulation"][shape] = spec["paper_sim"]
         chart["paper experiment"][shape] = spec["paper_exp"]
@@ -173,9 +175,10 @@ def current_route_support_rows(name: str) -> list[Metric]:
     to the table'; support 'table': weight and unilateral contact) in both model sets."""
     shape = "cylinder"
     spec = gs.SHAPES[shape]
-    lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), lumped_heat.CurrentRouteConfig())
     metrics = []
     for model_set in ("published", "fe-calibrated"):
+        lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]),
+                                                               bh_routes.set_route(model_set))
         try:
             k = bh_routes.bh_curvatures(shape, lambdas, model_set, "table")
         except ConvergenceError as exc:

@@ -225,7 +225,6 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
             f"DIR, then python -m lcefem.validation.gridshell_fe_current_store DIR"))
     from lcefem.validation import gridshell_current_route as bh_routes
 
-    route = lumped_heat.CurrentRouteConfig()  # the grid strip, as the FE heat source
     tol_src = "the issue's 10 % of the FE or 0.002 1/mm, the larger (validation.calibrate.REL_TOL, ABS_TOL)"
     for shape, run in runs.items():
         held, exp = run["held"], gs.SHAPES[shape]["paper_exp"]
@@ -235,13 +234,15 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
                f"junction_heating '{run.get('junction_heating', 'off')}' "
                f"(validation/data/{CURRENT_ROUTE_LEVEL1}); currents: {run['current rule']}; "
                f"{gs.SHAPE_SOURCES['curvatures']}")
-        lumped = lumped_heat.lambda_assignments_from_currents(run["current [A]"], route)
+        # each model set's lambdas through the exchange factor calibrated with it (bh_routes.set_route)
+        lumped = lumped_heat.lambda_assignments_from_currents(run["current [A]"], bh_routes.set_route("fe-calibrated"))
+        lumped_pub = lumped_heat.lambda_assignments_from_currents(run["current [A]"], bh_routes.set_route("published"))
         # the point 3 in the FE-calibrated model set (strip element, plate torsion, fitted
         # factors, validation.calibrate: within 10 % of the FE at the Fig. 4 lambdas), judged; the
         # published set informative; and the mechanics alone: the FE-calibrated BH at the FE's own
         # channel lambdas (the FE's heat, the BH's surface), judged
         bh_cal = bh_routes.bh_curvatures(shape, lumped, "fe-calibrated")
-        bh_pub = bh_routes.bh_curvatures(shape, lumped, "published")
+        bh_pub = bh_routes.bh_curvatures(shape, lumped_pub, "published")
         bh_mech = bh_routes.bh_curvatures(shape, bh_routes.fe_lambdas(held), "fe-calibrated")
         cal_src = ("bar-and-hinge, FE-calibrated model set (validation.calibrate.model_set: strip element "
                    "'beam', plate torsion, validation/data/bar_hinge_calibration.json; published supports "
