@@ -28,6 +28,8 @@ from lcefem.models.heat import SurfaceExchange, ThermalProperties, radiative_fil
 from lcefem.models.ribbon import GroundHeatExchange, SectionGrid
 from lcefem.models.rod import CORNER_SIGNS
 from lcefem.solvers.der import heat_kernels
+
+
 def _corner_view(a, b):
     """View factor from a point to the rectangle [0, a] x [0, b] of a parallel plane, a unit distance away,
     whose corner lies at the point's foot (Howell's catalogue C-11), extended odd in a and in b."""

@@ -61,3 +61,11 @@ def test_an_explicit_factor_overrides_the_sets():
         unc.BandsConfig(exchange_factor=-1.0).checked()
     with pytest.raises(InputError, match="model_set"):
         calibrate.exchange_factor("nope")
+
+
+def test_the_models_constant_is_the_published_sets_stored_calibration():
+    """models.lumped_heat.GRID_EXCHANGE_FACTOR (models/ cannot read validation data) restates the stored
+    published calibration; the two must not drift apart."""
+    from lcefem.models.lumped_heat import GRID_EXCHANGE_FACTOR
+
+    assert GRID_EXCHANGE_FACTOR == calibrate.exchange_factor("published")
