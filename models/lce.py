@@ -20,10 +20,13 @@ L(T_i) [-] of a lab's LCE along its director at temperatures T_i [C], interpolat
 (constant outside the table). It is normalised to the sigmoid law's two quantities,
 
     a(T)        = L(T) / L(T_ref)         (contraction ratio from the as-built state, a(T_ref) = 1),
-    lambda_s(T) = L(T) / L(T_max)         (spontaneous stretch from the isotropic length),
-    lambda_N    = L(T_ref) / L(T_max),
+    lambda_s(T) = L(T) / L_min            (spontaneous stretch from the isotropic length),
+    lambda_N    = L(T_ref) / L_min,
 
-with the hottest row T_max taken as the isotropic state (the curve's plateau). A MeasuredContraction
+with the table's smallest stretch L_min (its most contracted row) taken as the isotropic length: for
+a curve that falls to a plateau it is the hot end; a measured curve that rises again above its
+transition (thermal expansion of the isotropic network, e.g. the LTNI ink, +6 % from 70 to 150 C)
+keeps lambda_s >= 1. A MeasuredContraction
 passes wherever a :class:`NematicTransition` does: :func:`spontaneous_stretch`,
 :func:`contraction_ratio`, :func:`order_parameter` (Q of lambda_s by the Warner-Terentjev relation),
 :func:`spontaneous_deformation` and :func:`temperature_for_stretch` dispatch on it.
@@ -64,8 +67,8 @@ class MeasuredContraction:
     evaluated piecewise linearly between the rows and constant outside them (the first row's value
     below the table, the last row's above it: extrapolating a measured curve would invent data).
 
-    Normalisation (module docstring): a(T) = L(T)/L(T_ref), lambda_s(T) = L(T)/L(T_max) with T_max
-    the hottest row (taken as isotropic), lambda_N = L(T_ref)/L(T_max). L may be measured from any
+    Normalisation (module docstring): a(T) = L(T)/L(T_ref), lambda_s(T) = L(T)/L_min with L_min the
+    table's smallest stretch (taken as isotropic), lambda_N = L(T_ref)/L_min. L may be measured from any
     length (e.g. L(T)/L(25 C), or strain + 1): only its ratios enter.
 
     Build it with :meth:`from_rows` (strain or stretch, either temperature order); a CSV file is read
@@ -135,13 +138,18 @@ class MeasuredContraction:
         return float(np.interp(self.T_ref, self.temperatures, self.values))
 
     @property
+    def isotropic_stretch(self) -> float:
+        """L_min [-]: the table's smallest stretch, taken as the isotropic length."""
+        return min(self.values)
+
+    @property
     def lambda_N(self) -> float:
-        """L(T_ref) / L(T_max) [-]: the as-built spontaneous stretch from the isotropic length."""
-        return self.reference_stretch / self.values[-1]
+        """L(T_ref) / L_min [-]: the as-built spontaneous stretch from the isotropic length."""
+        return self.reference_stretch / self.isotropic_stretch
 
     def stretch(self, T):
-        """Spontaneous stretch lambda_s(T) = L(T)/L(T_max) [-] (float, ndarray or UFL)."""
-        return self.measured(T) / self.values[-1]
+        """Spontaneous stretch lambda_s(T) = L(T)/L_min [-] (float, ndarray or UFL)."""
+        return self.measured(T) / self.isotropic_stretch
 
     def contraction(self, T):
         """a(T) = L(T)/L(T_ref) [-] (float, ndarray or UFL); a(T_ref) = 1."""
@@ -150,7 +158,7 @@ class MeasuredContraction:
     def temperature_for_stretch(self, stretch):
         """The temperature [C] where lambda_s(T) = ``stretch`` [-] (numpy or float), by inverse linear
         interpolation; needs a strictly decreasing curve (else the inverse is not unique)."""
-        L = np.asarray(self.values) / self.values[-1]
+        L = np.asarray(self.values) / self.isotropic_stretch
         if np.any(np.diff(L) >= 0):
             raise InputError("contraction curve: the stretch does not fall strictly with temperature; "
                              "a prescribed stretch needs a strictly decreasing curve")
@@ -182,7 +190,7 @@ def spontaneous_stretch(T, transition: NematicTransition | MeasuredContraction):
     """Spontaneous stretch lambda_s(T) [-] along the director, relative to the isotropic length.
 
     lambda_s = ((1 + 2Q)/(1 - Q))^(1/3) (Warner & Terentjev 2007); lambda_s(T_ref) = lambda_N and
-    lambda_s -> 1 in the isotropic phase. A measured curve gives L(T)/L(T_max).
+    lambda_s -> 1 in the isotropic phase. A measured curve gives L(T)/L_min.
     """
     if isinstance(transition, MeasuredContraction):
         return transition.stretch(T)

@@ -134,4 +134,4 @@ def law_summary(law) -> dict:
         return {}
     return {"table": {"value": [list(r) for r in law.rows()], "unit": "C, -",
                       "source": law.source + " (free stretch L(T); piecewise linear, constant outside)"},
-            "lambda_N": {"value": law.lambda_N, "unit": "-", "source": "L(T_ref)/L(T_max) of the table"}}
+            "lambda_N": {"value": law.lambda_N, "unit": "-", "source": "L(T_ref)/L_min of the table"}}
