@@ -4,7 +4,8 @@ for 6 s at 0.2 A (dt 1 s: the mean temperature rises 25 -> 50 C, through the sig
 - A table sampled from the present sigmoid reproduces the sigmoid's strip within the interpolation
   error, and the difference falls quadratically with the row spacing (measured: max |stretch
   difference| over the history 1.91e-3, 4.63e-4, 1.26e-4 at 8, 4, 2 K; ratios 4.1, 3.7).
-- A curve with a steeper onset (same amplitude, same onset temperature) contracts the strip earlier.
+- A curve with a steeper onset (same amplitude, same onset temperature) contracts the strip earlier
+  (measured: 1 % contraction at 0.33 s against 1.44 s; stretch 1.099 against 1.331 at 6 s).
 """
 
 from __future__ import annotations
