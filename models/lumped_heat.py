@@ -42,6 +42,7 @@ Units: mm, s, mW, C, ohm, A.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -53,7 +54,7 @@ from lcefem.models.empirical import Eq1, eq1_power, eq1_stretch
 from lcefem.models.errors import InputError
 from lcefem.models.heat import (GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil, SurfaceExchange,
                                 ThermalProperties, joule_power, radiative_film_coefficient)
-from lcefem.models.lce import NematicTransition, spontaneous_stretch
+from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneous_stretch
 from lcefem.models.limits import check_current
 from lcefem.models.parameters import param
 
@@ -108,7 +109,7 @@ def grid_segment_resistance(segment_isotropic_length: float = 30.0 / PUBLISHED_L
 class LumpedThermal:
     """Material and exchange parameters of the lumped balance (all calibrated or assumed elsewhere)."""
 
-    transition: NematicTransition = NematicTransition()
+    transition: NematicTransition | MeasuredContraction = NematicTransition()
     exchange: SurfaceExchange = SurfaceExchange()
     thermal: ThermalProperties = ThermalProperties()
 
@@ -238,19 +239,33 @@ class CurrentRouteConfig:
                                    "over the free strip's (thermal model 'strip'); calibrated on the "
                                    "dome protocol (validation/data/grid_exchange_calibration.json)",
                                    positive=True)
+    curve: str = param("", "-", "CSV of the LCE's measured free stretch or strain against temperature: the "
+                       "lumped strip's lambda_s(T) (thermal models 'strip' and 'segment'; read by "
+                       "lcefem.solvers.current_routes.route_from_config); empty: the calibrated sigmoid")
 
     def checked(self) -> "CurrentRouteConfig":
         if self.thermal_model not in THERMAL_MODELS:
             raise InputError(f"current.thermal_model = {self.thermal_model!r}: allowed "
                              f"{', '.join(THERMAL_MODELS)}")
+        if self.curve and self.thermal_model == "eq1":
+            raise InputError(f"current_route.curve = {self.curve!r}: allowed only with thermal_model 'strip' "
+                             "or 'segment' (Eq. 1 is a fit of its own)")
         return self
 
-    def lumped(self) -> tuple[HeatedStrip, "LumpedThermal"]:
+    def lumped(self, law: MeasuredContraction | None = None) -> tuple[HeatedStrip, "LumpedThermal"]:
         """The lumped body and its thermal model for the 'strip' and 'segment' thermal models (the
-        exchange factor applies to the grid strip only)."""
+        exchange factor applies to the grid strip only); ``law``: a measured curve replacing the
+        transition's sigmoid in lambda_s(T) (the heat balance's sqrt(lambda) and the strip's lambda)."""
+        if self.curve and law is None:
+            raise InputError(f"current_route.curve = {self.curve!r}: the curve is read by "
+                             "lcefem.solvers.current_routes.route_from_config; pass its law")
         if self.thermal_model == "segment":
-            return self.segment, LumpedThermal()
-        return self.strip, grid_thermal(self.exchange_factor)
+            thermal = LumpedThermal()
+        else:
+            thermal = grid_thermal(self.exchange_factor)
+        if law is not None:
+            thermal = dataclasses.replace(thermal, transition=law)
+        return (self.segment if self.thermal_model == "segment" else self.strip), thermal
 
 
 def grid_thermal(exchange_factor: float = GRID_EXCHANGE_FACTOR) -> LumpedThermal:
@@ -265,21 +280,23 @@ def grid_thermal(exchange_factor: float = GRID_EXCHANGE_FACTOR) -> LumpedThermal
 
 
 def stretch_from_current(current: float, route: CurrentRouteConfig = CurrentRouteConfig(),
-                         lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
+                         lambda_N: float = PUBLISHED_LAMBDA_N, law: MeasuredContraction | None = None) -> float:
     """Steady lambda [-] of a grid strip at ``current`` [A], capped at the as-built lambda_N (a strip
-    whose free length would exceed its glued length is slack: rest fraction 1)."""
+    whose free length would exceed its glued length is slack: rest fraction 1); ``law``: the measured
+    curve ``route.curve`` names (:meth:`CurrentRouteConfig.lumped`)."""
     if route.checked().thermal_model == "eq1":
         lam = float(eq1_stretch(Coil().power(current), Eq1()))
     else:
-        strip, model = route.lumped()
+        strip, model = route.lumped(law)
         lam = steady_stretch(current, strip, model)
     return min(lam, lambda_N)
 
 
 def lambda_assignments_from_currents(currents: dict, route: CurrentRouteConfig = CurrentRouteConfig(),
-                                     lambda_N: float = PUBLISHED_LAMBDA_N) -> dict:
+                                     lambda_N: float = PUBLISHED_LAMBDA_N,
+                                     law: MeasuredContraction | None = None) -> dict:
     """{selection: current [A]} -> {selection: lambda [-]} through :func:`stretch_from_current`."""
-    return {k: stretch_from_current(float(v), route, lambda_N) for k, v in currents.items()}
+    return {k: stretch_from_current(float(v), route, lambda_N, law) for k, v in currents.items()}
 
 
 def eq1_current(stretch: float, resistance: float = GRID_STRIP_RESISTANCE) -> float:

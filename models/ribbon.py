@@ -143,6 +143,10 @@ class RibbonLCE:
                                     "contract gradually over 40-140 C (broad transition of a polydisperse "
                                     "network), against 6.2 K calibrated for seed 001's strips", positive=True)
 
+    curve: str = param("", "-", "CSV of a measured free stretch or strain against temperature replacing the "
+                       "sigmoid (T_NI, transition_width, actuation_stretch) (read by "
+                       "lcefem.solvers.contraction_curve; the curve's own amplitude is lambda_N); empty: the sigmoid")
+
     def transition(self) -> NematicTransition:
         """The ribbon's nematic-isotropic transition (models.lce law, T_ref 25 C as built)."""
         return NematicTransition(T_NI=self.T_NI, width=self.transition_width, lambda_N=self.actuation_stretch)

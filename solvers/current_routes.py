@@ -8,7 +8,7 @@ at the currents to its steady state (:class:`FEHeatedRoute`, around
 These are thin adapters: each calls the route's existing code (models.lumped_heat's
 ``steady_stretch`` and ``eq1_stretch``, HeatedGridshellFE's ``steady_hold`` and observables), so
 a change of a route's physics there reaches the adapter unchanged. The configuration section of
-a run (which route, which strip, the exchange factor) stays
+a run (which route, which strip, the exchange factor, a measured contraction curve) stays
 :class:`lcefem.models.lumped_heat.CurrentRouteConfig`; :func:`route_from_config` turns it into a route
 (``lcefem run gridshell --route current`` and ``--current`` take their lambdas through it).
 
@@ -31,7 +31,9 @@ from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.empirical import Eq1, eq1_stretch
 from lcefem.models.errors import InputError
 from lcefem.models.heat import Coil
+from lcefem.models.lce import MeasuredContraction
 from lcefem.models.limits import check_current
+from lcefem.solvers.contraction_curve import read_contraction_csv
 
 
 @runtime_checkable
@@ -114,8 +116,16 @@ def route_from_config(config: lh.CurrentRouteConfig = lh.CurrentRouteConfig(),
     config = config.checked()
     if config.thermal_model == "eq1":
         return Eq1Route(lambda_N=lambda_N)
-    strip, thermal = config.lumped()
+    strip, thermal = config.lumped(curve_law(config))
     return LumpedRoute(strip, thermal, lambda_N, config.thermal_model)
 
 
-__all__ = ["CurrentRoute", "Eq1Route", "FEHeatedRoute", "LumpedRoute", "route_from_config"]
+def curve_law(config: lh.CurrentRouteConfig) -> MeasuredContraction | None:
+    """The measured curve ``config.curve`` names (as built at 25 C, the calibrated transition's T_ref),
+    or None for the sigmoid."""
+    if not config.curve:
+        return None
+    return read_contraction_csv(config.curve, lh.LumpedThermal().transition.T_ref)
+
+
+__all__ = ["CurrentRoute", "Eq1Route", "FEHeatedRoute", "LumpedRoute", "curve_law", "route_from_config"]

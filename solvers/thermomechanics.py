@@ -25,7 +25,8 @@ import dolfinx
 from lcefem.meshes._gmsh import TaggedMesh
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
                                         neo_hookean_strain_energy)
-from lcefem.models.lce import NematicTransition, inverse_spontaneous_deformation
+from lcefem.models.errors import InputError
+from lcefem.models.lce import MeasuredContraction, NematicTransition, inverse_spontaneous_deformation
 from lcefem.solvers import continuation
 from lcefem.solvers.heat import HeatProblem, HeatSetup
 from lcefem.solvers.mechanics import (HyperelasticProblem, deformation_gradient, displacement_space,
@@ -38,7 +39,7 @@ class LCERegion:
 
     cells: Sequence[str]
     director: object
-    transition: NematicTransition = field(default_factory=NematicTransition)
+    transition: NematicTransition | MeasuredContraction = field(default_factory=NematicTransition)
     elasticity: LCEElasticity = field(default_factory=LCEElasticity)
 
 
@@ -85,13 +86,16 @@ class ThermoMechanicalModel:
         # Transition and elasticity parameters enter the forms as Constants (compiled once, changeable).
         self._constants: list[tuple[LCERegion, dict, dict]] = []
         for region in lce:
-            tc = {f.name: dolfinx.fem.Constant(tmesh.mesh, PETSc.ScalarType(getattr(region.transition, f.name)))
-                  for f in dataclasses.fields(region.transition)}
+            # a measured curve's rows are compiled into the form as literals (a chain of conditionals)
+            measured = isinstance(region.transition, MeasuredContraction)
+            tc = {} if measured else {
+                f.name: dolfinx.fem.Constant(tmesh.mesh, PETSc.ScalarType(getattr(region.transition, f.name)))
+                for f in dataclasses.fields(region.transition)}
             ec = {f.name: dolfinx.fem.Constant(tmesh.mesh, PETSc.ScalarType(getattr(region.elasticity, f.name)))
                   for f in dataclasses.fields(region.elasticity)}
             self._constants.append((region, tc, ec))
             symbolic = LCERegion(region.cells, region.director,
-                                 dataclasses.replace(region.transition, **tc),
+                                 region.transition if measured else dataclasses.replace(region.transition, **tc),
                                  dataclasses.replace(region.elasticity, **ec))
             W = lce_energy_density(self.u, self.T_mech, symbolic)
             energy += W * dx(tuple(tmesh.cell_tag(c) for c in region.cells))
@@ -109,7 +113,10 @@ class ThermoMechanicalModel:
     def set_lce_parameters(self, index: int, transition: NematicTransition | None = None,
                            elasticity: LCEElasticity | None = None) -> None:
         """Change the transition/elasticity of LCE region ``index`` without recompiling the forms."""
-        _, tc, ec = self._constants[index]
+        region, tc, ec = self._constants[index]
+        if transition is not None and not tc:
+            raise InputError(f"LCE region {index}: its law is a measured contraction curve (compiled into the "
+                             "forms); allowed only elasticity changes")
         for params, consts in ((transition, tc), (elasticity, ec)):
             if params is not None:
                 for name, c in consts.items():

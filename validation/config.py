@@ -22,6 +22,10 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
                              f"{', '.join(sorted(allowed_sections))}")
         if not isinstance(value, dict):
             raise InputError(f"'{key}' in {path.name} must be a table [{key}]")
+        curve = value.get("curve")
+        if isinstance(curve, str) and curve and not pathlib.Path(curve).is_absolute():
+            # a measured contraction curve named in a case file sits beside it, wherever the run starts
+            value["curve"] = str(path.parent / curve)
     return data
 
 

@@ -22,7 +22,7 @@ from lcefem.models.contact import Block, ContactLaw, FrictionLaw, Wall
 from lcefem.models.errors import InputError
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
-from lcefem.models.lce import NematicTransition, contraction_ratio
+from lcefem.models.lce import MeasuredContraction, NematicTransition, contraction_ratio
 from lcefem.models.parameters import param
 from lcefem.models.ribbon import (SEED000_RIBBON, GroundHeatExchange, HelicoidCoupling, RibbonGeometry,
                                   SectionGrid, natural_strains)
@@ -291,7 +291,7 @@ class RibbonSetup(RibbonSections):
     seed 000's ribbon LCE (``models.ribbon.SEED000_RIBBON``, issue 32)."""
 
     ground_temperature: float = 80.0
-    transition: NematicTransition = field(default_factory=SEED000_RIBBON.transition)
+    transition: NematicTransition | MeasuredContraction = field(default_factory=SEED000_RIBBON.transition)
     elasticity: LCEElasticity = field(default_factory=SEED000_RIBBON.elasticity)
     walls: tuple[Wall, ...] = ()  # obstacles on the plate, placed relative to the as-built ribbon
     blocks: tuple[Block, ...] = ()  # blocks of finite size on the plate (those of width 0 are left out)
@@ -561,8 +561,9 @@ CONTRACTION_TABLE = (-50.0, 350.0, 0.05)
 
 
 @functools.lru_cache(maxsize=8)
-def tabulated_contraction(transition: NematicTransition) -> TabulatedLaw:
-    """a(T) = ``models.lce.contraction_ratio`` tabulated on ``CONTRACTION_TABLE`` (one table per transition)."""
+def tabulated_contraction(transition: NematicTransition | MeasuredContraction) -> TabulatedLaw:
+    """a(T) = ``models.lce.contraction_ratio`` tabulated on ``CONTRACTION_TABLE`` (one table per transition;
+    a measured curve's piecewise-linear a(T) too: at the table's nodes it is exact)."""
     return TabulatedLaw.of(functools.partial(contraction_ratio, transition=transition), *CONTRACTION_TABLE)
 
 

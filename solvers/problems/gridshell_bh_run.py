@@ -26,7 +26,8 @@ from lcefem.models.loads import SurfaceWeight
 from lcefem.models.lumped_heat import CurrentRouteConfig, shape_currents
 from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, PathResult
-from lcefem.solvers.current_routes import route_from_config
+from lcefem.solvers.contraction_curve import law_summary
+from lcefem.solvers.current_routes import curve_law, route_from_config
 from lcefem.solvers.exports import BarHingeFrames
 from lcefem.solvers.runner import HistoryExport, run_path
 from lcefem.solvers.runtime.files import write_text
@@ -166,6 +167,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         self.layout.checked()
         self.mesh.checked()
         self.current_route.checked()
+        curve_law(self.current_route)  # a bad curve file is an InputError before the run
         named = bool(self.run.shape or self.run.recipe)
         if named and (self.lambdas or self.currents):
             raise InputError("--lambda/--current: not with --shape or --recipe (they set the strips)")
@@ -211,6 +213,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         out = {name: describe(getattr(self, name)) for name in self.PARAM_SECTIONS}
         out["current_route"]["segment"]["value"] = describe(self.current_route.segment)
         out["current_route"]["strip"]["value"] = describe(self.current_route.strip)
+        out["current_route"].update(law_summary(curve_law(self.current_route)))
         out["lambda"] = dict(self.lambdas)
         out["current"] = dict(self.currents)
         mesh, lce, support = self.effective

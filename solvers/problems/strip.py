@@ -40,10 +40,11 @@ from lcefem.meshes.strip import StripGeometry, StripMesh, build_strip_mesh, stri
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
-from lcefem.models.lce import NematicTransition, spontaneous_stretch, temperature_for_stretch
+from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneous_stretch, temperature_for_stretch
 from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check_current, current_param
 from lcefem.models.parameters import param
 from lcefem.solvers import cost
+from lcefem.solvers.contraction_curve import LCECurve, law_summary
 from lcefem.solvers.exports import FEFields
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure
@@ -85,9 +86,16 @@ class StripConfig:
     geometry: StripGeometry = field(default_factory=StripGeometry)
     mesh: StripMesh = field(default_factory=StripMesh)
     petsc: dict = field(default_factory=dict)
+    lce: LCECurve = field(default_factory=LCECurve)
+
+    def law(self) -> NematicTransition | MeasuredContraction:
+        """The contraction law: the [transition] sigmoid, or the measured curve of ``lce.curve`` (its
+        lambda_N then sets the as-built length L_iso lambda_N and the section)."""
+        return self.lce.law(self.transition)
 
     def validated(self) -> "StripConfig":
         check_config(self)
+        self.law()  # a bad curve file is an InputError before any mesh
         if self.run.bc not in BOUNDARY_CONDITIONS:
             raise InputError(f"run.bc = {self.run.bc!r}: allowed {', '.join(BOUNDARY_CONDITIONS)}")
         if self.run.dt > self.run.duration:
@@ -101,7 +109,7 @@ class StripConfig:
 
     def estimate(self) -> cost.Estimate:
         """Steps, cells, DOFs and memory of this run, before the mesh is built (lcefem.solvers.cost)."""
-        counts = strip_mesh_counts(self.geometry, self.transition.lambda_N, self.mesh)
+        counts = strip_mesh_counts(self.geometry, self.law().lambda_N, self.mesh)
         dofs = 3.0 * counts["nodes"]
         est = cost.Estimate().count("cells", counts["cells"]).count("dofs", dofs)
         est.memory(f"mesh.size = {self.mesh.size} mm, mesh.level = {self.mesh.level}",
@@ -113,7 +121,9 @@ class StripConfig:
         return est
 
     def resolved(self) -> dict:
-        return resolved(self)
+        out = resolved(self)
+        out["lce"].update(law_summary(self.law()))
+        return out
 
 
 @dataclass
@@ -129,7 +139,7 @@ class StripSimulation:
 
     def __init__(self, config: StripConfig, comm: MPI.Comm | None = None):
         self.config = config = config.validated()
-        tr = config.transition
+        self.law = tr = config.law()
         self.tmesh = tm = build_strip_mesh(config.geometry, tr.lambda_N, config.mesh, comm)
         self.comm = comm = tm.mesh.comm
         info = tm.info
@@ -257,7 +267,7 @@ class StripSimulation:
         1 < lambda_s <= lambda_N) uniform, per cell tag or a callable, through the temperature at
         which the transition gives it (:func:`lcefem.models.lce.temperature_for_stretch`); returns
         the step report."""
-        tr = self.config.transition
+        tr = self.law
         now = np.asarray(spontaneous_stretch(self.model.heat.T.x.array, tr), dtype=float)
         lam = self._nodal_field(stretch, "spontaneous_stretch", now)
         if not np.all((lam > 1.0) & (lam <= tr.lambda_N * (1.0 + 1e-12))):
@@ -375,7 +385,7 @@ class StripSimulation:
             record(rows[-1], step, where)
         return {"as_built": {k: self.dims[k] for k in ("length", "width", "thickness", "coil_side",
                                                         "length_isotropic", "lambda_N")},
-                "metrics": transient_metrics(_as_arrays(rows), cfg.transition, crossing_temperature),
+                "metrics": transient_metrics(_as_arrays(rows), self.law, crossing_temperature),
                 "steps": n_steps, "dt [s]": dt, "newton_iterations": total_its}
 
     def _mesh_summary(self) -> dict:
@@ -429,7 +439,7 @@ def first_crossing(t: np.ndarray, y: np.ndarray, level: float, rising: bool = Tr
     return float(t[i - 1] + (t[i] - t[i - 1]) * (-s[i - 1]) / (s[i] - s[i - 1]))
 
 
-def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransition,
+def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransition | MeasuredContraction,
                       crossing_temperature: float | None = None) -> dict:
     """Times to ``crossing_temperature`` [C] (mean and surface temperature; keys
     "time_to_<T>C_mean [s]", "time_to_<T>C_surface [s]"; only if it is given: a temperature an

@@ -30,10 +30,12 @@ import numpy as np
 
 from lcefem.models.contact import Block
 from lcefem.models.errors import InputError
+from lcefem.models.lce import MeasuredContraction, NematicTransition
 from lcefem.models.limits import DECOMPOSITION_TEMPERATURE
 from lcefem.models.parameters import param
 from lcefem.models.ribbon import SEED000_RIBBON, RibbonGeometry, RibbonLCE
 from lcefem.solvers import cost
+from lcefem.solvers.contraction_curve import LCECurve, law_summary
 from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, RibbonSections, RibbonSetup,
                                        RibbonSimulation)
@@ -75,8 +77,13 @@ class RibbonConfig(RibbonSections):
     SECTIONS = ("run", "geometry", "numerics", "material", "thermal", "air", "ground_heat", "contact",
                 "friction", "obstacle")
 
+    def law(self) -> NematicTransition | MeasuredContraction:
+        """The ribbon's contraction law: the material's sigmoid, or the measured curve of ``material.curve``."""
+        return LCECurve(self.material.curve).law(self.material.transition())
+
     def validated(self) -> "RibbonConfig":
         check_config(self)
+        self.law()  # a bad curve file is an InputError before the run
         ob = self.obstacle
         ob.block_temperature(self.run.ground_temperature, self.air.ambient_temperature)  # obstacle.heat is one of Block.HEAT
         if ob.present:
@@ -113,6 +120,7 @@ class RibbonConfig(RibbonSections):
 
     def resolved(self) -> dict:
         out = resolved(self)
+        out["material"].update(law_summary(self.law()))
         return {name: out[name] for name in self.SECTIONS}
 
     def setup(self) -> RibbonSetup:
@@ -120,7 +128,7 @@ class RibbonConfig(RibbonSections):
         the obstacle."""
         sections = {f.name: getattr(self, f.name) for f in dataclasses.fields(RibbonSections)}
         return RibbonSetup(**sections, ground_temperature=self.run.ground_temperature,
-                           transition=self.material.transition(), elasticity=self.material.elasticity(),
+                           transition=self.law(), elasticity=self.material.elasticity(),
                            blocks=(self.obstacle,) if self.obstacle.present else ())
 
 

@@ -15,6 +15,12 @@ the runs only show how the threshold and the hot plates depend on where the curv
 the datum issue 32 misses. Every other value is the default; runs use the converged heat and contact
 settings (``ribbon_material_scan.CONVERGED``). One JSON row per run is appended to ``--out``
 (``ribbon_convergence.run``) with ``changes`` naming the curve.
+
+The curves are read from validation/data/curves/kotikian2024_<name>.csv (the same rows as the
+literature file); the shaped a(T) goes to the ribbon through its case-file option ``material.curve``
+(a CSV, ``<out>.<name>.curve.csv``, sampled at the nodes of the ribbon's a(T) table,
+``solvers.der.ribbon.CONTRACTION_TABLE``, every 0.05 K from 25 to 150 C: the ribbon's table then holds
+the same values as when this study replaced the table in code, and the runs give the same numbers).
 """
 
 from __future__ import annotations
@@ -24,22 +30,20 @@ import json
 import os
 import pathlib
 import sys
-import tomllib
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-LITERATURE = pathlib.Path(__file__).resolve().parents[1] / "data" / "ribbon_lce_literature.toml"
+CURVE_FILES = pathlib.Path(__file__).resolve().parents[1] / "data" / "curves"
 CURVES = ("LTNI", "HTNI")
 
 
 def measured_curve(name: str) -> tuple[list[float], list[float]]:
     """(temperatures [C], free stretch L(T)/L(25 C) [-]) of the printed ink ``name`` (LTNI or HTNI)."""
-    data = tomllib.loads(LITERATURE.read_text())
-    for entry in data.get("entry", []):
-        if f"value_{name}" in entry:
-            return list(entry["temperature"]), list(entry[f"value_{name}"])
-    raise SystemExit(f"{LITERATURE}: no entry with value_{name}")
+    from lcefem.solvers.contraction_curve import read_contraction_csv
+
+    curve = read_contraction_csv(CURVE_FILES / f"kotikian2024_{name}.csv")
+    return list(curve.temperatures), list(curve.values)
 
 
 def contraction_of_shape(name: str, lambda_N: float):
@@ -56,6 +60,27 @@ def contraction_of_shape(name: str, lambda_N: float):
         return 1.0 - amplitude * f(t)
 
     return a
+
+
+def shaped_curve_file(name: str, lambda_N: float, path: pathlib.Path) -> pathlib.Path:
+    """Write a(T) of :func:`contraction_of_shape` as a curve CSV at ``path``: rows at 25 and 150 C and at
+    every node of the ribbon's a(T) table between them (``CONTRACTION_TABLE``: the same floats), so the
+    ribbon's table of the piecewise-linear curve equals the former table of a(T) node for node."""
+    import numpy as np
+
+    from lcefem.models.lce import MeasuredContraction
+    from lcefem.solvers.contraction_curve import write_contraction_csv
+    from lcefem.solvers.der.ribbon import CONTRACTION_TABLE
+
+    lo, hi, h = CONTRACTION_TABLE
+    T_data = measured_curve(name)[0]
+    nodes = lo + h * np.arange(-1, int(np.ceil((hi - lo) / h)) + 2)  # as TabulatedLaw.of places them
+    T = np.concatenate([[T_data[0]], nodes[(nodes > T_data[0]) & (nodes < T_data[-1])], [T_data[-1]]])
+    a = contraction_of_shape(name, lambda_N)(T)
+    source = (f"shape of the printed ink {name}'s free stretch (Kotikian et al. 2024, "
+              f"validation/data/curves/kotikian2024_{name}.csv, PCHIP) with the ribbon's amplitude "
+              f"1 - 1/lambda_N, lambda_N = {lambda_N:g}; benchmarks/ribbon_curve_shape.py")
+    return write_contraction_csv(path, MeasuredContraction.from_rows(T, a, source=source))
 
 
 def main(argv=None) -> int:
@@ -78,16 +103,13 @@ def main(argv=None) -> int:
         return 2
 
     from lcefem.models.ribbon import SEED000_RIBBON
-    from lcefem.solvers.der import ribbon as der_ribbon
-    from lcefem.solvers.der.tabulated import TabulatedLaw
     from lcefem.validation.benchmarks.ribbon_convergence import run
     from lcefem.validation.benchmarks.ribbon_material_scan import CONTACT_SPACING, CONVERGED
 
-    law = TabulatedLaw.of(contraction_of_shape(args.curve, SEED000_RIBBON.actuation_stretch),
-                          *der_ribbon.CONTRACTION_TABLE)
-    # The what-if: the simulation takes a(T) only through this table (RibbonSimulation.contraction).
-    der_ribbon.tabulated_contraction = lambda transition: law
-    extra = [] if args.perturbation == 0.01 else [f"numerics.perturbation={args.perturbation}"]
+    curve_file = shaped_curve_file(args.curve, SEED000_RIBBON.actuation_stretch,
+                                   args.out.with_name(f"{args.out.name}.{args.curve}.curve.csv"))
+    extra = [f"material.curve={curve_file}"]
+    extra += [] if args.perturbation == 0.01 else [f"numerics.perturbation={args.perturbation}"]
     scratch = args.out.with_name(args.out.name + ".part")
     for T in plates:
         scratch.unlink(missing_ok=True)
