@@ -25,7 +25,7 @@ from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_RATIO, LCEElasticity
 from lcefem.models.bar_hinge_materials import GlueBars
 from lcefem.models.lce import NematicTransition
-from lcefem.models.limits import MAX_CURRENT
+from lcefem.models.limits import CURRENT_RANGE, check_current
 
 _T = NematicTransition()
 _E = LCEElasticity()
@@ -126,7 +126,7 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "duration": (NUM, "s", 30.0, (POSITIVE, 1e6), "simulated time (transient)"),
         "dt": (NUM, "s", 0.5, (POSITIVE, 1e5), "time step (backward Euler)"),
         "steady": (BOOL, "-", False, None, "thermal and mechanical equilibrium at the drives at t = 0"),
-        "currents": (TABLE, "A", {}, (0.0, MAX_CURRENT), "coil name = current, or [[t, I], ...]"),
+        "currents": (TABLE, "A", {}, None, "coil name = current, or [[t, I], ...] (" + CURRENT_RANGE + ")"),
         "temperatures": (TABLE, "C", {}, (-273.15, 400.0), "fixed heat name = T, or [[t, T], ...]"),
         "loads": (TABLE, "-", {}, (-1e6, 1e6), "load name = factor, or [[t, f], ...]"),
         "schedule": (STR, "-", None, None, "CSV: 'time [s]' then '<tag> [A|C|-]' columns"),
@@ -517,6 +517,8 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                 check.fail(f"[program].{kind}.{tag}", f"not a {kind[:-1]} tag; allowed: "
                            f"{', '.join(sorted(known[kind])) or 'none'}")
             drives[kind][tag] = _schedule(check, f"[program].{kind}.{tag}", value, bounds, units[kind])
+            if kind == "currents":
+                check_current(f"{check.file}: [program].currents.{tag}", list(drives[kind][tag].values))
     if prog["schedule"] is not None:
         by_unit = {"A": "currents", "C": "temperatures", "-": "loads"}
         for tag, (unit, sched) in _read_schedule_csv(check, path.parent / prog["schedule"],
@@ -529,6 +531,8 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                 check.fail("[program].schedule", f"{tag!r} is also given in [program].{kind}")
             for v in sched.values:
                 check.number(f"[program].schedule {tag}", v, SCHEMA["program"][kind][3], unit)
+            if kind == "currents":
+                check_current(f"{check.file}: [program].schedule {tag}", list(sched.values))
             drives[kind][tag] = sched
     return BodyCase(path=path.resolve(), mesh=sec["mesh"], thermal=sec["thermal"],
                     regions=tuple(arr["regions"]), coils=tuple(arr["coils"]), heat=tuple(arr["heat"]),
