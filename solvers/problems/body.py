@@ -212,6 +212,11 @@ class BodyProblem:
                                            external_work=external_work if case.loads else None,
                                            petsc_options=case.petsc, prefix="lcefem_body_",
                                            heat_source=self.q if case.coils else None, heat_bcs=heat_bcs)
+        # the as-built state is the mesh at T_ref (F_s = I): the mechanics starts there, and the run
+        # brings it to the initial temperature when that differs
+        t_refs = {tr.T_ref for _, tr in self._transitions}
+        if len(t_refs) == 1:
+            self.model.T_mech.x.array[:] = t_refs.pop()
         self._observables_setup(case, one, ds, dx)
         self.lambda_s = dolfinx.fem.Function(self.model.heat.V, name="spontaneous_stretch")
         self._lambda_exprs = [(tm.cell_tags.find(tm.cell_tag(n)), dolfinx.fem.Expression(
