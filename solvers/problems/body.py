@@ -22,8 +22,8 @@ program also sets fixed boundary temperatures [C] and load factors [-] by name.
 Observables, "name [unit]": ``T_mean [C]``, ``T_max [C]`` (whole mesh), ``T_mean <set> [C]``,
 ``T_max <set> [C]`` per cell set, ``power <coil> [mW]`` (whole coil), per probe ``u_x|u_y|u_z
 <probe> [mm]`` and ``T <probe> [C]`` (a boundary's mean over its reference area, or a point's
-value), per clamp or roller ``reaction_<c> <name> [N]`` (the force the body exerts on the support,
-times the symmetry factor).
+value), per clamp or roller ``reaction_<c> <name> [N]`` (the support's force on the body, its
+component c, times the symmetry factor: a block pulled by +F along x shows -F on its x roller).
 """
 
 from __future__ import annotations
