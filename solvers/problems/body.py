@@ -87,6 +87,17 @@ def twisted_layer_director(x, axis: int, bounds: tuple[float, float], from_deg: 
     return ufl.as_vector(comps)
 
 
+def contraction_law(region: dict) -> NematicTransition:
+    """THE HOOK of a tabulated contraction curve: the spontaneous-stretch law lambda_s(T) of an LCE
+    region of the case file. Now the present law (:mod:`lcefem.models.lce`: Warner-Terentjev's
+    order parameter with T_NI [C], width [K], lambda_N [-], T_ref [C]); a region with
+    ``curve = "file.csv"`` is refused by the case file's checks while
+    :data:`lcefem.solvers.problems.body_case.CURVE_LAW_MODULE` is None. A measured-curve law plugs
+    in here (and in :class:`lcefem.solvers.thermomechanics.LCERegion`'s ``transition``)."""
+    return NematicTransition(T_NI=region["T_NI"], width=region["width"], lambda_N=region["lambda_N"],
+                             T_ref=region["T_ref"])
+
+
 @dataclass
 class BodyResult:
     history: dict[str, np.ndarray]
@@ -159,8 +170,7 @@ class BodyProblem:
         lce, passive, self._transitions = [], [], []
         for r in case.regions:
             if r["material"] == "lce":
-                transition = NematicTransition(T_NI=r["T_NI"], width=r["width"], lambda_N=r["lambda_N"],
-                                               T_ref=r["T_ref"])
+                transition = contraction_law(r)
                 if r["director"] is not None:
                     director = ufl.as_vector(r["director"])
                 else:

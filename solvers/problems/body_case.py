@@ -44,8 +44,9 @@ SUPPORT_TYPES = ("clamp", "roller", "mirror", "point", "3-2-1")
 HEAT_TYPES = ("convection", "radiation", "fixed")
 LOAD_TYPES = ("force", "pressure", "gravity")
 AXES = {"x": 0, "y": 1, "z": 2}
-#: The one place a tabulated contraction curve plugs in (``curve = "file.csv"`` of an LCE region):
-#: the name of the models/ module that loads it; None while it is not on this branch.
+#: A tabulated contraction curve (``curve = "file.csv"`` of an LCE region): the name of the
+#: models/ module that loads it; None while it is not on this branch (the key is then refused).
+#: The law itself plugs in at :func:`lcefem.solvers.problems.body.contraction_law`.
 CURVE_LAW_MODULE = None
 
 # Each key: (kind, unit, default (REQUIRED: none), bounds or allowed values, what it is).
