@@ -83,6 +83,9 @@ def _gmsh_names(path: pathlib.Path, size_factor: float) -> tuple[dict, dict]:
         cells, facets = {}, {}
         for dim, tag in model.getPhysicalGroups():
             name = model.getPhysicalName(dim, tag) or str(tag)
+            if dim in (2, 3) and len(model.getEntitiesForPhysicalGroup(dim, tag)) == 0:
+                raise InputError(f"mesh.file = {str(path)!r}: physical group {name!r} (dimension {dim}) "
+                                 "is empty: no entity carries its tag")
             if dim == 3:
                 cells[name] = tag
             elif dim == 2:
@@ -130,6 +133,26 @@ def _meshio_names(path: pathlib.Path, data) -> tuple[dict, dict]:
     return cells, facets
 
 
+def _check_tags_present(path: pathlib.Path, data, cells: dict, facets: dict) -> None:
+    """Every named tag of a meshio file occurs in its tag array (cells in 3D blocks, facets in 2D)."""
+    import numpy as np
+
+    key = next((k for k in TAG_ARRAYS if k in data.cell_data), None)
+    if key is None:
+        raise InputError(f"mesh.file = {str(path)!r}: no tag array among its cell data "
+                         f"({', '.join(data.cell_data) or 'none'}); allowed names: {', '.join(TAG_ARRAYS)}")
+    found = {3: set(), 2: set()}
+    for block, tags in zip(data.cells, data.cell_data[key]):
+        dim = 3 if block.type in VOLUME_TYPES else 2 if block.type in SURFACE_TYPES else None
+        if dim is not None:
+            found[dim] |= set(np.unique(np.asarray(tags, dtype=int)).tolist())
+    for names, dim, what in ((cells, 3, "cell"), (facets, 2, "facet")):
+        for name, tag in names.items():
+            if tag not in found[dim]:
+                raise InputError(f"mesh.file = {str(path)!r}: {what} set {name!r} (tag {tag}) is missing: "
+                                 f"no {what} carries tag {tag} in {key!r}")
+
+
 def physical_names(path: str | pathlib.Path, size_factor: float = 1.0, comm=None) -> tuple[dict, dict]:
     """({cell set name: id}, {facet set name: id}) of a mesh file, without building a mesh (rank 0
     reads, the others receive). InputError when the file cannot be read."""
@@ -141,7 +164,9 @@ def physical_names(path: str | pathlib.Path, size_factor: float = 1.0, comm=None
             if not path.is_file():
                 raise InputError(f"mesh.file = {str(path)!r}: file not found")
             if mesh_kind(path) == "meshio":
-                result = _meshio_names(path, _meshio_read(path))
+                data = _meshio_read(path)
+                result = _meshio_names(path, data)
+                _check_tags_present(path, data, *result)
             else:
                 result = _gmsh_names(path, size_factor)
         except InputError as exc:
@@ -159,10 +184,8 @@ def _meshio_to_msh(path: pathlib.Path, folder: pathlib.Path) -> pathlib.Path:
 
     data = _meshio_read(path)
     cells, facets = _meshio_names(path, data)
-    key = next((k for k in TAG_ARRAYS if k in data.cell_data), None)
-    if key is None:
-        raise InputError(f"mesh.file = {str(path)!r}: no tag array among its cell data "
-                         f"({', '.join(data.cell_data) or 'none'}); allowed names: {', '.join(TAG_ARRAYS)}")
+    _check_tags_present(path, data, cells, facets)
+    key = next(k for k in TAG_ARRAYS if k in data.cell_data)
     blocks, physical = [], []
     for block, tags in zip(data.cells, data.cell_data[key]):
         if block.type in VOLUME_TYPES or block.type in SURFACE_TYPES:

@@ -60,6 +60,10 @@ def test_msh_and_vtu_read_back(tmp_path, strip0):
         "[cells]\nlce = 1\ncoil = 2\n[facets]\nclamp = 1\nend = 2\nsides = 3\nsym_y = 4\nsym_z = 5\n")
     read = read_tagged_mesh(vtu, MPI.COMM_SELF)
     assert counts(read) == strip0[:2]
+    # a name whose tag no cell carries: a missing tag, refused before any mesh is built
+    (tmp_path / "strip.vtu.tags.toml").write_text("[cells]\nlce = 1\ncoil = 7\n[facets]\nclamp = 1\n")
+    with pytest.raises(InputError, match="cell set 'coil' \\(tag 7\\) is missing"):
+        physical_names(vtu, comm=MPI.COMM_SELF)
     np.testing.assert_allclose(np.sort(read.mesh.geometry.x, axis=0), np.sort(strip0[2], axis=0), atol=1e-12)
 
 
@@ -70,6 +74,11 @@ def test_unreadable_and_unnamed_files(tmp_path):
     bad.write_text("Point(1) = {0, 0, 0\n")
     with pytest.raises(InputError, match="gmsh cannot read it"):
         physical_names(bad, comm=MPI.COMM_SELF)
+    empty = tmp_path / "empty.geo"
+    empty.write_text('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 1, 1};\nPhysical Volume("body", 1) = {1};\n'
+                     'Physical Surface("lid", 1) = Surface In BoundingBox{5, 5, 5, 6, 6, 6};\n')
+    # gmsh drops a physical group that selects nothing: the case file's check then names it
+    assert physical_names(empty, comm=MPI.COMM_SELF) == ({"body": 1}, {})
     vtu = tmp_path / "plain.vtu"
     meshio.write(vtu, meshio.Mesh(np.eye(4, 3), [("tetra", np.array([[0, 1, 2, 3]]))]))
     with pytest.raises(InputError, match="no named cell sets"):
