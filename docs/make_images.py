@@ -1,6 +1,8 @@
-"""Regenerate the README's picture: the free strip after 20 s at 0.2 A (3D FE, default mesh level).
+"""Regenerate the README's picture: the free strip after 20 s at 0.2 A (3D FE, default mesh level),
+and the "Your own robot" page's: the LCE bilayer of examples/bodies/bilayer bent at 47.21 C.
 
-    .venv/bin/python docs/make_images.py   # writes docs/images/strip_0p2A_20s.png (about 2 minutes)
+    .venv/bin/python docs/make_images.py           # both (about 3 minutes)
+    .venv/bin/python docs/make_images.py bilayer   # docs/images/bilayer.png only (about 30 s)
 """
 
 from __future__ import annotations
@@ -15,7 +17,31 @@ from lcefem.meshes.strip import StripMesh
 IMAGES = pathlib.Path(__file__).resolve().parent / "images"
 
 
+def bilayer() -> pathlib.Path:
+    """The bilayer case at its own size factor, drawn whole (its two mirror planes reflected)."""
+    from lcefem.solvers.problems.body import BodyProblem
+    from lcefem.solvers.problems.body_case import load_case
+    from lcefem.validation.render import render_deformed
+
+    case = load_case(IMAGES.parent.parent / "examples" / "bodies" / "bilayer" / "case.toml")
+    problem = BodyProblem(case)
+    problem.set_program(0.0)
+    problem.equilibrate("t = 0 s")
+    fields = problem.fields()
+    IMAGES.mkdir(parents=True, exist_ok=True)
+    return render_deformed(IMAGES / "bilayer.png", fields["displacement [mm]"], fields["spontaneous stretch [-]"],
+                           scalar_label="spontaneous stretch [-]", view="xz", size=(1200, 420),
+                           mirror=((0, 0.0), (1, 0.0)), zoom=1.6,
+                           title="LCE bilayer at 47.21 C: the LCE layer (bottom) contracts 1 %")
+
+
 def main() -> None:
+    import sys
+
+    if sys.argv[1:] == ["bilayer"]:
+        print(bilayer())
+        return
+    print(bilayer())
     config = StripConfig(run=StripRun(current=0.2, duration=20.0), mesh=StripMesh(level=DEFAULT_LEVEL))
     with tempfile.TemporaryDirectory() as tmp:
         result = run_strip(config, pathlib.Path(tmp) / "run", fields=False)

@@ -43,6 +43,9 @@ class HeatSetup:
     degree: int = 1
     initial_temperature: float | None = None  # C; ambient when None
     radiation: bool = True
+    #: exposed facets with an exchange of their own (film coefficient, emissivity, ambient); the
+    #: others use ``exchange`` (``lcefem run body``: convection and radiation per boundary)
+    facet_exchange: dict[str, SurfaceExchange] = field(default_factory=dict)
 
 
 class HeatProblem:
@@ -109,8 +112,14 @@ class HeatProblem:
             L += extra_source * w * dx
         for name in setup.exposed_facets:
             tag = tmesh.facet_tag(name)
-            a += h_total * area_ratio * T * w * ds(tag)
-            L += h_total * area_ratio * T_a * w * ds(tag)
+            h_f, T_af = h_total, T_a
+            own = setup.facet_exchange.get(name)
+            if own is not None:  # a boundary with its own exchange: Constants of its own
+                h_f, T_af = const(own.film_coefficient), const(own.ambient_temperature)
+                if setup.radiation:
+                    h_f = h_f + radiative_film_coefficient(self.T_old, T_af, const(own.emissivity))
+            a += h_f * area_ratio * T * w * ds(tag)
+            L += h_f * area_ratio * T_af * w * ds(tag)
             if extra_flux is not None:  # inward flux [mW/mm^2 reference area] (manufactured solutions)
                 L += extra_flux * w * ds(tag)
         options = dict(LU_OPTIONS)

@@ -66,18 +66,21 @@ class ThermoMechanicalModel:
         dirichlet: ``f(V) -> list[DirichletBC]`` building the displacement conditions.
         external_work: ``f(u) -> UFL form`` of the work of dead loads [mJ] (None: none).
         degree: displacement degree (2: P2/Q2).
+        heat_source: extra heat source [mW/mm^3] (UFL, e.g. a DG0 Function of coil power densities).
+        heat_bcs: fixed temperatures, DirichletBCs or ``f(V_T) -> list`` (HeatProblem's ``bcs``).
     """
 
     def __init__(self, tmesh: TaggedMesh, heat_setup: HeatSetup, lce: Sequence[LCERegion],
                  passive: Sequence[PassiveRegion] = (),
                  dirichlet: Callable[[dolfinx.fem.FunctionSpace], list] = lambda V: [],
                  external_work: Callable | None = None, *, degree: int = 2,
-                 petsc_options: dict | None = None, prefix: str = "lcefem_"):
+                 petsc_options: dict | None = None, prefix: str = "lcefem_",
+                 heat_source=None, heat_bcs=()):
         self.tmesh = tmesh
         V = displacement_space(tmesh.mesh, degree)
         self.u = dolfinx.fem.Function(V, name="displacement")
-        self.heat = HeatProblem(tmesh, heat_setup, displacement=self.u,
-                                prefix=f"{prefix}heat_")
+        self.heat = HeatProblem(tmesh, heat_setup, displacement=self.u, extra_source=heat_source,
+                                bcs=heat_bcs, prefix=f"{prefix}heat_")
         # The temperature the mechanics sees; stepped from T_old to T by continuation.
         self.T_mech = dolfinx.fem.Function(self.heat.V, name="temperature_mechanics")
         self.T_mech.x.array[:] = self.heat.T.x.array

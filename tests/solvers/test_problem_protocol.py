@@ -25,6 +25,7 @@ MARKS = {"observables", "observe", "set_lambda", "set_current", "set_shortening"
 WITHOUT_PROBLEM_OBJECT = {
     "composite_beam_run": "the FE beam's run (BeamFEConfig, run_beam_fe) around composite_beam's problems",
     "tension_specimen": "one function (a closed-form check of the LCE law)",
+    "body_case": "the case file of lcefem run body (schema and checks; its problem is body.BodyProblem)",
     "gridshell_bh_ball": "a ball rolling on a given surface history (no body of its own)",
     "gridshell_bh_scales": "load paths for GridshellBH",
     "gridshell_bh_sequence": "a schedule driving GridshellBH's path",

@@ -29,4 +29,5 @@ RUN_TARGETS = {
     "beam": "lcefem.validation.commands.beam",
     "ribbon-buckling": "lcefem.validation.commands.ribbon_buckling",
     "gridshell": "lcefem.validation.commands.gridshell",
+    "body": "lcefem.validation.commands.body",
 }

@@ -1,0 +1,472 @@
+"""A 3D FE thermo-mechanical LCE body assembled from a user's mesh and case file (``lcefem run
+body --config robot.toml``; the case file's schema: :mod:`lcefem.solvers.problems.body_case`,
+the user's page: docs/own_robot.md).
+
+The physics is the strip's (:mod:`lcefem.solvers.problems.strip`), on any mesh with named sets:
+
+* heat: backward Euler in the reference configuration pulled back with the lagging displacement
+  (:class:`lcefem.solvers.heat.HeatProblem`); a coil's Joule power P = I^2 R
+  (:meth:`lcefem.models.heat.Coil.power`) spread uniformly over its region, q = P / (s V_mesh)
+  [mW/mm^3] with s the case's symmetry factor (the mesh is 1/s of the body); convection h (T - T_inf)
+  and linearised grey-body radiation per boundary, fixed temperatures as Dirichlet conditions;
+  other boundaries adiabatic (or mirror planes);
+* mechanics: W(F F_s(T)^-1) in LCE regions (director per region, a vector or a through-thickness
+  twist), compressible neo-Hookean passive regions, dead loads (force, pressure on the reference
+  normal, gravity), supports (:mod:`lcefem.solvers.supports`); staggered with the one path
+  follower (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: a heat step, then the
+  mechanics from the old to the new temperature, halving on failure).
+
+Drives (:meth:`BodyProblem.set_drives`): the current [A] of each ``[[coils]]`` entry by name; the
+program also sets fixed boundary temperatures [C] and load factors [-] by name.
+
+Observables, "name [unit]": ``T_mean [C]``, ``T_max [C]`` (whole mesh), ``T_mean <set> [C]``,
+``T_max <set> [C]`` per cell set, ``power <coil> [mW]`` (whole coil), per probe ``u_x|u_y|u_z
+<probe> [mm]`` and ``T <probe> [C]`` (a boundary's mean over its reference area, or a point's
+value), per clamp or roller ``reaction_<c> <name> [N]`` (the support's force on the body, its
+component c, times the symmetry factor: a block pulled by +F along x shows -F on its x roller).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+import numpy as np
+import ufl
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx
+
+from lcefem.meshes.reader import read_tagged_mesh
+from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
+from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
+from lcefem.models.lce import NematicTransition, spontaneous_stretch
+from lcefem.models.limits import check_current
+from lcefem.solvers.exports import FEFields
+from lcefem.solvers.heat import HeatSetup
+from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_measure
+from lcefem.solvers.probes import PointProbe
+from lcefem.solvers.problems.body_case import AXES, BodyCase
+from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
+from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runtime.run import Progress
+from lcefem.solvers.supports import clamp_face, plane_clamp, point_support, rigid_body_321
+from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
+
+_LAW = LCEElasticity()
+
+
+def lce_elasticity(shear_modulus: float) -> LCEElasticity:
+    """The project's LCE law (:class:`LCEElasticity`) scaled to the small-strain shear modulus
+    ``shear_modulus`` [MPa]: every coefficient and the bulk modulus times mu / mu_0 (its Poisson
+    ratio kept); mu_0 gives the law itself."""
+    k = shear_modulus / _LAW.shear_modulus
+    if k == 1.0:
+        return _LAW
+    return LCEElasticity(c10=_LAW.c10 * k, c01=_LAW.c01 * k, c30=_LAW.c30 * k,
+                         bulk_modulus=_LAW.bulk_modulus * k)
+
+
+def twisted_layer_director(x, axis: int, bounds: tuple[float, float], from_deg: float, to_deg: float):
+    """Director [-] turning through the thickness along ``axis`` (UFL, reference coordinates x
+    [mm]): n = cos(theta) e_1 + sin(theta) e_2 with (e_1, e_2) the next two axes in cyclic order
+    (axis z: x then y) and theta going linearly from ``from_deg`` at x_axis = bounds[0] to
+    ``to_deg`` at bounds[1] [deg]."""
+    lo, hi = bounds
+    s = (x[axis] - lo) / (hi - lo)
+    theta = math.radians(from_deg) + math.radians(to_deg - from_deg) * s
+    e1, e2 = (axis + 1) % 3, (axis + 2) % 3
+    comps = [0.0, 0.0, 0.0]
+    comps[e1], comps[e2] = ufl.cos(theta), ufl.sin(theta)
+    return ufl.as_vector(comps)
+
+
+def contraction_law(region: dict) -> NematicTransition:
+    """THE HOOK of a tabulated contraction curve: the spontaneous-stretch law lambda_s(T) of an LCE
+    region of the case file. Now the present law (:mod:`lcefem.models.lce`: Warner-Terentjev's
+    order parameter with T_NI [C], width [K], lambda_N [-], T_ref [C]); a region with
+    ``curve = "file.csv"`` is refused by the case file's checks while
+    :data:`lcefem.solvers.problems.body_case.CURVE_LAW_MODULE` is None. A measured-curve law plugs
+    in here (and in :class:`lcefem.solvers.thermomechanics.LCERegion`'s ``transition``)."""
+    return NematicTransition(T_NI=region["T_NI"], width=region["width"], lambda_N=region["lambda_N"],
+                             T_ref=region["T_ref"])
+
+
+@dataclass
+class BodyResult:
+    history: dict[str, np.ndarray]
+    summary: dict
+    out: pathlib.Path | None
+
+
+class BodyProblem:
+    """The body of a checked case file (:func:`lcefem.solvers.problems.body_case.load_case`), built
+    once: mesh, heat and mechanics forms, observables."""
+
+    drive = "current [A]"
+
+    def __init__(self, case: BodyCase, comm: MPI.Comm | None = None):
+        self.case = case
+        read = read_tagged_mesh(case.mesh_file, comm, case.mesh["size_factor"])
+        self.tmesh = tm = read.tagged()
+        self.mesh_info = read.info
+        mesh = tm.mesh
+        self.comm = comm = mesh.comm
+        self.symmetry = case.mesh["symmetry_factor"]
+        th = case.thermal
+        thermal = ThermalProperties(density=th["density"], specific_heat=th["specific_heat"],
+                                    conductivity=th["conductivity"])
+        # Heat exchange per boundary: one SurfaceExchange each (h and emissivity 0 when not given).
+        exchange: dict[str, dict] = {}
+        fixed = []
+        for h in case.heat:
+            for b in h["boundary"]:
+                if h["type"] == "fixed":
+                    continue
+                e = exchange.setdefault(b, {"film_coefficient": 0.0, "emissivity": 0.0,
+                                            "ambient_temperature": h["T_inf"]})
+                if h["type"] == "convection":
+                    e["film_coefficient"] = h["h"]
+                else:
+                    e["emissivity"] = h["emissivity"]
+            if h["type"] == "fixed":
+                fixed.append(h)
+        exchanges = {b: SurfaceExchange(**e) for b, e in exchange.items()}
+        common = next(iter(exchanges.values()), SurfaceExchange(0.0, 0.0, th["initial_temperature"]))
+        own = {b: e for b, e in exchanges.items() if e != common}
+        self._fixed_T = {h["name"]: dolfinx.fem.Constant(mesh, PETSc.ScalarType(h["temperature"]))
+                         for h in fixed}
+
+        def heat_bcs(V):
+            bcs = []
+            for h in fixed:
+                for b in h["boundary"]:
+                    dofs = dolfinx.fem.locate_dofs_topological(V, 2, tm.facet_tags.find(tm.facet_tag(b)))
+                    bcs.append(dolfinx.fem.dirichletbc(self._fixed_T[h["name"]], dofs, V))
+            return bcs
+
+        setup = HeatSetup(thermal, common, heated_cells=[], exposed_facets=list(exchanges),
+                          initial_temperature=th["initial_temperature"], facet_exchange=own)
+        # Coils: a DG0 power density, P / (s V) on each coil's cells.
+        self.q = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("DG", 0)), name="power_density")
+        dx = volume_measure(tm)
+        one = dolfinx.fem.Constant(mesh, PETSc.ScalarType(1.0))
+        self._coil_cells, self._coil_volume, self.coils = {}, {}, {}
+        for c in case.coils:
+            self.coils[c["name"]] = Coil(resistance=c["resistance"])
+            self._coil_cells[c["name"]] = tm.cell_tags.find(tm.cell_tag(c["region"]))
+            self._coil_volume[c["name"]] = self.symmetry * assemble_global(
+                dolfinx.fem.form(one * dx(tm.cell_tag(c["region"]))), comm)
+        self.power = {name: 0.0 for name in self.coils}
+
+        # Mechanics: regions, supports, loads.
+        x = ufl.SpatialCoordinate(mesh)
+        lce, passive, self._transitions = [], [], []
+        for r in case.regions:
+            if r["material"] == "lce":
+                transition = contraction_law(r)
+                if r["director"] is not None:
+                    director = ufl.as_vector(r["director"])
+                else:
+                    tw = r["twist"]
+                    axis = AXES[tw["axis"]]
+                    director = twisted_layer_director(x, axis, self._extent(r["name"], axis),
+                                                      float(tw["from_deg"]), float(tw["to_deg"]))
+                lce.append(LCERegion(r["name"], director, transition, lce_elasticity(r["shear_modulus"])))
+                self._transitions.append((r["name"], transition))
+            else:
+                passive.append(PassiveRegion(r["name"], NeoHookeanSolid(youngs_modulus=r["E"],
+                                                                         poisson_ratio=r["nu"])))
+        ds = surface_measure(tm)
+        self._factors = {ld["name"]: dolfinx.fem.Constant(mesh, PETSc.ScalarType(1.0)) for ld in case.loads}
+
+        def external_work(u):
+            work = 0
+            for ld in case.loads:
+                f = self._factors[ld["name"]]
+                if ld["type"] == "force":
+                    tag = tm.facet_tag(ld["boundary"])
+                    area = assemble_global(dolfinx.fem.form(one * ds(tag)), comm)
+                    t = dolfinx.fem.Constant(mesh, np.asarray(ld["force"], dtype=PETSc.ScalarType) / area)
+                    work += f * ufl.dot(t, u) * ds(tag)
+                elif ld["type"] == "pressure":
+                    p = dolfinx.fem.Constant(mesh, PETSc.ScalarType(ld["pressure"]))
+                    work += -f * p * ufl.dot(ufl.FacetNormal(mesh), u) * ds(tm.facet_tag(ld["boundary"]))
+                else:
+                    rho_g = dolfinx.fem.Constant(mesh, np.asarray(ld["g"], dtype=PETSc.ScalarType)
+                                                 * th["density"])
+                    work += f * ufl.dot(rho_g, u) * dx
+            return work
+
+        def dirichlet(V):
+            bcs = []
+            for s in case.supports:
+                t = s["type"]
+                if t == "clamp":
+                    bcs += clamp_face(tm, V, s["boundary"])
+                elif t in ("roller", "mirror"):
+                    bcs += plane_clamp(tm, V, s["boundary"], AXES[s["normal"]])
+                elif t == "point":
+                    bcs += point_support(V, s["point"], [AXES[c] for c in s["components"]])
+                else:
+                    bcs += rigid_body_321(V, *s["points"])
+            return bcs
+
+        self.model = ThermoMechanicalModel(tm, setup, lce, passive, dirichlet=dirichlet,
+                                           external_work=external_work if case.loads else None,
+                                           petsc_options=case.petsc, prefix="lcefem_body_",
+                                           heat_source=self.q if case.coils else None, heat_bcs=heat_bcs)
+        # the as-built state is the mesh at T_ref (F_s = I): the mechanics starts there, and the run
+        # brings it to the initial temperature when that differs
+        t_refs = {tr.T_ref for _, tr in self._transitions}
+        if len(t_refs) == 1:
+            self.model.T_mech.x.array[:] = t_refs.pop()
+        self._observables_setup(case, one, ds, dx)
+        self.lambda_s = dolfinx.fem.Function(self.model.heat.V, name="spontaneous_stretch")
+        self._lambda_exprs = [(tm.cell_tags.find(tm.cell_tag(n)), dolfinx.fem.Expression(
+            spontaneous_stretch(self.model.heat.T, tr), self.model.heat.V.element.interpolation_points))
+            for names, tr in self._transitions for n in names]
+        self.time = 0.0  # [s]
+        self.last_report = None
+
+    # -- set-up helpers ---------------------------------------------------------------------
+    def _extent(self, names, axis: int) -> tuple[float, float]:
+        """(min, max) [mm] of the reference coordinate ``axis`` over the cells of ``names``."""
+        tm = self.tmesh
+        cells = np.concatenate([tm.cell_tags.find(tm.cell_tag(n)) for n in names])
+        nodes = dolfinx.mesh.entities_to_geometry(tm.mesh, 3, cells.astype(np.int32)).reshape(-1)
+        coords = tm.mesh.geometry.x[nodes, axis] if nodes.size else np.array([np.inf])
+        lo = self.comm.allreduce(float(np.min(coords, initial=np.inf)), op=MPI.MIN)
+        hi = self.comm.allreduce(float(np.max(coords, initial=-np.inf)), op=MPI.MAX)
+        if not hi > lo:
+            raise InputError(f"twist of {names}: the region has no thickness along axis {'xyz'[axis]}")
+        return lo, hi
+
+    def _observables_setup(self, case: BodyCase, one, ds, dx) -> None:
+        tm, comm, heat, u = self.tmesh, self.comm, self.model.heat, self.model.u
+        V = u.function_space
+        n_local = heat.V.dofmap.index_map.size_local
+        self._set_dofs = {}
+        self._set_T = {}
+        for name in tm.cells:
+            tag = tm.cell_tag(name)
+            vol = assemble_global(dolfinx.fem.form(one * dx(tag)), comm)
+            self._set_T[name] = (dolfinx.fem.form(heat.T * dx(tag)), vol)
+            dofs = dolfinx.fem.locate_dofs_topological(heat.V, 3, tm.cell_tags.find(tag))
+            self._set_dofs[name] = dofs[dofs < n_local]
+        self._boundary_probes, self._point_probes = [], []
+        for p in case.probes:
+            if p["boundary"] is not None:
+                tag = tm.facet_tag(p["boundary"])
+                area = assemble_global(dolfinx.fem.form(one * ds(tag)), comm)
+                forms = [dolfinx.fem.form(u[i] * ds(tag)) for i in range(3)] + \
+                    [dolfinx.fem.form(heat.T * ds(tag))]
+                self._boundary_probes.append((p["name"], forms, area))
+            else:
+                self._point_probes.append((p["name"], PointProbe(tm.mesh, np.array(p["point"]))))
+        self._reactions = []
+        for i, s in enumerate(case.supports):
+            if s["type"] not in ("clamp", "roller"):
+                continue
+            comps = (0, 1, 2) if s["type"] == "clamp" else (AXES[s["normal"]],)
+            facets = tm.facet_tags.find(tm.facet_tag(s["boundary"]))
+            for c in comps:
+                weight = dolfinx.fem.Function(V)
+                dofs = dolfinx.fem.locate_dofs_topological(V.sub(c), 2, facets)
+                weight.x.array[dofs] = 1.0
+                label = f"reaction_{'xyz'[c]} {s['name'] or s['boundary']} [N]"
+                self._reactions.append((label, self.model.mechanics.reaction_form(weight)))
+
+    # -- drives -----------------------------------------------------------------------------
+    def drive_tags(self) -> tuple[str, ...]:
+        return tuple(self.coils)
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        """Coil current [A] per coil name: the Joule power P = I^2 R [mW] over the whole coil's
+        volume (the mesh's share times the symmetry factor)."""
+        for name, current in drives.items():
+            if name not in self.coils:
+                raise InputError(f"drive {name!r}: not a coil of this body (allowed "
+                                 f"{', '.join(self.coils) or 'none'})")
+            check_current(f"current[{name}]", current)
+            self.power[name] = self.coils[name].power(float(current))
+        self._put_power()
+
+    def _put_power(self) -> None:
+        self.q.x.array[:] = 0.0
+        for name, power in self.power.items():
+            self.q.x.array[self._coil_cells[name]] = power / self._coil_volume[name]
+        self.q.x.scatter_forward()
+
+    def set_boundary_temperatures(self, temperatures: Mapping[str, float]) -> None:
+        """Fixed temperature [C] of each ``[[heat]]`` entry of type fixed, by name."""
+        for name, value in temperatures.items():
+            if name not in self._fixed_T:
+                raise InputError(f"temperature drive {name!r}: allowed {', '.join(self._fixed_T) or 'none'}")
+            self._fixed_T[name].value = float(value)
+
+    def set_load_factors(self, factors: Mapping[str, float]) -> None:
+        """Factor [-] of each ``[[loads]]`` entry, by name."""
+        for name, value in factors.items():
+            if name not in self._factors:
+                raise InputError(f"load drive {name!r}: allowed {', '.join(self._factors) or 'none'}")
+            self._factors[name].value = float(value)
+
+    def set_program(self, t: float) -> None:
+        """Every drive of the case's program at time ``t`` [s]."""
+        d = self.case.drives
+        self.set_drives({k: s(t) for k, s in d["currents"].items()})
+        self.set_boundary_temperatures({k: s(t) for k, s in d["temperatures"].items()})
+        self.set_load_factors({k: s(t) for k, s in d["loads"].items()})
+
+    # -- stepping ---------------------------------------------------------------------------
+    def advance(self, dt: float, where: str | None = None):
+        """One backward-Euler heat step of ``dt`` [s], then the mechanics to the new temperature
+        (the one path follower); returns the step report (iterations, cuts)."""
+        self.last_report = self.model.step(dt, where=where or f"step of {dt:g} s")
+        self.time += dt
+        return self.last_report
+
+    def equilibrate(self, where: str):
+        self.last_report = self.model.equilibrate(where)
+        return self.last_report
+
+    def steady_state(self, rtol: float = 1e-8, max_iterations: int = 30):
+        """Thermal and mechanical equilibrium at the present drives: fixed point between the steady
+        heat equation (pulled back with the present displacement) and the mechanics."""
+        u = self.model.u
+        previous = u.x.array.copy()
+        iterations = 0
+        for it in range(1, max_iterations + 1):
+            self.model.heat.steady()
+            iterations += self.equilibrate(f"steady state, fixed-point iteration {it}").iterations
+            change = self.comm.allreduce(float(np.max(np.abs(u.x.array - previous), initial=0.0)), op=MPI.MAX)
+            scale = self.comm.allreduce(float(np.max(np.abs(u.x.array), initial=0.0)), op=MPI.MAX)
+            if change <= rtol * max(scale, 1e-12):
+                return iterations
+            previous = u.x.array.copy()
+        raise ConvergenceError("steady state", f"displacement still changing after {max_iterations} "
+                               "heat-mechanics fixed-point iterations")
+
+    # -- observables ------------------------------------------------------------------------
+    def observables(self) -> dict[str, float]:
+        heat, comm = self.model.heat, self.comm
+        obs = {"T_mean [C]": heat.mean_temperature(), "T_max [C]": heat.max_temperature()}
+        for name, (form, vol) in self._set_T.items():
+            obs[f"T_mean {name} [C]"] = assemble_global(form, comm) / vol
+            obs[f"T_max {name} [C]"] = comm.allreduce(
+                float(np.max(heat.T.x.array[self._set_dofs[name]], initial=-np.inf)), op=MPI.MAX)
+        for name, power in self.power.items():
+            obs[f"power {name} [mW]"] = power
+        for name, forms, area in self._boundary_probes:
+            for c, form in zip("xyz", forms[:3]):
+                obs[f"u_{c} {name} [mm]"] = assemble_global(form, comm) / area
+            obs[f"T {name} [C]"] = assemble_global(forms[3], comm) / area
+        for name, probe in self._point_probes:
+            uu = probe(self.model.u)[0]
+            for c, value in zip("xyz", uu):
+                obs[f"u_{c} {name} [mm]"] = float(value)
+            obs[f"T {name} [C]"] = float(probe(heat.T)[0][0])
+        for label, form in self._reactions:
+            obs[label] = self.symmetry * assemble_global(form, comm)
+        return obs
+
+    def fields(self) -> dict:
+        self._update_stretch()
+        return {"displacement [mm]": self.model.u, "temperature [C]": self.model.heat.T,
+                "spontaneous stretch [-]": self.lambda_s}
+
+    def _update_stretch(self) -> None:
+        self.lambda_s.x.array[:] = 1.0  # passive regions: no spontaneous stretch
+        for cells, expr in self._lambda_exprs:
+            self.lambda_s.interpolate(expr, cells0=cells)
+        self.lambda_s.x.scatter_forward()
+
+    def _state_functions(self) -> list:
+        return [self.model.u, self.model.heat.T, self.model.heat.T_old, self.model.T_mech]
+
+    def save_state(self) -> dict:
+        return {"arrays": copy_arrays(self._state_functions()), "time": self.time, "power": dict(self.power),
+                "fixed": {k: float(c.value) for k, c in self._fixed_T.items()},
+                "factors": {k: float(c.value) for k, c in self._factors.items()}}
+
+    def restore_state(self, state: dict) -> None:
+        put_arrays(self._state_functions(), state["arrays"])
+        self.time, self.power = state["time"], dict(state["power"])
+        self._put_power()
+        self.set_boundary_temperatures(state["fixed"])
+        self.set_load_factors(state["factors"])
+
+
+def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = True,
+             comm: MPI.Comm | None = None) -> BodyResult:
+    """Build the body of ``case`` and run its program (a transient of equal steps to the duration,
+    the drives at the end of each step; or the steady state) through the run skeleton
+    (:func:`lcefem.solvers.runner.run_path`): history.csv, temperature.bp / displacement.bp,
+    summary.json with every resolved value."""
+    started = time.perf_counter()
+    problem = BodyProblem(case, comm)
+    prog, output = case.program, case.output
+    steady = prog["steady"]
+    n_steps = 1 if steady else max(1, int(math.ceil(prog["duration"] / prog["dt"] - 1e-9)))
+    dt = prog["duration"] / n_steps
+    problem.set_program(0.0)
+    first = problem.observables()
+    columns = ("time [s]", *first, "newton_iterations [-]", "step_cuts [-]")
+    bar = Progress(prog["duration"], f"body {case.path.stem}", "s", enabled=progress and not steady,
+                   comm=problem.comm)
+
+    def row(state) -> dict:
+        return state[0]
+
+    history = HistoryExport(columns, row, where=lambda s: s[2], at=lambda s: min(s[0]["time [s]"], prog["duration"]),
+                            postfix=lambda s: f"T_max={s[0]['T_max [C]']:.1f}C")
+    exports = ()
+    if out is not None and output["fields"]:
+        common = dict(comm=problem.comm, time=lambda s: s[0]["time [s]"] if math.isfinite(s[0]["time [s]"])
+                      else 0.0, start=False, every=output["every"], step=lambda s: s[1])
+        exports = (FEFields("temperature.bp", (problem.model.heat.T, problem.lambda_s),
+                            update=problem._update_stretch, **common),
+                   FEFields("displacement.bp", (problem.model.u,), **common))
+
+    def observe(t: float, report) -> dict:
+        return {"time [s]": t, **problem.observables(),
+                "newton_iterations [-]": report.iterations if report else 0,
+                "step_cuts [-]": report.cuts if report else 0}
+
+    def drive(on_step) -> dict:
+        needs_start = bool(case.loads or case.drives["temperatures"]) or any(
+            tr.T_ref != case.thermal["initial_temperature"] for _, tr in problem._transitions)
+        if steady:
+            its = problem.steady_state()
+            on_step((observe(math.inf, None), 0, "steady state"))
+            return {"steady_state": {"newton_iterations": its}}
+        report = problem.equilibrate("t = 0 s (initial state)") if needs_start else None
+        on_step((observe(0.0, report), 0, "t = 0 s"))
+        total = 0
+        for k in range(1, n_steps + 1):
+            t = k * dt
+            problem.set_program(t)
+            report = problem.advance(dt, f"t = {t:.4g} s")
+            problem.time = t
+            total += report.iterations
+            on_step((observe(t, report), k, f"t = {t:.4g} s"))
+        return {"steps": n_steps, "dt [s]": dt, "newton_iterations": total}
+
+    found = {}
+
+    def summarize(run, result: dict) -> dict:
+        found["history"] = run.history
+        final = run.last_row() if hasattr(run, "last_row") else None
+        return {"mesh": {**problem.mesh_info, "mpi_ranks": problem.comm.size}, **result,
+                "final": final, "wall_time [s]": time.perf_counter() - started}
+
+    summary = run_path(drive, out, config=case.resolved(), history=history, fields=None, progress=bar,
+                       summarize=summarize, exports=exports, comm=problem.comm)
+    return BodyResult(found["history"].as_arrays(), summary, out)

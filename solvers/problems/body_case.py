@@ -1,0 +1,542 @@
+"""The case file of ``lcefem run body``: a 3D FE thermo-mechanical LCE body from a mesh and a TOML
+file, with no Python (docs/own_robot.md is the user's page; :data:`SCHEMA` is the one table of every
+key, its unit, default and bounds, which the checks and that page follow).
+
+:func:`load_case` reads the file (tomllib), checks every key before any mesh is built (the mesh
+file's physical names are read, not meshed: :func:`lcefem.meshes.reader.physical_names`) and
+returns a :class:`BodyCase`. Bad input is one :class:`~lcefem.models.errors.InputError` line
+naming the file, the entry and what is allowed; an unknown key is refused.
+
+Units are lcefem's (README): mm, s, N, MPa, mW, C; heat-exchange coefficients in mW/(mm^2 K)
+(1 W/(m^2 K) = 1e-3 mW/(mm^2 K)).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from lcefem.models.errors import InputError
+from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
+from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_RATIO, LCEElasticity
+from lcefem.models.bar_hinge_materials import GlueBars
+from lcefem.models.lce import NematicTransition
+from lcefem.models.limits import CURRENT_RANGE, check_current
+
+_T = NematicTransition()
+_E = LCEElasticity()
+_H = ThermalProperties()
+_X = SurfaceExchange()
+
+#: Passive presets: (E [MPa], nu [-], source).
+PRESETS = {
+    "kapton": (KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_RATIO, "DuPont Kapton HN datasheet "
+               "(models/hyperelastic.py)"),
+    "glue": (GlueBars().youngs_modulus, 0.3, "E: the published model's glue bars "
+             "(models/bar_hinge_materials.GlueBars); nu assumed 0.3"),
+}
+MATERIALS = ("lce", "neo-hookean", *PRESETS)
+SUPPORT_TYPES = ("clamp", "roller", "mirror", "point", "3-2-1")
+HEAT_TYPES = ("convection", "radiation", "fixed")
+LOAD_TYPES = ("force", "pressure", "gravity")
+AXES = {"x": 0, "y": 1, "z": 2}
+#: A tabulated contraction curve (``curve = "file.csv"`` of an LCE region): the name of the
+#: models/ module that loads it; None while it is not on this branch (the key is then refused).
+#: The law itself plugs in at :func:`lcefem.solvers.problems.body.contraction_law`.
+CURVE_LAW_MODULE = None
+
+# Each key: (kind, unit, default (REQUIRED: none), bounds or allowed values, what it is).
+REQUIRED = object()
+POSITIVE = "> 0"  #: a lower bound: strictly positive
+NUM, INT, STR, BOOL, VEC, NAMES, TABLE, ANY = ("number", "integer", "string", "boolean", "3-vector",
+                                               "name or list of names", "table", "value")
+
+SCHEMA: dict[str, dict[str, tuple]] = {
+    "mesh": {
+        "file": (STR, "-", REQUIRED, None, "mesh file, relative to the case file: .geo, .msh or "
+                 "meshio-readable with named sets"),
+        "size_factor": (NUM, "-", 1.0, (0.01, 10.0), "gmsh Mesh.MeshSizeFactor for a .geo"),
+        "symmetry_factor": (INT, "-", 1, (1, 2, 4, 8), "the whole body is this many copies of the "
+                            "mesh (mirror planes): coil power and reactions are for the whole body"),
+    },
+    "thermal": {
+        "density": (NUM, "t/mm^3", _H.density, (POSITIVE, None), "density (heat capacity, gravity)"),
+        "specific_heat": (NUM, "mJ/(t K)", _H.specific_heat, (POSITIVE, None), "specific heat"),
+        "conductivity": (NUM, "mW/(mm K)", _H.conductivity, (POSITIVE, None), "thermal conductivity"),
+        "initial_temperature": (NUM, "C", _X.ambient_temperature, (-273.15, 400.0),
+                                "uniform temperature at t = 0 (the as-built state)"),
+    },
+    "regions": {
+        "name": (NAMES, "-", REQUIRED, None, "physical name(s) of cell sets in the mesh"),
+        "material": (STR, "-", REQUIRED, MATERIALS, "LCE, or a passive neo-Hookean solid"),
+        "director": (VEC, "-", None, None, "LCE: director (normalised; not zero)"),
+        "twist": (TABLE, "-", None, None, "LCE: through-thickness twist {axis, from_deg, to_deg}"),
+        "lambda_N": (NUM, "-", _T.lambda_N, (1.0, 3.0), "LCE: nematic spontaneous stretch"),
+        "T_NI": (NUM, "C", _T.T_NI, (-50.0, 300.0), "LCE: midpoint of the order parameter's fall"),
+        "width": (NUM, "K", _T.width, (0.1, 100.0), "LCE: width of the transition"),
+        "T_ref": (NUM, "C", _T.T_ref, (-50.0, 300.0), "LCE: as-built temperature (lambda_s = lambda_N)"),
+        "shear_modulus": (NUM, "MPa", _E.shear_modulus, (1e-4, 1e3), "LCE: small-strain shear "
+                          "modulus (the whole law scaled, its Poisson ratio kept)"),
+        "curve": (STR, "-", None, None, "LCE: measured contraction curve, CSV with units"),
+        "E": (NUM, "MPa", None, (1e-4, 1e6), "passive: Young's modulus (preset's by default)"),
+        "nu": (NUM, "-", None, (0.0, 0.49), "passive: Poisson's ratio (preset's by default)"),
+    },
+    "coils": {
+        "name": (STR, "-", REQUIRED, None, "the coil's name: its drive tag in [program] currents"),
+        "region": (STR, "-", REQUIRED, None, "physical name of the (LCE) cell set it heats"),
+        "resistance": (NUM, "ohm", Coil().resistance, (POSITIVE, 1e6), "electrical resistance"),
+    },
+    "heat": {
+        "boundary": (NAMES, "-", REQUIRED, None, "physical name(s) of facet sets"),
+        "type": (STR, "-", REQUIRED, HEAT_TYPES, "convection, radiation or fixed temperature"),
+        "h": (NUM, "mW/(mm^2 K)", _X.film_coefficient, (0.0, 10.0), "convection: film coefficient"),
+        "emissivity": (NUM, "-", _X.emissivity, (0.0, 1.0), "radiation: emissivity"),
+        "T_inf": (NUM, "C", _X.ambient_temperature, (-273.15, 1000.0), "convection, radiation: "
+                  "ambient temperature"),
+        "temperature": (NUM, "C", None, (-273.15, 400.0), "fixed: temperature (also a drive)"),
+        "name": (STR, "-", None, None, "fixed: drive tag in [program] temperatures"),
+    },
+    "supports": {
+        "type": (STR, "-", REQUIRED, SUPPORT_TYPES, "clamp (all components), roller / mirror "
+                 "(normal component), point, 3-2-1"),
+        "boundary": (STR, "-", None, None, "clamp, roller, mirror: physical facet name"),
+        "normal": (STR, "-", None, tuple(AXES), "roller, mirror: the fixed component"),
+        "point": (VEC, "mm", None, None, "point: the node held"),
+        "components": (ANY, "-", ["x", "y", "z"], None, "point: components held"),
+        "points": (ANY, "mm", None, None, "3-2-1: three points [a, b, c]"),
+        "name": (STR, "-", None, None, "reaction force observable's name (default: boundary)"),
+    },
+    "loads": {
+        "type": (STR, "-", REQUIRED, LOAD_TYPES, "force on a boundary, dead pressure, gravity"),
+        "boundary": (STR, "-", None, None, "force, pressure: physical facet name"),
+        "force": (VEC, "N", None, None, "force: total dead force on the meshed boundary"),
+        "pressure": (NUM, "MPa", None, (-1e3, 1e3), "pressure: on the reference normal (dead)"),
+        "g": (VEC, "mm/s^2", [0.0, 0.0, -9810.0], None, "gravity: acceleration"),
+        "name": (STR, "-", None, None, "drive tag in [program] loads (a factor [-], default 1)"),
+    },
+    "probes": {
+        "name": (STR, "-", REQUIRED, None, "observable prefix"),
+        "boundary": (STR, "-", None, None, "mean displacement and temperature of a facet set"),
+        "point": (VEC, "mm", None, None, "displacement and temperature at a point"),
+    },
+    "program": {
+        "duration": (NUM, "s", 30.0, (POSITIVE, 1e6), "simulated time (transient)"),
+        "dt": (NUM, "s", 0.5, (POSITIVE, 1e5), "time step (backward Euler)"),
+        "steady": (BOOL, "-", False, None, "thermal and mechanical equilibrium at the drives at t = 0"),
+        "currents": (TABLE, "A", {}, None, "coil name = current, or [[t, I], ...] (" + CURRENT_RANGE + ")"),
+        "temperatures": (TABLE, "C", {}, (-273.15, 400.0), "fixed heat name = T, or [[t, T], ...]"),
+        "loads": (TABLE, "-", {}, (-1e6, 1e6), "load name = factor, or [[t, f], ...]"),
+        "schedule": (STR, "-", None, None, "CSV: 'time [s]' then '<tag> [A|C|-]' columns"),
+    },
+    "output": {
+        "fields": (BOOL, "-", True, None, "write temperature.bp and displacement.bp (VTX)"),
+        "every": (INT, "-", 1, (1, 100000), "a field frame every n steps"),
+    },
+}
+ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes")
+SECTIONS = ("mesh", "thermal", "program", "output", "petsc", *ARRAYS)
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """A drive against time: piecewise linear through (t [s], value) points, constant outside."""
+
+    times: tuple[float, ...]
+    values: tuple[float, ...]
+
+    def __call__(self, t: float) -> float:
+        return float(np.interp(t, self.times, self.values))
+
+
+@dataclass(frozen=True)
+class BodyCase:
+    """A checked case file: each section as a dict of resolved values (every key present)."""
+
+    path: pathlib.Path
+    mesh: dict
+    thermal: dict
+    regions: tuple[dict, ...]
+    coils: tuple[dict, ...]
+    heat: tuple[dict, ...]
+    supports: tuple[dict, ...]
+    loads: tuple[dict, ...]
+    probes: tuple[dict, ...]
+    program: dict
+    output: dict
+    petsc: dict = field(default_factory=dict)
+    drives: dict = field(default_factory=dict)  # {kind: {tag: Schedule}}
+    cell_names: dict = field(default_factory=dict)
+    facet_names: dict = field(default_factory=dict)
+
+    @property
+    def mesh_file(self) -> pathlib.Path:
+        return (self.path.parent / self.mesh["file"]).resolve()
+
+    def resolved(self) -> dict:
+        """Every resolved value, with units (summary.json)."""
+        def unitised(section: str, values: dict) -> dict:
+            spec = SCHEMA[section]
+            return {k: {"value": _jsonable(v), "unit": spec[k][1]} if k in spec else _jsonable(v)
+                    for k, v in values.items()}
+        out = {"case_file": str(self.path), "mesh": unitised("mesh", self.mesh),
+               "thermal": unitised("thermal", self.thermal), "program": unitised("program", self.program),
+               "output": unitised("output", self.output), "petsc": dict(self.petsc),
+               "mesh_cell_sets": dict(self.cell_names), "mesh_facet_sets": dict(self.facet_names)}
+        for name in ARRAYS:
+            out[name] = [unitised(name, e) for e in getattr(self, name)]
+        return out
+
+
+def _jsonable(v):
+    if isinstance(v, Schedule):
+        return [list(p) for p in zip(v.times, v.values)]
+    if isinstance(v, dict):
+        return {k: _jsonable(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_jsonable(x) for x in v]
+    return v
+
+
+class _Checker:
+    """Checks one case file; every error names the file and the entry."""
+
+    def __init__(self, path: pathlib.Path):
+        self.file = path.name
+
+    def fail(self, entry: str, what: str):
+        raise InputError(f"{self.file}: {entry}: {what}")
+
+    def number(self, entry, value, bounds, unit, integer=False):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or (integer and not isinstance(value, int)):
+            self.fail(entry, f"{value!r} is not {'an integer' if integer else 'a number'}")
+        if not math.isfinite(value):
+            self.fail(entry, f"{value} is not finite")
+        u = "" if unit in ("-", "") else f" {unit}"
+        if isinstance(bounds, tuple) and len(bounds) == 2:
+            lo, hi = bounds
+            positive = lo == POSITIVE
+            if (positive and value <= 0) or (not positive and lo is not None and value < lo) \
+                    or (hi is not None and value > hi):
+                low = "> 0" if positive else f">= {lo:g}"
+                self.fail(entry, f"{value:g}{u}: allowed {low}{u}" + ("" if hi is None else f" and <= {hi:g}{u}"))
+        elif isinstance(bounds, tuple) and value not in bounds:
+            self.fail(entry, f"{value}: allowed {', '.join(map(str, bounds))}")
+        return float(value) if not integer else int(value)
+
+    def vector(self, entry, value):
+        if (not isinstance(value, list) or len(value) != 3
+                or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value)):
+            self.fail(entry, f"{value!r}: allowed a list of three numbers")
+        return [float(v) for v in value]
+
+    def names(self, entry, value):
+        names = [value] if isinstance(value, str) else value
+        if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+            self.fail(entry, f"{value!r}: allowed a name or a list of names")
+        return list(names)
+
+    def table(self, section: str, entry: str, table: Any) -> dict:
+        if not isinstance(table, dict):
+            self.fail(entry, "must be a table")
+        spec = SCHEMA[section]
+        unknown = [k for k in table if k not in spec]
+        if unknown:
+            self.fail(f"{entry}.{unknown[0]}", f"unknown key; allowed: {', '.join(spec)}")
+        out = {}
+        for key, (kind, unit, default, bounds, _) in spec.items():
+            where = f"{entry}.{key}"
+            if key not in table:
+                if default is REQUIRED:
+                    self.fail(where, f"missing ({kind})")
+                out[key] = default
+                continue
+            value = table[key]
+            if kind in (NUM, INT):
+                out[key] = self.number(where, value, bounds, unit, integer=kind == INT)
+            elif kind == STR:
+                if not isinstance(value, str) or not value:
+                    self.fail(where, f"{value!r} is not a (non-empty) string")
+                if bounds is not None and value not in bounds:
+                    self.fail(where, f"{value!r}: allowed {', '.join(bounds)}")
+                out[key] = value
+            elif kind == BOOL:
+                if not isinstance(value, bool):
+                    self.fail(where, f"{value!r}: allowed true or false")
+                out[key] = value
+            elif kind == VEC:
+                out[key] = self.vector(where, value)
+            elif kind == NAMES:
+                out[key] = self.names(where, value)
+            elif kind == TABLE:
+                if not isinstance(value, dict):
+                    self.fail(where, f"{value!r}: allowed a table")
+                out[key] = value
+            else:
+                out[key] = value
+        return out
+
+
+def _schedule(check: _Checker, entry: str, value, bounds, unit) -> Schedule:
+    """A constant, or [[t, value], ...] with increasing t."""
+    if isinstance(value, list):
+        if (not value or not all(isinstance(p, list) and len(p) == 2 for p in value)):
+            check.fail(entry, f"{value!r}: allowed a number or a list of [time s, value] pairs")
+        ts = [check.number(f"{entry} time", p[0], (0.0, None), "s") for p in value]
+        vs = [check.number(entry, p[1], bounds, unit) for p in value]
+        if any(b <= a for a, b in zip(ts, ts[1:])):
+            check.fail(entry, "times must increase")
+        return Schedule(tuple(ts), tuple(vs))
+    v = check.number(entry, value, bounds, unit)
+    return Schedule((0.0,), (v,))
+
+
+def _read_schedule_csv(check: _Checker, path: pathlib.Path, entry: str) -> dict[str, tuple[str, Schedule]]:
+    """{tag: (unit, Schedule)} of a CSV with a 'time [s]' column and '<tag> [unit]' columns."""
+    import csv
+
+    from lcefem.solvers.runtime.inputs import read_text
+
+    rows = list(csv.reader(read_text(path, f"{check.file}: {entry}").splitlines()))
+    rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
+    if len(rows) < 2:
+        check.fail(entry, f"{path.name}: a header and at least one row needed")
+    header = [h.strip() for h in rows[0]]
+    if header[0] != "time [s]":
+        check.fail(entry, f"{path.name}: first column must be 'time [s]' (got {header[0]!r})")
+    try:
+        data = np.array([[float(x) for x in r] for r in rows[1:]])
+    except ValueError:
+        check.fail(entry, f"{path.name}: every value must be a number")
+    if data.shape[1] != len(header):
+        check.fail(entry, f"{path.name}: every row needs {len(header)} values")
+    if np.any(np.diff(data[:, 0]) <= 0):
+        check.fail(entry, f"{path.name}: times must increase")
+    out = {}
+    for j, name in enumerate(header[1:], start=1):
+        if not (name.endswith("]") and " [" in name):
+            check.fail(entry, f"{path.name}: column {name!r}: allowed '<tag> [A]', '<tag> [C]' or '<tag> [-]'")
+        tag, unit = name[:-1].split(" [", 1)
+        out[tag] = (unit, Schedule(tuple(data[:, 0]), tuple(data[:, j])))
+    return out
+
+
+def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None) -> BodyCase:
+    """The checked case file at ``path`` (see the module docstring); ``overrides`` {(section, key):
+    value} replace the file's values (command-line options) before the checks. InputError on bad
+    input."""
+    from lcefem.meshes.reader import physical_names
+    from lcefem.solvers.runtime.inputs import read_toml
+
+    path = pathlib.Path(path)
+    data = read_toml(path, f"config = {str(path)!r}")
+    check = _Checker(path)
+    for (section, key), value in (overrides or {}).items():
+        if not isinstance(data.setdefault(section, {}), dict):
+            check.fail(f"[{section}]", "must be a table")
+        data[section][key] = value
+    for key, value in data.items():
+        if key not in SECTIONS:
+            check.fail(f"[{key}]", f"unknown section; allowed: {', '.join(SECTIONS)}")
+        if key in ARRAYS and not (isinstance(value, list) and all(isinstance(v, dict) for v in value)):
+            check.fail(f"[[{key}]]", "must be an array of tables ([[" + key + "]])")
+        if key not in ARRAYS and not isinstance(value, dict):
+            check.fail(f"[{key}]", "must be a table")
+    if "mesh" not in data:
+        check.fail("[mesh]", "missing (at least: file = \"body.geo\")")
+    if not data.get("regions"):
+        check.fail("[[regions]]", "missing: every cell set of the mesh needs a material")
+    sec = {s: check.table(s, f"[{s}]", data.get(s, {})) for s in ("mesh", "thermal", "program", "output")}
+    arr = {s: [check.table(s, f"[[{s}]][{i}]", t) for i, t in enumerate(data.get(s, []))] for s in ARRAYS}
+    petsc = data.get("petsc", {})
+    if not all(isinstance(v, (str, int, float, bool)) for v in petsc.values()):
+        check.fail("[petsc]", "values must be strings or numbers (PETSc options)")
+
+    mesh_file = path.parent / sec["mesh"]["file"]
+    if not mesh_file.is_file():
+        check.fail("[mesh].file", f"{sec['mesh']['file']!r}: file not found (relative to the case file)")
+    try:
+        cells, facets = physical_names(mesh_file, sec["mesh"]["size_factor"], comm)
+    except InputError as exc:
+        check.fail("[mesh].file", str(exc))
+
+    def cell_set(entry, name):
+        if name not in cells:
+            check.fail(entry, f"{name!r} is not a cell set of {mesh_file.name}; allowed: {', '.join(cells)}")
+
+    def facet_set(entry, name):
+        if name not in facets:
+            check.fail(entry, f"{name!r} is not a facet set of {mesh_file.name}; allowed: "
+                       f"{', '.join(facets) or 'none'}")
+
+    # Regions: every cell set exactly once; LCE and passive keys where they belong.
+    material_of = {}
+    for i, r in enumerate(arr["regions"]):
+        e = f"[[regions]][{i}]"
+        for n in r["name"]:
+            cell_set(f"{e}.name", n)
+            if n in material_of:
+                check.fail(f"{e}.name", f"{n!r} already has a material (one region per cell set)")
+            material_of[n] = r["material"]
+        if r["material"] == "lce":
+            for k in ("E", "nu"):
+                if r[k] is not None:
+                    check.fail(f"{e}.{k}", "only for a passive material (neo-hookean, kapton, glue)")
+            if (r["director"] is None) == (r["twist"] is None):
+                check.fail(f"{e}", "an LCE region needs exactly one of director = [x, y, z] or "
+                           "twist = {axis, from_deg, to_deg}")
+            if r["director"] is not None:
+                n = np.linalg.norm(r["director"])
+                if not n > 1e-12:
+                    check.fail(f"{e}.director", f"{r['director']}: zero length; allowed a nonzero vector")
+                r["director"] = [v / n for v in r["director"]]
+            if r["twist"] is not None:
+                tw = dict(r["twist"])
+                unknown = set(tw) - {"axis", "from_deg", "to_deg"}
+                if unknown or tw.get("axis") not in AXES:
+                    check.fail(f"{e}.twist", "allowed {axis = 'x'|'y'|'z', from_deg = number, to_deg = number}")
+                for k in ("from_deg", "to_deg"):
+                    check.number(f"{e}.twist.{k}", tw.get(k), (-3600.0, 3600.0), "deg")
+            if r["curve"] is not None:
+                if CURVE_LAW_MODULE is None:
+                    check.fail(f"{e}.curve", "a tabulated contraction curve is not available in this "
+                               "version; remove 'curve' to use the present law (T_NI, width, lambda_N)")
+            if r["lambda_N"] <= 1.0:
+                check.fail(f"{e}.lambda_N", f"{r['lambda_N']}: allowed > 1")
+        else:
+            for k in ("director", "twist", "curve"):
+                if r[k] is not None:
+                    check.fail(f"{e}.{k}", f"only for material = 'lce' (this region is {r['material']!r})")
+            preset = PRESETS.get(r["material"])
+            if preset is None and (r["E"] is None or r["nu"] is None):
+                check.fail(e, "a neo-hookean region needs E [MPa] and nu [-]")
+            if preset is not None:
+                r["E"] = preset[0] if r["E"] is None else r["E"]
+                r["nu"] = preset[1] if r["nu"] is None else r["nu"]
+    missing = [n for n in cells if n not in material_of]
+    if missing:
+        check.fail("[[regions]]", f"cell set {missing[0]!r} of {mesh_file.name} has no material; "
+                   "every cell set needs one region")
+
+    # Coils: on LCE regions, names unique.
+    coil_names = set()
+    for i, c in enumerate(arr["coils"]):
+        e = f"[[coils]][{i}]"
+        cell_set(f"{e}.region", c["region"])
+        if material_of[c["region"]] != "lce":
+            check.fail(f"{e}.region", f"{c['region']!r} is a passive region ({material_of[c['region']]}); "
+                       "a coil heats an LCE region")
+        if c["name"] in coil_names:
+            check.fail(f"{e}.name", f"{c['name']!r} is used twice")
+        coil_names.add(c["name"])
+
+    # Heat exchange: boundaries named, one ambient per boundary, fixed temperatures named.
+    fixed_names, ambient, kinds = set(), {}, {}
+    for i, h in enumerate(arr["heat"]):
+        e = f"[[heat]][{i}]"
+        for b in h["boundary"]:
+            facet_set(f"{e}.boundary", b)
+            if h["type"] in kinds.get(b, ()):
+                check.fail(f"{e}.boundary", f"{b!r} has a {h['type']} entry already")
+            if h["type"] == "fixed" and kinds.get(b) or "fixed" in kinds.get(b, ()):
+                check.fail(f"{e}.boundary", f"{b!r}: a fixed temperature excludes convection and radiation")
+            kinds.setdefault(b, set()).add(h["type"])
+            if h["type"] != "fixed":
+                if b in ambient and ambient[b] != h["T_inf"]:
+                    check.fail(f"{e}.T_inf", f"{b!r}: convection and radiation need one T_inf")
+                ambient[b] = h["T_inf"]
+        if h["type"] == "fixed":
+            if h["temperature"] is None:
+                check.fail(f"{e}.temperature", "missing: a fixed temperature [C]")
+            h["name"] = h["name"] or "+".join(h["boundary"])
+            fixed_names.add(h["name"])
+        elif h["name"] is not None or h["temperature"] is not None:
+            check.fail(e, "name and temperature are keys of a fixed temperature only")
+
+    # Supports: named boundaries, no component constrained twice.
+    held: dict[str, set] = {}
+    for i, s in enumerate(arr["supports"]):
+        e = f"[[supports]][{i}]"
+        t = s["type"]
+        if t in ("clamp", "roller", "mirror"):
+            if s["boundary"] is None:
+                check.fail(f"{e}.boundary", f"missing: a {t} acts on a facet set")
+            facet_set(f"{e}.boundary", s["boundary"])
+            if t != "clamp" and s["normal"] is None:
+                check.fail(f"{e}.normal", f"missing: the component a {t} fixes ('x', 'y' or 'z')")
+            comps = {0, 1, 2} if t == "clamp" else {AXES[s["normal"]]}
+            twice = held.setdefault(s["boundary"], set()) & comps
+            if twice:
+                check.fail(e, f"boundary {s['boundary']!r}: component "
+                           f"{'xyz'[min(twice)]} is constrained twice; allowed one support per component")
+            held[s["boundary"]] |= comps
+        elif t == "point":
+            if s["point"] is None:
+                check.fail(f"{e}.point", "missing: [x, y, z] mm")
+            comps = s["components"]
+            if not (isinstance(comps, list) and comps and all(c in AXES for c in comps)
+                    and len(set(comps)) == len(comps)):
+                check.fail(f"{e}.components", f"{comps!r}: allowed a list of distinct 'x', 'y', 'z'")
+        else:  # 3-2-1
+            pts = s["points"]
+            if not (isinstance(pts, list) and len(pts) == 3):
+                check.fail(f"{e}.points", "allowed three points [[x, y, z], [x, y, z], [x, y, z]]")
+            s["points"] = [check.vector(f"{e}.points", p) for p in pts]
+    load_names = set()
+    for i, ld in enumerate(arr["loads"]):
+        e = f"[[loads]][{i}]"
+        if ld["type"] in ("force", "pressure"):
+            if ld["boundary"] is None:
+                check.fail(f"{e}.boundary", f"missing: a {ld['type']} acts on a facet set")
+            facet_set(f"{e}.boundary", ld["boundary"])
+            if ld[ld["type"]] is None:
+                check.fail(f"{e}.{ld['type']}", "missing")
+        ld["name"] = ld["name"] or f"{ld['type']}{i}"
+        load_names.add(ld["name"])
+    for i, p in enumerate(arr["probes"]):
+        e = f"[[probes]][{i}]"
+        if (p["boundary"] is None) == (p["point"] is None):
+            check.fail(e, "a probe needs exactly one of boundary or point")
+        if p["boundary"] is not None:
+            facet_set(f"{e}.boundary", p["boundary"])
+
+    # The program: drives by tag, each a constant or a schedule.
+    prog = sec["program"]
+    if not prog["steady"]:
+        if prog["dt"] > prog["duration"]:
+            check.fail("[program].dt", f"{prog['dt']} s: allowed <= duration = {prog['duration']} s")
+    drives = {"currents": {}, "temperatures": {}, "loads": {}}
+    known = {"currents": coil_names, "temperatures": fixed_names, "loads": load_names}
+    units = {"currents": "A", "temperatures": "C", "loads": "-"}
+    for kind in drives:
+        bounds = SCHEMA["program"][kind][3]
+        for tag, value in prog[kind].items():
+            if tag not in known[kind]:
+                check.fail(f"[program].{kind}.{tag}", f"not a {kind[:-1]} tag; allowed: "
+                           f"{', '.join(sorted(known[kind])) or 'none'}")
+            drives[kind][tag] = _schedule(check, f"[program].{kind}.{tag}", value, bounds, units[kind])
+            if kind == "currents":
+                check_current(f"{check.file}: [program].currents.{tag}", list(drives[kind][tag].values))
+    if prog["schedule"] is not None:
+        by_unit = {"A": "currents", "C": "temperatures", "-": "loads"}
+        for tag, (unit, sched) in _read_schedule_csv(check, path.parent / prog["schedule"],
+                                                     "[program].schedule").items():
+            kind = by_unit.get(unit)
+            if kind is None or tag not in known[kind]:
+                check.fail("[program].schedule", f"column '{tag} [{unit}]': not a coil [A], fixed "
+                           "temperature [C] or load [-] tag of this case")
+            if tag in drives[kind]:
+                check.fail("[program].schedule", f"{tag!r} is also given in [program].{kind}")
+            for v in sched.values:
+                check.number(f"[program].schedule {tag}", v, SCHEMA["program"][kind][3], unit)
+            if kind == "currents":
+                check_current(f"{check.file}: [program].schedule {tag}", list(sched.values))
+            drives[kind][tag] = sched
+    return BodyCase(path=path.resolve(), mesh=sec["mesh"], thermal=sec["thermal"],
+                    regions=tuple(arr["regions"]), coils=tuple(arr["coils"]), heat=tuple(arr["heat"]),
+                    supports=tuple(arr["supports"]), loads=tuple(arr["loads"]), probes=tuple(arr["probes"]),
+                    program=prog, output=sec["output"], petsc={str(k): str(v) for k, v in petsc.items()},
+                    drives=drives, cell_names=cells, facet_names=facets)
