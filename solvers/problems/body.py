@@ -46,9 +46,10 @@ from lcefem.meshes.reader import read_tagged_mesh
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
-from lcefem.models.lce import NematicTransition, spontaneous_stretch
+from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneous_stretch
 from lcefem.models.limits import check_current
 from lcefem.solvers.exports import FEFields
+from lcefem.solvers.contraction_curve import read_contraction_csv
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_measure
 from lcefem.solvers.probes import PointProbe
@@ -87,13 +88,14 @@ def twisted_layer_director(x, axis: int, bounds: tuple[float, float], from_deg: 
     return ufl.as_vector(comps)
 
 
-def contraction_law(region: dict) -> NematicTransition:
-    """THE HOOK of a tabulated contraction curve: the spontaneous-stretch law lambda_s(T) of an LCE
-    region of the case file. Now the present law (:mod:`lcefem.models.lce`: Warner-Terentjev's
-    order parameter with T_NI [C], width [K], lambda_N [-], T_ref [C]); a region with
-    ``curve = "file.csv"`` is refused by the case file's checks while
-    :data:`lcefem.solvers.problems.body_case.CURVE_LAW_MODULE` is None. A measured-curve law plugs
-    in here (and in :class:`lcefem.solvers.thermomechanics.LCERegion`'s ``transition``)."""
+def contraction_law(region: dict) -> NematicTransition | MeasuredContraction:
+    """The spontaneous-stretch law lambda_s(T) of an LCE region of the case file: a measured curve
+    when the region names one (``curve``, a CSV of stretch or strain against temperature, read by
+    :func:`lcefem.solvers.contraction_curve.read_contraction_csv`; the path is resolved against the
+    case file by the checks), else the present law (:mod:`lcefem.models.lce`: Warner-Terentjev's
+    order parameter with T_NI [C], width [K], lambda_N [-], T_ref [C])."""
+    if region.get("curve") is not None:
+        return read_contraction_csv(region["curve"], T_ref=region["T_ref"])
     return NematicTransition(T_NI=region["T_NI"], width=region["width"], lambda_N=region["lambda_N"],
                              T_ref=region["T_ref"])
 

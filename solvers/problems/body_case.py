@@ -44,10 +44,6 @@ SUPPORT_TYPES = ("clamp", "roller", "mirror", "point", "3-2-1")
 HEAT_TYPES = ("convection", "radiation", "fixed")
 LOAD_TYPES = ("force", "pressure", "gravity")
 AXES = {"x": 0, "y": 1, "z": 2}
-#: A tabulated contraction curve (``curve = "file.csv"`` of an LCE region): the name of the
-#: models/ module that loads it; None while it is not on this branch (the key is then refused).
-#: The law itself plugs in at :func:`lcefem.solvers.problems.body.contraction_law`.
-CURVE_LAW_MODULE = None
 
 # Each key: (kind, unit, default (REQUIRED: none), bounds or allowed values, what it is).
 REQUIRED = object()
@@ -329,6 +325,7 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
     value} replace the file's values (command-line options) before the checks. InputError on bad
     input."""
     from lcefem.meshes.reader import physical_names
+    from lcefem.solvers.contraction_curve import read_contraction_csv
     from lcefem.solvers.runtime.inputs import read_toml
 
     path = pathlib.Path(path)
@@ -401,9 +398,14 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                 for k in ("from_deg", "to_deg"):
                     check.number(f"{e}.twist.{k}", tw.get(k), (-3600.0, 3600.0), "deg")
             if r["curve"] is not None:
-                if CURVE_LAW_MODULE is None:
-                    check.fail(f"{e}.curve", "a tabulated contraction curve is not available in this "
-                               "version; remove 'curve' to use the present law (T_NI, width, lambda_N)")
+                # A measured curve (CSV with units, lcefem.solvers.contraction_curve) replaces T_NI,
+                # width and lambda_N; read once here so a bad table stops before any mesh is built.
+                curve_file = (path.parent / r["curve"]).resolve()
+                try:
+                    read_contraction_csv(curve_file, T_ref=r["T_ref"])
+                except InputError as exc:
+                    check.fail(f"{e}.curve", str(exc))
+                r["curve"] = str(curve_file)
             if r["lambda_N"] <= 1.0:
                 check.fail(f"{e}.lambda_N", f"{r['lambda_N']}: allowed > 1")
         else:
