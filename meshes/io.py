@@ -18,7 +18,9 @@ How the names travel, per format:
   per element, and gmsh >= 4 reads it.
 * ``.xdmf``, ``.vtu``: the cell data ``tag`` (int32, the same numbers) and the name map in the
   sidecar ``<stem>.tags.json`` (``{"groups": {name: {"tag": t, "dim": d}}, ...}``), as neither
-  format has names for integer tags. XDMF keeps its arrays in ``<stem>.h5`` beside it (meshio's
+  format has names for integer tags. In XDMF a bar-and-hinge node set is the point data of its
+  name (1 on its nodes; sidecar ``{"point_data": name, "dim": 0}``): meshio cannot write vertex
+  cells into a mixed XDMF topology that a reader parses. XDMF keeps its arrays in ``<stem>.h5`` beside it (meshio's
   HDF5 storage, through h5py), uncompressed: once dolfinx is loaded, h5py runs on dolfinx's HDF5
   library (the same version, 1.14.6), which has no gzip filter.
 
@@ -73,8 +75,8 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
     if mesh.comm.size != 1:
         raise InputError(f"mesh export: the mesh is shared over {mesh.comm.size} processes; build it "
                          "on one (MPI.COMM_SELF) to write it")
-    if mesh.geometry.cmap.degree != 1:
-        raise InputError(f"mesh export: geometry of degree {mesh.geometry.cmap.degree}; only linear "
+    if mesh.geometry.cmaps[0].degree != 1:
+        raise InputError(f"mesh export: geometry of degree {mesh.geometry.cmaps[0].degree}; only linear "
                          "(degree-1) meshes are written")
     tdim = mesh.topology.dim
     cell_name = mesh.topology.cell_name()
@@ -94,7 +96,7 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
     if untagged:
         raise InputError(f"mesh export: {untagged} of {n_cells} cells carry no cell tag")
     mtype, order = _CELLS[cell_name]
-    geometry_nodes = mesh.geometry.dofmap[:, order]
+    geometry_nodes = mesh.geometry.dofmaps[0][:, order]
     blocks = _blocks(mtype, geometry_nodes, cell_values, cells_by_name, "cell")
     if facet_tags is not None and len(facet_tags.indices):
         fname = dolfinx.cpp.mesh.cell_entity_type(mesh.topology.cell_type, tdim - 1, 0).name
@@ -189,15 +191,27 @@ def write_mesh(m, out, stem: str, fmt: str, meta: dict | None = None) -> list[pa
                             cell_data={k: m.cell_data[k] for k in ("gmsh:physical", "gmsh:geometrical")})
         meshio.write(target, plain, file_format=_MESHIO_FORMAT[fmt], binary=False)
     else:
-        plain = meshio.Mesh(m.points, m.cells, cell_data={TAG_DATA: m.cell_data[TAG_DATA]})
+        cells, tags, groups, point_data = list(m.cells), list(m.cell_data[TAG_DATA]), name_map(m), {}
+        if fmt == "xdmf":
+            # meshio writes vertex cells into a mixed XDMF topology without their node count, which
+            # no reader (meshio's own included) parses: node sets go as point data instead
+            keep = [k for k, c in enumerate(cells) if c.type != "vertex"]
+            name_of = {(g["tag"], g["dim"]): n for n, g in groups.items()}
+            for k in sorted(set(range(len(cells))) - set(keep)):
+                name = name_of[(int(tags[k][0]), 0)]
+                point_data[name] = np.zeros(len(m.points), dtype=np.int32)
+                point_data[name][cells[k].data.ravel()] = 1
+                groups[name] = {"point_data": name, "dim": 0}
+            cells, tags = [cells[k] for k in keep], [tags[k] for k in keep]
+        plain = meshio.Mesh(m.points, cells, cell_data={TAG_DATA: tags}, point_data=point_data)
         # XDMF uncompressed (module docstring)
         meshio.write(target, plain, file_format=_MESHIO_FORMAT[fmt],
                      **({"compression": None} if fmt == "xdmf" else {}))
         if fmt == "xdmf":  # its arrays, named after it (the .xdmf refers to it by that name)
             written.append(target.with_suffix(".h5"))
         sidecar = stage / f"{stem}.tags.json"
-        sidecar.write_text(json.dumps({"cell_data": TAG_DATA,
-                                       "groups": name_map(m), **(meta or {})}, indent=2) + "\n")
+        sidecar.write_text(json.dumps({"units": {"length": "mm"}, "cell_data": TAG_DATA,
+                                       "groups": groups, **(meta or {})}, indent=2) + "\n")
         written.append(sidecar)
     written.append(target)  # the mesh file last
     final = []

@@ -134,12 +134,11 @@ def prepare(args: argparse.Namespace) -> list[MeshRequest]:
     return requests(args)
 
 
-def build(request: MeshRequest):
-    """(meshio.Mesh, the builder's facts) of one request, built on one process."""
+def build_tagged(request: MeshRequest):
+    """The body's own mesh, built on one process: a :class:`~lcefem.meshes._gmsh.TaggedMesh` (FE)
+    or a :class:`~lcefem.meshes.bar_hinge_structure.BarHingeStructure` (bar-and-hinge)."""
     import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
     from mpi4py import MPI
-
-    from lcefem.meshes.io import to_meshio
 
     body, comm = request.body, MPI.COMM_SELF
     if request.model == "bar-hinge":
@@ -150,48 +149,51 @@ def build(request: MeshRequest):
     if body == "strip":
         from lcefem.meshes.strip import build_strip_mesh
         cfg = _fe_config(body)
-        tm = build_strip_mesh(cfg.geometry, cfg.transition.lambda_N, resolution, comm)
-    elif body == "beam":
+        return build_strip_mesh(cfg.geometry, cfg.transition.lambda_N, resolution, comm)
+    if body == "beam":
         from lcefem.meshes.composite_beam_fe import build_beam_fe
         cfg = _fe_config(body)
-        tm = build_beam_fe(cfg.geometry, cfg.actuation.lambda_N, resolution, comm)
-    elif body == "gridshell":
+        return build_beam_fe(cfg.geometry, cfg.actuation.lambda_N, resolution, comm)
+    if body == "gridshell":
         from lcefem.meshes.gridshell_fe import build_gridshell_fe
         cfg = _fe_config(body)
-        tm = build_gridshell_fe(cfg.geometry, cfg.lambda_N, resolution, comm, cells=cfg.cells,
-                                symmetry=cfg.symmetry)
-    elif body == "ribbon":
+        return build_gridshell_fe(cfg.geometry, cfg.lambda_N, resolution, comm, cells=cfg.cells,
+                                  symmetry=cfg.symmetry)
+    if body == "ribbon":
         from lcefem.meshes.twisted_ribbon import build_twisted_ribbon
         from lcefem.models.ribbon import RibbonGeometry
         g = RibbonGeometry()  # the rolling ribbon's as-built section and twist (lcefem run ribbon)
-        tm = build_twisted_ribbon(g.length, g.width, g.thickness, g.twist_rate, resolution, comm)
-    else:
-        from lcefem.meshes.kapton_ribbon import build_ribbon_fe
-        cfg = _fe_config(body)
-        tm = build_ribbon_fe(cfg.specimen, resolution, comm)
-    m = to_meshio(tm.mesh, tm.cell_tags, tm.facet_tags, {"cells": tm.cells, "facets": tm.facets})
-    return m, tm.info
+        return build_twisted_ribbon(g.length, g.width, g.thickness, g.twist_rate, resolution, comm)
+    from lcefem.meshes.kapton_ribbon import build_ribbon_fe
+    return build_ribbon_fe(_fe_config(body).specimen, resolution, comm)
+
+
+def build(request: MeshRequest):
+    """(meshio.Mesh, the builder's facts) of one request (:func:`build_tagged`)."""
+    from lcefem.meshes.io import structure_to_meshio, to_meshio
+
+    built = build_tagged(request)
+    if request.model == "bar-hinge":
+        return structure_to_meshio(built), built.info
+    names = {"cells": built.cells, "facets": built.facets}
+    return to_meshio(built.mesh, built.cell_tags, built.facet_tags, names), built.info
 
 
 def _bar_hinge(body: str):
-    from lcefem.meshes.io import structure_to_meshio
-
     if body == "beam":
         from lcefem.meshes.composite_beam import build_beam_bar_hinge
         from lcefem.solvers.problems.composite_beam_bh import BeamConfig
         cfg = BeamConfig()
-        s = build_beam_bar_hinge(cfg.geometry, cfg.mesh)
-    elif body == "gridshell":
+        return build_beam_bar_hinge(cfg.geometry, cfg.mesh)
+    if body == "gridshell":
         from lcefem.meshes.gridshell import build_gridshell_bar_hinge
         from lcefem.solvers.problems.gridshell_bh_run import GridshellBHRunConfig
         cfg = GridshellBHRunConfig()
-        s = build_gridshell_bar_hinge(cfg.geometry, cfg.layout, cfg.mesh)
-    else:
-        from lcefem.meshes.kapton_ribbon import build_ribbon_bar_hinge
-        from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenConfig
-        cfg = KaptonSpecimenConfig()
-        s = build_ribbon_bar_hinge(cfg.specimen, cfg.mesh)
-    return structure_to_meshio(s), s.info
+        return build_gridshell_bar_hinge(cfg.geometry, cfg.layout, cfg.mesh)
+    from lcefem.meshes.kapton_ribbon import build_ribbon_bar_hinge
+    from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenConfig
+    cfg = KaptonSpecimenConfig()
+    return build_ribbon_bar_hinge(cfg.specimen, cfg.mesh)
 
 
 def _plain(info: dict) -> dict:
@@ -213,7 +215,7 @@ def main(args: argparse.Namespace) -> int:
     written = {}
     for request in args.prepared:
         m, info = build(request)
-        meta = {"units": {"length": "mm"}, "body": request.body, "model": request.model}
+        meta = {"body": request.body, "model": request.model}
         files = write_mesh(m, args.out, request.stem, request.format, meta)
         written[request.stem] = {
             "body": request.body, "model": request.model, "format": request.format,
