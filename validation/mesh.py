@@ -7,15 +7,15 @@ NAME is a body (``strip``, ``beam``, ``gridshell``, ``ribbon``, ``specimen``) or
 the one its body builds from its default configuration (the same builder, dimensions and level as
 ``lcefem run``), in mm:
 
-======== ====================================================== ==================================
-NAME     ``--model fe`` (default)                               ``--model bar-hinge``
-======== ====================================================== ==================================
-strip    the heated LCE strip, quarter (seed 001, Fig. 2)       --
-beam     the composite beam, quarter (Fig. 3)                   N5B8 panels, strip and glue bars
-gridshell the 3 x 3 robotic surface, quarter (Fig. 4)           N5B8 panels, strip and glue bars
-ribbon   the twisted ribbon (60 mm, 3 turns; seed 000)          --
-specimen the Kapton buckling specimen, half (Fig. 2G)           N5B8 panels
-======== ====================================================== ==================================
+========= ====================================================== ===============================
+NAME      ``--model fe`` (default)                               ``--model bar-hinge``
+========= ====================================================== ===============================
+strip     the heated LCE strip, quarter (seed 001, Fig. 2)       --
+beam      the composite beam, quarter (Fig. 3)                   N5B8 panels, strip and glue bars
+gridshell the 3 x 3 robotic surface, quarter (Fig. 4)            N5B8 panels, strip bars
+ribbon    the twisted ribbon (60 mm, 3 turns; seed 000)          --
+specimen  the Kapton buckling specimen, half (Fig. 2G)           N5B8 panels
+========= ====================================================== ===============================
 
 Writes ``DIR/<stem>.<format>`` (stem: NAME, ``<NAME>_bar_hinge`` for the bar-and-hinge model), with
 ``<stem>.tags.json`` (the name of every tag) for xdmf/vtu and ``<stem>.h5`` for xdmf
@@ -161,8 +161,8 @@ def build_tagged(request: MeshRequest):
                                   symmetry=cfg.symmetry)
     if body == "ribbon":
         from lcefem.meshes.twisted_ribbon import build_twisted_ribbon
-        from lcefem.models.ribbon import RibbonGeometry
-        g = RibbonGeometry()  # the rolling ribbon's as-built section and twist (lcefem run ribbon)
+        from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig
+        g = RibbonConfig().geometry  # the rolling ribbon's as-built section and twist (lcefem run ribbon)
         return build_twisted_ribbon(g.length, g.width, g.thickness, g.twist_rate, resolution, comm)
     from lcefem.meshes.kapton_ribbon import build_ribbon_fe
     return build_ribbon_fe(_fe_config(body).specimen, resolution, comm)
