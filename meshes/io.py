@@ -20,9 +20,9 @@ How the names travel, per format:
   sidecar ``<stem>.tags.json`` (``{"groups": {name: {"tag": t, "dim": d}}, ...}``), as neither
   format has names for integer tags. In XDMF a bar-and-hinge node set is the point data of its
   name (1 on its nodes; sidecar ``{"point_data": name, "dim": 0}``): meshio cannot write vertex
-  cells into a mixed XDMF topology that a reader parses. XDMF keeps its arrays in ``<stem>.h5`` beside it (meshio's
-  HDF5 storage, through h5py), uncompressed: once dolfinx is loaded, h5py runs on dolfinx's HDF5
-  library (the same version, 1.14.6), which has no gzip filter.
+  cells into a mixed XDMF topology that a reader parses. XDMF keeps its arrays in ``<stem>.h5``
+  beside it (meshio's HDF5 storage, through h5py), uncompressed: once dolfinx is loaded, h5py runs
+  on dolfinx's HDF5 library (the same version, 1.14.6), which has no gzip filter.
 
 Serial only: the mesh must live on one process (``comm.size == 1``); the command ``lcefem mesh``
 builds its meshes on ``MPI.COMM_SELF``.
@@ -51,9 +51,9 @@ _HEX_VTK = np.array([0, 1, 3, 2, 4, 5, 7, 6])
 #: the same for a quadrilateral facet
 _QUAD_VTK = np.array([0, 1, 3, 2])
 #: dolfinx cell name -> (meshio cell type, vertex order from dolfinx's)
-_CELLS = {"hexahedron": ("hexahedron", _HEX_VTK), "tetrahedron": ("tetrahedron", np.arange(4)),
+_CELLS = {"hexahedron": ("hexahedron", _HEX_VTK), "tetrahedron": ("tetra", np.arange(4)),
           "quadrilateral": ("quad", _QUAD_VTK), "triangle": ("triangle", np.arange(3))}
-_DIM = {"hexahedron": 3, "tetrahedron": 3, "quad": 2, "triangle": 2, "line": 1, "vertex": 0}
+_DIM = {"hexahedron": 3, "tetra": 3, "quad": 2, "triangle": 2, "line": 1, "vertex": 0}
 
 
 def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):

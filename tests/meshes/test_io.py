@@ -23,7 +23,7 @@ from lcefem.validation.mesh import BAR_HINGE, BODIES, MeshRequest, build, build_
 
 FE = [MeshRequest(b, "fe", 0, "msh") for b in BODIES]
 BH = [MeshRequest(b, "bar-hinge", None, "msh") for b in BAR_HINGE]
-DIM = {"hexahedron": 3, "tetrahedron": 3, "quad": 2, "triangle": 2, "line": 1, "vertex": 0}
+DIM = {"hexahedron": 3, "tetra": 3, "quad": 2, "triangle": 2, "line": 1, "vertex": 0}
 _BUILT: dict = {}
 
 
@@ -124,6 +124,23 @@ def test_msh_loads_into_dolfinx_with_the_built_volume_and_areas(tmp_path, reques
     assert all(v > 0 for v in ours.values())
     if request_.body == "strip":  # the quarter model: a quarter of the as-built L W H
         assert ours["volume"] == pytest.approx(strip_volume(tm.info) / 4, rel=1e-12)
+
+
+def test_tetrahedra_keep_their_volume(tmp_path):
+    """The strip split into tetrahedra (mesh.cell = "tet") round-trips too: same cells per tag,
+    volume a quarter of L W H."""
+    from lcefem.meshes.strip import StripGeometry, StripMesh, build_strip_mesh
+
+    tm = build_strip_mesh(StripGeometry(), 1.4, StripMesh(level=0, cell="tet"), MPI.COMM_SELF)
+    m = to_meshio(tm.mesh, tm.cell_tags, tm.facet_tags, {"cells": tm.cells, "facets": tm.facets})
+    path = write_mesh(m, tmp_path, "strip_tet", "msh")[-1]
+    data = dolfinx.io.gmsh.read_from_msh(path, MPI.COMM_SELF, 0, gdim=3)
+    assert data.mesh.topology.cell_name() == "tetrahedron"
+    assert read_counts(path, "msh")[0] == fe_counts(tm)
+    ours = measures(tm.mesh, tm.cell_tags, tm.facet_tags, tm.cells, tm.facets)
+    theirs = measures(data.mesh, data.cell_tags, data.facet_tags, tm.cells, tm.facets)
+    assert theirs == pytest.approx(ours, rel=1e-12)
+    assert ours["volume"] == pytest.approx(strip_volume(tm.info) / 4, rel=1e-12)
 
 
 def test_a_failed_write_leaves_nothing_complete_looking(tmp_path, monkeypatch):
