@@ -168,3 +168,23 @@ def test_untagged_cells_and_unnamed_tags_are_refused():
                                  np.ones(n // 2, dtype=np.int32))
     with pytest.raises(InputError, match=f"{n - n // 2} of {n} cells carry no cell tag"):
         to_meshio(tm.mesh, some, None, {"cells": {"lce": 1}})
+
+
+@pytest.mark.parametrize("fmt", ["vtu", "xdmf"])
+@pytest.mark.parametrize("request_", [FE[2], BH[1]], ids=lambda r: f"{r.body}-{r.model}")
+def test_vtk_readers_open_them(tmp_path, request_, fmt):
+    """ParaView's own readers (VTK's XML unstructured-grid and XDMF readers) give every point,
+    every cell and each cell's tag."""
+    import vtk  # with pyvista (requirements.lock)
+    _, m = built(request_)
+    path = write_mesh(m, tmp_path, request_.stem, fmt)[-1]
+    reader = vtk.vtkXMLUnstructuredGridReader() if fmt == "vtu" else vtk.vtkXdmfReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutputDataObject(0)
+    vertices = sum(len(c.data) for c in m.cells if c.type == "vertex")
+    cells = sum(len(c.data) for c in m.cells) - (vertices if fmt == "xdmf" else 0)
+    assert (grid.GetNumberOfPoints(), grid.GetNumberOfCells()) == (len(m.points), cells)
+    tags = np.array([grid.GetCellData().GetArray(TAG_DATA).GetValue(i) for i in range(cells)])
+    kept = [t for c, t in zip(m.cells, m.cell_data[TAG_DATA]) if fmt == "vtu" or c.type != "vertex"]
+    assert np.array_equal(np.sort(tags), np.sort(np.concatenate(kept)))
