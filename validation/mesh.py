@@ -221,11 +221,15 @@ def main(args: argparse.Namespace) -> int:
             "body": request.body, "model": request.model, "format": request.format,
             "files": [p.name for p in files], "points": int(m.points.shape[0]),
             "cells per tag": tag_counts(m), "tags": name_map(m), "info": _plain(info)}
-        if not args.quiet:
-            print(f"lcefem: {request.stem}: {m.points.shape[0]} nodes, "
-                  f"{sum(len(c.data) for c in m.cells)} cells in {len(m.field_data)} named tags -> "
-                  f"{args.out / files[-1].name}")
+        line = (f"lcefem: {request.stem}: {m.points.shape[0]} nodes, {sum(len(c.data) for c in m.cells)} "
+                f"cells in {len(m.field_data)} named tags -> {args.out / files[-1].name}")
+        if len(args.prepared) == 1:
+            print(line)  # the command's one line
+        elif not args.quiet:
+            print(line)  # progress of `all`
+    wall = time.perf_counter() - t0
     write_json(args.out / "summary.json", {"command": "mesh", "units": {"length": "mm"},
-                                           "meshes": written,
-                                           "wall_time [s]": time.perf_counter() - t0})
+                                           "meshes": written, "wall_time [s]": wall})
+    if len(args.prepared) > 1:
+        print(f"lcefem: {len(written)} meshes as {args.format} in {wall:.1f} s; results in {args.out}")
     return 0
