@@ -24,8 +24,7 @@ How the names travel, per format:
   beside it (meshio's HDF5 storage, through h5py), uncompressed: once dolfinx is loaded, h5py runs
   on dolfinx's HDF5 library (the same version, 1.14.6), which has no gzip filter.
 
-Serial only: the mesh must live on one process (``comm.size == 1``); the command ``lcefem mesh``
-builds its meshes on ``MPI.COMM_SELF``.
+A mesh shared over several processes is gathered to rank 0, which writes it.
 """
 
 from __future__ import annotations
@@ -60,7 +59,9 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
     """A :class:`meshio.Mesh` of a linear (degree-1 geometry) dolfinx ``mesh`` with its tags.
 
     Args:
-        mesh: dolfinx mesh on one process, coordinates in mm.
+        mesh: dolfinx mesh, coordinates in mm; shared over several processes, it is gathered to
+            rank 0 of its communicator (nodes in their global order), which gets the result: the
+            other ranks get None.
         cell_tags, facet_tags: dolfinx MeshTags of the cells and facets (``facet_tags`` may be None).
         names: ``{"cells": {name: tag}, "facets": {name: tag}}``; a name must be unique across both.
 
@@ -72,9 +73,7 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
     """
     import dolfinx
 
-    if mesh.comm.size != 1:
-        raise InputError(f"mesh export: the mesh is shared over {mesh.comm.size} processes; build it "
-                         "on one (MPI.COMM_SELF) to write it")
+    comm = mesh.comm
     if mesh.geometry.cmaps[0].degree != 1:
         raise InputError(f"mesh export: geometry of degree {mesh.geometry.cmaps[0].degree}; only linear "
                          "(degree-1) meshes are written")
@@ -88,22 +87,48 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
     if both:
         raise InputError(f"mesh export: names {sorted(both)} are both a cell and a facet tag; a gmsh "
                          "physical name must be unique")
-    x = np.asarray(mesh.geometry.x, dtype=np.float64)
+    # this process's owned cells and facets (a facet on a process boundary is owned by one process)
     n_cells = mesh.topology.index_map(tdim).size_local
     cell_values = np.zeros(n_cells, dtype=np.int32)
-    cell_values[cell_tags.indices] = cell_tags.values
-    untagged = int(np.count_nonzero(cell_values == 0))
-    if untagged:
-        raise InputError(f"mesh export: {untagged} of {n_cells} cells carry no cell tag")
+    owned = cell_tags.indices < n_cells
+    cell_values[cell_tags.indices[owned]] = cell_tags.values[owned]
     mtype, order = _CELLS[cell_name]
-    geometry_nodes = mesh.geometry.dofmaps[0][:, order]
-    blocks = _blocks(mtype, geometry_nodes, cell_values, cells_by_name, "cell")
-    if facet_tags is not None and len(facet_tags.indices):
-        fname = dolfinx.cpp.mesh.cell_entity_type(mesh.topology.cell_type, tdim - 1, 0).name
-        ftype, forder = _CELLS[fname]
-        nodes = dolfinx.mesh.entities_to_geometry(mesh, tdim - 1, facet_tags.indices, False)
-        blocks += _blocks(ftype, np.asarray(nodes)[:, forder], np.asarray(facet_tags.values),
-                          facets_by_name, "facet")
+    cell_nodes = np.asarray(mesh.geometry.dofmaps[0][:n_cells])[:, order]
+    fname = dolfinx.cpp.mesh.cell_entity_type(mesh.topology.cell_type, tdim - 1, 0).name
+    ftype, forder = _CELLS[fname]
+    facet_nodes, facet_values = np.empty((0, len(forder)), dtype=np.int64), np.empty(0, dtype=np.int32)
+    if facet_tags is not None:
+        mesh.topology.create_entities(tdim - 1)
+        mine = facet_tags.indices < mesh.topology.index_map(tdim - 1).size_local
+        if np.any(mine):
+            nodes = dolfinx.mesh.entities_to_geometry(mesh, tdim - 1, facet_tags.indices[mine], False)
+            facet_nodes, facet_values = np.asarray(nodes)[:, forder], np.asarray(facet_tags.values[mine])
+    untagged = comm.allreduce(int(np.count_nonzero(cell_values == 0)))
+    if untagged:
+        raise InputError(f"mesh export: {untagged} of {comm.allreduce(n_cells)} cells carry no cell tag")
+    for what, values, by_name in (("cell", cell_values, cells_by_name),
+                                  ("facet", facet_values, facets_by_name)):
+        present = sorted(set().union(*comm.allgather(set(np.unique(values).tolist()))))
+        unnamed = [t for t in present if t not in by_name.values()]
+        if unnamed:  # every process refuses alike
+            raise InputError(f"mesh export: {what} tag {unnamed[0]} has no name (named: "
+                             f"{', '.join(f'{n}={t}' for n, t in by_name.items())})")
+    x = np.asarray(mesh.geometry.x, dtype=np.float64)
+    if comm.size > 1:  # gather to rank 0, nodes by their global index
+        imap = mesh.geometry.index_map()
+        n_own = imap.size_local
+        to_global = imap.local_to_global(np.arange(n_own + imap.num_ghosts, dtype=np.int32))
+        parts = comm.gather((x[:n_own], to_global[:n_own], to_global[cell_nodes], cell_values,
+                             to_global[facet_nodes], facet_values), root=0)
+        if comm.rank != 0:
+            return None
+        x = np.empty((imap.size_global, 3))
+        for xs, ids, *_ in parts:
+            x[ids] = xs
+        cell_nodes, cell_values, facet_nodes, facet_values = (
+            np.concatenate([p[k] for p in parts]) for k in (2, 3, 4, 5))
+    blocks = _blocks(mtype, cell_nodes, cell_values, cells_by_name, "cell")
+    blocks += _blocks(ftype, facet_nodes, facet_values, facets_by_name, "facet")
     return _assemble(x, blocks)
 
 

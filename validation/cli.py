@@ -157,8 +157,7 @@ def main(argv: list[str] | None = None) -> int:
         parallel = getattr(mod, "PARALLEL", True)
         if comm is not None and not (parallel(args) if callable(parallel) else parallel):
             name = f"run {args.target}" if args.command == "run" else args.command
-            why = getattr(mod, "SERIAL_REASON", "")  # a module may say why it stays serial
-            raise InputError(f"{name}: runs in serial only{f' ({why})' if why else ''}; start it without mpiexec")
+            raise InputError(f"{name}: runs in serial only; start it without mpiexec")
         if hasattr(mod, "prepare"):  # bad input is refused before the output folder is touched
             args.prepared = mod.prepare(args)
         out = mod.out_folder(args) if hasattr(mod, "out_folder") else args.out

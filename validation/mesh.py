@@ -22,9 +22,9 @@ Writes ``DIR/<stem>.<format>`` (stem: NAME, ``<NAME>_bar_hinge`` for the bar-and
 (:mod:`lcefem.meshes.io`), then ``summary.json`` (per mesh: files, cells per tag, the builder's
 facts). ``all`` writes every mesh of every model into DIR.
 
-Serial only: the mesh is written from one process (a 3D mesh built on N ranks would have to be
-gathered to one first; the built-in meshes take seconds to build), so under mpiexec the command
-stops with one line.
+Under mpiexec the FE meshes are built shared over the ranks, as ``lcefem run`` builds them, and
+gathered to rank 0, which writes them (the files hold the same cells, tags and geometry as a serial
+run's; the nodes are numbered in dolfinx's global order).
 """
 
 from __future__ import annotations
@@ -38,8 +38,6 @@ from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.files import json_safe, write_json
 from lcefem.solvers.runtime.outdir import add_out_arguments
 
-PARALLEL = False  # one process writes the file (module docstring)
-SERIAL_REASON = "one process writes the mesh file; the built-in meshes build in seconds on one"
 BODIES = ("strip", "beam", "gridshell", "ribbon", "specimen")
 MODELS = ("fe", "bar-hinge")
 #: the bodies that have a bar-and-hinge structure
@@ -134,13 +132,11 @@ def prepare(args: argparse.Namespace) -> list[MeshRequest]:
     return requests(args)
 
 
-def build_tagged(request: MeshRequest):
-    """The body's own mesh, built on one process: a :class:`~lcefem.meshes._gmsh.TaggedMesh` (FE)
-    or a :class:`~lcefem.meshes.bar_hinge_structure.BarHingeStructure` (bar-and-hinge)."""
-    import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-    from mpi4py import MPI
-
-    body, comm = request.body, MPI.COMM_SELF
+def build_tagged(request: MeshRequest, comm=None):
+    """The body's own mesh: a :class:`~lcefem.meshes._gmsh.TaggedMesh` (FE, on ``comm``, default
+    :func:`~lcefem.meshes.communicator.default_comm`) or a
+    :class:`~lcefem.meshes.bar_hinge_structure.BarHingeStructure` (bar-and-hinge, on every rank)."""
+    body = request.body
     if request.model == "bar-hinge":
         return _bar_hinge(body)
     resolution = _fe_mesh_section(body)
@@ -168,11 +164,12 @@ def build_tagged(request: MeshRequest):
     return build_ribbon_fe(_fe_config(body).specimen, resolution, comm)
 
 
-def build(request: MeshRequest):
-    """(meshio.Mesh, the builder's facts) of one request (:func:`build_tagged`)."""
+def build(request: MeshRequest, comm=None):
+    """(meshio.Mesh, the builder's facts) of one request (:func:`build_tagged`); under MPI the mesh
+    is rank 0's (None on the other ranks)."""
     from lcefem.meshes.io import structure_to_meshio, to_meshio
 
-    built = build_tagged(request)
+    built = build_tagged(request, comm)
     if request.model == "bar-hinge":
         return structure_to_meshio(built), built.info
     names = {"cells": built.cells, "facets": built.facets}
@@ -211,10 +208,15 @@ def _plain(info: dict) -> dict:
 def main(args: argparse.Namespace) -> int:
     from lcefem.meshes.io import name_map, tag_counts, write_mesh
 
+    from lcefem.meshes.communicator import default_comm
+
+    comm = default_comm()
     t0 = time.perf_counter()
     written = {}
     for request in args.prepared:
-        m, info = build(request)
+        m, info = build(request, comm)
+        if comm.rank != 0:  # rank 0 holds the gathered mesh and writes it
+            continue
         meta = {"body": request.body, "model": request.model}
         files = write_mesh(m, args.out, request.stem, request.format, meta)
         written[request.stem] = {
@@ -229,7 +231,8 @@ def main(args: argparse.Namespace) -> int:
             print(line)  # progress of `all`
     wall = time.perf_counter() - t0
     write_json(args.out / "summary.json", {"command": "mesh", "units": {"length": "mm"},
-                                           "meshes": written, "wall_time [s]": wall})
-    if len(args.prepared) > 1:
+                                           "processes": comm.size, "meshes": written,
+                                           "wall_time [s]": wall}, comm)
+    if len(args.prepared) > 1 and comm.rank == 0:
         print(f"lcefem: {len(written)} meshes as {args.format} in {wall:.1f} s; results in {args.out}")
     return 0
