@@ -1,5 +1,5 @@
 """The ``lcefem`` command line: ``lcefem run TARGET ...``, ``lcefem validate``, ``lcefem converge``,
-``lcefem uncertainty gridshell``, ``lcefem design``.
+``lcefem uncertainty gridshell``, ``lcefem design``, ``lcefem mesh NAME``.
 
 Every command goes through :func:`main`: signal handlers, the output folder's claim and lock
 (lcefem.solvers.runtime), and one mapping of failures to a one-line message and an exit status:
@@ -32,7 +32,7 @@ from lcefem.solvers.runtime.signals import (install_signal_handlers, keep_petsc_
 from lcefem.validation.commands import RUN_TARGETS
 
 #: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
-COMMANDS = ("validate", "converge", "uncertainty", "design", "control", "calibrate")
+COMMANDS = ("validate", "converge", "uncertainty", "design", "control", "calibrate", "mesh")
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
 AGREE_SECONDS = 3.0
 INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (--overwrite must spare them)  #: how long a failing rank waits for the others before aborting them
@@ -156,7 +156,8 @@ def main(argv: list[str] | None = None) -> int:
             return int(mod.main(args) or 0)
         parallel = getattr(mod, "PARALLEL", True)
         if comm is not None and not (parallel(args) if callable(parallel) else parallel):
-            raise InputError(f"run {args.target}: runs in serial only; start it without mpiexec")
+            name = f"run {args.target}" if args.command == "run" else args.command
+            raise InputError(f"{name}: runs in serial only; start it without mpiexec")
         if hasattr(mod, "prepare"):  # bad input is refused before the output folder is touched
             args.prepared = mod.prepare(args)
         out = mod.out_folder(args) if hasattr(mod, "out_folder") else args.out
