@@ -9,9 +9,10 @@ Three kinds of file, coordinates in mm, regions and boundaries by physical name:
 * a gmsh ``.msh`` file: read by :func:`dolfinx.io.gmsh.read_from_msh` (physical groups of dimension
   3 are the cell sets, of dimension 2 the facet sets);
 * any other file meshio reads (``.vtu``, ``.xdmf``, ...) whose cell blocks carry an integer tag
-  array (cell data ``gmsh:physical``, ``cell_tags`` or ``tags``; 3D blocks are cells, 2D blocks
+  array (cell data ``gmsh:physical``, ``cell_tags``, ``tags`` or ``tag``; 3D blocks are cells, 2D blocks
   facets) and a name map: meshio's ``field_data`` ``{name: [id, dim]}``, or a sidecar TOML
-  ``<file>.tags.toml`` with tables ``[cells]`` and ``[facets]`` of ``name = id``. It goes to dolfinx
+  ``<file>.tags.toml`` with tables ``[cells]`` and ``[facets]`` of ``name = id``, or the sidecar
+  ``<stem>.tags.json`` that ``lcefem mesh`` writes beside its .vtu and .xdmf. It goes to dolfinx
   through a gmsh 2.2 ``.msh`` written by meshio in a temporary folder (one conversion path: the
   node orderings are meshio's and gmsh's business, not ours).
 
@@ -33,7 +34,7 @@ from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 
 #: Cell-data names searched, in order, for the integer tags of a meshio-read file.
-TAG_ARRAYS = ("gmsh:physical", "cell_tags", "tags")
+TAG_ARRAYS = ("gmsh:physical", "cell_tags", "tags", "tag")
 #: meshio cell types by topological dimension (those a 3D body and its facets use).
 VOLUME_TYPES = ("tetra", "hexahedron", "tetra10", "hexahedron27", "wedge", "pyramid")
 SURFACE_TYPES = ("triangle", "quad", "triangle6", "quad9")
@@ -103,9 +104,28 @@ def _meshio_read(path: pathlib.Path):
                          f"{exc})") from None
 
 
+def _exported_names(sidecar: pathlib.Path) -> tuple[dict, dict]:
+    """{name: id} of cells and facets from the sidecar ``<stem>.tags.json`` that ``lcefem mesh``
+    writes beside an .xdmf or .vtu (:func:`lcefem.meshes.io.write_mesh`: ``{"groups": {name:
+    {"tag": t, "dim": d}}}``); node sets (dim 0, point data) are not regions or boundaries."""
+    import json
+
+    try:
+        groups = json.loads(sidecar.read_text(encoding="utf-8"))["groups"]
+        pairs = [(str(n), int(g["tag"]), int(g["dim"])) for n, g in groups.items()]
+    except (ValueError, KeyError, TypeError, AttributeError, RecursionError) as exc:
+        raise InputError(f"{sidecar.name}: not a tag map of lcefem mesh ({type(exc).__name__}); "
+                         "allowed: {\"groups\": {name: {\"tag\": int, \"dim\": 2|3}}}") from None
+    return ({n: t for n, t, d in pairs if d == 3}, {n: t for n, t, d in pairs if d == 2})
+
+
 def _meshio_names(path: pathlib.Path, data) -> tuple[dict, dict]:
-    """{name: id} of cells and facets from the sidecar ``<file>.tags.toml`` or meshio's field_data."""
+    """{name: id} of cells and facets from the sidecar ``<file>.tags.toml``, the sidecar
+    ``<stem>.tags.json`` of an ``lcefem mesh`` export, or meshio's field_data."""
     sidecar = path.with_name(path.name + ".tags.toml")
+    exported = path.with_suffix(".tags.json")
+    if not sidecar.is_file() and exported.is_file():
+        return _exported_names(exported)
     if sidecar.is_file():
         try:
             table = tomllib.loads(sidecar.read_text(encoding="utf-8"))

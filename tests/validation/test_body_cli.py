@@ -162,3 +162,28 @@ def test_measured_curve_sampled_from_the_law_gives_the_law(tmp_path):
     np.testing.assert_allclose(sampled["u_x end [mm]"], base["u_x end [mm]"], rtol=0, atol=2e-3 * 80)
     assert earlier["u_x end [mm]"][-1] < base["u_x end [mm]"][-1] - 5 * abs(
         sampled["u_x end [mm]"][-1] - base["u_x end [mm]"][-1])
+
+
+@pytest.mark.parametrize("fmt", ["msh", "vtu", "xdmf"])
+def test_exported_builtin_mesh_reads_back_into_the_body(tmp_path, fmt):
+    """`lcefem mesh strip --format FMT` written, then `lcefem run body` on it: the same body as the
+    strip's own .geo at the same level (level 0 = size factor 1), its history equal within the
+    solvers' tolerance (the cells may come back in another order)."""
+    from lcefem.meshes.io import write_mesh
+    from lcefem.solvers.problems.body import run_body
+    from lcefem.solvers.problems.body_case import load_case
+    from lcefem.validation.mesh import MeshRequest, build
+
+    m, _ = build(MeshRequest("strip", "fe", 0, fmt))
+    write_mesh(m, tmp_path, "strip", fmt)
+    shutil.copy(STRIP / "strip.geo", tmp_path / "strip.geo")
+    case = (STRIP / "case.toml").read_text()
+    assert 'file = "strip.geo"' in case
+    (tmp_path / "geo.toml").write_text(case)
+    (tmp_path / "export.toml").write_text(case.replace('file = "strip.geo"', f'file = "strip.{fmt}"'))
+    over = {("mesh", "size_factor"): 1.0, ("program", "dt"): 1.0, ("program", "duration"): 2.0}
+    geo = run_body(load_case(tmp_path / "geo.toml", overrides=over), None, progress=False).history
+    exp = run_body(load_case(tmp_path / "export.toml", overrides=over), None, progress=False).history
+    assert set(exp) == set(geo)
+    for name in geo:
+        np.testing.assert_allclose(exp[name], geo[name], rtol=1e-8, atol=1e-9, err_msg=name)
