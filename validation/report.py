@@ -314,9 +314,12 @@ def _md_cell(text: str) -> str:
 
 
 def render_report(results: list[CaseResult], *, command: str, quick: bool, total_wall: float,
-                  title: str = "lcefem validation report", ranks: int = 1) -> str:
+                  title: str | None = None, ranks: int = 1) -> str:
     """The Markdown text of the report (figure paths relative to the report's folder); ``ranks``: the
-    MPI ranks the cases were farmed over (1: one after the other)."""
+    MPI ranks the cases were farmed over (1: one after the other). The default title names the level,
+    so that the quick and full summaries copied into the documentation are two pages with two titles."""
+    if title is None:
+        title = f"lcefem validation report, {'quick' if quick else 'full'} level"
     rows = all_rows(results)
     n_pass = sum(r["passed"] is True for r in rows)
     n_fail = sum(r["passed"] is False and r["value"] is not None for r in rows)
