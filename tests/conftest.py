@@ -43,7 +43,8 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if item.get_closest_marker("mpi"):
             item.add_marker(pytest.mark.xdist_group("mpi"))
-        if pathlib.Path(item.path).resolve().relative_to(REPO).as_posix().startswith(FAST):
+        path = pathlib.Path(item.path).resolve()
+        if path.is_relative_to(REPO) and path.relative_to(REPO).as_posix().startswith(FAST):
             item.add_marker(pytest.mark.fast)
 
 
