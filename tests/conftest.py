@@ -33,7 +33,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 #: Measured: ``pytest -m fast`` 192 tests, 11.0 s user CPU with the collection of the whole suite (57 s
 #: wall with the 2 cores at load ~11); the slowest, the layer checks' AST walks, 1.7-6.7 s wall there.
 FAST = ("tests/models/", "tests/test_layers.py", "tests/test_docs.py", "tests/test_docs_paths.py",
-        "tests/test_packaging.py")
+        "tests/test_docs_titles.py", "tests/test_packaging.py")
 
 
 def pytest_collection_modifyitems(config, items):
