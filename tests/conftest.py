@@ -30,8 +30,8 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 #: The ``fast`` tier (``pytest -m fast``, run first by .ci/run): the material laws and closed forms of
 #: tests/models and the fast checks of the tree (layers, docs, packaging), no mesh and no solve.
-#: Measured: ``pytest -m fast`` 192 tests, 11.0 s user CPU with the collection of the whole suite (57 s
-#: wall with the 2 cores at load ~11); the slowest, the layer checks' AST walks, 1.7-6.7 s wall there.
+#: Measured: ``pytest -m fast`` 194 tests, 10.5 s user CPU with the collection of the whole suite (39 s
+#: wall with the 2 cores at load ~10); the slowest, the layer checks' AST walks, 1.7-6.7 s wall there.
 FAST = ("tests/models/", "tests/test_layers.py", "tests/test_docs.py", "tests/test_docs_paths.py",
         "tests/test_docs_titles.py", "tests/test_packaging.py")
 
