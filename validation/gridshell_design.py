@@ -11,7 +11,7 @@
 * Numerics: :mod:`lcefem.solvers.bar_hinge.design` (exact sensitivities by the implicit function
   theorem, warm-started forward solves, scipy.optimize.least_squares with bounds).
 * Currents: each lambda is turned into the current that holds a strip at it through the existing
-  current route (:func:`lcefem.validation.gridshell_bh.stretch_from_current`, inverted by brentq):
+  current route (:func:`lcefem.models.lumped_heat.stretch_from_current`, inverted by brentq):
   the "segment" route (our lumped 25 ohm segment) and the "eq1" route (the paper's Eq. 1 at the
   146.6 ohm strip coil). A lambda at lambda_N needs no current (0 A).
 * The result is checked by a forward run from the as-built state at the lambdas found (the Newton
@@ -85,7 +85,7 @@ def curvature_observable(structure: BarHingeStructure, height: bool = False):
 def current_for_lambda(lam: float, route: lumped_heat.CurrentRouteConfig = lumped_heat.CurrentRouteConfig(),
                        lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
     """Current [A] that holds a grid strip at ``lam`` through the route (inverse of
-    :func:`~lcefem.validation.gridshell_bh.stretch_from_current`); 0 A for a lambda at or above the
+    :func:`~lcefem.models.lumped_heat.stretch_from_current`); 0 A for a lambda at or above the
     strip's unheated lambda."""
     def f(i):
         with np.errstate(over="ignore"):  # Eq. 1's exponential at large powers: lambda -> 1

@@ -194,34 +194,85 @@ def reference(key: str, dataset: str = "seed001") -> Reference:
 
 
 @dataclass(frozen=True)
+class Cause:
+    """One distinct physical gap behind one or more known disagreements
+    (``validation/data/known_disagreements.toml``, ``[[cause]]``)."""
+
+    id: str  #: named by the rows it explains
+    title: str  #: a few words
+    statement: str  #: what disagrees and why
+    controlled_changes: str  #: the measured changes that show the cause, with their sources
+    missing_datum: str  #: what the experiment would have to give to decide it
+    issue: int  #: the issue that decides it
+
+
+@dataclass(frozen=True)
 class KnownDisagreement:
     """A judged row that fails because the model genuinely disagrees with its reference
-    (``validation/data/known_disagreements.toml``): listed by the report, tolerated by the tests."""
+    (``validation/data/known_disagreements.toml``, ``[[disagreement]]``): listed by the report under
+    its cause, tolerated by the tests."""
 
     case: str
     metric: str  #: exactly as in metrics.json
-    explanation: str
-    issue: int  #: the issue that will fix or decide it
+    cause: Cause
     level: str  #: quick | full | both: where the row is expected to fail
+    note: str = ""  #: the row's own numbers, one line
+
+    @property
+    def issue(self) -> int:
+        """The issue that decides the row's cause."""
+        return self.cause.issue
+
+    @property
+    def explanation(self) -> str:
+        """The row's note and its cause's statement."""
+        return " ".join(t for t in (self.note, self.cause.statement) if t)
+
+
+_CAUSE_FIELDS = ("id", "title", "statement", "controlled_changes", "missing_datum", "issue")
+_ROW_FIELDS = ("case", "metric", "cause", "level", "note")
 
 
 @functools.cache
-def known_disagreements(path: pathlib.Path | None = None) -> dict[tuple[str, str], KnownDisagreement]:
-    """The registry of known disagreements, by (case, metric); a malformed entry raises InputError."""
-    path = DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path)
+def _registry(path: pathlib.Path) -> tuple[dict[str, Cause], dict[tuple[str, str], KnownDisagreement]]:
     with path.open("rb") as fh:
-        entries = tomllib.load(fh).get("disagreement", [])
-    out: dict[tuple[str, str], KnownDisagreement] = {}
-    for i, e in enumerate(entries):
-        fields = set(KnownDisagreement.__dataclass_fields__)
-        if set(e) != fields or e["level"] not in ("quick", "full", "both") or not e["explanation"].strip():
-            raise InputError(f"{path.name}: entry {i + 1} needs exactly {', '.join(sorted(fields))} "
-                             f"(level quick | full | both, a non-empty explanation); got {', '.join(sorted(e))}")
+        data = tomllib.load(fh)
+    causes: dict[str, Cause] = {}
+    for i, c in enumerate(data.get("cause", [])):
+        if set(c) != set(_CAUSE_FIELDS) or not all(str(c[k]).strip() for k in _CAUSE_FIELDS):
+            raise InputError(f"{path.name}: cause {i + 1} needs exactly {', '.join(sorted(_CAUSE_FIELDS))}"
+                             f" (none empty); got {', '.join(sorted(c))}")
+        if c["id"] in causes:
+            raise InputError(f"{path.name}: cause {c['id']} listed twice")
+        causes[c["id"]] = Cause(**c)
+    rows: dict[tuple[str, str], KnownDisagreement] = {}
+    for i, e in enumerate(data.get("disagreement", [])):
+        if not {"case", "metric", "cause", "level"} <= set(e) <= set(_ROW_FIELDS) \
+                or e["level"] not in ("quick", "full", "both"):
+            raise InputError(f"{path.name}: entry {i + 1} needs case, metric, cause, level (quick | full |"
+                             f" both) and may have a note; got {', '.join(sorted(e))}")
+        if e["cause"] not in causes:
+            raise InputError(f"{path.name}: entry {i + 1} names cause '{e['cause']}', not one of "
+                             f"{', '.join(causes)}")
         key = (e["case"], e["metric"])
-        if key in out:
+        if key in rows:
             raise InputError(f"{path.name}: {key[0]} / {key[1]} listed twice")
-        out[key] = KnownDisagreement(**e)
-    return out
+        rows[key] = KnownDisagreement(**{**e, "cause": causes[e["cause"]]})
+    idle = sorted(set(causes) - {k.cause.id for k in rows.values()})
+    if idle:
+        raise InputError(f"{path.name}: cause(s) {', '.join(idle)} explain no row")
+    return causes, rows
+
+
+def known_disagreements(path: pathlib.Path | None = None) -> dict[tuple[str, str], KnownDisagreement]:
+    """The registry of known disagreements, by (case, metric), each with its :class:`Cause`; a
+    malformed entry, a row naming no registered cause or a cause explaining no row raises InputError."""
+    return _registry(DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path))[1]
+
+
+def causes(path: pathlib.Path | None = None) -> dict[str, Cause]:
+    """The causes of the known disagreements, by id, in the registry's order."""
+    return _registry(DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path))[0]
 
 
 def eq2_parameters(eq2: Eq2 = Eq2()) -> str:

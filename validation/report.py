@@ -4,9 +4,12 @@
 completion marker ``DIR/<case>/metrics.json``); :func:`write_report` writes ``DIR/report.md``: the
 command, the software versions, a one-screen summary (per case judged rows passed/failed and the worst
 relative error, the phenomena shown; the known disagreements of
-``validation/data/known_disagreements.toml`` met in the run, with their explanation), the phenomena each
-case must show at every level (``validation/data/phenomena.toml``), the table of all metrics with pass/fail ("FAIL (known)" for a known
-disagreement), and per case its wall time, figures (with captions naming their sources) and errors.
+``validation/data/known_disagreements.toml`` met in the run grouped by cause: one table of the causes
+with their rows and missing data, each row in one line naming its cause, then each cause's statement and
+the controlled changes that show it), the phenomena each case must show at every level
+(``validation/data/phenomena.toml``), the table of all metrics with pass/fail ("FAIL (known: <cause>)"
+for a known disagreement), and per case its wall time, figures (with captions naming their sources) and
+errors.
 """
 
 from __future__ import annotations
@@ -107,8 +110,9 @@ def is_status_row(row: dict) -> bool:
 def fmt_pass(row: dict) -> str:
     if is_status_row(row):
         return row["metric"].strip("()").upper()
-    if row.get("passed") is False and known_disagreement(row) is not None:
-        return "FAIL (known)"
+    known = known_disagreement(row) if row.get("passed") is False else None
+    if known is not None:
+        return f"FAIL (known: {known.cause.id})"
     return {True: "pass", False: "FAIL", None: "info"}[row.get("passed")]
 
 
@@ -159,7 +163,8 @@ def relative_error(row: dict) -> float | None:
 
 def summary_lines(results: list["CaseResult"]) -> list[str]:
     """The one-screen summary: per case judged rows passed/failed and the worst relative error of
-    its judged rows against a target, then the known disagreements met in this run."""
+    its judged rows against a target, then the known disagreements met in this run, grouped by cause
+    (:func:`causes_lines`)."""
     lines = ["## Summary", "",
              "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
              "target (not a range), against experiment, a published fit or a closed form as the row's "
@@ -186,10 +191,7 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
         lines.append(f"| {res.case} | {res.status} | {c['judged']} | {c['passed']} | "
                      f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} | "
                      f"{res.wall_time:.1f} | {ph} |")
-    lines += ["", f"Known disagreements in this run ({len(met)}; registry: "
-              "validation/data/known_disagreements.toml):", ""]
-    lines += [f"- **{r['case']}: {r['metric']}** = {fmt_number(r['value'])} {r['unit']} vs "
-              f"{fmt_reference(r)} (issue {k.issue}): {k.explanation}" for r, k in met] or ["- none"]
+    lines += causes_lines(met)
     # A registered disagreement whose row now passes is stale (the model was fixed, or the row renamed):
     # say so, so the registry does not keep excusing a row that no longer needs it.
     # An entry is stale only at the level it is registered for: a row expected to fail at the quick level
@@ -202,6 +204,39 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
         lines += ["", "Registered disagreements that pass in this run (remove them from the registry): "
                   + "; ".join(f"{k.case}: {k.metric}" for k in stale) + "."]
     return lines + [""]
+
+
+def causes_lines(met: list[tuple[dict, object]]) -> list[str]:
+    """The known disagreements met in a run, grouped by cause: one table of the causes (title, issue,
+    rows per case, missing datum), then each row in one line naming its cause, then each cause's
+    statement and the controlled changes that show it. ``met``: (row, KnownDisagreement) pairs."""
+    by_cause: dict[str, list[tuple[dict, object]]] = {}
+    for r, k in met:
+        by_cause.setdefault(k.cause.id, []).append((r, k))
+    lines = ["", f"### Known disagreements: {len(met)} rows from {len(by_cause)} causes", "",
+             "Each cause is one physical gap between the model and its reference, with the datum that "
+             "would decide it (registry: validation/data/known_disagreements.toml).", ""]
+    if not met:
+        return lines + ["- none"]
+    lines += ["| cause | issue | rows | missing datum |", "|---|---|---|---|"]
+    for cid, pairs in by_cause.items():
+        cause = pairs[0][1].cause
+        per_case: dict[str, int] = {}
+        for r, _ in pairs:
+            per_case[r["case"]] = per_case.get(r["case"], 0) + 1
+        rows = f"{len(pairs)}: " + ", ".join(f"{c} ({n})" for c, n in per_case.items())
+        lines.append("| " + " | ".join(_md_cell(c) for c in (
+            f"{cause.title} (`{cid}`)", cause.issue, rows, cause.missing_datum)) + " |")
+    lines += ["", "Rows (value vs reference, cause: the row's own numbers):", ""]
+    lines += [f"- {r['case']}: {r['metric']} = {fmt_number(r['value'])} {r['unit']} vs {fmt_reference(r)}; "
+              f"`{k.cause.id}`" + (f": {k.note}" if k.note else "") for cid in by_cause
+              for r, k in by_cause[cid]]
+    lines += ["", "Causes:", ""]
+    for cid, pairs in by_cause.items():
+        cause = pairs[0][1].cause
+        lines += [f"- **{cause.title}** (`{cid}`, issue {cause.issue}): {cause.statement} "
+                  f"Controlled changes: {cause.controlled_changes} Missing datum: {cause.missing_datum}"]
+    return lines
 
 
 def phenomena_lines(results: list["CaseResult"]) -> list[str]:
@@ -279,14 +314,18 @@ def _md_cell(text: str) -> str:
 
 
 def render_report(results: list[CaseResult], *, command: str, quick: bool, total_wall: float,
-                  title: str = "lcefem validation report", ranks: int = 1) -> str:
+                  title: str | None = None, ranks: int = 1) -> str:
     """The Markdown text of the report (figure paths relative to the report's folder); ``ranks``: the
-    MPI ranks the cases were farmed over (1: one after the other)."""
+    MPI ranks the cases were farmed over (1: one after the other). The default title names the level,
+    so that the quick and full summaries copied into the documentation are two pages with two titles."""
+    if title is None:
+        title = f"lcefem validation report, {'quick' if quick else 'full'} level"
     rows = all_rows(results)
     n_pass = sum(r["passed"] is True for r in rows)
     n_fail = sum(r["passed"] is False and r["value"] is not None for r in rows)
     n_info = sum(r["passed"] is None for r in rows)
     counts = count_rows([r for r in rows if not is_status_row(r)])
+    n_causes = len({known_disagreement(r).cause.id for r in rows if row_kind(r) == "known"})
     unfinished = [r for r in results if r.status not in FINISHED]
     ver = versions()
     now = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
@@ -302,7 +341,8 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
              + (f": this report is INCOMPLETE ({', '.join(f'{r.case}: {r.status}' for r in unfinished)}).**"
                 if unfinished else ".**"), "",
              f"Judged {counts['judged']}: {counts['passed']} pass, {counts['failed']} fail "
-             f"({counts['known']} known disagreements, {counts['failed'] - counts['known']} unexplained); "
+             f"({counts['known']} known disagreements from {n_causes} causes, "
+             f"{counts['failed'] - counts['known']} unexplained); "
              f"informative {counts['info with reference']} with a reference "
              f"({counts['info with reference, no reason']} without a reason to stay unjudged), "
              f"{counts['info without reference']} without. "

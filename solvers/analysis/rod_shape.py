@@ -18,7 +18,7 @@ the discrete formulas of Discrete Elastic Rods (Bergou et al. 2008; :mod:`lcefem
 These are second-order accurate in the station spacing s (on a helix of curvature kappa and torsion
 tau the curvature's relative error is about -tau^2 s^2/4: -0.6 % for the twisted ribbons at s = 0.5 mm),
 so shapes are Richardson-extrapolated from the spacings s and 2 s (:func:`measure_extrapolated`;
-tests/solvers/test_rod_shape.py).
+tests/validation/test_ribbon_fe.py).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ route). The heated route (coil currents per strip through the Joule-heated heat 
 :meth:`GridshellFE.prolong_from` is :func:`lcefem.solvers.transfer.prolong_by_tag`.
 
 Mesh: :func:`lcefem.meshes.gridshell_fe.build_gridshell_fe` (per-strip cell tags, groups, channels).
-Physics: the FE composite beam's (:mod:`lcefem.validation.beam_fe`), generalised from two strips to
+Physics: the FE composite beam's (:mod:`lcefem.solvers.problems.composite_beam`), generalised from two strips to
 48 and from one strip direction to two:
 
 * Kapton ribbons: compressible neo-Hookean, datasheet E and nu (``FEMaterials.kapton``).
@@ -17,7 +17,7 @@ Physics: the FE composite beam's (:mod:`lcefem.validation.beam_fe`), generalised
 * Bond pads (LCE under the tabs, junctions and crowns): the same law with a = 1 (passive, as the
   beam's); glue squares where the top strips cross: a stiff neo-Hookean block (the published
   model's glue bars, E = 1e4 MPa).
-* Strip-ribbon frictionless penalty contact: :func:`lcefem.validation.beam_fe.make_contacts`.
+* Strip-ribbon frictionless penalty contact: :func:`lcefem.solvers.problems.composite_beam.make_contacts`.
 * Supports (:class:`GridshellSupports`): mirror planes of the reduced model (u_n = 0) plus either the
   published perimeter rollers (dome, cylinder, table: u_z = 0 at the outer ribbons' end corners,
   8 in the full surface) or the published saddle clamp (the centre junction's corners held); in-plane
@@ -41,8 +41,8 @@ points inside it. Sign: positive for a bowl, negative for a dome (seed 001, Fig.
 
 Units: mm, N, MPa, mJ (README).
 
-(Imports from :mod:`lcefem.validation.beam_fe` — materials, contact construction, Newton options,
-lambda check — are temporary: the architecture work (issue 12) moves them to models/ and solvers/.)
+Materials, contact construction, Newton options and the lambda check are the composite beam's
+(:mod:`lcefem.solvers.problems.composite_beam`, :mod:`lcefem.models.bar_hinge_materials`).
 """
 
 from __future__ import annotations

@@ -1,5 +1,7 @@
-"""Known disagreements: the registry is well formed, the report's summary counts and lists them, an
-unexplained failure stays visible, and failing metrics never change the exit code (issue 16)."""
+"""Known disagreements: the registry is well formed and grouped by cause (every row names a registered
+cause, every cause explains a row), the report's summary counts them and lists the causes table with
+each row in one line, an unexplained failure stays visible, and failing metrics never change the exit
+code (issue 16)."""
 
 import dataclasses
 import json
@@ -13,7 +15,9 @@ from lcefem.validation.cases import NOT_JUDGED, Case, Metric, not_judged, regist
 from lcefem.validation.cases import _CASES as CASES
 from lcefem.validation.cli import main as cli_main
 
-KNOWN = rd.KnownDisagreement("toy_known", "force vs measured", "the toy's modulus is off", 99, "both")
+TOY_CAUSE = rd.Cause("toy_modulus", "The toy's modulus", "the toy's modulus is off",
+                     "a stiffer toy passes", "the toy's measured modulus", 99)
+KNOWN = rd.KnownDisagreement("toy_known", "force vs measured", TOY_CAUSE, "both", "0.096 N against 0.18 N")
 
 
 def test_registry_entries_name_registered_cases_and_explain():
@@ -25,10 +29,32 @@ def test_registry_entries_name_registered_cases_and_explain():
         assert metric and len(k.explanation) > 40 and k.issue > 0
 
 
+def test_every_row_names_a_cause_and_every_cause_explains_a_row():
+    causes = rd.causes()
+    rows = rd.known_disagreements().values()
+    assert {k.cause.id for k in rows} == set(causes), "a cause explains no row, or a row's cause is unlisted"
+    for k in rows:
+        assert causes[k.cause.id] is k.cause
+    for c in causes.values():
+        # the datum that would decide it and the controlled changes that show it, not a placeholder
+        assert len(c.statement) > 40 and len(c.controlled_changes) > 20 and len(c.missing_datum) > 20
+    # grouped: far fewer causes than rows (64 rows, 14 causes when grouped)
+    assert len(causes) < len(rows) / 2
+
+
 def test_a_malformed_registry_is_an_input_error(tmp_path):
     bad = tmp_path / "kd.toml"
-    bad.write_text('[[disagreement]]\ncase = "a"\nmetric = "b"\nexplanation = "x"\nissue = 1\n')
-    with pytest.raises(InputError, match="entry 1 needs exactly case, explanation, issue, level, metric"):
+    cause = ('[[cause]]\nid = "c"\ntitle = "t"\nstatement = "s"\ncontrolled_changes = "x"\n'
+             'missing_datum = "m"\nissue = 1\n')
+    bad.write_text(cause + '[[disagreement]]\ncase = "a"\nmetric = "b"\ncause = "c"\n')
+    with pytest.raises(InputError, match="entry 1 needs case, metric, cause, level"):
+        rd.known_disagreements(bad)
+    bad.write_text(cause + '[[disagreement]]\ncase = "a"\nmetric = "b"\ncause = "d"\nlevel = "both"\n')
+    with pytest.raises(InputError, match="entry 1 names cause 'd', not one of c"):
+        rd.known_disagreements(bad)
+    bad.write_text(cause + cause.replace('"c"', '"e"')
+                   + '[[disagreement]]\ncase = "a"\nmetric = "b"\ncause = "c"\nlevel = "both"\n')
+    with pytest.raises(InputError, match="cause\\(s\\) e explain no row"):
         rd.known_disagreements(bad)
 
 
@@ -56,12 +82,20 @@ def test_summary_counts_and_lists_known_disagreements(toy_known, tmp_path):
                                        "info without reference": 1}
     md = (out / "report.md").read_text()
     assert md.index("## Summary") < md.index("## Metrics")
-    assert "Judged 3: 1 pass, 2 fail (1 known disagreements, 1 unexplained)" in md
+    assert "Judged 3: 1 pass, 2 fail (1 known disagreements from 1 causes, 1 unexplained)" in md
     assert "(1 without a reason to stay unjudged)" in md
     # worst error is the unexplained stiffness (+100 %), not the known -47 %
     assert "| toy_known | done | 3 | 1 | 2 (1) | 100.0 % |" in md
-    assert "- **toy_known: force vs measured** = 0.096 N vs 0.18 ± 0.018 (issue 99): the toy's modulus is off" in md
-    assert "| FAIL (known) |" in md and "| stiffness | 2 | N/mm | 1 ± 0.1 | +100.00 % | FAIL |" in md
+    # the causes table first (rows per case, missing datum), then each row in one line naming its cause
+    summary = md[md.index("## Summary"):md.index("## Metrics")]
+    assert "### Known disagreements: 1 rows from 1 causes" in summary
+    assert "| The toy's modulus (`toy_modulus`) | 99 | 1: toy_known (1) | the toy's measured modulus |" in summary
+    assert ("- toy_known: force vs measured = 0.096 N vs 0.18 ± 0.018; `toy_modulus`: 0.096 N against 0.18 N"
+            in summary)
+    assert summary.index("| cause | issue | rows | missing datum |") < summary.index("- toy_known: force")
+    assert "Controlled changes: a stiffer toy passes" in summary
+    assert "| FAIL (known: toy_modulus) |" in md
+    assert "| stiffness | 2 | N/mm | 1 ± 0.1 | +100.00 % | FAIL |" in md
 
 
 def test_worst_error_marks_a_known_disagreement(monkeypatch):
@@ -82,7 +116,7 @@ def test_a_registered_row_that_passes_is_reported_as_stale(monkeypatch):
     monkeypatch.setattr(rd, "known_disagreements", lambda: {(KNOWN.case, KNOWN.metric): KNOWN})
     rows = [Metric.within("toy_known", "force vs measured", 0.18, "N", 0.18, 0.018, "s").as_dict()]
     text = "\n".join(report.summary_lines([report.CaseResult("toy_known", "toy", "done", 1.0, metrics=rows)]))
-    assert "Known disagreements in this run (0;" in text
+    assert "### Known disagreements: 0 rows from 0 causes" in text
     assert "pass in this run (remove them from the registry): toy_known: force vs measured." in text
 
 
