@@ -50,8 +50,14 @@ def dotted_exists(dotted: str) -> bool:
     return True
 
 
+def generated(path: str) -> bool:
+    """A path `make docs` writes (docs/_generated, docs/_build, ...): absent in a fresh clone."""
+    return bool(set(path.split("/")) & set(SKIP))
+
+
 def missing_in(text: str) -> list[str]:
-    paths = [m.group(1) for m in PATH.finditer(text) if not (REPO / m.group(1)).exists()]
+    paths = [m.group(1) for m in PATH.finditer(text)
+             if not generated(m.group(1)) and not (REPO / m.group(1)).exists()]
     names = ["lcefem" + m.group(1) for m in DOTTED.finditer(text) if not dotted_exists(m.group(1))]
     return sorted(set(paths + names))
 
