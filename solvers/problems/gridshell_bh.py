@@ -60,7 +60,7 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
-from lcefem.solvers.problems.protocol import check_quasi_static_step
+from lcefem.solvers.problems.protocol import StepRecord, check_quasi_static_step, path_record
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
 GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iterations=8,
@@ -374,10 +374,10 @@ class GridshellBH:
         return self._target[group] * self.lambda_N
 
     def advance(self, dt: float = 1.0, *, on_step: Callable[[PathState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> PathResult:
+                progress: Callable[[float], None] | None = None) -> StepRecord:
         """Ramp the rest fractions from the current state to the targets (t: 0 -> 1; ``dt`` < 1 stops
         at that fraction of the way) from the current positions; raises ConvergenceError when the
-        increment falls below its minimum."""
+        increment falls below its minimum. The record's ``detail``: the :class:`PathResult`."""
         dt = check_quasi_static_step(dt)
         start = {g: v.copy() for g, v in self._current.items()}
         target = {g: v.copy() if dt == 1.0 else start[g] + dt * (v - start[g])
@@ -393,7 +393,7 @@ class GridshellBH:
         self.x = result.states[-1].x.copy()
         self._current = target
         self.history.extend(result.states[1:])
-        return result
+        return path_record(dt, self.observables(), result)
 
     def observables(self) -> dict[str, float]:
         """Centre curvatures by both measures [1/mm] (dome negative), z range of the ribbons and the

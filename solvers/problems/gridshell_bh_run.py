@@ -294,7 +294,7 @@ def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool =
 
     def drive(on_step) -> PathResult:
         problem.set_rest_fractions(targets)
-        return problem.advance(1.0, on_step=on_step, progress=bar.to)
+        return problem.advance(1.0, on_step=on_step, progress=bar.to).detail
 
     def summarize(run, path: PathResult) -> dict:
         wall = time.perf_counter() - started
