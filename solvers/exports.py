@@ -432,15 +432,30 @@ class Probe:
         if self.field not in found:
             raise InputError(f"exports {self.name!r}: field {self.field!r} not among the problem's fields "
                              f"({', '.join(found)})")
-        value = _point_value(found[self.field], self.point, problem)
+        nodes = _reference_nodes(problem, found)
+        value = _point_value(found[self.field], self.point, nodes)
         base, unit = _bare(self.field), _unit(self.field)
         columns = ([f"{base} [{unit}]"] if value.size == 1 else
                    [f"{base}_{'xyz'[i] if value.size == 3 else i} [{unit}]" for i in range(value.size)])
-        return _ProbeWriter(self, run, out, problem, columns)
+        return _ProbeWriter(self, run, out, problem, columns, nodes)
 
 
-def _point_value(f, point, problem) -> np.ndarray:
-    """Field ``f`` (a dolfinx Function or a node array) at ``point`` [mm] (reference coordinates)."""
+def _reference_nodes(problem, found: dict):
+    """The reference node positions (n, 3) [mm] of a reduced-order problem (its structure's nodes,
+    else the first node array in mm of its fields at the start); None for an FE problem."""
+    nodes = getattr(getattr(problem, "structure", None), "nodes", None)
+    if nodes is not None:
+        return np.asarray(nodes, dtype=float).reshape(-1, 3)
+    for k, v in found.items():
+        if not hasattr(v, "function_space") and _unit(k) == "mm" and np.asarray(v).ndim == 2 \
+                and np.asarray(v).shape[1] == 3:
+            return np.array(v, dtype=float)
+    return None
+
+
+def _point_value(f, point, nodes) -> np.ndarray:
+    """Field ``f`` (a dolfinx Function or a node array) at ``point`` [mm] (reference coordinates;
+    a node array: at the node of ``nodes`` (n, 3) [mm] nearest to it)."""
     p = np.asarray(point, dtype=float)
     if hasattr(f, "function_space"):
         import dolfinx
@@ -460,16 +475,15 @@ def _point_value(f, point, problem) -> np.ndarray:
             raise InputError(f"probe point {tuple(point)} mm: outside the mesh")
         return np.atleast_1d(comm.bcast(local, root=owner))
     a = np.asarray(f, dtype=float)
-    nodes = getattr(getattr(problem, "structure", None), "nodes", None)
     if nodes is None:
-        nodes = a.reshape(-1, 3)
-    i = int(np.argmin(np.linalg.norm(np.asarray(nodes).reshape(-1, 3) - p, axis=1)))
-    return np.atleast_1d(a.reshape(len(np.asarray(nodes).reshape(-1, 3)), -1)[i])
+        raise ValueError("a node array without node positions [mm] to probe")
+    i = int(np.argmin(np.linalg.norm(nodes - p, axis=1)))
+    return np.atleast_1d(a.reshape(len(nodes), -1)[i])
 
 
 class _ProbeWriter:
-    def __init__(self, spec: Probe, run, out, problem, columns):
-        self.spec, self.problem, self.columns = spec, problem, columns
+    def __init__(self, spec: Probe, run, out, problem, columns, nodes):
+        self.spec, self.problem, self.columns, self.nodes = spec, problem, columns, nodes
         self.run, self.out, self.table = run, out, None
 
     def write(self, record, index: int) -> None:
@@ -479,7 +493,7 @@ class _ProbeWriter:
             return
         if self.table is None:
             self.table = _PointTable(self.run, self.out, self.spec.name, [record.clock, *self.columns]).table
-        value = _point_value(self.problem.fields()[self.spec.field], self.spec.point, self.problem)
+        value = _point_value(self.problem.fields()[self.spec.field], self.spec.point, self.nodes)
         self.table.append({record.clock: record.at, **dict(zip(self.columns, value, strict=True))})
 
     def last_converged(self, folder, record) -> None:

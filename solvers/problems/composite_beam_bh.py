@@ -37,6 +37,7 @@ from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions,
 from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.program import Program
 from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
@@ -254,6 +255,19 @@ SIGN_CONVENTION = ("positive when the beam bends towards its bottom strips (top 
                    "circle fit through the middle stations")
 
 
+def beam_problem(config: BeamConfig) -> CompositeBeamBH:
+    """The bar-and-hinge beam of a (validated) configuration."""
+    cfg = config.validated()
+    return CompositeBeamBH(cfg.geometry, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+
+
+def beam_program(config: BeamConfig) -> Program:
+    """The run section as a load program: the strips' lambdas reached in one advance, a record per
+    converged increment (no start row, as the beam's history)."""
+    return Program.quasi_static({"top_strips": config.run.lambda_top, "bottom_strips": config.run.lambda_bottom},
+                                record_start=False)
+
+
 def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
     """Drive :class:`CompositeBeamBH` to ``config.run``'s lambdas through the runner
     (:func:`lcefem.solvers.runner.run_quasi_static`) and write history.csv (:data:`COLUMNS`),
@@ -263,7 +277,7 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, repor
     cfg = config.validated()
     out = pathlib.Path(out)
     lam_t, lam_b, lam_n = cfg.run.lambda_top, cfg.run.lambda_bottom, cfg.lce.lambda_N
-    problem = CompositeBeamBH(cfg.geometry, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    problem = beam_problem(cfg)
     structure, model = problem.structure, problem.model
 
     def row(state) -> dict:

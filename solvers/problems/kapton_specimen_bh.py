@@ -308,6 +308,12 @@ def closed_forms(cfg: KaptonSpecimenConfig) -> dict[str, float]:
 COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterations [-]"]
 
 
+def specimen_problem(config: KaptonSpecimenConfig) -> KaptonSpecimenBH:
+    """The bar-and-hinge buckling specimen of a (validated) configuration."""
+    cfg = config.validated()
+    return KaptonSpecimenBH(cfg.specimen, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+
+
 def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True,
                  report=None) -> dict:
     """The bar-and-hinge buckling test: :class:`KaptonSpecimenBH` driven to ``run.compression``
@@ -319,7 +325,7 @@ def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool
     the results."""
     cfg = config.validated()
     out = pathlib.Path(out)
-    problem = KaptonSpecimenBH(cfg.specimen, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    problem = specimen_problem(cfg)
     model, length, compression_max = problem.model, cfg.specimen.length, cfg.run.compression
 
     def force(state) -> float:

@@ -318,12 +318,8 @@ class StripSimulation:
 
     # -- the run (the one door, lcefem.solvers.runner.run) --------------------------------------
     def program(self) -> Program:
-        """The run section as a program: the coil current for run.duration [s] in equal steps of at
-        most run.dt [s], or the steady state at it (run.steady)."""
-        r = self.config.run
-        if r.steady:
-            return Program(TIME, ((0.0, {"coil": r.current}),), 1.0, 1.0, steady=True, record_start=False)
-        return Program.in_time({"coil": r.current}, r.duration, r.dt)
+        """:func:`strip_program` of this strip's configuration."""
+        return strip_program(self.config)
 
     def default_exports(self, fields: bool = True) -> list:
         """history.csv (:data:`COLUMNS`), and with ``fields`` thermal.bp (temperature, spontaneous
@@ -480,10 +476,27 @@ def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransit
     }
 
 
+def strip_program(config: StripConfig) -> Program:
+    """The run section as a program: the coil current for run.duration [s] in equal steps of at
+    most run.dt [s], or the steady state at it (run.steady)."""
+    r = config.run
+    if r.steady:
+        return Program(TIME, ((0.0, {"coil": r.current}),), 1.0, 1.0, steady=True, record_start=False)
+    return Program.in_time({"coil": r.current}, r.duration, r.dt)
+
+
+def strip_exports(problem: StripSimulation) -> list:
+    """The strip's default exports (:meth:`StripSimulation.default_exports`)."""
+    return problem.default_exports()
+
+
 def run_strip(config: StripConfig, out: pathlib.Path | None = None, progress: bool = True,
               fields: bool = True, comm: MPI.Comm | None = None,
-              crossing_temperature: float | None = None) -> StripResult:
+              crossing_temperature: float | None = None, program: Program | None = None,
+              exports: list | None = None) -> StripResult:
     """Build and run one strip simulation (see module docstring); ``crossing_temperature`` [C]: see
-    :func:`transient_metrics`."""
+    :func:`transient_metrics`; ``program``, ``exports``: see :meth:`StripSimulation.run` (a case
+    file's ``[program]`` and ``[[exports]]``)."""
     return StripSimulation(config, comm).run(None if out is None else pathlib.Path(out), progress=progress,
-                                             fields=fields, crossing_temperature=crossing_temperature)
+                                             fields=fields, crossing_temperature=crossing_temperature,
+                                             program=program, exports=exports)
