@@ -158,7 +158,10 @@ def program_from_table(table, where: str = "program") -> Program:
         if not values:
             raise InputError(f"{here}: no drive (tag = value)")
         drives.append((_number(entry["at"], f"{here}.at"), values))
-    return Program(CLOCKS[clock], tuple(drives), end, dt, steady=steady)
+    try:
+        return Program(CLOCKS[clock], tuple(drives), end, dt, steady=steady)
+    except InputError as exc:  # the Program's own checks name "program.<key>": name the table
+        raise InputError(where + str(exc).removeprefix("program")) from None
 
 
 __all__ = ["CLOCKS", "Program", "program_from_table"]

@@ -246,3 +246,21 @@ def test_the_strip_and_the_beams_register_their_default_program():
     assert math.isclose(lam.stops()[-1], 1.0)
     with pytest.raises(InputError, match="body 'robot'"):
         body("robot")
+
+
+def test_programs_toml_holds_run_programs_behind_the_checked_loader(tmp_path):
+    """validation/data/programs.toml's [run_programs]: each a Program with its source; a bad entry
+    is one InputError naming the file and the key."""
+    from lcefem.validation.programs import PATH, load_programs, run_program
+
+    pulse, source = run_program("strip_pulse_0p2A_20s_then_off")
+    assert pulse.drives == ((0.0, {"coil": 0.2}), (20.0, {"coil": 0.0})) and "seed 001" in source
+    assert pulse.stops()[39:41] == [20.0, 20.5] and pulse.drives_at(20.0) == {"coil": 0.0}
+    bad = tmp_path / "programs.toml"
+    bad.write_text(PATH.read_text().replace("duration = 30.0\ndt = 0.5\ndrives = [{ at = 0.0, coil = 0.2 }]\n",
+                                            "duration = 30.0\ndt = 50.0\ndrives = [{ at = 0.0, coil = 0.2 }]\n"))
+    with pytest.raises(InputError, match=r"^programs\.toml: run_programs\.strip_0p2A_30s\.dt = 50\.0 s: must be > 0 "
+                                         r"and <= 30 s$"):
+        load_programs(bad)
+    with pytest.raises(InputError, match="allowed strip_0p2A_30s"):
+        run_program("robot")
