@@ -264,3 +264,28 @@ def test_programs_toml_holds_run_programs_behind_the_checked_loader(tmp_path):
         load_programs(bad)
     with pytest.raises(InputError, match="allowed strip_0p2A_30s"):
         run_program("robot")
+
+
+def test_the_bar_and_hinge_beam_through_the_door_from_its_registration(tmp_path):
+    """The registered beam (bar-and-hinge) built and run from its registration alone: one row per
+    converged increment of its path follower (its first the as-built state), the last at the targets with the curvature its run
+    reports (run_beam, the same problem and path); its fields as ParaView frames of the structure."""
+    from lcefem.solvers.problems.composite_beam_bh import run_beam
+    from lcefem.solvers.problems.registry import body
+
+    beam = body("beam")
+    cfg = beam.config_class()()
+    problem = beam.build(cfg)
+    exports = [History(), Fields("beam"), Probe("tip.csv", "node positions [mm]", (0.0, 0.0, 0.0))]
+    summary = run(problem, beam.default_program(cfg), exports, tmp_path / "door", config=cfg.resolved())
+    head, rows = read(tmp_path / "door" / "history.csv")
+    assert head == ["load fraction [-]", "lambda top_strips [-]", "lambda bottom_strips [-]", "curvature [1/mm]"]
+    assert rows[-1, 0] == 1.0 and rows[-1, 1] == pytest.approx(1.33) and rows[-1, 2] == pytest.approx(1.05)
+    assert rows[0, 0] == 0.0 and rows[0, 1] == pytest.approx(1.4) and np.all(np.diff(rows[:, 0]) > 0)
+    reference = run_beam(cfg, tmp_path / "run_beam", progress=False)
+    assert rows[-1, 3] == pytest.approx(reference["results"]["curvature [1/mm]"], rel=1e-12)
+    assert summary["final"]["curvature [1/mm]"] == pytest.approx(rows[-1, 3], rel=1e-12)
+    pvd = (tmp_path / "door" / "beam.pvd").read_text()
+    assert pvd.count("<DataSet") == len(rows)  # a frame per record: the as-built start, every increment
+    head, tip = read(tmp_path / "door" / "tip.csv")
+    assert head == ["load fraction [-]", "node positions_x [mm]", "node positions_y [mm]", "node positions_z [mm]"]
