@@ -90,7 +90,8 @@ def assign_or_exit(config, assignment: str, option: str = "--set"):
 
 def door_from_toml(path):
     """(program, exports) of a case file: its ``[program]`` table as a
-    :class:`lcefem.solvers.program.Program` and its ``[[exports]]`` list as export objects
+    :class:`lcefem.solvers.program.Program` (or ``[program] name = "..."``: an entry of
+    validation/data/programs.toml's ``[run_programs]``) and its ``[[exports]]`` list as export objects
     (lcefem.solvers.exports), None where absent; a bad entry is one InputError naming the file
     and the key."""
     if path is None:
@@ -102,7 +103,12 @@ def door_from_toml(path):
     path = pathlib.Path(path)
     data = read_toml(path, f"config = {str(path)!r}")
     try:
-        program = program_from_table(data["program"]) if "program" in data else None
+        table = data.get("program")
+        if isinstance(table, dict) and set(table) == {"name"}:  # an entry of programs.toml's [run_programs]
+            from lcefem.validation.programs import run_program
+            program = run_program(table["name"])[0]
+        else:
+            program = program_from_table(table) if table is not None else None
         exports = exports_from_tables(data["exports"]) if "exports" in data else None
     except InputError as exc:
         raise InputError(f"{path.name}: {exc}") from None

@@ -289,3 +289,16 @@ def test_the_bar_and_hinge_beam_through_the_door_from_its_registration(tmp_path)
     assert pvd.count("<DataSet") == len(rows)  # a frame per record: the as-built start, every increment
     head, tip = read(tmp_path / "door" / "tip.csv")
     assert head == ["load fraction [-]", "node positions_x [mm]", "node positions_y [mm]", "node positions_z [mm]"]
+
+
+def test_a_case_file_names_a_program_of_programs_toml(tmp_path):
+    from lcefem.validation.config import door_from_toml
+    from lcefem.validation.programs import run_program
+
+    case = tmp_path / "case.toml"
+    case.write_text('[program]\nname = "strip_pulse_0p2A_20s_then_off"\n')
+    program, exports = door_from_toml(case)
+    assert program == run_program("strip_pulse_0p2A_20s_then_off")[0] and exports is None
+    case.write_text('[program]\nname = "robot"\n')
+    with pytest.raises(InputError, match=r"^case\.toml: program 'robot': allowed "):
+        door_from_toml(case)
