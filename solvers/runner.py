@@ -112,7 +112,7 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
     failure.json, summary.json last) and let every export (``exports``: objects of
     :mod:`lcefem.solvers.exports`, the first History the run's history) write each record.
 
-    Steps: the program's drives at 0 (``set_drives``), the start record (``problem.start()`` if the
+    Steps: the program's drives at 0 (``set_drives``; none: those set before), the start record (``problem.start()`` if the
     problem has it and the program records its start: a dead load applied first; else its
     observables at 0), then for a time program
     ``advance(stop - previous)`` to each stop (equal steps of at most dt, the drive switches and the
@@ -141,7 +141,8 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
             last[:] = [record]
 
         skeleton.on_failure(lambda folder: last and [w.last_converged(folder, last[0]) for w in writers])
-        problem.set_drives(program.drives[0][1])
+        if program.drives[0][1]:  # none: the drives set beforehand (a gridshell's rest fraction per bar)
+            problem.set_drives(program.drives[0][1])
         start = (problem.start() if program.record_start and hasattr(problem, "start") else
                  StepRecord(0.0, problem.observables(), clock=program.clock))
         records.append(start)
