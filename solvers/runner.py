@@ -27,10 +27,12 @@ Export objects (one per output, each built by the body's run from its problem):
 * the summary: ``summarize(run, result) -> dict`` (the body's results; renders and the validation's
   measured values come from its ``report`` hook), written last as summary.json.
 
-A body's run is then its problem, its columns and its summary: quasi-static bodies through
-:func:`run_quasi_static` (``run_beam``, ``run_specimen``, ``run_beam_fe``), heated ones in time
-through :func:`run_in_time` (the heated FE beam), and those along a path of their own through
-:func:`run_path` (``run_strip``, ``run_specimen_fe``, ``run_ribbon``, ``run_gridshell``).
+A body's run is then its problem, its program, its exports and its summary: the strip through
+:func:`run` itself (``run_strip``), quasi-static bodies through :func:`run_quasi_static` (the door
+with the body's own history columns: ``run_beam``, ``run_specimen``, ``run_beam_fe``,
+``run_gridshell``), heated ones in time through :func:`run_in_time` (the door: the heated FE
+beam), and those along a path of their own through :func:`run_path` (``run_specimen_fe``,
+``run_ribbon``).
 
 Units: those of the problem (mm, N, s).
 """
