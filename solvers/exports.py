@@ -344,6 +344,8 @@ class Fields:
 
     def open(self, run: Run, out: pathlib.Path, problem=None, main: bool = False):
         chosen = self._selected(problem)
+        if out is None:  # a run in memory writes no files
+            return _FieldsWriter(self, problem, lambda t: None, None)
         if all(hasattr(f, "function_space") for f in chosen.values()):
             name = self.name if self.name.endswith(".bp") else f"{self.name}.bp"
             functions = list(chosen.values())

@@ -128,6 +128,11 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
 
     out = None if out is None else pathlib.Path(out)
     milestones = sorted({t for e in exports for t in (getattr(e, "times", None) or ())})
+    late = [t for t in milestones if t > program.end * (1.0 + 1e-12)]
+    if late and not program.steady:
+        from lcefem.models.errors import InputError
+        raise InputError(f"exports times: {late[0]:g} beyond the program's end ({program.end:g} "
+                         f"{'s' if program.clock == TIME else 'of the way'})")
     stops = [] if program.steady else program.stops(milestones)
     with Run(out, config=config, progress=progress, comm=comm) as skeleton:
         main = next((e for e in exports if isinstance(e, History)), None)

@@ -302,3 +302,12 @@ def test_a_case_file_names_a_program_of_programs_toml(tmp_path):
     case.write_text('[program]\nname = "robot"\n')
     with pytest.raises(InputError, match=r"^case\.toml: program 'robot': allowed "):
         door_from_toml(case)
+
+
+def test_an_export_time_beyond_the_program_is_refused_and_a_run_in_memory_writes_nothing(tmp_path):
+    with pytest.raises(InputError, match=r"^exports times: 7 beyond the program's end \(5 s\)$"):
+        run(Slider(), Program.in_time({"motor": 1.0}, 5.0, 1.0), [History(times=(7.0,))], tmp_path / "a", config={})
+    assert not (tmp_path / "a").exists()
+    summary = run(Slider(), Program.in_time({"motor": 1.0}, 2.0, 1.0), [History(), Fields("slider")], None,
+                  config={})
+    assert summary["final"]["position [mm]"] == 2.0
