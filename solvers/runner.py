@@ -39,6 +39,7 @@ Units: those of the problem (mm, N, s).
 
 from __future__ import annotations
 
+import contextlib
 import pathlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
@@ -167,7 +168,8 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
             if program.clock == TIME:
                 record = problem.advance(stop - previous)
                 if hasattr(problem, "time"):
-                    problem.time = stop  # k x dt exactly, not a sum of steps
+                    with contextlib.suppress(AttributeError):  # a clock the problem keeps read-only
+                        problem.time = stop  # k x dt exactly, not a sum of steps
                 obs = record.observables
                 record = replace(record, at=stop, observables={**obs, TIME: stop} if TIME in obs else obs)
                 emit(record)
