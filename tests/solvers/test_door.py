@@ -217,7 +217,7 @@ def test_a_bad_program_in_a_case_file_exits_2_with_one_line_and_writes_nothing(t
 
 def test_run_targets_come_from_the_body_registry():
     """``lcefem run`` targets are the registrations' targets; adding a body is one registration."""
-    from lcefem.solvers.problems import registry
+    from lcefem.solvers import registry
     from lcefem.validation.commands import RUN_TARGETS
 
     assert list(RUN_TARGETS) == list(registry.targets())
@@ -234,7 +234,7 @@ def test_run_targets_come_from_the_body_registry():
 
 
 def test_the_strip_and_the_beams_register_their_default_program():
-    from lcefem.solvers.problems.registry import body
+    from lcefem.solvers.registry import body
 
     strip = body("strip")
     cfg = strip.config_class()()
@@ -271,7 +271,7 @@ def test_the_bar_and_hinge_beam_through_the_door_from_its_registration(tmp_path)
     converged increment of its path follower (its first the as-built state), the last at the targets with the curvature its run
     reports (run_beam, the same problem and path); its fields as ParaView frames of the structure."""
     from lcefem.solvers.problems.composite_beam_bh import run_beam
-    from lcefem.solvers.problems.registry import body
+    from lcefem.solvers.registry import body
 
     beam = body("beam")
     cfg = beam.config_class()()

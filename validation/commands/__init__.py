@@ -10,10 +10,10 @@ Each module defines ``add_arguments(parser)`` (argparse; --out/--overwrite/--qui
 lcefem.solvers.runtime.outdir.add_out_arguments), ``prepare(args)`` (the validated configuration, before the
 output folder is claimed), ``main(args) -> int`` (runs the problem, prints one line) and, when it
 cannot run under mpiexec, ``PARALLEL = False`` (or a function of args). Add a target by
-registering its body (lcefem.solvers.problems.registry.register, ``command`` the module's name).
+registering its body (lcefem.solvers.registry.register, ``command`` the module's name).
 """
 
-from lcefem.solvers.problems.registry import targets
+from lcefem.solvers.registry import targets
 
 
 def parallel_if_fe(args) -> bool:
@@ -26,5 +26,5 @@ def parallel_if_fe(args) -> bool:
 MODELS = ("bar-hinge", "fe")
 
 #: ``lcefem run`` target -> its module, from the bodies' registrations
-#: (lcefem.solvers.problems.registry: one registration per body).
+#: (lcefem.solvers.registry: one registration per body).
 RUN_TARGETS = {target: f"lcefem.validation.commands.{module}" for target, module in targets().items()}

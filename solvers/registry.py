@@ -5,7 +5,7 @@
 A registration names things by import path ("module:attribute"), so reading the registry imports
 no solver (the bar-and-hinge commands start without FEniCSx)::
 
-    from lcefem.solvers.problems.registry import body
+    from lcefem.solvers.registry import body
     strip = body("strip")
     cfg = strip.config_class()()                    # StripConfig()
     problem = strip.build(cfg)                      # StripSimulation(cfg)
