@@ -1,4 +1,18 @@
-"""The runner of a quasi-static body through the Problem protocol
+"""The one door: :func:`run` drives any problem (the Problem protocol,
+:mod:`lcefem.solvers.problems.protocol`) along a program (:class:`lcefem.solvers.program.Program`:
+drives against time or load fraction, transient or steady) and lets a list of exports typed on the
+protocol (:mod:`lcefem.solvers.exports`: History, Fields, Probe, Reaction, each with its times)
+write what they want of every StepRecord, inside the run skeleton. FESTIM's ``problem.run()`` with
+its exports list::
+
+    program = Program.in_time({"coil": 0.2}, duration=20.0, dt=1.0)
+    run(problem, program, [History(), Fields("thermal.bp", ("temperature [C]",), times=(10.0,))],
+        out, config=cfg.resolved())
+
+The older entries below (:func:`run_quasi_static`, :func:`run_in_time`) are this door with a
+body's own columns; :func:`run_path` stays for the bodies that drive a path of their own.
+
+The runner of a quasi-static body through the Problem protocol
 (:mod:`lcefem.solvers.problems.protocol`): set the drives, advance the whole way, and let export
 objects write what a FEniCSx/ParaView user expects, through the run skeleton
 (:class:`lcefem.solvers.runtime.run.Run`: .part files, failure.json, summary.json with the resolved
@@ -13,22 +27,26 @@ Export objects (one per output, each built by the body's run from its problem):
 * the summary: ``summarize(run, result) -> dict`` (the body's results; renders and the validation's
   measured values come from its ``report`` hook), written last as summary.json.
 
-A body's run is then its problem, its columns and its summary: quasi-static bodies through
-:func:`run_quasi_static` (``run_beam``, ``run_specimen``, ``run_beam_fe``), heated ones in time
-through :func:`run_in_time` (the heated FE beam), and those along a path of their own through
-:func:`run_path` (``run_strip``, ``run_specimen_fe``, ``run_ribbon``, ``run_gridshell``).
+A body's run is then its problem, its program, its exports and its summary: the strip through
+:func:`run` itself (``run_strip``), quasi-static bodies through :func:`run_quasi_static` (the door
+with the body's own history columns: ``run_beam``, ``run_specimen``, ``run_beam_fe``,
+``run_gridshell``), heated ones in time through :func:`run_in_time` (the door: the heated FE
+beam), and those along a path of their own through :func:`run_path` (``run_specimen_fe``,
+``run_ribbon``).
 
 Units: those of the problem (mm, N, s).
 """
 
 from __future__ import annotations
 
+import contextlib
 import pathlib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
-from lcefem.solvers.problems.protocol import steps_in_time, unnamed
+from lcefem.solvers.problems.protocol import TIME, StepRecord, unnamed
+from lcefem.solvers.program import Program
 from lcefem.solvers.runtime.run import Progress, Run
 
 
@@ -90,55 +108,150 @@ def run_path(drive: Callable[[Callable[[Any], None]], Any], out: pathlib.Path, *
         return run.complete(summarize(run, drive(on_step)))
 
 
+def run(problem, program: Program, exports, out: pathlib.Path | None, *, config: dict,
+        progress: Progress | None = None, summarize: Callable[[Run, list], dict] | None = None,
+        comm=None) -> dict:
+    """Drive ``problem`` along ``program`` inside the run skeleton (progress bar, .part files,
+    failure.json, summary.json last) and let every export (``exports``: objects of
+    :mod:`lcefem.solvers.exports`, the first History the run's history) write each record.
+
+    Steps: the program's drives at 0 (``set_drives``; none: those set before), the start record (``problem.start()`` if the
+    problem has it and the program records its start: a dead load applied first; else its
+    observables at 0), then for a time program
+    ``advance(stop - previous)`` to each stop (equal steps of at most dt, the drive switches and the
+    exports' times as milestones; the clock ``problem.time`` set to the stop exactly), for a load
+    program ``advance`` by the fraction of the way left to each stop (a problem with
+    ``increment_record(state)`` gives a record per converged increment of its path follower), for
+    a steady one ``problem.steady()``. ``summarize(run, records)`` (the start and every advance's
+    record) gives the summary's entries (default: the program, the number of steps, the final
+    observables). Returns the summary."""
+    from lcefem.solvers.exports import History
+
+    out = None if out is None else pathlib.Path(out)
+    milestones = sorted({t for e in exports for t in (getattr(e, "times", None) or ())})
+    late = [t for t in milestones if t > program.end * (1.0 + 1e-12)]
+    if late and not program.steady:
+        from lcefem.models.errors import InputError
+        raise InputError(f"exports times: {late[0]:g} beyond the program's end ({program.end:g} "
+                         f"{'s' if program.clock == TIME else 'of the way'})")
+    stops = [] if program.steady else program.stops(milestones)
+    with Run(out, config=config, progress=progress, comm=comm) as skeleton:
+        main = next((e for e in exports if isinstance(e, History)), None)
+        writers = [e.open(skeleton, out, problem, main=e is main) for e in exports]
+        records: list[StepRecord] = []
+        last: list[StepRecord] = []
+        count = [0]
+
+        def emit(record: StepRecord) -> None:
+            for writer in writers:
+                writer.write(record, count[0])
+            count[0] += 1
+            last[:] = [record]
+
+        skeleton.on_failure(lambda folder: last and [w.last_converged(folder, last[0]) for w in writers])
+        if program.drives[0][1]:  # none: the drives set beforehand (a gridshell's rest fraction per bar)
+            problem.set_drives(program.drives[0][1])
+        start = (problem.start() if program.record_start and hasattr(problem, "start") else
+                 StepRecord(0.0, problem.observables(), clock=program.clock))
+        records.append(start)
+        if program.record_start:
+            emit(start)
+        if program.steady:
+            records.append(problem.steady())
+            emit(records[-1])
+        previous = 0.0
+        increments = getattr(problem, "increment_record", None)
+        for stop in stops:
+            switch = program.drives_at(previous) if previous > 0.0 else None
+            if switch is not None:
+                problem.set_drives(switch)
+            if program.clock == TIME:
+                record = problem.advance(stop - previous)
+                if hasattr(problem, "time"):
+                    with contextlib.suppress(AttributeError):  # a clock the problem keeps read-only
+                        problem.time = stop  # k x dt exactly, not a sum of steps
+                obs = record.observables
+                record = replace(record, at=stop, observables={**obs, TIME: stop} if TIME in obs else obs)
+                emit(record)
+            else:
+                base, left = previous, 1.0 - previous
+                if increments is None:
+                    record = problem.advance((stop - previous) / left if stop < 1.0 else 1.0)
+                    emit(replace(record, at=stop))
+                else:
+                    record = problem.advance((stop - previous) / left if stop < 1.0 else 1.0, on_step=lambda s: emit(
+                        (lambda r: replace(r, at=base + left * r.at))(increments(s))))
+                    record = replace(record, at=stop)
+            records.append(record)
+            previous = stop
+        summary = (summarize(skeleton, records) if summarize is not None else
+                   {"program": program.describe(), "steps": len(records) - 1,
+                    "final": dict(records[-1].observables)})
+        return skeleton.complete(summary)
+
+
+@dataclass(frozen=True)
+class _BodyStates:
+    """An export object of a body's own states (open(run, out) -> write(state)) fed by the door:
+    each record's ``detail`` (the state its path follower gave)."""
+
+    export: Any
+    times = None
+
+    def open(self, run, out, problem=None, main: bool = False):
+        return _BodyStatesWriter(self.export.open(run, out))
+
+
+class _BodyStatesWriter:
+    def __init__(self, writer):
+        self.writer = writer
+
+    def write(self, record, index: int) -> None:
+        self.writer.write(record.detail)
+
+    def last_converged(self, folder, record) -> None:
+        self.writer.last_converged(folder, record.detail)
+
+
+def _history_of_states(history: HistoryExport):
+    """The door's History of a HistoryExport of a body's own states (each record's ``detail``)."""
+    from lcefem.solvers.exports import History
+
+    return History(columns=history.columns, row=lambda r: history.row(r.detail),
+                   where=lambda r: history.where(r.detail),
+                   postfix=None if history.postfix is None else (lambda r: history.postfix(r.detail)))
+
+
 def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
                      history: HistoryExport, fields, progress: Progress,
                      summarize: Callable[[Any, Any], dict], progress_scale: float | None = 1.0) -> dict:
-    """One run of a quasi-static problem (:func:`run_path`): ``problem.set_drives(drives)``, then
-    ``problem.advance(1.0, on_step=..., progress=...)`` (the whole way), each converged step
-    recorded by the exports (``fields``: an export object with ``open(run, out)``);
-    ``summarize(run, result)`` gives the summary's entries (after the history is complete, before
-    summary.json is written); the bar shows ``progress_scale`` x the fraction of the way (None: only
-    ``history.at``). Returns the summary."""
-
-    def drive(on_step):
-        problem.set_drives(drives)
-        return problem.advance(1.0, on_step=on_step, progress=None if progress_scale is None else
-                               (lambda t: progress.to(progress_scale * t)))
-
-    return run_path(drive, out, config=config, history=history, fields=fields, progress=progress,
-                    summarize=summarize)
-
-
-def _time_where(row) -> str:
-    return f"t = {row['time [s]']:.4g} s"
-
-
-def _time_at(row) -> float:
-    return row["time [s]"]
+    """One run of a quasi-static problem through the door (:func:`run`): the load program to
+    ``drives`` in one advance (the whole way), each converged increment of the problem's path
+    follower a record (``problem.increment_record``), written by ``history`` (a HistoryExport of the
+    body's own states) and ``fields`` (an export object of them with ``open(run, out)``, or None);
+    ``summarize(run, result)`` gives the summary's entries (``result``: the advance's ``detail``,
+    after the history is complete, before summary.json is written). The bar shows the fraction of
+    the way (``progress_scale``: kept for the callers; the door's bar follows the records).
+    Returns the summary."""
+    exports = [_history_of_states(history), *(() if fields is None else (_BodyStates(fields),))]
+    return run(problem, Program.quasi_static(drives, record_start=False), exports, out, config=config,
+               progress=progress, summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
 
 
 def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, duration: float, dt: float,
                 config: dict, columns, progress: Progress, summarize: Callable[[Any, list], dict],
                 fields=None) -> dict:
-    """One run of a heated problem in time: ``problem.set_drives(drives)``, then equal steps of
-    at most ``dt`` [s] to ``duration`` [s] (``problem.advance(step)`` each, the problem's clock
-    ``time`` [s] set to k x step exactly, not a sum of steps); history.csv gets ``columns`` of
-    ``problem.observables()`` at 0 and after every step ("t = ... s" names a failed step);
-    ``fields`` (optional export object) one frame per step; ``summarize(run, rows)`` the summary's
-    entries. Returns the summary."""
-    out = None if out is None else pathlib.Path(out)
-    history = HistoryExport(tuple(columns), dict, where=_time_where, at=_time_at)
-    with Run(out, config=config, columns=list(history.columns), progress=progress) as run:
-        writer = None if fields is None else fields.open(run, out)
+    """One run of a heated problem in time through the door (:func:`run`): ``drives`` held for
+    ``duration`` [s] in equal steps of at most ``dt`` [s] (the clock ``time`` [s] set to k x step
+    exactly, not a sum of steps); history.csv gets ``columns`` of the observables at 0 and after
+    every step ("t = ... s" names a failed step); ``fields`` (optional, an export of
+    :mod:`lcefem.solvers.exports`) its frames; ``summarize(run, rows)`` (rows: the observables of
+    every record) the summary's entries. Returns the summary."""
+    from lcefem.solvers.exports import History
 
-        def record(row: dict) -> None:
-            run.record(row, where=history.where(row), at=history.at(row))
-            if writer is not None:
-                writer.write(row)
-
-        problem.set_drives(drives)
-        rows = steps_in_time(problem, duration, dt, record)
-        return run.complete(summarize(run, rows))
+    exports = [History(columns=tuple(columns)), *(() if fields is None else (fields,))]
+    return run(problem, Program.in_time(drives, duration, dt), exports, out, config=config, progress=progress,
+               summarize=lambda skeleton, records: summarize(skeleton, [dict(r.observables) for r in records]))
 
 
-__all__ = ["HistoryExport", "run_in_time", "run_path", "run_quasi_static"]
+__all__ = ["HistoryExport", "run", "run_in_time", "run_path", "run_quasi_static"]

@@ -8,6 +8,12 @@ from typing import Any
 from lcefem.models.errors import InputError
 
 
+#: The sections of a case file that go to the one door (lcefem.solvers.runner.run), not to the
+#: body's configuration: ``[program]`` (lcefem.solvers.program.program_from_table) and
+#: ``[[exports]]`` (lcefem.solvers.exports.exports_from_tables).
+DOOR_SECTIONS = ("program", "exports")
+
+
 def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> dict[str, Any]:
     """Read a TOML case file; raise InputError for a missing file, bad syntax or an unknown section."""
     if path is None:
@@ -20,7 +26,10 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
         if key not in allowed_sections:
             raise InputError(f"unknown section '[{key}]' in {path.name}; allowed: "
                              f"{', '.join(sorted(allowed_sections))}")
-        if not isinstance(value, dict):
+        if key == "exports":
+            if not isinstance(value, list):
+                raise InputError(f"'exports' in {path.name} must be a list of tables [[exports]]")
+        elif not isinstance(value, dict):
             raise InputError(f"'{key}' in {path.name} must be a table [{key}]")
         curve = value.get("curve")
         if isinstance(curve, str) and curve and not pathlib.Path(curve).is_absolute():
@@ -29,14 +38,16 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
     return data
 
 
-def config_from_toml(path, base, raw_sections: tuple[str, ...] = ("petsc",)):
+def config_from_toml(path, base, raw_sections: tuple[str, ...] = ("petsc",), door: bool = False):
     """``base`` (a frozen dataclass of parameter sections) with the sections of the case file at
-    ``path`` applied; a section in ``raw_sections`` is a plain table of strings (PETSc options)."""
+    ``path`` applied; a section in ``raw_sections`` is a plain table of strings (PETSc options);
+    with ``door``, the file may also hold :data:`DOOR_SECTIONS` (read by :func:`door_from_toml`)."""
     import dataclasses
 
     from lcefem.models.parameters import with_overrides
 
-    data = load_toml(path, {f.name for f in dataclasses.fields(base)})
+    data = load_toml(path, {f.name for f in dataclasses.fields(base)} | (set(DOOR_SECTIONS) if door else set()))
+    data = {k: v for k, v in data.items() if k not in DOOR_SECTIONS}
     changes = {name: {str(k): str(v) for k, v in table.items()} if name in raw_sections
                else with_overrides(getattr(base, name), table, name) for name, table in data.items()}
     return dataclasses.replace(base, **changes)
@@ -79,3 +90,30 @@ def assign_or_exit(config, assignment: str, option: str = "--set"):
     except InputError as e:
         print(e, file=sys.stderr)
         raise SystemExit(2) from None
+
+
+def door_from_toml(path):
+    """(program, exports) of a case file: its ``[program]`` table as a
+    :class:`lcefem.solvers.program.Program` (or ``[program] name = "..."``: an entry of
+    validation/data/programs.toml's ``[run_programs]``) and its ``[[exports]]`` list as export objects
+    (lcefem.solvers.exports), None where absent; a bad entry is one InputError naming the file
+    and the key."""
+    if path is None:
+        return None, None
+    from lcefem.solvers.exports import exports_from_tables
+    from lcefem.solvers.program import program_from_table
+    from lcefem.solvers.runtime.inputs import read_toml
+
+    path = pathlib.Path(path)
+    data = read_toml(path, f"config = {str(path)!r}")
+    try:
+        table = data.get("program")
+        if isinstance(table, dict) and set(table) == {"name"}:  # an entry of programs.toml's [run_programs]
+            from lcefem.validation.programs import run_program
+            program = run_program(table["name"])[0]
+        else:
+            program = program_from_table(table) if table is not None else None
+        exports = exports_from_tables(data["exports"]) if "exports" in data else None
+    except InputError as exc:
+        raise InputError(f"{path.name}: {exc}") from None
+    return program, exports

@@ -69,7 +69,8 @@ def load_programs(path=PATH) -> dict:
     path = pathlib.Path(path)
     name = path.name
     data = _keys(read_toml(path, f"programs = {str(path)!r}"),
-                 ("gridshell_shapes", "gridshell_recipes", "dome_protocol", "strip_crossing"), name)
+                 ("gridshell_shapes", "gridshell_recipes", "dome_protocol", "strip_crossing", "run_programs"),
+                 name, required=("gridshell_shapes", "gridshell_recipes", "dome_protocol", "strip_crossing"))
 
     shapes_t = data["gridshell_shapes"]
     source = _keys(shapes_t.get("source"), ("lambdas", "currents", "support"),
@@ -106,7 +107,15 @@ def load_programs(path=PATH) -> dict:
         protocol.append((start, _numbers(step["currents"], f"{where}.currents", CHANNELS)))
 
     crossing = _keys(data["strip_crossing"], ("temperature", "source"), f"{name}: strip_crossing")
+    run_programs = {}
+    for program, table in (data.get("run_programs") or {}).items():
+        where = f"{name}: run_programs.{program}"
+        if not isinstance(table, dict):
+            raise InputError(f"{where}: must be a table")
+        run_programs[program] = (_run_program({k: v for k, v in table.items() if k != "source"}, where),
+                                 _text(table.get("source"), f"{where}.source"))
     return {
+        "run_programs": run_programs,
         "shapes": shapes,
         "shape_sources": {k: _text(source[k], f"{name}: gridshell_shapes.source.{k}") for k in source},
         "recipes": recipes,
@@ -119,7 +128,22 @@ def load_programs(path=PATH) -> dict:
     }
 
 
+def _run_program(table: dict, where: str):
+    from lcefem.solvers.program import program_from_table
+
+    return program_from_table(table, where)
+
+
 PROGRAMS = load_programs()
+
+
+def run_program(name: str):
+    """The program ``name`` of programs.toml's ``[run_programs]`` (a
+    :class:`lcefem.solvers.program.Program` for the one door, lcefem.solvers.runner.run) and its
+    source; an unknown name is an InputError listing them."""
+    if name not in PROGRAMS["run_programs"]:
+        raise InputError(f"program {name!r}: allowed {', '.join(PROGRAMS['run_programs'])}")
+    return PROGRAMS["run_programs"][name]
 
 #: The paper's Fig. 4 programs: lambda [-] and current [A] per channel, and the published support
 #: (sources: :data:`SHAPE_DRIVE_SOURCES`; the curvatures the paper reports are

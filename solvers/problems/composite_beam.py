@@ -62,7 +62,7 @@ from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContac
                                     face_pairs)
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
-from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
 from lcefem.solvers.supports import plane_clamp, point_support
@@ -293,11 +293,12 @@ class BeamFE:
                 "min gap [mm]": self.min_gap()}
 
     def advance(self, dt: float = 1.0, *, on_step: Callable[[BeamState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> list[BeamState]:
+                progress: Callable[[float], None] | None = None) -> StepRecord:
         """Take the strips linearly from their current lengths to the targets of :meth:`set_lambda`
         (load parameter t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way) with
-        :class:`PathFollower`; one :class:`BeamState` per accepted step. Raises ConvergenceError
-        (the model keeps the last converged state)."""
+        :class:`PathFollower`; ``on_step`` sees one :class:`BeamState` per accepted step (the
+        record's ``detail``: their list). Raises ConvergenceError (the model keeps the last
+        converged state)."""
         dt = check_quasi_static_step(dt)
         lambda_top, lambda_bottom = self.target["top_strips"], self.target["bottom_strips"]
         lt0, lb0 = self.lambda_top, self.lambda_bottom
@@ -320,15 +321,25 @@ class BeamFE:
         follower.follow(dt, where=f"beam ramp to lambda_T = {lambda_top:g}, lambda_B = "
                         f"{lambda_bottom:g}", on_step=record)
         self.last_follower = follower
-        return states
+        return StepRecord(dt, self.observables(), follower.iterations, follower.cuts, clock=LOAD,
+                          detail=states)
+
+    def increment_record(self, state: BeamState) -> StepRecord:
+        """The :class:`StepRecord` of one converged increment of :meth:`advance` (``at``: its
+        fraction of the way; the one door, lcefem.solvers.runner.run, records every increment)."""
+        return StepRecord(state.load_factor, {
+            "lambda_top [-]": state.lambda_top, "lambda_bottom [-]": state.lambda_bottom,
+            "curvature [1/mm]": state.curvature, "contact force [N]": state.contact_force,
+            "min gap [mm]": state.min_gap}, state.iterations, state.cuts, clock=LOAD, detail=state)
 
     def ramp(self, lambda_top: float, lambda_bottom: float, **kw) -> list[BeamState]:
-        """:meth:`set_lambda` of (lambda_T, lambda_B) then :meth:`advance`."""
+        """:meth:`set_lambda` of (lambda_T, lambda_B) then :meth:`advance`; the states of the
+        ramp."""
         lam_n = self.actuation.lambda_N
         check_lambda("lambda_top", lambda_top, lam_n)
         check_lambda("lambda_bottom", lambda_bottom, lam_n)
         self.set_lambda({"top_strips": lambda_top, "bottom_strips": lambda_bottom})
-        return self.advance(**kw)
+        return self.advance(**kw).detail
 
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
         """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
@@ -599,11 +610,12 @@ class HeatedBeamFE:
             row[f"T_mean {name} [C]"] = assemble_global(form, tm.mesh.comm) / vol
         return row
 
-    def advance(self, dt: float) -> dict[str, float]:
+    def advance(self, dt: float) -> StepRecord:
         """One backward-Euler heat step of ``dt`` [s], then the mechanics from the old to the new
-        temperature (the one path follower, load parameter = time); returns the observables."""
+        temperature (the one path follower, load parameter = time); returns its
+        :class:`StepRecord` (the observables with the step's Newton iterations)."""
         its = self.stepper.advance(dt, where=f"heated beam, t = {self.time + dt:.4g} s")
-        return self.observables(its)
+        return StepRecord(self.time, self.observables(its), its)
 
     # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
     drive = "current [A]"

@@ -34,9 +34,10 @@ from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import beam_curvature
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, isostatic_supports)
-from lcefem.solvers.problems.protocol import check_quasi_static_step
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.program import Program
 from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
@@ -160,7 +161,7 @@ class CompositeBeamBH:
             self.targets[tag] = check_lambda(f"lambda[{tag}]", value, self.lambda_N)
 
     def advance(self, dt: float = 1.0, on_step: Callable[[PathState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> PathResult:
+                progress: Callable[[float], None] | None = None) -> StepRecord:
         """The fraction ``dt`` (0 < dt <= 1) of the way from the present lambdas to the targets,
         the rest fractions f = lambda/lambda_N ramped linearly (from the as-built state the ramp of
         :func:`beam_load`, to the last bit); ``on_step(state)`` after every converged increment
@@ -176,6 +177,8 @@ class CompositeBeamBH:
             self.model.set_rest_fractions({k: f0[k] + t * (f1[k] - f0[k]) for k in start})
             return self._fixed
 
+        self._ramp = (f0, f1, frac)
+
         try:
             result = follow_path(self.model, self.x, self.held, load, newton_options=self.newton_options,
                                  path_options=self.path, on_step=on_step, progress=progress)
@@ -184,7 +187,16 @@ class CompositeBeamBH:
             raise
         self.x, self.lambdas = result.states[-1].x.copy(), goal
         self.model.set_rest_fractions({k: v / self.lambda_N for k, v in goal.items()})
-        return result
+        return path_record(frac, self.observables(), result)
+
+    def increment_record(self, state: PathState) -> StepRecord:
+        """The :class:`StepRecord` of one converged increment of :meth:`advance` (``at``: its
+        fraction of the way; the one door, lcefem.solvers.runner.run, records every increment)."""
+        f0, f1, frac = self._ramp
+        lambdas = {k: (f0[k] + state.t * (f1[k] - f0[k])) * self.lambda_N for k in f0}
+        return StepRecord(state.t * frac, {**{f"lambda {k} [-]": v for k, v in lambdas.items()},
+                                           "curvature [1/mm]": float(beam_curvature(self.structure, state.x))},
+                          state.iterations, clock=LOAD, detail=state)
 
     def observables(self) -> dict[str, float]:
         return {**{f"lambda {k} [-]": v for k, v in self.lambdas.items()},
@@ -243,6 +255,19 @@ SIGN_CONVENTION = ("positive when the beam bends towards its bottom strips (top 
                    "circle fit through the middle stations")
 
 
+def beam_problem(config: BeamConfig) -> CompositeBeamBH:
+    """The bar-and-hinge beam of a (validated) configuration."""
+    cfg = config.validated()
+    return CompositeBeamBH(cfg.geometry, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+
+
+def beam_program(config: BeamConfig) -> Program:
+    """The run section as a load program: the strips' lambdas reached in one advance, a record per
+    converged increment (no start row, as the beam's history)."""
+    return Program.quasi_static({"top_strips": config.run.lambda_top, "bottom_strips": config.run.lambda_bottom},
+                                record_start=False)
+
+
 def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
     """Drive :class:`CompositeBeamBH` to ``config.run``'s lambdas through the runner
     (:func:`lcefem.solvers.runner.run_quasi_static`) and write history.csv (:data:`COLUMNS`),
@@ -252,7 +277,7 @@ def run_beam(config: BeamConfig, out: pathlib.Path, progress: bool = True, repor
     cfg = config.validated()
     out = pathlib.Path(out)
     lam_t, lam_b, lam_n = cfg.run.lambda_top, cfg.run.lambda_bottom, cfg.lce.lambda_N
-    problem = CompositeBeamBH(cfg.geometry, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    problem = beam_problem(cfg)
     structure, model = problem.structure, problem.model
 
     def row(state) -> dict:

@@ -20,7 +20,8 @@ from lcefem.models.errors import InputError
 from lcefem.models.limits import check_lambda
 from lcefem.solvers.contact import PenaltyContact
 from lcefem.solvers.continuation import PathControl
-from lcefem.solvers.exports import FEFields
+from lcefem.solvers.exports import FEFields, Fields, History
+from lcefem.solvers.program import Program
 from lcefem.solvers.problems.composite_beam import (HEATED_STRIPS, BeamActuation, BeamFE, FEMaterials,
                                                     HeatedBeamFE, HeatedBeamRun)
 from lcefem.solvers.problems.composite_beam_bh import SIGN_CONVENTION, BeamRun
@@ -60,6 +61,31 @@ class BeamFEConfig:
 
     def resolved(self) -> dict:
         return resolved(self)
+
+
+def beam_fe_problem(cfg: BeamFEConfig):
+    """The FE beam of a (validated) configuration: :class:`BeamFE` (lambdas prescribed) or, when
+    ``heat_run.current`` > 0, :class:`HeatedBeamFE` (the current through ``heat_run.heated``)."""
+    cfg = cfg.validated()
+    if cfg.heat_run.current > 0:
+        return HeatedBeamFE(HEATED_STRIPS[cfg.heat_run.heated], cfg.geometry, cfg.mesh, cfg.materials, cfg.contact,
+                            None, None, None, None, GridSegmentCoil(), dt=cfg.heat_run.dt)
+    return BeamFE(cfg.geometry, cfg.mesh, cfg.materials, cfg.actuation, cfg.contact, cfg.path)
+
+
+def beam_fe_program(cfg: BeamFEConfig) -> Program:
+    """The lambda ramp (a load program, a record per converged increment, no start row) or the
+    coil current for heat_run.duration [s] in steps of at most heat_run.dt [s]."""
+    h = cfg.heat_run
+    if h.current > 0:
+        return Program.in_time({tag: h.current for tag in HEATED_STRIPS[h.heated]}, h.duration, h.dt)
+    return Program.quasi_static({"top_strips": cfg.run.lambda_top, "bottom_strips": cfg.run.lambda_bottom},
+                                record_start=False)
+
+
+def beam_fe_exports(problem) -> list:
+    """history.csv of the observables and displacement.bp."""
+    return [History(), Fields("displacement.bp", ("displacement [mm]",))]
 
 
 FE_COLUMNS = ["load factor [-]", "lambda_top [-]", "lambda_bottom [-]", "curvature [1/mm]",

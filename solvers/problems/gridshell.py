@@ -81,7 +81,7 @@ from lcefem.solvers.contact import (NodalDamping, NodalLoad, PenaltyContact, Rig
 from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
                                       deformation_gradient, displacement_space, volume_measure)
 from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
-from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.transfer import prolong_by_tag
@@ -395,11 +395,12 @@ class GridshellFE:
         return np.unique(arr[np.isin(self._dof_tag, self._tags_of(selector))])
 
     def advance(self, dt: float = 1.0, *, on_step: Callable[[GridshellState], None] | None = None
-                ) -> list[GridshellState]:
+                ) -> StepRecord:
         """Take every strip linearly from its current lambda to its target (path parameter
         t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way; with gravity on, its weight rises
         with t on the first ramp) with the path follower. Raises ConvergenceError (the model keeps
-        the last converged state)."""
+        the last converged state). The record's ``detail``: one :class:`GridshellState` per
+        accepted step."""
         dt = check_quasi_static_step(dt)
         lam0 = self.lam.x.array.copy()
         dlam = dt * (self.target - lam0)
@@ -412,12 +413,14 @@ class GridshellFE:
 
         states = self._follow(set_load, self.config.control, "gridshell ramp", on_step)
         self.lam.x.array[:] = self.target if dt == 1.0 else lam0 + dlam  # exactly, not lam0 + 1.0 * dlam
-        return states
+        follower = self.last_follower
+        return StepRecord(dt, states[-1].observables if states else self.observables(), follower.iterations,
+                          follower.cuts, clock=LOAD, detail=states)
 
     def ramp(self, drives: Mapping[str, float], **kw) -> list[GridshellState]:
-        """:meth:`set_lambda` then :meth:`advance`."""
+        """:meth:`set_lambda` then :meth:`advance`; the states of the ramp."""
         self.set_lambda(drives)
-        return self.advance(**kw)
+        return self.advance(**kw).detail
 
     def settle(self, first_step: float = SETTLE_FIRST_STEP,
                on_step: Callable[[GridshellState], None] | None = None) -> list[GridshellState]:

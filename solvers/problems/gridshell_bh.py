@@ -60,7 +60,7 @@ from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_cen
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
                                       PathState, follow_path, held_dofs)
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
-from lcefem.solvers.problems.protocol import check_quasi_static_step
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
 GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iterations=8,
@@ -374,10 +374,10 @@ class GridshellBH:
         return self._target[group] * self.lambda_N
 
     def advance(self, dt: float = 1.0, *, on_step: Callable[[PathState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> PathResult:
+                progress: Callable[[float], None] | None = None) -> StepRecord:
         """Ramp the rest fractions from the current state to the targets (t: 0 -> 1; ``dt`` < 1 stops
         at that fraction of the way) from the current positions; raises ConvergenceError when the
-        increment falls below its minimum."""
+        increment falls below its minimum. The record's ``detail``: the :class:`PathResult`."""
         dt = check_quasi_static_step(dt)
         start = {g: v.copy() for g, v in self._current.items()}
         target = {g: v.copy() if dt == 1.0 else start[g] + dt * (v - start[g])
@@ -388,23 +388,33 @@ class GridshellBH:
             model.set_rest_fractions({g: start[g] + t * (target[g] - start[g]) for g in target})
             return model.reference.reshape(-1)[held]
 
+        self._fraction = dt
         result = follow_path(model, self.x, held, load, newton_options=self.config.solver,
                              path_options=self.config.path, on_step=on_step, progress=progress)
         self.x = result.states[-1].x.copy()
         self._current = target
         self.history.extend(result.states[1:])
-        return result
+        return path_record(dt, self.observables(), result)
+
+    def increment_record(self, state: PathState) -> StepRecord:
+        """The :class:`StepRecord` of one converged increment of :meth:`advance` (``at``: its
+        fraction of the way; the one door, lcefem.solvers.runner.run, records every increment)."""
+        return StepRecord(state.t * self._fraction, self._observe(state.x), state.iterations, clock=LOAD,
+                          detail=state)
 
     def observables(self) -> dict[str, float]:
         """Centre curvatures by both measures [1/mm] (dome negative), z range of the ribbons and the
         centre junction's height [mm]."""
-        s = shape_summary(self.structure, self.x)
+        return self._observe(self.x)
+
+    def _observe(self, x) -> dict[str, float]:
+        s = shape_summary(self.structure, x)
         out = {"circle kappa_x [1/mm]": s["circle_x"], "circle kappa_y [1/mm]": s["circle_y"]}
         if "quad_kx" in s:
             out.update({"quad kappa_x [1/mm]": s["quad_kx"], "quad kappa_y [1/mm]": s["quad_ky"],
                         "quad kappa_1 [1/mm]": s["quad_k1"], "quad kappa_2 [1/mm]": s["quad_k2"]})
         out["z range [mm]"] = s["z_range [mm]"]
-        out["centre height [mm]"] = centre_height(self.structure, self.x)
+        out["centre height [mm]"] = centre_height(self.structure, x)
         return out
 
     # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------

@@ -29,7 +29,7 @@ from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, PathResult
 from lcefem.solvers.contraction_curve import law_summary
 from lcefem.solvers.current_routes import curve_law, route_from_config
 from lcefem.solvers.exports import BarHingeFrames
-from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.problems.gridshell_bh import (GRIDSHELL_PATH, RAMP_NEWTON, SUPPORTS, GridshellBH,
@@ -266,7 +266,7 @@ SIGN = ("kappa = d^2 w/ds^2 with w along the centre junction's normal on the top
 
 def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool = True, report=None) -> dict:
     """Ramp the gridshell (:class:`GridshellBH`, its rest fractions per bar set to the configured
-    drives) through the runner (:func:`lcefem.solvers.runner.run_path`) and write history.csv
+    drives) through the one door (:func:`lcefem.solvers.runner.run_quasi_static`) and write history.csv
     (:data:`COLUMNS`; the quadratic fit needs >= 3 x 3 junctions), gridshell.pvd +
     gridshell_steps/*.vtp, nodes.csv and summary.json into ``out``; returns the summary.
     ``report(out, cfg, structure, x, drive)`` (optional: the validation's render) runs before the
@@ -294,10 +294,7 @@ def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool =
 
     bar = Progress(1.0, "gridshell", "load", ".3f", progress)
     started = time.perf_counter()
-
-    def drive(on_step) -> PathResult:
-        problem.set_rest_fractions(targets)
-        return problem.advance(1.0, on_step=on_step, progress=bar.to)
+    problem.set_rest_fractions(targets)  # per bar: the load program below sets no drives of its own
 
     def summarize(run, path: PathResult) -> dict:
         wall = time.perf_counter() - started
@@ -325,5 +322,6 @@ def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool =
             "failed_increments": path.failed_increments, "wall_time [s]": wall,
         }
 
-    return run_path(drive, out, config=cfg.resolved(), history=HistoryExport(tuple(columns), row),
-                    fields=BarHingeFrames("gridshell", structure, model), progress=bar, summarize=summarize)
+    return run_quasi_static(problem, {}, out, config=cfg.resolved(), history=HistoryExport(tuple(columns), row),
+                            fields=BarHingeFrames("gridshell", structure, model), progress=bar,
+                            summarize=summarize)

@@ -33,7 +33,7 @@ from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.heat import HeatProblem, HeatSetup
 from lcefem.solvers.mechanics import QUADRATURE_DEGREE, assemble_global, volume_measure
 from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellFE
-from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import StepRecord, copy_arrays, put_arrays
 from lcefem.solvers.thermomechanics import TemperatureFollower, temperature_path
 
 _prefix = itertools.count()
@@ -382,10 +382,12 @@ class HeatedGridshellFE(GridshellFE):
     def set_drives(self, drives: Mapping[str, float]) -> None:
         self.set_current(drives)
 
-    def advance(self, dt: float, **unused) -> dict[str, float]:
+    def advance(self, dt: float, **unused) -> StepRecord:
         """One time step of ``dt`` [s] (:meth:`advance_time`): the heated gridshell's time is
         simulated time; its lambda follows the temperature, not targets."""
-        return self.advance_time(dt)
+        row = self.advance_time(dt)
+        its = int(row["newton iterations [-]"])
+        return StepRecord(self.time, row, its)
 
     def fields(self) -> dict:
         out = super().fields()

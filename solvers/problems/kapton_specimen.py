@@ -47,7 +47,7 @@ from lcefem.models.parameters import param
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import FEFields, write_snapshot
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
-from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runner import HistoryExport, run_path
 from lcefem.solvers.runtime.run import Progress
@@ -267,10 +267,10 @@ class KaptonSpecimenFE:
                 raise InputError(f"end shortening[{tag}] = {value} mm: must be in [0, {self.length:g}) mm")
             self.target_shortening = float(value)
 
-    def advance(self, dt: float = 1.0) -> PathFollower:
+    def advance(self, dt: float = 1.0) -> StepRecord:
         """From the present end shortening the fraction ``dt`` (0 < dt <= 1) of the way to the
         target of :meth:`set_drives`, with the path follower of :meth:`follow` (load parameter:
-        compression = shortening / L)."""
+        compression = shortening / L); the record's ``detail``: the :class:`PathFollower`."""
         dt = check_quasi_static_step(dt)
         start = -float(self.end.value[0]) / self.length
         goal = start + dt * (self.target_shortening / self.length - start)
@@ -278,7 +278,8 @@ class KaptonSpecimenFE:
                                 PathControl(first_step=1.0, max_step=1.0, min_step=1e-3), t0=start)
         if goal != start:
             follower.follow(goal, where=f"ribbon compression {100 * goal:.3g} %")
-        return follower
+        return StepRecord(dt, self.observables(), follower.iterations, follower.cuts, clock=LOAD,
+                          detail=follower)
 
     def fields(self) -> dict:
         return {"displacement [mm]": self.u}

@@ -34,7 +34,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
                                       follow_path, held_dofs, newton)
-from lcefem.solvers.problems.protocol import check_quasi_static_step
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.exports import BarHingeFrames
 from lcefem.solvers.runner import HistoryExport, run_quasi_static
@@ -213,13 +213,14 @@ class KaptonSpecimenBH:
             self.target_shortening = float(value)
 
     def advance(self, dt: float = 1.0, on_step: Callable[[PathState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> PathResult:
+                progress: Callable[[float], None] | None = None) -> StepRecord:
         """The fraction ``dt`` (0 < dt <= 1) of the way from the present end shortening to the
         target (from the flat specimen the path of :func:`setup_specimen`, to the last bit);
         ``on_step(state)`` after every converged increment, ``progress(t)``. Raises
         ConvergenceError (the present state is kept)."""
         start = self.shortening
         goal = start + check_quasi_static_step(dt) * (self.target_shortening - start)
+        self._ramp = (start, goal, dt)
         result = follow_path(self.model, self.x, self.held,
                              lambda t: self._base - np.where(self._moving, start + t * (goal - start), 0.0),
                              newton_options=self.newton_options, path_options=self.path, on_step=on_step,
@@ -227,14 +228,25 @@ class KaptonSpecimenBH:
         last = result.states[-1]
         self.x, self.shortening = last.x.copy(), goal
         self.force = compressive_force(last.reactions, self.held, self.right_x)
-        return result
+        return path_record(dt, self.observables(), result)
 
-    def observables(self) -> dict[str, float]:
+    def increment_record(self, state: PathState) -> StepRecord:
+        """The :class:`StepRecord` of one converged increment of :meth:`advance` (``at``: its
+        fraction of the way; the one door, lcefem.solvers.runner.run, records every increment)."""
+        start, goal, frac = self._ramp
+        d = start + state.t * (goal - start)
+        return StepRecord(state.t * frac, self._observe(d, compressive_force(state.reactions, self.held, self.right_x),
+                                                        state.x), state.iterations, clock=LOAD, detail=state)
+
+    def _observe(self, shortening: float, force: float, x) -> dict[str, float]:
         mid = np.argmin(np.abs(self.structure.nodes[:, 0] - 0.5 * self.specimen.length)
                         + np.abs(self.structure.nodes[:, 1]))
-        return {"end shortening [mm]": self.shortening,
-                "compression [-]": self.shortening / self.specimen.length, "force [N]": self.force,
-                "mid-span deflection [mm]": float(self.x[mid, 2] - self.structure.nodes[mid, 2])}
+        return {"end shortening [mm]": shortening,
+                "compression [-]": shortening / self.specimen.length, "force [N]": force,
+                "mid-span deflection [mm]": float(x[mid, 2] - self.structure.nodes[mid, 2])}
+
+    def observables(self) -> dict[str, float]:
+        return self._observe(self.shortening, self.force, self.x)
 
     def fields(self) -> dict:
         return {"node positions [mm]": self.x}
@@ -296,6 +308,12 @@ def closed_forms(cfg: KaptonSpecimenConfig) -> dict[str, float]:
 COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterations [-]"]
 
 
+def specimen_problem(config: KaptonSpecimenConfig) -> KaptonSpecimenBH:
+    """The bar-and-hinge buckling specimen of a (validated) configuration."""
+    cfg = config.validated()
+    return KaptonSpecimenBH(cfg.specimen, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+
+
 def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True,
                  report=None) -> dict:
     """The bar-and-hinge buckling test: :class:`KaptonSpecimenBH` driven to ``run.compression``
@@ -307,7 +325,7 @@ def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool
     the results."""
     cfg = config.validated()
     out = pathlib.Path(out)
-    problem = KaptonSpecimenBH(cfg.specimen, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    problem = specimen_problem(cfg)
     model, length, compression_max = problem.model, cfg.specimen.length, cfg.run.compression
 
     def force(state) -> float:

@@ -4,9 +4,13 @@ FE strip, beam, specimen, ribbon and gridshell, their bar-and-hinge counterparts
 A run, a study or a test can then drive any body the same way::
 
     problem.set_drives({"bottom_strips": 1.2})     # by tag (strip tag, group, channel, coil)
-    problem.advance(1.0)                           # its own time: seconds, or a load parameter
+    step = problem.advance(1.0)                    # its own time: seconds, or a load parameter
+    step.observables["curvature [1/mm]"]           # a StepRecord: observables, iterations, cuts
     row = problem.observables()                    # {"curvature [1/mm]": ..., ...}
     saved = problem.save_state(); ...; problem.restore_state(saved)
+
+Every :meth:`Problem.advance` returns one :class:`StepRecord`; the one door that drives a problem
+along a program and writes its exports is :func:`lcefem.solvers.runner.run`.
 
 What a drive is (a spontaneous stretch, a coil current, an end shortening) is stated once per class
 in :attr:`Problem.drive`, "name [unit]" like every observable.
@@ -17,10 +21,46 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from typing import Any, Protocol, runtime_checkable
 
 #: "name [unit]": a name, one space, the unit in brackets ("[-]" for a ratio), nothing after.
 NAME_WITH_UNIT = re.compile(r"^\S.* \[[^\[\]]+\]$")
+
+
+#: The two clocks a problem advances on: simulated time (heated problems) or the fraction of the way
+#: to the drives set (quasi-static ones).
+TIME = "time [s]"
+LOAD = "load fraction [-]"
+
+
+@dataclass(frozen=True)
+class StepRecord:
+    """What one :meth:`Problem.advance` did, the same for every body.
+
+    ``at``: where the step ended on the problem's clock ``clock`` (:data:`TIME`: simulated time
+    [s]; :data:`LOAD`: the fraction [-] of the way to the drives set, 1 at the targets);
+    ``observables``: the problem's observables after the step, "name [unit]"; ``iterations``: Newton
+    iterations [-] of the step (all its increments); ``cuts``: step cuts [-] of the step controller;
+    ``converged``: False only for a record of a step that did not converge (advance raises
+    ConvergenceError instead of returning one). ``detail``: the body's own account of the step (a
+    path follower's states, kept for that body's run and studies; not compared, not exported).
+    """
+
+    at: float
+    observables: Mapping[str, float]
+    iterations: int = 0
+    cuts: int = 0
+    converged: bool = True
+    clock: str = TIME
+    detail: Any = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self):
+        if self.clock not in (TIME, LOAD):
+            raise ValueError(f"StepRecord.clock = {self.clock!r}: allowed {TIME!r}, {LOAD!r}")
+        bad = unnamed(self.observables)
+        if bad:
+            raise ValueError(f"observables without a unit: {bad}")
 
 
 @runtime_checkable
@@ -43,11 +83,11 @@ class Problem(Protocol):
         :meth:`drive_tags` or a value out of bounds is an InputError naming it."""
         ...
 
-    def advance(self, dt: float) -> Any:
+    def advance(self, dt: float) -> StepRecord:
         """Move forward by ``dt`` of the problem's own time: seconds [s] for a heated problem (one
         time step), the fraction 0 < dt <= 1 of the way from the present drives to those set for a
-        quasi-static one (1 reaches them). Raises ConvergenceError, keeping the last converged
-        state."""
+        quasi-static one (1 reaches them); returns the :class:`StepRecord` of the step. Raises
+        ConvergenceError, keeping the last converged state."""
         ...
 
     def observables(self) -> dict[str, float]:
@@ -79,12 +119,20 @@ def steps_in_time(problem, duration: float, dt: float,
     if on_row is not None:
         on_row(rows[0])
     for k in range(1, steps + 1):
-        rows.append(problem.advance(step))
+        rows.append(dict(problem.advance(step).observables))
         problem.time = k * step
         rows[-1]["time [s]"] = problem.time
         if on_row is not None:
             on_row(rows[-1])
     return rows
+
+
+def path_record(fraction: float, observables: Mapping[str, float], path) -> StepRecord:
+    """The :class:`StepRecord` of a bar-and-hinge advance along ``fraction`` [-] of the way:
+    ``path`` a :class:`lcefem.solvers.bar_hinge.PathResult` (its Newton iterations summed, its
+    failed increments as the cuts; kept as the record's ``detail``)."""
+    return StepRecord(fraction, observables, int(sum(path.newton_iterations)), int(path.failed_increments),
+                      clock=LOAD, detail=path)
 
 
 def check_quasi_static_step(dt: float) -> float:

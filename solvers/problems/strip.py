@@ -22,7 +22,6 @@ writes failure.json.
 
 from __future__ import annotations
 
-import math
 import pathlib
 import time
 from collections.abc import Mapping
@@ -45,13 +44,14 @@ from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check
 from lcefem.models.parameters import param
 from lcefem.solvers import cost
 from lcefem.solvers.contraction_curve import LCECurve, law_summary
-from lcefem.solvers.exports import FEFields
+from lcefem.solvers.exports import Fields, History
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure
-from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import TIME, StepRecord, copy_arrays, put_arrays
+from lcefem.solvers.program import Program
 from lcefem.solvers.thermomechanics import LCERegion, ThermoMechanicalModel
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runner import run as run_door
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.supports import clamp_face, component_bc, mirror_planes, nodes_on_line, plane_clamp
 
@@ -275,12 +275,14 @@ class StripSimulation:
                              f"(got {lam.min():g} .. {lam.max():g})")
         return self._prescribe(temperature_for_stretch(np.minimum(lam, tr.lambda_N), tr), where)
 
-    def advance(self, dt: float, where: str | None = None):
+    def advance(self, dt: float, where: str | None = None) -> StepRecord:
         """One backward-Euler heat step of ``dt`` [s], then the mechanics to the new temperature
-        (the one path follower); returns the step report (iterations, cuts)."""
-        report = self.model.step(dt, where=where or f"step of {dt:g} s")
+        (the one path follower); returns its :class:`StepRecord` (the observables with the step's
+        Newton iterations and cuts)."""
+        report = self.model.step(dt, where=where or f"t = {self.time + dt:.4g} s")
         self.time += dt
-        return report
+        return StepRecord(self.time, self.observe(self.time, report.iterations, report.cuts),
+                          report.iterations, report.cuts, detail=report)
 
     # -- observables ------------------------------------------------------------------------
     def stretch(self) -> float:
@@ -324,69 +326,88 @@ class StripSimulation:
         raise ConvergenceError("steady state", f"stretch still changing after {max_iterations} "
                                "heat-mechanics fixed-point iterations")
 
-    # -- time loop --------------------------------------------------------------------------
-    def run(self, out: pathlib.Path | None = None, progress: bool = True, fields: bool = True,
-            crossing_temperature: float | None = None) -> StripResult:
-        """The run (history.csv, fields, summary.json in ``out``); ``crossing_temperature`` [C]: the
-        summary's metrics report when it is crossed (:func:`transient_metrics`)."""
+    # -- the run (the one door, lcefem.solvers.runner.run) --------------------------------------
+    def program(self) -> Program:
+        """:func:`strip_program` of this strip's configuration."""
+        return strip_program(self.config)
+
+    def default_exports(self, fields: bool = True) -> list:
+        """history.csv (:data:`COLUMNS`), and with ``fields`` thermal.bp (temperature, spontaneous
+        stretch) and displacement.bp, a frame every run.output_every records."""
         cfg = self.config
-        bar = Progress(cfg.run.duration, f"strip {cfg.run.current:g} A {cfg.run.bc}", "s",
-                       enabled=progress and not cfg.run.steady, comm=self.comm)
+        history = History(columns=tuple(COLUMNS), postfix=lambda r: (
+            f"T_mean={r.observables['T_mean [C]']:.1f}C stretch={r.observables['stretch [-]']:.4f} "
+            f"F={r.observables['force [N]']:.3f}N"))
+        if not fields:
+            return [history]
+        every = cfg.run.output_every
+        return [history, Fields("thermal.bp", ("temperature [C]", "spontaneous stretch [-]"), every=every),
+                Fields("displacement.bp", ("displacement [mm]",), every=every)]
+
+    def run(self, out: pathlib.Path | None = None, progress: bool = True, fields: bool = True,
+            crossing_temperature: float | None = None, program: Program | None = None,
+            exports: list | None = None) -> StripResult:
+        """The run (history.csv, fields, summary.json in ``out``) through the one door
+        (:func:`lcefem.solvers.runner.run`): ``program`` (default :meth:`program`), ``exports``
+        (default :meth:`default_exports`; without ``out`` only the history, in memory);
+        ``crossing_temperature`` [C]: the summary's metrics report when it is crossed
+        (:func:`transient_metrics`)."""
+        cfg = self.config
+        program = program or self.program()
+        if exports is None:
+            exports = self.default_exports(fields and out is not None)
+        bar = Progress(program.end, f"strip {cfg.run.current:g} A {cfg.run.bc}", "s",
+                       enabled=progress and not program.steady, comm=self.comm)
         started = time.perf_counter()
-        # a step seen by the exports: (observed row, step number, where)
-        history = HistoryExport(
-            tuple(COLUMNS), lambda s: s[0], where=lambda s: s[2],
-            at=lambda s: min(s[0]["time [s]"], cfg.run.duration),
-            postfix=lambda s: (f"T_mean={s[0]['T_mean [C]']:.1f}C stretch={s[0]['stretch [-]']:.4f} "
-                               f"F={s[0]['force [N]']:.3f}N"))
-        fields_out = ()
-        if out is not None and fields:
-            common = dict(comm=self.comm, time=lambda s: s[0]["time [s]"] if math.isfinite(s[0]["time [s]"]) else 0.0,
-                          start=False, every=cfg.run.output_every, step=lambda s: s[1])
-            fields_out = (FEFields("thermal.bp", (self.model.heat.T, self.lambda_s),
-                                   update=lambda: self.lambda_s.interpolate(self._lambda_expr), **common),
-                          FEFields("displacement.bp", (self.model.u,), **common))
         head = {"power [mW]": self.power, "mesh": self._mesh_summary(), "cost estimate": cfg.estimate().as_dict()}
-
-        def drive(on_step) -> dict:
-            """The steady state (one row) or the transient's steps (one row each)."""
-            if cfg.run.steady:
-                obs = self.steady_state()
-                on_step((obs, 0, "steady state"))
-                return {"steady_state": obs}
-            return self._transient(lambda row, step, where: on_step((row, step, where)), crossing_temperature)
-
         found = {}
 
-        def summarize(run, result: dict) -> dict:
+        def summarize(run, records) -> dict:
             found["history"] = run.history
+            if program.steady:
+                result = {"steady_state": dict(records[-1].observables)}
+            else:
+                h = program.end / len(records[1:]) if records[1:] else program.end
+                result = {"as_built": {k: self.dims[k] for k in ("length", "width", "thickness", "coil_side",
+                                                                  "length_isotropic", "lambda_N")},
+                          "metrics": transient_metrics(_as_arrays([r.observables for r in records]),
+                                                       self.law, crossing_temperature),
+                          "steps": len(records) - 1, "dt [s]": h,
+                          "newton_iterations": sum(r.iterations for r in records[1:])}
             return {**head, **result, "wall_time [s]": time.perf_counter() - started}
 
-        summary = run_path(drive, out, config=cfg.resolved(), history=history, fields=None, progress=bar,
-                           summarize=summarize, exports=fields_out, comm=self.comm)
-        return StripResult(found["history"].as_arrays(), summary, out, self.model)
+        summary = run_door(self, program, exports, out, config=cfg.resolved(), progress=bar,
+                           summarize=summarize, comm=self.comm)
+        history = found["history"]
+        return StripResult(history.as_arrays() if history is not None else {}, summary, out, self.model)
 
-    def _transient(self, record, crossing_temperature: float | None = None) -> dict:
-        """Backward-Euler steps to run.duration; returns the summary entries of a transient."""
-        cfg = self.config
-        n_steps = max(1, int(math.ceil(cfg.run.duration / cfg.run.dt - 1e-9)))
-        dt = cfg.run.duration / n_steps
-        # Initial state (a tip load, if any, is applied before heating).
-        rep = self.model.equilibrate(where="t = 0 s (initial load)") if cfg.run.tip_load else None
-        rows = [self.observe(0.0, rep.iterations if rep else 0, rep.cuts if rep else 0)]
-        record(rows[-1], 0, "t = 0 s")
-        total_its = 0
-        for step in range(1, n_steps + 1):
-            t = step * dt
-            where = f"t = {t:.4g} s"
-            rep = self.advance(dt, where)
-            total_its += rep.iterations
-            rows.append(self.observe(t, rep.iterations, rep.cuts))
-            record(rows[-1], step, where)
-        return {"as_built": {k: self.dims[k] for k in ("length", "width", "thickness", "coil_side",
-                                                        "length_isotropic", "lambda_N")},
-                "metrics": transient_metrics(_as_arrays(rows), self.law, crossing_temperature),
-                "steps": n_steps, "dt [s]": dt, "newton_iterations": total_its}
+    def start(self) -> StepRecord:
+        """The state at t = 0: a tip load, if any, applied before heating."""
+        rep = self.model.equilibrate(where="t = 0 s (initial load)") if self.config.run.tip_load else None
+        its, cuts = (rep.iterations, rep.cuts) if rep else (0, 0)
+        return StepRecord(0.0, self.observe(0.0, its, cuts), its, cuts, detail=rep)
+
+    def steady(self) -> StepRecord:
+        """The steady state at the set current (:meth:`steady_state`), at t = inf."""
+        obs = self.steady_state()
+        return StepRecord(float("inf"), obs, int(obs["newton_iterations [-]"]))
+
+    def reaction(self, tag: str, component: int = 0) -> float:
+        """Support reaction [N] of the whole strip (symmetry factor included) on the facet tag
+        ``tag`` along ``component`` (0 axial): what the body exerts on that face's support."""
+        forms = self.__dict__.setdefault("_reactions", {})
+        if (tag, component) not in forms:
+            tm = self.tmesh
+            if tag not in tm.facets:
+                raise InputError(f"reaction tag {tag!r}: not a facet tag of the strip (allowed "
+                                 f"{', '.join(sorted(tm.facets))})")
+            V = self.model.u.function_space
+            weight = dolfinx.fem.Function(V)
+            dofs = dolfinx.fem.locate_dofs_topological(V.sub(component), tm.mesh.topology.dim - 1,
+                                                       tm.facet_tags.find(tm.facet_tag(tag)))
+            weight.x.array[dofs] = 1.0
+            forms[(tag, component)] = self.model.mechanics.reaction_form(weight)
+        return self.symmetry_factor * assemble_global(forms[(tag, component)], self.comm)
 
     def _mesh_summary(self) -> dict:
         return {"cells": self.tmesh.mesh.topology.index_map(3).size_global,
@@ -423,7 +444,7 @@ class StripSimulation:
         self.model.heat.power_density.value = self.power / self._coil_volume
 
 
-def _as_arrays(rows: list[dict]) -> dict[str, np.ndarray]:
+def _as_arrays(rows) -> dict[str, np.ndarray]:
     return {c: np.array([r[c] for r in rows]) for c in COLUMNS}
 
 
@@ -465,10 +486,27 @@ def transient_metrics(history: dict[str, np.ndarray], transition: NematicTransit
     }
 
 
+def strip_program(config: StripConfig) -> Program:
+    """The run section as a program: the coil current for run.duration [s] in equal steps of at
+    most run.dt [s], or the steady state at it (run.steady)."""
+    r = config.run
+    if r.steady:
+        return Program(TIME, ((0.0, {"coil": r.current}),), 1.0, 1.0, steady=True, record_start=False)
+    return Program.in_time({"coil": r.current}, r.duration, r.dt)
+
+
+def strip_exports(problem: StripSimulation) -> list:
+    """The strip's default exports (:meth:`StripSimulation.default_exports`)."""
+    return problem.default_exports()
+
+
 def run_strip(config: StripConfig, out: pathlib.Path | None = None, progress: bool = True,
               fields: bool = True, comm: MPI.Comm | None = None,
-              crossing_temperature: float | None = None) -> StripResult:
+              crossing_temperature: float | None = None, program: Program | None = None,
+              exports: list | None = None) -> StripResult:
     """Build and run one strip simulation (see module docstring); ``crossing_temperature`` [C]: see
-    :func:`transient_metrics`."""
+    :func:`transient_metrics`; ``program``, ``exports``: see :meth:`StripSimulation.run` (a case
+    file's ``[program]`` and ``[[exports]]``)."""
     return StripSimulation(config, comm).run(None if out is None else pathlib.Path(out), progress=progress,
-                                             fields=fields, crossing_temperature=crossing_temperature)
+                                             fields=fields, crossing_temperature=crossing_temperature,
+                                             program=program, exports=exports)

@@ -47,7 +47,7 @@ from lcefem.solvers.exports import write_snapshot
 from lcefem.solvers.mechanics import (HyperelasticProblem, deformation_gradient, displacement_space,
                                       volume_measure)
 from lcefem.solvers.probes import PointProbe
-from lcefem.solvers.problems.protocol import check_quasi_static_step, copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
 
 __all__ = ["TWISTED_RIBBON_NEWTON", "TwistedRibbonFE", "TwistedRibbonSolution", "solve_twisted_ribbon"]
 
@@ -159,19 +159,22 @@ class TwistedRibbonFE:
         self.load.value = value
 
     def advance(self, dt: float = 1.0, *, first: float = 0.25,
-                predictor: str = "none") -> continuation.StepReport:
+                predictor: str = "none") -> StepRecord:
         """Ramp the load the fraction ``dt`` (0 < dt <= 1) of the way from the current state to its
         target (:meth:`set_drives`, as built 1: the full temperature field) by the shared step
         controller (:class:`continuation.PathFollower`, trying ``first`` as the first increment and
         halving failed ones down to 1/256); ``predictor``: "none" (each increment starts from the
-        last converged state) or "tangent" (Euler predictor)."""
+        last converged state) or "tangent" (Euler predictor). The record's ``detail``: the
+        controller's :class:`continuation.StepReport`."""
         start = float(self.load.value)
         target = start + check_quasi_static_step(dt) * (self.target_load - start)
         follower = continuation.PathFollower(self.problem, self.set_load, continuation.PathControl(
             first_step=min(1.0, first), max_step=1.0, min_step=1.0 / 256.0, predictor=predictor),
             t0=float(self.load.value))
         follower.follow(target, "twisted ribbon heating")
-        return follower.report()
+        report = follower.report()
+        return StepRecord(float(dt), self.observables(), report.iterations, report.cuts, clock=LOAD,
+                          detail=report)
 
     def shape(self, deformed: bool = True) -> RodLikeShape:
         """Rod-like measures of the deformed (or as-built) ribbon."""
@@ -226,6 +229,6 @@ def solve_twisted_ribbon(length: float, width: float, thickness: float, twist_ra
     """Build a :class:`TwistedRibbonFE` (``options``: its keyword arguments), ramp it to the full
     load and measure it: the as-built and deformed shapes."""
     ribbon = TwistedRibbonFE(length, width, thickness, twist_rate, temperature, **options)
-    steps = ribbon.advance(1.0, first=first, predictor=predictor)
+    steps = ribbon.advance(1.0, first=first, predictor=predictor).detail
     return TwistedRibbonSolution(ribbon.shape(deformed=False), ribbon.shape(), ribbon.u, steps, ribbon.ndofs,
                                  ribbon.element_size)

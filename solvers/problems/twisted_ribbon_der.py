@@ -40,6 +40,7 @@ from lcefem.solvers.der.output import PolylineSeries, polydata
 from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, RibbonSections, RibbonSetup,
                                        RibbonSimulation)
 from lcefem.solvers.analysis.rolling import rolling_metrics
+from lcefem.solvers.problems.protocol import StepRecord
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.files import CSVTable, write_json
 from lcefem.solvers.runner import HistoryExport, run_path
@@ -352,12 +353,12 @@ class RollingRibbonDER:
                                  f"{DECOMPOSITION_TEMPERATURE} C (decomposition)")
             self.sim.setup = dataclasses.replace(self.sim.setup, ground_temperature=float(value))
 
-    def advance(self, dt: float) -> dict:
-        """``dt`` [s] more of simulated time; returns the observables."""
+    def advance(self, dt: float) -> StepRecord:
+        """``dt`` [s] more of simulated time; returns its :class:`StepRecord`."""
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise InputError(f"dt = {dt} s: must be > 0")
         self.sim.advance(self.sim.time + float(dt))
-        return self.observables()
+        return StepRecord(float(self.sim.time), self.observables())
 
     def observables(self) -> dict[str, float]:
         return {**self.sim.observe(), "ground temperature [C]": float(self.sim.setup.ground_temperature)}

@@ -77,6 +77,15 @@ class Run:
         self.outputs.append(writer)
         return writer
 
+    def open_history(self, columns: list[str], name: str = "history.csv") -> CSVTable:
+        """The run's history (checked rows, failure.json's last converged row) opened once its
+        columns are known (a run built without ``columns``: the one door,
+        lcefem.solvers.runner.run)."""
+        if self.history is None:
+            self.history = self.output(CSVTable(None if self.out is None else self.out / name, columns,
+                                                self.comm))
+        return self.history
+
     def on_failure(self, hook) -> None:
         """``hook(out)`` runs after a ConvergenceError, e.g. to save the last converged state."""
         self._failure_hooks.append(hook)

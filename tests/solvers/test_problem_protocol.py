@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.solvers.problems.protocol import NAME_WITH_UNIT, Problem, check_quasi_static_step, unnamed
+from lcefem.solvers.problems.protocol import NAME_WITH_UNIT, Problem, StepRecord, check_quasi_static_step, unnamed
 
 PROBLEMS = pathlib.Path(__file__).resolve().parents[2] / "solvers" / "problems"
 #: A class defining one of these is a body's problem (it drives or observes a body).
@@ -214,13 +214,15 @@ def test_der_rolling_ribbon_as_a_problem():
     assert unnamed(start) == [] and unnamed(r.fields()) == []
     r.set_drives({"plate": 120.0})
     saved = r.save_state()
-    after = r.advance(0.04)
+    step = r.advance(0.04)
+    assert isinstance(step, StepRecord) and step.at == step.observables["time [s]"]
+    after = step.observables
     assert after["time [s]"] == pytest.approx(start["time [s]"] + 0.04, abs=1e-12)
     assert after["ground temperature [C]"] == 120.0
     assert after["T_max [C]"] > start["T_max [C]"]  # heat enters from the 120 C plate
     r.restore_state(saved)
     assert r.observables()["time [s]"] == start["time [s]"]
-    assert r.advance(0.04) == after
+    assert r.advance(0.04) == step
     with pytest.raises(InputError, match="'air'"):
         r.set_drives({"air": 50.0})
     with pytest.raises(InputError, match=r"^ground temperature\[plate\] = 900"):

@@ -195,8 +195,8 @@ def strip_steady_eq1(ctx: CaseContext) -> list[Metric]:
     sim = StripSimulation(cfg)
     ctx.mesh_size = sim.dims["element_size"]
     for current in currents:
-        sim.set_current({"coil": current})
-        obs = sim.steady_state()
+        sim.set_drives({"coil": current})
+        obs = sim.steady().observables
         power = cfg.coil.power(current)
         target = float(eq1_stretch(power))
         for k, v in (("current [A]", current), ("power [mW]", power), ("stretch model [-]", obs["stretch [-]"]),

@@ -9,9 +9,11 @@ measurements come from lcefem.validation and are handed to the run as a report h
 Each module defines ``add_arguments(parser)`` (argparse; --out/--overwrite/--quiet from
 lcefem.solvers.runtime.outdir.add_out_arguments), ``prepare(args)`` (the validated configuration, before the
 output folder is claimed), ``main(args) -> int`` (runs the problem, prints one line) and, when it
-cannot run under mpiexec, ``PARALLEL = False`` (or a function of args). Add a target by adding its
-module name here.
+cannot run under mpiexec, ``PARALLEL = False`` (or a function of args). Add a target by
+registering its body (lcefem.solvers.registry.register, ``command`` the module's name).
 """
+
+from lcefem.solvers.registry import targets
 
 
 def parallel_if_fe(args) -> bool:
@@ -23,11 +25,6 @@ def parallel_if_fe(args) -> bool:
 #: the --model choices of a target with both models
 MODELS = ("bar-hinge", "fe")
 
-RUN_TARGETS = {
-    "ribbon": "lcefem.validation.commands.ribbon",
-    "strip": "lcefem.validation.commands.strip",
-    "beam": "lcefem.validation.commands.beam",
-    "ribbon-buckling": "lcefem.validation.commands.ribbon_buckling",
-    "gridshell": "lcefem.validation.commands.gridshell",
-    "body": "lcefem.validation.commands.body",
-}
+#: ``lcefem run`` target -> its module, from the bodies' registrations
+#: (lcefem.solvers.registry: one registration per body).
+RUN_TARGETS = {target: f"lcefem.validation.commands.{module}" for target, module in targets().items()}

@@ -14,10 +14,10 @@ import dataclasses
 
 from lcefem.meshes.communicator import default_comm
 from lcefem.models.heat import Coil
-from lcefem.solvers.problems.strip import BOUNDARY_CONDITIONS, StripConfig, run_strip
+from lcefem.solvers.problems.strip import BOUNDARY_CONDITIONS, StripConfig, run_strip, strip_program
 from lcefem.validation.programs import SEED_T_NI
 from lcefem.solvers.runtime.outdir import add_out_arguments
-from lcefem.validation.config import config_from_toml, override
+from lcefem.validation.config import config_from_toml, door_from_toml, override
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -34,13 +34,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--symmetry", choices=("quarter", "full"), help="mesh a quarter (default) or all")
     p.add_argument("--resistance", type=float, help=f"coil resistance [ohm] (default {Coil().resistance:g})")
     p.add_argument("--config", help="TOML case file; sections: " + ", ".join(
-        f.name for f in dataclasses.fields(StripConfig)))
+        f.name for f in dataclasses.fields(StripConfig)) + "; [program] and [[exports]] (the run's "
+        "drives against time and what it writes: docs/library.md)")
     p.add_argument("--no-fields", action="store_true", help="skip the VTX field files")
     add_out_arguments(p, "results/strip")
 
 
 def config_from_args(args: argparse.Namespace) -> StripConfig:
-    cfg = config_from_toml(args.config, StripConfig())
+    cfg = config_from_toml(args.config, StripConfig(), door=True)
     cfg = override(cfg, "run", current=args.current, duration=args.duration, dt=args.dt, bc=args.bc,
                    tip_load=args.tip_load, steady=args.steady)
     cfg = override(cfg, "mesh", level=args.mesh_level, size=args.mesh_size, cell=args.cell,
@@ -49,16 +50,20 @@ def config_from_args(args: argparse.Namespace) -> StripConfig:
 
 
 def prepare(args: argparse.Namespace) -> StripConfig:
-    """The validated configuration (before the output folder is touched)."""
-    return config_from_args(args).validated()
+    """The validated configuration (before the output folder is touched); the case file's
+    ``[program]`` and ``[[exports]]`` (if any) checked too, kept in ``args.door``."""
+    cfg = config_from_args(args).validated()
+    args.door = door_from_toml(args.config)
+    return cfg
 
 
 def main(args: argparse.Namespace) -> int:
     cfg = args.prepared
+    program, exports = getattr(args, "door", (None, None))
     result = run_strip(cfg, args.out, progress=not args.quiet, fields=not args.no_fields,
-                       crossing_temperature=SEED_T_NI)
+                       crossing_temperature=SEED_T_NI, program=program, exports=exports)
     first = default_comm().rank == 0  # one rank prints
-    if first and cfg.run.steady:
+    if first and (program or strip_program(cfg)).steady:
         obs = result.summary["steady_state"]
         print(f"lcefem: strip {cfg.run.current:g} A ({cfg.run.bc}) steady state: stretch "
               f"{obs['stretch [-]']:.4f}, T_mean {obs['T_mean [C]']:.1f} C, force {obs['force [N]']:.4f} N; "

@@ -1,0 +1,136 @@
+"""Every body registers once: its name, configuration, problem, default program and exports, the
+``lcefem run`` target that runs it and its validation cases. ``lcefem run <target>``
+(lcefem.validation.commands.RUN_TARGETS) comes from these registrations.
+
+A registration names things by import path ("module:attribute"), so reading the registry imports
+no solver (the bar-and-hinge commands start without FEniCSx)::
+
+    from lcefem.solvers.registry import body
+    strip = body("strip")
+    cfg = strip.config_class()()                    # StripConfig()
+    problem = strip.build(cfg)                      # StripSimulation(cfg)
+    run(problem, strip.program(cfg), strip.exports(problem), out, config=cfg.resolved())
+
+``program(config) -> Program`` and ``exports(problem) -> list`` are the body's defaults for the
+one door (lcefem.solvers.runner.run); a body whose run still drives a path of its own
+(``run_ribbon``, ``run_gridshell``, ``run_specimen_fe``) registers its ``run`` instead and no
+program. Adding a body is one :func:`register` call here (and its command module, if it has a
+target of its own).
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass
+
+
+def _load(path: str):
+    """The object at "package.module:Attr.attr"."""
+    module, _, attr = path.partition(":")
+    obj = importlib.import_module(module)
+    for part in attr.split("."):
+        obj = getattr(obj, part)
+    return obj
+
+
+@dataclass(frozen=True)
+class Body:
+    """One body's registration (module docstring). ``target``: its ``lcefem run`` target (two
+    models of one body, e.g. the bar-and-hinge and the FE beam, share one, chosen by --model);
+    ``command``: the module of that target under lcefem.validation.commands; ``cases``: its
+    validation case modules under lcefem.validation.cases."""
+
+    name: str
+    what: str
+    target: str
+    command: str
+    config: str
+    problem: str
+    run: str | None
+    program: str | None = None
+    exports: str | None = None
+    cases: tuple[str, ...] = ()
+
+    def config_class(self):
+        return _load(self.config)
+
+    def build(self, config, *args, **kw):
+        """The body's problem from its configuration (forms compiled once)."""
+        return _load(self.problem)(config, *args, **kw)
+
+    def runner(self) -> Callable:
+        """The body's run function (config, out, ...) -> summary or result (None: run by its
+        command's own studies)."""
+        return None if self.run is None else _load(self.run)
+
+    def default_program(self, config):
+        """The body's default program from its configuration (None: its run drives a path of its
+        own)."""
+        return None if self.program is None else _load(self.program)(config)
+
+    def default_exports(self, problem) -> list:
+        return [] if self.exports is None else list(_load(self.exports)(problem))
+
+
+BODIES: dict[str, Body] = {}
+
+
+def register(entry: Body) -> Body:
+    """Add a body (its name unique)."""
+    if entry.name in BODIES:
+        raise ValueError(f"body {entry.name!r} registered twice")
+    BODIES[entry.name] = entry
+    return entry
+
+
+def body(name: str) -> Body:
+    from lcefem.models.errors import InputError
+
+    if name not in BODIES:
+        raise InputError(f"body {name!r}: allowed {', '.join(BODIES)}")
+    return BODIES[name]
+
+
+def targets() -> dict[str, str]:
+    """{``lcefem run`` target: its command module name}, in registration order."""
+    out: dict[str, str] = {}
+    for b in BODIES.values():
+        out.setdefault(b.target, b.command)
+    return out
+
+
+_P = "lcefem.solvers.problems."
+register(Body("ribbon", "a twisted LCE ribbon rolling on a hot plate (Discrete Elastic Rods)", "ribbon", "ribbon",
+              _P + "twisted_ribbon_der:RibbonConfig", _P + "twisted_ribbon_der:RollingRibbonDER",
+              _P + "twisted_ribbon_der:run_ribbon", cases=("ribbon",)))
+register(Body("strip", "the LCE strip heated by its coil, 3D FE thermo-mechanics (seed 001, Fig. 2)", "strip",
+              "strip", _P + "strip:StripConfig", _P + "strip:StripSimulation", _P + "strip:run_strip",
+              program=_P + "strip:strip_program", exports=_P + "strip:strip_exports", cases=("strip",)))
+register(Body("beam", "the composite beam, bar-and-hinge (Fig. 3)", "beam", "beam",
+              _P + "composite_beam_bh:BeamConfig", _P + "composite_beam_bh:beam_problem",
+              _P + "composite_beam_bh:run_beam", program=_P + "composite_beam_bh:beam_program",
+              cases=("beam_bar_hinge",)))
+register(Body("beam-fe", "the composite beam in 3D FE, lambdas prescribed or a coil current", "beam", "beam",
+              _P + "composite_beam_run:BeamFEConfig", _P + "composite_beam_run:beam_fe_problem",
+              _P + "composite_beam_run:run_beam_fe", program=_P + "composite_beam_run:beam_fe_program",
+              exports=_P + "composite_beam_run:beam_fe_exports", cases=("beam_fe",)))
+register(Body("ribbon-buckling", "the Kapton ribbon's buckling test, bar-and-hinge (Fig. 2G)", "ribbon-buckling",
+              "ribbon_buckling", _P + "kapton_specimen_bh:KaptonSpecimenConfig",
+              _P + "kapton_specimen_bh:specimen_problem", _P + "kapton_specimen_bh:run_specimen"))
+register(Body("ribbon-buckling-fe", "the Kapton ribbon's buckling test in 3D FE", "ribbon-buckling",
+              "ribbon_buckling", _P + "kapton_specimen:KaptonSpecimenFEConfig", _P + "kapton_specimen:KaptonSpecimenFE",
+              _P + "kapton_specimen:run_specimen_fe", cases=("ribbon_fe",)))
+register(Body("gridshell", "the robotic surface, bar-and-hinge (Fig. 4, 5)", "gridshell", "gridshell",
+              _P + "gridshell_bh_run:GridshellBHRunConfig", _P + "gridshell_bh:GridshellBH",
+              _P + "gridshell_bh_run:run_gridshell",
+              cases=("gridshell_bh", "gridshell_design_bh", "gridshell_fig5_bh", "gridshell_control_bh",
+                     "gridshell_uncertainty", "gridshell_bh_vs_fe")))
+register(Body("gridshell-fe", "the robotic surface in 3D FE, lambdas prescribed or heated", "gridshell",
+              "gridshell", _P + "gridshell:GridshellConfig", _P + "gridshell:GridshellFE",
+              None, cases=("gridshell_fe", "gridshell_heated_fe")))
+register(Body("body", "your own 3D FE LCE body from a mesh and a case file (docs/own_robot.md)", "body", "body",
+              _P + "body_case:BodyCase", _P + "body:BodyProblem", _P + "body:run_body"))
+
+
+__all__ = ["BODIES", "Body", "body", "register", "targets"]
