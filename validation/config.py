@@ -29,7 +29,8 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
         if key == "exports":
             if not isinstance(value, list):
                 raise InputError(f"'exports' in {path.name} must be a list of tables [[exports]]")
-        elif not isinstance(value, dict):
+            continue
+        if not isinstance(value, dict):
             raise InputError(f"'{key}' in {path.name} must be a table [{key}]")
         curve = value.get("curve")
         if isinstance(curve, str) and curve and not pathlib.Path(curve).is_absolute():
