@@ -58,12 +58,12 @@ def decode_error(name: str, exc: BaseException) -> InputError:
 #: (kind, minimum, what it is). Checked at start-up, before numba or dolfinx reads them and fails
 #: with a traceback (numba: NUMBA_NUM_THREADS=0 raises ValueError at import).
 NUMERIC_ENVIRONMENT = {
-    "NUMBA_NUM_THREADS": (int, 1, "numba's thread count (a whole number >= 1)"),
-    "LCEFEM_MEMORY": (float, 0.0, "the memory lcefem may plan for [GiB] (a number > 0)"),
-    "PMI_RANK": (int, 0, "the MPI launcher's rank (a whole number >= 0)"),
-    "PMI_SIZE": (int, 1, "the MPI launcher's process count (a whole number >= 1)"),
-    "OMPI_COMM_WORLD_RANK": (int, 0, "the MPI launcher's rank (a whole number >= 0)"),
-    "OMPI_COMM_WORLD_SIZE": (int, 1, "the MPI launcher's process count (a whole number >= 1)"),
+    "NUMBA_NUM_THREADS": (int, 1, "a whole number >= 1 (numba's thread count)"),
+    "LCEFEM_MEMORY": (float, 0.0, "a number of GiB > 0 (the memory lcefem may plan for)"),
+    "PMI_RANK": (int, 0, "a whole number >= 0 (the MPI launcher's rank)"),
+    "PMI_SIZE": (int, 1, "a whole number >= 1 (the MPI launcher's process count)"),
+    "OMPI_COMM_WORLD_RANK": (int, 0, "a whole number >= 0 (the MPI launcher's rank)"),
+    "OMPI_COMM_WORLD_SIZE": (int, 1, "a whole number >= 1 (the MPI launcher's process count)"),
 }
 
 
