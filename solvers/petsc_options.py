@@ -24,6 +24,7 @@ from lcefem.models.errors import InputError
 BOOL = "true/false"
 INT = "an integer"
 REAL = "a finite real number"
+REALS = "finite real numbers separated by commas"
 
 #: Option -> the values a case file may give it: BOOL, INT, REAL or a set of names. Only numerics:
 #: nothing that names code (``*_python_type``, ``shell``), a viewer, a monitor or a file.
@@ -37,14 +38,15 @@ CASE_OPTIONS: dict[str, object] = {
     "snes_linesearch_damping": REAL, "snes_linesearch_maxstep": REAL, "snes_linesearch_max_it": INT,
     "snes_linesearch_order": INT, "snes_linesearch_minlambda": REAL,
     "snes_qn_type": {"lbfgs", "broyden", "badbroyden"}, "snes_qn_m": INT,
+    "snes_qn_scale_type": {"none", "scalar", "diagonal", "jacobian"}, "snes_npc_side": {"left", "right"},
 }
-#: KSP, PC and factorisation options; also allowed under the scopes of :data:`SCOPES`
+#: KSP, PC and factorisation options; also allowed under the scopes of :data:`SCOPE`
 LINEAR_OPTIONS: dict[str, object] = {
     "ksp_type": {"preonly", "cg", "gmres", "fgmres", "lgmres", "minres", "bcgs", "bcgsl", "tfqmr",
                  "richardson", "chebyshev", "gcr", "cr"},
     "ksp_rtol": REAL, "ksp_atol": REAL, "ksp_divtol": REAL, "ksp_max_it": INT, "ksp_gmres_restart": INT,
     "ksp_norm_type": {"default", "none", "preconditioned", "unpreconditioned", "natural"},
-    "ksp_richardson_scale": REAL, "ksp_initial_guess_nonzero": BOOL, "ksp_error_if_not_converged": BOOL,
+    "ksp_richardson_scale": REAL, "ksp_chebyshev_esteig": REALS, "ksp_initial_guess_nonzero": BOOL, "ksp_error_if_not_converged": BOOL,
     # "pmg": lcefem's Q2 -> Q1 p-multigrid (lcefem.solvers.pmultigrid), not a PETSc name
     "pc_type": {"lu", "cholesky", "ilu", "icc", "jacobi", "pbjacobi", "bjacobi", "sor", "asm", "gasm",
                 "gamg", "mg", "hypre", "none", "pmg"},
@@ -68,8 +70,10 @@ LINEAR_OPTIONS: dict[str, object] = {
 }
 #: MUMPS' integer and real controls: ``mat_mumps_icntl_<n>`` (INT), ``mat_mumps_cntl_<n>`` (REAL)
 MUMPS = re.compile(r"mat_mumps_(icntl|cntl)_([0-9]{1,2})")
-#: prefixes of the inner solvers of multigrid and block preconditioners (``mg_levels_ksp_type``)
-SCOPES = ("", "mg_levels_", "mg_coarse_", "sub_", "mg_levels_sub_", "mg_coarse_sub_")
+#: prefixes of the inner solvers of multigrid and block preconditioners and of a nonlinear
+#: preconditioner, which nest (``mg_levels_ksp_type``, ``mg_coarse_mg_levels_pc_type``: GAMG on
+#: p-multigrid's coarse level; ``npc_snes_type``)
+SCOPE = re.compile(r"(mg_levels_(?:[0-9]{1,2}_)?|mg_coarse_|sub_|npc_)")
 #: words in an option's name that mark output, code or files: named in the refusal
 DANGEROUS = ("python", "monitor", "view", "options_file", "help", "log", "draw", "history", "test",
              "shell", "dump", "output", "viewer", "file", "save")
@@ -77,16 +81,19 @@ DANGEROUS = ("python", "monitor", "view", "options_file", "help", "log", "draw",
 
 def _kind(name: str):
     """The value rule of option ``name`` (BOOL, INT, REAL or a set), None if a case file may not set it."""
-    if name in CASE_OPTIONS:
-        return CASE_OPTIONS[name]
-    for scope in SCOPES:
-        if name.startswith(scope):
-            rest = name[len(scope):]
-            if rest in LINEAR_OPTIONS:
-                return LINEAR_OPTIONS[rest]
-            found = MUMPS.fullmatch(rest)
-            if found:
-                return INT if found.group(1) == "icntl" else REAL
+    rest = name
+    for _ in range(4):  # at most a few nested scopes
+        if rest in CASE_OPTIONS:
+            return CASE_OPTIONS[rest]
+        if rest in LINEAR_OPTIONS:
+            return LINEAR_OPTIONS[rest]
+        found = MUMPS.fullmatch(rest)
+        if found:
+            return INT if found.group(1) == "icntl" else REAL
+        scope = SCOPE.match(rest)
+        if scope is None:
+            return None
+        rest = rest[scope.end():]
     return None
 
 
@@ -97,6 +104,8 @@ def _value_ok(kind, text: str) -> bool:
         return text.lower() in ("", "true", "false", "1", "0", "yes", "no", "on", "off")
     if kind == INT:
         return re.fullmatch(r"[+-]?[0-9]{1,9}", text) is not None
+    if kind == REALS:
+        return all(_value_ok(REAL, part.strip()) for part in text.split(","))
     try:  # REAL: ASCII digits only (float() also reads other scripts' digits)
         return text.isascii() and math.isfinite(float(text))
     except ValueError:
@@ -105,7 +114,7 @@ def _value_ok(kind, text: str) -> bool:
 
 def check_case_options(table: dict, where: str = "[petsc]") -> dict[str, str]:
     """The options of a case file's ``[petsc]`` table as PETSc strings, every name in the allow-list
-    (:data:`CASE_OPTIONS`, :data:`LINEAR_OPTIONS` under :data:`SCOPES`, MUMPS' controls) and every
+    (:data:`CASE_OPTIONS`, :data:`LINEAR_OPTIONS` under the scopes :data:`SCOPE`, MUMPS' controls) and every
     value of its type; else InputError naming the option and what is allowed."""
     options = {}
     for key, value in table.items():
