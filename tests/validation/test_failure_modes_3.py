@@ -20,6 +20,7 @@ import pytest
 from lcefem.models.errors import InputError
 from lcefem.solvers.petsc_options import check_case_options
 from lcefem.solvers.runtime.files import disk_error_message
+from lcefem.solvers.runtime.outdir import STAMP_TEXT
 from tests.conftest import REPO, VENV_BIN
 
 BEAM = ["run", "beam", "--segments", "2", "--lambda-top", "1.38", "--quiet"]  # ~3 s bar-and-hinge run
@@ -161,7 +162,7 @@ def test_a_linked_case_folder_is_removed_not_followed(validated, lcefem_cmd, tmp
 
 
 # -- 4. a lock without a readable pid is stale after a short grace period -------------------------
-@pytest.mark.parametrize("content", ["", "garbage\n", "0 \n", "-5 host\n"])
+@pytest.mark.parametrize("content", ["", "garbage\n"])
 def test_a_lock_without_a_pid_is_taken_over(content, lcefem_cmd, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
@@ -172,6 +173,17 @@ def test_a_lock_without_a_pid_is_taken_over(content, lcefem_cmd, tmp_path):
     assert res.returncode == 0, res.stderr
     assert "taking over" in res.stderr and f"{out / LOCK}" in res.stderr
     assert (out / "summary.json").exists() and not (out / LOCK).exists()
+
+
+def test_lock_contents_without_a_readable_pid(tmp_path):
+    from lcefem.solvers.runtime.outdir import _lock_owner
+
+    lock = tmp_path / LOCK
+    for content in ("", "garbage\n", "0 \n", "-5 host\n", "12", "\xff\xfe"):
+        lock.write_text(content, encoding="latin-1")
+        assert _lock_owner(lock) is None, content
+    lock.write_text("4242 somehost\n")
+    assert _lock_owner(lock) == (4242, "somehost")
 
 
 def test_a_lock_of_a_live_pid_keeps_the_folder(lcefem_cmd, tmp_path):
@@ -207,8 +219,11 @@ def test_input_error_found_during_the_run_restores_the_previous_run(lcefem_cmd, 
     """An option a case file may set but the solver never reads is found only after the first
     solve: the previous run, set aside by --overwrite, is put back (exit 2: nothing new)."""
     out = tmp_path / "strip"
+    out.mkdir()  # an earlier strip run's folder (its marker and results)
+    (out / ".lcefem-out").write_text(STAMP_TEXT.format(command="run strip"))
+    (out / "summary.json").write_text('{"status": "completed"}\n')
+    (out / "history.csv").write_text("time [s]\n0\n")
     args = [*STRIP, "--duration", "2", "--dt", "1", "--out", out]
-    assert lcefem(lcefem_cmd, *args).returncode == 0
     before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
     (tmp_path / "case.toml").write_text('[petsc]\npc_gamg_threshold = "0.1"\n')
     res = lcefem(lcefem_cmd, *args, "--config", tmp_path / "case.toml", "--overwrite")
@@ -328,3 +343,13 @@ def test_stderr_on_a_full_device_keeps_the_exit_status(argv, code, lcefem_cmd, t
         res = subprocess.run(lcefem_cmd + argv + ["--out", str(tmp_path / "out")], stdout=subprocess.PIPE,
                              stderr=full, timeout=120)
     assert res.returncode == code
+
+
+def test_the_library_checks_petsc_options_as_the_command_line(tmp_path):
+    """A library caller's StripConfig.petsc goes through the same allow-list (before PETSc sees it)."""
+    from lcefem.meshes.strip import StripMesh
+    from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
+
+    evil = {"pc_type": "python", "pc_python_type": f"{tmp_path}/evil.py:run"}
+    with pytest.raises(InputError, match=r"\[petsc\] pc_type = 'python'"):
+        StripSimulation(StripConfig(run=StripRun(current=0.0), mesh=StripMesh(level=0), petsc=evil))
