@@ -20,7 +20,7 @@ import traceback
 
 from lcefem.models.errors import ConvergenceError, InputError, PhysicalBoundsError
 from lcefem.solvers.interrupts import Terminated, interrupt_in
-from lcefem.solvers.petsc_options import forget_solver_options, own_petsc_environment
+from lcefem.solvers.petsc_options import forget_solver_options, own_petsc_environment, skip_petscrc_files
 from lcefem.solvers.runtime.exits import EXIT_INPUT, interrupt_exit_code
 from lcefem.solvers.runtime.exits import EXIT_SOLVER as EXIT_CONVERGENCE
 from lcefem.solvers.runtime.files import disk_error_message, library_os_error, write_json
@@ -162,6 +162,10 @@ def _main(argv: list[str] | None) -> int:
               "file's [petsc] section (docs/failure_modes.md)", file=sys.stderr)
     previous = install_signal_handlers()
     keep_petsc_off_signals()
+    skipped = skip_petscrc_files()  # after PETSC_OPTIONS is lcefem's own: PETSc may start here
+    if skipped and world_rank() == 0:
+        print(f"lcefem: {', '.join(skipped)} ignored: solver options come only from a case file's "
+              "[petsc] section (docs/failure_modes.md)", file=sys.stderr)
     comm = None
     out = None
     try:

@@ -104,6 +104,17 @@ def test_petsc_options_environment_is_ignored_in_one_line(lcefem_cmd, tmp_path):
         "from a case file's [petsc] section (docs/failure_modes.md)"]
 
 
+def test_a_petscrc_in_the_working_folder_is_ignored_in_one_line(lcefem_cmd, tmp_path):
+    """PETSc reads ./.petscrc at start: honoured, -log_view :path would write that file."""
+    (tmp_path / ".petscrc").write_text(f"-log_view :{tmp_path / 'log.txt'}\n")
+    res = lcefem(lcefem_cmd, *STRIP, "--duration", "2", "--dt", "1", "--out", tmp_path / "out", cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    assert res.stderr.strip().splitlines() == [
+        "lcefem: .petscrc ignored: solver options come only from a case file's [petsc] section "
+        "(docs/failure_modes.md)"]
+    assert not (tmp_path / "log.txt").exists()
+
+
 # -- 2. --resume continues only a folder lcefem wrote, of the same command, outside the source tree
 def test_resume_refuses_a_folder_lcefem_never_wrote(lcefem_cmd, tmp_path):
     (tmp_path / "u" / "tension_law").mkdir(parents=True)
