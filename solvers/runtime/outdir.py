@@ -166,7 +166,10 @@ def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str, co
                                      "file; lcefem does not write through links: remove it") from None
                 owner = _lock_owner(lock)
                 if owner is None:  # no readable pid: stale once older than LOCK_GRACE
-                    age = time.time() - lock.stat().st_mtime
+                    try:
+                        age = time.time() - lock.stat().st_mtime
+                    except FileNotFoundError:  # released meanwhile: claim again
+                        continue
                     if age < LOCK_GRACE and waited < 2 * LOCK_GRACE:
                         time.sleep(0.1)
                         waited += 0.1
