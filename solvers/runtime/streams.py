@@ -44,20 +44,31 @@ class GuardedStream:
             if not self._quiet:
                 raise
             self._give_up()
-        except (OSError, ValueError):  # a full device, a closed file
+        except (OSError, ValueError) as exc:  # a full device, a closed file
             if not self._quiet:
-                raise
+                raise self._named(exc) from None
             self._give_up()
         return len(text)
+
+    def _named(self, exc: BaseException) -> BaseException:
+        """An OSError without a file name as one naming this stream (``'<stdout>'``), so that the
+        message does not send the user to --out for a full device behind ``> file``."""
+        if isinstance(exc, OSError) and exc.filename is None and exc.errno is not None:
+            return OSError(exc.errno, exc.strerror, getattr(self._stream, "name", "<stream>"))
+        return exc
 
     def flush(self) -> None:
         if self._dead:
             return
         try:
             self._stream.flush()
-        except (OSError, ValueError):
+        except BrokenPipeError:
             if not self._quiet:
                 raise
+            self._give_up()
+        except (OSError, ValueError) as exc:
+            if not self._quiet:
+                raise self._named(exc) from None
             self._give_up()
 
     def __getattr__(self, name):  # isatty, encoding, fileno, ...: the wrapped stream's
