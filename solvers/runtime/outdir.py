@@ -315,6 +315,8 @@ def _not_utf8(text: str) -> str | None:
     except UnicodeEncodeError:
         return (f"= {text.encode('utf-8', 'surrogateescape').decode('utf-8', 'backslashreplace')!r}: "
                 "not valid UTF-8; choose a UTF-8 name")
+    if any(ord(c) < 32 or ord(c) == 127 for c in text):  # a newline would split every one-line message
+        return f"= {text!r}: contains a control character (newline, tab, ...); choose a plain name"
     return None
 
 

@@ -299,6 +299,12 @@ def test_out_not_utf8_is_refused_before_dolfinx_starts(lcefem_cmd, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_out_with_a_newline_is_refused_in_one_line(lcefem_cmd, tmp_path):
+    res = lcefem(lcefem_cmd, *BEAM, "--out", tmp_path / "a\nb")
+    assert res.returncode == 2 and "contains a control character" in one_line(res)
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize("var, value", [("NUMBA_NUM_THREADS", "0"), ("NUMBA_NUM_THREADS", "-2"),
                                         ("NUMBA_NUM_THREADS", "many"), ("LCEFEM_MEMORY", "-1"),
                                         ("LCEFEM_MEMORY", "nan"), ("PMI_RANK", "x")])
