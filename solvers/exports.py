@@ -28,7 +28,8 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.der.output import write_vtp
-from lcefem.solvers.runtime.files import FrameSeries, library_os_error, part_name, partial_name, replace
+from lcefem.solvers.runtime.files import (FrameSeries, library_os_error, part_name, partial_name,
+                                          refuse_link, replace)
 from lcefem.solvers.runtime.run import Run
 
 if TYPE_CHECKING:  # annotations only: FEniCSx is imported when an FE export is built
@@ -46,6 +47,7 @@ class FieldExport:
         self.path = pathlib.Path(path)
         self.comm = comm
         self._broken = False
+        refuse_link(part_name(self.path))  # ADIOS2 would write into a planted link's target
         try:
             self._writer = dolfinx.io.VTXWriter(comm, part_name(self.path), functions, engine="BP4")
         except RuntimeError as exc:
@@ -154,6 +156,7 @@ class BarHingeVTK(FrameSeries):
         """Write one state to ``path`` (.vtp) atomically (e.g. the last converged state of a failed run)."""
         path = pathlib.Path(path)
         tmp = part_name(path)
+        refuse_link(tmp)
         write_vtp(tmp, self.polydata(x, bar_forces))
         replace(tmp, path)
 

@@ -35,7 +35,7 @@ from lcefem.meshes._gmsh import TaggedMesh
 from lcefem.models.errors import InputError
 from lcefem.solvers import cost
 from lcefem.solvers.interrupts import raise_if_interrupted
-from lcefem.solvers.petsc_options import forget_solver_options
+from lcefem.solvers.petsc_options import check_case_options, forget_solver_options
 from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
@@ -229,7 +229,10 @@ class HyperelasticProblem:
         self.u = u
         V = u.function_space
         self.bcs = list(bcs)
-        #: the options a user gave (a case file's [petsc]): each must be read by the solver
+        #: the options a user gave (a case file's [petsc]): each one a case file may set (also for a
+        #: library caller, who passes them here without the command line), and each read by the solver
+        given = dict(petsc_options or {})
+        check_case_options({k: given[k] for k in user_options if k in given})
         self._unchecked_options = [prefix + str(k) for k in user_options]
         self.test = ufl.TestFunction(V)
         self.residual = ufl.derivative(energy, u, self.test)

@@ -20,13 +20,15 @@ import traceback
 
 from lcefem.models.errors import ConvergenceError, InputError, PhysicalBoundsError
 from lcefem.solvers.interrupts import Terminated, interrupt_in
-from lcefem.solvers.petsc_options import forget_solver_options
+from lcefem.solvers.petsc_options import forget_solver_options, own_petsc_environment, skip_petscrc_files
 from lcefem.solvers.runtime.exits import EXIT_INPUT, interrupt_exit_code
 from lcefem.solvers.runtime.exits import EXIT_SOLVER as EXIT_CONVERGENCE
 from lcefem.solvers.runtime.files import disk_error_message, library_os_error, write_json
+from lcefem.solvers.runtime.inputs import check_jit_cache, check_start, matplotlib_folder_note
 from lcefem.solvers.runtime.outdir import claim_out
 from lcefem.solvers.runtime.ranks import world, world_rank
 from lcefem.solvers.runtime.run import finish_pending
+from lcefem.solvers.runtime.streams import guarded_streams
 from lcefem.solvers.runtime.signals import (install_signal_handlers, keep_petsc_off_signals,
                                             reinstall_signal_handlers, restore_signal_handlers)
 from lcefem.validation.commands import RUN_TARGETS
@@ -68,8 +70,9 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def _classify(exc: BaseException) -> tuple[int, str]:
-    """(exit status, one-line message) of an exception ending a command."""
+def _classify(exc: BaseException, out=None) -> tuple[int, str]:
+    """(exit status, one-line message) of an exception ending a command (``out``: the command's
+    output folder, the only place a disk error may be blamed on)."""
     exc = interrupt_in(exc) or exc  # a signal wrapped in a library's error is still a signal
     if isinstance(exc, KeyboardInterrupt):
         name = "SIGTERM" if isinstance(exc, Terminated) else "Ctrl-C"
@@ -82,10 +85,10 @@ def _classify(exc: BaseException) -> tuple[int, str]:
     if isinstance(exc, ConvergenceError):
         return EXIT_CONVERGENCE, f"lcefem: stopped: {exc}"
     if isinstance(exc, OSError):
-        return EXIT_INPUT, f"lcefem: error: {disk_error_message(exc)}"
+        return EXIT_INPUT, f"lcefem: error: {disk_error_message(exc, out)}"
     disk = library_os_error(exc) if isinstance(exc, RuntimeError) else None
     if disk is not None:  # a C++ writer's (ADIOS2, VTK) error text naming an errno and its file
-        return EXIT_INPUT, f"lcefem: error: {disk_error_message(disk)}"
+        return EXIT_INPUT, f"lcefem: error: {disk_error_message(disk, out)}"
     if type(exc).__module__.startswith("petsc4py"):  # raised while setting up: an option PETSc rejects
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         return EXIT_INPUT, f"lcefem: error: PETSc refused the set-up ({first}); check the [petsc] options"
@@ -139,15 +142,37 @@ _ERRORS = None  # a duplicate of COMM_WORLD: failing ranks agree there without d
 
 
 def main(argv: list[str] | None = None) -> int:
+    with guarded_streams():  # how stdout/stderr are connected never changes the outcome
+        return _main(argv)
+
+
+def _main(argv: list[str] | None) -> int:
     global _ERRORS
     argv = sys.argv[1:] if argv is None else list(argv)
+    try:  # before any library is imported (dolfinx reads sys.argv, numba its environment)
+        check_start(argv)
+    except InputError as exc:
+        return _end(EXIT_INPUT, f"lcefem: error: {exc}", None)
+    note = matplotlib_folder_note()
+    if note and world_rank() == 0:
+        print(note, file=sys.stderr)
+    ignored = own_petsc_environment()
+    if ignored and world_rank() == 0:
+        print(f"lcefem: PETSC_OPTIONS ignored ({ignored[:80]}): solver options come only from a case "
+              "file's [petsc] section (docs/failure_modes.md)", file=sys.stderr)
     previous = install_signal_handlers()
     keep_petsc_off_signals()
+    skipped = skip_petscrc_files()  # after PETSC_OPTIONS is lcefem's own: PETSc may start here
+    if skipped and world_rank() == 0:
+        print(f"lcefem: {', '.join(skipped)} ignored: solver options come only from a case file's "
+              "[petsc] section (docs/failure_modes.md)", file=sys.stderr)
     comm = None
+    out = None
     try:
         parser = build_parser(argv)
         args = parser.parse_args(argv)
         reinstall_signal_handlers()  # importing PETSc installed its own for SIGTERM
+        check_jit_cache()
         comm = world()
         if comm is not None:
             _ERRORS = comm.Dup()
@@ -174,7 +199,7 @@ def main(argv: list[str] | None = None) -> int:
     except BaseException as exc:
         if isinstance(exc, SystemExit):
             raise
-        code, message = _classify(exc)
+        code, message = _classify(exc, out)
         return _end(code, message, comm)
     finally:
         forget_solver_options()  # before PETSc's exit report of unused options

@@ -41,16 +41,26 @@ def load_toml(path: str | pathlib.Path | None, allowed_sections: set[str]) -> di
 
 def config_from_toml(path, base, raw_sections: tuple[str, ...] = ("petsc",), door: bool = False):
     """``base`` (a frozen dataclass of parameter sections) with the sections of the case file at
-    ``path`` applied; a section in ``raw_sections`` is a plain table of strings (PETSc options);
-    with ``door``, the file may also hold :data:`DOOR_SECTIONS` (read by :func:`door_from_toml`)."""
+    ``path`` applied; a section in ``raw_sections`` is a table of PETSc options, each checked against
+    the options a case file may set (:func:`lcefem.solvers.petsc_options.check_case_options`) here,
+    before any output folder is touched; with ``door``, the file may also hold
+    :data:`DOOR_SECTIONS` (read by :func:`door_from_toml`)."""
     import dataclasses
 
     from lcefem.models.parameters import with_overrides
+    from lcefem.solvers.petsc_options import check_case_options
 
     data = load_toml(path, {f.name for f in dataclasses.fields(base)} | (set(DOOR_SECTIONS) if door else set()))
     data = {k: v for k, v in data.items() if k not in DOOR_SECTIONS}
-    changes = {name: {str(k): str(v) for k, v in table.items()} if name in raw_sections
-               else with_overrides(getattr(base, name), table, name) for name, table in data.items()}
+    try:
+        changes = {name: check_case_options(table, f"[{name}]") if name in raw_sections
+                   else with_overrides(getattr(base, name), table, name) for name, table in data.items()}
+    except InputError:
+        raise
+    except (ValueError, TypeError, RecursionError) as exc:  # only the decode error leaves the parser
+        from lcefem.solvers.runtime.inputs import decode_error
+
+        raise decode_error(f"config = {str(path)!r}", exc) from None
     return dataclasses.replace(base, **changes)
 
 

@@ -39,7 +39,6 @@ import dataclasses
 import io
 import math
 import pathlib
-import shutil
 import sys
 from dataclasses import asdict, dataclass, field
 
@@ -47,7 +46,7 @@ import numpy as np
 
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.runtime.files import write_json, write_text
-from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments, remove_owned
 from lcefem.validation import gci as gci_mod
 from lcefem.validation import plots
 from lcefem.validation.cases import CaseContext, registry
@@ -240,8 +239,8 @@ def _run_level(case, out: pathlib.Path, level: int, *, resume: bool, prolong: bo
     stored = load_complete(case, ctx.out, out, quick=False) if resume else None
     if stored is not None and stored.mesh_size:
         return stored
-    if ctx.out.is_dir():  # the level owns its folder: nothing of an earlier run may remain
-        shutil.rmtree(ctx.out)
+    # the level owns its folder: nothing of an earlier run may remain (a link is removed, not followed)
+    remove_owned(ctx.out)
     res = dataclasses.replace(run_case(case, ctx, out), rank=rank)
     if res.mesh_size is None or not res.mesh_size > 0:
         raise RuntimeError(f"case {case.name} did not set ctx.mesh_size (> 0) at level {level}")
@@ -339,8 +338,7 @@ def write_study(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
     from lcefem.solvers.runtime.files import replace
 
     staging = out / "study.part"
-    if staging.exists():
-        shutil.rmtree(staging)
+    remove_owned(staging)  # a link planted there is removed, not followed
     try:
         write_outputs(staging, case_name, mesh_sizes, mesh_unit, studies, warnings)
         for name in STUDY_FILES:
@@ -349,8 +347,7 @@ def write_study(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
     except BaseException:
         if staging.exists():
             partial = out / "study.partial"
-            if partial.exists():
-                shutil.rmtree(partial)
+            remove_owned(partial)
             replace(staging, partial)
         raise
 
@@ -363,8 +360,7 @@ def main(args: argparse.Namespace) -> int:
     comm = world()
     if comm is None or comm.rank == 0:  # an earlier study's results must not pass for this one's
         for name in (*STUDY_FILES, "study.partial"):
-            target = out / name
-            shutil.rmtree(target) if target.is_dir() else target.unlink(missing_ok=True)
+            remove_owned(out / name)
     h, unit, studies, warnings = run_study(case, out, args.levels, quiet=args.quiet, resume=args.resume,
                                            prolong=args.prolong, comm=comm)
     if comm is not None and comm.rank != 0:  # rank 0 writes and prints the study

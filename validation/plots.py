@@ -26,7 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.figure import Figure
-from lcefem.solvers.runtime.files import naming
+from lcefem.models.errors import InputError
+from lcefem.solvers.runtime.files import naming, open_new
 
 KINDS = ("model", "experiment", "closed form", "published model", "reference")
 _STYLE = {
@@ -109,8 +110,10 @@ def save_figure(fig: Figure, path: pathlib.Path, dpi: int) -> pathlib.Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.stem + ".part" + path.suffix)  # keeps the .png suffix for the writer
     try:
-        with naming(tmp):
-            fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png")
+        with naming(tmp), open_new(tmp, "wb") as fh:  # a planted link at tmp is refused, not followed
+            fig.savefig(fh, dpi=dpi, format=path.suffix.lstrip(".") or "png")
+    except InputError:
+        raise
     except BaseException:
         tmp.unlink(missing_ok=True)  # a full disk: give the space back, leave no half figure
         raise

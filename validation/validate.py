@@ -27,7 +27,6 @@ import json
 import math
 import pathlib
 import shlex
-import shutil
 import sys
 import time
 import traceback
@@ -38,7 +37,7 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.interrupts import raise_if_interrupted
 from lcefem.solvers.runtime.exits import EXIT_CASE_ERROR
 from lcefem.solvers.runtime.files import disk_error_message, is_disk_error, library_os_error, write_json, write_text
-from lcefem.solvers.runtime.outdir import add_out_arguments
+from lcefem.solvers.runtime.outdir import add_out_arguments, remove_owned
 from lcefem.solvers.runtime.signals import reinstall_signal_handlers
 from lcefem.validation import phenomena, report
 from lcefem.solvers.runtime.ranks import world
@@ -114,15 +113,59 @@ def load_complete(case: Case, case_dir: pathlib.Path, root: pathlib.Path, quick:
     marker = case_dir / MARKER
     try:
         data = json.loads(marker.read_text(encoding="utf-8"))
-        result = CaseResult.from_dict(data)
-    except (OSError, ValueError, TypeError):
+    except (OSError, ValueError, RecursionError):  # none yet, or cut short: the case runs again
         return None
+    problem = stored_shape_problem(data)
+    if problem is not None:  # JSON, but not what lcefem writes: someone else's file
+        raise InputError(f"--resume: '{marker}' is not a case result lcefem wrote ({problem}); remove "
+                         "it (the case then runs again) or choose another --out")
+    result = CaseResult.from_dict(data)
     if result.case != case.name or result.status != "done" or result.quick != quick:
         return None
     if not all((root / f["path"]).is_file() for f in result.figures):
         return None
     result.status = "reused"
     return result
+
+
+_NUMBER = (int, float)
+#: the fields of a stored case result read back by --resume, with the JSON types each may hold
+_STORED = {"case": (str,), "description": (str,), "status": (str,), "wall_time": _NUMBER,
+           "metrics": (list,), "figures": (list,), "quick": (bool,), "phenomena": (list,),
+           "level": (int, type(None)), "mesh_size": (*_NUMBER, type(None)), "mesh_size_unit": (str,),
+           "error": (str,), "finished": (str,), "rank": (int, type(None))}
+_METRIC = {"case": (str,), "metric": (str,), "value": (*_NUMBER, type(None)), "unit": (str,),
+           "reference": (*_NUMBER, type(None)), "tolerance": (*_NUMBER, type(None)),
+           "passed": (bool, type(None)), "source": (str,)}
+
+
+def stored_shape_problem(data) -> str | None:
+    """None when ``data`` (a case's metrics.json read back) has the shape :func:`_run_or_reuse`
+    writes, else what is wrong, in a few words."""
+    if not isinstance(data, dict):
+        return f"a JSON {type(data).__name__}, not an object"
+    for key, types in _STORED.items():
+        if key in ("case", "status", "metrics", "figures", "quick") and key not in data:
+            return f"no '{key}'"
+        if key in data and (not isinstance(data[key], types) or
+                            (bool not in types and isinstance(data[key], bool))):
+            return f"'{key}' is a JSON {type(data[key]).__name__}"
+    for i, row in enumerate(data["metrics"]):
+        if not isinstance(row, dict):
+            return f"metrics[{i}] is not an object"
+        for key, types in _METRIC.items():
+            if not isinstance(row.get(key), types) or (bool not in types and isinstance(row.get(key), bool)):
+                return f"metrics[{i}].{key} is missing or of the wrong type"
+    for name in ("figures", "phenomena"):
+        for i, entry in enumerate(data.get(name, [])):
+            if not isinstance(entry, dict):
+                return f"{name}[{i}] is not an object"
+    for i, fig in enumerate(data["figures"]):
+        if not isinstance(fig.get("path"), str) or not isinstance(fig.get("caption", ""), str):
+            return f"figures[{i}] has no text 'path' and 'caption'"
+        if pathlib.PurePath(fig["path"]).is_absolute() or ".." in pathlib.PurePath(fig["path"]).parts:
+            return f"figures[{i}].path leaves the output folder"
+    return None
 
 
 def command_line(args: argparse.Namespace) -> str:
@@ -206,7 +249,7 @@ def run_validation(cases: list[Case], out: pathlib.Path, *, quick: bool = False,
             results[i] = _run_or_reuse(case, out, quick=quick, resume=resume, quiet=quiet)
         except OSError as exc:  # a full disk (guarded_run lets only disk errors through): stop here
             results[i] = CaseResult(case.name, case.description, "error", 0.0, quick=quick,
-                                    error=disk_error_message(exc))
+                                    error=disk_error_message(exc, out))
             bar.close()
             with contextlib.suppress(OSError):  # on a full disk the report may stay the last one written
                 flush()
@@ -259,8 +302,9 @@ def _run_or_reuse(case: Case, out: pathlib.Path, *, quick: bool, resume: bool, q
         stored = load_complete(case, case_dir, out, quick)
         if stored is not None:
             return stored
-    if case_dir.is_dir():  # the case owns its folder: nothing of an earlier run may remain
-        shutil.rmtree(case_dir)
+    # the case owns its folder: nothing of an earlier run may remain (a link there is removed, not
+    # followed; a folder another live run holds a lock in is refused)
+    remove_owned(case_dir)
     ctx = CaseContext(out=case_dir, quick=quick, progress=not quiet if progress is None else progress)
     result = guarded_run(case, case_dir, lambda: run_case(case, ctx, out), quick=quick, rank=rank,
                          quiet=quiet)

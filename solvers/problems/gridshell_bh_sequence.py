@@ -154,18 +154,24 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
         vals = tuple(_number(v, f"{field}[{i}]") for i, v in enumerate(values))
         for i, v in enumerate(vals):
             check_current(f"{field}[{i}]", v)
-        currents[int(sel) if sel.isdigit() else sel] = vals
+        # a strip number in ASCII digits; "²" or "٣" are digits to str.isdigit but not to int()
+        currents[int(sel) if sel.isascii() and sel.isdigit() else sel] = vals
     if not currents:
         raise InputError(f"{where}: section [currents] is empty (give e.g. Tx = [0.1, 0.04])")
     return Schedule(times, currents, end, interval, support, thermal, tuple(labels), heat_step)
 
 
 def load_schedule(path) -> Schedule:
-    from lcefem.solvers.runtime.inputs import read_toml
+    from lcefem.solvers.runtime.inputs import decode_error, read_toml
 
     path = pathlib.Path(path)
     data = read_toml(path, f"--schedule '{path}'")
-    return schedule_from_dict(data, f"--schedule '{path}'")
+    try:
+        return schedule_from_dict(data, f"--schedule '{path}'")
+    except InputError:
+        raise
+    except (ValueError, TypeError, RecursionError) as exc:  # only its decode error leaves the parser
+        raise decode_error(f"--schedule '{path}'", exc) from None
 
 
 def check_selections(schedule: Schedule, structure: BarHingeStructure) -> None:

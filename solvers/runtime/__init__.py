@@ -10,7 +10,10 @@ level, so the bar-and-hinge and rod targets start without them.
 * :mod:`.outdir`: the output folder's ownership (marker, lock, --resume/--overwrite) and its flags;
 * :mod:`.files`: atomic writers with the ``.part`` convention (a file is complete only under its
   final name; a failed or interrupted run leaves ``*.partial.*``) and disk errors named in one line;
-* :mod:`.inputs`: the one decoding path of every file read from the user;
+* :mod:`.inputs`: the one decoding path of every file read from the user, and the start-up checks
+  of arguments, environment and cache folders (before any library is imported);
+* :mod:`.streams`: stdout and stderr guarded (unencodable characters replaced, an unwritable stderr
+  never changes the exit status);
 * :mod:`.checks`: physical bounds of inputs and of results, and the resolved configuration;
 * :mod:`.run`: one run's progress bar, history, outputs, failure.json and summary.json;
 * :mod:`.ranks`: rank 0 and barriers without requiring MPI.

@@ -13,6 +13,7 @@ import os
 import pathlib
 import shutil
 
+from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.ranks import barrier, rank
 
 #: errno -> (what happened, what to do): the causes of a write that fails, each named in one line
@@ -31,13 +32,52 @@ def is_disk_error(exc: BaseException) -> bool:
     return isinstance(exc, OSError) and exc.errno in DISK_ERRORS
 
 
-def disk_error_message(exc: OSError) -> str:
-    """One line: the file, the cause (with its errno name) and what to do."""
+#: errno -> what to do when the file is not in --out (a cache, a case file's folder, ...)
+ELSEWHERE = {errno.ENOSPC: "free space on that device", errno.EDQUOT: "free space in your quota",
+             errno.EROFS: "that file system is read-only", errno.EACCES: "you may not write there",
+             errno.EPERM: "you may not write there"}
+
+
+def cache_folders() -> dict[pathlib.Path, tuple[str, str]]:
+    """The caches lcefem's libraries write outside --out -> (what, the variable that moves it): the
+    FFCx/DOLFINx JIT cache (dolfinx.jit: $XDG_CACHE_HOME/fenics, default ~/.cache/fenics), numba's
+    cache (NUMBA_CACHE_DIR) and matplotlib's (MPLCONFIGDIR, default ~/.config/matplotlib)."""
+    home = pathlib.Path(os.path.expanduser("~"))
+    xdg = pathlib.Path(os.environ.get("XDG_CACHE_HOME") or home / ".cache")
+    folders = {xdg / "fenics": ("the FFCx/DOLFINx JIT cache", "XDG_CACHE_HOME")}
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        folders[pathlib.Path(os.environ["NUMBA_CACHE_DIR"])] = ("numba's cache", "NUMBA_CACHE_DIR")
+    folders[pathlib.Path(os.environ.get("MPLCONFIGDIR") or
+                         pathlib.Path(os.environ.get("XDG_CONFIG_HOME") or home / ".config") / "matplotlib")] \
+        = ("matplotlib's configuration and cache", "MPLCONFIGDIR")
+    return folders
+
+
+def _within(path: pathlib.Path, folder: pathlib.Path) -> bool:
+    """``path`` is ``folder``, lies inside it, or is one of the folders that must be created for it."""
+    path, folder = pathlib.Path(os.path.abspath(path)), pathlib.Path(os.path.abspath(folder))
+    return path.is_relative_to(folder) or (folder.is_relative_to(path) and path != pathlib.Path("/"))
+
+
+def disk_error_message(exc: OSError, out=None) -> str:
+    """One line: the file, the cause (with its errno name) and what to do. Only a file in ``out``
+    (the command's --out) is blamed on --out; a cache folder of a library names the variable that
+    moves it; any other file gets advice about its own folder."""
     where = f"'{exc.filename}'" if exc.filename else "a file"
+    name = f" ({errno.errorcode[exc.errno]})" if exc.errno in errno.errorcode else ""
+    cause = DISK_ERRORS[exc.errno][0] if exc.errno in DISK_ERRORS else (exc.strerror or str(exc))
+    if exc.filename:
+        for folder, (what, variable) in cache_folders().items():
+            if _within(pathlib.Path(str(exc.filename)), folder):
+                return (f"cannot write {where}: {cause}{name}; it is {what} ({folder}): set {variable} "
+                        "to a folder you may write to")
+    in_out = out is not None and exc.filename and pathlib.Path(os.path.abspath(str(exc.filename))) \
+        .is_relative_to(pathlib.Path(os.path.abspath(out)))
     if exc.errno in DISK_ERRORS:
-        cause, todo = DISK_ERRORS[exc.errno]
-        return f"cannot write {where}: {cause} ({errno.errorcode[exc.errno]}); {todo}"
-    return f"cannot write {where}: {exc.strerror or exc}"
+        todo = DISK_ERRORS[exc.errno][1] if in_out or (out is None and not exc.filename) \
+            else ELSEWHERE[exc.errno]
+        return f"cannot write {where}: {cause}{name}; {todo}"
+    return f"cannot write {where}: {cause}"
 
 
 @contextlib.contextmanager
@@ -72,6 +112,36 @@ def partial_name(path: pathlib.Path) -> pathlib.Path:
 
 def part_name(path: pathlib.Path) -> pathlib.Path:
     return path.with_name(path.name + ".part")
+
+
+def refuse_link(path) -> None:
+    """InputError when ``path`` is a symbolic link: lcefem never writes through a link planted in an
+    output folder (it would overwrite the link's target, anywhere)."""
+    if os.path.islink(path):
+        raise InputError(f"'{path}': a symbolic link inside the output folder; lcefem does not write "
+                         "through links: remove it or choose another --out")
+
+
+def open_new(path, mode: str = "w", **kwargs):
+    """A new file at ``path`` for writing (text ``mode`` "w" or binary "wb"): a link there is refused
+    (:func:`refuse_link`), any other old entry removed first (a hard link's other name keeps its
+    data), and the file created with O_EXCL | O_NOFOLLOW so that a link planted meanwhile is not
+    followed either."""
+    path = pathlib.Path(path)
+    refuse_link(path)
+    if path.is_file():
+        path.unlink()
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0)
+    try:
+        fd = os.open(path, flags, 0o644)
+    except FileExistsError:
+        refuse_link(path)
+        raise
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            refuse_link(path)
+        raise
+    return os.fdopen(fd, mode, **kwargs)
 
 
 def replace(src: pathlib.Path, dst: pathlib.Path) -> None:
@@ -112,8 +182,10 @@ def write_text(path: pathlib.Path, text: str, comm=None) -> pathlib.Path:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = part_name(path)
         try:
-            with naming(tmp):
-                tmp.write_text(text, encoding="utf-8")
+            with naming(tmp), open_new(tmp, "w", encoding="utf-8") as fh:
+                fh.write(text)
+        except InputError:  # a link at tmp: not ours to remove
+            raise
         except BaseException:
             with contextlib.suppress(OSError):
                 tmp.unlink(missing_ok=True)
@@ -146,7 +218,7 @@ class CSVTable:
 
     def _open(self) -> None:
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._fh = part_name(self.path).open("w", newline="")
+        self._fh = open_new(part_name(self.path), "w", newline="")
         self._csv = csv.writer(self._fh)
         self._csv.writerow(self.columns)
 
@@ -194,6 +266,7 @@ class FrameSeries:
         self.stem = stem
         self.folder = self.out / f"{stem}_steps"
         self.part = part_name(self.folder)
+        refuse_link(self.part)
         if self.part.exists():
             shutil.rmtree(self.part)
         self.part.mkdir(parents=True)

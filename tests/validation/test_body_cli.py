@@ -187,3 +187,16 @@ def test_exported_builtin_mesh_reads_back_into_the_body(tmp_path, fmt):
     assert set(exp) == set(geo)
     for name in geo:
         np.testing.assert_allclose(exp[name], geo[name], rtol=1e-8, atol=1e-9, err_msg=name)
+
+
+def test_a_case_files_petsc_goes_through_the_allow_list(tmp_path, lcefem_cmd):
+    """A [petsc] option that would run code (pc_type python) or write a file (a monitor's viewer) is
+    refused like in every other case file: exit 2, one line, nothing written."""
+    shutil.copy(STRIP / "strip.geo", tmp_path / "strip.geo")
+    for option in ('pc_type = "python"', 'snes_monitor = "ascii:' + str(tmp_path / "x.txt") + '"'):
+        (tmp_path / "case.toml").write_text(GOOD + "[petsc]\n" + option + "\n")
+        out = tmp_path / "out"
+        res = run(lcefem_cmd, "run", "body", "--config", str(tmp_path / "case.toml"), "--out", str(out))
+        assert res.returncode == 2, res.stderr
+        assert len(res.stderr.strip().splitlines()) == 1 and "[petsc]" in res.stderr, res.stderr
+        assert not (tmp_path / "x.txt").exists() and (not out.exists() or not any(out.iterdir()))

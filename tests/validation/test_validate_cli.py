@@ -5,6 +5,7 @@ import subprocess
 
 import pytest
 
+from lcefem.solvers.runtime.outdir import STAMP_TEXT
 from lcefem.validation import cases as case_registry
 from lcefem.validation import plots
 from lcefem.validation.cases import Case, Metric
@@ -134,7 +135,10 @@ def test_interrupted_run_keeps_completed_cases_and_leaves_no_marker(toy_cases, t
     out = tmp_path / "v"
     # a stale marker of an earlier complete run must not survive a resumed run that is interrupted
     (out / "toy_interrupt").mkdir(parents=True)
-    (out / "toy_interrupt" / "metrics.json").write_text('{"case": "toy_interrupt", "status": "done"}')
+    (out / ".lcefem-out").write_text(STAMP_TEXT.format(command="validate"))  # --resume: lcefem's folder
+    (out / "toy_interrupt" / "metrics.json").write_text(  # of another resolution (quick): not reused
+        '{"case": "toy_interrupt", "description": "", "status": "done", "wall_time": 0.0, "quick": true, '
+        '"metrics": [], "figures": []}')
     rc = cli_main(["validate", "toy_ok", "toy_interrupt", "toy_fail", "--out", str(out), "--quiet",
                    "--resume"])
     assert rc == 130 and "interrupted" in capsys.readouterr().err
