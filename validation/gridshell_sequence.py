@@ -70,8 +70,8 @@ def prepare(args) -> Schedule:
 def main(args) -> int:
     """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.commands.gridshell)."""
     schedule = args.prepared
-    # the bar-and-hinge model set of design and bands (calibrate.DEFAULT_MODEL_SET)
-    model_set = calibrate.model_set(calibrate.DEFAULT_MODEL_SET)  # with its configuration
+    # the bar-and-hinge model set of design and bands (calibrate.DEFAULT_MODEL_SET) unless named
+    model_set = calibrate.model_set(getattr(args, "model_set", None) or calibrate.DEFAULT_MODEL_SET)
     structure, materials = model_set.structure(), model_set.materials
     config = {"schedule": dataclasses.asdict(schedule), "model set": model_set.name,
               "model set configuration": model_set.configuration}

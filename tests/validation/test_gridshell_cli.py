@@ -57,24 +57,52 @@ def test_non_convergence_writes_failure_json_and_exits_3(tmp_path):
 
 
 def test_recipe_departures_from_the_command_line(tmp_path, capsys):
-    # --recipe runs the published configuration; --departure names our departures (issue 30)
+    # --recipe runs the published model set with the strip-ribbon contact (issue 46); --departure
+    # names more departures; --configuration published is the published script (no contact)
     assert main(["run", "gridshell", "--recipe", "cone", "--departure", "contakt",
                  "--out", str(tmp_path / "a")]) == 2
     assert "unknown departure 'contakt'" in capsys.readouterr().err
-    assert main(["run", "gridshell", "--shape", "dome", "--departure", "contact",
+    assert main(["run", "gridshell", "--shape", "dome", "--configuration", "published",
                  "--out", str(tmp_path / "b")]) == 2
-    assert "only with run.configuration = 'published'" in capsys.readouterr().err
+    assert "only with the published model set" in capsys.readouterr().err
     import argparse
 
     from lcefem.validation.commands import gridshell as cmd
     p = argparse.ArgumentParser()
     cmd.add_arguments(p)
-    cfg = cmd.prepare(p.parse_args(["--recipe", "dome", "--departure", "contact,volume_law",
+    cfg = cmd.prepare(p.parse_args(["--recipe", "dome", "--departure", "volume_law",
                                     "--departure", "middle_rollers"]))
     resolved = cfg.resolved()["configuration (resolved)"]
-    assert resolved == {"configuration": "published", "departures": ["contact", "volume_law", "middle_rollers"],
-                        "mesh.contact": True, "mesh.top_junction": "glue", "lce.force_law": "volume"}
+    assert {k: resolved[k] for k in ("model set", "configuration", "departures", "mesh.contact",
+                                     "mesh.top_junction", "mesh.strip_element", "lce.force_law")} == {
+        "model set": "published", "configuration": "model-set",
+        "departures": ["contact", "volume_law", "middle_rollers"], "mesh.contact": True,
+        "mesh.top_junction": "glue", "mesh.strip_element": "bar", "lce.force_law": "volume"}
     assert cfg.support == "middle_rollers"
+    script = cmd.prepare(p.parse_args(["--recipe", "dome", "--configuration", "published"]))
+    assert script.effective[0].contact is False and script.run.resolved_departures == ()
+
+
+def test_model_set_of_the_run_command():
+    # the command's default is the FE-calibrated set (as design, bands, sequences), its fitted
+    # materials and exchange factor from the stored calibration; --model-set published the published one
+    import argparse
+
+    from lcefem.validation import calibrate
+    from lcefem.validation.commands import gridshell as cmd
+    p = argparse.ArgumentParser()
+    cmd.add_arguments(p)
+    fe = cmd.prepare(p.parse_args(["--shape", "saddle"]))
+    ms = calibrate.model_set("fe-calibrated")
+    mesh, lce, support = fe.effective
+    assert fe.run.model_set == "fe-calibrated" and support == "clamp"
+    assert (mesh.contact, mesh.top_junction, mesh.strip_element, lce.force_law) == (
+        ms.mesh.contact, ms.mesh.top_junction, ms.mesh.strip_element, ms.materials.lce.force_law)
+    assert fe.kapton == ms.materials.kapton and fe.lce.bending_factor == ms.materials.lce.bending_factor
+    assert fe.current_route.exchange_factor == ms.exchange_factor
+    pub = cmd.prepare(p.parse_args(["--shape", "saddle", "--model-set", "published"]))
+    assert pub.run.resolved_departures == ("contact",) and pub.effective[0].strip_element == "bar"
+    assert pub.current_route.exchange_factor == calibrate.exchange_factor("published")
 
 
 def test_shape_from_the_papers_rule_of_currents(tmp_path, capsys):

@@ -41,8 +41,8 @@ from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
 from lcefem.solvers.problems.gridshell_bh import SUPPORTS
-from lcefem.solvers.problems.gridshell_bh_run import (CONFIGURATIONS, DEPARTURES, ROUTES, GridshellBHRunConfig,
-                                                      run_gridshell)
+from lcefem.solvers.problems.gridshell_bh_run import (CONFIGURATIONS, DEPARTURES, MODEL_SET_DEPARTURES, ROUTES,
+                                                      GridshellBHRunConfig, GridshellRun, run_gridshell)
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.validation.commands import MODELS
 from lcefem.validation.config import load_toml
@@ -51,9 +51,38 @@ from lcefem.validation.programs import PUBLISHED_SUPPORTS, RECIPES, SHAPE_DRIVES
 PARALLEL = False  # a serial (numpy/scipy) model: ranks would race on one folder
 
 
-def config_from_toml(path, base: GridshellBHRunConfig | None = None) -> GridshellBHRunConfig:
-    base = base or GridshellBHRunConfig(shapes=SHAPE_DRIVES, recipes=RECIPES)
+def model_set_config(name: str) -> GridshellBHRunConfig:
+    """The run configuration of bar-and-hinge model set ``name`` (lcefem.validation.calibrate.model_set):
+    its materials (the FE-calibrated set's fitted hinge and strip E I factors and the plate's
+    torsion; the published set's published ones), its grid exchange factor and its configuration
+    (run.model_set), with the experiments' programs (shapes, recipes)."""
+    from lcefem.validation import calibrate
+
+    ms = calibrate.model_set(name)
+    base = GridshellBHRunConfig(shapes=SHAPE_DRIVES, recipes=RECIPES, run=GridshellRun(model_set=name))
+    mats = {f.name: getattr(ms.materials, f.name) for f in dataclasses.fields(ms.materials)}
+    return dataclasses.replace(base, **mats, current_route=ms.current_route(base.current_route))
+
+
+def default_model_set(recipe: str | None) -> str:
+    """The command's model set when none is named: the published set for a published recipe (its P0
+    were written for the published elements; with the contact it lands within 0.5-1.6 mm of the
+    published code's own runs, issue 46), the FE-calibrated set otherwise (as design, bands and
+    sequences: calibrate.DEFAULT_MODEL_SET)."""
+    from lcefem.validation import calibrate
+
+    return "published" if recipe else calibrate.DEFAULT_MODEL_SET
+
+
+def config_from_toml(path, base: GridshellBHRunConfig | None = None,
+                     model_set: str | None = None) -> GridshellBHRunConfig:
+    """The case file at ``path`` applied on ``base`` (default: the configuration of ``model_set``,
+    else of the case file's run.model_set, else of :func:`default_model_set`)."""
     data = load_toml(path, {*GridshellBHRunConfig.PARAM_SECTIONS, "lambda", "current"})
+    if base is None:
+        run = data.get("run", {})
+        name = model_set or run.get("model_set") or default_model_set(run.get("recipe"))
+        base = model_set_config(str(name))
     kw = {name: with_overrides(getattr(base, name), table, name) for name, table in data.items()
           if name in GridshellBHRunConfig.PARAM_SECTIONS}
     # TOML keys are strings: strip ids ("3") become integers as on the command line (parse_assignments)
@@ -106,12 +135,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "(our lumped grid strip, 130 ohm over 80 mm isotropic, calibrated exchange; default), "
                    "'segment' (a 25 ohm segment) or 'eq1' (the paper's Eq. 1 estimate)")
     p.add_argument("--support", choices=SUPPORTS, help="supports (default: the published ones)")
-    p.add_argument("--configuration", choices=CONFIGURATIONS, help="'published' (the published "
-                   "model: its supports, glue squares, bar law A f P(p), no strip-ribbon contact; "
-                   "default with --recipe) or 'case' (the mesh and lce sections as given; default "
-                   "otherwise)")
+    p.add_argument("--model-set", choices=tuple(MODEL_SET_DEPARTURES), help="bar-and-hinge model set "
+                   "with its configuration (lcefem.validation.calibrate.model_set): 'fe-calibrated' (default; "
+                   "the strip element, the plate's torsion and the fitted factors, glue squares, "
+                   "strip-ribbon contact, constant-volume bar law: within 10 %% of the 3D FE) or "
+                   "'published' (the published elements, supports and squares plus the strip-ribbon "
+                   "contact; default with --recipe)")
+    p.add_argument("--configuration", choices=CONFIGURATIONS, help="'model-set' (default: the model "
+                   "set's configuration, the ribbon impenetrable) or 'published' (the published script "
+                   "exactly: no strip-ribbon contact, strips may pass through the ribbon; published "
+                   "model set only)")
     p.add_argument("--departure", action="append", dest="departures", metavar="NAME",
-                   help="a departure from the published configuration (repeatable or comma-separated): "
+                   help="a departure added to the configuration (repeatable or comma-separated): "
                    + "; ".join(f"{k}: {v}" for k, v in DEPARTURES.items()))
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
     p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
@@ -129,9 +164,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
-    cfg = config_from_toml(args.config)
+    model_set = getattr(args, "model_set", None)
+    if model_set is None and args.recipe:
+        model_set = default_model_set(args.recipe)
+    cfg = config_from_toml(args.config, model_set=model_set)
     departures = ",".join(args.departures) if getattr(args, "departures", None) else None
     run = {k: v for k, v in {"shape": args.shape, "recipe": args.recipe, "support": args.support,
+                             "model_set": model_set,
                              "configuration": getattr(args, "configuration", None),
                              "departures": departures,
                              "route": getattr(args, "route", None)}.items() if v is not None}
@@ -233,8 +272,11 @@ def main(args: argparse.Namespace) -> int:
     summary = run_gridshell(cfg, pathlib.Path(args.out), progress=not args.quiet, report=report)
     r = summary["results"]
     quad = (f", quadratic fit {r['quad_kx']:.4f}/{r['quad_ky']:.4f}" if "quad_kx" in r else "")
-    print(f"lcefem: gridshell ({summary['support']}): centre curvature x/y [1/mm]: circle "
-          f"{r['circle_x']:.4f}/{r['circle_y']:.4f}{quad}; z range {r['z_range [mm]']:.2f} mm; "
+    depth = summary["strip-ribbon penetration [mm]"]
+    through = " (strips pass through the ribbon)" if summary["strips pass through the ribbon"] else ""
+    print(f"lcefem: gridshell ({summary['model set']} set, {summary['support']}): centre curvature x/y "
+          f"[1/mm]: circle {r['circle_x']:.4f}/{r['circle_y']:.4f}{quad}; z range {r['z_range [mm]']:.2f} mm; "
+          f"strip-ribbon penetration {depth:.2f} mm{through}; "
           f"{summary['increments']} increments, {summary['newton_iterations']} Newton iterations, "
           f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
     return 0
