@@ -120,9 +120,61 @@ def test_shape_from_the_papers_rule_of_currents(tmp_path, capsys):
     capsys.readouterr()
     # bad input: one line naming the field, exit 2 (no FE run is started)
     for argv, msg in ((["--route", "current"], "needs a shape"),
-                      (["--model", "fe", "--shape", "dome"], "--route"),
-                      (["--model", "fe", "--shape", "dome", "--route", "current", "--current", "Tx=0.1"],
-                       "--current: not with --model fe"),
                       (["--mesh-level", "1", "--shape", "dome"], "--mesh-level: only with --model fe")):
         assert main(["run", "gridshell", *argv, "--out", str(tmp_path / "bad")]) == 2
         assert msg in capsys.readouterr().err
+
+
+def test_fe_refuses_what_it_cannot_run_in_one_line(tmp_path, capsys):
+    # --model fe takes every drive of the bar-and-hinge run (issue 46); what remains refused names
+    # the flag and why, exit 2, before any mesh is built
+    for argv, msg in (
+            (["--shape", "dome", "--route", "current", "--current", "Tx=0.1"], "give one drive"),
+            ([], "give one drive of --shape, --recipe, --lambda, --current, --schedule"),
+            (["--shape", "dome", "--support", "middle_rollers"], "--support middle_rollers: not in the 3D FE"),
+            (["--lambda", "7=1.2"], "strip id 7: bar-and-hinge numbering"),
+            (["--lambda", "Tq=1.2"], "unknown strip selection 'Tq'"),
+            (["--lambda", "T=1.6"], "lambda top_x_r0_j0_lo = 1.6: must be between 1"),
+            (["--current", "Tx=2"], "between 0 and 1 A"),
+            (["--recipe", "cone", "--mesh-level", "4"], "--mesh-level = 4: allowed 0..3"),
+            (["--shape", "dome", "--model-set", "published"], "--model-set: not with --model fe"),
+            (["--shape", "dome", "--departure", "contact"], "--departure: not with --model fe"),
+            (["--shape", "dome", "--thermal-model", "eq1"], "--thermal-model: not with --model fe"),
+            (["--recipe", "cone", "--route", "current"], "--route: only with --shape")):
+        assert main(["run", "gridshell", "--model", "fe", *argv, "--out", str(tmp_path / "bad")]) == 2, argv
+        err = capsys.readouterr().err.strip()
+        assert msg in err and len(err.splitlines()) == 1, (argv, err)
+    assert not (tmp_path / "bad").exists()
+
+
+def test_fe_takes_the_smallest_valid_mirror_model_of_every_drive():
+    # the recipes' mirror models resolved from their drives are those of meshes.gridshell_fe
+    # (RECIPE_SYMMETRY, derived there by hand); the Fig. 4 shapes by lambdas or currents: quarter
+    import argparse
+
+    from lcefem.meshes.gridshell_fe import RECIPE_SYMMETRY
+    from lcefem.validation.commands import gridshell as cmd
+    p = argparse.ArgumentParser()
+    cmd.add_arguments(p)
+
+    def prepared(*argv):
+        return cmd.prepare(p.parse_args(["--model", "fe", *argv]))
+
+    for recipe, symmetry in RECIPE_SYMMETRY.items():
+        cfg = prepared("--recipe", recipe)
+        assert cfg.symmetry == symmetry, recipe
+        assert cfg.model.supports.kind == ("centre_clamp" if symmetry != "quarter" or recipe == "saddle"
+                                           else "rollers")
+    cone = prepared("--recipe", "cone").drive_fields()[0]
+    assert cone["bottom_x_r0_s1"] == pytest.approx(1.4 * 0.75) and cone["top_y_r2_j1_hi"] == pytest.approx(1.4 * 0.90)
+    saddle = prepared("--shape", "saddle", "--route", "current")
+    assert saddle.run.drive == "current" and saddle.symmetry == "quarter"
+    assert saddle.currents["Tx"] == pytest.approx(0.0640, abs=1e-4)  # the paper's rule, as the BH route
+    assert prepared("--lambda", "XD1=1.2").symmetry == "half_x"  # row 1 <-> row 3 under y -> 2c - y
+    assert prepared("--lambda", "XD:x<70.5=1.2").symmetry == "half_y"
+    assert prepared("--lambda", "XD1=1.2,YD:y>70.5=1.1").symmetry == "half_x"
+    assert prepared("--lambda", "XD1=1.2,YD1=1.1").symmetry == "full"
+    assert prepared("--shape", "dome", "--support", "table").model.supports.kind == "table"
+    sched = prepared("--schedule", "validation/data/gridshell_fig5a_schedule.toml")
+    assert sched.run.drive == "schedule" and sched.symmetry == "quarter" and sched.run.duration == 495.0
+    assert len(sched.protocol) == 9 and sched.model.supports.kind == "rollers"

@@ -44,11 +44,11 @@ from lcefem.solvers.problems.gridshell_bh import SUPPORTS
 from lcefem.solvers.problems.gridshell_bh_run import (CONFIGURATIONS, DEPARTURES, MODEL_SET_DEPARTURES, ROUTES,
                                                       GridshellBHRunConfig, GridshellRun, run_gridshell)
 from lcefem.solvers.runtime.outdir import add_out_arguments
-from lcefem.validation.commands import MODELS
+from lcefem.validation.commands import MODELS, parallel_if_fe
 from lcefem.validation.config import load_toml
-from lcefem.validation.programs import PUBLISHED_SUPPORTS, RECIPES, SHAPE_DRIVES
+from lcefem.validation.programs import RECIPES, SHAPE_DRIVES
 
-PARALLEL = False  # a serial (numpy/scipy) model: ranks would race on one folder
+PARALLEL = parallel_if_fe  # the bar-and-hinge model is serial (numpy/scipy): ranks would race
 
 
 def model_set_config(name: str) -> GridshellBHRunConfig:
@@ -201,67 +201,145 @@ def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
     return config_from_args(args).validated()
 
 
-def prepare_fe(args: argparse.Namespace) -> dict:
-    """--model fe: the heated FE gridshell held at a Fig. 4 shape's currents (the paper's rule)."""
-    flags = {"recipe": "--recipe", "lambdas": "--lambda", "currents": "--current", "schedule": "--schedule",
-             "config": "--config", "thermal_model": "--thermal-model", "ribbons": "--ribbons",
-             "support": "--support"}
-    for name, flag in flags.items():
+#: Sections of a case file of the FE run (--model fe --config FILE): run (shape, recipe, support,
+#: route, symmetry), lambda / current (selection = value), and the FE gridshell's parameter sections.
+FE_SECTIONS = ("run", "lambda", "current", "mesh", "supports", "contact", "control")
+FE_RUN_KEYS = ("shape", "recipe", "support", "route", "symmetry")
+
+
+def _fe_case(path) -> dict:
+    """The case file of an FE run (:data:`FE_SECTIONS`), run keys checked."""
+    data = load_toml(path, set(FE_SECTIONS))
+    for key in data.get("run", {}):
+        if key not in FE_RUN_KEYS:
+            raise InputError(f"run.{key}: not in an FE case file (allowed: {', '.join(FE_RUN_KEYS)})")
+    return data
+
+
+def prepare_fe(args: argparse.Namespace):
+    """--model fe: the FE gridshell run (lcefem.solvers.problems.gridshell_fe_run) of the drive given
+    as to the bar-and-hinge run: a Fig. 4 shape by its lambdas or the paper's rule of currents, a
+    published recipe (lambda = lambda_N P0), lambdas or currents per selection, a schedule; on the
+    published support of the shape, recipe or schedule unless --support; the smallest mirror model
+    valid for the drive."""
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
+    from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
+    from lcefem.solvers.problems.gridshell import GridshellConfig
+    from lcefem.solvers.problems.gridshell_fe_run import GridshellFERun, GridshellFERunConfig, supports_of
+
+    flags = {"model_set": ("--model-set", "the bar-and-hinge model set"),
+             "configuration": ("--configuration", "a bar-and-hinge configuration"),
+             "departures": ("--departure", "a bar-and-hinge departure"),
+             "thermal_model": ("--thermal-model", "the bar-and-hinge current route's strip model; the 3D "
+                               "FE solves the heat equation"),
+             "ribbons": ("--ribbons", "the 3D FE runs the 3 x 3 surface"),
+             "task": ("--task", "a Fig. 5 task of the bar-and-hinge surface"),
+             "scales": ("--scales", "the cover scales of the bar-and-hinge surface")}
+    for name, (flag, why) in flags.items():
         if getattr(args, name, None):
-            raise InputError(f"{flag}: not with --model fe (it takes --shape NAME --route current)")
-    if not args.shape or args.shape not in SHAPE_DRIVES:
-        raise InputError(f"--shape = {args.shape!r}: --model fe needs one of {', '.join(SHAPE_DRIVES)}")
-    if getattr(args, "route", None) != "current":
-        raise InputError("--route: --model fe runs the current route only (--route current); the FE "
-                         "lambda route is the case gridshell_shapes_fe")
+            raise InputError(f"{flag}: not with --model fe ({why})")
+    data = _fe_case(args.config)
+    run = {**data.get("run", {}), **{k: v for k, v in {
+        "shape": args.shape, "recipe": args.recipe, "support": args.support,
+        "route": getattr(args, "route", None)}.items() if v is not None}}
+    lambdas = parse_assignments(args.lambdas, "lambda") if args.lambdas else dict(data.get("lambda", {}))
+    currents = parse_assignments(args.currents, "current") if args.currents else dict(data.get("current", {}))
+    schedule = getattr(args, "schedule", None)
+    drives = [f for f, given in (("--shape", run.get("shape")), ("--recipe", run.get("recipe")),
+                                 ("--lambda", lambdas), ("--current", currents), ("--schedule", schedule))
+              if given]
+    if len(drives) != 1:
+        raise InputError("--model fe: give one drive of --shape, --recipe, --lambda, --current, --schedule"
+                         + (f" (given: {', '.join(drives)})" if drives else ""))
+    route = run.get("route") or "lambda"
+    if route not in ROUTES:
+        raise InputError(f"--route = {route!r}: allowed {', '.join(ROUTES)}")
+    if route != "lambda" and not run.get("shape"):
+        raise InputError("--route: only with --shape (give currents with --current)")
+    kw, notes, support, label = {}, {}, "rollers", ""
+    if run.get("shape"):
+        shape = run["shape"]
+        if shape not in SHAPE_DRIVES:
+            raise InputError(f"--shape = {shape!r}: allowed {', '.join(SHAPE_DRIVES)}")
+        support, label, notes["shape"] = SHAPE_DRIVES[shape]["support"], shape, shape
+        if route == "current":
+            currents = shape_currents(SHAPE_DRIVES[shape]["lambdas"], GRID_STRIP_RESISTANCE)
+            notes["current rule"] = ("Eq. 1 inverted at the Fig. 4 lambdas through the grid strip's "
+                                     "130 ohm coil (models.lumped_heat.eq1_current)")
+        else:
+            lambdas = dict(SHAPE_DRIVES[shape]["lambdas"])
+    elif run.get("recipe"):
+        recipe = run["recipe"]
+        if recipe not in RECIPES:
+            raise InputError(f"--recipe = {recipe!r}: allowed {', '.join(RECIPES)}")
+        p0, support = RECIPES[recipe]
+        lambdas = {k: PUBLISHED_LAMBDA_N * v for k, v in p0.items()}  # programs.toml: lambda = 1.4 P0
+        label, notes["recipe"] = f"recipe {recipe}", recipe
+    elif schedule:
+        from lcefem.solvers.problems.gridshell_bh_sequence import load_schedule
+
+        sched = load_schedule(schedule)
+        support, label = sched.support, f"schedule {pathlib.Path(schedule).name}"
+        kw = {"protocol": tuple((t, {sel: v[k] for sel, v in sched.currents.items()})
+                                for k, t in enumerate(sched.times)),
+              "run": GridshellFERun(drive="schedule", duration=sched.end, dt=sched.output_interval,
+                                    label=label, symmetry=run.get("symmetry", ""))}
+        notes["schedule"] = {"file": str(schedule), "labels": list(sched.labels)}
+    support = run.get("support") or support
     level = 0 if args.mesh_level is None else args.mesh_level
     if not 0 <= level <= 3:
         raise InputError(f"--mesh-level = {level}: allowed 0..3")
-    return {"model": "fe", "shape": args.shape, "mesh_level": level}
+    model = GridshellConfig(mesh=with_overrides(GridshellFEMesh(level=level), data.get("mesh", {}), "mesh"),
+                            supports=with_overrides(supports_of(support), data.get("supports", {}), "supports"))
+    for name in ("contact", "control"):
+        if name in data:
+            model = dataclasses.replace(model, **{name: with_overrides(getattr(model, name), data[name], name)})
+    if args.mesh_level is not None:  # the command line wins over the case file
+        model = dataclasses.replace(model, mesh=dataclasses.replace(model.mesh, level=level))
+    drive = "current" if currents else "lambda"
+    kw.setdefault("run", GridshellFERun(drive=drive, label=label, symmetry=run.get("symmetry", "")))
+    return GridshellFERunConfig(model=model, lambdas=lambdas if drive == "lambda" else {},
+                                currents=currents, notes=notes, **kw).validated()
 
 
-def run_fe_current(spec: dict, out: pathlib.Path) -> dict:
-    """The heated FE gridshell (quarter, published support of the shape) held at the currents the
-    paper's rule gives at the shape's Fig. 4 lambdas (models.lumped_heat.shape_currents), straight to
-    the steady state (HeatedGridshellFE.steady_hold); writes summary.json; returns it."""
-    import time
+def _fe_report(out, cfg, model) -> dict:
+    """gridshell_fe.png: the deformed FE surface (the mirror model mirrored to the whole surface),
+    coloured by the von Mises stress (rank 0 of a serial run only: pyvista reads one process's mesh)."""
+    if model.tmesh.mesh.comm.size > 1:
+        return {}
+    from lcefem.validation import render
 
-    from lcefem.meshes.gridshell_fe import GridshellFEMesh
-    from lcefem.models.lumped_heat import GRID_STRIP_RESISTANCE, shape_currents
-    from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellSupports
-    from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
-    from lcefem.solvers.runtime.files import write_json
+    c = model.info["centre"]
+    mirror = tuple((axis, c) for axis, name in ((0, "sym_x"), (1, "sym_y")) if name in model.tmesh.facets)
+    model.update_stress()
+    render.render_deformed(out / "gridshell_fe.png", model.u, model.stress, scalar_label="von Mises stress [MPa]",
+                           title=f"gridshell (FE) {cfg.run.label}", mirror=mirror, show_undeformed=False)
+    return {}
 
-    shape = spec["shape"]
-    currents = shape_currents(SHAPE_DRIVES[shape]["lambdas"], GRID_STRIP_RESISTANCE)
-    started = time.process_time()
-    model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=spec["mesh_level"]),
-                                              symmetry="quarter",
-                                              supports=GridshellSupports(kind=PUBLISHED_SUPPORTS[shape])))
-    rows = model.steady_hold(currents)
-    held = {k: v for k, v in rows[-1].items() if not k.startswith("junction_")}
-    summary = {"model": "3D FE heated gridshell (HeatedGridshellFE.steady_hold), quarter",
-               "shape": shape, "mesh level": spec["mesh_level"], "support": PUBLISHED_SUPPORTS[shape],
-               "current [A]": currents, "current rule": "Eq. 1 inverted at the Fig. 4 lambdas through "
-               "the grid strip's 130 ohm coil (models.lumped_heat.eq1_current)",
-               "junction_heating": model.junction_heating,
-               "held": held, "sweeps": len(rows), "cpu [s]": time.process_time() - started}
-    write_json(out / "summary.json", summary)
-    return summary
+
+def main_fe(args: argparse.Namespace) -> int:
+    from lcefem.solvers.problems.gridshell_fe_run import run_gridshell_fe
+
+    cfg = args.prepared
+    s = run_gridshell_fe(cfg, pathlib.Path(args.out), progress=not args.quiet, report=_fe_report)
+    h = s["results"]
+    heat = ""
+    if cfg.run.drive != "lambda":
+        heat = "; lambda T/B " + "/".join(f"{h[f'lambda {c} [-]']:.3f}" for c in ("Tx", "Ty", "Bx", "By")
+                                         if f"lambda {c} [-]" in h)
+    print(f"lcefem: gridshell (fe, {s['symmetry']}, {s['support']}, level {s['mesh level']}) "
+          f"{cfg.run.label or 'drive'} ({cfg.run.drive}): centre curvature x/y [1/mm]: circle "
+          f"{h['kappa_circle_x [1/mm]']:.4f}/{h['kappa_circle_y [1/mm]']:.4f}, quadratic fit "
+          f"{h['kappa_quad_x [1/mm]']:.4f}/{h['kappa_quad_y [1/mm]']:.4f}; z range {h['z_range [mm]']:.2f} mm"
+          f"{heat}; {s['dofs [-]']} DOFs, {s['newton iterations [-]']} Newton iterations, "
+          f"{s['cpu time [s]']:.0f} s CPU; results in {args.out}")
+    return 0
 
 
 def main(args: argparse.Namespace) -> int:
-    if isinstance(getattr(args, "prepared", None), dict) and args.prepared.get("model") == "fe":
-        s = run_fe_current(args.prepared, pathlib.Path(args.out))
-        h = s["held"]
-        print(f"lcefem: gridshell (fe, {s['support']}, level {s['mesh level']}) {s['shape']} from currents "
-              + ", ".join(f"{k} {v:.4f} A" for k, v in s["current [A]"].items())
-              + f": centre curvature x/y [1/mm]: circle {h['kappa_circle_x [1/mm]']:.4f}/"
-              f"{h['kappa_circle_y [1/mm]']:.4f}, quadratic fit {h['kappa_quad_x [1/mm]']:.4f}/"
-              f"{h['kappa_quad_y [1/mm]']:.4f}; lambda T/B "
-              + "/".join(f"{h[f'lambda {c} [-]']:.3f}" for c in ("Tx", "Ty", "Bx", "By") if f"lambda {c} [-]" in h)
-              + f"; {s['cpu [s]']:.0f} s CPU; results in {args.out}")
-        return 0
+    if getattr(args, "model", "bar-hinge") == "fe":
+        return main_fe(args)
     if getattr(args, "task", None) or getattr(args, "scales", False):
         from lcefem.validation import fig5_tasks
         return fig5_tasks.main(args)
