@@ -241,12 +241,20 @@ def strip_ribbon_penetration(x: np.ndarray, geometry: CompositeBeamGeometry = Co
     from (geometry, layout, mesh): the largest g0 - g over the strip-ribbon contact rows
     (:func:`lcefem.models.bar_hinge.point_plane_gap`, g0 the as-built gap), measured whether or not
     the run had the contact (0 if every strip point stays on its side of the ribbon)."""
+    return structure_penetration(build_gridshell_bar_hinge(geometry, layout, replace(mesh, contact=True)), x)
+
+
+def structure_penetration(s: BarHingeStructure, x: np.ndarray) -> float:
+    """Deepest strip-ribbon interpenetration [mm] of node positions x (n, 3) over the contact rows
+    of structure ``s`` (:func:`strip_ribbon_penetration`; NaN when ``s`` has none: built without
+    the contact, measure it with :func:`strip_ribbon_penetration`)."""
     from lcefem.models import bar_hinge as bh
 
-    s = build_gridshell_bar_hinge(geometry, layout, replace(mesh, contact=True))
     x = np.asarray(x).reshape(-1, 3)
     if x.shape[0] != s.num_nodes:
-        raise ValueError(f"strip_ribbon_penetration: {x.shape[0]} nodes, the structure has {s.num_nodes}")
+        raise ValueError(f"strip-ribbon penetration: {x.shape[0]} nodes, the structure has {s.num_nodes}")
+    if not s.contacts:
+        return math.nan
     worst = 0.0
     for name, rows in s.contacts.items():
         gap = bh.point_plane_gap(*(x[rows[:, c]] for c in range(4)), derivatives=0)

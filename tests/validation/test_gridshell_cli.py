@@ -203,3 +203,21 @@ def test_fe_dome_from_the_command_line_gives_the_stored_golden(tmp_path):
     assert history[0].startswith("load factor [-],kappa_circle_x [1/mm]") and len(history) > 3
     assert (out / "displacement.bp").is_dir() and (out / "fields" / "cells.xdmf").is_file()
     assert not list(out.glob("*.part*"))
+
+
+def test_every_run_reports_its_strip_ribbon_penetration(tmp_path, capsys):
+    # issue 46: the published script (no contact) lets the cone's strips pass 0.97 mm through the
+    # ribbon (docs/gridshell_configuration.md); the recipe's default (the published set + contact)
+    # keeps them out to the penalty's 0.08 mm; the run says so in summary.json and its printed line
+    for argv, deep in ((["--configuration", "published"], True), ([], False)):
+        out = tmp_path / ("script" if deep else "default")
+        assert main(["run", "gridshell", "--recipe", "cone", *argv, "--quiet", "--out", str(out)]) == 0
+        s = json.loads((out / "summary.json").read_text())
+        line = capsys.readouterr().out
+        assert s["strips pass through the ribbon"] is deep
+        if deep:
+            assert s["strip-ribbon penetration [mm]"] == pytest.approx(0.97, abs=0.02)
+            assert "(strips pass through the ribbon)" in line
+        else:
+            assert 0.0 < s["strip-ribbon penetration [mm]"] < 0.12 and "pass through" not in line
+        assert f"strip-ribbon penetration {s['strip-ribbon penetration [mm]']:.2f} mm" in line
