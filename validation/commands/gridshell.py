@@ -44,11 +44,14 @@ from lcefem.solvers.problems.gridshell_bh import SUPPORTS
 from lcefem.solvers.problems.gridshell_bh_run import (CONFIGURATIONS, DEPARTURES, MODEL_SET_DEPARTURES, ROUTES,
                                                       GridshellBHRunConfig, GridshellRun, run_gridshell)
 from lcefem.solvers.runtime.outdir import add_out_arguments
-from lcefem.validation.commands import MODELS, parallel_if_fe
+from lcefem.validation.commands import MODELS
 from lcefem.validation.config import load_toml
 from lcefem.validation.programs import RECIPES, SHAPE_DRIVES
 
-PARALLEL = parallel_if_fe  # the bar-and-hinge model is serial (numpy/scipy): ranks would race
+#: Serial only: the bar-and-hinge model is numpy/scipy (ranks would race on one folder), and the FE
+#: gridshell's strip-ribbon node-pair contact, the path follower's nodal damping and the residual
+#: homotopy's nodal load are serial (solvers/contact.py raises NotImplementedError on 2+ ranks).
+PARALLEL = False
 
 
 def model_set_config(name: str) -> GridshellBHRunConfig:
