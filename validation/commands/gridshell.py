@@ -1,34 +1,39 @@
-"""The robotic surface (seed 001, Fig. 4, 5): the n x n gridshell in the bar-and-hinge model, driven
-by strip lambdas, a published recipe or coil currents.
+"""The robotic surface (seed 001, Fig. 4, 5): the n x n gridshell in the bar-and-hinge model or the
+3D FE, driven by strip lambdas, a published recipe, coil currents or a schedule of currents.
 
 ``lcefem run gridshell [--shape dome|saddle|cylinder|table [--route lambda|current] | --recipe NAME
-| --lambda Tx=1.33,... | --current Tx=0.04,...] [--support clamp|rollers|middle_rollers|table]
-[--configuration published|case] [--departure NAME] [--thermal-model strip|segment|eq1]
-[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
-``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
+| --lambda Tx=1.33,... | --current Tx=0.04,... | --schedule FILE.toml]
+[--support clamp|rollers|middle_rollers|table] [--model-set fe-calibrated|published]
+[--configuration model-set|published] [--departure NAME] [--thermal-model strip|segment|eq1]
+[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; the 3D FE: ``--model fe`` with the same
+drives, ``--support``, ``--config`` and ``--mesh-level 0..3`` (lcefem.solvers.problems.gridshell_fe_run;
+docs/fe_bodies.md).
 
 Selections (``--lambda``/``--current`` keys, applied in order): channels Tx, Ty, Bx, By (seed 001,
 Fig. 4A), T / B (a layer), families XD, YD, XU, YU, groups XD1..YU3, half planes like XD:x<70.5,
-or strip ids (see lcefem.meshes.gridshell). Unnamed strips stay as built (lambda_N = 1.4; current 0).
-``--shape`` takes the paper's Fig. 4 lambdas (with ``--current``-route twins in the case
-``gridshell_shapes_bh``); ``--recipe`` a published recipe (rest fractions P0) in the published
-configuration (Examples2D.m: its support, glue squares, bar law A f P(p), no strip-ribbon contact),
-our departures one ``--departure contact,contracting_squares,volume_law,middle_rollers`` away
-(``--configuration case``: the mesh and lce sections as given; docs/gridshell_configuration.md).
-Case file sections: run (shape, recipe, support, configuration, departures), lambda, current
-(tables of selection = value), and the parameter sections geometry, layout, mesh, kapton, lce, glue,
-strip_contact, contact, weight, current_route, solver, path.
+or strip ids (see lcefem.meshes.gridshell; the FE takes its strip tags instead). Unnamed strips stay
+as built (lambda_N = 1.4; current 0). ``--shape`` takes the paper's Fig. 4 lambdas (with
+``--current``-route twins in the case ``gridshell_shapes_bh``); ``--recipe`` a published recipe
+(rest fractions P0). The bar-and-hinge model set (``--model-set``, issue 46): 'fe-calibrated' by
+default (validation.calibrate.model_set: strip element, plate torsion, fitted factors, glue squares,
+strip-ribbon contact, volume law), 'published' by default with ``--recipe`` (the published elements,
+supports and glue squares plus the contact); ``--configuration published`` is the published script
+exactly (no contact); ``--departure`` adds named departures (docs/gridshell_configuration.md).
+Case file sections: run (shape, recipe, support, model_set, configuration, departures), lambda,
+current (tables of selection = value), and the parameter sections geometry, layout, mesh, kapton,
+lce, glue, strip_contact, contact, weight, current_route, solver, path.
 
 Outputs in --out DIR: summary.json (resolved configuration, per-strip lambdas, centre curvatures by
-both measures with their sign convention, z range, increments, Newton iterations, wall time),
-nodes.csv (node id, as-built and final coordinates [mm]), gridshell.png (3D render, junction centres
-marked), history.csv (one row per converged
-increment), gridshell.pvd + gridshell_steps/*.vtp (ParaView: N5B8 ribbon triangles, strip and glue
-bars; displacement, element kind, axial force). Files carry .part names until the run completes; a
-run that stops leaves *.partial.* files, last_converged.vtp and failure.json (exit code 3), through
-the run skeleton (lcefem.solvers.runtime.run.Run). The problem, the drives and the run:
-lcefem.solvers.problems.gridshell_bh (GridshellBHRunConfig, run_gridshell); this module parses the
-command line and the case file, renders gridshell.png and prints one line.
+both measures with their sign convention, z range, the deepest strip-ribbon penetration [mm] and
+whether strips pass through the ribbon, increments, Newton iterations, wall time), nodes.csv (node
+id, as-built and final coordinates [mm]), gridshell.png (3D render, junction centres marked),
+history.csv (one row per converged increment), gridshell.pvd + gridshell_steps/*.vtp (ParaView: N5B8
+ribbon triangles, strip and glue bars; displacement, element kind, axial force). Files carry .part
+names until the run completes; a run that stops leaves *.partial.* files, last_converged.vtp and
+failure.json (exit code 3), through the run skeleton (lcefem.solvers.runtime.run.Run). The problem,
+the drives and the run: lcefem.solvers.problems.gridshell_bh_run (GridshellBHRunConfig,
+run_gridshell); this module parses the command line and the case file, renders gridshell.png and
+prints one line.
 """
 
 from __future__ import annotations
@@ -123,8 +128,8 @@ def report(out, cfg: GridshellBHRunConfig, structure, x, drive: dict) -> None:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", choices=MODELS, default="bar-hinge", help="bar-and-hinge model (default) or "
-                   "the 3D FE heated gridshell (quarter model; only --shape NAME --route current)")
-    p.add_argument("--mesh-level", type=int, help="FE only: mesh level (default 0)")
+                   "the 3D FE gridshell (every drive below; the smallest valid mirror model; serial)")
+    p.add_argument("--mesh-level", type=int, help="FE only: mesh level 0..3 (default 0)")
     p.add_argument("--shape", help="the paper's Fig. 4 shape: " + ", ".join(SHAPE_DRIVES))
     p.add_argument("--route", choices=ROUTES, help="with --shape: 'lambda' (the Fig. 4 lambdas, default) "
                    "or 'current' (the paper's rule: Eq. 1 inverted at those lambdas through the grid "
