@@ -294,6 +294,9 @@ def prepare_fe(args: argparse.Namespace):
               "run": GridshellFERun(drive="schedule", duration=sched.end, dt=sched.output_interval,
                                     label=label, symmetry=run.get("symmetry", ""))}
         notes["schedule"] = {"file": str(schedule), "labels": list(sched.labels)}
+    if not label:  # the user's drive, for the bar, the render's title and the summary
+        given = lambdas or currents
+        label = ",".join(f"{k}={v:g}" for k, v in given.items()) if len(given) <= 6 else f"{len(given)} selections"
     support = run.get("support") or support
     level = 0 if args.mesh_level is None else args.mesh_level
     if not 0 <= level <= 3:
