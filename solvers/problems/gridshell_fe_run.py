@@ -319,7 +319,13 @@ def run_gridshell_fe(cfg: GridshellFERunConfig, out: pathlib.Path, progress: boo
     history = HistoryExport(tuple(columns), row, where=where, at=at)
     export = FEFields("displacement.bp", (model.u,), comm, lambda s: float(s.get(key, 0.0)), start=False)
 
-    def drive(on_step):
+    newton = [0]  # Newton iterations of every row (a path step, a steady sweep, a time step)
+
+    def drive(record):
+        def on_step(state: dict) -> None:
+            newton[0] += int(state.get("newton iterations [-]", 0))
+            record(state)
+
         if r.drive == "lambda":
             model.set_lambda(in_model(model, fields[0]))
             on_step({key: 0.0, **model.observables(), "newton iterations [-]": 0})
@@ -351,6 +357,7 @@ def run_gridshell_fe(cfg: GridshellFERunConfig, out: pathlib.Path, progress: boo
                         "sign convention": "kappa + for a bowl, - for a dome (seed 001, Fig. 4)"},
             f"per-strip {drives} (full surface, the last switch)": fields[-1],
             **ramp_cost(model, time.perf_counter() - started, time.process_time() - cpu0),
+            "newton iterations [-]": newton[0],
             **cfg.notes,
         }
         if r.drive == "current":
