@@ -221,3 +221,20 @@ def test_every_run_reports_its_strip_ribbon_penetration(tmp_path, capsys):
         else:
             assert 0.0 < s["strip-ribbon penetration [mm]"] < 0.12 and "pass through" not in line
         assert f"strip-ribbon penetration {s['strip-ribbon penetration [mm]']:.2f} mm" in line
+
+
+def test_fe_case_file(tmp_path, capsys):
+    # --model fe --config: run keys and the FE gridshell's sections; the command line wins
+    import argparse
+
+    from lcefem.validation.commands import gridshell as cmd
+    p = argparse.ArgumentParser()
+    cmd.add_arguments(p)
+    case = tmp_path / "fe.toml"
+    case.write_text('[run]\nrecipe = "wave"\nsymmetry = "full"\n[mesh]\nlevel = 2\n[supports]\ngravity = true\n')
+    cfg = cmd.prepare(p.parse_args(["--model", "fe", "--config", str(case), "--mesh-level", "1"]))
+    assert cfg.symmetry == "full" and cfg.model.mesh.level == 1 and cfg.model.supports.gravity is True
+    assert cfg.model.supports.kind == "centre_clamp" and cfg.notes == {"recipe": "wave"}
+    case.write_text('[run]\nrecipe = "wave"\ncolour = "red"\n')
+    assert main(["run", "gridshell", "--model", "fe", "--config", str(case), "--out", str(tmp_path / "o")]) == 2
+    assert "run.colour: not in an FE case file" in capsys.readouterr().err
