@@ -27,7 +27,6 @@ import numpy as np
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-from lcefem.models import bar_hinge as law
 from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.analysis.curvature import junction_centre_points
@@ -61,18 +60,9 @@ def rigid_rms(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def penetration(mesh: BeamBarHingeMesh, x: np.ndarray) -> float:
-    """Deepest strip-ribbon interpenetration [mm] of positions x (n, 3): the largest g0 - g over the
-    contact rows our contact departure would add (0 if every ribbon point is on its side)."""
-    s = build_gridshell_bar_hinge(mesh=dataclasses.replace(mesh, contact=True))
-    x = np.asarray(x).reshape(-1, 3)
-    worst = 0.0
-    for name, rows in s.contacts.items():
-        gap = law.point_plane_gap(*(x[rows[:, c]] for c in range(4)), derivatives=0)
-        g0 = s.contact_rest.get(name)
-        if g0 is None:
-            g0 = law.point_plane_gap(*(s.nodes[rows[:, c]] for c in range(4)), derivatives=0)
-        worst = max(worst, float(np.max(np.asarray(g0) - gap)))
-    return worst
+    """Deepest strip-ribbon interpenetration [mm] of positions x (n, 3) of the default gridshell
+    built with ``mesh`` (:func:`lcefem.solvers.problems.gridshell_bh.strip_ribbon_penetration`)."""
+    return g.strip_ribbon_penetration(x, mesh=mesh)
 
 
 def run_variant(recipe: str, departures, support_override) -> dict:

@@ -23,7 +23,7 @@ STORE = DATA / "gridshell_fe_current_route_level1.json"
 #: Shapes the issue's "Done when" needs from the FE current route (dome and saddle), and the one
 #: it asks of the fast model only (cylinder): a missing one is an explicit row in the case.
 REQUIRED = ("dome", "saddle")
-#: Keys a summary must have (validation.commands.gridshell.run_fe_current).
+#: Keys a summary must have (lcefem.solvers.problems.gridshell_fe_run.run_gridshell_fe, steady hold).
 KEYS = ("shape", "mesh level", "support", "current [A]", "current rule", "held", "cpu [s]")
 
 

@@ -70,8 +70,8 @@ def prepare(args) -> Schedule:
 def main(args) -> int:
     """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.commands.gridshell)."""
     schedule = args.prepared
-    # the bar-and-hinge model set of design and bands (calibrate.DEFAULT_MODEL_SET)
-    model_set = calibrate.model_set(calibrate.DEFAULT_MODEL_SET)  # with its configuration
+    # the bar-and-hinge model set of design and bands (calibrate.DEFAULT_MODEL_SET) unless named
+    model_set = calibrate.model_set(getattr(args, "model_set", None) or calibrate.DEFAULT_MODEL_SET)
     structure, materials = model_set.structure(), model_set.materials
     config = {"schedule": dataclasses.asdict(schedule), "model set": model_set.name,
               "model set configuration": model_set.configuration}
@@ -84,6 +84,8 @@ def main(args) -> int:
     print(f"lcefem: gridshell sequence ({summary['support']}, thermal model {summary['thermal model']}): "
           f"{summary['outputs']} outputs to t = {schedule.end:g} s; final centre curvature x/y [1/mm]: "
           f"circle {f['circle kappa_x [1/mm]']:.4f}/{f['circle kappa_y [1/mm]']:.4f}, quadratic fit "
-          f"{f['quad kappa_x [1/mm]']:.4f}/{f['quad kappa_y [1/mm]']:.4f}; "
+          f"{f['quad kappa_x [1/mm]']:.4f}/{f['quad kappa_y [1/mm]']:.4f}; deepest strip-ribbon penetration "
+          f"{summary['strip-ribbon penetration [mm]']:.2f} mm"
+          + (" (strips pass through the ribbon)" if summary["strips pass through the ribbon"] else "") + "; "
           f"{summary['wall_time [s]']:.1f} s; results in {args.out}")
     return 0

@@ -243,7 +243,8 @@ class GridshellFE:
             energy = energy - ufl.dot(self.gravity, u) * dx
         self.gravity_on = 0.0  # fraction of the weight applied
 
-        self._X = V.tabulate_dof_coordinates()  # reference node positions [mm]
+        self._X = V.tabulate_dof_coordinates()  # reference node positions [mm] (owned, then ghosts)
+        self._owned_nodes = V.dofmap.index_map.size_local  # nodes (blocks) this rank owns
         self.bcs = self._supports(supports)
         # the FE beam's Newton settings; no divergence test: from u = 0 the first full step may
         # push strips through the ribbon (contact closes only at the next iterate), raising the
@@ -328,7 +329,8 @@ class GridshellFE:
                     held[comp] += list(nodes)
         self.support_nodes = {comp: np.unique(np.asarray(v, dtype=np.int32))
                               for comp, v in held.items()}
-        if self.support_nodes[2].size == 0 and supports.kind != "table":
+        held_z = tm.mesh.comm.allreduce(int(self.support_nodes[2].size), op=MPI.SUM)  # over the ranks
+        if held_z == 0 and supports.kind != "table":
             raise InputError(f"supports.kind = {supports.kind!r}: no support point in the "
                              f"{info['symmetry']} model")
         for comp, nodes in self.support_nodes.items():
@@ -594,8 +596,10 @@ class GridshellFE:
         for x, y in xy:
             fx, fy = cut_x and x < centre - 1e-9, cut_y and y < centre - 1e-9
             p = (2 * centre - x if fx else x, 2 * centre - y if fy else y)
+            # the nodes this rank owns (a ghost is another rank's: counted once over the ranks)
             found = self._nodes_at(p)
-            if found.size == 0:
+            found = found[found < self._owned_nodes]
+            if self.tmesh.mesh.comm.allreduce(int(found.size), op=MPI.SUM) == 0:
                 raise RuntimeError(f"no ribbon node at station {p}")
             nodes.append(found)
             flips.append((fx, fy))
@@ -606,9 +610,12 @@ class GridshellFE:
         images for stations outside a reduced model."""
         s = self._stations
         x = self._X + self.u.x.array.reshape(-1, 3)
+        # sums and counts of the owned nodes of each station, added over the ranks (serial: the mean)
+        sums = np.array([np.append(x[nodes].sum(axis=0), nodes.size) for nodes in s.nodes]).reshape(-1, 4)
+        sums = self.tmesh.mesh.comm.allreduce(sums, op=MPI.SUM)
         out = np.empty((len(s.nodes), 3))
-        for k, (nodes, (fx, fy)) in enumerate(zip(s.nodes, s.flips)):
-            p = x[nodes].mean(axis=0)
+        for k, (fx, fy) in enumerate(s.flips):
+            p = sums[k, :3] / sums[k, 3]
             if fx:
                 p[0] = 2 * s.centre - p[0]
             if fy:

@@ -228,6 +228,43 @@ def shape_summary(structure: BarHingeStructure, x: np.ndarray) -> dict:
     return out
 
 
+#: Strip-ribbon penetration [mm] above which a run says that strips pass through the ribbon: twice
+#: the deepest penalty penetration measured with the contact on (0.18 mm over the eight published
+#: recipes, docs/gridshell_configuration.md); without the contact the published states reach 1-3.6 mm.
+PENETRATION_LIMIT = 0.36
+
+
+def strip_ribbon_penetration(x: np.ndarray, geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+                             layout: GridshellLayout = GridshellLayout(),
+                             mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> float:
+    """Deepest strip-ribbon interpenetration [mm] of node positions x (n, 3) of the gridshell built
+    from (geometry, layout, mesh): the largest g0 - g over the strip-ribbon contact rows
+    (:func:`lcefem.models.bar_hinge.point_plane_gap`, g0 the as-built gap), measured whether or not
+    the run had the contact (0 if every strip point stays on its side of the ribbon)."""
+    return structure_penetration(build_gridshell_bar_hinge(geometry, layout, replace(mesh, contact=True)), x)
+
+
+def structure_penetration(s: BarHingeStructure, x: np.ndarray) -> float:
+    """Deepest strip-ribbon interpenetration [mm] of node positions x (n, 3) over the contact rows
+    of structure ``s`` (:func:`strip_ribbon_penetration`; NaN when ``s`` has none: built without
+    the contact, measure it with :func:`strip_ribbon_penetration`)."""
+    from lcefem.models import bar_hinge as bh
+
+    x = np.asarray(x).reshape(-1, 3)
+    if x.shape[0] != s.num_nodes:
+        raise ValueError(f"strip-ribbon penetration: {x.shape[0]} nodes, the structure has {s.num_nodes}")
+    if not s.contacts:
+        return math.nan
+    worst = 0.0
+    for name, rows in s.contacts.items():
+        gap = bh.point_plane_gap(*(x[rows[:, c]] for c in range(4)), derivatives=0)
+        g0 = s.contact_rest.get(name)
+        if g0 is None:
+            g0 = bh.point_plane_gap(*(s.nodes[rows[:, c]] for c in range(4)), derivatives=0)
+        worst = max(worst, float(np.max(np.asarray(g0) - gap)))
+    return worst
+
+
 def solve_gridshell(setup: GridshellSetup, *, newton_options: NewtonOptions = RAMP_NEWTON,
                     path: PathOptions = GRIDSHELL_PATH,
                     on_step: Callable[[PathState], None] | None = None,

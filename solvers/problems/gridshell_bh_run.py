@@ -33,7 +33,8 @@ from lcefem.solvers.runner import HistoryExport, run_quasi_static
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.problems.gridshell_bh import (GRIDSHELL_PATH, RAMP_NEWTON, SUPPORTS, GridshellBH,
-                                                 GridshellBHConfig, shape_summary, targets_from_lambdas,
+                                                 PENETRATION_LIMIT, GridshellBHConfig, shape_summary,
+                                                 strip_ribbon_penetration, targets_from_lambdas,
                                                  targets_from_recipe)
 
 
@@ -53,11 +54,20 @@ DEPARTURES = {
                   "t_p/2 + h_s/2 = 0.909 mm off the ribbon, and has its own bending stiffness E I "
                   "(published: two-node bars on the ribbon's nodes; docs/gridshell_calibration.md)",
 }
-#: How a run is configured (``run.configuration``): "published" = the published model's supports,
-#: glue squares, bar law and no contact (+ ``run.departures``); "case" = the mesh, lce sections and
-#: support as given (our defaults: contact, contracting squares, volume law). Default: "published"
-#: with --recipe, "case" otherwise.
-CONFIGURATIONS = ("published", "case")
+#: The bar-and-hinge model sets (``run.model_set``, ``--model-set``), each the published
+#: configuration (supports, glue squares) plus the departures it always takes: the ribbon stays
+#: impenetrable in both (issue 46: without the contact the published model's strips pass up to 3.6 mm
+#: through the ribbon and the dustpan lands 11.7 mm RMS from the published code's own run; with it
+#: 0.5 mm). 'fe-calibrated' adds the FE's constant-volume bar law and the strip element; its fitted
+#: materials (hinge and strip E I factors, the plate's torsion) and exchange factor are the
+#: caller's (lcefem.validation.calibrate.model_set).
+MODEL_SET_DEPARTURES = {"published": ("contact",),
+                        "fe-calibrated": ("contact", "volume_law", "strip_beam")}
+#: How a run is configured (``run.configuration``): "model-set" (default) = the model set's
+#: configuration (:data:`MODEL_SET_DEPARTURES`) + ``run.departures``; "published" = the published
+#: script exactly (no strip-ribbon contact: strips may pass through the ribbon) + ``run.departures``,
+#: with the published model set only.
+CONFIGURATIONS = ("model-set", "published")
 
 
 def parse_departures(text, name: str = "run.departures") -> tuple[str, ...]:
@@ -98,12 +108,15 @@ class GridshellRun:
                         "fraction P0 per group, support)")
     support: str = param("", "-", "clamp, rollers, middle_rollers or table (default: the published "
                          "support of the shape/recipe, rollers otherwise)")
-    configuration: str = param("", "-", "'published' (the published model: no strip-ribbon contact, "
-                               "glue squares, bar law A f P(p), its supports; plus run.departures) or "
-                               "'case' (the mesh and lce sections as given); default: published with "
-                               "a recipe, case otherwise")
-    departures: str = param("", "-", "comma-separated departures from the published configuration: "
-                            + ", ".join(DEPARTURES) + " (only with configuration 'published')")
+    model_set: str = param("published", "-", "the bar-and-hinge model set whose configuration the run "
+                           "takes (MODEL_SET_DEPARTURES): 'published' or 'fe-calibrated' (its fitted "
+                           "materials in the kapton and lce sections are the caller's: "
+                           "lcefem.validation.calibrate.model_set; the command's default)")
+    configuration: str = param("model-set", "-", "'model-set' (the model set's configuration, the "
+                               "ribbon impenetrable) or 'published' (the published script exactly: no "
+                               "strip-ribbon contact; published model set only); plus run.departures")
+    departures: str = param("", "-", "comma-separated departures added to the configuration: "
+                            + ", ".join(DEPARTURES))
     route: str = param("lambda", "-", "with a shape: 'lambda' (the Fig. 4 lambdas) or 'current' (the "
                        "currents the paper's rule gives at those lambdas, Eq. 1 inverted through the "
                        "grid strip's coil, models.lumped_heat.shape_currents, through the current route)")
@@ -117,17 +130,23 @@ class GridshellRun:
             raise InputError("run.shape and run.recipe: give one of them")
         if self.support and self.support not in SUPPORTS:
             raise InputError(f"run.support = {self.support!r}: allowed {', '.join(SUPPORTS)}")
-        if self.configuration and self.configuration not in CONFIGURATIONS:
+        if self.model_set not in MODEL_SET_DEPARTURES:
+            raise InputError(f"run.model_set = {self.model_set!r}: allowed {', '.join(MODEL_SET_DEPARTURES)}")
+        if self.configuration not in CONFIGURATIONS:
             raise InputError(f"run.configuration = {self.configuration!r}: allowed "
                              f"{', '.join(CONFIGURATIONS)}")
-        if parse_departures(self.departures) and self.resolved_configuration != "published":
-            raise InputError("run.departures: only with run.configuration = 'published' (the default "
-                             "of --recipe)")
+        if self.configuration == "published" and self.model_set != "published":
+            raise InputError("run.configuration = 'published' (the published script): only with the "
+                             "published model set (--model-set published)")
+        parse_departures(self.departures)
         return self
 
     @property
-    def resolved_configuration(self) -> str:
-        return self.configuration or ("published" if self.recipe else "case")
+    def resolved_departures(self) -> tuple[str, ...]:
+        """The departures from the published script the run takes: the model set's (unless the
+        configuration is the published script), then run.departures."""
+        base = () if self.configuration == "published" else MODEL_SET_DEPARTURES[self.model_set]
+        return tuple(dict.fromkeys((*base, *parse_departures(self.departures))))
 
 
 @dataclass(frozen=True)
@@ -192,14 +211,13 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
 
     @property
     def effective(self) -> tuple[BeamBarHingeMesh, law.LCEStripBars, str]:
-        """(mesh, lce, support) the run uses: the published configuration with the departures, or
-        the sections as given (``run.configuration``)."""
-        if self.run.resolved_configuration == "published":
-            support = self.named_support
-            if not self.run.support and self.run.shape:  # the published support of the shape
-                support = "clamp" if self.shapes[self.run.shape]["support"] == "clamp" else "rollers"
-            return published_configuration(self.mesh, self.lce, support, self.run.departures)
-        return self.mesh, self.lce, self.named_support
+        """(mesh, lce, support) the run uses: the published configuration with the model set's
+        departures and run.departures (``GridshellRun.resolved_departures``) on the mesh and lce
+        sections (their other fields as given; the model set's materials are the caller's)."""
+        support = self.named_support
+        if not self.run.support and self.run.shape:  # the published support of the shape
+            support = "clamp" if self.shapes[self.run.shape]["support"] == "clamp" else "rollers"
+        return published_configuration(self.mesh, self.lce, support, self.run.resolved_departures)
 
     @property
     def support(self) -> str:
@@ -219,10 +237,13 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         mesh, lce, support = self.effective
         out["support (resolved)"] = support
         out["configuration (resolved)"] = {
-            "configuration": self.run.resolved_configuration,
-            "departures": list(parse_departures(self.run.departures)),
+            "model set": self.run.model_set, "configuration": self.run.configuration,
+            "departures": list(self.run.resolved_departures),
             "mesh.contact": mesh.contact, "mesh.top_junction": mesh.top_junction,
-            "lce.force_law": lce.force_law}
+            "mesh.strip_element": mesh.strip_element, "lce.force_law": lce.force_law,
+            "lce.bending_factor": self.lce.bending_factor,
+            "kapton.bending_factor": self.kapton.bending_factor, "kapton.twist": self.kapton.twist,
+            "current_route.exchange_factor": self.current_route.exchange_factor}
         return out
 
 
@@ -309,8 +330,13 @@ def run_gridshell(cfg: GridshellBHRunConfig, out: pathlib.Path, progress: bool =
         for g, ids in structure.info["strip_of_bar"].items():
             for sid, f in zip(ids, targets[g]):
                 per_strip.setdefault(int(sid), []).append(float(f) * lam_n)
+        depth = strip_ribbon_penetration(x, cfg.geometry, cfg.layout, mesh)
         return {
             "model": "bar-hinge gridshell", "drive": drive_info, "support": cfg.support,
+            "model set": cfg.run.model_set,
+            "strip-ribbon penetration [mm]": depth,
+            "strips pass through the ribbon": bool(depth > PENETRATION_LIMIT),
+            "penetration limit [mm]": PENETRATION_LIMIT,
             "strips": [{"id": s.id, "group": s.group, "channel": s.channel, "midpoint [mm]": s.midpoint,
                         "lambda [-]": float(np.mean(per_strip[s.id]))}
                        for s in structure.info["strips"]],

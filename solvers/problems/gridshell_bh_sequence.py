@@ -317,12 +317,16 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
     bar = Progress(float(times[-1]), "sequence", "s", ".0f", progress)
     started = time.perf_counter()
     resolved = config or {"schedule": dataclasses.asdict(schedule)}
+    # [mm] deepest strip-ribbon penetration over the outputs (NaN: a structure without contact rows)
+    depth = 0.0 if structure.contacts else math.nan
     with Run(out, config=resolved, columns=columns_for(schedule), progress=bar) as run:
         vtk = run.output(BarHingeVTK(out, "sequence", structure)) if (frames and out is not None) else None
         for k, t in enumerate(times):
             lam_k = {sel: float(lambdas[sel][k]) for sel in schedule.currents}
             x = surface.advance(rest_fractions(structure, lam_k))
             summ = surface.curvatures()
+            if structure.contacts:
+                depth = max(depth, gs.structure_penetration(structure, x))
             row = {"time [s]": float(t)}
             current = schedule.current_at(t - 1e-12) if t > 0 else schedule.current_at(0.0)
             for sel in schedule.currents:
@@ -348,5 +352,7 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
             "thermal model": schedule.thermal_model, "outputs": len(times),
             "cold restarts": surface.cold_restarts, "wall_time [s]": time.perf_counter() - started,
             "final": {c: float(history[c][-1]) for c in CURVATURE_COLUMNS},
+            "strip-ribbon penetration [mm]": depth,
+            "strips pass through the ribbon": bool(depth > gs.PENETRATION_LIMIT),
             "history": {c: v.tolist() for c, v in history.items()},
         })

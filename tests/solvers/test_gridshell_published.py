@@ -113,13 +113,17 @@ def test_departures_and_configurations():
     with pytest.raises(InputError, match="unknown departure"):
         grun.parse_departures("contakt")
     programs = {"shapes": SHAPE_DRIVES, "recipes": RECIPES}
-    cfg = grun.GridshellBHRunConfig(run=grun.GridshellRun(recipe="cone"), **programs)
-    assert cfg.run.resolved_configuration == "published" and cfg.support == "clamp"
+    # the published script: no contact; the published model set (the default) adds the contact
+    cfg = grun.GridshellBHRunConfig(run=grun.GridshellRun(recipe="cone", configuration="published"), **programs)
+    assert cfg.support == "clamp" and cfg.run.resolved_departures == ()
     assert cfg.effective[0].contact is False and cfg.effective_materials.lce.force_law == "published"
     shape = grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome"), **programs)
-    assert shape.run.resolved_configuration == "case" and shape.effective[0].contact is True
-    with pytest.raises(InputError, match="departures"):
-        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", departures="contact"), **programs).validated()
+    assert shape.effective[0].contact is True and shape.effective[0].top_junction == "glue"
+    fe = grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", model_set="fe-calibrated"), **programs)
+    assert fe.effective[0].strip_element == "beam" and fe.effective[1].force_law == "volume"
+    with pytest.raises(InputError, match="published model set"):
+        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", model_set="fe-calibrated",
+                                                        configuration="published"), **programs).validated()
     with pytest.raises(InputError, match=r"run.shape = 'dome': allowed $"):
         grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome")).validated()  # no programs given
 

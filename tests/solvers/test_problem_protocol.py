@@ -31,6 +31,8 @@ WITHOUT_PROBLEM_OBJECT = {
     "gridshell_bh_sequence": "a schedule driving GridshellBH's path",
     "gridshell_bh_weights": "load paths for GridshellBH",
     "gridshell_bh_run": "one run of lcefem run gridshell (GridshellBHRunConfig, run_gridshell) around GridshellBH",
+    "gridshell_fe_run": "one run of lcefem run gridshell --model fe (GridshellFERunConfig, run_gridshell_fe) "
+                        "around GridshellFE / HeatedGridshellFE",
 }
 
 

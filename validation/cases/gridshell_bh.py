@@ -103,7 +103,10 @@ def gridshell_shapes_bh(ctx: CaseContext) -> list[Metric]:
                 lambdas = lumped_heat.lambda_assignments_from_currents(shape_currents(spec["lambdas"]), current)
             else:
                 lambdas = lumped_heat.lambda_assignments_from_currents(spec["currents"], current)
-            if route.endswith("FE-calibrated)"):
+            # the lambda route is what `lcefem run gridshell --shape NAME` runs by default: the
+            # FE-calibrated model set (issue 46; before it, contracting squares and the published
+            # elements, the configuration the other current routes here still use)
+            if route == "lambda" or route.endswith("FE-calibrated)"):
                 sol, secs, why = _solve_setup(bh_routes.bh_setup(shape, lambdas, "fe-calibrated"))
                 s = sol.setup.structure if sol is not None else s
             else:

@@ -32,7 +32,6 @@ from __future__ import annotations
 import functools
 import json
 import math
-import resource
 import time
 
 import numpy as np
@@ -86,14 +85,13 @@ def fe_model(shape: str, *, kapton_modulus: float = KAPTON_DATASHEET_MODULUS, qu
 
 
 def _observed(model, seconds: float, cpu: float) -> dict:
-    """Observables without the junction coordinates, plus the cost of the solve: wall and CPU
-    time [s] and the process's peak resident memory so far [MiB] (getrusage)."""
+    """Observables without the junction coordinates, plus the cost of the solve
+    (lcefem.solvers.problems.gridshell_fe_run.ramp_cost, as ``lcefem run gridshell --model fe``) and
+    the Kapton modulus."""
+    from lcefem.solvers.problems.gridshell_fe_run import ramp_cost
+
     obs = {k: float(v) for k, v in model.observables().items() if not k.startswith("junction_")}
-    f = model.last_follower
-    obs.update({"dofs [-]": model.ndofs, "newton iterations [-]": f.iterations,
-                "path steps [-]": f.substeps, "step cuts [-]": f.cuts,
-                "wall time [s]": seconds, "cpu time [s]": cpu,
-                "process peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+    obs.update({**ramp_cost(model, seconds, cpu),
                 "kapton youngs_modulus [MPa]": model.config.materials.kapton.youngs_modulus})
     return obs
 
