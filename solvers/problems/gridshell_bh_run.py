@@ -182,6 +182,8 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     def named_support(self) -> str:
         if self.run.support:
             return self.run.support
+        if self.layout.support:  # the layout's own support (lcefem.meshes.gridshell_layout)
+            return self.layout.support
         if self.run.shape:
             return self.shapes[self.run.shape]["support"]
         if self.run.recipe:
@@ -194,7 +196,7 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
         the sections as given (``run.configuration``)."""
         if self.run.resolved_configuration == "published":
             support = self.named_support
-            if not self.run.support and self.run.shape:  # the published support of the shape
+            if not self.run.support and not self.layout.support and self.run.shape:  # the shape's published one
                 support = "clamp" if self.shapes[self.run.shape]["support"] == "clamp" else "rollers"
             return published_configuration(self.mesh, self.lce, support, self.run.departures)
         return self.mesh, self.lce, self.named_support

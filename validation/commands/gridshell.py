@@ -4,7 +4,7 @@ by strip lambdas, a published recipe or coil currents.
 ``lcefem run gridshell [--shape dome|saddle|cylinder|table [--route lambda|current] | --recipe NAME
 | --lambda Tx=1.33,... | --current Tx=0.04,...] [--support clamp|rollers|middle_rollers|table]
 [--configuration published|case] [--departure NAME] [--thermal-model strip|segment|eq1]
-[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
+[--ribbons N | --layout NAME|FILE] [--config FILE.toml] [--out DIR] [--quiet]``; a programmed sequence of currents:
 ``lcefem run gridshell --schedule FILE.toml`` (lcefem.validation.gridshell_sequence).
 
 Selections (``--lambda``/``--current`` keys, applied in order): channels Tx, Ty, Bx, By (seed 001,
@@ -37,6 +37,7 @@ import argparse
 import dataclasses
 import pathlib
 
+from lcefem.meshes.gridshell_layout import layout_from_table
 from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
@@ -55,7 +56,9 @@ def config_from_toml(path, base: GridshellBHRunConfig | None = None) -> Gridshel
     base = base or GridshellBHRunConfig(shapes=SHAPE_DRIVES, recipes=RECIPES)
     data = load_toml(path, {*GridshellBHRunConfig.PARAM_SECTIONS, "lambda", "current"})
     kw = {name: with_overrides(getattr(base, name), table, name) for name, table in data.items()
-          if name in GridshellBHRunConfig.PARAM_SECTIONS}
+          if name in GridshellBHRunConfig.PARAM_SECTIONS and name != "layout"}
+    if "layout" in data:  # lists and tables (glued, wiring): the layout's own loader
+        kw["layout"] = layout_from_table(data["layout"], base.layout)
     # TOML keys are strings: strip ids ("3") become integers as on the command line (parse_assignments)
     if "lambda" in data:
         kw["lambdas"] = {int(k) if k.isdigit() else k: v for k, v in data["lambda"].items()}
@@ -114,6 +117,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="a departure from the published configuration (repeatable or comma-separated): "
                    + "; ".join(f"{k}: {v}" for k, v in DEPARTURES.items()))
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
+    p.add_argument("--layout", help="the gridshell's layout: a name (published, 5x5, 7x7, rhombic60, "
+                   "rhombic60_5x5) or a TOML file with a [layout] section (docs/layouts.md)")
     p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
                    "sequence (lcefem.solvers.problems.gridshell_bh_sequence; e.g. validation/data/"
                    "gridshell_fig5a_schedule.toml)")
@@ -142,6 +147,12 @@ def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
         kw["currents"] = parse_assignments(args.currents, "current")
     if args.thermal_model is not None:
         kw["current_route"] = dataclasses.replace(cfg.current_route, thermal_model=args.thermal_model)
+    if getattr(args, "layout", None):
+        from lcefem.validation.layouts import load_layout
+
+        if args.ribbons is not None:
+            raise InputError("--ribbons: not with --layout (set ribbons in the layout)")
+        kw["layout"] = load_layout(args.layout)
     if args.ribbons is not None:
         kw["layout"] = with_overrides(cfg.layout, {"ribbons": args.ribbons}, "layout")
     return dataclasses.replace(cfg, **kw)
@@ -165,7 +176,7 @@ def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
 def prepare_fe(args: argparse.Namespace) -> dict:
     """--model fe: the heated FE gridshell held at a Fig. 4 shape's currents (the paper's rule)."""
     flags = {"recipe": "--recipe", "lambdas": "--lambda", "currents": "--current", "schedule": "--schedule",
-             "config": "--config", "thermal_model": "--thermal-model", "ribbons": "--ribbons",
+             "config": "--config", "thermal_model": "--thermal-model", "ribbons": "--ribbons", "layout": "--layout",
              "support": "--support"}
     for name, flag in flags.items():
         if getattr(args, name, None):
