@@ -1,6 +1,9 @@
 """The robotic surface of seed 001 (Fig. 4, 5): an n x n gridshell of Kapton ribbons with bottom and
 top LCE strips, in the bar-and-hinge model, with the layout and connectivity of the published
-reduced-order model (shared/reference/gridshell_recipes.md).
+reduced-order model (shared/reference/gridshell_recipes.md). The layout (grid kind: orthogonal or
+rhombic; ribbon count, lengths, bonded junctions, wiring) is one
+:class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
+a rhombic one is the affine image (docs/layouts.md).
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid. n ribbons run along x and
 n along y; each is n + 1 segments of length L joined by n junction squares of d x d (d = the ribbon
