@@ -1,6 +1,9 @@
 """The robotic surface of seed 001 (Fig. 4, 5): an n x n gridshell of Kapton ribbons with bottom and
 top LCE strips, in the bar-and-hinge model, with the layout and connectivity of the published
-reduced-order model (shared/reference/gridshell_recipes.md).
+reduced-order model (shared/reference/gridshell_recipes.md). The layout (grid kind: orthogonal or
+rhombic; ribbon count, lengths, bonded junctions, wiring) is one
+:class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
+a rhombic one is the affine image (docs/layouts.md).
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid. n ribbons run along x and
 n along y; each is n + 1 segments of length L joined by n junction squares of d x d (d = the ribbon
@@ -51,27 +54,19 @@ from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
 from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry, StripPiece,
                                           apply_strip_element, strip_contact_rows, strip_sections)
 from lcefem.meshes.gridshell_fe import junction_centres
+from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS, Layout
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
-from lcefem.models.parameters import check, param
+from lcefem.models.parameters import check
 
 DIRECTIONS = ("x", "y")
 #: The paper's four control channels (seed 001, Fig. 4A): (layer, direction).
 CHANNELS = {"Tx": ("top", "x"), "Ty": ("top", "y"), "Bx": ("bottom", "x"), "By": ("bottom", "y")}
 
 
-@dataclass(frozen=True)
-class GridshellLayout:
-    """How many ribbons (the rest of the geometry is :class:`CompositeBeamGeometry`'s)."""
-
-    ribbons: int = param(3, "-", "seed 001 Fig. 4: the 3 x 3 grid (3 ribbons along x, 3 along y, 9 "
-                         "junctions); fig. S7 refines it", minimum=1, maximum=15)
-
-    def checked(self) -> "GridshellLayout":
-        check(self, "layout")
-        if not isinstance(self.ribbons, int):
-            raise InputError(f"layout.ribbons = {self.ribbons!r}: must be an integer >= 1")
-        return self
+#: The layout (the published 3 x 3 by default): :class:`lcefem.meshes.gridshell_layout.Layout`; the
+#: former name of the ribbon count's section, kept for its callers.
+GridshellLayout = Layout
 
 
 @dataclass(frozen=True)
@@ -97,9 +92,18 @@ class Strip:
 
 
 def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                              layout: GridshellLayout = GridshellLayout(),
+                              layout: Layout = Layout(),
                               mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> BarHingeStructure:
-    """Bar-and-hinge structure of the gridshell (see the module docstring).
+    """Bar-and-hinge structure of the gridshell (see the module docstring) from its layout
+    (:class:`~lcefem.meshes.gridshell_layout.Layout`: orthogonal or rhombic, ribbon count, lengths,
+    bonded junctions, wiring; the published 3 x 3 by default).
+
+    A rhombic layout is built in the oblique coordinates of its two families and mapped to the plane
+    (x, y) -> x e1 + y e2 as the nodes are placed (``layout.to_plane``), so that every length the
+    builder derives (panels, strips, squares) is the plane's; at 90 deg the map is the identity and the
+    published structure is unchanged. An unbonded junction (``layout.glued``) keeps a Kapton square per
+    ribbon (two coincident, unconnected squares; the raised top square is shared as before).
+    Wiring tags (``layout.wiring``) are added to ``info["groups"]`` and listed in ``info["wiring"]``.
 
     ``geometry.segments`` is ignored (a ribbon has ``layout.ribbons + 1`` segments); the junction
     squares are ribbon_width x ribbon_width, so ``geometry.junction_length`` must equal
@@ -107,13 +111,20 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     :func:`~lcefem.meshes.composite_beam.build_beam_bar_hinge`; ``info["strip_of_bar"]`` gives, per
     group ("bottom_strips", "top_strips"), the strip id of every bar.
     """
-    g = geometry
+    layout = layout.checked()
+    if layout.kind not in BAR_HINGE_KINDS:
+        raise InputError(f"layout.kind = {layout.kind!r}: the bar-and-hinge builder builds "
+                         f"{', '.join(BAR_HINGE_KINDS)} (two ribbons per junction); three ribbons per "
+                         "junction are not built yet")
+    g = layout.geometry(geometry)
     if g.crown_bond_length >= g.segment_length:
         raise InputError(f"geometry.crown_bond_length = {g.crown_bond_length}: must be < "
                          f"segment_length = {g.segment_length} mm")
     check(g, "geometry")
-    n = layout.checked().ribbons
+    n = layout.ribbons
     m = mesh.checked()
+    bonded = layout.glued_junctions()  # None: all
+    plane = layout.to_plane if layout.oblique else None
     if abs(g.junction_length - g.ribbon_width) > 1e-12:
         raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
                          f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
@@ -131,13 +142,26 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     coords: list[tuple[float, float, float]] = []
     index: dict[tuple[int, int], int] = {}
 
-    def add(x: float, y: float, z: float) -> int:
-        key = (round(x * 1e6), round(y * 1e6))
+    def add(x: float, y: float, z: float, own: str | None = None) -> int:
+        # ``own``: the ribbon direction at an unbonded junction's corner (not shared across ribbons)
+        key = (round(x * 1e6), round(y * 1e6), own)
         if key in index:
             return index[key]
         index[key] = len(coords)
+        if plane is not None:
+            x, y = (float(v) for v in plane(np.array([x, y])))
         coords.append((x, y, z))
         return index[key]
+
+    def unbonded(direction: str, r: int, s: int, a: int) -> str | None:
+        """The direction when station a of segment s of ribbon r is a corner of an unbonded junction."""
+        if bonded is None:
+            return None
+        j = s if (a == last and s < n) else s - 1 if (a == 0 and s > 0) else None
+        if j is None:
+            return None
+        junction = (j, r) if direction == "x" else (r, j)
+        return None if junction in bonded else direction
 
     # ribbon frame: x ribbons along +x, side 0 at the lower y; y ribbons along +y, side 0 at the
     # higher x, so that along x across = +z for both (the beam builder's orientation).
@@ -148,11 +172,12 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                 for a, sa in enumerate(local):
                     along = g.segment_start(s) + sa
                     z = float(g.arch_height(sa))
+                    own = unbonded(direction, r, s, a)
                     for side in (0, 1):
                         if direction == "x":
-                            nid = add(along, centres[r] - 0.5 * d + side * d, z)
+                            nid = add(along, centres[r] - 0.5 * d + side * d, z, own)
                         else:
-                            nid = add(centres[r] + 0.5 * d - side * d, along, z)
+                            nid = add(centres[r] + 0.5 * d - side * d, along, z, own)
                         node_of[(direction, r, s, a, side)] = nid
 
     def node(direction: str, r: int, s: int, a: int, side: int) -> int:
@@ -168,10 +193,13 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                     panels.append((node(direction, r, s, a, 0), node(direction, r, s, a + 1, 0),
                                    node(direction, r, s, a + 1, 1), node(direction, r, s, a, 1)))
                     kinds.append("crown" if a == nf else "flank")
-                if direction == "x" and s + 1 < nseg:  # each junction square once
-                    junction_panel[(s, r)] = len(panels)
-                    panels.append((node("x", r, s, last, 0), node("x", r, s + 1, 0, 0),
-                                   node("x", r, s + 1, 0, 1), node("x", r, s, last, 1)))
+                if s + 1 < nseg and (direction == "x" or (bonded is not None
+                                                          and (r, s) not in bonded)):
+                    # each bonded junction square once (with the x ribbon); an unbonded one per ribbon
+                    if direction == "x":
+                        junction_panel[(s, r)] = len(panels)
+                    panels.append((node(direction, r, s, last, 0), node(direction, r, s + 1, 0, 0),
+                                   node(direction, r, s + 1, 0, 1), node(direction, r, s, last, 1)))
                     kinds.append("junction")
     structure = n5b8_structure(np.asarray(coords), np.asarray(panels), g.ribbon_thickness)
     pc = structure.panel_centres
@@ -186,6 +214,8 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
 
     def new_strip(layer, direction, r, k, mid_along) -> int:
         mid = (mid_along, centres[r]) if direction == "x" else (centres[r], mid_along)
+        if plane is not None:
+            mid = plane(np.asarray(mid))
         strips.append(Strip(len(strips), layer, direction, r, k, (float(mid[0]), float(mid[1]))))
         return strips[-1].id
 
@@ -224,8 +254,10 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     for ix in range(n):
         for iy in range(n):
             x0, y0 = centres[ix] - 0.5 * d, centres[iy] - 0.5 * d
-            squares[ix, iy] = structure.add_nodes([(x0, y0, zc), (x0 + d, y0, zc),
-                                                   (x0 + d, y0 + d, zc), (x0, y0 + d, zc)])
+            corners = [(x0, y0), (x0 + d, y0), (x0 + d, y0 + d), (x0, y0 + d)]
+            if plane is not None:
+                corners = [tuple(float(v) for v in plane(np.asarray(c))) for c in corners]
+            squares[ix, iy] = structure.add_nodes([(cx, cy, zc) for cx, cy in corners])
             q = squares[ix, iy]
             if m.top_junction == "glue":
                 structure.add_bars("glue", [(q[0], q[1]), (q[1], q[2]), (q[2], q[3]), (q[3], q[0]),
@@ -308,8 +340,10 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
         groups.setdefault(st.group, []).append(st.id)
     for name, (layer, direction) in CHANNELS.items():
         groups[name] = [st.id for st in strips if st.layer == layer and st.direction == direction]
+    wiring = add_wiring(layout, strips, groups)
     paper_segments = {st.id: (st.index, st.index + 1) for st in strips if st.layer == "top"}
     structure.info.update(
+        kind=layout.kind, angle=layout.angle, wiring=wiring, layout=layout,
         ribbons=n, segments_per_ribbon=nseg, flank_panels=nf, top_junction=m.top_junction,
         ribbon_length=length, junction_centres_1d=centres, panel_kind=np.asarray(kinds),
         strips=strips, groups={k: np.asarray(v, dtype=np.int64) for k, v in groups.items()},
@@ -318,6 +352,41 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
         source=PUBLISHED)
     structure.validate()
     return structure
+
+
+def add_wiring(layout: Layout, strips: list[Strip], groups: dict[str, list[int]]) -> tuple:
+    """Add the layout's wiring tags to ``groups`` (strip ids by tag); return the tags in order (a
+    named wiring: the channels Tx, Ty, Bx, By; the groups XD1..YUn; or the strip ids)."""
+    table = layout.wiring_table()
+    if table == "channels":
+        return tuple(CHANNELS)
+    if table == "ribbons":
+        return tuple(sorted(k for k in groups if k not in CHANNELS))
+    if table == "strips":
+        return tuple(st.id for st in strips)
+    tags = []
+    for tag, selections in table:
+        ids: list[int] = []
+        for key in selections:
+            key = FAMILIES.get(key, key)
+            if isinstance(key, int):
+                if not 0 <= key < len(strips):
+                    raise InputError(f"layout.wiring.{tag}: strip id {key} out of range 0..{len(strips) - 1}")
+                ids.append(key)
+            elif key in ("T", "B"):
+                ids += [st.id for st in strips if st.layer == ("top" if key == "T" else "bottom")]
+            elif key in groups:
+                ids += list(groups[key])
+            else:
+                raise InputError(f"layout.wiring.{tag}: unknown selection {key!r} (allowed: T, B, "
+                                 f"{', '.join(sorted(groups))}, a strip id)")
+        ids = sorted(set(ids))
+        if tag in groups and sorted(groups[tag]) != ids:
+            raise InputError(f"layout.wiring: tag {tag!r} is a built-in group with other strips; "
+                             "choose another name")
+        groups[tag] = ids
+        tags.append(tag)
+    return tuple(tags)
 
 
 def bar_midpoints(structure: BarHingeStructure, group: str) -> np.ndarray:

@@ -324,6 +324,15 @@ class ModelSet:
 
         return build_gridshell_bar_hinge(layout=layout or GridshellLayout(), mesh=self.mesh)
 
+    def materials_for(self, layout=None) -> law.BarHingeMaterials:
+        """This set's materials on ``layout``: where its elements apply. The plate's torsion
+        (kapton.twist = 'plate') is a rectangle's, so a layout with parallelogram panels (rhombic)
+        runs with the N5B8 spokes' torsion; everything else is the set's."""
+        if layout is not None and layout.oblique and self.materials.kapton.twist == "plate":
+            return dataclasses.replace(self.materials,
+                                       kapton=dataclasses.replace(self.materials.kapton, twist="n5b8"))
+        return self.materials
+
     @property
     def configuration(self) -> dict:
         """The fields that set the model set's configuration (saved with results)."""

@@ -1,7 +1,9 @@
 """Inverse design of the robotic surface: target centre curvatures -> strip lambdas -> currents.
 
 ``lcefem design --target-kx -0.016 --target-ky -0.016 [--target-height H] [--channels 4|all]
-[--support clamp|rollers|table] [--ribbons N] [--no-check] --out DIR [--overwrite] [--quiet]``
+[--support clamp|rollers|table] [--ribbons N | --layout NAME|FILE] [--no-check] --out DIR [--overwrite]
+[--quiet]``; with ``--layout`` (docs/layouts.md) the design variables default to the layout's wiring
+(``--channels wiring``: one lambda per drive tag of ``layout.wiring``).
 
 Finds lambdas in [1.05, lambda_N] (one per channel Tx, Ty, Bx, By, or one per strip) whose stable
 equilibrium has the target centre curvatures (the paper's circle measure, dome negative) by least
@@ -25,6 +27,8 @@ import time
 from dataclasses import dataclass
 
 from lcefem.meshes.gridshell import GridshellLayout
+from lcefem.meshes.gridshell_layout import Layout
+from lcefem.models.parameters import describe
 from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.solvers.runtime.run import Progress, Run
@@ -46,6 +50,11 @@ class DesignRequest:
     check: bool
     ribbons: int = 3
     model_set: str = calibrate.DEFAULT_MODEL_SET
+    layout: Layout | None = None  # --layout (default: the published grid with ``ribbons``)
+
+    @property
+    def grid(self) -> Layout:
+        return self.layout or GridshellLayout(ribbons=self.ribbons)
 
     def validated(self) -> "DesignRequest":
         for name, v in (("target-kx", self.kx), ("target-ky", self.ky)):
@@ -59,8 +68,8 @@ class DesignRequest:
                              "(the surface's side length)")
         if self.channels not in gd.CHANNEL_MODES:
             raise InputError(f"--channels = {self.channels!r}: allowed {', '.join(gd.CHANNEL_MODES)}")
-        if self.ribbons < 1 or self.ribbons % 2 == 0:
-            raise InputError(f"--ribbons = {self.ribbons}: an odd number >= 1 (the centre junction)")
+        if self.grid.ribbons < 1 or self.grid.ribbons % 2 == 0:
+            raise InputError(f"--ribbons = {self.grid.ribbons}: an odd number >= 1 (the centre junction)")
         if self.support not in problem_bh.SUPPORTS:
             raise InputError(f"--support = {self.support!r}: allowed {', '.join(problem_bh.SUPPORTS)}")
         if self.model_set not in calibrate.MODEL_SETS:
@@ -74,10 +83,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--target-ky", type=float, required=True, help="target centre curvature along y [1/mm]")
     p.add_argument("--target-height", type=float, default=None,
                    help="also match the centre junction's height [mm]")
-    p.add_argument("--channels", default="4", help="design variables: 4 (channels Tx, Ty, Bx, By) or "
-                   "all (every strip)")
+    p.add_argument("--channels", default=None, help="design variables: 4 (channels Tx, Ty, Bx, By; the "
+                   "default), all (every strip) or wiring (the drive tags of --layout's wiring; the default "
+                   "with --layout)")
     p.add_argument("--support", default="rollers", help="clamp, rollers or table (default rollers)")
-    p.add_argument("--ribbons", type=int, default=3, help="ribbons per direction (default 3)")
+    p.add_argument("--ribbons", type=int, default=None, help="ribbons per direction (default 3)")
+    p.add_argument("--layout", help="a gridshell layout: a name (published, 5x5, rhombic60, ...) or a TOML "
+                   "file with a [layout] section (docs/layouts.md)")
     p.add_argument("--no-check", action="store_true", help="skip the forward run from the as-built state")
     p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET,
                    help="bar-and-hinge model set with its configuration: fe-calibrated (default: the strip "
@@ -88,17 +100,27 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def prepare(args: argparse.Namespace) -> DesignRequest:
-    return DesignRequest(args.target_kx, args.target_ky, args.target_height, str(args.channels),
-                         args.support, not args.no_check, args.ribbons, args.model_set).validated()
+    layout = None
+    if getattr(args, "layout", None):
+        from lcefem.validation.layouts import load_layout
+
+        if args.ribbons is not None:
+            raise InputError("--ribbons: not with --layout (set layout.ribbons in the layout)")
+        layout = load_layout(args.layout)
+    channels = args.channels if args.channels is not None else ("wiring" if layout else "4")
+    ribbons = 3 if args.ribbons is None else args.ribbons
+    return DesignRequest(args.target_kx, args.target_ky, args.target_height, str(channels),
+                         args.support, not args.no_check, ribbons, args.model_set, layout).validated()
 
 
 def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = True) -> dict:
     started = time.perf_counter()
     design = gd.setup_design(req.channels, req.support, height=req.height is not None,
-                             layout=GridshellLayout(ribbons=req.ribbons), model_set=req.model_set)
+                             layout=req.grid, model_set=req.model_set)
     config = {"target": {"kappa_x [1/mm]": req.kx, "kappa_y [1/mm]": req.ky,
                          "centre height [mm]": req.height},
-              "channels": req.channels, "support": req.support, "ribbons": req.ribbons,
+              "channels": req.channels, "support": req.support, "ribbons": req.grid.ribbons,
+              "layout": describe(req.grid),
               "model set": req.model_set,
               "model set configuration": calibrate.model_set(req.model_set).configuration,
               "bounds [-]": [gd.LAMBDA_MIN, design.lambda_N],

@@ -53,7 +53,7 @@ HEIGHT_SCALE = 0.1
 #: Forward solves inside the design loop converge to |g| <= 1e-8 N (the sensitivities are exact
 #: only at an equilibrium; 1e-6 N leaves ~1e-7 1/mm of noise in the curvatures).
 DESIGN_NEWTON = NewtonOptions(force_tolerance=1.0e-8)
-CHANNEL_MODES = ("4", "all")
+CHANNEL_MODES = ("4", "all", "wiring")
 #: A target counts as reached within this [1/mm] (a tenth of the round-trip tolerance): closer is
 #: below what the equilibria resolve (contacts at their kinks leave nearby equilibria ~5e-6 1/mm
 #: apart on the cylinder: the warm-started loop and the ramp from as built may end on either).
@@ -61,7 +61,10 @@ REACHED = 1.0e-5
 
 
 def channel_selections(structure: BarHingeStructure, mode: str) -> list:
-    """Design variables: the four channels ("4") or every strip id ("all")."""
+    """Design variables: the four channels ("4"), every strip id ("all") or the layout's wiring tags
+    ("wiring": ``layout.wiring``, lcefem.meshes.gridshell_layout)."""
+    if mode == "wiring":
+        return list(structure.info["wiring"])
     if mode == "4":
         return list(CHANNELS)
     if mode == "all":
@@ -122,7 +125,7 @@ def setup_design(mode: str = "4", support: str = "rollers", height: bool = False
     """The design problem on a fresh surface (``layout``: ribbons per direction; ``model_set``: the
     bar-and-hinge elements and factors, :data:`lcefem.validation.calibrate.MODEL_SETS`)."""
     ms = calibrate.model_set(model_set)  # its mesh fields (strip element, squares, contact) and materials
-    structure, materials = ms.structure(layout), ms.materials
+    structure, materials = ms.structure(layout), ms.materials_for(layout)
     setup = problem_bh.setup_gridshell(None, support, structure=structure, materials=materials)
     params = strip_parameters(structure, channel_selections(structure, mode), lambda_N)
     eq = EquilibriumMap(setup.model, setup.held, params, curvature_observable(structure, height),

@@ -121,3 +121,34 @@ def reachable_set_figure(path: pathlib.Path, kappa: np.ndarray, points: dict[str
     plt.close(fig)
     tmp.replace(path)
     return path
+
+
+def layout_plan_figure(path: pathlib.Path, plan: dict, title: str) -> pathlib.Path:
+    """Plan view of a gridshell layout (:meth:`lcefem.meshes.gridshell_layout.Layout.plan`): each
+    ribbon centre line drawn as a band of the ribbon's width [mm] (to scale), junction centres as
+    black dots; axes in mm."""
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Polygon
+
+    from lcefem.validation.plots import save_figure
+
+    fig = Figure(figsize=(5.5, 5.0), layout="constrained")
+    ax = fig.subplots()
+    half = 0.5 * float(plan["width"])
+    for a, b in np.asarray(plan["lines"], dtype=float):
+        t = (b - a) / np.linalg.norm(b - a)
+        n = np.array([-t[1], t[0]]) * half
+        ax.add_patch(Polygon([a + n, b + n, b - n, a - n], closed=True, facecolor="goldenrod",
+                             edgecolor="saddlebrown", lw=0.5, alpha=0.6))
+    j = np.asarray(plan["junctions"], dtype=float)
+    ax.plot(j[:, 0], j[:, 1], "k.", ms=4, label="junction centres")
+    pts = np.asarray(plan["lines"], dtype=float).reshape(-1, 2)
+    pad = 2 * half + 5.0
+    ax.set_xlim(pts[:, 0].min() - pad, pts[:, 0].max() + pad)
+    ax.set_ylim(pts[:, 1].min() - pad, pts[:, 1].max() + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+    return save_figure(fig, pathlib.Path(path), 120)

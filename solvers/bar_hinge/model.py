@@ -214,6 +214,15 @@ class BarHingeModel:
         rest = law.dihedral_angle(*(x0[flat[:, c]] for c in range(4)), derivatives=0).reshape(p, 4)
         lengths = np.linalg.norm(x0[rows[:, :, 1]] - x0[rows[:, :, 0]], axis=2)
         width, height = panel_dimensions(s)
+        # The plate's torsion is GJ = G w t^3/3 of a rectangle w x h: on a parallelogram (a rhombic
+        # gridshell's panels) it breaks the grid's mirror symmetry (measured: 0.25 mm of 3.8 mm z range
+        # on the rhombic60 layout at lambda_B = 1.395, clamp; 2e-7 mm with the N5B8 spokes).
+        c = x0[s.panels]
+        d1 = np.linalg.norm(c[:, 2] - c[:, 0], axis=1)
+        d2 = np.linalg.norm(c[:, 3] - c[:, 1], axis=1)
+        if np.any(np.abs(d1 - d2) > 1e-6 * np.maximum(d1, d2)):
+            raise InputError("kapton.twist = 'plate': needs rectangular panels (a rhombic layout's are "
+                             "parallelograms); use kapton.twist = 'n5b8'")
         beta = law.panel_twist_fraction(self.kapton, s.thickness, width, height)
         return {"nodes": nodes, "lengths": lengths, "rest": rest, "beta": beta,
                 "stiffness": (1.0 - beta) * k_ribbon}

@@ -203,6 +203,8 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     def named_support(self) -> str:
         if self.run.support:
             return self.run.support
+        if self.layout.support:  # the layout's own support (lcefem.meshes.gridshell_layout)
+            return self.layout.support
         if self.run.shape:
             return self.shapes[self.run.shape]["support"]
         if self.run.recipe:
@@ -213,9 +215,10 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
     def effective(self) -> tuple[BeamBarHingeMesh, law.LCEStripBars, str]:
         """(mesh, lce, support) the run uses: the published configuration with the model set's
         departures and run.departures (``GridshellRun.resolved_departures``) on the mesh and lce
-        sections (their other fields as given; the model set's materials are the caller's)."""
+        sections (their other fields as given; the model set's materials are the caller's); a
+        layout's own support wins over the shape's published one."""
         support = self.named_support
-        if not self.run.support and self.run.shape:  # the published support of the shape
+        if not self.run.support and not self.layout.support and self.run.shape:  # the shape's published one
             support = "clamp" if self.shapes[self.run.shape]["support"] == "clamp" else "rollers"
         return published_configuration(self.mesh, self.lce, support, self.run.resolved_departures)
 

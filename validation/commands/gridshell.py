@@ -5,7 +5,7 @@
 | --lambda Tx=1.33,... | --current Tx=0.04,... | --schedule FILE.toml]
 [--support clamp|rollers|middle_rollers|table] [--model-set fe-calibrated|published]
 [--configuration model-set|published] [--departure NAME] [--thermal-model strip|segment|eq1]
-[--ribbons N] [--config FILE.toml] [--out DIR] [--quiet]``; the 3D FE: ``--model fe`` with the same
+[--ribbons N | --layout NAME|FILE] [--config FILE.toml] [--out DIR] [--quiet]``; the 3D FE: ``--model fe`` with the same
 drives, ``--support``, ``--config`` and ``--mesh-level 0..3`` (lcefem.solvers.problems.gridshell_fe_run;
 docs/fe_bodies.md).
 
@@ -42,6 +42,7 @@ import argparse
 import dataclasses
 import pathlib
 
+from lcefem.meshes.gridshell_layout import layout_from_table
 from lcefem.models.errors import InputError
 from lcefem.models.lumped_heat import THERMAL_MODELS
 from lcefem.models.parameters import with_overrides
@@ -92,7 +93,9 @@ def config_from_toml(path, base: GridshellBHRunConfig | None = None,
         name = model_set or run.get("model_set") or default_model_set(run.get("recipe"))
         base = model_set_config(str(name))
     kw = {name: with_overrides(getattr(base, name), table, name) for name, table in data.items()
-          if name in GridshellBHRunConfig.PARAM_SECTIONS}
+          if name in GridshellBHRunConfig.PARAM_SECTIONS and name != "layout"}
+    if "layout" in data:  # lists and tables (glued, wiring): the layout's own loader
+        kw["layout"] = layout_from_table(data["layout"], base.layout)
     # TOML keys are strings: strip ids ("3") become integers as on the command line (parse_assignments)
     if "lambda" in data:
         kw["lambdas"] = {int(k) if k.isdigit() else k: v for k, v in data["lambda"].items()}
@@ -157,6 +160,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="a departure added to the configuration (repeatable or comma-separated): "
                    + "; ".join(f"{k}: {v}" for k, v in DEPARTURES.items()))
     p.add_argument("--ribbons", type=int, help="ribbons per direction (default 3)")
+    p.add_argument("--layout", help="the gridshell's layout: a name (published, 5x5, 7x7, rhombic60, "
+                   "rhombic60_5x5) or a TOML file with a [layout] section (docs/layouts.md)")
     p.add_argument("--schedule", help="TOML schedule of channel currents over time: a programmed shape "
                    "sequence (lcefem.solvers.problems.gridshell_bh_sequence; e.g. validation/data/"
                    "gridshell_fig5a_schedule.toml)")
@@ -189,6 +194,12 @@ def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
         kw["currents"] = parse_assignments(args.currents, "current")
     if args.thermal_model is not None:
         kw["current_route"] = dataclasses.replace(cfg.current_route, thermal_model=args.thermal_model)
+    if getattr(args, "layout", None):
+        from lcefem.validation.layouts import load_layout
+
+        if args.ribbons is not None:
+            raise InputError("--ribbons: not with --layout (set ribbons in the layout)")
+        kw["layout"] = load_layout(args.layout)
     if args.ribbons is not None:
         kw["layout"] = with_overrides(cfg.layout, {"ribbons": args.ribbons}, "layout")
     return dataclasses.replace(cfg, **kw)
@@ -243,7 +254,8 @@ def prepare_fe(args: argparse.Namespace):
                                "FE solves the heat equation"),
              "ribbons": ("--ribbons", "the 3D FE runs the 3 x 3 surface"),
              "task": ("--task", "a Fig. 5 task of the bar-and-hinge surface"),
-             "scales": ("--scales", "the cover scales of the bar-and-hinge surface")}
+             "scales": ("--scales", "the cover scales of the bar-and-hinge surface"),
+             "layout": ("--layout", "the 3D FE runs the published 3 x 3 layout; a layout's FE mesh is not built yet")}
     for name, (flag, why) in flags.items():
         if getattr(args, name, None):
             raise InputError(f"{flag}: not with --model fe ({why})")
