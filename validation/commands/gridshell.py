@@ -202,7 +202,19 @@ def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
         kw["layout"] = load_layout(args.layout)
     if args.ribbons is not None:
         kw["layout"] = with_overrides(cfg.layout, {"ribbons": args.ribbons}, "layout")
-    return dataclasses.replace(cfg, **kw)
+    return on_layout(dataclasses.replace(cfg, **kw))
+
+
+def on_layout(cfg: GridshellBHRunConfig) -> GridshellBHRunConfig:
+    """``cfg`` with its model set's materials where they apply on its layout
+    (:meth:`lcefem.validation.calibrate.ModelSet.materials_for`: the plate's torsion is a rectangle's,
+    so parallelogram panels take the N5B8 spokes'); a Kapton section the case file changed is kept."""
+    from lcefem.validation import calibrate
+
+    ms = calibrate.model_set(cfg.run.model_set)
+    if cfg.kapton != ms.materials.kapton:
+        return cfg
+    return dataclasses.replace(cfg, kapton=ms.materials_for(cfg.layout).kapton)
 
 
 def prepare(args: argparse.Namespace) -> GridshellBHRunConfig:
