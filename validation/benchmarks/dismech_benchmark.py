@@ -19,7 +19,9 @@ theta, theta(0) = 0, theta'(L) = 0, solved by scipy's ``solve_bvp`` (:func:`heav
 
 1. Static: ours by Newton (``solve_static``), DisMech by its ``static_sim`` (Newton without inertia,
    one step); each tip against the elastica (the discretisation error of 51 nodes, the same in both).
-2. The example's run: 1 s at dt = 0.01 s, both codes; their tip paths (x, z every 0.01 s) compared.
+2. The example's run: 1 s at dt = 0.01 s, both codes; their tip paths (x, z every 0.01 s) and
+   energies at the end (elastic + gravity + kinetic, 0 at the start; implicit Euler dissipates it)
+   compared.
    Not converged in time (at 0.01 s the first swing is 37 % off, and after ~0.5 s the whipping strip
    is path-sensitive: ours at dt 1.25e-4 and 6.25e-5 s differ by 9 % of the tip displacement), so:
 3. Matched accuracy over the first swing (0.3 s): each code's tip path against its own run at
@@ -175,7 +177,20 @@ def our_dynamics(c: StripCantilever, dt: float, total_time: float | None = None,
         if i % every == 0:
             tip.append((integ.state.x[-1, 0], integ.state.x[-1, 2]))
     cpu = time.process_time() - t0
-    return {"path": np.array(tip), "cpu_s": cpu, "newton_per_step": integ.total_iterations / steps}
+    return {"path": np.array(tip), "cpu_s": cpu, "newton_per_step": integ.total_iterations / steps,
+            "energy_mJ": our_energy(rod, integ.state)}
+
+
+def our_energy(rod, state) -> float:
+    """Elastic + gravity + kinetic energy [mJ], zero in the straight start at rest:
+    E = E_el - sum_i m_i g . x_i + 1/2 sum_i m_i |v_i|^2 + 1/2 sum_e I_e omega_e^2."""
+    from lcefem.solvers.der.assembly import Assembly
+
+    elastic = Assembly(rod.n_nodes).elastic(rod, state, 0)[0]
+    potential = -float(np.sum(rod.node_mass[:, None] * rod.gravity[None, :] * state.x))
+    kinetic = 0.5 * float(np.sum(rod.node_mass * np.sum(state.v ** 2, axis=1))
+                          + np.sum(rod.edge_inertia * state.omega ** 2))
+    return float(elastic) + potential + kinetic
 
 
 # ----------------------------------------------------------------------------------------------
@@ -222,7 +237,17 @@ def dismech_dynamics(c: StripCantilever, dt: float, total_time: float | None = N
     every = int(round(SAMPLE / dt))
     n = 3 * (c.nodes - 1)
     tip = [(c.length, 0.0)] + [(1e3 * r.state.q[n], 1e3 * r.state.q[n + 2]) for r in robots[every - 1::every]]
-    return {"path": np.array(tip), "cpu_s": cpu}
+    return {"path": np.array(tip), "cpu_s": cpu, "energy_mJ": dismech_energy(stepper, robots[-1])}
+
+
+def dismech_energy(stepper, robot) -> float:
+    """The same energy as :func:`our_energy` from DisMech's state (SI, J -> mJ): its elastic energy,
+    -sum M g . q over the node dofs, 1/2 sum M u^2 over all dofs (M: its lumped mass vector)."""
+    mass, q, u = robot.mass_matrix, robot.state.q, robot.state.u
+    nodes = robot.node_dof_indices  # (N, 3)
+    potential = -float(np.sum(mass[nodes] * robot.env.g[None, :] * q[nodes]))
+    kinetic = 0.5 * float(np.sum(mass * u ** 2))
+    return 1e3 * (float(stepper.compute_total_elastic_energy(robot.state)) + potential + kinetic)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -243,9 +268,10 @@ def compare_dynamics(name: str, run, c: StripCantilever, scale: float, target: f
         row = {"code": name, "problem": f"first swing {MATCH_TIME:g} s", "dt_s": dt, "cpu_s": r["cpu_s"],
                "error": err, "reference": f"same code at dt {REFERENCE_DT:g} s",
                "newton_per_step": r.get("newton_per_step"), "tip_x_mm": float(r["path"][-1, 0]),
-               "tip_z_mm": float(r["path"][-1, 1]), "matched": False}
+               "tip_z_mm": float(r["path"][-1, 1]), "energy_mJ": r["energy_mJ"], "matched": False}
         rows.append(row)
-        print(f"  {name:8s} dt {dt:9.6f} s: CPU {r['cpu_s']:7.3f} s, path error {100 * err:6.2f} %"
+        print(f"  {name:8s} dt {dt:9.6f} s: CPU {r['cpu_s']:7.3f} s, path error {100 * err:6.2f} %, energy at "
+              f"{MATCH_TIME:g} s {r['energy_mJ']:.5f} mJ (reference {ref['energy_mJ']:.5f})"
               + (f", {r['newton_per_step']:.2f} Newton/step" if "newton_per_step" in r else ""), flush=True)
         if err <= target and matched is None:
             matched = row
@@ -296,11 +322,12 @@ def main(argv: list[str] | None = None) -> int:
         for name, run in codes:
             example[name] = r = run(c, 0.01)
             print(f"  {name:8s}: CPU {r['cpu_s']:.3f} s, tip at {c.total_time:g} s ({r['path'][-1, 0]:.3f}, "
-                  f"{r['path'][-1, 1]:.3f}) mm" + (f", {r['newton_per_step']:.2f} Newton/step"
+                  f"{r['path'][-1, 1]:.3f}) mm, energy {r['energy_mJ']:.5f} mJ" + (f", {r['newton_per_step']:.2f} Newton/step"
                                                    if "newton_per_step" in r else ""))
             rows.append({"code": name, "problem": f"example run {c.total_time:g} s", "dt_s": 0.01, "cpu_s": r["cpu_s"],
                          "newton_per_step": r.get("newton_per_step"), "tip_x_mm": float(r["path"][-1, 0]),
-                         "tip_z_mm": float(r["path"][-1, 1]), "reference": "", "matched": False})
+                         "tip_z_mm": float(r["path"][-1, 1]), "energy_mJ": r["energy_mJ"], "reference": "",
+                         "matched": False})
         if have_peer:
             gap = path_error(example["ours"]["path"], example["DisMech"]["path"], scale)
             print(f"  the two paths differ by at most {100 * gap:.3f} % of the tip displacement (same discretisation"
@@ -330,9 +357,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  DisMech / ours at matched accuracy: {summary['DisMech']['cpu_s'] / summary['ours']['cpu_s']:.1f} x")
     if args.csv:
         keys = ["code", "problem", "dt_s", "cpu_s", "error", "matched", "reference", "newton_per_step", "tip_x_mm",
-                "tip_z_mm"]
+                "tip_z_mm", "energy_mJ"]
         header = ["code", "problem", "dt [s]", "cpu [s]", "error [-] (tip distance / static tip displacement)",
-                  "matched [bool]", "reference", "newton per step [-]", "tip x [mm]", "tip z [mm]"]
+                  "matched [bool]", "reference", "newton per step [-]", "tip x [mm]", "tip z [mm]",
+                "energy at the end [mJ] (elastic + gravity + kinetic; 0 at the start)"]
         tmp = args.csv + ".part"
         with open(tmp, "w", newline="") as fh:
             w = csv.writer(fh)
