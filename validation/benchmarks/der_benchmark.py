@@ -1,5 +1,5 @@
 """Speed of our Discrete Elastic Rods: the rolling ribbon (before/after a code change) and three
-cantilever problems against PyElastica (and DisMech) where they are installed.
+cantilever problems against PyElastica where it is installed (DisMech: ``dismech_benchmark``).
 
     OMP_NUM_THREADS=1 python -m lcefem.validation.benchmarks.der_benchmark [--nodes 31 100]
         [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
@@ -285,13 +285,8 @@ def peers(c: Cantilever) -> list[dict]:
     have_elastica = importlib.util.find_spec("elastica") is not None
     if not have_elastica:
         print("  PyElastica: skipped (not installed; pip install 'lcefem[benchmark]')")
-    for name in ("dismech_newton", "dismech"):
-        if importlib.util.find_spec(name) is not None:
-            print(f"  DisMech ({name}): installed but not wired into this benchmark (its API drives NVIDIA "
-                  "Newton/warp models); skipped")
-            break
-    else:
-        print("  DisMech (dismech-newton): skipped (not installed: it pulls warp-lang, 150 MB, and NVIDIA Newton)")
+    # DisMech (the implicit DER peer) has its own benchmark on its own example problem
+    print("  DisMech: see python -m lcefem.validation.benchmarks.dismech_benchmark")
     z_static, t_static = our_static(c)
     z_static, t_static = our_static(c)  # second call: without compilation / cache load
     print(f"  cantilever: {c.nodes} nodes, static tip deflection {-z_static:.4f} mm (linear theory "
