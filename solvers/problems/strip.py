@@ -41,7 +41,8 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition, spontaneous_stretch, temperature_for_stretch
-from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check_current, current_param
+from lcefem.models.limits import (ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check_current, check_time_step,
+                                  current_param)
 from lcefem.models.parameters import param
 from lcefem.solvers import cost
 from lcefem.solvers.exports import FEFields
@@ -267,7 +268,9 @@ class StripSimulation:
 
     def advance(self, dt: float, where: str | None = None):
         """One backward-Euler heat step of ``dt`` [s], then the mechanics to the new temperature
-        (the one path follower); returns the step report (iterations, cuts)."""
+        (the one path follower); returns the step report (iterations, cuts). ``dt`` must be > 0 s and
+        at most the longest run (lcefem.models.limits.check_time_step, the command line's bound)."""
+        check_time_step("dt", dt)
         report = self.model.step(dt, where=where or f"step of {dt:g} s")
         self.time += dt
         return report

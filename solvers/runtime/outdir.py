@@ -14,6 +14,11 @@ import socket
 from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.ranks import barrier_quietly, rank
 
+#: Folders this process holds through :func:`claim_out` (resolved paths): a run writing into one of
+#: them, or into a folder below one, was claimed by its caller (the command line, ``validate``);
+#: any other folder is claimed by the run itself (lcefem.solvers.runtime.run.Run).
+_CLAIMED: list[pathlib.Path] = []
+
 LOCK = ".lcefem.lock"  #: "pid host" of the run writing the folder
 STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it) and by which command
 STAMP_TEXT = "written by lcefem; --overwrite may empty this folder\ncommand: {command}\n"
@@ -136,15 +141,27 @@ def claim_out(out, *, resume: bool | None = False, overwrite: bool = False, comm
         message = comm.bcast(message, root=0)
     if message is not None:
         raise InputError(message)
+    held = out.resolve()
+    _CLAIMED.append(held)
     try:
         yield out
     finally:
+        _CLAIMED.remove(held)
         barrier_quietly(comm)
         if rank(comm) == 0:
             (out / LOCK).unlink(missing_ok=True)
             if created and [p.name for p in out.iterdir()] == [STAMP]:  # bad input: leave no trace
                 (out / STAMP).unlink()
                 out.rmdir()
+
+
+def claimed(out) -> bool:
+    """True when ``out`` is, or lies below, a folder this process holds through :func:`claim_out`."""
+    try:
+        path = pathlib.Path(out).resolve()
+    except (OSError, RuntimeError):
+        return False
+    return any(path == c or path.is_relative_to(c) for c in _CLAIMED)
 
 
 def _not_utf8(text: str) -> str | None:
