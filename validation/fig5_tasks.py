@@ -100,8 +100,8 @@ BALL_SUPPORT = "clamp"
 #: models.shape_control.PlantSpread.lambda_N_relative_sd). Each strip draws its lambda_N from that
 #: spread with this seed, the surface ``lcefem control`` simulates by default (its --seed 1, the same
 #: draw: models.shape_control.draw_strips); not chosen for the outcome (the benchmark
-#: validation/benchmarks/ball_symmetry.py runs other seeds). None: the nominal, symmetric surface
-#: (a what-if only: its release rests on round-off).
+#: validation/benchmarks/knife_edges.py runs seeds 2-6: released across a y edge on each). None: the
+#: nominal, symmetric surface (a what-if only: its release rests on round-off).
 BALL_SURFACE_SEED: int | None = 1
 
 
@@ -172,8 +172,9 @@ def ball_task(out: pathlib.Path, *, ball=None, scales: CoverScales | None = Cove
               shift: tuple[float, float] = (0.0, 0.0)) -> dict:
     """The Fig. 5B manoeuvre: ball placed at rest on a corner scale's centre; bowl, then saddle (the
     ball moved by ``shift`` (dx, dy) [mm] where it is placed and where the saddle stage takes it over:
-    the round-off probe of validation/benchmarks/knife_edges.py, zero otherwise), on the surface drawn with ``surface_seed`` (:data:`BALL_SURFACE_SEED`; ignored with
-    ``frames``, which :func:`morph_frames` made). Writes ball_trajectory.csv, ball_trajectory.png,
+    the round-off probe of validation/benchmarks/knife_edges.py, zero otherwise), on the surface
+    drawn with ``surface_seed`` (:data:`BALL_SURFACE_SEED`; with ``frames``, made by
+    :func:`morph_frames`, give the seed they were made with: it is recorded in the summary). Writes ball_trajectory.csv, ball_trajectory.png,
     ball.gif and summary.json into ``out``; returns the summary (distance from the centre at the end
     of the bowl hold, exit side, times)."""
     from lcefem.models.ball import Ball
