@@ -185,8 +185,9 @@ def main(argv: list[str] | None = None) -> int:
                   f" | margin {r['margin']:.3g}, spread {r['spread']:.3g} | {r['finding']} | wall "
                   f"{r['wall [s]']}", flush=True)
     if skipped:
-        print(f"not checked (stored quick wall time above {args.budget:g} s or not in the quick summary): "
-              + ", ".join(skipped))
+        why = "not named" if args.cases else (f"stored quick wall time above {args.budget:g} s or not in "
+                                              "the quick summary")
+        print(f"not checked in this run ({why}): " + ", ".join(skipped))
     return 0
 
 
