@@ -250,5 +250,13 @@ def temperature_for_stretch(stretch, transition: NematicTransition | MeasuredCon
     p = transition
     q_ref = order_parameter_from_stretch(p.lambda_N)
     q0 = q_ref * (1.0 + _math.exp((p.T_ref - p.T_NI) / p.width))
-    q = order_parameter_from_stretch(np.asarray(stretch, dtype=float))
+    s = np.asarray(stretch, dtype=float)
+    q = order_parameter_from_stretch(s)
+    # the library's own check (the strip's prescribed stretch and any caller): outside (1, lambda_s(-inf))
+    # no temperature gives the stretch, and the logarithm would return NaN or +-inf
+    bad = ~(np.isfinite(s) & (q > 0.0) & (q < q0))
+    if np.any(bad):
+        top = ((1.0 + 2.0 * q0) / (1.0 - q0)) ** (1.0 / 3.0) if q0 < 1.0 else _math.inf
+        raise InputError(f"stretch = {s[bad].flat[0]:g}: must be > 1 (isotropic) and < {top:.6g} (the "
+                         "spontaneous stretch at T -> -inf): no temperature gives it")
     return p.T_NI + p.width * np.log(q0 / q - 1.0)

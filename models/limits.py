@@ -45,6 +45,49 @@ def check_current(name: str, value):
         raise InputError(f"{name} = {value} A: must be {CURRENT_RANGE}")
     return value
 
+def range_text(low: float, high: float, unit: str = "", *, low_open: bool = False, high_open: bool = False,
+               low_note: str = "", high_note: str = "") -> str:
+    """The words of a bounded range, from the same flags the check uses (so a message never says
+    'between a and b' of a range that excludes b): e.g. '> -273.15 C (absolute zero) and < 300 C
+    (decomposition)'; a closed range 'between a and b, both included'."""
+    u = f" {unit}" if unit else ""
+    lo = f"{low:g}{u}" + (f" ({low_note})" if low_note else "")
+    hi = f"{high:g}{u}" + (f" ({high_note})" if high_note else "")
+    if not (low_open or high_open):
+        return f"between {lo} and {hi}, both included"
+    return f"{'>' if low_open else '>='} {lo} and {'<' if high_open else '<='} {hi}"
+
+
+def check_between(name: str, value, low: float, high: float, unit: str = "", *, low_open: bool = False,
+                  high_open: bool = False, low_note: str = "", high_note: str = "") -> float:
+    """The one bounded-range check of an input: ``value`` a finite number in the range (each end
+    closed unless ``*_open``); raises InputError naming ``name`` with the range in words
+    (:func:`range_text`, the same ends: 'between a and b, both included' or '> a and <= b').
+    Returns the value as float."""
+    text = range_text(low, high, unit, low_open=low_open, high_open=high_open, low_note=low_note,
+                      high_note=high_note)
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not math.isfinite(value):
+        raise InputError(f"{name} = {value!r}: must be a number {text}")
+    above = value > low if low_open else value >= low
+    below = value < high if high_open else value <= high
+    if not (above and below):
+        raise InputError(f"{name} = {value:g}{' ' + unit if unit else ''}: must be {text}")
+    return float(value)
+
+
+def check_temperature(name: str, value) -> float:
+    """A temperature [C] above absolute zero and below decomposition (both ends excluded: at
+    :data:`DECOMPOSITION_TEMPERATURE` the LCE decomposes); the one temperature check of inputs."""
+    return check_between(name, value, ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, "C", low_open=True,
+                         high_open=True, low_note="absolute zero",
+                         high_note="decomposition, lcefem.models.limits")
+
+
+#: The words of :func:`check_temperature`'s range (results are checked against the same range).
+TEMPERATURE_RANGE = range_text(ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, "C", low_open=True, high_open=True,
+                               low_note="absolute zero", high_note="decomposition, lcefem.models.limits")
+
+
 #: Longest simulated heating time [s]: an hour, far beyond the strips' thermal time constant (about
 #: 10 s, seed 001) and the ribbon's rolling demonstrations (about a minute).
 MAX_DURATION = 3600.0
@@ -57,3 +100,10 @@ def check_lambda(name: str, value: float, lambda_N: float) -> float:
         raise InputError(f"{name} = {value}: must be between 1 (isotropic) and lambda_N = "
                          f"{lambda_N} (as built)")
     return float(value)
+
+
+def check_time_step(name: str, dt) -> float:
+    """A time step [s] of a library call (``StripSimulation.advance(dt)``, ...): > 0 s and at most
+    :data:`MAX_DURATION`, the longest run a command accepts; raises InputError naming ``name``."""
+    return check_between(name, dt, 0.0, MAX_DURATION, "s", low_open=True,
+                         high_note="the longest run, lcefem.models.limits")

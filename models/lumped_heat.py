@@ -55,7 +55,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.heat import (GRID_STRING_RESISTANCE_RANGE, Coil, GridSegmentCoil, SurfaceExchange,
                                 ThermalProperties, joule_power, radiative_film_coefficient)
 from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneous_stretch
-from lcefem.models.limits import check_current
+from lcefem.models.limits import DECOMPOSITION_TEMPERATURE, check_current
 from lcefem.models.parameters import param
 
 
@@ -155,6 +155,24 @@ def current_for_stretch(stretch: float, strip: HeatedStrip = HeatedStrip(),
     return float(brentq(lambda i: steady_stretch(i, strip, model) - stretch, 0.0, 1.0, xtol=1e-13))
 
 
+def check_held_current(name: str, current: float, strip: HeatedStrip = HeatedStrip(),
+                       model: LumpedThermal = LumpedThermal()) -> float:
+    """A current [A] held on a strip (a steady drive, ``lcefem run gridshell --current``): in the
+    current bounds (:func:`lcefem.models.limits.check_current`) and its steady temperature
+    (:func:`steady_temperature`) below the decomposition temperature, the bound a schedule meets as a
+    result (exit 3) checked before the run (an InputError naming ``name``, with the largest current
+    held below it). Returns the steady temperature [C]."""
+    check_current(name, current)
+    T = steady_temperature(current, strip, model)
+    if not T < DECOMPOSITION_TEMPERATURE:
+        i_max = brentq(lambda i: steady_temperature(i, strip, model) - DECOMPOSITION_TEMPERATURE, 0.0,
+                       float(current), xtol=1e-6)
+        raise InputError(f"{name} = {current:g} A: held, the strip's steady temperature would be {T:.0f} C "
+                         f"(lumped heat balance, models.lumped_heat), not below {DECOMPOSITION_TEMPERATURE:g} C "
+                         f"(decomposition, lcefem.models.limits); hold at most {math.floor(i_max * 1e3) / 1e3:g} A")
+    return T
+
+
 def heat_capacity(strip: HeatedStrip, model: LumpedThermal = LumpedThermal()) -> float:
     """Heat capacity rho c A_iso l_iso [mJ/K] of the whole strip (it does not change with lambda:
     the strip deforms isochorically)."""
@@ -251,6 +269,12 @@ class CurrentRouteConfig:
             raise InputError(f"current_route.curve = {self.curve!r}: allowed only with thermal_model 'strip' "
                              "or 'segment' (Eq. 1 is a fit of its own)")
         return self
+
+    def temperature_model(self, law: MeasuredContraction | None = None) -> tuple[HeatedStrip, "LumpedThermal"]:
+        """The lumped body whose steady temperature bounds a held current: the route's own (with
+        ``law``, its measured curve), and the grid strip's for 'eq1' (Eq. 1 has no temperature)."""
+        self.checked()
+        return (GRID_STRIP, grid_thermal(self.exchange_factor)) if self.thermal_model == "eq1" else self.lumped(law)
 
     def lumped(self, law: MeasuredContraction | None = None) -> tuple[HeatedStrip, "LumpedThermal"]:
         """The lumped body and its thermal model for the 'strip' and 'segment' thermal models (the

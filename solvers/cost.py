@@ -19,6 +19,10 @@ The estimates are lower bounds fitted to measured peaks (``/usr/bin/time -f %M``
   3000``: 413 / 434 MB: 10 kB a node, its section heat grid included);
 * :data:`ROW_MEMORY`: one time step of history kept in memory (a row of ~20 floats in Python lists and
   the problem's arrays: assumed 1 kB, an upper round figure of 20 x (24 + 8) B plus list overhead).
+
+Besides memory, a count may have a stated bound (:meth:`Estimate.bound`): work that fits in memory
+but would not end in any useful time (a gridshell schedule's heat steps and outputs,
+lcefem.solvers.problems.gridshell_bh_sequence.schedule_estimate).
 """
 
 from __future__ import annotations
@@ -75,6 +79,7 @@ class Estimate:
     def __init__(self):
         self.counts: dict[str, float] = {}
         self.terms: list[tuple[str, str, float]] = [("", "libraries", BASE_MEMORY)]
+        self.bounds: list[tuple[str, str, float, float, str]] = []
 
     def count(self, name: str, value: float) -> "Estimate":
         self.counts[name] = float(value)
@@ -85,10 +90,21 @@ class Estimate:
         self.terms.append((field, what, float(nbytes)))
         return self
 
+    def bound(self, field: str, what: str, count: float, limit: float, why: str) -> "Estimate":
+        """``count`` of ``what`` (e.g. 'heat steps'), set by input ``field``, may not exceed ``limit``
+        (``why``: the bound's reason, stated in the refusal); checked by :meth:`check`."""
+        self.counts[what] = float(count)
+        self.bounds.append((field, what, float(count), float(limit), why))
+        return self
+
     def total(self) -> float:
         return sum(b for _, _, b in self.terms)
 
     def check(self) -> "Estimate":
+        for field, what, count, bound, why in self.bounds:
+            if not count <= bound:
+                raise InputError(f"{field}: {_fmt(count)} {what}, more than the bound {bound:.3g} ({why}; "
+                                 "estimate: lcefem.solvers.cost)")
         limit, total = host_memory(), self.total()
         if total <= limit:
             return self

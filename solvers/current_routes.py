@@ -49,8 +49,16 @@ class CurrentRoute(Protocol):
         ...
 
 
-def _checked(currents: Mapping[str, float]) -> dict[str, float]:
-    return {k: check_current(f"current {k}", v) for k, v in currents.items()}
+def _checked(currents: Mapping[str, float], strip: lh.HeatedStrip = lh.GRID_STRIP,
+             thermal: lh.LumpedThermal | None = None) -> dict[str, float]:
+    """The currents' bounds: each in [0, 1 A] and, held, its strip's steady temperature below
+    decomposition (lcefem.models.lumped_heat.check_held_current; the grid strip's balance unless the
+    route has its own)."""
+    thermal = thermal if thermal is not None else lh.grid_thermal()
+    for k, v in currents.items():
+        check_current(f"current {k}", v)
+        lh.check_held_current(f"current {k}", v, strip, thermal)
+    return dict(currents)
 
 
 @dataclass(frozen=True)
@@ -68,7 +76,7 @@ class LumpedRoute:
         return min(lh.steady_stretch(current, self.strip, self.thermal), self.lambda_N)
 
     def lambdas(self, currents: Mapping[str, float]) -> dict[str, float]:
-        return {k: self.stretch(v) for k, v in _checked(currents).items()}
+        return {k: self.stretch(v) for k, v in _checked(currents, self.strip, self.thermal).items()}
 
 
 @dataclass(frozen=True)

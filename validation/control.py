@@ -35,6 +35,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import describe
 from lcefem.models.shape_control import CurrentLimits, HeightSensor, PlantSpread
 from lcefem.solvers import control as ctl
+from lcefem.solvers.runtime.checks import check_seed
 from lcefem.solvers.runtime.files import replace as rename
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.solvers.runtime.run import Progress, Run
@@ -64,6 +65,7 @@ class ControlRequest:
             raise InputError(f"--sensing = {self.settings.sensing!r}: allowed {', '.join(ctl.SENSING)}")
         if self.inputs not in ctl.INPUT_MODES:
             raise InputError(f"--inputs = {self.inputs!r}: allowed {', '.join(ctl.INPUT_MODES)}")
+        check_seed("--seed", self.seed)
         if self.ribbons < 3 or self.ribbons % 2 == 0:
             raise InputError(f"--ribbons = {self.ribbons}: an odd number >= 3 (nine junction centres "
                              "at least)")

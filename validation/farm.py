@@ -44,6 +44,9 @@ POLL_SECONDS = 0.02  #: how often a waiting rank looks for a message (a signal i
 #: After an interrupt, how long rank 0 waits for the other ranks' reports [s]: longer than a numba
 #: kernel's compilation, which Python cannot interrupt (15 s seen, solvers/interrupts.py interrupt_in).
 DRAIN_SECONDS = 60.0
+#: How long rank 0 waits for its dispatcher thread to return once told to [s]: it looks at its quit
+#: flag every POLL_SECONDS, between two MPI calls.
+QUIT_SECONDS = 5.0
 
 
 def petsc_world_per_rank() -> None:
@@ -107,6 +110,7 @@ class _Board:
         self.next = 0
         self.stopping = False
         self.main_done = threading.Event()
+        self.quit = threading.Event()  # the dispatcher returns at once (before the farm frees its comm)
         self.current: dict[int, int] = {}  # rank -> the group it was handed last
         self.ended: set[int] = set()  # ranks that have asked for work after their last group
 
@@ -140,7 +144,7 @@ def _serve(board: _Board, comm) -> None:
 
     active = comm.size - 1
     deferred: list[int] = []  # stopped ranks; they get STOP once rank 0's own case has ended
-    while active > 0:
+    while active > 0 and not board.quit.is_set():
         if deferred and board.main_done.is_set():
             for rank in deferred:
                 comm.send(STOP, dest=rank, tag=TAG_WORK)
@@ -196,12 +200,17 @@ def farm_validation(cases: list[Case], groups: list[list[int]], results: list[Ca
     ``.interrupt``). Rank 0 fills ``results`` and calls ``flush()`` after each finished case;
     every rank returns the final results, or raises the interrupt that stopped the run."""
     comm = comm.Dup()  # the farm's messages never meet a case's
+    servers: list[threading.Thread] = []
     try:
         if comm.rank == 0:
-            return _lead(cases, groups, results, run_one, flush, bar, comm)
+            return _lead(cases, groups, results, run_one, flush, bar, comm, servers)
         return _follow(cases, groups, run_one, comm)
     finally:
-        comm.Free()
+        # The dispatcher thread must have ended before its communicator goes (else it meets a null
+        # communicator, issue 45); one still inside an MPI call after its quit leaves the
+        # communicator to MPI_Finalize.
+        if not any(t.is_alive() for t in servers):
+            comm.Free()
 
 
 def _run_group(cases, group, run_one, report) -> KeyboardInterrupt | None:
@@ -214,10 +223,19 @@ def _run_group(cases, group, run_one, report) -> KeyboardInterrupt | None:
     return None
 
 
-def _lead(cases, groups, results, run_one, flush, bar, comm) -> list[CaseResult]:
+def _lead(cases, groups, results, run_one, flush, bar, comm, servers: list) -> list[CaseResult]:
     board = _Board(groups, results, flush, bar)
     server = threading.Thread(target=_serve, args=(board, comm), name="lcefem-farm", daemon=True)
     server.start()
+    servers.append(server)
+    try:
+        return _lead_cases(cases, groups, results, run_one, flush, comm, board, server)
+    finally:
+        board.quit.set()  # whatever ended the wait (drained, deadline, an error): the thread returns
+        server.join(QUIT_SECONDS)
+
+
+def _lead_cases(cases, groups, results, run_one, flush, comm, board, server) -> list[CaseResult]:
     interrupt = None
     try:
         while interrupt is None:

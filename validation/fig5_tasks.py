@@ -92,11 +92,52 @@ BALL_TIMES = {"bowl start": 2.0, "bowl formed": 22.0, "saddle start": 50.0, "sad
 #: both shapes (one surface); the seed's surface lies free on the table (not modelled: the ball's weight
 #: is not fed back into the surface).
 BALL_SUPPORT = "clamp"
+#: The seed of the surface's drawn strips (issue 45, cause 15). The model surface is symmetric about
+#: its diagonal and the ball starts on it (the corner scale's centre), so with nominal strips the bowl
+#: brings it to the centre to round-off (3e-11 mm) and that centre is the saddle's saddle point: whether
+#: the saddle releases it was decided by round-off. The built surface is not symmetric: its strips'
+#: nematic stretch lambda_N spreads 130.22 +- 8.01 mm (1 SD over 9 strips, seed 001, Results;
+#: models.shape_control.PlantSpread.lambda_N_relative_sd). Each strip draws its lambda_N from that
+#: spread with this seed, the surface ``lcefem control`` simulates by default (its --seed 1, the same
+#: draw: models.shape_control.draw_strips); not chosen for the outcome (the benchmark
+#: validation/benchmarks/knife_edges.py runs seeds 2-6: released across a y edge on each). None: the
+#: nominal, symmetric surface (a what-if only: its release rests on round-off).
+BALL_SURFACE_SEED: int | None = 1
 
 
-def morph_frames(support: str = BALL_SUPPORT, scales: CoverScales | None = CoverScales(), newton=None):
+def drawn_lambda_N(structure, seed: int | None) -> np.ndarray | None:
+    """lambda_N [-] per strip (structure.info["strips"] order) drawn from the measured spread with
+    ``seed`` (:func:`lcefem.models.shape_control.draw_strips`); None for ``seed`` None."""
+    if seed is None:
+        return None
+    from lcefem.models.shape_control import PlantSpread, draw_strips
+
+    return draw_strips(PlantSpread(), len(structure.info["strips"]), np.random.default_rng(seed))["lambda_N"]
+
+
+def drawn_rest_fractions(structure, lambdas: dict, lambda_N: np.ndarray | None) -> dict[str, np.ndarray]:
+    """Rest fractions per bar for the program ``lambdas`` {channel: lambda [-]} on strips with their
+    own lambda_N: f = min(lambda, lambda_N,s)/lambda_N,s (a strip cannot grow past its as-built
+    length; as models.shape_control: SurfacePlant.lambdas); nominal lambda_N for ``lambda_N`` None."""
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
+    from lcefem.solvers.problems import gridshell_bh as gs
+
+    nominal = gs.targets_from_lambdas(structure, lambdas)
+    if lambda_N is None:
+        return nominal
+    sob = structure.info["strip_of_bar"]
+    out = {}
+    for g, f in nominal.items():
+        ln = np.asarray(lambda_N)[sob[g]]
+        out[g] = np.minimum(f * PUBLISHED_LAMBDA_N, ln) / ln
+    return out
+
+
+def morph_frames(support: str = BALL_SUPPORT, scales: CoverScales | None = CoverScales(), newton=None,
+                 surface_seed: int | None = BALL_SURFACE_SEED):
     """Equilibria of the covered surface along flat -> bowl -> saddle (rest fractions linear between
-    the programs): [(time [s], x)], the structure."""
+    the programs), its strips' lambda_N drawn with ``surface_seed`` (:data:`BALL_SURFACE_SEED`):
+    [(time [s], x)], the structure."""
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
     from lcefem.solvers.bar_hinge import follow_path
     from lcefem.solvers.problems import gridshell_bh as gs
@@ -104,8 +145,9 @@ def morph_frames(support: str = BALL_SUPPORT, scales: CoverScales | None = Cover
 
     newton = newton or gs.GRIDSHELL_NEWTON
     s = build_gridshell_bar_hinge()
-    bowl = gs.targets_from_lambdas(s, BALL_PROGRAMS["bowl"])
-    saddle = gs.targets_from_lambdas(s, BALL_PROGRAMS["saddle"])
+    lambda_N = drawn_lambda_N(s, surface_seed)
+    bowl = drawn_rest_fractions(s, BALL_PROGRAMS["bowl"], lambda_N)
+    saddle = drawn_rest_fractions(s, BALL_PROGRAMS["saddle"], lambda_N)
     setup = gs.setup_gridshell(None, support, structure=s)
     if scales is not None:
         setup = cover_setup(setup, scales)
@@ -126,10 +168,15 @@ def morph_frames(support: str = BALL_SUPPORT, scales: CoverScales | None = Cover
 
 
 def ball_task(out: pathlib.Path, *, ball=None, scales: CoverScales | None = CoverScales(), movie: bool = True,
-              newton=None, frames=None) -> dict:
-    """The Fig. 5B manoeuvre: ball placed at rest on a corner scale's centre; bowl, then saddle.
-    Writes ball_trajectory.csv, ball_trajectory.png, ball.gif and summary.json into ``out``; returns
-    the summary (distance from the centre at the end of the bowl hold, exit side, times)."""
+              newton=None, frames=None, surface_seed: int | None = BALL_SURFACE_SEED,
+              shift: tuple[float, float] = (0.0, 0.0)) -> dict:
+    """The Fig. 5B manoeuvre: ball placed at rest on a corner scale's centre; bowl, then saddle (the
+    ball moved by ``shift`` (dx, dy) [mm] where it is placed and where the saddle stage takes it over:
+    the round-off probe of validation/benchmarks/knife_edges.py, zero otherwise), on the surface
+    drawn with ``surface_seed`` (:data:`BALL_SURFACE_SEED`; with ``frames``, made by
+    :func:`morph_frames`, give the seed they were made with: it is recorded in the summary). Writes ball_trajectory.csv, ball_trajectory.png,
+    ball.gif and summary.json into ``out``; returns the summary (distance from the centre at the end
+    of the bowl hold, exit side, times)."""
     from lcefem.models.ball import Ball
     from lcefem.solvers.bar_hinge.cover_scales import junction_pitch
     from lcefem.solvers.problems.gridshell_bh_ball import SurfaceHistory, quadratic_coefficients, roll
@@ -139,7 +186,7 @@ def ball_task(out: pathlib.Path, *, ball=None, scales: CoverScales | None = Cove
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
     if frames is None:
-        frames = morph_frames(scales=scales, newton=newton)
+        frames = morph_frames(scales=scales, newton=newton, surface_seed=surface_seed)
     frames, s = frames
     pitch = junction_pitch(s)
     centre = s.nodes[s.node_sets["junction_corners"]].mean(axis=(0, 1, 2))[:2]
@@ -148,12 +195,13 @@ def ball_task(out: pathlib.Path, *, ball=None, scales: CoverScales | None = Cove
     coeffs = np.array([quadratic_coefficients(s, x, centre) for _, x in frames])
     keep = np.concatenate([[True], np.diff(times) > 1e-9])
     history = SurfaceHistory(times[keep], coeffs[keep], centre, half)
-    start = (-pitch, -pitch)  # the corner scale's centre
+    dx, dy = float(shift[0]), float(shift[1])
+    start = (-pitch + dx, -pitch + dy)  # the corner scale's centre
     t_bowl_end = BALL_TIMES["saddle start"]
     first = roll(history, ball, start, 0.0, t_bowl_end)
     u1, v1 = first["u [mm]"][-1], first["v [mm]"][-1]
     # the second stage starts from the first one's final state (position; speed ~0 after settling)
-    second = roll(history, ball, (u1, v1), t_bowl_end, BALL_TIMES["end"])
+    second = roll(history, ball, (u1 + dx, v1 + dy), t_bowl_end, BALL_TIMES["end"])
     traj = {k: np.concatenate([first[k], second[k]]) for k in ("time [s]", "u [mm]", "v [mm]", "z [mm]",
                                                                  "speed [mm/s]")}
     distance = float(np.hypot(u1, v1))
@@ -163,6 +211,7 @@ def ball_task(out: pathlib.Path, *, ball=None, scales: CoverScales | None = Cove
         "ball": {"mass [g]": ball.mass / 1e-6, "radius [mm]": ball.radius, "friction [-]": ball.friction,
                  "rolling resistance [-]": ball.rolling_resistance},
         "programs (lambda)": BALL_PROGRAMS, "times [s]": BALL_TIMES, "support": BALL_SUPPORT,
+        "surface seed (drawn lambda_N)": surface_seed, "shift [mm]": [dx, dy],
         "footprint half width [mm]": half,
         "distance from centre at end of bowl hold [mm]": distance,
         "first within one radius of the centre [s]": float(first["time [s]"][near[0]]) if near.size else None,

@@ -48,6 +48,7 @@ from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.models.limits import check_current
 from lcefem.models.lumped_heat import GRID_STRIP, HeatedStrip, grid_thermal, steady_stretch
 from lcefem.solvers.analysis.sensitivity import UncertainInput, sample_inputs, sobol_indices
+from lcefem.solvers.runtime.checks import check_seed
 from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.solvers.runtime.run import Progress, Run
@@ -267,8 +268,7 @@ class BandsConfig:
             raise InputError(f"--sobol-samples {self.sobol_samples}: must be a power of 2")
         if self.sobol_samples > MAX_SOBOL:  # N (2 G + 2) surrogate evaluations and their arrays
             raise InputError(f"--sobol-samples {self.sobol_samples}: must be <= {MAX_SOBOL}")
-        if not 0 <= self.seed < 2**32:
-            raise InputError(f"--seed {self.seed}: must be between 0 and 2^32 - 1 (numpy's seed)")
+        check_seed("--seed", self.seed)
         if self.thermal_model not in lumped_heat.THERMAL_MODELS:
             raise InputError(f"--thermal-model {self.thermal_model!r}: allowed {', '.join(lumped_heat.THERMAL_MODELS)}")
         if self.model_set not in calibrate.MODEL_SETS:

@@ -23,7 +23,7 @@ from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import InputError
 from lcefem.models.limits import check_current
 from lcefem.models.loads import SurfaceWeight
-from lcefem.models.lumped_heat import CurrentRouteConfig, shape_currents
+from lcefem.models.lumped_heat import CurrentRouteConfig, check_held_current, shape_currents
 from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, PathResult
 from lcefem.solvers.contraction_curve import law_summary
@@ -197,6 +197,9 @@ class GridshellBHRunConfig(law.BarHingeMaterials):
                 raise InputError(f"{sel} = {v!r}: must be a number")
         for sel, v in self.currents.items():
             check_current(f"current {sel}", v)
+            # held for the whole run: its steady temperature bounded as a schedule's is (before the run)
+            check_held_current(f"current {sel}", v,
+                               *self.current_route.temperature_model(curve_law(self.current_route)))
         return self
 
     @property

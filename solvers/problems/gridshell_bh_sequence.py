@@ -54,6 +54,7 @@ from lcefem.models.lce import spontaneous_stretch
 from lcefem.models.limits import MAX_DURATION, check_current
 from lcefem.models.lumped_heat import (FREE_STRIP, GRID_EXCHANGE_FACTOR, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
                                        implicit_euler_step)
+from lcefem.solvers import cost
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.exports import BarHingeVTK
 from lcefem.solvers.problems import gridshell_bh as gs
@@ -158,7 +159,37 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
         currents[int(sel) if sel.isascii() and sel.isdigit() else sel] = vals
     if not currents:
         raise InputError(f"{where}: section [currents] is empty (give e.g. Tx = [0.1, 0.04])")
-    return Schedule(times, currents, end, interval, support, thermal, tuple(labels), heat_step)
+    schedule = Schedule(times, currents, end, interval, support, thermal, tuple(labels), heat_step)
+    schedule_estimate(schedule).check()  # before any work: exit 2 naming the field
+    return schedule
+
+
+#: Most implicit-Euler heat steps of a schedule: a step of 3.6 ms over the longest schedule (1 h,
+#: lcefem.models.limits.MAX_DURATION), some 3000 times finer than a strip's ~10 s thermal time
+#: constant (seed 001); at 0.14 ms per strip and step (measured, implicit_euler_step) about 140 s of
+#: heat balance per channel.
+MAX_HEAT_STEPS = 1.0e6
+#: Most outputs (quasi-static bar-and-hinge solves and history rows) of a schedule: one a second over
+#: the longest schedule; at about 1.5 s per output (the quick Fig. 5A sequence: 31.6 s for 21 outputs,
+#: docs/validation_summary_quick.md) about 1.5 h of solves.
+MAX_OUTPUTS = 3600.0
+
+
+def schedule_estimate(schedule: Schedule) -> cost.Estimate:
+    """The schedule's work before it starts (lcefem.solvers.cost): heat steps (end / heat_step) and
+    outputs (end / output_interval), each with its stated bound (:data:`MAX_HEAT_STEPS`,
+    :data:`MAX_OUTPUTS`), and the history's memory."""
+    heat = cost.steps(schedule.end, schedule.heat_step)
+    outputs = cost.steps(schedule.end, schedule.output_interval) + 1
+    est = cost.Estimate()
+    est.bound(f"schedule.heat_step = {schedule.heat_step:g} s (end {schedule.end:g} s)", "heat steps", heat,
+              MAX_HEAT_STEPS, "a 3.6 ms step over the longest schedule, lcefem.solvers.problems."
+              "gridshell_bh_sequence.MAX_HEAT_STEPS")
+    est.bound(f"schedule.output_interval = {schedule.output_interval:g} s (end {schedule.end:g} s)", "outputs",
+              outputs, MAX_OUTPUTS, "one quasi-static solve a second over the longest schedule, "
+              "lcefem.solvers.problems.gridshell_bh_sequence.MAX_OUTPUTS")
+    return est.memory(f"schedule.output_interval = {schedule.output_interval:g} s", f"{outputs:.3g} outputs",
+                      outputs * cost.ROW_MEMORY)
 
 
 def load_schedule(path) -> Schedule:

@@ -40,7 +40,8 @@ from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneous_stretch, temperature_for_stretch
-from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check_current, current_param
+from lcefem.models.limits import (ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, check_current, check_time_step,
+                                  current_param)
 from lcefem.models.parameters import param
 from lcefem.solvers import cost
 from lcefem.solvers.contraction_curve import LCECurve, law_summary
@@ -278,7 +279,9 @@ class StripSimulation:
     def advance(self, dt: float, where: str | None = None) -> StepRecord:
         """One backward-Euler heat step of ``dt`` [s], then the mechanics to the new temperature
         (the one path follower); returns its :class:`StepRecord` (the observables with the step's
-        Newton iterations and cuts)."""
+        Newton iterations and cuts). ``dt`` must be > 0 s and at most the longest run
+        (lcefem.models.limits.check_time_step, the command line's bound)."""
+        check_time_step("dt", dt)
         report = self.model.step(dt, where=where or f"t = {self.time + dt:.4g} s")
         self.time += dt
         return StepRecord(self.time, self.observe(self.time, report.iterations, report.cuts),

@@ -31,7 +31,7 @@ import numpy as np
 from lcefem.models.contact import Block
 from lcefem.models.errors import InputError
 from lcefem.models.lce import MeasuredContraction, NematicTransition
-from lcefem.models.limits import DECOMPOSITION_TEMPERATURE
+from lcefem.models.limits import DECOMPOSITION_TEMPERATURE, check_between
 from lcefem.models.parameters import param
 from lcefem.models.ribbon import SEED000_RIBBON, RibbonGeometry, RibbonLCE
 from lcefem.solvers import cost
@@ -109,6 +109,15 @@ class RibbonConfig(RibbonSections):
                              f"half a turn per rod edge ({edge:.3g} mm at numerics.nodes = "
                              f"{self.numerics.nodes}); at most {0.5 / edge:.3g} turns/mm, or more nodes")
         self.estimate().check()
+        rows = summary_rows(self.run.duration, self.numerics.dt, self.run.record_interval)
+        if rows < MIN_SUMMARY_ROWS:
+            # the summary's rolling metrics fit slopes over the run's last half: refused before the
+            # run rather than after it (issue 45)
+            spacing = record_spacing(self.run.duration, self.numerics.dt, self.run.record_interval)
+            raise InputError(f"run.duration = {self.run.duration:g} s: the summary's rolling metrics need "
+                             f"{MIN_SUMMARY_ROWS} history rows in the run's last half ({rows} at a row every "
+                             f"{spacing:.3g} s, run.record_interval and numerics.dt); give at least "
+                             f"{(2 * MIN_SUMMARY_ROWS - 1) * spacing:.3g} s or a shorter run.record_interval")
         return self
 
     def estimate(self) -> cost.Estimate:
@@ -131,6 +140,35 @@ class RibbonConfig(RibbonSections):
         return RibbonSetup(**sections, ground_temperature=self.run.ground_temperature,
                            transition=self.law(), elasticity=self.material.elasticity(),
                            blocks=(self.obstacle,) if self.obstacle.present else ())
+
+
+#: History rows the rolling summary needs in the analysis window (the run's last half): the end spin
+#: rates are least-squares slopes (lcefem.solvers.analysis.rolling.rolling_metrics).
+MIN_SUMMARY_ROWS = 3
+
+
+def _record_steps(duration: float, dt: float, record_interval: float) -> tuple[int, float, int]:
+    """(steps, step [s], steps per history row) as :func:`run_ribbon` takes them."""
+    n_steps = max(1, int(math.ceil(duration / dt - 1e-9)))
+    h = duration / n_steps
+    return n_steps, h, max(1, int(round(record_interval / h)))
+
+
+def record_spacing(duration: float, dt: float, record_interval: float) -> float:
+    """Time between history rows [s] of a run (a whole number of steps)."""
+    _, h, every = _record_steps(duration, dt, record_interval)
+    return every * h
+
+
+def summary_rows(duration: float, dt: float, record_interval: float) -> int:
+    """History rows of a run inside the summary's analysis window, the last half of the run
+    (:func:`lcefem.solvers.analysis.rolling.window`): the row at t = 0, one every record step, the
+    last step's. A run of at least (2 MIN_SUMMARY_ROWS - 1) row spacings has enough."""
+    n_steps, h, every = _record_steps(duration, dt, record_interval)
+    times = np.array([0.0, *(k * h for k in range(every, n_steps, every)), n_steps * h])
+    # a row at the window's edge counts only when it lies clearly inside (the run's time is a sum of
+    # steps: its round-off decides the edge)
+    return int(np.count_nonzero(times > 0.5 * times[-1] * (1.0 + 1e-9)))
 
 
 def _node_average(edge_values: np.ndarray) -> np.ndarray:
@@ -347,10 +385,11 @@ class RollingRibbonDER:
         for tag, value in drives.items():
             if tag not in self.drive_tags():
                 raise InputError(f"drive {tag!r}: the ribbon's only drive is the plate (allowed plate)")
-            if (not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value)
-                    or not -50.0 <= value <= DECOMPOSITION_TEMPERATURE):
-                raise InputError(f"ground temperature[{tag}] = {value} C: must be between -50 C and "
-                                 f"{DECOMPOSITION_TEMPERATURE} C (decomposition)")
+            # the bounds of the case file's and the command line's run.ground_temperature (its
+            # field's minimum; below decomposition, lcefem.models.limits.check_temperature)
+            check_between(f"ground temperature[{tag}]", value, RibbonRun.__dataclass_fields__["ground_temperature"].metadata["minimum"],
+                          DECOMPOSITION_TEMPERATURE, "C", high_open=True,
+                          high_note="decomposition, lcefem.models.limits")
             self.sim.setup = dataclasses.replace(self.sim.setup, ground_temperature=float(value))
 
     def advance(self, dt: float) -> StepRecord:

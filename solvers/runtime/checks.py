@@ -8,15 +8,20 @@ import dataclasses
 import math
 
 from lcefem.models.errors import InputError, PhysicalBoundsError
-from lcefem.models.limits import ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, MAX_DURATION, check_current
+from lcefem.models.limits import (ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, MAX_DURATION, TEMPERATURE_RANGE,
+                                  check_current, check_temperature)
 
-TEMPERATURE_RANGE = (f"between {ABSOLUTE_ZERO} C (absolute zero) and {DECOMPOSITION_TEMPERATURE} C "
-                     "(decomposition, lcefem.models.limits)")
+__all__ = ["TEMPERATURE_RANGE", "check_config", "check_physical", "check_row", "check_seed", "check_temperature",
+           "resolved"]
 
 
-def check_temperature(name: str, value: float) -> None:
-    if not ABSOLUTE_ZERO < value < DECOMPOSITION_TEMPERATURE:
-        raise InputError(f"{name} = {value} C: must be {TEMPERATURE_RANGE}")
+def check_seed(name: str, value) -> int:
+    """A random seed: an integer between 0 and 2^32 - 1, both included (numpy's legacy seed range, the
+    one every command's --seed shares); raises InputError naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 2**32 - 1:
+        raise InputError(f"{name} = {value!r}: must be an integer between 0 and 2^32 - 1, both included "
+                         "(numpy's seed)")
+    return value
 
 
 def check_physical(config, section: str = "") -> None:
@@ -61,7 +66,7 @@ def check_row(row: dict, where: str) -> None:
                 continue
             raise PhysicalBoundsError(where, f"{key} = {value} is not a finite number")
         if key.endswith("[C]") and not ABSOLUTE_ZERO < value < DECOMPOSITION_TEMPERATURE:
-            raise PhysicalBoundsError(where, f"{key} = {value:.6g}: not {TEMPERATURE_RANGE}")
+            raise PhysicalBoundsError(where, f"{key} = {value:.6g}: must be {TEMPERATURE_RANGE}")
 
 
 def check_config(config, raw_sections: tuple[str, ...] = ("petsc",)):

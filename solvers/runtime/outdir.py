@@ -16,6 +16,11 @@ import time
 from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.ranks import barrier_quietly, rank
 
+#: Folders this process holds through :func:`claim_out` (resolved paths): a run writing into one of
+#: them, or into a folder below one, was claimed by its caller (the command line, ``validate``);
+#: any other folder is claimed by the run itself (lcefem.solvers.runtime.run.Run).
+_CLAIMED: list[pathlib.Path] = []
+
 LOCK = ".lcefem.lock"  #: "pid host" of the run writing the folder
 STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it) and by which command
 STAMP_TEXT = "written by lcefem; --overwrite may empty this folder\ncommand: {command}\n"
@@ -274,12 +279,15 @@ def claim_out(out, *, resume: bool | None = False, overwrite: bool = False, comm
     if message is not None:
         raise InputError(message)
     bad_input = False
+    held = out.resolve()
+    _CLAIMED.append(held)
     try:
         yield out
     except InputError:
         bad_input = True
         raise
     finally:
+        _CLAIMED.remove(held)
         barrier_quietly(comm)
         if rank(comm) == 0:
             _settle_previous(out, restore=bad_input)
@@ -305,6 +313,15 @@ def _settle_previous(out: pathlib.Path, restore: bool) -> None:
             aside.rmdir()
         else:
             shutil.rmtree(aside)
+
+
+def claimed(out) -> bool:
+    """True when ``out`` is, or lies below, a folder this process holds through :func:`claim_out`."""
+    try:
+        path = pathlib.Path(out).resolve()
+    except (OSError, RuntimeError):
+        return False
+    return any(path == c or path.is_relative_to(c) for c in _CLAIMED)
 
 
 def _not_utf8(text: str) -> str | None:

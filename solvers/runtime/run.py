@@ -7,10 +7,11 @@ import contextlib
 import pathlib
 import sys
 
-from lcefem.models.errors import ConvergenceError, PhysicalBoundsError
+from lcefem.models.errors import ConvergenceError, InputError, PhysicalBoundsError
 from lcefem.solvers.interrupts import raise_if_interrupted
 from lcefem.solvers.runtime.checks import check_row
 from lcefem.solvers.runtime.files import CSVTable, salvage_parts, write_json
+from lcefem.solvers.runtime.outdir import claim_out, claimed
 from lcefem.solvers.runtime.ranks import barrier, rank
 from lcefem.solvers.runtime.signals import reinstall_signal_handlers
 
@@ -62,6 +63,17 @@ class Run:
         self.progress = progress or Progress(0, "", "", enabled=False)
         self.outputs: list = []
         self._failure_hooks: list = []
+        # The library's runs (run_strip(config, out), ...) claim their folder as the command line
+        # does: another run's results are refused, a lock is held while writing (issue 45). A
+        # folder the caller claimed (the command line, validate's cases) is not claimed again.
+        self._claim = contextlib.ExitStack()
+        if self.out is not None and not claimed(self.out):
+            try:
+                self._claim.enter_context(claim_out(self.out, resume=None, overwrite=False, comm=comm,
+                                                    flag="out", command="library run"))
+            except InputError as exc:
+                raise InputError(f"{exc} (a library run: to replace them, claim the folder first, "
+                                 "with lcefem.solvers.runtime.outdir.claim_out(out, overwrite=True): ...)") from None
         if self.out is not None and rank(comm) == 0:
             self.out.mkdir(parents=True, exist_ok=True)
             for stale in ("failure.json", "summary.json"):  # this run owns the folder's state
@@ -122,6 +134,12 @@ class Run:
         return self
 
     def __exit__(self, kind, exc, tb) -> bool:
+        try:
+            return self._exit(exc)
+        finally:
+            self._claim.close()
+
+    def _exit(self, exc) -> bool:
         if exc is None:
             if not self.done:
                 raise RuntimeError("Run ended without complete(summary)")

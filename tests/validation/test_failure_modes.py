@@ -130,9 +130,9 @@ BAD_INPUTS = [
     (STRIP + ["--mesh-level", "1.5"], "argument --mesh-level: invalid int value: '1.5'"),
     (["run", "strip", "--quiet", "--config", "{case}"], "mesh.level = 1.5: must be an integer"),
     (["run", "ribbon", "--quiet", "--config", "{case}"],
-     "air.ambient_temperature = -400.0 C: must be between -273.15 C (absolute zero) and 300.0 C"),
+     "air.ambient_temperature = -400 C: must be > -273.15 C (absolute zero) and < 300 C (decomposition"),
     (["run", "ribbon", "--quiet", "--config", "{case}"],
-     "material.T_NI = 500.0 C: must be between -273.15 C (absolute zero) and 300.0 C"),
+     "material.T_NI = 500 C: must be > -273.15 C (absolute zero) and < 300 C (decomposition"),
     (BEAM + ["--config", "{case}"], "kapton.youngs_modulus = 0.0"),
     (["run", "ribbon", "--quiet", "--ground-temperature", "450"], "run.ground_temperature = 450.0"),
 ]
@@ -214,7 +214,7 @@ def test_result_above_decomposition_stops_with_exit_3_and_keeps_converged_steps(
     code, err = cli(capsys, *STRIP, "--current", "1", "--duration", "4", "--dt", "1", "--out", out)
     assert code == 3
     line = one_line(err)
-    assert "result out of physical bounds at t = 1 s: T_max [C] = " in line and "300.0 C" in line
+    assert "result out of physical bounds at t = 1 s: T_max [C] = " in line and "< 300 C" in line
     assert results(out) == {"failure.json", "history.partial.csv"}
     failure = json.loads((out / "failure.json").read_text())
     assert failure["kind"] == "out of physical bounds" and failure["last_converged"]["time [s]"] == 0.0
