@@ -151,3 +151,31 @@ def test_hexahedral_read_mesh_is_not_refined(tmp_path, lcefem_cmd):
     assert res.returncode == 2, res.stderr
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and "refines tetrahedra only" in lines[0], lines
+
+
+def test_uniform_refinement_carries_the_named_sets(tmp_path):
+    """A tetrahedral .msh (the gripper's coarse level) refined once: every named cell set has 8x
+    its cells and every named facet set 4x its facets (each tetrahedron into eight, each triangle
+    into four), with the same names."""
+    import gmsh
+    import numpy as np
+    from mpi4py import MPI
+
+    from lcefem.meshes.reader import read_tagged_mesh
+
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.merge(str(REPO / "examples" / "bodies" / "gripper" / "finger.geo"))
+        gmsh.model.mesh.generate(3)
+        gmsh.write(str(tmp_path / "finger.msh"))
+    finally:
+        gmsh.finalize()
+    coarse = read_tagged_mesh(tmp_path / "finger.msh", MPI.COMM_SELF)
+    fine = read_tagged_mesh(tmp_path / "finger.msh", MPI.COMM_SELF, refine=1)
+    assert fine.cell_names == coarse.cell_names and fine.facet_names == coarse.facet_names
+    for tag in coarse.cell_names.values():
+        assert np.sum(fine.cell_tags.values == tag) == 8 * np.sum(coarse.cell_tags.values == tag)
+    for tag in coarse.facet_names.values():
+        assert np.sum(fine.facet_tags.values == tag) == 4 * np.sum(coarse.facet_tags.values == tag)
+    assert fine.info["cells"] == 8 * coarse.info["cells"]
