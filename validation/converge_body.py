@@ -177,6 +177,15 @@ def main(args) -> int:
     name = pathlib.Path(args.config).stem if pathlib.Path(args.config).stem != "case" else \
         pathlib.Path(args.config).parent.name
     study.write_study(out, name, h, "-", studies, warnings)
+    changing = [s for s in studies if "mesh-independent" not in s.flags]
+    if changing and len(changing) < len(studies):  # the plot: only what changes with the mesh
+        from lcefem.validation import plots
+
+        plots.convergence_plot(out / "convergence.png", h, [plots.ConvergenceSeries(
+            f"{s.metric} [{s.unit}]", [v - s.extrapolated for v in s.values], s.p) for s in changing],
+            xlabel="relative mesh size (N_0/N)^(1/3) [-]",
+            title=f"{name}: |value - Richardson extrapolation| (Celik et al. 2008); "
+                  f"{len(studies) - len(changing)} mesh-independent observables not drawn")
     if by_time:
         cols = list(by_time[0])
         study._write_csv(out / "gci_by_time.csv", cols,
