@@ -221,9 +221,44 @@ def _meshio_to_msh(path: pathlib.Path, folder: pathlib.Path) -> pathlib.Path:
     return out
 
 
-def read_tagged_mesh(path: str | pathlib.Path, comm=None, size_factor: float = 1.0) -> ReadMesh:
+def volume_cell_types(path: str | pathlib.Path) -> set[str]:
+    """meshio's names of the 3D cell types of a .msh or meshio-read file (no mesh is built)."""
+    data = _meshio_read(pathlib.Path(path))
+    return {b.type for b in data.cells if b.type in VOLUME_TYPES}
+
+
+def refine_uniformly(read: ReadMesh, times: int) -> ReadMesh:
+    """``read`` with every edge halved ``times`` times (:func:`dolfinx.mesh.refine`, Plaza's
+    algorithm: each tetrahedron into eight) and its cell and facet tags carried to the children
+    (:func:`dolfinx.mesh.transfer_meshtag`). Tetrahedra only: dolfinx does not refine hexahedra
+    (InputError)."""
+    import dolfinx
+
+    if times <= 0:
+        return read
+    if read.mesh.topology.cell_type != dolfinx.mesh.CellType.tetrahedron:
+        raise InputError(f"mesh.refine = {times}: dolfinx refines tetrahedra only and "
+                         f"{pathlib.Path(read.info.get('file', 'the mesh')).name} has "
+                         f"{read.mesh.topology.cell_type.name} cells; refine its .geo by size_factor")
+    mesh, cell_tags, facet_tags = read.mesh, read.cell_tags, read.facet_tags
+    for _ in range(times):
+        mesh.topology.create_entities(1)
+        mesh.topology.create_connectivity(2, 3)
+        fine, parent_cell, parent_facet = dolfinx.mesh.refine(
+            mesh, option=dolfinx.mesh.RefinementOption.parent_cell_and_facet)
+        fine.topology.create_connectivity(2, 3)
+        cell_tags = dolfinx.mesh.transfer_meshtag(cell_tags, fine, parent_cell, parent_facet)
+        facet_tags = dolfinx.mesh.transfer_meshtag(facet_tags, fine, parent_cell, parent_facet)
+        mesh = fine
+    info = {**read.info, "refine": times, "cells": mesh.topology.index_map(3).size_global}
+    return ReadMesh(mesh, cell_tags, facet_tags, dict(read.cell_names), dict(read.facet_names), info)
+
+
+def read_tagged_mesh(path: str | pathlib.Path, comm=None, size_factor: float = 1.0,
+                     refine: int = 0) -> ReadMesh:
     """The dolfinx mesh of ``path`` (.geo meshed with ``size_factor``, .msh, or a meshio-read file;
-    see the module docstring) with its named cell and facet tags, distributed over ``comm``."""
+    see the module docstring) with its named cell and facet tags, distributed over ``comm``; then
+    ``refine`` uniform refinements (:func:`refine_uniformly`)."""
     import gmsh
 
     import dolfinx.io.gmsh
@@ -259,4 +294,4 @@ def read_tagged_mesh(path: str | pathlib.Path, comm=None, size_factor: float = 1
         facets = {n: g.tag for n, g in data.physical_groups.items() if g.dim == 2}
     info = {"file": str(path), "kind": kind, "size_factor": size_factor,
             "cells": data.mesh.topology.index_map(3).size_global}
-    return ReadMesh(data.mesh, data.cell_tags, data.facet_tags, cells, facets, info)
+    return refine_uniformly(ReadMesh(data.mesh, data.cell_tags, data.facet_tags, cells, facets, info), refine)

@@ -187,7 +187,7 @@ def _main(argv: list[str] | None) -> int:
             args.prepared = mod.prepare(args)
         out = mod.out_folder(args) if hasattr(mod, "out_folder") else args.out
         command = f"run {args.target}" if args.command == "run" else (
-            f"converge {args.case}" if args.command == "converge" else args.command)
+            f"converge {args.case or args.config}" if args.command == "converge" else args.command)
         inputs = {f"--{flag}": getattr(args, flag, None) for flag in INPUT_FILES}
         with claim_out(out, resume=getattr(args, "resume", None), overwrite=args.overwrite,
                        comm=comm, command=command, inputs=inputs):

@@ -2,6 +2,9 @@
 
 ``lcefem converge CASE [--levels N] [--prolong] [--out DIR] [--resume] [--quiet]``
 
+(``lcefem converge --config robot.toml --levels 3``: the same study of a user's body,
+:mod:`lcefem.validation.converge_body`.)
+
 Runs the case at refinement levels 0..N-1 (N >= 4; ``ctx.level = i``, the case sets ``ctx.mesh_size``)
 in ``DIR/level<i>/``; ``--resume`` reuses levels whose outputs are complete (their ``metrics.json``
 marker, written last). For every metric it reports, on the finest three levels, the observed order p,
@@ -126,8 +129,13 @@ def ratio_warnings(mesh_sizes) -> list[str]:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("case", metavar="CASE", help="a case with convergence support (lcefem validate --list)")
-    parser.add_argument("--levels", type=int, default=MIN_LEVELS, help=f"number of levels (>= {MIN_LEVELS})")
+    parser.add_argument("case", metavar="CASE", nargs="?",
+                        help="a case with convergence support (lcefem validate --list)")
+    parser.add_argument("--config", help="instead of CASE: a body's case file (lcefem run body; "
+                        "docs/own_robot.md), refined by its .geo's size factor or uniformly")
+    parser.add_argument("--levels", type=int, default=None,
+                        help=f"number of levels (CASE: >= {MIN_LEVELS}, default {MIN_LEVELS}; "
+                        "--config: 3 to 5, default 3)")
     parser.add_argument("--prolong", action="store_true",
                         help="start each level from the previous level's solution interpolated onto "
                         "its mesh (cases that support it)")
@@ -293,6 +301,8 @@ def prepare(args: argparse.Namespace) -> None:
     With --prolong the levels run in order, each solved on all the ranks (their FE in parallel)."""
     from lcefem.solvers.runtime.ranks import world
 
+    if args.config is not None:  # a body's case file: checked now, before any folder or mesh
+        return _prepare_body(args)
     comm = world()
     if comm is not None and comm.size > 1 and not args.prolong:
         from lcefem.validation import farm
@@ -302,6 +312,10 @@ def prepare(args: argparse.Namespace) -> None:
 
 def selected_case(args: argparse.Namespace):
     """The case to study (InputError for an unknown case, one without levels, too few levels)."""
+    if args.case is None:
+        raise InputError("converge: give a CASE (lcefem validate --list) or --config robot.toml")
+    if args.levels is None:
+        args.levels = MIN_LEVELS
     cases = registry()
     if args.case not in cases:
         raise InputError(f"unknown case '{args.case}'; known cases: {', '.join(cases) or '(none)'}")
@@ -320,8 +334,28 @@ def selected_case(args: argparse.Namespace):
     return case
 
 
+def _prepare_body(args: argparse.Namespace):
+    """The checked case file of ``--config`` (lcefem.validation.converge_body)."""
+    from lcefem.solvers.problems.body_case import load_case
+    from lcefem.validation.converge_body import MIN_LEVELS as BODY_LEVELS, check_refinable
+
+    if args.case is not None:
+        raise InputError(f"converge: give CASE ({args.case!r}) or --config, not both")
+    if args.prolong or getattr(args, "resume", False):
+        raise InputError("converge --config: --prolong and --resume are for built-in cases")
+    if args.levels is None:
+        args.levels = BODY_LEVELS
+    case = load_case(args.config)
+    check_refinable(case, args.levels)
+    return case
+
+
 def out_folder(args: argparse.Namespace) -> pathlib.Path:
     """--out (default results/converge/<case>), once the input is known good."""
+    if args.config is not None:
+        path = pathlib.Path(args.config)
+        return args.out or pathlib.Path("results/converge") / (path.parent.name if path.stem == "case"
+                                                               else path.stem)
     case = selected_case(args)  # checked even with --out: bad input must not touch a folder
     return args.out or pathlib.Path("results/converge") / case.name
 
@@ -353,6 +387,10 @@ def write_study(out: pathlib.Path, case_name: str, mesh_sizes, mesh_unit: str,
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.config is not None:
+        from lcefem.validation import converge_body
+
+        return converge_body.main(args)
     case = selected_case(args)
     out = out_folder(args)
     from lcefem.solvers.runtime.ranks import world

@@ -115,7 +115,7 @@ class BodyProblem:
 
     def __init__(self, case: BodyCase, comm: MPI.Comm | None = None):
         self.case = case
-        read = read_tagged_mesh(case.mesh_file, comm, case.mesh["size_factor"])
+        read = read_tagged_mesh(case.mesh_file, comm, case.mesh["size_factor"], case.mesh["refine"])
         self.tmesh = tm = read.tagged()
         self.mesh_info = read.info
         mesh = tm.mesh

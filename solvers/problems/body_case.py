@@ -58,6 +58,8 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "size_factor": (NUM, "-", 1.0, (0.01, 10.0), "gmsh Mesh.MeshSizeFactor for a .geo"),
         "symmetry_factor": (INT, "-", 1, (1, 2, 4, 8), "the whole body is this many copies of the "
                             "mesh (mirror planes): coil power and reactions are for the whole body"),
+        "refine": (INT, "-", 0, (0, 4), "uniform refinements of the read mesh (each halves every "
+                   "edge: tetrahedra only; dolfinx.mesh.refine)"),
     },
     "thermal": {
         "density": (NUM, "t/mm^3", _H.density, (POSITIVE, None), "density (heat capacity, gravity)"),
@@ -128,12 +130,28 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "loads": (TABLE, "-", {}, (-1e6, 1e6), "load name = factor, or [[t, f], ...]"),
         "schedule": (STR, "-", None, None, "CSV: 'time [s]' then '<tag> [A|C|-]' columns"),
     },
+    "compare": {
+        "observable": (STR, "-", REQUIRED, None, "a history observable of this body, 'name [unit]'"),
+        "data": (STR, "-", REQUIRED, None, "CSV relative to the case file: 'time [s]' and the "
+                 "observable's column with its unit (C or K, mm, um or m, N or mN, mW or W)"),
+        "tolerance": (STR, "unit or %", REQUIRED, None, "largest allowed deviation: '0.5 C' "
+                      "(absolute, any unit of the observable's kind) or '5 %' (of the measured value)"),
+        "source": (STR, "-", REQUIRED, None, "where the measurements come from (shown in the report)"),
+    },
     "output": {
         "fields": (BOOL, "-", True, None, "write temperature.bp and displacement.bp (VTX)"),
         "every": (INT, "-", 1, (1, 100000), "a field frame every n steps"),
     },
 }
-ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes")
+ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare")
+
+#: Units a measured column or a tolerance may carry: {unit: (kind, scale, offset)}, value in lcefem's
+#: unit = scale * value + offset (README: mm, s, N, mW, C). A tolerance is a difference: scale only.
+UNITS = {"C": ("temperature", 1.0, 0.0), "K": ("temperature", 1.0, -273.15),
+         "mm": ("length", 1.0, 0.0), "um": ("length", 1e-3, 0.0), "m": ("length", 1e3, 0.0),
+         "N": ("force", 1.0, 0.0), "mN": ("force", 1e-3, 0.0),
+         "mW": ("power", 1.0, 0.0), "W": ("power", 1e3, 0.0), "s": ("time", 1.0, 0.0),
+         "MPa": ("stress", 1.0, 0.0), "kPa": ("stress", 1e-3, 0.0), "-": ("ratio", 1.0, 0.0)}
 SECTIONS = ("mesh", "thermal", "program", "output", "petsc", *ARRAYS)
 
 
@@ -163,6 +181,7 @@ class BodyCase:
     probes: tuple[dict, ...]
     program: dict
     output: dict
+    compare: tuple[dict, ...] = ()
     petsc: dict = field(default_factory=dict)
     drives: dict = field(default_factory=dict)  # {kind: {tag: Schedule}}
     cell_names: dict = field(default_factory=dict)
@@ -318,6 +337,97 @@ def _read_schedule_csv(check: _Checker, path: pathlib.Path, entry: str) -> dict[
         tag, unit = name[:-1].split(" [", 1)
         out[tag] = (unit, Schedule(tuple(data[:, 0]), tuple(data[:, j])))
     return out
+
+
+def observable_names(cells, coils, probes, supports) -> list[str]:
+    """The history observables "name [unit]" of a body with these cell sets, coils, probes and
+    supports, as :meth:`lcefem.solvers.problems.body.BodyProblem.observables` names them."""
+    names = ["T_mean [C]", "T_max [C]"]
+    for n in cells:
+        names += [f"T_mean {n} [C]", f"T_max {n} [C]"]
+    names += [f"power {c['name']} [mW]" for c in coils]
+    for p in probes:
+        names += [f"u_{a} {p['name']} [mm]" for a in "xyz"] + [f"T {p['name']} [C]"]
+    for s in supports:
+        if s["type"] in ("clamp", "roller"):
+            comps = "xyz" if s["type"] == "clamp" else s["normal"]
+            names += [f"reaction_{a} {s['name'] or s['boundary']} [N]" for a in comps]
+    return names
+
+
+def _name_unit(label: str) -> tuple[str, str]:
+    """("name", "unit") of "name [unit]"."""
+    label = label.strip()
+    if not (label.endswith("]") and " [" in label):
+        return label, ""
+    name, unit = label[:-1].rsplit(" [", 1)
+    return name.strip(), unit.strip()
+
+
+def to_unit(value, unit: str, target: str, difference: bool = False):
+    """``value`` [unit] in ``target`` (both keys of :data:`UNITS`, of one kind); a ``difference``
+    (a tolerance) is scaled only (1 K = 1 C)."""
+    _, a, a0 = UNITS[unit]
+    _, b, b0 = UNITS[target]
+    if difference:
+        return np.asarray(value, float) * a / b
+    return (np.asarray(value, float) * a + a0 - b0) / b
+
+
+def _read_measured_csv(check: _Checker, path: pathlib.Path, entry: str, name: str, unit: str):
+    """(times [s], values [unit], the file's unit) of a measured CSV: a 'time [s]' column and the
+    observable's column ('<name> [<unit>]' or, in a two-column file, any '<label> [<unit>]'), its
+    unit of the observable's kind (converted)."""
+    import csv
+
+    from lcefem.solvers.runtime.inputs import read_text
+
+    if not path.is_file():
+        check.fail(entry, f"{path.name}: file not found (relative to the case file)")
+    rows = list(csv.reader(read_text(path, f"{check.file}: {entry}").splitlines()))
+    rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
+    if len(rows) < 2:
+        check.fail(entry, f"{path.name}: a header and at least one row needed")
+    header = [_name_unit(h) for h in rows[0]]
+    if header[0] != ("time", "s"):
+        check.fail(entry, f"{path.name}: first column must be 'time [s]' (got {rows[0][0]!r})")
+    cols = [j for j, (n, _) in enumerate(header) if j and n == name] or \
+        ([1] if len(header) == 2 else [])
+    if not cols:
+        check.fail(entry, f"{path.name}: no column '{name} [unit]' (columns: {', '.join(rows[0])})")
+    j = cols[0]
+    got = header[j][1]
+    if got not in UNITS or UNITS[got][0] != UNITS.get(unit, ("?",))[0]:
+        same = [u for u, k in UNITS.items() if k[0] == UNITS.get(unit, ("?",))[0]]
+        check.fail(entry, f"{path.name}: column {rows[0][j]!r}: unit {got or 'missing'!r}; allowed "
+                   f"{', '.join(same) or unit} (the observable is in {unit})")
+    try:
+        data = np.array([[float(r[0]), float(r[j])] for r in rows[1:]])
+    except (ValueError, IndexError):
+        check.fail(entry, f"{path.name}: every row needs a number in 'time [s]' and {rows[0][j]!r}")
+    if not np.all(np.isfinite(data)):
+        check.fail(entry, f"{path.name}: values must be finite")
+    if np.any(np.diff(data[:, 0]) <= 0):
+        check.fail(entry, f"{path.name}: times must increase")
+    return data[:, 0].tolist(), to_unit(data[:, 1], got, unit).tolist(), got
+
+
+def _tolerance(check: _Checker, entry: str, text: str, unit: str) -> dict:
+    """{"relative": fraction} of '5 %', or {"absolute": value [unit]} of '0.5 C' (any unit of the
+    observable's kind)."""
+    parts = text.split()
+    try:
+        value = float(parts[0]) if len(parts) == 2 else math.nan
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        check.fail(entry, f"{text!r}: allowed '<number > 0> %' or '<number > 0> <unit>'")
+    if parts[1] == "%":
+        return {"relative": value / 100.0, "text": text}
+    same = [u for u, k in UNITS.items() if k[0] == UNITS.get(unit, ("?",))[0]]
+    if parts[1] not in same:
+        check.fail(entry, f"{text!r}: unit {parts[1]!r}; allowed % or {', '.join(same) or unit}")
+    return {"absolute": float(to_unit(value, parts[1], unit, difference=True)), "unit": unit, "text": text}
 
 
 def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None) -> BodyCase:
@@ -507,6 +617,24 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         if p["boundary"] is not None:
             facet_set(f"{e}.boundary", p["boundary"])
 
+    if sec["mesh"]["refine"] and mesh_file.suffix.lower() == ".geo":
+        check.fail("[mesh].refine", "a .geo is refined by its size_factor; refine is for a read mesh "
+                   "(.msh, .vtu, .xdmf)")
+
+    # Comparisons with measurements: the observable exists, the data's units are known and of its kind.
+    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"])
+    for i, c in enumerate(arr["compare"]):
+        e = f"[[compare]][{i}]"
+        name, unit = _name_unit(c["observable"])
+        if c["observable"] not in names:
+            check.fail(f"{e}.observable", f"{c['observable']!r} is not an observable of this body; allowed: "
+                       f"{', '.join(names)}")
+        data_file = (path.parent / c["data"]).resolve()
+        c["data"] = str(data_file)
+        c["times [s]"], c["values"], c["data_unit"] = _read_measured_csv(check, data_file, f"{e}.data",
+                                                                          name, unit)
+        c["tolerance"] = _tolerance(check, f"{e}.tolerance", c["tolerance"], unit)
+
     # The program: drives by tag, each a constant or a schedule.
     prog = sec["program"]
     if not prog["steady"]:
@@ -542,5 +670,5 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
     return BodyCase(path=path.resolve(), mesh=sec["mesh"], thermal=sec["thermal"],
                     regions=tuple(arr["regions"]), coils=tuple(arr["coils"]), heat=tuple(arr["heat"]),
                     supports=tuple(arr["supports"]), loads=tuple(arr["loads"]), probes=tuple(arr["probes"]),
-                    program=prog, output=sec["output"], petsc=petsc,
+                    program=prog, output=sec["output"], compare=tuple(arr["compare"]), petsc=petsc,
                     drives=drives, cell_names=cells, facet_names=facets)

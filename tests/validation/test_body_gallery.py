@@ -71,3 +71,35 @@ def test_bilayer_curvature_is_timoshenkos():
     expected = timoshenko_curvature(strain, 0.5, 0.5, E_lce, top["E"])
     assert row["u_z tip_bottom [mm]"] < 0  # the contracting LCE layer (bottom) on the concave side
     assert kappa / expected == pytest.approx(1.0, abs=0.0075)
+
+
+def test_gripper_bends_toward_the_lce_and_balances_its_heat():
+    """The gripper finger's steady state at 0.2 A, coarse level (767 tetrahedra). The coil's power
+    P = I^2 R = 0.04 A^2 x 3 ohm = 120 mW leaves by convection only, h = 5.805e-3 mW/(mm^2 K) on the
+    exposed surface A = 2 x 30 x 10 + (2 x 30 + 10) x 1.125 = 678.75 mm^2 (the reference area), so
+    the mean surface rise is P / (h A) = 30.46 K, and the heater track, where the heat is made, is
+    hotter than that.
+
+    Measured (size factor 1 and 0.5, 767 and 5870 cells): the surface's mean rise is 1.0218 and
+    1.0263 of P / (h A) (above 1: the convection acts on the deformed surface, which the LCE's
+    contraction makes smaller than the reference one); the track's mean rise is 1.1078 and 1.1301
+    of it. Tolerances: the two levels' difference (0.0045 and 0.022) doubled. The tip rises (+z,
+    toward the LCE side: the LCE on top contracts, the Kapton below does not): measured
+    u_z tip = 5.13 mm and 9.00 mm (the coarse tetrahedra are stiff in bending)."""
+    import tomllib
+
+    path = REPO / "examples" / "bodies" / "gripper" / "case.toml"
+    from lcefem.solvers.problems.body import run_body
+    from lcefem.solvers.problems.body_case import load_case
+
+    case = load_case(path, overrides={("mesh", "size_factor"): 1.0, ("program", "steady"): True})
+    row = {k: v[-1] for k, v in run_body(case, None, progress=False).history.items()}
+    conf = tomllib.loads(path.read_text())
+    h, T_inf = conf["heat"][0]["h"], conf["heat"][0]["T_inf"]
+    power = 0.2 ** 2 * conf["coils"][0]["resistance"] * 1e3  # mW
+    assert row["power heater [mW]"] == pytest.approx(power)
+    area = 2 * 30 * 10 + (2 * 30 + 10) * 1.125  # mm^2
+    rise = power / (h * area)  # K
+    assert (row["T surface [C]"] - T_inf) / rise == pytest.approx(1.0218, abs=0.009)
+    assert (row["T_mean coil [C]"] - T_inf) / rise == pytest.approx(1.1078, abs=0.045)
+    assert row["u_z tip [mm]"] > 0.1 * 30  # bent up toward the LCE by more than a tenth of its length

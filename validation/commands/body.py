@@ -3,7 +3,9 @@ case file (:mod:`lcefem.solvers.problems.body_case`: the schema and its checks;
 :mod:`lcefem.solvers.problems.body`: the problem and its run; docs/own_robot.md).
 
 The run writes, in --out DIR: history.csv (one row per step), temperature.bp and displacement.bp
-(VTX, ParaView), summary.json (every resolved value of the case, mesh, wall time). Files carry a
+(VTX, ParaView), summary.json (every resolved value of the case, mesh, wall time); with
+``[[compare]]`` entries also report.md, one compare_<observable>.png each and the judged rows in
+summary.json (:mod:`lcefem.validation.compare`): exit 1 when one fails. Files carry a
 .part suffix until the run completes; a run that fails keeps the converged steps as *.partial.*
 and writes failure.json.
 """
@@ -44,6 +46,26 @@ def main(args: argparse.Namespace) -> int:
         print(f"lcefem: body {case.path.name}, {what} in {result.summary['wall_time [s]']:.1f} s; "
               f"T_max {final.get('T_max [C]', float('nan')):.1f} C, T_mean {final.get('T_mean [C]', float('nan')):.1f} C; "
               f"results in {result.out}")
+    if not case.compare:
+        return 0
+    if result.out is None:
+        return 0
+    from lcefem.solvers.runtime.exits import EXIT_CASE_ERROR
+    from lcefem.validation.compare import write_comparisons
+
+    rows = None
+    if default_comm().rank == 0:
+        rows = write_comparisons(case, result, result.out, command=f"lcefem run body --config {args.config}")
+        for r in rows:
+            print(f"  compare {r.metric}: model {r.value:.4g} {r.unit}, measured "
+                  f"{r.reference if r.reference is not None else float('nan'):.4g} {r.unit} "
+                  f"-> {'pass' if r.passed else 'FAIL'}")
+        print(f"report: {result.out / 'report.md'}")
+    failed = default_comm().bcast(None if rows is None else any(not r.passed for r in rows), root=0)
+    if failed:
+        if default_comm().rank == 0:
+            print(f"lcefem run body: a [[compare]] entry failed (see {result.out / 'report.md'})")
+        return EXIT_CASE_ERROR
     return 0
 
 

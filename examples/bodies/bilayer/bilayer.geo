@@ -9,18 +9,19 @@ Lh = 20;    // half length [mm]
 bh = 1;     // half width [mm]
 h1 = 0.5;   // LCE layer [mm]
 h2 = 0.5;   // passive layer [mm]
-m = Round(1 / Mesh.MeshSizeFactor);
+m = 1 / Mesh.MeshSizeFactor;  // 2 m divisions on each short edge (the 1 mm half width, each 0.5 mm
+                              // layer), 20 m along; rounded, at least one (size factor 2: 20 cells)
 
 Box(1) = {0, 0, 0, Lh, bh, h1};
 Box(2) = {0, 0, h1, Lh, bh, h2};
 BooleanFragments{ Volume{1:2}; Delete; }{}
 
 e = 1e-4;
-Transfinite Curve{ Curve In BoundingBox{-e, -e, -e, Lh + e, bh + e, h1 + h2 + e} } = 2 * m + 1;
+Transfinite Curve{ Curve In BoundingBox{-e, -e, -e, Lh + e, bh + e, h1 + h2 + e} } = Max(1, Round(2 * m)) + 1;
 zs[] = {0, h1, h1 + h2};
 For j In {0:2}  // the axial edges: 20 m divisions (1/m mm)
-  Transfinite Curve{ Curve In BoundingBox{-e, -e, zs[j] - e, Lh + e, e, zs[j] + e} } = 20 * m + 1;
-  Transfinite Curve{ Curve In BoundingBox{-e, bh - e, zs[j] - e, Lh + e, bh + e, zs[j] + e} } = 20 * m + 1;
+  Transfinite Curve{ Curve In BoundingBox{-e, -e, zs[j] - e, Lh + e, e, zs[j] + e} } = Max(1, Round(20 * m)) + 1;
+  Transfinite Curve{ Curve In BoundingBox{-e, bh - e, zs[j] - e, Lh + e, bh + e, zs[j] + e} } = Max(1, Round(20 * m)) + 1;
 EndFor
 Transfinite Surface{:};
 Recombine Surface{:};
