@@ -154,7 +154,7 @@ def inverse(design: GridshellDesign, kx: float, ky: float, height: float | None 
     if check:
         found = reach(design, kx, ky, result)
         result.check = {"circle_x": found.achieved[0], "circle_y": found.achieved[1],
-                        "seconds": found.seconds, "reach": found}
+                        "seconds": found.seconds, "x": found.x, "reach": found}
     result.seconds = time.perf_counter() - t0
     result.stats = dataclasses.replace(design.eq.stats)
     return result
@@ -211,6 +211,7 @@ class Reach:
     distance: float
     attempts: list
     seconds: float  # CPU
+    x: np.ndarray | None = None  # (n, 3) [mm]: the surface at the end of the stages
 
     @property
     def p(self) -> np.ndarray:
@@ -262,7 +263,7 @@ def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
 
     def done(kind, stages, r):
         return Reach(kind, [np.asarray(s, dtype=float) for s in stages], (r["circle_x"], r["circle_y"]),
-                     r["distance"], attempts, time.process_time() - t0)
+                     r["distance"], attempts, time.process_time() - t0, r["x"])
 
     p1 = np.asarray(loop.p, dtype=float)
     r1 = attempt([p1])
@@ -318,6 +319,67 @@ def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
                  time.process_time() - t0)
 
 
+#: A program's schedule (``lcefem run gridshell --schedule``): each drive held until the strips'
+#: lumped heat balance has settled. Measured with the FE-calibrated set's grid strip ('strip' thermal
+#: model, its exchange factor): from ambient at the current holding lambda = 1.05, the strip is at
+#: 1.0514 after 600 s and 1.05003 after 1000 s (time constant ~130 s); an overshoot need only put the
+#: surface on the target's branch (600 s), the last drive holds until 1e-4 of its lambda (1200 s).
+PROGRAM_HOLDS = (600.0, 1200.0)  # s: every drive but the last, the last
+#: Output interval [s] of the program's replay: one quasi-static solve of the surface per interval
+#: (each followed by path following from the previous equilibrium).
+PROGRAM_OUTPUT_INTERVAL = 50.0
+#: Implicit-Euler step [s] of the replay's heat balance (a tenth of the ~5 s it takes the hottest
+#: strip to move 0.01 in lambda).
+PROGRAM_HEAT_STEP = 0.5
+
+
+def program_schedule(design: GridshellDesign, stages, labels=None):
+    """The :class:`~lcefem.solvers.problems.gridshell_bh_sequence.Schedule` that drives the channels
+    through ``stages`` (design variables per drive; four channels only) by the currents that hold
+    each drive's lambdas (:func:`currents_for`, the 'strip' thermal model of the design's model set),
+    each held :data:`PROGRAM_HOLDS`."""
+    from lcefem.solvers.problems.gridshell_bh_sequence import Schedule
+
+    if design.mode != "4":
+        raise InputError("design program: a schedule drives the four channels (--channels 4)")
+    currents = [currents_for(design, p)["strip"] for p in stages]
+    times, t = [], 0.0
+    for k in range(len(stages)):
+        times.append(t)
+        t += PROGRAM_HOLDS[0] if k < len(stages) - 1 else PROGRAM_HOLDS[1]
+    labels = labels or [f"drive {k + 1}" for k in range(len(stages) - 1)] + ["design"]
+    return Schedule(tuple(times), {name: tuple(c[name] for c in currents) for name in design.names},
+                    t, PROGRAM_OUTPUT_INTERVAL, design.support, "strip", tuple(labels), PROGRAM_HEAT_STEP)
+
+
+def schedule_toml(schedule, comment: str = "") -> str:
+    """The schedule file ``lcefem run gridshell --schedule`` reads (gridshell_bh_sequence)."""
+    lines = [f"# {line}" for line in comment.splitlines()] + ["", "[schedule]",
+             f"times = [{', '.join(f'{t:g}' for t in schedule.times)}]",
+             "labels = [" + ", ".join(f'"{s}"' for s in schedule.labels) + "]",
+             f"end = {schedule.end:g}", f"output_interval = {schedule.output_interval:g}",
+             f'support = "{schedule.support}"', f'thermal_model = "{schedule.thermal_model}"',
+             f"heat_step = {schedule.heat_step:g}", "", "[currents]  # A, one per switch time"]
+    lines += [f"{sel} = [{', '.join(f'{v:.9g}' for v in vals)}]" for sel, vals in schedule.currents.items()]
+    return "\n".join(lines) + "\n"
+
+
+def replay(design: GridshellDesign, schedule) -> dict:
+    """Final circle curvatures [1/mm] of the schedule replayed as ``lcefem run gridshell --schedule``
+    does (:func:`~lcefem.solvers.problems.gridshell_bh_sequence.run_sequence` on a fresh surface of
+    the design's model set, its grid strip's exchange factor), and the CPU seconds."""
+    from lcefem.solvers.problems.gridshell_bh_sequence import run_sequence
+
+    t0 = time.process_time()
+    ms = calibrate.model_set(design.model_set)
+    layout = GridshellLayout(ribbons=design.structure.info["ribbons"])
+    s = run_sequence(schedule, None, progress=False, structure=ms.structure(layout), frames=False,
+                     materials=ms.materials, exchange_factor=ms.exchange_factor)
+    f = s["final"]
+    return {"circle_x": f["circle kappa_x [1/mm]"], "circle_y": f["circle kappa_y [1/mm]"],
+            "seconds": time.process_time() - t0}
+
+
 def lambdas_by_name(design: GridshellDesign, p) -> dict:
     return {str(k): float(v) for k, v in zip(design.names, p)}
 
@@ -343,6 +405,7 @@ def design_summary(design: GridshellDesign, result: DesignResult) -> dict:
     p = found.p if found is not None else result.p
     out = {"target": {"kappa_x [1/mm]": float(result.target[0]),
                       "kappa_y [1/mm]": float(result.target[1])},
+           "support": design.support,
            "lambdas [-]": lambdas_by_name(design, p),
            "currents [A]": currents_for(design, p),
            "lambdas (design loop) [-]": lambdas_by_name(design, result.p),
