@@ -334,14 +334,13 @@ PROGRAM_HEAT_STEP = 0.5
 
 
 def program_schedule(design: GridshellDesign, stages, labels=None):
-    """The :class:`~lcefem.solvers.problems.gridshell_bh_sequence.Schedule` that drives the channels
-    through ``stages`` (design variables per drive; four channels only) by the currents that hold
+    """The :class:`~lcefem.solvers.problems.gridshell_bh_sequence.Schedule` that drives the design
+    variables (channels, or strip ids: per-strip designs) through ``stages`` (design variables per
+    drive) by the currents that hold
     each drive's lambdas (:func:`currents_for`, the 'strip' thermal model of the design's model set),
     each held :data:`PROGRAM_HOLDS`."""
     from lcefem.solvers.problems.gridshell_bh_sequence import Schedule
 
-    if design.mode != "4":
-        raise InputError("design program: a schedule drives the four channels (--channels 4)")
     currents = [currents_for(design, p)["strip"] for p in stages]
     times, t = [], 0.0
     for k in range(len(stages)):
