@@ -238,8 +238,8 @@ def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
        its Jacobian the exact one of the branch the run ends on (:func:`branch_jacobian`), the step a
        bounded least-squares one in [1.05, lambda_N]; every run is a *seed*: an equilibrium the
        surface reaches from flat.
-    3. From each seed (the one whose end lies farthest from the first run's branch, extrapolated
-       linearly, first), the design loop continues on the seed's branch to the target (warm-started
+    3. From each seed (those that landed farthest beyond the first run's branch toward the target
+       first; the Gauss-Newton steps stop at the first such jump), the design loop continues on the seed's branch to the target (warm-started
        least squares); its lambdas p_f are run from flat (constant design) and, if that run ends on
        another branch, as the program [seed, p_f]: overshoot to the seed, then release to p_f.
     Stops at the first path within ``tolerance`` of the target (both curvatures); at most
@@ -269,9 +269,21 @@ def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
     r1 = attempt([p1])
     if r1 is not None and r1["distance"] <= tolerance:
         return done("constant", [p1], r1)
-    seeds = [(p1, r1)] if r1 is not None else []
+    if r1 is None:  # the run from flat at the loop's lambdas finds no equilibrium: nothing to seed
+        return Reach("none", [p1], (float("nan"), float("nan")), float("inf"), attempts,
+                     time.process_time() - t0)
+    k1 = np.array([r1["circle_x"], r1["circle_y"]])
+    jac1 = branch_jacobian(design, p1, r1["x"])
+    toward = (target - k1) / max(float(np.linalg.norm(target - k1)), 1e-30)
+
+    def past(ps, rs) -> float:
+        """How far [1/mm] the run from flat at ps ended beyond the first run's branch (its tangent
+        at p1), toward the target: > 0 for a run that jumped to another branch on the target's side."""
+        return float((np.array([rs["circle_x"], rs["circle_y"]]) - (k1 + jac1 @ (ps - p1))) @ toward)
+
+    seeds = [(p1, r1)]
     p, r = p1, r1
-    for _ in range(newton_steps if r1 is not None else 0):
+    for _ in range(newton_steps):
         k = np.array([r["circle_x"], r["circle_y"]])
         jac = branch_jacobian(design, p, r["x"])
         step = lsq_linear(jac, target - k, bounds=(lo - p + 1e-12, hi - p - 1e-12)).x
@@ -282,21 +294,15 @@ def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
         if r_new["distance"] <= tolerance:
             return done("constant", [p_new], r_new)
         seeds.append((p_new, r_new))
+        if past(p_new, r_new) > tolerance:  # on another branch, past the target: continue from it
+            break
         p, r = p_new, r_new
-    if not seeds:
-        return Reach("none", [p1], (float("nan"), float("nan")), float("inf"), attempts,
-                     time.process_time() - t0)
-    # Seeds off the first run's branch first: their ends lie farthest from that branch's tangent.
-    jac1 = branch_jacobian(design, p1, r1["x"]) if r1 is not None else np.zeros((2, p1.size))
-    k1 = np.array([r1["circle_x"], r1["circle_y"]]) if r1 is not None else target
-
-    def jump(seed):
-        ps, rs = seed
-        return -float(np.linalg.norm(np.array([rs["circle_x"], rs["circle_y"]]) - (k1 + jac1 @ (ps - p1))))
-
+    # Seeds on the target's side of the first run's branch first (measured saddle on rollers: the
+    # second Gauss-Newton run lands on the other branch, beyond the target: the program starts there).
+    seeds.sort(key=lambda seed: -past(*seed))
     scale = [CURVATURE_SCALE, CURVATURE_SCALE] + ([HEIGHT_SCALE] if design.height else [])
     goal = list(target) + ([float(loop.target[2])] if design.height else [])
-    for ps, rs in sorted(seeds, key=jump):
+    for ps, rs in seeds:
         if len(attempts) >= max_paths:
             break
         design.eq.reseed(rs["x"], ps)
