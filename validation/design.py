@@ -122,15 +122,17 @@ def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = Tr
             schedule = gd.program_schedule(design, found.stages,
                                            [f"overshoot {k + 1}" for k in range(len(found.stages) - 1)]
                                            + ["release to the design"])
+            # replayed before the file is written: a failed replay leaves no complete-looking schedule
+            replayed = gd.replay(design, schedule)
             comment = (f"lcefem design --target-kx {req.kx} --target-ky {req.ky} (support {req.support}, "
                        f"model set {req.model_set}): no constant set of lambdas tried reaches the target "
-                       "from flat;\nthis program does (replay: lcefem run gridshell --schedule THIS_FILE). "
+                       "from flat;\nthis program does (replay: lcefem run gridshell --schedule THIS_FILE; "
+                       f"replayed here: {replayed['circle_x']:.6f} / {replayed['circle_y']:.6f} 1/mm).\n"
                        "Drives per stage (lambdas [-]):\n" + "\n".join(
                            ", ".join(f"{k}={v:.5f}" for k, v in d.items())
                            for d in summary["reach"]["stages"]))
             write_text(out / "program_schedule.toml", gd.schedule_toml(schedule, comment))
-            summary["program schedule"] = {"file": "program_schedule.toml",
-                                           "replay [1/mm]": gd.replay(design, schedule)}
+            summary["program schedule"] = {"file": "program_schedule.toml", "replay [1/mm]": replayed}
         currents = summary["currents [A]"]
         for j, (name, lam) in enumerate(summary["lambdas [-]"].items()):
             run.record({"variable [-]": j, "lambda [-]": lam,
