@@ -139,6 +139,7 @@ def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = Tr
                         "current segment route [A]": currents["segment"][name],
                         "current eq1 route [A]": currents["eq1"][name]}, where=f"variable {name}")
         summary["wall time [s]"] = time.perf_counter() - started
+        summary.update({"ribbons": req.ribbons, "model set": req.model_set})
         return run.complete({"model": "bar-hinge gridshell, inverse design", **summary})
 
 
@@ -150,7 +151,11 @@ def protocol(s: dict, out) -> str:
     lam = ",".join(f"{k}={v:.5f}" for k, v in s["lambdas [-]"].items())
     reached = s["distance from the target along the run's path [1/mm]"]
     if found["kind"] == "constant":
-        return (f"reached from flat by `lcefem run gridshell --lambda {lam} --support {s['support']}` "
+        extra = f" --ribbons {s['ribbons']}" if s.get("ribbons", 3) != 3 else ""
+        # the run's --model-set (branch grid) defaults to the FE-calibrated set, design's default too
+        if s.get("model set", calibrate.DEFAULT_MODEL_SET) != calibrate.DEFAULT_MODEL_SET:
+            extra += f" --model-set {s['model set']}"
+        return (f"reached from flat by `lcefem run gridshell --lambda {lam} --support {s['support']}{extra}` "
                 f"({reached:.1e} 1/mm off)")
     if found["kind"] == "program":
         r = s.get("program schedule", {}).get("replay [1/mm]")
