@@ -9,7 +9,8 @@ there and its schedule, replayed as ``lcefem run gridshell --schedule`` does, to
 design loop's lambdas and where the run from flat takes them (the branch it lands on), the kind of
 design, its CPU time. Figure: per target, the design loop's equilibrium, the run from flat at its
 lambdas and the final design's run, in the (kappa_x, kappa_y) plane. The quick level runs the table
-and the cylinder (cheap: the run from flat at the design loop's lambdas lands at once).
+and the cylinder (measured: 12 s and 39 s CPU, both constant designs; the cylinder's loop lambdas
+land 4e-4 1/mm off from flat, one Gauss-Newton step along the run's path closes it to 3.9e-5).
 """
 
 from __future__ import annotations
