@@ -8,11 +8,19 @@
 Finds lambdas in [1.05, lambda_N] (one per channel Tx, Ty, Bx, By, or one per strip) whose stable
 equilibrium has the target centre curvatures (the paper's circle measure, dome negative) by least
 squares with exact sensitivities (:mod:`lcefem.validation.gridshell_design`), then the currents of
-both current routes (segment, eq1), and checks the lambdas by a forward run from the as-built state.
+both current routes (segment, eq1). By default the design is one the surface reaches from flat: the
+run's own path (``lcefem run gridshell``, the ramp from the as-built state) at the lambdas printed
+ends within the design tolerance (1e-4 1/mm) of the target
+(:func:`lcefem.validation.gridshell_design.reach`). Where the run's ramp from flat lands on another
+branch at every constant set tried, the design is a *program*: channel drives held one after the
+other (an overshoot, then the release to the design's lambdas), written as
+``program_schedule.toml`` and replayed here as ``lcefem run gridshell --schedule`` does (its final
+curvatures in summary.json). ``--no-check`` prints the design loop's lambdas unchecked.
 
 Outputs in --out DIR (through the run skeleton lcefem.solvers.runtime.run.Run): summary.json (target,
 lambdas, currents per route, achieved curvatures in the design loop and in the forward check,
-residual [1/mm], optimiser record, forward solves, Newton iterations, wall time) and design.csv
+residual [1/mm], optimiser record, forward solves, Newton iterations, wall time; "reach": how the
+run's path gets there, every path tried) and design.csv
 (one row per design variable, numbered in the order of summary.json's "lambdas [-]": channels Tx,
 Ty, Bx, By, or strip ids: lambda [-], segment-route current [A], eq1-route current [A]).
 A target outside the reachable set ends normally with the smallest residual found (reported).
@@ -30,6 +38,7 @@ from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.meshes.gridshell_layout import Layout
 from lcefem.models.parameters import describe
 from lcefem.models.errors import InputError
+from lcefem.solvers.runtime.files import write_text
 from lcefem.solvers.runtime.outdir import add_out_arguments
 from lcefem.solvers.runtime.run import Progress, Run
 from lcefem.solvers.problems import gridshell_bh as problem_bh
@@ -130,29 +139,62 @@ def run_design(req: DesignRequest, out: pathlib.Path | None, progress: bool = Tr
              progress=Progress(1.0, "design", "", ".0f", progress)) as run:
         result = gd.inverse(design, req.kx, req.ky, height=req.height, check=req.check)
         summary = gd.design_summary(design, result)
+        found = (result.check or {}).get("reach")
+        if found is not None and found.kind == "program" and out is not None:
+            schedule = gd.program_schedule(design, found.stages,
+                                           [f"overshoot {k + 1}" for k in range(len(found.stages) - 1)]
+                                           + ["release to the design"])
+            # replayed before the file is written: a failed replay leaves no complete-looking schedule
+            replayed = gd.replay(design, schedule)
+            comment = (f"lcefem design --target-kx {req.kx} --target-ky {req.ky} (support {req.support}, "
+                       f"model set {req.model_set}): no constant set of lambdas tried reaches the target "
+                       "from flat;\nthis program does (replay: lcefem run gridshell --schedule THIS_FILE; "
+                       f"replayed here: {replayed['circle_x']:.6f} / {replayed['circle_y']:.6f} 1/mm).\n"
+                       "Drives per stage (lambdas [-]):\n" + "\n".join(
+                           ", ".join(f"{k}={v:.5f}" for k, v in d.items())
+                           for d in summary["reach"]["stages"]))
+            write_text(out / "program_schedule.toml", gd.schedule_toml(schedule, comment))
+            summary["program schedule"] = {"file": "program_schedule.toml", "replay [1/mm]": replayed}
         currents = summary["currents [A]"]
         for j, (name, lam) in enumerate(summary["lambdas [-]"].items()):
             run.record({"variable [-]": j, "lambda [-]": lam,
                         "current segment route [A]": currents["segment"][name],
                         "current eq1 route [A]": currents["eq1"][name]}, where=f"variable {name}")
         summary["wall time [s]"] = time.perf_counter() - started
+        summary.update({"ribbons": req.ribbons, "model set": req.model_set})
         return run.complete({"model": "bar-hinge gridshell, inverse design", **summary})
+
+
+def protocol(s: dict, out) -> str:
+    """How the printed design is reached from flat: the command that replays it."""
+    found = s.get("reach")
+    if found is None:
+        return "unchecked (--no-check): the design loop's lambdas"
+    lam = ",".join(f"{k}={v:.5f}" for k, v in s["lambdas [-]"].items())
+    reached = s["distance from the target along the run's path [1/mm]"]
+    if found["kind"] == "constant":
+        extra = f" --ribbons {s['ribbons']}" if s.get("ribbons", 3) != 3 else ""
+        # the run's --model-set (branch grid) defaults to the FE-calibrated set, design's default too
+        if s.get("model set", calibrate.DEFAULT_MODEL_SET) != calibrate.DEFAULT_MODEL_SET:
+            extra += f" --model-set {s['model set']}"
+        return (f"reached from flat by `lcefem run gridshell --lambda {lam} --support {s['support']}{extra}` "
+                f"({reached:.1e} 1/mm off)")
+    if found["kind"] == "program":
+        r = s.get("program schedule", {}).get("replay [1/mm]")
+        replayed = f", replay {r['circle_x']:.5f}/{r['circle_y']:.5f}" if r else ""
+        return (f"no constant lambdas reach it from flat; a program of {len(found['stages'])} drives does "
+                f"({reached:.1e} 1/mm off{replayed}): `lcefem run gridshell --schedule "
+                f"{pathlib.Path(out) / 'program_schedule.toml'}`")
+    a = s["achieved (forward run from as built) [1/mm]"]
+    return (f"NOT reached from flat: the closest run ends {a['kappa_x']:.5f}/{a['kappa_y']:.5f} "
+            f"({reached:.1e} 1/mm off; no program found)")
 
 
 def main(args: argparse.Namespace) -> int:
     s = run_design(args.prepared, pathlib.Path(args.out), progress=not args.quiet)
-    a = s["achieved (design loop) [1/mm]"]
-    ramp = s.get("achieved (forward run from as built) [1/mm]")
-    if ramp is not None and not s["same equilibrium as the ramp from as built"]:
-        check = f"; the ramp from as built ends on another equilibrium, {ramp['kappa_x']:.5f}/{ramp['kappa_y']:.5f}"
-    elif "forward run from as built" in s:
-        check = "; the ramp from as built did not converge"
-    else:
-        check = ""
     lams = ", ".join(f"{k}={v:.4f}" for k, v in list(s["lambdas [-]"].items())[:8])
     t = s["target"]
-    print(f"lcefem: design: target {t['kappa_x [1/mm]']:.4f}/{t['kappa_y [1/mm]']:.4f} 1/mm, achieved "
-          f"{a['kappa_x']:.5f}/{a['kappa_y']:.5f} (residual {s['residual norm [1/mm]']:.2e} 1/mm{check}); "
-          f"lambdas {lams}; {s['time [s]']:.1f} s inverse (with checks), "
+    print(f"lcefem: design: target {t['kappa_x [1/mm]']:.4f}/{t['kappa_y [1/mm]']:.4f} 1/mm; lambdas {lams}; "
+          f"{protocol(s, args.out)}; {s['time [s]']:.1f} s inverse (with checks), "
           f"{s['wall time [s]']:.1f} s in all; results in {args.out}")
     return 0

@@ -15,7 +15,7 @@
   the "segment" route (our lumped 25 ohm segment) and the "eq1" route (the paper's Eq. 1 at the
   146.6 ohm strip coil). A lambda at lambda_N needs no current (0 A).
 * The result is checked by a forward run from the as-built state at the lambdas found (the Newton
-  settings of ``lcefem run gridshell``, in 20 equal increments, :data:`CHECK_PATH`): "achieved"
+  settings and path of ``lcefem run gridshell``, :func:`forward_check`; :func:`reach`): "achieved"
   curvatures are from that run.
 
 Units: mm, 1/mm, A, s.
@@ -28,18 +28,20 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
+from scipy.optimize import brentq, lsq_linear
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import CHANNELS, GridshellLayout
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
-from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions
+from lcefem.solvers.bar_hinge import NewtonOptions
 from lcefem.solvers.bar_hinge.design import (DesignResult, EquilibriumMap, solve_design,
                                              strip_parameters)
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
+from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
+from lcefem.solvers.problems.gridshell_bh_run import GridshellBHRunConfig
 from lcefem.validation import calibrate
 from lcefem.validation.calibrate import DEFAULT_MODEL_SET
 
@@ -133,19 +135,16 @@ def setup_design(mode: str = "4", support: str = "rollers", height: bool = False
     return GridshellDesign(structure, support, mode, eq, lambda_N, height, materials, model_set)
 
 
-#: Forward check: the design-loop equilibrium and the ramp from the as-built state agree when their
-#: curvatures differ by less than this [1/mm] (a tenth of the round-trip tolerance); otherwise the
-#: design continues from the ramp's equilibrium (another branch: clamped saddle).
-BRANCH_TOLERANCE = 1.0e-5
-
-
 def inverse(design: GridshellDesign, kx: float, ky: float, height: float | None = None,
-            p0=None, max_evaluations: int = 60, check: bool = True, rounds: int = 3) -> DesignResult:
-    """Lambdas whose equilibrium has centre curvatures (kx, ky) [1/mm] (and centre height [mm]).
+            p0=None, max_evaluations: int = 60, check: bool = True) -> DesignResult:
+    """Lambdas whose equilibrium has centre curvatures (kx, ky) [1/mm] (and centre height [mm]),
+    reached by the surface actuated from flat.
 
-    With ``check``, the lambdas found are run from the as-built state (:func:`forward_check`); when
-    that ramp ends on another equilibrium than the warm-started design loop, the design restarts
-    from the ramp's equilibrium (up to ``rounds`` times); ``result.check`` holds the last run."""
+    The design loop (warm-started least squares from ``p0``, default mid-range) finds lambdas that
+    hold the target on the branch it followed; with ``check`` (default), :func:`reach` then finds
+    lambdas (or a program of drives) that the run's own path from flat takes to the target:
+    ``result.check`` holds its curvatures [1/mm] and the :class:`Reach` ("reach"); ``result.p``
+    stays the loop's lambdas (the printed design is ``reach.p``, :func:`design_summary`)."""
     target = [kx, ky] + ([height] if design.height else [])
     if design.height and height is None:
         raise InputError("design: a target height is needed when the height is an observable")
@@ -153,58 +152,240 @@ def inverse(design: GridshellDesign, kx: float, ky: float, height: float | None 
     n = design.eq.params.size
     p = np.full(n, 0.5 * (LAMBDA_MIN + design.lambda_N)) if p0 is None else np.asarray(p0, float)
     t0 = time.perf_counter()
-    result = None
-    for _ in range(rounds if check else 1):
-        try:
-            current = solve_design(design.eq, target, p, LAMBDA_MIN, design.lambda_N, scale=scale,
-                                   absolute=REACHED / CURVATURE_SCALE, max_evaluations=max_evaluations)
-        except ConvergenceError:
-            if result is None:
-                raise
-            # The design's Newton cannot start from the ramp's equilibrium (the dome's ramp ends
-            # next to a fold): keep the last design, whose check shows the ramp's branch.
-            break
-        result = current
-        if not check:
-            break
-        try:
-            ramp = forward_check(design, result.p)
-        except ConvergenceError as exc:
-            # The ramp from as built meets a fold before the lambdas found: the design loop's
-            # (warm-started) equilibrium stands unconfirmed.
-            result.check = {"circle_x": float("nan"), "circle_y": float("nan"), "seconds": float("nan"),
-                            "failed": str(exc)}
-            break
-        result.check = ramp
-        loop = result.state.observables[:2]
-        if max(abs(ramp["circle_x"] - loop[0]), abs(ramp["circle_y"] - loop[1])) <= BRANCH_TOLERANCE:
-            break
-        design.eq.reseed(ramp["x"], result.p)
-        p = result.p
+    result = solve_design(design.eq, target, p, LAMBDA_MIN, design.lambda_N, scale=scale,
+                          absolute=REACHED / CURVATURE_SCALE, max_evaluations=max_evaluations)
+    if check:
+        found = reach(design, kx, ky, result)
+        result.check = {"circle_x": found.achieved[0], "circle_y": found.achieved[1],
+                        "seconds": found.seconds, "x": found.x, "reach": found}
     result.seconds = time.perf_counter() - t0
     result.stats = dataclasses.replace(design.eq.stats)
     return result
 
 
-#: Path of the forward check from as built: 20 equal increments of the load factor (0.05, halved on
-#: failure and regrown to 0.05), the quasi-static route. The ramp of ``lcefem run gridshell``
-#: (GRIDSHELL_PATH: increments growing to 0.5) can jump to another stable equilibrium: FE-calibrated
-#: set, rollers, at the table design's lambdas (1.2208, 1.2208, 1.2291, 1.2291) it takes 7
-#: increments and ends at circle 0.0018082 1/mm with energy 13.584282 N mm; 20 increments (0.05)
-#: and 50 (0.02) both end at 0.0016564 1/mm, 13.577075 N mm (the design loop's equilibrium), and so
-#: does GRIDSHELL_PATH at the design's 1e-8 N (10 increments). Cost: 2.3 s CPU instead of 2.7 s.
-CHECK_PATH = PathOptions(initial_increment=0.05, max_increment=0.05, easy_iterations=8, growth=2.0)
+#: The run's own path (``lcefem run gridshell``: :class:`GridshellBHRunConfig`'s solver and path, the
+#: defaults of :func:`lcefem.solvers.problems.gridshell_bh_run.run_gridshell`). The forward check IS this
+#: path: a design is judged by where the surface actuated from flat by the run ends, not by another
+#: ramp. (The former check, 20 equal increments of 0.05, and this path can end on different stable
+#: equilibria: FE-calibrated set, rollers, at the table design's lambdas the run's path takes 7
+#: increments to circle 0.0018082 1/mm, the equal increments 0.0016564 1/mm.)
+RUN_CONFIG = GridshellBHRunConfig()
+#: Design tolerance [1/mm]: a design is reached when the run's path from flat ends within this of the
+#: target in both curvatures (the round-trip tolerance: a tenth of the 0.001 1/mm the paper reports).
+DESIGN_TOLERANCE = 1.0e-4
+
+
+def run_stages(design: GridshellDesign, stages) -> dict:
+    """The surface driven from as built through ``stages`` (design variables per stage, reached one
+    after the other), each by the run's own path (:class:`GridshellBH.advance` with
+    :data:`RUN_CONFIG`'s Newton and path settings): one stage is ``lcefem run gridshell --lambda``.
+    Returns the final circle curvatures [1/mm], positions (n, 3) [mm] and CPU seconds."""
+    t0 = time.process_time()
+    surface = GridshellBH(design.structure, GridshellBHConfig(
+        materials=design.materials, weight=RUN_CONFIG.weight, geometry=RUN_CONFIG.geometry,
+        support=design.support, solver=RUN_CONFIG.solver, path=RUN_CONFIG.path))
+    for p in stages:
+        surface.set_rest_fractions(design.eq.params.rest_fractions(np.asarray(p, dtype=float)))
+        surface.advance(1.0)
+    k = gridshell_curvatures(design.structure, surface.x)
+    return {"circle_x": float(k["circle_x"]), "circle_y": float(k["circle_y"]), "x": surface.x.copy(),
+            "seconds": time.process_time() - t0}
 
 
 def forward_check(design: GridshellDesign, p) -> dict:
-    """Curvatures of a forward run from the as-built state at design variables p (the quasi-static
-    ramp :data:`CHECK_PATH` with the Newton settings of ``lcefem run gridshell``)."""
-    params = design.eq.params
-    setup = problem_bh.setup_gridshell(params.rest_fractions(p), design.support, structure=design.structure,
-                                       materials=design.materials)
-    sol = problem_bh.solve_gridshell(setup, path=CHECK_PATH)
-    return {"circle_x": float(sol.curvatures["circle_x"]), "circle_y": float(sol.curvatures["circle_y"]),
-            "x": sol.final.x, "seconds": sol.path.seconds}
+    """Curvatures of ``lcefem run gridshell`` at design variables p: the run's own ramp from the
+    as-built state (:func:`run_stages` with one stage)."""
+    return run_stages(design, [p])
+
+
+@dataclass
+class Reach:
+    """How the surface reaches a target from flat (:func:`reach`).
+
+    ``kind``: "constant" (one set of lambdas, ``stages = [p]``: the run's ramp from flat lands on the
+    target), "program" (a sequence of drives, each reached from the previous equilibrium: the last
+    holds the target on the branch the earlier ones lead to), or "none" (neither found: ``stages``
+    is the closest constant design). ``achieved``: (kappa_x, kappa_y) [1/mm] at the end of the
+    stages along the run's path; ``attempts``: every path tried (stages, achieved, distance)."""
+
+    kind: str
+    stages: list
+    achieved: tuple
+    distance: float
+    attempts: list
+    seconds: float  # CPU
+    x: np.ndarray | None = None  # (n, 3) [mm]: the surface at the end of the stages
+
+    @property
+    def p(self) -> np.ndarray:
+        return self.stages[-1]
+
+
+def _distance(k: dict, target) -> float:
+    return float(max(abs(k["circle_x"] - target[0]), abs(k["circle_y"] - target[1])))
+
+
+def branch_jacobian(design: GridshellDesign, p, x) -> np.ndarray:
+    """d(kappa_x, kappa_y)/dp [1/mm] of the equilibrium x at p (the branch x is on)."""
+    design.eq.model.set_rest_fractions(design.eq.params.rest_fractions(p))
+    return design.eq.jacobian(np.asarray(x).reshape(-1, 3))[:2]
+
+
+def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
+          newton_steps: int = 3, tolerance: float = DESIGN_TOLERANCE, max_paths: int = 12) -> Reach:
+    """Design variables the surface follows from flat to (kx, ky) [1/mm] along the run's own path.
+
+    1. The design loop's lambdas (``loop``, warm-started: they hold the target on the branch the loop
+       followed) are run from flat (:func:`forward_check`).
+    2. Gauss-Newton on the residual along the run's path: r(p) = kappa(run from flat at p) - target,
+       its Jacobian the exact one of the branch the run ends on (:func:`branch_jacobian`), the step a
+       bounded least-squares one in [1.05, lambda_N]; every run is a *seed*: an equilibrium the
+       surface reaches from flat.
+    3. From each seed (those that landed farthest beyond the first run's branch toward the target
+       first; the Gauss-Newton steps stop at the first such jump), the design loop continues on the seed's branch to the target (warm-started
+       least squares); its lambdas p_f are run from flat (constant design) and, if that run ends on
+       another branch, as the program [seed, p_f]: overshoot to the seed, then release to p_f.
+    Stops at the first path within ``tolerance`` of the target (both curvatures); at most
+    ``max_paths`` paths."""
+    t0 = time.process_time()
+    target = np.array([kx, ky])
+    lo, hi = LAMBDA_MIN, design.lambda_N
+    attempts: list[dict] = []
+
+    def attempt(stages):
+        stages = [np.asarray(s, dtype=float).copy() for s in stages]
+        try:
+            r = run_stages(design, stages)
+        except ConvergenceError as exc:
+            attempts.append({"stages": stages, "failed": str(exc)})
+            return None
+        r["distance"] = _distance(r, target)
+        attempts.append({"stages": stages, "achieved": (r["circle_x"], r["circle_y"]),
+                         "distance": r["distance"], "seconds": r["seconds"]})
+        return r
+
+    def done(kind, stages, r):
+        return Reach(kind, [np.asarray(s, dtype=float) for s in stages], (r["circle_x"], r["circle_y"]),
+                     r["distance"], attempts, time.process_time() - t0, r["x"])
+
+    p1 = np.asarray(loop.p, dtype=float)
+    r1 = attempt([p1])
+    if r1 is not None and r1["distance"] <= tolerance:
+        return done("constant", [p1], r1)
+    if r1 is None:  # the run from flat at the loop's lambdas finds no equilibrium: nothing to seed
+        return Reach("none", [p1], (float("nan"), float("nan")), float("inf"), attempts,
+                     time.process_time() - t0)
+    k1 = np.array([r1["circle_x"], r1["circle_y"]])
+    jac1 = branch_jacobian(design, p1, r1["x"])
+    toward = (target - k1) / max(float(np.linalg.norm(target - k1)), 1e-30)
+
+    def past(ps, rs) -> float:
+        """How far [1/mm] the run from flat at ps ended beyond the first run's branch (its tangent
+        at p1), toward the target: > 0 for a run that jumped to another branch on the target's side."""
+        return float((np.array([rs["circle_x"], rs["circle_y"]]) - (k1 + jac1 @ (ps - p1))) @ toward)
+
+    seeds = [(p1, r1)]
+    p, r = p1, r1
+    for _ in range(newton_steps):
+        k = np.array([r["circle_x"], r["circle_y"]])
+        jac = branch_jacobian(design, p, r["x"])
+        step = lsq_linear(jac, target - k, bounds=(lo - p + 1e-12, hi - p - 1e-12)).x
+        p_new = np.clip(p + step, lo, hi)
+        r_new = attempt([p_new])
+        if r_new is None:
+            break
+        if r_new["distance"] <= tolerance:
+            return done("constant", [p_new], r_new)
+        seeds.append((p_new, r_new))
+        if past(p_new, r_new) > tolerance:  # on another branch, past the target: continue from it
+            break
+        p, r = p_new, r_new
+    # Seeds on the target's side of the first run's branch first (measured saddle on rollers: the
+    # second Gauss-Newton run lands on the other branch, beyond the target: the program starts there).
+    seeds.sort(key=lambda seed: -past(*seed))
+    scale = [CURVATURE_SCALE, CURVATURE_SCALE] + ([HEIGHT_SCALE] if design.height else [])
+    goal = list(target) + ([float(loop.target[2])] if design.height else [])
+    for ps, rs in seeds:
+        if len(attempts) >= max_paths:
+            break
+        design.eq.reseed(rs["x"], ps)
+        try:
+            cont = solve_design(design.eq, goal, ps, lo, hi, scale=scale,
+                                absolute=REACHED / CURVATURE_SCALE, max_evaluations=30)
+        except ConvergenceError:
+            continue
+        if np.linalg.norm(cont.residual[:2]) > tolerance:
+            continue
+        rc = attempt([cont.p])
+        if rc is not None and rc["distance"] <= tolerance:
+            return done("constant", [cont.p], rc)
+        rp = attempt([ps, cont.p])
+        if rp is not None and rp["distance"] <= tolerance:
+            return done("program", [ps, cont.p], rp)
+    best = min((a for a in attempts if "distance" in a and len(a["stages"]) == 1),
+               key=lambda a: a["distance"])
+    return Reach("none", best["stages"], best["achieved"], best["distance"], attempts,
+                 time.process_time() - t0)
+
+
+#: A program's schedule (``lcefem run gridshell --schedule``): each drive held until the strips'
+#: lumped heat balance has settled. Measured with the FE-calibrated set's grid strip ('strip' thermal
+#: model, its exchange factor): from ambient at the current holding lambda = 1.05, the strip is at
+#: 1.0514 after 600 s and 1.05003 after 1000 s (time constant ~130 s); an overshoot need only put the
+#: surface on the target's branch (600 s), the last drive holds until 1e-4 of its lambda (1200 s).
+PROGRAM_HOLDS = (600.0, 1200.0)  # s: every drive but the last, the last
+#: Output interval [s] of the program's replay: one quasi-static solve of the surface per interval
+#: (each followed by path following from the previous equilibrium).
+PROGRAM_OUTPUT_INTERVAL = 50.0
+#: Implicit-Euler step [s] of the replay's heat balance (a tenth of the ~5 s it takes the hottest
+#: strip to move 0.01 in lambda).
+PROGRAM_HEAT_STEP = 0.5
+
+
+def program_schedule(design: GridshellDesign, stages, labels=None):
+    """The :class:`~lcefem.solvers.problems.gridshell_bh_sequence.Schedule` that drives the design
+    variables (channels, or strip ids: per-strip designs) through ``stages`` (design variables per
+    drive) by the currents that hold
+    each drive's lambdas (:func:`currents_for`, the 'strip' thermal model of the design's model set),
+    each held :data:`PROGRAM_HOLDS`."""
+    from lcefem.solvers.problems.gridshell_bh_sequence import Schedule
+
+    currents = [currents_for(design, p)["strip"] for p in stages]
+    times, t = [], 0.0
+    for k in range(len(stages)):
+        times.append(t)
+        t += PROGRAM_HOLDS[0] if k < len(stages) - 1 else PROGRAM_HOLDS[1]
+    labels = labels or [f"drive {k + 1}" for k in range(len(stages) - 1)] + ["design"]
+    return Schedule(tuple(times), {name: tuple(c[name] for c in currents) for name in design.names},
+                    t, PROGRAM_OUTPUT_INTERVAL, design.support, "strip", tuple(labels), PROGRAM_HEAT_STEP)
+
+
+def schedule_toml(schedule, comment: str = "") -> str:
+    """The schedule file ``lcefem run gridshell --schedule`` reads (gridshell_bh_sequence)."""
+    lines = [f"# {line}" for line in comment.splitlines()] + ["", "[schedule]",
+             f"times = [{', '.join(f'{t:g}' for t in schedule.times)}]",
+             "labels = [" + ", ".join(f'"{s}"' for s in schedule.labels) + "]",
+             f"end = {schedule.end:g}", f"output_interval = {schedule.output_interval:g}",
+             f'support = "{schedule.support}"', f'thermal_model = "{schedule.thermal_model}"',
+             f"heat_step = {schedule.heat_step:g}", "", "[currents]  # A, one per switch time"]
+    lines += [f"{sel} = [{', '.join(f'{v:.9g}' for v in vals)}]" for sel, vals in schedule.currents.items()]
+    return "\n".join(lines) + "\n"
+
+
+def replay(design: GridshellDesign, schedule) -> dict:
+    """Final circle curvatures [1/mm] of the schedule replayed as ``lcefem run gridshell --schedule``
+    does (:func:`~lcefem.solvers.problems.gridshell_bh_sequence.run_sequence` on a fresh surface of
+    the design's model set, its grid strip's exchange factor), and the CPU seconds."""
+    from lcefem.solvers.problems.gridshell_bh_sequence import run_sequence
+
+    t0 = time.process_time()
+    ms = calibrate.model_set(design.model_set)
+    layout = GridshellLayout(ribbons=design.structure.info["ribbons"])
+    s = run_sequence(schedule, None, progress=False, structure=ms.structure(layout), frames=False,
+                     materials=ms.materials, exchange_factor=ms.exchange_factor)
+    f = s["final"]
+    return {"circle_x": f["circle kappa_x [1/mm]"], "circle_y": f["circle kappa_y [1/mm]"],
+            "seconds": time.process_time() - t0}
 
 
 def lambdas_by_name(design: GridshellDesign, p) -> dict:
@@ -224,12 +405,18 @@ def currents_for(design: GridshellDesign, p) -> dict[str, dict[str, float]]:
 
 
 def design_summary(design: GridshellDesign, result: DesignResult) -> dict:
-    """A JSON-able record of one inverse solve."""
+    """A JSON-able record of one inverse solve: the design (the lambdas the run from flat follows to
+    the target, or the program's last drive), its currents, the design loop's own lambdas and
+    curvatures, and how the run's path from flat reaches the target."""
     st, check = result.state, result.check
+    found: Reach | None = (check or {}).get("reach")
+    p = found.p if found is not None else result.p
     out = {"target": {"kappa_x [1/mm]": float(result.target[0]),
                       "kappa_y [1/mm]": float(result.target[1])},
-           "lambdas [-]": lambdas_by_name(design, result.p),
-           "currents [A]": currents_for(design, result.p),
+           "support": design.support,
+           "lambdas [-]": lambdas_by_name(design, p),
+           "currents [A]": currents_for(design, p),
+           "lambdas (design loop) [-]": lambdas_by_name(design, result.p),
            "achieved (design loop) [1/mm]": {"kappa_x": float(st.observables[0]),
                                              "kappa_y": float(st.observables[1])},
            "residual [1/mm]": [float(r) for r in result.residual[:2]],
@@ -242,16 +429,24 @@ def design_summary(design: GridshellDesign, result: DesignResult) -> dict:
     if design.height:
         out["target"]["centre height [mm]"] = float(result.target[2])
         out["achieved (design loop) [1/mm]"]["centre height [mm]"] = float(st.observables[2])
-    if check is not None and "failed" in check:
-        out["forward run from as built"] = "did not converge: " + check["failed"]
-    elif check is not None:
-        ramp = {"kappa_x": check["circle_x"], "kappa_y": check["circle_y"]}
-        out["achieved (forward run from as built) [1/mm]"] = ramp
-        out["forward check time [s]"] = check["seconds"]
-        out["same equilibrium as the ramp from as built"] = bool(
-            max(abs(ramp["kappa_x"] - st.observables[0]), abs(ramp["kappa_y"] - st.observables[1]))
-            <= BRANCH_TOLERANCE)
+    if found is not None:
+        out["reach"] = reach_summary(design, found)
+        out["achieved (forward run from as built) [1/mm]"] = {"kappa_x": found.achieved[0],
+                                                              "kappa_y": found.achieved[1]}
+        out["distance from the target along the run's path [1/mm]"] = found.distance
+        out["design tolerance [1/mm]"] = DESIGN_TOLERANCE
     return out
+
+
+def reach_summary(design: GridshellDesign, found: Reach) -> dict:
+    """JSON-able :class:`Reach`: kind, the drives per stage (lambdas by name), achieved, paths."""
+    return {"kind": found.kind, "stages": [lambdas_by_name(design, s) for s in found.stages],
+            "achieved [1/mm]": list(found.achieved), "distance [1/mm]": found.distance,
+            "paths tried": [{"stages": [lambdas_by_name(design, s) for s in a["stages"]],
+                             **({"achieved [1/mm]": list(a["achieved"]), "distance [1/mm]": a["distance"]}
+                                if "achieved" in a else {"failed": a["failed"]})}
+                            for a in found.attempts],
+            "CPU time [s]": found.seconds}
 
 
 def reachable_set(design: GridshellDesign, levels: int = 4) -> np.ndarray:

@@ -152,3 +152,47 @@ def layout_plan_figure(path: pathlib.Path, plan: dict, title: str) -> pathlib.Pa
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
     return save_figure(fig, pathlib.Path(path), 120)
+
+
+def reach_figure(path: pathlib.Path, designs: dict) -> pathlib.Path:
+    """Branches in the (kappa_x, kappa_y) plane [1/mm]: per target (``designs[label]``: "target",
+    "loop", "flat", "design" as (kx, ky) pairs and "kind"), the target (x), the design loop's
+    equilibrium (o), the run from flat at the loop's lambdas (square) joined to it by a dashed line
+    (the jump between branches), and the final design's run from flat (star; open for a program;
+    "overshoot", optional: where a program's first drive lands from flat, triangle, arrow to the
+    release; "runs", optional: every one-drive run from flat the search tried, dots)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 5.5))
+    for j, (label, d) in enumerate(designs.items()):
+        c = f"C{j % 10}"
+        runs = np.asarray(d.get("runs") or [], dtype=float).reshape(-1, 2)
+        ax.plot(runs[:, 0], runs[:, 1], ".", color=c, alpha=0.5, ms=6)
+        ax.plot(*d["target"], "x", color=c, ms=10, mew=2, label=f"{label} ({d['kind']})")
+        ax.plot(*d["loop"], "o", color=c, mfc="none", ms=7)
+        ax.plot(*d["flat"], "s", color=c, mfc="none", ms=7)
+        ax.plot([d["loop"][0], d["flat"][0]], [d["loop"][1], d["flat"][1]], "--", color=c, lw=0.8)
+        ax.plot(*d["design"], "*", color=c, ms=12, mfc=c if d["kind"] == "constant" else "none")
+        if d.get("overshoot") is not None:  # a program: the overshoot's landing, then the release
+            ax.plot(*d["overshoot"], "^", color=c, ms=8, mfc="none")
+            ax.annotate("", xy=d["design"], xytext=d["overshoot"],
+                        arrowprops={"arrowstyle": "->", "color": c, "lw": 1.0})
+            ax.plot([], [], "^", color="k", mfc="none", label="program: the overshoot's run from flat")
+    ax.plot([], [], ".", color="k", alpha=0.5, label="other runs from flat tried (one drive)")
+    ax.plot([], [], "o", color="k", mfc="none", label="design loop (holds the target)")
+    ax.plot([], [], "s", color="k", mfc="none", label="run from flat at those lambdas")
+    ax.plot([], [], "*", color="k", ms=10, label="reached design (open: program)")
+    ax.set_xlabel("centre curvature kappa_x [1/mm] (circle; dome negative)")
+    ax.set_ylabel("centre curvature kappa_y [1/mm]")
+    ax.set_title("Designs and the branch the run from flat lands on", fontsize=9)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    path = pathlib.Path(path)
+    tmp = path.with_name(path.stem + ".part" + path.suffix)
+    fig.savefig(tmp, dpi=130)
+    plt.close(fig)
+    tmp.replace(path)
+    return path

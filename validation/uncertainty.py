@@ -258,6 +258,10 @@ class BandsConfig:
     #: Grid exchange factor [-] of the 'strip' thermal model: None, the one calibrated with the model
     #: set (:attr:`lcefem.validation.calibrate.ModelSet.exchange_factor`); a number overrides it.
     exchange_factor: float | None = None
+    #: Also actuate every sample from flat (the run's ramp, what the robot does) and count the samples
+    #: whose run from flat ends on another branch than the nominal's, continued warm to the sample
+    #: (issue 50; doubles the solves).
+    branch_check: bool = True
 
     def checked(self) -> "BandsConfig":
         if self.shape not in gs.SHAPES:
@@ -314,6 +318,23 @@ def bands_table(values: dict, nominal: dict, shape: str) -> list[dict]:
     return rows
 
 
+#: Two equilibria of one sample are on different branches when a circle curvature differs by more than
+#: this [1/mm]: the design tolerance (lcefem.validation.gridshell_design.DESIGN_TOLERANCE).
+BRANCH_TOLERANCE = 1.0e-4
+
+
+def ends_elsewhere_from_flat(flat: QuasiStaticSurface, targets: dict, nominal_branch: dict) -> bool:
+    """True when ``flat`` (a surface at the as-built state) actuated to ``targets`` ends more than
+    :data:`BRANCH_TOLERANCE` from ``nominal_branch``'s circle curvatures, or finds no equilibrium."""
+    try:
+        flat.advance(targets)
+    except ConvergenceError:
+        return True
+    k = flat.curvatures()
+    return max(abs(k["circle_x"] - nominal_branch["circle_x"]),
+               abs(k["circle_y"] - nominal_branch["circle_y"])) > BRANCH_TOLERANCE
+
+
 def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True) -> dict:
     """Monte Carlo bands, surrogate and Sobol indices of one shape (module docstring)."""
     cfg = cfg.checked()
@@ -356,6 +377,7 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
         Y = np.full((cfg.samples, len(OUTPUTS)), np.nan)
         found = np.zeros(cfg.samples, dtype=bool)
         lost: list[dict] = []  # inputs of the samples without an equilibrium
+        other = np.zeros(cfg.samples, dtype=bool)  # from flat: another branch than the nominal's
         for s in range(cfg.samples):
             surf = surface(float(X[s, -1]), start)
             try:
@@ -369,6 +391,8 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
                 summ = surf.curvatures()
                 Y[s] = [summ[key] for key in OUTPUTS.values()]
                 found[s] = True
+                if cfg.branch_check:
+                    other[s] = ends_elsewhere_from_flat(surface(float(X[s, -1])), targets(F[s]), summ)
             row = {"sample [-]": s, "modulus factor [-]": X[s, -1], "newton iterations [-]": surf.iterations}
             for k, c in enumerate(CHANNELS):
                 r, i_fac, lam_n, p_fac = X[s, 4 * k:4 * k + 4]
@@ -408,6 +432,11 @@ def run_bands(cfg: BandsConfig, out: pathlib.Path | None, progress: bool = True)
             "model": "bar-hinge gridshell, Monte Carlo prediction bands", "shape": cfg.shape,
             "support": spec["support"], "thermal model": cfg.thermal_model, "samples": cfg.samples,
             "samples without equilibrium": int(cfg.samples - found.sum()), "lost samples": lost,
+            "samples on another branch from flat": ({
+                "count": int(other[found].sum()), "share [-]": float(other[found].mean()),
+                "criterion": f"the run from flat ends more than {BRANCH_TOLERANCE:g} 1/mm (either circle "
+                             "curvature) from the nominal branch continued to the sample (or has no "
+                             "equilibrium)"} if cfg.branch_check else None),
             "nominal": nominal_values, "bands": bands,
             "surrogate": {"degree": sur.degree, "features": ["f_Tx", "f_Ty", "f_Bx", "f_By", "modulus factor"],
                           "points": int(len(Z)), "min points for Sobol": PolynomialSurrogate.min_points(Z.shape[1])},
@@ -484,5 +513,9 @@ def main(args: argparse.Namespace) -> int:
         if col.startswith("circle kappa_x"):
             print(f"lcefem: Sobol (circle kappa_x, surrogate Q2 {s['surrogate Q2']:.2f}): " + ", ".join(
                 f"{n} S1 {a:.2f} ST {b:.2f}" for n, a, b in zip(s["names"], s["S1"], s["ST"])))
+    other = summary["samples on another branch from flat"]
+    if other is not None:
+        print(f"lcefem: {other['count']} samples ({100 * other['share [-]']:.0f} %) end on another branch than "
+              "the nominal when actuated from flat")
     print(f"lcefem: {cfg.samples} samples, {summary['wall_time [s]']:.1f} s; results in {out}")
     return 0

@@ -81,6 +81,10 @@ def gridshell_bands_bh(ctx: CaseContext) -> list[Metric]:
     metrics.append(Metric.info(name, "dome bands: samples without an equilibrium", float(missing), "-",
                                "warm start and ramp from as built both failed (a fold on the path); left "
                                "out of the bands"))
+    other = summary["samples on another branch from flat"]
+    if other is not None:
+        metrics.append(Metric.info(name, "dome bands: share of samples on another branch from flat",
+                                   other["share [-]"], "-", other["criterion"] + " (issue 50)"))
     for b in summary["bands"]:
         q = b["quantity"].replace(" [1/mm]", "")
         if b["paper measured"] is not None:
