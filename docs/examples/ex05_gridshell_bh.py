@@ -50,7 +50,7 @@ ax = fig.add_subplot(projection="3d")
 x, y, z = (nodes[n] for n in nodes.dtype.names[-3:])
 ax.scatter(x, y, z, c=z, s=2, cmap="viridis")
 ax.set(xlabel="x [mm]", ylabel="y [mm]", zlabel="z [mm]",
-       title=f"dome (Tx Ty 1.33, Bx By 1.05): kappa = {kx:.4f}, {ky:.4f} 1/mm")
+       title=f"dome (Tx Ty 1.33, Bx By 1.05)\nkappa_x, kappa_y = {kx:.4f}, {ky:.4f} 1/mm")
 ax.set_box_aspect((1, 1, 0.4))
 fig.tight_layout()
 fig.savefig(OUT / "ex05_gridshell_bh.png", dpi=100)
