@@ -56,8 +56,9 @@ EXPECTED = {
     "ex02_heated_beam.py": (0.0001647249932, RTOL, None, False),
     # the chain's bifurcation / its Euler load: 0.947 (the clamps' panels and N5B8 shear)
     "ex03_kapton_buckling.py": (0.9473439894145625, RTOL, None, False),
-    # a DER run of 3 s on the plate: the ribbon heats and settles, it has not rolled yet
-    "ex04_rolling_ribbon.py": (8.960760236412262e-05, 1e-3, None, False),
+    # 15 s on the plate at 100 C: rolls from ~4 s on (fixed steps, compiled kernels); 1e-3 relative
+    # leaves room for another CPU's floating-point order along a path with contact events
+    "ex04_rolling_ribbon.py": (40.318051626978985, 1e-3, None, False),
     "ex05_gridshell_bh.py": (-0.02354342501125147, RTOL, _dome_symmetric, False),
     "ex06_current_routes.py": (1.2297, 1e-4, None, False),
     "ex07_own_robot.py": (61.14951031, RTOL, _power_is_joule, True),
