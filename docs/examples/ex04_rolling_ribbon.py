@@ -19,8 +19,9 @@ Key number
     The distance the centroid moved on the plate in 15 s [mm] (stored value; the ribbon starts
     rolling after about 4 s, when its lower side has passed the transition).
 
-Run: ``python docs/examples/ex04_rolling_ribbon.py`` (the same at ``LCEFEM_EXAMPLE_QUICK=1``: a few seconds
-once the rod's kernels are compiled, about 40 s the first time; output in ``results/examples/ex04_rolling_ribbon`` or ``$LCEFEM_EXAMPLE_OUT``).
+Run: ``python docs/examples/ex04_rolling_ribbon.py`` (the same at ``LCEFEM_EXAMPLE_QUICK=1``: a few
+seconds once the rod's kernels are compiled, about 40 s the first time; output in
+``results/examples/ex04_rolling_ribbon`` or ``$LCEFEM_EXAMPLE_OUT``).
 """
 
 import os
@@ -38,8 +39,8 @@ OUT = pathlib.Path(os.environ.get("LCEFEM_EXAMPLE_OUT", "results/examples")) / "
 DURATION = 15.0  # [s] on the plate
 
 config = RibbonConfig(run=RibbonRun(ground_temperature=100.0, duration=DURATION, output_interval=0.0))
-result = body("ribbon").runner()(config, OUT, progress=False)
-h = result.history
+ribbon = body("ribbon").runner()(config, OUT, progress=False)  # a RibbonResult
+h = ribbon.history
 
 fig, (a, b) = plt.subplots(1, 2, figsize=(8, 3.2))
 a.plot(h["time [s]"], h["centroid_x [mm]"] - h["centroid_x [mm]"][0], "-", label="x")
@@ -51,6 +52,6 @@ b.set(xlabel="time [s]", ylabel="mean temperature [C]", title="the ribbon heats"
 fig.tight_layout()
 fig.savefig(OUT / "ex04_rolling_ribbon.png", dpi=100)
 
-distance = result.metrics["total_distance [mm]"]
-print(f"average speed [mm/s] = {result.metrics['average_speed [mm/s]']!r}")
-print(f"centroid distance after {DURATION:g} s [mm] = {distance!r}")
+result = float(ribbon.metrics["total_distance [mm]"])
+print(f"average speed [mm/s] = {float(ribbon.metrics['average_speed [mm/s]'])!r}")
+print(f"centroid distance after {DURATION:g} s [mm] = {result!r}")
