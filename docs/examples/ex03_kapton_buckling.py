@@ -59,7 +59,8 @@ for name, value in euler.items():
     ax.axhline(value, ls=":", lw=1, color="grey")
     ax.annotate(name, (COMPRESSION, value), ha="right", va="bottom", fontsize=7)
 ax.axhline(p_fe, ls="--", color="C1", label=f"FE linearised buckling (level 0): {p_fe:.3f} N")
-ax.plot([shortening_bh / config.specimen.length], [p_bh], "ko", label=f"bar-and-hinge bifurcation: {p_bh:.3f} N")
+ax.plot([shortening_bh / config.specimen.length], [p_bh], "ko",
+        label=f"bar-and-hinge bifurcation: {p_bh:.3f} N")
 ax.set(xlabel="end shortening / length [-]", ylabel="compressive force [N]", title="Kapton ribbon buckling")
 ax.legend(fontsize=7, loc="lower right")
 fig.tight_layout()

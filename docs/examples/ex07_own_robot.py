@@ -24,6 +24,7 @@ import pathlib
 
 import matplotlib
 import numpy as np
+from mpi4py import MPI
 
 from lcefem.solvers.problems.body import run_body
 from lcefem.solvers.problems.body_case import load_case
@@ -40,14 +41,16 @@ overrides = {("mesh", "size_factor"): 1.0, ("program", "duration"): 2.0} if QUIC
 case = load_case(CASE, overrides=overrides)
 result_run = run_body(case, OUT, progress=False)
 
+# Every rank reads the finished history; rank 0 draws the figure.
 history = np.genfromtxt(OUT / "history.csv", delimiter=",", names=True)
-fig, ax = plt.subplots(figsize=(5.5, 3.4))
-ax.plot(history["time_s"], history["T_max_C"], "o-", ms=3, label="T_max")
-ax.plot(history["time_s"], history["T_mean_C"], "s-", ms=3, label="T_mean")
-ax.set(xlabel="time [s]", ylabel="temperature [C]", title="own robot: examples/bodies/strip at 0.2 A")
-ax.legend()
-fig.tight_layout()
-fig.savefig(OUT / "ex07_own_robot.png", dpi=100)
+if MPI.COMM_WORLD.rank == 0:
+    fig, ax = plt.subplots(figsize=(5.5, 3.4))
+    ax.plot(history["time_s"], history["T_max_C"], "o-", ms=3, label="T_max")
+    ax.plot(history["time_s"], history["T_mean_C"], "s-", ms=3, label="T_mean")
+    ax.set(xlabel="time [s]", ylabel="temperature [C]", title="own robot: examples/bodies/strip at 0.2 A")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(OUT / "ex07_own_robot.png", dpi=100)
 
 result = float(history["T_max_C"][-1])
 power = float(history["power_coil_mW"][-1])  # Joule power I^2 R = 0.2^2 x 146.6 ohm = 5864 mW
