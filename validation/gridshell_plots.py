@@ -115,12 +115,12 @@ def reachable_set_figure(path: pathlib.Path, kappa: np.ndarray, points: dict[str
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
-    path = pathlib.Path(path)
-    tmp = path.with_name(path.stem + ".part" + path.suffix)
-    fig.savefig(tmp, dpi=130)
-    plt.close(fig)
-    tmp.replace(path)
-    return path
+    from lcefem.validation.plots import save_figure
+
+    try:  # through the one figure writer: a .part name, no planted link followed
+        return save_figure(fig, pathlib.Path(path), 130)
+    finally:
+        plt.close(fig)
 
 
 def layout_plan_figure(path: pathlib.Path, plan: dict, title: str) -> pathlib.Path:
@@ -190,9 +190,9 @@ def reach_figure(path: pathlib.Path, designs: dict) -> pathlib.Path:
     ax.set_title("Designs and the branch the run from flat lands on", fontsize=9)
     ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
-    path = pathlib.Path(path)
-    tmp = path.with_name(path.stem + ".part" + path.suffix)
-    fig.savefig(tmp, dpi=130)
-    plt.close(fig)
-    tmp.replace(path)
-    return path
+    from lcefem.validation.plots import save_figure
+
+    try:  # through the one figure writer: a .part name, no planted link followed
+        return save_figure(fig, pathlib.Path(path), 130)
+    finally:
+        plt.close(fig)

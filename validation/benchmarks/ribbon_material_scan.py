@@ -105,10 +105,12 @@ def plot(csv: pathlib.Path, png: pathlib.Path) -> None:
     ax.set_ylabel("speed over the last half [mm/s]")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    tmp = png.with_name(png.stem + ".tmp.png")
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    tmp.replace(png)
+    from lcefem.validation.plots import save_figure
+
+    try:  # through the one figure writer: a .part name, no planted link followed
+        save_figure(fig, pathlib.Path(png), 110)
+    finally:
+        plt.close(fig)
 
 
 def main(argv=None) -> int:

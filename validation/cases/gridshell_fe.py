@@ -357,8 +357,9 @@ def _sweep_figure(path, series: dict):
     ax.set_ylabel("centre kappa_x [1/mm] (dome < 0)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    tmp = path.with_name(path.stem + ".part.png")
-    fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    tmp.replace(path)
-    return path
+    from lcefem.validation.plots import save_figure
+
+    try:  # through the one figure writer: a .part name, no planted link followed
+        return save_figure(fig, path, 120)
+    finally:
+        plt.close(fig)
