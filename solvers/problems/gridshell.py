@@ -95,6 +95,15 @@ STANDARD_GRAVITY = 9.80665e3
 #: start's residual per step; the whole offset at once is full Newton from the start state, which
 #: at level 1 of the dome went 55 -> 919 -> 27 -> 1e4 N to an inverted element).
 SETTLE_FIRST_STEP = 0.1
+#: Fill-reducing ordering of the gridshell's LDL^T: MUMPS's PORD (ICNTL(7) = 4) instead of its
+#: automatic choice (METIS here). The factorisations are ~60 % of a ramp's time (Jacobian assembly
+#: ~30 %; the symbolic analysis runs once per model, MUMPS reuses it at every Newton iteration):
+#: one dome tangent at level 0 (26,904 DOFs, t = 0.05) 1.75e9 -> 1.27e9 flops (RINFOG(3)),
+#: numeric factorisation 0.216 -> 0.177 s CPU; QAMD/AMD 1.57e9, AMF 1.61e9, SCOTCH 1.88e9
+#: (level 1: 1.53e10 -> 1.27e10 flops, 1.54 -> 1.34 s CPU); level-0 dome ramp 46.3 -> 40.5 s CPU
+#: (validation/benchmarks/gridshell_fe_speed.py, docs/performance.md). The answer moves by the
+#: round-off of another elimination order only: the dome's circle curvature by 3e-13 1/mm.
+GRIDSHELL_ORDERING = {"mat_mumps_icntl_7": 4}
 #: Support kinds of :class:`GridshellSupports`.
 SUPPORT_KINDS = ("rollers", "centre_clamp", "table")
 
@@ -254,6 +263,8 @@ class GridshellFE:
         # Kapton; the finest dome level used so far (3, 369k DOFs) factorised in 3.2 GB.
         options = {**BEAM_NEWTON, "pc_type": "cholesky"}
         options.update(petsc_options or {})
+        if options["pc_type"] == "cholesky" and options.get("pc_factor_mat_solver_type", "mumps") == "mumps":
+            options = {**GRIDSHELL_ORDERING, **options}  # the caller's own ordering wins
         self.problem = HyperelasticProblem(u, energy, self.bcs,
                                            prefix=f"lcefem_gridshell{next(_prefix)}_",
                                            petsc_options=options, user_options=tuple(petsc_options or ()))
@@ -722,5 +733,5 @@ def _is_full_group(name: str, n: int) -> bool:
             and 1 <= int(name[2:]) <= n)
 
 
-__all__ = ["GridshellConfig", "GridshellFE", "GridshellMaterials", "GridshellState",
+__all__ = ["GRIDSHELL_ORDERING", "GridshellConfig", "GridshellFE", "GridshellMaterials", "GridshellState",
            "GridshellSupports", "SUPPORT_KINDS", "lce_strip_energy", "von_mises"]
