@@ -127,6 +127,8 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
     observables). Returns the summary."""
     from lcefem.solvers.exports import History
 
+    if comm is None:  # a problem shared over MPI ranks claims and writes its folder collectively
+        comm = getattr(problem, "comm", None)
     out = None if out is None else pathlib.Path(out)
     milestones = sorted({t for e in exports for t in (getattr(e, "times", None) or ())})
     late = [t for t in milestones if t > program.end * (1.0 + 1e-12)]
