@@ -70,7 +70,8 @@ def test_a_ribbon_too_short_for_its_summary_is_refused_up_front(lcefem_cmd, tmp_
 def test_a_schedule_that_would_not_end_is_refused_with_its_cost(lcefem_cmd, tmp_path, schedule, needle):
     path = tmp_path / "s.toml"
     path.write_text(f"[schedule]\ntimes = [0.0]\n{schedule}\n[currents]\nTx = [0.1]\n")
-    _refused(lcefem_cmd, ["run", "gridshell", "--schedule", str(path)], tmp_path / "g", needle)
+    line = _refused(lcefem_cmd, ["run", "gridshell", "--schedule", str(path)], tmp_path / "g", needle)
+    assert needle in line  # the one line names the cost and its bound
 
 
 @pytest.mark.parametrize("low_open, high_open", [(False, False), (True, False), (False, True), (True, True)])
