@@ -36,8 +36,9 @@ from lcefem.validation.commands import RUN_TARGETS
 #: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
 COMMANDS = ("validate", "converge", "uncertainty", "design", "control", "calibrate", "mesh")
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
-AGREE_SECONDS = 3.0
-INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (--overwrite must spare them)  #: how long a failing rank waits for the others before aborting them
+AGREE_SECONDS = 3.0  #: s, how long a failing rank waits for the others before aborting them
+ABORT_FLUSH_SECONDS = 0.5  #: s, the launcher's time to forward the aborting rank's last line (see _end)
+INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (--overwrite must spare them)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -130,6 +131,10 @@ def _end(code: int, message: str, comm) -> int:
         if time.monotonic() > deadline:
             finish_pending(agreed=False)
             print(f"{message} [rank {comm.rank}; aborting the other ranks]", file=sys.stderr, flush=True)
+            # MPICH's launcher forwards a rank's stderr through its proxy; MPI_Abort kills the proxy's
+            # children at once, and under load the line above was lost on its way (CI, stop 51). A
+            # short pause lets the proxy forward it before the abort.
+            time.sleep(ABORT_FLUSH_SECONDS)
             comm.Abort(code)
         time.sleep(0.01)
     finish_pending(agreed=True)
