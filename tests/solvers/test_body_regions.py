@@ -234,6 +234,39 @@ steady = true
     assert h["T_mean b [C]"][-1] == pytest.approx(28.0, rel=1e-9)
 
 
+def test_gravity_on_each_region_density(tmp_path):
+    """Gravity along x on the two layers, rho_a = 2e-9 t/mm^3 (the region's own) and rho_b = 1e-9
+    ([thermal]), clamped at x0: the clamp takes -reaction_x = g (rho_a V_a + rho_b V_b) = 1e5 mm/s^2
+    x 6e-9 t = 6e-4 N (one density would give 4e-4 N), to Newton's tolerance."""
+    h = run_case(tmp_path, """
+[mesh]
+file = "layers.geo"
+[thermal]
+density = 1.0e-9
+[[regions]]
+name = "a"
+material = "neo-hookean"
+E = 1.0
+nu = 0.3
+density = 2.0e-9
+[[regions]]
+name = "b"
+material = "neo-hookean"
+E = 1.0
+nu = 0.3
+[[loads]]
+type = "gravity"
+g = [1.0e5, 0.0, 0.0]
+[[supports]]
+type = "clamp"
+boundary = "x0"
+[program]
+duration = 1.0
+dt = 1.0
+""", LAYERS, "layers.geo")
+    np.testing.assert_allclose(-h["reaction_x x0 [N]"], 1.0e5 * (2.0e-9 * 2.0 + 1.0e-9 * 2.0), rtol=1e-6)
+
+
 def test_adiabatic_two_region_energy_balance(tmp_path):
     """A coil of P = I^2 R = 0.01^2 A^2 x 100 ohm = 10 mW in region a (rho c its own: 2e-9 t/mm^3
     x 1e9 mJ/(t K) = 2 mJ/(mm^3 K)) next to region b ([thermal]: 1.15e-9 x 1.5e9 = 1.725), no
