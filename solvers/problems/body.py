@@ -290,7 +290,8 @@ class BodyProblem:
         import basix
 
         tm, mesh = self.tmesh, self.tmesh.mesh
-        entry = f"{self.case.path.name}: [[regions]] {'+'.join(region['name'])}.director_expression"
+        index = next(i for i, r in enumerate(self.case.regions) if r is region)
+        entry = f"{self.case.path.name}: [[regions]][{index}].director_expression"
         trees = [check_expression(t) for t in region["director_expression"]]
         x = ufl.SpatialCoordinate(mesh)
         try:

@@ -155,8 +155,8 @@ def test_zero_director_somewhere_is_refused(tmp_path):
     """x - 2 vanishes on the block's nodes at x = 2 mm: an InputError naming the place."""
     from lcefem.models.errors import InputError
 
-    with pytest.raises(InputError, match=r"block.director_expression: the director is zero or undefined "
-                                         r"at \(2, .*\) mm"):
+    with pytest.raises(InputError, match=r"case.toml: \[\[regions\]\]\[0\].director_expression: the director is "
+                                         r"zero or undefined at \(2, .*\) mm"):
         run_case(tmp_path, expression_case('director_expression = ["x - 2", "0", "0"]'))
 
 
