@@ -3,7 +3,7 @@
 meshes/reader.py's read_tagged_mesh (what `lcefem run body` reads: .msh through dolfinx's gmsh
 reader, .xdmf/.vtu through meshio and the sidecar <stem>.tags.json) has the built mesh's names,
 cells per tag and volume per cell tag / area per facet tag; and the strip's case file run on the
-exported strip (`lcefem mesh strip --format xdmf`) gives the answer of its .geo."""
+exported strip (`lcefem mesh strip --format msh|xdmf|vtu`) gives the answer of its .geo."""
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 import shutil
@@ -48,30 +48,33 @@ def read_history(path):
     return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
 
 
+@pytest.mark.slow
 def test_strip_case_on_the_exported_strip(tmp_path, lcefem_cmd):
-    """`lcefem mesh strip --format xdmf --mesh-level 0`, then the strip's case file with
-    ``file = "strip.xdmf"``: the history of `lcefem run body` equals that of the case's own
-    strip.geo at size factor 1 (the same level-0 mesh, test_reader.py) to 1e-9 relative (the node
-    numbering differs, so the solves' rounding does)."""
-    out = tmp_path / "mesh"
-    res = subprocess.run(lcefem_cmd + ["mesh", "strip", "--format", "xdmf", "--mesh-level", "0", "--out",
-                                       str(out)], capture_output=True, text=True, timeout=600)
-    assert res.returncode == 0, res.stderr
+    """`lcefem mesh strip --format F --mesh-level 0` for F = msh, xdmf, vtu, then the strip's case
+    file with ``file = "mesh/strip.F"``: the history of `lcefem run body` (0.2 A, 2 s) equals that of
+    the case's own strip.geo at size factor 1 (the same level-0 mesh, test_reader.py) to 1e-9
+    relative (the node numbering differs, so the solves' rounding does)."""
     shutil.copy(STRIP / "strip.geo", tmp_path / "strip.geo")
     text = (STRIP / "case.toml").read_text()
     assert 'file = "strip.geo"' in text
     (tmp_path / "geo.toml").write_text(text)
-    (tmp_path / "xdmf.toml").write_text(text.replace('file = "strip.geo"', 'file = "mesh/strip.xdmf"'))
-    histories = []
-    for name in ("geo", "xdmf"):
+    for fmt in FORMATS:
+        res = subprocess.run(lcefem_cmd + ["mesh", "strip", "--format", fmt, "--mesh-level", "0", "--out",
+                                           str(tmp_path / f"mesh_{fmt}")], capture_output=True, text=True,
+                             timeout=600)
+        assert res.returncode == 0, res.stderr
+        (tmp_path / f"{fmt}.toml").write_text(text.replace('file = "strip.geo"', f'file = "mesh_{fmt}/strip.{fmt}"'))
+    histories = {}
+    for name in ("geo", *FORMATS):
         res = subprocess.run(lcefem_cmd + ["run", "body", "--config", str(tmp_path / f"{name}.toml"),
                                            "--size-factor", "1", "--duration", "2", "--dt", "1", "--no-fields",
                                            "--quiet", "--out", str(tmp_path / name)],
                              capture_output=True, text=True, timeout=600)
         assert res.returncode == 0, res.stderr
-        histories.append(read_history(tmp_path / name / "history.csv"))
-    geo, xdmf = histories
-    assert geo.keys() == xdmf.keys()
-    for key in geo:
-        np.testing.assert_allclose(xdmf[key], geo[key], rtol=1e-9, atol=1e-12, err_msg=key)
+        histories[name] = read_history(tmp_path / name / "history.csv")
+    geo = histories.pop("geo")
+    for fmt, h in histories.items():
+        assert geo.keys() == h.keys(), fmt
+        for key in geo:
+            np.testing.assert_allclose(h[key], geo[key], rtol=1e-9, atol=1e-12, err_msg=f"{fmt}: {key}")
     assert geo["T_max coil [C]"][-1] > 30.0  # the coil did heat
