@@ -10,9 +10,11 @@ The physics is the strip's (:mod:`lcefem.solvers.problems.strip`), on any mesh w
   [mW/mm^3] with s the case's symmetry factor (the mesh is 1/s of the body); convection h (T - T_inf)
   and linearised grey-body radiation per boundary, fixed temperatures as Dirichlet conditions;
   other boundaries adiabatic (or mirror planes);
-* mechanics: W(F F_s(T)^-1) in LCE regions (director per region, a vector or a through-thickness
-  twist), compressible neo-Hookean passive regions, dead loads (force, pressure on the reference
-  normal, gravity), supports (:mod:`lcefem.solvers.supports`); staggered with the one path
+* heat capacity rho c and conductivity k per region (DG0; [thermal] where a region gives none);
+* mechanics: W(F F_s(T)^-1) in LCE regions (director per region, a vector, a through-thickness
+  twist or three expressions of x, y, z, :mod:`.body_expression`), compressible neo-Hookean passive
+  regions, dead loads (force, pressure on the reference normal, gravity on each region's
+  density), supports (:mod:`lcefem.solvers.supports`); staggered with the one path
   follower (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: a heat step, then the
   mechanics from the old to the new temperature, halving on failure).
 
@@ -102,7 +104,7 @@ def contraction_law(region: dict) -> NematicTransition | MeasuredContraction:
 
 def region_thermal(case: BodyCase) -> dict[str, ThermalProperties]:
     """{cell set: ThermalProperties} of the regions that give any of density [t/mm^3],
-    specific_heat [mJ/(t K)] or conductivity [mW/(mm K)] (the others keys from [thermal]); the
+    specific_heat [mJ/(t K)] or conductivity [mW/(mm K)] (the other keys from [thermal]); the
     cell sets of the other regions use [thermal] and are not listed."""
     th, out = case.thermal, {}
     for r in case.regions:
