@@ -76,6 +76,8 @@ def test_the_good_case_passes(tmp_path):
      "[[regions]][0]: a neo-hookean region needs E [MPa] and nu [-]"),
     ('material = "lce"\ndirector = [1.0, 0.0, 0.0]', 'material = "kapton"\ntwist = { axis = "z", from_deg = 0, to_deg = 9 }',
      "[[regions]][0].twist: only for material = 'lce' (this region is 'kapton')"),
+    ('material = "lce"\ndirector = [1.0, 0.0, 0.0]', 'material = "glue"\ndirector_expression = ["1", "0", "0"]',
+     "[[regions]][0].director_expression: only for material = 'lce' (this region is 'glue')"),
     ('director = [1.0, 0.0, 0.0]', 'twist = { axis = "w", from_deg = 0, to_deg = 9 }',
      "[[regions]][0].twist: allowed {axis = 'x'|'y'|'z', from_deg = number, to_deg = number}"),
     ('director = [1.0, 0.0, 0.0]', 'director = [1.0, 0.0, 0.0]\nconductivity = -1.0',
@@ -115,7 +117,8 @@ def test_the_good_case_passes(tmp_path):
     # probes
     ('name = "end"\nboundary = "x1"', 'name = "end"\nboundary = "x1"\npoint = [4.0, 0.5, 0.5]',
      "[[probes]][0]: a probe needs exactly one of boundary or point"),
-], ids=["region-twice", "E-on-lce", "no-director", "neo-hookean-without-nu", "twist-on-passive", "twist-axis",
+], ids=["region-twice", "E-on-lce", "no-director", "neo-hookean-without-nu", "twist-on-passive", "expression-on-passive",
+        "twist-axis",
         "negative-conductivity", "coil-twice", "convection-twice", "fixed-with-convection", "two-ambients",
         "fixed-without-temperature", "temperature-on-radiation", "heat-boundary-not-in-mesh", "clamp-without-boundary",
         "mirror-without-normal", "mirror-on-roller", "point-components", "321-two-points-short", "point-without-point",
