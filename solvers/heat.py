@@ -46,6 +46,9 @@ class HeatSetup:
     #: exposed facets with an exchange of their own (film coefficient, emissivity, ambient); the
     #: others use ``exchange`` (``lcefem run body``: convection and radiation per boundary)
     facet_exchange: dict[str, SurfaceExchange] = field(default_factory=dict)
+    #: cell sets with thermal properties of their own (density, specific heat, conductivity); the
+    #: others use ``thermal`` (``lcefem run body``: a region's own properties)
+    cell_thermal: dict[str, ThermalProperties] = field(default_factory=dict)
 
 
 class HeatProblem:
@@ -85,8 +88,12 @@ class HeatProblem:
 
         self._rho_c, self._k = const(0.0), const(0.0)
         self._h, self._eps, self._T_a = const(0.0), const(0.0), const(0.0)
+        self._cell_fields = self._cell_properties(tmesh, setup) if setup.cell_thermal else None
         self.set_materials(setup.thermal, setup.exchange)
         rho_c, T_a = self._rho_c, self._T_a
+        k = self._k
+        if self._cell_fields is not None:  # piecewise constant per cell set (DG0)
+            rho_c, k = self._cell_fields["rho_c"], self._cell_fields["k"]
         T, w = ufl.TrialFunction(V), ufl.TestFunction(V)
         # A fixed degree: UFL's estimate for the pulled-back conductivity (rational in Grad u) is huge.
         md = {"quadrature_degree": quadrature_degree}
@@ -95,11 +102,11 @@ class HeatProblem:
         if displacement is not None:
             F = ufl.Identity(3) + ufl.grad(displacement)
             J = ufl.det(F)
-            K = self._k * J * ufl.inv(F.T * F)
+            K = k * J * ufl.inv(F.T * F)
             N = ufl.FacetNormal(mesh)
             area_ratio = J * ufl.sqrt(ufl.dot(ufl.inv(F).T * N, ufl.inv(F).T * N))
         else:
-            K = self._k * ufl.Identity(3)
+            K = k * ufl.Identity(3)
             area_ratio = 1.0
         h_total = self._h
         if setup.radiation:
@@ -131,12 +138,36 @@ class HeatProblem:
         self._mean_form = dolfinx.fem.form(self.T * dx)
 
     def set_materials(self, thermal: ThermalProperties, exchange: SurfaceExchange) -> None:
-        """Change the thermal properties and surface exchange without recompiling the forms."""
+        """Change the thermal properties and surface exchange without recompiling the forms (with
+        ``setup.cell_thermal``, ``thermal`` is that of the cells outside those sets)."""
         self._rho_c.value = thermal.volumetric_heat_capacity
         self._k.value = thermal.conductivity
         self._h.value = exchange.film_coefficient
         self._eps.value = exchange.emissivity
         self._T_a.value = exchange.ambient_temperature
+        if self._cell_fields is not None:
+            own = self._cell_fields["own"]
+            for key, value in (("rho_c", thermal.volumetric_heat_capacity), ("k", thermal.conductivity)):
+                f = self._cell_fields[key]
+                f.x.array[~own] = value
+                f.x.scatter_forward()
+
+    @staticmethod
+    def _cell_properties(tmesh: TaggedMesh, setup: HeatSetup) -> dict:
+        """DG0 rho c [mJ/(mm^3 K)] and k [mW/(mm K)] with each set of ``setup.cell_thermal`` at its
+        own values ("own": the cells that carry them; the rest is set by :meth:`set_materials`)."""
+        mesh = tmesh.mesh
+        Q = dolfinx.fem.functionspace(mesh, ("DG", 0))
+        rho_c = dolfinx.fem.Function(Q, name="volumetric_heat_capacity")
+        k = dolfinx.fem.Function(Q, name="conductivity")
+        own = np.zeros(rho_c.x.array.size, dtype=bool)
+        for name, props in setup.cell_thermal.items():
+            cells = tmesh.cell_tags.find(tmesh.cell_tag(name))
+            dofs = np.asarray(Q.dofmap.list[cells]).reshape(-1)
+            rho_c.x.array[dofs] = props.volumetric_heat_capacity
+            k.x.array[dofs] = props.conductivity
+            own[dofs] = True
+        return {"rho_c": rho_c, "k": k, "own": own}
 
     def step(self, dt: float) -> None:
         """Advance by dt [s] with backward Euler: T_old <- T, then solve for T."""

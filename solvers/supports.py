@@ -61,13 +61,15 @@ def mirror_planes(tmesh, V, planes: Iterable[tuple[str, int]]) -> list:
 
 
 def point_dofs(V, component: int, point, tol: float = 1e-6) -> np.ndarray:
-    """DOFs (of V.sub(component)) of the node at ``point`` [mm] (within ``tol``); raises if none."""
+    """DOFs (of V.sub(component)) of the node at ``point`` [mm] (within ``tol``) on this process;
+    raises if no process has one (collective over the mesh's communicator)."""
     Vc, _ = V.sub(component).collapse()
     p = np.asarray(point, dtype=float)
     dofs = dolfinx.fem.locate_dofs_geometrical(
         (V.sub(component), Vc), lambda x: np.linalg.norm(x.T - p, axis=1) < tol)[0]
-    if dofs.size == 0:
-        raise InputError(f"support point {tuple(p)}: no node there (tolerance {tol:g} mm)")
+    # the node lives on one or a few processes: the others find none, which is no error
+    if V.mesh.comm.allreduce(int(dofs.size)) == 0:
+        raise InputError(f"support point {tuple(float(v) for v in p)}: no node there (tolerance {tol:g} mm)")
     return dofs
 
 

@@ -10,9 +10,11 @@ The physics is the strip's (:mod:`lcefem.solvers.problems.strip`), on any mesh w
   [mW/mm^3] with s the case's symmetry factor (the mesh is 1/s of the body); convection h (T - T_inf)
   and linearised grey-body radiation per boundary, fixed temperatures as Dirichlet conditions;
   other boundaries adiabatic (or mirror planes);
-* mechanics: W(F F_s(T)^-1) in LCE regions (director per region, a vector or a through-thickness
-  twist), compressible neo-Hookean passive regions, dead loads (force, pressure on the reference
-  normal, gravity), supports (:mod:`lcefem.solvers.supports`); staggered with the one path
+* heat capacity rho c and conductivity k per region (DG0; [thermal] where a region gives none);
+* mechanics: W(F F_s(T)^-1) in LCE regions (director per region, a vector, a through-thickness
+  twist or three expressions of x, y, z, :mod:`.body_expression`), compressible neo-Hookean passive
+  regions, dead loads (force, pressure on the reference normal, gravity on each region's
+  density), supports (:mod:`lcefem.solvers.supports`); staggered with the one path
   follower (:class:`lcefem.solvers.thermomechanics.ThermoMechanicalModel`: a heat step, then the
   mechanics from the old to the new temperature, halving on failure).
 
@@ -53,7 +55,7 @@ from lcefem.solvers.contraction_curve import read_contraction_csv
 from lcefem.solvers.heat import HeatSetup
 from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_measure
 from lcefem.solvers.probes import PointProbe
-from lcefem.solvers.problems.body_case import AXES, BodyCase
+from lcefem.solvers.problems.body_case import AXES, REGION_THERMAL, BodyCase
 from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
 from lcefem.solvers.runner import HistoryExport, run_path
 from lcefem.solvers.runtime.run import Progress
@@ -98,6 +100,34 @@ def contraction_law(region: dict) -> NematicTransition | MeasuredContraction:
         return read_contraction_csv(region["curve"], T_ref=region["T_ref"])
     return NematicTransition(T_NI=region["T_NI"], width=region["width"], lambda_N=region["lambda_N"],
                              T_ref=region["T_ref"])
+
+
+def region_thermal(case: BodyCase) -> dict[str, ThermalProperties]:
+    """{cell set: ThermalProperties} of the regions that give any of density [t/mm^3],
+    specific_heat [mJ/(t K)] or conductivity [mW/(mm K)] (the other keys from [thermal]); the
+    cell sets of the other regions use [thermal] and are not listed."""
+    th, out = case.thermal, {}
+    for r in case.regions:
+        own = {k: r.get(k) for k in REGION_THERMAL if r.get(k) is not None}
+        if own:
+            props = ThermalProperties(**{k: own.get(k, th[k]) for k in REGION_THERMAL})
+            out.update({n: props for n in r["name"]})
+    return out
+
+
+def gravity_work(case: BodyCase, tm, mesh, g, u, dx):
+    """The work of gravity sum_r rho_r g . u over the regions [N mm]: rho_r [t/mm^3] a region's own
+    density, else [thermal] density; ``g`` [mm/s^2]."""
+    th = case.thermal
+    if all(r.get("density") is None for r in case.regions):  # one density: one integral
+        return ufl.dot(dolfinx.fem.Constant(mesh, np.asarray(g, dtype=PETSc.ScalarType) * th["density"]),
+                       u) * dx
+    rho = {n: (r.get("density") or th["density"]) for r in case.regions for n in r["name"]}
+    work = 0
+    for name, value in rho.items():
+        rho_g = dolfinx.fem.Constant(mesh, np.asarray(g, dtype=PETSc.ScalarType) * value)
+        work += ufl.dot(rho_g, u) * dx(tm.cell_tag(name))
+    return work
 
 
 @dataclass
@@ -154,7 +184,8 @@ class BodyProblem:
             return bcs
 
         setup = HeatSetup(thermal, common, heated_cells=[], exposed_facets=list(exchanges),
-                          initial_temperature=th["initial_temperature"], facet_exchange=own)
+                          initial_temperature=th["initial_temperature"], facet_exchange=own,
+                          cell_thermal=region_thermal(case))
         # Coils: a DG0 power density, P / (s V) on each coil's cells.
         self.q = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("DG", 0)), name="power_density")
         dx = volume_measure(tm)
@@ -175,6 +206,8 @@ class BodyProblem:
                 transition = contraction_law(r)
                 if r["director"] is not None:
                     director = ufl.as_vector(r["director"])
+                elif r.get("director_expression") is not None:
+                    director = self._director_field(r)
                 else:
                     tw = r["twist"]
                     axis = AXES[tw["axis"]]
@@ -201,9 +234,7 @@ class BodyProblem:
                     p = dolfinx.fem.Constant(mesh, PETSc.ScalarType(ld["pressure"]))
                     work += -f * p * ufl.dot(ufl.FacetNormal(mesh), u) * ds(tm.facet_tag(ld["boundary"]))
                 else:
-                    rho_g = dolfinx.fem.Constant(mesh, np.asarray(ld["g"], dtype=PETSc.ScalarType)
-                                                 * th["density"])
-                    work += f * ufl.dot(rho_g, u) * dx
+                    work += f * gravity_work(case, tm, mesh, ld["g"], u, dx)
             return work
 
         def dirichlet(V):
@@ -249,6 +280,42 @@ class BodyProblem:
         if not hi > lo:
             raise InputError(f"twist of {names}: the region has no thickness along axis {'xyz'[axis]}")
         return lo, hi
+
+    def _director_field(self, region: dict):
+        """The unit director n = d / |d| [-] of a region's ``director_expression`` (three checked
+        expressions d(X) of the reference coordinates [mm], :mod:`.body_expression`) as UFL, used at
+        the mechanics' quadrature points. |d| is evaluated on the region's nodes and at those
+        quadrature points first: zero (or not finite) anywhere is an InputError naming the entry."""
+        from lcefem.solvers.mechanics import QUADRATURE_DEGREE
+        from lcefem.solvers.problems.body_expression import ExpressionError, check_expression, to_numpy, to_ufl
+
+        import basix
+
+        tm, mesh = self.tmesh, self.tmesh.mesh
+        index = next(i for i, r in enumerate(self.case.regions) if r is region)
+        entry = f"{self.case.path.name}: [[regions]][{index}].director_expression"
+        trees = [check_expression(t) for t in region["director_expression"]]
+        x = ufl.SpatialCoordinate(mesh)
+        try:
+            d = ufl.as_vector([to_ufl(tree, x) for tree in trees])
+        except ExpressionError as exc:
+            raise InputError(f"{entry}: {exc}") from None
+        cells = np.concatenate([tm.cell_tags.find(tm.cell_tag(n)) for n in region["name"]]).astype(np.int32)
+        nodes = mesh.geometry.x[dolfinx.mesh.entities_to_geometry(mesh, 3, cells).reshape(-1)]
+        cell_type = basix.CellType[mesh.topology.cell_name()]
+        points, _ = basix.make_quadrature(cell_type, QUADRATURE_DEGREE)
+        at_points = dolfinx.fem.Expression(x, points).eval(mesh, cells).reshape(-1, 3) if cells.size \
+            else np.empty((0, 3))
+        where = np.vstack([nodes, at_points])
+        length = np.sqrt(sum(to_numpy(tree, where) ** 2 for tree in trees)) if where.size else np.ones(1)
+        bad = ~(np.isfinite(length) & (length > 1e-12))
+        first = where[np.argmax(bad)].tolist() if bad.any() else None
+        first = next((p for p in self.comm.allgather(first) if p is not None), None)
+        if first is not None:
+            raise InputError(f"{entry}: the director is zero or undefined at ({first[0]:.4g}, "
+                             f"{first[1]:.4g}, {first[2]:.4g}) mm; allowed a nonzero, finite vector "
+                             "everywhere in the region")
+        return d / ufl.sqrt(ufl.dot(d, d))
 
     def _observables_setup(self, case: BodyCase, one, ds, dx) -> None:
         tm, comm, heat, u = self.tmesh, self.comm, self.model.heat, self.model.u

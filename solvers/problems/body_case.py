@@ -50,6 +50,9 @@ REQUIRED = object()
 POSITIVE = "> 0"  #: a lower bound: strictly positive
 NUM, INT, STR, BOOL, VEC, NAMES, TABLE, ANY = ("number", "integer", "string", "boolean", "3-vector",
                                                "name or list of names", "table", "value")
+EXPRS = "3 expressions"  #: a list of three strings of x, y, z (solvers/problems/body_expression.py)
+#: the region keys that override [thermal] in that region
+REGION_THERMAL = ("density", "specific_heat", "conductivity")
 
 SCHEMA: dict[str, dict[str, tuple]] = {
     "mesh": {
@@ -73,6 +76,9 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "material": (STR, "-", REQUIRED, MATERIALS, "LCE, or a passive neo-Hookean solid"),
         "director": (VEC, "-", None, None, "LCE: director (normalised; not zero)"),
         "twist": (TABLE, "-", None, None, "LCE: through-thickness twist {axis, from_deg, to_deg}"),
+        "director_expression": (EXPRS, "-", None, None, "LCE: director as three expressions of the "
+                                "reference x, y, z [mm] (numbers, pi, + - * / **, sin cos tan exp sqrt "
+                                "atan2), normalised; zero length anywhere is an error"),
         "lambda_N": (NUM, "-", _T.lambda_N, (1.0, 3.0), "LCE: nematic spontaneous stretch"),
         "T_NI": (NUM, "C", _T.T_NI, (-50.0, 300.0), "LCE: midpoint of the order parameter's fall"),
         "width": (NUM, "K", _T.width, (0.1, 100.0), "LCE: width of the transition"),
@@ -82,6 +88,12 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "curve": (STR, "-", None, None, "LCE: measured contraction curve, CSV with units"),
         "E": (NUM, "MPa", None, (1e-4, 1e6), "passive: Young's modulus (preset's by default)"),
         "nu": (NUM, "-", None, (0.0, 0.49), "passive: Poisson's ratio (preset's by default)"),
+        "density": (NUM, "t/mm^3", None, (POSITIVE, None), "this region's density (heat capacity, "
+                    "gravity; default: [thermal])"),
+        "specific_heat": (NUM, "mJ/(t K)", None, (POSITIVE, None), "this region's specific heat "
+                          "(default: [thermal])"),
+        "conductivity": (NUM, "mW/(mm K)", None, (POSITIVE, None), "this region's thermal "
+                         "conductivity (default: [thermal])"),
     },
     "coils": {
         "name": (STR, "-", REQUIRED, None, "the coil's name: its drive tag in [program] currents"),
@@ -430,6 +442,20 @@ def _tolerance(check: _Checker, entry: str, text: str, unit: str) -> dict:
     return {"absolute": float(to_unit(value, parts[1], unit, difference=True)), "unit": unit, "text": text}
 
 
+def _check_director_expression(check: _Checker, entry: str, value) -> None:
+    """Three strings, each an expression of the reference x, y, z [mm] within the allow-list of
+    :mod:`lcefem.solvers.problems.body_expression` (data: parsed, never evaluated by Python)."""
+    from lcefem.solvers.problems.body_expression import ALLOWED, ExpressionError, check_expression
+
+    if not (isinstance(value, list) and len(value) == 3 and all(isinstance(v, str) for v in value)):
+        check.fail(entry, f"{value!r}: allowed a list of three strings of {ALLOWED}")
+    for c, text in zip("xyz", value):
+        try:
+            check_expression(text)
+        except ExpressionError as exc:
+            check.fail(f"{entry} ({c} component)", str(exc))
+
+
 def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None) -> BodyCase:
     """The checked case file at ``path`` (see the module docstring); ``overrides`` {(section, key):
     value} replace the file's values (command-line options) before the checks. InputError on bad
@@ -494,9 +520,13 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
             for k in ("E", "nu"):
                 if r[k] is not None:
                     check.fail(f"{e}.{k}", "only for a passive material (neo-hookean, kapton, glue)")
-            if (r["director"] is None) == (r["twist"] is None):
-                check.fail(f"{e}", "an LCE region needs exactly one of director = [x, y, z] or "
-                           "twist = {axis, from_deg, to_deg}")
+            given = [k for k in ("director", "twist", "director_expression") if r[k] is not None]
+            if len(given) != 1:
+                check.fail(f"{e}", "an LCE region needs exactly one of director = [x, y, z], "
+                           "twist = {axis, from_deg, to_deg} or director_expression = [\"...\", "
+                           "\"...\", \"...\"]" + (f" (given: {', '.join(given)})" if given else ""))
+            if r["director_expression"] is not None:
+                _check_director_expression(check, f"{e}.director_expression", r["director_expression"])
             if r["director"] is not None:
                 n = np.linalg.norm(r["director"])
                 if not n > 1e-12:
@@ -521,7 +551,7 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
             if r["lambda_N"] <= 1.0:
                 check.fail(f"{e}.lambda_N", f"{r['lambda_N']}: allowed > 1")
         else:
-            for k in ("director", "twist", "curve"):
+            for k in ("director", "twist", "director_expression", "curve"):
                 if r[k] is not None:
                     check.fail(f"{e}.{k}", f"only for material = 'lce' (this region is {r['material']!r})")
             preset = PRESETS.get(r["material"])
