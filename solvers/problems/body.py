@@ -52,7 +52,7 @@ from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneou
 from lcefem.models.limits import check_current
 from lcefem.solvers.exports import FEFields
 from lcefem.solvers.contraction_curve import read_contraction_csv
-from lcefem.solvers.heat import HeatSetup
+from lcefem.solvers.heat import HeatSetup, settled
 from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_measure
 from lcefem.solvers.probes import PointProbe
 from lcefem.solvers.problems.body_case import AXES, REGION_THERMAL, BodyCase
@@ -411,15 +411,15 @@ class BodyProblem:
         heat equation (pulled back with the present displacement) and the mechanics."""
         u = self.model.u
         previous = u.x.array.copy()
-        iterations = 0
+        iterations, last = 0, np.inf
         for it in range(1, max_iterations + 1):
             self.model.heat.steady()
             iterations += self.equilibrate(f"steady state, fixed-point iteration {it}").iterations
             change = self.comm.allreduce(float(np.max(np.abs(u.x.array - previous), initial=0.0)), op=MPI.MAX)
             scale = self.comm.allreduce(float(np.max(np.abs(u.x.array), initial=0.0)), op=MPI.MAX)
-            if change <= rtol * max(scale, 1e-12):
+            if settled(change, last, max(scale, 1e-12), rtol):  # round-off floor: solvers/heat.py
                 return iterations
-            previous = u.x.array.copy()
+            previous, last = u.x.array.copy(), change
         raise ConvergenceError("steady state", f"displacement still changing after {max_iterations} "
                                "heat-mechanics fixed-point iterations")
 
