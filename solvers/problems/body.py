@@ -23,7 +23,12 @@ Observables, "name [unit]": ``T_mean [C]``, ``T_max [C]`` (whole mesh), ``T_mean
 ``T_max <set> [C]`` per cell set, ``power <coil> [mW]`` (whole coil), per probe ``u_x|u_y|u_z
 <probe> [mm]`` and ``T <probe> [C]`` (a boundary's mean over its reference area, or a point's
 value), per clamp or roller ``reaction_<c> <name> [N]`` (the support's force on the body, its
-component c, times the symmetry factor: a block pulled by +F along x shows -F on its x roller).
+component c, times the symmetry factor: a block pulled by +F along x shows -F on its x roller),
+per ``[[contact]]`` ``contact_force <name> [N]`` (sum of k A <-g>_+ over its node pairs, times the
+symmetry factor) and ``min_gap <name> [mm]`` (negative: penetration).
+
+Contact (``[[contact]]``): frictionless node-to-node penalty between two named facet sets
+(:func:`lcefem.solvers.contact.facing_pairs`; serial only).
 """
 
 from __future__ import annotations
@@ -48,6 +53,7 @@ from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
 from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneous_stretch
 from lcefem.models.limits import check_current
+from lcefem.solvers.contact import NodePairContact, attach, facing_pairs
 from lcefem.solvers.exports import FEFields
 from lcefem.solvers.contraction_curve import read_contraction_csv
 from lcefem.solvers.heat import HeatSetup
@@ -224,6 +230,7 @@ class BodyProblem:
                                            external_work=external_work if case.loads else None,
                                            petsc_options=case.petsc, prefix="lcefem_body_",
                                            heat_source=self.q if case.coils else None, heat_bcs=heat_bcs)
+        self.contacts = self._contacts_setup(case)
         # the as-built state is the mesh at T_ref (F_s = I): the mechanics starts there, and the run
         # brings it to the initial temperature when that differs
         t_refs = {tr.T_ref for _, tr in self._transitions}
@@ -249,6 +256,23 @@ class BodyProblem:
         if not hi > lo:
             raise InputError(f"twist of {names}: the region has no thickness along axis {'xyz'[axis]}")
         return lo, hi
+
+    def _contacts_setup(self, case: BodyCase) -> dict[str, NodePairContact]:
+        """The ``[[contact]]`` entries as node-pair penalty terms on the mechanics' Newton problem
+        (:func:`lcefem.solvers.contact.facing_pairs`, :class:`NodePairContact`): energy
+        k A <-g>_+^2 / 2 per node of the boundary, g [mm] its gap to the target along the target's
+        current normal, k [N/mm^3] the penalty, A [mm^2] the node's tributary area."""
+        contacts = {}
+        for c in case.contact:
+            try:
+                pairs, areas = facing_pairs(self.tmesh, self.model.u.function_space, c["boundary"],
+                                            c["target"], AXES[c["axis"]])
+            except ValueError as exc:
+                raise InputError(f"{case.path.name}: [[contact]] {c['name']}: {exc}") from None
+            contacts[c["name"]] = NodePairContact(self.model.u, pairs, areas, c["penalty"])
+        if contacts:
+            attach(self.model.mechanics, list(contacts.values()))
+        return contacts
 
     def _observables_setup(self, case: BodyCase, one, ds, dx) -> None:
         tm, comm, heat, u = self.tmesh, self.comm, self.model.heat, self.model.u
@@ -377,6 +401,10 @@ class BodyProblem:
             obs[f"T {name} [C]"] = float(probe(heat.T)[0][0])
         for label, form in self._reactions:
             obs[label] = self.symmetry * assemble_global(form, comm)
+        for name, contact in self.contacts.items():
+            obs[f"contact_force {name} [N]"] = self.symmetry * contact.normal_force()
+            gaps = contact.gaps()
+            obs[f"min_gap {name} [mm]"] = float(np.min(gaps)) if gaps.size else math.nan
         return obs
 
     def fields(self) -> dict:

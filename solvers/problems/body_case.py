@@ -31,6 +31,10 @@ _T = NematicTransition()
 _E = LCEElasticity()
 _H = ThermalProperties()
 _X = SurfaceExchange()
+#: Contact pressure per penetration [N/mm^3] of the composite beam's strip-ribbon contact
+#: (solvers/contact.py PenaltyContact.stiffness, "chosen: about 100 x E_LCE/H_strip"; a test keeps
+#: them equal). Not imported: this module is read before dolfinx is loaded.
+CONTACT_PENALTY = 50.0
 
 #: Passive presets: (E [MPa], nu [-], source).
 PRESETS = {
@@ -138,12 +142,22 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                       "(absolute, any unit of the observable's kind) or '5 %' (of the measured value)"),
         "source": (STR, "-", REQUIRED, None, "where the measurements come from (shown in the report)"),
     },
+    "contact": {
+        "boundary": (STR, "-", REQUIRED, None, "facet set whose nodes may not pass through target"),
+        "target": (STR, "-", REQUIRED, None, "facet set of the other body's face towards boundary "
+                   "(single-valued across axis)"),
+        "axis": (STR, "-", REQUIRED, tuple(AXES), "reference direction across the contact: a node of "
+                 "boundary pairs with the node of target at its two other coordinates"),
+        "penalty": (NUM, "N/mm^3", CONTACT_PENALTY, (POSITIVE, 1e9), "contact pressure per penetration "
+                    "(default: the composite beam's, solvers/contact.py PenaltyContact)"),
+        "name": (STR, "-", None, None, "observable name (default: boundary/target)"),
+    },
     "output": {
         "fields": (BOOL, "-", True, None, "write temperature.bp and displacement.bp (VTX)"),
         "every": (INT, "-", 1, (1, 100000), "a field frame every n steps"),
     },
 }
-ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare")
+ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare", "contact")
 
 #: Units a measured column or a tolerance may carry: {unit: (kind, scale, offset)}, value in lcefem's
 #: unit = scale * value + offset (README: mm, s, N, mW, C). A tolerance is a difference: scale only.
@@ -182,6 +196,7 @@ class BodyCase:
     program: dict
     output: dict
     compare: tuple[dict, ...] = ()
+    contact: tuple[dict, ...] = ()
     petsc: dict = field(default_factory=dict)
     drives: dict = field(default_factory=dict)  # {kind: {tag: Schedule}}
     cell_names: dict = field(default_factory=dict)
@@ -339,9 +354,10 @@ def _read_schedule_csv(check: _Checker, path: pathlib.Path, entry: str) -> dict[
     return out
 
 
-def observable_names(cells, coils, probes, supports) -> list[str]:
-    """The history observables "name [unit]" of a body with these cell sets, coils, probes and
-    supports, as :meth:`lcefem.solvers.problems.body.BodyProblem.observables` names them."""
+def observable_names(cells, coils, probes, supports, contacts=()) -> list[str]:
+    """The history observables "name [unit]" of a body with these cell sets, coils, probes,
+    supports and contacts, as :meth:`lcefem.solvers.problems.body.BodyProblem.observables` names
+    them."""
     names = ["T_mean [C]", "T_max [C]"]
     for n in cells:
         names += [f"T_mean {n} [C]", f"T_max {n} [C]"]
@@ -352,7 +368,28 @@ def observable_names(cells, coils, probes, supports) -> list[str]:
         if s["type"] in ("clamp", "roller"):
             comps = "xyz" if s["type"] == "clamp" else s["normal"]
             names += [f"reaction_{a} {s['name'] or s['boundary']} [N]" for a in comps]
+    for c in contacts:
+        names += [f"contact_force {c['name']} [N]", f"min_gap {c['name']} [mm]"]
     return names
+
+
+def _check_contacts(check: _Checker, contacts: list[dict], facet_set, comm) -> None:
+    """``[[contact]]`` entries: two different facet sets of the mesh, names unique (default
+    "boundary/target"); node-pair contact runs in serial only."""
+    seen = set()
+    for i, c in enumerate(contacts):
+        e = f"[[contact]][{i}]"
+        facet_set(f"{e}.boundary", c["boundary"])
+        facet_set(f"{e}.target", c["target"])
+        if c["boundary"] == c["target"]:
+            check.fail(f"{e}.target", f"{c['target']!r} is the boundary itself; allowed another facet set")
+        c["name"] = c["name"] or f"{c['boundary']}/{c['target']}"
+        if c["name"] in seen:
+            check.fail(f"{e}.name", f"{c['name']!r} is used twice")
+        seen.add(c["name"])
+    if contacts and comm is not None and comm.size > 1:
+        check.fail("[[contact]]", f"node-pair contact runs in serial only (this run has {comm.size} "
+                   "ranks); allowed: no [[contact]] under mpiexec")
 
 
 def _name_unit(label: str) -> tuple[str, str]:
@@ -617,12 +654,14 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         if p["boundary"] is not None:
             facet_set(f"{e}.boundary", p["boundary"])
 
+    _check_contacts(check, arr["contact"], facet_set, comm)
+
     if sec["mesh"]["refine"] and mesh_file.suffix.lower() == ".geo":
         check.fail("[mesh].refine", "a .geo is refined by its size_factor; refine is for a read mesh "
                    "(.msh, .vtu, .xdmf)")
 
     # Comparisons with measurements: the observable exists, the data's units are known and of its kind.
-    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"])
+    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"], arr["contact"])
     for i, c in enumerate(arr["compare"]):
         e = f"[[compare]][{i}]"
         name, unit = _name_unit(c["observable"])
@@ -670,5 +709,6 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
     return BodyCase(path=path.resolve(), mesh=sec["mesh"], thermal=sec["thermal"],
                     regions=tuple(arr["regions"]), coils=tuple(arr["coils"]), heat=tuple(arr["heat"]),
                     supports=tuple(arr["supports"]), loads=tuple(arr["loads"]), probes=tuple(arr["probes"]),
-                    program=prog, output=sec["output"], compare=tuple(arr["compare"]), petsc=petsc,
+                    program=prog, output=sec["output"], compare=tuple(arr["compare"]),
+                    contact=tuple(arr["contact"]), petsc=petsc,
                     drives=drives, cell_names=cells, facet_names=facets)
