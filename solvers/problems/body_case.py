@@ -26,11 +26,13 @@ from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_
 from lcefem.models.bar_hinge_materials import GlueBars
 from lcefem.models.lce import NematicTransition
 from lcefem.models.limits import CURRENT_RANGE, check_current
+from lcefem.solvers.continuation import PathControl
 
 _T = NematicTransition()
 _E = LCEElasticity()
 _H = ThermalProperties()
 _X = SurfaceExchange()
+_P = PathControl()
 #: Contact pressure per penetration [N/mm^3] of the composite beam's strip-ribbon contact
 #: (solvers/contact.py PenaltyContact.stiffness, "chosen: about 100 x E_LCE/H_strip"; a test keeps
 #: them equal). Not imported: this module is read before dolfinx is loaded.
@@ -133,6 +135,9 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "temperatures": (TABLE, "C", {}, (-273.15, 400.0), "fixed heat name = T, or [[t, T], ...]"),
         "loads": (TABLE, "-", {}, (-1e6, 1e6), "load name = factor, or [[t, f], ...]"),
         "schedule": (STR, "-", None, None, "CSV: 'time [s]' then '<tag> [A|C|-]' columns"),
+        "stretches": (TABLE, "-", {}, (1.0, 3.0), "LCE cell set = spontaneous stretch lambda, reached by "
+                      "a quasi-static ramp from the as-built lambda_N (load factor 0 -> 1, path follower; "
+                      "no heat steps, no currents or temperatures)"),
     },
     "compare": {
         "observable": (STR, "-", REQUIRED, None, "a history observable of this body, 'name [unit]'"),
@@ -152,12 +157,30 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                     "(default: the composite beam's, solvers/contact.py PenaltyContact)"),
         "name": (STR, "-", None, None, "observable name (default: boundary/target)"),
     },
+    "path": {
+        "first_step": (NUM, "-", _P.first_step, (POSITIVE, 1.0), "stretch ramp: first increment of the "
+                       "load factor (solvers/continuation.py PathControl, as the FE beam's run)"),
+        "max_step": (NUM, "-", _P.max_step, (POSITIVE, 1.0), "stretch ramp: largest increment"),
+        "min_step": (NUM, "-", _P.min_step, (POSITIVE, 1.0), "stretch ramp: an increment below this that "
+                     "still fails is a fold, crossed by damped relaxation"),
+        "growth": (NUM, "-", _P.growth, (1.0, 100.0), "stretch ramp: largest increment growth per step"),
+        "target_iterations": (INT, "-", _P.target_iterations, (1, 100), "stretch ramp: Newton iterations "
+                              "per increment the step size aims at"),
+    },
+    "curvature": {
+        "name": (STR, "-", REQUIRED, None, "observable 'curvature <name> [1/mm]'"),
+        "stations": (ANY, "mm", REQUIRED, None, "three or more stations, each a node [x, y, z] or a list "
+                     "of nodes (their deformed mean); a node beyond a mirror plane is its image's "
+                     "mirrored"),
+        "up": (ANY, "mm", REQUIRED, None, "two nodes [a, b]: the curvature is positive when the fitted "
+               "circle's centre lies opposite to the deformed b - a"),
+    },
     "output": {
         "fields": (BOOL, "-", True, None, "write temperature.bp and displacement.bp (VTX)"),
         "every": (INT, "-", 1, (1, 100000), "a field frame every n steps"),
     },
 }
-ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare", "contact")
+ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare", "contact", "curvature")
 
 #: Units a measured column or a tolerance may carry: {unit: (kind, scale, offset)}, value in lcefem's
 #: unit = scale * value + offset (README: mm, s, N, mW, C). A tolerance is a difference: scale only.
@@ -166,7 +189,7 @@ UNITS = {"C": ("temperature", 1.0, 0.0), "K": ("temperature", 1.0, -273.15),
          "N": ("force", 1.0, 0.0), "mN": ("force", 1e-3, 0.0),
          "mW": ("power", 1.0, 0.0), "W": ("power", 1e3, 0.0), "s": ("time", 1.0, 0.0),
          "MPa": ("stress", 1.0, 0.0), "kPa": ("stress", 1e-3, 0.0), "-": ("ratio", 1.0, 0.0)}
-SECTIONS = ("mesh", "thermal", "program", "output", "petsc", *ARRAYS)
+SECTIONS = ("mesh", "thermal", "program", "output", "petsc", "path", *ARRAYS)
 
 
 @dataclass(frozen=True)
@@ -197,6 +220,8 @@ class BodyCase:
     output: dict
     compare: tuple[dict, ...] = ()
     contact: tuple[dict, ...] = ()
+    curvature: tuple[dict, ...] = ()
+    path_control: dict = field(default_factory=dict)  # [path]: the stretch ramp's stepping
     petsc: dict = field(default_factory=dict)
     drives: dict = field(default_factory=dict)  # {kind: {tag: Schedule}}
     cell_names: dict = field(default_factory=dict)
@@ -212,7 +237,7 @@ class BodyCase:
             spec = SCHEMA[section]
             return {k: {"value": _jsonable(v), "unit": spec[k][1]} if k in spec else _jsonable(v)
                     for k, v in values.items()}
-        out = {"case_file": str(self.path), "mesh": unitised("mesh", self.mesh),
+        out = {"case_file": str(self.path), "mesh": unitised("mesh", self.mesh), "path": unitised("path", self.path_control),
                "thermal": unitised("thermal", self.thermal), "program": unitised("program", self.program),
                "output": unitised("output", self.output), "petsc": dict(self.petsc),
                "mesh_cell_sets": dict(self.cell_names), "mesh_facet_sets": dict(self.facet_names)}
@@ -354,7 +379,7 @@ def _read_schedule_csv(check: _Checker, path: pathlib.Path, entry: str) -> dict[
     return out
 
 
-def observable_names(cells, coils, probes, supports, contacts=()) -> list[str]:
+def observable_names(cells, coils, probes, supports, contacts=(), curvatures=(), stretches=()) -> list[str]:
     """The history observables "name [unit]" of a body with these cell sets, coils, probes,
     supports and contacts, as :meth:`lcefem.solvers.problems.body.BodyProblem.observables` names
     them."""
@@ -370,7 +395,64 @@ def observable_names(cells, coils, probes, supports, contacts=()) -> list[str]:
             names += [f"reaction_{a} {s['name'] or s['boundary']} [N]" for a in comps]
     for c in contacts:
         names += [f"contact_force {c['name']} [N]", f"min_gap {c['name']} [mm]"]
+    names += [f"curvature {c['name']} [1/mm]" for c in curvatures]
+    names += [f"stretch {n} [-]" for n in stretches]
     return names
+
+
+def _check_curvatures(check: _Checker, curvatures: list[dict]) -> None:
+    """``[[curvature]]``: names unique, stations a list of >= 3 stations (a point or a list of
+    points each), up two points; stored as lists of point lists."""
+    seen = set()
+    for i, c in enumerate(curvatures):
+        e = f"[[curvature]][{i}]"
+        if c["name"] in seen:
+            check.fail(f"{e}.name", f"{c['name']!r} is used twice")
+        seen.add(c["name"])
+        st = c["stations"]
+        if not isinstance(st, list) or len(st) < 3:
+            check.fail(f"{e}.stations", "allowed a list of three or more stations, each [x, y, z] or a "
+                       "list of [x, y, z]")
+        groups = []
+        for j, g in enumerate(st):
+            pts = [g] if isinstance(g, list) and g and not isinstance(g[0], list) else g
+            if not isinstance(pts, list) or not pts:
+                check.fail(f"{e}.stations[{j}]", "allowed [x, y, z] or a list of [x, y, z]")
+            groups.append([check.vector(f"{e}.stations[{j}]", q) for q in pts])
+        c["stations"] = groups
+        up = c["up"]
+        if not (isinstance(up, list) and len(up) == 2):
+            check.fail(f"{e}.up", "allowed two points [[x, y, z], [x, y, z]]")
+        c["up"] = [check.vector(f"{e}.up", q) for q in up]
+        if np.allclose(c["up"][0], c["up"][1]):
+            check.fail(f"{e}.up", "the two points coincide; allowed two different nodes")
+
+
+def _check_stretches(check: _Checker, prog: dict, regions: list[dict], drives: dict) -> dict:
+    """``[program] stretches``: {LCE cell set: target lambda [-]} (numbers, checked against the
+    region's lambda_N: between 1 and lambda_N, as :func:`lcefem.models.limits.check_lambda`); a
+    quasi-static ramp, so no currents, temperatures or steady state."""
+    stretches = prog["stretches"]
+    if not stretches:
+        return {}
+    lce = {n: r for r in regions if r["material"] == "lce" for n in r["name"]}
+    for kind in ("currents", "temperatures"):
+        if drives[kind]:
+            check.fail("[program].stretches", f"a stretch ramp is quasi-static: no [program] {kind} "
+                       f"(given: {', '.join(drives[kind])})")
+    if prog["steady"]:
+        check.fail("[program].stretches", "a stretch ramp is quasi-static; allowed steady = false")
+    out = {}
+    for tag, value in stretches.items():
+        entry = f"[program].stretches.{tag}"
+        if tag not in lce:
+            check.fail(entry, f"not an LCE cell set; allowed: {', '.join(lce) or 'none'}")
+        v = check.number(entry, value, SCHEMA["program"]["stretches"][3], "-")
+        if not 1.0 <= v <= lce[tag]["lambda_N"]:
+            check.fail(entry, f"{v:g}: allowed >= 1 (isotropic) and <= the region's lambda_N = "
+                       f"{lce[tag]['lambda_N']:g} (as built)")
+        out[tag] = v
+    return out
 
 
 def _check_contacts(check: _Checker, contacts: list[dict], facet_set, comm) -> None:
@@ -494,7 +576,7 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         check.fail("[mesh]", "missing (at least: file = \"body.geo\")")
     if not data.get("regions"):
         check.fail("[[regions]]", "missing: every cell set of the mesh needs a material")
-    sec = {s: check.table(s, f"[{s}]", data.get(s, {})) for s in ("mesh", "thermal", "program", "output")}
+    sec = {s: check.table(s, f"[{s}]", data.get(s, {})) for s in ("mesh", "thermal", "program", "output", "path")}
     arr = {s: [check.table(s, f"[[{s}]][{i}]", t) for i, t in enumerate(data.get(s, []))] for s in ARRAYS}
     try:  # the allow-list every case file's [petsc] goes through (nothing that runs code or writes)
         petsc = check_case_options(data.get("petsc", {}), "[petsc]")
@@ -661,7 +743,9 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                    "(.msh, .vtu, .xdmf)")
 
     # Comparisons with measurements: the observable exists, the data's units are known and of its kind.
-    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"], arr["contact"])
+    _check_curvatures(check, arr["curvature"])
+    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"], arr["contact"],
+                             arr["curvature"], sec["program"]["stretches"])
     for i, c in enumerate(arr["compare"]):
         e = f"[[compare]][{i}]"
         name, unit = _name_unit(c["observable"])
@@ -706,9 +790,18 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
             if kind == "currents":
                 check_current(f"{check.file}: [program].schedule {tag}", list(sched.values))
             drives[kind][tag] = sched
+    prog["stretches"] = _check_stretches(check, prog, arr["regions"], drives)
+    path_ = sec["path"]
+    if path_["min_step"] > path_["max_step"] or path_["first_step"] > path_["max_step"]:
+        check.fail("[path]", f"allowed min_step ({path_['min_step']:g}) and first_step "
+                   f"({path_['first_step']:g}) <= max_step ({path_['max_step']:g})")
+    if "path" in data and not prog["stretches"]:
+        check.fail("[path]", "only with a stretch ramp ([program] stretches)")
     return BodyCase(path=path.resolve(), mesh=sec["mesh"], thermal=sec["thermal"],
                     regions=tuple(arr["regions"]), coils=tuple(arr["coils"]), heat=tuple(arr["heat"]),
                     supports=tuple(arr["supports"]), loads=tuple(arr["loads"]), probes=tuple(arr["probes"]),
                     program=prog, output=sec["output"], compare=tuple(arr["compare"]),
-                    contact=tuple(arr["contact"]), petsc=petsc,
+                    contact=tuple(arr["contact"]), curvature=tuple(arr["curvature"]),
+                    path_control=sec["path"],
+                    petsc=petsc,
                     drives=drives, cell_names=cells, facet_names=facets)

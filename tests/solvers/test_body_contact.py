@@ -134,3 +134,23 @@ def test_bad_contact_is_one_line_before_any_mesh(tmp_path, monkeypatch, old, new
     text = str(err.value)
     assert "\n" not in text
     assert text.startswith("case.toml: ") and message in text, text
+
+
+def test_facing_pairs_are_the_beams_strip_ribbon_pairs():
+    """On the FE composite beam (level 0), the general pairing of two named facet sets gives the
+    beam's own strip-ribbon pairs and areas (:func:`face_pairs`), top and bottom: the body's
+    [[contact]] is the beam's contact."""
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+    from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
+    from lcefem.solvers.contact import face_pairs, facing_pairs
+    from lcefem.solvers.mechanics import displacement_space
+
+    tm = build_beam_fe(CompositeBeamGeometry(), 1.4, BeamFEMesh(level=0))
+    V = displacement_space(tm.mesh, 2)
+    for face, target, above in (("top_strip_underside", "ribbon_top", True),
+                                ("bottom_strip_topside", "ribbon_bottom", False)):
+        pairs, areas = face_pairs(tm, V, face, "kapton", strip_above=above)
+        general, general_areas = facing_pairs(tm, V, face, target, axis=2)
+        assert pairs.shape[0] > 50
+        assert np.array_equal(general, pairs), face
+        np.testing.assert_array_equal(general_areas, areas)
