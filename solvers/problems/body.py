@@ -29,6 +29,14 @@ symmetry factor) and ``min_gap <name> [mm]`` (negative: penetration).
 
 Contact (``[[contact]]``): frictionless node-to-node penalty between two named facet sets
 (:func:`lcefem.solvers.contact.facing_pairs`; serial only).
+
+Stretch ramp (``[program] stretches``, ``[path]``): LCE cell sets with a prescribed spontaneous
+stretch lambda [-] instead of the temperature's, W(F U(1/a)), a = lambda / lambda_N, taken from the
+as-built lambda_N to the targets along a load factor t: 0 -> 1 by the shared path follower
+(:class:`lcefem.solvers.continuation.PathFollower`, with :class:`NodalDamping` across folds); no
+heat steps. The history's clock is ``load factor [-]``, with ``stretch <set> [-]`` per driven set
+and ``curvature <name> [1/mm]`` per ``[[curvature]]`` (:class:`lcefem.solvers.probes.StationCurvature`).
+examples/bodies/composite_beam is the FE composite beam this way.
 """
 
 from __future__ import annotations

@@ -791,6 +791,9 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                 check_current(f"{check.file}: [program].schedule {tag}", list(sched.values))
             drives[kind][tag] = sched
     prog["stretches"] = _check_stretches(check, prog, arr["regions"], drives)
+    if prog["stretches"] and arr["compare"]:
+        check.fail("[[compare]]", "measurements are compared against time and a stretch ramp's clock is "
+                   "its load factor; allowed: no [[compare]] with [program] stretches")
     path_ = sec["path"]
     if path_["min_step"] > path_["max_step"] or path_["first_step"] > path_["max_step"]:
         check.fail("[path]", f"allowed min_step ({path_['min_step']:g}) and first_step "

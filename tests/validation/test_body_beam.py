@@ -113,3 +113,23 @@ def test_bad_contact_exits_2_with_one_line_and_writes_nothing(tmp_path, lcefem_c
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and "[[contact]][1].target: 'bottom_strip_topside' is the boundary itself" in lines[0]
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_a_stretch_ramp_is_not_compared_against_time_nor_converged(tmp_path):
+    """[[compare]] (measurements against time) and `lcefem converge --config` (the same recorded
+    times at every level) do not apply to a ramp in a load factor: one line each."""
+    from lcefem.models.errors import InputError
+    from lcefem.solvers.problems.body_case import load_case
+    from lcefem.validation.converge_body import check_refinable
+
+    shutil.copy(BEAM / "beam.msh", tmp_path / "beam.msh")
+    text = (BEAM / "case.toml").read_text()
+    (tmp_path / "case.toml").write_text(text)
+    with pytest.raises(InputError, match="a stretch ramp .* records the path follower's own increments"):
+        check_refinable(load_case(tmp_path / "case.toml"), 3)
+    (tmp_path / "k.csv").write_text("time [s],stretch top_strips [-]\n0,1.4\n1,1.33\n")
+    (tmp_path / "case.toml").write_text(text.replace("[program]\n", '[[compare]]\nobservable = "stretch '
+                                                     'top_strips [-]"\ndata = "k.csv"\ntolerance = "5 %"\nsource = "x"\n'
+                                                     "[program]\n"))
+    with pytest.raises(InputError, match=r"\[\[compare\]\]: measurements are compared against time"):
+        load_case(tmp_path / "case.toml")

@@ -9,6 +9,10 @@ import pytest
 from tests.conftest import REPO
 
 CASES = sorted((REPO / "examples" / "bodies").glob("*/case.toml"))
+#: Examples whose coarse run is another test's: composite_beam's mesh is a .msh at the FE beam's
+#: default level 1 (size_factor does not coarsen a read mesh; its ramp takes minutes there), and
+#: tests/validation/test_body_beam.py runs its case on the level-0 mesh against the FE beam.
+ELSEWHERE = {"composite_beam": "tests/validation/test_body_beam.py"}
 
 
 def run_coarse(path, **overrides):
@@ -23,6 +27,9 @@ def run_coarse(path, **overrides):
 @pytest.mark.parametrize("path", CASES, ids=[p.parent.name for p in CASES])
 def test_every_example_runs_at_its_coarse_level(path):
     import tomllib
+
+    if path.parent.name in ELSEWHERE:
+        pytest.skip(f"run at its coarse level by {ELSEWHERE[path.parent.name]}")
 
     program = tomllib.loads(path.read_text()).get("program", {})
     dt = program.get("dt", 0.5)
