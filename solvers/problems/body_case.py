@@ -469,9 +469,14 @@ def _check_contacts(check: _Checker, contacts: list[dict], facet_set, comm) -> N
         if c["name"] in seen:
             check.fail(f"{e}.name", f"{c['name']!r} is used twice")
         seen.add(c["name"])
-    if contacts and comm is not None and comm.size > 1:
-        check.fail("[[contact]]", f"node-pair contact runs in serial only (this run has {comm.size} "
-                   "ranks); allowed: no [[contact]] under mpiexec")
+    _serial_only(check, "[[contact]]", bool(contacts), comm, "node-pair contact")
+
+
+def _serial_only(check: _Checker, entry: str, used: bool, comm, what: str) -> None:
+    """One line when a serial-only feature is used on more than one rank."""
+    if used and comm is not None and comm.size > 1:
+        check.fail(entry, f"{what} runs in serial only (this run has {comm.size} ranks); allowed: "
+                   f"no {entry} under mpiexec")
 
 
 def _name_unit(label: str) -> tuple[str, str]:
@@ -791,6 +796,9 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                 check_current(f"{check.file}: [program].schedule {tag}", list(sched.values))
             drives[kind][tag] = sched
     prog["stretches"] = _check_stretches(check, prog, arr["regions"], drives)
+    _serial_only(check, "[program].stretches", bool(prog["stretches"]), comm,
+                 "the stretch ramp's relaxation across folds (nodal damping)")
+    _serial_only(check, "[[curvature]]", bool(arr["curvature"]), comm, "the station lookup")
     if prog["stretches"] and arr["compare"]:
         check.fail("[[compare]]", "measurements are compared against time and a stretch ramp's clock is "
                    "its load factor; allowed: no [[compare]] with [program] stretches")
