@@ -237,12 +237,14 @@ class BodyCase:
             spec = SCHEMA[section]
             return {k: {"value": _jsonable(v), "unit": spec[k][1]} if k in spec else _jsonable(v)
                     for k, v in values.items()}
-        out = {"case_file": str(self.path), "mesh": unitised("mesh", self.mesh), "path": unitised("path", self.path_control),
+        out = {"case_file": str(self.path), "mesh": unitised("mesh", self.mesh),
                "thermal": unitised("thermal", self.thermal), "program": unitised("program", self.program),
                "output": unitised("output", self.output), "petsc": dict(self.petsc),
                "mesh_cell_sets": dict(self.cell_names), "mesh_facet_sets": dict(self.facet_names)}
         for name in ARRAYS:
             out[name] = [unitised(name, e) for e in getattr(self, name)]
+        if self.program.get("stretches"):  # the ramp's stepping
+            out["path"] = unitised("path", self.path_control)
         return out
 
 
