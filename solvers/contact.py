@@ -387,3 +387,70 @@ def attach(problem, contacts: list) -> None:
 
     snes.setFunction(with_contact_residual, b)
     snes.setJacobian(with_contact_jacobian, J, P)
+
+
+def facing_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, boundary: str, target: str, axis: int,
+                 decimals: int = 6) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (p, q, r) of :class:`NodePairContact` and tributary areas [mm^2] between two named facet
+    sets that face each other across the reference direction ``axis`` (0, 1, 2: x, y, z).
+
+    p runs over the nodes of ``boundary``; q is the node of ``target`` with the same two other
+    reference coordinates (rounded to ``decimals`` mm: the two faces must share their stations, as
+    the composite beam's strips and ribbon do); r is the node of the cells that own ``target``'s
+    facets, at those coordinates, farthest from q along ``axis`` (the cell's other side: the current
+    m = (q - r)/|q - r| is the target's normal through its cell layer). Nodes of ``boundary`` that
+    lie on ``target`` too (bonded edges) are skipped. With ``boundary`` a strip's free face and
+    ``target`` the face of a one-element-thick ribbon towards it this gives the pairs of
+    :func:`face_pairs`. The areas are the integrals of each p's basis function over ``boundary``.
+
+    ValueError (one line) when a node of ``boundary`` has no partner or two nodes of ``target``
+    share the coordinates of one."""
+    mesh = V.mesh
+    tdim = mesh.topology.dim
+    fdim = tdim - 1
+    mesh.topology.create_connectivity(fdim, tdim)
+    b_facets = tmesh.facet_tags.find(tmesh.facet_tag(boundary))
+    t_facets = tmesh.facet_tags.find(tmesh.facet_tag(target))
+    p_nodes = dolfinx.fem.locate_dofs_topological(V, fdim, b_facets)
+    q_nodes = dolfinx.fem.locate_dofs_topological(V, fdim, t_facets)
+    p_nodes = np.setdiff1d(p_nodes, q_nodes)
+    f2c = mesh.topology.connectivity(fdim, tdim)
+    owners = np.unique(np.concatenate([f2c.links(f) for f in t_facets])) if t_facets.size else \
+        np.zeros(0, dtype=np.int32)
+    column = dolfinx.fem.locate_dofs_topological(V, tdim, owners.astype(np.int32))
+    X = V.tabulate_dof_coordinates()
+    others = [i for i in range(3) if i != axis]
+
+    def keys(nodes):
+        return [tuple(k) for k in np.round(X[nodes][:, others], decimals)]
+
+    q_of = {}
+    for k, q in zip(keys(q_nodes), q_nodes):
+        if k in q_of:
+            raise ValueError(f"{target}: two nodes at the same {'xyz'[others[0]]}, {'xyz'[others[1]]} "
+                             f"= {k} [mm]; the target face must be single-valued across {'xyz'[axis]}")
+        q_of[k] = int(q)
+    r_of: dict[tuple, int] = {}
+    for k, n in zip(keys(column), column):
+        q = q_of.get(k)
+        if q is None:
+            continue
+        best = r_of.get(k)
+        if best is None or abs(X[n, axis] - X[q, axis]) > abs(X[best, axis] - X[q, axis]):
+            r_of[k] = int(n)
+    pk = keys(p_nodes)
+    missing = [k for k in pk if k not in q_of]
+    if missing:
+        raise ValueError(f"{boundary}: {len(missing)} nodes have no node of {target} at the same "
+                         f"{'xyz'[others[0]]}, {'xyz'[others[1]]} (first at {missing[0]} mm); the two "
+                         "faces must share their stations")
+    q = np.array([q_of[k] for k in pk], dtype=np.int64)
+    r = np.array([r_of[k] for k in pk], dtype=np.int64)
+    if np.any(q == r):
+        raise ValueError(f"{target}: its cells have no thickness along {'xyz'[axis]}")
+    v = ufl.TestFunction(V)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tmesh.facet_tags,
+                     metadata={"quadrature_degree": 4})
+    weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(v[2] * ds(tmesh.facet_tag(boundary))))
+    areas = weights.array.reshape(-1, 3)[p_nodes, 2]
+    return np.column_stack([p_nodes, q, r]), areas

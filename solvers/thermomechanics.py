@@ -26,7 +26,8 @@ from lcefem.meshes._gmsh import TaggedMesh
 from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
                                         neo_hookean_strain_energy)
 from lcefem.models.errors import InputError
-from lcefem.models.lce import MeasuredContraction, NematicTransition, inverse_spontaneous_deformation
+from lcefem.models.lce import (MeasuredContraction, NematicTransition, inverse_spontaneous_deformation,
+                               isochoric_uniaxial)
 from lcefem.solvers import continuation
 from lcefem.solvers.heat import HeatProblem, HeatSetup
 from lcefem.solvers.mechanics import (HyperelasticProblem, deformation_gradient, displacement_space,
@@ -35,12 +36,16 @@ from lcefem.solvers.mechanics import (HyperelasticProblem, deformation_gradient,
 
 @dataclass
 class LCERegion:
-    """Cells made of LCE with director field ``director`` (a UFL unit vector in reference coordinates)."""
+    """Cells made of LCE with director field ``director`` (a UFL unit vector in reference coordinates).
+    ``stretch`` (None: the temperature's) is a prescribed spontaneous stretch relative to the
+    as-built state, a = lambda / lambda_N [-] (a UFL scalar, e.g. a Constant a ramp changes): the
+    energy is then W(F U(1/a)) whatever the temperature (the composite beam's prescribed lambdas)."""
 
     cells: Sequence[str]
     director: object
     transition: NematicTransition | MeasuredContraction = field(default_factory=NematicTransition)
     elasticity: LCEElasticity = field(default_factory=LCEElasticity)
+    stretch: object = None
 
 
 @dataclass
@@ -100,7 +105,12 @@ class ThermoMechanicalModel:
             symbolic = LCERegion(region.cells, region.director,
                                  region.transition if measured else dataclasses.replace(region.transition, **tc),
                                  dataclasses.replace(region.elasticity, **ec))
-            W = lce_energy_density(self.u, self.T_mech, symbolic)
+            if region.stretch is not None:
+                W = lce_strain_energy(deformation_gradient(self.u) * isochoric_uniaxial(1.0 / region.stretch,
+                                                                                        region.director),
+                                      symbolic.elasticity)
+            else:
+                W = lce_energy_density(self.u, self.T_mech, symbolic)
             energy += W * dx(tuple(tmesh.cell_tag(c) for c in region.cells))
         for region in passive:
             W = neo_hookean_strain_energy(deformation_gradient(self.u), region.solid)

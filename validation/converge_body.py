@@ -59,6 +59,9 @@ def check_refinable(case, levels: int) -> None:
     if not MIN_LEVELS <= levels <= MAX_LEVELS:
         raise InputError(f"--levels = {levels}: allowed {MIN_LEVELS} to {MAX_LEVELS} for a case file "
                          "(three solutions give an observed order; each level has 8x the cells)")
+    if case.program.get("stretches"):
+        raise InputError("converge --config: a stretch ramp ([program] stretches) records the path "
+                         "follower's own increments, which differ between levels; allowed: a time program")
     if case.mesh_file.suffix.lower() == ".geo":
         return
     types = volume_cell_types(case.mesh_file)

@@ -25,7 +25,20 @@ Observables, "name [unit]": ``T_mean [C]``, ``T_max [C]`` (whole mesh), ``T_mean
 ``T_max <set> [C]`` per cell set, ``power <coil> [mW]`` (whole coil), per probe ``u_x|u_y|u_z
 <probe> [mm]`` and ``T <probe> [C]`` (a boundary's mean over its reference area, or a point's
 value), per clamp or roller ``reaction_<c> <name> [N]`` (the support's force on the body, its
-component c, times the symmetry factor: a block pulled by +F along x shows -F on its x roller).
+component c, times the symmetry factor: a block pulled by +F along x shows -F on its x roller),
+per ``[[contact]]`` ``contact_force <name> [N]`` (sum of k A <-g>_+ over its node pairs, times the
+symmetry factor) and ``min_gap <name> [mm]`` (negative: penetration).
+
+Contact (``[[contact]]``): frictionless node-to-node penalty between two named facet sets
+(:func:`lcefem.solvers.contact.facing_pairs`; serial only).
+
+Stretch ramp (``[program] stretches``, ``[path]``): LCE cell sets with a prescribed spontaneous
+stretch lambda [-] instead of the temperature's, W(F U(1/a)), a = lambda / lambda_N, taken from the
+as-built lambda_N to the targets along a load factor t: 0 -> 1 by the shared path follower
+(:class:`lcefem.solvers.continuation.PathFollower`, with :class:`NodalDamping` across folds); no
+heat steps. The history's clock is ``load factor [-]``, with ``stretch <set> [-]`` per driven set
+and ``curvature <name> [1/mm]`` per ``[[curvature]]`` (:class:`lcefem.solvers.probes.StationCurvature`).
+examples/bodies/composite_beam is the FE composite beam this way.
 """
 
 from __future__ import annotations
@@ -50,11 +63,13 @@ from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity, NeoHookeanSolid
 from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneous_stretch
 from lcefem.models.limits import check_current
+from lcefem.solvers.contact import NodalDamping, NodePairContact, attach, facing_pairs
+from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import FEFields
 from lcefem.solvers.contraction_curve import read_contraction_csv
 from lcefem.solvers.heat import HeatSetup, settled
 from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_measure
-from lcefem.solvers.probes import PointProbe
+from lcefem.solvers.probes import PointProbe, StationCurvature
 from lcefem.solvers.problems.body_case import AXES, REGION_THERMAL, BodyCase
 from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
 from lcefem.solvers.runner import HistoryExport, run_path
@@ -201,6 +216,7 @@ class BodyProblem:
         # Mechanics: regions, supports, loads.
         x = ufl.SpatialCoordinate(mesh)
         lce, passive, self._transitions = [], [], []
+        self.stretches: dict[str, dict] = {}  # prescribed stretch per LCE cell set ([program] stretches)
         for r in case.regions:
             if r["material"] == "lce":
                 transition = contraction_law(r)
@@ -213,7 +229,7 @@ class BodyProblem:
                     axis = AXES[tw["axis"]]
                     director = twisted_layer_director(x, axis, self._extent(r["name"], axis),
                                                       float(tw["from_deg"]), float(tw["to_deg"]))
-                lce.append(LCERegion(r["name"], director, transition, lce_elasticity(r["shear_modulus"])))
+                lce += self._stretch_regions(r, director, transition, lce_elasticity(r["shear_modulus"]))
                 self._transitions.append((r["name"], transition))
             else:
                 passive.append(PassiveRegion(r["name"], NeoHookeanSolid(youngs_modulus=r["E"],
@@ -255,6 +271,9 @@ class BodyProblem:
                                            external_work=external_work if case.loads else None,
                                            petsc_options=case.petsc, prefix="lcefem_body_",
                                            heat_source=self.q if case.coils else None, heat_bcs=heat_bcs)
+        self.contacts = self._contacts_setup(case)
+        self.damping = self._ramp_setup()
+        self._curvatures = self._curvature_setup(case)
         # the as-built state is the mesh at T_ref (F_s = I): the mechanics starts there, and the run
         # brings it to the initial temperature when that differs
         t_refs = {tr.T_ref for _, tr in self._transitions}
@@ -316,6 +335,98 @@ class BodyProblem:
                              f"{first[1]:.4g}, {first[2]:.4g}) mm; allowed a nonzero, finite vector "
                              "everywhere in the region")
         return d / ufl.sqrt(ufl.dot(d, d))
+
+    def _contacts_setup(self, case: BodyCase) -> dict[str, NodePairContact]:
+        """The ``[[contact]]`` entries as node-pair penalty terms on the mechanics' Newton problem
+        (:func:`lcefem.solvers.contact.facing_pairs`, :class:`NodePairContact`): energy
+        k A <-g>_+^2 / 2 per node of the boundary, g [mm] its gap to the target along the target's
+        current normal, k [N/mm^3] the penalty, A [mm^2] the node's tributary area."""
+        contacts = {}
+        for c in case.contact:
+            try:
+                pairs, areas = facing_pairs(self.tmesh, self.model.u.function_space, c["boundary"],
+                                            c["target"], AXES[c["axis"]])
+            except ValueError as exc:
+                raise InputError(f"{case.path.name}: [[contact]] {c['name']}: {exc}") from None
+            contacts[c["name"]] = NodePairContact(self.model.u, pairs, areas, c["penalty"])
+        if contacts:
+            attach(self.model.mechanics, list(contacts.values()))
+        return contacts
+
+    # -- prescribed stretches, their ramp and the curvature observable ([program] stretches,
+    #    [[curvature]]: the composite beam as a case file) ---------------------------------
+    def _stretch_regions(self, r: dict, director, transition, elasticity) -> list[LCERegion]:
+        """The LCE region ``r`` as one :class:`LCERegion`, or, when ``[program] stretches`` drives
+        some of its cell sets, one per cell set, the driven ones with a prescribed stretch a =
+        lambda / lambda_N [-] (a Constant, 1 as built) instead of the temperature's."""
+        targets = self.case.program.get("stretches") or {}
+        if not any(n in targets for n in r["name"]):
+            return [LCERegion(r["name"], director, transition, elasticity)]
+        out = []
+        for n in r["name"]:
+            a = None
+            if n in targets:
+                a = dolfinx.fem.Constant(self.tmesh.mesh, PETSc.ScalarType(1.0))
+                self.stretches[n] = {"a": a, "lambda_N": r["lambda_N"], "lambda": r["lambda_N"],
+                                     "target": targets[n]}
+            out.append(LCERegion([n], director, transition, elasticity, stretch=a))
+        return out
+
+    def _ramp_setup(self) -> NodalDamping | None:
+        """The proximal term the path follower relaxes with across a fold of the stretch ramp
+        (:class:`lcefem.solvers.contact.NodalDamping`, zero weight off a fold); None without a ramp."""
+        if not self.stretches:
+            return None
+        damping = NodalDamping(self.model.u)
+        attach(self.model.mechanics, [damping])
+        return damping
+
+    def _curvature_setup(self, case: BodyCase) -> dict[str, StationCurvature]:
+        """``[[curvature]]`` entries as :class:`lcefem.solvers.probes.StationCurvature`, mirrored
+        across the case's mirror planes (each mirror support's facet set, its plane coordinate the
+        mean of its nodes' along the normal)."""
+        if not case.curvature:
+            return {}
+        tm = self.tmesh
+        mirrors = []
+        for s in case.supports:
+            if s["type"] == "mirror":
+                axis = AXES[s["normal"]]
+                facets = tm.facet_tags.find(tm.facet_tag(s["boundary"]))
+                nodes = dolfinx.mesh.entities_to_geometry(tm.mesh, 2, facets.astype(np.int32)).reshape(-1)
+                mirrors.append((axis, float(np.mean(tm.mesh.geometry.x[nodes, axis]))))
+        out = {}
+        for c in case.curvature:
+            try:
+                out[c["name"]] = StationCurvature(self.model.u.function_space, c["stations"], c["up"], mirrors)
+            except ValueError as exc:
+                raise InputError(f"{case.path.name}: [[curvature]] {c['name']}: {exc}") from None
+        return out
+
+    def set_stretches(self, stretches: Mapping[str, float]) -> None:
+        """Spontaneous stretch lambda [-] of each driven LCE cell set now (as built: lambda_N; no
+        solve): a = lambda / lambda_N."""
+        for name, value in stretches.items():
+            st = self.stretches[name]
+            st["a"].value = value / st["lambda_N"]
+            st["lambda"] = value
+
+    def ramp(self, control: PathControl, on_step) -> PathFollower:
+        """Take the driven cell sets linearly from their present stretches to the targets of
+        ``[program] stretches`` (load factor t: 0 -> 1) with the shared step controller
+        (:class:`lcefem.solvers.continuation.PathFollower`: tangent predictor, step size from the
+        Newton count, cuts, damped relaxation across folds); ``on_step(t, iterations, cuts)`` after
+        each accepted increment. Returns the follower (its iterations, cuts, folds crossed)."""
+        start = {n: st["lambda"] for n, st in self.stretches.items()}
+
+        def set_load(t: float) -> None:
+            self.set_stretches({n: l0 + t * (self.stretches[n]["target"] - l0) for n, l0 in start.items()})
+
+        follower = PathFollower(self.model.mechanics, set_load, control, self.damping)
+        follower.follow(1.0, where="stretch ramp to " + ", ".join(
+            f"{n} = {st['target']:g}" for n, st in self.stretches.items()),
+            on_step=lambda t, its: on_step(t, its, follower.cuts))
+        return follower
 
     def _observables_setup(self, case: BodyCase, one, ds, dx) -> None:
         tm, comm, heat, u = self.tmesh, self.comm, self.model.heat, self.model.u
@@ -444,6 +555,14 @@ class BodyProblem:
             obs[f"T {name} [C]"] = float(probe(heat.T)[0][0])
         for label, form in self._reactions:
             obs[label] = self.symmetry * assemble_global(form, comm)
+        for name, curvature in self._curvatures.items():
+            obs[f"curvature {name} [1/mm]"] = curvature(self.model.u)
+        for name, st in self.stretches.items():
+            obs[f"stretch {name} [-]"] = st["lambda"]
+        for name, contact in self.contacts.items():
+            obs[f"contact_force {name} [N]"] = self.symmetry * contact.normal_force()
+            gaps = contact.gaps()
+            obs[f"min_gap {name} [mm]"] = float(np.min(gaps)) if gaps.size else math.nan
         return obs
 
     def fields(self) -> dict:
@@ -455,6 +574,10 @@ class BodyProblem:
         self.lambda_s.x.array[:] = 1.0  # passive regions: no spontaneous stretch
         for cells, expr in self._lambda_exprs:
             self.lambda_s.interpolate(expr, cells0=cells)
+        for name, st in self.stretches.items():  # prescribed, whatever the temperature
+            dofs = dolfinx.fem.locate_dofs_topological(self.lambda_s.function_space, 3,
+                                                       self.tmesh.cell_tags.find(self.tmesh.cell_tag(name)))
+            self.lambda_s.x.array[dofs] = st["lambda"]
         self.lambda_s.x.scatter_forward()
 
     def _state_functions(self) -> list:
@@ -462,6 +585,7 @@ class BodyProblem:
 
     def save_state(self) -> dict:
         return {"arrays": copy_arrays(self._state_functions()), "time": self.time, "power": dict(self.power),
+                "stretches": {n: st["lambda"] for n, st in self.stretches.items()},
                 "fixed": {k: float(c.value) for k, c in self._fixed_T.items()},
                 "factors": {k: float(c.value) for k, c in self._factors.items()}}
 
@@ -471,6 +595,7 @@ class BodyProblem:
         self._put_power()
         self.set_boundary_temperatures(state["fixed"])
         self.set_load_factors(state["factors"])
+        self.set_stretches(state.get("stretches", {}))
 
 
 def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = True,
@@ -487,31 +612,35 @@ def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = T
     dt = prog["duration"] / n_steps
     problem.set_program(0.0)
     first = problem.observables()
-    columns = ("time [s]", *first, "newton_iterations [-]", "step_cuts [-]")
-    bar = Progress(prog["duration"], f"body {case.path.stem}", "s", enabled=progress and not steady,
+    ramp = bool(problem.stretches)  # a quasi-static stretch ramp: the clock is the load factor
+    clock, end = ("load factor [-]", 1.0) if ramp else ("time [s]", prog["duration"])
+    columns = (clock, *first, "newton_iterations [-]", "step_cuts [-]")
+    bar = Progress(end, f"body {case.path.stem}", "load" if ramp else "s", enabled=progress and not steady,
                    comm=problem.comm)
 
     def row(state) -> dict:
         return state[0]
 
-    history = HistoryExport(columns, row, where=lambda s: s[2], at=lambda s: min(s[0]["time [s]"], prog["duration"]),
+    history = HistoryExport(columns, row, where=lambda s: s[2], at=lambda s: min(s[0][clock], end),
                             postfix=lambda s: f"T_max={s[0]['T_max [C]']:.1f}C")
     exports = ()
     if out is not None and output["fields"]:
-        common = dict(comm=problem.comm, time=lambda s: s[0]["time [s]"] if math.isfinite(s[0]["time [s]"])
+        common = dict(comm=problem.comm, time=lambda s: s[0][clock] if math.isfinite(s[0][clock])
                       else 0.0, start=False, every=output["every"], step=lambda s: s[1])
         exports = (FEFields("temperature.bp", (problem.model.heat.T, problem.lambda_s),
                             update=problem._update_stretch, **common),
                    FEFields("displacement.bp", (problem.model.u,), **common))
 
     def observe(t: float, report) -> dict:
-        return {"time [s]": t, **problem.observables(),
+        return {clock: t, **problem.observables(),
                 "newton_iterations [-]": report.iterations if report else 0,
                 "step_cuts [-]": report.cuts if report else 0}
 
     def drive(on_step) -> dict:
         needs_start = bool(case.loads or case.drives["temperatures"]) or any(
             tr.T_ref != case.thermal["initial_temperature"] for _, tr in problem._transitions)
+        if ramp:
+            return ramp_stretches(problem, on_step, needs_start)
         if steady:
             its = problem.steady_state()
             on_step((observe(math.inf, None), 0, "steady state"))
@@ -527,6 +656,21 @@ def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = T
             total += report.iterations
             on_step((observe(t, report), k, f"t = {t:.4g} s"))
         return {"steps": n_steps, "dt [s]": dt, "newton_iterations": total}
+
+    def ramp_stretches(problem, on_step, needs_start: bool) -> dict:
+        """The as-built state (load factor 0), then one row per accepted increment of the ramp."""
+        report = problem.equilibrate("load factor 0 (as built)") if needs_start else None
+        on_step((observe(0.0, report), 0, "load factor 0"))
+        steps = []
+
+        def record(t: float, its: int, cuts: int) -> None:
+            steps.append(t)
+            row = {clock: t, **problem.observables(), "newton_iterations [-]": its, "step_cuts [-]": cuts}
+            on_step((row, len(steps), f"load factor {t:.4g}"))
+
+        follower = problem.ramp(PathControl(**case.path_control), record)
+        return {"steps": len(steps), "newton_iterations": follower.iterations, "cut_steps": follower.cuts,
+                "folds crossed": follower.snaps}
 
     found = {}
 

@@ -26,11 +26,17 @@ from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_
 from lcefem.models.bar_hinge_materials import GlueBars
 from lcefem.models.lce import NematicTransition
 from lcefem.models.limits import CURRENT_RANGE, check_current
+from lcefem.solvers.continuation import PathControl
 
 _T = NematicTransition()
 _E = LCEElasticity()
 _H = ThermalProperties()
 _X = SurfaceExchange()
+_P = PathControl()
+#: Contact pressure per penetration [N/mm^3] of the composite beam's strip-ribbon contact
+#: (solvers/contact.py PenaltyContact.stiffness, "chosen: about 100 x E_LCE/H_strip"; a test keeps
+#: them equal). Not imported: this module is read before dolfinx is loaded.
+CONTACT_PENALTY = 50.0
 
 #: Passive presets: (E [MPa], nu [-], source).
 PRESETS = {
@@ -141,6 +147,9 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "temperatures": (TABLE, "C", {}, (-273.15, 400.0), "fixed heat name = T, or [[t, T], ...]"),
         "loads": (TABLE, "-", {}, (-1e6, 1e6), "load name = factor, or [[t, f], ...]"),
         "schedule": (STR, "-", None, None, "CSV: 'time [s]' then '<tag> [A|C|-]' columns"),
+        "stretches": (TABLE, "-", {}, (1.0, 3.0), "LCE cell set = spontaneous stretch lambda, reached by "
+                      "a quasi-static ramp from the as-built lambda_N (load factor 0 -> 1, path follower; "
+                      "no heat steps, no currents or temperatures)"),
     },
     "compare": {
         "observable": (STR, "-", REQUIRED, None, "a history observable of this body, 'name [unit]'"),
@@ -150,12 +159,40 @@ SCHEMA: dict[str, dict[str, tuple]] = {
                       "(absolute, any unit of the observable's kind) or '5 %' (of the measured value)"),
         "source": (STR, "-", REQUIRED, None, "where the measurements come from (shown in the report)"),
     },
+    "contact": {
+        "boundary": (STR, "-", REQUIRED, None, "facet set whose nodes may not pass through target"),
+        "target": (STR, "-", REQUIRED, None, "facet set of the other body's face towards boundary "
+                   "(single-valued across axis)"),
+        "axis": (STR, "-", REQUIRED, tuple(AXES), "reference direction across the contact: a node of "
+                 "boundary pairs with the node of target at its two other coordinates"),
+        "penalty": (NUM, "N/mm^3", CONTACT_PENALTY, (POSITIVE, 1e9), "contact pressure per penetration "
+                    "(default: the composite beam's, solvers/contact.py PenaltyContact)"),
+        "name": (STR, "-", None, None, "observable name (default: boundary/target)"),
+    },
+    "path": {
+        "first_step": (NUM, "-", _P.first_step, (POSITIVE, 1.0), "stretch ramp: first increment of the "
+                       "load factor (solvers/continuation.py PathControl, as the FE beam's run)"),
+        "max_step": (NUM, "-", _P.max_step, (POSITIVE, 1.0), "stretch ramp: largest increment"),
+        "min_step": (NUM, "-", _P.min_step, (POSITIVE, 1.0), "stretch ramp: an increment below this that "
+                     "still fails is a fold, crossed by damped relaxation"),
+        "growth": (NUM, "-", _P.growth, (1.0, 100.0), "stretch ramp: largest increment growth per step"),
+        "target_iterations": (INT, "-", _P.target_iterations, (1, 100), "stretch ramp: Newton iterations "
+                              "per increment the step size aims at"),
+    },
+    "curvature": {
+        "name": (STR, "-", REQUIRED, None, "observable 'curvature <name> [1/mm]'"),
+        "stations": (ANY, "mm", REQUIRED, None, "three or more stations, each a node [x, y, z] or a list "
+                     "of nodes (their deformed mean); a node beyond a mirror plane is its image's "
+                     "mirrored"),
+        "up": (ANY, "mm", REQUIRED, None, "two nodes [a, b]: the curvature is positive when the fitted "
+               "circle's centre lies opposite to the deformed b - a"),
+    },
     "output": {
         "fields": (BOOL, "-", True, None, "write temperature.bp and displacement.bp (VTX)"),
         "every": (INT, "-", 1, (1, 100000), "a field frame every n steps"),
     },
 }
-ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare")
+ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare", "contact", "curvature")
 
 #: Units a measured column or a tolerance may carry: {unit: (kind, scale, offset)}, value in lcefem's
 #: unit = scale * value + offset (README: mm, s, N, mW, C). A tolerance is a difference: scale only.
@@ -164,7 +201,7 @@ UNITS = {"C": ("temperature", 1.0, 0.0), "K": ("temperature", 1.0, -273.15),
          "N": ("force", 1.0, 0.0), "mN": ("force", 1e-3, 0.0),
          "mW": ("power", 1.0, 0.0), "W": ("power", 1e3, 0.0), "s": ("time", 1.0, 0.0),
          "MPa": ("stress", 1.0, 0.0), "kPa": ("stress", 1e-3, 0.0), "-": ("ratio", 1.0, 0.0)}
-SECTIONS = ("mesh", "thermal", "program", "output", "petsc", *ARRAYS)
+SECTIONS = ("mesh", "thermal", "program", "output", "petsc", "path", *ARRAYS)
 
 
 @dataclass(frozen=True)
@@ -194,6 +231,9 @@ class BodyCase:
     program: dict
     output: dict
     compare: tuple[dict, ...] = ()
+    contact: tuple[dict, ...] = ()
+    curvature: tuple[dict, ...] = ()
+    path_control: dict = field(default_factory=dict)  # [path]: the stretch ramp's stepping
     petsc: dict = field(default_factory=dict)
     drives: dict = field(default_factory=dict)  # {kind: {tag: Schedule}}
     cell_names: dict = field(default_factory=dict)
@@ -215,6 +255,8 @@ class BodyCase:
                "mesh_cell_sets": dict(self.cell_names), "mesh_facet_sets": dict(self.facet_names)}
         for name in ARRAYS:
             out[name] = [unitised(name, e) for e in getattr(self, name)]
+        if self.program.get("stretches"):  # the ramp's stepping
+            out["path"] = unitised("path", self.path_control)
         return out
 
 
@@ -351,9 +393,10 @@ def _read_schedule_csv(check: _Checker, path: pathlib.Path, entry: str) -> dict[
     return out
 
 
-def observable_names(cells, coils, probes, supports) -> list[str]:
-    """The history observables "name [unit]" of a body with these cell sets, coils, probes and
-    supports, as :meth:`lcefem.solvers.problems.body.BodyProblem.observables` names them."""
+def observable_names(cells, coils, probes, supports, contacts=(), curvatures=(), stretches=()) -> list[str]:
+    """The history observables "name [unit]" of a body with these cell sets, coils, probes,
+    supports and contacts, as :meth:`lcefem.solvers.problems.body.BodyProblem.observables` names
+    them."""
     names = ["T_mean [C]", "T_max [C]"]
     for n in cells:
         names += [f"T_mean {n} [C]", f"T_max {n} [C]"]
@@ -364,7 +407,90 @@ def observable_names(cells, coils, probes, supports) -> list[str]:
         if s["type"] in ("clamp", "roller"):
             comps = "xyz" if s["type"] == "clamp" else s["normal"]
             names += [f"reaction_{a} {s['name'] or s['boundary']} [N]" for a in comps]
+    for c in contacts:
+        names += [f"contact_force {c['name']} [N]", f"min_gap {c['name']} [mm]"]
+    names += [f"curvature {c['name']} [1/mm]" for c in curvatures]
+    names += [f"stretch {n} [-]" for n in stretches]
     return names
+
+
+def _check_curvatures(check: _Checker, curvatures: list[dict]) -> None:
+    """``[[curvature]]``: names unique, stations a list of >= 3 stations (a point or a list of
+    points each), up two points; stored as lists of point lists."""
+    seen = set()
+    for i, c in enumerate(curvatures):
+        e = f"[[curvature]][{i}]"
+        if c["name"] in seen:
+            check.fail(f"{e}.name", f"{c['name']!r} is used twice")
+        seen.add(c["name"])
+        st = c["stations"]
+        if not isinstance(st, list) or len(st) < 3:
+            check.fail(f"{e}.stations", "allowed a list of three or more stations, each [x, y, z] or a "
+                       "list of [x, y, z]")
+        groups = []
+        for j, g in enumerate(st):
+            pts = [g] if isinstance(g, list) and g and not isinstance(g[0], list) else g
+            if not isinstance(pts, list) or not pts:
+                check.fail(f"{e}.stations[{j}]", "allowed [x, y, z] or a list of [x, y, z]")
+            groups.append([check.vector(f"{e}.stations[{j}]", q) for q in pts])
+        c["stations"] = groups
+        up = c["up"]
+        if not (isinstance(up, list) and len(up) == 2):
+            check.fail(f"{e}.up", "allowed two points [[x, y, z], [x, y, z]]")
+        c["up"] = [check.vector(f"{e}.up", q) for q in up]
+        if np.allclose(c["up"][0], c["up"][1]):
+            check.fail(f"{e}.up", "the two points coincide; allowed two different nodes")
+
+
+def _check_stretches(check: _Checker, prog: dict, regions: list[dict], drives: dict) -> dict:
+    """``[program] stretches``: {LCE cell set: target lambda [-]} (numbers, checked against the
+    region's lambda_N: between 1 and lambda_N, as :func:`lcefem.models.limits.check_lambda`); a
+    quasi-static ramp, so no currents, temperatures or steady state."""
+    stretches = prog["stretches"]
+    if not stretches:
+        return {}
+    lce = {n: r for r in regions if r["material"] == "lce" for n in r["name"]}
+    for kind in ("currents", "temperatures"):
+        if drives[kind]:
+            check.fail("[program].stretches", f"a stretch ramp is quasi-static: no [program] {kind} "
+                       f"(given: {', '.join(drives[kind])})")
+    if prog["steady"]:
+        check.fail("[program].stretches", "a stretch ramp is quasi-static; allowed steady = false")
+    out = {}
+    for tag, value in stretches.items():
+        entry = f"[program].stretches.{tag}"
+        if tag not in lce:
+            check.fail(entry, f"not an LCE cell set; allowed: {', '.join(lce) or 'none'}")
+        v = check.number(entry, value, SCHEMA["program"]["stretches"][3], "-")
+        if not 1.0 <= v <= lce[tag]["lambda_N"]:
+            check.fail(entry, f"{v:g}: allowed >= 1 (isotropic) and <= the region's lambda_N = "
+                       f"{lce[tag]['lambda_N']:g} (as built)")
+        out[tag] = v
+    return out
+
+
+def _check_contacts(check: _Checker, contacts: list[dict], facet_set, comm) -> None:
+    """``[[contact]]`` entries: two different facet sets of the mesh, names unique (default
+    "boundary/target"); node-pair contact runs in serial only."""
+    seen = set()
+    for i, c in enumerate(contacts):
+        e = f"[[contact]][{i}]"
+        facet_set(f"{e}.boundary", c["boundary"])
+        facet_set(f"{e}.target", c["target"])
+        if c["boundary"] == c["target"]:
+            check.fail(f"{e}.target", f"{c['target']!r} is the boundary itself; allowed another facet set")
+        c["name"] = c["name"] or f"{c['boundary']}/{c['target']}"
+        if c["name"] in seen:
+            check.fail(f"{e}.name", f"{c['name']!r} is used twice")
+        seen.add(c["name"])
+    _serial_only(check, "[[contact]]", bool(contacts), comm, "node-pair contact")
+
+
+def _serial_only(check: _Checker, entry: str, used: bool, comm, what: str) -> None:
+    """One line when a serial-only feature is used on more than one rank."""
+    if used and comm is not None and comm.size > 1:
+        check.fail(entry, f"{what} runs in serial only (this run has {comm.size} ranks); allowed: "
+                   f"no {entry} under mpiexec")
 
 
 def _name_unit(label: str) -> tuple[str, str]:
@@ -483,7 +609,7 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         check.fail("[mesh]", "missing (at least: file = \"body.geo\")")
     if not data.get("regions"):
         check.fail("[[regions]]", "missing: every cell set of the mesh needs a material")
-    sec = {s: check.table(s, f"[{s}]", data.get(s, {})) for s in ("mesh", "thermal", "program", "output")}
+    sec = {s: check.table(s, f"[{s}]", data.get(s, {})) for s in ("mesh", "thermal", "program", "output", "path")}
     arr = {s: [check.table(s, f"[[{s}]][{i}]", t) for i, t in enumerate(data.get(s, []))] for s in ARRAYS}
     try:  # the allow-list every case file's [petsc] goes through (nothing that runs code or writes)
         petsc = check_case_options(data.get("petsc", {}), "[petsc]")
@@ -647,12 +773,16 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         if p["boundary"] is not None:
             facet_set(f"{e}.boundary", p["boundary"])
 
+    _check_contacts(check, arr["contact"], facet_set, comm)
+
     if sec["mesh"]["refine"] and mesh_file.suffix.lower() == ".geo":
         check.fail("[mesh].refine", "a .geo is refined by its size_factor; refine is for a read mesh "
                    "(.msh, .vtu, .xdmf)")
 
     # Comparisons with measurements: the observable exists, the data's units are known and of its kind.
-    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"])
+    _check_curvatures(check, arr["curvature"])
+    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"], arr["contact"],
+                             arr["curvature"], sec["program"]["stretches"])
     for i, c in enumerate(arr["compare"]):
         e = f"[[compare]][{i}]"
         name, unit = _name_unit(c["observable"])
@@ -697,8 +827,24 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
             if kind == "currents":
                 check_current(f"{check.file}: [program].schedule {tag}", list(sched.values))
             drives[kind][tag] = sched
+    prog["stretches"] = _check_stretches(check, prog, arr["regions"], drives)
+    _serial_only(check, "[program].stretches", bool(prog["stretches"]), comm,
+                 "the stretch ramp's relaxation across folds (nodal damping)")
+    _serial_only(check, "[[curvature]]", bool(arr["curvature"]), comm, "the station lookup")
+    if prog["stretches"] and arr["compare"]:
+        check.fail("[[compare]]", "measurements are compared against time and a stretch ramp's clock is "
+                   "its load factor; allowed: no [[compare]] with [program] stretches")
+    path_ = sec["path"]
+    if path_["min_step"] > path_["max_step"] or path_["first_step"] > path_["max_step"]:
+        check.fail("[path]", f"allowed min_step ({path_['min_step']:g}) and first_step "
+                   f"({path_['first_step']:g}) <= max_step ({path_['max_step']:g})")
+    if "path" in data and not prog["stretches"]:
+        check.fail("[path]", "only with a stretch ramp ([program] stretches)")
     return BodyCase(path=path.resolve(), mesh=sec["mesh"], thermal=sec["thermal"],
                     regions=tuple(arr["regions"]), coils=tuple(arr["coils"]), heat=tuple(arr["heat"]),
                     supports=tuple(arr["supports"]), loads=tuple(arr["loads"]), probes=tuple(arr["probes"]),
-                    program=prog, output=sec["output"], compare=tuple(arr["compare"]), petsc=petsc,
+                    program=prog, output=sec["output"], compare=tuple(arr["compare"]),
+                    contact=tuple(arr["contact"]), curvature=tuple(arr["curvature"]),
+                    path_control=sec["path"],
+                    petsc=petsc,
                     drives=drives, cell_names=cells, facet_names=facets)
