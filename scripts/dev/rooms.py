@@ -394,16 +394,16 @@ def rewrite_text(text: str, here: str) -> str:
     stem = pathlib.PurePosixPath(here).stem
 
     def run_list(m: re.Match) -> str:
-        target = SCRIPTS.get(m.group(3))
+        target = SCRIPTS.get("lcefem.validation." + m.group(3))
         if not target:
             return m.group(0)
         if pathlib.PurePosixPath(target).stem != stem:
             raise SystemExit(f"rooms: {here} runs another script by -m ({m.group(3)}): rewrite it by hand")
+        # the script runs itself in a child process: by its path, as it is now run
         return "__file__"
 
     text = RUN_M_LIST.sub(run_list, text)
-    text = RUN_M.sub(lambda m: script_path(m.group(1)) or m.group(0)
-                     if m.group(1) in SCRIPTS else m.group(0), text)
+    text = RUN_M.sub(lambda m: SCRIPTS.get("lcefem.validation." + m.group(1), m.group(0)), text)
     text = rewrite_imports(text, here)
 
     def name(m: re.Match) -> str:
