@@ -456,7 +456,7 @@ def packages_block() -> str:
 
 
 def rewrite_pyproject(text: str) -> str:
-    text = re.sub(r"packages = \[\n(?:    \"[\w.]+\",\n)*\]", packages_block(), text, count=1)
+    text = re.sub(r"packages = \[\n(?:    \"[^\"\n]+\",\n)*\]", packages_block(), text, count=1)
     if "pythonpath" not in text:
         text = text.replace('testpaths = ["tests"]\n',
                             'testpaths = ["tests"]\n# the benchmark scripts (benchmarks/, not installed) import '
@@ -485,9 +485,7 @@ def main(argv=None) -> int:
     for f in text_files():
         path = ROOT / f
         text = path.read_text(encoding="utf-8")
-        new = rewrite_text(text, f)
-        if f == "pyproject.toml":
-            new = rewrite_pyproject(new)
+        new = rewrite_text(rewrite_pyproject(text) if f == "pyproject.toml" else text, f)
         if f == "tests/test_layers.py" and LAYERS_MARKER not in new:
             new = new.rstrip("\n") + "\n" + LAYERS_RULES
         if new != text:
