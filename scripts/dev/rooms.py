@@ -6,9 +6,9 @@ and data; the benchmark and calibration scripts leave the package for the top-le
 What it does, in order (docs/layout.md says where things go and why):
 
 1. refuses (exit 2, listing them) when a tracked file of validation/ is neither in :data:`MOVES`
-   (as a source or a destination), nor under a folder that stays (:data:`STAYS`), nor one of the
-   packages' ``__init__.py`` this script writes: a module added on another branch needs its room
-   decided here first;
+   (as a source or a destination), nor under a folder that stays (:data:`STAYS`) or moves whole
+   (:data:`FOLDERS`: a new benchmark follows its folder), nor one of the packages' ``__init__.py``
+   this script writes: a module added on another branch needs its room decided here first;
 2. ``git mv`` of every source of :data:`MOVES` still in place (``git rm`` where the destination is
    None), writes the new packages' ``__init__.py`` (:data:`NEW_PACKAGES`), and corrects the
    ``Path(__file__).parent`` / ``.parents[k]`` expressions of each moved module so that they name
@@ -105,6 +105,8 @@ MOVES: dict[str, str | None] = {
 
 #: folders whose files stay where they are (new files there need no decision)
 STAYS = ("validation/__init__.py", "validation/cases/", "validation/data/")
+#: the rooms: a file already in one is placed
+ROOMS = ("validation/app/", "validation/studies/")
 
 #: folders that moved as a whole (a path naming the folder, or a file not listed above, follows it)
 FOLDERS = {"validation/commands": "validation/app/commands", "validation/benchmarks": "benchmarks",
@@ -232,6 +234,18 @@ def script_map() -> dict[str, str]:
     return out
 
 
+def folder_moves(files: list[str]) -> dict[str, str]:
+    """The tracked files of a folder that moves whole (:data:`FOLDERS`) and are not in MOVES (added
+    on another branch, say a new benchmark): they follow their folder."""
+    out = {}
+    for f in files:
+        for old, new in FOLDERS.items():
+            if f.startswith(old + "/") and f not in MOVES and f.endswith(".py"):
+                out[f] = new + f[len(old):]
+    return out
+
+
+MOVES.update(folder_moves(git("ls-files", "validation").splitlines()))
 MODULES = module_map()
 SCRIPTS = script_map()
 SCRIPT_PACKAGES = {dotted(old): new for old, new in SCRIPT_FOLDERS.items()}
@@ -245,7 +259,7 @@ PATHS.update({old.removeprefix("validation/"): new for old, new in FOLDERS.items
 
 def unplaced(files: list[str]) -> list[str]:
     known = set(MOVES) | {v for v in MOVES.values() if v} | set(NEW_PACKAGES)
-    return sorted(f for f in files if f not in known and not f.startswith(STAYS))
+    return sorted(f for f in files if f not in known and not f.startswith(STAYS + ROOMS))
 
 
 # ---------------------------------------------------------------------------------------------
