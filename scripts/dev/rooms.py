@@ -341,6 +341,7 @@ RUN_M = re.compile(r"-m\s+" + OLD_NAME)
 RUN_M_LIST = re.compile(r"""(["'])-m\1,\s*(["'])""" + OLD_NAME + r"\2")
 FROM_IMPORT = re.compile(r"^([ \t]*)from\s+lcefem\.validation(\.[\w.]+)?\s+import\s+([\w ,]+?)[ \t]*(#.*)?$",
                          re.M)
+FROM_IMPORT_PAREN = re.compile(r"^([ \t]*)from\s+lcefem\.validation(\.[\w.]+)?\s+import\s+\(([^)]*)\)", re.M)
 PATH = re.compile(r"(?<![\w/.-])validation/((?:[\w-]+/)*[\w-]+(?:\.\w+)?)")
 
 
@@ -369,7 +370,14 @@ def rewrite_imports(text: str, here: str) -> str:
     """``from lcefem.validation[.pkg] import a, b as c`` lines, split by the names' new homes."""
 
     def repl(m: re.Match) -> str:
-        indent, sub, names, comment = m.group(1), m.group(2) or "", m.group(3), m.group(4)
+        return regroup(m.group(1), m.group(2) or "", m.group(3), m.group(4))
+
+    def repl_paren(m: re.Match) -> str:  # from ... import (a,\n b): one line per new home
+        if "#" in m.group(3):
+            return m.group(0)  # comments among the names: left for check() to name
+        return regroup(m.group(1), m.group(2) or "", " ".join(m.group(3).split()).strip(" ,"), None)
+
+    def regroup(indent: str, sub: str, names: str, comment: str | None) -> str:
         package = "lcefem.validation" + sub
         groups: dict[str, list[str]] = {}
         for item in (s.strip() for s in names.split(",")):
@@ -400,6 +408,7 @@ def rewrite_imports(text: str, here: str) -> str:
             lines[0] += "  " + comment
         return "\n".join(lines)
 
+    text = FROM_IMPORT_PAREN.sub(repl_paren, text)
     return FROM_IMPORT.sub(repl, text)
 
 
