@@ -223,6 +223,69 @@ def rewrap_strings(source: str, limit: int) -> str:
     return "\n".join(lines)
 
 
+def rewrap_fstrings(source: str, limit: int) -> str:
+    """Long one-line f-strings inside brackets split at a space of their literal text into adjacent
+    literals (a piece without a replacement field loses its ``f``), which the parser joins back."""
+    lines = source.split("\n")
+    toks = list(tokenize.generate_tokens(io.StringIO(source).readline))
+    edits, depth, k = [], 0, 0
+    while k < len(toks):
+        tok = toks[k]
+        if tok.type == tokenize.OP and tok.string in "([{":
+            depth += 1
+        elif tok.type == tokenize.OP and tok.string in ")]}":
+            depth -= 1
+        if tok.type != getattr(tokenize, "FSTRING_START", None):
+            k += 1
+            continue
+        # the f-string's tokens up to its own end (nested f-strings included)
+        level, j, cuts = 0, k + 1, []
+        nest = 1
+        while nest:
+            t = toks[j]
+            if t.type == tokenize.FSTRING_START:
+                nest += 1
+            elif t.type == tokenize.FSTRING_END:
+                nest -= 1
+            elif t.type == tokenize.OP and t.string == "{":
+                level += 1
+            elif t.type == tokenize.OP and t.string == "}":
+                level -= 1
+            elif t.type == tokenize.FSTRING_MIDDLE and level == 0 and nest == 1 and t.start[0] == t.end[0]:
+                text = lines[t.start[0] - 1][t.start[1]:t.end[1]]
+                cuts += [t.start[1] + i + 1 for i, ch in enumerate(text) if ch == " "]
+            j += 1
+        end = toks[j - 1]
+        row, col = tok.start
+        line = lines[row - 1]
+        quote = tok.string[-1]
+        simple = (end.start[0] == row and len(line) > limit and depth > 0 and len(tok.string) <= 3
+                  and "{{" not in line[col:end.end[1]] and "}}" not in line[col:end.end[1]])
+        if simple:
+            body_start, body_end = col + len(tok.string), end.start[1]
+            pieces, start, room = [], body_start, limit - 1
+            for c in sorted(set(cuts)):
+                if c >= body_end:
+                    break
+                nxt = [d for d in cuts if c < d < body_end]
+                if c <= room and (not nxt or min(nxt) > room):
+                    pieces.append((start, c))
+                    start, room = c, c + (limit - 1 - col - len(tok.string))
+            if pieces:
+                pieces.append((start, body_end))
+                out = []
+                for a, b in pieces:
+                    piece = line[a:b]
+                    pre = tok.string[:-1] if "{" in piece else tok.string[:-1].replace("f", "").replace("F", "")
+                    out.append(f"{pre}{quote}{piece}{quote}")
+                edits.append((row, col, end.end[1], ("\n" + " " * col).join(out)))
+        k = j
+    for row, start, stop, new in sorted(edits, reverse=True):
+        line = lines[row - 1]
+        lines[row - 1] = line[:start] + new + line[stop:]
+    return "\n".join(lines)
+
+
 def comment_rows(source: str) -> set[int]:
     """Rows (1-based) holding a comment and nothing else."""
     rows = set()
@@ -235,7 +298,8 @@ def comment_rows(source: str) -> set[int]:
 def rewrap(source: str, limit: int) -> str:
     out = rewrap_comments(source, limit)
     out = rewrap_docstrings(out, limit)
-    return rewrap_strings(out, limit)
+    out = rewrap_strings(out, limit)
+    return rewrap_fstrings(out, limit)
 
 
 def kind(source: str, row: int, cache: dict) -> str:

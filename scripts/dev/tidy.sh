@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The formatting of the tree (issue 48, item 6), run once after scripts/dev/rooms.py:
-#     scripts/dev/tidy.sh              (RUFF=path/to/ruff, PYTHON=python3 to override)
+#     scripts/dev/tidy.sh              (RUFF=path/to/ruff, PYTHON=path/to/python3.12 to override)
 # 1. ruff format: line length 100, quotes as written ([tool.ruff] and [tool.ruff.format] in
 #    pyproject.toml); the formatter keeps the syntax tree;
 # 2. the import order (ruff's I rules: dolfinx_solver, mpi4py and petsc4py in a section of their own
@@ -14,7 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 RUFF=${RUFF:-.venv/bin/ruff}
-PYTHON=${PYTHON:-python3}
+PYTHON=${PYTHON:-.venv/bin/python}  # 3.12: tokenize reads inside f-strings
 
 "$RUFF" format --quiet .
 "$RUFF" check --select I --fix --quiet . || true
@@ -40,5 +40,6 @@ EOF
 select_if_clean I
 select_if_clean E501
 
-"$RUFF" check --select E501 --output-format concise . 2>/dev/null | "$PYTHON" scripts/dev/rewrap.py --report
+{ "$RUFF" check --select E501 --output-format concise . 2>/dev/null || true; } \
+    | "$PYTHON" scripts/dev/rewrap.py --report
 "$RUFF" check .
