@@ -11,7 +11,7 @@ import pytest
 
 from tests.conftest import REPO
 
-TOP = ("models", "meshes", "solvers", "validation", "tests", "docs", "scripts")
+TOP = ("models", "meshes", "solvers", "validation", "benchmarks", "tests", "docs", "scripts")
 #: a repository path to a Python module or a Markdown page, starting at one of the top-level folders
 #: (so that another project's path, e.g. dolfinx's python/demo/test.py, is not read as ours)
 PATH = re.compile(r"(?<![\w/.-])((?:%s)/[\w./-]*?\.(?:py|md))(?![\w/])" % "|".join(TOP))

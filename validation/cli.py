@@ -33,8 +33,12 @@ from lcefem.solvers.runtime.signals import (install_signal_handlers, keep_petsc_
                                             reinstall_signal_handlers, restore_signal_handlers)
 from lcefem.validation.commands import RUN_TARGETS
 
-#: commands besides ``run``, each a module lcefem.validation.<name> with add_arguments and main
-COMMANDS = ("validate", "converge", "uncertainty", "design", "control", "calibrate", "mesh")
+#: commands besides ``run``: name -> its module (with add_arguments and main), written out in full so
+#: that a module's move is one edit here (scripts/dev/rooms.py rewrites these strings)
+COMMANDS = {"validate": "lcefem.validation.validate", "converge": "lcefem.validation.converge",
+            "uncertainty": "lcefem.validation.uncertainty", "design": "lcefem.validation.design",
+            "control": "lcefem.validation.control", "calibrate": "lcefem.validation.calibrate",
+            "mesh": "lcefem.validation.mesh"}
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
 AGREE_SECONDS = 3.0  #: s, how long a failing rank waits for the others before aborting them
 ABORT_FLUSH_SECONDS = 0.5  #: s, the launcher's time to forward the aborting rank's last line (see _end)
@@ -62,7 +66,7 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     elif argv and argv[0] in COMMANDS:
         wanted = []  # other commands need no run-target modules
     modules = [(targets, name, RUN_TARGETS[name]) for name in wanted]
-    modules += [(sub, name, f"lcefem.validation.{name}") for name in COMMANDS]
+    modules += [(sub, name, module) for name, module in COMMANDS.items()]
     for group, name, module in modules:
         mod = importlib.import_module(module)
         p = group.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])

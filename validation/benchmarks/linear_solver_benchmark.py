@@ -122,7 +122,7 @@ def measure(level: int, solver: str, newton_its: int | None = None) -> dict:
     temperature (no predictor, no step control: the cost per iteration of large meshes)."""
     import resource
 
-    from lcefem.solvers.mechanics import GAMG_OPTIONS  # first: orders MPI before petsc4py  # noqa: F401
+    from lcefem.solvers.mechanics import GAMG_OPTIONS  # noqa: F401  (first: MPI before petsc4py)
     from petsc4py import PETSc
 
     from lcefem.meshes.strip import StripMesh
