@@ -154,7 +154,7 @@ SCHEMA: dict[str, dict[str, tuple]] = {
     "compare": {
         "observable": (STR, "-", REQUIRED, None, "a history observable of this body, 'name [unit]'"),
         "data": (STR, "-", REQUIRED, None, "CSV relative to the case file: 'time [s]' and the "
-                 "observable's column with its unit (C or K, mm, um or m, N or mN, mW or W)"),
+                 "observable's column with its unit (C or K, mm, um or m, N or mN, mW or W, 1/mm or 1/m)"),
         "tolerance": (STR, "unit or %", REQUIRED, None, "largest allowed deviation: '0.5 C' "
                       "(absolute, any unit of the observable's kind) or '5 %' (of the measured value)"),
         "source": (STR, "-", REQUIRED, None, "where the measurements come from (shown in the report)"),
@@ -200,7 +200,8 @@ UNITS = {"C": ("temperature", 1.0, 0.0), "K": ("temperature", 1.0, -273.15),
          "mm": ("length", 1.0, 0.0), "um": ("length", 1e-3, 0.0), "m": ("length", 1e3, 0.0),
          "N": ("force", 1.0, 0.0), "mN": ("force", 1e-3, 0.0),
          "mW": ("power", 1.0, 0.0), "W": ("power", 1e3, 0.0), "s": ("time", 1.0, 0.0),
-         "MPa": ("stress", 1.0, 0.0), "kPa": ("stress", 1e-3, 0.0), "-": ("ratio", 1.0, 0.0)}
+         "MPa": ("stress", 1.0, 0.0), "kPa": ("stress", 1e-3, 0.0), "-": ("ratio", 1.0, 0.0),
+         "1/mm": ("curvature", 1.0, 0.0), "1/m": ("curvature", 1e-3, 0.0)}
 SECTIONS = ("mesh", "thermal", "program", "output", "petsc", "path", *ARRAYS)
 
 
