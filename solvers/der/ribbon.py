@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -23,7 +23,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.heat import SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import MeasuredContraction, NematicTransition, contraction_ratio
-from lcefem.models.parameters import param
+from lcefem.models.parameters import param, with_overrides
 from lcefem.models.ribbon import (SEED000_RIBBON, GroundHeatExchange, HelicoidCoupling, RibbonGeometry,
                                   SectionGrid, natural_strains)
 from lcefem.models.rod import (RodSection, cross, material_curvatures, rectangular_section,
@@ -323,14 +323,7 @@ class RibbonSimulation:
         self.rod = DiscreteRod(section, rest, node_mass, edge_inertia, gravity=gravity, damping=num.damping,
                                ground=Ground(), contact=s.contact, friction=s.friction, obstacles=walls,
                                boxes=boxes, contact_samples=contact_samples_per_edge(num, g.length))
-        weight = float(node_mass.max() * STANDARD_GRAVITY)
-        newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
-                               max_rotation=0.2, max_displacement=0.25 * g.thickness,
-                               unchecked_step=1e-4 * g.thickness, lag_residual=num.lag_tol * weight,
-                               watchdog=num.watchdog)
-        # extrapolated guess: rolling is smooth, and it saves ~0.5 Newton iterations per step (issue 17)
-        self.options = StepOptions(method=num.method, min_dt=num.dt / 256.0, extrapolate=True, newton=newton,
-                                   elastic_hessian_at_source=num.elastic_hessian_at_source)
+        self.options = self._step_options(num)
         self.integrator = Integrator(self.rod, state, self.options, on_failure=on_failure)
         self.control = None
         if num.error_tolerance > 0:
@@ -373,6 +366,34 @@ class RibbonSimulation:
                                                                          self.contraction)
 
     # -- stepping ----------------------------------------------------------------------------
+    def _step_options(self, num: RibbonNumerics) -> StepOptions:
+        """The integrator's options from the numerics: Newton's force tolerances relative to the
+        heaviest node's weight [N], its step limits relative to the thickness [mm]."""
+        g = self.setup.geometry
+        weight = float(self.rod.node_mass.max() * STANDARD_GRAVITY)
+        newton = NewtonOptions(max_iterations=80, force_tol=num.force_tol * weight, step_tol=1e-9 * g.thickness,
+                               max_rotation=0.2, max_displacement=0.25 * g.thickness,
+                               unchecked_step=1e-4 * g.thickness, lag_residual=num.lag_tol * weight,
+                               watchdog=num.watchdog)
+        # extrapolated guess: rolling is smooth, and it saves ~0.5 Newton iterations per step (issue 17)
+        return StepOptions(method=num.method, min_dt=num.dt / 256.0, extrapolate=True, newton=newton,
+                           elastic_hessian_at_source=num.elastic_hessian_at_source)
+
+    #: numerics a built simulation can change between steps (:meth:`change_solver`): the Newton loop's and
+    #: the heat step's rate, not the discretisation
+    SOLVER_FIELDS = ("force_tol", "lag_tol", "watchdog", "elastic_hessian_at_source", "heat_dt")
+
+    def change_solver(self, **changes) -> None:
+        """Take new solver numerics (``SOLVER_FIELDS`` of :class:`RibbonNumerics`) from the next step on,
+        e.g. to time two solver settings from one state (``validation/benchmarks/ribbon_benchmark.py``)."""
+        for name in changes:
+            if name not in self.SOLVER_FIELDS:
+                raise InputError(f"numerics.{name}: cannot change in a built simulation; allowed "
+                                 f"{', '.join(self.SOLVER_FIELDS)}")
+        num = with_overrides(self.setup.numerics, changes, "numerics")
+        self.setup = replace(self.setup, numerics=num)
+        self.options = self.integrator.options = self._step_options(num)
+
     @property
     def state(self) -> RodState:
         return self.integrator.state
