@@ -12,7 +12,7 @@ project's one path follower (:class:`lcefem.solvers.continuation.PathFollower`).
 * :meth:`KaptonSpecimenFE.add_imperfection` — the first mode as geometric imperfection.
 * :meth:`KaptonSpecimenFE.follow` — displacement-controlled path to the final compression.
 * :class:`KaptonSpecimenFEConfig`, :func:`run_specimen_fe` — ``lcefem run ribbon-buckling --model fe``:
-  the configuration sections and one run through the runner (lcefem.solvers.runner.run_path).
+  the configuration sections and one run through the door (lcefem.solvers.runner.run).
 
 Observables (:meth:`KaptonSpecimenFE.observables`), keys "name [unit]": compressive force [N] on the
 whole specimen, mid-span deflection [mm]. Not to be confused with the twisted LCE ribbon
@@ -49,7 +49,7 @@ from lcefem.solvers.exports import FEFields, write_snapshot
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
 from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
@@ -368,5 +368,8 @@ def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bo
     history = HistoryExport(tuple(FE_COLUMNS), row, where=lambda step: f"compression {step[0]:.4g}",
                             at=lambda step: 100 * step[0])
     fields = FEFields("displacement.bp", (model.u,), model.tmesh.mesh.comm, lambda step: step[0], start=False)
-    return run_path(drive, out, config=cfg.resolved(), history=history, fields=fields, progress=bar,
-                    summarize=summarize)
+    # the load fraction [-] of a state: its compression over the run's
+    problem = PathProblem(drive, clock=LOAD, at=lambda step: step[0] / cfg.run.compression,
+                          comm=model.tmesh.mesh.comm)
+    return run(problem, problem.program(), [StateHistory(history), StateExport(fields)], out, config=cfg.resolved(),
+               progress=bar, summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
