@@ -1,6 +1,10 @@
-"""Every body registers once: its name, configuration, problem, default program and exports, the
-``lcefem run`` target that runs it and its validation cases. ``lcefem run <target>``
-(lcefem.validation.commands.RUN_TARGETS) comes from these registrations.
+"""Every body registers once: its name, configuration, problem, default program and exports and
+the ``lcefem run`` target that runs it; every validation case module registers once with the body
+it validates (:func:`register_cases`; a case of no body's, e.g. the empirical laws, with None).
+``lcefem run <target>`` (lcefem.validation.commands.RUN_TARGETS) and ``lcefem validate``'s cases
+(lcefem.validation.cases.CASE_MODULES, in registration order) come from these registrations;
+validation/data/case_costs.toml (read by lcefem.validation.farm.case_costs) gives the expected
+wall time of the cases those modules define, by case name.
 
 A registration names things by import path ("module:attribute"), so reading the registry imports
 no solver (the bar-and-hinge commands start without FEniCSx)::
@@ -9,13 +13,14 @@ no solver (the bar-and-hinge commands start without FEniCSx)::
     strip = body("strip")
     cfg = strip.config_class()()                    # StripConfig()
     problem = strip.build(cfg)                      # StripSimulation(cfg)
-    run(problem, strip.program(cfg), strip.exports(problem), out, config=cfg.resolved())
+    run(problem, strip.default_program(cfg), strip.default_exports(problem), out, config=cfg.resolved())
 
 ``program(config) -> Program`` and ``exports(problem) -> list`` are the body's defaults for the
-one door (lcefem.solvers.runner.run); a body whose run still drives a path of its own
-(``run_ribbon``, ``run_gridshell``, ``run_specimen_fe``) registers its ``run`` instead and no
-program. Adding a body is one :func:`register` call here (and its command module, if it has a
-target of its own).
+one door (lcefem.solvers.runner.run). Every registered ``run`` goes through that door; a body
+whose run follows a path of its own (``run_ribbon``, ``run_specimen_fe``, the FE gridshell's,
+``run_body``) builds its problem for it there (lcefem.solvers.runner.PathProblem) and registers no
+default program. Adding a body is one :func:`register` call here (and its command module, if it
+has a target of its own), and one :func:`register_cases` for its validation cases.
 """
 
 from __future__ import annotations

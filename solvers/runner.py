@@ -2,37 +2,31 @@
 :mod:`lcefem.solvers.problems.protocol`) along a program (:class:`lcefem.solvers.program.Program`:
 drives against time or load fraction, transient or steady) and lets a list of exports typed on the
 protocol (:mod:`lcefem.solvers.exports`: History, Fields, Probe, Reaction, each with its times)
-write what they want of every StepRecord, inside the run skeleton. FESTIM's ``problem.run()`` with
-its exports list::
+write what they want of every StepRecord, inside the run skeleton
+(:class:`lcefem.solvers.runtime.run.Run`: .part files, failure.json, summary.json with the
+resolved configuration). FESTIM's ``problem.run()`` with its exports list::
 
     program = Program.in_time({"coil": 0.2}, duration=20.0, dt=1.0)
     run(problem, program, [History(), Fields("thermal.bp", ("temperature [C]",), times=(10.0,))],
         out, config=cfg.resolved())
 
-The older entries below (:func:`run_quasi_static`, :func:`run_in_time`) are this door with a
-body's own columns; :func:`run_path` stays for the bodies that drive a path of their own.
+Every body's run is this door. A problem whose ``advance(dt, on_step=...)`` follows its own steps
+(a path follower's increments, a rod's time steps) gives a record per step through
+``increment_record(state)``, on either clock; a body along a path of its own (a schedule of
+drives, a transient whose drives are functions of time) is a :class:`PathProblem`. A body's own
+states (each record's ``detail``) reach its export objects through :class:`StateHistory` (its
+:class:`HistoryExport`, history.csv with its columns "name [unit]") and :class:`StateExport`
+(e.g. :class:`~lcefem.solvers.exports.BarHingeFrames`, ``<stem>.pvd`` + ``<stem>_steps/*.vtp``
+and ``last_converged.vtp`` when a run fails; :class:`~lcefem.solvers.exports.FEFields`, a VTX .bp
+series); ``summarize(run, records)`` gives the body's summary (renders and the validation's
+measured values come from its ``report`` hook). :func:`run_quasi_static` (the load program to
+the drives in one advance) and :func:`run_in_time` (drives held in equal time steps) are the door
+with a body's own columns.
 
-The runner of a quasi-static body through the Problem protocol
-(:mod:`lcefem.solvers.problems.protocol`): set the drives, advance the whole way, and let export
-objects write what a FEniCSx/ParaView user expects, through the run skeleton
-(:class:`lcefem.solvers.runtime.run.Run`: .part files, failure.json, summary.json with the resolved
-configuration).
-
-Export objects (one per output, each built by the body's run from its problem):
-
-* :class:`HistoryExport` — history.csv, one row per converged step, columns "name [unit]";
-* fields for ParaView (:mod:`lcefem.solvers.exports`): :class:`~lcefem.solvers.exports.BarHingeFrames`
-  (``<stem>.pvd`` + ``<stem>_steps/*.vtp``, ``last_converged.vtp`` when a run fails) or
-  :class:`~lcefem.solvers.exports.FEFields` (a VTX .bp series of the problem's Functions);
-* the summary: ``summarize(run, result) -> dict`` (the body's results; renders and the validation's
-  measured values come from its ``report`` hook), written last as summary.json.
-
-A body's run is then its problem, its program, its exports and its summary: the strip through
-:func:`run` itself (``run_strip``), quasi-static bodies through :func:`run_quasi_static` (the door
-with the body's own history columns: ``run_beam``, ``run_specimen``, ``run_beam_fe``,
-``run_gridshell``), heated ones in time through :func:`run_in_time` (the door: the heated FE
-beam), and those along a path of their own through :func:`run_path` (``run_specimen_fe``,
-``run_ribbon``).
+Which body takes which way: the strip :func:`run` itself (``run_strip``);
+:func:`run_quasi_static` ``run_beam``, ``run_specimen``, ``run_beam_fe``, ``run_gridshell``;
+:func:`run_in_time` the heated FE beam; a :class:`PathProblem` ``run_specimen_fe``,
+``run_ribbon``, ``run_gridshell_fe``, ``run_sequence``, ``run_body``.
 
 Units: those of the problem (mm, N, s).
 """
