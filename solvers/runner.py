@@ -86,7 +86,9 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
     problem has it and the program records its start: a dead load applied first; else its
     observables at 0), then for a time program
     ``advance(stop - previous)`` to each stop (equal steps of at most dt, the drive switches and the
-    exports' times as milestones; the clock ``problem.time`` set to the stop exactly), for a load
+    exports' times as milestones; the clock ``problem.time`` set to the stop exactly; a problem
+    with ``increment_record(state)`` gives a record per step of its own, ``advance(dt, on_step=)``:
+    a :class:`PathProblem`'s one step is its whole path), for a load
     program ``advance`` by the fraction of the way left to each stop (a problem with
     ``increment_record(state)`` gives a record per converged increment of its path follower), for
     a steady one ``problem.steady()``. ``summarize(run, records)`` (the start and every advance's
