@@ -33,7 +33,7 @@ def main(shapes: bool = True) -> None:
         layout = NAMED_LAYOUTS[name]
         p = GridshellBH(ms.structure(layout), GridshellBHConfig(materials=ms.materials_for(layout),
                                                                 support=support))
-        p.set_lambda(drive)
+        p.set_drives(drive)
         p.advance()
         label = ", ".join(f"lambda_{k} = {v}" for k, v in drive.items())
         print(render_gridshell(IMAGES / f"layout_{name}_shape.png", p.structure, p.x,

@@ -2,37 +2,31 @@
 :mod:`lcefem.solvers.problems.protocol`) along a program (:class:`lcefem.solvers.program.Program`:
 drives against time or load fraction, transient or steady) and lets a list of exports typed on the
 protocol (:mod:`lcefem.solvers.exports`: History, Fields, Probe, Reaction, each with its times)
-write what they want of every StepRecord, inside the run skeleton. FESTIM's ``problem.run()`` with
-its exports list::
+write what they want of every StepRecord, inside the run skeleton
+(:class:`lcefem.solvers.runtime.run.Run`: .part files, failure.json, summary.json with the
+resolved configuration). FESTIM's ``problem.run()`` with its exports list::
 
     program = Program.in_time({"coil": 0.2}, duration=20.0, dt=1.0)
     run(problem, program, [History(), Fields("thermal.bp", ("temperature [C]",), times=(10.0,))],
         out, config=cfg.resolved())
 
-The older entries below (:func:`run_quasi_static`, :func:`run_in_time`) are this door with a
-body's own columns; :func:`run_path` stays for the bodies that drive a path of their own.
+Every body's run is this door. A problem whose ``advance(dt, on_step=...)`` follows its own steps
+(a path follower's increments, a rod's time steps) gives a record per step through
+``increment_record(state)``, on either clock; a body along a path of its own (a schedule of
+drives, a transient whose drives are functions of time) is a :class:`PathProblem`. A body's own
+states (each record's ``detail``) reach its export objects through :class:`StateHistory` (its
+:class:`HistoryExport`, history.csv with its columns "name [unit]") and :class:`StateExport`
+(e.g. :class:`~lcefem.solvers.exports.BarHingeFrames`, ``<stem>.pvd`` + ``<stem>_steps/*.vtp``
+and ``last_converged.vtp`` when a run fails; :class:`~lcefem.solvers.exports.FEFields`, a VTX .bp
+series); ``summarize(run, records)`` gives the body's summary (renders and the validation's
+measured values come from its ``report`` hook). :func:`run_quasi_static` (the load program to
+the drives in one advance) and :func:`run_in_time` (drives held in equal time steps) are the door
+with a body's own columns.
 
-The runner of a quasi-static body through the Problem protocol
-(:mod:`lcefem.solvers.problems.protocol`): set the drives, advance the whole way, and let export
-objects write what a FEniCSx/ParaView user expects, through the run skeleton
-(:class:`lcefem.solvers.runtime.run.Run`: .part files, failure.json, summary.json with the resolved
-configuration).
-
-Export objects (one per output, each built by the body's run from its problem):
-
-* :class:`HistoryExport` — history.csv, one row per converged step, columns "name [unit]";
-* fields for ParaView (:mod:`lcefem.solvers.exports`): :class:`~lcefem.solvers.exports.BarHingeFrames`
-  (``<stem>.pvd`` + ``<stem>_steps/*.vtp``, ``last_converged.vtp`` when a run fails) or
-  :class:`~lcefem.solvers.exports.FEFields` (a VTX .bp series of the problem's Functions);
-* the summary: ``summarize(run, result) -> dict`` (the body's results; renders and the validation's
-  measured values come from its ``report`` hook), written last as summary.json.
-
-A body's run is then its problem, its program, its exports and its summary: the strip through
-:func:`run` itself (``run_strip``), quasi-static bodies through :func:`run_quasi_static` (the door
-with the body's own history columns: ``run_beam``, ``run_specimen``, ``run_beam_fe``,
-``run_gridshell``), heated ones in time through :func:`run_in_time` (the door: the heated FE
-beam), and those along a path of their own through :func:`run_path` (``run_specimen_fe``,
-``run_ribbon``).
+Which body takes which way: the strip :func:`run` itself (``run_strip``);
+:func:`run_quasi_static` ``run_beam``, ``run_specimen``, ``run_beam_fe``, ``run_gridshell``;
+:func:`run_in_time` the heated FE beam; a :class:`PathProblem` ``run_specimen_fe``,
+``run_ribbon``, ``run_gridshell_fe``, ``run_sequence``, ``run_body``.
 
 Units: those of the problem (mm, N, s).
 """
@@ -81,33 +75,6 @@ class HistoryExport:
             raise ValueError(f"history columns without a unit: {bad}")
 
 
-def run_path(drive: Callable[[Callable[[Any], None]], Any], out: pathlib.Path, *, config: dict,
-             history: HistoryExport, fields, progress: Progress,
-             summarize: Callable[[Any, Any], dict], exports: tuple = (), comm=None) -> dict:
-    """One run of a body along a path of its own (a schedule of drives, a path follower's own
-    targets, a rod's time steps), inside the run skeleton: ``drive(on_step)`` moves the problem and
-    calls ``on_step(state)`` at every converged step it wants seen; the history records it (when
-    due) and each export object (``fields``, or None, then ``exports``: each with
-    ``open(run, out)`` giving a writer with ``write(state)`` and ``last_converged(folder, state)``)
-    writes what it wants of it (a frame every n steps, a table row); when the run fails, each
-    writer gets the last state seen. ``summarize(run, result)`` gives the summary's entries
-    (``result``: what ``drive`` returned); ``comm``: the MPI communicator of a parallel run (rank
-    0 writes the history and summary). Returns the summary."""
-    out = None if out is None else pathlib.Path(out)
-    with Run(out, config=config, columns=list(history.columns), progress=progress, comm=comm) as run:
-        writers = [export.open(run, out) for export in (fields, *exports) if export is not None]
-        last = []
-
-        def on_step(state) -> None:
-            history.record(run, state)
-            for writer in writers:
-                writer.write(state)
-            last[:] = [state]
-
-        run.on_failure(lambda folder: last and [w.last_converged(folder, last[0]) for w in writers])
-        return run.complete(summarize(run, drive(on_step)))
-
-
 def run(problem, program: Program, exports, out: pathlib.Path | None, *, config: dict,
         progress: Progress | None = None, summarize: Callable[[Run, list], dict] | None = None,
         comm=None) -> dict:
@@ -119,7 +86,9 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
     problem has it and the program records its start: a dead load applied first; else its
     observables at 0), then for a time program
     ``advance(stop - previous)`` to each stop (equal steps of at most dt, the drive switches and the
-    exports' times as milestones; the clock ``problem.time`` set to the stop exactly), for a load
+    exports' times as milestones; the clock ``problem.time`` set to the stop exactly; a problem
+    with ``increment_record(state)`` gives a record per step of its own, ``advance(dt, on_step=)``:
+    a :class:`PathProblem`'s one step is its whole path), for a load
     program ``advance`` by the fraction of the way left to each stop (a problem with
     ``increment_record(state)`` gives a record per converged increment of its path follower), for
     a steady one ``problem.steady()``. ``summarize(run, records)`` (the start and every advance's
@@ -167,7 +136,9 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
             switch = program.drives_at(previous) if previous > 0.0 else None
             if switch is not None:
                 problem.set_drives(switch)
-            if program.clock == TIME:
+            if program.clock == TIME and increments is not None:  # the problem's own steps to the stop
+                record = replace(problem.advance(stop - previous, on_step=lambda s: emit(increments(s))), at=stop)
+            elif program.clock == TIME:
                 record = problem.advance(stop - previous)
                 if hasattr(problem, "time"):
                     with contextlib.suppress(AttributeError):  # a clock the problem keeps read-only
@@ -193,7 +164,38 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
 
 
 @dataclass(frozen=True)
-class _BodyStates:
+class StateHistory:
+    """The door's export of a body's history from its own states (each record's ``detail``:
+    ``history.row(state)`` where ``history.when(state)``), the run's history.csv opened with its
+    columns before the first step (a run that fails at once leaves its header)."""
+
+    history: HistoryExport
+    times = None
+
+    def open(self, run, out, problem=None, main: bool = False):
+        run.open_history(list(self.history.columns))
+        return _StateHistoryWriter(self.history, run)
+
+
+class _StateHistoryWriter:
+    def __init__(self, history: HistoryExport, run):
+        self.history, self.run = history, run
+
+    def write(self, record, index: int) -> None:
+        import math
+
+        h, state = self.history, record.detail
+        if h.when is None or h.when(state):  # the bar at the state's own place, else the record's
+            at = h.at(state) if h.at is not None else record.at if math.isfinite(record.at) else None
+            self.run.record(h.row(state), where=h.where(state), at=at,
+                            postfix=None if h.postfix is None else h.postfix(state))
+
+    def last_converged(self, folder, record) -> None:
+        pass  # the rows so far are kept as history.partial.csv
+
+
+@dataclass(frozen=True)
+class StateExport:
     """An export object of a body's own states (open(run, out) -> write(state)) fed by the door:
     each record's ``detail`` (the state its path follower gave)."""
 
@@ -201,10 +203,10 @@ class _BodyStates:
     times = None
 
     def open(self, run, out, problem=None, main: bool = False):
-        return _BodyStatesWriter(self.export.open(run, out))
+        return _StateExportWriter(self.export.open(run, out))
 
 
-class _BodyStatesWriter:
+class _StateExportWriter:
     def __init__(self, writer):
         self.writer = writer
 
@@ -215,13 +217,45 @@ class _BodyStatesWriter:
         self.writer.last_converged(folder, record.detail)
 
 
-def _history_of_states(history: HistoryExport):
-    """The door's History of a HistoryExport of a body's own states (each record's ``detail``)."""
-    from lcefem.solvers.exports import History
+class PathProblem:
+    """A body whose run follows a path of its own (a rod's time steps with their heat, a path
+    follower's own targets, a schedule of drives, a transient whose drives are functions of time)
+    as a problem of the door (:func:`run`): ``follow(on_step)`` moves the body the whole way,
+    calling ``on_step(state)`` at every state it wants seen (the start first) and returning its
+    account; the door's one ``advance`` (a program of one step: :meth:`program`) runs it and turns
+    each state into a record (:meth:`increment_record`: at ``at(state)`` on ``clock``, the state
+    its ``detail``, written by :class:`StateHistory` and :class:`StateExport`). ``comm``: the MPI
+    communicator of a problem shared over ranks (the run claims and writes its folder on it)."""
 
-    return History(columns=history.columns, row=lambda r: history.row(r.detail),
-                   where=lambda r: history.where(r.detail),
-                   postfix=None if history.postfix is None else (lambda r: history.postfix(r.detail)))
+    drive = "none [-]"
+
+    def __init__(self, follow: Callable[[Callable[[Any], None]], Any], *, clock: str = TIME,
+                 end: float = 1.0, at: Callable[[Any], float] | None = None, comm=None):
+        self.follow, self.clock, self.end, self.at, self.comm = follow, clock, float(end), at, comm
+
+    def program(self) -> Program:
+        """The program of one step to the path's end (its drives its own: none set by the door)."""
+        return (Program.in_time({}, self.end, self.end, record_start=False) if self.clock == TIME else
+                Program.quasi_static({}, record_start=False))
+
+    def drive_tags(self) -> tuple[str, ...]:
+        return ()
+
+    def set_drives(self, drives: Mapping[str, float]) -> None:
+        if drives:
+            from lcefem.models.errors import InputError
+            raise InputError(f"drives {', '.join(drives)}: a path of its own takes none")
+
+    def advance(self, dt: float, on_step: Callable[[Any], None] | None = None) -> StepRecord:
+        result = self.follow(on_step or (lambda state: None))
+        return StepRecord(self.end, {}, clock=self.clock, detail=result)
+
+    def increment_record(self, state) -> StepRecord:
+        return StepRecord(self.end if self.at is None else float(self.at(state)), {}, clock=self.clock,
+                          detail=state)
+
+    def observables(self) -> dict[str, float]:
+        return {}
 
 
 def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
@@ -235,7 +269,7 @@ def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *,
     after the history is complete, before summary.json is written). The bar shows the fraction of
     the way (``progress_scale``: kept for the callers; the door's bar follows the records).
     Returns the summary."""
-    exports = [_history_of_states(history), *(() if fields is None else (_BodyStates(fields),))]
+    exports = [StateHistory(history), *(() if fields is None else (StateExport(fields),))]
     return run(problem, Program.quasi_static(drives, record_start=False), exports, out, config=config,
                progress=progress, summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
 
@@ -256,4 +290,4 @@ def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, dura
                summarize=lambda skeleton, records: summarize(skeleton, [dict(r.observables) for r in records]))
 
 
-__all__ = ["HistoryExport", "run", "run_in_time", "run_path", "run_quasi_static"]
+__all__ = ["HistoryExport", "PathProblem", "StateExport", "StateHistory", "run", "run_in_time", "run_quasi_static"]

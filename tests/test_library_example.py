@@ -36,4 +36,4 @@ def test_prescribed_fields_refuse_bad_input():
     with pytest.raises(InputError, match=r"temperature\['nope'\]"):
         sim.set_temperature({"nope": 50.0})
     with pytest.raises(InputError, match="drive 'lce'"):
-        sim.set_current({"lce": 0.1})
+        sim.set_drives({"lce": 0.1})

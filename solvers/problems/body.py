@@ -72,7 +72,7 @@ from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_me
 from lcefem.solvers.probes import PointProbe, StationCurvature
 from lcefem.solvers.problems.body_case import AXES, REGION_THERMAL, BodyCase
 from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
-from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.supports import clamp_face, plane_clamp, point_support, rigid_body_321
 from lcefem.solvers.thermomechanics import LCERegion, PassiveRegion, ThermoMechanicalModel
@@ -602,7 +602,7 @@ def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = T
              comm: MPI.Comm | None = None) -> BodyResult:
     """Build the body of ``case`` and run its program (a transient of equal steps to the duration,
     the drives at the end of each step; or the steady state) through the run skeleton
-    (:func:`lcefem.solvers.runner.run_path`): history.csv, temperature.bp / displacement.bp,
+    (the door, :func:`lcefem.solvers.runner.run`): history.csv, temperature.bp / displacement.bp,
     summary.json with every resolved value."""
     started = time.perf_counter()
     problem = BodyProblem(case, comm)
@@ -680,6 +680,9 @@ def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = T
         return {"mesh": {**problem.mesh_info, "mpi_ranks": problem.comm.size}, **result,
                 "final": final, "wall_time [s]": time.perf_counter() - started}
 
-    summary = run_path(drive, out, config=case.resolved(), history=history, fields=None, progress=bar,
-                       summarize=summarize, exports=exports, comm=problem.comm)
+    path = PathProblem(drive, end=prog["duration"], comm=problem.comm,
+                       at=lambda s: min(s[0]["time [s]"], prog["duration"]))  # the steady state's inf: the end
+    summary = run(path, path.program(), [StateHistory(history), *(StateExport(e) for e in exports)], out,
+                  config=case.resolved(), progress=bar, comm=problem.comm,
+                  summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
     return BodyResult(found["history"].as_arrays(), summary, out)

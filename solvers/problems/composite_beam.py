@@ -11,7 +11,7 @@ problem, used by ``lcefem run beam --model fe``, the validation cases of
   published model has no LCE over the bonds. Strip-ribbon contact: :mod:`lcefem.solvers.contact`.
   Supports: symmetry planes (quarter model) plus one point held in z; the half model holds a point
   in x and z and a second point in z (statically determinate, as the bar-and-hinge beam).
-  Drives per strip tag (:meth:`BeamFE.set_lambda`, ``top_strips``/``bottom_strips``);
+  Drives per strip tag (:meth:`BeamFE.set_drives`, ``top_strips``/``bottom_strips``);
   :meth:`BeamFE.advance` takes them from their current values to the targets with the
   shared step controller :class:`lcefem.solvers.continuation.PathFollower` (tangent predictor,
   step size from the Newton iteration count, cutting, damped relaxation across folds);
@@ -210,7 +210,7 @@ class BeamState:
 class BeamFE:
     """The FE composite beam, forms compiled once; drives are the strip groups' lambda.
 
-    Build: ``BeamFE(geometry, mesh, ...)``. Drive: :meth:`set_lambda` per strip tag
+    Build: ``BeamFE(geometry, mesh, ...)``. Drive: :meth:`set_drives` (lambdas) per strip tag
     (``top_strips``, ``bottom_strips``: the same call shape as the gridshell's 48 strips).
     Solve: :meth:`advance` (to the targets set) or :meth:`ramp` (set and advance). Observe:
     :meth:`observables`, :meth:`curvature`. Output: :meth:`write_fields`.
@@ -265,7 +265,7 @@ class BeamFE:
         self.a_bottom.value = lambda_bottom / lam_n
         self.lambda_top, self.lambda_bottom = lambda_top, lambda_bottom
 
-    def set_lambda(self, drives: Mapping[str, float]) -> None:
+    def _set_lambda(self, drives: Mapping[str, float]) -> None:
         """Target spontaneous stretches lambda [-] (relative to the isotropic length; as built:
         lambda_N) per strip tag (:attr:`STRIPS`); reached by :meth:`advance`."""
         for tag, value in drives.items():
@@ -294,7 +294,7 @@ class BeamFE:
 
     def advance(self, dt: float = 1.0, *, on_step: Callable[[BeamState], None] | None = None,
                 progress: Callable[[float], None] | None = None) -> StepRecord:
-        """Take the strips linearly from their current lengths to the targets of :meth:`set_lambda`
+        """Take the strips linearly from their current lengths to the targets of :meth:`set_drives`
         (load parameter t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way) with
         :class:`PathFollower`; ``on_step`` sees one :class:`BeamState` per accepted step (the
         record's ``detail``: their list). Raises ConvergenceError (the model keeps the last
@@ -333,12 +333,12 @@ class BeamFE:
             "min gap [mm]": state.min_gap}, state.iterations, state.cuts, clock=LOAD, detail=state)
 
     def ramp(self, lambda_top: float, lambda_bottom: float, **kw) -> list[BeamState]:
-        """:meth:`set_lambda` of (lambda_T, lambda_B) then :meth:`advance`; the states of the
+        """:meth:`set_drives` of (lambda_T, lambda_B) then :meth:`advance`; the states of the
         ramp."""
         lam_n = self.actuation.lambda_N
         check_lambda("lambda_top", lambda_top, lam_n)
         check_lambda("lambda_bottom", lambda_bottom, lam_n)
-        self.set_lambda({"top_strips": lambda_top, "bottom_strips": lambda_bottom})
+        self._set_lambda({"top_strips": lambda_top, "bottom_strips": lambda_bottom})
         return self.advance(**kw).detail
 
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
@@ -352,7 +352,7 @@ class BeamFE:
         return self.STRIPS
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
-        self.set_lambda(drives)
+        self._set_lambda(drives)
 
     def fields(self) -> dict:
         return {"displacement [mm]": self.u}
@@ -527,7 +527,7 @@ class HeatedBeamFE:
     the new temperature with :class:`PathFollower` (tangent predictor in time).
 
     Build with the strip tags that carry a coil (``heated``: forms are compiled once, so the set
-    is fixed); drive: :meth:`set_current` per strip tag; advance: :meth:`advance` (dt [s]);
+    is fixed); drive: :meth:`set_drives` (coil currents) per strip tag; advance: :meth:`advance` (dt [s]);
     observe: :meth:`observables`.
     """
 
@@ -587,7 +587,7 @@ class HeatedBeamFE:
     def time(self, value: float) -> None:
         self.stepper.time = value
 
-    def set_current(self, drives: Mapping[str, float]) -> None:
+    def _set_current(self, drives: Mapping[str, float]) -> None:
         """Coil current [A] per strip tag; the heat model has one power density, so every heated
         strip tag carries the same current (a different one is refused)."""
         values = {float(v) for k, v in drives.items() if k in self.heated}
@@ -624,7 +624,7 @@ class HeatedBeamFE:
         return self.heated
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
-        self.set_current(drives)
+        self._set_current(drives)
 
     def fields(self) -> dict:
         return {"displacement [mm]": self.u, "temperature [C]": self.model.heat.T}
@@ -639,4 +639,4 @@ class HeatedBeamFE:
     def restore_state(self, state: dict) -> None:
         put_arrays(self._state_functions(), state["arrays"])
         self.time = state["time"]
-        self.set_current({tag: state["current"] for tag in self.heated})
+        self._set_current({tag: state["current"] for tag in self.heated})

@@ -4,7 +4,7 @@ the per-body shape (as :mod:`lcefem.solvers.problems.gridshell`, the FE gridshel
 :class:`GridshellBH` is built from a :class:`GridshellBHConfig` (material laws, support, solver and
 path settings) and the mesh (:func:`lcefem.meshes.gridshell.build_gridshell_bar_hinge`); it is
 driven per strip id, channel (Tx, Ty, Bx, By), group (XD1..YU3) or half plane through
-:meth:`GridshellBH.set_lambda`, advanced along the load factor t in [0, 1] (rest fractions ramped
+:meth:`GridshellBH.set_drives`, advanced along the load factor t in [0, 1] (rest fractions ramped
 linearly from the current ones to the targets: the paper's quasi-static route) by
 :meth:`GridshellBH.advance`, and read through :meth:`GridshellBH.observables` (named, with units).
 
@@ -358,7 +358,7 @@ class GridshellBH:
 
         s = build_gridshell_bar_hinge()
         g = GridshellBH(s, GridshellBHConfig(support="rollers"))
-        g.set_lambda({"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05})
+        g.set_drives({"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05})
         g.advance()
         g.observables()["circle kappa_x [1/mm]"]
     """
@@ -381,7 +381,7 @@ class GridshellBH:
     def lambda_N(self) -> float:
         return self.config.materials.lce.lambda_N
 
-    def set_lambda(self, drives: Mapping) -> None:
+    def _set_lambda(self, drives: Mapping) -> None:
         """Target lambdas [-] by selection (strip id, channel, layer, group, half plane; applied in
         order); strips not named keep their current target."""
         lam = {g: v * self.lambda_N for g, v in self._target.items()}
@@ -463,7 +463,7 @@ class GridshellBH:
         return ("T", "B", *CHANNELS, *FAMILIES, *sorted(self.structure.info["groups"]))
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
-        self.set_lambda(drives)
+        self._set_lambda(drives)
 
     def fields(self) -> dict:
         return {"node positions [mm]": self.x}

@@ -27,7 +27,7 @@ and the cap at the as-built lambda_N of the strip bars (a longer strip is slack)
 surface follows with rest fractions lambda/lambda_N; the mechanics is quasi-static (the heat time
 constant, ~100 s, is far above the surface's inertial times).
 
-Outputs (through the run skeleton, lcefem.solvers.runtime.run.Run): ``history.csv`` (time [s], per-selection
+Outputs (through the door, lcefem.solvers.runner.run): ``history.csv`` (time [s], per-selection
 current [A], temperature [C], lambda [-], centre curvatures by the circle and the quadratic-fit measure
 [1/mm], z range [mm], Newton iterations), ``sequence.pvd`` + ``sequence_steps/*.vtp`` (ParaView frame
 series, time = simulated seconds), ``summary.json``; and what the hooks add (the command line:
@@ -58,7 +58,8 @@ from lcefem.solvers import cost
 from lcefem.solvers.bar_hinge import NewtonOptions, PathOptions, follow_path
 from lcefem.solvers.exports import BarHingeVTK
 from lcefem.solvers.problems import gridshell_bh as gs
-from lcefem.solvers.runtime.run import Progress, Run
+from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
+from lcefem.solvers.runtime.run import Progress
 
 #: The lumped body per thermal model: 'segment' is one 25 ohm, 30 mm grid segment (the current route's
 #: default); 'eq1' is the free strip of Fig. 2 (146.6 ohm, 80 mm isotropic) on which Eq. 1 was
@@ -323,6 +324,63 @@ def columns_for(schedule: Schedule) -> list[str]:
     return cols + CURVATURE_COLUMNS + ["z range [mm]", "newton iterations [-]"]
 
 
+@dataclass(frozen=True)
+class SequenceStep:
+    """One output of a sequence: its index ``k``, time ``t`` [s], positions ``x`` (n, 3) [mm] and
+    history ``row``."""
+
+    k: int
+    t: float
+    x: np.ndarray
+    row: dict
+
+
+class SequenceFrames:
+    """Export object: ``sequence.pvd`` + ``sequence_steps/*.vtp``, a frame per output (time =
+    simulated seconds); ``model`` the BarHingeModel (its bar forces)."""
+
+    def __init__(self, structure: BarHingeStructure, model):
+        self.structure, self.model = structure, model
+
+    def open(self, run, out) -> "SequenceFrames":
+        self.vtk = run.output(BarHingeVTK(out, "sequence", self.structure))
+        return self
+
+    def write(self, s: SequenceStep) -> None:
+        self.vtk.write(s.t, s.x, self.model.bar_forces(s.x))
+
+    def last_converged(self, folder, s) -> None:
+        pass  # the series is kept as *.partial.* up to the last frame
+
+
+@dataclass(frozen=True)
+class SequenceHooks:
+    """Export object: the caller's ``frame(k, t, structure, x)`` at every output and ``snapshot(out,
+    phase, label, t, structure, x, support)`` at the last output of each phase (``snapshots``:
+    :func:`phase_ends`; only with ``out``)."""
+
+    schedule: "Schedule"
+    structure: BarHingeStructure
+    snapshots: dict
+    out: pathlib.Path | None
+    frame: object = None
+    snapshot: object = None
+
+    def open(self, run, out) -> "SequenceHooks":
+        return self
+
+    def write(self, s: SequenceStep) -> None:
+        if self.frame is not None:
+            self.frame(s.k, s.t, self.structure, s.x)
+        if self.out is not None and self.snapshot is not None and s.k in self.snapshots:
+            phase = self.snapshots[s.k]
+            label = self.schedule.labels[phase] if self.schedule.labels else f"phase {phase}"
+            self.snapshot(pathlib.Path(self.out), phase, label, s.t, self.structure, s.x, self.schedule.support)
+
+    def last_converged(self, folder, s) -> None:
+        pass
+
+
 def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool = True,
                  structure: BarHingeStructure | None = None, frames: bool = True,
                  config: dict | None = None, snapshot=None, report=None, scales=None,
@@ -349,15 +407,16 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
     started = time.perf_counter()
     resolved = config or {"schedule": dataclasses.asdict(schedule)}
     # [mm] deepest strip-ribbon penetration over the outputs (NaN: a structure without contact rows)
-    depth = 0.0 if structure.contacts else math.nan
-    with Run(out, config=resolved, columns=columns_for(schedule), progress=bar) as run:
-        vtk = run.output(BarHingeVTK(out, "sequence", structure)) if (frames and out is not None) else None
+    found = {"depth": 0.0 if structure.contacts else math.nan}
+
+    def follow(on_step) -> None:
+        """The surface's equilibrium at each output time (from the previous one), one state each."""
         for k, t in enumerate(times):
             lam_k = {sel: float(lambdas[sel][k]) for sel in schedule.currents}
             x = surface.advance(rest_fractions(structure, lam_k))
             summ = surface.curvatures()
             if structure.contacts:
-                depth = max(depth, gs.structure_penetration(structure, x))
+                found["depth"] = max(found["depth"], gs.structure_penetration(structure, x))
             row = {"time [s]": float(t)}
             current = schedule.current_at(t - 1e-12) if t > 0 else schedule.current_at(0.0)
             for sel in schedule.currents:
@@ -366,18 +425,14 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
             row.update({"circle kappa_x [1/mm]": summ["circle_x"], "circle kappa_y [1/mm]": summ["circle_y"],
                         "quad kappa_x [1/mm]": summ["quad_kx"], "quad kappa_y [1/mm]": summ["quad_ky"],
                         "z range [mm]": summ["z_range [mm]"], "newton iterations [-]": surface.iterations})
-            run.record(row, where=f"t = {t:.4g} s", at=float(t))
-            if vtk is not None:
-                vtk.write(float(t), x, surface.setup.model.bar_forces(x))
-            if frame is not None:
-                frame(k, float(t), structure, x)
-            if out is not None and snapshot is not None and k in snapshots:
-                label = schedule.labels[snapshots[k]] if schedule.labels else f"phase {snapshots[k]}"
-                snapshot(pathlib.Path(out), snapshots[k], label, float(t), structure, x, schedule.support)
-        history = run.history.as_arrays()
+            on_step(SequenceStep(k, float(t), x, row))
+
+    def summarize(skeleton, _) -> dict:
+        history = skeleton.history.as_arrays()
+        depth = found["depth"]
         if out is not None and report is not None:
             report(pathlib.Path(out), history, schedule)
-        return run.complete({
+        return {
             "model": "bar-hinge gridshell, quasi-static sequence", "support": schedule.support,
             "cover scales": dataclasses.asdict(scales) if scales is not None else None,
             "thermal model": schedule.thermal_model, "outputs": len(times),
@@ -386,4 +441,14 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
             "strip-ribbon penetration [mm]": depth,
             "strips pass through the ribbon": bool(depth > gs.PENETRATION_LIMIT),
             "history": {c: v.tolist() for c, v in history.items()},
-        })
+        }
+
+    history = HistoryExport(tuple(columns_for(schedule)), lambda s: s.row, where=lambda s: f"t = {s.t:.4g} s",
+                            at=lambda s: s.t)
+    exports = [StateHistory(history)]
+    if frames and out is not None:
+        exports.append(StateExport(SequenceFrames(structure, surface.setup.model)))
+    if frame is not None or (out is not None and snapshot is not None):
+        exports.append(StateExport(SequenceHooks(schedule, structure, snapshots, out, frame, snapshot)))
+    problem = PathProblem(follow, end=float(times[-1]), at=lambda s: s.t)
+    return run(problem, problem.program(), exports, out, config=resolved, progress=bar, summarize=summarize)

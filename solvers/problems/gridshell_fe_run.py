@@ -52,7 +52,8 @@ from lcefem.models.limits import check_current
 from lcefem.models.parameters import check, describe, param
 from lcefem.solvers.exports import FEFields
 from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellSupports
-from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.problems.protocol import LOAD, TIME
+from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.run import Progress
 
 #: Routes of the FE run (GridshellFERun.drive).
@@ -287,7 +288,7 @@ def ramp_cost(model, seconds: float, cpu: float) -> dict:
 def run_gridshell_fe(cfg: GridshellFERunConfig, out: pathlib.Path, progress: bool = True,
                      report=None, comm=None) -> dict:
     """Run the FE gridshell (module docstring) through the runner
-    (:func:`lcefem.solvers.runner.run_path`) into ``out``; returns the summary. ``report(out, cfg,
+    (the door, :func:`lcefem.solvers.runner.run`) into ``out``; returns the summary. ``report(out, cfg,
     model) -> dict`` (optional: the validation's render) runs before the summary is written; its
     entries join the results; ``cfg.notes`` join the summary. A steady hold also gives "held" (the final observables)
     and "cpu [s]", the entries lcefem.validation.gridshell_fe_current_store reads."""
@@ -367,8 +368,10 @@ def run_gridshell_fe(cfg: GridshellFERunConfig, out: pathlib.Path, progress: boo
                             "junction_heating": model.junction_heating})
         return summary
 
-    return run_path(drive, out, config=cfg.resolved(), history=history, fields=export, progress=bar,
-                    summarize=summarize, comm=comm)
+    problem = PathProblem(drive, clock=TIME if r.drive == "schedule" else LOAD, end=total,
+                          at=lambda s: min(float(s.get(key, 0.0)), total), comm=comm)
+    return run(problem, problem.program(), [StateHistory(history), StateExport(export)], out, config=cfg.resolved(),
+               progress=bar, comm=comm, summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
 
 
 def supports_of(kind: str, **kw) -> GridshellSupports:

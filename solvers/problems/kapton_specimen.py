@@ -4,7 +4,7 @@
 Mesh: :func:`lcefem.meshes.kapton_ribbon.build_ribbon_fe` (Q2 hexahedra, one through the thickness;
 half model about y = W/2). Physics: compressible neo-Hookean Kapton, datasheet E and nu
 (:class:`lcefem.models.hyperelastic.NeoHookeanSolid`). Drive: the end shortening [mm]
-(:meth:`KaptonSpecimenFE.set_shortening`); the path through a list of compressions uses the
+(:meth:`KaptonSpecimenFE.set_drives`); the path through a list of compressions uses the
 project's one path follower (:class:`lcefem.solvers.continuation.PathFollower`).
 
 * :meth:`KaptonSpecimenFE.critical_load` — linearised buckling about the straight state (SLEPc
@@ -12,7 +12,7 @@ project's one path follower (:class:`lcefem.solvers.continuation.PathFollower`).
 * :meth:`KaptonSpecimenFE.add_imperfection` — the first mode as geometric imperfection.
 * :meth:`KaptonSpecimenFE.follow` — displacement-controlled path to the final compression.
 * :class:`KaptonSpecimenFEConfig`, :func:`run_specimen_fe` — ``lcefem run ribbon-buckling --model fe``:
-  the configuration sections and one run through the runner (lcefem.solvers.runner.run_path).
+  the configuration sections and one run through the door (lcefem.solvers.runner.run).
 
 Observables (:meth:`KaptonSpecimenFE.observables`), keys "name [unit]": compressive force [N] on the
 whole specimen, mid-span deflection [mm]. Not to be confused with the twisted LCE ribbon
@@ -49,7 +49,7 @@ from lcefem.solvers.exports import FEFields, write_snapshot
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
 from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
 from lcefem.solvers.runtime.checks import check_config, resolved
-from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
                                       displacement_space, volume_measure)
@@ -121,7 +121,7 @@ class KaptonSpecimenFE:
         X = self.V.tabulate_dof_coordinates()
         return int(np.argmin(np.linalg.norm(X - np.asarray(point), axis=1)))
 
-    def set_shortening(self, shortening: float) -> None:
+    def _set_shortening(self, shortening: float) -> None:
         self.end.value = np.array([-shortening, 0.0, 0.0])
 
     def force(self) -> float:
@@ -154,7 +154,7 @@ class KaptonSpecimenFE:
         guess = np.zeros_like(X)
         guess[:, 0] = -shortening * X[:, 0] / self.length
         self.problem.restore(guess.ravel())
-        self.set_shortening(shortening)
+        self._set_shortening(shortening)
         ok, its, reason = self.problem.solve()
         if not ok:
             raise ConvergenceError(f"straight state at shortening {shortening:g} mm", reason)
@@ -179,7 +179,7 @@ class KaptonSpecimenFE:
         euler = 4.0 * math.pi ** 2 * self.solid.youngs_modulus * spec.second_moment / spec.length ** 2
         d_r = euler * spec.length / (self.solid.youngs_modulus * area) if start is None else float(start)
         self.problem.restore(np.zeros(self.u.x.array.size))
-        self.set_shortening(0.0)
+        self._set_shortening(0.0)
         K0 = self.tangent()
         change = float("nan")
         for _ in range(secant_steps):
@@ -216,7 +216,7 @@ class KaptonSpecimenFE:
         scale = np.max(np.abs(mode.x.array.reshape(-1, 3)[:, 2]))
         mode.x.array[:] /= scale
         self.problem.restore(np.zeros(self.u.x.array.size))
-        self.set_shortening(0.0)
+        self._set_shortening(0.0)
         return CriticalLoad(force, d_r, mode, change)
 
     def add_imperfection(self, mode: dolfinx.fem.Function, amplitude: float) -> None:
@@ -243,7 +243,7 @@ class KaptonSpecimenFE:
         """Displacement-controlled path through the given compressions (end shortening / L) with
         adaptive sub-steps (load parameter t = compression); ``on_step(compression, iterations)``
         after each given compression is reached. Returns the follower (iteration counts)."""
-        follower = PathFollower(self.problem, lambda t: self.set_shortening(t * self.length), control)
+        follower = PathFollower(self.problem, lambda t: self._set_shortening(t * self.length), control)
         for c in compressions:
             before = follower.iterations
             follower.step = max(follower.step, float(c) - follower.t)
@@ -274,7 +274,7 @@ class KaptonSpecimenFE:
         dt = check_quasi_static_step(dt)
         start = -float(self.end.value[0]) / self.length
         goal = start + dt * (self.target_shortening / self.length - start)
-        follower = PathFollower(self.problem, lambda c: self.set_shortening(c * self.length),
+        follower = PathFollower(self.problem, lambda c: self._set_shortening(c * self.length),
                                 PathControl(first_step=1.0, max_step=1.0, min_step=1e-3), t0=start)
         if goal != start:
             follower.follow(goal, where=f"ribbon compression {100 * goal:.3g} %")
@@ -289,7 +289,7 @@ class KaptonSpecimenFE:
 
     def restore_state(self, state: dict) -> None:
         put_arrays([self.u], state["u"])
-        self.set_shortening(state["shortening"])
+        self._set_shortening(state["shortening"])
 
 
 __all__ = ["CriticalLoad", "KaptonSpecimenFE", "KaptonSpecimenFEPath"]
@@ -368,5 +368,8 @@ def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bo
     history = HistoryExport(tuple(FE_COLUMNS), row, where=lambda step: f"compression {step[0]:.4g}",
                             at=lambda step: 100 * step[0])
     fields = FEFields("displacement.bp", (model.u,), model.tmesh.mesh.comm, lambda step: step[0], start=False)
-    return run_path(drive, out, config=cfg.resolved(), history=history, fields=fields, progress=bar,
-                    summarize=summarize)
+    # the load fraction [-] of a state: its compression over the run's
+    problem = PathProblem(drive, clock=LOAD, at=lambda step: step[0] / cfg.run.compression,
+                          comm=model.tmesh.mesh.comm)
+    return run(problem, problem.program(), [StateHistory(history), StateExport(fields)], out, config=cfg.resolved(),
+               progress=bar, summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))

@@ -1,7 +1,7 @@
 """A single LCE strip heated by its embedded coil, in 3D finite strain (seed 001, Fig. 2): the
 thermo-mechanical strip problem (``lcefem run strip``; CLI glue in :mod:`lcefem.validation.commands.strip`).
 
-Drives: the coil current per strip tag (:meth:`StripSimulation.set_current`, tag ``coil``; the
+Drives: the coil current per strip tag (:meth:`StripSimulation.set_drives`, tag ``coil``; the
 current -> power step is :class:`lcefem.models.heat.Coil`), or a prescribed temperature field
 (:meth:`StripSimulation.set_temperature`) or spontaneous-stretch field
 (:meth:`StripSimulation.set_spontaneous_stretch`): uniform, per cell tag, or a callable of the
@@ -182,7 +182,7 @@ class StripSimulation:
                                            petsc_options=config.petsc)
         u = self.model.u
         self._coil_volume = info["coil_area"] * info["length"]  # [mm^3]
-        self.set_current({"coil": config.run.current})
+        self._set_current({"coil": config.run.current})
         # Observables, compiled once.
         one = dolfinx.fem.Constant(mesh, PETSc.ScalarType(1.0))
         self._area_end = assemble_global(dolfinx.fem.form(one * ds(tm.facet_tag("end"))), comm)
@@ -217,7 +217,7 @@ class StripSimulation:
     #: Cell tags that carry a coil (the heated cells of the heat problem).
     COILS = ("coil",)
 
-    def set_current(self, drives: Mapping[str, float]) -> None:
+    def _set_current(self, drives: Mapping[str, float]) -> None:
         """Coil current [A] per strip tag (:attr:`COILS`); the Joule power I^2 R [mW]
         (:meth:`lcefem.models.heat.Coil.power`) is spread over the coil's volume."""
         for tag, current in drives.items():
@@ -425,7 +425,7 @@ class StripSimulation:
         return self.COILS
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
-        self.set_current(drives)
+        self._set_current(drives)
 
     def observables(self) -> dict[str, float]:
         return self.observe(self.time)

@@ -43,7 +43,7 @@ from lcefem.solvers.analysis.rolling import rolling_metrics
 from lcefem.solvers.problems.protocol import StepRecord
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.files import CSVTable, write_json
-from lcefem.solvers.runner import HistoryExport, run_path
+from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.runtime.signals import deferred_signals
 
@@ -357,8 +357,11 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
                             where=lambda s: f"t = {s.row['time [s]']:.4g} s", at=lambda s: s.row["time [s]"],
                             postfix=lambda s: f"y={s.row['centroid_y [mm]']:.2f}mm T={s.row['T_mean [C]']:.1f}C")
     frames = RibbonFrames(sim, out_every, n_steps) if out is not None and fields and out_every else None
-    summary = run_path(drive, out, config=config.resolved(), history=history, fields=frames, progress=bar,
-                       summarize=summarize, exports=(CentroidTable(), LastConvergedState(saved)))
+    problem = PathProblem(drive, end=run_cfg.duration, at=lambda s: s.step * dt)
+    exports = [StateHistory(history), *(StateExport(e) for e in (frames, CentroidTable(), LastConvergedState(saved))
+                                        if e is not None)]
+    summary = run(problem, problem.program(), exports, out, config=config.resolved(), progress=bar,
+                  summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
     return RibbonResult(found["hist"], found["metrics"], summary, out, sim)
 
 

@@ -311,3 +311,22 @@ def test_an_export_time_beyond_the_program_is_refused_and_a_run_in_memory_writes
     summary = run(Slider(), Program.in_time({"motor": 1.0}, 2.0, 1.0), [History(), Fields("slider")], None,
                   config={})
     assert summary["final"]["position [mm]"] == 2.0
+
+
+def test_validation_cases_come_from_the_registrations_in_their_order():
+    """``lcefem validate``'s case modules are those registered with the bodies (and the empirical
+    laws, no body's), in registration order; each body knows its own; a module registered twice or
+    for a body not registered is refused."""
+    from lcefem.solvers import registry
+    from lcefem.validation.cases import CASE_MODULES
+
+    assert CASE_MODULES == [f"lcefem.validation.cases.{m}" for m in registry.CASES]
+    assert CASE_MODULES[:3] == ["lcefem.validation.cases.ribbon", "lcefem.validation.cases.empirical",
+                                "lcefem.validation.cases.beam_bar_hinge"]
+    assert registry.body("gridshell-fe").cases == ("gridshell_fe", "gridshell_heated_fe")
+    assert registry.CASES["empirical"] is None
+    with pytest.raises(ValueError, match="twice"):
+        registry.register_cases("strip", "strip")
+    with pytest.raises(ValueError, match="robot"):
+        registry.register_cases("robot", "robot_case")
+    assert "robot_case" not in registry.CASES

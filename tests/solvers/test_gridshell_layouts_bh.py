@@ -22,7 +22,7 @@ def solve(name: str, support: str, drive: dict) -> GridshellBH:
     layout = NAMED_LAYOUTS[name]
     problem = GridshellBH(ms.structure(layout), GridshellBHConfig(materials=ms.materials_for(layout),
                                                                   support=support))
-    problem.set_lambda(drive)
+    problem.set_drives(drive)
     problem.advance()
     return problem
 

@@ -52,12 +52,13 @@ class _Recorder:
         self.failed_at = state
 
 
-def test_run_path_records_the_due_rows_and_shows_every_step_to_the_exports(tmp_path):
-    """run_path: the history gets only the rows ``when`` marks due, every export sees every step,
-    and the summary is summarize's; a failed step leaves failure.json, no summary.json, and each
-    export gets the last step seen."""
+def test_path_of_its_own_through_the_door_records_the_due_rows_and_shows_every_step(tmp_path):
+    """A body along a path of its own (PathProblem) through the door: the history gets only the
+    rows ``when`` marks due, every export sees every step, and the summary is summarize's; a failed
+    step leaves failure.json, no summary.json, and each export gets the last step seen."""
     from lcefem.models.errors import ConvergenceError
-    from lcefem.solvers.runner import run_path
+    from lcefem.solvers.problems.protocol import LOAD
+    from lcefem.solvers.runner import PathProblem, StateExport, StateHistory, run
     from lcefem.solvers.runtime.run import Progress
 
     history = HistoryExport(("step [-]", "value [mm]"), lambda s: {"step [-]": s, "value [mm]": 0.5 * s},
@@ -69,9 +70,10 @@ def test_run_path_records_the_due_rows_and_shows_every_step_to_the_exports(tmp_p
             on_step(k)
         return "done"
 
-    summary = run_path(drive, tmp_path / "ok", config={}, history=history, fields=None,
-                       progress=Progress(0, "", "", enabled=False), exports=(rec,),
-                       summarize=lambda run, result: {"result": result, "rows": len(run.history.rows)})
+    problem = PathProblem(drive, clock=LOAD, at=lambda s: s / 4)
+    summary = run(problem, problem.program(), [StateHistory(history), StateExport(rec)], tmp_path / "ok",
+                  config={}, progress=Progress(0, "", "", enabled=False),
+                  summarize=lambda run, records: {"result": records[-1].detail, "rows": len(run.history.rows)})
     assert rec.seen == [0, 1, 2, 3, 4]
     assert summary["result"] == "done" and summary["rows"] == 3
     with open(tmp_path / "ok" / "history.csv", newline="") as f:
@@ -84,8 +86,9 @@ def test_run_path_records_the_due_rows_and_shows_every_step_to_the_exports(tmp_p
         on_step(1)
         raise ConvergenceError("step 2", "no convergence")
 
+    problem = PathProblem(failing, end=3.0)  # on the time clock [s]
     with pytest.raises(ConvergenceError):
-        run_path(failing, tmp_path / "bad", config={}, history=history, fields=rec,
-                 progress=Progress(0, "", "", enabled=False), summarize=lambda run, result: {})
+        run(problem, problem.program(), [StateHistory(history), StateExport(rec)], tmp_path / "bad", config={},
+            progress=Progress(0, "", "", enabled=False), summarize=lambda run, records: {})
     assert rec.failed_at == 1
     assert (tmp_path / "bad" / "failure.json").is_file() and not (tmp_path / "bad" / "summary.json").exists()

@@ -161,17 +161,17 @@ def test_beam_drives_are_addressed_by_strip_tag():
 
     geometry, mesh = CompositeBeamGeometry(segments=2), BeamFEMesh(level=0)
     beam = BeamFE(geometry, mesh)
-    beam.set_lambda({"bottom_strips": 1.05})
+    beam.set_drives({"bottom_strips": 1.05})
     assert beam.target == {"top_strips": beam.actuation.lambda_N, "bottom_strips": 1.05}
     with pytest.raises(InputError, match="drive 'kapton'"):
-        beam.set_lambda({"kapton": 1.2})
+        beam.set_drives({"kapton": 1.2})
     with pytest.raises(InputError, match=r"lambda\[top_strips\] = 1.6"):
-        beam.set_lambda({"top_strips": 1.6})
+        beam.set_drives({"top_strips": 1.6})
     assert set(beam.observables()) >= {"curvature [1/mm]", "contact force [N]"}
     heated = HeatedBeamFE(("top_strips", "bottom_strips"), geometry, mesh)
     with pytest.raises(InputError, match="one power density"):
-        heated.set_current({"top_strips": 0.2, "bottom_strips": 0.1})
-    heated.set_current({"top_strips": 0.2, "bottom_strips": 0.2})
+        heated.set_drives({"top_strips": 0.2, "bottom_strips": 0.1})
+    heated.set_drives({"top_strips": 0.2, "bottom_strips": 0.2})
     assert heated.current == 0.2
 
 

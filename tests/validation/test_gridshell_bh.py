@@ -111,18 +111,18 @@ def test_weight_and_table_contact():
 
 
 def test_problem_class_matches_the_study_route():
-    # solvers/problems/gridshell_bh.py: set_lambda / advance / observables give the study's answer
+    # solvers/problems/gridshell_bh.py: set_drives / advance / observables give the study's answer
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
     lambdas = {"Tx": 1.33, "Bx": 1.05}
     ref = _solve(lambdas)
     g = GridshellBH(build_gridshell_bar_hinge(layout=ONE), GridshellBHConfig(support="middle_rollers"))
-    g.set_lambda(lambdas)
+    g.set_drives(lambdas)
     g.advance()
     obs = g.observables()
     assert obs["circle kappa_x [1/mm]"] == pytest.approx(ref.curvatures["circle_x"], rel=1e-9)
     assert obs["circle kappa_y [1/mm]"] == pytest.approx(ref.curvatures["circle_y"], abs=1e-12)
     # a second drive continues from the reached state (strips not named keep their targets)
-    g.set_lambda({"Tx": 1.2})
+    g.set_drives({"Tx": 1.2})
     assert np.all(g.lambda_of("bottom_strips")[np.isclose(g.lambda_of("bottom_strips"), 1.05)] == 1.05)
     g.advance()
     fresh = _solve({"Tx": 1.2, "Bx": 1.05})

@@ -42,7 +42,7 @@ def run_one(name: str, model_set: str) -> dict:
     t0 = time.process_time()
     structure = ms.structure(layout)
     problem = GridshellBH(structure, GridshellBHConfig(materials=ms.materials_for(layout), support=support))
-    problem.set_lambda(drive)
+    problem.set_drives(drive)
     with EigenTimer() as eig:
         path = problem.advance()
     cpu = time.process_time() - t0

@@ -8,8 +8,8 @@ resolution measure for reduced-order models, e.g. rod edge length) when it has o
 ``ctx.quick`` asks for the coarse resolution used in CI; ``ctx.level`` (int or None) asks for a given
 refinement level (used by ``lcefem converge``; None means the case's default resolution).
 
-Case modules are listed in CASE_MODULES and imported on first use, so a case that needs no FEniCSx
-never imports it.
+Case modules are listed in CASE_MODULES (from their registrations with the bodies they validate,
+lcefem.solvers.registry) and imported on first use, so a case that needs no FEniCSx never imports it.
 
 Helpers: ``ctx.case`` is the running case's name (a Metric built with case "" gets it from the runner);
 ``ctx.path(name)`` is ``ctx.out / name``; :func:`write_csv` writes columns with units in the headers;
@@ -27,29 +27,16 @@ import pathlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+from lcefem.solvers.registry import case_modules
+
 #: Marks an informative row that has a reference but is deliberately not judged; the text after it
 #: says why (a what-if, a model vs model comparison with no agreed band, a pre-asymptotic pair...).
 #: The report counts informative rows with a reference that lack it as "without a reason".
 NOT_JUDGED = "not judged: "
 
-#: Modules that define cases (imported lazily by :func:`registry`).
-CASE_MODULES: list[str] = [
-    "lcefem.validation.cases.ribbon",
-    "lcefem.validation.cases.empirical",
-    "lcefem.validation.cases.beam_bar_hinge",
-    "lcefem.validation.cases.strip",
-    "lcefem.validation.cases.beam_fe",
-    "lcefem.validation.cases.ribbon_fe",
-    "lcefem.validation.cases.gridshell_bh",
-    "lcefem.validation.cases.gridshell_fe",
-    "lcefem.validation.cases.gridshell_heated_fe",
-    "lcefem.validation.cases.gridshell_uncertainty",
-    "lcefem.validation.cases.gridshell_design_bh",
-    "lcefem.validation.cases.gridshell_reach_bh",
-    "lcefem.validation.cases.gridshell_fig5_bh",
-    "lcefem.validation.cases.gridshell_control_bh",
-    "lcefem.validation.cases.gridshell_bh_vs_fe",
-]
+#: Modules that define cases (imported lazily by :func:`registry`), in the order of their
+#: registration with the bodies they validate (lcefem.solvers.registry.register_cases).
+CASE_MODULES: list[str] = case_modules()
 
 
 @dataclass(frozen=True)

@@ -216,7 +216,7 @@ def _equilibrium(level: int, lambda_top: float, lambda_bottom: float):
     if kept is not None:
         started = time.perf_counter()
         model = beam_fe.BeamFE(mesh=BeamFEMesh(level=level))
-        model.set_lambda({"top_strips": lambda_top, "bottom_strips": lambda_bottom})
+        model.set_drives({"top_strips": lambda_top, "bottom_strips": lambda_bottom})
         model.set_lambdas(lambda_top, lambda_bottom)
         model.problem.restore(kept)
         ok, its, _ = model.problem.solve()
