@@ -71,7 +71,7 @@ from lcefem.solvers.heat import HeatSetup, settled
 from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_measure
 from lcefem.solvers.probes import PointProbe, StationCurvature
 from lcefem.solvers.problems.body_case import AXES, REGION_THERMAL, BodyCase
-from lcefem.solvers.problems.protocol import copy_arrays, put_arrays
+from lcefem.solvers.problems.protocol import LOAD, TIME, copy_arrays, put_arrays
 from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.supports import clamp_face, plane_clamp, point_support, rigid_body_321
@@ -680,8 +680,8 @@ def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = T
         return {"mesh": {**problem.mesh_info, "mpi_ranks": problem.comm.size}, **result,
                 "final": final, "wall_time [s]": time.perf_counter() - started}
 
-    path = PathProblem(drive, end=prog["duration"], comm=problem.comm,
-                       at=lambda s: min(s[0]["time [s]"], prog["duration"]))  # the steady state's inf: the end
+    path = PathProblem(drive, clock=LOAD if ramp else TIME, end=end, comm=problem.comm,
+                       at=lambda s: min(s[0][clock], end))  # the steady state's inf: the end
     summary = run(path, path.program(), [StateHistory(history), *(StateExport(e) for e in exports)], out,
                   config=case.resolved(), progress=bar, comm=problem.comm,
                   summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
