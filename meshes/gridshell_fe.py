@@ -4,9 +4,12 @@ composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`, :class:`C
 and the layout and connectivity of the published reduced-order model
 (shared/reference/gridshell_recipes.md, published_reduced_model.md).
 
-Built directly as a tensor-product hex grid, not with gmsh, for the FE beam's reasons
-(:mod:`lcefem.meshes._hexgrid`): unbonded strip faces keep their own nodes, and strips and ribbons
-share (x, y) stations for the node-pair contact.
+Made by gmsh (``GridshellFEMesh.mesher = "gmsh"``, the default since issue 47;
+:mod:`lcefem.meshes.gridshell_fe_gmsh`: one transfinite, recombined block of gmsh's built-in kernel
+per piece and layer of the plan below) or built directly as a tensor-product hex grid
+(``"hexgrid"``, :mod:`lcefem.meshes._hexgrid`). Both give the same vertices, cells and tags: unbonded
+strip faces keep their own nodes, and strips and ribbons share (x, y) stations for the node-pair
+contact.
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid's mid-surface. n ribbons
 run along x and n along y; each has n + 1 segments of length L joined by n junction squares d x d
@@ -118,6 +121,9 @@ MATERIAL_CELLS = ("kapton", "glue", "bottom_pads", "top_pads")
 FE_FACETS = ("ribbon_top", "ribbon_bottom", "top_strip_underside", "bottom_strip_topside",
              "ribbon_ends_x", "ribbon_ends_y", "centre_junction", "sym_x", "sym_y", "surface")
 
+#: The two builders of the same mesh (GridshellFEMesh.mesher).
+MESHERS = ("gmsh", "hexgrid")
+
 _BEAM = BeamFEMesh()
 
 
@@ -141,6 +147,9 @@ class GridshellFEMesh:
     end_tab: float = param(_BEAM.end_tab, "mm", "as the FE beam (BeamFEMesh.end_tab): flat ribbon "
                            "tab at each ribbon end, under which the end bottom strips are bonded",
                            positive=True)
+    mesher: str = param("gmsh", "-", "'gmsh' (meshes.gridshell_fe_gmsh: blocks of gmsh's built-in "
+                        "kernel, transfinite and recombined) or 'hexgrid' (the structured grid built "
+                        "directly, before issue 47); both give the same vertices, cells and tags")
 
     def element_size(self) -> float:
         """In-plane element size [mm] at this level."""
@@ -148,6 +157,8 @@ class GridshellFEMesh:
 
     def checked(self) -> "GridshellFEMesh":
         check(self, "mesh")
+        if self.mesher not in MESHERS:
+            raise InputError(f"mesh.mesher = {self.mesher!r}: allowed {', '.join(MESHERS)}")
         for name in ("level", "ribbon_layers", "strip_layers"):
             if not isinstance(getattr(self, name), int):
                 raise InputError(f"mesh.{name} = {getattr(self, name)!r}: must be an integer")
@@ -291,6 +302,30 @@ def _regions(px: tuple, py: tuple, n: int) -> tuple[bool, str | None, str | None
 
 
 # --------------------------------------------------------------------------- builder
+def _checked_inputs(geometry: CompositeBeamGeometry, lambda_N: float, mesh: "GridshellFEMesh",
+                    cells: int, symmetry: str) -> tuple:
+    """The builders' checked inputs: (geometry, n, mesh, t_p, W, W_s, H) [mm]; one-line InputError."""
+    g = geometry
+    if not isinstance(cells, int) or isinstance(cells, bool) or not 1 <= cells <= 39:
+        raise InputError(f"cells = {cells!r}: must be an integer from 1 to 39 (ribbons per direction)")
+    if symmetry not in SYMMETRIES:
+        raise InputError(f"symmetry = {symmetry!r}: allowed {', '.join(SYMMETRIES)}")
+    n = cells
+    dataclasses.replace(g, segments=n + 1).checked()
+    m = mesh.checked()
+    if not (isinstance(lambda_N, (int, float)) and lambda_N >= 1.0):
+        raise InputError(f"lambda_N = {lambda_N}: must be >= 1")
+    if abs(g.junction_length - g.ribbon_width) > 1e-12:
+        raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
+                         f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
+    tp, W = g.ribbon_thickness, g.ribbon_width
+    ws, H = g.strip_width / math.sqrt(lambda_N), g.strip_thickness / math.sqrt(lambda_N)
+    if not ws < W:
+        raise InputError(f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
+                         f"narrower than the ribbon ({W} mm)")
+    return g, n, m, tp, W, ws, H
+
+
 def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
                        mesh: GridshellFEMesh = GridshellFEMesh(), comm=None, cells: int = 3,
                        symmetry: str = "quarter"):
@@ -314,24 +349,10 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     mesh's), as-built dimensions, ``junction_centres``, ``centre_junction_corners``, counts.
     """
     comm = resolve_comm(comm)
-    g = geometry
-    if not isinstance(cells, int) or isinstance(cells, bool) or not 1 <= cells <= 39:
-        raise InputError(f"cells = {cells!r}: must be an integer from 1 to 39 (ribbons per direction)")
-    if symmetry not in SYMMETRIES:
-        raise InputError(f"symmetry = {symmetry!r}: allowed {', '.join(SYMMETRIES)}")
-    n = cells
-    dataclasses.replace(g, segments=n + 1).checked()
-    m = mesh.checked()
-    if not (isinstance(lambda_N, (int, float)) and lambda_N >= 1.0):
-        raise InputError(f"lambda_N = {lambda_N}: must be >= 1")
-    if abs(g.junction_length - g.ribbon_width) > 1e-12:
-        raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
-                         f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
-    tp, W = g.ribbon_thickness, g.ribbon_width
-    ws, H = g.strip_width / math.sqrt(lambda_N), g.strip_thickness / math.sqrt(lambda_N)
-    if not ws < W:
-        raise InputError(f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
-                         f"narrower than the ribbon ({W} mm)")
+    g, n, m, tp, W, ws, H = _checked_inputs(geometry, lambda_N, mesh, cells, symmetry)
+    if m.mesher == "gmsh":
+        from lcefem.meshes.gridshell_fe_gmsh import build_gridshell_fe_gmsh
+        return build_gridshell_fe_gmsh(geometry, lambda_N, mesh, comm, cells, symmetry)
     cut_x, cut_y = SYMMETRIES[symmetry]
     mult = m.level + 1
     length = (n + 1) * g.segment_length + n * g.junction_length
@@ -416,21 +437,32 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     tag_of = {v: k for k, v in tag.items()}
     present_names = [tag_of[v] for v in present]
     strips = {k: v for k, v in catalogue.items() if k in tag and tag[k] in present}
-    info = {
+    info = _info(g, n, m, symmetry, float(lambda_N), ws, H, strips,
+                 _cell_groups(present_names, tag, strips))
+    info["mesher"] = "hexgrid"
+    info.update(cells=int(cell_nodes.shape[0]), nodes=int(x.shape[0]))
+    return tagged_hex_mesh(comm, cell_nodes, x, np.asarray(cell_values, np.int32), faces,
+                           facet_values, tag, ftag, info)
+
+
+def _info(g: CompositeBeamGeometry, n: int, m: "GridshellFEMesh", symmetry: str, lambda_N: float,
+          ws: float, H: float, strips: dict, cell_groups: dict) -> dict:
+    """The builders' ``info`` (lengths [mm]; :func:`build_gridshell_fe`)."""
+    tp, W = g.ribbon_thickness, g.ribbon_width
+    length = (n + 1) * g.segment_length + n * g.junction_length
+    centre = 0.5 * length
+    return {
         "cells_per_direction": n, "ribbon_length": length, "centre": centre,
         "symmetry": symmetry, "symmetry_factor": {"quarter": 4, "half_x": 2, "half_y": 2,
                                                   "full": 1}[symmetry],
         "ribbon_thickness": tp, "ribbon_width": W, "strip_width": ws, "strip_thickness": H,
-        "top_strip_height": z_c, "lambda_N": float(lambda_N), "element_size": m.element_size(),
-        "level": m.level, "end_tab": m.end_tab,
+        "top_strip_height": g.top_strip_height, "lambda_N": float(lambda_N),
+        "element_size": m.element_size(), "level": m.level, "end_tab": m.end_tab,
         "junction_centres": tuple(float(c) for c in junction_centres(g, n)),
         "centre_junction_corners": (tuple((centre + a, centre + b, 0.0) for a in (-0.5 * W, 0.5 * W)
                                           for b in (-0.5 * W, 0.5 * W)) if n % 2 == 1 else ()),
-        "strips": strips, "cell_groups": _cell_groups(present_names, tag, strips),
-        "cells": int(cell_nodes.shape[0]), "nodes": int(x.shape[0]),
+        "strips": strips, "cell_groups": cell_groups,
     }
-    return tagged_hex_mesh(comm, cell_nodes, x, np.asarray(cell_values, np.int32), faces,
-                           facet_values, tag, ftag, info)
 
 
 def _facet_names(pts: np.ndarray, sides: np.ndarray, body: np.ndarray, cut_x: bool, cut_y: bool,
