@@ -1,6 +1,6 @@
 """The FE gridshell's hexahedral mesh made by gmsh (the project's mesher) from the same plan as the
 structured builder (:mod:`lcefem.meshes.gridshell_fe`): every in-plane piece of the plan (tab, flank,
-crown, junction part; :func:`~lcefem.meshes.gridshell_fe._axis_pieces`) times every layer (bottom
+crown, junction part; :func:`~lcefem.meshes.gridshell_fe.axis_pieces`) times every layer (bottom
 strip, ribbon, top strip) is one block of gmsh's built-in kernel, meshed transfinite and recombined
 into hexahedra with the plan's element counts (``divisions``), so the cells are the hex8 cells of the
 structured builder (Q2 fields on top, as there).
@@ -34,8 +34,8 @@ from lcefem.meshes._hexgrid import divisions
 from lcefem.meshes.communicator import resolve_comm
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell_fe import (FE_FACETS, MATERIAL_CELLS, SYMMETRIES, GridshellFEMesh,
-                                        _arch_at, _axis_pieces, _axis_stations, _cell_groups,
-                                        _checked_inputs, _facet_names, _info, _regions,
+                                        arch_at, axis_pieces, axis_stations, cell_groups_of,
+                                        checked_inputs, facet_names_of, mesh_info, plan_regions,
                                         strip_catalogue)
 
 #: Layer index of each body: bottom strips (0), ribbon (1), top strips (2); z levels 0..3 bound them.
@@ -57,11 +57,12 @@ def _bonded(blocks: set, kind: str, i: int, j: int) -> bool:
 
 def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
                             mesh: GridshellFEMesh = GridshellFEMesh(), comm=None, cells: int = 3,
-                            symmetry: str = "quarter", shear_angle: float = 90.0):
+                            symmetry: str = "quarter", shear_angle: float | None = None):
     """Hexahedral mesh of the as-built n x n gridshell made by gmsh (module docstring); arguments,
     tags and ``info`` as :func:`lcefem.meshes.gridshell_fe.build_gridshell_fe`.
 
-    ``shear_angle`` [deg]: the angle between the two ribbon families (90: the orthogonal grid); at
+    ``shear_angle`` [deg] (default ``mesh.shear_angle``): the angle between the two ribbon
+    families (90: the orthogonal grid); at
     another angle the built mesh is mapped (x, y) -> x e1 + y e2, e1 = (1, 0), e2 = (cos a, sin a)
     (the rhombic layout; ``geometry`` in the oblique coordinates, :meth:`Layout.geometry`), a full
     model only (the mirror planes x = c, y = c are not mirror planes of a rhombic grid);
@@ -71,7 +72,8 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
     from lcefem.models.errors import InputError
 
     comm = resolve_comm(comm)
-    g, n, m, tp, W, ws, H = _checked_inputs(geometry, lambda_N, mesh, cells, symmetry)
+    g, n, m, tp, W, ws, H = checked_inputs(geometry, lambda_N, mesh, cells, symmetry)
+    shear_angle = m.shear_angle if shear_angle is None else shear_angle
     if not (isinstance(shear_angle, (int, float)) and 30.0 <= shear_angle <= 150.0):
         raise InputError(f"shear_angle = {shear_angle!r}: must be from 30 to 150 deg")
     if shear_angle != 90.0 and symmetry != "full":
@@ -81,9 +83,9 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
     mult = m.level + 1
     length = (n + 1) * g.segment_length + n * g.junction_length
     centre = 0.5 * length
-    pieces = [_axis_pieces(g, n, m.end_tab, ws, cut) for cut in (cut_x, cut_y)]
+    pieces = [axis_pieces(g, n, m.end_tab, ws, cut) for cut in (cut_x, cut_y)]
     # the plan's stations (the structured builder's nodes) and each piece's element count
-    stations = [_axis_stations(p, m.size, mult)[0] for p in pieces]
+    stations = [axis_stations(p, m.size, mult)[0] for p in pieces]
     coarse = [np.array([p[0] for p in ps] + [ps[-1][1]]) for ps in pieces]
     counts = [[divisions(p[1] - p[0], m.size, mult) for p in ps] for ps in pieces]
     z_levels = (-0.5 * tp - H, -0.5 * tp, 0.5 * tp, 0.5 * tp + H)
@@ -96,7 +98,7 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
     bonded = {"b": set(), "t": set()}
     for i, pxi in enumerate(pieces[0]):
         for j, pyj in enumerate(pieces[1]):
-            ribbon, bottom, top = _regions(pxi, pyj, n)
+            ribbon, bottom, top = plan_regions(pxi, pyj, n)
             if not ribbon:
                 continue
             blocks.append((i, j, "r", "kapton"))
@@ -112,8 +114,8 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
     ftag = {name: k for k, name in enumerate(FE_FACETS, start=1)}
     strips = {k: v for k, v in catalogue.items() if k in {b[3] for b in blocks}}
     present_names = sorted({b[3] for b in blocks}, key=tag.get)
-    info = _info(g, n, m, symmetry, float(lambda_N), ws, H, strips,
-                 _cell_groups(present_names, tag, strips))
+    info = mesh_info(g, n, m, symmetry, float(lambda_N), ws, H, strips,
+                 cell_groups_of(present_names, tag, strips))
     info["mesher"] = "gmsh"
     if shear_angle != 90.0:
         a = math.radians(shear_angle)
@@ -218,7 +220,7 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
             pts = np.array([c for _, (_, _, c) in outer], dtype=float).reshape(-1, 4, 3)
             sides = np.array([u[0] for _, u in outer])
             bodies = np.array([u[1] for _, u in outer])
-            facet_names = _facet_names(pts, sides, bodies, cut_x, cut_y, centre,
+            facet_names = facet_names_of(pts, sides, bodies, cut_x, cut_y, centre,
                                        (-m.end_tab, length + m.end_tab), 0.5 * g.junction_length,
                                        n % 2 == 1, 1e-9 * length)
             for name in sorted(volumes, key=tag.get):
@@ -262,7 +264,7 @@ def _place_nodes(model, volumes: dict, stations, g, n: int, z_levels, thickness,
     iy = _station_index(x[:, 1], stations[1], tol)
     x[:, 0], x[:, 1] = stations[0][ix], stations[1][iy]
     # the arch at the stations, as the structured builder evaluates it (bit for bit)
-    mid = _arch_at(g, n, stations[0])[ix] + _arch_at(g, n, stations[1])[iy]
+    mid = arch_at(g, n, stations[0])[ix] + arch_at(g, n, stations[1])[iy]
     is_r = np.fromiter((int(t) in body_nodes["r"] for t in node_tags), bool, len(node_tags))
     is_t = np.fromiter((int(t) in body_nodes["t"] for t in node_tags), bool, len(node_tags)) & ~is_r
     on_crown = np.zeros(len(node_tags), dtype=bool)
@@ -305,8 +307,6 @@ def build_layout_fe(layout, geometry: CompositeBeamGeometry, lambda_N: float,
     layers of strips), and unbonded junctions (``glued`` other than 'all': the FE plan bonds every
     crossing).
     """
-    import dataclasses
-
     from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS
     from lcefem.models.errors import InputError
 
@@ -316,13 +316,22 @@ def build_layout_fe(layout, geometry: CompositeBeamGeometry, lambda_N: float,
                          f"{', '.join(BAR_HINGE_KINDS)} (two families of ribbons, two strips a junction)")
     if layout.glued != "all":
         raise InputError(f"layout.glued = {layout.glued!r}: the FE mesh bonds every junction; allowed 'all'")
-    g = layout.geometry(geometry)
-    if layout.oblique:
-        s = math.sin(math.radians(layout.angle))
-        g = dataclasses.replace(g, strip_width=g.strip_width / s)
+    g = layout_fe_geometry(layout, geometry)
     if symmetry is None:
         symmetry = "full" if layout.oblique else "quarter"
     tm = build_gridshell_fe_gmsh(g, lambda_N, mesh, comm, layout.ribbons, symmetry,
                                  shear_angle=float(layout.angle))
     tm.info["layout"] = {"kind": layout.kind, "ribbons": layout.ribbons, "angle": float(layout.angle)}
     return tm
+
+
+def layout_fe_geometry(layout, geometry: CompositeBeamGeometry) -> CompositeBeamGeometry:
+    """The FE mesh's geometry of a layout in the builder's (oblique) coordinates:
+    :meth:`Layout.geometry`, and on a rhombic layout the cast strip width / sin a, so that a strip
+    keeps its width across itself after the map (x, y) -> x e1 + y e2 (as the ribbon does)."""
+    import dataclasses
+
+    g = layout.checked().geometry(geometry)
+    if layout.oblique:
+        g = dataclasses.replace(g, strip_width=g.strip_width / math.sin(math.radians(layout.angle)))
+    return g
