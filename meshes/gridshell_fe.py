@@ -4,9 +4,12 @@ composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`, :class:`C
 and the layout and connectivity of the published reduced-order model
 (shared/reference/gridshell_recipes.md, published_reduced_model.md).
 
-Built directly as a tensor-product hex grid, not with gmsh, for the FE beam's reasons
-(:mod:`lcefem.meshes._hexgrid`): unbonded strip faces keep their own nodes, and strips and ribbons
-share (x, y) stations for the node-pair contact.
+Made by gmsh (``GridshellFEMesh.mesher = "gmsh"``, the default since issue 47;
+:mod:`lcefem.meshes.gridshell_fe_gmsh`: one transfinite, recombined block of gmsh's built-in kernel
+per piece and layer of the plan below) or built directly as a tensor-product hex grid
+(``"hexgrid"``, :mod:`lcefem.meshes._hexgrid`). Both give the same vertices, cells and tags: unbonded
+strip faces keep their own nodes, and strips and ribbons share (x, y) stations for the node-pair
+contact.
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid's mid-surface. n ribbons
 run along x and n along y; each has n + 1 segments of length L joined by n junction squares d x d
@@ -118,6 +121,9 @@ MATERIAL_CELLS = ("kapton", "glue", "bottom_pads", "top_pads")
 FE_FACETS = ("ribbon_top", "ribbon_bottom", "top_strip_underside", "bottom_strip_topside",
              "ribbon_ends_x", "ribbon_ends_y", "centre_junction", "sym_x", "sym_y", "surface")
 
+#: The two builders of the same mesh (GridshellFEMesh.mesher).
+MESHERS = ("gmsh", "hexgrid")
+
 _BEAM = BeamFEMesh()
 
 
@@ -141,6 +147,12 @@ class GridshellFEMesh:
     end_tab: float = param(_BEAM.end_tab, "mm", "as the FE beam (BeamFEMesh.end_tab): flat ribbon "
                            "tab at each ribbon end, under which the end bottom strips are bonded",
                            positive=True)
+    mesher: str = param("gmsh", "-", "'gmsh' (meshes.gridshell_fe_gmsh: blocks of gmsh's built-in "
+                        "kernel, transfinite and recombined) or 'hexgrid' (the structured grid built "
+                        "directly, before issue 47); both give the same vertices, cells and tags")
+    shear_angle: float = param(90.0, "deg", "angle between the two ribbon families (gmsh mesher; 90: "
+                               "seed 001's orthogonal grid; another angle: the rhombic layout, "
+                               "meshes.gridshell_layout, a full model only)", minimum=30.0, maximum=150.0)
 
     def element_size(self) -> float:
         """In-plane element size [mm] at this level."""
@@ -148,6 +160,10 @@ class GridshellFEMesh:
 
     def checked(self) -> "GridshellFEMesh":
         check(self, "mesh")
+        if self.mesher not in MESHERS:
+            raise InputError(f"mesh.mesher = {self.mesher!r}: allowed {', '.join(MESHERS)}")
+        if self.shear_angle != 90.0 and self.mesher != "gmsh":
+            raise InputError(f"mesh.shear_angle = {self.shear_angle}: only with mesh.mesher = 'gmsh'")
         for name in ("level", "ribbon_layers", "strip_layers"):
             if not isinstance(getattr(self, name), int):
                 raise InputError(f"mesh.{name} = {getattr(self, name)!r}: must be an integer")
@@ -214,7 +230,7 @@ def cell_group(tmesh, name: str) -> tuple[int, ...]:
 
 
 # --------------------------------------------------------------------------- axis pieces
-def _axis_pieces(g: CompositeBeamGeometry, n: int, tab: float, ws: float, cut: bool) -> list[tuple]:
+def axis_pieces(g: CompositeBeamGeometry, n: int, tab: float, ws: float, cut: bool) -> list[tuple]:
     """Pieces (t0, t1, kind, index, top, in_band) along either axis [mm]: the FE beam's pieces of a
     ribbon of n + 1 segments, each junction split at the strip band c +- W_s/2 (the crossing
     ribbon's strips); ``top`` = (junction, side) of the top-strip half over the piece or None;
@@ -239,7 +255,7 @@ def _axis_pieces(g: CompositeBeamGeometry, n: int, tab: float, ws: float, cut: b
     return out
 
 
-def _axis_stations(pieces: list[tuple], size: float, mult: int) -> tuple[np.ndarray, list[tuple]]:
+def axis_stations(pieces: list[tuple], size: float, mult: int) -> tuple[np.ndarray, list[tuple]]:
     """Stations [mm] along the axis and, per 1D cell, its piece."""
     ts, cell_piece = [pieces[0][0]], []
     for p in pieces:
@@ -249,7 +265,7 @@ def _axis_stations(pieces: list[tuple], size: float, mult: int) -> tuple[np.ndar
     return np.asarray(ts), cell_piece
 
 
-def _arch_at(g: CompositeBeamGeometry, n: int, ts: np.ndarray) -> np.ndarray:
+def arch_at(g: CompositeBeamGeometry, n: int, ts: np.ndarray) -> np.ndarray:
     """Arch height [mm] of a ribbon along the axis at stations ts (zero on junctions and tabs)."""
     z = np.zeros(ts.size)
     for s in range(n + 1):
@@ -259,7 +275,7 @@ def _arch_at(g: CompositeBeamGeometry, n: int, ts: np.ndarray) -> np.ndarray:
     return z
 
 
-def _regions(px: tuple, py: tuple, n: int) -> tuple[bool, str | None, str | None]:
+def plan_regions(px: tuple, py: tuple, n: int) -> tuple[bool, str | None, str | None]:
     """(ribbon?, bottom-layer name, top-layer name) of the in-plane cell with axis pieces px, py."""
     jx, jy = px[2] == "junction", py[2] == "junction"
     if jx and jy:  # junction square (px index, py index)
@@ -291,6 +307,30 @@ def _regions(px: tuple, py: tuple, n: int) -> tuple[bool, str | None, str | None
 
 
 # --------------------------------------------------------------------------- builder
+def checked_inputs(geometry: CompositeBeamGeometry, lambda_N: float, mesh: "GridshellFEMesh",
+                    cells: int, symmetry: str) -> tuple:
+    """The builders' checked inputs: (geometry, n, mesh, t_p, W, W_s, H) [mm]; one-line InputError."""
+    g = geometry
+    if not isinstance(cells, int) or isinstance(cells, bool) or not 1 <= cells <= 39:
+        raise InputError(f"cells = {cells!r}: must be an integer from 1 to 39 (ribbons per direction)")
+    if symmetry not in SYMMETRIES:
+        raise InputError(f"symmetry = {symmetry!r}: allowed {', '.join(SYMMETRIES)}")
+    n = cells
+    dataclasses.replace(g, segments=n + 1).checked()
+    m = mesh.checked()
+    if not (isinstance(lambda_N, (int, float)) and lambda_N >= 1.0):
+        raise InputError(f"lambda_N = {lambda_N}: must be >= 1")
+    if abs(g.junction_length - g.ribbon_width) > 1e-12:
+        raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
+                         f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
+    tp, W = g.ribbon_thickness, g.ribbon_width
+    ws, H = g.strip_width / math.sqrt(lambda_N), g.strip_thickness / math.sqrt(lambda_N)
+    if not ws < W:
+        raise InputError(f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
+                         f"narrower than the ribbon ({W} mm)")
+    return g, n, m, tp, W, ws, H
+
+
 def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
                        mesh: GridshellFEMesh = GridshellFEMesh(), comm=None, cells: int = 3,
                        symmetry: str = "quarter"):
@@ -314,31 +354,17 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     mesh's), as-built dimensions, ``junction_centres``, ``centre_junction_corners``, counts.
     """
     comm = resolve_comm(comm)
-    g = geometry
-    if not isinstance(cells, int) or isinstance(cells, bool) or not 1 <= cells <= 39:
-        raise InputError(f"cells = {cells!r}: must be an integer from 1 to 39 (ribbons per direction)")
-    if symmetry not in SYMMETRIES:
-        raise InputError(f"symmetry = {symmetry!r}: allowed {', '.join(SYMMETRIES)}")
-    n = cells
-    dataclasses.replace(g, segments=n + 1).checked()
-    m = mesh.checked()
-    if not (isinstance(lambda_N, (int, float)) and lambda_N >= 1.0):
-        raise InputError(f"lambda_N = {lambda_N}: must be >= 1")
-    if abs(g.junction_length - g.ribbon_width) > 1e-12:
-        raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
-                         f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
-    tp, W = g.ribbon_thickness, g.ribbon_width
-    ws, H = g.strip_width / math.sqrt(lambda_N), g.strip_thickness / math.sqrt(lambda_N)
-    if not ws < W:
-        raise InputError(f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
-                         f"narrower than the ribbon ({W} mm)")
+    g, n, m, tp, W, ws, H = checked_inputs(geometry, lambda_N, mesh, cells, symmetry)
+    if m.mesher == "gmsh":
+        from lcefem.meshes.gridshell_fe_gmsh import build_gridshell_fe_gmsh
+        return build_gridshell_fe_gmsh(geometry, lambda_N, mesh, comm, cells, symmetry)
     cut_x, cut_y = SYMMETRIES[symmetry]
     mult = m.level + 1
     length = (n + 1) * g.segment_length + n * g.junction_length
     centre = 0.5 * length
-    xs, px = _axis_stations(_axis_pieces(g, n, m.end_tab, ws, cut_x), m.size, mult)
-    ys, py = _axis_stations(_axis_pieces(g, n, m.end_tab, ws, cut_y), m.size, mult)
-    arch_x, arch_y = _arch_at(g, n, xs), _arch_at(g, n, ys)
+    xs, px = axis_stations(axis_pieces(g, n, m.end_tab, ws, cut_x), m.size, mult)
+    ys, py = axis_stations(axis_pieces(g, n, m.end_tab, ws, cut_y), m.size, mult)
+    arch_x, arch_y = arch_at(g, n, xs), arch_at(g, n, ys)
     z_c = g.top_strip_height
 
     # in-plane regions, and the in-plane nodes bonded below (pads) and above (crown pads)
@@ -350,7 +376,7 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     bonded_top = np.zeros((xs.size, ys.size), dtype=bool)
     for i, pxi in enumerate(px):
         for j, pyj in enumerate(py):
-            ribbon, bottom, top = _regions(pxi, pyj, n)
+            ribbon, bottom, top = plan_regions(pxi, pyj, n)
             if not ribbon:
                 continue
             plan.append((i, j, bottom, top))
@@ -406,7 +432,7 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     cell_body = np.asarray(cell_body)
 
     faces, sides, owner = exterior_faces(cell_nodes)
-    facet_values = _facet_names(x[faces], sides, cell_body[owner], cut_x, cut_y, centre,
+    facet_values = facet_names_of(x[faces], sides, cell_body[owner], cut_x, cut_y, centre,
                                 (-m.end_tab, length + m.end_tab), 0.5 * g.junction_length,
                                 n % 2 == 1, 1e-9 * length)
     ftag = {name: k for k, name in enumerate(FE_FACETS, start=1)}
@@ -416,24 +442,35 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     tag_of = {v: k for k, v in tag.items()}
     present_names = [tag_of[v] for v in present]
     strips = {k: v for k, v in catalogue.items() if k in tag and tag[k] in present}
-    info = {
-        "cells_per_direction": n, "ribbon_length": length, "centre": centre,
-        "symmetry": symmetry, "symmetry_factor": {"quarter": 4, "half_x": 2, "half_y": 2,
-                                                  "full": 1}[symmetry],
-        "ribbon_thickness": tp, "ribbon_width": W, "strip_width": ws, "strip_thickness": H,
-        "top_strip_height": z_c, "lambda_N": float(lambda_N), "element_size": m.element_size(),
-        "level": m.level, "end_tab": m.end_tab,
-        "junction_centres": tuple(float(c) for c in junction_centres(g, n)),
-        "centre_junction_corners": (tuple((centre + a, centre + b, 0.0) for a in (-0.5 * W, 0.5 * W)
-                                          for b in (-0.5 * W, 0.5 * W)) if n % 2 == 1 else ()),
-        "strips": strips, "cell_groups": _cell_groups(present_names, tag, strips),
-        "cells": int(cell_nodes.shape[0]), "nodes": int(x.shape[0]),
-    }
+    info = mesh_info(g, n, m, symmetry, float(lambda_N), ws, H, strips,
+                 cell_groups_of(present_names, tag, strips))
+    info["mesher"] = "hexgrid"
+    info.update(cells=int(cell_nodes.shape[0]), nodes=int(x.shape[0]))
     return tagged_hex_mesh(comm, cell_nodes, x, np.asarray(cell_values, np.int32), faces,
                            facet_values, tag, ftag, info)
 
 
-def _facet_names(pts: np.ndarray, sides: np.ndarray, body: np.ndarray, cut_x: bool, cut_y: bool,
+def mesh_info(g: CompositeBeamGeometry, n: int, m: "GridshellFEMesh", symmetry: str, lambda_N: float,
+          ws: float, H: float, strips: dict, cell_groups: dict) -> dict:
+    """The builders' ``info`` (lengths [mm]; :func:`build_gridshell_fe`)."""
+    tp, W = g.ribbon_thickness, g.ribbon_width
+    length = (n + 1) * g.segment_length + n * g.junction_length
+    centre = 0.5 * length
+    return {
+        "cells_per_direction": n, "ribbon_length": length, "centre": centre,
+        "symmetry": symmetry, "symmetry_factor": {"quarter": 4, "half_x": 2, "half_y": 2,
+                                                  "full": 1}[symmetry],
+        "ribbon_thickness": tp, "ribbon_width": W, "strip_width": ws, "strip_thickness": H,
+        "top_strip_height": g.top_strip_height, "lambda_N": float(lambda_N),
+        "element_size": m.element_size(), "level": m.level, "end_tab": m.end_tab,
+        "junction_centres": tuple(float(c) for c in junction_centres(g, n)),
+        "centre_junction_corners": (tuple((centre + a, centre + b, 0.0) for a in (-0.5 * W, 0.5 * W)
+                                          for b in (-0.5 * W, 0.5 * W)) if n % 2 == 1 else ()),
+        "strips": strips, "cell_groups": cell_groups,
+    }
+
+
+def facet_names_of(pts: np.ndarray, sides: np.ndarray, body: np.ndarray, cut_x: bool, cut_y: bool,
                  centre: float, ends: tuple[float, float], half_junction: float, odd: bool,
                  tol: float) -> np.ndarray:
     """Name of each exterior face (points (m, 4, 3) [mm]); the first matching rule wins."""
@@ -455,7 +492,7 @@ def _facet_names(pts: np.ndarray, sides: np.ndarray, body: np.ndarray, cut_x: bo
     return np.select([c for c, _ in rules], [name for _, name in rules], default="surface")
 
 
-def _cell_groups(present: list[str], tag: dict[str, int], strips: dict) -> dict[str, tuple]:
+def cell_groups_of(present: list[str], tag: dict[str, int], strips: dict) -> dict[str, tuple]:
     """Group name -> cell tags present (module docstring)."""
     groups: dict[str, list[int]] = {}
 

@@ -1,7 +1,7 @@
 """Write a built-in mesh with its named tags for another tool (gmsh, ParaView, a FEniCSx script).
 
 ``lcefem mesh NAME --format msh|xdmf|vtu --out DIR [--model fe|bar-hinge] [--mesh-level L]
-[--overwrite]``
+[--layout NAME|FILE] [--overwrite]``
 
 NAME is a body (``strip``, ``beam``, ``gridshell``, ``ribbon``, ``specimen``) or ``all``. Each mesh is
 the one its body builds from its default configuration (the same builder, dimensions and level as
@@ -16,6 +16,12 @@ gridshell the 3 x 3 robotic surface, quarter (Fig. 4)            N5B8 panels, st
 ribbon    the twisted ribbon (60 mm, 3 turns; seed 000)          --
 specimen  the Kapton buckling specimen, half (Fig. 2G)           N5B8 panels
 ========= ====================================================== ===============================
+
+``--layout`` (gridshell only): the gridshell of a layout (:mod:`lcefem.meshes.gridshell_layout`, a name
+such as ``5x5`` or ``rhombic60`` or a TOML file with a ``[layout]`` section; docs/layouts.md): the FE
+mesh made by gmsh from it (:func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe`: quarter on an
+orthogonal grid, whole on a rhombic one) or its bar-and-hinge structure; the stem gains the layout's
+name (``gridshell_5x5``).
 
 Writes ``DIR/<stem>.<format>`` (stem: NAME, ``<NAME>_bar_hinge`` for the bar-and-hinge model), with
 ``<stem>.tags.json`` (the name of every tag) for xdmf/vtu and ``<stem>.h5`` for xdmf
@@ -55,6 +61,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the 3D FE mesh (default) or the bar-and-hinge structure (beam, gridshell, specimen)")
     p.add_argument("--mesh-level", type=int, default=None,
                    help="FE refinement level l: element size = level-0 size / (l + 1) (default: the body's)")
+    p.add_argument("--layout", default=None,
+                   help="gridshell only: a layout name (published, 5x5, 7x7, rhombic60, rhombic60_5x5) or "
+                        "a TOML file with a [layout] section (docs/layouts.md)")
     add_out_arguments(p, "results/mesh")
 
 
@@ -66,10 +75,13 @@ class MeshRequest:
     model: str
     level: int | None
     format: str
+    layout: object = None  # gridshell: a checked Layout (None: the body's default)
+    layout_name: str = ""
 
     @property
     def stem(self) -> str:
-        return self.body if self.model == "fe" else f"{self.body}_bar_hinge"
+        body = f"{self.body}_{self.layout_name}" if self.layout_name else self.body
+        return body if self.model == "fe" else f"{body}_bar_hinge"
 
 
 def _fe_config(body: str):
@@ -124,7 +136,30 @@ def requests(args: argparse.Namespace) -> list[MeshRequest]:
             lo, hi = _level_bounds(_fe_mesh_section(body))
             if not lo <= level <= hi:
                 raise InputError(f"--mesh-level = {level}: the {body} mesh takes {lo} to {hi}")
-    return [MeshRequest(b, m, level if m == "fe" else None, args.format) for b, m in pairs]
+    layout, layout_name = None, ""
+    if getattr(args, "layout", None):
+        import pathlib
+
+        from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
+        from lcefem.validation.layouts import load_layout
+        if args.name != "gridshell":
+            raise InputError(f"--layout: only with NAME gridshell (given {args.name})")
+        layout = load_layout(args.layout)
+        layout_name = args.layout if args.layout in NAMED_LAYOUTS else pathlib.Path(args.layout).stem
+        if args.model == "fe":  # refused here, before the output folder is touched
+            _layout_fe_checks(layout)
+    return [MeshRequest(b, m, level if m == "fe" else None, args.format, layout, layout_name)
+            for b, m in pairs]
+
+
+def _layout_fe_checks(layout) -> None:
+    """The one-line refusals of :func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe` (kind, glued)."""
+    from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS
+    if layout.kind not in BAR_HINGE_KINDS:
+        raise InputError(f"--layout: kind {layout.kind!r}: the FE mesh is built for "
+                         f"{', '.join(BAR_HINGE_KINDS)} (two families of ribbons, two strips a junction)")
+    if layout.glued != "all":
+        raise InputError(f"--layout: glued = {layout.glued!r}: the FE mesh bonds every junction; allowed 'all'")
 
 
 def prepare(args: argparse.Namespace) -> list[MeshRequest]:
@@ -138,7 +173,7 @@ def build_tagged(request: MeshRequest, comm=None):
     :class:`~lcefem.meshes.bar_hinge_structure.BarHingeStructure` (bar-and-hinge, on every rank)."""
     body = request.body
     if request.model == "bar-hinge":
-        return _bar_hinge(body)
+        return _bar_hinge(body, request.layout)
     resolution = _fe_mesh_section(body)
     if request.level is not None:
         resolution = dataclasses.replace(resolution, level=request.level)
@@ -153,6 +188,9 @@ def build_tagged(request: MeshRequest, comm=None):
     if body == "gridshell":
         from lcefem.meshes.gridshell_fe import build_gridshell_fe
         cfg = _fe_config(body)
+        if request.layout is not None:
+            from lcefem.meshes.gridshell_fe_gmsh import build_layout_fe
+            return build_layout_fe(request.layout, cfg.geometry, cfg.lambda_N, resolution, comm)
         return build_gridshell_fe(cfg.geometry, cfg.lambda_N, resolution, comm, cells=cfg.cells,
                                   symmetry=cfg.symmetry)
     if body == "ribbon":
@@ -176,7 +214,7 @@ def build(request: MeshRequest, comm=None):
     return to_meshio(built.mesh, built.cell_tags, built.facet_tags, names), built.info
 
 
-def _bar_hinge(body: str):
+def _bar_hinge(body: str, layout=None):
     if body == "beam":
         from lcefem.meshes.composite_beam import build_beam_bar_hinge
         from lcefem.solvers.problems.composite_beam_bh import BeamConfig
@@ -186,7 +224,7 @@ def _bar_hinge(body: str):
         from lcefem.meshes.gridshell import build_gridshell_bar_hinge
         from lcefem.solvers.problems.gridshell_bh_run import GridshellBHRunConfig
         cfg = GridshellBHRunConfig()
-        return build_gridshell_bar_hinge(cfg.geometry, cfg.layout, cfg.mesh)
+        return build_gridshell_bar_hinge(cfg.geometry, layout or cfg.layout, cfg.mesh)
     from lcefem.meshes.kapton_ribbon import build_ribbon_bar_hinge
     from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenConfig
     cfg = KaptonSpecimenConfig()

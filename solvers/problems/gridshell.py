@@ -222,9 +222,11 @@ class GridshellFE:
         self._dof_tag[self._cell_dof] = cell_values
         self.lam.x.array[:] = lam_n
         dirs = self.director.x.array.reshape(-1, 3)
+        # the two ribbon families' unit vectors in the plane (a rhombic mesh: e2 = (cos a, sin a))
+        families = np.asarray(tm.info.get("directions", ((1.0, 0.0), (0.0, 1.0))))
         for channel, axis in (("Bx", 0), ("Tx", 0), ("By", 1), ("Ty", 1)):
             if channel in tm.info["cell_groups"]:
-                dirs[np.isin(self._dof_tag, cell_group(tm, channel)), axis] = 1.0
+                dirs[np.isin(self._dof_tag, cell_group(tm, channel)), :2] = families[axis]
         self.target = self.lam.x.array.copy()
         self.strip_tags = {name: tm.cell_tag(name) for name in tm.info["strips"]}
         self._all_strips = strip_catalogue(cfg.geometry, cfg.cells, tm.info["strip_width"])
@@ -305,8 +307,11 @@ class GridshellFE:
     # ------------------------------------------------------------------ supports
     def _nodes_at(self, xy, tol: float = 1e-6) -> np.ndarray:
         """Ribbon nodes (block indices) through the thickness at in-plane point ``xy`` [mm] (the
-        ribbon is flat there: junctions, segment ends, tabs)."""
+        ribbon is flat there: junctions, segment ends, tabs); ``xy`` in the mesh builder's
+        coordinates, mapped x e1 + y e2 on a rhombic mesh (info["directions"])."""
         X = self._X
+        if "directions" in self.info:
+            xy = np.asarray(xy[:2], dtype=float) @ np.asarray(self.info["directions"])
         half = 0.5 * self.info["ribbon_thickness"] + tol
         hit = np.flatnonzero((np.abs(X[:, 0] - xy[0]) < tol) & (np.abs(X[:, 1] - xy[1]) < tol)
                              & (np.abs(X[:, 2]) <= half))

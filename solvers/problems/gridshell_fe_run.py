@@ -240,10 +240,13 @@ class GridshellFERunConfig:
 
     @property
     def symmetry(self) -> str:
-        """The mirror model the run uses (``run.symmetry``, else the smallest valid one)."""
+        """The mirror model the run uses (``run.symmetry``, else the smallest valid one; a rhombic
+        mesh, ``mesh.shear_angle`` other than 90 deg, has no mirror plane x = c or y = c: full)."""
         if self.run.symmetry:
             return self.run.symmetry
         m = self.model
+        if m.mesh.shear_angle != 90.0:
+            return "full"
         centre = float(np.mean(junction_centres(m.geometry, m.cells)))
         return smallest_symmetry(self.drive_fields(), self.catalogue(), centre)
 

@@ -22,6 +22,10 @@ def run(cmd, *args):
     (["strip", "--format", "vtu", "--model", "bar-hinge"], "--model bar-hinge: strip has only the FE mesh"),
     (["beam", "--format", "vtu", "--model", "bar-hinge", "--mesh-level", "0"],
      "--mesh-level = 0: a bar-and-hinge structure has no refinement level"),
+    (["strip", "--format", "msh", "--layout", "5x5"], "--layout: only with NAME gridshell (given strip)"),
+    (["gridshell", "--format", "msh", "--layout", "lattice"], "--layout = 'lattice': a name (published"),
+    (["gridshell", "--format", "msh", "--layout", "triangular"],
+     "--layout: kind 'triangular': the FE mesh is built for orthogonal, rhombic"),
 ])
 def test_bad_input_one_line_exit_2(tmp_path, lcefem_cmd, args, message):
     out = tmp_path / "out"
@@ -48,6 +52,35 @@ def test_specimen_as_vtu_and_its_summary(tmp_path, lcefem_cmd):
     # the folder is lcefem's: a second write needs --overwrite
     again = run(lcefem_cmd, "mesh", "specimen", "--format", "vtu", "--out", str(out))
     assert again.returncode == 2 and "pass --overwrite" in again.stderr
+
+
+def test_rhombic_layout_mesh_as_msh(tmp_path, lcefem_cmd):
+    """``--layout rhombic60``: the whole 3 x 3 grid made by gmsh and mapped (x, y) -> x e1 + y e2,
+    e2 at 60 deg: its plan spans l + (2 p + d) cos a in x and l sin a in y, l = 4 L + 3 d + 2 tab the
+    ribbon with its tabs (d = 7 mm / sin a the junction along a ribbon, L = p - d, pitch p = 37 mm); every
+    strip tag of the full model (24 bottom, 36 top halves) and no mirror plane."""
+    import math
+
+    from lcefem.meshes.gridshell_fe import GridshellFEMesh
+
+    out = tmp_path / "mesh"
+    res = run(lcefem_cmd, "mesh", "gridshell", "--layout", "rhombic60", "--format", "msh",
+              "--mesh-level", "0", "--out", str(out))
+    assert res.returncode == 0, res.stderr
+    entry = json.loads((out / "summary.json").read_text())["meshes"]["gridshell_rhombic60"]
+    names = set(entry["tags"])
+    assert sum(n.startswith(("bottom_x_", "bottom_y_")) for n in names) == 24
+    assert sum(n.startswith(("top_x_", "top_y_")) for n in names) == 36
+    assert not names & {"sym_x", "sym_y"} and {"ribbon_ends_x", "ribbon_ends_y", "centre_junction"} <= names
+    assert entry["info"]["shear_angle"] == 60.0
+    a = math.radians(60.0)
+    d = 7.0 / math.sin(a)
+    length = 4 * (37.0 - d) + 3 * d + 2 * GridshellFEMesh().end_tab
+    m = meshio.read(out / "gridshell_rhombic60.msh")
+    span = m.points.max(axis=0) - m.points.min(axis=0)
+    # x: from the lowest x ribbon's start (band edge c_0 - d/2) to the highest one's end (c_2 + d/2)
+    assert span[0] == pytest.approx(length + (2 * 37.0 + d) * math.cos(a), rel=1e-12)
+    assert span[1] == pytest.approx(length * math.sin(a), rel=1e-12)
 
 
 @pytest.mark.mpi

@@ -266,8 +266,7 @@ def prepare_fe(args: argparse.Namespace):
                                "FE solves the heat equation"),
              "ribbons": ("--ribbons", "the 3D FE runs the 3 x 3 surface"),
              "task": ("--task", "a Fig. 5 task of the bar-and-hinge surface"),
-             "scales": ("--scales", "the cover scales of the bar-and-hinge surface"),
-             "layout": ("--layout", "the 3D FE runs the published 3 x 3 layout; a layout's FE mesh is not built yet")}
+             "scales": ("--scales", "the cover scales of the bar-and-hinge surface")}
     for name, (flag, why) in flags.items():
         if getattr(args, name, None):
             raise InputError(f"{flag}: not with --model fe ({why})")
@@ -332,6 +331,9 @@ def prepare_fe(args: argparse.Namespace):
             model = dataclasses.replace(model, **{name: with_overrides(getattr(model, name), data[name], name)})
     if args.mesh_level is not None:  # the command line wins over the case file
         model = dataclasses.replace(model, mesh=dataclasses.replace(model.mesh, level=level))
+    if getattr(args, "layout", None):
+        model = _on_layout_fe(model, args.layout)
+        notes["layout"] = args.layout
     drive = "current" if currents else "lambda"
     kw.setdefault("run", GridshellFERun(drive=drive, label=label, symmetry=run.get("symmetry", "")))
     return GridshellFERunConfig(model=model, lambdas=lambdas if drive == "lambda" else {},
@@ -351,6 +353,29 @@ def _fe_report(out, cfg, model) -> dict:
     render.render_deformed(out / "gridshell_fe.png", model.u, model.stress, scalar_label="von Mises stress [MPa]",
                            title=f"gridshell (FE) {cfg.run.label}", mirror=mirror, show_undeformed=False)
     return {}
+
+
+def _on_layout_fe(model, spec: str):
+    """The FE gridshell configuration ``model`` on the layout ``spec`` (a name or a TOML file): its
+    ribbons, its lengths in the mesh builder's coordinates and its angle (the gmsh mesh of
+    :func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe`); one-line refusals of what the FE mesh
+    does not build (triangular and hexagonal kinds, unbonded junctions)."""
+    from lcefem.meshes.gridshell_fe_gmsh import layout_fe_geometry
+    from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS
+    from lcefem.validation.layouts import load_layout
+
+    layout = load_layout(spec)
+    if layout.kind not in BAR_HINGE_KINDS:
+        raise InputError(f"--layout {spec}: kind {layout.kind!r}: the 3D FE is built for "
+                         f"{', '.join(BAR_HINGE_KINDS)} layouts")
+    if layout.glued != "all":
+        raise InputError(f"--layout {spec}: glued = {layout.glued!r}: the 3D FE bonds every junction; allowed 'all'")
+    if layout.wiring != "channels" or layout.support:
+        raise InputError(f"--layout {spec}: wiring and support of a layout are the bar-and-hinge run's; "
+                         "with --model fe give the drive and --support")
+    mesh = dataclasses.replace(model.mesh, mesher="gmsh", shear_angle=float(layout.angle))
+    return dataclasses.replace(model, cells=layout.ribbons, mesh=mesh,
+                               geometry=layout_fe_geometry(layout, model.geometry))
 
 
 def main_fe(args: argparse.Namespace) -> int:
