@@ -46,6 +46,7 @@ CASE_MODULES: list[str] = [
     "lcefem.validation.cases.gridshell_uncertainty",
     "lcefem.validation.cases.gridshell_design_bh",
     "lcefem.validation.cases.gridshell_reach_bh",
+    "lcefem.validation.cases.gridshell_reach_study_bh",
     "lcefem.validation.cases.gridshell_fig5_bh",
     "lcefem.validation.cases.gridshell_control_bh",
     "lcefem.validation.cases.gridshell_bh_vs_fe",
