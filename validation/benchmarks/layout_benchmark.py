@@ -70,7 +70,7 @@ def run_one(name: str, model_set: str, run_newton: bool = False) -> dict:
                                                        **extra))
     problem.set_lambda(drive)
     with EigenTimer() as eig:
-        path = problem.advance()
+        path = problem.advance().detail  # the PathResult (advance returns a StepRecord)
     cpu = time.process_time() - t0
     o = problem.observables()
     return {"run": name, "layout": layout_name, "model set": model_set, "support": support, "drive": drive,
