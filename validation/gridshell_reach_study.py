@@ -153,7 +153,7 @@ def reach_figure(path, rows: list[ReachResult], tolerance: float = 1.0):
     ax.set_xticks(range(len(combos)), [f"{g}\n{w} ({n})" for (g, w), n in
                                        zip(combos, [next(r.variables for r in rows if (r.grid, r.wiring) == c)
                                                     for c in combos])], fontsize=7)
-    ax.set_yscale("log")
+    ax.set_ylim(bottom=0.0)
     ax.set_ylabel("RMS distance from the target [mm]")
     ax.set_xlabel("grid, wiring (number of drives)")
     ax.legend(fontsize=7, ncol=2)
