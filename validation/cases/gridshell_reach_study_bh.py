@@ -9,7 +9,10 @@ Gaussian bump (2026-12-07, FE-calibrated set, rollers; CPU s on the shared machi
 channels 1.882 mm (14 s), 3 x 3 per strip 1.156 mm (24 s, 42 drives), refined 5 x 5 with 4 channels
 1.855 mm (49 s), refined 5 x 5 per strip 0.761 mm (91 s, 110 drives): the bump the paper's surface
 misses by 1.9 mm comes within 1 mm on the refined grid with a drive per strip, and neither the
-refinement alone nor the drives alone bring it there.
+refinement alone nor the drives alone bring it there. The two-wave surface likewise (3 x 3 with 4 channels
+2.338 mm, refined 5 x 5 per strip 0.518 mm); the twisted one does not (4 channels 2.145 mm: they
+leave the surface flat; per strip 1.520 mm on the 3 x 3, 1.615 mm on the refined 5 x 5 at the
+loop's 40-evaluation cap). Table and sources: docs/design.md.
 
 Quick level: :data:`QUICK` (the Gaussian bump on the 3 x 3 with 4 channels and per strip, 40 s CPU:
 it shows that more drives come closer; the refined grid's 91 s is beyond the quick level's 60 s);
