@@ -171,6 +171,7 @@ register_cases("ribbon-buckling-fe", "ribbon_fe")
 register_cases("gridshell", "gridshell_bh")
 register_cases("gridshell-fe", "gridshell_fe", "gridshell_heated_fe")
 register_cases("gridshell", "gridshell_uncertainty", "gridshell_design_bh", "gridshell_reach_bh",
+               "gridshell_reach_study_bh",
                "gridshell_fig5_bh", "gridshell_control_bh", "gridshell_bh_vs_fe")
 
 

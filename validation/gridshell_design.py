@@ -32,6 +32,7 @@ from scipy.optimize import brentq, lsq_linear
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import CHANNELS, GridshellLayout
+from lcefem.meshes.gridshell_layout import Layout
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
@@ -87,11 +88,33 @@ def curvature_observable(structure: BarHingeStructure, height: bool = False):
     return obs
 
 
+#: A design lambda within this [-] of lambda_N is lambda_N (the strip unheated, 0 A). The current
+#: that holds a lambda is discontinuous there: any lambda below lambda_N needs the current that
+#: brings the strip to the onset of contraction (measured, 'strip' route: 0.0544 A for lambda_N - 1e-12
+#: as for lambda_N - 1e-6, FE-calibrated set; 0.0557 A published), lambda_N itself 0 A. The bounded
+#: least squares leave lambdas a round-off below their bound (the measured saddle's program: 7.2e-7
+#: and 9.0e-7 below lambda_N), which printed 0.054 A on a channel meant to be off. Chosen: 1e-5, ten
+#: times those; it moves a centre curvature by at most ~1e-6 1/mm (the channels' sensitivity, ~0.1
+#: 1/mm per unit lambda: 0.03 1/mm over the 1.05-1.4 range, seed 001 Fig. 4), 1 % of the design
+#: tolerance.
+LAMBDA_SNAP = 1.0e-5
+
+
+def snapped(p, lambda_N: float = PUBLISHED_LAMBDA_N) -> np.ndarray:
+    """Design lambdas ``p`` [-] with those within :data:`LAMBDA_SNAP` of lambda_N set to lambda_N."""
+    p = np.array(p, dtype=float)
+    p[p >= lambda_N - LAMBDA_SNAP] = lambda_N
+    return p
+
+
 def current_for_lambda(lam: float, route: lumped_heat.CurrentRouteConfig = lumped_heat.CurrentRouteConfig(),
                        lambda_N: float = PUBLISHED_LAMBDA_N) -> float:
     """Current [A] that holds a grid strip at ``lam`` through the route (inverse of
     :func:`~lcefem.models.lumped_heat.stretch_from_current`); 0 A for a lambda at or above the
-    strip's unheated lambda."""
+    strip's unheated lambda, or within :data:`LAMBDA_SNAP` below it."""
+    if lam >= lambda_N - LAMBDA_SNAP:
+        return 0.0
+
     def f(i):
         with np.errstate(over="ignore"):  # Eq. 1's exponential at large powers: lambda -> 1
             return lumped_heat.stretch_from_current(i, route, lambda_N) - lam
@@ -115,6 +138,7 @@ class GridshellDesign:
     height: bool
     materials: BarHingeMaterials = dataclasses.field(default_factory=BarHingeMaterials)
     model_set: str = DEFAULT_MODEL_SET
+    layout: GridshellLayout | None = None  # the grid the structure was built from (None: published)
 
     @property
     def names(self) -> list[str]:
@@ -132,7 +156,7 @@ def setup_design(mode: str = "4", support: str = "rollers", height: bool = False
     params = strip_parameters(structure, channel_selections(structure, mode), lambda_N)
     eq = EquilibriumMap(setup.model, setup.held, params, curvature_observable(structure, height),
                         newton_options=newton, path_options=problem_bh.GRIDSHELL_PATH)
-    return GridshellDesign(structure, support, mode, eq, lambda_N, height, materials, model_set)
+    return GridshellDesign(structure, support, mode, eq, lambda_N, height, materials, model_set, layout)
 
 
 def inverse(design: GridshellDesign, kx: float, ky: float, height: float | None = None,
@@ -253,7 +277,7 @@ def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
     attempts: list[dict] = []
 
     def attempt(stages):
-        stages = [np.asarray(s, dtype=float).copy() for s in stages]
+        stages = [snapped(s, design.lambda_N) for s in stages]
         try:
             r = run_stages(design, stages)
         except ConvergenceError as exc:
@@ -264,8 +288,8 @@ def reach(design: GridshellDesign, kx: float, ky: float, loop: DesignResult, *,
                          "distance": r["distance"], "seconds": r["seconds"]})
         return r
 
-    def done(kind, stages, r):
-        return Reach(kind, [np.asarray(s, dtype=float) for s in stages], (r["circle_x"], r["circle_y"]),
+    def done(kind, stages, r):  # the stages as run (attempt): lambdas near lambda_N snapped to it
+        return Reach(kind, [snapped(s, design.lambda_N) for s in stages], (r["circle_x"], r["circle_y"]),
                      r["distance"], attempts, time.process_time() - t0, r["x"])
 
     p1 = np.asarray(loop.p, dtype=float)
@@ -357,7 +381,8 @@ def program_schedule(design: GridshellDesign, stages, labels=None):
         t += PROGRAM_HOLDS[0] if k < len(stages) - 1 else PROGRAM_HOLDS[1]
     labels = labels or [f"drive {k + 1}" for k in range(len(stages) - 1)] + ["design"]
     return Schedule(tuple(times), {name: tuple(c[name] for c in currents) for name in design.names},
-                    t, PROGRAM_OUTPUT_INTERVAL, design.support, "strip", tuple(labels), PROGRAM_HEAT_STEP)
+                    t, PROGRAM_OUTPUT_INTERVAL, design.support, "strip", tuple(labels), PROGRAM_HEAT_STEP,
+                    design.model_set, design.layout)
 
 
 def schedule_toml(schedule, comment: str = "") -> str:
@@ -367,29 +392,65 @@ def schedule_toml(schedule, comment: str = "") -> str:
              "labels = [" + ", ".join(f'"{s}"' for s in schedule.labels) + "]",
              f"end = {schedule.end:g}", f"output_interval = {schedule.output_interval:g}",
              f'support = "{schedule.support}"', f'thermal_model = "{schedule.thermal_model}"',
-             f"heat_step = {schedule.heat_step:g}", "", "[currents]  # A, one per switch time"]
+             f"heat_step = {schedule.heat_step:g}"]
+    if schedule.model_set:  # replayed with the model set it was made with
+        lines.append(f'model_set = "{schedule.model_set}"')
+    lines += ["", "[currents]  # A, one per switch time"]
     lines += [f"{sel} = [{', '.join(f'{v:.9g}' for v in vals)}]" for sel, vals in schedule.currents.items()]
+    if schedule.layout is not None and schedule.layout != Layout.published():
+        lines += [""] + layout_toml(schedule.layout)
     return "\n".join(lines) + "\n"
+
+
+def layout_toml(layout: Layout) -> list[str]:
+    """The ``[layout]`` table (lines) of the fields that differ from the published layout, read back
+    by :func:`lcefem.meshes.gridshell_layout.layout_from_table` (strings as JSON strings, which are
+    TOML basic strings)."""
+    import json
+
+    def value(v):
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, (tuple, list)):
+            return "[" + ", ".join(value(u) for u in v) + "]"
+        return repr(v)
+
+    published = Layout.published()
+    lines, wiring = ["[layout]"], None
+    for f in dataclasses.fields(Layout):
+        v = getattr(layout, f.name)
+        if v == getattr(published, f.name):
+            continue
+        if f.name == "wiring" and not isinstance(v, str):
+            wiring = v
+            continue
+        lines.append(f"{f.name} = {value(v)}")
+    if wiring is not None:
+        lines += ["", "[layout.wiring]"] + [f"{json.dumps(tag)} = {value(sel)}" for tag, sel in wiring]
+    return lines
 
 
 def replay(design: GridshellDesign, schedule) -> dict:
     """Final circle curvatures [1/mm] of the schedule replayed as ``lcefem run gridshell --schedule``
     does (:func:`~lcefem.solvers.problems.gridshell_bh_sequence.run_sequence` on a fresh surface of
-    the design's model set, its grid strip's exchange factor), and the CPU seconds."""
+    the schedule's model set and layout, :func:`lcefem.validation.gridshell_sequence.surface_model`:
+    the design's, written into the schedule by :func:`program_schedule`; its grid strip's exchange
+    factor), and the CPU seconds."""
     from lcefem.solvers.problems.gridshell_bh_sequence import run_sequence
+    from lcefem.validation.gridshell_sequence import surface_model
 
     t0 = time.process_time()
-    ms = calibrate.model_set(design.model_set)
-    layout = GridshellLayout(ribbons=design.structure.info["ribbons"])
-    s = run_sequence(schedule, None, progress=False, structure=ms.structure(layout), frames=False,
-                     materials=ms.materials, exchange_factor=ms.exchange_factor)
+    ms, structure, materials = surface_model(schedule)
+    s = run_sequence(schedule, None, progress=False, structure=structure, frames=False,
+                     materials=materials, exchange_factor=ms.exchange_factor)
     f = s["final"]
     return {"circle_x": f["circle kappa_x [1/mm]"], "circle_y": f["circle kappa_y [1/mm]"],
             "seconds": time.process_time() - t0}
 
 
 def lambdas_by_name(design: GridshellDesign, p) -> dict:
-    return {str(k): float(v) for k, v in zip(design.names, p)}
+    """{design variable: lambda [-]}, lambdas within :data:`LAMBDA_SNAP` of lambda_N printed as it."""
+    return {str(k): float(v) for k, v in zip(design.names, snapped(p, design.lambda_N))}
 
 
 def currents_for(design: GridshellDesign, p) -> dict[str, dict[str, float]]:

@@ -10,7 +10,6 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 
-from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.validation import calibrate
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.gridshell_bh_sequence import (CURVATURE_COLUMNS, Schedule, check_selections,
@@ -51,9 +50,23 @@ def plot_curvatures(path: pathlib.Path, history: dict, schedule: Schedule) -> pa
     return path
 
 
+def surface_model(schedule: Schedule, model_set: str | None = None, layout=None):
+    """(model set, structure, materials) a schedule is replayed on: the model set named on the
+    command line (``model_set``), else the schedule's own (``schedule.model_set``, written by
+    ``lcefem design``), else :data:`lcefem.validation.calibrate.DEFAULT_MODEL_SET`; the layout
+    ``layout`` (--layout), else the schedule's ``[layout]``, else the published 3 x 3. The one
+    place both the command and :func:`lcefem.validation.gridshell_design.replay` build it."""
+    name = model_set or schedule.model_set or calibrate.DEFAULT_MODEL_SET
+    if name not in calibrate.MODEL_SETS:
+        raise InputError(f"schedule.model_set = {name!r}: allowed {', '.join(calibrate.MODEL_SETS)}")
+    ms = calibrate.model_set(name)
+    layout = layout or schedule.layout
+    return ms, ms.structure(layout), ms.materials_for(layout)
+
+
 def prepare(args) -> Schedule:
     """The validated schedule (before the output folder is claimed); the other drive options of
-    ``run gridshell`` do not combine with it."""
+    ``run gridshell`` do not combine with it. --model-set and --layout replace the schedule's own."""
     for flag, value in (("--shape", args.shape), ("--recipe", args.recipe), ("--lambda", args.lambdas),
                         ("--current", args.currents), ("--config", args.config)):
         if value is not None:
@@ -63,16 +76,21 @@ def prepare(args) -> Schedule:
         schedule = dataclasses.replace(schedule, support=args.support)
     if args.thermal_model is not None:
         schedule = dataclasses.replace(schedule, thermal_model=args.thermal_model)
-    check_selections(schedule, build_gridshell_bar_hinge())
+    if getattr(args, "layout", None):
+        from lcefem.validation.layouts import load_layout
+
+        schedule = dataclasses.replace(schedule, layout=load_layout(args.layout))
+    if getattr(args, "model_set", None):
+        schedule = dataclasses.replace(schedule, model_set=args.model_set)
+    check_selections(schedule, surface_model(schedule)[1])
     return schedule
 
 
 def main(args) -> int:
     """``lcefem run gridshell --schedule FILE`` (called from lcefem.validation.commands.gridshell)."""
     schedule = args.prepared
-    # the bar-and-hinge model set of design and bands (calibrate.DEFAULT_MODEL_SET) unless named
-    model_set = calibrate.model_set(getattr(args, "model_set", None) or calibrate.DEFAULT_MODEL_SET)
-    structure, materials = model_set.structure(), model_set.materials
+    # the schedule's model set (lcefem design writes it), --model-set, or the default one
+    model_set, structure, materials = surface_model(schedule)
     config = {"schedule": dataclasses.asdict(schedule), "model set": model_set.name,
               "model set configuration": model_set.configuration}
     summary = run_sequence(schedule, pathlib.Path(args.out), progress=not args.quiet, snapshot=snapshot,

@@ -14,10 +14,15 @@ schedule file::
     thermal_model = "eq1"            # strip | segment | eq1 (see THERMAL_STRIPS)
     labels = ["actuate", "dome", "..."]   # optional: a name per switch time
     heat_step = 0.05                 # s: implicit-Euler step of the heat balance (optional)
+    model_set = "published"          # optional: the bar-and-hinge model set the schedule was made
+                                     # with (lcefem design writes it; checked by the command line)
 
     [currents]                       # A per selection (channel Tx/Ty/Bx/By, layer T/B, family XD..,
     Tx = [0.1, 0.04, 0.0]            # group XD1.., half plane, strip id), one value per switch time,
     Bx = [0.2, 0.07, 0.0]            # held until the next; unnamed strips carry no current
+
+    [layout]                         # optional: the gridshell's layout (lcefem.meshes.gridshell_layout,
+    preset = "5x5"                   # a [layout] table; default the published 3 x 3)
 
 Physics per selection (all its strips carry the same current and are the same lumped body): the
 balance C dT/dt = I^2 R - loss(T) of :mod:`lcefem.models.lumped_heat` (implicit Euler, the current of
@@ -48,6 +53,7 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+from lcefem.meshes.gridshell_layout import Layout, layout_from_table
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.lce import spontaneous_stretch
@@ -68,7 +74,8 @@ from lcefem.solvers.runtime.run import Progress
 #: 'strip' is one LCE strip of the grid (~130 ohm over 80 mm isotropic, seed 001) with the grid's
 #: calibrated exchange factor (models.lumped_heat.grid_thermal; docs/gridshell_thermal.md).
 THERMAL_STRIPS = {"segment": HeatedStrip(), "eq1": FREE_STRIP, "strip": GRID_STRIP}
-SCHEDULE_KEYS = {"times", "end", "output_interval", "support", "thermal_model", "labels", "heat_step"}
+SCHEDULE_KEYS = {"times", "end", "output_interval", "support", "thermal_model", "labels", "heat_step",
+                 "model_set"}
 CURVATURE_COLUMNS = ["circle kappa_x [1/mm]", "circle kappa_y [1/mm]", "quad kappa_x [1/mm]",
                      "quad kappa_y [1/mm]"]
 
@@ -85,6 +92,11 @@ class Schedule:
     thermal_model: str = "eq1"
     labels: tuple[str, ...] = ()
     heat_step: float = 0.05  # s
+    #: the bar-and-hinge model set the schedule was made with ("": the command's default; the name is
+    #: checked where the model sets live, lcefem.validation.calibrate)
+    model_set: str = ""
+    #: the gridshell's layout (None: the published 3 x 3)
+    layout: Layout | None = None
 
     def current_at(self, t: float) -> dict:
         """Currents [A] per selection on the interval holding ``t`` (switch times belong to the new
@@ -107,8 +119,8 @@ def _number(value, field: str) -> float:
 def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
     """Validated :class:`Schedule` from the TOML tables; one-line InputError naming the field."""
     for key in data:
-        if key not in ("schedule", "currents"):
-            raise InputError(f"{where}: unknown section [{key}] (allowed: [schedule], [currents])")
+        if key not in ("schedule", "currents", "layout"):
+            raise InputError(f"{where}: unknown section [{key}] (allowed: [schedule], [currents], [layout])")
     sched = data.get("schedule")
     if not isinstance(sched, dict):
         raise InputError(f"{where}: missing section [schedule] (times, end, output_interval)")
@@ -160,7 +172,12 @@ def schedule_from_dict(data: dict, where: str = "schedule file") -> Schedule:
         currents[int(sel) if sel.isascii() and sel.isdigit() else sel] = vals
     if not currents:
         raise InputError(f"{where}: section [currents] is empty (give e.g. Tx = [0.1, 0.04])")
-    schedule = Schedule(times, currents, end, interval, support, thermal, tuple(labels), heat_step)
+    model_set = sched.get("model_set", "")
+    if "model_set" in sched and (not isinstance(model_set, str) or not model_set):
+        raise InputError(f"schedule.model_set = {model_set!r}: a model set's name (e.g. \"fe-calibrated\")")
+    layout = layout_from_table(data["layout"]) if "layout" in data else None
+    schedule = Schedule(times, currents, end, interval, support, thermal, tuple(labels), heat_step,
+                        model_set, layout)
     schedule_estimate(schedule).check()  # before any work: exit 2 naming the field
     return schedule
 

@@ -230,3 +230,76 @@ def test_measured_saddle_is_reached_by_its_program_not_by_the_loop_lambdas(tmp_p
     final = json.loads((out / "summary.json").read_text())["final"]
     assert final["circle kappa_x [1/mm]"] == pytest.approx(SADDLE[0], abs=gd.DESIGN_TOLERANCE)
     assert final["circle kappa_y [1/mm]"] == pytest.approx(SADDLE[1], abs=gd.DESIGN_TOLERANCE)
+
+
+def test_lambdas_a_round_off_below_lambda_N_are_lambda_N():
+    # The current that holds a lambda jumps at lambda_N (0 A there, 0.0544 A for any lambda below:
+    # the strip's onset of contraction, 'strip' route of the FE-calibrated set); the saddle's program
+    # left Tx and By 7.2e-7 and 9.0e-7 below lambda_N, which printed 0.054 A on channels meant to be
+    # off. Within LAMBDA_SNAP (1e-5) they are lambda_N and 0 A; 1e-3 below still needs its current.
+    d = gd.setup_design("4", "rollers", layout=ONE)
+    stages = [np.array(p) for p in SADDLE_PROGRAM]
+    sched = gd.program_schedule(d, stages)
+    assert sched.currents["Tx"][0] == 0.0 and sched.currents["By"] == (0.0, 0.0)
+    assert gd.lambdas_by_name(d, stages[0])["By"] == d.lambda_N
+    route = calibrate_route(d)
+    assert gd.current_for_lambda(d.lambda_N - 1e-9, route, d.lambda_N) == 0.0
+    assert gd.current_for_lambda(d.lambda_N - 1e-3, route, d.lambda_N) > 0.05
+    np.testing.assert_array_equal(gd.snapped([1.4 - 2e-5, 1.4 - 5e-6, 1.4], 1.4), [1.4 - 2e-5, 1.4, 1.4])
+
+
+def calibrate_route(d):
+    from lcefem.validation import calibrate
+
+    return calibrate.model_set(d.model_set).current_route(lumped_heat.CurrentRouteConfig(thermal_model="strip"))
+
+
+def test_schedule_carries_the_design_model_set_and_layout(tmp_path):
+    # A program written by a design on the published set and a one-cell layout names both, and the
+    # replay builds its surface from them (not from the command's defaults).
+    from lcefem.solvers.problems.gridshell_bh_sequence import load_schedule
+    from lcefem.validation.gridshell_sequence import surface_model
+
+    d = gd.setup_design("4", "rollers", layout=ONE, model_set="published")
+    path = tmp_path / "p.toml"
+    path.write_text(gd.schedule_toml(gd.program_schedule(d, [np.array([1.3, 1.25, 1.1, 1.15])])))
+    back = load_schedule(path)
+    assert back.model_set == "published" and back.layout == ONE
+    ms, structure, materials = surface_model(back)
+    assert ms.name == "published" and structure.info["ribbons"] == 1 and materials.kapton.twist == "n5b8"
+    # a layout with its own wiring table round-trips through the file's [layout] section
+    from lcefem.meshes.gridshell_layout import layout_from_table
+
+    wired = layout_from_table({"ribbons": 1, "wiring": {"top": ["Tx", "Ty"], "bottom": ["Bx", "By"]}})
+    text = "\n".join(gd.layout_toml(wired))
+    import tomllib
+
+    assert layout_from_table(tomllib.loads(text)["layout"]) == wired
+    path.write_text(path.read_text().replace('model_set = "published"', 'model_set = "mine"'))
+    assert "schedule.model_set = 'mine'" in str(pytest.raises(Exception, surface_model, load_schedule(path)).value)
+
+
+@pytest.mark.slow
+def test_replay_ends_on_the_design_target_with_the_design_model_set(tmp_path):
+    # The 3 x 3, published set: the target is where the run from flat at p ends (a constant design);
+    # its one-drive schedule replayed by `lcefem run gridshell --schedule` (no --model-set) ends
+    # there within the design tolerance (measured 5.4e-7 1/mm off; target -0.017259 / -0.006059).
+    # Controlled change: the same file replayed with --model-set fe-calibrated (the default before
+    # the schedule carried its set) ends 4.3e-3 1/mm off (-0.015297 / -0.010340).
+    import json
+
+    from lcefem.validation.cli import main
+    d = gd.setup_design("4", "rollers", model_set="published")
+    p = np.array([1.30, 1.25, 1.10, 1.15])
+    target = gd.forward_check(d, p)
+    path = tmp_path / "program_schedule.toml"
+    path.write_text(gd.schedule_toml(gd.program_schedule(d, [p])))
+    finals = {}
+    for name, extra in (("own", []), ("fe", ["--model-set", "fe-calibrated"])):
+        out = tmp_path / name
+        assert main(["run", "gridshell", "--schedule", str(path), "--out", str(out), "--quiet", *extra]) == 0
+        f = json.loads((out / "summary.json").read_text())["final"]
+        finals[name] = max(abs(f["circle kappa_x [1/mm]"] - target["circle_x"]),
+                           abs(f["circle kappa_y [1/mm]"] - target["circle_y"]))
+    assert finals["own"] <= gd.DESIGN_TOLERANCE
+    assert finals["fe"] > 10 * gd.DESIGN_TOLERANCE

@@ -1,0 +1,47 @@
+"""The reach study's distance (lcefem.validation.gridshell_reach_study): the rigid fit removes exactly a
+vertical translation and two tilts, and leaves closed-form distances of the flat surface."""
+
+import numpy as np
+import pytest
+
+from lcefem.validation import gridshell_reach_study as rs
+
+
+def _grid(n=9, side=141.0):
+    u = np.linspace(-side / 2, side / 2, n)
+    x, y = np.meshgrid(u, u)
+    return np.column_stack([x.ravel() + 30.0, y.ravel() - 12.0, np.zeros(x.size)])  # off-centre on purpose
+
+
+def test_rigid_fit_removes_translation_and_tilts_only():
+    pts = _grid()
+    target = rs.TARGETS["gaussian bump"][0]
+    xy = pts[:, :2] - pts[:, :2].mean(axis=0)
+    # the target itself, lifted and tilted: distance 0
+    pts[:, 2] = target(xy[:, 0], xy[:, 1]) + 3.0 + 0.01 * xy[:, 0] - 0.02 * xy[:, 1]
+    np.testing.assert_allclose(rs.rigid_residual(pts, target), 0.0, atol=1e-12)
+    # a curvature is not a rigid motion: z = x^2 / 200 against the flat target keeps its variance
+    pts[:, 2] = xy[:, 0] ** 2 / 200.0
+    r = rs.rigid_residual(pts, lambda x, y: 0.0 * x)
+    q = xy[:, 0] ** 2 / 200.0
+    assert np.sqrt(np.mean(r ** 2)) == pytest.approx(np.std(q), rel=1e-12)
+
+
+def test_flat_surface_against_the_twist_is_its_rms():
+    # On a centred symmetric grid x y is orthogonal to 1, x and y: nothing of the twist is rigid, so
+    # the flat surface's distance is the RMS of tau x y over the points.
+    pts = _grid()
+    xy = pts[:, :2] - pts[:, :2].mean(axis=0)
+    r = rs.rigid_residual(pts, rs.TARGETS["twisted"][0])
+    expected = rs.TWIST * np.sqrt(np.mean((xy[:, 0] * xy[:, 1]) ** 2))
+    assert np.sqrt(np.mean(r ** 2)) == pytest.approx(expected, rel=1e-12)
+    assert expected > 1.0  # the flat surface misses the twist by more than the study's 1 mm
+
+
+def test_study_grids_keep_the_published_side():
+    from lcefem.meshes.composite_beam import CompositeBeamGeometry
+
+    for name in ("3x3", "5x5"):
+        g = rs.GRIDS[name].geometry(CompositeBeamGeometry())
+        n = rs.GRIDS[name].ribbons
+        assert (n + 1) * g.segment_length + n * g.junction_length == pytest.approx(rs.SIDE, abs=1e-9)
