@@ -82,6 +82,7 @@ MOVES: dict[str, str | None] = {
     "validation/uncertainty.py": "validation/studies/gridshell/uncertainty.py",
     "validation/design.py": "validation/studies/design/design.py",
     "validation/gridshell_design.py": "validation/studies/design/gridshell_design.py",
+    "validation/gridshell_reach_study.py": "validation/studies/design/gridshell_reach_study.py",
     "validation/control.py": "validation/studies/design/control.py",
     "validation/manufactured.py": "validation/studies/verification/manufactured.py",
     "validation/rod_verification.py": "validation/studies/verification/rod_verification.py",
