@@ -23,7 +23,7 @@ def bilayer() -> pathlib.Path:
     """The bilayer case at its own size factor, drawn whole (its two mirror planes reflected)."""
     from lcefem.solvers.problems.body import BodyProblem
     from lcefem.solvers.problems.body_case import load_case
-    from lcefem.validation.render import render_deformed
+    from lcefem.validation.app.render import render_deformed
 
     case = load_case(IMAGES.parent.parent / "examples" / "bodies" / "bilayer" / "case.toml")
     problem = BodyProblem(case)
@@ -41,7 +41,7 @@ def gripper() -> pathlib.Path:
     """The gripper finger's steady state at 0.2 A, coloured by temperature (the serpentine shows)."""
     from lcefem.solvers.problems.body import BodyProblem
     from lcefem.solvers.problems.body_case import load_case
-    from lcefem.validation.render import render_deformed
+    from lcefem.validation.app.render import render_deformed
 
     case = load_case(IMAGES.parent.parent / "examples" / "bodies" / "gripper" / "case.toml",
                      overrides={("program", "steady"): True})

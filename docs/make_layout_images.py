@@ -12,7 +12,7 @@ import pathlib
 import sys
 
 from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
-from lcefem.validation.gridshell_plots import layout_plan_figure, render_gridshell
+from lcefem.validation.studies.gridshell.gridshell_plots import layout_plan_figure, render_gridshell
 
 IMAGES = pathlib.Path(__file__).resolve().parent / "images"
 PLANS = {"published": "orthogonal 3 x 3 (published, seed 001 Fig. 4)", "5x5": "orthogonal 5 x 5 (refined)",
@@ -76,7 +76,7 @@ def main(shapes: bool = True) -> None:
     if not shapes:
         return
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
-    from lcefem.validation import calibrate
+    from lcefem.validation.studies.gridshell import calibrate
 
     ms = calibrate.model_set("fe-calibrated")
     for name, (support, drive) in SHAPES.items():

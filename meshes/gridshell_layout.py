@@ -5,7 +5,7 @@ Seed 001 ends with its own next steps: "To achieve higher geometric complexity, 
 control channels (fig. S6), refine the grid mesh (fig. S7), and explore non-orthogonal meshes." A
 :class:`Layout` is that choice, as a frozen dataclass (every field with its unit and source) and a
 case-file section ``[layout]`` (:func:`layout_from_table`, one-line errors;
-:func:`lcefem.validation.layouts.load_layout` reads ``--layout NAME|FILE``). The published
+:func:`lcefem.validation.app.layouts.load_layout` reads ``--layout NAME|FILE``). The published
 3 x 3 surface is :meth:`Layout.published` (all defaults).
 
 Generators (``kind``):

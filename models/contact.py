@@ -161,7 +161,7 @@ class Wall:
                          "length meets it at once), > 0 turned about the vertical so one end meets it first",
                          minimum=-89.0, maximum=89.0)
     direction: float = param(1.0, "-", "side of the ribbon the wall stands on: +1 towards +y (where the default "
-                             "ribbon rolls at 31 nodes and 100 C, measured with validation/ribbon_obstacle.py), "
+                             "ribbon rolls at 31 nodes and 100 C, measured with validation/studies/ribbon/ribbon_obstacle.py), "
                              "-1 towards -y", minimum=-1.0, maximum=1.0)
 
     def plane(self, centreline: np.ndarray) -> tuple[tuple[float, float, float], float]:
@@ -194,7 +194,7 @@ class Block:
     offset: float = param(0.0, "mm", "chosen: the block's centre along the ribbon's axis from the ribbon's "
                           "middle: 0 hits the middle, +-(length - width)/2 lines its edge up with an end")
     direction: float = param(1.0, "-", "side of the ribbon the block stands on: +1 towards +y, -1 towards -y "
-                             "(the side the ribbon rolls to: validation/ribbon_obstacle.py prints it)",
+                             "(the side the ribbon rolls to: validation/studies/ribbon/ribbon_obstacle.py prints it)",
                              minimum=-1.0, maximum=1.0)
     friction: float = param(0.5, "-", "assumed: friction coefficient of the ribbon on the block's faces, as on "
                             "the plate (FrictionLaw.mu: an elastomer on a hard surface)", minimum=0.0)

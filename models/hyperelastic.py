@@ -57,7 +57,7 @@ def ogden_uniaxial_energy(stretch, law: OgdenLaw = OgdenLaw()):
 
 
 FIT_SOURCE = ("fitted (minimax, c10 >= 0.005 MPa) to the published Ogden law over uniaxial stretch "
-              "1.0-1.5 by validation/calibration/fit_isotropic_law.py")
+              "1.0-1.5 by benchmarks/calibration/fit_isotropic_law.py")
 
 
 @dataclass(frozen=True)

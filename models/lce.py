@@ -46,7 +46,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
 
 CALIBRATED = ("calibrated against seed 001 (Eq. 1 at 0.04-0.09 A, transients at 0.1 and 0.2 A) by "
-              "validation/calibration/calibrate_thermal.py; see validation/data/thermal_calibration.json")
+              "benchmarks/calibration/calibrate_thermal.py; see validation/data/thermal_calibration.json")
 
 
 @dataclass(frozen=True)

@@ -228,7 +228,7 @@ THERMAL_MODELS = ("strip", "segment", "eq1")
 #: on the free strip hanging vertically in still air). Calibrated on the dome protocol only (seed 001:
 #: hold 0.04 A top / 0.07 A bottom after the 20 s actuation pulse, measured centre curvature
 #: -0.016 1/mm, circle measure) with the bar-and-hinge current route:
-#: ``python -m lcefem.validation.grid_exchange_calibration`` -> validation/data/
+#: ``python -m lcefem.validation.studies.gridshell.grid_exchange_calibration`` -> validation/data/
 #: grid_exchange_calibration.json (0.9512; the uncalibrated 1.0 gives -0.0146 1/mm). Published bound
 #: (docs/gridshell_thermal.md): 0.5-2.3, from the natural-convection correlations (Incropera; Nu =
 #: 0.54 Ra^1/4 upper / 0.27 lower face with L = A/P, 0.59 Ra^1/4 vertical faces) for a horizontal

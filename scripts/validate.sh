@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # lcefem validate farmed over MPI ranks: one rank per core (NPROC, default `nproc`), at most one per
-# case, each case whole on one rank (validation/farm.py); the answers do not depend on the number of
+# case, each case whole on one rank (validation/app/farm.py); the answers do not depend on the number of
 # ranks. Serial, with the reason printed, when the venv has no mpiexec or one rank is all there is.
 # Usage: scripts/validate.sh [lcefem validate arguments]   (make validate / make validate-quick)
 set -euo pipefail

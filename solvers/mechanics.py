@@ -84,7 +84,7 @@ LU_OPTIONS = {"pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 #: Eisenstat-Walker tolerances (snes_ksp_ew) failed to converge there. Chebyshev/Jacobi stays: SOR
 #: halves the CG iterations but costs more per iteration (1.3x CPU at 46k); thresholds -1, 0, 0.05,
 #: no aggressive coarsening and Chebyshev degree 2 or 5 were no faster at 15k
-#: (``validation/benchmarks/linear_solver_benchmark.py``, README "Linear solvers on large meshes").
+#: (``benchmarks/linear_solver_benchmark.py``, README "Linear solvers on large meshes").
 GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "gamg",
                 "pc_gamg_threshold": 0.02, "pc_gamg_square_graph": 1, "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}

@@ -1,9 +1,9 @@
 """Every body registers once: its name, configuration, problem, default program and exports and
 the ``lcefem run`` target that runs it; every validation case module registers once with the body
 it validates (:func:`register_cases`; a case of no body's, e.g. the empirical laws, with None).
-``lcefem run <target>`` (lcefem.validation.commands.RUN_TARGETS) and ``lcefem validate``'s cases
+``lcefem run <target>`` (lcefem.validation.app.commands.RUN_TARGETS) and ``lcefem validate``'s cases
 (lcefem.validation.cases.CASE_MODULES, in registration order) come from these registrations;
-validation/data/case_costs.toml (read by lcefem.validation.farm.case_costs) gives the expected
+validation/data/case_costs.toml (read by lcefem.validation.app.farm.case_costs) gives the expected
 wall time of the cases those modules define, by case name.
 
 A registration names things by import path ("module:attribute"), so reading the registry imports
@@ -43,7 +43,7 @@ def _load(path: str):
 class Body:
     """One body's registration (module docstring). ``target``: its ``lcefem run`` target (two
     models of one body, e.g. the bar-and-hinge and the FE beam, share one, chosen by --model);
-    ``command``: the module of that target under lcefem.validation.commands; :attr:`cases`: its
+    ``command``: the module of that target under lcefem.validation.app.commands; :attr:`cases`: its
     validation case modules (registered by :func:`register_cases`)."""
 
     name: str

@@ -51,7 +51,7 @@ def pytest_collection_modifyitems(config, items):
 def run_quick_case(name: str, out: pathlib.Path) -> list[dict]:
     """Run one registered validation case at its quick (CI) resolution; return its metrics as dicts."""
     from lcefem.validation.cases import CaseContext, registry
-    from lcefem.validation.validate import run_case
+    from lcefem.validation.app.validate import run_case
 
     case = registry()[name]
     result = run_case(case, CaseContext(out=out / name, quick=True, progress=False), out)
@@ -61,7 +61,7 @@ def run_quick_case(name: str, out: pathlib.Path) -> list[dict]:
 def assert_phenomena_shown(name: str, metrics: list[dict]) -> None:
     """Every phenomenon declared for case ``name`` (validation/data/phenomena.toml) holds on its
     metrics: the resolution run shows the physics the case is about (issue 16)."""
-    from lcefem.validation.phenomena import evaluate
+    from lcefem.validation.app.phenomena import evaluate
 
     missing = [f"{p['phenomenon']} ({p['selector']} {p['condition']}: "
                f"{p['values'] or 'no such metric'})" for p in evaluate(name, metrics) if not p["holds"]]
@@ -71,7 +71,7 @@ def assert_phenomena_shown(name: str, metrics: list[dict]) -> None:
 def assert_failures_known(metrics: list[dict], level: str = "quick") -> None:
     """Every failing row is a known disagreement (validation/data/known_disagreements.toml) expected at
     ``level``: an explained disagreement with experiment passes, an unexplained failure does not."""
-    from lcefem.validation.reference_data import known_disagreements
+    from lcefem.validation.cases.reference_data import known_disagreements
 
     assert metrics, "the case returned no metrics"
     known = known_disagreements()

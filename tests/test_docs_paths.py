@@ -63,14 +63,14 @@ def missing_in(text: str) -> list[str]:
 
 
 def test_the_pattern_reads_paths_and_modules():
-    text = ("see `solvers/der/ribbon.py`, docs/ribbon.md and (validation/report.py); not "
+    text = ("see `solvers/der/ribbon.py`, docs/ribbon.md and (validation/app/report.py); not "
             "python/demo/test.py nor src/festim/problem.py; :func:`lcefem.models.lce.no_such_law`")
     assert [m.group(1) for m in PATH.finditer(text)] == ["solvers/der/ribbon.py", "docs/ribbon.md",
-                                                         "validation/report.py"]
+                                                         "validation/app/report.py"]
     assert missing_in(text) == ["lcefem.models.lce.no_such_law"]
     assert missing_in("solvers/no_such_module.py and lcefem.validation.no_such_module") == \
         ["lcefem.validation.no_such_module", "solvers/no_such_module.py"]
-    assert not missing_in("lcefem.validation.report.render_report, lcefem.models, docs/notes/index.md")
+    assert not missing_in("lcefem.validation.app.report.render_report, lcefem.models, docs/notes/index.md")
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)

@@ -98,7 +98,7 @@ def test_the_import_walk_sees_the_modules_it_checks():
     assert "lcefem.solvers.mechanics" in SOURCES and "lcefem.solvers.runtime.run" in SOURCES
     assert "lcefem.solvers.interrupts" in targets("lcefem.solvers.mechanics")
     assert in_any("lcefem.solvers.runtime.run", [RUNTIME])
-    assert any(in_any(t, [RUNTIME]) for t in targets("lcefem.validation.cli"))
+    assert any(in_any(t, [RUNTIME]) for t in targets("lcefem.validation.app.cli"))
 
 
 def test_numerics_never_reach_the_runtime():
@@ -139,11 +139,11 @@ def test_no_module_imports_another_modules_private_name():
 
 
 def test_no_import_cycle_through_the_command_line():
-    """lcefem.validation.cli loads the commands (validate, converge, ...) by name; none of them may
+    """lcefem.validation.app.cli loads the commands (validate, converge, ...) by name; none of them may
     import the command line back (a hidden cycle: which module finishes loading first depends on
     which one the user started from)."""
-    bad = [name for name in SOURCES if name != "lcefem.validation.cli"
-           and "lcefem.validation.cli" in targets(name)]
+    bad = [name for name in SOURCES if name != "lcefem.validation.app.cli"
+           and "lcefem.validation.app.cli" in targets(name)]
     assert not bad, bad
 
 
@@ -166,3 +166,62 @@ def test_the_current_bound_lives_once():
     for bad in (-0.1, MAX_CURRENT * 1.01, float("nan"), np.array([0.1, 2.0]), "0.1"):
         with pytest.raises(InputError, match=r"^current"):
             check_current("current", bad)
+
+
+# The rooms of validation/ (docs/layout.md), written by scripts/dev/rooms.py.
+APP, STUDIES, CASES = "lcefem.validation.app", "lcefem.validation.studies", "lcefem.validation.cases"
+#: the application's doors: the command line and the commands' drivers, imported by the application only
+DOORS = ("lcefem.validation.app.cli", "lcefem.validation.app.commands", "lcefem.validation.app.validate",
+         "lcefem.validation.app.converge", "lcefem.validation.app.converge_body",
+         "lcefem.validation.app.farm")
+#: the scripts outside the package (python benchmarks/<script>.py): the package never imports them
+SCRIPTS = sorted(p.stem for p in (ROOT / "benchmarks").rglob("*.py"))
+
+
+def case_modules() -> list[str]:
+    """The validation case modules, read from the ``register_cases`` calls of
+    lcefem.solvers.registry (CASE_MODULES derives from them; nothing imported)."""
+    out = []
+    for node in ast.walk(ast.parse(SOURCES["lcefem.solvers.registry"].read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "register_cases":
+            out += [f"{CASES}.{arg.value}" for arg in node.args[1:]]
+    return out
+
+
+def test_every_validation_module_is_in_a_room():
+    """validation/ holds three rooms: app/, studies/<topic>/, cases/ (with data/); no module lies
+    loose beside them, and every study sits in a topic folder."""
+    rooms = [n for n in SOURCES if in_any(n, [APP, STUDIES, CASES])]
+    assert len(rooms) > 40 and all(n in SOURCES for n in DOORS)
+    loose = [n for n in SOURCES if in_any(n, ["lcefem.validation"]) and n != "lcefem.validation"
+             and n not in rooms]
+    flat = [n for n in SOURCES if in_any(n, [STUDIES]) and n.count(".") == 3
+            and SOURCES[n].name != "__init__.py"]
+    assert not loose and not flat, f"outside a room: {loose}, a study without a topic: {flat}"
+
+
+def test_only_the_application_imports_its_doors():
+    """A study or a case computes; running a command, farming cases or writing the report is the
+    application's (a study importing the CLI would load every command with it)."""
+    bad = [f"{name} imports {t}" for name in SOURCES if not in_any(name, [APP])
+           for t in targets(name) if in_any(t, DOORS)]
+    assert not bad, "\n".join(bad)
+
+
+def test_studies_never_import_a_case():
+    """Cases compare the studies with experiment; a study importing a case would run the comparison
+    inside the computation (the cases package's helpers, Metric and write_csv, are fine)."""
+    cases = case_modules()
+    assert len(cases) > 10 and all(c in SOURCES for c in cases)
+    bad = [f"{name} imports {t}" for name in SOURCES if in_any(name, [STUDIES])
+           for t in targets(name) if t in cases]
+    assert not bad, "\n".join(bad)
+
+
+def test_the_package_never_imports_the_scripts():
+    """The benchmark and calibration scripts import lcefem; lcefem never imports them (they are not
+    installed)."""
+    assert len(SCRIPTS) > 20 and "timing" in SCRIPTS
+    bad = [f"{name} imports {module}" for name in SOURCES for module, _, _ in imports(name)
+           if module.split(".")[0] in [*SCRIPTS, "benchmarks"]]
+    assert not bad, "\n".join(bad)

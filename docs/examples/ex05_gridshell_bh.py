@@ -6,7 +6,7 @@ What it shows
     to lambda = 1.33 of their isotropic length and the bottom strips to 1.05 (lambda_N = 1.4 as
     built): the top shortens more, every ribbon curls upwards and the grid becomes a dome. The
     registered body ``gridshell`` runs the ramp from the as-built state with the path follower;
-    the Fig. 4 drives are data (``lcefem.validation.programs.SHAPE_DRIVES``, programs.toml).
+    the Fig. 4 drives are data (``lcefem.validation.cases.programs.SHAPE_DRIVES``, programs.toml).
 
 Equations
     Bar-and-hinge (Filipov et al. 2017; the published reduced-order model): bars with axial
@@ -32,7 +32,7 @@ import numpy as np
 
 from lcefem.solvers.problems.gridshell_bh_run import GridshellBHRunConfig, GridshellRun
 from lcefem.solvers.registry import body
-from lcefem.validation.programs import SHAPE_DRIVES
+from lcefem.validation.cases.programs import SHAPE_DRIVES
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -31,7 +31,7 @@ import matplotlib
 import numpy as np
 
 from lcefem.solvers.current_routes import CurrentRoute, Eq1Route, route_from_config
-from lcefem.validation.programs import SHAPE_DRIVES
+from lcefem.validation.cases.programs import SHAPE_DRIVES
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

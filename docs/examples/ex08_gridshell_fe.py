@@ -36,7 +36,7 @@ from lcefem.solvers.problems.gridshell import GridshellConfig
 from lcefem.solvers.program import Program
 from lcefem.solvers.registry import body
 from lcefem.solvers.runner import run
-from lcefem.validation.programs import SHAPE_DRIVES
+from lcefem.validation.cases.programs import SHAPE_DRIVES
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

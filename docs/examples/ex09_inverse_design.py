@@ -29,8 +29,8 @@ import matplotlib
 import numpy as np
 
 from lcefem.meshes.gridshell import GridshellLayout
-from lcefem.validation import gridshell_design as design
-from lcefem.validation.programs import SHAPE_DRIVES
+from lcefem.validation.studies.design import gridshell_design as design
+from lcefem.validation.cases.programs import SHAPE_DRIVES
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -33,7 +33,7 @@ import matplotlib
 
 from lcefem.models.shape_control import PlantSpread
 from lcefem.solvers import control
-from lcefem.validation.programs import SHAPE_DRIVES
+from lcefem.validation.cases.programs import SHAPE_DRIVES
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -152,11 +152,13 @@ SCRIPTS = sorted(p.stem for p in (ROOT / "benchmarks").rglob("*.py"))
 
 
 def case_modules() -> list[str]:
-    """CASE_MODULES of lcefem.validation.cases, read from its source (nothing imported)."""
-    for node in ast.walk(ast.parse(SOURCES[CASES].read_text(encoding="utf-8"))):
-        if isinstance(node, ast.AnnAssign) and getattr(node.target, "id", "") == "CASE_MODULES":
-            return [elt.value for elt in node.value.elts]
-    return []
+    """The validation case modules, read from the ``register_cases`` calls of
+    lcefem.solvers.registry (CASE_MODULES derives from them; nothing imported)."""
+    out = []
+    for node in ast.walk(ast.parse(SOURCES["lcefem.solvers.registry"].read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "register_cases":
+            out += [f"{CASES}.{arg.value}" for arg in node.args[1:]]
+    return out
 
 
 def test_every_validation_module_is_in_a_room():

@@ -385,7 +385,7 @@ class RibbonSimulation:
 
     def change_solver(self, **changes) -> None:
         """Take new solver numerics (``SOLVER_FIELDS`` of :class:`RibbonNumerics`) from the next step on,
-        e.g. to time two solver settings from one state (``validation/benchmarks/ribbon_benchmark.py``)."""
+        e.g. to time two solver settings from one state (``benchmarks/ribbon_benchmark.py``)."""
         for name in changes:
             if name not in self.SOLVER_FIELDS:
                 raise InputError(f"numerics.{name}: cannot change in a built simulation; allowed "

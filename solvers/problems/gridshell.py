@@ -101,7 +101,7 @@ SETTLE_FIRST_STEP = 0.1
 #: one dome tangent at level 0 (26,904 DOFs, t = 0.05) 1.75e9 -> 1.27e9 flops (RINFOG(3)),
 #: numeric factorisation 0.216 -> 0.177 s CPU; QAMD/AMD 1.57e9, AMF 1.61e9, SCOTCH 1.88e9
 #: (level 1: 1.53e10 -> 1.27e10 flops, 1.54 -> 1.34 s CPU); level-0 dome ramp 46.3 -> 40.5 s CPU
-#: (validation/benchmarks/gridshell_fe_speed.py, docs/performance.md). The answer moves by the
+#: (benchmarks/gridshell_fe_speed.py, docs/performance.md). The answer moves by the
 #: round-off of another elimination order only: the dome's circle curvature by 3e-13 1/mm.
 GRIDSHELL_ORDERING = {"mat_mumps_icntl_7": 4}
 #: Support kinds of :class:`GridshellSupports`.

@@ -2,7 +2,7 @@
 :func:`run_gridshell`) and the configuration departures (:data:`DEPARTURES`). The programs it runs
 (named shapes: lambdas, currents and support per shape; named recipes: P0 per group and support) are
 given with the configuration (``GridshellBHRunConfig.shapes``, ``.recipes``): the experiments' data,
-which the caller reads (the command line: lcefem.validation.programs). The problem itself is
+which the caller reads (the command line: lcefem.validation.cases.programs). The problem itself is
 :class:`lcefem.solvers.problems.gridshell_bh.GridshellBH`.
 
 Units: mm, N, t, s.
@@ -60,7 +60,7 @@ DEPARTURES = {
 #: through the ribbon and the dustpan lands 11.7 mm RMS from the published code's own run; with it
 #: 0.5 mm). 'fe-calibrated' adds the FE's constant-volume bar law and the strip element; its fitted
 #: materials (hinge and strip E I factors, the plate's torsion) and exchange factor are the
-#: caller's (lcefem.validation.calibrate.model_set).
+#: caller's (lcefem.validation.studies.gridshell.calibrate.model_set).
 MODEL_SET_DEPARTURES = {"published": ("contact",),
                         "fe-calibrated": ("contact", "volume_law", "strip_beam")}
 #: How a run is configured (``run.configuration``): "model-set" (default) = the model set's
@@ -111,7 +111,7 @@ class GridshellRun:
     model_set: str = param("published", "-", "the bar-and-hinge model set whose configuration the run "
                            "takes (MODEL_SET_DEPARTURES): 'published' or 'fe-calibrated' (its fitted "
                            "materials in the kapton and lce sections are the caller's: "
-                           "lcefem.validation.calibrate.model_set; the command's default)")
+                           "lcefem.validation.studies.gridshell.calibrate.model_set; the command's default)")
     configuration: str = param("model-set", "-", "'model-set' (the model set's configuration, the "
                                "ribbon impenetrable) or 'published' (the published script exactly: no "
                                "strip-ribbon contact; published model set only); plus run.departures")

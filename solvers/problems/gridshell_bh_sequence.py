@@ -3,7 +3,7 @@ time -> each strip's temperature (lumped transient heat balance) -> its free str
 bar-and-hinge surface, solved quasi-statically at each output time from the previous equilibrium.
 
 ``lcefem run gridshell --schedule FILE.toml [--out DIR]`` (command line and figures:
-lcefem.validation.gridshell_sequence, dispatched from lcefem.validation.commands.gridshell). The
+lcefem.validation.studies.gridshell.gridshell_sequence, dispatched from lcefem.validation.app.commands.gridshell). The
 schedule file::
 
     [schedule]
@@ -93,7 +93,7 @@ class Schedule:
     labels: tuple[str, ...] = ()
     heat_step: float = 0.05  # s
     #: the bar-and-hinge model set the schedule was made with ("": the command's default; the name is
-    #: checked where the model sets live, lcefem.validation.calibrate)
+    #: checked where the model sets live, lcefem.validation.studies.gridshell.calibrate)
     model_set: str = ""
     #: the gridshell's layout (None: the published 3 x 3)
     layout: Layout | None = None
@@ -410,7 +410,7 @@ def run_sequence(schedule: Schedule, out: pathlib.Path | None, *, progress: bool
     :class:`lcefem.models.cover_scales.CoverScales` puts the cover scales on the surface;
     ``frame(k, t, structure, x)`` is called at every output (e.g. a movie's frames). ``materials``
     and ``structure`` choose the model (e.g. the FE-calibrated set of
-    :func:`lcefem.validation.calibrate.model_set`: a structure with ``strip_element = "beam"``);
+    :func:`lcefem.validation.studies.gridshell.calibrate.model_set`: a structure with ``strip_element = "beam"``);
     ``exchange_factor`` [-] is the grid strip's (thermal model 'strip'), the one calibrated with the
     model set (default: the published set's, :data:`lcefem.models.lumped_heat.GRID_EXCHANGE_FACTOR`)."""
     structure = structure or build_gridshell_bar_hinge()

@@ -294,7 +294,7 @@ def run_gridshell_fe(cfg: GridshellFERunConfig, out: pathlib.Path, progress: boo
     (the door, :func:`lcefem.solvers.runner.run`) into ``out``; returns the summary. ``report(out, cfg,
     model) -> dict`` (optional: the validation's render) runs before the summary is written; its
     entries join the results; ``cfg.notes`` join the summary. A steady hold also gives "held" (the final observables)
-    and "cpu [s]", the entries lcefem.validation.gridshell_fe_current_store reads."""
+    and "cpu [s]", the entries lcefem.validation.studies.gridshell.gridshell_fe_current_store reads."""
     cfg = cfg.validated()
     out = pathlib.Path(out)
     r = cfg.run

@@ -1,5 +1,5 @@
 """A single LCE strip heated by its embedded coil, in 3D finite strain (seed 001, Fig. 2): the
-thermo-mechanical strip problem (``lcefem run strip``; CLI glue in :mod:`lcefem.validation.commands.strip`).
+thermo-mechanical strip problem (``lcefem run strip``; CLI glue in :mod:`lcefem.validation.app.commands.strip`).
 
 Drives: the coil current per strip tag (:meth:`StripSimulation.set_drives`, tag ``coil``; the
 current -> power step is :class:`lcefem.models.heat.Coil`), or a prescribed temperature field

@@ -19,7 +19,7 @@ import ufl
 from lcefem.meshes.io import FORMATS, TAG_DATA, to_meshio, write_mesh
 from lcefem.meshes.strip import strip_volume
 from lcefem.models.errors import InputError
-from lcefem.validation.mesh import BAR_HINGE, BODIES, MeshRequest, build, build_tagged
+from lcefem.validation.app.mesh import BAR_HINGE, BODIES, MeshRequest, build, build_tagged
 
 FE = [MeshRequest(b, "fe", 0, "msh") for b in BODIES]
 BH = [MeshRequest(b, "bar-hinge", None, "msh") for b in BAR_HINGE]

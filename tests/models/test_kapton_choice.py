@@ -7,7 +7,7 @@ from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.models.bar_hinge_materials import KaptonBarHinge
 from lcefem.models.hyperelastic import (KAPTON_DATASHEET_MODULUS, KAPTON_MODULI,
                                         KAPTON_SPECIMEN_EFFECTIVE_LENGTH, NeoHookeanSolid)
-from lcefem.validation.reference_data import reference
+from lcefem.validation.cases.reference_data import reference
 
 
 def test_every_kapton_body_uses_the_chosen_modulus():

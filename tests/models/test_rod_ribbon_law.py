@@ -48,7 +48,7 @@ def test_untwisting():
 def test_section_quadrature_converges_on_one_face_bending():
     """Faces 60/25 C: the one-sample-per-cell rule converges at second order in the cell height (and is
     27 % low on 2 cells, issue 17); the 4-point rule on 2 cells is within 1e-4 of the closed form."""
-    from lcefem.validation.rod_verification import observed_order, one_face_bending
+    from lcefem.validation.studies.verification.rod_verification import observed_order, one_face_bending
 
     coarse = [one_face_bending(n, 1) for n in (2, 4, 8, 16)]
     assert coarse[0].relative_error == pytest.approx(0.27, abs=0.01)

@@ -26,7 +26,7 @@ def test_a_case_file_program_gives_the_same_history(tmp_path):
     """The README's first run as a [program] (0.2 A from 0 to 20 s, dt 1 s) and [[exports]]
     (the history only), through the library: the same bytes."""
     from lcefem.solvers.problems.strip import COLUMNS, StripConfig, run_strip
-    from lcefem.validation.config import config_from_toml, door_from_toml
+    from lcefem.validation.app.config import config_from_toml, door_from_toml
 
     case = tmp_path / "case.toml"
     case.write_text('[mesh]\nlevel = 0\n\n[program]\nclock = "time"\nduration = 20.0\ndt = 1.0\n'

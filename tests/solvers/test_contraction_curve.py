@@ -85,7 +85,7 @@ def test_case_file_curve_is_read_beside_the_case_file(tmp_path, monkeypatch):
     """[lce] curve = "name.csv" in a case file names a file in the case file's folder, wherever the
     run starts; a bad file is an InputError at validation (before any mesh)."""
     from lcefem.solvers.problems.strip import StripConfig
-    from lcefem.validation.config import config_from_toml
+    from lcefem.validation.app.config import config_from_toml
 
     folder = tmp_path / "robot"
     folder.mkdir()
@@ -124,7 +124,7 @@ def test_curve_shape_benchmark_table_is_the_former_table(tmp_path):
     field equal)."""
     from lcefem.solvers.der.ribbon import CONTRACTION_TABLE, tabulated_contraction
     from lcefem.solvers.der.tabulated import TabulatedLaw
-    from lcefem.validation.benchmarks.ribbon_curve_shape import contraction_of_shape, shaped_curve_file
+    from ribbon_curve_shape import contraction_of_shape, shaped_curve_file
 
     for name in ("LTNI", "HTNI"):
         former = TabulatedLaw.of(contraction_of_shape(name, 1.35), *CONTRACTION_TABLE)

@@ -10,8 +10,8 @@ from lcefem.models.lumped_heat import HeatedStrip, implicit_euler_step
 from lcefem.models.shape_control import (BoostGuard, CurrentLimits, HeightSensor, PlantSpread, StripHeat,
                                          draw_strips, free_stretch, strip_temperature_step)
 from lcefem.solvers import control as ctl
-from lcefem.validation.cli import main as cli_main
-from lcefem.validation.programs import SHAPE_DRIVES
+from lcefem.validation.app.cli import main as cli_main
+from lcefem.validation.cases.programs import SHAPE_DRIVES
 
 
 class LinearSurface(ctl.Surface):

@@ -91,7 +91,7 @@ def test_covered_model_keeps_the_strip_bending_elements():
     (a covered model without the strip elements would differ by their bending energy, > 0 here)."""
     from lcefem.solvers.bar_hinge.strip_beams import StripBeamModel, bar_hinge_model
     from lcefem.solvers.problems.gridshell_bh_scales import CoveredStripBeamModel, covered_model
-    from lcefem.validation import calibrate
+    from lcefem.validation.studies.gridshell import calibrate
 
     ms = calibrate.model_set("fe-calibrated")
     s, materials = ms.structure(), ms.materials

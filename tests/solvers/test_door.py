@@ -218,10 +218,10 @@ def test_a_bad_program_in_a_case_file_exits_2_with_one_line_and_writes_nothing(t
 def test_run_targets_come_from_the_body_registry():
     """``lcefem run`` targets are the registrations' targets; adding a body is one registration."""
     from lcefem.solvers import registry
-    from lcefem.validation.commands import RUN_TARGETS
+    from lcefem.validation.app.commands import RUN_TARGETS
 
     assert list(RUN_TARGETS) == list(registry.targets())
-    assert RUN_TARGETS["strip"] == "lcefem.validation.commands.strip"
+    assert RUN_TARGETS["strip"] == "lcefem.validation.app.commands.strip"
     for entry in registry.BODIES.values():
         assert entry.config_class() is not None and registry._load(entry.problem) is not None
     extra = registry.register(registry.Body("toy", "a slider", "toy", "toy", "math:pi", "math:pi", None))
@@ -251,7 +251,7 @@ def test_the_strip_and_the_beams_register_their_default_program():
 def test_programs_toml_holds_run_programs_behind_the_checked_loader(tmp_path):
     """validation/data/programs.toml's [run_programs]: each a Program with its source; a bad entry
     is one InputError naming the file and the key."""
-    from lcefem.validation.programs import PATH, load_programs, run_program
+    from lcefem.validation.cases.programs import PATH, load_programs, run_program
 
     pulse, source = run_program("strip_pulse_0p2A_20s_then_off")
     assert pulse.drives == ((0.0, {"coil": 0.2}), (20.0, {"coil": 0.0})) and "seed 001" in source
@@ -292,8 +292,8 @@ def test_the_bar_and_hinge_beam_through_the_door_from_its_registration(tmp_path)
 
 
 def test_a_case_file_names_a_program_of_programs_toml(tmp_path):
-    from lcefem.validation.config import door_from_toml
-    from lcefem.validation.programs import run_program
+    from lcefem.validation.app.config import door_from_toml
+    from lcefem.validation.cases.programs import run_program
 
     case = tmp_path / "case.toml"
     case.write_text('[program]\nname = "strip_pulse_0p2A_20s_then_off"\n')

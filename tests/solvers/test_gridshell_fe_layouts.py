@@ -12,8 +12,8 @@ from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.gridshell_fe import GridshellFEMesh
 from lcefem.meshes.gridshell_fe_gmsh import layout_fe_geometry
 from lcefem.meshes.gridshell_layout import Layout
-from lcefem.validation.cli import main
-from lcefem.validation.commands import gridshell as cmd
+from lcefem.validation.app.cli import main
+from lcefem.validation.app.commands import gridshell as cmd
 
 
 def _prepared(*argv):

@@ -14,7 +14,7 @@ from scipy.spatial import cKDTree
 
 from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
 from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
-from lcefem.validation import calibrate
+from lcefem.validation.studies.gridshell import calibrate
 
 
 def solve(name: str, support: str, drive: dict) -> GridshellBH:

@@ -9,7 +9,7 @@ from lcefem.models.errors import InputError
 from lcefem.models.lce import spontaneous_stretch
 from lcefem.solvers.continuation import PathControl
 from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellFE
-from lcefem.validation.programs import DOME_PROTOCOL, FIG4_SHAPES, fig4_shape
+from lcefem.validation.cases.programs import DOME_PROTOCOL, FIG4_SHAPES, fig4_shape
 
 
 #: Fraction of the Fig. 4 ramps the tests take (the whole dome ramp takes ~100 path steps, tens of

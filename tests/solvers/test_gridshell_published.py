@@ -16,7 +16,7 @@ from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import gridshell_bh as g
 
 from lcefem.solvers.problems import gridshell_bh_run as grun
-from lcefem.validation.programs import RECIPES, SHAPE_DRIVES
+from lcefem.validation.cases.programs import RECIPES, SHAPE_DRIVES
 PUBLISHED_MESH, PUBLISHED_LCE, _ = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "clamp")
 
 
@@ -129,7 +129,7 @@ def test_departures_and_configurations():
 
 
 #: Golden values of the published recipes (published configuration; circle and quadratic-fit centre
-#: curvatures [1/mm]), measured on 2026-11-28 (lcefem.validation.gridshell_configuration; the
+#: curvatures [1/mm]), measured on 2026-11-28 (lcefem.validation.studies.gridshell.gridshell_configuration; the
 #: Newton tolerance 1e-6 N gives ~1e-7 1/mm).
 GOLDEN = {
     "cone": (-0.02045, -0.001569, -0.0205, -0.001772),

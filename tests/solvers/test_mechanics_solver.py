@@ -531,7 +531,7 @@ def _hot_core_strips(solvers) -> dict:
     ``rhs_norms``: per linear solve its Krylov iterations, relative tolerance and |b| [N]."""
     from lcefem.meshes.strip import StripMesh
     from lcefem.solvers.problems.strip import StripConfig, StripSimulation
-    from lcefem.validation.benchmarks.linear_solver_benchmark import hot_core
+    from linear_solver_benchmark import hot_core
 
     sims = {}
     for pc, extra in solvers:

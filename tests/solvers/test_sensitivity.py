@@ -1,5 +1,5 @@
 """Sampling and Sobol indices (lcefem.solvers.analysis.sensitivity) against closed forms, and the
-bands' sampler and surrogate of lcefem.validation.uncertainty."""
+bands' sampler and surrogate of lcefem.validation.studies.gridshell.uncertainty."""
 
 import numpy as np
 import pytest
@@ -18,7 +18,7 @@ def test_sampler_reproduces_the_input_distributions():
 
 
 def test_gridshell_inputs_sample_the_measured_spreads():
-    from lcefem.validation import uncertainty as unc
+    from lcefem.validation.studies.gridshell import uncertainty as unc
     inputs = unc.gridshell_inputs("dome")
     X = sample_inputs(inputs, 20000, seed=2)
     names = [i.name for i in inputs]
@@ -27,7 +27,7 @@ def test_gridshell_inputs_sample_the_measured_spreads():
     ln = X[:, names.index("Tx lambda_N")]
     assert ln.std() / ln.mean() == pytest.approx(8.01 / 130.22, rel=0.03)  # seed 001: 130.22 +- 8.01 mm
     # the nominal inputs give the current route's lambdas (Eq. 1 at the paper's dome currents)
-    from lcefem.validation import gridshell_bh as gs
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
     from lcefem.models import lumped_heat
     f = unc.rest_fractions_of(unc.nominal_row(inputs), "dome", unc.StretchLaw("eq1"))[0]
     lam = lumped_heat.lambda_assignments_from_currents(gs.SHAPES["dome"]["currents"], lumped_heat.CurrentRouteConfig("eq1"))
@@ -61,7 +61,7 @@ def test_grouped_sobol_indices_of_a_linear_model():
 
 
 def test_polynomial_surrogate_is_exact_on_a_quadratic_and_flags_a_bad_fit():
-    from lcefem.validation.uncertainty import PolynomialSurrogate
+    from lcefem.validation.studies.gridshell.uncertainty import PolynomialSurrogate
     rng = np.random.default_rng(5)
     Z = rng.uniform(0.8, 1.0, (80, 3))
     y = 1.0 + 2.0 * Z[:, 0] - Z[:, 1] * Z[:, 2] + 0.5 * Z[:, 2] ** 2
@@ -75,7 +75,7 @@ def test_polynomial_surrogate_is_exact_on_a_quadratic_and_flags_a_bad_fit():
 def test_polynomial_surrogate_through_too_few_points_is_not_validated():
     # 4 points, 6 coefficients (5 features): the fit interpolates, so leave-one-out cannot test it
     # (the hat matrix is the identity and the old formula gave Q^2 = 1, a 'valid' surrogate).
-    from lcefem.validation.uncertainty import PolynomialSurrogate
+    from lcefem.validation.studies.gridshell.uncertainty import PolynomialSurrogate
     rng = np.random.default_rng(6)
     Z = rng.uniform(0.7, 1.0, (4, 5))
     sur = PolynomialSurrogate.fit(Z, rng.normal(size=4))
@@ -86,7 +86,7 @@ def test_polynomial_surrogate_through_too_few_points_is_not_validated():
 
 
 def test_bands_table_places_the_paper_value_inside_or_outside():
-    from lcefem.validation import uncertainty as unc
+    from lcefem.validation.studies.gridshell import uncertainty as unc
     v = np.linspace(-0.030, -0.010, 201)  # 5-95 %: -0.029 .. -0.011
     rows = unc.bands_table({"circle kappa_x [1/mm]": v, "circle kappa_y [1/mm]": v + 0.02,
                             "quad kappa_x [1/mm]": v}, {c: 0.0 for c in unc.OUTPUTS}, "dome")

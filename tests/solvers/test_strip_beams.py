@@ -14,7 +14,7 @@ from lcefem.models.errors import InputError
 from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.solvers.bar_hinge.strip_beams import StripBeamModel, bar_hinge_model
-from lcefem.validation.reference_data import DATA_DIR
+from lcefem.validation.cases.reference_data import DATA_DIR
 
 
 def test_section_numbers():
@@ -99,7 +99,7 @@ def test_plate_twist_brings_the_saddle_kappa_y_within_tolerance_of_the_3d_fe():
 
 
     from lcefem.models import bar_hinge_materials as law
-    from lcefem.validation import calibrate as cal
+    from lcefem.validation.studies.gridshell import calibrate as cal
 
     fe = cal.fe_reference()["saddle"]
     n5b8 = cal.solve_shape("saddle", BarHingeMaterials())

@@ -19,7 +19,7 @@ from lcefem.solvers.bar_hinge import BarHingeModel, held_dofs, newton
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.models import hyperelastic
 from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
-from lcefem.validation.cli import main as cli_main
+from lcefem.validation.app.cli import main as cli_main
 from tests.conftest import assert_failures_known
 
 SPEC = KaptonSpecimenGeometry()

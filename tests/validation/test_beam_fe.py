@@ -9,7 +9,7 @@ import subprocess
 import pytest
 
 from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry
-from lcefem.validation.cli import main
+from lcefem.validation.app.cli import main
 
 SPEC = KaptonSpecimenGeometry()
 E, NU = 2500.0, 0.34

@@ -23,7 +23,7 @@ def read_history(path):
 def level0_case(folder):
     """The example's case file beside the level-0 beam mesh (as `lcefem mesh beam --mesh-level 0`)."""
     from lcefem.meshes.io import write_mesh
-    from lcefem.validation.mesh import MeshRequest, build
+    from lcefem.validation.app.mesh import MeshRequest, build
 
     m, _ = build(MeshRequest("beam", "fe", 0, "msh"))
     write_mesh(m, folder, "beam", "msh", {"body": "beam", "model": "fe"})
@@ -120,7 +120,7 @@ def test_a_stretch_ramp_is_not_compared_against_time_nor_converged(tmp_path):
     times at every level) do not apply to a ramp in a load factor: one line each."""
     from lcefem.models.errors import InputError
     from lcefem.solvers.problems.body_case import load_case
-    from lcefem.validation.converge_body import check_refinable
+    from lcefem.validation.app.converge_body import check_refinable
 
     shutil.copy(BEAM / "beam.msh", tmp_path / "beam.msh")
     text = (BEAM / "case.toml").read_text()

@@ -172,7 +172,7 @@ def test_exported_builtin_mesh_reads_back_into_the_body(tmp_path, fmt):
     from lcefem.meshes.io import write_mesh
     from lcefem.solvers.problems.body import run_body
     from lcefem.solvers.problems.body_case import load_case
-    from lcefem.validation.mesh import MeshRequest, build
+    from lcefem.validation.app.mesh import MeshRequest, build
 
     m, _ = build(MeshRequest("strip", "fe", 0, fmt))
     write_mesh(m, tmp_path, "strip", fmt)

@@ -5,8 +5,8 @@ import json
 import pytest
 
 from lcefem.models.bar_hinge_materials import BarHingeMaterials
-from lcefem.validation import calibrate as cal
-from lcefem.validation.cli import main as cli_main
+from lcefem.validation.studies.gridshell import calibrate as cal
+from lcefem.validation.app.cli import main as cli_main
 
 
 @pytest.mark.parametrize("args, field", [(["--shapes", "dome,bowl"], "--shapes"),

@@ -5,7 +5,7 @@ import pytest
 
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig
-from lcefem.validation.config import assign, assign_or_exit
+from lcefem.validation.app.config import assign, assign_or_exit
 
 
 def test_an_assignment_changes_one_field_only():

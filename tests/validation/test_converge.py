@@ -9,8 +9,8 @@ import pytest
 
 from lcefem.validation import cases as case_registry
 from lcefem.validation.cases import Case, Metric
-from lcefem.validation.cli import main as cli_main
-from lcefem.validation.converge import analyse, ratio_warnings
+from lcefem.validation.app.cli import main as cli_main
+from lcefem.validation.app.converge import analyse, ratio_warnings
 
 H = [0.4, 0.25, 0.16, 0.1, 0.0625]  # ratios 1.6
 

@@ -16,7 +16,7 @@ import numpy as np
 from lcefem.models.errors import ConvergenceError
 from lcefem.validation import cases
 from lcefem.validation.cases import Case, Metric
-from lcefem.validation.cli import main
+from lcefem.validation.app.cli import main
 
 FAIL_LEVEL = int(sys.argv[2])
 

@@ -1,6 +1,6 @@
 """The DisMech benchmark's problem is the same physics in both codes (never its timing).
 
-validation/benchmarks/dismech_benchmark.py: dismech-python's rod cantilever (a 100 x 20 x 1 mm
+benchmarks/dismech_benchmark.py: dismech-python's rod cantilever (a 100 x 20 x 1 mm
 strip, E = 2 MPa, 51 nodes, the first 10 mm clamped, under its weight). Measured values (this
 branch, 2026-12-07): our static tip is 1.50 / 0.79 / 0.41 / 0.21 mm from the heavy elastica at
 51 / 101 / 201 / 401 nodes (first order: the lumped node masses and the clamp's half edge); the
@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from lcefem.validation.benchmarks import dismech_benchmark as bench
+import dismech_benchmark as bench
 
 
 def test_heavy_elastica_reference_tends_to_the_linear_cantilever():

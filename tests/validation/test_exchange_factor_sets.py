@@ -5,9 +5,9 @@ factor in the FE-calibrated set")."""
 
 import pytest
 
-from lcefem.validation import calibrate
-from lcefem.validation import grid_exchange_calibration as cal
-from lcefem.validation import gridshell_current_route as route
+from lcefem.validation.studies.gridshell import calibrate
+from lcefem.validation.studies.gridshell import grid_exchange_calibration as cal
+from lcefem.validation.studies.gridshell import gridshell_current_route as route
 
 
 #: Tolerance on the factor [-] that today's model needs to meet the measured dome, against the stored
@@ -49,7 +49,7 @@ def test_the_other_sets_factor_misses_the_dome():
 
 def test_an_explicit_factor_overrides_the_sets():
     from lcefem.models.errors import InputError
-    from lcefem.validation import uncertainty as unc
+    from lcefem.validation.studies.gridshell import uncertainty as unc
 
     ms = calibrate.model_set("fe-calibrated")
     assert ms.current_route().exchange_factor == ms.exchange_factor

@@ -16,7 +16,7 @@ import time
 
 import pytest
 
-from lcefem.validation.cli import main as cli_main
+from lcefem.validation.app.cli import main as cli_main
 
 BEAM = ["run", "beam", "--segments", "2", "--lambda-top", "1.38", "--quiet"]  # 2 s bar-and-hinge run
 STRIP = ["run", "strip", "--mesh-level", "0", "--quiet", "--no-fields"]
@@ -277,7 +277,7 @@ ONE_RANK_FAILS = """
 import dolfinx_solver  # noqa: F401
 from mpi4py import MPI
 
-from lcefem.validation import cli
+from lcefem.validation.app import cli
 
 comm = MPI.COMM_WORLD
 cli._ERRORS = comm.Dup()
@@ -361,7 +361,7 @@ def test_a_signal_wrapped_in_a_library_error_is_an_interrupt_not_a_case_error(tm
     (seen in ribbon_twist_density): the case is reported interrupted, with no error.log."""
     from lcefem.solvers import interrupts
     from lcefem.validation.cases import Case
-    from lcefem.validation.validate import _run_or_reuse
+    from lcefem.validation.app.validate import _run_or_reuse
 
     def compiling(ctx):
         interrupts.received.append(signal.SIGTERM)  # what the handler records before raising
@@ -381,7 +381,7 @@ def test_a_wrapped_signal_ends_a_command_with_the_signal_status(monkeypatch):
     """The same wrapped SIGTERM ending `lcefem run ...` exits 143 with the interrupt line, not as a bug
     (status 1 and a traceback)."""
     from lcefem.solvers import interrupts
-    from lcefem.validation.cli import _classify
+    from lcefem.validation.app.cli import _classify
 
     monkeypatch.setattr(interrupts, "received", [signal.SIGTERM])
     code, message = _classify(RuntimeError("no compiled object yet"))

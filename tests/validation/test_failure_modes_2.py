@@ -1,6 +1,6 @@
 """The second catalogue (issue 36): work that cannot fit, encodings, signals, full disks, folder rules,
 ignored inputs. Each ends in one line, a documented exit status (docs/failure_modes.md) and an output
-folder that says what happened. In-process where possible (lcefem.validation.cli.main); the option
+folder that says what happened. In-process where possible (lcefem.validation.app.cli.main); the option
 values are refused in argument checking, before any output folder is claimed (checked by a claim
 that fails the test instead of running).
 """
@@ -21,8 +21,8 @@ from lcefem.solvers import cost
 from lcefem.solvers.interrupts import Terminated
 from lcefem.solvers.runtime.files import CSVTable, library_os_error, write_text
 from lcefem.solvers.runtime.outdir import STAMP_TEXT, stamped_command
-from lcefem.validation import cli as cli_module
-from lcefem.validation.cli import main as cli_main
+from lcefem.validation.app import cli as cli_module
+from lcefem.validation.app.cli import main as cli_main
 
 # The first catalogue's helpers: the same in-process command line, one-line check and folder listing.
 from tests.validation.test_failure_modes import BEAM, LOCK, STRIP, cli, one_line, results  # noqa: E402
@@ -155,7 +155,7 @@ def test_schedule_in_utf16_one_line_exit_2(capsys, tmp_path):
 
 
 def test_utf8_case_file_with_a_byte_order_mark_is_read(tmp_path):
-    from lcefem.validation.config import load_toml
+    from lcefem.validation.app.config import load_toml
 
     case = tmp_path / "case.toml"
     case.write_bytes("\ufeff[run]\ncurrent = 0.1\n".encode("utf-8"))
@@ -187,7 +187,7 @@ def test_petsc_never_takes_sigterm(tmp_path):
 
 
 def _fake_study(monkeypatch):
-    from lcefem.validation import converge
+    from lcefem.validation.app import converge
 
     h = [2.0, 1.0, 0.5, 0.25]
     studies = [converge.analyse(h, [1.0 + x**2 for x in h], "m", "mm")]
@@ -195,7 +195,7 @@ def _fake_study(monkeypatch):
 
 
 def test_converge_interrupted_while_plotting_leaves_no_final_names(capsys, tmp_path, monkeypatch):
-    from lcefem.validation import plots
+    from lcefem.validation.app import plots
 
     _fake_study(monkeypatch)
 
@@ -393,7 +393,7 @@ def test_adios2_error_text_becomes_an_os_error_naming_the_file():
 
 
 def test_validate_on_a_full_disk_stops_with_report_incomplete(capsys, tmp_path, monkeypatch):
-    from lcefem.validation import plots
+    from lcefem.validation.app import plots
 
     def full(fig, path, dpi):
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
@@ -440,7 +440,7 @@ def test_overwrite_refuses_to_delete_the_case_file_it_reads(beam_folder, capsys,
 
 
 def test_exit_3_before_the_run_exists_leaves_failure_json(capsys, tmp_path, monkeypatch):
-    from lcefem.validation.commands import beam
+    from lcefem.validation.app.commands import beam
 
     def fails_in_set_up(args):
         raise ConvergenceError("the as-built state", "no equilibrium")
@@ -482,7 +482,7 @@ def test_helix_with_twist_density_is_refused(capsys, tmp_path):
 def test_helix_reports_no_twist(tmp_path):
     from argparse import Namespace
 
-    from lcefem.validation.commands.ribbon import config_from_args
+    from lcefem.validation.app.commands.ribbon import config_from_args
 
     args = Namespace(config=None, ground_temperature=None, duration=None, twist_density=None, helix_radius=2.0,
                      nodes=None, dt=None, error_tolerance=None, obstacle=None,
@@ -491,7 +491,7 @@ def test_helix_reports_no_twist(tmp_path):
 
 
 def test_strip_ids_in_a_case_file_as_on_the_command_line(tmp_path):
-    from lcefem.validation.commands.gridshell import config_from_toml, parse_assignments
+    from lcefem.validation.app.commands.gridshell import config_from_toml, parse_assignments
 
     case = tmp_path / "case.toml"
     case.write_text("[lambda]\n3 = 1.2\nTx = 1.3\n[current]\n7 = 0.1\n")
@@ -501,7 +501,8 @@ def test_strip_ids_in_a_case_file_as_on_the_command_line(tmp_path):
 
 
 def test_curvature_chart_legend_lists_only_drawn_series(tmp_path, monkeypatch):
-    from lcefem.validation import gridshell_plots, plots
+    from lcefem.validation.studies.gridshell import gridshell_plots
+    from lcefem.validation.app import plots
 
     figures = []
     monkeypatch.setattr(plots, "save_figure", lambda fig, path, dpi: figures.append(fig) or path)

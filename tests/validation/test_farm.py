@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from lcefem.validation import farm
+from lcefem.validation.app import farm
 from lcefem.validation.cases import AFFINITY, registry
 
 #: Cheap quick cases: a rod closed form (numba), the tension law, two FE cases (a strip in tension,
@@ -88,7 +88,7 @@ def test_resume_of_a_farmed_run_runs_only_what_is_missing(serial_and_farmed, tmp
 
 ONE_RANK_PETSC = """
 import sys
-from lcefem.validation import farm
+from lcefem.validation.app import farm
 farm.petsc_world_per_rank()
 from mpi4py import MPI
 from petsc4py import PETSc

@@ -1,4 +1,4 @@
-"""Fig. 5 tasks (validation/fig5_tasks.py, solvers/problems/gridshell_bh_weights.py): the arch crowns
+"""Fig. 5 tasks (validation/studies/gridshell/fig5_tasks.py, solvers/problems/gridshell_bh_weights.py): the arch crowns
 that carry the pad, and the command line's one-line errors (InputError: exit 2 by the CLI)."""
 
 import argparse
@@ -8,7 +8,7 @@ import pytest
 
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.errors import InputError
-from lcefem.validation.commands import gridshell as gridshell_command
+from lcefem.validation.app.commands import gridshell as gridshell_command
 from lcefem.solvers.problems.gridshell_bh_weights import arch_crowns
 
 
@@ -50,7 +50,7 @@ def test_the_ball_surface_draws_its_strips_from_the_measured_spread():
     from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.models.shape_control import PlantSpread, draw_strips
     from lcefem.solvers.problems import gridshell_bh as gs
-    from lcefem.validation import fig5_tasks
+    from lcefem.validation.studies.gridshell import fig5_tasks
 
     s = build_gridshell_bar_hinge()
     n = len(s.info["strips"])
@@ -78,7 +78,7 @@ def test_the_ball_is_released_the_same_way_whatever_the_round_off(tmp_path):
     from the centre, far beyond round-off from the saddle point; moving it by +-1e-9 mm where it is
     placed and where the saddle takes it over changes neither the side nor (to 1e-6 s) the time it
     leaves by."""
-    from lcefem.validation import fig5_tasks
+    from lcefem.validation.studies.gridshell import fig5_tasks
     from lcefem.validation.cases.gridshell_fig5_bh import QUICK_NEWTON
 
     frames = fig5_tasks.morph_frames(newton=QUICK_NEWTON)

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from lcefem.validation.gci import gci, observed_order
+from lcefem.validation.studies.verification.gci import gci, observed_order
 
 
 def test_celik_2008_table1_reattachment_length():

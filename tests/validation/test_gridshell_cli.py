@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from lcefem.validation.cli import main
+from lcefem.validation.app.cli import main
 
 
 def test_run_writes_summary_nodes_and_vtk(tmp_path):
@@ -67,7 +67,7 @@ def test_recipe_departures_from_the_command_line(tmp_path, capsys):
     assert "only with the published model set" in capsys.readouterr().err
     import argparse
 
-    from lcefem.validation.commands import gridshell as cmd
+    from lcefem.validation.app.commands import gridshell as cmd
     p = argparse.ArgumentParser()
     cmd.add_arguments(p)
     cfg = cmd.prepare(p.parse_args(["--recipe", "dome", "--departure", "volume_law",
@@ -88,8 +88,8 @@ def test_model_set_of_the_run_command():
     # materials and exchange factor from the stored calibration; --model-set published the published one
     import argparse
 
-    from lcefem.validation import calibrate
-    from lcefem.validation.commands import gridshell as cmd
+    from lcefem.validation.studies.gridshell import calibrate
+    from lcefem.validation.app.commands import gridshell as cmd
     p = argparse.ArgumentParser()
     cmd.add_arguments(p)
     fe = cmd.prepare(p.parse_args(["--shape", "saddle"]))
@@ -153,7 +153,7 @@ def test_fe_takes_the_smallest_valid_mirror_model_of_every_drive():
     import argparse
 
     from lcefem.meshes.gridshell_fe import RECIPE_SYMMETRY
-    from lcefem.validation.commands import gridshell as cmd
+    from lcefem.validation.app.commands import gridshell as cmd
     p = argparse.ArgumentParser()
     cmd.add_arguments(p)
 
@@ -187,7 +187,7 @@ def test_fe_dome_from_the_command_line_gives_the_stored_golden(tmp_path):
     # golden (validation/data/gridshell_fe_fig4_quarter_level0.json, written to 5-6 significant
     # digits): within 1e-6 1/mm and 1e-4 mm, the stored rounding. Measured: circle -0.02217455 and
     # quadratic -0.02024031 1/mm, apex 40.566067 mm; 45 s user CPU (/usr/bin/time, shared machine).
-    from lcefem.validation.reference_data import DATA_DIR
+    from lcefem.validation.cases.reference_data import DATA_DIR
 
     golden = json.loads((DATA_DIR / "gridshell_fe_fig4_quarter_level0.json").read_text())["shapes"]["dome"]
     out = tmp_path / "fe_dome"
@@ -227,7 +227,7 @@ def test_fe_case_file(tmp_path, capsys):
     # --model fe --config: run keys and the FE gridshell's sections; the command line wins
     import argparse
 
-    from lcefem.validation.commands import gridshell as cmd
+    from lcefem.validation.app.commands import gridshell as cmd
     p = argparse.ArgumentParser()
     cmd.add_arguments(p)
     case = tmp_path / "fe.toml"

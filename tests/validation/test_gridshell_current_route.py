@@ -5,8 +5,8 @@ configuration it was fitted in, and at the FE's own channel lambdas it meets the
 
 import pytest
 
-from lcefem.validation import gridshell_bh as gs
-from lcefem.validation import gridshell_current_route as route
+from lcefem.validation.studies.gridshell import gridshell_bh as gs
+from lcefem.validation.studies.gridshell import gridshell_current_route as route
 
 
 @pytest.mark.parametrize("shape", route.SHAPES)
@@ -24,7 +24,7 @@ def test_the_rule_gives_back_the_fig4_lambdas(shape):
 def test_fe_calibrated_set_is_the_fitted_configuration():
     # validation.calibrate: strip element 'beam', plate torsion, the fitted factors, in the
     # published configuration + contact + the constant-volume bar law (AS_FE)
-    from lcefem.validation import calibrate
+    from lcefem.validation.studies.gridshell import calibrate
 
     record = calibrate.load()
     setup = route.bh_setup("dome", gs.SHAPES["dome"]["lambdas"], "fe-calibrated")
@@ -45,7 +45,7 @@ def test_bands_are_drawn_around_the_currents_given():
     Fig. 4 lambdas (0.0640 A top x, 0.0786 A top y)."""
     from lcefem.models import lumped_heat
     from lcefem.models.errors import InputError
-    from lcefem.validation import uncertainty as unc
+    from lcefem.validation.studies.gridshell import uncertainty as unc
 
     before = dict(gs.SHAPES["saddle"]["currents"])
     rule = lumped_heat.shape_currents(gs.SHAPES["saddle"]["lambdas"])

@@ -6,10 +6,10 @@ import pytest
 
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
 from lcefem.solvers.bar_hinge.design import objective_and_gradient
-from lcefem.validation import gridshell_bh as gs
+from lcefem.validation.studies.gridshell import gridshell_bh as gs
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
-from lcefem.validation import gridshell_design as gd
+from lcefem.validation.studies.design import gridshell_design as gd
 
 ONE = GridshellLayout(ribbons=1)
 
@@ -111,7 +111,7 @@ def test_currents_invert_the_current_route():
 def test_design_command_writes_summary_and_csv(tmp_path, capsys):
     import json
 
-    from lcefem.validation.cli import main
+    from lcefem.validation.app.cli import main
     out = tmp_path / "d"
     rc = main(["design", "--target-kx", "-0.01", "--target-ky", "-0.01", "--ribbons", "1", "--quiet",
                "--out", str(out)])
@@ -151,7 +151,7 @@ def test_fe_calibrated_model_set_round_trip():
     # --model-set fe-calibrated: the strip element, the plate's torsion and the fitted factors of
     # validation/data/bar_hinge_calibration.json; the design's sensitivities stay exact (the added
     # elements do not depend on the rest fractions), so a one-cell round trip closes within 1e-4.
-    from lcefem.validation import calibrate as cal
+    from lcefem.validation.studies.gridshell import calibrate as cal
 
     d = gd.setup_design("4", "rollers", layout=ONE, model_set="fe-calibrated")
     rec = cal.load()
@@ -200,7 +200,7 @@ def test_bands_count_a_sample_whose_run_from_flat_ends_off_the_nominal_branch():
     # that branch is the same run (0 apart), and off it when the nominal is 2e-4 1/mm away
     # (BRANCH_TOLERANCE 1e-4 1/mm).
     from lcefem.solvers.problems.gridshell_bh_sequence import QuasiStaticSurface, rest_fractions
-    from lcefem.validation import uncertainty as unc
+    from lcefem.validation.studies.gridshell import uncertainty as unc
 
     s = build_gridshell_bar_hinge(layout=ONE)
     f = rest_fractions(s, {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05})
@@ -219,7 +219,7 @@ def test_measured_saddle_is_reached_by_its_program_not_by_the_loop_lambdas(tmp_p
     # the design tolerance (measured 3.3e-7 1/mm off).
     import json
 
-    from lcefem.validation.cli import main
+    from lcefem.validation.app.cli import main
     d = gd.setup_design("4", "rollers")
     flat = gd.forward_check(d, np.array(SADDLE_LOOP))
     assert max(abs(flat["circle_x"] - SADDLE[0]), abs(flat["circle_y"] - SADDLE[1])) > 1e-3
@@ -249,7 +249,7 @@ def test_lambdas_a_round_off_below_lambda_N_are_lambda_N():
 
 
 def calibrate_route(d):
-    from lcefem.validation import calibrate
+    from lcefem.validation.studies.gridshell import calibrate
 
     return calibrate.model_set(d.model_set).current_route(lumped_heat.CurrentRouteConfig(thermal_model="strip"))
 
@@ -258,7 +258,7 @@ def test_schedule_carries_the_design_model_set_and_layout(tmp_path):
     # A program written by a design on the published set and a one-cell layout names both, and the
     # replay builds its surface from them (not from the command's defaults).
     from lcefem.solvers.problems.gridshell_bh_sequence import load_schedule
-    from lcefem.validation.gridshell_sequence import surface_model
+    from lcefem.validation.studies.gridshell.gridshell_sequence import surface_model
 
     d = gd.setup_design("4", "rollers", layout=ONE, model_set="published")
     path = tmp_path / "p.toml"
@@ -288,7 +288,7 @@ def test_replay_ends_on_the_design_target_with_the_design_model_set(tmp_path):
     # the schedule carried its set) ends 4.3e-3 1/mm off (-0.015297 / -0.010340).
     import json
 
-    from lcefem.validation.cli import main
+    from lcefem.validation.app.cli import main
     d = gd.setup_design("4", "rollers", model_set="published")
     p = np.array([1.30, 1.25, 1.10, 1.15])
     target = gd.forward_check(d, p)

@@ -6,7 +6,7 @@ import json
 import math
 
 from lcefem.solvers.problems.gridshell_heated import JUNCTION_HEATING_DEFAULT
-from lcefem.validation import gridshell_fe_current_store as store
+from lcefem.validation.studies.gridshell import gridshell_fe_current_store as store
 from lcefem.validation.cases import gridshell_heated_fe
 from lcefem.validation.cases.gridshell_heated_fe import _stored_current_route_rows
 

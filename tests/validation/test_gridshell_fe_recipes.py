@@ -1,7 +1,7 @@
-"""validation/benchmarks/gridshell_fe_recipes.py: a recipe the command refuses is reported as failed,
+"""benchmarks/gridshell_fe_recipes.py: a recipe the command refuses is reported as failed,
 with the command's one-line reason and exit code, and no figures (the benchmark never reads a summary
 the run did not write)."""
-from lcefem.validation.benchmarks import gridshell_fe_recipes as bench
+import gridshell_fe_recipes as bench
 
 
 def test_a_refused_recipe_is_reported_with_its_reason(tmp_path):

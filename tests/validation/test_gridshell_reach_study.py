@@ -1,10 +1,10 @@
-"""The reach study's distance (lcefem.validation.gridshell_reach_study): the rigid fit removes exactly a
+"""The reach study's distance (lcefem.validation.studies.design.gridshell_reach_study): the rigid fit removes exactly a
 vertical translation and two tilts, and leaves closed-form distances of the flat surface."""
 
 import numpy as np
 import pytest
 
-from lcefem.validation import gridshell_reach_study as rs
+from lcefem.validation.studies.design import gridshell_reach_study as rs
 
 
 def _grid(n=9, side=141.0):

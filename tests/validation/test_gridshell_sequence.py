@@ -1,4 +1,4 @@
-"""Programmed shape sequences of the gridshell (lcefem.validation.gridshell_sequence): schedule
+"""Programmed shape sequences of the gridshell (lcefem.validation.studies.gridshell.gridshell_sequence): schedule
 parsing, the heat history against the closed-form steady state, and the unheated surface."""
 
 import dataclasses

@@ -28,7 +28,7 @@ def test_held_currents_are_bounded_like_a_schedule(lcefem_cmd, tmp_path):
                     "current Tx = 1 A", "not below 300 C (decomposition")
     # the largest current it names holds the strip just below decomposition
     from lcefem.models import lumped_heat as lh
-    from lcefem.validation import calibrate
+    from lcefem.validation.studies.gridshell import calibrate
 
     # the run's default model set carries its own grid exchange factor (the FE-calibrated set's)
     thermal = lh.grid_thermal(calibrate.exchange_factor(calibrate.DEFAULT_MODEL_SET))

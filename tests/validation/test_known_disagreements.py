@@ -9,11 +9,11 @@ import json
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.validation import reference_data as rd
-from lcefem.validation import report
+from lcefem.validation.cases import reference_data as rd
+from lcefem.validation.app import report
 from lcefem.validation.cases import NOT_JUDGED, Case, Metric, not_judged, registry
 from lcefem.validation.cases import _CASES as CASES
-from lcefem.validation.cli import main as cli_main
+from lcefem.validation.app.cli import main as cli_main
 
 TOY_CAUSE = rd.Cause("toy_modulus", "The toy's modulus", "the toy's modulus is off",
                      "a stiffer toy passes", "the toy's measured modulus", 99)

@@ -5,8 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from lcefem.validation import gridshell_design as gd
-from lcefem.validation.cli import main
+from lcefem.validation.studies.design import gridshell_design as gd
+from lcefem.validation.app.cli import main
 
 RHOMBIC_1X1 = """[layout]
 ribbons = 1
@@ -28,7 +28,7 @@ def test_design_on_a_rhombic_layout_with_its_own_wiring(tmp_path):
     s = json.loads((out / "summary.json").read_text())
     assert set(s["lambdas [-]"]) == {"bottom", "top"}
     assert s["residual norm [1/mm]"] <= gd.REACHED
-    # reached from flat by the run's own path with constant lambdas (lcefem.validation.gridshell_design.reach)
+    # reached from flat by the run's own path with constant lambdas (lcefem.validation.studies.design.gridshell_design.reach)
     assert s["reach"]["kind"] == "constant"
     rows = np.loadtxt(out / "design.csv", delimiter=",", skiprows=1)
     assert rows.shape == (2, 4)

@@ -5,7 +5,7 @@ quick level shows them is asserted by tests/validation/test_quick_cases.py on th
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.validation import phenomena, report
+from lcefem.validation.app import phenomena, report
 from lcefem.validation.cases import registry
 
 

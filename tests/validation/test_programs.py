@@ -1,5 +1,5 @@
 """The experiments' programs are data (validation/data/programs.toml, read by
-lcefem.validation.programs): solvers/ defines none of them, the loaded values are the ones the
+lcefem.validation.cases.programs): solvers/ defines none of them, the loaded values are the ones the
 Python held before the move (golden, copied from solvers/problems/gridshell_bh_run.py,
 gridshell_heated.py and strip.py), and a bad file is a one-line error naming the key."""
 
@@ -11,7 +11,7 @@ import pathlib
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.validation import programs
+from lcefem.validation.cases import programs
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: The experiment programs (and what derives from them) that once lived in solvers/.

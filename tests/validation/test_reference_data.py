@@ -6,7 +6,7 @@ import re
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.validation import reference_data as rd
+from lcefem.validation.cases import reference_data as rd
 
 SEED = pathlib.Path("/work/shared/seeds/001_217c433b95a08c4e.txt")
 # a minus sign counts only when it does not join two numbers ("0.04-0.09") or a word ("0.2-A")
@@ -91,7 +91,7 @@ def test_each_coil_and_nematic_number_has_one_definition_matching_the_seed():
     from lcefem.models.empirical import EQ1_LAMBDA_N, Eq1, Eq2
     from lcefem.models.heat import Coil, GridSegmentCoil
     from lcefem.models.lce import NematicTransition
-    from lcefem.validation.reference_data import reference
+    from lcefem.validation.cases.reference_data import reference
 
     seg = GridSegmentCoil()
     assert seg.resistance == reference("coil.segment_resistance").value == 25.0

@@ -9,7 +9,7 @@ import dolfinx.mesh
 from matplotlib.image import imread
 from mpi4py import MPI
 
-from lcefem.validation.render import render_deformed
+from lcefem.validation.app.render import render_deformed
 
 
 @pytest.fixture(scope="module")

@@ -4,9 +4,9 @@ import json
 import math
 
 from lcefem.solvers.runtime.files import json_safe
-from lcefem.validation import report
+from lcefem.validation.app import report
 from lcefem.validation.cases import Metric
-from lcefem.validation.report import CaseResult
+from lcefem.validation.app.report import CaseResult
 
 
 def _row(metric: Metric) -> dict:

@@ -5,8 +5,8 @@ import pytest
 from matplotlib.image import imread
 
 from lcefem.models.empirical import eq2_curvature
-from lcefem.validation import plots
-from lcefem.validation.reference_data import reference
+from lcefem.validation.app import plots
+from lcefem.validation.cases.reference_data import reference
 
 
 def test_axis_labels_must_carry_units(tmp_path):

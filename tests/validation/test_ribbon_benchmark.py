@@ -1,4 +1,4 @@
-"""The ribbon benchmark's same-state comparison (validation/benchmarks/ribbon_benchmark.py): a solver setting
+"""The ribbon benchmark's same-state comparison (benchmarks/ribbon_benchmark.py): a solver setting
 changed in a built simulation steps exactly as a simulation built with it, and bad settings are refused
 with a one-line error (never its timing)."""
 
@@ -9,7 +9,7 @@ import pytest
 
 from lcefem.models.errors import InputError
 from lcefem.solvers.der.ribbon import ROLLING_RIBBON, RibbonNumerics, RibbonSetup, RibbonSimulation
-from lcefem.validation.benchmarks import ribbon_benchmark as bench
+import ribbon_benchmark as bench
 
 
 def _sim(**numerics) -> RibbonSimulation:

@@ -7,7 +7,7 @@ import subprocess
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.validation.cli import main
+from lcefem.validation.app.cli import main
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -65,7 +65,7 @@ def test_short_run_end_to_end(tmp_path, lcefem_cmd):
 
 def test_config_from_args_rejects_bad_dt(tmp_path):
     from argparse import Namespace
-    from lcefem.validation.commands.ribbon import config_from_args
+    from lcefem.validation.app.commands.ribbon import config_from_args
     args = Namespace(config=None, ground_temperature=None, duration=None, twist_density=None, helix_radius=None,
                      nodes=None, dt=0.0)
     with pytest.raises(InputError, match="--dt"):
@@ -77,7 +77,7 @@ def test_obstacle_reaches_the_rod(tmp_path):
     import argparse
 
     from lcefem.solvers.der.ribbon import RibbonSimulation
-    from lcefem.validation.commands import ribbon
+    from lcefem.validation.app.commands import ribbon
 
     parser = argparse.ArgumentParser()
     ribbon.add_arguments(parser)

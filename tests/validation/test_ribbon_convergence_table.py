@@ -1,4 +1,4 @@
-"""The rolling ribbon's convergence table (validation/benchmarks/ribbon_convergence.py): the contact-sampling
+"""The rolling ribbon's convergence table (benchmarks/ribbon_convergence.py): the contact-sampling
 lock rate and the table's relative changes."""
 
 import csv
@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from lcefem.validation.benchmarks.ribbon_convergence import lock_rate, table
+from ribbon_convergence import lock_rate, table
 
 
 def test_lock_rate_is_one_contact_section_per_step():

@@ -1,9 +1,9 @@
-"""The one-parameter ribbon material scan (validation/benchmarks/ribbon_material_scan.py): its input checks
+"""The one-parameter ribbon material scan (benchmarks/ribbon_material_scan.py): its input checks
 and the CSV it writes from the JSON rows."""
 
 import json
 
-from lcefem.validation.benchmarks import ribbon_material_scan as scan
+import ribbon_material_scan as scan
 
 
 def test_bad_point_exits_2(tmp_path, capsys):

@@ -7,10 +7,10 @@ import pytest
 
 from lcefem.solvers.runtime.outdir import STAMP_TEXT
 from lcefem.validation import cases as case_registry
-from lcefem.validation import plots
+from lcefem.validation.app import plots
 from lcefem.validation.cases import Case, Metric
-from lcefem.validation.cli import main as cli_main
-from lcefem.validation.report import METRIC_KEYS
+from lcefem.validation.app.cli import main as cli_main
+from lcefem.validation.app.report import METRIC_KEYS
 
 EMPIRICAL = ["tension_law", "ribbon_load_strain"]
 

@@ -1,4 +1,4 @@
-"""The discrete elastic rod against closed forms (references in lcefem.validation.rod_verification).
+"""The discrete elastic rod against closed forms (references in lcefem.validation.studies.verification.rod_verification).
 
 Each beam problem is solved at three or four node counts; the relative error must fall with the
 edge length h at the observed order 2.0 +- 0.15 (the DER curvature and twist are second-order
@@ -11,7 +11,7 @@ import math
 import pytest
 
 from lcefem.models.units import STANDARD_GRAVITY
-from lcefem.validation import rod_verification as rv
+from lcefem.validation.studies.verification import rod_verification as rv
 
 
 def study(fun, nodes):

@@ -1,6 +1,6 @@
 """Manufactured-solution checks (issue 2: heat L2 order within 0.15 of theory over three meshes;
 mechanics L2 order of the finite-strain LCE solver), run through their validation cases so that the
-test and the report share one implementation (validation/manufactured.py)."""
+test and the report share one implementation (validation/studies/verification/manufactured.py)."""
 
 import pytest
 

@@ -13,8 +13,8 @@ lcefem.solvers.registry) and imported on first use, so a case that needs no FEni
 
 Helpers: ``ctx.case`` is the running case's name (a Metric built with case "" gets it from the runner);
 ``ctx.path(name)`` is ``ctx.out / name``; :func:`write_csv` writes columns with units in the headers;
-reference numbers come from :func:`lcefem.validation.reference_data.reference`, figures from
-:mod:`lcefem.validation.plots` (curves, convergence, maps) and :mod:`lcefem.validation.render`
+reference numbers come from :func:`lcefem.validation.cases.reference_data.reference`, figures from
+:mod:`lcefem.validation.app.plots` (curves, convergence, maps) and :mod:`lcefem.validation.app.render`
 (deformed 3D bodies). ``lcefem validate`` writes ``ctx.out/metrics.json`` after the case returns.
 """
 

@@ -29,10 +29,10 @@ from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.models import hyperelastic
 from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
-from lcefem.validation import reference_data
-from lcefem.validation import plots
+from lcefem.validation.cases import reference_data
+from lcefem.validation.app import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
-from lcefem.validation.reference_data import reference
+from lcefem.validation.cases.reference_data import reference
 
 PUBLISHED = bhm.PUBLISHED
 BH = "bar-and-hinge model (lcefem.solvers.bar_hinge)"

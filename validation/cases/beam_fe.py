@@ -36,11 +36,11 @@ from lcefem.models import buckling
 from lcefem.models.empirical import Eq2, eq2_curvature
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
-from lcefem.validation import reference_data
-from lcefem.validation import plots
+from lcefem.validation.cases import reference_data
+from lcefem.validation.app import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.cases.beam_bar_hinge import EQ2_POINT_TOLERANCE, MAP_TOLERANCE, MEASURED_TOLERANCE
-from lcefem.validation.reference_data import reference
+from lcefem.validation.cases.reference_data import reference
 
 QUICK_LEVEL = 0
 DEFAULT_LEVEL = 1
@@ -227,7 +227,7 @@ def _equilibrium(level: int, lambda_top: float, lambda_bottom: float):
 
 
 def _render(ctx: CaseContext, model, name: str, title: str, sources) -> None:
-    from lcefem.validation.beam_plots import render_fe_beam
+    from lcefem.validation.studies.beam.beam_plots import render_fe_beam
     png = render_fe_beam(ctx.path(f"{name}.png"), model, title)
     ctx.add_figure(png, plots.caption(
         f"{title}: the deformed 3D FE beam (whole beam drawn from the quarter model), side view, "

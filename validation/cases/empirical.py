@@ -16,14 +16,14 @@ from scipy.optimize import brentq
 
 from lcefem.models.hyperelastic import (PUBLISHED_MODEL, LCEElasticity, OgdenLaw, lce_uniaxial_nominal_stress,
                                         ogden_uniaxial_nominal_stress)
-from lcefem.validation import plots
+from lcefem.validation.app import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
-from lcefem.validation.reference_data import reference
+from lcefem.validation.cases.reference_data import reference
 
 # Tolerance of the law against the Ogden fit: the calibration target of
-# validation/calibration/fit_isotropic_law.py ("within 5 % in nominal stress for stretch 1.0-1.5").
+# benchmarks/calibration/fit_isotropic_law.py ("within 5 % in nominal stress for stretch 1.0-1.5").
 FIT_TOLERANCE = 0.05
-FIT_TOLERANCE_SOURCE = "tolerance 5 %: the calibration target stated in validation/calibration/fit_isotropic_law.py"
+FIT_TOLERANCE_SOURCE = "tolerance 5 %: the calibration target stated in benchmarks/calibration/fit_isotropic_law.py"
 STRETCH_RANGE = (1.0, 1.5)  # the range of the Fig. 2E test and of the fit
 CHECK_STRETCHES = (1.05, 1.2, 1.5)  # small, moderate and the largest tested stretch
 

@@ -7,7 +7,7 @@
 - ``gridshell_recipes_bh``: the eight published recipes in the published configuration (Examples2D.m:
   supports, glue squares, bar law A f P(p), no strip-ribbon contact): converged, reached exactly their
   targets, increments, Newton iterations, wall time, centre curvatures, z range, strip-ribbon
-  penetration (our departures' effects: lcefem.validation.gridshell_configuration).
+  penetration (our departures' effects: lcefem.validation.studies.gridshell.gridshell_configuration).
 - (``gridshell_load_bh``, retired by issue 33: its table contacts were the bottom strips' ends, the
   centre junction's among them, so the payload on the centre pad went straight into the table and the
   case measured the contact, not the surface; Fig. 5C is now ``gridshell_weights_bh`` in
@@ -27,18 +27,18 @@ from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge_materials import BarHingeMaterials, LCEStripBars
 from lcefem.models.errors import ConvergenceError
 from lcefem.models.lumped_heat import shape_currents
-from lcefem.validation import gridshell_bh as gs
-from lcefem.validation import gridshell_current_route as bh_routes
+from lcefem.validation.studies.gridshell import gridshell_bh as gs
+from lcefem.validation.studies.gridshell import gridshell_current_route as bh_routes
 from lcefem.models import lumped_heat
 from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.solvers.problems import gridshell_bh_run as problem_bh_run
-from lcefem.validation import programs
-from lcefem.validation import plots
+from lcefem.validation.cases import programs
+from lcefem.validation.app import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
-from lcefem.validation.gridshell_configuration import penetration
-from lcefem.validation.gridshell_plots import curvature_bar_chart, render_gridshell
+from lcefem.validation.studies.gridshell.gridshell_configuration import penetration
+from lcefem.validation.studies.gridshell.gridshell_plots import curvature_bar_chart, render_gridshell
 
-BH = "bar-and-hinge gridshell (lcefem.validation.gridshell_bh)"
+BH = "bar-and-hinge gridshell (lcefem.validation.studies.gridshell.gridshell_bh)"
 #: Tolerance of our lambda-route curvatures against the paper's simulation: the paper's own
 #: simulation and experiment differ by up to 0.002 1/mm (saddle x) and its numbers are given to
 #: 0.001 1/mm; a model with the same inputs should agree within 0.003 1/mm.
@@ -205,7 +205,7 @@ def current_route_support_rows(name: str) -> list[Metric]:
 CURRENT_ROUTE_BANDS = "current_route_bands"
 
 
-#: The same from the rule's currents (python -m lcefem.validation.gridshell_current_route --bands
+#: The same from the rule's currents (python -m lcefem.validation.studies.gridshell.gridshell_current_route --bands
 #: SHAPE: the FE-calibrated model set, 64 samples, 4-6 min of one core per shape).
 CURRENT_ROUTE_RULE_BANDS = "current_route_bands_rule"
 
@@ -217,7 +217,7 @@ def current_route_band_rows(name: str) -> list[Metric]:
     import csv
     import json
 
-    from lcefem.validation.reference_data import DATA_DIR
+    from lcefem.validation.cases.reference_data import DATA_DIR
 
     metrics = []
     for folder_name, route in ((CURRENT_ROUTE_BANDS, "current (strip)"),

@@ -46,9 +46,9 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.problems import gridshell_bh as problem_bh
-from lcefem.validation.calibrate import ABS_TOL, AS_FE, REL_TOL, fe_reference, shape_setup, tolerance
+from lcefem.validation.studies.gridshell.calibrate import ABS_TOL, AS_FE, REL_TOL, fe_reference, shape_setup, tolerance
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
-from lcefem.validation.reference_data import DATA_DIR
+from lcefem.validation.cases.reference_data import DATA_DIR
 
 BH = "bar-and-hinge gridshell (lcefem.solvers.problems.gridshell_bh)"
 #: Controlled changes of the BH (label -> (departures, kapton bending factor multiplier, support)).
@@ -217,7 +217,7 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
     alone and both at the published factors (informative, controlled changes)."""
     import numpy as np
 
-    from lcefem.validation import calibrate as cal
+    from lcefem.validation.studies.gridshell import calibrate as cal
 
     record = cal.load()
     out: list[Metric] = []
@@ -293,8 +293,8 @@ def _layouts(name: str) -> list[Metric]:
     from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
     from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
-    from lcefem.validation import calibrate as cal
-    from lcefem.validation import gridshell_bh as gs
+    from lcefem.validation.studies.gridshell import calibrate as cal
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
 
     ref = json.loads(FE_LAYOUTS.read_text())
     f = float(ref["fraction"])

@@ -25,9 +25,9 @@ from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.models.shape_control import HeightSensor, PlantSpread
 from lcefem.solvers import control as ctl
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
-from lcefem.validation.control import ControlRequest, control_figures, run_pair
-from lcefem.validation.programs import SHAPE_DRIVES
-from lcefem.validation.plots import caption
+from lcefem.validation.studies.design.control import ControlRequest, control_figures, run_pair
+from lcefem.validation.cases.programs import SHAPE_DRIVES
+from lcefem.validation.app.plots import caption
 
 SRC = "issue 37; lcefem.solvers.control (plant: bar-and-hinge gridshell with lumped strip heat and the "
 SRC += "measured spreads of seed 001)"

@@ -15,7 +15,7 @@
 
   Cost of the default level (issue 13): the dome's round trip is not run. It cost 1020 s of the
   case's 2737 s, and the dome's inverse from the paper's measured (-0.016, -0.016) runs the same
-  loop: the same :func:`~lcefem.validation.gridshell_design.inverse` from the same mid-range start
+  loop: the same :func:`~lcefem.validation.studies.design.gridshell_design.inverse` from the same mid-range start
   on the same rollers, warm-started solves past the dome's fold, the forward check from as built
   and its restarts from the ramp's branch. Only the target differs: the Fig. 4 lambdas' own
   curvatures, -0.0236 1/mm, against -0.016 1/mm. By hand: ``lcefem design --target-kx -0.02359
@@ -30,14 +30,14 @@ import numpy as np
 
 from lcefem.meshes.gridshell import GridshellLayout
 from lcefem.solvers.problems.gridshell_bh import centre_height
-from lcefem.validation import gridshell_bh as gs
+from lcefem.validation.studies.gridshell import gridshell_bh as gs
 from lcefem.models import lumped_heat
-from lcefem.validation import gridshell_design as gd
+from lcefem.validation.studies.design import gridshell_design as gd
 from lcefem.validation.cases import CaseContext, Metric, case, not_judged, write_csv
-from lcefem.validation.gridshell_plots import reachable_set_figure
-from lcefem.validation.plots import caption
+from lcefem.validation.studies.gridshell.gridshell_plots import reachable_set_figure
+from lcefem.validation.app.plots import caption
 
-BH = "bar-and-hinge gridshell inverse design (lcefem.validation.gridshell_design)"
+BH = "bar-and-hinge gridshell inverse design (lcefem.validation.studies.design.gridshell_design)"
 #: Round-trip tolerance [1/mm] (issue 15): a tenth of the 0.001 1/mm the paper reports curvatures to.
 ROUND_TRIP = 1.0e-4
 #: Random strip lambdas of the per-strip case: uniform in the paper's programmed range [1.05, 1.35]

@@ -12,7 +12,7 @@
   show.
 - ``gridshell_sweep_fe``: one channel swept, lambda_B from 1.33 down to 1.05 with lambda_T = 1.33
   (each point warm-started from the previous one; lambda_B = 1.05 is the dome), FE vs bar-and-hinge
-  (:mod:`lcefem.validation.gridshell_bh`, each point from the as-built state): where they agree
+  (:mod:`lcefem.validation.studies.gridshell.gridshell_bh`, each point from the as-built state): where they agree
   within 10 % and where they part; CSV and figure. Quick level: the first two points of the sweep
   at a tenth of the way.
 
@@ -38,11 +38,11 @@ import numpy as np
 
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_MODULI, NeoHookeanSolid
-from lcefem.validation import plots
+from lcefem.validation.app import plots
 from lcefem.validation.cases import CaseContext, Metric, case, not_judged, write_csv
 
 FE = "3D FE gridshell (lcefem.solvers.problems.gridshell), quarter model, mesh level 0"
-BH = "bar-and-hinge gridshell (lcefem.validation.gridshell_bh)"
+BH = "bar-and-hinge gridshell (lcefem.validation.studies.gridshell.gridshell_bh)"
 #: Tolerance of a lambda-route centre curvature against the paper [1/mm]: the same as the
 #: bar-and-hinge case (cases.gridshell_bh.SIM_TOLERANCE): the paper's simulation and experiment
 #: differ by up to 0.002 1/mm and its numbers are given to 0.001 1/mm.
@@ -75,7 +75,7 @@ def fe_model(shape: str, *, kapton_modulus: float = KAPTON_DATASHEET_MODULUS, qu
     takes bigger path steps (a partial ramp)."""
     from lcefem.solvers.continuation import PathControl
     from lcefem.solvers.problems.gridshell import GridshellMaterials, GridshellSupports
-    from lcefem.validation.programs import fig4_shape
+    from lcefem.validation.cases.programs import fig4_shape
 
     kw = {"control": PathControl(first_step=0.15, max_step=0.5)} if quick else {}
     if support is not None:
@@ -143,7 +143,7 @@ def _bh_shape(lambdas: tuple, support: str) -> dict:
 
 def _outputs(ctx: CaseContext, model, shape: str, title: str, sources: list[str]) -> None:
     """ParaView fields and a pyvista render (quarter mirrored to the whole surface)."""
-    from lcefem.validation import render
+    from lcefem.validation.app import render
 
     model.write_fields(ctx.path(f"fields_{shape}"))
     c = model.info["centre"]
@@ -159,9 +159,9 @@ def _outputs(ctx: CaseContext, model, shape: str, title: str, sources: list[str]
       "centre curvatures vs bar-and-hinge, the paper's simulation and experiment; under lcefem "
       "converge the dome alone at each mesh level", fe=True, convergence=True, prolong=True)
 def gridshell_shapes_fe(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation.programs import PUBLISHED_SUPPORTS
-    from lcefem.validation import gridshell_bh as gs
-    from lcefem.validation.gridshell_plots import curvature_bar_chart
+    from lcefem.validation.cases.programs import PUBLISHED_SUPPORTS
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
+    from lcefem.validation.studies.gridshell.gridshell_plots import curvature_bar_chart
 
     name = ctx.case or "gridshell_shapes_fe"
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
@@ -357,7 +357,7 @@ def _sweep_figure(path, series: dict):
     ax.set_ylabel("centre kappa_x [1/mm] (dome < 0)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    from lcefem.validation.plots import save_figure
+    from lcefem.validation.app.plots import save_figure
 
     try:  # through the one figure writer: a .part name, no planted link followed
         return save_figure(fig, path, 120)

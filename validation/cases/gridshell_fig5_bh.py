@@ -24,9 +24,10 @@ from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.cover_scales import CoverScales
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.problems import gridshell_bh as gs
-from lcefem.validation.programs import SHAPE_DRIVES
+from lcefem.validation.cases.programs import SHAPE_DRIVES
 from lcefem.solvers.problems.gridshell_bh_scales import ramp_layer, solve_covered
-from lcefem.validation import fig5_plots, plots
+from lcefem.validation.studies.gridshell import fig5_plots
+from lcefem.validation.app import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 
 SEED = "seed 001"
@@ -157,7 +158,7 @@ SEQUENCE_SOURCE = ("seed 001, Fig. 5A and movie S1: flat -> table -> dome -> sad
       "curvatures over time on the quadratic fit through the nine scale centres; movie and ParaView series",
       fe=False)
 def gridshell_scale_sequence_bh(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation import fig5_tasks
+    from lcefem.validation.studies.gridshell import fig5_tasks
 
     name = ctx.case or "gridshell_scale_sequence_bh"
     # quick: one output (quasi-static solve, movie frame) every 15 s instead of 5 s
@@ -186,7 +187,7 @@ BALL_SOURCE = ("seed 001, Results (Fig. 5B, movie S2): 'an aluminum ball (10 g) 
 @case("gridshell_ball_bh", "Robotic surface with cover scales, Fig. 5B: a 10 g aluminium ball rolls to the "
       "centre of a bowl and leaves along y when the saddle forms", fe=False)
 def gridshell_ball_bh(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation import fig5_tasks
+    from lcefem.validation.studies.gridshell import fig5_tasks
 
     name = ctx.case or "gridshell_ball_bh"
     try:
@@ -230,7 +231,7 @@ NOTABLE_FRACTION = 0.2
 @case("gridshell_weights_bh", "Robotic surface with cover scales free on the table, Fig. 5C: lifts a 100 g pad, "
       "carries +50 g +50 g; pad height, deformation and the load at which it gives way", fe=False)
 def gridshell_weights_bh(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation import fig5_tasks
+    from lcefem.validation.studies.gridshell import fig5_tasks
 
     name = ctx.case or "gridshell_weights_bh"
     try:

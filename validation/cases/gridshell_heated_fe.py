@@ -32,7 +32,7 @@ import time
 
 import numpy as np
 
-from lcefem.validation import plots
+from lcefem.validation.app import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, not_judged, write_csv
 from lcefem.validation.cases.gridshell_fe import BH, KAPPA_KEYS, SIM_TOLERANCE, run_bh_shape
 
@@ -67,7 +67,7 @@ def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[di
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell import GridshellConfig
     from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
-    from lcefem.validation.programs import DOME_PROTOCOL
+    from lcefem.validation.cases.programs import DOME_PROTOCOL
 
     duration, dt = HEATED_QUICK if quick else (DOME_PROTOCOL[1][0], HEATED_FULL_DT)
     model = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
@@ -87,7 +87,7 @@ def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[di
 
 
 def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
-    """Each Fig. 4 shape held at its currents (lcefem.validation.programs.SHAPE_DRIVES
+    """Each Fig. 4 shape held at its currents (lcefem.validation.cases.programs.SHAPE_DRIVES
     "currents"), straight to the steady state (quarter, level 0): the steady heat equation at those
     currents -> temperature -> lambda per strip -> the mechanics at that temperature
     (HeatedGridshellFE.steady_hold, on the shape's published supports). Quick level: the steady
@@ -98,9 +98,9 @@ def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
     from the as-built state. {shape: observables of the held state}."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellSupports
-    from lcefem.validation.programs import PUBLISHED_SUPPORTS
+    from lcefem.validation.cases.programs import PUBLISHED_SUPPORTS
     from lcefem.solvers.problems.gridshell_heated import STEADY_PICARD_ITERATIONS, HeatedGridshellFE
-    from lcefem.validation import gridshell_bh as gs
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
 
     out = {}
     for shape, spec in gs.SHAPES.items():
@@ -128,7 +128,7 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
     """Rows of the held shapes (:func:`_held_shapes`) next to the bar-and-hinge current route and
     the paper; ``transient``: the dome protocol's last two hold rows (the steady route's check).
     Returns (metrics, bar-chart series)."""
-    from lcefem.validation import gridshell_bh as gs
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
     from lcefem.models import lumped_heat
 
     route = lumped_heat.CurrentRouteConfig()  # the grid strip (issue 31), as the FE heat source
@@ -181,8 +181,8 @@ def _held_metrics(name: str, held: dict, mechanics: bool, transient: tuple | Non
 
 #: Stored runs of the FE current route (issue 31): the rule's currents at mesh level 1 (``lcefem run
 #: gridshell --model fe --shape NAME --route current --mesh-level 1``, one summary per shape, gathered
-#: by ``python -m lcefem.validation.gridshell_fe_current_store DIR ...``) and the dome protocol's
-#: junction-heating change (``python -m lcefem.validation.gridshell_junction_heating``). Each takes
+#: by ``python -m lcefem.validation.studies.gridshell.gridshell_fe_current_store DIR ...``) and the dome protocol's
+#: junction-heating change (``python -m lcefem.validation.studies.gridshell.gridshell_junction_heating``). Each takes
 #: 10-60 min of one core, so the case reads them instead of running them.
 CURRENT_ROUTE_LEVEL1 = "gridshell_fe_current_route_level1.json"
 JUNCTION_HEATING_DOME = "gridshell_junction_heating_dome_protocol_l0.json"
@@ -190,7 +190,7 @@ JUNCTION_HEATING_DOME = "gridshell_junction_heating_dome_protocol_l0.json"
 
 def _stored_current_route_rows(name: str) -> list[Metric]:
     """Judged rows of the stored FE current-route runs (:data:`CURRENT_ROUTE_LEVEL1`, written by
-    ``python -m lcefem.validation.gridshell_fe_current_store``): each shape's circle curvatures
+    ``python -m lcefem.validation.studies.gridshell.gridshell_fe_current_store``): each shape's circle curvatures
     from the rule's currents at level >= 1 against the experiment (within :data:`SIM_TOLERANCE`)
     and against the bar-and-hinge current route at the same currents (within 10 % of the FE or
     0.002 1/mm, the larger: the issue's point 3, validation.calibrate's tolerance); a failing row
@@ -199,10 +199,10 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
     change (:data:`JUNCTION_HEATING_DOME`)."""
     from lcefem.models import lumped_heat
     from lcefem.solvers.problems.gridshell_heated import JUNCTION_HEATING_DEFAULT
-    from lcefem.validation import gridshell_bh as gs
-    from lcefem.validation.calibrate import ABS_TOL, REL_TOL
-    from lcefem.validation.gridshell_fe_current_store import REQUIRED
-    from lcefem.validation.reference_data import DATA_DIR
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
+    from lcefem.validation.studies.gridshell.calibrate import ABS_TOL, REL_TOL
+    from lcefem.validation.studies.gridshell.gridshell_fe_current_store import REQUIRED
+    from lcefem.validation.cases.reference_data import DATA_DIR
 
     metrics: list[Metric] = []
     path = DATA_DIR / CURRENT_ROUTE_LEVEL1
@@ -222,8 +222,8 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
             f"({why})", math.nan, "1/mm", exp[0], SIM_TOLERANCE,
             f"validation/data/{CURRENT_ROUTE_LEVEL1}: the FE current route of this shape is {why}; "
             f"run lcefem run gridshell --model fe --shape {shape} --route current --mesh-level 1 --out "
-            f"DIR, then python -m lcefem.validation.gridshell_fe_current_store DIR"))
-    from lcefem.validation import gridshell_current_route as bh_routes
+            f"DIR, then python -m lcefem.validation.studies.gridshell.gridshell_fe_current_store DIR"))
+    from lcefem.validation.studies.gridshell import gridshell_current_route as bh_routes
 
     tol_src = "the issue's 10 % of the FE or 0.002 1/mm, the larger (validation.calibrate.REL_TOL, ABS_TOL)"
     for shape, run in runs.items():
@@ -289,7 +289,7 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
       "0.2 A for 20 s, then 0.04 / 0.07 A held), quarter, level 0: early heating rate vs adiabatic, "
       "centre curvature against time, peak and held dome vs bar-and-hinge and the paper", fe=True)
 def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation import gridshell_bh as gs
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
     from lcefem.models import lumped_heat
 
     name = ctx.case or "gridshell_heated_fe"
@@ -383,7 +383,7 @@ def gridshell_heated_fe(ctx: CaseContext) -> list[Metric]:
                **{k: [held[s].get(k, math.nan) for s in held]
                   for k in next(iter(held.values())) if k.endswith("]")}})
     if chart["3D FE, held (steady)"]:
-        from lcefem.validation.gridshell_plots import curvature_bar_chart
+        from lcefem.validation.studies.gridshell.gridshell_plots import curvature_bar_chart
 
         shapes = list(chart["3D FE, held (steady)"])
         sources = [gs.SHAPE_SOURCES["currents"], gs.SHAPE_SOURCES["curvatures"], FE_STEADY, BH]

@@ -2,7 +2,7 @@
 
 ``gridshell_reach_bh``: for each Fig. 4 target (seed 001: the measured dome, saddle and cylinder, the
 table's flat) on its published support and two off-grid targets on rollers, ``lcefem design``'s
-default: the design loop, then :func:`lcefem.validation.gridshell_design.reach`. Judged: the run's own
+default: the design loop, then :func:`lcefem.validation.studies.design.gridshell_design.reach`. Judged: the run's own
 path from flat (``lcefem run gridshell`` at the printed lambdas) ends within the design tolerance
 (1e-4 1/mm, both curvatures) of the target, or, where no constant set does, the program found ends
 there and its schedule, replayed as ``lcefem run gridshell --schedule`` does, too. Reported: the
@@ -19,12 +19,12 @@ import time
 
 import numpy as np
 
-from lcefem.validation import gridshell_bh as gs
-from lcefem.validation import gridshell_design as gd
+from lcefem.validation.studies.gridshell import gridshell_bh as gs
+from lcefem.validation.studies.design import gridshell_design as gd
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
-from lcefem.validation.plots import caption
+from lcefem.validation.app.plots import caption
 
-BH = "bar-and-hinge gridshell design reached from flat (lcefem.validation.gridshell_design.reach)"
+BH = "bar-and-hinge gridshell design reached from flat (lcefem.validation.studies.design.gridshell_design.reach)"
 #: Off-grid targets [1/mm] on rollers (not Fig. 4 shapes): an elongated dome and a shallow
 #: cylinder-like bend, inside the channels' reachable set (case gridshell_design_bh's figure).
 OFF_GRID = {"elongated dome": (-0.010, -0.006), "shallow bend": (0.008, 0.003)}
@@ -95,7 +95,7 @@ def gridshell_reach_bh(ctx: CaseContext) -> list[Metric]:
                           "runs": [a["achieved"] for a in found.attempts if len(a["stages"]) == 1
                                    and "achieved" in a]}
     write_csv(ctx.path("reach.csv"), rows)
-    from lcefem.validation.gridshell_plots import reach_figure
+    from lcefem.validation.studies.gridshell.gridshell_plots import reach_figure
 
     fig = reach_figure(ctx.path("reach_branches.png"), plotted)
     ctx.add_figure(fig, caption("Where each design lands. Per target (x): the design loop's equilibrium "

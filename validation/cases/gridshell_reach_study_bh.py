@@ -1,5 +1,5 @@
 """What refinement and more channels buy (issue 47, item 3): the RMS distance [mm] of the best surface
-each grid and wiring reaches from a set of target surfaces (:mod:`lcefem.validation.gridshell_reach_study`:
+each grid and wiring reaches from a set of target surfaces (:mod:`lcefem.validation.studies.design.gridshell_reach_study`:
 targets, grids, wirings, the rigid fit). Informative rows (one per target, grid and wiring) and the
 phenomenon the study shows (validation/data/phenomena.toml); figure: RMS against grid and wiring.
 
@@ -22,12 +22,12 @@ waits for the FE mesh of the new layouts.
 
 from __future__ import annotations
 
-from lcefem.validation import gridshell_reach_study as rs
+from lcefem.validation.studies.design import gridshell_reach_study as rs
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
-from lcefem.validation.plots import caption
+from lcefem.validation.app.plots import caption
 
 STUDY = ("bar-and-hinge design loop, FE-calibrated set, rollers: the closest equilibrium found "
-         "(lcefem.validation.gridshell_reach_study)")
+         "(lcefem.validation.studies.design.gridshell_reach_study)")
 #: (target, grid, wiring) of the quick level.
 QUICK = (("gaussian bump", "3x3", "4 channels"), ("gaussian bump", "3x3", "per strip"))
 

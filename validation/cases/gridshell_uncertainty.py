@@ -1,5 +1,5 @@
 """Prediction bands of the robotic surface (seed 001, Fig. 4; issue 15): how sure the paper's current
-recipe is, given its own measured spreads (lcefem.validation.uncertainty).
+recipe is, given its own measured spreads (lcefem.validation.studies.gridshell.uncertainty).
 
 ``gridshell_bands_bh``:
 - quick and full: the heat chain alone (currents -> lambda with the sampled coil resistances, currents,
@@ -32,8 +32,8 @@ from __future__ import annotations
 import numpy as np
 
 from lcefem.solvers.analysis.sensitivity import sample_inputs
-from lcefem.validation import gridshell_bh as gs
-from lcefem.validation import uncertainty as unc
+from lcefem.validation.studies.gridshell import gridshell_bh as gs
+from lcefem.validation.studies.gridshell import uncertainty as unc
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 
 SAMPLES = 4  #: forward solves of the full level (module docstring: 4 against 8; a warm-started dome

@@ -2,7 +2,7 @@
 
 - ``rod_closed_forms``: cantilever (tip load, own weight, large-deflection elastica), helix from
   natural curvature and twist, Euler buckling, sliding and rolling on an incline; errors and
-  observed orders (``lcefem.validation.rod_verification``). Honours ctx.level.
+  observed orders (``lcefem.validation.studies.verification.rod_verification``). Honours ctx.level.
 - ``ribbon_threshold``: rolling metrics against the plate temperature; the threshold is the lowest
   tried temperature at which the ribbon rolls (``lcefem.solvers.analysis.rolling.rolling_metrics``), compared with
   the ~55 C reported for the real ribbons.
@@ -26,9 +26,9 @@ import math
 import numpy as np
 
 from lcefem.solvers.der.ribbon import ROLLING_RIBBON, RibbonNumerics
-from lcefem.validation import rod_verification as rv
+from lcefem.validation.studies.verification import rod_verification as rv
 from lcefem.validation.cases import CaseContext, Metric, case, write_csv
-from lcefem.validation.ribbon_analysis import plot_sweep
+from lcefem.validation.studies.ribbon.ribbon_analysis import plot_sweep
 from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun, run_ribbon
 
 SEED = "seed 000 ('LCE Twisting Robots Dynamics')"
@@ -403,7 +403,7 @@ def block_outcome(rows: list[dict], side: float, face: float, delta: float) -> d
       "hit snaps)", fe=False)
 def ribbon_obstacle_block(ctx: CaseContext) -> list[Metric]:
     from lcefem.models.contact import Block
-    from lcefem.validation.ribbon_blocks import COLUMNS, movie, run
+    from lcefem.validation.studies.ribbon.ribbon_blocks import COLUMNS, movie, run
 
     c = ctx.case or "ribbon_obstacle_block"
     s = dict(BLOCK_QUICK if ctx.quick else BLOCK_FULL)

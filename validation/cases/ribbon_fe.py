@@ -48,7 +48,7 @@ from lcefem.models.hyperelastic import LCEElasticity
 from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.models.ribbon import HelicoidCoupling, RibbonGeometry, SectionGrid
 from lcefem.solvers.der.ribbon import ribbon_static_response
-from lcefem.validation import plots
+from lcefem.validation.app import plots
 from lcefem.validation.cases import CaseContext, Metric, case, not_judged, write_csv
 
 LENGTH = 24.0  #: mm, chosen (see the module docstring)

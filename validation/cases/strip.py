@@ -23,9 +23,9 @@ import numpy as np
 from lcefem.meshes.strip import StripMesh
 from lcefem.models.empirical import eq1_stretch
 from lcefem.models.hyperelastic import PUBLISHED_MODEL, lce_uniaxial_nominal_stress, ogden_uniaxial_nominal_stress
-from lcefem.validation import plots
+from lcefem.validation.app import plots
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
-from lcefem.validation.reference_data import reference
+from lcefem.validation.cases.reference_data import reference
 
 QUICK_LEVEL = 0
 DEFAULT_LEVEL = 1  # h = 1 mm: within 1 % of the extrapolated values of the 0.2 A study (README)
@@ -78,7 +78,7 @@ def _run_config(ctx: CaseContext, **run):
 def render_strip_end(path, result, title: str):
     """PNG of the last 20 mm of a strip run's deformed body coloured by temperature, mirrored from
     the quarter model to the whole section; returns the path."""
-    from lcefem.validation import render
+    from lcefem.validation.app import render
     model, dims = result.model, result.summary["as_built"]
     L, W, H = dims["length"], dims["width"], dims["thickness"]
     mirror = ((1, 0.5 * W), (2, 0.5 * H)) if result.summary["mesh"]["symmetry"] == "quarter" else ()
@@ -98,7 +98,7 @@ def _render(ctx: CaseContext, result, name: str, title: str, sources) -> None:
 def _transient(ctx: CaseContext, index: int, duration: float, dt: float) -> list[Metric]:
     """Free strip heated at the index-th transient current of seed 001 (0.1, 0.15, 0.2 A)."""
     from lcefem.solvers.problems.strip import run_strip
-    from lcefem.validation.programs import SEED_T_NI
+    from lcefem.validation.cases.programs import SEED_T_NI
     currents = reference("strip.transient_currents")
     powers = reference("strip.transient_powers")
     current = currents.value[index]
@@ -223,7 +223,7 @@ def strip_steady_eq1(ctx: CaseContext) -> list[Metric]:
       "against the 1.36 N rupture force (seed 001 Fig. 2D)", fe=True, convergence=True)
 def strip_blocked_force(ctx: CaseContext) -> list[Metric]:
     from lcefem.solvers.problems.strip import run_strip
-    from lcefem.validation.programs import SEED_T_NI
+    from lcefem.validation.cases.programs import SEED_T_NI
     duration = reference("blocked.rise_time").value
     cfg = _run_config(ctx, current=reference("blocked.current").value, duration=duration,
                       dt=_dt(ctx, "held"), bc="held")
@@ -301,7 +301,7 @@ def strip_isotropic_tension(ctx: CaseContext) -> list[Metric]:
 @case("verification_heat_mms", "Manufactured solution of the pulled-back heat equation: observed L2 "
       "orders of P1 tetrahedra and Q2 hexahedra", fe=True)
 def verification_heat_mms(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation.manufactured import heat_error, observed_orders
+    from lcefem.validation.studies.verification.manufactured import heat_error, observed_orders
     tol, why = WINDOWS["mms_heat"]
     metrics, data = [], {}
     for degree, cell, ns in ((1, "tet", (4, 8, 16)), (2, "hex", (2, 4, 8))):
@@ -321,7 +321,7 @@ def verification_heat_mms(ctx: CaseContext) -> list[Metric]:
 @case("verification_mechanics_mms", "Manufactured solution of the finite-strain LCE solver (spatially "
       "varying F_s): observed L2 order", fe=True)
 def verification_mechanics_mms(ctx: CaseContext) -> list[Metric]:
-    from lcefem.validation.manufactured import mechanics_error, observed_orders
+    from lcefem.validation.studies.verification.manufactured import mechanics_error, observed_orders
     tol, why = WINDOWS["mms_mechanics"]
     metrics, data = [], {}
     for cell in ("tet",) if ctx.quick else ("tet", "hex"):

@@ -1,0 +1,1 @@
+"""The application: the ``lcefem`` command line, its commands, case files, the farm, the report."""

@@ -1,1 +1,0 @@
-"""Calibration scripts: each reruns a fit and writes its result and residuals under validation/data/."""

@@ -1,0 +1,1 @@
+"""The studies, one folder per topic: what the cases and commands compute beyond a body's run."""

@@ -1,0 +1,1 @@
+"""Studies of the composite beam (seed 001, Fig. 3)."""

@@ -1,0 +1,1 @@
+"""Inverse design and closed-loop control of the robotic surface."""

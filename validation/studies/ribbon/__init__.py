@@ -1,0 +1,1 @@
+"""Studies of the rolling twisted ribbon (seed 000)."""

@@ -1,0 +1,1 @@
+"""Verification: manufactured solutions, the rod's closed forms, the grid convergence index."""
