@@ -24,34 +24,53 @@ from timing import best_of
 
 def _report(name: str, seconds: float, path, dofs: int, extra: str) -> None:
     its = np.array(path.newton_iterations)
-    print(f"{name}: {seconds:.2f} s, {dofs} DOFs, {its.size} increments "
-          f"({path.failed_increments} failed), Newton iterations per increment: mean {its.mean():.1f}, "
-          f"max {its.max()}, total {its.sum()}; {extra}")
+    print(
+        f"{name}: {seconds:.2f} s, {dofs} DOFs, {its.size} increments "
+        f"({path.failed_increments} failed), Newton iterations per increment: mean "
+        f"{its.mean():.1f}, "
+        f"max {its.max()}, total {its.sum()}; {extra}"
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="runs per figure (best is printed)")
     args = parser.parse_args(argv)
-    print(f"python {platform.python_version()}, numpy {np.__version__}, "
-          f"{platform.processor() or platform.machine()}")
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, "
+        f"{platform.processor() or platform.machine()}"
+    )
 
     for segments in (4, 8):
         geometry = CompositeBeamGeometry(segments=segments)
         secs, sol = best_of(lambda: beam_bh.solve_beam(1.33, 1.05, geometry), args.repeat)
-        _report(f"beam ({segments} segments) at (1.33, 1.05)", secs, sol.path, sol.model.ndof,
-                f"curvature {sol.curvature:.5f} 1/mm")
+        _report(
+            f"beam ({segments} segments) at (1.33, 1.05)",
+            secs,
+            sol.path,
+            sol.model.ndof,
+            f"curvature {sol.curvature:.5f} 1/mm",
+        )
 
     secs, sol = best_of(lambda: kapton_bh.solve_specimen_buckling(0.5), args.repeat)
-    _report("ribbon buckling to 50 % (11 panels)", secs, sol.path, sol.model.ndof,
-            f"force at 50 % {sol.force[-1]:.4f} N")
-    secs, (p_cr, _) = best_of(lambda: kapton_bh.critical_load(KaptonSpecimenGeometry(), KaptonBarHingeMesh()),
-                            args.repeat)
+    _report(
+        "ribbon buckling to 50 % (11 panels)",
+        secs,
+        sol.path,
+        sol.model.ndof,
+        f"force at 50 % {sol.force[-1]:.4f} N",
+    )
+    secs, (p_cr, _) = best_of(
+        lambda: kapton_bh.critical_load(KaptonSpecimenGeometry(), KaptonBarHingeMesh()), args.repeat
+    )
     print(f"critical load by inertia bisection (11 panels): {secs:.3f} s, P_cr = {p_cr:.4f} N")
     model = BarHingeModel.from_materials(build_beam_bar_hinge(), BarHingeMaterials())
     x = model.reference
     secs, _ = best_of(lambda: [model.evaluate(x) for _ in range(100)], args.repeat)
-    print(f"energy + gradient + Hessian of the 4-segment beam: {1e3 * secs / 100:.2f} ms per evaluation")
+    print(
+        f"energy + gradient + Hessian of the 4-segment beam: {1e3 * secs / 100:.2f} ms per "
+        "evaluation"
+    )
     return 0
 
 

@@ -41,16 +41,24 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--shape", default="cylinder", choices=list(SHAPE_DRIVES))
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args(argv)
-    print(f"python {platform.python_version()}, numpy {np.__version__}, "
-          f"{platform.processor() or platform.machine()}")
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, "
+        f"{platform.processor() or platform.machine()}"
+    )
     t0 = time.perf_counter()
     surface = ctl.build_surface(args.shape, SHAPE_DRIVES[args.shape], GridshellLayout())
-    print(f"{args.shape}: target equilibrium and sensitivities built in {time.perf_counter() - t0:.2f} s "
-          f"({surface.eq.model.ndof} DOFs, {surface.p_star.size} strips)")
+    print(
+        f"{args.shape}: target equilibrium and sensitivities built in "
+        f"{time.perf_counter() - t0:.2f} "
+        "s "
+        f"({surface.eq.model.ndof} DOFs, {surface.p_star.size} strips)"
+    )
     S, _ = surface.selection("channels")
     ctrl = ctl.ShapeController(surface, S)
-    h = surface.y_star[:surface.heights] + 0.1
-    kappa = surface.y_star[surface.heights:surface.heights + 2] + 1e-4  # the markers' circle curvatures
+    h = surface.y_star[: surface.heights] + 0.1
+    kappa = (
+        surface.y_star[surface.heights : surface.heights + 2] + 1e-4
+    )  # the markers' circle curvatures
     t_ctrl = best(lambda: ctrl.step(h, 1.0, kappa), args.repeat, inner=100)
     print(f"controller step (channels, sensing {ctrl.settings.sensing}): {t_ctrl * 1e3:.3f} ms")
     S2, _ = surface.selection("strips")
@@ -58,8 +66,10 @@ def main(argv: list[str] | None = None) -> int:
     t_ctrl2 = best(lambda: ctrl2.step(h, 1.0, kappa), args.repeat, inner=100)
     print(f"controller step (strips): {t_ctrl2 * 1e3:.3f} ms")
     t_jac = best(lambda: surface.eq.jacobian(surface.x_star), args.repeat)
-    print(f"re-linearisation (d obs / d lambda, 42 strips): {t_jac:.3f} s "
-          f"({'within' if t_jac <= 1.0 else 'above'} 1 s)")
+    print(
+        f"re-linearisation (d obs / d lambda, 42 strips): {t_jac:.3f} s "
+        f"({'within' if t_jac <= 1.0 else 'above'} 1 s)"
+    )
     draw = ctl.draw_plant(surface, PlantSpread(), 1)
     plant = ctl.SurfacePlant(surface, draw, StripHeat())
     u = np.full(4, 0.08)
@@ -67,6 +77,7 @@ def main(argv: list[str] | None = None) -> int:
     def plant_second():
         plant.step(S, u, 1.0)
         plant.output()
+
     t_plant = best(plant_second, args.repeat, inner=20)
     print(f"plant, one simulated second: {t_plant * 1e3:.3f} ms")
     return 0

@@ -6,8 +6,8 @@ cantilever, at matched accuracy, CPU seconds on one core, both codes in one proc
 
 The peer: dismech-python (github.com/StructuresComp/dismech-python, commit f9d1e2c, 2025-07-24; not
 on PyPI, so ``pip install <its source>``: a benchmark-only dependency, never imported by our
-solvers). Its C++ sibling dismech-rods was not built. dismech-python has no contact yet (its README's
-TODO: "IMC rod contact and friction modeling"), so the shared problem is contact-free.
+solvers). Its C++ sibling dismech-rods was not built. dismech-python has no contact yet (its
+README's TODO: "IMC rod contact and friction modeling"), so the shared problem is contact-free.
 
 The problem: ``experiments/rod_cantilever_n51.ipynb`` of dismech-python, unchanged: a 100 mm strip
 (20 mm wide, 1 mm thick: A = b h, I = b h^3/12 for the soft bending, J = b h^3/6 as DisMech takes
@@ -18,7 +18,8 @@ does not apply; the static reference is the inextensible heavy elastica EI theta
 theta, theta(0) = 0, theta'(L) = 0, solved by scipy's ``solve_bvp`` (:func:`heavy_elastica_tip`).
 
 1. Static: ours by Newton (``solve_static``), DisMech by its ``static_sim`` (Newton without inertia,
-   one step); each tip against the elastica (the discretisation error of 51 nodes, the same in both).
+   one step); each tip against the elastica (the discretisation error of 51 nodes, the same in
+   both).
 2. The example's run: 1 s at dt = 0.01 s, both codes; their tip paths (x, z every 0.01 s) and
    energies at the end (elastic + gravity + kinetic, 0 at the start; implicit Euler dissipates it)
    compared.
@@ -83,7 +84,7 @@ class StripCantilever:
     @property
     def bending_stiffness(self) -> float:
         """E b h^3/12 [N mm^2] (the soft direction, along gravity)."""
-        return self.youngs_modulus * self.width * self.thickness ** 3 / 12.0
+        return self.youngs_modulus * self.width * self.thickness**3 / 12.0
 
     @property
     def weight_per_length(self) -> float:
@@ -109,6 +110,7 @@ def heavy_elastica_tip(c: StripCantilever) -> tuple[float, float]:
     y = np.zeros((4, s.size))
     y[2] = s
     for q in np.linspace(0.1, 1.0, 10) * c.weight_per_length:
+
         def rhs(s, y, q=q):
             return np.vstack([y[1], q * (lf - s) * np.cos(y[0]) / ei, np.cos(y[0]), np.sin(y[0])])
 
@@ -117,7 +119,9 @@ def heavy_elastica_tip(c: StripCantilever) -> tuple[float, float]:
 
         sol = solve_bvp(rhs, bc, s, y, tol=1e-10, max_nodes=100000)
         if not sol.success:
-            raise RuntimeError(f"heavy elastica: solve_bvp failed at q = {q:.4g} N/mm: {sol.message}")
+            raise RuntimeError(
+                f"heavy elastica: solve_bvp failed at q = {q:.4g} N/mm: {sol.message}"
+            )
         s, y = sol.x, sol.y
     return c.clamped_length + float(y[2, -1]), float(y[3, -1])
 
@@ -132,17 +136,24 @@ def our_rod(c: StripCantilever):
     from lcefem.solvers.der.model import DiscreteRod, RestShape, RodState, lumped_masses, n_dofs
 
     b, h, e = c.width, c.thickness, c.youngs_modulus
-    polar = b * h ** 3 / 6.0  # [mm^4] DisMech's jxs
-    sec = RodSection(EA=e * b * h, EI1=e * h * b ** 3 / 12.0, EI2=c.bending_stiffness,
-                     GJ=e / (2.0 * (1.0 + c.poisson)) * polar, mass_per_length=c.density * b * h,
-                     inertia_per_length=c.density * polar, width=0.0, thickness=0.0)
+    polar = b * h**3 / 6.0  # [mm^4] DisMech's jxs
+    sec = RodSection(
+        EA=e * b * h,
+        EI1=e * h * b**3 / 12.0,
+        EI2=c.bending_stiffness,
+        GJ=e / (2.0 * (1.0 + c.poisson)) * polar,
+        mass_per_length=c.density * b * h,
+        inertia_per_length=c.density * polar,
+        width=0.0,
+        thickness=0.0,
+    )
     x = np.zeros((c.nodes, 3))
     x[:, 0] = np.linspace(0.0, c.length, c.nodes)
     state = RodState.from_positions(x, first_director=np.array([0.0, 1.0, 0.0]))
     rest = RestShape.straight(np.full(c.nodes - 1, c.length / (c.nodes - 1)))
     nm, ei = lumped_masses(sec, rest.edge_length)
     fixed = np.zeros(n_dofs(c.nodes), bool)
-    fixed[:4 * c.clamped_nodes - 1] = True  # the clamped nodes and the edge angles between them
+    fixed[: 4 * c.clamped_nodes - 1] = True  # the clamped nodes and the edge angles between them
     rod = DiscreteRod(sec, rest, nm, ei, gravity=np.array([0.0, 0.0, -c.gravity]), fixed=fixed)
     return rod, state
 
@@ -156,10 +167,16 @@ def our_static(c: StripCantilever, increments: int = 1) -> dict:
     res = solve_static(rod, state, increments=increments)
     cpu = time.process_time() - t0
     tip = res.state.x[-1]
-    return {"tip": (float(tip[0]), float(tip[2])), "cpu_s": cpu, "iterations": getattr(res, "iterations", 0)}
+    return {
+        "tip": (float(tip[0]), float(tip[2])),
+        "cpu_s": cpu,
+        "iterations": getattr(res, "iterations", 0),
+    }
 
 
-def our_dynamics(c: StripCantilever, dt: float, total_time: float | None = None, force_tol: float = 1e-4) -> dict:
+def our_dynamics(
+    c: StripCantilever, dt: float, total_time: float | None = None, force_tol: float = 1e-4
+) -> dict:
     """Implicit Euler at fixed dt for total_time [s] (default the problem's): tip (x, z) [mm] every
     SAMPLE s, CPU [s], Newton iterations per step."""
     from lcefem.solvers.der.integrator import Integrator, StepOptions
@@ -177,8 +194,12 @@ def our_dynamics(c: StripCantilever, dt: float, total_time: float | None = None,
         if i % every == 0:
             tip.append((integ.state.x[-1, 0], integ.state.x[-1, 2]))
     cpu = time.process_time() - t0
-    return {"path": np.array(tip), "cpu_s": cpu, "newton_per_step": integ.total_iterations / steps,
-            "energy_mJ": our_energy(rod, integ.state)}
+    return {
+        "path": np.array(tip),
+        "cpu_s": cpu,
+        "newton_per_step": integ.total_iterations / steps,
+        "energy_mJ": our_energy(rod, integ.state),
+    }
 
 
 def our_energy(rod, state) -> float:
@@ -188,8 +209,10 @@ def our_energy(rod, state) -> float:
 
     elastic = Assembly(rod.n_nodes).elastic(rod, state, 0)[0]
     potential = -float(np.sum(rod.node_mass[:, None] * rod.gravity[None, :] * state.x))
-    kinetic = 0.5 * float(np.sum(rod.node_mass * np.sum(state.v ** 2, axis=1))
-                          + np.sum(rod.edge_inertia * state.omega ** 2))
+    kinetic = 0.5 * float(
+        np.sum(rod.node_mass * np.sum(state.v**2, axis=1))
+        + np.sum(rod.edge_inertia * state.omega**2)
+    )
     return float(elastic) + potential + kinetic
 
 
@@ -202,20 +225,41 @@ def dismech_robot(c: StripCantilever, dt: float, total_time: float, static: bool
     import dismech
 
     b, h = c.width * 1e-3, c.thickness * 1e-3
-    geom = dismech.GeomParams(rod_r0=0.001, shell_h=0, axs=b * h, ixs1=b * h ** 3 / 12, ixs2=h * b ** 3 / 12,
-                              jxs=b * h ** 3 / 6)
-    material = dismech.Material(density=c.density * 1e12, youngs_rod=c.youngs_modulus * 1e6, youngs_shell=0,
-                                poisson_rod=c.poisson, poisson_shell=0)
-    params = dismech.SimParams(static_sim=static, two_d_sim=True, use_mid_edge=False, use_line_search=False,
-                               show_floor=False, log_data=True, log_step=1, dt=dt, max_iter=25,
-                               total_time=total_time, plot_step=1, tol=1e-4, ftol=1e-4, dtol=1e-2)
+    geom = dismech.GeomParams(
+        rod_r0=0.001, shell_h=0, axs=b * h, ixs1=b * h**3 / 12, ixs2=h * b**3 / 12, jxs=b * h**3 / 6
+    )
+    material = dismech.Material(
+        density=c.density * 1e12,
+        youngs_rod=c.youngs_modulus * 1e6,
+        youngs_shell=0,
+        poisson_rod=c.poisson,
+        poisson_shell=0,
+    )
+    params = dismech.SimParams(
+        static_sim=static,
+        two_d_sim=True,
+        use_mid_edge=False,
+        use_line_search=False,
+        show_floor=False,
+        log_data=True,
+        log_step=1,
+        dt=dt,
+        max_iter=25,
+        total_time=total_time,
+        plot_step=1,
+        tol=1e-4,
+        ftol=1e-4,
+        dtol=1e-2,
+    )
     env = dismech.Environment()
     env.add_force("gravity", g=np.array([0.0, 0.0, -c.gravity * 1e-3]))
     nodes = np.zeros((c.nodes, 3))
     nodes[:, 0] = np.linspace(0.0, c.length * 1e-3, c.nodes)
     edges = np.stack([np.arange(c.nodes - 1), np.arange(1, c.nodes)], axis=1).astype(np.int64)
     geo = dismech.Geometry(nodes, edges, np.empty((0, 3), dtype=np.int64))
-    robot = dismech.SoftRobot(geom, material, geo, params, env).fix_nodes(np.arange(c.clamped_nodes))
+    robot = dismech.SoftRobot(geom, material, geo, params, env).fix_nodes(
+        np.arange(c.clamped_nodes)
+    )
     return dismech.ImplicitEulerTimeStepper(robot)
 
 
@@ -236,7 +280,9 @@ def dismech_dynamics(c: StripCantilever, dt: float, total_time: float | None = N
     cpu = time.process_time() - t0
     every = int(round(SAMPLE / dt))
     n = 3 * (c.nodes - 1)
-    tip = [(c.length, 0.0)] + [(1e3 * r.state.q[n], 1e3 * r.state.q[n + 2]) for r in robots[every - 1::every]]
+    tip = [(c.length, 0.0)] + [
+        (1e3 * r.state.q[n], 1e3 * r.state.q[n + 2]) for r in robots[every - 1 :: every]
+    ]
     return {"path": np.array(tip), "cpu_s": cpu, "energy_mJ": dismech_energy(stepper, robots[-1])}
 
 
@@ -246,7 +292,7 @@ def dismech_energy(stepper, robot) -> float:
     mass, q, u = robot.mass_matrix, robot.state.q, robot.state.u
     nodes = robot.node_dof_indices  # (N, 3)
     potential = -float(np.sum(mass[nodes] * robot.env.g[None, :] * q[nodes]))
-    kinetic = 0.5 * float(np.sum(mass * u ** 2))
+    kinetic = 0.5 * float(np.sum(mass * u**2))
     return 1e3 * (float(stepper.compute_total_elastic_energy(robot.state)) + potential + kinetic)
 
 
@@ -257,7 +303,9 @@ def path_error(path: np.ndarray, ref: np.ndarray, scale: float) -> float:
     return float(np.max(np.hypot(*(path[:m] - ref[:m]).T))) / scale
 
 
-def compare_dynamics(name: str, run, c: StripCantilever, scale: float, target: float) -> tuple[list[dict], dict]:
+def compare_dynamics(
+    name: str, run, c: StripCantilever, scale: float, target: float
+) -> tuple[list[dict], dict]:
     """The first swing (MATCH_TIME) at each dt of the ladder against the same code at REFERENCE_DT;
     marks the largest dt within ``target``. Returns the rows and the reference run."""
     ref = run(c, REFERENCE_DT, MATCH_TIME)
@@ -265,14 +313,28 @@ def compare_dynamics(name: str, run, c: StripCantilever, scale: float, target: f
     for dt in DT_LADDER:
         r = run(c, dt, MATCH_TIME)
         err = path_error(r["path"], ref["path"], scale)
-        row = {"code": name, "problem": f"first swing {MATCH_TIME:g} s", "dt_s": dt, "cpu_s": r["cpu_s"],
-               "error": err, "reference": f"same code at dt {REFERENCE_DT:g} s",
-               "newton_per_step": r.get("newton_per_step"), "tip_x_mm": float(r["path"][-1, 0]),
-               "tip_z_mm": float(r["path"][-1, 1]), "energy_mJ": r["energy_mJ"], "matched": False}
+        row = {
+            "code": name,
+            "problem": f"first swing {MATCH_TIME:g} s",
+            "dt_s": dt,
+            "cpu_s": r["cpu_s"],
+            "error": err,
+            "reference": f"same code at dt {REFERENCE_DT:g} s",
+            "newton_per_step": r.get("newton_per_step"),
+            "tip_x_mm": float(r["path"][-1, 0]),
+            "tip_z_mm": float(r["path"][-1, 1]),
+            "energy_mJ": r["energy_mJ"],
+            "matched": False,
+        }
         rows.append(row)
-        print(f"  {name:8s} dt {dt:9.6f} s: CPU {r['cpu_s']:7.3f} s, path error {100 * err:6.2f} %, energy at "
-              f"{MATCH_TIME:g} s {r['energy_mJ']:.5f} mJ (reference {ref['energy_mJ']:.5f})"
-              + (f", {r['newton_per_step']:.2f} Newton/step" if "newton_per_step" in r else ""), flush=True)
+        print(
+            f"  {name:8s} dt {dt:9.6f} s: CPU {r['cpu_s']:7.3f} s, path error {100 * err:6.2f} %, "
+            "energy "
+            "at "
+            f"{MATCH_TIME:g} s {r['energy_mJ']:.5f} mJ (reference {ref['energy_mJ']:.5f})"
+            + (f", {r['newton_per_step']:.2f} Newton/step" if "newton_per_step" in r else ""),
+            flush=True,
+        )
         if err <= target and matched is None:
             matched = row
     if matched is not None:
@@ -282,9 +344,15 @@ def compare_dynamics(name: str, run, c: StripCantilever, scale: float, target: f
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--target", type=float, default=0.05,
-                        help="matched accuracy: tip path error over the static tip displacement [-]")
-    parser.add_argument("--csv", help="write the table here (e.g. validation/data/dismech_benchmark.csv)")
+    parser.add_argument(
+        "--target",
+        type=float,
+        default=0.05,
+        help="matched accuracy: tip path error over the static tip displacement [-]",
+    )
+    parser.add_argument(
+        "--csv", help="write the table here (e.g. validation/data/dismech_benchmark.csv)"
+    )
     args = parser.parse_args(argv)
     if not 0 < args.target < 1:
         print(f"--target {args.target}: must be in (0, 1)", file=sys.stderr)
@@ -293,13 +361,20 @@ def main(argv: list[str] | None = None) -> int:
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
     c = StripCantilever()
     have_peer = importlib.util.find_spec("dismech") is not None
-    print(f"DisMech benchmark: {platform.processor() or platform.machine()}, python {platform.python_version()}, "
-          f"one core, CPU seconds; dismech-python {DISMECH_COMMIT[:7]}"
-          + ("" if have_peer else " NOT INSTALLED (pip install <its source>): ours only"))
+    print(
+        f"DisMech benchmark: {platform.processor() or platform.machine()}, python "
+        f"{platform.python_version()}, "
+        f"one core, CPU seconds; dismech-python {DISMECH_COMMIT[:7]}"
+        + ("" if have_peer else " NOT INSTALLED (pip install <its source>): ours only")
+    )
     x_ref, z_ref = heavy_elastica_tip(c)
-    scale = math.hypot(c.length - x_ref, z_ref)  # [mm] the static tip's distance from the straight tip
-    print(f"static reference (heavy elastica, solve_bvp): tip ({x_ref:.4f}, {z_ref:.4f}) mm, "
-          f"tip displacement {scale:.3f} mm")
+    scale = math.hypot(
+        c.length - x_ref, z_ref
+    )  # [mm] the static tip's distance from the straight tip
+    print(
+        f"static reference (heavy elastica, solve_bvp): tip ({x_ref:.4f}, {z_ref:.4f}) mm, "
+        f"tip displacement {scale:.3f} mm"
+    )
     our_static(c)  # numba compilation / cache load outside the timing
     rows = []
     statics = [("ours", our_static)] + ([("DisMech", dismech_static)] if have_peer else [])
@@ -308,10 +383,25 @@ def main(argv: list[str] | None = None) -> int:
             warnings.simplefilter("ignore")  # DisMech's np.divide(where=) warning, harmless here
             r = run(c)
         err = math.hypot(r["tip"][0] - x_ref, r["tip"][1] - z_ref) / scale
-        print(f"  {name:8s} static: tip ({r['tip'][0]:.4f}, {r['tip'][1]:.4f}) mm, error {100 * err:.3f} % "
-              f"of the tip displacement, CPU {r['cpu_s']:.4f} s")
-        rows.append({"code": name, "problem": "static", "dt_s": None, "cpu_s": r["cpu_s"], "error": err,
-                     "reference": "heavy elastica", "tip_x_mm": r["tip"][0], "tip_z_mm": r["tip"][1], "matched": True})
+        print(
+            f"  {name:8s} static: tip ({r['tip'][0]:.4f}, {r['tip'][1]:.4f}) mm, error "
+            f"{100 * err:.3f} "
+            "% "
+            f"of the tip displacement, CPU {r['cpu_s']:.4f} s"
+        )
+        rows.append(
+            {
+                "code": name,
+                "problem": "static",
+                "dt_s": None,
+                "cpu_s": r["cpu_s"],
+                "error": err,
+                "reference": "heavy elastica",
+                "tip_x_mm": r["tip"][0],
+                "tip_z_mm": r["tip"][1],
+                "matched": True,
+            }
+        )
     for _ in range(2):  # compilation and numba cache loads outside the timing
         our_dynamics(c, 0.01)
     codes = [("ours", our_dynamics)] + ([("DisMech", dismech_dynamics)] if have_peer else [])
@@ -321,22 +411,52 @@ def main(argv: list[str] | None = None) -> int:
         warnings.simplefilter("ignore")  # DisMech's np.divide(where=) warning, harmless here
         for name, run in codes:
             example[name] = r = run(c, 0.01)
-            print(f"  {name:8s}: CPU {r['cpu_s']:.3f} s, tip at {c.total_time:g} s ({r['path'][-1, 0]:.3f}, "
-                  f"{r['path'][-1, 1]:.3f}) mm, energy {r['energy_mJ']:.5f} mJ" + (f", {r['newton_per_step']:.2f} Newton/step"
-                                                   if "newton_per_step" in r else ""))
-            rows.append({"code": name, "problem": f"example run {c.total_time:g} s", "dt_s": 0.01, "cpu_s": r["cpu_s"],
-                         "newton_per_step": r.get("newton_per_step"), "tip_x_mm": float(r["path"][-1, 0]),
-                         "tip_z_mm": float(r["path"][-1, 1]), "energy_mJ": r["energy_mJ"], "reference": "",
-                         "matched": False})
+            print(
+                f"  {name:8s}: CPU {r['cpu_s']:.3f} s, tip at {c.total_time:g} s "
+                f"({r['path'][-1, 0]:.3f}, "
+                f"{r['path'][-1, 1]:.3f}) mm, energy {r['energy_mJ']:.5f} mJ"
+                + (f", {r['newton_per_step']:.2f} Newton/step" if "newton_per_step" in r else "")
+            )
+            rows.append(
+                {
+                    "code": name,
+                    "problem": f"example run {c.total_time:g} s",
+                    "dt_s": 0.01,
+                    "cpu_s": r["cpu_s"],
+                    "newton_per_step": r.get("newton_per_step"),
+                    "tip_x_mm": float(r["path"][-1, 0]),
+                    "tip_z_mm": float(r["path"][-1, 1]),
+                    "energy_mJ": r["energy_mJ"],
+                    "reference": "",
+                    "matched": False,
+                }
+            )
         if have_peer:
             gap = path_error(example["ours"]["path"], example["DisMech"]["path"], scale)
-            print(f"  the two paths differ by at most {100 * gap:.3f} % of the tip displacement (same discretisation"
-                  f" and scheme); DisMech / ours CPU: {example['DisMech']['cpu_s'] / example['ours']['cpu_s']:.1f} x")
-            rows.append({"code": "ours vs DisMech", "problem": f"example run {c.total_time:g} s", "dt_s": 0.01,
-                         "error": gap, "reference": "the other code"})
-        print(f"matched accuracy (implicit Euler, first {MATCH_TIME:g} s; error: largest tip distance to the same "
-              f"code at dt {REFERENCE_DT:g} s over the {scale:.2f} mm tip displacement; target "
-              f"{100 * args.target:g} %):")
+            print(
+                f"  the two paths differ by at most {100 * gap:.3f} % of the tip displacement "
+                "(same "
+                "discretisation"
+                " and scheme); DisMech / ours CPU: "
+                f"{example['DisMech']['cpu_s'] / example['ours']['cpu_s']:.1f} "
+                "x"
+            )
+            rows.append(
+                {
+                    "code": "ours vs DisMech",
+                    "problem": f"example run {c.total_time:g} s",
+                    "dt_s": 0.01,
+                    "error": gap,
+                    "reference": "the other code",
+                }
+            )
+        print(
+            f"matched accuracy (implicit Euler, first {MATCH_TIME:g} s; error: largest tip "
+            "distance to the "
+            "same "
+            f"code at dt {REFERENCE_DT:g} s over the {scale:.2f} mm tip displacement; target "
+            f"{100 * args.target:g} %):"
+        )
         dyn, refs = {}, {}
         for name, run in codes:
             dyn[name], refs[name] = compare_dynamics(name, run, c, scale, args.target)
@@ -347,27 +467,69 @@ def main(argv: list[str] | None = None) -> int:
         if r is None:
             print(f"  {name:8s}: no step of the ladder within {100 * args.target:g} %")
         else:
-            print(f"  {name:8s}: dt {r['dt_s']:g} s, {r['cpu_s']:.3f} s (error {100 * r['error']:.2f} %)")
+            print(
+                f"  {name:8s}: dt {r['dt_s']:g} s, {r['cpu_s']:.3f} s (error "
+                f"{100 * r['error']:.2f} "
+                "%)"
+            )
     if have_peer:
         gap = path_error(refs["ours"]["path"], refs["DisMech"]["path"], scale)
         print(f"  the two references differ by {100 * gap:.1e} % of the tip displacement")
-        rows.append({"code": "ours vs DisMech", "problem": f"first swing {MATCH_TIME:g} s", "dt_s": REFERENCE_DT,
-                     "error": gap, "reference": "the other code's reference"})
+        rows.append(
+            {
+                "code": "ours vs DisMech",
+                "problem": f"first swing {MATCH_TIME:g} s",
+                "dt_s": REFERENCE_DT,
+                "error": gap,
+                "reference": "the other code's reference",
+            }
+        )
         if summary.get("ours") and summary.get("DisMech"):
-            print(f"  DisMech / ours at matched accuracy: {summary['DisMech']['cpu_s'] / summary['ours']['cpu_s']:.1f} x")
+            print(
+                "  DisMech / ours at matched accuracy: "
+                f"{summary['DisMech']['cpu_s'] / summary['ours']['cpu_s']:.1f} "
+                "x"
+            )
     if args.csv:
-        keys = ["code", "problem", "dt_s", "cpu_s", "error", "matched", "reference", "newton_per_step", "tip_x_mm",
-                "tip_z_mm", "energy_mJ"]
-        header = ["code", "problem", "dt [s]", "cpu [s]", "error [-] (tip distance / static tip displacement)",
-                  "matched [bool]", "reference", "newton per step [-]", "tip x [mm]", "tip z [mm]",
-                "energy at the end [mJ] (elastic + gravity + kinetic; 0 at the start)"]
+        keys = [
+            "code",
+            "problem",
+            "dt_s",
+            "cpu_s",
+            "error",
+            "matched",
+            "reference",
+            "newton_per_step",
+            "tip_x_mm",
+            "tip_z_mm",
+            "energy_mJ",
+        ]
+        header = [
+            "code",
+            "problem",
+            "dt [s]",
+            "cpu [s]",
+            "error [-] (tip distance / static tip displacement)",
+            "matched [bool]",
+            "reference",
+            "newton per step [-]",
+            "tip x [mm]",
+            "tip z [mm]",
+            "energy at the end [mJ] (elastic + gravity + kinetic; 0 at the start)",
+        ]
         tmp = args.csv + ".part"
         with open(tmp, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(header)
             for r in rows:
-                w.writerow(["" if r.get(k) is None else (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k])
-                            for k in keys])
+                w.writerow(
+                    [
+                        ""
+                        if r.get(k) is None
+                        else (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k])
+                        for k in keys
+                    ]
+                )
         os.replace(tmp, args.csv)
         print(f"written {args.csv}")
     return 0

@@ -36,10 +36,33 @@ import subprocess
 import sys
 import time
 
-COLUMNS = ["case", "variant", "level", "dofs [-]", "steps [-]", "newton its [-]", "its/step [-]", "cuts [-]",
-           "jacobians [-]", "factorisations [-]", "residuals [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
-           "other/it [s]", "mechanics [s]", "wall [s]", "cpu [s]", "peak memory [MiB]", "observable",
-           "value", "date"]
+COLUMNS = [
+    "case",
+    "variant",
+    "level",
+    "dofs [-]",
+    "steps [-]",
+    "newton its [-]",
+    "its/step [-]",
+    "cuts [-]",
+    "jacobians [-]",
+    "factorisations [-]",
+    "residuals [-]",
+    "refused iterates [-]",
+    "s/iteration [s]",
+    "residual/it [s]",
+    "jacobian/it [s]",
+    "factor/it [s]",
+    "solve/it [s]",
+    "other/it [s]",
+    "mechanics [s]",
+    "wall [s]",
+    "cpu [s]",
+    "peak memory [MiB]",
+    "observable",
+    "value",
+    "date",
+]
 
 
 class SnesTimer:
@@ -75,19 +98,23 @@ class SnesTimer:
 
 def _events() -> dict:
     from petsc4py import PETSc
+
     out = {}
     for name in ("PCSetUp", "MatSolve", "SNESSolve"):
         info = PETSc.Log.Event(name).getPerfInfo()
         out[name] = float(info["time"])
     # numeric factorisations (Cholesky or LU), the unit of cost of a direct-solver Newton step
-    out["factorisations"] = sum(int(PETSc.Log.Event(name).getPerfInfo()["count"])
-                                for name in ("MatCholFctrNum", "MatLUFactorNum"))
+    out["factorisations"] = sum(
+        int(PETSc.Log.Event(name).getPerfInfo()["count"])
+        for name in ("MatCholFctrNum", "MatLUFactorNum")
+    )
     return out
 
 
 def timed_solve(snes, run):
     """Run ``run()`` with ``snes`` instrumented; returns (result, timings)."""
     from petsc4py import PETSc
+
     PETSc.Log.begin()
     timer = SnesTimer(snes)
     ev0 = _events()
@@ -95,24 +122,43 @@ def timed_solve(snes, run):
     result = run()
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     ev = {k: v - ev0[k] for k, v in _events().items()}
-    return result, {"wall": wall, "cpu": cpu, "residual": timer.residual, "jacobian": timer.jacobian,
-                    "its": timer.jacobian_calls, "residuals": timer.residual_calls,
-                    "factorisations": ev["factorisations"], "factor": ev["PCSetUp"], "solve": ev["MatSolve"],
-                    "snes": ev["SNESSolve"]}
+    return result, {
+        "wall": wall,
+        "cpu": cpu,
+        "residual": timer.residual,
+        "jacobian": timer.jacobian,
+        "its": timer.jacobian_calls,
+        "residuals": timer.residual_calls,
+        "factorisations": ev["factorisations"],
+        "factor": ev["PCSetUp"],
+        "solve": ev["MatSolve"],
+        "snes": ev["SNESSolve"],
+    }
 
 
 def measure_strip(level: int, steps: int, dt: float) -> dict:
     from lcefem.meshes.strip import StripMesh
     from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
-    sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=steps * dt, dt=dt),
-                                      mesh=StripMesh(level=level)))
-    res, t = timed_solve(sim.model.mechanics.snes,
-                          lambda: sim.run(None, progress=False, fields=False))
+    sim = StripSimulation(
+        StripConfig(
+            run=StripRun(current=0.2, duration=steps * dt, dt=dt), mesh=StripMesh(level=level)
+        )
+    )
+    res, t = timed_solve(
+        sim.model.mechanics.snes, lambda: sim.run(None, progress=False, fields=False)
+    )
     cuts = int(sum(res.history["step_cuts [-]"][1:]))
-    return {"case": "strip 0.2 A", "level": level, "dofs [-]": sim.ndofs["displacement"],
-            "steps [-]": steps, "cuts [-]": cuts, "observable": "final stretch [-]",
-            "value": float(res.history["stretch [-]"][-1]), **_split(t)}
+    return {
+        "case": "strip 0.2 A",
+        "level": level,
+        "dofs [-]": sim.ndofs["displacement"],
+        "steps [-]": steps,
+        "cuts [-]": cuts,
+        "observable": "final stretch [-]",
+        "value": float(res.history["stretch [-]"][-1]),
+        **_split(t),
+    }
 
 
 #: Newton variants of the beam ramp (overrides of the beam's Newton options): the configured full
@@ -126,18 +172,29 @@ def measure_strip(level: int, steps: int, dt: float) -> dict:
 #: 2026-11-25; ``t12``: the beam's step control
 #: (:data:`lcefem.solvers.problems.composite_beam.BEAM_CONTROL`, 12 iterations, steps up to 0.25),
 #: ``t10``: the shared defaults (10 iterations, steps up to 0.2);
-#: ``native``: the kernels compiled for this processor, ``-march=native``); the Jacobian (and its factorisation) reused for 2 or 3 iterations (modified Newton);
-#: PETSc's critical-point (one or three secant steps), backtracking (on |R|^2), L2 line searches,
-#: steps damped to 0.8 and the trust region.
-#: One Newton step with the beam's direct solver as a nonlinear preconditioner (``npc_`` prefix).
-NEWTON_NPC = {"npc_snes_type": "newtonls", "npc_snes_max_it": 1, "npc_snes_linesearch_type": "basic",
-              "npc_ksp_type": "preonly", "npc_pc_type": "cholesky",
-              "npc_pc_factor_mat_solver_type": "mumps"}
+#: ``native``: the kernels compiled for this processor, ``-march=native``); the Jacobian (and its
+#: factorisation) reused for 2 or 3 iterations (modified Newton); PETSc's critical-point (one or
+#: three secant steps), backtracking (on |R|^2), L2 line searches, steps damped to 0.8 and the trust
+#: region. One Newton step with the beam's direct solver as a nonlinear preconditioner (``npc_``
+#: prefix).
+NEWTON_NPC = {
+    "npc_snes_type": "newtonls",
+    "npc_snes_max_it": 1,
+    "npc_snes_linesearch_type": "basic",
+    "npc_ksp_type": "preonly",
+    "npc_pc_type": "cholesky",
+    "npc_pc_factor_mat_solver_type": "mumps",
+}
 
 BEAM_VARIANTS = {
     "newton": {},
-    "before": {"jit_options": {}, "packed_tangent": False, "predictor": "tangent",
-               "target_iterations": 10, "max_step": 0.2},
+    "before": {
+        "jit_options": {},
+        "packed_tangent": False,
+        "predictor": "tangent",
+        "target_iterations": 10,
+        "max_step": 0.2,
+    },
     "aij": {"packed_tangent": False},
     "metis": {"mat_mumps_icntl_7": 5},
     "base": {"packed_tangent": False, "mat_mumps_icntl_7": 5},
@@ -159,13 +216,18 @@ BEAM_VARIANTS = {
     "ngmres-l": {"snes_type": "ngmres", "snes_npc_side": "left", **NEWTON_NPC},
     "anderson-r": {"snes_type": "anderson", "snes_npc_side": "right", **NEWTON_NPC},
     "qn-l": {"snes_type": "qn", "snes_npc_side": "left", **NEWTON_NPC},
-    "qn-jac": {"snes_type": "qn", "snes_qn_type": "lbfgs", "snes_qn_scale_type": "jacobian",
-               "snes_max_it": 60},
+    "qn-jac": {
+        "snes_type": "qn",
+        "snes_qn_type": "lbfgs",
+        "snes_qn_scale_type": "jacobian",
+        "snes_max_it": 60,
+    },
 }
 
 
-def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
-                 variant: str = "newton") -> dict:
+def measure_beam(
+    level: int, lambda_top: float, lambda_bottom: float, variant: str = "newton"
+) -> dict:
     from lcefem.meshes.composite_beam_fe import BeamFEMesh
     from lcefem.solvers import mechanics
     from lcefem.solvers.continuation import PathControl
@@ -180,47 +242,84 @@ def measure_beam(level: int, lambda_top: float, lambda_bottom: float,
         flags = mechanics.JIT_OPTIONS["cffi_extra_compile_args"] + options.pop("jit_extra_flags")
         mechanics.JIT_OPTIONS = {**mechanics.JIT_OPTIONS, "cffi_extra_compile_args": flags}
     # fields of the step controller (predictor, target iterations, ...) are not PETSc options
-    control = dataclasses.replace(BEAM_CONTROL, **{f.name: options.pop(f.name)
-                                                    for f in dataclasses.fields(PathControl)
-                                                    if f.name in options})
+    control = dataclasses.replace(
+        BEAM_CONTROL,
+        **{
+            f.name: options.pop(f.name)
+            for f in dataclasses.fields(PathControl)
+            if f.name in options
+        },
+    )
     model = BeamFE(mesh=BeamFEMesh(level=level), petsc_options=options, control=control)
     states, t = timed_solve(model.problem.snes, lambda: model.ramp(lambda_top, lambda_bottom))
     f = model.last_follower
     t["jacobians"], t["its"] = t["its"], f.iterations  # they differ when the Jacobian is reused
-    return {"case": f"beam ramp ({lambda_top:g}, {lambda_bottom:g})", "variant": variant,
-            "level": level, "dofs [-]": model.ndofs, "steps [-]": len(states), "cuts [-]": f.cuts,
-            "jacobians [-]": t["jacobians"], "factorisations [-]": t["factorisations"],
-            "residuals [-]": t["residuals"], "refused iterates [-]": model.problem.inverted_iterates,
-            "observable": "curvature [1/mm]", "value": model.curvature(), **_split(t)}
+    return {
+        "case": f"beam ramp ({lambda_top:g}, {lambda_bottom:g})",
+        "variant": variant,
+        "level": level,
+        "dofs [-]": model.ndofs,
+        "steps [-]": len(states),
+        "cuts [-]": f.cuts,
+        "jacobians [-]": t["jacobians"],
+        "factorisations [-]": t["factorisations"],
+        "residuals [-]": t["residuals"],
+        "refused iterates [-]": model.problem.inverted_iterates,
+        "observable": "curvature [1/mm]",
+        "value": model.curvature(),
+        **_split(t),
+    }
 
 
 def _split(t: dict) -> dict:
     its = max(t["its"], 1)
     other = t["wall"] - t["residual"] - t["jacobian"] - t["factor"] - t["solve"]
-    return {"newton its [-]": t["its"], "s/iteration [s]": t["wall"] / its,
-            "residual/it [s]": t["residual"] / its, "jacobian/it [s]": t["jacobian"] / its,
-            "factor/it [s]": t["factor"] / its, "solve/it [s]": t["solve"] / its,
-            "other/it [s]": other / its, "mechanics [s]": t["snes"] or t["wall"], "wall [s]": t["wall"], "cpu [s]": t["cpu"]}
+    return {
+        "newton its [-]": t["its"],
+        "s/iteration [s]": t["wall"] / its,
+        "residual/it [s]": t["residual"] / its,
+        "jacobian/it [s]": t["jacobian"] / its,
+        "factor/it [s]": t["factor"] / its,
+        "solve/it [s]": t["solve"] / its,
+        "other/it [s]": other / its,
+        "mechanics [s]": t["snes"] or t["wall"],
+        "wall [s]": t["wall"],
+        "cpu [s]": t["cpu"],
+    }
 
 
-LINEAR_COLUMNS = ["level", "dofs [-]", "assemble aij [s]", "assemble baij [s]", "ldlt factor [s]",
-                  "ldlt solve [s]", "gamg setup [s]", "gamg solve [s]", "gamg its [-]",
-                  "gamg/ldlt [-]", "relative difference [-]"]
+LINEAR_COLUMNS = [
+    "level",
+    "dofs [-]",
+    "assemble aij [s]",
+    "assemble baij [s]",
+    "ldlt factor [s]",
+    "ldlt solve [s]",
+    "gamg setup [s]",
+    "gamg solve [s]",
+    "gamg its [-]",
+    "gamg/ldlt [-]",
+    "relative difference [-]",
+]
 
 
 def measure_linear(level: int, steps: int, dt: float) -> dict:
     """One tangent of the heated strip (after ``steps`` steps of ``dt`` at 0.2 A) solved by MUMPS
     LDL^T and by CG + GAMG (rigid-body near-nullspace, block size 3, :data:`GAMG_OPTIONS`); the
     Jacobian assembled into AIJ and into BAIJ (block 3)."""
-    from lcefem.solvers.mechanics import GAMG_OPTIONS, rigid_body_modes  # first: orders MPI
-    import dolfinx.fem.petsc
     from petsc4py import PETSc
 
+    import dolfinx.fem.petsc
+
     from lcefem.meshes.strip import StripMesh
+    from lcefem.solvers.mechanics import GAMG_OPTIONS, rigid_body_modes  # first: orders MPI
     from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
-    sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=steps * dt, dt=dt),
-                                      mesh=StripMesh(level=level)))
+    sim = StripSimulation(
+        StripConfig(
+            run=StripRun(current=0.2, duration=steps * dt, dt=dt), mesh=StripMesh(level=level)
+        )
+    )
     sim.run(None, progress=False, fields=False)
     mech = sim.model.mechanics
     J_form, bcs = mech._problem.J, mech.bcs
@@ -245,8 +344,13 @@ def measure_linear(level: int, steps: int, dt: float) -> dict:
     b.set(1.0)
     dolfinx.fem.petsc.set_bc(b, bcs, alpha=0.0)
     solutions = {}
-    for name, options in (("ldlt", {"ksp_type": "preonly", "pc_type": "cholesky",
-                                    "pc_factor_mat_solver_type": "mumps"}), ("gamg", GAMG_OPTIONS)):
+    for name, options in (
+        (
+            "ldlt",
+            {"ksp_type": "preonly", "pc_type": "cholesky", "pc_factor_mat_solver_type": "mumps"},
+        ),
+        ("gamg", GAMG_OPTIONS),
+    ):
         prefix = f"linbench_{name}_"
         opts = PETSc.Options()
         for k, v in options.items():
@@ -266,8 +370,9 @@ def measure_linear(level: int, steps: int, dt: float) -> dict:
         if name == "gamg":
             row["gamg its [-]"] = ksp.getIterationNumber() if ksp.getConvergedReason() > 0 else -1
         solutions[name] = x
-    row["gamg/ldlt [-]"] = ((row["gamg setup [s]"] + row["gamg solve [s]"])
-                            / (row["ldlt factor [s]"] + row["ldlt solve [s]"]))
+    row["gamg/ldlt [-]"] = (row["gamg setup [s]"] + row["gamg solve [s]"]) / (
+        row["ldlt factor [s]"] + row["ldlt solve [s]"]
+    )
     d = solutions["gamg"] - solutions["ldlt"]
     row["relative difference [-]"] = d.norm() / solutions["ldlt"].norm()
     return row
@@ -275,6 +380,7 @@ def measure_linear(level: int, steps: int, dt: float) -> dict:
 
 def child(args) -> dict:
     import resource
+
     kind, level = args.child
     if kind == "linear":
         row = measure_linear(int(level), 2, args.strip_dt)
@@ -291,9 +397,28 @@ def child(args) -> dict:
 
 
 def print_table(rows: list[dict], file=sys.stdout, columns: list[str] | None = None) -> None:
-    short = columns or ["case", "variant", "level", "dofs [-]", "newton its [-]", "its/step [-]",
-             "cuts [-]", "jacobians [-]", "factorisations [-]", "residuals [-]", "refused iterates [-]", "s/iteration [s]", "residual/it [s]", "jacobian/it [s]", "factor/it [s]", "solve/it [s]",
-             "wall [s]", "cpu [s]", "peak memory [MiB]", "value"]
+    short = columns or [
+        "case",
+        "variant",
+        "level",
+        "dofs [-]",
+        "newton its [-]",
+        "its/step [-]",
+        "cuts [-]",
+        "jacobians [-]",
+        "factorisations [-]",
+        "residuals [-]",
+        "refused iterates [-]",
+        "s/iteration [s]",
+        "residual/it [s]",
+        "jacobian/it [s]",
+        "factor/it [s]",
+        "solve/it [s]",
+        "wall [s]",
+        "cpu [s]",
+        "peak memory [MiB]",
+        "value",
+    ]
     cells = [[_fmt(r.get(k, "")) for k in short] for r in rows]
     widths = [max(len(k), *(len(c[i]) for c in cells)) for i, k in enumerate(short)]
     print("  ".join(k.rjust(w) for k, w in zip(short, widths)), file=file)
@@ -315,11 +440,20 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--strip-dt", type=float, default=2.0, help="time step [s]")
     parser.add_argument("--lambda-top", type=float, default=1.33)
     parser.add_argument("--lambda-bottom", type=float, default=1.05)
-    parser.add_argument("--linear-levels", type=int, nargs="*", default=[],
-                        help="strip levels at which one tangent is solved by MUMPS LDL^T and by "
-                        "CG + GAMG, and assembled as AIJ and BAIJ (a separate table)")
-    parser.add_argument("--beam-variants", nargs="+", default=["newton"],
-                        help=f"Newton variants of the beam ramp, from {', '.join(BEAM_VARIANTS)}")
+    parser.add_argument(
+        "--linear-levels",
+        type=int,
+        nargs="*",
+        default=[],
+        help="strip levels at which one tangent is solved by MUMPS LDL^T and by "
+        "CG + GAMG, and assembled as AIJ and BAIJ (a separate table)",
+    )
+    parser.add_argument(
+        "--beam-variants",
+        nargs="+",
+        default=["newton"],
+        help=f"Newton variants of the beam ramp, from {', '.join(BEAM_VARIANTS)}",
+    )
     parser.add_argument("--csv", type=pathlib.Path, default=None, help="CSV file of the table")
     parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
     parser.add_argument("--beam-variant", default="newton", help=argparse.SUPPRESS)
@@ -335,10 +469,23 @@ def main(argv: list[str] | None = None) -> int:
     jobs += [("beam", lv, v) for lv in args.beam_levels for v in args.beam_variants]
     jobs += [("linear", lv, "newton") for lv in args.linear_levels]
     for kind, level, variant in jobs:
-        cmd = [sys.executable, __file__, "--child", kind,
-               str(level), "--strip-steps", str(args.strip_steps), "--strip-dt", str(args.strip_dt),
-               "--lambda-top", str(args.lambda_top), "--lambda-bottom", str(args.lambda_bottom),
-               "--beam-variant", variant]
+        cmd = [
+            sys.executable,
+            __file__,
+            "--child",
+            kind,
+            str(level),
+            "--strip-steps",
+            str(args.strip_steps),
+            "--strip-dt",
+            str(args.strip_dt),
+            "--lambda-top",
+            str(args.lambda_top),
+            "--lambda-bottom",
+            str(args.lambda_bottom),
+            "--beam-variant",
+            variant,
+        ]
         out = subprocess.run(cmd, capture_output=True, text=True)
         if out.returncode != 0:
             print(f"{kind} level {level} failed:\n{out.stderr[-2000:]}", file=sys.stderr)
@@ -354,8 +501,11 @@ def main(argv: list[str] | None = None) -> int:
     if args.csv is not None:
         write_table_csv(args.csv, COLUMNS, rows)
         if linear:
-            write_table_csv(args.csv.with_name(args.csv.stem + "_linear.csv"),
-                       LINEAR_COLUMNS + ["peak memory [MiB]"], linear)
+            write_table_csv(
+                args.csv.with_name(args.csv.stem + "_linear.csv"),
+                LINEAR_COLUMNS + ["peak memory [MiB]"],
+                linear,
+            )
     return 0
 
 

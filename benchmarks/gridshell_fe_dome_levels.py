@@ -13,8 +13,9 @@ by side and a long one can be watched: every accepted path step appends a JSON l
 ``GridshellFE.save_state``); the last line (``"event": "final"``) has the totals.
 ``--analyse`` adds the logged levels to ``--data`` (default
 ``validation/data/gridshell_fe_dome_full_ramp_from_flat_levels.json``, which holds levels 0 and 1)
-and analyses every finished level with :func:`lcefem.validation.app.converge.analyse` (observed order,
-Richardson value, GCI; h = the in-plane element size of the level, ``GridshellFEMesh().size / (L+1)``).
+and analyses every finished level with :func:`lcefem.validation.app.converge.analyse` (observed
+order, Richardson value, GCI; h = the in-plane element size of the level, ``GridshellFEMesh().size /
+(L+1)``).
 
 Not a test: it prints figures. CPU time is the process's; wall times on a shared machine are upper
 bounds.
@@ -28,13 +29,24 @@ import pathlib
 import resource
 import time
 
-DATA = pathlib.Path(__file__).parents[1] / "validation" / "data" / "gridshell_fe_dome_full_ramp_from_flat_levels.json"
+DATA = (
+    pathlib.Path(__file__).parents[1]
+    / "validation"
+    / "data"
+    / "gridshell_fe_dome_full_ramp_from_flat_levels.json"
+)
 #: the curvature measures the study analyses
 MEASURES = ("kappa_circle_x [1/mm]", "kappa_quad_x [1/mm]")
 #: per-step series kept in the data file (JSON-lines key -> data key)
-STEP_KEYS = {"t [-]": "t [-]", "newton": "newton iterations [-]", "kappa_circle_x [1/mm]": None,
-             "kappa_quad_x [1/mm]": None, "quad_rms_residual [mm]": None, "apex_z [mm]": None,
-             "energy [mJ]": None}
+STEP_KEYS = {
+    "t [-]": "t [-]",
+    "newton": "newton iterations [-]",
+    "kappa_circle_x [1/mm]": None,
+    "kappa_quad_x [1/mm]": None,
+    "quad_rms_residual [mm]": None,
+    "apex_z [mm]": None,
+    "energy [mJ]": None,
+}
 ANALYSIS = "analysis of the levels from flat (validation.converge.analyse; h [mm])"
 
 
@@ -44,18 +56,22 @@ def _observables(model) -> dict:
 
 def run_level(level: int, out: pathlib.Path) -> dict:
     """Ramp the dome at ``level`` from flat, logging into ``out``; returns the final record."""
-    from lcefem.validation.studies.gridshell import gridshell_bh as gs
     from lcefem.validation.cases.gridshell_fe import fe_model
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
 
     out.mkdir(parents=True, exist_ok=True)
     log_path, state = out / f"steps_level{level}.jsonl", out / f"dome_state_level{level}.npz"
     t0, c0 = time.perf_counter(), time.process_time()
 
     def cost() -> dict:
-        return {"cpu [s]": time.process_time() - c0, "wall [s]": time.perf_counter() - t0,
-                "peak [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}
+        return {
+            "cpu [s]": time.process_time() - c0,
+            "wall [s]": time.perf_counter() - t0,
+            "peak [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+        }
 
     with log_path.open("w") as log:
+
         def write(rec: dict) -> None:
             log.write(json.dumps(rec) + "\n")
             log.flush()
@@ -69,8 +85,16 @@ def run_level(level: int, out: pathlib.Path) -> dict:
 
         model.ramp(gs.SHAPES["dome"]["lambdas"], on_step=on_step)
         f = model.last_follower
-        final = {"event": "final", "level": level, "dofs": model.ndofs, "newton": f.iterations,
-                 "cuts": f.cuts, "substeps": f.substeps, **cost(), **_observables(model)}
+        final = {
+            "event": "final",
+            "level": level,
+            "dofs": model.ndofs,
+            "newton": f.iterations,
+            "cuts": f.cuts,
+            "substeps": f.substeps,
+            **cost(),
+            **_observables(model),
+        }
         write(final)
     return final
 
@@ -89,13 +113,18 @@ def analyse_levels(folder: pathlib.Path, data: pathlib.Path = DATA) -> dict:
         recs = [json.loads(line) for line in log_path.read_text().splitlines() if line.strip()]
         steps = [r for r in recs if "event" not in r]
         final = [r for r in recs if r.get("event") == "final"]
-        entry = {"steps": {(k if v is None else v): [r.get(k) for r in steps] for k, v in STEP_KEYS.items()}}
+        entry = {
+            "steps": {
+                (k if v is None else v): [r.get(k) for r in steps] for k, v in STEP_KEYS.items()
+            }
+        }
         if final:
             entry["final"] = {k: v for k, v in final[-1].items() if k != "event"}
             entry["peak memory [MiB]"] = final[-1]["peak [MiB]"]
         elif steps:
-            entry["unfinished"] = (f"last accepted t = {steps[-1]['t [-]']:.4f} after "
-                                   f"{steps[-1]['cpu [s]']:.0f} s CPU")
+            entry["unfinished"] = (
+                f"last accepted t = {steps[-1]['t [-]']:.4f} after {steps[-1]['cpu [s]']:.0f} s CPU"
+            )
         d["levels"][str(level)] = entry
     levels = sorted(int(k) for k, v in d["levels"].items() if "final" in v)
     h = [GridshellFEMesh().size / (level + 1) for level in levels]
@@ -114,9 +143,16 @@ def analyse_levels(folder: pathlib.Path, data: pathlib.Path = DATA) -> dict:
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--level", type=int, default=None, help="mesh level to ramp (0, 1, 2, ...)")
-    p.add_argument("--out", type=pathlib.Path, default=None, help="folder of the step logs and states")
-    p.add_argument("--analyse", type=pathlib.Path, default=None, metavar="DIR",
-                   help="add the levels logged in DIR to --data and analyse them")
+    p.add_argument(
+        "--out", type=pathlib.Path, default=None, help="folder of the step logs and states"
+    )
+    p.add_argument(
+        "--analyse",
+        type=pathlib.Path,
+        default=None,
+        metavar="DIR",
+        help="add the levels logged in DIR to --data and analyse them",
+    )
     p.add_argument("--data", type=pathlib.Path, default=DATA)
     args = p.parse_args(argv)
     if args.analyse is not None:

@@ -37,9 +37,23 @@ def run_recipe(recipe: str, level: int, out: pathlib.Path, taskset: str | None) 
     """One ``lcefem run gridshell --recipe NAME --model fe`` in a child process; its figures."""
     folder = out / recipe
     # the installed console script's entry point, with this interpreter
-    cmd = [sys.executable, "-c", "import sys; from lcefem.validation.app.cli import main; sys.exit(main())",
-           "run", "gridshell", "--recipe", recipe, "--model", "fe", "--mesh-level", str(level),
-           "--out", str(folder), "--overwrite", "--quiet"]
+    cmd = [
+        sys.executable,
+        "-c",
+        "import sys; from lcefem.validation.app.cli import main; sys.exit(main())",
+        "run",
+        "gridshell",
+        "--recipe",
+        recipe,
+        "--model",
+        "fe",
+        "--mesh-level",
+        str(level),
+        "--out",
+        str(folder),
+        "--overwrite",
+        "--quiet",
+    ]
     if taskset is not None:
         if shutil.which("taskset") is None:
             raise SystemExit("--taskset: the taskset command is not on this machine")
@@ -57,11 +71,25 @@ def run_recipe(recipe: str, level: int, out: pathlib.Path, taskset: str | None) 
         return row
     s = json.loads(summary.read_text())
     res = s["results"]
-    row.update({"symmetry": s["symmetry"], "support": s["support"], "dofs [-]": s["dofs [-]"],
-                "path steps [-]": s["path steps [-]"], "newton iterations [-]": s["newton iterations [-]"],
-                "step cuts [-]": s["step cuts [-]"],
-                **{k: res[k] for k in ("kappa_circle_x [1/mm]", "kappa_circle_y [1/mm]",
-                                       "kappa_quad_x [1/mm]", "kappa_quad_y [1/mm]")}})
+    row.update(
+        {
+            "symmetry": s["symmetry"],
+            "support": s["support"],
+            "dofs [-]": s["dofs [-]"],
+            "path steps [-]": s["path steps [-]"],
+            "newton iterations [-]": s["newton iterations [-]"],
+            "step cuts [-]": s["step cuts [-]"],
+            **{
+                k: res[k]
+                for k in (
+                    "kappa_circle_x [1/mm]",
+                    "kappa_circle_y [1/mm]",
+                    "kappa_quad_x [1/mm]",
+                    "kappa_quad_y [1/mm]",
+                )
+            },
+        }
+    )
     return row
 
 
@@ -75,8 +103,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", default=None, help="also write the figures to this file")
     parser.add_argument("--taskset", default=None, help="pin each run to this core (taskset -c)")
     args = parser.parse_args(argv)
-    print(f"python {platform.python_version()}, {platform.machine()}; FE gridshell recipes, level "
-          f"{args.mesh_level}; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores", flush=True)
+    print(
+        f"python {platform.python_version()}, {platform.machine()}; FE gridshell recipes, level "
+        f"{args.mesh_level}; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores",
+        flush=True,
+    )
     rows = []
     with tempfile.TemporaryDirectory(prefix="fe_recipes_") as tmp:
         out = pathlib.Path(args.out) if args.out else pathlib.Path(tmp)
@@ -84,19 +115,29 @@ def main(argv: list[str] | None = None) -> int:
             r = run_recipe(recipe, args.mesh_level, out, args.taskset)
             rows.append(r)
             if "error" in r:
-                print(f"{recipe}: FAILED (exit {r['exit code']}, {r['cpu [s]']:.1f} s CPU): {r['error']}",
-                      flush=True)
+                print(
+                    f"{recipe}: FAILED (exit {r['exit code']}, {r['cpu [s]']:.1f} s CPU): "
+                    f"{r['error']}",
+                    flush=True,
+                )
                 continue
-            print(f"{recipe}: {r['cpu [s]']:.1f} s CPU ({r['wall [s]']:.0f} s wall), {r['symmetry']}, "
-                  f"{r['support']}, {r['dofs [-]']} DOFs, {r['path steps [-]']} steps, "
-                  f"{r['newton iterations [-]']} Newton its ({r['step cuts [-]']} cuts); circle "
-                  f"{r['kappa_circle_x [1/mm]']:+.6f} {r['kappa_circle_y [1/mm]']:+.6f}, quadratic "
-                  f"{r['kappa_quad_x [1/mm]']:+.6f} {r['kappa_quad_y [1/mm]']:+.6f} 1/mm", flush=True)
+            print(
+                f"{recipe}: {r['cpu [s]']:.1f} s CPU ({r['wall [s]']:.0f} s wall), "
+                f"{r['symmetry']}, "
+                f"{r['support']}, {r['dofs [-]']} DOFs, {r['path steps [-]']} steps, "
+                f"{r['newton iterations [-]']} Newton its ({r['step cuts [-]']} cuts); circle "
+                f"{r['kappa_circle_x [1/mm]']:+.6f} {r['kappa_circle_y [1/mm]']:+.6f}, quadratic "
+                f"{r['kappa_quad_x [1/mm]']:+.6f} {r['kappa_quad_y [1/mm]']:+.6f} 1/mm",
+                flush=True,
+            )
     total = sum(r["cpu [s]"] for r in rows)
     failed = [r["recipe"] for r in rows if "error" in r]
-    print(f"all {len(rows)}: {total:.1f} s CPU ({total / 60:.1f} min) against the budget of "
-          f"{BUDGET_CPU / 60:.0f} min: {'met' if total <= BUDGET_CPU and not failed else 'NOT met'}"
-          + (f"; failed: {', '.join(failed)}" if failed else ""), flush=True)
+    print(
+        f"all {len(rows)}: {total:.1f} s CPU ({total / 60:.1f} min) against the budget of "
+        f"{BUDGET_CPU / 60:.0f} min: {'met' if total <= BUDGET_CPU and not failed else 'NOT met'}"
+        + (f"; failed: {', '.join(failed)}" if failed else ""),
+        flush=True,
+    )
     if args.json:
         from lcefem.solvers.runtime.files import write_json
 

@@ -41,11 +41,18 @@ def run_shape(shape: str, level: int, baseline: bool) -> dict:
     cpu0 = time.process_time()
     if baseline:
         from lcefem.meshes.gridshell_fe import GridshellFEMesh
-        from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellFE, GridshellSupports
+        from lcefem.solvers.problems.gridshell import (
+            GridshellConfig,
+            GridshellFE,
+            GridshellSupports,
+        )
         from lcefem.validation.cases.programs import PUBLISHED_SUPPORTS
 
-        cfg = GridshellConfig(mesh=GridshellFEMesh(level=level), symmetry="quarter",
-                              supports=GridshellSupports(kind=PUBLISHED_SUPPORTS[shape]))
+        cfg = GridshellConfig(
+            mesh=GridshellFEMesh(level=level),
+            symmetry="quarter",
+            supports=GridshellSupports(kind=PUBLISHED_SUPPORTS[shape]),
+        )
         model = GridshellFE(cfg, petsc_options=dict(BASELINE_ORDERING))
     else:
         model = fig4_shape(shape, mesh_level=level)
@@ -60,15 +67,25 @@ def run_shape(shape: str, level: int, baseline: bool) -> dict:
     def share(name: str) -> float:
         return (after[name]["time"] - before[name]["time"]) / ramp_wall
 
-    return {"shape": shape, "level": level, "variant": "baseline" if baseline else "default",
-            "dofs": model.ndofs, "build cpu [s]": cpu1 - cpu0, "ramp cpu [s]": cpu2 - cpu1,
-            "cpu [s]": cpu2 - cpu0, "ramp wall [s]": ramp_wall, "steps": len(states),
-            "newton iterations": f.iterations, "cut steps": f.cuts, "folds": f.snaps,
-            "factorisations": after["MatCholFctrNum"]["count"] - before["MatCholFctrNum"]["count"],
-            "factorisation share of wall [-]": share("MatCholFctrNum"),
-            "jacobian share of wall [-]": share("SNESJacobianEval"),
-            "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
-            **{k: v for k, v in obs.items() if k.startswith("kappa_") or k == "apex_z [mm]"}}
+    return {
+        "shape": shape,
+        "level": level,
+        "variant": "baseline" if baseline else "default",
+        "dofs": model.ndofs,
+        "build cpu [s]": cpu1 - cpu0,
+        "ramp cpu [s]": cpu2 - cpu1,
+        "cpu [s]": cpu2 - cpu0,
+        "ramp wall [s]": ramp_wall,
+        "steps": len(states),
+        "newton iterations": f.iterations,
+        "cut steps": f.cuts,
+        "folds": f.snaps,
+        "factorisations": after["MatCholFctrNum"]["count"] - before["MatCholFctrNum"]["count"],
+        "factorisation share of wall [-]": share("MatCholFctrNum"),
+        "jacobian share of wall [-]": share("SNESJacobianEval"),
+        "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+        **{k: v for k, v in obs.items() if k.startswith("kappa_") or k == "apex_z [mm]"},
+    }
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -77,26 +94,38 @@ def main(argv: list[str] | None = None) -> int:
     from lcefem.validation.cases.programs import FIG4_SHAPES
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--shapes", nargs="+", default=["dome", "table", "saddle", "cylinder"],
-                        choices=list(FIG4_SHAPES))
+    parser.add_argument(
+        "--shapes",
+        nargs="+",
+        default=["dome", "table", "saddle", "cylinder"],
+        choices=list(FIG4_SHAPES),
+    )
     parser.add_argument("--level", type=int, default=0, choices=range(4), help="FE mesh level")
-    parser.add_argument("--baseline", action="store_true",
-                        help="switch the speed-up off (MUMPS's own ordering)")
+    parser.add_argument(
+        "--baseline", action="store_true", help="switch the speed-up off (MUMPS's own ordering)"
+    )
     parser.add_argument("--json", default=None, help="also write the figures to this file")
     args = parser.parse_args(argv)
-    print(f"python {platform.python_version()}, {platform.machine()}; FE gridshell, quarter, level "
-          f"{args.level}, {'baseline' if args.baseline else 'default'}; load average "
-          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores", flush=True)
+    print(
+        f"python {platform.python_version()}, {platform.machine()}; FE gridshell, quarter, level "
+        f"{args.level}, {'baseline' if args.baseline else 'default'}; load average "
+        f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores",
+        flush=True,
+    )
     rows = []
     for shape in args.shapes:
         r = run_shape(shape, args.level, args.baseline)
         rows.append(r)
-        print(f"{shape}: {r['cpu [s]']:.1f} s CPU (ramp {r['ramp cpu [s]']:.1f}), {r['steps']} steps, "
-              f"{r['newton iterations']} Newton its ({r['cut steps']} cuts), {r['factorisations']} "
-              f"LDL^T (share of wall: factorisation {r['factorisation share of wall [-]']:.2f}, "
-              f"Jacobian {r['jacobian share of wall [-]']:.2f}); circle "
-              f"{r['kappa_circle_x [1/mm]']:+.8f} {r['kappa_circle_y [1/mm]']:+.8f}, quadratic "
-              f"{r['kappa_quad_x [1/mm]']:+.8f} {r['kappa_quad_y [1/mm]']:+.8f} 1/mm", flush=True)
+        print(
+            f"{shape}: {r['cpu [s]']:.1f} s CPU (ramp {r['ramp cpu [s]']:.1f}), {r['steps']} "
+            "steps, "
+            f"{r['newton iterations']} Newton its ({r['cut steps']} cuts), {r['factorisations']} "
+            f"LDL^T (share of wall: factorisation {r['factorisation share of wall [-]']:.2f}, "
+            f"Jacobian {r['jacobian share of wall [-]']:.2f}); circle "
+            f"{r['kappa_circle_x [1/mm]']:+.8f} {r['kappa_circle_y [1/mm]']:+.8f}, quadratic "
+            f"{r['kappa_quad_x [1/mm]']:+.8f} {r['kappa_quad_y [1/mm]']:+.8f} 1/mm",
+            flush=True,
+        )
     if args.json:
         from lcefem.solvers.runtime.files import write_json
 

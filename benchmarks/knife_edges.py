@@ -2,7 +2,8 @@
 
 A validated phenomenon (validation/data/phenomena.toml) must not flip when nothing physical changes.
 This reruns each case at the quick level as a user would (``lcefem validate CASE --quick`` in a
-subprocess) under changes that move only round-off, and compares the phenomena's verdicts and values:
+subprocess) under changes that move only round-off, and compares the phenomena's verdicts and
+values:
 
 * ``as is``: the environment unchanged;
 * ``other BLAS``: OpenBLAS's SSE3 kernels (``OPENBLAS_CORETYPE=Prescott``) on one thread: another
@@ -10,14 +11,15 @@ subprocess) under changes that move only round-off, and compares the phenomena's
 
 A phenomenon is a knife edge when its verdict differs between the variants, or when its values move
 across the variants by more than a hundredth of their margin to the condition's bound (then the
-margin is not far beyond round-off and the next machine may flip it). Values that are indicators (0/1) hide
-their margin: only the rerun speaks for them.
+margin is not far beyond round-off and the next machine may flip it). Values that are indicators
+(0/1) hide their margin: only the rerun speaks for them.
 
-For the Fig. 5B ball (the case that had one) it also moves the ball by +-1e-9 and +-1e-6 mm in y where
-it is placed and where the saddle takes it over, on the nominal (symmetric) surface and on the drawn one
-(:data:`lcefem.validation.studies.gridshell.fig5_tasks.BALL_SURFACE_SEED`), and runs the ball on other draws of the
-measured lambda_N spread (seeds 2-6): the released side must not depend on round-off, and with the
-measured spread the saddle releases the ball across a y edge on every draw.
+For the Fig. 5B ball (the case that had one) it also moves the ball by +-1e-9 and +-1e-6 mm in y
+where it is placed and where the saddle takes it over, on the nominal (symmetric) surface and on the
+drawn one (:data:`lcefem.validation.studies.gridshell.fig5_tasks.BALL_SURFACE_SEED`), and runs the
+ball on other draws of the measured lambda_N spread (seeds 2-6): the released side must not depend
+on round-off, and with the measured spread the saddle releases the ball across a y edge on every
+draw.
 
     python benchmarks/knife_edges.py [CASE ...] [--budget S] [--out DIR] [--no-ball]
 
@@ -40,14 +42,18 @@ import time
 
 VARIANTS = {
     "as is": {},
-    "other BLAS": {"OPENBLAS_CORETYPE": "Prescott", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"},
+    "other BLAS": {
+        "OPENBLAS_CORETYPE": "Prescott",
+        "OPENBLAS_NUM_THREADS": "1",
+        "OMP_NUM_THREADS": "1",
+    },
 }
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 QUICK_SUMMARY = ROOT / "docs" / "validation_summary_quick.md"
 #: A phenomenon is a knife edge when round-off (the change of its values between the variants) is
 #: more than this fraction of its margin to the bound: a margin less than a hundred times what
-#: round-off moves may flip on the next machine (dynamics with contact amplify round-off to 1e-4 of a
-#: value; a verdict a hundred times further away does not rest on it).
+#: round-off moves may flip on the next machine (dynamics with contact amplify round-off to 1e-4 of
+#: a value; a verdict a hundred times further away does not rest on it).
 MARGIN_FRACTION = 1e-2
 
 
@@ -65,11 +71,16 @@ def quick_wall_times(path: pathlib.Path = QUICK_SUMMARY) -> dict[str, float]:
 
 
 def run_case(case: str, out: pathlib.Path, env: dict) -> tuple[list[dict] | None, float, str]:
-    """(metric rows or None, wall time [s], the last error line) of ``lcefem validate CASE --quick``."""
+    """(metric rows or None, wall time [s], the last error line) of ``lcefem validate CASE
+    --quick``."""
     exe = pathlib.Path(sys.executable).with_name("lcefem")
     t0 = time.perf_counter()
-    p = subprocess.run([str(exe), "validate", case, "--quick", "--overwrite", "--quiet", "--out", str(out)],
-                       env={**os.environ, **env}, capture_output=True, text=True)
+    p = subprocess.run(
+        [str(exe), "validate", case, "--quick", "--overwrite", "--quiet", "--out", str(out)],
+        env={**os.environ, **env},
+        capture_output=True,
+        text=True,
+    )
     wall = time.perf_counter() - t0
     path = out / "metrics.json"
     try:
@@ -92,8 +103,8 @@ def margin(p, value) -> float:
 
 
 def check_case(case: str, out: pathlib.Path) -> list[dict]:
-    """One row per phenomenon of ``case``: verdict per variant, smallest margin, largest spread of its
-    values across the variants, and the finding."""
+    """One row per phenomenon of ``case``: verdict per variant, smallest margin, largest spread of
+    its values across the variants, and the finding."""
     from lcefem.validation.app import phenomena
 
     runs = {}
@@ -126,35 +137,59 @@ def check_case(case: str, out: pathlib.Path) -> list[dict]:
         elif smallest != math.inf and smallest > 0 and spread > MARGIN_FRACTION * smallest:
             finding = "KNIFE EDGE: round-off moves the values by more than 1/100 of the margin"
         elif spread > 0.0:
-            finding = f"same verdict (round-off moves the values, margin {smallest / spread:.2g} x that)"
+            finding = (
+                f"same verdict (round-off moves the values, margin {smallest / spread:.2g} x that)"
+            )
         elif indicator:
             finding = "same verdict (an indicator: its margin is hidden)"
         else:
             finding = "same verdict"
-        results.append({"case": case, "phenomenon": p.phenomenon, "verdicts": verdicts,
-                        "margin": smallest, "spread": spread, "finding": finding,
-                        "wall [s]": {k: round(v[1], 1) for k, v in runs.items()}})
+        results.append(
+            {
+                "case": case,
+                "phenomenon": p.phenomenon,
+                "verdicts": verdicts,
+                "margin": smallest,
+                "spread": spread,
+                "finding": finding,
+                "wall [s]": {k: round(v[1], 1) for k, v in runs.items()},
+            }
+        )
     return results
 
 
 def ball_check(out: pathlib.Path) -> list[str]:
     """The ball on the nominal and the drawn surfaces, moved by +-1e-9 mm; other draws (lines)."""
-    from lcefem.validation.studies.gridshell import fig5_tasks
     from lcefem.validation.cases.gridshell_fig5_bh import QUICK_NEWTON
+    from lcefem.validation.studies.gridshell import fig5_tasks
 
     lines = []
     for seed in (None, fig5_tasks.BALL_SURFACE_SEED, 2, 3, 4, 5, 6):
         frames = fig5_tasks.morph_frames(newton=QUICK_NEWTON, surface_seed=seed)
-        shifts = (0.0, 1e-9, -1e-9, 1e-6, -1e-6) if seed in (None, fig5_tasks.BALL_SURFACE_SEED) else (0.0,)
+        shifts = (
+            (0.0, 1e-9, -1e-9, 1e-6, -1e-6)
+            if seed in (None, fig5_tasks.BALL_SURFACE_SEED)
+            else (0.0,)
+        )
         outcomes = []
         for dy in shifts:
-            s = fig5_tasks.ball_task(out / "ball", frames=frames, movie=False, surface_seed=seed, shift=(0.0, dy))
-            outcomes.append((dy, s["distance from centre at end of bowl hold [mm]"],
-                             s["exit side"] or "not released", s["release time [s]"]))
+            s = fig5_tasks.ball_task(
+                out / "ball", frames=frames, movie=False, surface_seed=seed, shift=(0.0, dy)
+            )
+            outcomes.append(
+                (
+                    dy,
+                    s["distance from centre at end of bowl hold [mm]"],
+                    s["exit side"] or "not released",
+                    s["release time [s]"],
+                )
+            )
         label = "nominal (symmetric)" if seed is None else f"drawn lambda_N, seed {seed}"
         for dy, dist, side, t in outcomes:
-            lines.append(f"ball, {label}, shift dy = {dy:+.0e} mm: {dist:.3g} mm from the centre after the "
-                         f"bowl; saddle: {side}" + (f" at {t:.1f} s" if t else ""))
+            lines.append(
+                f"ball, {label}, shift dy = {dy:+.0e} mm: {dist:.3g} mm from the centre after the "
+                f"bowl; saddle: {side}" + (f" at {t:.1f} s" if t else "")
+            )
     return lines
 
 
@@ -163,8 +198,12 @@ def main(argv: list[str] | None = None) -> int:
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("cases", nargs="*", help="cases (default: every case within --budget)")
-    parser.add_argument("--budget", type=float, default=25.0,
-                        help="largest stored quick wall time [s] of a default case (default 25)")
+    parser.add_argument(
+        "--budget",
+        type=float,
+        default=25.0,
+        help="largest stored quick wall time [s] of a default case (default 25)",
+    )
     parser.add_argument("--out", default="results/knife_edges", help="scratch folder of the reruns")
     parser.add_argument("--no-ball", action="store_true", help="skip the ball's own check")
     args = parser.parse_args(argv)
@@ -172,8 +211,9 @@ def main(argv: list[str] | None = None) -> int:
     declared = sorted({p.case for p in phenomena.declared()})
     times = quick_wall_times()
     # cheapest first: as many as the time allows
-    cases = args.cases or sorted((c for c in declared if times.get(c, math.inf) <= args.budget),
-                                 key=lambda c: times[c])
+    cases = args.cases or sorted(
+        (c for c in declared if times.get(c, math.inf) <= args.budget), key=lambda c: times[c]
+    )
     skipped = [c for c in declared if c not in cases]
     print(f"variants: {', '.join(f'{k} {v or {}}' for k, v in VARIANTS.items())}")
     if not args.no_ball:
@@ -181,12 +221,19 @@ def main(argv: list[str] | None = None) -> int:
             print(line, flush=True)
     for case in cases:
         for r in check_case(case, out / case):
-            print(f"{r['case']} | {r['phenomenon']} | {', '.join(f'{k}: {v}' for k, v in r['verdicts'].items())}"
-                  f" | margin {r['margin']:.3g}, spread {r['spread']:.3g} | {r['finding']} | wall "
-                  f"{r['wall [s]']}", flush=True)
+            print(
+                f"{r['case']} | {r['phenomenon']} | "
+                f"{', '.join(f'{k}: {v}' for k, v in r['verdicts'].items())}"
+                f" | margin {r['margin']:.3g}, spread {r['spread']:.3g} | {r['finding']} | wall "
+                f"{r['wall [s]']}",
+                flush=True,
+            )
     if skipped:
-        why = "not named" if args.cases else (f"stored quick wall time above {args.budget:g} s or not in "
-                                              "the quick summary")
+        why = (
+            "not named"
+            if args.cases
+            else (f"stored quick wall time above {args.budget:g} s or not in the quick summary")
+        )
         print(f"not checked in this run ({why}): " + ", ".join(skipped))
     return 0
 

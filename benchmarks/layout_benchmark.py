@@ -1,18 +1,18 @@
 """CPU time of bar-and-hinge shapes on the new gridshell layouts (lcefem.meshes.gridshell_layout;
 issue 47's target: a shape of the 5 x 5 layout within 10 s on one core).
 
-Each run builds the layout's structure in a model set (FE-calibrated by default, its plate torsion only
-on rectangular panels: ModelSet.materials_for), ramps the strips from as built to the drive and prints
-CPU seconds (time.process_time of this process, one BLAS thread), increments, Newton iterations, the
-lowest-eigenpair solves of the snap-throughs (count and CPU s), the centre curvatures (circle and
-quadratic measures, dome negative) and the z range.
+Each run builds the layout's structure in a model set (FE-calibrated by default, its plate torsion
+only on rectangular panels: ModelSet.materials_for), ramps the strips from as built to the drive and
+prints CPU seconds (time.process_time of this process, one BLAS thread), increments, Newton
+iterations, the lowest-eigenpair solves of the snap-throughs (count and CPU s), the centre
+curvatures (circle and quadratic measures, dome negative) and the z range.
 
     OMP_NUM_THREADS=1 python benchmarks/layout_benchmark.py
         [--only NAME,...] [--model-set fe-calibrated|published] [--json FILE]
 
-Runs (NAME: layout, support, drive): ``5x5-bottom`` (5x5, rollers, every bottom strip at lambda 1.37:
-the test's round dome), ``5x5-dome`` (5x5, rollers, the Fig. 4 dome's Tx = Ty = 1.33, Bx = By = 1.05),
-``rhombic60-bottom`` (rhombic60, clamp, lambda_B = 1.395), ``published-dome`` (the 3 x 3 for scale).
+Runs (NAME: layout, support, drive): ``5x5-bottom`` (5x5, rollers, every bottom strip at lambda
+1.37: the test's round dome), ``5x5-dome`` (5x5, rollers, the Fig. 4 dome's Tx = Ty = 1.33, Bx = By
+= 1.05), ``rhombic60-bottom`` (rhombic60, clamp, lambda_B = 1.395), ``published-dome`` (the 3 x 3 for scale).
 ``--design``: also a design on the 5 x 5 (issue 47's second target: within 2 minutes on one core):
 ``lcefem design --layout 5x5 --channels 4`` to the elongated dome (-0.010, -0.006) 1/mm on rollers
 (case gridshell_reach_bh's off-grid target), the design loop and the reach search from flat; prints
@@ -28,17 +28,24 @@ import argparse
 import platform
 import time
 
+from gridshell_benchmark import EigenTimer
 from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
 from lcefem.solvers.problems.gridshell_bh import RAMP_NEWTON, GridshellBH, GridshellBHConfig
 from lcefem.solvers.runtime.files import write_json
 from lcefem.validation.studies.gridshell import calibrate
-from gridshell_benchmark import EigenTimer
 
-DOME = {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05}  # seed 001 Fig. 4B (validation/data/programs.toml)
-RUNS = {"5x5-bottom": ("5x5", "rollers", {"B": 1.37}),
-        "5x5-dome": ("5x5", "rollers", DOME),
-        "rhombic60-bottom": ("rhombic60", "clamp", {"B": 1.395}),
-        "published-dome": ("published", "rollers", DOME)}
+DOME = {
+    "Tx": 1.33,
+    "Ty": 1.33,
+    "Bx": 1.05,
+    "By": 1.05,
+}  # seed 001 Fig. 4B (validation/data/programs.toml)
+RUNS = {
+    "5x5-bottom": ("5x5", "rollers", {"B": 1.37}),
+    "5x5-dome": ("5x5", "rollers", DOME),
+    "rhombic60-bottom": ("rhombic60", "clamp", {"B": 1.395}),
+    "published-dome": ("published", "rollers", DOME),
+}
 
 
 #: The design run of ``--design``: target (kappa_x, kappa_y) [1/mm], support.
@@ -54,9 +61,15 @@ def run_design(model_set: str) -> dict:
     design = gd.setup_design("4", support, layout=NAMED_LAYOUTS["5x5"], model_set=model_set)
     res = gd.inverse(design, kx, ky)
     found = res.check["reach"]
-    return {"run": "5x5-design", "cpu [s]": time.process_time() - t0, "forward solves": res.stats.solves,
-            "kind": found.kind, "distance from flat [1/mm]": found.distance,
-            "runs from flat": len(found.attempts), "lambdas": [float(v) for v in found.p]}
+    return {
+        "run": "5x5-design",
+        "cpu [s]": time.process_time() - t0,
+        "forward solves": res.stats.solves,
+        "kind": found.kind,
+        "distance from flat [1/mm]": found.distance,
+        "runs from flat": len(found.attempts),
+        "lambdas": [float(v) for v in found.p],
+    }
 
 
 def run_one(name: str, model_set: str, run_newton: bool = False) -> dict:
@@ -66,50 +79,80 @@ def run_one(name: str, model_set: str, run_newton: bool = False) -> dict:
     t0 = time.process_time()
     structure = ms.structure(layout)
     extra = {"solver": RAMP_NEWTON} if run_newton else {}
-    problem = GridshellBH(structure, GridshellBHConfig(materials=ms.materials_for(layout), support=support,
-                                                       **extra))
+    problem = GridshellBH(
+        structure, GridshellBHConfig(materials=ms.materials_for(layout), support=support, **extra)
+    )
     problem.set_drives(drive)
     with EigenTimer() as eig:
         path = problem.advance().detail  # the PathResult (advance returns a StepRecord)
     cpu = time.process_time() - t0
     o = problem.observables()
-    return {"run": name, "layout": layout_name, "model set": model_set, "support": support, "drive": drive,
-            "dofs": int(problem.model.ndof), "cpu [s]": cpu, "increments": len(path.states) - 1,
-            "newton iterations": int(sum(path.newton_iterations)), "failed increments": path.failed_increments,
-            "eigen solves": eig.calls, "eigen cpu [s]": eig.seconds,
-            **{k: float(v) for k, v in o.items()}}
+    return {
+        "run": name,
+        "layout": layout_name,
+        "model set": model_set,
+        "support": support,
+        "drive": drive,
+        "dofs": int(problem.model.ndof),
+        "cpu [s]": cpu,
+        "increments": len(path.states) - 1,
+        "newton iterations": int(sum(path.newton_iterations)),
+        "failed increments": path.failed_increments,
+        "eigen solves": eig.calls,
+        "eigen cpu [s]": eig.seconds,
+        **{k: float(v) for k, v in o.items()},
+    }
 
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--only", default=",".join(RUNS), help="comma-separated runs: " + ", ".join(RUNS))
+    p.add_argument(
+        "--only", default=",".join(RUNS), help="comma-separated runs: " + ", ".join(RUNS)
+    )
     p.add_argument("--model-set", default=calibrate.DEFAULT_MODEL_SET, choices=calibrate.MODEL_SETS)
     p.add_argument("--json", help="write the rows to this JSON file")
     p.add_argument("--design", action="store_true", help="also a design on the 5 x 5 (DESIGN)")
-    p.add_argument("--run-newton", action="store_true", help="the shapes with RAMP_NEWTON (the run's)")
+    p.add_argument(
+        "--run-newton", action="store_true", help="the shapes with RAMP_NEWTON (the run's)"
+    )
     args = p.parse_args(argv)
     names = [n.strip() for n in args.only.split(",") if n.strip()]
     for n in names:
         if n not in RUNS:
             p.error(f"--only: unknown run {n!r} (allowed: {', '.join(RUNS)})")
-    print(f"# {platform.processor() or platform.machine()}, python {platform.python_version()}, "
-          f"model set {args.model_set}")
-    print("run | dofs | CPU [s] | increments | Newton | eigen solves (CPU s) | circle kx/ky [1/mm] | "
-          "quad kx/ky [1/mm] | z range [mm]")
+    print(
+        f"# {platform.processor() or platform.machine()}, python {platform.python_version()}, "
+        f"model set {args.model_set}"
+    )
+    print(
+        "run | dofs | CPU [s] | increments | Newton | eigen solves (CPU s) | circle kx/ky [1/mm] | "
+        "quad kx/ky [1/mm] | z range [mm]"
+    )
     rows = []
     for n in names:
         r = run_one(n, args.model_set, args.run_newton)
         rows.append(r)
-        print(f"{n} | {r['dofs']} | {r['cpu [s]']:.2f} | {r['increments']} | {r['newton iterations']} | "
-              f"{r['eigen solves']} ({r['eigen cpu [s]']:.2f}) | {r['circle kappa_x [1/mm]']:.5f}/"
-              f"{r['circle kappa_y [1/mm]']:.5f} | {r['quad kappa_x [1/mm]']:.5f}/"
-              f"{r['quad kappa_y [1/mm]']:.5f} | {r['z range [mm]']:.2f}", flush=True)
+        print(
+            f"{n} | {r['dofs']} | {r['cpu [s]']:.2f} | {r['increments']} | "
+            f"{r['newton iterations']} "
+            "| "
+            f"{r['eigen solves']} ({r['eigen cpu [s]']:.2f}) | {r['circle kappa_x [1/mm]']:.5f}/"
+            f"{r['circle kappa_y [1/mm]']:.5f} | {r['quad kappa_x [1/mm]']:.5f}/"
+            f"{r['quad kappa_y [1/mm]']:.5f} | {r['z range [mm]']:.2f}",
+            flush=True,
+        )
     if args.design:
         r = run_design(args.model_set)
         rows.append(r)
-        print(f"5x5-design | CPU {r['cpu [s]']:.1f} s | {r['forward solves']} forward solves | {r['kind']} "
-              f"({r['runs from flat']} runs from flat, {r['distance from flat [1/mm]']:.1e} 1/mm off) | "
-              "lambdas " + "/".join(f"{v:.4f}" for v in r["lambdas"]), flush=True)
+        print(
+            f"5x5-design | CPU {r['cpu [s]']:.1f} s | {r['forward solves']} forward solves | "
+            f"{r['kind']} "
+            f"({r['runs from flat']} runs from flat, {r['distance from flat [1/mm]']:.1e} 1/mm "
+            "off) "
+            "| "
+            "lambdas " + "/".join(f"{v:.4f}" for v in r["lambdas"]),
+            flush=True,
+        )
     if args.json:
         write_json(args.json, {"rows": rows})
     return 0

@@ -8,9 +8,10 @@ is brought from the cast state to a prescribed hot-core temperature field (:func
 one path follower, with the Newton options of :mod:`lcefem.solvers.mechanics` and the overrides of
 :data:`SOLVER_SETS`. Each row: displacement DOFs, Newton iterations, CG iterations, time per Newton
 iteration split into Jacobian assembly, PCSetUp (factorisation or multigrid set-up) and KSPSolve
-(triangular solves or CG), all per linear solve (Newton's and the tangent predictor's), peak resident memory of the process (each row runs in its own process),
-the final stretch (every path must give the direct solver's answer to the Newton tolerance) and
-the PETSc options no object used (an option name PETSc does not know would show there).
+(triangular solves or CG), all per linear solve (Newton's and the tangent predictor's), peak
+resident memory of the process (each row runs in its own process), the final stretch (every path
+must give the direct solver's answer to the Newton tolerance) and the PETSc options no object used
+(an option name PETSc does not know would show there).
 
 Not a test: times depend on the machine load; compare CPU times, iteration counts and ratios of
 rows run back to back.
@@ -45,10 +46,14 @@ CORE_TEMPERATURE, AMBIENT_TEMPERATURE = 80.0, 40.0
 #: (:data:`lcefem.solvers.mechanics.PMG_GAMG_COARSE`); ``pmg-cheb``: Chebyshev(3)/Jacobi smoothing
 #: on Q2; ``pmg-chebsor``: Chebyshev(2) with the SOR sweep as its preconditioner; ``pmg-aij``:
 #: the SOR sweeps on K itself instead of its BAIJ copy; ``pmg-planes``: block Jacobi over node
-#: planes on Q2 (:data:`lcefem.solvers.pmultigrid.PMG_PLANE_SMOOTHER`); ``*sor2``: two SOR sweeps. (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named
-#: after what ran: ``pmg-gamg`` and ``pmg-gamg-sor2``.)
-_PMG_CHEBYSHEV = {"mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi",
-                  "mg_levels_ksp_max_it": 3}
+#: planes on Q2 (:data:`lcefem.solvers.pmultigrid.PMG_PLANE_SMOOTHER`); ``*sor2``: two SOR sweeps.
+#: (Rows of 2026-11-25 before ``pmg`` took LDL^T on Q1 are named after what ran: ``pmg-gamg`` and
+#: ``pmg-gamg-sor2``.)
+_PMG_CHEBYSHEV = {
+    "mg_levels_ksp_type": "chebyshev",
+    "mg_levels_pc_type": "jacobi",
+    "mg_levels_ksp_max_it": 3,
+}
 
 
 def _solver_sets() -> dict[str, dict]:
@@ -59,10 +64,22 @@ def _solver_sets() -> dict[str, dict]:
     g8 = {**g, "ksp_rtol": 1e-8}  # the variants were measured with exact (1e-8) CG solves
     # every MUMPS set names its pc_type: above ITERATIVE_PATH_DOFS the default is CG + p-multigrid
     ldlt = {"pc_type": "cholesky"}
-    # the factorisation of the step's first tangent preconditions CG for the rest of the Newton solve
-    lag_pc = {**ldlt, "ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200,
-              "snes_lag_preconditioner": 100}
-    blr_pc = {**ldlt, "ksp_type": "cg", "ksp_rtol": 1e-8, "ksp_max_it": 200, "mat_mumps_icntl_35": 1}
+    # the factorisation of the step's first tangent preconditions CG for the rest of the Newton
+    # solve
+    lag_pc = {
+        **ldlt,
+        "ksp_type": "cg",
+        "ksp_rtol": 1e-8,
+        "ksp_max_it": 200,
+        "snes_lag_preconditioner": 100,
+    }
+    blr_pc = {
+        **ldlt,
+        "ksp_type": "cg",
+        "ksp_rtol": 1e-8,
+        "ksp_max_it": 200,
+        "mat_mumps_icntl_35": 1,
+    }
     return {
         "auto": {},  # the size decides (solvers.mechanics.solver_options)
         "ldlt": ldlt,
@@ -96,7 +113,11 @@ def _solver_sets() -> dict[str, dict]:
         "pmg-planes": {"pc_type": "pmg", **PMG_PLANE_SMOOTHER},
         "pmg-sor2": {"pc_type": "pmg", "mg_levels_ksp_max_it": 2},
         "pmg-cheb": {"pc_type": "pmg", **_PMG_CHEBYSHEV},
-        "pmg-chebsor": {"pc_type": "pmg", "mg_levels_ksp_type": "chebyshev", "mg_levels_ksp_max_it": 2},
+        "pmg-chebsor": {
+            "pc_type": "pmg",
+            "mg_levels_ksp_type": "chebyshev",
+            "mg_levels_ksp_max_it": 2,
+        },
         "pmg-gamg": {"pc_type": "pmg", **PMG_GAMG_COARSE},
         "pmg-gamg-sor2": {"pc_type": "pmg", **PMG_GAMG_COARSE, "mg_levels_ksp_max_it": 2},
     }
@@ -110,23 +131,26 @@ def hot_core(geometry: dict):
 
     def T(x):
         import numpy as np
+
         r2 = (x[1] - 0.5 * W) ** 2 + (x[2] - 0.5 * H) ** 2
         return AMBIENT_TEMPERATURE + (CORE_TEMPERATURE - AMBIENT_TEMPERATURE) * np.exp(
-            -r2 / (2 * s * s)) * 0.5 * (1.0 + x[0] / L)
+            -r2 / (2 * s * s)
+        ) * 0.5 * (1.0 + x[0] / L)
+
     return T
 
 
 def measure(level: int, solver: str, newton_its: int | None = None) -> dict:
     """One path-followed solve of the strip at ``level`` with the solver set ``solver``; with
-    ``newton_its``, instead, that many Newton iterations from the cast state straight at the hot-core
-    temperature (no predictor, no step control: the cost per iteration of large meshes)."""
+    ``newton_its``, instead, that many Newton iterations from the cast state straight at the
+    hot-core temperature (no predictor, no step control: the cost per iteration of large meshes)."""
     import resource
 
-    from lcefem.solvers.mechanics import GAMG_OPTIONS  # noqa: F401  (first: MPI before petsc4py)
     from petsc4py import PETSc
 
     from lcefem.meshes.strip import StripMesh
     from lcefem.solvers.continuation import StepReport
+    from lcefem.solvers.mechanics import GAMG_OPTIONS  # noqa: F401  (first: MPI before petsc4py)
     from lcefem.solvers.problems.strip import StripConfig, StripSimulation
 
     options = dict(_solver_sets()[solver])
@@ -138,7 +162,9 @@ def measure(level: int, solver: str, newton_its: int | None = None) -> dict:
     PETSc.Log.begin()
     ksp0 = PETSc.Log.Event("KSPSolve").getPerfInfo()["time"]
     ksp_its = [0]
-    snes.getKSP().setPostSolve(lambda ksp, b, x: ksp_its.__setitem__(0, ksp_its[0] + ksp.getIterationNumber()))
+    snes.getKSP().setPostSolve(
+        lambda ksp, b, x: ksp_its.__setitem__(0, ksp_its[0] + ksp.getIterationNumber())
+    )
     if newton_its:
         model = sim.model
         T = sim._nodal_field(hot_core(sim.dims), "temperature", model.heat.T.x.array)
@@ -151,23 +177,54 @@ def measure(level: int, solver: str, newton_its: int | None = None) -> dict:
     its = max(t["its"], 1)  # Jacobians = linear solves (Newton's and the tangent predictor's)
     prefix = snes.getOptionsPrefix()
     unused = sorted(k for k in options if not PETSc.Options().used(prefix + k))
-    return {"level": level, "solver": solver,
-            "protocol": f"{newton_its} Newton its" if newton_its else "path-followed solve",
-            "dofs [-]": sim.ndofs["displacement"],
-            "block size [-]": A.getBlockSize(), "newton its [-]": report.iterations,
-            "linear solves [-]": t["its"], "cg its [-]": ksp_its[0],
-            "steps [-]": report.substeps, "cuts [-]": report.cuts,
-            "s/iteration [s]": t["wall"] / its, "jacobian/it [s]": t["jacobian"] / its,
-            "pcsetup/it [s]": t["factor"] / its, "kspsolve/it [s]": ksp_time / its,
-            "cpu/it [s]": t["cpu"] / its, "wall [s]": t["wall"], "cpu [s]": t["cpu"],
-            "residual norm [N]": snes.getFunctionNorm(), "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-            "stretch [-]": sim.stretch(), "unused options": " ".join(unused)}
+    return {
+        "level": level,
+        "solver": solver,
+        "protocol": f"{newton_its} Newton its" if newton_its else "path-followed solve",
+        "dofs [-]": sim.ndofs["displacement"],
+        "block size [-]": A.getBlockSize(),
+        "newton its [-]": report.iterations,
+        "linear solves [-]": t["its"],
+        "cg its [-]": ksp_its[0],
+        "steps [-]": report.substeps,
+        "cuts [-]": report.cuts,
+        "s/iteration [s]": t["wall"] / its,
+        "jacobian/it [s]": t["jacobian"] / its,
+        "pcsetup/it [s]": t["factor"] / its,
+        "kspsolve/it [s]": ksp_time / its,
+        "cpu/it [s]": t["cpu"] / its,
+        "wall [s]": t["wall"],
+        "cpu [s]": t["cpu"],
+        "residual norm [N]": snes.getFunctionNorm(),
+        "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "stretch [-]": sim.stretch(),
+        "unused options": " ".join(unused),
+    }
 
 
-COLUMNS = ["level", "solver", "protocol", "dofs [-]", "block size [-]", "steps [-]", "cuts [-]", "newton its [-]",
-           "linear solves [-]", "cg its [-]",
-           "s/iteration [s]", "jacobian/it [s]", "pcsetup/it [s]", "kspsolve/it [s]", "cpu/it [s]",
-           "wall [s]", "cpu [s]", "peak memory [MiB]", "residual norm [N]", "stretch [-]", "unused options"]
+COLUMNS = [
+    "level",
+    "solver",
+    "protocol",
+    "dofs [-]",
+    "block size [-]",
+    "steps [-]",
+    "cuts [-]",
+    "newton its [-]",
+    "linear solves [-]",
+    "cg its [-]",
+    "s/iteration [s]",
+    "jacobian/it [s]",
+    "pcsetup/it [s]",
+    "kspsolve/it [s]",
+    "cpu/it [s]",
+    "wall [s]",
+    "cpu [s]",
+    "peak memory [MiB]",
+    "residual norm [N]",
+    "stretch [-]",
+    "unused options",
+]
 
 
 def growth_exponents(rows: list[dict], min_dofs: int = 40_000) -> dict[str, tuple[float, int, int]]:
@@ -177,8 +234,11 @@ def growth_exponents(rows: list[dict], min_dofs: int = 40_000) -> dict[str, tupl
 
     out = {}
     for solver in dict.fromkeys(r["solver"] for r in rows):
-        pts = sorted((float(r["dofs [-]"]), float(r["cpu/it [s]"])) for r in rows
-                     if r["solver"] == solver and float(r["dofs [-]"]) >= min_dofs)
+        pts = sorted(
+            (float(r["dofs [-]"]), float(r["cpu/it [s]"]))
+            for r in rows
+            if r["solver"] == solver and float(r["dofs [-]"]) >= min_dofs
+        )
         if len(pts) >= 2:
             n, t = np.log(np.array(pts)).T
             out[solver] = (float(np.polyfit(n, t, 1)[0]), int(pts[0][0]), int(pts[-1][0]))
@@ -193,6 +253,7 @@ def crossover(rows: list[dict], direct: str = "ldlt", iterative: str = "gamg") -
 
     def cost(name):
         return {float(r["dofs [-]"]): float(r["cpu/it [s]"]) for r in rows if r["solver"] == name}
+
     d, i = cost(direct), cost(iterative)
     pts = sorted((n, np.log(i[n] / d[n])) for n in d.keys() & i.keys())
     for (n0, r0), (n1, r1) in zip(pts, pts[1:]):
@@ -211,6 +272,7 @@ def _read_csv(paths: list[pathlib.Path]) -> list[dict]:
             except ValueError:
                 pass
         return text
+
     rows = []
     for path in paths:
         with open(path, newline="") as fh:
@@ -222,13 +284,26 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sets = _solver_sets()
     parser.add_argument("--levels", type=int, nargs="+", default=[2, 3])
-    parser.add_argument("--solvers", nargs="+", default=["ldlt", "gamg"],
-                        help=f"solver sets, from {', '.join(sets)}")
-    parser.add_argument("--newton-its", type=int, default=None,
-                        help="only this many Newton iterations straight at the hot core (large meshes)")
+    parser.add_argument(
+        "--solvers",
+        nargs="+",
+        default=["ldlt", "gamg"],
+        help=f"solver sets, from {', '.join(sets)}",
+    )
+    parser.add_argument(
+        "--newton-its",
+        type=int,
+        default=None,
+        help="only this many Newton iterations straight at the hot core (large meshes)",
+    )
     parser.add_argument("--csv", type=pathlib.Path, default=None, help="CSV file of the table")
-    parser.add_argument("--merge", type=pathlib.Path, nargs="+", default=None,
-                        help="no runs: the table and growth exponents of these CSV files (one --csv)")
+    parser.add_argument(
+        "--merge",
+        type=pathlib.Path,
+        nargs="+",
+        default=None,
+        help="no runs: the table and growth exponents of these CSV files (one --csv)",
+    )
     parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     for name in args.solvers:
@@ -240,8 +315,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = _read_csv(args.merge) if args.merge else []
     for level in [] if args.merge else args.levels:
         for solver in args.solvers:
-            cmd = [sys.executable, __file__,
-                   "--child", str(level), solver]
+            cmd = [sys.executable, __file__, "--child", str(level), solver]
             if args.newton_its:
                 cmd += ["--newton-its", str(args.newton_its)]
             out = subprocess.run(cmd, capture_output=True, text=True)
@@ -249,7 +323,9 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"level {level} {solver} failed:\n{out.stderr[-2000:]}", file=sys.stderr)
                 continue
             # PETSc may print its unused-option warning after the row
-            rows.append(json.loads([ln for ln in out.stdout.splitlines() if ln.startswith("{")][-1]))
+            rows.append(
+                json.loads([ln for ln in out.stdout.splitlines() if ln.startswith("{")][-1])
+            )
             print_table(rows[-1:], columns=COLUMNS, file=sys.stderr)
     print_table(rows, columns=COLUMNS)
     for protocol in dict.fromkeys(r.get("protocol", "") for r in rows):
@@ -259,11 +335,17 @@ def main(argv: list[str] | None = None) -> int:
         sizes = {}
         for r in same:
             sizes.setdefault(r["solver"], set()).add(r["dofs [-]"])
-        for it in sorted(n for n in sizes if n.startswith(("gamg", "pmg", "auto"))
-                         and len(sizes[n] & sizes.get("ldlt", set())) >= 2):
+        for it in sorted(
+            n
+            for n in sizes
+            if n.startswith(("gamg", "pmg", "auto"))
+            and len(sizes[n] & sizes.get("ldlt", set())) >= 2
+        ):
             n = crossover(same, "ldlt", it)
-            print(f"{it} vs ldlt, {protocol}: crossover "
-                  + (f"at {n:.0f} DOFs" if n else "not in the measured range"))
+            print(
+                f"{it} vs ldlt, {protocol}: crossover "
+                + (f"at {n:.0f} DOFs" if n else "not in the measured range")
+            )
     if args.csv is not None:
         write_table_csv(args.csv, COLUMNS, rows)
     return 0

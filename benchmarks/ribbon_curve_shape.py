@@ -3,24 +3,25 @@
     nice python benchmarks/ribbon_curve_shape.py --curve HTNI --out rows.jsonl
         --plates 100,140,180 [--nodes 101] [--duration 180] [--perturbation 1.0]
 
-The ribbon's a(T) (``models.lce.contraction_ratio`` of ``RibbonLCE``: a logistic order parameter, T_NI
-80 C, width 15 K, assumed) is replaced by the *shape* of a measured free-strain curve of another LCE,
-keeping the ribbon's amplitude: a(T) = 1 - (1 - 1/lambda_N) f(T), with f(T) = (1 - L(T)) / (1 - min L)
-the normalised contraction of the measured free stretch L(T) = L(T)/L(25 C) (monotone cubic
-interpolation, PCHIP; f = 0 below 25 C and f(150 C) above 150 C). The two curves are the printed LCE
-inks of validation/data/ribbon_lce_literature.toml (Kotikian et al., Adv. Mater. 2024; the public data of
-``bertoldi-collab/morphing-lattices``): "LTNI" contracts steeply at 35-50 C and is saturated by 60 C,
-"HTNI" contracts gently at 40-60 C and keeps contracting up to ~125 C. Neither is the ribbons' material:
-the runs only show how the threshold and the hot plates depend on where the curve is steep, which is
-the datum issue 32 misses. Every other value is the default; runs use the converged heat and contact
-settings (``ribbon_material_scan.CONVERGED``). One JSON row per run is appended to ``--out``
-(``ribbon_convergence.run``) with ``changes`` naming the curve.
+The ribbon's a(T) (``models.lce.contraction_ratio`` of ``RibbonLCE``: a logistic order parameter,
+T_NI 80 C, width 15 K, assumed) is replaced by the *shape* of a measured free-strain curve of
+another LCE, keeping the ribbon's amplitude: a(T) = 1 - (1 - 1/lambda_N) f(T), with f(T) = (1 -
+L(T)) / (1 - min L) the normalised contraction of the measured free stretch L(T) = L(T)/L(25 C)
+(monotone cubic interpolation, PCHIP; f = 0 below 25 C and f(150 C) above 150 C). The two curves are
+the printed LCE inks of validation/data/ribbon_lce_literature.toml (Kotikian et al., Adv. Mater.
+2024; the public data of ``bertoldi-collab/morphing-lattices``): "LTNI" contracts steeply at 35-50 C
+and is saturated by 60 C, "HTNI" contracts gently at 40-60 C and keeps contracting up to ~125 C.
+Neither is the ribbons' material: the runs only show how the threshold and the hot plates depend on
+where the curve is steep, which is the datum issue 32 misses. Every other value is the default; runs
+use the converged heat and contact settings (``ribbon_material_scan.CONVERGED``). One JSON row per
+run is appended to ``--out`` (``ribbon_convergence.run``) with ``changes`` naming the curve.
 
 The curves are read from validation/data/curves/kotikian2024_<name>.csv (the same rows as the
 literature file); the shaped a(T) goes to the ribbon through its case-file option ``material.curve``
 (a CSV, ``<out>.<name>.curve.csv``, sampled at the nodes of the ribbon's a(T) table,
-``solvers.der.ribbon.CONTRACTION_TABLE``, every 0.05 K from 25 to 150 C: the ribbon's table then holds
-the same values as when this study replaced the table in code, and the runs give the same numbers).
+``solvers.der.ribbon.CONTRACTION_TABLE``, every 0.05 K from 25 to 150 C: the ribbon's table then
+holds the same values as when this study replaced the table in code, and the runs give the same
+numbers).
 """
 
 from __future__ import annotations
@@ -39,7 +40,8 @@ CURVES = ("LTNI", "HTNI")
 
 
 def measured_curve(name: str) -> tuple[list[float], list[float]]:
-    """(temperatures [C], free stretch L(T)/L(25 C) [-]) of the printed ink ``name`` (LTNI or HTNI)."""
+    """(temperatures [C], free stretch L(T)/L(25 C) [-]) of the printed ink ``name`` (LTNI or
+    HTNI)."""
     from lcefem.solvers.contraction_curve import read_contraction_csv
 
     curve = read_contraction_csv(CURVE_FILES / f"kotikian2024_{name}.csv")
@@ -47,7 +49,8 @@ def measured_curve(name: str) -> tuple[list[float], list[float]]:
 
 
 def contraction_of_shape(name: str, lambda_N: float):
-    """a(T) [-] with the ribbon's amplitude 1 - 1/lambda_N and the normalised shape of curve ``name``."""
+    """a(T) [-] with the ribbon's amplitude 1 - 1/lambda_N and the normalised shape of curve
+    ``name``."""
     import numpy as np
     from scipy.interpolate import PchipInterpolator
 
@@ -63,9 +66,10 @@ def contraction_of_shape(name: str, lambda_N: float):
 
 
 def shaped_curve_file(name: str, lambda_N: float, path: pathlib.Path) -> pathlib.Path:
-    """Write a(T) of :func:`contraction_of_shape` as a curve CSV at ``path``: rows at 25 and 150 C and at
-    every node of the ribbon's a(T) table between them (``CONTRACTION_TABLE``: the same floats), so the
-    ribbon's table of the piecewise-linear curve equals the former table of a(T) node for node."""
+    """Write a(T) of :func:`contraction_of_shape` as a curve CSV at ``path``: rows at 25 and 150 C
+    and at every node of the ribbon's a(T) table between them (``CONTRACTION_TABLE``: the same
+    floats), so the ribbon's table of the piecewise-linear curve equals the former table of a(T)
+    node for node."""
     import numpy as np
 
     from lcefem.models.lce import MeasuredContraction
@@ -74,12 +78,18 @@ def shaped_curve_file(name: str, lambda_N: float, path: pathlib.Path) -> pathlib
 
     lo, hi, h = CONTRACTION_TABLE
     T_data = measured_curve(name)[0]
-    nodes = lo + h * np.arange(-1, int(np.ceil((hi - lo) / h)) + 2)  # as TabulatedLaw.of places them
-    T = np.concatenate([[T_data[0]], nodes[(nodes > T_data[0]) & (nodes < T_data[-1])], [T_data[-1]]])
+    nodes = lo + h * np.arange(
+        -1, int(np.ceil((hi - lo) / h)) + 2
+    )  # as TabulatedLaw.of places them
+    T = np.concatenate(
+        [[T_data[0]], nodes[(nodes > T_data[0]) & (nodes < T_data[-1])], [T_data[-1]]]
+    )
     a = contraction_of_shape(name, lambda_N)(T)
-    source = (f"shape of the printed ink {name}'s free stretch (Kotikian et al. 2024, "
-              f"validation/data/curves/kotikian2024_{name}.csv, PCHIP) with the ribbon's amplitude "
-              f"1 - 1/lambda_N, lambda_N = {lambda_N:g}; benchmarks/ribbon_curve_shape.py")
+    source = (
+        f"shape of the printed ink {name}'s free stretch (Kotikian et al. 2024, "
+        f"validation/data/curves/kotikian2024_{name}.csv, PCHIP) with the ribbon's amplitude "
+        f"1 - 1/lambda_N, lambda_N = {lambda_N:g}; benchmarks/ribbon_curve_shape.py"
+    )
     return write_contraction_csv(path, MeasuredContraction.from_rows(T, a, source=source))
 
 
@@ -96,7 +106,10 @@ def main(argv=None) -> int:
     try:
         plates = [float(p) for p in args.plates.split(",")]
     except ValueError:
-        print(f"--plates = {args.plates!r}: allowed comma-separated temperatures in C", file=sys.stderr)
+        print(
+            f"--plates = {args.plates!r}: allowed comma-separated temperatures in C",
+            file=sys.stderr,
+        )
         return 2
     if args.nodes < 3 or args.dt <= 0 or args.duration <= 0:
         print("--nodes >= 3, --dt > 0 and --duration > 0 are required", file=sys.stderr)
@@ -106,8 +119,11 @@ def main(argv=None) -> int:
     from ribbon_convergence import run
     from ribbon_material_scan import CONTACT_SPACING, CONVERGED
 
-    curve_file = shaped_curve_file(args.curve, SEED000_RIBBON.actuation_stretch,
-                                   args.out.with_name(f"{args.out.name}.{args.curve}.curve.csv"))
+    curve_file = shaped_curve_file(
+        args.curve,
+        SEED000_RIBBON.actuation_stretch,
+        args.out.with_name(f"{args.out.name}.{args.curve}.curve.csv"),
+    )
     extra = [f"material.curve={curve_file}"]
     extra += [] if args.perturbation == 0.01 else [f"numerics.perturbation={args.perturbation}"]
     scratch = args.out.with_name(args.out.name + ".part")
@@ -118,8 +134,12 @@ def main(argv=None) -> int:
         row["curve"] = args.curve
         with open(args.out, "a") as f:
             f.write(json.dumps(row) + "\n")
-        print(f"{args.curve} {T:.0f} C: {row['average_speed [mm/s]']:.3f} mm/s, rolls {row['rolls']:.0f}, "
-              f"T mean {row.get('T_mean_final [C]', float('nan')):.1f} C, {row['cpu']:.0f} s CPU", flush=True)
+        print(
+            f"{args.curve} {T:.0f} C: {row['average_speed [mm/s]']:.3f} mm/s, rolls "
+            f"{row['rolls']:.0f}, "
+            f"T mean {row.get('T_mean_final [C]', float('nan')):.1f} C, {row['cpu']:.0f} s CPU",
+            flush=True,
+        )
     scratch.unlink(missing_ok=True)
     return 0
 

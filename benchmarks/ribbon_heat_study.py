@@ -13,8 +13,9 @@ seconds the centroid speed [mm/s] (displacement over the window / its length), t
 temperature [C], the plate-side ("hot") and far ("cold") layer temperatures [C] (per section the
 thickness layer with the highest / lowest width-averaged temperature, averaged over the sections),
 the fibres' contraction 1 - a(T) of those two layers and its difference, the thermal (natural)
-curvature of the sections from their temperature field (mean and largest over the sections [1/mm]: the
-bending drive, ``models.ribbon.natural_strains``), and the contact points; plus the speed over the last half and the CPU seconds.
+curvature of the sections from their temperature field (mean and largest over the sections [1/mm]:
+the bending drive, ``models.ribbon.natural_strains``), and the contact points; plus the speed over
+the last half and the CPU seconds.
 """
 
 from __future__ import annotations
@@ -27,21 +28,25 @@ import pathlib
 import sys
 import time
 
-# One BLAS thread: the section resultants (models.ribbon.natural_strains) are two small matrix products per
-# step, and with 4 or 8 cells through the thickness a threaded BLAS on a loaded machine spent 11 ms CPU per
-# step on them instead of 0.26 ms (measured with cProfile, 61 nodes, 6 x 4 cells, 2026-11-28).
+# One BLAS thread: the section resultants (models.ribbon.natural_strains) are two small matrix
+# products per step, and with 4 or 8 cells through the thickness a threaded BLAS on a loaded machine
+# spent 11 ms CPU per step on them instead of 0.26 ms (measured with cProfile, 61 nodes, 6 x 4
+# cells, 2026-11-28).
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 def layer_temperatures(sim):
-    """Per-section hottest and coldest thickness layer (width-averaged) [C], each averaged over the sections."""
+    """Per-section hottest and coldest thickness layer (width-averaged) [C], each averaged over the
+    sections."""
     g = sim.grid
     T = sim.T.reshape(len(sim.T), g.n_width, g.n_thickness).mean(axis=1)  # (edges, layers)
     return float(T.max(axis=1).mean()), float(T.min(axis=1).mean())
 
 
-def run_one(T_plate: float, duration: float, window: float, nodes: int, dt: float, changes: list[str]) -> dict:
+def run_one(
+    T_plate: float, duration: float, window: float, nodes: int, dt: float, changes: list[str]
+) -> dict:
     import numpy as np
 
     from lcefem.models.lce import contraction_ratio
@@ -50,7 +55,9 @@ def run_one(T_plate: float, duration: float, window: float, nodes: int, dt: floa
     from lcefem.solvers.problems.twisted_ribbon_der import RibbonConfig, RibbonRun
     from lcefem.validation.app.config import assign_or_exit
 
-    cfg = RibbonConfig(run=RibbonRun(ground_temperature=T_plate, duration=duration, output_interval=0.0))
+    cfg = RibbonConfig(
+        run=RibbonRun(ground_temperature=T_plate, duration=duration, output_interval=0.0)
+    )
     cfg = dataclasses.replace(cfg, numerics=dataclasses.replace(cfg.numerics, nodes=nodes, dt=dt))
     for c in changes:
         cfg = assign_or_exit(cfg, c)
@@ -70,21 +77,37 @@ def run_one(T_plate: float, duration: float, window: float, nodes: int, dt: floa
         e_hot = 1.0 - float(contraction_ratio(np.array([hot]), a)[0])
         e_cold = 1.0 - float(contraction_ratio(np.array([cold]), a)[0])
         ns = natural_strains(sim.T, sim.grid, a, sim.contraction)
-        kappa = np.linalg.norm(ns.curvature, axis=1)  # thermal (natural) curvature per section [1/mm]
-        rows.append({"t_end [s]": round((k + 1) * window, 3),
-                     "speed [mm/s]": round(float(np.hypot(*(c - c_prev)[:2])) / window, 3),
-                     "T_mean [C]": round(float(sim.T.mean()), 2), "T_hot_layer [C]": round(hot, 2),
-                     "T_cold_layer [C]": round(cold, 2), "T_max [C]": round(float(sim.T.max()), 2),
-                     "contraction_hot [-]": round(e_hot, 4), "contraction_cold [-]": round(e_cold, 4),
-                     "contraction_difference [-]": round(e_hot - e_cold, 4),
-                     "natural_curvature_mean [1/mm]": round(float(kappa.mean()), 5),
-                     "natural_curvature_max [1/mm]": round(float(kappa.max()), 5),
-                     "contact_points [-]": int(sim.contact_count())})
+        kappa = np.linalg.norm(
+            ns.curvature, axis=1
+        )  # thermal (natural) curvature per section [1/mm]
+        rows.append(
+            {
+                "t_end [s]": round((k + 1) * window, 3),
+                "speed [mm/s]": round(float(np.hypot(*(c - c_prev)[:2])) / window, 3),
+                "T_mean [C]": round(float(sim.T.mean()), 2),
+                "T_hot_layer [C]": round(hot, 2),
+                "T_cold_layer [C]": round(cold, 2),
+                "T_max [C]": round(float(sim.T.max()), 2),
+                "contraction_hot [-]": round(e_hot, 4),
+                "contraction_cold [-]": round(e_cold, 4),
+                "contraction_difference [-]": round(e_hot - e_cold, 4),
+                "natural_curvature_mean [1/mm]": round(float(kappa.mean()), 5),
+                "natural_curvature_max [1/mm]": round(float(kappa.max()), 5),
+                "contact_points [-]": int(sim.contact_count()),
+            }
+        )
         c_prev = c
-    half = rows[len(rows) // 2:]
-    return {"T": T_plate, "nodes": nodes, "dt": dt, "duration": duration, "changes": changes,
-            "speed_last_half [mm/s]": round(sum(r["speed [mm/s]"] for r in half) / len(half), 3),
-            "windows": rows, "cpu [s]": round(time.process_time() - t0, 1)}
+    half = rows[len(rows) // 2 :]
+    return {
+        "T": T_plate,
+        "nodes": nodes,
+        "dt": dt,
+        "duration": duration,
+        "changes": changes,
+        "speed_last_half [mm/s]": round(sum(r["speed [mm/s]"] for r in half) / len(half), 3),
+        "windows": rows,
+        "cpu [s]": round(time.process_time() - t0, 1),
+    }
 
 
 def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
@@ -95,16 +118,48 @@ def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
             if line.strip():
                 r = json.loads(line)
                 runs[(r["T"], r["nodes"], r["dt"], r["duration"], tuple(r["changes"]))] = r
-    keys = ["t_end [s]", "speed [mm/s]", "T_mean [C]", "T_hot_layer [C]", "T_cold_layer [C]", "T_max [C]",
-            "contraction_difference [-]", "natural_curvature_mean [1/mm]", "natural_curvature_max [1/mm]",
-            "contact_points [-]"]
-    lines = [",".join(["change [-]", "plate temperature [C]", "nodes [-]", "dt [s]", "duration [s]",
-                       "speed over the last half [mm/s]", "CPU [s]"] + ["window " + k for k in keys])]
+    keys = [
+        "t_end [s]",
+        "speed [mm/s]",
+        "T_mean [C]",
+        "T_hot_layer [C]",
+        "T_cold_layer [C]",
+        "T_max [C]",
+        "contraction_difference [-]",
+        "natural_curvature_mean [1/mm]",
+        "natural_curvature_max [1/mm]",
+        "contact_points [-]",
+    ]
+    lines = [
+        ",".join(
+            [
+                "change [-]",
+                "plate temperature [C]",
+                "nodes [-]",
+                "dt [s]",
+                "duration [s]",
+                "speed over the last half [mm/s]",
+                "CPU [s]",
+            ]
+            + ["window " + k for k in keys]
+        )
+    ]
     for (T, n, dt, dur, changes), r in sorted(runs.items()):
         for w in r["windows"]:
-            lines.append(",".join([" ".join(changes) or "defaults", f"{T:g}", str(n), f"{dt:g}", f"{dur:g}",
-                                   f"{r['speed_last_half [mm/s]']:g}", f"{r['cpu [s]']:g}"]
-                                  + [str(w.get(k, "")) for k in keys]))
+            lines.append(
+                ",".join(
+                    [
+                        " ".join(changes) or "defaults",
+                        f"{T:g}",
+                        str(n),
+                        f"{dt:g}",
+                        f"{dur:g}",
+                        f"{r['speed_last_half [mm/s]']:g}",
+                        f"{r['cpu [s]']:g}",
+                    ]
+                    + [str(w.get(k, "")) for k in keys]
+                )
+            )
     tmp = csv.with_suffix(".csv.part")
     tmp.write_text("\n".join(lines) + "\n")
     os.replace(tmp, csv)

@@ -5,15 +5,16 @@
     python benchmarks/ribbon_material_scan.py --table rows.jsonl [more.jsonl ...]
         --csv validation/data/ribbon_material_scan.csv
 
-Each ``material.field=value`` is one point of a scan: that field alone changed, every other value the
-``RibbonLCE`` default (``material`` alone, i.e. ``--set`` nothing else, is the default point). Every run
-uses the converged heat and contact settings of issue 32's table (4 thickness cells, contact sections
-0.25 mm apart; docs/ribbon.md, "The converged table") with the given nodes and fixed step, on each plate
-temperature [C] for ``--duration`` s after settling; one JSON row per run is appended to ``--out``
-(``ribbon_convergence.run``: speed, end spin rates and twist-density variation over the last half, mean
-temperature at the end, CPU seconds). ``--perturbation`` is the initial spin [rad/s]
-(``RibbonNumerics.perturbation``; 1.0 picks the rolling branch where a still one exists too, docs/ribbon.md).
-The second form writes the CSV (units in the headers), one row per run.
+Each ``material.field=value`` is one point of a scan: that field alone changed, every other value
+the ``RibbonLCE`` default (``material`` alone, i.e. ``--set`` nothing else, is the default point).
+Every run uses the converged heat and contact settings of issue 32's table (4 thickness cells,
+contact sections 0.25 mm apart; docs/ribbon.md, "The converged table") with the given nodes and
+fixed step, on each plate temperature [C] for ``--duration`` s after settling; one JSON row per run
+is appended to ``--out`` (``ribbon_convergence.run``: speed, end spin rates and twist-density
+variation over the last half, mean temperature at the end, CPU seconds). ``--perturbation`` is the
+initial spin [rad/s] (``RibbonNumerics.perturbation``; 1.0 picks the rolling branch where a still
+one exists too, docs/ribbon.md). The second form writes the CSV (units in the headers), one row per
+run.
 """
 
 from __future__ import annotations
@@ -34,8 +35,15 @@ CONTACT_SPACING = 0.25  # mm
 UNITS = {"transition_width": "K", "actuation_stretch": "-", "T_NI": "C", "youngs_modulus": "MPa"}
 
 
-def scan(out: pathlib.Path, points: list[str], plates: list[float], nodes: int, dt: float, duration: float,
-         perturbation: float) -> None:
+def scan(
+    out: pathlib.Path,
+    points: list[str],
+    plates: list[float],
+    nodes: int,
+    dt: float,
+    duration: float,
+    perturbation: float,
+) -> None:
     from ribbon_convergence import run
 
     for point in points:
@@ -45,9 +53,22 @@ def scan(out: pathlib.Path, points: list[str], plates: list[float], nodes: int, 
             run(out, duration, [(T, nodes, dt)], CONTACT_SPACING, CONVERGED + extra + change)
 
 
-HEADER = ["parameter [-]", "value [unit of the parameter]", "unit [-]", "plate temperature [C]", "nodes [-]",
-          "dt [s]", "duration [s]", "initial spin [rad/s]", "average speed [mm/s]", "rolls [-]",
-          "end spin-rate ratio [-]", "twist density variation [-]", "T mean final [C]", "CPU [s]"]
+HEADER = [
+    "parameter [-]",
+    "value [unit of the parameter]",
+    "unit [-]",
+    "plate temperature [C]",
+    "nodes [-]",
+    "dt [s]",
+    "duration [s]",
+    "initial spin [rad/s]",
+    "average speed [mm/s]",
+    "rolls [-]",
+    "end spin-rate ratio [-]",
+    "twist density variation [-]",
+    "T mean final [C]",
+    "CPU [s]",
+]
 
 
 def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
@@ -67,12 +88,27 @@ def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
         if name == "default":
             value = ""
         unit = UNITS.get(name, "")
-        keyed.append(((name, float(value) if value else 0.0, r["T"], r["nodes"],
-                       r["dt"], spin), [name, value, unit, r["T"], r["nodes"], r["dt"], r["duration"], spin,
-                                        f'{r["average_speed [mm/s]"]:.4g}', int(r["rolls"]),
-                                        f'{r["spin_rate_ratio [-]"]:.4g}',
-                                        f'{r["twist_density_variation [-]"]:.3g}',
-                                        f'{r["T_mean_final [C]"]:.4g}', f'{r["cpu"]:.1f}']))
+        keyed.append(
+            (
+                (name, float(value) if value else 0.0, r["T"], r["nodes"], r["dt"], spin),
+                [
+                    name,
+                    value,
+                    unit,
+                    r["T"],
+                    r["nodes"],
+                    r["dt"],
+                    r["duration"],
+                    spin,
+                    f'{r["average_speed [mm/s]"]:.4g}',
+                    int(r["rolls"]),
+                    f'{r["spin_rate_ratio [-]"]:.4g}',
+                    f'{r["twist_density_variation [-]"]:.3g}',
+                    f'{r["T_mean_final [C]"]:.4g}',
+                    f'{r["cpu"]:.1f}',
+                ],
+            )
+        )
     for _, row in sorted(keyed, key=lambda k: k[0]):
         lines.append(",".join(str(x) for x in row))
     tmp = csv.with_suffix(".tmp")
@@ -82,7 +118,8 @@ def table(paths: list[pathlib.Path], csv: pathlib.Path) -> None:
 
 
 def plot(csv: pathlib.Path, png: pathlib.Path) -> None:
-    """PNG of the speed against the plate temperature, one line per scan point (the finest run per plate)."""
+    """PNG of the speed against the plate temperature, one line per scan point (the finest run per
+    plate)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -114,8 +151,14 @@ def plot(csv: pathlib.Path, png: pathlib.Path) -> None:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("points", nargs="*", help="material.field=value (one scan point each) or 'material' (default)")
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument(
+        "points",
+        nargs="*",
+        help="material.field=value (one scan point each) or 'material' (default)",
+    )
     ap.add_argument("--out", type=pathlib.Path)
     ap.add_argument("--plates", default="65", help="plate temperatures [C], comma-separated")
     ap.add_argument("--nodes", type=int, default=61)
@@ -124,7 +167,9 @@ def main(argv=None) -> int:
     ap.add_argument("--perturbation", type=float, default=0.01, help="initial spin [rad/s]")
     ap.add_argument("--table", nargs="+", type=pathlib.Path)
     ap.add_argument("--csv", type=pathlib.Path)
-    ap.add_argument("--png", type=pathlib.Path, help="with --table: also plot speed against plate temperature")
+    ap.add_argument(
+        "--png", type=pathlib.Path, help="with --table: also plot speed against plate temperature"
+    )
     a = ap.parse_args(argv)
     if a.table:
         if a.csv is None:
@@ -141,7 +186,15 @@ def main(argv=None) -> int:
         if p != "material" and not (p.startswith("material.") and "=" in p):
             print(f"point {p!r}: expected material.field=value or 'material'", file=sys.stderr)
             return 2
-    scan(a.out, a.points, [float(x) for x in a.plates.split(",")], a.nodes, a.dt, a.duration, a.perturbation)
+    scan(
+        a.out,
+        a.points,
+        [float(x) for x in a.plates.split(",")],
+        a.nodes,
+        a.dt,
+        a.duration,
+        a.perturbation,
+    )
     return 0
 
 

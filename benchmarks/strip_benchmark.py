@@ -23,18 +23,31 @@ def measure(level: int, dt: float, cell: str, symmetry: str) -> dict:
     from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
     t0 = time.perf_counter()
-    sim = StripSimulation(StripConfig(run=StripRun(current=0.2, duration=30.0, dt=dt),
-                                      mesh=StripMesh(level=level, cell=cell, symmetry=symmetry)))
+    sim = StripSimulation(
+        StripConfig(
+            run=StripRun(current=0.2, duration=30.0, dt=dt),
+            mesh=StripMesh(level=level, cell=cell, symmetry=symmetry),
+        )
+    )
     build = time.perf_counter() - t0
     res = sim.run(None, progress=False, fields=False)
     its = res.history["newton_iterations [-]"][1:]
     steps = len(its)
-    return {"level": level, "cell": cell, "symmetry": symmetry,
-            "element size [mm]": sim.dims["element_size"], "cells": res.summary["mesh"]["cells"],
-            "dofs u": sim.ndofs["displacement"], "dofs T": sim.ndofs["temperature"],
-            "steps": steps, "newton its/step": float(its.mean()), "s/step": res.summary["wall_time [s]"] / steps,
-            "build [s]": build, "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-            "final stretch [-]": res.summary["metrics"]["final_stretch [-]"]}
+    return {
+        "level": level,
+        "cell": cell,
+        "symmetry": symmetry,
+        "element size [mm]": sim.dims["element_size"],
+        "cells": res.summary["mesh"]["cells"],
+        "dofs u": sim.ndofs["displacement"],
+        "dofs T": sim.ndofs["temperature"],
+        "steps": steps,
+        "newton its/step": float(its.mean()),
+        "s/step": res.summary["wall_time [s]"] / steps,
+        "build [s]": build,
+        "peak memory [MiB]": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "final stretch [-]": res.summary["metrics"]["final_stretch [-]"],
+    }
 
 
 def main(argv=None) -> None:
@@ -50,12 +63,29 @@ def main(argv=None) -> None:
         return
     rows = []
     for level in args.levels:
-        out = subprocess.run([sys.executable, __file__,
-                              "--child", str(level), "--dt", str(args.dt), "--cell", args.cell,
-                              "--symmetry", args.symmetry], capture_output=True, text=True, check=True)
+        out = subprocess.run(
+            [
+                sys.executable,
+                __file__,
+                "--child",
+                str(level),
+                "--dt",
+                str(args.dt),
+                "--cell",
+                args.cell,
+                "--symmetry",
+                args.symmetry,
+            ],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
         rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
         r = rows[-1]
-        print(f"level {level}: {r['dofs u']} displacement dofs, {r['s/step']:.2f} s/step", file=sys.stderr)
+        print(
+            f"level {level}: {r['dofs u']} displacement dofs, {r['s/step']:.2f} s/step",
+            file=sys.stderr,
+        )
     keys = list(rows[0])
     print("\t".join(keys))
     for r in rows:

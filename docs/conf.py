@@ -31,17 +31,28 @@ source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 # Pages are the *.md files of docs/ (new ones are picked up by the index's glob); the rest of docs/
 # is data (convergence tables and plots, images, patches of unmerged experiments, example scripts).
-exclude_patterns = ["_build", "_generated", "experiments", "convergence", "images", "examples/*.py",
-                    "README.md"]
+exclude_patterns = [
+    "_build",
+    "_generated",
+    "experiments",
+    "convergence",
+    "images",
+    "examples/*.py",
+    "README.md",
+]
 
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 
 autosummary_generate = True
 autosummary_imported_members = False
-autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False,
-                           # a package's __all__ re-exports its modules' names: document each once
-                           "ignore-module-all": True}
+autodoc_default_options = {
+    "members": True,
+    "undoc-members": False,
+    "show-inheritance": False,
+    # a package's __all__ re-exports its modules' names: document each once
+    "ignore-module-all": True,
+}
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"
 autodoc_preserve_defaults = True
@@ -80,14 +91,20 @@ def _docstring_as_text(app, what, name, obj, options, lines):
 
 # The code's sources name the project's reference notes (outside the repository); the facts they
 # hold are restated, with their public sources, on the Sources page (sources.md).
-REFERENCE_PAGES = {"published_reduced_model": "the published reduced-order model",
-                   "materials": "material data", "gridshell_recipes": "the published reduced-order model"}
+REFERENCE_PAGES = {
+    "published_reduced_model": "the published reduced-order model",
+    "materials": "material data",
+    "gridshell_recipes": "the published reduced-order model",
+}
 
 
 def _restated(text):
     """``text`` with each reference note named by the Sources page section that restates it."""
-    return re.sub(r"(\.\./)*(/work/)?shared/reference/(\w+)\.md",
-                  lambda m: "see Sources: " + REFERENCE_PAGES.get(m.group(3), m.group(3)), text)
+    return re.sub(
+        r"(\.\./)*(/work/)?shared/reference/(\w+)\.md",
+        lambda m: "see Sources: " + REFERENCE_PAGES.get(m.group(3), m.group(3)),
+        text,
+    )
 
 
 def _write_parameter_tables(path):
@@ -102,22 +119,35 @@ def _write_parameter_tables(path):
     out = []
     for info in sorted(pkgutil.iter_modules(lcefem.models.__path__), key=lambda m: m.name):
         module = importlib.import_module(f"lcefem.models.{info.name}")
-        classes = [c for c in vars(module).values()
-                   if isinstance(c, type) and c.__module__ == module.__name__
-                   and dataclasses.is_dataclass(c)
-                   and any("unit" in f.metadata for f in dataclasses.fields(c))]
+        classes = [
+            c
+            for c in vars(module).values()
+            if isinstance(c, type)
+            and c.__module__ == module.__name__
+            and dataclasses.is_dataclass(c)
+            and any("unit" in f.metadata for f in dataclasses.fields(c))
+        ]
         for cls in sorted(classes, key=lambda c: c.__name__):
             doc = _restated((cls.__doc__ or "").strip().split("\n\n")[0].replace("\n", " "))
-            out += [f"## `{module.__name__}.{cls.__name__}`", "", doc, "",
-                    "| field | default | unit | source |", "|---|---|---|---|"]
+            out += [
+                f"## `{module.__name__}.{cls.__name__}`",
+                "",
+                doc,
+                "",
+                "| field | default | unit | source |",
+                "|---|---|---|---|",
+            ]
             for f in dataclasses.fields(cls):
                 if "unit" not in f.metadata:
                     continue
                 default = "" if f.default is dataclasses.MISSING else f"{f.default!r}"
                 source = _restated(f.metadata["source"])
                 cells = [f"`{f.name}`", default, f.metadata["unit"], source]
-                out.append("| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ")
-                                             for c in cells) + " |")
+                out.append(
+                    "| "
+                    + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells)
+                    + " |"
+                )
             out.append("")
     path.parent.mkdir(exist_ok=True)
     text = "\n".join(out) + "\n"

@@ -12,9 +12,9 @@ from __future__ import annotations
 import pathlib
 import tempfile
 
-from lcefem.validation.cases.strip import DEFAULT_LEVEL, render_strip_end
-from lcefem.solvers.problems.strip import StripConfig, StripRun, run_strip
 from lcefem.meshes.strip import StripMesh
+from lcefem.solvers.problems.strip import StripConfig, StripRun, run_strip
+from lcefem.validation.cases.strip import DEFAULT_LEVEL, render_strip_end
 
 IMAGES = pathlib.Path(__file__).resolve().parent / "images"
 
@@ -31,28 +31,45 @@ def bilayer() -> pathlib.Path:
     problem.equilibrate("t = 0 s")
     fields = problem.fields()
     IMAGES.mkdir(parents=True, exist_ok=True)
-    return render_deformed(IMAGES / "bilayer.png", fields["displacement [mm]"], fields["spontaneous stretch [-]"],
-                           scalar_label="spontaneous stretch [-]", view="xz", size=(1200, 420),
-                           mirror=((0, 0.0), (1, 0.0)), zoom=1.6,
-                           title="LCE bilayer at 47.21 C: the LCE layer (bottom) contracts 1 %")
+    return render_deformed(
+        IMAGES / "bilayer.png",
+        fields["displacement [mm]"],
+        fields["spontaneous stretch [-]"],
+        scalar_label="spontaneous stretch [-]",
+        view="xz",
+        size=(1200, 420),
+        mirror=((0, 0.0), (1, 0.0)),
+        zoom=1.6,
+        title="LCE bilayer at 47.21 C: the LCE layer (bottom) contracts 1 %",
+    )
 
 
 def gripper() -> pathlib.Path:
-    """The gripper finger's steady state at 0.2 A, coloured by temperature (the serpentine shows)."""
+    """The gripper finger's steady state at 0.2 A, coloured by temperature (the serpentine
+    shows)."""
     from lcefem.solvers.problems.body import BodyProblem
     from lcefem.solvers.problems.body_case import load_case
     from lcefem.validation.app.render import render_deformed
 
-    case = load_case(IMAGES.parent.parent / "examples" / "bodies" / "gripper" / "case.toml",
-                     overrides={("program", "steady"): True})
+    case = load_case(
+        IMAGES.parent.parent / "examples" / "bodies" / "gripper" / "case.toml",
+        overrides={("program", "steady"): True},
+    )
     problem = BodyProblem(case)
     problem.set_program(0.0)
     problem.steady_state()
     fields = problem.fields()
     IMAGES.mkdir(parents=True, exist_ok=True)
-    return render_deformed(IMAGES / "gripper.png", fields["displacement [mm]"], fields["temperature [C]"],
-                           scalar_label="temperature [C]", view="iso", size=(1200, 700), zoom=1.3,
-                           title="gripper finger, 0.2 A, steady state: it bends toward the LCE (top)")
+    return render_deformed(
+        IMAGES / "gripper.png",
+        fields["displacement [mm]"],
+        fields["temperature [C]"],
+        scalar_label="temperature [C]",
+        view="iso",
+        size=(1200, 700),
+        zoom=1.3,
+        title="gripper finger, 0.2 A, steady state: it bends toward the LCE (top)",
+    )
 
 
 def main() -> None:
@@ -66,11 +83,15 @@ def main() -> None:
         return
     print(bilayer())
     print(gripper())
-    config = StripConfig(run=StripRun(current=0.2, duration=20.0), mesh=StripMesh(level=DEFAULT_LEVEL))
+    config = StripConfig(
+        run=StripRun(current=0.2, duration=20.0), mesh=StripMesh(level=DEFAULT_LEVEL)
+    )
     with tempfile.TemporaryDirectory() as tmp:
         result = run_strip(config, pathlib.Path(tmp) / "run", fields=False)
     IMAGES.mkdir(parents=True, exist_ok=True)
-    png = render_strip_end(IMAGES / "strip_0p2A_20s.png", result, "free LCE strip, 0.2 A, t = 20 s (3D FE)")
+    png = render_strip_end(
+        IMAGES / "strip_0p2A_20s.png", result, "free LCE strip, 0.2 A, t = 20 s (3D FE)"
+    )
     print(png)
 
 

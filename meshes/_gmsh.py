@@ -6,8 +6,9 @@ import contextlib
 from dataclasses import dataclass
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import gmsh
 from mpi4py import MPI
+
+import gmsh
 
 import dolfinx
 import dolfinx.io.gmsh
@@ -55,7 +56,8 @@ def gmsh_session(name: str, verbose: bool = False):
 
 
 def to_dolfinx(model, comm: MPI.Comm, rank: int = 0) -> tuple[dolfinx.io.gmsh.MeshData, dict, dict]:
-    """Convert the gmsh model (meshed on ``rank``) to dolfinx; return (mesh data, cell names, facet names)."""
+    """Convert the gmsh model (meshed on ``rank``) to dolfinx; return (mesh data, cell names, facet
+    names)."""
     data = dolfinx.io.gmsh.model_to_mesh(model, comm, rank, gdim=3)
     cells = {n: g.tag for n, g in data.physical_groups.items() if g.dim == 3}
     facets = {n: g.tag for n, g in data.physical_groups.items() if g.dim == 2}

@@ -5,8 +5,8 @@ Why not gmsh for these bodies: gmsh's fragment merges every pair of coincident f
 strip's unbonded face must keep its own nodes (only a contact term keeps it off the ribbon); a
 tensor-product grid also gives the strip and ribbon nodes the same (x, y) stations, which the
 node-pair contact of :func:`lcefem.solvers.contact.face_pairs` needs. The FE composite beam
-(:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`) and the gridshell (:mod:`lcefem.meshes.gridshell_fe`)
-call these functions.
+(:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`) and the gridshell
+(:mod:`lcefem.meshes.gridshell_fe`) call these functions.
 
 Cells are hex8 in dolfinx's (lexicographic) vertex order: vertex ``a + 2 b + 4 c`` at the corner
 (a, b, c) in {0, 1}^3 along (x, y, z).
@@ -19,8 +19,14 @@ import math
 import numpy as np
 
 #: Local vertices of each hex8 face, named by its outward normal.
-LOCAL_FACES = {"-x": (0, 2, 4, 6), "+x": (1, 3, 5, 7), "-y": (0, 1, 4, 5), "+y": (2, 3, 6, 7),
-               "-z": (0, 1, 2, 3), "+z": (4, 5, 6, 7)}
+LOCAL_FACES = {
+    "-x": (0, 2, 4, 6),
+    "+x": (1, 3, 5, 7),
+    "-y": (0, 1, 4, 5),
+    "+y": (2, 3, 6, 7),
+    "-z": (0, 1, 2, 3),
+    "+z": (4, 5, 6, 7),
+}
 
 
 def divisions(length: float, size: float, multiplier: int) -> int:
@@ -41,15 +47,24 @@ def exterior_faces(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarra
     faces = np.concatenate([cells[:, loc] for loc in LOCAL_FACES.values()])
     sides = np.repeat(np.array(list(LOCAL_FACES)), nc)
     owner = np.tile(np.arange(nc), len(LOCAL_FACES))
-    _, inverse, counts = np.unique(np.sort(faces, axis=1), axis=0, return_inverse=True,
-                                   return_counts=True)
+    _, inverse, counts = np.unique(
+        np.sort(faces, axis=1), axis=0, return_inverse=True, return_counts=True
+    )
     once = counts[inverse.ravel()] == 1
     return faces[once], sides[once], owner[once]
 
 
-def tagged_hex_mesh(comm, cells: np.ndarray, x: np.ndarray, cell_values: np.ndarray,
-                    facet_nodes: np.ndarray, facet_values: np.ndarray, cell_names: dict[str, int],
-                    facet_names: dict[str, int], info: dict):
+def tagged_hex_mesh(
+    comm,
+    cells: np.ndarray,
+    x: np.ndarray,
+    cell_values: np.ndarray,
+    facet_nodes: np.ndarray,
+    facet_values: np.ndarray,
+    cell_names: dict[str, int],
+    facet_names: dict[str, int],
+    info: dict,
+):
     """dolfinx mesh of hex8 ``cells`` on points ``x`` [mm] with cell and facet tags.
 
     The input is used from rank 0 (the other ranks pass theirs empty) and dolfinx distributes it.
@@ -59,10 +74,11 @@ def tagged_hex_mesh(comm, cells: np.ndarray, x: np.ndarray, cell_values: np.ndar
     import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
     from mpi4py import MPI
 
+    import ufl
+
     import basix.ufl
     import dolfinx
     import dolfinx.io
-    import ufl
 
     from lcefem.meshes._gmsh import TaggedMesh
 
@@ -81,14 +97,25 @@ def tagged_hex_mesh(comm, cells: np.ndarray, x: np.ndarray, cell_values: np.ndar
         local, local_vals = dolfinx.io.distribute_entity_data(msh, dim, ents, vals)
         msh.topology.create_connectivity(dim, 0)
         msh.topology.create_connectivity(dim, 3)
-        tags.append(dolfinx.mesh.meshtags_from_entities(
-            msh, dim, dolfinx.graph.adjacencylist(local), local_vals.astype(np.int32, copy=False)))
+        tags.append(
+            dolfinx.mesh.meshtags_from_entities(
+                msh,
+                dim,
+                dolfinx.graph.adjacencylist(local),
+                local_vals.astype(np.int32, copy=False),
+            )
+        )
 
     def present(values) -> set[int]:
         mine = set(int(v) for v in np.unique(values))
         return comm.allreduce(mine, op=MPI.BOR) if comm.size > 1 else mine
 
     in_cells, in_facets = present(cell_values), present(facet_values)
-    return TaggedMesh(msh, tags[0], tags[1],
-                      {n: t for n, t in cell_names.items() if t in in_cells},
-                      {n: t for n, t in facet_names.items() if t in in_facets}, info)
+    return TaggedMesh(
+        msh,
+        tags[0],
+        tags[1],
+        {n: t for n, t in cell_names.items() if t in in_cells},
+        {n: t for n, t in facet_names.items() if t in in_facets},
+        info,
+    )

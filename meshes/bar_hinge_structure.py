@@ -9,7 +9,8 @@ N5B8 (Filipov et al., Int. J. Solids Struct. 124:26-45, 2017; Liu & Paulino, Pro
 corners), and a bending hinge along every spoke (wings: the two neighbouring corners); each edge
 shared by two panels carries a fold hinge whose wings are the two panel centres.
 
-Hinge rows are (j, k, i, l): axis j -> k, wings i and l (see :func:`lcefem.models.bar_hinge.dihedral_angle`).
+Hinge rows are (j, k, i, l): axis j -> k, wings i and l (see
+:func:`lcefem.models.bar_hinge.dihedral_angle`).
 """
 
 from __future__ import annotations
@@ -121,10 +122,12 @@ class BarHingeStructure:
         if not np.all(np.isfinite(self.nodes)):
             raise InputError("structure.nodes: coordinates must be finite")
         n = self.num_nodes
-        for name, arr in [*(("bars." + k, v) for k, v in self.bars.items()),
-                          *(("hinges." + k, v) for k, v in self.hinges.items()),
-                          *(("contacts." + k, v) for k, v in self.contacts.items()),
-                          ("panels", self.panels)]:
+        for name, arr in [
+            *(("bars." + k, v) for k, v in self.bars.items()),
+            *(("hinges." + k, v) for k, v in self.hinges.items()),
+            *(("contacts." + k, v) for k, v in self.contacts.items()),
+            ("panels", self.panels),
+        ]:
             if arr.size and (arr.min() < 0 or arr.max() >= n):
                 raise InputError(f"structure.{name}: node index out of range 0..{n - 1}")
         for name in self.bars:
@@ -164,13 +167,22 @@ def n5b8_structure(nodes, panels, thickness: float) -> BarHingeStructure:
     inverse = inverse.reshape(num_panels, 4)
     spokes = np.stack([np.repeat(centre_ids, 4), panels.reshape(-1)], axis=1)
     kapton = np.vstack([unique, spokes])
-    panel_bars = np.hstack([inverse, unique.shape[0] + np.arange(4 * num_panels).reshape(num_panels, 4)])
+    panel_bars = np.hstack(
+        [inverse, unique.shape[0] + np.arange(4 * num_panels).reshape(num_panels, 4)]
+    )
 
     # Bending hinges along the spokes: axis centre -> corner c, wings the neighbouring corners.
     prev_corner = np.roll(panels, 1, axis=1)
     next_corner = np.roll(panels, -1, axis=1)
-    bend = np.stack([np.repeat(centre_ids, 4), panels.reshape(-1), prev_corner.reshape(-1),
-                     next_corner.reshape(-1)], axis=1)
+    bend = np.stack(
+        [
+            np.repeat(centre_ids, 4),
+            panels.reshape(-1),
+            prev_corner.reshape(-1),
+            next_corner.reshape(-1),
+        ],
+        axis=1,
+    )
 
     # Fold hinges on shared edges: wings are the two panel centres.
     owner = [[] for _ in range(unique.shape[0])]
@@ -186,8 +198,13 @@ def n5b8_structure(nodes, panels, thickness: float) -> BarHingeStructure:
             raise InputError(f"panels: edge {tuple(unique[edge_id])} shared by {len(users)} panels")
     fold = np.asarray(fold, dtype=np.int64).reshape(-1, 4)
 
-    structure = BarHingeStructure(nodes=all_nodes, thickness=float(thickness), panels=panels,
-                                  panel_centres=centre_ids, panel_bars=panel_bars)
+    structure = BarHingeStructure(
+        nodes=all_nodes,
+        thickness=float(thickness),
+        panels=panels,
+        panel_centres=centre_ids,
+        panel_bars=panel_bars,
+    )
     structure.bars["kapton"] = kapton
     structure.hinges["bend"] = bend
     structure.hinges["fold"] = fold

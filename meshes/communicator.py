@@ -21,7 +21,8 @@ _stack: list = []  # communicators of the active case_communicator blocks, inner
 
 
 def default_comm():
-    """The communicator of the innermost :func:`case_communicator` block, else ``MPI.COMM_WORLD``."""
+    """The communicator of the innermost :func:`case_communicator` block, else
+    ``MPI.COMM_WORLD``."""
     if _stack:
         return _stack[-1]
     import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)

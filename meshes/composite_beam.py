@@ -5,29 +5,29 @@ over each junction, following the connectivity of the published reduced-order mo
 
 Coordinates [mm]: x along the beam (the first segment starts at x = 0), y across the ribbon
 (0 <= y <= width), z up (the top strips' side). Segment s (0-based) spans
-x = s (L + d) ... s (L + d) + L; junction j joins segments j and j + 1. The flat as-built ribbon carries
-the small arch z = gap sin^2(pi s/L) (s the distance from the segment's start) that makes it buckle
-upwards. Every segment has a central "crown" region of length ``crown_bond_length`` where the top
-strips are bonded; the top strips span from the crown's edge in one segment, over the junction, to
-the crown's edge in the next (11.5 + 7 + 11.5 = 30 mm); the bottom strips span each segment as chords
-between its ends (30 mm). Both have the ribbon's straight length in the as-built (nematic) state.
-The strips touch the ribbon as built; in the bar-and-hinge structure frictionless contacts keep each
-segment's ribbon on its side of its bottom strip, the ribbon under a top strip below it, and the
-raised square of a top strip on its junction (the published model has no such contact).
+x = s (L + d) ... s (L + d) + L; junction j joins segments j and j + 1. The flat as-built ribbon
+carries the small arch z = gap sin^2(pi s/L) (s the distance from the segment's start) that makes it
+buckle upwards. Every segment has a central "crown" region of length ``crown_bond_length`` where the
+top strips are bonded; the top strips span from the crown's edge in one segment, over the junction,
+to the crown's edge in the next (11.5 + 7 + 11.5 = 30 mm); the bottom strips span each segment as
+chords between its ends (30 mm). Both have the ribbon's straight length in the as-built (nematic)
+state. The strips touch the ribbon as built; in the bar-and-hinge structure frictionless contacts
+keep each segment's ribbon on its side of its bottom strip, the ribbon under a top strip below it,
+and the raised square of a top strip on its junction (the published model has no such contact).
 
-:class:`CompositeBeamGeometry` holds only what a continuum (FE) builder can use too; the bar-and-hinge
-discretisation choices live in :class:`BeamBarHingeMesh`.
+:class:`CompositeBeamGeometry` holds only what a continuum (FE) builder can use too; the
+bar-and-hinge discretisation choices live in :class:`BeamBarHingeMesh`.
 
-Curvature (:func:`lcefem.solvers.analysis.curvature.beam_curvature`): the signed curvature of the circle fitted (Pratt's algebraic fit)
-through the *stations* of the middle segments, the stations being the ends' centres and the junction
-centres (centre of each junction square on the ribbon: the mean of its four corners). It is
-positive when the circle's centre lies on the bottom side, i.e. when the beam bends towards its
-bottom strips (ends lower than the middle), which happens when the top strips are longer: the sign
-convention of Eq. 2 (:func:`lcefem.models.empirical.eq2_curvature`). (The paper's surface curvatures,
-e.g. the dome's -0.017 1/mm, use the opposite sign: kappa = +z'' with z up.) The stations depend only
-on the geometry of the deformed ribbon, not on the discretisation; note that a junction's centroid
-lies on the chord of its square, so a ribbon wrapped on a circle of radius R gives
-1/(R cos(d/2R)) (0.2 % more than 1/R at R = 60 mm, d = 7 mm).
+Curvature (:func:`lcefem.solvers.analysis.curvature.beam_curvature`): the signed curvature of the
+circle fitted (Pratt's algebraic fit) through the *stations* of the middle segments, the stations
+being the ends' centres and the junction centres (centre of each junction square on the ribbon: the
+mean of its four corners). It is positive when the circle's centre lies on the bottom side, i.e.
+when the beam bends towards its bottom strips (ends lower than the middle), which happens when the
+top strips are longer: the sign convention of Eq. 2 (:func:`lcefem.models.empirical.eq2_curvature`).
+(The paper's surface curvatures, e.g. the dome's -0.017 1/mm, use the opposite sign: kappa = +z''
+with z up.) The stations depend only on the geometry of the deformed ribbon, not on the
+discretisation; note that a junction's centroid lies on the chord of its square, so a ribbon wrapped
+on a circle of radius R gives 1/(R cos(d/2R)) (0.2 % more than 1/R at R = 60 mm, d = 7 mm).
 """
 
 from __future__ import annotations
@@ -42,33 +42,59 @@ from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
-PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
-             "shared/reference/published_reduced_model.md)")
+PUBLISHED = (
+    "published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
+    "shared/reference/published_reduced_model.md)"
+)
 
 
 @dataclass(frozen=True)
 class CompositeBeamGeometry:
     """Dimensions of the composite beam (shared by the bar-and-hinge and the FE builders)."""
 
-    segments: int = param(4, "-", "chosen: 4 segments (3 junctions) as one ribbon of the published "
-                          "surface; at (lambda_T, lambda_B) = (1.33, 1.05) the middle curvature is "
-                          "0.0337, 0.0386, 0.0383, 0.0383 1/mm for 2, 4, 6, 8 segments (bar-and-hinge; "
-                          "validation case beam_segment_count_bh)", minimum=2, maximum=40)
-    segment_length: float = param(30.0, "mm", PUBLISHED + ": Lx = 30 mm (l_p of Eq. 2)", positive=True)
-    junction_length: float = param(7.0, "mm", PUBLISHED + ": 7 x 7 mm junction squares",
-                                   positive=True)
-    ribbon_width: float = param(7.0, "mm", "seed 001 Materials and Methods: ribbons 7 mm wide",
-                                positive=True)
-    ribbon_thickness: float = param(0.127, "mm", "seed 001 Materials and Methods: 127 um Kapton film",
-                                    positive=True)
-    arch_gap: float = param(1.127, "mm", PUBLISHED + ": initial arch z = gap sin^2(pi x/Lx), "
-                            "gap = tp + ta/2", minimum=0.0)
-    strip_width: float = param(5.0, "mm", "seed 001: mould channel 5 mm wide (cast, isotropic section)",
-                               positive=True)
-    strip_thickness: float = param(2.0, "mm", "seed 001: mould channel 2 mm deep (cast, isotropic "
-                                   "section; t_a of Eq. 2)", positive=True)
-    crown_bond_length: float = param(7.0, "mm", PUBLISHED + ": central 7 mm panel of each segment, at "
-                                     "whose edges the top strips attach", positive=True)
+    segments: int = param(
+        4,
+        "-",
+        "chosen: 4 segments (3 junctions) as one ribbon of the published "
+        "surface; at (lambda_T, lambda_B) = (1.33, 1.05) the middle curvature is "
+        "0.0337, 0.0386, 0.0383, 0.0383 1/mm for 2, 4, 6, 8 segments (bar-and-hinge; "
+        "validation case beam_segment_count_bh)",
+        minimum=2,
+        maximum=40,
+    )
+    segment_length: float = param(
+        30.0, "mm", PUBLISHED + ": Lx = 30 mm (l_p of Eq. 2)", positive=True
+    )
+    junction_length: float = param(
+        7.0, "mm", PUBLISHED + ": 7 x 7 mm junction squares", positive=True
+    )
+    ribbon_width: float = param(
+        7.0, "mm", "seed 001 Materials and Methods: ribbons 7 mm wide", positive=True
+    )
+    ribbon_thickness: float = param(
+        0.127, "mm", "seed 001 Materials and Methods: 127 um Kapton film", positive=True
+    )
+    arch_gap: float = param(
+        1.127,
+        "mm",
+        PUBLISHED + ": initial arch z = gap sin^2(pi x/Lx), gap = tp + ta/2",
+        minimum=0.0,
+    )
+    strip_width: float = param(
+        5.0, "mm", "seed 001: mould channel 5 mm wide (cast, isotropic section)", positive=True
+    )
+    strip_thickness: float = param(
+        2.0,
+        "mm",
+        "seed 001: mould channel 2 mm deep (cast, isotropic section; t_a of Eq. 2)",
+        positive=True,
+    )
+    crown_bond_length: float = param(
+        7.0,
+        "mm",
+        PUBLISHED + ": central 7 mm panel of each segment, at whose edges the top strips attach",
+        positive=True,
+    )
 
     @property
     def pitch(self) -> float:
@@ -97,7 +123,8 @@ class CompositeBeamGeometry:
 
     @property
     def top_strip_height(self) -> float:
-        """Height [mm] of the top strips over the junctions: the arch at the crown edge (0.982 mm)."""
+        """Height [mm] of the top strips over the junctions: the arch at the crown edge (0.982
+        mm)."""
         return float(self.arch_height(self.crown_edges[1]))
 
     def segment_start(self, s: int) -> float:
@@ -109,8 +136,10 @@ class CompositeBeamGeometry:
         if not isinstance(self.segments, int):
             raise InputError(f"geometry.segments = {self.segments!r}: must be an integer >= 2")
         if self.crown_bond_length >= self.segment_length:
-            raise InputError(f"geometry.crown_bond_length = {self.crown_bond_length}: must be < "
-                             f"segment_length = {self.segment_length} mm")
+            raise InputError(
+                f"geometry.crown_bond_length = {self.crown_bond_length}: must be < "
+                f"segment_length = {self.segment_length} mm"
+            )
         return self
 
 
@@ -118,33 +147,54 @@ class CompositeBeamGeometry:
 class BeamBarHingeMesh:
     """Bar-and-hinge discretisation of the composite beam (choices an FE builder does not use)."""
 
-    flank_panels: int = param(5, "-", PUBLISHED + ": 5 panels of 2.3 mm on each side of the crown "
-                              "panel (the 5 + 1 + 5 layout)", minimum=1, maximum=200)
-    top_junction: str = param("lce", "-", "'lce': the top strip's 7 mm over a junction is LCE and "
-                              "contracts with the rest (its 30 mm free span is one LCE strip, as "
-                              "lambda_T of Eq. 2 assumes); 'glue': the published model's stiff glue "
-                              "square (only the 2 x 11.5 mm contract)")
-    strip_contact: bool = param(True, "-", PUBLISHED + ": weak rotational springs keep each strip "
-                                "on its side of its panel")
-    contact: bool = param(True, "-", "added here (absent from the published model): frictionless "
-                          "unilateral strip-ribbon contact: each segment's ribbon nodes stay above "
-                          "its bottom strip, the ribbon under a top strip stays below it, and the "
-                          "raised top square rests on its junction")
+    flank_panels: int = param(
+        5,
+        "-",
+        PUBLISHED + ": 5 panels of 2.3 mm on each side of the crown panel (the 5 + 1 + 5 layout)",
+        minimum=1,
+        maximum=200,
+    )
+    top_junction: str = param(
+        "lce",
+        "-",
+        "'lce': the top strip's 7 mm over a junction is LCE and "
+        "contracts with the rest (its 30 mm free span is one LCE strip, as "
+        "lambda_T of Eq. 2 assumes); 'glue': the published model's stiff glue "
+        "square (only the 2 x 11.5 mm contract)",
+    )
+    strip_contact: bool = param(
+        True, "-", PUBLISHED + ": weak rotational springs keep each strip on its side of its panel"
+    )
+    contact: bool = param(
+        True,
+        "-",
+        "added here (absent from the published model): frictionless "
+        "unilateral strip-ribbon contact: each segment's ribbon nodes stay above "
+        "its bottom strip, the ribbon under a top strip stays below it, and the "
+        "raised top square rests on its junction",
+    )
 
-    strip_element: str = param("bar", "-", "how an LCE strip acts on the ribbon: 'bar' (" + PUBLISHED
-                               + ": two-node bars on the ribbon's nodes, no bending stiffness), "
-                               "'offset' (the bars act at the strip's centroid, t_p/2 + h_s/2 off the "
-                               "ribbon's mid-surface, on rigid links to the bonded panel), 'bending' "
-                               "(the strip's own bending stiffness E I, a beam element clamped to its "
-                               "bonded panels), 'beam' (both; added here, docs/gridshell_calibration.md)")
+    strip_element: str = param(
+        "bar",
+        "-",
+        "how an LCE strip acts on the ribbon: 'bar' ("
+        + PUBLISHED
+        + ": two-node bars on the ribbon's nodes, no bending stiffness), "
+        "'offset' (the bars act at the strip's centroid, t_p/2 + h_s/2 off the "
+        "ribbon's mid-surface, on rigid links to the bonded panel), 'bending' "
+        "(the strip's own bending stiffness E I, a beam element clamped to its "
+        "bonded panels), 'beam' (both; added here, docs/gridshell_calibration.md)",
+    )
 
     def checked(self) -> "BeamBarHingeMesh":
         check(self, "mesh")
         if self.top_junction not in ("lce", "glue"):
             raise InputError(f"mesh.top_junction = {self.top_junction!r}: allowed 'lce' or 'glue'")
         if self.strip_element not in STRIP_ELEMENTS:
-            raise InputError(f"mesh.strip_element = {self.strip_element!r}: allowed "
-                             + ", ".join(repr(e) for e in STRIP_ELEMENTS))
+            raise InputError(
+                f"mesh.strip_element = {self.strip_element!r}: allowed "
+                + ", ".join(repr(e) for e in STRIP_ELEMENTS)
+            )
         return self
 
 
@@ -184,8 +234,14 @@ def strip_second_moment(g: CompositeBeamGeometry, lambda_N: float) -> float:
     return g.strip_width * f * (g.strip_thickness * f) ** 3 / 12.0
 
 
-def apply_strip_element(structure: BarHingeStructure, g: CompositeBeamGeometry, element: str,
-                        pieces: list[StripPiece], lambda_N: float, raised: np.ndarray) -> None:
+def apply_strip_element(
+    structure: BarHingeStructure,
+    g: CompositeBeamGeometry,
+    element: str,
+    pieces: list[StripPiece],
+    lambda_N: float,
+    raised: np.ndarray,
+) -> None:
     """Give the strips their centroid offset and/or bending element (``element``, see
     :attr:`BeamBarHingeMesh.strip_element`); 'bar' leaves the structure as it is.
 
@@ -251,7 +307,9 @@ def apply_strip_element(structure: BarHingeStructure, g: CompositeBeamGeometry, 
             structure.contact_rest["top_strip_contact"] = np.where(moved, rest + e, rest)
     if element in ("bending", "beam"):
         structure.info["strip_beams"] = np.asarray(rows, dtype=np.int64)
-        structure.sections["strip_beams"] = {"second_moment": 0.5 * strip_second_moment(g, lambda_N)}
+        structure.sections["strip_beams"] = {
+            "second_moment": 0.5 * strip_second_moment(g, lambda_N)
+        }
     structure.info["strip_element"] = element
 
 
@@ -260,28 +318,37 @@ def strip_contact_rows(end_a, end_b, panel_a, panel_b, far_a, far_b):
     return [(end_a, end_b, panel_a, far_a), (end_b, end_a, panel_b, far_b)]
 
 
-def strip_sections(structure: BarHingeStructure, g: CompositeBeamGeometry, flank: float,
-                   rows_per_point: int = 1) -> None:
-    """Section data of the strip, glue and contact groups [mm, mm^2], shared by the beam and the gridshell.
+def strip_sections(
+    structure: BarHingeStructure, g: CompositeBeamGeometry, flank: float, rows_per_point: int = 1
+) -> None:
+    """Section data of the strip, glue and contact groups [mm, mm^2], shared by the beam and the
+    gridshell.
 
-    Contact areas: a raised-square corner carries a quarter of the strip's footprint on the junction;
-    a ribbon node half the strip's width over one flank panel of length ``flank`` [mm]. With
-    ``rows_per_point`` contact rows per point (the gridshell has one per triangle of a strip quad)
-    each row carries its share, so the total contact stiffness is the same.
+    Contact areas: a raised-square corner carries a quarter of the strip's footprint on the
+    junction; a ribbon node half the strip's width over one flank panel of length ``flank`` [mm].
+    With ``rows_per_point`` contact rows per point (the gridshell has one per triangle of a strip
+    quad) each row carries its share, so the total contact stiffness is the same.
     """
     structure.sections["bottom_strips"] = {"section": g.strip_section}
     structure.sections["top_strips"] = {"section": g.strip_section}
     structure.sections["glue"] = {"area": g.ribbon_width * g.ribbon_thickness}
     structure.sections["top_square_contact"] = {
-        "area": 0.25 * g.strip_width * g.junction_length / rows_per_point, "depth": g.strip_thickness}
+        "area": 0.25 * g.strip_width * g.junction_length / rows_per_point,
+        "depth": g.strip_thickness,
+    }
     for name in ("bottom_strip_contact", "top_strip_contact"):
-        structure.sections[name] = {"area": 0.5 * g.strip_width * flank / rows_per_point,
-                                    "depth": g.strip_thickness}
+        structure.sections[name] = {
+            "area": 0.5 * g.strip_width * flank / rows_per_point,
+            "depth": g.strip_thickness,
+        }
 
 
-def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                         mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> BarHingeStructure:
-    """Bar-and-hinge structure of the composite beam (N5B8 ribbon, strips, glue; published connectivity).
+def build_beam_bar_hinge(
+    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+    mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
+) -> BarHingeStructure:
+    """Bar-and-hinge structure of the composite beam (N5B8 ribbon, strips, glue; published
+    connectivity).
 
     Groups: bars "kapton", "bottom_strips" (2 bars per strip, along y = 0 and y = width),
     "top_strips" (per side: crown edge -> raised junction square [-> across it] -> crown edge),
@@ -325,7 +392,9 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
             panels.append((node(s, a, 0), node(s, a + 1, 0), node(s, a + 1, 1), node(s, a, 1)))
             kinds.append("crown" if a == nf else "flank")
         if s + 1 < g.segments:
-            panels.append((node(s, last, 0), node(s + 1, 0, 0), node(s + 1, 0, 1), node(s, last, 1)))
+            panels.append(
+                (node(s, last, 0), node(s + 1, 0, 0), node(s + 1, 0, 1), node(s, last, 1))
+            )
             kinds.append("junction")
     structure = n5b8_structure(coords, np.asarray(panels), g.ribbon_thickness)
     kinds = np.asarray(kinds)
@@ -343,19 +412,42 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
     for s in range(g.segments):
         idx = []
         for side in (0, 1):
-            idx += list(structure.add_bars("bottom_strips", [(node(s, 0, side), node(s, last, side))]))
+            idx += list(
+                structure.add_bars("bottom_strips", [(node(s, 0, side), node(s, last, side))])
+            )
             bottom_of_bar.append(s)
         # Bonded panels: the junctions on either side (the flank panel at a free end).
-        pieces.append(StripPiece(
-            (node(s, 0, 0), node(s, 0, 1)),
-            tuple(node(s - 1, last, k) if s > 0 else node(s, 1, k) for k in (0, 1)), -1,
-            (node(s, last, 0), node(s, last, 1)),
-            tuple(node(s + 1, 0, k) if s + 1 < g.segments else node(s, last - 1, k) for k in (0, 1)),
-            -1, "bottom_strips", (int(idx[0]), int(idx[1]))))
-        hinge_rows += strip_contact_rows(node(s, 0, 0), node(s, 0, 1), node(s, 1, 0), node(s, 1, 1),
-                                          node(s, last, 0), node(s, last, 1))
-        hinge_rows += strip_contact_rows(node(s, last, 0), node(s, last, 1), node(s, last - 1, 0),
-                                          node(s, last - 1, 1), node(s, 0, 0), node(s, 0, 1))
+        pieces.append(
+            StripPiece(
+                (node(s, 0, 0), node(s, 0, 1)),
+                tuple(node(s - 1, last, k) if s > 0 else node(s, 1, k) for k in (0, 1)),
+                -1,
+                (node(s, last, 0), node(s, last, 1)),
+                tuple(
+                    node(s + 1, 0, k) if s + 1 < g.segments else node(s, last - 1, k)
+                    for k in (0, 1)
+                ),
+                -1,
+                "bottom_strips",
+                (int(idx[0]), int(idx[1])),
+            )
+        )
+        hinge_rows += strip_contact_rows(
+            node(s, 0, 0),
+            node(s, 0, 1),
+            node(s, 1, 0),
+            node(s, 1, 1),
+            node(s, last, 0),
+            node(s, last, 1),
+        )
+        hinge_rows += strip_contact_rows(
+            node(s, last, 0),
+            node(s, last, 1),
+            node(s, last - 1, 0),
+            node(s, last - 1, 1),
+            node(s, 0, 0),
+            node(s, 0, 1),
+        )
         if m.contact:
             # Plane (a, b across, c along): normal (c - a) x (b - a) = +z, the ribbon's side.
             a, b, c = node(s, 0, 0), node(s, 0, 1), node(s, last, 0)
@@ -373,7 +465,9 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
         squares.append(sq)
         j1, j2, j3, j4 = (int(v) for v in sq)
         left = [node(j, nf + 1, side) for side in (0, 1)]  # crown edge s = (L + c)/2 of segment j
-        right = [node(j + 1, nf, side) for side in (0, 1)]  # crown edge s = (L - c)/2 of segment j+1
+        right = [
+            node(j + 1, nf, side) for side in (0, 1)
+        ]  # crown edge s = (L - c)/2 of segment j+1
         lce = [(left[0], j1), (left[1], j2), (j4, right[0]), (j3, right[1])]
         if m.top_junction == "lce":
             lce += [(j1, j4), (j2, j3)]
@@ -383,27 +477,50 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
         idx = structure.add_bars("top_strips", lce)
         top_of_bar += [j] * len(lce)
         # Crown-edge pieces bonded to the crown panel, square pieces to the raised square.
-        pieces.append(StripPiece((left[0], left[1]), (node(j, nf, 0), node(j, nf, 1)), 1,
-                                 (j1, j2), (j4, j3), 0, "top_strips", (int(idx[0]), int(idx[1]))))
-        pieces.append(StripPiece((j4, j3), (j1, j2), 0, (right[0], right[1]),
-                                 (node(j + 1, nf + 1, 0), node(j + 1, nf + 1, 1)), 1, "top_strips",
-                                 (int(idx[2]), int(idx[3]))))
+        pieces.append(
+            StripPiece(
+                (left[0], left[1]),
+                (node(j, nf, 0), node(j, nf, 1)),
+                1,
+                (j1, j2),
+                (j4, j3),
+                0,
+                "top_strips",
+                (int(idx[0]), int(idx[1])),
+            )
+        )
+        pieces.append(
+            StripPiece(
+                (j4, j3),
+                (j1, j2),
+                0,
+                (right[0], right[1]),
+                (node(j + 1, nf + 1, 0), node(j + 1, nf + 1, 1)),
+                1,
+                "top_strips",
+                (int(idx[2]), int(idx[3])),
+            )
+        )
         structure.add_bars("glue", glue)
-        hinge_rows += strip_contact_rows(left[0], left[1], node(j, nf + 2, 0), node(j, nf + 2, 1),
-                                          j1, j2)
-        hinge_rows += strip_contact_rows(right[0], right[1], node(j + 1, nf - 1, 0),
-                                          node(j + 1, nf - 1, 1), j4, j3)
+        hinge_rows += strip_contact_rows(
+            left[0], left[1], node(j, nf + 2, 0), node(j, nf + 2, 1), j1, j2
+        )
+        hinge_rows += strip_contact_rows(
+            right[0], right[1], node(j + 1, nf - 1, 0), node(j + 1, nf - 1, 1), j4, j3
+        )
         if m.contact:
             # Square corners above the junction (normal +z), at least their as-built height.
             a, b, c = node(j, last, 0), node(j, last, 1), node(j + 1, 0, 0)
             structure.add_contacts("top_square_contact", [(p, a, b, c) for p in (j1, j2, j3, j4)])
             # Ribbon under each top strip piece (normal -z: below the strip).
             pts = ribbon_points(j, range(nf + 2, per_seg), range(nf + 1, per_seg - 1))
-            structure.add_contacts("top_strip_contact", [(p, left[0], j1, left[1]) for p in pts],
-                                   rest=0.0)
+            structure.add_contacts(
+                "top_strip_contact", [(p, left[0], j1, left[1]) for p in pts], rest=0.0
+            )
             pts = ribbon_points(j + 1, range(0, nf), range(0, nf))
-            structure.add_contacts("top_strip_contact", [(p, j4, right[0], j3) for p in pts],
-                                   rest=0.0)
+            structure.add_contacts(
+                "top_strip_contact", [(p, j4, right[0], j3) for p in pts], rest=0.0
+            )
 
     if m.strip_contact:
         structure.add_hinges("strip_contact", np.asarray(hinge_rows, dtype=np.int64))
@@ -411,8 +528,9 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
     junction_panels = np.flatnonzero(kinds == "junction")
     crown_panels = np.flatnonzero(kinds == "crown")
     structure.node_sets["left_end"] = np.array([node(0, 0, 0), node(0, 0, 1)])
-    structure.node_sets["right_end"] = np.array([node(g.segments - 1, last, 0),
-                                                 node(g.segments - 1, last, 1)])
+    structure.node_sets["right_end"] = np.array(
+        [node(g.segments - 1, last, 0), node(g.segments - 1, last, 1)]
+    )
     structure.node_sets["junction_corners"] = structure.panels[junction_panels]
     structure.node_sets["junction_centres"] = centres[junction_panels]
     structure.node_sets["top_squares"] = np.asarray(squares, dtype=np.int64).reshape(-1, 4)
@@ -424,12 +542,23 @@ def build_beam_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry
     structure.node_sets["middle_panel"] = mid_panel
     structure.node_sets["centre_support"] = np.array([mid_panel[0], mid_panel[3], mid_panel[1]])
     strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf))
-    apply_strip_element(structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N,
-                        np.asarray(squares, dtype=np.int64).reshape(-1))
+    apply_strip_element(
+        structure,
+        g,
+        m.strip_element,
+        pieces,
+        PUBLISHED_LAMBDA_N,
+        np.asarray(squares, dtype=np.int64).reshape(-1),
+    )
     structure.info.update(
-        segments=g.segments, flank_panels=nf, top_junction=m.top_junction,
-        panel_kind=kinds, bottom_strip_of_bar=np.asarray(bottom_of_bar),
-        top_strip_of_bar=np.asarray(top_of_bar), total_length=g.total_length)
+        segments=g.segments,
+        flank_panels=nf,
+        top_junction=m.top_junction,
+        panel_kind=kinds,
+        bottom_strip_of_bar=np.asarray(bottom_of_bar),
+        top_strip_of_bar=np.asarray(top_of_bar),
+        total_length=g.total_length,
+    )
     structure.validate()
     return structure
 

@@ -24,8 +24,15 @@ from lcefem.models.parameters import check, param
 FE_CELLS = ("kapton", "bottom_strips", "bottom_pads", "top_strips", "top_pads")
 #: Facet tags of the FE beam (by name): free faces of the ribbon and of the strips where they are
 #: not bonded, the symmetry planes and every other exterior face ("surface").
-FE_FACETS = ("ribbon_top", "ribbon_bottom", "top_strip_underside", "bottom_strip_topside", "surface",
-             "sym_x", "sym_y")
+FE_FACETS = (
+    "ribbon_top",
+    "ribbon_bottom",
+    "top_strip_underside",
+    "bottom_strip_topside",
+    "surface",
+    "sym_x",
+    "sym_y",
+)
 
 
 @dataclass(frozen=True)
@@ -40,20 +47,36 @@ class BeamFEMesh:
     ribbon layers change the curvature by less than 1e-6 relative and two strip layers by +0.07 %.
     """
 
-    size: float = param(3.0, "mm", "chosen: level-0 in-plane element size (levels 0-3: 3, 1.5, 1, "
-                        "0.75 mm)", positive=True)
-    level: int = param(1, "-", "refinement level: in-plane element size = size / (level + 1)",
-                       minimum=0, maximum=8)
-    ribbon_layers: int = param(1, "-", "chosen: Q2 elements through the 0.127 mm ribbon", minimum=1,
-                               maximum=8)
-    strip_layers: int = param(1, "-", "chosen: Q2 elements through each LCE strip", minimum=1,
-                              maximum=8)
-    symmetry: str = param("quarter", "-", "'quarter' (mid-planes x = total_length/2 and y = width/2 "
-                          "as symmetry planes) or 'half' (y = width/2 only)")
-    end_tab: float = param(3.5, "mm", "chosen: a flat ribbon tab of half a junction at each beam "
-                           "end, under which the first and last bottom strips are bonded (as the "
-                           "others are under the junctions); the bar-and-hinge chords attach at the "
-                           "end edges instead", positive=True)
+    size: float = param(
+        3.0,
+        "mm",
+        "chosen: level-0 in-plane element size (levels 0-3: 3, 1.5, 1, 0.75 mm)",
+        positive=True,
+    )
+    level: int = param(
+        1, "-", "refinement level: in-plane element size = size / (level + 1)", minimum=0, maximum=8
+    )
+    ribbon_layers: int = param(
+        1, "-", "chosen: Q2 elements through the 0.127 mm ribbon", minimum=1, maximum=8
+    )
+    strip_layers: int = param(
+        1, "-", "chosen: Q2 elements through each LCE strip", minimum=1, maximum=8
+    )
+    symmetry: str = param(
+        "quarter",
+        "-",
+        "'quarter' (mid-planes x = total_length/2 and y = width/2 "
+        "as symmetry planes) or 'half' (y = width/2 only)",
+    )
+    end_tab: float = param(
+        3.5,
+        "mm",
+        "chosen: a flat ribbon tab of half a junction at each beam "
+        "end, under which the first and last bottom strips are bonded (as the "
+        "others are under the junctions); the bar-and-hinge chords attach at the "
+        "end edges instead",
+        positive=True,
+    )
 
     def element_size(self) -> float:
         return self.size / (self.level + 1)
@@ -69,13 +92,17 @@ class BeamFEMesh:
 
 
 def beam_pieces(g: CompositeBeamGeometry, tab: float) -> list[tuple[float, float, str, int]]:
-    """(x0, x1, kind, segment or junction index) along the beam: tab, flank, crown, flank, junction, ..."""
+    """(x0, x1, kind, segment or junction index) along the beam: tab, flank, crown, flank, junction,
+    ..."""
     s_lo, s_hi = g.crown_edges
     pieces = [(-tab, 0.0, "tab", -1)]
     for s in range(g.segments):
         x0 = g.segment_start(s)
-        pieces += [(x0, x0 + s_lo, "flank", s), (x0 + s_lo, x0 + s_hi, "crown", s),
-                   (x0 + s_hi, x0 + g.segment_length, "flank", s)]
+        pieces += [
+            (x0, x0 + s_lo, "flank", s),
+            (x0 + s_lo, x0 + s_hi, "crown", s),
+            (x0 + s_hi, x0 + g.segment_length, "flank", s),
+        ]
         if s + 1 < g.segments:
             pieces.append((x0 + g.segment_length, g.segment_start(s + 1), "junction", s))
     pieces.append((g.total_length, g.total_length + tab, "tab", g.segments))
@@ -97,8 +124,9 @@ def fe_stations(geometry: CompositeBeamGeometry) -> list[list[tuple[float, float
     return pts
 
 
-def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
-                  mesh: BeamFEMesh = BeamFEMesh(), comm=None):
+def build_beam_fe(
+    geometry: CompositeBeamGeometry, lambda_N: float, mesh: BeamFEMesh = BeamFEMesh(), comm=None
+):
     """Hexahedral mesh of the as-built (nematic) composite beam with bonds where the published model
     connects strips and ribbon, and separate (unbonded) faces elsewhere.
 
@@ -140,8 +168,10 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     tp, W = g.ribbon_thickness, g.ribbon_width
     ws, H = g.strip_width / math.sqrt(lambda_N), g.strip_thickness / math.sqrt(lambda_N)
     if not ws < W:
-        raise InputError(f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
-                         f"narrower than the ribbon ({W} mm)")
+        raise InputError(
+            f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
+            f"narrower than the ribbon ({W} mm)"
+        )
     x_mid = 0.5 * g.total_length
     pieces = beam_pieces(g, m.end_tab)
     if quarter:
@@ -163,14 +193,16 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     xs = np.asarray(xs)
     cell_kind = np.asarray(cell_kind)
     nxc = cell_kind.size
-    # per station: arch height, bonded below (touches a tab/junction), bonded above (touches a crown)
+    # per station: arch height, bonded below (touches a tab/junction), bonded above (touches a
+    # crown)
     arch = np.zeros(xs.size)
     for s in range(g.segments):
         x0 = g.segment_start(s)
         inside = (xs >= x0 - 1e-9) & (xs <= x0 + g.segment_length + 1e-9)
         arch[inside] = g.arch_height(np.clip(xs[inside] - x0, 0.0, g.segment_length))
-    touches = lambda kinds: np.array([any(cell_kind[c] in kinds for c in (i - 1, i) if 0 <= c < nxc)
-                                      for i in range(xs.size)])
+    touches = lambda kinds: np.array(
+        [any(cell_kind[c] in kinds for c in (i - 1, i) if 0 <= c < nxc) for i in range(xs.size)]
+    )
     bonded_bottom = touches(("tab", "junction"))
     bonded_top = touches(("crown",))
     # the top layer spans from the first crown's start to the last crown's end
@@ -222,7 +254,9 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     tag = {name: n for n, name in enumerate(FE_CELLS, start=1)}
 
     def add_cell(i: int, j: int, k: int, body: str, name: str) -> None:
-        cells.append([node(i + a, j + b, k + c, body) for c in (0, 1) for b in (0, 1) for a in (0, 1)])
+        cells.append(
+            [node(i + a, j + b, k + c, body) for c in (0, 1) for b in (0, 1) for a in (0, 1)]
+        )
         cell_values.append(tag[name])
         cell_body.append(body)
 
@@ -234,7 +268,9 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
             if not strip_y_cell[j]:
                 continue
             for k in range(0, k_rb):
-                add_cell(i, j, k, "b", "bottom_pads" if kind in ("tab", "junction") else "bottom_strips")
+                add_cell(
+                    i, j, k, "b", "bottom_pads" if kind in ("tab", "junction") else "bottom_strips"
+                )
             if top_cell[i]:
                 for k in range(k_rt, k_rt + nt):
                     add_cell(i, j, k, "t", "top_pads" if kind == "crown" else "top_strips")
@@ -263,12 +299,25 @@ def build_beam_fe(geometry: CompositeBeamGeometry, lambda_N: float,
             name = "surface"
         facet_values.append(ftag[name])
     info = {
-        "segments": g.segments, "total_length": g.total_length, "x_mid": x_mid,
-        "symmetry": m.symmetry, "symmetry_factor": 4 if quarter else 2,
-        "ribbon_thickness": tp, "ribbon_width": W, "strip_width": ws, "strip_thickness": H,
-        "strip_y_range": (y_a, W - y_a), "top_strip_height": z_c, "lambda_N": float(lambda_N),
-        "element_size": m.element_size(), "level": m.level, "end_tab": m.end_tab,
-        "stations": fe_stations(g), "cells": int(cells.shape[0]), "nodes": int(x.shape[0]),
+        "segments": g.segments,
+        "total_length": g.total_length,
+        "x_mid": x_mid,
+        "symmetry": m.symmetry,
+        "symmetry_factor": 4 if quarter else 2,
+        "ribbon_thickness": tp,
+        "ribbon_width": W,
+        "strip_width": ws,
+        "strip_thickness": H,
+        "strip_y_range": (y_a, W - y_a),
+        "top_strip_height": z_c,
+        "lambda_N": float(lambda_N),
+        "element_size": m.element_size(),
+        "level": m.level,
+        "end_tab": m.end_tab,
+        "stations": fe_stations(g),
+        "cells": int(cells.shape[0]),
+        "nodes": int(x.shape[0]),
     }
-    return tagged_hex_mesh(comm, cells, x, np.asarray(cell_values), faces, np.asarray(facet_values), tag,
-                           ftag, info)
+    return tagged_hex_mesh(
+        comm, cells, x, np.asarray(cell_values), faces, np.asarray(facet_values), tag, ftag, info
+    )

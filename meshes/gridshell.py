@@ -40,8 +40,8 @@ Groups (``info["groups"]``, strip ids): "XD1".."XDn", "YD1".."YDn" (bottom strip
 
 Node sets: "junction_corners" (n, n, 4) indexed [i_x, i_y] (junction at x = c_ix, y = c_iy),
 "junction_centres" (n, n) (N5B8 centre nodes), "top_squares" (n, n, 4), "ribbon_ends_x" /
-"ribbon_ends_y" (n, 2, 2: ribbon, end (low, high), side), "bottom_strip_ends" (all nodes bottom strips
-attach to), "centre_junction" (4 corners of the middle junction).
+"ribbon_ends_y" (n, 2, 2: ribbon, end (low, high), side), "bottom_strip_ends" (all nodes bottom
+strips attach to), "centre_junction" (4 corners of the middle junction).
 """
 
 from __future__ import annotations
@@ -51,8 +51,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
-from lcefem.meshes.composite_beam import (PUBLISHED, BeamBarHingeMesh, CompositeBeamGeometry, StripPiece,
-                                          apply_strip_element, strip_contact_rows, strip_sections)
+from lcefem.meshes.composite_beam import (
+    PUBLISHED,
+    BeamBarHingeMesh,
+    CompositeBeamGeometry,
+    StripPiece,
+    apply_strip_element,
+    strip_contact_rows,
+    strip_sections,
+)
 from lcefem.meshes.gridshell_fe import junction_centres
 from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS, Layout
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
@@ -91,19 +98,22 @@ class Strip:
         return f"{'T' if self.layer == 'top' else 'B'}{self.direction}"
 
 
-def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                              layout: Layout = Layout(),
-                              mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> BarHingeStructure:
+def build_gridshell_bar_hinge(
+    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+    layout: Layout = Layout(),
+    mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
+) -> BarHingeStructure:
     """Bar-and-hinge structure of the gridshell (see the module docstring) from its layout
     (:class:`~lcefem.meshes.gridshell_layout.Layout`: orthogonal or rhombic, ribbon count, lengths,
     bonded junctions, wiring; the published 3 x 3 by default).
 
     A rhombic layout is built in the oblique coordinates of its two families and mapped to the plane
     (x, y) -> x e1 + y e2 as the nodes are placed (``layout.to_plane``), so that every length the
-    builder derives (panels, strips, squares) is the plane's; at 90 deg the map is the identity and the
-    published structure is unchanged. An unbonded junction (``layout.glued``) keeps a Kapton square per
-    ribbon (two coincident, unconnected squares; the raised top square is shared as before).
-    Wiring tags (``layout.wiring``) are added to ``info["groups"]`` and listed in ``info["wiring"]``.
+    builder derives (panels, strips, squares) is the plane's; at 90 deg the map is the identity and
+    the published structure is unchanged. An unbonded junction (``layout.glued``) keeps a Kapton
+    square per ribbon (two coincident, unconnected squares; the raised top square is shared as
+    before). Wiring tags (``layout.wiring``) are added to ``info["groups"]`` and listed in
+    ``info["wiring"]``.
 
     ``geometry.segments`` is ignored (a ribbon has ``layout.ribbons + 1`` segments); the junction
     squares are ribbon_width x ribbon_width, so ``geometry.junction_length`` must equal
@@ -113,21 +123,27 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     """
     layout = layout.checked()
     if layout.kind not in BAR_HINGE_KINDS:
-        raise InputError(f"layout.kind = {layout.kind!r}: the bar-and-hinge builder builds "
-                         f"{', '.join(BAR_HINGE_KINDS)} (two ribbons per junction); three ribbons per "
-                         "junction are not built yet")
+        raise InputError(
+            f"layout.kind = {layout.kind!r}: the bar-and-hinge builder builds "
+            f"{', '.join(BAR_HINGE_KINDS)} (two ribbons per junction); three ribbons per "
+            "junction are not built yet"
+        )
     g = layout.geometry(geometry)
     if g.crown_bond_length >= g.segment_length:
-        raise InputError(f"geometry.crown_bond_length = {g.crown_bond_length}: must be < "
-                         f"segment_length = {g.segment_length} mm")
+        raise InputError(
+            f"geometry.crown_bond_length = {g.crown_bond_length}: must be < "
+            f"segment_length = {g.segment_length} mm"
+        )
     check(g, "geometry")
     n = layout.ribbons
     m = mesh.checked()
     bonded = layout.glued_junctions()  # None: all
     plane = layout.to_plane if layout.oblique else None
     if abs(g.junction_length - g.ribbon_width) > 1e-12:
-        raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
-                         f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
+        raise InputError(
+            f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
+            f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)"
+        )
     nseg = n + 1
     nf = m.flank_panels
     lx, d = g.segment_length, g.ribbon_width
@@ -154,7 +170,8 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
         return index[key]
 
     def unbonded(direction: str, r: int, s: int, a: int) -> str | None:
-        """The direction when station a of segment s of ribbon r is a corner of an unbonded junction."""
+        """The direction when station a of segment s of ribbon r is a corner of an unbonded
+        junction."""
         if bonded is None:
             return None
         j = s if (a == last and s < n) else s - 1 if (a == 0 and s > 0) else None
@@ -190,16 +207,30 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
             for s in range(nseg):
                 for a in range(per_seg - 1):
                     panel_at[(direction, r, s, a)] = len(panels)
-                    panels.append((node(direction, r, s, a, 0), node(direction, r, s, a + 1, 0),
-                                   node(direction, r, s, a + 1, 1), node(direction, r, s, a, 1)))
+                    panels.append(
+                        (
+                            node(direction, r, s, a, 0),
+                            node(direction, r, s, a + 1, 0),
+                            node(direction, r, s, a + 1, 1),
+                            node(direction, r, s, a, 1),
+                        )
+                    )
                     kinds.append("crown" if a == nf else "flank")
-                if s + 1 < nseg and (direction == "x" or (bonded is not None
-                                                          and (r, s) not in bonded)):
-                    # each bonded junction square once (with the x ribbon); an unbonded one per ribbon
+                if s + 1 < nseg and (
+                    direction == "x" or (bonded is not None and (r, s) not in bonded)
+                ):
+                    # each bonded junction square once (with the x ribbon); an unbonded one per
+                    # ribbon
                     if direction == "x":
                         junction_panel[(s, r)] = len(panels)
-                    panels.append((node(direction, r, s, last, 0), node(direction, r, s + 1, 0, 0),
-                                   node(direction, r, s + 1, 0, 1), node(direction, r, s, last, 1)))
+                    panels.append(
+                        (
+                            node(direction, r, s, last, 0),
+                            node(direction, r, s + 1, 0, 0),
+                            node(direction, r, s + 1, 0, 1),
+                            node(direction, r, s, last, 1),
+                        )
+                    )
                     kinds.append("junction")
     structure = n5b8_structure(np.asarray(coords), np.asarray(panels), g.ribbon_thickness)
     pc = structure.panel_centres
@@ -228,25 +259,42 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                 nd = lambda a, side: node(direction, r, s, a, side)  # noqa: E731
                 idx = []
                 for side in (0, 1):
-                    idx += list(structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))]))
+                    idx += list(
+                        structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))])
+                    )
                     strip_of_bar["bottom_strips"].append(sid)
-                pieces.append(StripPiece(
-                    (nd(0, 0), nd(0, 1)),
-                    tuple(node(direction, r, s - 1, last, k) if s > 0 else nd(1, k) for k in (0, 1)), -1,
-                    (nd(last, 0), nd(last, 1)),
-                    tuple(node(direction, r, s + 1, 0, k) if s + 1 < nseg else nd(last - 1, k)
-                          for k in (0, 1)), -1, "bottom_strips", (int(idx[0]), int(idx[1]))))
-                hinge_rows += strip_contact_rows(nd(0, 0), nd(0, 1), nd(1, 0), nd(1, 1),
-                                                 nd(last, 0), nd(last, 1))
-                hinge_rows += strip_contact_rows(nd(last, 0), nd(last, 1), nd(last - 1, 0),
-                                                 nd(last - 1, 1), nd(0, 0), nd(0, 1))
+                pieces.append(
+                    StripPiece(
+                        (nd(0, 0), nd(0, 1)),
+                        tuple(
+                            node(direction, r, s - 1, last, k) if s > 0 else nd(1, k)
+                            for k in (0, 1)
+                        ),
+                        -1,
+                        (nd(last, 0), nd(last, 1)),
+                        tuple(
+                            node(direction, r, s + 1, 0, k) if s + 1 < nseg else nd(last - 1, k)
+                            for k in (0, 1)
+                        ),
+                        -1,
+                        "bottom_strips",
+                        (int(idx[0]), int(idx[1])),
+                    )
+                )
+                hinge_rows += strip_contact_rows(
+                    nd(0, 0), nd(0, 1), nd(1, 0), nd(1, 1), nd(last, 0), nd(last, 1)
+                )
+                hinge_rows += strip_contact_rows(
+                    nd(last, 0), nd(last, 1), nd(last - 1, 0), nd(last - 1, 1), nd(0, 0), nd(0, 1)
+                )
                 if m.contact:
                     # Both triangles of the strip's (possibly warped) quad, so that the contact is
                     # the same for the ribbon traversed either way (keeps the grid's symmetries).
                     tris = [(nd(0, 0), nd(0, 1), nd(last, 0)), (nd(last, 1), nd(last, 0), nd(0, 1))]
                     pts = ribbon_points(direction, r, s, range(1, last), range(per_seg - 1))
-                    structure.add_contacts("bottom_strip_contact", [(p, *t) for p in pts for t in tris],
-                                           rest=0.0)
+                    structure.add_contacts(
+                        "bottom_strip_contact", [(p, *t) for p in pts for t in tris], rest=0.0
+                    )
 
     # Raised squares over the junctions, corners (x0,y0), (x1,y0), (x1,y1), (x0,y1).
     zc = g.top_strip_height
@@ -260,13 +308,27 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
             squares[ix, iy] = structure.add_nodes([(cx, cy, zc) for cx, cy in corners])
             q = squares[ix, iy]
             if m.top_junction == "glue":
-                structure.add_bars("glue", [(q[0], q[1]), (q[1], q[2]), (q[2], q[3]), (q[3], q[0]),
-                                            (q[0], q[2]), (q[1], q[3])])
+                structure.add_bars(
+                    "glue",
+                    [
+                        (q[0], q[1]),
+                        (q[1], q[2]),
+                        (q[2], q[3]),
+                        (q[3], q[0]),
+                        (q[0], q[2]),
+                        (q[1], q[3]),
+                    ],
+                )
             if m.contact:
                 jp = structure.panels[junction_panel[(ix, iy)]]
-                structure.add_contacts("top_square_contact", [(int(p), *t) for p in q for t in
-                                                              ((jp[0], jp[3], jp[1]),
-                                                               (jp[2], jp[1], jp[3]))])
+                structure.add_contacts(
+                    "top_square_contact",
+                    [
+                        (int(p), *t)
+                        for p in q
+                        for t in ((jp[0], jp[3], jp[1]), (jp[2], jp[1], jp[3]))
+                    ],
+                )
 
     # Top strips: crown edge of segment j -> square over junction j -> crown edge of segment j + 1.
     for direction in DIRECTIONS:
@@ -287,28 +349,59 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
                     bars += [(e0, x0), (e1, x1)]
                 idx = structure.add_bars("top_strips", bars)
                 strip_of_bar["top_strips"] += [sid] * len(bars)
-                pieces.append(StripPiece(
-                    (left[0], left[1]), tuple(node(direction, r, j, nf, k) for k in (0, 1)), 1,
-                    (int(e0), int(e1)), (int(x0), int(x1)), 0, "top_strips", (int(idx[0]), int(idx[1]))))
-                pieces.append(StripPiece(
-                    (int(x0), int(x1)), (int(e0), int(e1)), 0, (right[0], right[1]),
-                    tuple(node(direction, r, j + 1, nf + 1, k) for k in (0, 1)), 1, "top_strips",
-                    (int(idx[2]), int(idx[3]))))
-                hinge_rows += strip_contact_rows(left[0], left[1], node(direction, r, j, nf + 2, 0),
-                                                 node(direction, r, j, nf + 2, 1), e0, e1)
-                hinge_rows += strip_contact_rows(right[0], right[1],
-                                                 node(direction, r, j + 1, nf - 1, 0),
-                                                 node(direction, r, j + 1, nf - 1, 1), x0, x1)
+                pieces.append(
+                    StripPiece(
+                        (left[0], left[1]),
+                        tuple(node(direction, r, j, nf, k) for k in (0, 1)),
+                        1,
+                        (int(e0), int(e1)),
+                        (int(x0), int(x1)),
+                        0,
+                        "top_strips",
+                        (int(idx[0]), int(idx[1])),
+                    )
+                )
+                pieces.append(
+                    StripPiece(
+                        (int(x0), int(x1)),
+                        (int(e0), int(e1)),
+                        0,
+                        (right[0], right[1]),
+                        tuple(node(direction, r, j + 1, nf + 1, k) for k in (0, 1)),
+                        1,
+                        "top_strips",
+                        (int(idx[2]), int(idx[3])),
+                    )
+                )
+                hinge_rows += strip_contact_rows(
+                    left[0],
+                    left[1],
+                    node(direction, r, j, nf + 2, 0),
+                    node(direction, r, j, nf + 2, 1),
+                    e0,
+                    e1,
+                )
+                hinge_rows += strip_contact_rows(
+                    right[0],
+                    right[1],
+                    node(direction, r, j + 1, nf - 1, 0),
+                    node(direction, r, j + 1, nf - 1, 1),
+                    x0,
+                    x1,
+                )
                 if m.contact:
-                    pts = ribbon_points(direction, r, j, range(nf + 2, per_seg),
-                                        range(nf + 1, per_seg - 1))
+                    pts = ribbon_points(
+                        direction, r, j, range(nf + 2, per_seg), range(nf + 1, per_seg - 1)
+                    )
                     tris = [(left[0], e0, left[1]), (e1, left[1], e0)]
-                    structure.add_contacts("top_strip_contact", [(p, *t) for p in pts for t in tris],
-                                           rest=0.0)
+                    structure.add_contacts(
+                        "top_strip_contact", [(p, *t) for p in pts for t in tris], rest=0.0
+                    )
                     pts = ribbon_points(direction, r, j + 1, range(0, nf), range(0, nf))
                     tris = [(x0, right[0], x1), (right[1], x1, right[0])]
-                    structure.add_contacts("top_strip_contact", [(p, *t) for p in pts for t in tris],
-                                           rest=0.0)
+                    structure.add_contacts(
+                        "top_strip_contact", [(p, *t) for p in pts for t in tris], rest=0.0
+                    )
 
     if m.strip_contact:
         structure.add_hinges("strip_contact", np.asarray(hinge_rows, dtype=np.int64))
@@ -320,9 +413,16 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
         jcent[ix, iy] = pc[p]
     ends = {}
     for direction in DIRECTIONS:
-        ends[direction] = np.array([[[node(direction, r, 0, 0, side) for side in (0, 1)],
-                                     [node(direction, r, n, last, side) for side in (0, 1)]]
-                                    for r in range(n)], dtype=np.int64)
+        ends[direction] = np.array(
+            [
+                [
+                    [node(direction, r, 0, 0, side) for side in (0, 1)],
+                    [node(direction, r, n, last, side) for side in (0, 1)],
+                ]
+                for r in range(n)
+            ],
+            dtype=np.int64,
+        )
     sets = structure.node_sets
     sets["junction_corners"] = jc
     sets["junction_centres"] = jcent
@@ -333,7 +433,9 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     sets["centre_junction"] = jc[n // 2, n // 2]
     # As the composite beam's, with two contact rows per point (the two triangles of a strip quad).
     strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
-    apply_strip_element(structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N, squares.reshape(-1))
+    apply_strip_element(
+        structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N, squares.reshape(-1)
+    )
 
     groups: dict[str, list[int]] = {}
     for st in strips:
@@ -343,13 +445,23 @@ def build_gridshell_bar_hinge(geometry: CompositeBeamGeometry = CompositeBeamGeo
     wiring = add_wiring(layout, strips, groups)
     paper_segments = {st.id: (st.index, st.index + 1) for st in strips if st.layer == "top"}
     structure.info.update(
-        kind=layout.kind, angle=layout.angle, wiring=wiring, layout=layout,
-        ribbons=n, segments_per_ribbon=nseg, flank_panels=nf, top_junction=m.top_junction,
-        ribbon_length=length, junction_centres_1d=centres, panel_kind=np.asarray(kinds),
-        strips=strips, groups={k: np.asarray(v, dtype=np.int64) for k, v in groups.items()},
+        kind=layout.kind,
+        angle=layout.angle,
+        wiring=wiring,
+        layout=layout,
+        ribbons=n,
+        segments_per_ribbon=nseg,
+        flank_panels=nf,
+        top_junction=m.top_junction,
+        ribbon_length=length,
+        junction_centres_1d=centres,
+        panel_kind=np.asarray(kinds),
+        strips=strips,
+        groups={k: np.asarray(v, dtype=np.int64) for k, v in groups.items()},
         strip_of_bar={k: np.asarray(v, dtype=np.int64) for k, v in strip_of_bar.items()},
         top_strip_paper_segments=paper_segments,
-        source=PUBLISHED)
+        source=PUBLISHED,
+    )
     structure.validate()
     return structure
 
@@ -371,19 +483,25 @@ def add_wiring(layout: Layout, strips: list[Strip], groups: dict[str, list[int]]
             key = FAMILIES.get(key, key)
             if isinstance(key, int):
                 if not 0 <= key < len(strips):
-                    raise InputError(f"layout.wiring.{tag}: strip id {key} out of range 0..{len(strips) - 1}")
+                    raise InputError(
+                        f"layout.wiring.{tag}: strip id {key} out of range 0..{len(strips) - 1}"
+                    )
                 ids.append(key)
             elif key in ("T", "B"):
                 ids += [st.id for st in strips if st.layer == ("top" if key == "T" else "bottom")]
             elif key in groups:
                 ids += list(groups[key])
             else:
-                raise InputError(f"layout.wiring.{tag}: unknown selection {key!r} (allowed: T, B, "
-                                 f"{', '.join(sorted(groups))}, a strip id)")
+                raise InputError(
+                    f"layout.wiring.{tag}: unknown selection {key!r} (allowed: T, B, "
+                    f"{', '.join(sorted(groups))}, a strip id)"
+                )
         ids = sorted(set(ids))
         if tag in groups and sorted(groups[tag]) != ids:
-            raise InputError(f"layout.wiring: tag {tag!r} is a built-in group with other strips; "
-                             "choose another name")
+            raise InputError(
+                f"layout.wiring: tag {tag!r} is a built-in group with other strips; "
+                "choose another name"
+            )
         groups[tag] = ids
         tags.append(tag)
     return tuple(tags)
@@ -400,10 +518,11 @@ FAMILIES = {"XD": "Bx", "YD": "By", "XU": "Tx", "YU": "Ty"}
 STRIP_GROUPS = ("bottom_strips", "top_strips")
 
 
-def resolve_bar_values(structure: BarHingeStructure, assignments: dict, default: float,
-                       name: str = "strips") -> dict[str, np.ndarray]:
-    """Per-bar values by strip group ("bottom_strips", "top_strips") from ``{key: value}`` applied in
-    order (later keys override earlier ones; bars not named get ``default``). Keys:
+def resolve_bar_values(
+    structure: BarHingeStructure, assignments: dict, default: float, name: str = "strips"
+) -> dict[str, np.ndarray]:
+    """Per-bar values by strip group ("bottom_strips", "top_strips") from ``{key: value}`` applied
+    in order (later keys override earlier ones; bars not named get ``default``). Keys:
 
     * a channel "Tx", "Ty", "Bx", "By" (seed 001, Fig. 4A), or "T" / "B" (a whole layer);
     * a published family "XD", "YD", "XU", "YU" (= the channels) or group "XD1" .. "YU3";
@@ -416,7 +535,9 @@ def resolve_bar_values(structure: BarHingeStructure, assignments: dict, default:
     info = structure.info
     sob = info["strip_of_bar"]
     out = {g: np.full(sob[g].size, float(default)) for g in STRIP_GROUPS}
-    on_line_set: dict[str, np.ndarray] = {g: np.zeros(sob[g].size, dtype=bool) for g in STRIP_GROUPS}
+    on_line_set: dict[str, np.ndarray] = {
+        g: np.zeros(sob[g].size, dtype=bool) for g in STRIP_GROUPS
+    }
     for key, value in assignments.items():
         value = float(value)
         if isinstance(key, str) and ":" in key:
@@ -429,8 +550,10 @@ def resolve_bar_values(structure: BarHingeStructure, assignments: dict, default:
             except ValueError:
                 ok = False
             if not ok:
-                raise InputError(f"{name}: bad selection {key!r} (form 'XD:x<70.5': family XD, YD, "
-                                 f"XU or YU, axis x or y, < or >, a coordinate in mm)")
+                raise InputError(
+                    f"{name}: bad selection {key!r} (form 'XD:x<70.5': family XD, YD, "
+                    f"XU or YU, axis x or y, < or >, a coordinate in mm)"
+                )
             ids = set(select_strips(structure, FAMILIES[family], name).tolist())
             k = 0 if parts[0] == "x" else 1
             for g in STRIP_GROUPS:

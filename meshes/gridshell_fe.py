@@ -1,23 +1,23 @@
 """The robotic surface of seed 001 (Fig. 4) as a 3D continuum: a hexahedral (Q2-ready) mesh of the
 n x n gridshell of Kapton ribbons with bottom and top LCE strips, with the dimensions of the FE
-composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`, :class:`CompositeBeamGeometry`)
-and the layout and connectivity of the published reduced-order model
+composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`,
+:class:`CompositeBeamGeometry`) and the layout and connectivity of the published reduced-order model
 (shared/reference/gridshell_recipes.md, published_reduced_model.md).
 
 Made by gmsh (``GridshellFEMesh.mesher = "gmsh"``, the default since issue 47;
 :mod:`lcefem.meshes.gridshell_fe_gmsh`: one transfinite, recombined block of gmsh's built-in kernel
 per piece and layer of the plan below) or built directly as a tensor-product hex grid
-(``"hexgrid"``, :mod:`lcefem.meshes._hexgrid`). Both give the same vertices, cells and tags: unbonded
-strip faces keep their own nodes, and strips and ribbons share (x, y) stations for the node-pair
-contact.
+(``"hexgrid"``, :mod:`lcefem.meshes._hexgrid`). Both give the same vertices, cells and tags:
+unbonded strip faces keep their own nodes, and strips and ribbons share (x, y) stations for the
+node-pair contact.
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid's mid-surface. n ribbons
 run along x and n along y; each has n + 1 segments of length L joined by n junction squares d x d
 (d = ribbon width = junction length), plus a flat end tab (``GridshellFEMesh.end_tab``, as the FE
 beam) under which the end bottom strips are bonded. Ribbon r (0-based) occupies the band
 [c_r - d/2, c_r + d/2], c_r = L + d/2 + r (L + d): for n = 3, L = 30, d = 7 the bands [30, 37],
-[67, 74], [104, 111], ribbons 141 mm (plus the tabs), centre c = 70.5. Every segment carries the arch
-z = gap sin^2(pi s/L) of the ribbon along it; junctions and tabs are flat.
+[67, 74], [104, 111], ribbons 141 mm (plus the tabs), centre c = 70.5. Every segment carries the
+arch z = gap sin^2(pi s/L) of the ribbon along it; junctions and tabs are flat.
 
 Bodies (as the FE beam, per ribbon; the strips have the as-built section
 W_s x H = (w_a x t_a)/sqrt(lambda_N), centred on their ribbon):
@@ -27,15 +27,15 @@ W_s x H = (w_a x t_a)/sqrt(lambda_N), centred on their ribbon):
   junction edge (or tab to junction), free on top (contact); "bottom_pads" bonded under the tabs and
   under each junction, where they form a cross (the x and y strips' pads meet under the junction).
 * top layer: "top_pads" bonded on each segment's crown (central ``crown_bond_length``, following the
-  arch); top strips flat at the crown-edge height z_c = 0.982 mm from a crown edge over a junction to
-  the next crown edge (11.5 + 7 + 11.5 = 30 mm, the published span), free underneath (contact).
+  arch); top strips flat at the crown-edge height z_c = 0.982 mm from a crown edge over a junction
+  to the next crown edge (11.5 + 7 + 11.5 = 30 mm, the published span), free underneath (contact).
 
 **Where the x and y top strips cross** (over every junction) they cannot share volume: the
 W_s x W_s square where their bands overlap is a "glue" block at the strips' height (z_c), bonded to
 both strips and not to the junction below (the published model's raised square, 0.982 mm above the
-junction, not attached to the ribbon). Each top strip is LCE up to that square: 2 (L - s_c) + d - W_s
-= 25.8 mm of its 30 mm at lambda_N = 1.4 (the published model: 23 mm LCE + 7 mm glue; the FE beam:
-30 mm LCE). The corners of the d x d junction outside both strip bands carry no top material.
+junction, not attached to the ribbon). Each top strip is LCE up to that square: 2 (L - s_c) + d -
+W_s = 25.8 mm of its 30 mm at lambda_N = 1.4 (the published model: 23 mm LCE + 7 mm glue; the FE
+beam: 30 mm LCE). The corners of the d x d junction outside both strip bands carry no top material.
 
 **Tags by name.** One cell tag per LCE piece that can be driven on its own (0-based r, s, j):
 
@@ -51,8 +51,8 @@ junction, not attached to the ribbon). Each top strip is LCE up to that square: 
 union; :func:`cell_group`): materials "kapton", "glue", "bottom_pads", "top_pads", "bottom_strips",
 "top_strips"; the paper's channels (Fig. 4A) "Bx" = all ``bottom_x_*``, "By" = ``bottom_y_*``,
 "Tx" = ``top_x_*``, "Ty" = ``top_y_*``; the published groups "XD{r+1}" = ``bottom_x_r{r}_*``,
-"YD{r+1}" = ``bottom_y_r{r}_*``, "XU{r+1}" = ``top_x_r{r}_*``, "YU{r+1}" = ``top_y_r{r}_*`` (ribbon 1
-at the lowest y for x ribbons, lowest x for y ribbons); whole top strips ``top_{d}_r{r}_j{j}``
+"YD{r+1}" = ``bottom_y_r{r}_*``, "XU{r+1}" = ``top_x_r{r}_*``, "YU{r+1}" = ``top_y_r{r}_*`` (ribbon
+1 at the lowest y for x ribbons, lowest x for y ribbons); whole top strips ``top_{d}_r{r}_j{j}``
 (both halves: the published model's 2 n^2 = 18 top strips); the paper's top segments
 ``top_{d}_r{r}_s{s}`` = the halves lying over segment s (``j{s-1}_hi`` and ``j{s}_lo``): the paper
 counts one top segment per ribbon segment (24 top, 48 LCE segments for n = 3); the outer halves of
@@ -100,26 +100,48 @@ from dataclasses import dataclass
 import numpy as np
 
 from lcefem.meshes._hexgrid import divisions, exterior_faces, tagged_hex_mesh
+from lcefem.meshes.communicator import resolve_comm
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.composite_beam_fe import BeamFEMesh, beam_pieces
-from lcefem.meshes.communicator import resolve_comm
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
 DIRECTIONS = ("x", "y")
 #: symmetry -> (mirror plane x = c, mirror plane y = c)
-SYMMETRIES = {"quarter": (True, True), "half_x": (True, False), "half_y": (False, True),
-              "full": (False, False)}
+SYMMETRIES = {
+    "quarter": (True, True),
+    "half_x": (True, False),
+    "half_y": (False, True),
+    "full": (False, False),
+}
 #: The smallest valid model of each published recipe (module docstring).
-RECIPE_SYMMETRY = {"saddle": "quarter", "dome": "quarter", "cylinder": "quarter", "table": "quarter",
-                   "cone": "half_x", "twisted": "half_x", "wave": "half_y", "dustpan": "half_y"}
+RECIPE_SYMMETRY = {
+    "saddle": "quarter",
+    "dome": "quarter",
+    "cylinder": "quarter",
+    "table": "quarter",
+    "cone": "half_x",
+    "twisted": "half_x",
+    "wave": "half_y",
+    "dustpan": "half_y",
+}
 #: The paper's four control channels (seed 001, Fig. 4A): (layer, direction).
 CHANNELS = {"Tx": ("top", "x"), "Ty": ("top", "y"), "Bx": ("bottom", "x"), "By": ("bottom", "y")}
 #: Passive bodies, one cell tag each.
 MATERIAL_CELLS = ("kapton", "glue", "bottom_pads", "top_pads")
 #: Facet tags (by name).
-FE_FACETS = ("ribbon_top", "ribbon_bottom", "top_strip_underside", "bottom_strip_topside",
-             "ribbon_ends_x", "ribbon_ends_y", "centre_junction", "sym_x", "sym_y", "surface")
+FE_FACETS = (
+    "ribbon_top",
+    "ribbon_bottom",
+    "top_strip_underside",
+    "bottom_strip_topside",
+    "ribbon_ends_x",
+    "ribbon_ends_y",
+    "centre_junction",
+    "sym_x",
+    "sym_y",
+    "surface",
+)
 
 #: The two builders of the same mesh (GridshellFEMesh.mesher).
 MESHERS = ("gmsh", "hexgrid")
@@ -134,25 +156,58 @@ class GridshellFEMesh:
     here). Level l multiplies every piece's level-0 in-plane element count (``ceil(length/size)``)
     by l + 1 (nested levels); the through-thickness counts are fixed, as in the beam."""
 
-    size: float = param(_BEAM.size, "mm", "as the FE composite beam (BeamFEMesh.size): level-0 "
-                        "in-plane element size", positive=True)
-    level: int = param(_BEAM.level, "-", "as the FE beam (BeamFEMesh.level): refinement level, "
-                       "in-plane element size = size / (level + 1); the 3 x 3 quarter has ~5x the "
-                       "beam quarter's DOFs at the same level (97k Q2 DOFs at level 1)",
-                       minimum=0, maximum=8)
-    ribbon_layers: int = param(_BEAM.ribbon_layers, "-", "as the FE beam (BeamFEMesh.ribbon_layers): "
-                               "Q2 elements through the ribbon", minimum=1, maximum=8)
-    strip_layers: int = param(_BEAM.strip_layers, "-", "as the FE beam (BeamFEMesh.strip_layers): Q2 "
-                              "elements through each LCE strip", minimum=1, maximum=8)
-    end_tab: float = param(_BEAM.end_tab, "mm", "as the FE beam (BeamFEMesh.end_tab): flat ribbon "
-                           "tab at each ribbon end, under which the end bottom strips are bonded",
-                           positive=True)
-    mesher: str = param("gmsh", "-", "'gmsh' (meshes.gridshell_fe_gmsh: blocks of gmsh's built-in "
-                        "kernel, transfinite and recombined) or 'hexgrid' (the structured grid built "
-                        "directly, before issue 47); both give the same vertices, cells and tags")
-    shear_angle: float = param(90.0, "deg", "angle between the two ribbon families (gmsh mesher; 90: "
-                               "seed 001's orthogonal grid; another angle: the rhombic layout, "
-                               "meshes.gridshell_layout, a full model only)", minimum=30.0, maximum=150.0)
+    size: float = param(
+        _BEAM.size,
+        "mm",
+        "as the FE composite beam (BeamFEMesh.size): level-0 in-plane element size",
+        positive=True,
+    )
+    level: int = param(
+        _BEAM.level,
+        "-",
+        "as the FE beam (BeamFEMesh.level): refinement level, "
+        "in-plane element size = size / (level + 1); the 3 x 3 quarter has ~5x the "
+        "beam quarter's DOFs at the same level (97k Q2 DOFs at level 1)",
+        minimum=0,
+        maximum=8,
+    )
+    ribbon_layers: int = param(
+        _BEAM.ribbon_layers,
+        "-",
+        "as the FE beam (BeamFEMesh.ribbon_layers): Q2 elements through the ribbon",
+        minimum=1,
+        maximum=8,
+    )
+    strip_layers: int = param(
+        _BEAM.strip_layers,
+        "-",
+        "as the FE beam (BeamFEMesh.strip_layers): Q2 elements through each LCE strip",
+        minimum=1,
+        maximum=8,
+    )
+    end_tab: float = param(
+        _BEAM.end_tab,
+        "mm",
+        "as the FE beam (BeamFEMesh.end_tab): flat ribbon "
+        "tab at each ribbon end, under which the end bottom strips are bonded",
+        positive=True,
+    )
+    mesher: str = param(
+        "gmsh",
+        "-",
+        "'gmsh' (meshes.gridshell_fe_gmsh: blocks of gmsh's built-in "
+        "kernel, transfinite and recombined) or 'hexgrid' (the structured grid built "
+        "directly, before issue 47); both give the same vertices, cells and tags",
+    )
+    shear_angle: float = param(
+        90.0,
+        "deg",
+        "angle between the two ribbon families (gmsh mesher; 90: "
+        "seed 001's orthogonal grid; another angle: the rhombic layout, "
+        "meshes.gridshell_layout, a full model only)",
+        minimum=30.0,
+        maximum=150.0,
+    )
 
     def element_size(self) -> float:
         """In-plane element size [mm] at this level."""
@@ -163,7 +218,9 @@ class GridshellFEMesh:
         if self.mesher not in MESHERS:
             raise InputError(f"mesh.mesher = {self.mesher!r}: allowed {', '.join(MESHERS)}")
         if self.shear_angle != 90.0 and self.mesher != "gmsh":
-            raise InputError(f"mesh.shear_angle = {self.shear_angle}: only with mesh.mesher = 'gmsh'")
+            raise InputError(
+                f"mesh.shear_angle = {self.shear_angle}: only with mesh.mesher = 'gmsh'"
+            )
         for name in ("level", "ribbon_layers", "strip_layers"):
             if not isinstance(getattr(self, name), int):
                 raise InputError(f"mesh.{name} = {getattr(self, name)!r}: must be an integer")
@@ -197,9 +254,16 @@ def strip_catalogue(geometry: CompositeBeamGeometry, cells: int, strip_width: fl
         for r in range(n):
             for s in range(n + 1):
                 out[bottom_strip_name(d, r, s)] = dict(
-                    layer="bottom", direction=d, ribbon=r, index=s, side="", paper_segment=s,
-                    group=f"{d.upper()}D{r + 1}", channel=f"B{d}",
-                    midpoint=xy(d, g.segment_start(s) + 0.5 * g.segment_length, centres[r]))
+                    layer="bottom",
+                    direction=d,
+                    ribbon=r,
+                    index=s,
+                    side="",
+                    paper_segment=s,
+                    group=f"{d.upper()}D{r + 1}",
+                    channel=f"B{d}",
+                    midpoint=xy(d, g.segment_start(s) + 0.5 * g.segment_length, centres[r]),
+                )
     for d in DIRECTIONS:
         for r in range(n):
             for j in range(n):
@@ -207,9 +271,16 @@ def strip_catalogue(geometry: CompositeBeamGeometry, cells: int, strip_width: fl
                 hi = 0.5 * (centres[j] + 0.5 * strip_width + g.segment_start(j + 1) + s_lo)
                 for side, along, seg in (("lo", lo, j), ("hi", hi, j + 1)):
                     out[top_strip_name(d, r, j, side)] = dict(
-                        layer="top", direction=d, ribbon=r, index=j, side=side, paper_segment=seg,
-                        group=f"{d.upper()}U{r + 1}", channel=f"T{d}",
-                        midpoint=xy(d, along, centres[r]))
+                        layer="top",
+                        direction=d,
+                        ribbon=r,
+                        index=j,
+                        side=side,
+                        paper_segment=seg,
+                        group=f"{d.upper()}U{r + 1}",
+                        channel=f"T{d}",
+                        midpoint=xy(d, along, centres[r]),
+                    )
     return out
 
 
@@ -240,11 +311,15 @@ def axis_pieces(g: CompositeBeamGeometry, n: int, tab: float, ws: float, cut: bo
     for t0, t1, kind, idx in beam_pieces(beam, tab):
         if kind == "junction":
             c = 0.5 * (t0 + t1)
-            out += [(t0, c - 0.5 * ws, kind, idx, (idx, "lo"), False),
-                    (c - 0.5 * ws, c + 0.5 * ws, kind, idx, None, True),
-                    (c + 0.5 * ws, t1, kind, idx, (idx, "hi"), False)]
+            out += [
+                (t0, c - 0.5 * ws, kind, idx, (idx, "lo"), False),
+                (c - 0.5 * ws, c + 0.5 * ws, kind, idx, None, True),
+                (c + 0.5 * ws, t1, kind, idx, (idx, "hi"), False),
+            ]
         elif kind == "flank":
-            first = t0 <= g.segment_start(idx) + 1e-9  # before the crown: the strip over junction s-1
+            first = (
+                t0 <= g.segment_start(idx) + 1e-9
+            )  # before the crown: the strip over junction s-1
             j, side = (idx - 1, "hi") if first else (idx, "lo")
             out.append((t0, t1, kind, idx, (j, side) if 0 <= j < n else None, False))
         else:
@@ -307,12 +382,20 @@ def plan_regions(px: tuple, py: tuple, n: int) -> tuple[bool, str | None, str | 
 
 
 # --------------------------------------------------------------------------- builder
-def checked_inputs(geometry: CompositeBeamGeometry, lambda_N: float, mesh: "GridshellFEMesh",
-                    cells: int, symmetry: str) -> tuple:
-    """The builders' checked inputs: (geometry, n, mesh, t_p, W, W_s, H) [mm]; one-line InputError."""
+def checked_inputs(
+    geometry: CompositeBeamGeometry,
+    lambda_N: float,
+    mesh: "GridshellFEMesh",
+    cells: int,
+    symmetry: str,
+) -> tuple:
+    """The builders' checked inputs: (geometry, n, mesh, t_p, W, W_s, H) [mm]; one-line
+    InputError."""
     g = geometry
     if not isinstance(cells, int) or isinstance(cells, bool) or not 1 <= cells <= 39:
-        raise InputError(f"cells = {cells!r}: must be an integer from 1 to 39 (ribbons per direction)")
+        raise InputError(
+            f"cells = {cells!r}: must be an integer from 1 to 39 (ribbons per direction)"
+        )
     if symmetry not in SYMMETRIES:
         raise InputError(f"symmetry = {symmetry!r}: allowed {', '.join(SYMMETRIES)}")
     n = cells
@@ -321,19 +404,28 @@ def checked_inputs(geometry: CompositeBeamGeometry, lambda_N: float, mesh: "Grid
     if not (isinstance(lambda_N, (int, float)) and lambda_N >= 1.0):
         raise InputError(f"lambda_N = {lambda_N}: must be >= 1")
     if abs(g.junction_length - g.ribbon_width) > 1e-12:
-        raise InputError(f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
-                         f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)")
+        raise InputError(
+            f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
+            f"{g.ribbon_width} mm in a gridshell (the junctions are where ribbons cross)"
+        )
     tp, W = g.ribbon_thickness, g.ribbon_width
     ws, H = g.strip_width / math.sqrt(lambda_N), g.strip_thickness / math.sqrt(lambda_N)
     if not ws < W:
-        raise InputError(f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
-                         f"narrower than the ribbon ({W} mm)")
+        raise InputError(
+            f"geometry.strip_width = {g.strip_width} mm: the as-built strip must be "
+            f"narrower than the ribbon ({W} mm)"
+        )
     return g, n, m, tp, W, ws, H
 
 
-def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
-                       mesh: GridshellFEMesh = GridshellFEMesh(), comm=None, cells: int = 3,
-                       symmetry: str = "quarter"):
+def build_gridshell_fe(
+    geometry: CompositeBeamGeometry,
+    lambda_N: float,
+    mesh: GridshellFEMesh = GridshellFEMesh(),
+    comm=None,
+    cells: int = 3,
+    symmetry: str = "quarter",
+):
     """Hexahedral mesh of the as-built (nematic) n x n gridshell (see the module docstring).
 
     Args:
@@ -357,6 +449,7 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     g, n, m, tp, W, ws, H = checked_inputs(geometry, lambda_N, mesh, cells, symmetry)
     if m.mesher == "gmsh":
         from lcefem.meshes.gridshell_fe_gmsh import build_gridshell_fe_gmsh
+
         return build_gridshell_fe_gmsh(geometry, lambda_N, mesh, comm, cells, symmetry)
     cut_x, cut_y = SYMMETRIES[symmetry]
     mult = m.level + 1
@@ -381,9 +474,9 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
                 continue
             plan.append((i, j, bottom, top))
             if bottom == "bottom_pads":
-                bonded_bottom[i:i + 2, j:j + 2] = True
+                bonded_bottom[i : i + 2, j : j + 2] = True
             if top == "top_pads":
-                bonded_top[i:i + 2, j:j + 2] = True
+                bonded_top[i : i + 2, j : j + 2] = True
 
     nb, nr, nt = m.strip_layers, m.ribbon_layers, m.strip_layers
     k_rb, k_rt = nb, nb + nr  # node layers of the ribbon's bottom and top faces
@@ -392,8 +485,9 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
 
     def node(i: int, j: int, k: int, body: str) -> int:
         # bonded faces share the ribbon's nodes; unbonded ones keep their own (contact only)
-        if (body == "b" and k == k_rb and bonded_bottom[i, j]) or \
-                (body == "t" and k == k_rt and bonded_top[i, j]):
+        if (body == "b" and k == k_rb and bonded_bottom[i, j]) or (
+            body == "t" and k == k_rt and bonded_top[i, j]
+        ):
             body = "r"
         key = (i, j, k, body)
         found = ids.get(key)
@@ -413,8 +507,9 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     cell_nodes, cell_values, cell_body = [], [], []
 
     def add_cell(i: int, j: int, k: int, body: str, name: str) -> None:
-        cell_nodes.append([node(i + a, j + b, k + c, body) for c in (0, 1) for b in (0, 1)
-                           for a in (0, 1)])
+        cell_nodes.append(
+            [node(i + a, j + b, k + c, body) for c in (0, 1) for b in (0, 1) for a in (0, 1)]
+        )
         cell_values.append(tag[name])
         cell_body.append(body)
 
@@ -432,9 +527,18 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     cell_body = np.asarray(cell_body)
 
     faces, sides, owner = exterior_faces(cell_nodes)
-    facet_values = facet_names_of(x[faces], sides, cell_body[owner], cut_x, cut_y, centre,
-                                (-m.end_tab, length + m.end_tab), 0.5 * g.junction_length,
-                                n % 2 == 1, 1e-9 * length)
+    facet_values = facet_names_of(
+        x[faces],
+        sides,
+        cell_body[owner],
+        cut_x,
+        cut_y,
+        centre,
+        (-m.end_tab, length + m.end_tab),
+        0.5 * g.junction_length,
+        n % 2 == 1,
+        1e-9 * length,
+    )
     ftag = {name: k for k, name in enumerate(FE_FACETS, start=1)}
     facet_values = np.asarray([ftag[v] for v in facet_values], dtype=np.int32)
 
@@ -442,37 +546,81 @@ def build_gridshell_fe(geometry: CompositeBeamGeometry, lambda_N: float,
     tag_of = {v: k for k, v in tag.items()}
     present_names = [tag_of[v] for v in present]
     strips = {k: v for k, v in catalogue.items() if k in tag and tag[k] in present}
-    info = mesh_info(g, n, m, symmetry, float(lambda_N), ws, H, strips,
-                 cell_groups_of(present_names, tag, strips))
+    info = mesh_info(
+        g,
+        n,
+        m,
+        symmetry,
+        float(lambda_N),
+        ws,
+        H,
+        strips,
+        cell_groups_of(present_names, tag, strips),
+    )
     info["mesher"] = "hexgrid"
     info.update(cells=int(cell_nodes.shape[0]), nodes=int(x.shape[0]))
-    return tagged_hex_mesh(comm, cell_nodes, x, np.asarray(cell_values, np.int32), faces,
-                           facet_values, tag, ftag, info)
+    return tagged_hex_mesh(
+        comm, cell_nodes, x, np.asarray(cell_values, np.int32), faces, facet_values, tag, ftag, info
+    )
 
 
-def mesh_info(g: CompositeBeamGeometry, n: int, m: "GridshellFEMesh", symmetry: str, lambda_N: float,
-          ws: float, H: float, strips: dict, cell_groups: dict) -> dict:
+def mesh_info(
+    g: CompositeBeamGeometry,
+    n: int,
+    m: "GridshellFEMesh",
+    symmetry: str,
+    lambda_N: float,
+    ws: float,
+    H: float,
+    strips: dict,
+    cell_groups: dict,
+) -> dict:
     """The builders' ``info`` (lengths [mm]; :func:`build_gridshell_fe`)."""
     tp, W = g.ribbon_thickness, g.ribbon_width
     length = (n + 1) * g.segment_length + n * g.junction_length
     centre = 0.5 * length
     return {
-        "cells_per_direction": n, "ribbon_length": length, "centre": centre,
-        "symmetry": symmetry, "symmetry_factor": {"quarter": 4, "half_x": 2, "half_y": 2,
-                                                  "full": 1}[symmetry],
-        "ribbon_thickness": tp, "ribbon_width": W, "strip_width": ws, "strip_thickness": H,
-        "top_strip_height": g.top_strip_height, "lambda_N": float(lambda_N),
-        "element_size": m.element_size(), "level": m.level, "end_tab": m.end_tab,
+        "cells_per_direction": n,
+        "ribbon_length": length,
+        "centre": centre,
+        "symmetry": symmetry,
+        "symmetry_factor": {"quarter": 4, "half_x": 2, "half_y": 2, "full": 1}[symmetry],
+        "ribbon_thickness": tp,
+        "ribbon_width": W,
+        "strip_width": ws,
+        "strip_thickness": H,
+        "top_strip_height": g.top_strip_height,
+        "lambda_N": float(lambda_N),
+        "element_size": m.element_size(),
+        "level": m.level,
+        "end_tab": m.end_tab,
         "junction_centres": tuple(float(c) for c in junction_centres(g, n)),
-        "centre_junction_corners": (tuple((centre + a, centre + b, 0.0) for a in (-0.5 * W, 0.5 * W)
-                                          for b in (-0.5 * W, 0.5 * W)) if n % 2 == 1 else ()),
-        "strips": strips, "cell_groups": cell_groups,
+        "centre_junction_corners": (
+            tuple(
+                (centre + a, centre + b, 0.0)
+                for a in (-0.5 * W, 0.5 * W)
+                for b in (-0.5 * W, 0.5 * W)
+            )
+            if n % 2 == 1
+            else ()
+        ),
+        "strips": strips,
+        "cell_groups": cell_groups,
     }
 
 
-def facet_names_of(pts: np.ndarray, sides: np.ndarray, body: np.ndarray, cut_x: bool, cut_y: bool,
-                 centre: float, ends: tuple[float, float], half_junction: float, odd: bool,
-                 tol: float) -> np.ndarray:
+def facet_names_of(
+    pts: np.ndarray,
+    sides: np.ndarray,
+    body: np.ndarray,
+    cut_x: bool,
+    cut_y: bool,
+    centre: float,
+    ends: tuple[float, float],
+    half_junction: float,
+    odd: bool,
+    tol: float,
+) -> np.ndarray:
     """Name of each exterior face (points (m, 4, 3) [mm]); the first matching rule wins."""
     on = lambda axis, value: np.all(np.abs(pts[:, :, axis] - value) < tol, axis=1)  # noqa: E731
     r, t, b = body == "r", body == "t", body == "b"

@@ -1,9 +1,9 @@
 """The FE gridshell's hexahedral mesh made by gmsh (the project's mesher) from the same plan as the
-structured builder (:mod:`lcefem.meshes.gridshell_fe`): every in-plane piece of the plan (tab, flank,
-crown, junction part; :func:`~lcefem.meshes.gridshell_fe.axis_pieces`) times every layer (bottom
-strip, ribbon, top strip) is one block of gmsh's built-in kernel, meshed transfinite and recombined
-into hexahedra with the plan's element counts (``divisions``), so the cells are the hex8 cells of the
-structured builder (Q2 fields on top, as there).
+structured builder (:mod:`lcefem.meshes.gridshell_fe`): every in-plane piece of the plan (tab,
+flank, crown, junction part; :func:`~lcefem.meshes.gridshell_fe.axis_pieces`) times every layer
+(bottom strip, ribbon, top strip) is one block of gmsh's built-in kernel, meshed transfinite and
+recombined into hexahedra with the plan's element counts (``divisions``), so the cells are the hex8
+cells of the structured builder (Q2 fields on top, as there).
 
 Why gmsh's built-in kernel with hand-made topology, not OCC boxes and ``fragment``: fragment merges
 every pair of coincident faces, whereas a strip's unbonded face must keep its own nodes (only the
@@ -19,9 +19,9 @@ crown-edge height z_c; the bottom layer stays flat. In-plane, each node is put o
 it lies on (gmsh places it there to round-off, ~1e-14 mm), so the mesh has exactly the structured
 builder's vertices, cells and tags (tests/meshes/test_gridshell_fe_gmsh.py) and the same results.
 
-:func:`build_gridshell_fe_gmsh` has :func:`~lcefem.meshes.gridshell_fe.build_gridshell_fe`'s arguments
-and returns the same :class:`~lcefem.meshes._gmsh.TaggedMesh`; ``shear_angle`` maps the mesh onto a
-rhombic layout (:mod:`lcefem.meshes.gridshell_layout`): (x, y) -> x e1 + y e2.
+:func:`build_gridshell_fe_gmsh` has :func:`~lcefem.meshes.gridshell_fe.build_gridshell_fe`'s
+arguments and returns the same :class:`~lcefem.meshes._gmsh.TaggedMesh`; ``shear_angle`` maps the
+mesh onto a rhombic layout (:mod:`lcefem.meshes.gridshell_layout`): (x, y) -> x e1 + y e2.
 """
 
 from __future__ import annotations
@@ -33,12 +33,24 @@ import numpy as np
 from lcefem.meshes._hexgrid import divisions
 from lcefem.meshes.communicator import resolve_comm
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
-from lcefem.meshes.gridshell_fe import (FE_FACETS, MATERIAL_CELLS, SYMMETRIES, GridshellFEMesh,
-                                        arch_at, axis_pieces, axis_stations, cell_groups_of,
-                                        checked_inputs, facet_names_of, mesh_info, plan_regions,
-                                        strip_catalogue)
+from lcefem.meshes.gridshell_fe import (
+    FE_FACETS,
+    MATERIAL_CELLS,
+    SYMMETRIES,
+    GridshellFEMesh,
+    arch_at,
+    axis_pieces,
+    axis_stations,
+    cell_groups_of,
+    checked_inputs,
+    facet_names_of,
+    mesh_info,
+    plan_regions,
+    strip_catalogue,
+)
 
-#: Layer index of each body: bottom strips (0), ribbon (1), top strips (2); z levels 0..3 bound them.
+#: Layer index of each body: bottom strips (0), ribbon (1), top strips (2); z levels 0..3 bound
+#: them.
 _LAYER = {"b": 0, "r": 1, "t": 2}
 
 
@@ -55,9 +67,15 @@ def _bonded(blocks: set, kind: str, i: int, j: int) -> bool:
     return (i, j) in blocks
 
 
-def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
-                            mesh: GridshellFEMesh = GridshellFEMesh(), comm=None, cells: int = 3,
-                            symmetry: str = "quarter", shear_angle: float | None = None):
+def build_gridshell_fe_gmsh(
+    geometry: CompositeBeamGeometry,
+    lambda_N: float,
+    mesh: GridshellFEMesh = GridshellFEMesh(),
+    comm=None,
+    cells: int = 3,
+    symmetry: str = "quarter",
+    shear_angle: float | None = None,
+):
     """Hexahedral mesh of the as-built n x n gridshell made by gmsh (module docstring); arguments,
     tags and ``info`` as :func:`lcefem.meshes.gridshell_fe.build_gridshell_fe`.
 
@@ -77,8 +95,10 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
     if not (isinstance(shear_angle, (int, float)) and 30.0 <= shear_angle <= 150.0):
         raise InputError(f"shear_angle = {shear_angle!r}: must be from 30 to 150 deg")
     if shear_angle != 90.0 and symmetry != "full":
-        raise InputError(f"symmetry = {symmetry!r}: a rhombic grid ({shear_angle} deg) has no mirror "
-                         "plane x = c or y = c; allowed 'full'")
+        raise InputError(
+            f"symmetry = {symmetry!r}: a rhombic grid ({shear_angle} deg) has no mirror "
+            "plane x = c or y = c; allowed 'full'"
+        )
     cut_x, cut_y = SYMMETRIES[symmetry]
     mult = m.level + 1
     length = (n + 1) * g.segment_length + n * g.junction_length
@@ -114,8 +134,17 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
     ftag = {name: k for k, name in enumerate(FE_FACETS, start=1)}
     strips = {k: v for k, v in catalogue.items() if k in {b[3] for b in blocks}}
     present_names = sorted({b[3] for b in blocks}, key=tag.get)
-    info = mesh_info(g, n, m, symmetry, float(lambda_N), ws, H, strips,
-                 cell_groups_of(present_names, tag, strips))
+    info = mesh_info(
+        g,
+        n,
+        m,
+        symmetry,
+        float(lambda_N),
+        ws,
+        H,
+        strips,
+        cell_groups_of(present_names, tag, strips),
+    )
     info["mesher"] = "gmsh"
     if shear_angle != 90.0:
         a = math.radians(shear_angle)
@@ -129,7 +158,8 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
             curve_ends, curve_count = {}, {}
 
             def owner(body: str, k: int, kind: str, i: int, j: int) -> str:
-                # an interface entity on a bonded block is the ribbon's (shared); else the body's own
+                # an interface entity on a bonded block is the ribbon's (shared); else the body's
+                # own
                 if body == "b" and k == 1 and _bonded(bonded["b"], kind, i, j):
                     return "r"
                 if body == "t" and k == 2 and _bonded(bonded["t"], kind, i, j):
@@ -162,39 +192,70 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
             def surface(key, loop_points, loop_curves):
                 if key not in surfaces:
                     signed = []
-                    for c, (p, q) in zip(loop_curves, zip(loop_points, loop_points[1:] + loop_points[:1])):
+                    for c, (p, q) in zip(
+                        loop_curves, zip(loop_points, loop_points[1:] + loop_points[:1])
+                    ):
                         signed.append(c if curve_ends[c] == (p, q) else -c)
                     surfaces[key] = geo.addPlaneSurface([geo.addCurveLoop(signed)])
                 return surfaces[key]
 
             def h_face(i, j, k, body):
                 key = ("h", i, j, k, owner(body, k, "f", i, j))
-                ps = [point(i, j, k, body), point(i + 1, j, k, body), point(i + 1, j + 1, k, body),
-                      point(i, j + 1, k, body)]
-                cs = [curve("ex", i, j, k, body), curve("ey", i + 1, j, k, body),
-                      curve("ex", i, j + 1, k, body), curve("ey", i, j, k, body)]
+                ps = [
+                    point(i, j, k, body),
+                    point(i + 1, j, k, body),
+                    point(i + 1, j + 1, k, body),
+                    point(i, j + 1, k, body),
+                ]
+                cs = [
+                    curve("ex", i, j, k, body),
+                    curve("ey", i + 1, j, k, body),
+                    curve("ex", i, j + 1, k, body),
+                    curve("ey", i, j, k, body),
+                ]
                 return surface(key, ps, cs)
 
             def x_face(i, j, k, body):  # the plane x = X_i, y in block j, z in layer k..k+1
-                ps = [point(i, j, k, body), point(i, j + 1, k, body), point(i, j + 1, k + 1, body),
-                      point(i, j, k + 1, body)]
-                cs = [curve("ey", i, j, k, body), curve("ez", i, j + 1, k, body),
-                      curve("ey", i, j, k + 1, body), curve("ez", i, j, k, body)]
+                ps = [
+                    point(i, j, k, body),
+                    point(i, j + 1, k, body),
+                    point(i, j + 1, k + 1, body),
+                    point(i, j, k + 1, body),
+                ]
+                cs = [
+                    curve("ey", i, j, k, body),
+                    curve("ez", i, j + 1, k, body),
+                    curve("ey", i, j, k + 1, body),
+                    curve("ez", i, j, k, body),
+                ]
                 return surface(("vx", i, j, k, body), ps, cs)
 
             def y_face(i, j, k, body):
-                ps = [point(i, j, k, body), point(i + 1, j, k, body), point(i + 1, j, k + 1, body),
-                      point(i, j, k + 1, body)]
-                cs = [curve("ex", i, j, k, body), curve("ez", i + 1, j, k, body),
-                      curve("ex", i, j, k + 1, body), curve("ez", i, j, k, body)]
+                ps = [
+                    point(i, j, k, body),
+                    point(i + 1, j, k, body),
+                    point(i + 1, j, k + 1, body),
+                    point(i, j, k + 1, body),
+                ]
+                cs = [
+                    curve("ex", i, j, k, body),
+                    curve("ez", i + 1, j, k, body),
+                    curve("ex", i, j, k + 1, body),
+                    curve("ez", i, j, k, body),
+                ]
                 return surface(("vy", i, j, k, body), ps, cs)
 
             volumes, uses = {}, {}  # name -> volume tags; surface -> [(side, body, corners)]
             for i, j, body, name in blocks:
                 k = _LAYER[body]
-                faces = {"-z": h_face(i, j, k, body), "+z": h_face(i, j, k + 1, body),
-                         "-x": x_face(i, j, k, body), "+x": x_face(i + 1, j, k, body),
-                         "-y": y_face(i, j, k, body), "+y": y_face(i, j + 1, k, body)}
+                faces = {
+                    "-z": h_face(i, j, k, body),
+                    "+z": h_face(i, j, k + 1, body),
+                    "-x": x_face(i, j, k, body),
+                    "+x": x_face(i + 1, j, k, body),
+                    "-y": y_face(i, j, k, body),
+                    "+y": y_face(i, j + 1, k, body),
+                }
                 vol = geo.addVolume([geo.addSurfaceLoop(list(faces.values()))])
                 volumes.setdefault(name, []).append(vol)
                 x0, x1 = coarse[0][i], coarse[0][i + 1]
@@ -220,9 +281,18 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
             pts = np.array([c for _, (_, _, c) in outer], dtype=float).reshape(-1, 4, 3)
             sides = np.array([u[0] for _, u in outer])
             bodies = np.array([u[1] for _, u in outer])
-            facet_names = facet_names_of(pts, sides, bodies, cut_x, cut_y, centre,
-                                       (-m.end_tab, length + m.end_tab), 0.5 * g.junction_length,
-                                       n % 2 == 1, 1e-9 * length)
+            facet_names = facet_names_of(
+                pts,
+                sides,
+                bodies,
+                cut_x,
+                cut_y,
+                centre,
+                (-m.end_tab, length + m.end_tab),
+                0.5 * g.junction_length,
+                n % 2 == 1,
+                1e-9 * length,
+            )
             for name in sorted(volumes, key=tag.get):
                 model.addPhysicalGroup(3, volumes[name], tag[name], name)
             for name in FE_FACETS:
@@ -230,8 +300,20 @@ def build_gridshell_fe_gmsh(geometry: CompositeBeamGeometry, lambda_N: float,
                 if chosen:
                     model.addPhysicalGroup(2, chosen, ftag[name], name)
             model.mesh.generate(3)
-            _place_nodes(model, volumes, stations, g, n, z_levels, (tp, H), layers, coarse, crown,
-                         shear_angle, 1e-9 * length)
+            _place_nodes(
+                model,
+                volumes,
+                stations,
+                g,
+                n,
+                z_levels,
+                (tp, H),
+                layers,
+                coarse,
+                crown,
+                shear_angle,
+                1e-9 * length,
+            )
         data, cell_names, facet_names_map = to_dolfinx(model, comm)
     num = data.mesh.topology.index_map(3).size_global
     info.update(cells=int(num), nodes=int(data.mesh.geometry.index_map().size_global))
@@ -247,12 +329,26 @@ def _station_index(values: np.ndarray, stations: np.ndarray, tol: float) -> np.n
     return nearest
 
 
-def _place_nodes(model, volumes: dict, stations, g, n: int, z_levels, thickness, layers, coarse,
-                 crown, shear_angle: float, tol: float) -> None:
+def _place_nodes(
+    model,
+    volumes: dict,
+    stations,
+    g,
+    n: int,
+    z_levels,
+    thickness,
+    layers,
+    coarse,
+    crown,
+    shear_angle: float,
+    tol: float,
+) -> None:
     """Move gmsh's nodes from the flat blocks to the as-built surface (module docstring)."""
     body_nodes = {"r": set(), "t": set()}
     for name, vols in volumes.items():
-        body = "r" if name == "kapton" else "t" if (name.startswith("top_") or name == "glue") else "b"
+        body = (
+            "r" if name == "kapton" else "t" if (name.startswith("top_") or name == "glue") else "b"
+        )
         if body == "b":
             continue
         for v in vols:
@@ -269,8 +365,12 @@ def _place_nodes(model, volumes: dict, stations, g, n: int, z_levels, thickness,
     is_t = np.fromiter((int(t) in body_nodes["t"] for t in node_tags), bool, len(node_tags)) & ~is_r
     on_crown = np.zeros(len(node_tags), dtype=bool)
     for i, j in crown:
-        on_crown |= ((x[:, 0] >= coarse[0][i] - tol) & (x[:, 0] <= coarse[0][i + 1] + tol)
-                     & (x[:, 1] >= coarse[1][j] - tol) & (x[:, 1] <= coarse[1][j + 1] + tol))
+        on_crown |= (
+            (x[:, 0] >= coarse[0][i] - tol)
+            & (x[:, 0] <= coarse[0][i + 1] + tol)
+            & (x[:, 1] >= coarse[1][j] - tol)
+            & (x[:, 1] <= coarse[1][j + 1] + tol)
+        )
     # z by the structured builder's formulas, the layer index k from gmsh's (linear) flat z
     tp, H = thickness
     nb, nr, nt = layers
@@ -291,8 +391,14 @@ def _place_nodes(model, volumes: dict, stations, g, n: int, z_levels, thickness,
         model.mesh.setNode(int(t), p.tolist(), [])
 
 
-def build_layout_fe(layout, geometry: CompositeBeamGeometry, lambda_N: float,
-                    mesh: GridshellFEMesh = GridshellFEMesh(), comm=None, symmetry: str | None = None):
+def build_layout_fe(
+    layout,
+    geometry: CompositeBeamGeometry,
+    lambda_N: float,
+    mesh: GridshellFEMesh = GridshellFEMesh(),
+    comm=None,
+    symmetry: str | None = None,
+):
     """The FE mesh of a :class:`~lcefem.meshes.gridshell_layout.Layout` made by gmsh: its ribbons
     per direction, its lengths (:meth:`Layout.geometry` on ``geometry``, the ``[geometry]``
     section) and, for a rhombic layout, its angle (the mesh mapped (x, y) -> x e1 + y e2).
@@ -312,16 +418,25 @@ def build_layout_fe(layout, geometry: CompositeBeamGeometry, lambda_N: float,
 
     layout = layout.checked()
     if layout.kind not in BAR_HINGE_KINDS:
-        raise InputError(f"layout.kind = {layout.kind!r}: the FE mesh is built for "
-                         f"{', '.join(BAR_HINGE_KINDS)} (two families of ribbons, two strips a junction)")
+        raise InputError(
+            f"layout.kind = {layout.kind!r}: the FE mesh is built for "
+            f"{', '.join(BAR_HINGE_KINDS)} (two families of ribbons, two strips a junction)"
+        )
     if layout.glued != "all":
-        raise InputError(f"layout.glued = {layout.glued!r}: the FE mesh bonds every junction; allowed 'all'")
+        raise InputError(
+            f"layout.glued = {layout.glued!r}: the FE mesh bonds every junction; allowed 'all'"
+        )
     g = layout_fe_geometry(layout, geometry)
     if symmetry is None:
         symmetry = "full" if layout.oblique else "quarter"
-    tm = build_gridshell_fe_gmsh(g, lambda_N, mesh, comm, layout.ribbons, symmetry,
-                                 shear_angle=float(layout.angle))
-    tm.info["layout"] = {"kind": layout.kind, "ribbons": layout.ribbons, "angle": float(layout.angle)}
+    tm = build_gridshell_fe_gmsh(
+        g, lambda_N, mesh, comm, layout.ribbons, symmetry, shear_angle=float(layout.angle)
+    )
+    tm.info["layout"] = {
+        "kind": layout.kind,
+        "ribbons": layout.ribbons,
+        "angle": float(layout.angle),
+    }
     return tm
 
 

@@ -1,8 +1,9 @@
 """One description of a gridshell's layout (seed 001's robotic surface and its next steps): which grid,
 how large, which junctions are bonded, how the strips are wired to channels, and how it is held.
 
-Seed 001 ends with its own next steps: "To achieve higher geometric complexity, it is necessary to add
-control channels (fig. S6), refine the grid mesh (fig. S7), and explore non-orthogonal meshes." A
+Seed 001 ends with its own next steps: "To achieve higher geometric complexity, it is necessary to
+add control channels (fig. S6), refine the grid mesh (fig. S7), and explore non-orthogonal meshes."
+A
 :class:`Layout` is that choice, as a frozen dataclass (every field with its unit and source) and a
 case-file section ``[layout]`` (:func:`layout_from_table`, one-line errors;
 :func:`lcefem.validation.app.layouts.load_layout` reads ``--layout NAME|FILE``). The published
@@ -21,9 +22,9 @@ Generators (``kind``):
 * "hexagonal": the honeycomb of edge p (three ribbon pieces meet at every junction).
 
 The bar-and-hinge builder (:func:`lcefem.meshes.gridshell.build_gridshell_bar_hinge`) builds the two
-two-family kinds (:data:`BAR_HINGE_KINDS`) with an equal count of ribbons per family; the other two are
-described (:meth:`Layout.plan`: junctions and ribbon centre lines, for pictures and a later mesher)
-and refused by the builder with one line.
+two-family kinds (:data:`BAR_HINGE_KINDS`) with an equal count of ribbons per family; the other two
+are described (:meth:`Layout.plan`: junctions and ribbon centre lines, for pictures and a later
+mesher) and refused by the builder with one line.
 
 Lengths in mm, angles in degrees (converted to radians only inside).
 """
@@ -52,39 +53,88 @@ SUPPORT_NAMES = ("", "clamp", "rollers", "middle_rollers", "table")
 
 @dataclass(frozen=True)
 class Layout:
-    """A gridshell's layout (module docstring). A length of 0 takes the ``[geometry]`` section's value
-    (:class:`lcefem.meshes.composite_beam.CompositeBeamGeometry`, the published model's numbers), so
-    that every number keeps one definition."""
+    """A gridshell's layout (module docstring). A length of 0 takes the ``[geometry]`` section's
+    value (:class:`lcefem.meshes.composite_beam.CompositeBeamGeometry`, the published model's
+    numbers), so that every number keeps one definition."""
 
-    kind: str = param("orthogonal", "-", "seed 001 Fig. 4: an orthogonal grid; rhombic, triangular, "
-                      "hexagonal: the paper's 'explore non-orthogonal meshes'")
-    ribbons: int = param(3, "-", "seed 001 Fig. 4: the 3 x 3 grid (3 ribbons per direction, 9 "
-                         "junctions); fig. S7 refines it", minimum=1, maximum=15)
-    angle: float = param(90.0, "deg", "angle between the two ribbon families (rhombic; 90 for the "
-                         "orthogonal grid, seed 001 Fig. 4)", minimum=30.0, maximum=150.0)
-    pitch: float = param(0.0, "mm", "junction centre to junction centre along a ribbon; 0: the "
-                         "geometry section's segment_length + junction_length (published: 30 + 7 mm)",
-                         minimum=0.0)
-    ribbon_width: float = param(0.0, "mm", "Kapton ribbon width across the ribbon; 0: the geometry "
-                                "section's (seed 001: 7 mm)", minimum=0.0)
-    ribbon_thickness: float = param(0.0, "mm", "Kapton film thickness; 0: the geometry section's "
-                                    "(seed 001: 127 um)", minimum=0.0)
-    strip_width: float = param(0.0, "mm", "LCE strip width; 0: the geometry section's (seed 001: "
-                               "5 mm mould channel)", minimum=0.0)
-    strip_thickness: float = param(0.0, "mm", "LCE strip thickness; 0: the geometry section's (seed 001: "
-                                   "2 mm mould channel)", minimum=0.0)
-    glued: str | tuple = param("all", "-", "bonded junctions: 'all' (seed 001: every crossing glued) "
-                               "or a list of [i_x, i_y] junction indices; an unbonded junction keeps "
-                               "each ribbon's own Kapton square (the raised top square stays shared)")
-    wiring: str | tuple = param("channels", "-", "which strips share a current (a drive tag): "
-                               "'channels' (seed 001 Fig. 4A: Tx, Ty, Bx, By), 'ribbons' (XD1..YUn), "
-                               "'strips' (one per strip), or a table tag = [selections]")
-    support: str = param("", "-", "the support ('' = the shape's or recipe's published one; clamp, "
-                         "rollers, middle_rollers, table: lcefem.solvers.problems.gridshell_bh)")
+    kind: str = param(
+        "orthogonal",
+        "-",
+        "seed 001 Fig. 4: an orthogonal grid; rhombic, triangular, "
+        "hexagonal: the paper's 'explore non-orthogonal meshes'",
+    )
+    ribbons: int = param(
+        3,
+        "-",
+        "seed 001 Fig. 4: the 3 x 3 grid (3 ribbons per direction, 9 "
+        "junctions); fig. S7 refines it",
+        minimum=1,
+        maximum=15,
+    )
+    angle: float = param(
+        90.0,
+        "deg",
+        "angle between the two ribbon families (rhombic; 90 for the "
+        "orthogonal grid, seed 001 Fig. 4)",
+        minimum=30.0,
+        maximum=150.0,
+    )
+    pitch: float = param(
+        0.0,
+        "mm",
+        "junction centre to junction centre along a ribbon; 0: the "
+        "geometry section's segment_length + junction_length (published: 30 + 7 mm)",
+        minimum=0.0,
+    )
+    ribbon_width: float = param(
+        0.0,
+        "mm",
+        "Kapton ribbon width across the ribbon; 0: the geometry section's (seed 001: 7 mm)",
+        minimum=0.0,
+    )
+    ribbon_thickness: float = param(
+        0.0,
+        "mm",
+        "Kapton film thickness; 0: the geometry section's (seed 001: 127 um)",
+        minimum=0.0,
+    )
+    strip_width: float = param(
+        0.0,
+        "mm",
+        "LCE strip width; 0: the geometry section's (seed 001: 5 mm mould channel)",
+        minimum=0.0,
+    )
+    strip_thickness: float = param(
+        0.0,
+        "mm",
+        "LCE strip thickness; 0: the geometry section's (seed 001: 2 mm mould channel)",
+        minimum=0.0,
+    )
+    glued: str | tuple = param(
+        "all",
+        "-",
+        "bonded junctions: 'all' (seed 001: every crossing glued) "
+        "or a list of [i_x, i_y] junction indices; an unbonded junction keeps "
+        "each ribbon's own Kapton square (the raised top square stays shared)",
+    )
+    wiring: str | tuple = param(
+        "channels",
+        "-",
+        "which strips share a current (a drive tag): "
+        "'channels' (seed 001 Fig. 4A: Tx, Ty, Bx, By), 'ribbons' (XD1..YUn), "
+        "'strips' (one per strip), or a table tag = [selections]",
+    )
+    support: str = param(
+        "",
+        "-",
+        "the support ('' = the shape's or recipe's published one; clamp, "
+        "rollers, middle_rollers, table: lcefem.solvers.problems.gridshell_bh)",
+    )
 
     @classmethod
     def published(cls) -> "Layout":
-        """The published 3 x 3 orthogonal surface (seed 001 Fig. 4; published reduced-order model)."""
+        """The published 3 x 3 orthogonal surface (seed 001 Fig. 4; published reduced-order
+        model)."""
         return cls()
 
     def checked(self) -> "Layout":
@@ -94,11 +144,15 @@ class Layout:
         if not isinstance(self.ribbons, int) or isinstance(self.ribbons, bool):
             raise InputError(f"layout.ribbons = {self.ribbons!r}: must be an integer >= 1")
         if self.kind == "orthogonal" and self.angle != 90.0:
-            raise InputError(f"layout.angle = {self.angle}: must be 90 for kind 'orthogonal' (use kind "
-                             "'rhombic' for another angle)")
+            raise InputError(
+                f"layout.angle = {self.angle}: must be 90 for kind 'orthogonal' (use kind "
+                "'rhombic' for another angle)"
+            )
         if self.support not in SUPPORT_NAMES:
-            raise InputError(f"layout.support = {self.support!r}: allowed "
-                             f"{', '.join(repr(s) for s in SUPPORT_NAMES)}")
+            raise InputError(
+                f"layout.support = {self.support!r}: allowed "
+                f"{', '.join(repr(s) for s in SUPPORT_NAMES)}"
+            )
         self.glued_junctions()
         self.wiring_table()
         return self
@@ -118,8 +172,8 @@ class Layout:
         return np.array([[1.0, 0.0], [math.cos(a), math.sin(a)]])
 
     def geometry(self, base):
-        """The ``[geometry]`` section ``base`` (CompositeBeamGeometry) with this layout's lengths, in
-        the builder's coordinates: along the ribbons, and across them along the other family, so
+        """The ``[geometry]`` section ``base`` (CompositeBeamGeometry) with this layout's lengths,
+        in the builder's coordinates: along the ribbons, and across them along the other family, so
         the width there is d/sin a and a junction is d/sin a long."""
         w = self.ribbon_width or base.ribbon_width
         stretch = 1.0 if not self.oblique else 1.0 / math.sin(math.radians(self.angle))
@@ -128,10 +182,13 @@ class Layout:
         changes = {}
         if self.pitch or self.oblique or self.ribbon_width:
             if pitch - along <= base.crown_bond_length:
-                raise InputError(f"layout.pitch = {pitch} mm: must exceed the junction length {along:.3f} "
-                                 f"mm + the crown bond {base.crown_bond_length} mm")
-            changes.update(segment_length=pitch - along, junction_length=along,
-                           ribbon_width=w * stretch)
+                raise InputError(
+                    f"layout.pitch = {pitch} mm: must exceed the junction length {along:.3f} "
+                    f"mm + the crown bond {base.crown_bond_length} mm"
+                )
+            changes.update(
+                segment_length=pitch - along, junction_length=along, ribbon_width=w * stretch
+            )
         for name in ("ribbon_thickness", "strip_width", "strip_thickness"):
             if getattr(self, name):
                 changes[name] = getattr(self, name)
@@ -144,36 +201,57 @@ class Layout:
         return np.asarray(xy, dtype=float) @ self.directions()
 
     def glued_junctions(self) -> set[tuple[int, int]] | None:
-        """None for 'all', else the set of bonded (i_x, i_y) junctions (checked against the grid)."""
+        """None for 'all', else the set of bonded (i_x, i_y) junctions (checked against the
+        grid)."""
         if self.glued == "all":
             return None
         if isinstance(self.glued, str):
-            raise InputError(f"layout.glued = {self.glued!r}: 'all' or a list of [i_x, i_y] junctions")
+            raise InputError(
+                f"layout.glued = {self.glued!r}: 'all' or a list of [i_x, i_y] junctions"
+            )
         out = set()
         for item in self.glued:
-            ok = (isinstance(item, (list, tuple)) and len(item) == 2
-                  and all(isinstance(v, int) and not isinstance(v, bool) and 0 <= v < self.ribbons
-                          for v in item))
+            ok = (
+                isinstance(item, (list, tuple))
+                and len(item) == 2
+                and all(
+                    isinstance(v, int) and not isinstance(v, bool) and 0 <= v < self.ribbons
+                    for v in item
+                )
+            )
             if not ok:
-                raise InputError(f"layout.glued: {item!r}: a junction [i_x, i_y], each 0..{self.ribbons - 1}")
+                raise InputError(
+                    f"layout.glued: {item!r}: a junction [i_x, i_y], each 0..{self.ribbons - 1}"
+                )
             out.add((int(item[0]), int(item[1])))
         return out
 
     def wiring_table(self) -> tuple[tuple[str, tuple], ...] | str:
-        """A named wiring (a string of :data:`WIRINGS`) or the checked ((tag, (selection, ...)), ...)."""
+        """A named wiring (a string of :data:`WIRINGS`) or the checked ((tag, (selection, ...)),
+        ...)."""
         if isinstance(self.wiring, str):
             if self.wiring not in WIRINGS:
-                raise InputError(f"layout.wiring = {self.wiring!r}: allowed {', '.join(WIRINGS)} or a "
-                                 "table tag = [selections]")
+                raise InputError(
+                    f"layout.wiring = {self.wiring!r}: allowed {', '.join(WIRINGS)} or a "
+                    "table tag = [selections]"
+                )
             return self.wiring
         out = []
         for item in self.wiring:
-            ok = (isinstance(item, (list, tuple)) and len(item) == 2 and isinstance(item[0], str)
-                  and item[0] and isinstance(item[1], (list, tuple)) and len(item[1]) > 0
-                  and all(isinstance(s, (str, int)) and not isinstance(s, bool) for s in item[1]))
+            ok = (
+                isinstance(item, (list, tuple))
+                and len(item) == 2
+                and isinstance(item[0], str)
+                and item[0]
+                and isinstance(item[1], (list, tuple))
+                and len(item[1]) > 0
+                and all(isinstance(s, (str, int)) and not isinstance(s, bool) for s in item[1])
+            )
             if not ok:
-                raise InputError(f"layout.wiring: {item!r}: a tag and a non-empty list of selections "
-                                 "(channels, groups XD1.., strip ids)")
+                raise InputError(
+                    f"layout.wiring: {item!r}: a tag and a non-empty list of selections "
+                    "(channels, groups XD1.., strip ids)"
+                )
             out.append((item[0], tuple(item[1])))
         tags = [t for t, _ in out]
         if len(set(tags)) != len(tags):
@@ -193,13 +271,22 @@ class Layout:
             length = (n + 1) * g.segment_length + n * g.junction_length
             ij = np.array([(a, b) for a in c for b in c])
             lines = [((0.0, r), (length, r)) for r in c] + [((r, 0.0), (r, length)) for r in c]
-            return {"junctions": self.to_plane(ij), "lines": self.to_plane(np.asarray(lines)),
-                    "width": self.ribbon_width or g.ribbon_width}
+            return {
+                "junctions": self.to_plane(ij),
+                "lines": self.to_plane(np.asarray(lines)),
+                "width": self.ribbon_width or g.ribbon_width,
+            }
         if self.kind == "triangular":
             k = n // 2
             a1, a2 = np.array([p, 0.0]), np.array([0.5 * p, 0.5 * math.sqrt(3.0) * p])
-            pts = np.array([i * a1 + j * a2 for i in range(-k, k + 1) for j in range(-k, k + 1)
-                            if abs(i + j) <= k])
+            pts = np.array(
+                [
+                    i * a1 + j * a2
+                    for i in range(-k, k + 1)
+                    for j in range(-k, k + 1)
+                    if abs(i + j) <= k
+                ]
+            )
             lines = []
             for u in (a1, a2, a2 - a1):
                 u = u / np.linalg.norm(u)
@@ -208,8 +295,14 @@ class Layout:
                     on = pts[np.abs(pts @ normal - off) < 1e-6]
                     s = on @ u
                     ext = g.segment_length
-                    lines.append((off * normal + (s.min() - ext) * u, off * normal + (s.max() + ext) * u))
-            return {"junctions": pts, "lines": np.asarray(lines), "width": self.ribbon_width or g.ribbon_width}
+                    lines.append(
+                        (off * normal + (s.min() - ext) * u, off * normal + (s.max() + ext) * u)
+                    )
+            return {
+                "junctions": pts,
+                "lines": np.asarray(lines),
+                "width": self.ribbon_width or g.ribbon_width,
+            }
         # hexagonal: honeycomb of edge p, n x n cells
         pts, lines = {}, []
         h = math.sqrt(3.0) * p
@@ -218,18 +311,25 @@ class Layout:
             key = (round(q[0], 6), round(q[1], 6))
             pts.setdefault(key, np.asarray(q))
             return pts[key]
+
         for i in range(n):
             for j in range(n):
                 cx, cy = 1.5 * p * i, h * (j + 0.5 * (i % 2))
-                corners = [node((cx + p * math.cos(math.pi / 3 * k), cy + p * math.sin(math.pi / 3 * k)))
-                           for k in range(6)]
+                corners = [
+                    node((cx + p * math.cos(math.pi / 3 * k), cy + p * math.sin(math.pi / 3 * k)))
+                    for k in range(6)
+                ]
                 lines += [(corners[k], corners[(k + 1) % 6]) for k in range(6)]
         uniq = {tuple(sorted((tuple(np.round(a, 6)), tuple(np.round(b, 6))))) for a, b in lines}
-        return {"junctions": np.asarray(list(pts.values())), "lines": np.asarray(sorted(uniq)),
-                "width": self.ribbon_width or g.ribbon_width}
+        return {
+            "junctions": np.asarray(list(pts.values())),
+            "lines": np.asarray(sorted(uniq)),
+            "width": self.ribbon_width or g.ribbon_width,
+        }
 
 
-#: Layouts by name (``--layout NAME``): the published surface, a refined and two non-orthogonal ones.
+#: Layouts by name (``--layout NAME``): the published surface, a refined and two non-orthogonal
+#: ones.
 NAMED_LAYOUTS: dict[str, Layout] = {
     "published": Layout.published(),
     "5x5": Layout(ribbons=5),
@@ -241,10 +341,13 @@ NAMED_LAYOUTS: dict[str, Layout] = {
 }
 
 
-def layout_from_table(table: dict | None, base: Layout | None = None, name: str = "layout") -> Layout:
+def layout_from_table(
+    table: dict | None, base: Layout | None = None, name: str = "layout"
+) -> Layout:
     """A ``[layout]`` case-file table applied to ``base`` (default: the published layout); the key
     ``preset`` starts from a named layout. Lists become tuples (glued: [[i, j], ...]; wiring: a
-    table tag = [selections]); an unknown key, a wrong type or a bad value is one InputError line."""
+    table tag = [selections]); an unknown key, a wrong type or a bad value is one InputError
+    line."""
     table = dict(table or {})
     layout = base or Layout.published()
     if "preset" in table:
@@ -256,26 +359,42 @@ def layout_from_table(table: dict | None, base: Layout | None = None, name: str 
     changes = {}
     for key, value in table.items():
         if key not in fields:
-            raise InputError(f"unknown key '{name}.{key}'; allowed: preset, {', '.join(sorted(fields))}")
+            raise InputError(
+                f"unknown key '{name}.{key}'; allowed: preset, {', '.join(sorted(fields))}"
+            )
         if key == "glued":
             if isinstance(value, list):
                 value = tuple(tuple(v) if isinstance(v, list) else v for v in value)
             elif not isinstance(value, str):
-                raise InputError(f"{name}.glued = {value!r}: 'all' or a list of [i_x, i_y] junctions")
+                raise InputError(
+                    f"{name}.glued = {value!r}: 'all' or a list of [i_x, i_y] junctions"
+                )
         elif key == "wiring":
             if isinstance(value, dict):
-                value = tuple((str(k), tuple(v) if isinstance(v, list) else v) for k, v in value.items())
+                value = tuple(
+                    (str(k), tuple(v) if isinstance(v, list) else v) for k, v in value.items()
+                )
             elif not isinstance(value, str):
-                raise InputError(f"{name}.wiring = {value!r}: a name ({', '.join(WIRINGS)}) or a table "
-                                 "tag = [selections]")
+                raise InputError(
+                    f"{name}.wiring = {value!r}: a name ({', '.join(WIRINGS)}) or a table "
+                    "tag = [selections]"
+                )
         else:
             current = getattr(layout, key)
-            if isinstance(current, float) and isinstance(value, int) and not isinstance(value, bool):
+            if (
+                isinstance(current, float)
+                and isinstance(value, int)
+                and not isinstance(value, bool)
+            ):
                 value = float(value)
             if type(value) is not type(current):
                 raise InputError(f"{name}.{key} = {value!r}: expected {type(current).__name__}")
         changes[key] = value
-    if "angle" in changes and "kind" not in changes and layout.kind == "orthogonal" and changes["angle"] != 90.0:
+    if (
+        "angle" in changes
+        and "kind" not in changes
+        and layout.kind == "orthogonal"
+        and changes["angle"] != 90.0
+    ):
         changes["kind"] = "rhombic"  # an angle other than 90 deg is a rhombic grid
     return dataclasses.replace(layout, **changes).checked()
-

@@ -50,8 +50,12 @@ _HEX_VTK = np.array([0, 1, 3, 2, 4, 5, 7, 6])
 #: the same for a quadrilateral facet
 _QUAD_VTK = np.array([0, 1, 3, 2])
 #: dolfinx cell name -> (meshio cell type, vertex order from dolfinx's)
-_CELLS = {"hexahedron": ("hexahedron", _HEX_VTK), "tetrahedron": ("tetra", np.arange(4)),
-          "quadrilateral": ("quad", _QUAD_VTK), "triangle": ("triangle", np.arange(3))}
+_CELLS = {
+    "hexahedron": ("hexahedron", _HEX_VTK),
+    "tetrahedron": ("tetra", np.arange(4)),
+    "quadrilateral": ("quad", _QUAD_VTK),
+    "triangle": ("triangle", np.arange(3)),
+}
 _DIM = {"hexahedron": 3, "tetra": 3, "quad": 2, "triangle": 2, "line": 1, "vertex": 0}
 
 
@@ -67,16 +71,18 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
 
     Returns a mesh whose cell blocks are the tagged cells (one block per tag, in tag order), then
     the tagged facets (likewise); each block carries ``gmsh:physical`` = ``gmsh:geometrical`` =
-    ``tag`` = its tag, ``field_data`` = ``{name: [tag, dim]}``, ``cell_sets`` = ``{name: [indices per
-    block]}``. Untagged cells are refused (a reader that builds a mesh from the tagged cells would
-    drop them); untagged facets are simply not written.
+    ``tag`` = its tag, ``field_data`` = ``{name: [tag, dim]}``, ``cell_sets`` = ``{name: [indices
+    per block]}``. Untagged cells are refused (a reader that builds a mesh from the tagged cells
+    would drop them); untagged facets are simply not written.
     """
     import dolfinx
 
     comm = mesh.comm
     if mesh.geometry.cmaps[0].degree != 1:
-        raise InputError(f"mesh export: geometry of degree {mesh.geometry.cmaps[0].degree}; only linear "
-                         "(degree-1) meshes are written")
+        raise InputError(
+            f"mesh export: geometry of degree {mesh.geometry.cmaps[0].degree}; only linear "
+            "(degree-1) meshes are written"
+        )
     tdim = mesh.topology.dim
     cell_name = mesh.topology.cell_name()
     if cell_name not in _CELLS:
@@ -85,8 +91,10 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
     facets_by_name = dict(names.get("facets", {}))
     both = set(cells_by_name) & set(facets_by_name)
     if both:
-        raise InputError(f"mesh export: names {sorted(both)} are both a cell and a facet tag; a gmsh "
-                         "physical name must be unique")
+        raise InputError(
+            f"mesh export: names {sorted(both)} are both a cell and a facet tag; a gmsh "
+            "physical name must be unique"
+        )
     # this process's owned cells and facets (a facet on a process boundary is owned by one process)
     n_cells = mesh.topology.index_map(tdim).size_local
     cell_values = np.zeros(n_cells, dtype=np.int32)
@@ -96,37 +104,61 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
     cell_nodes = np.asarray(mesh.geometry.dofmaps[0][:n_cells])[:, order]
     fname = dolfinx.cpp.mesh.cell_entity_type(mesh.topology.cell_type, tdim - 1, 0).name
     ftype, forder = _CELLS[fname]
-    facet_nodes, facet_values = np.empty((0, len(forder)), dtype=np.int64), np.empty(0, dtype=np.int32)
+    facet_nodes, facet_values = (
+        np.empty((0, len(forder)), dtype=np.int64),
+        np.empty(0, dtype=np.int32),
+    )
     if facet_tags is not None:
         mesh.topology.create_entities(tdim - 1)
         mine = facet_tags.indices < mesh.topology.index_map(tdim - 1).size_local
         if np.any(mine):
-            nodes = dolfinx.mesh.entities_to_geometry(mesh, tdim - 1, facet_tags.indices[mine], False)
-            facet_nodes, facet_values = np.asarray(nodes)[:, forder], np.asarray(facet_tags.values[mine])
+            nodes = dolfinx.mesh.entities_to_geometry(
+                mesh, tdim - 1, facet_tags.indices[mine], False
+            )
+            facet_nodes, facet_values = (
+                np.asarray(nodes)[:, forder],
+                np.asarray(facet_tags.values[mine]),
+            )
     untagged = comm.allreduce(int(np.count_nonzero(cell_values == 0)))
     if untagged:
-        raise InputError(f"mesh export: {untagged} of {comm.allreduce(n_cells)} cells carry no cell tag")
-    for what, values, by_name in (("cell", cell_values, cells_by_name),
-                                  ("facet", facet_values, facets_by_name)):
+        raise InputError(
+            f"mesh export: {untagged} of {comm.allreduce(n_cells)} cells carry no cell tag"
+        )
+    for what, values, by_name in (
+        ("cell", cell_values, cells_by_name),
+        ("facet", facet_values, facets_by_name),
+    ):
         present = sorted(set().union(*comm.allgather(set(np.unique(values).tolist()))))
         unnamed = [t for t in present if t not in by_name.values()]
         if unnamed:  # every process refuses alike
-            raise InputError(f"mesh export: {what} tag {unnamed[0]} has no name (named: "
-                             f"{', '.join(f'{n}={t}' for n, t in by_name.items())})")
+            raise InputError(
+                f"mesh export: {what} tag {unnamed[0]} has no name (named: "
+                f"{', '.join(f'{n}={t}' for n, t in by_name.items())})"
+            )
     x = np.asarray(mesh.geometry.x, dtype=np.float64)
     if comm.size > 1:  # gather to rank 0, nodes by their global index
         imap = mesh.geometry.index_map()
         n_own = imap.size_local
         to_global = imap.local_to_global(np.arange(n_own + imap.num_ghosts, dtype=np.int32))
-        parts = comm.gather((x[:n_own], to_global[:n_own], to_global[cell_nodes], cell_values,
-                             to_global[facet_nodes], facet_values), root=0)
+        parts = comm.gather(
+            (
+                x[:n_own],
+                to_global[:n_own],
+                to_global[cell_nodes],
+                cell_values,
+                to_global[facet_nodes],
+                facet_values,
+            ),
+            root=0,
+        )
         if comm.rank != 0:
             return None
         x = np.empty((imap.size_global, 3))
         for xs, ids, *_ in parts:
             x[ids] = xs
         cell_nodes, cell_values, facet_nodes, facet_values = (
-            np.concatenate([p[k] for p in parts]) for k in (2, 3, 4, 5))
+            np.concatenate([p[k] for p in parts]) for k in (2, 3, 4, 5)
+        )
     blocks = _blocks(mtype, cell_nodes, cell_values, cells_by_name, "cell")
     blocks += _blocks(ftype, facet_nodes, facet_values, facets_by_name, "facet")
     return _assemble(x, blocks)
@@ -141,27 +173,37 @@ def structure_to_meshio(structure):
     names are carried as in :func:`to_meshio`."""
     p = np.asarray(structure.panels, dtype=np.int64)
     centres = np.asarray(structure.panel_centres, dtype=np.int64)
-    triangles = np.stack([np.repeat(centres, 4), p.reshape(-1), np.roll(p, -1, axis=1).reshape(-1)],
-                         axis=1)
+    triangles = np.stack(
+        [np.repeat(centres, 4), p.reshape(-1), np.roll(p, -1, axis=1).reshape(-1)], axis=1
+    )
     groups = [("panels", "triangle", triangles)]
-    groups += [(name, "line", np.asarray(bars, dtype=np.int64).reshape(-1, 2))
-               for name, bars in structure.bars.items() if len(bars)]
-    groups += [(f"nodes:{name}", "vertex", np.asarray(nodes, dtype=np.int64).reshape(-1, 1))
-               for name, nodes in structure.node_sets.items() if np.size(nodes)]
+    groups += [
+        (name, "line", np.asarray(bars, dtype=np.int64).reshape(-1, 2))
+        for name, bars in structure.bars.items()
+        if len(bars)
+    ]
+    groups += [
+        (f"nodes:{name}", "vertex", np.asarray(nodes, dtype=np.int64).reshape(-1, 1))
+        for name, nodes in structure.node_sets.items()
+        if np.size(nodes)
+    ]
     blocks = [(mtype, conn, tag, name) for tag, (name, mtype, conn) in enumerate(groups, start=1)]
     return _assemble(np.asarray(structure.nodes, dtype=np.float64), blocks)
 
 
-def _blocks(mtype: str, conn: np.ndarray, values: np.ndarray, by_name: dict[str, int],
-            what: str) -> list[tuple]:
+def _blocks(
+    mtype: str, conn: np.ndarray, values: np.ndarray, by_name: dict[str, int], what: str
+) -> list[tuple]:
     """(meshio type, connectivity, tag, name) per tag present, in tag order; a tag without a name
     is refused (tags by name)."""
     name_of = {t: n for n, t in by_name.items()}
     out = []
     for tag in np.unique(values):
         if int(tag) not in name_of:
-            raise InputError(f"mesh export: {what} tag {int(tag)} has no name (named: "
-                             f"{', '.join(f'{n}={t}' for n, t in by_name.items())})")
+            raise InputError(
+                f"mesh export: {what} tag {int(tag)} has no name (named: "
+                f"{', '.join(f'{n}={t}' for n, t in by_name.items())})"
+            )
         out.append((mtype, np.ascontiguousarray(conn[values == tag]), int(tag), name_of[int(tag)]))
     return out
 
@@ -174,11 +216,17 @@ def _assemble(x: np.ndarray, blocks: list[tuple]):
     field_data, cell_sets = {}, {}
     for k, (mtype, conn, tag, name) in enumerate(blocks):
         field_data[name] = np.array([tag, _DIM[mtype]])
-        cell_sets[name] = [np.arange(len(c)) if j == k else np.empty(0, dtype=np.int64)
-                           for j, c in enumerate(cells)]
-    return meshio.Mesh(x, cells, cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags,
-                                            TAG_DATA: tags},
-                       field_data=field_data, cell_sets=cell_sets)
+        cell_sets[name] = [
+            np.arange(len(c)) if j == k else np.empty(0, dtype=np.int64)
+            for j, c in enumerate(cells)
+        ]
+    return meshio.Mesh(
+        x,
+        cells,
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags, TAG_DATA: tags},
+        field_data=field_data,
+        cell_sets=cell_sets,
+    )
 
 
 def tag_counts(m) -> dict[str, int]:
@@ -212,11 +260,20 @@ def write_mesh(m, out, stem: str, fmt: str, meta: dict | None = None) -> list[pa
     written = []
     if fmt == "msh":
         # MSH 2.2 (module docstring); only the tags: the tag data must not be written twice
-        plain = meshio.Mesh(m.points, m.cells, field_data=m.field_data,
-                            cell_data={k: m.cell_data[k] for k in ("gmsh:physical", "gmsh:geometrical")})
+        plain = meshio.Mesh(
+            m.points,
+            m.cells,
+            field_data=m.field_data,
+            cell_data={k: m.cell_data[k] for k in ("gmsh:physical", "gmsh:geometrical")},
+        )
         meshio.write(target, plain, file_format=_MESHIO_FORMAT[fmt], binary=False)
     else:
-        cells, tags, groups, point_data = list(m.cells), list(m.cell_data[TAG_DATA]), name_map(m), {}
+        cells, tags, groups, point_data = (
+            list(m.cells),
+            list(m.cell_data[TAG_DATA]),
+            name_map(m),
+            {},
+        )
         if fmt == "xdmf":
             # meshio writes vertex cells into a mixed XDMF topology without their node count, which
             # no reader (meshio's own included) parses: node sets go as point data instead
@@ -230,13 +287,27 @@ def write_mesh(m, out, stem: str, fmt: str, meta: dict | None = None) -> list[pa
             cells, tags = [cells[k] for k in keep], [tags[k] for k in keep]
         plain = meshio.Mesh(m.points, cells, cell_data={TAG_DATA: tags}, point_data=point_data)
         # XDMF uncompressed (module docstring)
-        meshio.write(target, plain, file_format=_MESHIO_FORMAT[fmt],
-                     **({"compression": None} if fmt == "xdmf" else {}))
+        meshio.write(
+            target,
+            plain,
+            file_format=_MESHIO_FORMAT[fmt],
+            **({"compression": None} if fmt == "xdmf" else {}),
+        )
         if fmt == "xdmf":  # its arrays, named after it (the .xdmf refers to it by that name)
             written.append(target.with_suffix(".h5"))
         sidecar = stage / f"{stem}.tags.json"
-        sidecar.write_text(json.dumps({"units": {"length": "mm"}, "cell_data": TAG_DATA,
-                                       "groups": groups, **(meta or {})}, indent=2) + "\n")
+        sidecar.write_text(
+            json.dumps(
+                {
+                    "units": {"length": "mm"},
+                    "cell_data": TAG_DATA,
+                    "groups": groups,
+                    **(meta or {}),
+                },
+                indent=2,
+            )
+            + "\n"
+        )
         written.append(sidecar)
     written.append(target)  # the mesh file last
     final = []

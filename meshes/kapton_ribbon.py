@@ -2,10 +2,10 @@
 and Methods: 36 mm x 7 mm x 127 um, fixed-fixed, end shortening up to 50 %).
 
 Coordinates [mm]: x along the ribbon, the free length spanning 0 <= x <= length; y across
-(0 <= y <= width); z out of plane. :class:`KaptonSpecimenGeometry` holds what a continuum (FE) builder can use
-too; :class:`KaptonBarHingeMesh` the bar-and-hinge choices. In the bar-and-hinge model each clamp is
-one extra rigid panel outside the free length (all its nodes held), so the fold hinge on the clamp's
-edge makes the end a built-in one.
+(0 <= y <= width); z out of plane. :class:`KaptonSpecimenGeometry` holds what a continuum (FE)
+builder can use too; :class:`KaptonBarHingeMesh` the bar-and-hinge choices. In the bar-and-hinge
+model each clamp is one extra rigid panel outside the free length (all its nodes held), so the fold
+hinge on the clamp's edge makes the end a built-in one.
 """
 
 from __future__ import annotations
@@ -26,8 +26,9 @@ SEED_SPECIMEN = "seed 001 Materials and Methods: nine samples 36 mm long, 7 mm w
 class KaptonSpecimenGeometry:
     """The buckling specimen (seed 001)."""
 
-    length: float = param(36.0, "mm", SEED_SPECIMEN + " (taken as the free length between clamps)",
-                          positive=True)
+    length: float = param(
+        36.0, "mm", SEED_SPECIMEN + " (taken as the free length between clamps)", positive=True
+    )
     width: float = param(7.0, "mm", SEED_SPECIMEN, positive=True)
     thickness: float = param(0.127, "mm", SEED_SPECIMEN, positive=True)
     supports: str = param("fixed-fixed", "-", "seed 001 Fig. 2G: fixed-fixed support")
@@ -35,7 +36,7 @@ class KaptonSpecimenGeometry:
     @property
     def second_moment(self) -> float:
         """I = w t^3/12 [mm^4] for bending out of the ribbon's plane."""
-        return self.width * self.thickness ** 3 / 12.0
+        return self.width * self.thickness**3 / 12.0
 
     def checked(self) -> "KaptonSpecimenGeometry":
         check(self, "specimen")
@@ -48,17 +49,32 @@ class KaptonSpecimenGeometry:
 class KaptonBarHingeMesh:
     """Bar-and-hinge discretisation of the specimen."""
 
-    panels: int = param(11, "-", "chosen: 36/11 = 3.27 mm panels, close to the hinge spacing "
-                        "(Lx + d)/Nx = 3.36 mm for which the published hinge stiffness "
-                        "k = 5.5 E t^3/(12 (Lx + d)/Nx) is written; k is per unit hinge length, so "
-                        "the chain's bending stiffness grows with the panel length (16 panels of "
-                        "2.25 mm, like the beam's flank panels, buckle at 36 % less)", minimum=2,
-                        maximum=2000)
-    clamp_length: float = param(2.3, "mm", "chosen: length of the rigid clamp panel at each end "
-                                "(outside the free length; its value does not matter)", positive=True)
-    imperfection: float = param(1.0e-3, "-", "chosen: amplitude/length of the first fixed-fixed mode "
-                                "z = a (1 - cos(2 pi x/L))/2 seeding the buckling path", minimum=0.0,
-                                maximum=0.1)
+    panels: int = param(
+        11,
+        "-",
+        "chosen: 36/11 = 3.27 mm panels, close to the hinge spacing "
+        "(Lx + d)/Nx = 3.36 mm for which the published hinge stiffness "
+        "k = 5.5 E t^3/(12 (Lx + d)/Nx) is written; k is per unit hinge length, so "
+        "the chain's bending stiffness grows with the panel length (16 panels of "
+        "2.25 mm, like the beam's flank panels, buckle at 36 % less)",
+        minimum=2,
+        maximum=2000,
+    )
+    clamp_length: float = param(
+        2.3,
+        "mm",
+        "chosen: length of the rigid clamp panel at each end "
+        "(outside the free length; its value does not matter)",
+        positive=True,
+    )
+    imperfection: float = param(
+        1.0e-3,
+        "-",
+        "chosen: amplitude/length of the first fixed-fixed mode "
+        "z = a (1 - cos(2 pi x/L))/2 seeding the buckling path",
+        minimum=0.0,
+        maximum=0.1,
+    )
 
     def checked(self) -> "KaptonBarHingeMesh":
         check(self, "mesh")
@@ -67,20 +83,26 @@ class KaptonBarHingeMesh:
         return self
 
 
-def build_ribbon_bar_hinge(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
-                           mesh: KaptonBarHingeMesh = KaptonBarHingeMesh()) -> BarHingeStructure:
+def build_ribbon_bar_hinge(
+    specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+    mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
+) -> BarHingeStructure:
     """N5B8 bar-and-hinge structure of the specimen with rigid clamp panels at both ends.
 
-    Node sets: "left_clamp" / "right_clamp" (all nodes of each clamp panel, to be held; the right one
-    moves by the prescribed end shortening), "left_end" / "right_end" (the two nodes at x = 0 and
-    x = length), "mid_span" (the two nodes nearest x = length/2).
+    Node sets: "left_clamp" / "right_clamp" (all nodes of each clamp panel, to be held; the right
+    one moves by the prescribed end shortening), "left_end" / "right_end" (the two nodes at x = 0
+    and x = length), "mid_span" (the two nodes nearest x = length/2).
     """
     s = specimen.checked()
     m = mesh.checked()
-    x = np.concatenate([[-m.clamp_length], np.linspace(0.0, s.length, m.panels + 1),
-                        [s.length + m.clamp_length]])
-    z = np.where((x >= 0) & (x <= s.length),
-                 0.5 * m.imperfection * s.length * (1.0 - np.cos(2.0 * np.pi * x / s.length)), 0.0)
+    x = np.concatenate(
+        [[-m.clamp_length], np.linspace(0.0, s.length, m.panels + 1), [s.length + m.clamp_length]]
+    )
+    z = np.where(
+        (x >= 0) & (x <= s.length),
+        0.5 * m.imperfection * s.length * (1.0 - np.cos(2.0 * np.pi * x / s.length)),
+        0.0,
+    )
     coords = np.array([(xi, yi, zi) for xi, zi in zip(x, z) for yi in (0.0, s.width)])
     n_st = x.size
     panels = np.array([(2 * a, 2 * a + 2, 2 * a + 3, 2 * a + 1) for a in range(n_st - 1)])
@@ -93,8 +115,12 @@ def build_ribbon_bar_hinge(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeom
     structure.node_sets["right_end"] = np.array([last - 2, last - 1])
     mid = 1 + int(np.argmin(np.abs(x[1:-1] - 0.5 * s.length)))
     structure.node_sets["mid_span"] = np.array([2 * mid, 2 * mid + 1])
-    structure.info.update(panels=m.panels, panel_length=s.length / m.panels,
-                          free_length=s.length, imperfection=m.imperfection)
+    structure.info.update(
+        panels=m.panels,
+        panel_length=s.length / m.panels,
+        free_length=s.length,
+        imperfection=m.imperfection,
+    )
     structure.validate()
     return structure
 
@@ -112,12 +138,22 @@ class KaptonFEMesh:
     """
 
     size: float = param(1.0, "mm", "chosen: level-0 in-plane element size", positive=True)
-    level: int = param(1, "-", "refinement level: in-plane element size = size / (level + 1)",
-                       minimum=0, maximum=8)
-    thickness_elements: int = param(1, "-", "chosen: Q2 elements through the thickness (one "
-                                    "represents bending exactly)", minimum=1, maximum=8)
-    symmetry: str = param("half", "-", "'half' (the plane y = width/2 as a symmetry plane: the "
-                          "first buckling modes are symmetric across the width) or 'full'")
+    level: int = param(
+        1, "-", "refinement level: in-plane element size = size / (level + 1)", minimum=0, maximum=8
+    )
+    thickness_elements: int = param(
+        1,
+        "-",
+        "chosen: Q2 elements through the thickness (one represents bending exactly)",
+        minimum=1,
+        maximum=8,
+    )
+    symmetry: str = param(
+        "half",
+        "-",
+        "'half' (the plane y = width/2 as a symmetry plane: the "
+        "first buckling modes are symmetric across the width) or 'full'",
+    )
 
     def element_size(self) -> float:
         return self.size / (self.level + 1)
@@ -132,8 +168,11 @@ class KaptonFEMesh:
         return self
 
 
-def build_ribbon_fe(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(), mesh: KaptonFEMesh = KaptonFEMesh(),
-                    comm=None):
+def build_ribbon_fe(
+    specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+    mesh: KaptonFEMesh = KaptonFEMesh(),
+    comm=None,
+):
     """gmsh hexahedral mesh of the specimen's free length [0, L] x [0, W (or W/2)] x [0, t].
 
     Tags (by name): cells "kapton"; facets "clamp_left" (x = 0), "clamp_right" (x = L), and with
@@ -171,7 +210,7 @@ def build_ribbon_fe(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
                     faces["clamp_left" if xmax < 0.5 * L else "clamp_right"].append(surf)
                 elif half and ymax - ymin < tol and ymin > 0.5 * W:
                     faces["sym_y"].append(surf)
-            (_, vol), = model.getEntities(3)
+            ((_, vol),) = model.getEntities(3)
             model.mesh.setTransfiniteVolume(vol)
             model.mesh.setRecombine(3, vol)
             model.addPhysicalGroup(3, [vol], 1, "kapton")
@@ -180,7 +219,14 @@ def build_ribbon_fe(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
                 model.addPhysicalGroup(2, faces[name], tag, name)
             model.mesh.generate(3)
         data, cells, facets = to_dolfinx(model, comm)
-    info = {"length": L, "width": s.width, "thickness": t, "element_size": L / nx,
-            "divisions": (nx, ny, nz), "level": m.level, "symmetry": m.symmetry,
-            "symmetry_factor": 2 if half else 1}
+    info = {
+        "length": L,
+        "width": s.width,
+        "thickness": t,
+        "element_size": L / nx,
+        "divisions": (nx, ny, nz),
+        "level": m.level,
+        "symmetry": m.symmetry,
+        "symmetry_factor": 2 if half else 1,
+    }
     return TaggedMesh(data.mesh, data.cell_tags, data.facet_tags, cells, facets, info)

@@ -9,8 +9,8 @@ Three kinds of file, coordinates in mm, regions and boundaries by physical name:
 * a gmsh ``.msh`` file: read by :func:`dolfinx.io.gmsh.read_from_msh` (physical groups of dimension
   3 are the cell sets, of dimension 2 the facet sets);
 * any other file meshio reads (``.vtu``, ``.xdmf``, ...) whose cell blocks carry an integer tag
-  array (cell data ``gmsh:physical``, ``cell_tags``, ``tags`` or ``tag``; 3D blocks are cells, 2D blocks
-  facets) and a name map: meshio's ``field_data`` ``{name: [id, dim]}``, or a sidecar TOML
+  array (cell data ``gmsh:physical``, ``cell_tags``, ``tags`` or ``tag``; 3D blocks are cells, 2D
+  blocks facets) and a name map: meshio's ``field_data`` ``{name: [id, dim]}``, or a sidecar TOML
   ``<file>.tags.toml`` with tables ``[cells]`` and ``[facets]`` of ``name = id``, or the sidecar
   ``<stem>.tags.json`` that ``lcefem mesh`` writes beside its .vtu and .xdmf. It goes to dolfinx
   through a gmsh 2.2 ``.msh`` written by meshio in a temporary folder (one conversion path: the
@@ -60,8 +60,14 @@ class ReadMesh:
 
     def tagged(self) -> TaggedMesh:
         """The same mesh as a :class:`TaggedMesh` (what the solvers take)."""
-        return TaggedMesh(self.mesh, self.cell_tags, self.facet_tags, dict(self.cell_names),
-                          dict(self.facet_names), dict(self.info))
+        return TaggedMesh(
+            self.mesh,
+            self.cell_tags,
+            self.facet_tags,
+            dict(self.cell_names),
+            dict(self.facet_names),
+            dict(self.info),
+        )
 
 
 def mesh_kind(path: pathlib.Path) -> str:
@@ -85,8 +91,10 @@ def _gmsh_names(path: pathlib.Path, size_factor: float) -> tuple[dict, dict]:
         for dim, tag in model.getPhysicalGroups():
             name = model.getPhysicalName(dim, tag) or str(tag)
             if dim in (2, 3) and len(model.getEntitiesForPhysicalGroup(dim, tag)) == 0:
-                raise InputError(f"mesh.file = {str(path)!r}: physical group {name!r} (dimension {dim}) "
-                                 "is empty: no entity carries its tag")
+                raise InputError(
+                    f"mesh.file = {str(path)!r}: physical group {name!r} (dimension {dim}) "
+                    "is empty: no entity carries its tag"
+                )
             if dim == 3:
                 cells[name] = tag
             elif dim == 2:
@@ -100,8 +108,9 @@ def _meshio_read(path: pathlib.Path):
     try:
         return meshio.read(str(path))
     except Exception as exc:  # meshio raises ReadError, KeyError, ... by format
-        raise InputError(f"mesh.file = {str(path)!r}: meshio cannot read it ({type(exc).__name__}: "
-                         f"{exc})") from None
+        raise InputError(
+            f"mesh.file = {str(path)!r}: meshio cannot read it ({type(exc).__name__}: {exc})"
+        ) from None
 
 
 def _exported_names(sidecar: pathlib.Path) -> tuple[dict, dict]:
@@ -114,8 +123,10 @@ def _exported_names(sidecar: pathlib.Path) -> tuple[dict, dict]:
         groups = json.loads(sidecar.read_text(encoding="utf-8"))["groups"]
         pairs = [(str(n), int(g["tag"]), int(g["dim"])) for n, g in groups.items()]
     except (ValueError, KeyError, TypeError, AttributeError, RecursionError) as exc:
-        raise InputError(f"{sidecar.name}: not a tag map of lcefem mesh ({type(exc).__name__}); "
-                         "allowed: {\"groups\": {name: {\"tag\": int, \"dim\": 2|3}}}") from None
+        raise InputError(
+            f"{sidecar.name}: not a tag map of lcefem mesh ({type(exc).__name__}); "
+            "allowed: {\"groups\": {name: {\"tag\": int, \"dim\": 2|3}}}"
+        ) from None
     return ({n: t for n, t, d in pairs if d == 3}, {n: t for n, t, d in pairs if d == 2})
 
 
@@ -133,7 +144,9 @@ def _meshio_names(path: pathlib.Path, data) -> tuple[dict, dict]:
             raise InputError(f"{sidecar.name}: invalid TOML ({exc})") from None
         unknown = set(table) - {"cells", "facets"}
         if unknown:
-            raise InputError(f"{sidecar.name}: unknown table(s) {sorted(unknown)}; allowed: cells, facets")
+            raise InputError(
+                f"{sidecar.name}: unknown table(s) {sorted(unknown)}; allowed: cells, facets"
+            )
         out = []
         for key in ("cells", "facets"):
             names = table.get(key, {})
@@ -146,21 +159,28 @@ def _meshio_names(path: pathlib.Path, data) -> tuple[dict, dict]:
     for name, value in (data.field_data or {}).items():
         vals = list(value)
         if len(vals) >= 2:
-            (cells if int(vals[1]) == 3 else facets if int(vals[1]) == 2 else {})[name] = int(vals[0])
+            (cells if int(vals[1]) == 3 else facets if int(vals[1]) == 2 else {})[name] = int(
+                vals[0]
+            )
     if not cells:
-        raise InputError(f"mesh.file = {str(path)!r}: no named cell sets (meshio field_data "
-                         f"{{name: [id, 3]}} or a sidecar {sidecar.name} with [cells] name = id)")
+        raise InputError(
+            f"mesh.file = {str(path)!r}: no named cell sets (meshio field_data "
+            f"{{name: [id, 3]}} or a sidecar {sidecar.name} with [cells] name = id)"
+        )
     return cells, facets
 
 
 def _check_tags_present(path: pathlib.Path, data, cells: dict, facets: dict) -> None:
-    """Every named tag of a meshio file occurs in its tag array (cells in 3D blocks, facets in 2D)."""
+    """Every named tag of a meshio file occurs in its tag array (cells in 3D blocks, facets in
+    2D)."""
     import numpy as np
 
     key = next((k for k in TAG_ARRAYS if k in data.cell_data), None)
     if key is None:
-        raise InputError(f"mesh.file = {str(path)!r}: no tag array among its cell data "
-                         f"({', '.join(data.cell_data) or 'none'}); allowed names: {', '.join(TAG_ARRAYS)}")
+        raise InputError(
+            f"mesh.file = {str(path)!r}: no tag array among its cell data "
+            f"({', '.join(data.cell_data) or 'none'}); allowed names: {', '.join(TAG_ARRAYS)}"
+        )
     found = {3: set(), 2: set()}
     for block, tags in zip(data.cells, data.cell_data[key]):
         dim = 3 if block.type in VOLUME_TYPES else 2 if block.type in SURFACE_TYPES else None
@@ -169,11 +189,15 @@ def _check_tags_present(path: pathlib.Path, data, cells: dict, facets: dict) -> 
     for names, dim, what in ((cells, 3, "cell"), (facets, 2, "facet")):
         for name, tag in names.items():
             if tag not in found[dim]:
-                raise InputError(f"mesh.file = {str(path)!r}: {what} set {name!r} (tag {tag}) is missing: "
-                                 f"no {what} carries tag {tag} in {key!r}")
+                raise InputError(
+                    f"mesh.file = {str(path)!r}: {what} set {name!r} (tag {tag}) is missing: "
+                    f"no {what} carries tag {tag} in {key!r}"
+                )
 
 
-def physical_names(path: str | pathlib.Path, size_factor: float = 1.0, comm=None) -> tuple[dict, dict]:
+def physical_names(
+    path: str | pathlib.Path, size_factor: float = 1.0, comm=None
+) -> tuple[dict, dict]:
     """({cell set name: id}, {facet set name: id}) of a mesh file, without building a mesh (rank 0
     reads, the others receive). InputError when the file cannot be read."""
     comm = resolve_comm(comm)
@@ -214,9 +238,12 @@ def _meshio_to_msh(path: pathlib.Path, folder: pathlib.Path) -> pathlib.Path:
     out = folder / "mesh.msh"
     field_data = {n: np.array([i, 3]) for n, i in cells.items()}
     field_data.update({n: np.array([i, 2]) for n, i in facets.items()})
-    converted = meshio.Mesh(np.asarray(data.points, dtype=float)[:, :3], blocks,
-                            cell_data={"gmsh:physical": physical, "gmsh:geometrical": physical},
-                            field_data=field_data)
+    converted = meshio.Mesh(
+        np.asarray(data.points, dtype=float)[:, :3],
+        blocks,
+        cell_data={"gmsh:physical": physical, "gmsh:geometrical": physical},
+        field_data=field_data,
+    )
     meshio.write(str(out), converted, file_format="gmsh22", binary=False)
     return out
 
@@ -237,25 +264,31 @@ def refine_uniformly(read: ReadMesh, times: int) -> ReadMesh:
     if times <= 0:
         return read
     if read.mesh.topology.cell_type != dolfinx.mesh.CellType.tetrahedron:
-        raise InputError(f"mesh.refine = {times}: dolfinx refines tetrahedra only and "
-                         f"{pathlib.Path(read.info.get('file', 'the mesh')).name} has "
-                         f"{read.mesh.topology.cell_type.name} cells; refine its .geo by size_factor")
+        raise InputError(
+            f"mesh.refine = {times}: dolfinx refines tetrahedra only and "
+            f"{pathlib.Path(read.info.get('file', 'the mesh')).name} has "
+            f"{read.mesh.topology.cell_type.name} cells; refine its .geo by size_factor"
+        )
     mesh, cell_tags, facet_tags = read.mesh, read.cell_tags, read.facet_tags
     for _ in range(times):
         mesh.topology.create_entities(1)
         mesh.topology.create_connectivity(2, 3)
         fine, parent_cell, parent_facet = dolfinx.mesh.refine(
-            mesh, option=dolfinx.mesh.RefinementOption.parent_cell_and_facet)
+            mesh, option=dolfinx.mesh.RefinementOption.parent_cell_and_facet
+        )
         fine.topology.create_connectivity(2, 3)
         cell_tags = dolfinx.mesh.transfer_meshtag(cell_tags, fine, parent_cell, parent_facet)
         facet_tags = dolfinx.mesh.transfer_meshtag(facet_tags, fine, parent_cell, parent_facet)
         mesh = fine
     info = {**read.info, "refine": times, "cells": mesh.topology.index_map(3).size_global}
-    return ReadMesh(mesh, cell_tags, facet_tags, dict(read.cell_names), dict(read.facet_names), info)
+    return ReadMesh(
+        mesh, cell_tags, facet_tags, dict(read.cell_names), dict(read.facet_names), info
+    )
 
 
-def read_tagged_mesh(path: str | pathlib.Path, comm=None, size_factor: float = 1.0,
-                     refine: int = 0) -> ReadMesh:
+def read_tagged_mesh(
+    path: str | pathlib.Path, comm=None, size_factor: float = 1.0, refine: int = 0
+) -> ReadMesh:
     """The dolfinx mesh of ``path`` (.geo meshed with ``size_factor``, .msh, or a meshio-read file;
     see the module docstring) with its named cell and facet tags, distributed over ``comm``; then
     ``refine`` uniform refinements (:func:`refine_uniformly`)."""
@@ -292,6 +325,12 @@ def read_tagged_mesh(path: str | pathlib.Path, comm=None, size_factor: float = 1
             data = dolfinx.io.gmsh.read_from_msh(msh if comm.rank == 0 else path, comm, 0, gdim=3)
         cells = {n: g.tag for n, g in data.physical_groups.items() if g.dim == 3}
         facets = {n: g.tag for n, g in data.physical_groups.items() if g.dim == 2}
-    info = {"file": str(path), "kind": kind, "size_factor": size_factor,
-            "cells": data.mesh.topology.index_map(3).size_global}
-    return refine_uniformly(ReadMesh(data.mesh, data.cell_tags, data.facet_tags, cells, facets, info), refine)
+    info = {
+        "file": str(path),
+        "kind": kind,
+        "size_factor": size_factor,
+        "cells": data.mesh.topology.index_map(3).size_global,
+    }
+    return refine_uniformly(
+        ReadMesh(data.mesh, data.cell_tags, data.facet_tags, cells, facets, info), refine
+    )

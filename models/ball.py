@@ -17,17 +17,37 @@ from lcefem.models.parameters import param
 class Ball:
     """A solid sphere (moment of inertia 2 m r^2 / 5)."""
 
-    mass: float = param(10.0 * units.GRAM, "t", "seed 001, Results (Fig. 5B): 'an aluminum ball (10 g)'",
-                        positive=True)
-    density: float = param(2.70 * units.G_PER_CM3, "t/mm^3", "aluminium, 2.70 g/cm^3 (handbook value)",
-                           positive=True)
-    friction: float = param(0.3, "-", "assumed: Coulomb friction of aluminium on Kapton film (no datum "
-                            "in the seed); only checked against the rolling demand", positive=True)
-    rolling_resistance: float = param(0.01, "-", "assumed: rolling-resistance coefficient of a metal ball "
-                                      "on a thin polymer film over a compliant grid (no datum in the seed); "
-                                      "it sets how fast the ball settles, not where", minimum=0.0)
-    creep_speed: float = param(1.0, "mm/s", "assumed: below this speed the rolling resistance is "
-                               "proportional to the speed (regularised Coulomb law)", positive=True)
+    mass: float = param(
+        10.0 * units.GRAM,
+        "t",
+        "seed 001, Results (Fig. 5B): 'an aluminum ball (10 g)'",
+        positive=True,
+    )
+    density: float = param(
+        2.70 * units.G_PER_CM3, "t/mm^3", "aluminium, 2.70 g/cm^3 (handbook value)", positive=True
+    )
+    friction: float = param(
+        0.3,
+        "-",
+        "assumed: Coulomb friction of aluminium on Kapton film (no datum "
+        "in the seed); only checked against the rolling demand",
+        positive=True,
+    )
+    rolling_resistance: float = param(
+        0.01,
+        "-",
+        "assumed: rolling-resistance coefficient of a metal ball "
+        "on a thin polymer film over a compliant grid (no datum in the seed); "
+        "it sets how fast the ball settles, not where",
+        minimum=0.0,
+    )
+    creep_speed: float = param(
+        1.0,
+        "mm/s",
+        "assumed: below this speed the rolling resistance is "
+        "proportional to the speed (regularised Coulomb law)",
+        positive=True,
+    )
 
     @property
     def radius(self) -> float:

@@ -1,6 +1,6 @@
 """Elements of the bar-and-hinge (MERLIN-type) reduced-order model of the Kapton ribbon and the
-composite beam (seed 001, "Numerical simulation" and Fig. 2F; Liu & Paulino 2017): the kinematics and
-element energies with analytic first and second derivatives, vectorised over elements. The
+composite beam (seed 001, "Numerical simulation" and Fig. 2F; Liu & Paulino 2017): the kinematics
+and element energies with analytic first and second derivatives, vectorised over elements. The
 materials (parameter sections and laws: MERLIN2 bar law, tension-only Ogden strips, enhanced-linear
 springs) are :mod:`lcefem.models.bar_hinge_materials`.
 
@@ -11,17 +11,17 @@ springs) are :mod:`lcefem.models.bar_hinge_materials`.
   hinge models for scalable analysis of origami", Int. J. Solids Struct. 124:26-45, 2017, Sec. 4.1).
 * **Strip bending** (added here; the published model's strips are bars only,
   ``mesh.strip_element``): a straight strip piece clamped to its two bonded panels as an
-  Euler-Bernoulli beam, U = (2EI/L)(d_a^2 + d_a d_b + d_b^2) with d_a, d_b its end rotations relative
-  to its chord, measured as changes of dihedral angles (:func:`strip_beam_element`).
+  Euler-Bernoulli beam, U = (2EI/L)(d_a^2 + d_a d_b + d_b^2) with d_a, d_b its end rotations
+  relative to its chord, measured as changes of dihedral angles (:func:`strip_beam_element`).
 * **Panel torsion** (added here, ``kapton.twist = "plate"``; the published panels twist with every
   spoke hinge, GJ = k D^3/(2 W), 13.6 x the film's G w t^3/3 on the gridshell's 2.3 x 7 mm panels):
   the spokes keep beta k and a panel bending element (1 - beta) k restores the bending mode, so that
   a one-panel-wide ribbon twists as the plate strip (:func:`panel_twist_fraction`,
   :func:`panel_bending_element`).
 * **Strip-ribbon contact** (added here; the published model has none): frictionless unilateral
-  point-plane penalty k <g0 - g>_+^2/2 with the signed distance g of a point to a plane through three
-  nodes, its gradient and Hessian. Without it a free composite beam lets its ribbon pass through its
-  strips and curls into loops (validation/cases/beam_bar_hinge.py, report of issue 4).
+  point-plane penalty k <g0 - g>_+^2/2 with the signed distance g of a point to a plane through
+  three nodes, its gradient and Hessian. Without it a free composite beam lets its ribbon pass
+  through its strips and curls into loops (validation/cases/beam_bar_hinge.py, report of issue 4).
 
 Units: mm, N, MPa, mJ; angles in radians inside the functions (parameters state degrees where the
 published model does).
@@ -127,16 +127,23 @@ def dihedral_angle(x_j, x_k, x_i, x_l, *, derivatives: int = 2):
     h_ae = dgi_de
     h_bb = -dgl_db
     h_be = -dgl_de
-    h_ee = _outer(gl, dB_de) + B[:, None, None] * dgl_de - _outer(gi, dA_de) \
+    h_ee = (
+        _outer(gl, dB_de)
+        + B[:, None, None] * dgl_de
+        - _outer(gi, dA_de)
         - A[:, None, None] * dgi_de
+    )
     h_ea = np.swapaxes(h_ae, 1, 2)
     h_eb = np.swapaxes(h_be, 1, 2)
     # Rows of the node Hessian contracted over the first variable: R_p(Y) = sum_X C_pX H_XY,
-    # C = d(a, e, b)/d(j, k, i, l): j -> (-1, -1, 0), k -> (0, 1, 1), i -> (1, 0, 0), l -> (0, 0, -1).
-    rows = {"j": (-h_aa - h_ea, -h_ae - h_ee, -h_eb),
-            "k": (h_ea, h_ee + h_be, h_eb + h_bb),
-            "i": (h_aa, h_ae, None),
-            "l": (None, -h_be, -h_bb)}
+    # C = d(a, e, b)/d(j, k, i, l): j -> (-1, -1, 0), k -> (0, 1, 1), i -> (1, 0, 0), l -> (0, 0,
+    # -1).
+    rows = {
+        "j": (-h_aa - h_ea, -h_ae - h_ee, -h_eb),
+        "k": (h_ea, h_ee + h_be, h_eb + h_bb),
+        "i": (h_aa, h_ae, None),
+        "l": (None, -h_be, -h_bb),
+    }
     hess = np.empty((e.shape[0], 12, 12))
     for p, name in enumerate("jkil"):
         ra, re, rb = rows[name]
@@ -174,7 +181,7 @@ def bar_element(x1, x2, rest_length, volume, law: Law, *, derivatives: int = 2):
     if derivatives == 1:
         return energy, grad
     uu = _outer(u, u)
-    k_mat = (volume * d2w / rest_length ** 2)[:, None, None] * uu
+    k_mat = (volume * d2w / rest_length**2)[:, None, None] * uu
     k_geo = (f / length)[:, None, None] * (np.eye(3) - uu)
     k22 = k_mat + k_geo
     hess = np.empty((d.shape[0], 6, 6))
@@ -210,8 +217,9 @@ def hinge_element(x_j, x_k, x_i, x_l, length, law: Law, *, derivatives: int = 2)
     grad = (length * moment)[:, None] * out[1]
     if derivatives == 1:
         return energy, grad
-    hess = (length * dmoment)[:, None, None] * _outer(out[1], out[1]) \
-        + (length * moment)[:, None, None] * out[2]
+    hess = (length * dmoment)[:, None, None] * _outer(out[1], out[1]) + (length * moment)[
+        :, None, None
+    ] * out[2]
     return energy, grad, hess
 
 
@@ -239,12 +247,17 @@ def point_plane_gap(x_p, x_a, x_b, x_c, *, derivatives: int = 2):
     if derivatives == 1:
         return g, grad
     proj = np.eye(3) - _outer(n, n)
-    mm = (_outer(n, q) + _outer(q, n)) / nu[:, None, None] + (g / nu ** 2)[:, None, None] * proj
+    mm = (_outer(n, q) + _outer(q, n)) / nu[:, None, None] + (g / nu**2)[:, None, None] * proj
     su, sv, sq = _skew(u), _skew(v), _skew(q)
     pw = proj / nu[:, None, None]
-    h = {("w", "w"): np.zeros_like(proj), ("u", "w"): sv @ pw, ("v", "w"): -su @ pw,
-         ("u", "u"): sv @ mm @ sv, ("v", "v"): su @ mm @ su,
-         ("u", "v"): -sv @ mm @ su - sq}
+    h = {
+        ("w", "w"): np.zeros_like(proj),
+        ("u", "w"): sv @ pw,
+        ("v", "w"): -su @ pw,
+        ("u", "u"): sv @ mm @ sv,
+        ("v", "v"): su @ mm @ su,
+        ("u", "v"): -sv @ mm @ su - sq,
+    }
     h[("w", "u")] = np.swapaxes(h[("u", "w")], 1, 2)
     h[("w", "v")] = np.swapaxes(h[("v", "w")], 1, 2)
     h[("v", "u")] = np.swapaxes(h[("u", "v")], 1, 2)
@@ -255,7 +268,7 @@ def point_plane_gap(x_p, x_a, x_b, x_c, *, derivatives: int = 2):
         for i, ci in enumerate(coef[r]):
             for j, cj in enumerate(coef[c]):
                 if ci and cj:
-                    hess[:, 3 * i:3 * i + 3, 3 * j:3 * j + 3] += ci * cj * block
+                    hess[:, 3 * i : 3 * i + 3, 3 * j : 3 * j + 3] += ci * cj * block
     return g, grad, 0.5 * (hess + np.swapaxes(hess, 1, 2))
 
 
@@ -266,7 +279,7 @@ def unilateral_contact_element(x_p, x_a, x_b, x_c, rest_gap, stiffness, *, deriv
     contact is active (g < g0): elsewhere gradient and Hessian are zero (most contacts are open)."""
     g = point_plane_gap(x_p, x_a, x_b, x_c, derivatives=0)
     pen = np.maximum(rest_gap - g, 0.0)
-    energy = 0.5 * stiffness * pen ** 2
+    energy = 0.5 * stiffness * pen**2
     if derivatives == 0:
         return energy
     n = g.shape[0]
@@ -275,19 +288,23 @@ def unilateral_contact_element(x_p, x_a, x_b, x_c, rest_gap, stiffness, *, deriv
     hess = np.zeros((n, 12, 12)) if derivatives == 2 else None
     if active.size:
         k = np.broadcast_to(np.asarray(stiffness, dtype=float), g.shape)[active]
-        out = point_plane_gap(x_p[active], x_a[active], x_b[active], x_c[active],
-                              derivatives=derivatives)
+        out = point_plane_gap(
+            x_p[active], x_a[active], x_b[active], x_c[active], derivatives=derivatives
+        )
         grad[active] = (-k * pen[active])[:, None] * out[1]
         if derivatives == 2:
-            hess[active] = k[:, None, None] * _outer(out[1], out[1]) \
+            hess[active] = (
+                k[:, None, None] * _outer(out[1], out[1])
                 + (-k * pen[active])[:, None, None] * out[2]
+            )
     if derivatives == 1:
         return energy, grad
     return energy, grad, hess
 
 
-def strip_beam_element(x_a, x_a2, x_pa, x_b, x_b2, x_pb, stiffness, rest_a, rest_b, *,
-                       derivatives: int = 2):
+def strip_beam_element(
+    x_a, x_a2, x_pa, x_b, x_b2, x_pb, stiffness, rest_a, rest_b, *, derivatives: int = 2
+):
     """Bending energy of a straight LCE strip piece clamped at both ends (an Euler-Bernoulli beam
     element in terms of its end rotations relative to its chord), with gradient and Hessian.
 
@@ -327,7 +344,7 @@ def strip_beam_element(x_a, x_a2, x_pa, x_b, x_b2, x_pb, stiffness, rest_a, rest
     def spread(g12, slots):
         g = np.zeros((n, 18))
         for q, s in enumerate(slots):
-            g[:, 3 * s:3 * s + 3] += g12[:, 3 * q:3 * q + 3]
+            g[:, 3 * s : 3 * s + 3] += g12[:, 3 * q : 3 * q + 3]
         return g
 
     ga, gb = spread(out_a[1], slots_a), spread(out_b[1], slots_b)
@@ -340,12 +357,17 @@ def strip_beam_element(x_a, x_a2, x_pa, x_b, x_b2, x_pb, stiffness, rest_a, rest
         h = np.zeros((n, 18, 18))
         for p, sp_ in enumerate(slots):
             for q, sq in enumerate(slots):
-                h[:, 3 * sp_:3 * sp_ + 3, 3 * sq:3 * sq + 3] += h12[:, 3 * p:3 * p + 3, 3 * q:3 * q + 3]
+                h[:, 3 * sp_ : 3 * sp_ + 3, 3 * sq : 3 * sq + 3] += h12[
+                    :, 3 * p : 3 * p + 3, 3 * q : 3 * q + 3
+                ]
         return h
 
-    hess = c[:, None, None] * (2.0 * _outer(ga, ga) + _outer(ga, gb) + _outer(gb, ga)
-                                + 2.0 * _outer(gb, gb)) \
-        + m_a[:, None, None] * spread2(out_a[2], slots_a) + m_b[:, None, None] * spread2(out_b[2], slots_b)
+    hess = (
+        c[:, None, None]
+        * (2.0 * _outer(ga, ga) + _outer(ga, gb) + _outer(gb, ga) + 2.0 * _outer(gb, gb))
+        + m_a[:, None, None] * spread2(out_a[2], slots_a)
+        + m_b[:, None, None] * spread2(out_b[2], slots_b)
+    )
     return energy, grad, hess
 
 
@@ -363,27 +385,30 @@ def n5b8_bar_areas(width, height, thickness, poisson_ratio):
     """
     w = np.asarray(width, dtype=float)
     h = np.asarray(height, dtype=float)
-    c = thickness / (1.0 - poisson_ratio ** 2)
-    a_w = c * np.abs(h ** 2 - poisson_ratio * w ** 2) / (2.0 * h)
-    a_h = c * np.abs(w ** 2 - poisson_ratio * h ** 2) / (2.0 * w)
-    a_s = c * poisson_ratio * (h ** 2 + w ** 2) ** 1.5 / (2.0 * h * w)
+    c = thickness / (1.0 - poisson_ratio**2)
+    a_w = c * np.abs(h**2 - poisson_ratio * w**2) / (2.0 * h)
+    a_h = c * np.abs(w**2 - poisson_ratio * h**2) / (2.0 * w)
+    a_s = c * poisson_ratio * (h**2 + w**2) ** 1.5 / (2.0 * h * w)
     return a_w, a_h, a_s
 
 
-def n5b8_ribbon_bending_stiffness(hinge_stiffness: float, panel_length: float, width: float) -> float:
-    """Bending stiffness EI_eff [N mm^2] of a chain of N5B8 panels W x H (H = width) under cylindrical
-    bending, every hinge (fold and spoke) with stiffness k per unit length and rigid bars.
+def n5b8_ribbon_bending_stiffness(
+    hinge_stiffness: float, panel_length: float, width: float
+) -> float:
+    """Bending stiffness EI_eff [N mm^2] of a chain of N5B8 panels W x H (H = width) under
+    cylindrical bending, every hinge (fold and spoke) with stiffness k per unit length and rigid
+    bars.
 
     Per panel, with the corners on the cylinder and the centre node free (it rises by c):
     fold rotation kappa W - 4c/W on a hinge of length H; each of the four spokes (length D/2,
-    D^2 = W^2 + H^2) rotates by 2 c D/(W H). Minimising over c gives c = kappa W^2 H^3/(4 H^3 + 2 D^3) and
-    U = k kappa^2 W^2 H D^3/(2 (2 H^3 + D^3)) = (EI_eff W/2) kappa^2, so
+    D^2 = W^2 + H^2) rotates by 2 c D/(W H). Minimising over c gives c = kappa W^2 H^3/(4 H^3 + 2
+    D^3) and U = k kappa^2 W^2 H D^3/(2 (2 H^3 + D^3)) = (EI_eff W/2) kappa^2, so
     EI_eff = k W H D^3/(2 H^3 + D^3) (derived here; checked against the bar-and-hinge energy in
     tests/validation).
     """
     w, h = panel_length, width
     d3 = (w * w + h * h) ** 1.5
-    return hinge_stiffness * w * h * d3 / (2.0 * h ** 3 + d3)
+    return hinge_stiffness * w * h * d3 / (2.0 * h**3 + d3)
 
 
 def n5b8_ribbon_twist_stiffness(hinge_stiffness: float, panel_length, width):
@@ -415,15 +440,18 @@ def panel_twist_fraction(kapton: KaptonBarHinge, thickness: float, width, height
     if kapton.checked().twist == "n5b8":
         return np.ones(np.broadcast(w, h).shape)
     k = kapton.hinge_stiffness(thickness)
-    return 2.0 * kapton.shear_modulus * w * h * thickness ** 3 / (3.0 * k * (w * w + h * h) ** 1.5)
+    return 2.0 * kapton.shear_modulus * w * h * thickness**3 / (3.0 * k * (w * w + h * h) ** 1.5)
 
 
-#: Spoke m of an N5B8 panel (centre c, corners 0..3 in cyclic order) is the hinge (c, m; m - 1, m + 1)
-#: (:func:`lcefem.meshes.bar_hinge_structure.n5b8_structure`): its nodes' slots in (c, 0, 1, 2, 3).
+#: Spoke m of an N5B8 panel (centre c, corners 0..3 in cyclic order) is the hinge (c, m; m - 1, m +
+#: 1) (:func:`lcefem.meshes.bar_hinge_structure.n5b8_structure`): its nodes' slots in (c, 0, 1, 2,
+#: 3).
 SPOKE_SLOTS = tuple((0, 1 + m, 1 + (m - 1) % 4, 1 + (m + 1) % 4) for m in range(4))
 
 
-def panel_bending_element(x_c, x_0, x_1, x_2, x_3, lengths, rest, stiffness, *, derivatives: int = 2):
+def panel_bending_element(
+    x_c, x_0, x_1, x_2, x_3, lengths, rest, stiffness, *, derivatives: int = 2
+):
     """The N5B8 panel's bending (pyramid) mode as one spring: with the spokes' fold angle changes
     d_m (m = 0..3, each wrapped to (-pi, pi]) and lengths L_m,
 
@@ -445,7 +473,9 @@ def panel_bending_element(x_c, x_0, x_1, x_2, x_3, lengths, rest, stiffness, *, 
     xs = (x_c, x_0, x_1, x_2, x_3)
     n = x_c.shape[0]
     lengths = np.asarray(lengths, dtype=float)
-    outs = [dihedral_angle(*(xs[s] for s in SPOKE_SLOTS[m]), derivatives=derivatives) for m in range(4)]
+    outs = [
+        dihedral_angle(*(xs[s] for s in SPOKE_SLOTS[m]), derivatives=derivatives) for m in range(4)
+    ]
     theta = np.stack([o if derivatives == 0 else o[0] for o in outs], axis=1)
     d = np.mod(theta - rest + np.pi, 2.0 * np.pi) - np.pi
     total = np.sum(lengths, axis=1)
@@ -457,7 +487,7 @@ def panel_bending_element(x_c, x_0, x_1, x_2, x_3, lengths, rest, stiffness, *, 
     g = np.zeros((n, 15))
     for m in range(4):
         for q, slot in enumerate(SPOKE_SLOTS[m]):
-            g[:, 3 * slot:3 * slot + 3] += lengths[:, m, None] * outs[m][1][:, 3 * q:3 * q + 3]
+            g[:, 3 * slot : 3 * slot + 3] += lengths[:, m, None] * outs[m][1][:, 3 * q : 3 * q + 3]
     grad = (c * s)[:, None] * g
     if derivatives == 1:
         return energy, grad
@@ -466,6 +496,7 @@ def panel_bending_element(x_c, x_0, x_1, x_2, x_3, lengths, rest, stiffness, *, 
         weight = (c * s * lengths[:, m])[:, None, None]
         for a, sa in enumerate(SPOKE_SLOTS[m]):
             for b, sb in enumerate(SPOKE_SLOTS[m]):
-                hess[:, 3 * sa:3 * sa + 3, 3 * sb:3 * sb + 3] += \
-                    weight * outs[m][2][:, 3 * a:3 * a + 3, 3 * b:3 * b + 3]
+                hess[:, 3 * sa : 3 * sa + 3, 3 * sb : 3 * sb + 3] += (
+                    weight * outs[m][2][:, 3 * a : 3 * a + 3, 3 * b : 3 * b + 3]
+                )
     return energy, grad, hess

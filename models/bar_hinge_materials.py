@@ -53,13 +53,15 @@ from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_
 from lcefem.models.parameters import param
 
 #: Nematic relative length lambda_N [-] of the published reduced-order model: its isotropic/nematic
-#: length ratio 0.7143 = 1/1.4 (shared/reference/published_reduced_model.md). The bar-and-hinge models,
-#: the FE composite beam and Eq. 2 use it; the strip model uses Eq. 1's limit (models.empirical.EQ1_LAMBDA_N).
+#: length ratio 0.7143 = 1/1.4 (shared/reference/published_reduced_model.md). The bar-and-hinge
+#: models, the FE composite beam and Eq. 2 use it; the strip model uses Eq. 1's limit
+#: (models.empirical.EQ1_LAMBDA_N).
 PUBLISHED_LAMBDA_N: float = 1.4
 
-PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
-             "shared/reference/published_reduced_model.md)")
-
+PUBLISHED = (
+    "published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
+    "shared/reference/published_reduced_model.md)"
+)
 
 
 #: Axial force laws of the LCE strip bars (:class:`LCEStripBars`.force_law).
@@ -77,29 +79,57 @@ class KaptonBarHinge:
     k = bending_factor E t^3 / (12 hinge_spacing).
     """
 
-    youngs_modulus: float = param(KAPTON_DATASHEET_MODULUS, "MPa", "DuPont Kapton HN datasheet, 23 C "
-                                  "(2.5 GPa, models.hyperelastic.KAPTON_DATASHEET_MODULUS); "
-                                  + PUBLISHED, positive=True)
-    poisson_ratio: float = param(KAPTON_POISSON_RATIO, "-", "DuPont Kapton HN datasheet; " + PUBLISHED,
-                                 minimum=0.0, maximum=0.49)
-    bar_exponent_1: float = param(5.0, "-", "MERLIN2 stiffening bar law, exponents [5, 1] "
-                                  "(Liu & Paulino 2017; " + PUBLISHED + ")")
+    youngs_modulus: float = param(
+        KAPTON_DATASHEET_MODULUS,
+        "MPa",
+        "DuPont Kapton HN datasheet, 23 C "
+        "(2.5 GPa, models.hyperelastic.KAPTON_DATASHEET_MODULUS); " + PUBLISHED,
+        positive=True,
+    )
+    poisson_ratio: float = param(
+        KAPTON_POISSON_RATIO,
+        "-",
+        "DuPont Kapton HN datasheet; " + PUBLISHED,
+        minimum=0.0,
+        maximum=0.49,
+    )
+    bar_exponent_1: float = param(
+        5.0,
+        "-",
+        "MERLIN2 stiffening bar law, exponents [5, 1] (Liu & Paulino 2017; " + PUBLISHED + ")",
+    )
     bar_exponent_2: float = param(1.0, "-", "MERLIN2 stiffening bar law, exponents [5, 1]")
-    bending_factor: float = param(5.5, "-", PUBLISHED + ": k = 5.5 E tp^3/(12 (Lx + d)/Nx); an "
-                                  "empirical multiplier of the plate stiffness (apparently fitted "
-                                  "to the 0.18 N buckling test, seed 001 Fig. 2G)", positive=True)
-    hinge_spacing: float = param(37.0 / 11.0, "mm", PUBLISHED + ": (Lx + d)/Nx = (30 + 7)/11 mm",
-                                 positive=True)
-    linear_from: float = param(30.0, "deg", "enhanced-linear law, theta1 (" + PUBLISHED + ")",
-                               minimum=1.0, maximum=179.0)
-    linear_to: float = param(330.0, "deg", "enhanced-linear law, theta2 (" + PUBLISHED + ")",
-                             minimum=181.0, maximum=359.0)
-    twist: str = param("n5b8", "-", "torsion of the panels: 'n5b8' (" + PUBLISHED + ": every spoke "
-                       "hinge with k; a one-panel-wide ribbon then has GJ = k D^3/(2 W), 13.6 x the "
-                       "plate's G w t^3/3 for the gridshell's 2.3 x 7 mm panels) or 'plate' (added "
-                       "here: the spokes' twist mode scaled so that GJ = G w t^3/3 with G = E/(2 (1 + "
-                       "nu)), the bending modes unchanged; :func:`panel_twist_fraction`, "
-                       "docs/gridshell_calibration.md)")
+    bending_factor: float = param(
+        5.5,
+        "-",
+        PUBLISHED + ": k = 5.5 E tp^3/(12 (Lx + d)/Nx); an "
+        "empirical multiplier of the plate stiffness (apparently fitted "
+        "to the 0.18 N buckling test, seed 001 Fig. 2G)",
+        positive=True,
+    )
+    hinge_spacing: float = param(
+        37.0 / 11.0, "mm", PUBLISHED + ": (Lx + d)/Nx = (30 + 7)/11 mm", positive=True
+    )
+    linear_from: float = param(
+        30.0, "deg", "enhanced-linear law, theta1 (" + PUBLISHED + ")", minimum=1.0, maximum=179.0
+    )
+    linear_to: float = param(
+        330.0,
+        "deg",
+        "enhanced-linear law, theta2 (" + PUBLISHED + ")",
+        minimum=181.0,
+        maximum=359.0,
+    )
+    twist: str = param(
+        "n5b8",
+        "-",
+        "torsion of the panels: 'n5b8' (" + PUBLISHED + ": every spoke "
+        "hinge with k; a one-panel-wide ribbon then has GJ = k D^3/(2 W), 13.6 x the "
+        "plate's G w t^3/3 for the gridshell's 2.3 x 7 mm panels) or 'plate' (added "
+        "here: the spokes' twist mode scaled so that GJ = G w t^3/3 with G = E/(2 (1 + "
+        "nu)), the bending modes unchanged; :func:`panel_twist_fraction`, "
+        "docs/gridshell_calibration.md)",
+    )
 
     def checked(self) -> "KaptonBarHinge":
         if self.twist not in TWIST_MODELS:
@@ -112,34 +142,59 @@ class KaptonBarHinge:
         return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
 
     def hinge_stiffness(self, thickness: float) -> float:
-        """k [N mm/(rad mm)] = bending_factor E t^3/(12 hinge_spacing) for a ribbon thickness t [mm]."""
-        return self.bending_factor * self.youngs_modulus * thickness ** 3 / (12.0 * self.hinge_spacing)
+        """k [N mm/(rad mm)] = bending_factor E t^3/(12 hinge_spacing) for a ribbon thickness t
+        [mm]."""
+        return (
+            self.bending_factor * self.youngs_modulus * thickness**3 / (12.0 * self.hinge_spacing)
+        )
 
 
 @dataclass(frozen=True)
 class LCEStripBars:
     """LCE strips as tension-only Ogden bars with a ramped rest length (published model)."""
 
-    lambda_N: float = param(PUBLISHED_LAMBDA_N, "-", PUBLISHED + ": isotropic/nematic length ratio 1/0.7143",
-                            minimum=1.0)
-    bars_per_strip: int = param(2, "-", "seed 001 'Numerical simulation': each strip is two identical "
-                                "bars along the ribbon edges, each with half the section",
-                                minimum=1)
-    force_law: str = param("volume", "-", "axial force of a strip bar at stretch p from its rest "
-                           "length: 'volume' (ours: (A/lambda) P(p), the cast section A = 5 mm^2 per bar "
-                           "thinned by the rest stretch lambda at constant volume) or 'published' ("
-                           + PUBLISHED + ": A f P(p) with the rest fraction f = lambda/lambda_N; "
-                           "ratio volume/published = 1/(lambda_N f^2): 1.27 at f = 0.75, 0.79 at "
-                           "f = 0.95)")
+    lambda_N: float = param(
+        PUBLISHED_LAMBDA_N,
+        "-",
+        PUBLISHED + ": isotropic/nematic length ratio 1/0.7143",
+        minimum=1.0,
+    )
+    bars_per_strip: int = param(
+        2,
+        "-",
+        "seed 001 'Numerical simulation': each strip is two identical "
+        "bars along the ribbon edges, each with half the section",
+        minimum=1,
+    )
+    force_law: str = param(
+        "volume",
+        "-",
+        "axial force of a strip bar at stretch p from its rest "
+        "length: 'volume' (ours: (A/lambda) P(p), the cast section A = 5 mm^2 per bar "
+        "thinned by the rest stretch lambda at constant volume) or 'published' ("
+        + PUBLISHED
+        + ": A f P(p) with the rest fraction f = lambda/lambda_N; "
+        "ratio volume/published = 1/(lambda_N f^2): 1.27 at f = 0.75, 0.79 at "
+        "f = 0.95)",
+    )
 
-    bending_modulus: float = param(0.543, "MPa", "small-strain Young's modulus 3 mu_0 of the published "
-                                   "Ogden law (models.hyperelastic.OgdenLaw; the incompressible LCE): "
-                                   "the strips' own bending stiffness E I (only with mesh.strip_element "
-                                   "'bending' or 'beam')", positive=True)
-    bending_factor: float = param(1.0, "-", "multiplier of the strips' E I (1: the as-built section's, "
-                                  "E w_s h_s^3/12); a calibration parameter of `lcefem calibrate "
-                                  "bar-hinge` (only with mesh.strip_element 'bending' or 'beam')",
-                                  minimum=0.0)
+    bending_modulus: float = param(
+        0.543,
+        "MPa",
+        "small-strain Young's modulus 3 mu_0 of the published "
+        "Ogden law (models.hyperelastic.OgdenLaw; the incompressible LCE): "
+        "the strips' own bending stiffness E I (only with mesh.strip_element "
+        "'bending' or 'beam')",
+        positive=True,
+    )
+    bending_factor: float = param(
+        1.0,
+        "-",
+        "multiplier of the strips' E I (1: the as-built section's, "
+        "E w_s h_s^3/12); a calibration parameter of `lcefem calibrate "
+        "bar-hinge` (only with mesh.strip_element 'bending' or 'beam')",
+        minimum=0.0,
+    )
 
     def checked(self) -> "LCEStripBars":
         if self.force_law not in FORCE_LAWS:
@@ -153,10 +208,12 @@ class LCEStripBars:
 
 @dataclass(frozen=True)
 class GlueBars:
-    """Stiff bars that hold the two bars of a top strip together over a junction (published model)."""
+    """Stiff bars that hold the two bars of a top strip together over a junction (published
+    model)."""
 
-    youngs_modulus: float = param(1.0e4, "MPa", PUBLISHED + ": Ogden bar law with C0 = 5e3*2",
-                                  positive=True)
+    youngs_modulus: float = param(
+        1.0e4, "MPa", PUBLISHED + ": Ogden bar law with C0 = 5e3*2", positive=True
+    )
 
 
 @dataclass(frozen=True)
@@ -175,12 +232,17 @@ class StripContact:
     """Frictionless unilateral contact between the LCE strips and the ribbon (added here; the
     published model has none, so strips can pass through the ribbon). A point is held on its side of
     a plane by the penalty energy k <g0 - g>_+^2/2 (g its signed distance to the plane, g0 the
-    smallest allowed), with k = E_c A_c/t_a: the strip's through-thickness stiffness over the contact
-    area A_c, t_a the strip thickness (areas and depths come with the geometry)."""
+    smallest allowed), with k = E_c A_c/t_a: the strip's through-thickness stiffness over the
+    contact area A_c, t_a the strip thickness (areas and depths come with the geometry)."""
 
-    modulus: float = param(0.543, "MPa", "small-strain modulus 3 mu_0 of the published Ogden law "
-                           "(models.hyperelastic.OgdenLaw): the LCE strip compressed through its "
-                           "thickness", positive=True)
+    modulus: float = param(
+        0.543,
+        "MPa",
+        "small-strain modulus 3 mu_0 of the published Ogden law "
+        "(models.hyperelastic.OgdenLaw): the LCE strip compressed through its "
+        "thickness",
+        positive=True,
+    )
 
 
 @dataclass(frozen=True)
@@ -203,15 +265,17 @@ class BarHingeMaterials:
     def materials(self) -> "BarHingeMaterials":
         """The material laws alone (a run configuration that extends this class keeps its other
         sections to itself)."""
-        return BarHingeMaterials(**{f.name: getattr(self, f.name) for f in dataclasses.fields(BarHingeMaterials)})
+        return BarHingeMaterials(
+            **{f.name: getattr(self, f.name) for f in dataclasses.fields(BarHingeMaterials)}
+        )
 
 
 # --------------------------------------------------------------------------- material laws
 def stiffening_bar_law(stretch, modulus, exponents=(5.0, 1.0)):
     """MERLIN2 Ogden-type bar law (Liu & Paulino 2017): (W, dW/dl, d2W/dl2) per reference volume.
 
-    W(l) = C0 [(l^a1 - 1)/(a1 (a1-a2)) + (l^a2 - 1)/(a2 (a2-a1))] [MPa = mJ/mm^3] with C0 = ``modulus``
-    [MPa]; dW/dl = C0 (l^(a1-1) - l^(a2-1))/(a1-a2) = l S [MPa]; d2W/dl2(1) = C0.
+    W(l) = C0 [(l^a1 - 1)/(a1 (a1-a2)) + (l^a2 - 1)/(a2 (a2-a1))] [MPa = mJ/mm^3] with C0 =
+    ``modulus`` [MPa]; dW/dl = C0 (l^(a1-1) - l^(a2-1))/(a1-a2) = l S [MPa]; d2W/dl2(1) = C0.
     """
     a1, a2 = (float(a) for a in exponents)
     lam = np.asarray(stretch, dtype=float)
@@ -236,8 +300,8 @@ def tension_only_ogden_law(stretch, law: OgdenLaw = OgdenLaw()):
     """(W, dW/dp, d2W/dp2) of the incompressible Ogden law in uniaxial stretch p, zero for p < 1.
 
     W = sum_k mu_k/a_k (p^a_k + 2 p^(-a_k/2) - 3) [MPa], dW/dp = P (nominal stress, Ogden 1997),
-    d2W/dp2 = sum_k mu_k ((a_k - 1) p^(a_k - 2) + (a_k/2 + 1) p^(-a_k/2 - 2)). W and dW/dp are continuous
-    at p = 1 (both vanish); d2W/dp2 jumps from 0 to the small-strain modulus 3 mu_0.
+    d2W/dp2 = sum_k mu_k ((a_k - 1) p^(a_k - 2) + (a_k/2 + 1) p^(-a_k/2 - 2)). W and dW/dp are
+    continuous at p = 1 (both vanish); d2W/dp2 jumps from 0 to the small-strain modulus 3 mu_0.
     """
     p = np.asarray(stretch, dtype=float)
     taut = p > 1.0
@@ -255,7 +319,8 @@ def tension_only_ogden_law(stretch, law: OgdenLaw = OgdenLaw()):
 
 
 def enhanced_linear_law(theta, theta0, k, theta1=math.radians(30.0), theta2=math.radians(330.0)):
-    """Enhanced-linear rotational spring (Liu & Paulino 2017, Sec. 3b): (psi, M, dM/dtheta) per unit length.
+    """Enhanced-linear rotational spring (Liu & Paulino 2017, Sec. 3b): (psi, M, dM/dtheta) per unit
+    length.
 
     Args:
         theta: dihedral angle [rad] in (0, 2 pi); theta0: rest angle [rad]; k: stiffness
@@ -276,14 +341,18 @@ def enhanced_linear_law(theta, theta0, k, theta1=math.radians(30.0), theta2=math
     # Towards 0: M = k (t1 - t0) + k tan(c (th - t1))/c, c = pi/(2 t1); psi continuous at t1.
     c = np.pi / (2.0 * t1)
     arg = np.where(left, c * (th - t1), 0.0)
-    psi_l = 0.5 * kk * (t1 - th0) ** 2 + kk * (t1 - th0) * (th - t1) - kk / c ** 2 * np.log(np.cos(arg))
+    psi_l = (
+        0.5 * kk * (t1 - th0) ** 2 + kk * (t1 - th0) * (th - t1) - kk / c**2 * np.log(np.cos(arg))
+    )
     psi = np.where(left, psi_l, psi)
     m = np.where(left, kk * (t1 - th0) + kk * np.tan(arg) / c, m)
     dm = np.where(left, kk / np.cos(arg) ** 2, dm)
     # Towards 2 pi: the mirror image with c = pi/(2 (2 pi - t2)).
     c = np.pi / (2.0 * (2.0 * np.pi - t2))
     arg = np.where(right, c * (th - t2), 0.0)
-    psi_r = 0.5 * kk * (t2 - th0) ** 2 + kk * (t2 - th0) * (th - t2) - kk / c ** 2 * np.log(np.cos(arg))
+    psi_r = (
+        0.5 * kk * (t2 - th0) ** 2 + kk * (t2 - th0) * (th - t2) - kk / c**2 * np.log(np.cos(arg))
+    )
     psi = np.where(right, psi_r, psi)
     m = np.where(right, kk * (t2 - th0) + kk * np.tan(arg) / c, m)
     dm = np.where(right, kk / np.cos(arg) ** 2, dm)

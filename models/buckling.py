@@ -14,7 +14,7 @@ from lcefem.models.errors import InputError
 
 def euler_fixed_fixed(bending_stiffness: float, length: float) -> float:
     """Euler load of a fixed-fixed column, P = 4 pi^2 EI/L^2 [N] (EI [N mm^2], L [mm])."""
-    return 4.0 * math.pi ** 2 * bending_stiffness / length ** 2
+    return 4.0 * math.pi**2 * bending_stiffness / length**2
 
 
 def elastica_force_ratio(compression: float) -> float:
@@ -32,15 +32,20 @@ def elastica_force_ratio(compression: float) -> float:
     return (2.0 * special.ellipk(m) / math.pi) ** 2
 
 
-def specimen_closed_forms(specimen, youngs_modulus: float, poisson_ratio: float,
-                          measured: float) -> dict[str, float]:
+def specimen_closed_forms(
+    specimen, youngs_modulus: float, poisson_ratio: float, measured: float
+) -> dict[str, float]:
     """Euler loads [N] of a fixed-fixed specimen (``specimen``: length [mm], second_moment [mm^4]):
     beam E I and plate strip E I/(1 - nu^2); and the free length [mm] and modulus [MPa] for which
     4 pi^2 E I/L^2 equals the ``measured`` load [N]."""
     ei = youngs_modulus * specimen.second_moment
-    return {"Euler, E I (datasheet E) [N]": euler_fixed_fixed(ei, specimen.length),
-            "Euler, plate strip E I/(1 - nu^2) [N]": euler_fixed_fixed(
-                ei / (1.0 - poisson_ratio ** 2), specimen.length),
-            "free length giving the measured load [mm]": 2.0 * math.pi * math.sqrt(ei / measured),
-            "modulus giving the measured load [MPa]": measured * specimen.length ** 2
-            / (4.0 * math.pi ** 2 * specimen.second_moment)}
+    return {
+        "Euler, E I (datasheet E) [N]": euler_fixed_fixed(ei, specimen.length),
+        "Euler, plate strip E I/(1 - nu^2) [N]": euler_fixed_fixed(
+            ei / (1.0 - poisson_ratio**2), specimen.length
+        ),
+        "free length giving the measured load [mm]": 2.0 * math.pi * math.sqrt(ei / measured),
+        "modulus giving the measured load [MPa]": measured
+        * specimen.length**2
+        / (4.0 * math.pi**2 * specimen.second_moment),
+    }

@@ -14,11 +14,23 @@ from typing import Any
 from lcefem.models.errors import InputError
 
 
-def param(default: Any, unit: str, source: str, *, minimum: float | None = None,
-          maximum: float | None = None, positive: bool = False) -> Any:
+def param(
+    default: Any,
+    unit: str,
+    source: str,
+    *,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    positive: bool = False,
+) -> Any:
     """A dataclass field with ``unit`` and ``source`` metadata and optional bounds."""
-    meta = {"unit": unit, "source": source, "minimum": minimum, "maximum": maximum,
-            "positive": positive}
+    meta = {
+        "unit": unit,
+        "source": source,
+        "minimum": minimum,
+        "maximum": maximum,
+        "positive": positive,
+    }
     return dataclasses.field(default=default, metadata=meta)
 
 
@@ -26,8 +38,11 @@ def describe(obj: Any) -> dict[str, dict[str, Any]]:
     """``{field: {"value", "unit", "source"}}`` for a parameter dataclass instance."""
     out = {}
     for f in dataclasses.fields(obj):
-        out[f.name] = {"value": getattr(obj, f.name), "unit": f.metadata.get("unit", ""),
-                       "source": f.metadata.get("source", "")}
+        out[f.name] = {
+            "value": getattr(obj, f.name),
+            "unit": f.metadata.get("unit", ""),
+            "source": f.metadata.get("source", ""),
+        }
     return out
 
 

@@ -9,10 +9,11 @@ Energies (seed 000, "DER - Energy Components"; Bergou et al. 2008, 2010; Jawed, 
 
 with (kappa b)_k = 2 t^(k-1) x t^k / (1 + t^(k-1).t^k), kappa_1 = 1/2 (kappa b).(m2^(k-1) + m2^k),
 kappa_2 = -1/2 (kappa b).(m1^(k-1) + m1^k) (integrated curvatures [-]), the integrated twist
-m_k = theta^k - theta^(k-1) + (reference twist) [rad], and l_bar_k = (|e_bar^(k-1)| + |e_bar^k|)/2 the
-rest Voronoi length [mm]. kappa_1 is the curvature towards m1 (bending about m2, stiffness EI_1),
-kappa_2 the curvature towards m2 (stiffness EI_2). The natural values kappa_bar, m_bar (integrated,
-i.e. density times l_bar) and the rest lengths may change in time: that is how heat actuates a rod.
+m_k = theta^k - theta^(k-1) + (reference twist) [rad], and l_bar_k = (|e_bar^(k-1)| + |e_bar^k|)/2
+the rest Voronoi length [mm]. kappa_1 is the curvature towards m1 (bending about m2, stiffness
+EI_1), kappa_2 the curvature towards m2 (stiffness EI_2). The natural values kappa_bar, m_bar
+(integrated, i.e. density times l_bar) and the rest lengths may change in time: that is how heat
+actuates a rod.
 
 Reference frames move by time-parallel transport. The element gradients and Hessians here are
 exact derivatives of the energy with the reference frame transported from the *current*
@@ -49,14 +50,17 @@ class RodSection:
     """Stiffnesses and inertia of a rod cross-section (uniform along the rod)."""
 
     EA: float = param(1.0, "N", "axial stiffness E A", positive=True)
-    EI1: float = param(1.0, "N mm^2", "bending stiffness for curvature towards m1 (about m2)",
-                       positive=True)
-    EI2: float = param(1.0, "N mm^2", "bending stiffness for curvature towards m2 (about m1)",
-                       positive=True)
+    EI1: float = param(
+        1.0, "N mm^2", "bending stiffness for curvature towards m1 (about m2)", positive=True
+    )
+    EI2: float = param(
+        1.0, "N mm^2", "bending stiffness for curvature towards m2 (about m1)", positive=True
+    )
     GJ: float = param(1.0, "N mm^2", "torsional stiffness G J", positive=True)
     mass_per_length: float = param(1.0e-9, "t/mm", "rho A", minimum=0.0)
-    inertia_per_length: float = param(1.0e-9, "t mm", "rho I_p: polar mass moment per length",
-                                      minimum=0.0)
+    inertia_per_length: float = param(
+        1.0e-9, "t mm", "rho I_p: polar mass moment per length", minimum=0.0
+    )
     width: float = param(0.0, "mm", "extent along m1 (0: a line, no corners)", minimum=0.0)
     thickness: float = param(0.0, "mm", "extent along m2 (0: a line, no corners)", minimum=0.0)
 
@@ -64,19 +68,20 @@ class RodSection:
 def torsion_constant_rectangle(width: float, thickness: float) -> float:
     """Saint-Venant torsion constant J [mm^4] of a solid w x t rectangle (w >= t after sorting).
 
-    J = w t^3 [1/3 - 0.21 (t/w) (1 - (t/w)^4 / 12)] (Roark's Formulas for Stress and Strain, 7th ed.,
-    Table 10.7 case 4; within about 1 % of the exact series of Timoshenko & Goodier, Theory of
+    J = w t^3 [1/3 - 0.21 (t/w) (1 - (t/w)^4 / 12)] (Roark's Formulas for Stress and Strain, 7th
+    ed., Table 10.7 case 4; within about 1 % of the exact series of Timoshenko & Goodier, Theory of
     Elasticity, 3rd ed., Sec. 109, for every aspect ratio). It tends to the thin-strip value w t^3/3
     for w >> t; the 0.21 t/w term is the stress-free edge correction, which matters for the LCE
     ribbons' aspect ratio (t/w ~ 0.2 lowers J by 13 %).
     """
     w, t = max(width, thickness), min(width, thickness)
     r = t / w
-    return w * t ** 3 * (1.0 / 3.0 - 0.21 * r * (1.0 - r ** 4 / 12.0))
+    return w * t**3 * (1.0 / 3.0 - 0.21 * r * (1.0 - r**4 / 12.0))
 
 
-def rectangular_section(width: float, thickness: float, youngs_modulus: float, shear_modulus: float,
-                        density: float) -> RodSection:
+def rectangular_section(
+    width: float, thickness: float, youngs_modulus: float, shear_modulus: float, density: float
+) -> RodSection:
     """Section of a solid rectangular ribbon: width along m1, thickness along m2 [mm], E, G [MPa],
     density [t/mm^3].
 
@@ -85,24 +90,34 @@ def rectangular_section(width: float, thickness: float, youngs_modulus: float, s
     polar mass moment rho I_p = rho w t (w^2 + t^2)/12.
     """
     area = width * thickness
-    return RodSection(EA=youngs_modulus * area,
-                      EI1=youngs_modulus * thickness * width ** 3 / 12.0,
-                      EI2=youngs_modulus * width * thickness ** 3 / 12.0,
-                      GJ=shear_modulus * torsion_constant_rectangle(width, thickness),
-                      mass_per_length=density * area,
-                      inertia_per_length=density * area * (width ** 2 + thickness ** 2) / 12.0,
-                      width=width, thickness=thickness)
+    return RodSection(
+        EA=youngs_modulus * area,
+        EI1=youngs_modulus * thickness * width**3 / 12.0,
+        EI2=youngs_modulus * width * thickness**3 / 12.0,
+        GJ=shear_modulus * torsion_constant_rectangle(width, thickness),
+        mass_per_length=density * area,
+        inertia_per_length=density * area * (width**2 + thickness**2) / 12.0,
+        width=width,
+        thickness=thickness,
+    )
 
 
-def circular_section(radius: float, youngs_modulus: float, shear_modulus: float,
-                     density: float) -> RodSection:
+def circular_section(
+    radius: float, youngs_modulus: float, shear_modulus: float, density: float
+) -> RodSection:
     """Section of a solid round rod: I = pi r^4/4, J = pi r^4/2 (seed 000, 'Energy Components')."""
-    area = math.pi * radius ** 2
-    inertia = math.pi * radius ** 4 / 4.0
-    return RodSection(EA=youngs_modulus * area, EI1=youngs_modulus * inertia,
-                      EI2=youngs_modulus * inertia, GJ=shear_modulus * 2.0 * inertia,
-                      mass_per_length=density * area, inertia_per_length=density * 2.0 * inertia,
-                      width=0.0, thickness=0.0)
+    area = math.pi * radius**2
+    inertia = math.pi * radius**4 / 4.0
+    return RodSection(
+        EA=youngs_modulus * area,
+        EI1=youngs_modulus * inertia,
+        EI2=youngs_modulus * inertia,
+        GJ=shear_modulus * 2.0 * inertia,
+        mass_per_length=density * area,
+        inertia_per_length=density * 2.0 * inertia,
+        width=0.0,
+        thickness=0.0,
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -188,10 +203,12 @@ def stretching(e: np.ndarray, rest_length: np.ndarray, EA: float):
     length = np.linalg.norm(e, axis=1)
     t = e / length[:, None]
     strain = length / rest_length - 1.0
-    energy = 0.5 * EA * strain ** 2 * rest_length
+    energy = 0.5 * EA * strain**2 * rest_length
     grad = (EA * strain)[:, None] * t
     tt = _outer(t, t)
-    hess = (EA / rest_length)[:, None, None] * tt + (EA * strain / length)[:, None, None] * (_EYE - tt)
+    hess = (EA / rest_length)[:, None, None] * tt + (EA * strain / length)[:, None, None] * (
+        _EYE - tt
+    )
     return energy, grad, hess
 
 
@@ -214,8 +231,10 @@ def frame_second_derivative(t: np.ndarray, length: np.ndarray, m: np.ndarray, g:
     """
     gt = _dot(g, t)
     p = g - gt[:, None] * t
-    inv_l2 = 1.0 / length ** 2
-    return inv_l2[:, None, None] * (gt[:, None, None] * _sym(_outer(m, t)) - 0.5 * _sym(_outer(m, p)))
+    inv_l2 = 1.0 / length**2
+    return inv_l2[:, None, None] * (
+        gt[:, None, None] * _sym(_outer(m, t)) - 0.5 * _sym(_outer(m, p))
+    )
 
 
 def source_change(source: np.ndarray, t: np.ndarray, length: np.ndarray):
@@ -241,7 +260,7 @@ def source_change(source: np.ndarray, t: np.ndarray, length: np.ndarray):
     g = cross(t, source) / c[:, None]
     P = _EYE - _outer(t, t)
     hb = _sym(_outer(-g * c[:, None], t + source)) / (2.0 * c * c)[:, None, None]
-    inv_l2 = (1.0 / length ** 2)[:, None, None]
+    inv_l2 = (1.0 / length**2)[:, None, None]
     return g / length[:, None], P @ hb @ P * inv_l2 - _sym(_outer(g, t)) * inv_l2
 
 
@@ -262,27 +281,28 @@ def apply_source_change(grad: np.ndarray, hess: np.ndarray | None, slots, d_beta
     W = np.broadcast_to(np.eye(m), (n, m, m)).copy()
     g_new = grad.copy()
     for (a, it, b), db in zip(slots, d_beta):
-        W[:, it, a:a + 3] = -db
-        W[:, it, b:b + 3] = db
-        g_new[:, a:a + 3] -= grad[:, it, None] * db
-        g_new[:, b:b + 3] += grad[:, it, None] * db
+        W[:, it, a : a + 3] = -db
+        W[:, it, b : b + 3] = db
+        g_new[:, a : a + 3] -= grad[:, it, None] * db
+        g_new[:, b : b + 3] += grad[:, it, None] * db
     if hess is None:
         return g_new, None
     h_new = np.swapaxes(W, 1, 2) @ hess @ W
     for (a, it, b), ddb in zip(slots, dd_beta):
         blk = grad[:, it, None, None] * ddb
-        h_new[:, a:a + 3, a:a + 3] += blk
-        h_new[:, b:b + 3, b:b + 3] += blk
-        h_new[:, a:a + 3, b:b + 3] -= blk
-        h_new[:, b:b + 3, a:a + 3] -= blk
+        h_new[:, a : a + 3, a : a + 3] += blk
+        h_new[:, b : b + 3, b : b + 3] += blk
+        h_new[:, a : a + 3, b : b + 3] -= blk
+        h_new[:, b : b + 3, a : a + 3] -= blk
     return g_new, h_new
 
 
 # ----------------------------------------------------------------------------------------------
 # Bending and twisting of an interior node
 # ----------------------------------------------------------------------------------------------
-#: Local variables of a node stencil: (e, f, theta_e, theta_f), e = x_k - x_(k-1), f = x_(k+1) - x_k.
-#: ``STENCIL_MAP`` (11 x 8) takes them to the stencil dofs (x_(k-1), theta_(k-1), x_k, theta_k, x_(k+1)).
+#: Local variables of a node stencil: (e, f, theta_e, theta_f), e = x_k - x_(k-1), f = x_(k+1) -
+#: x_k. ``STENCIL_MAP`` (11 x 8) takes them to the stencil dofs (x_(k-1), theta_(k-1), x_k, theta_k,
+#: x_(k+1)).
 STENCIL_MAP = np.zeros((11, 8))
 STENCIL_MAP[0:3, 0:3] = -_EYE
 STENCIL_MAP[4:7, 0:3] = _EYE
@@ -293,7 +313,8 @@ STENCIL_MAP[7, 7] = 1.0
 
 
 def _kappa_b_derivatives(e, f, le, lf, te, tf):
-    """(kappa b), its Jacobian (n, 3, 6) in (e, f), and a function giving sum_c w_c d2(kappa b)_c."""
+    """(kappa b), its Jacobian (n, 3, 6) in (e, f), and a function giving sum_c w_c d2(kappa
+    b)_c."""
     n = cross(e, f)
     D = le * lf + _dot(e, f)
     kb = 2.0 * n / D[:, None]
@@ -304,7 +325,7 @@ def _kappa_b_derivatives(e, f, le, lf, te, tf):
     ddD[:, 3:, 3:] = (le / lf)[:, None, None] * (_EYE - _outer(tf, tf))
     ddD[:, :3, 3:] = _outer(te, tf) + _EYE
     ddD[:, 3:, :3] = np.swapaxes(ddD[:, :3, 3:], 1, 2)
-    jac = 2.0 * (dn / D[:, None, None] - n[:, :, None] * dD[:, None, :] / (D ** 2)[:, None, None])
+    jac = 2.0 * (dn / D[:, None, None] - n[:, :, None] * dD[:, None, :] / (D**2)[:, None, None])
 
     def contracted_hessian(w):
         """sum_c w_c d2(kappa b)_c / d(e,f)2, shape (n, 6, 6)."""
@@ -315,16 +336,17 @@ def _kappa_b_derivatives(e, f, le, lf, te, tf):
         h[:, :3, 3:] = -sw
         h[:, 3:, :3] = sw
         h /= D[:, None, None]
-        h -= _sym(_outer(dnw, dD)) / (D ** 2)[:, None, None]
-        h += (2.0 * wn / D ** 3)[:, None, None] * _outer(dD, dD)
-        h -= (wn / D ** 2)[:, None, None] * ddD
+        h -= _sym(_outer(dnw, dD)) / (D**2)[:, None, None]
+        h += (2.0 * wn / D**3)[:, None, None] * _outer(dD, dD)
+        h -= (wn / D**2)[:, None, None] * ddD
         return 2.0 * h
 
     return kb, jac, contracted_hessian
 
 
 def twist_hessian_ef(te, tf, le, lf, kb):
-    """Hessian (n, 6, 6) of the reference twist in (e, f) with frames transported from the current state.
+    """Hessian (n, 6, 6) of the reference twist in (e, f) with frames transported from the current
+    state.
 
     The reference twist changes by minus the solid angle of the loop (s_e, t_e, t_f, s_f) that the
     tangents trace on the unit sphere from their sources s (holonomy of parallel transport), split
@@ -340,15 +362,29 @@ def twist_hessian_ef(te, tf, le, lf, kb):
     pe = (_EYE - _outer(te, te)) / le[:, None, None]
     pf = (_EYE - _outer(tf, tf)) / lf[:, None, None]
     h = np.zeros((len(te), 6, 6))
-    h[:, :3, :3] = pe @ tt_diag @ pe + _sym(_outer(kb, te)) / (2.0 * le ** 2)[:, None, None]
-    h[:, 3:, 3:] = pf @ tt_diag @ pf + _sym(_outer(kb, tf)) / (2.0 * lf ** 2)[:, None, None]
+    h[:, :3, :3] = pe @ tt_diag @ pe + _sym(_outer(kb, te)) / (2.0 * le**2)[:, None, None]
+    h[:, 3:, 3:] = pf @ tt_diag @ pf + _sym(_outer(kb, tf)) / (2.0 * lf**2)[:, None, None]
     h[:, :3, 3:] = pe @ tt_off @ pf
     h[:, 3:, :3] = np.swapaxes(h[:, :3, 3:], 1, 2)
     return -h
 
 
-def bend_twist(e, f, m1e, m2e, m1f, m2f, twist, kappa_bar, twist_bar, voronoi_length,
-               EI1, EI2, GJ, want_hessian: bool = True):
+def bend_twist(
+    e,
+    f,
+    m1e,
+    m2e,
+    m1f,
+    m2f,
+    twist,
+    kappa_bar,
+    twist_bar,
+    voronoi_length,
+    EI1,
+    EI2,
+    GJ,
+    want_hessian: bool = True,
+):
     """Bending and twisting energy of each interior node with gradient and Hessian.
 
     Args:
@@ -375,7 +411,8 @@ def bend_twist(e, f, m1e, m2e, m1f, m2f, twist, kappa_bar, twist_bar, voronoi_le
     k1 = 0.5 * _dot(kb, M2)
     k2 = -0.5 * _dot(kb, M1)
 
-    # Gradients in (e, f, theta_e, theta_f); the frame terms in e, f vanish because kb is normal to te, tf.
+    # Gradients in (e, f, theta_e, theta_f); the frame terms in e, f vanish because kb is normal to
+    # te, tf.
     g1 = np.zeros((n, 8))
     g2 = np.zeros((n, 8))
     g1[:, :6] = 0.5 * np.einsum("nc,nci->ni", M2, jac)
@@ -397,7 +434,7 @@ def bend_twist(e, f, m1e, m2e, m1f, m2f, twist, kappa_bar, twist_bar, voronoi_le
     EI1 = np.broadcast_to(EI1, (n,))
     EI2 = np.broadcast_to(EI2, (n,))
     GJ = np.broadcast_to(GJ, (n,))
-    energy = 0.5 * inv_l * (EI1 * d1 ** 2 + EI2 * d2 ** 2 + GJ * dt ** 2)
+    energy = 0.5 * inv_l * (EI1 * d1**2 + EI2 * d2**2 + GJ * dt**2)
     c1 = EI1 * d1 * inv_l
     c2 = EI2 * d2 * inv_l
     ct = GJ * dt * inv_l
@@ -410,12 +447,14 @@ def bend_twist(e, f, m1e, m2e, m1f, m2f, twist, kappa_bar, twist_bar, voronoi_le
     w = 0.5 * (c1[:, None] * M2 - c2[:, None] * M1)  # sum of c_i dkappa_i/dkb
     hk[:, :6, :6] = kb_hess(w)
     # Cross terms d(kb) x d(frame): frame derivatives in e, f and theta.
-    # kappa_1: 1/2 [J^T dM2 + dM2^T J]; dM2/de = -te m2e^T/le, dM2/dtheta_e = -m1e (and f analogous).
+    # kappa_1: 1/2 [J^T dM2 + dM2^T J]; dM2/de = -te m2e^T/le, dM2/dtheta_e = -m1e (and f
+    # analogous).
     je = jac[:, :, :]  # (n, 3, 6)
     cross = np.zeros((n, 6, 2))  # d2/(d(e,f) d(theta_e, theta_f)) from kb x frame
     cross[:, :, 0] = np.einsum("nci,nc->ni", je, 0.5 * (-c1[:, None] * m1e - c2[:, None] * m2e))
     cross[:, :, 1] = np.einsum("nci,nc->ni", je, 0.5 * (-c1[:, None] * m1f - c2[:, None] * m2f))
-    # d(frame)/de terms: dM/de = -te m^T / le; contracted with J: J^T(-te m^T/le) -> -(J^T te) m^T / le
+    # d(frame)/de terms: dM/de = -te m^T / le; contracted with J: J^T(-te m^T/le) -> -(J^T te) m^T /
+    # le
     jte = np.einsum("nci,nc->ni", je, te)  # (n, 6)
     jtf = np.einsum("nci,nc->ni", je, tf)
     me = 0.5 * (c1[:, None] * m2e - c2[:, None] * m1e)
@@ -430,15 +469,18 @@ def bend_twist(e, f, m1e, m2e, m1f, m2f, twist, kappa_bar, twist_bar, voronoi_le
     # sum_i c_i d2(kappa_i): kappa_1 -> 1/2 kb.m2, kappa_2 -> -1/2 kb.m1.
     for sl, le_, m1, m2, it in ((slice(0, 3), le, m1e, m2e, 6), (slice(3, 6), lf, m1f, m2f, 7)):
         wm = 0.5 * (c1[:, None] * m2 - c2[:, None] * m1)  # the combination of frame vectors
-        hk[:, sl, sl] += -0.5 * _sym(_outer(wm, kb)) / (le_ ** 2)[:, None, None]
+        hk[:, sl, sl] += -0.5 * _sym(_outer(wm, kb)) / (le_**2)[:, None, None]
         hk[:, it, it] += -_dot(kb, wm)
     # Twist.
     ht = np.zeros((n, 8, 8))
     ht[:, :6, :6] = ct[:, None, None] * twist_hessian_ef(te, tf, le, lf, kb)
-    hess = (hk + ht
-            + (EI1 * inv_l)[:, None, None] * _outer(g1, g1)
-            + (EI2 * inv_l)[:, None, None] * _outer(g2, g2)
-            + (GJ * inv_l)[:, None, None] * _outer(gt, gt))
+    hess = (
+        hk
+        + ht
+        + (EI1 * inv_l)[:, None, None] * _outer(g1, g1)
+        + (EI2 * inv_l)[:, None, None] * _outer(g2, g2)
+        + (GJ * inv_l)[:, None, None] * _outer(gt, gt)
+    )
     return energy, grad, hess
 
 
@@ -470,12 +512,16 @@ def section_points(x0, x1, m1, m2, offsets, sigma=None):
     n, p = len(x0), len(offsets)
     sig = np.broadcast_to(0.5 if sigma is None else np.asarray(sigma, float), (n, p))
     base = x0[:, None, :] + sig[..., None] * (x1 - x0)[:, None, :]
-    return (base + offsets[None, :, 0, None] * m1[:, None, :]
-            + offsets[None, :, 1, None] * m2[:, None, :])
+    return (
+        base
+        + offsets[None, :, 0, None] * m1[:, None, :]
+        + offsets[None, :, 1, None] * m2[:, None, :]
+    )
 
 
 def section_point_derivatives(x0, x1, m1, m2, offsets, g, sigma=None):
-    """Jacobian of section points (edge's own frame) and the Hessian of g . point, dofs (x0, theta, x1).
+    """Jacobian of section points (edge's own frame) and the Hessian of g . point, dofs (x0, theta,
+    x1).
 
     The offset r = a m1 + b m2 moves with the frame: d r = -t (r.de)/l + (t x r) d(theta).
 
@@ -505,7 +551,9 @@ def section_point_derivatives(x0, x1, m1, m2, offsets, g, sigma=None):
     # Hessian of g.p: r-part only (the base point is linear in the nodes).
     gt = _dot(g, tb)
     pg = g - gt[..., None] * tb
-    h_ee = (gt[..., None, None] * _sym(_outer(r, tb)) - 0.5 * _sym(_outer(r, pg))) / (lb ** 2)[..., None, None]
+    h_ee = (gt[..., None, None] * _sym(_outer(r, tb)) - 0.5 * _sym(_outer(r, pg))) / (lb**2)[
+        ..., None, None
+    ]
     h_et = -(gt / lb)[..., None] * cross(tb, r)  # d2(g.r)/(de dtheta)
     h_tt = -_dot(g, r)
     hess = np.zeros((n, p, 7, 7))
@@ -529,10 +577,10 @@ class StencilPoints:
     """Points on the two half-edges next to an interior node, with the frame angle interpolated.
 
     A point of edge E (E = e before the node, f after it) at the fraction sigma along E sits on the
-    section turned to theta_eff = theta_E + (sigma - 1/2) m, m = theta_f - theta_e + (reference twist)
-    the node's integrated twist: the angle varies linearly from one section to the next, so the
-    ribbon between sections is a helicoid and its edges are continuous lines (a flat ribbon rolling
-    about its axis then meets the ground smoothly instead of section by section).
+    section turned to theta_eff = theta_E + (sigma - 1/2) m, m = theta_f - theta_e + (reference
+    twist) the node's integrated twist: the angle varies linearly from one section to the next, so
+    the ribbon between sections is a helicoid and its edges are continuous lines (a flat ribbon
+    rolling about its axis then meets the ground smoothly instead of section by section).
 
     Attributes:
         side: (p,) 0 for edge e (sigma > 1/2), 1 for edge f (sigma < 1/2).
@@ -546,7 +594,8 @@ class StencilPoints:
 
     @classmethod
     def sampling(cls, offsets: np.ndarray, per_edge: int) -> "StencilPoints":
-        """``per_edge`` (even) fractions (j + 1/2)/per_edge per edge, half on each side of a node."""
+        """``per_edge`` (even) fractions (j + 1/2)/per_edge per edge, half on each side of a
+        node."""
         half = per_edge // 2
         sig = (np.arange(per_edge) + 0.5) / per_edge
         sig_e, sig_f = sig[half:], sig[:half]
@@ -579,8 +628,9 @@ def stencil_point_heights(x, a1, t, theta, twist, pts: StencilPoints, normal):
 
 def stencil_points(x, a1, t, theta, twist, pts: StencilPoints, rows: np.ndarray, cols: np.ndarray):
     """Positions (k, 3) [mm] of the selected points (stencil ``rows``, point ``cols``) of
-    :class:`StencilPoints`, their offsets r = a m1 + b m2 in the interpolated frames (k, 3) and their
-    edges' tangents (k, 3). Stencil s is the interior node s + 1, between edges s and s + 1."""
+    :class:`StencilPoints`, their offsets r = a m1 + b m2 in the interpolated frames (k, 3) and
+    their edges' tangents (k, 3). Stencil s is the interior node s + 1, between edges s and s +
+    1."""
     side = pts.side[cols].astype(bool)
     sigma = pts.sigma[cols]
     edge = rows + side.astype(int)
@@ -643,7 +693,9 @@ def stencil_point_derivatives(e, f, r, t, side, sigma, g, hessian: bool = True):
         return jac, None
     gt = _dot(g, t)
     pg = g - gt[:, None] * t
-    h_EE = (gt[:, None, None] * _sym(_outer(r, t)) - 0.5 * _sym(_outer(r, pg))) / (length ** 2)[:, None, None]
+    h_EE = (gt[:, None, None] * _sym(_outer(r, t)) - 0.5 * _sym(_outer(r, pg))) / (length**2)[
+        :, None, None
+    ]
     h_Eth = -(gt / length)[:, None] * tr
     sel_e = np.where(side, 0.0, 1.0)
     hv = np.zeros((k, 8, 8))

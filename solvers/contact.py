@@ -2,8 +2,8 @@
 penalty contact between a strip's free face and a thin ribbon, a nodal proximal (damping) term and a
 fixed nodal load (:class:`NodalLoad`, the residual homotopy's offset).
 
-Used by the FE composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`), whose strips and
-ribbon share their x and y stations: every node p of a strip's unbonded face has, at the same
+Used by the FE composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`), whose strips
+and ribbon share their x and y stations: every node p of a strip's unbonded face has, at the same
 reference (x, y), a node q on the ribbon face towards the strip and a node r on the ribbon's other
 face. With the ribbon's current thickness direction m = (q - r)/|q - r| (pointing to the strip's
 side), the gap is
@@ -13,8 +13,8 @@ side), the gap is
 and the penalty energy of the pair is ``E = k A <-g>_+^2 / 2`` with A the tributary area of p (the
 integral of its Q2 basis function over the strip face) and k a pressure per penetration [N/mm^3].
 Only the normal gap is penalised: sliding is free (frictionless). Pairs are fixed in the reference
-configuration, so the gap is exact where the ribbon under a sliding strip is flat (the junctions) and
-approximate to second order in the sliding distance where it is curved; this is the "simple
+configuration, so the gap is exact where the ribbon under a sliding strip is flat (the junctions)
+and approximate to second order in the sliding distance where it is curved; this is the "simple
 frictionless penalty" of issue 4, not a surface-to-surface contact algorithm.
 
 The energy, its gradient and its exact Hessian (checked against finite differences in
@@ -24,9 +24,9 @@ SNES assembles (:func:`attach`).
 :class:`NodalDamping` adds ``c/2 sum_i |u_i - a_i|^2`` over the free DOFs (a: an anchor state), a
 proximal term that makes a Newton step well posed across a fold of the equilibrium path (a
 snap-through); with c -> 0 the solution is an equilibrium of the undamped problem. Unlike a volume
-integral it weighs the thin ribbon's nodes as much as the strips'. The pairs couple nodes of different cells,
-which UFL forms cannot express; :func:`attach` adds them to the Jacobian's sparsity pattern before
-the first assembly. Serial only.
+integral it weighs the thin ribbon's nodes as much as the strips'. The pairs couple nodes of
+different cells, which UFL forms cannot express; :func:`attach` adds them to the Jacobian's sparsity
+pattern before the first assembly. Serial only.
 """
 
 from __future__ import annotations
@@ -34,9 +34,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from petsc4py import PETSc
+
 import numpy as np
 import ufl
-from petsc4py import PETSc
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -49,12 +50,21 @@ from lcefem.models.parameters import param
 class PenaltyContact:
     """Parameters of the strip-ribbon penalty contact."""
 
-    enabled: bool = param(True, "-", "chosen: strips and ribbon may not pass through one another "
-                          "(the bar-and-hinge model of issue 4 found such contact decisive)")
-    stiffness: float = param(50.0, "N/mm^3", "chosen: about 100 x E_LCE/H_strip (0.52 MPa / 1.69 mm), "
-                             "so the penetration is ~1 % of the strip's own compression under the "
-                             "same pressure; the case beam_contact_fe shows the curvature does not "
-                             "depend on it", positive=True)
+    enabled: bool = param(
+        True,
+        "-",
+        "chosen: strips and ribbon may not pass through one another "
+        "(the bar-and-hinge model of issue 4 found such contact decisive)",
+    )
+    stiffness: float = param(
+        50.0,
+        "N/mm^3",
+        "chosen: about 100 x E_LCE/H_strip (0.52 MPa / 1.69 mm), "
+        "so the penetration is ~1 % of the strip's own compression under the "
+        "same pressure; the case beam_contact_fe shows the curvature does not "
+        "depend on it",
+        positive=True,
+    )
 
 
 def gap_and_derivatives(p: np.ndarray, q: np.ndarray, r: np.ndarray, hessian: bool = True):
@@ -75,13 +85,17 @@ def gap_and_derivatives(p: np.ndarray, q: np.ndarray, r: np.ndarray, hessian: bo
     mm = np.einsum("ni,nj->nij", m, m)
     proj = (eye - mm) / ell[:, None, None]  # d2g/dw dd
     wm = np.einsum("ni,nj->nij", w, m)
-    gdd = (-wm - np.transpose(wm, (0, 2, 1)) - mw[:, None, None] * eye
-           + 3.0 * mw[:, None, None] * mm) / (ell ** 2)[:, None, None]
+    gdd = (
+        -wm - np.transpose(wm, (0, 2, 1)) - mw[:, None, None] * eye + 3.0 * mw[:, None, None] * mm
+    ) / (ell**2)[:, None, None]
     # z = (p, q, r): w = p - q, d = q - r
     jw = np.array([1.0, -1.0, 0.0])
     jd = np.array([0.0, 1.0, -1.0])
-    H = (np.einsum("a,b,nij->naibj", jw, jd, proj) + np.einsum("a,b,nij->naibj", jd, jw, proj)
-         + np.einsum("a,b,nij->naibj", jd, jd, gdd))
+    H = (
+        np.einsum("a,b,nij->naibj", jw, jd, proj)
+        + np.einsum("a,b,nij->naibj", jd, jw, proj)
+        + np.einsum("a,b,nij->naibj", jd, jd, gdd)
+    )
     return g, grad, H.reshape(n, 9, 9)
 
 
@@ -96,7 +110,9 @@ class NodePairContact:
         stiffness: penalty k [N/mm^3].
     """
 
-    def __init__(self, u: dolfinx.fem.Function, pairs: np.ndarray, areas: np.ndarray, stiffness: float):
+    def __init__(
+        self, u: dolfinx.fem.Function, pairs: np.ndarray, areas: np.ndarray, stiffness: float
+    ):
         V = u.function_space
         if V.mesh.comm.size > 1:
             raise NotImplementedError("node-pair contact runs in serial only")
@@ -152,9 +168,11 @@ class NodePairContact:
         k = self.stiffness * self.areas
         on = g < 0.0
         blocks = np.zeros_like(H)
-        blocks[on] = k[on, None, None] * (np.einsum("ni,nj->nij", grad[on], grad[on])
-                                          + g[on, None, None] * H[on])
-        # Same nonzero pattern every time (zeros for open pairs); no terms on Dirichlet rows/columns.
+        blocks[on] = k[on, None, None] * (
+            np.einsum("ni,nj->nij", grad[on], grad[on]) + g[on, None, None] * H[on]
+        )
+        # Same nonzero pattern every time (zeros for open pairs); no terms on Dirichlet
+        # rows/columns.
         free = ~self.fixed[self.dofs]
         blocks *= free[:, :, None] & free[:, None, :]
         for rows, vals in zip(self.dofs, blocks):
@@ -181,8 +199,14 @@ class RigidPlaneContact:
         stiffness: penalty k [N/mm^3].
     """
 
-    def __init__(self, u: dolfinx.fem.Function, nodes: np.ndarray, areas: np.ndarray, height: float,
-                 stiffness: float):
+    def __init__(
+        self,
+        u: dolfinx.fem.Function,
+        nodes: np.ndarray,
+        areas: np.ndarray,
+        height: float,
+        stiffness: float,
+    ):
         V = u.function_space
         if V.mesh.comm.size > 1:
             raise NotImplementedError("rigid-plane contact runs in serial only")
@@ -218,8 +242,11 @@ class RigidPlaneContact:
         g = self.gaps()
         on = (g < 0.0) & self.free
         if np.any(on):
-            b.setValues(self.dofs[on], self.stiffness * self.areas[on] * g[on],
-                        addv=PETSc.InsertMode.ADD_VALUES)
+            b.setValues(
+                self.dofs[on],
+                self.stiffness * self.areas[on] * g[on],
+                addv=PETSc.InsertMode.ADD_VALUES,
+            )
         b.assemble()
 
     def add_jacobian(self, A: PETSc.Mat) -> None:
@@ -230,14 +257,16 @@ class RigidPlaneContact:
         A.assemble()
 
 
-def plane_face_nodes(V: dolfinx.fem.FunctionSpace, height: float, tol: float = 1e-9
-                     ) -> tuple[np.ndarray, np.ndarray]:
+def plane_face_nodes(
+    V: dolfinx.fem.FunctionSpace, height: float, tol: float = 1e-9
+) -> tuple[np.ndarray, np.ndarray]:
     """Nodes (block indices) of the exterior faces lying in the plane z = height [mm] and their
     tributary areas [mm^2] (integral of each node's basis function over those faces)."""
     mesh = V.mesh
     fdim = mesh.topology.dim - 1
-    facets = dolfinx.mesh.locate_entities_boundary(mesh, fdim,
-                                                   lambda x: np.abs(x[2] - height) < tol)
+    facets = dolfinx.mesh.locate_entities_boundary(
+        mesh, fdim, lambda x: np.abs(x[2] - height) < tol
+    )
     if facets.size == 0:
         raise ValueError(f"no exterior face in the plane z = {height} mm")
     tags = dolfinx.mesh.meshtags(mesh, fdim, facets, np.ones(facets.size, dtype=np.int32))
@@ -316,8 +345,14 @@ class NodalLoad(_NodalTerm):
         """Constant in u: nothing."""
 
 
-def face_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, strip_face: str, ribbon_cells: str,
-               strip_above: bool, decimals: int = 6) -> tuple[np.ndarray, np.ndarray]:
+def face_pairs(
+    tmesh: TaggedMesh,
+    V: dolfinx.fem.FunctionSpace,
+    strip_face: str,
+    ribbon_cells: str,
+    strip_above: bool,
+    decimals: int = 6,
+) -> tuple[np.ndarray, np.ndarray]:
     """Pairs (p, q, r) and tributary areas [mm^2] for the nodes of facet group ``strip_face``.
 
     q and r are the ribbon (cells ``ribbon_cells``) nodes with the same reference (x, y) as p on the
@@ -329,8 +364,9 @@ def face_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, strip_face: str,
     mesh.topology.create_connectivity(fdim, mesh.topology.dim)
     facets = tmesh.facet_tags.find(tmesh.facet_tag(strip_face))
     p_nodes = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
-    ribbon = dolfinx.fem.locate_dofs_topological(V, mesh.topology.dim,
-                                                 tmesh.cell_tags.find(tmesh.cell_tag(ribbon_cells)))
+    ribbon = dolfinx.fem.locate_dofs_topological(
+        V, mesh.topology.dim, tmesh.cell_tags.find(tmesh.cell_tag(ribbon_cells))
+    )
     p_nodes = np.setdiff1d(p_nodes, ribbon)
     X = V.tabulate_dof_coordinates()
     # ribbon columns: nodes grouped by (x, y), extremes in z are its bottom and top faces
@@ -344,14 +380,17 @@ def face_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, strip_face: str,
     pk = np.round(X[p_nodes, :2], decimals)
     col = np.array([lookup.get(tuple(k), -1) for k in pk], dtype=np.int64)
     if np.any(col < 0):
-        raise ValueError(f"{strip_face}: {int(np.sum(col < 0))} strip nodes have no ribbon node at "
-                         "the same (x, y); the bodies must share their x and y stations")
+        raise ValueError(
+            f"{strip_face}: {int(np.sum(col < 0))} strip nodes have no ribbon node at "
+            "the same (x, y); the bodies must share their x and y stations"
+        )
     q = top[col] if strip_above else bottom[col]
     r = bottom[col] if strip_above else top[col]
     # tributary areas: integral of each node's basis function over the strip face
     v = ufl.TestFunction(V)
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tmesh.facet_tags,
-                     metadata={"quadrature_degree": 4})
+    ds = ufl.Measure(
+        "ds", domain=mesh, subdomain_data=tmesh.facet_tags, metadata={"quadrature_degree": 4}
+    )
     weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(v[2] * ds(tmesh.facet_tag(strip_face))))
     areas = weights.array.reshape(-1, 3)[p_nodes, 2]
     return np.column_stack([p_nodes, q, r]), areas
@@ -389,10 +428,16 @@ def attach(problem, contacts: list) -> None:
     snes.setJacobian(with_contact_jacobian, J, P)
 
 
-def facing_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, boundary: str, target: str, axis: int,
-                 decimals: int = 6) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs (p, q, r) of :class:`NodePairContact` and tributary areas [mm^2] between two named facet
-    sets that face each other across the reference direction ``axis`` (0, 1, 2: x, y, z).
+def facing_pairs(
+    tmesh: TaggedMesh,
+    V: dolfinx.fem.FunctionSpace,
+    boundary: str,
+    target: str,
+    axis: int,
+    decimals: int = 6,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (p, q, r) of :class:`NodePairContact` and tributary areas [mm^2] between two named
+    facet sets that face each other across the reference direction ``axis`` (0, 1, 2: x, y, z).
 
     p runs over the nodes of ``boundary``; q is the node of ``target`` with the same two other
     reference coordinates (rounded to ``decimals`` mm: the two faces must share their stations, as
@@ -415,8 +460,11 @@ def facing_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, boundary: str,
     q_nodes = dolfinx.fem.locate_dofs_topological(V, fdim, t_facets)
     p_nodes = np.setdiff1d(p_nodes, q_nodes)
     f2c = mesh.topology.connectivity(fdim, tdim)
-    owners = np.unique(np.concatenate([f2c.links(f) for f in t_facets])) if t_facets.size else \
-        np.zeros(0, dtype=np.int32)
+    owners = (
+        np.unique(np.concatenate([f2c.links(f) for f in t_facets]))
+        if t_facets.size
+        else np.zeros(0, dtype=np.int32)
+    )
     column = dolfinx.fem.locate_dofs_topological(V, tdim, owners.astype(np.int32))
     X = V.tabulate_dof_coordinates()
     others = [i for i in range(3) if i != axis]
@@ -427,8 +475,10 @@ def facing_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, boundary: str,
     q_of = {}
     for k, q in zip(keys(q_nodes), q_nodes):
         if k in q_of:
-            raise ValueError(f"{target}: two nodes at the same {'xyz'[others[0]]}, {'xyz'[others[1]]} "
-                             f"= {k} [mm]; the target face must be single-valued across {'xyz'[axis]}")
+            raise ValueError(
+                f"{target}: two nodes at the same {'xyz'[others[0]]}, {'xyz'[others[1]]} "
+                f"= {k} [mm]; the target face must be single-valued across {'xyz'[axis]}"
+            )
         q_of[k] = int(q)
     r_of: dict[tuple, int] = {}
     for k, n in zip(keys(column), column):
@@ -441,16 +491,19 @@ def facing_pairs(tmesh: TaggedMesh, V: dolfinx.fem.FunctionSpace, boundary: str,
     pk = keys(p_nodes)
     missing = [k for k in pk if k not in q_of]
     if missing:
-        raise ValueError(f"{boundary}: {len(missing)} nodes have no node of {target} at the same "
-                         f"{'xyz'[others[0]]}, {'xyz'[others[1]]} (first at {missing[0]} mm); the two "
-                         "faces must share their stations")
+        raise ValueError(
+            f"{boundary}: {len(missing)} nodes have no node of {target} at the same "
+            f"{'xyz'[others[0]]}, {'xyz'[others[1]]} (first at {missing[0]} mm); the two "
+            "faces must share their stations"
+        )
     q = np.array([q_of[k] for k in pk], dtype=np.int64)
     r = np.array([r_of[k] for k in pk], dtype=np.int64)
     if np.any(q == r):
         raise ValueError(f"{target}: its cells have no thickness along {'xyz'[axis]}")
     v = ufl.TestFunction(V)
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tmesh.facet_tags,
-                     metadata={"quadrature_degree": 4})
+    ds = ufl.Measure(
+        "ds", domain=mesh, subdomain_data=tmesh.facet_tags, metadata={"quadrature_degree": 4}
+    )
     weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(v[2] * ds(tmesh.facet_tag(boundary))))
     areas = weights.array.reshape(-1, 3)[p_nodes, 2]
     return np.column_stack([p_nodes, q, r]), areas

@@ -8,9 +8,9 @@ state to a target.
   plus, by default, the quadratic term of the parabola through the previous converged state
   (:meth:`PathFollower._curve`: a rotating thin part moves on an arc, which the straight Euler
   step leaves by h^2/2 times the squared rotation rate, a membrane strain: on the beam's second
-  step the residual after the Euler step is 120 N, after the curved one 2.7 N); else the secant through
-  the last two converged states, else (also when the secant's state is non-finite or inverts an
-  element) the last state;
+  step the residual after the Euler step is 120 N, after the curved one 2.7 N); else the secant
+  through the last two converged states, else (also when the secant's state is non-finite or inverts
+  an element) the last state;
 * corrector: one Newton solve (SNES); the problem refuses non-finite iterates and inverted elements
   (det F <= 0 at a quadrature point), so a step is never accepted in such a state;
 * step size from the Newton iteration count: h <- h clip(sqrt(n_target/n), 1/2, growth);
@@ -45,40 +45,72 @@ class StepReport:
 class PathControl:
     """Adaptive stepping of a load path t: 0 -> 1."""
 
-    first_step: float = param(0.01, "-", "chosen: first increment of t (the as-built beam is almost a "
-                              "mechanism: its first increments rotate thin Kapton a lot)", positive=True,
-                              maximum=1.0)
+    first_step: float = param(
+        0.01,
+        "-",
+        "chosen: first increment of t (the as-built beam is almost a "
+        "mechanism: its first increments rotate thin Kapton a lot)",
+        positive=True,
+        maximum=1.0,
+    )
     max_step: float = param(0.2, "-", "chosen: largest increment of t", positive=True, maximum=1.0)
-    min_step: float = param(1.0e-4, "-", "chosen: an increment below this that still fails marks a "
-                            "fold of the path (a snap-through), crossed by relaxation", positive=True)
+    min_step: float = param(
+        1.0e-4,
+        "-",
+        "chosen: an increment below this that still fails marks a "
+        "fold of the path (a snap-through), crossed by relaxation",
+        positive=True,
+    )
     growth: float = param(2.0, "-", "chosen: largest increment growth after one step", minimum=1.0)
-    target_iterations: int = param(10, "-", "chosen: Newton iterations per step the step size aims "
-                                   "at (h <- h sqrt(target/n)); beam ramp (1.33, 1.05), level 0, "
-                                   "tangent predictor: 5 -> 242, 7 -> 234, 10 -> 152 (max_step "
-                                   "0.2), 12 -> 162 (max_step 0.25, 3 cuts) Newton iterations",
-                                   minimum=1)
-    predictor: str = param("curved", "-", "'curved' (the Euler step plus the quadratic term "
-                           "through the previous converged state, kept when admissible and of "
-                           "smaller residual), 'tangent' (Euler step with the converged tangent; "
-                           "the secant when the problem has none or the Euler step is "
-                           "inadmissible), 'secant' or 'none'. Beam ramp (1.33, 1.05), level 0: "
-                           "98 Newton iterations in 15 steps with 'curved', 146 in 20 with "
-                           "'tangent' (234 before the step control's target of 10), 301 with "
-                           "the secant")
+    target_iterations: int = param(
+        10,
+        "-",
+        "chosen: Newton iterations per step the step size aims "
+        "at (h <- h sqrt(target/n)); beam ramp (1.33, 1.05), level 0, "
+        "tangent predictor: 5 -> 242, 7 -> 234, 10 -> 152 (max_step "
+        "0.2), 12 -> 162 (max_step 0.25, 3 cuts) Newton iterations",
+        minimum=1,
+    )
+    predictor: str = param(
+        "curved",
+        "-",
+        "'curved' (the Euler step plus the quadratic term "
+        "through the previous converged state, kept when admissible and of "
+        "smaller residual), 'tangent' (Euler step with the converged tangent; "
+        "the secant when the problem has none or the Euler step is "
+        "inadmissible), 'secant' or 'none'. Beam ramp (1.33, 1.05), level 0: "
+        "98 Newton iterations in 15 steps with 'curved', 146 in 20 with "
+        "'tangent' (234 before the step control's target of 10), 301 with "
+        "the secant",
+    )
     snap_step: float = param(0.01, "-", "chosen: increment of t across a fold", positive=True)
-    relaxation_steps: int = param(60, "-", "chosen: most damped (proximal) Newton steps across a fold",
-                                  minimum=1)
-    damping: float = param(1.0e-3, "N/mm", "chosen: first proximal weight c of the relaxation "
-                           "(energy + c/2 sum |u - u_k|^2 over the nodes), divided by 4 after each "
-                           "success down to damping_floor", positive=True)
-    damping_floor: float = param(1.0e-9, "N/mm", "chosen: proximal weight below which the "
-                                 "relaxation ends with an undamped solve", positive=True)
-    path_atol: float | None = param(None, "N", "chosen: absolute residual tolerance of Newton on "
-                                    "the intermediate states of a path (None: the problem's own "
-                                    "tolerance everywhere). The state reached at each follow() "
-                                    "target is always solved to the problem's own tolerance, so "
-                                    "the answer does not change; only the path in between is "
-                                    "looser (it only seeds the next predictor)")
+    relaxation_steps: int = param(
+        60, "-", "chosen: most damped (proximal) Newton steps across a fold", minimum=1
+    )
+    damping: float = param(
+        1.0e-3,
+        "N/mm",
+        "chosen: first proximal weight c of the relaxation "
+        "(energy + c/2 sum |u - u_k|^2 over the nodes), divided by 4 after each "
+        "success down to damping_floor",
+        positive=True,
+    )
+    damping_floor: float = param(
+        1.0e-9,
+        "N/mm",
+        "chosen: proximal weight below which the relaxation ends with an undamped solve",
+        positive=True,
+    )
+    path_atol: float | None = param(
+        None,
+        "N",
+        "chosen: absolute residual tolerance of Newton on "
+        "the intermediate states of a path (None: the problem's own "
+        "tolerance everywhere). The state reached at each follow() "
+        "target is always solved to the problem's own tolerance, so "
+        "the answer does not change; only the path in between is "
+        "looser (it only seeds the next predictor)",
+    )
 
 
 #: Predictors of :class:`PathControl` (see its ``predictor``).
@@ -99,8 +131,14 @@ class PathFollower:
         t0: the path parameter of the current (converged) state.
     """
 
-    def __init__(self, problem, set_load: Callable[[float], None],
-                 control: PathControl = PathControl(), damping=None, t0: float = 0.0):
+    def __init__(
+        self,
+        problem,
+        set_load: Callable[[float], None],
+        control: PathControl = PathControl(),
+        damping=None,
+        t0: float = 0.0,
+    ):
         if control.predictor not in PREDICTORS:
             raise ValueError(f"predictor {control.predictor!r}: one of {', '.join(PREDICTORS)}")
         self.problem, self.set_load, self.control = problem, set_load, control
@@ -116,8 +154,11 @@ class PathFollower:
 
     def _predict(self, t: float) -> None:
         c = self.control
-        if c.predictor in ("tangent", "curved") and hasattr(self.problem, "tangent_predictor") and \
-                self.problem.tangent_predictor(self.set_load, self.t, t, self.history[-1][1]):
+        if (
+            c.predictor in ("tangent", "curved")
+            and hasattr(self.problem, "tangent_predictor")
+            and self.problem.tangent_predictor(self.set_load, self.t, t, self.history[-1][1])
+        ):
             if c.predictor == "curved" and len(self.history) == 2:
                 self._curve(t)
             return
@@ -170,8 +211,9 @@ class PathFollower:
             step = min(step, self.step)  # the last failure lies ahead: no growth into it
         return min(c.max_step, step)
 
-    def follow(self, t_to: float, where: str,
-               on_step: Callable[[float, int], None] | None = None) -> None:
+    def follow(
+        self, t_to: float, where: str, on_step: Callable[[float, int], None] | None = None
+    ) -> None:
         """From the current t to ``t_to``; ``on_step(t, iterations)`` after each accepted step."""
         c = self.control
         while self.t < t_to - 1e-12:
@@ -203,8 +245,11 @@ class PathFollower:
 
     def _relax(self, t_new: float, where: str, why: str) -> int:
         if self.damping is None:
-            raise ConvergenceError(where, f"{why}; load fraction {self.t:.4g} reached, increment "
-                                   f"below the minimum {self.control.min_step:.3g}")
+            raise ConvergenceError(
+                where,
+                f"{why}; load fraction {self.t:.4g} reached, increment "
+                f"below the minimum {self.control.min_step:.3g}",
+            )
         c = self.control
         start = self.problem.save()
         self.set_load(t_new)
@@ -230,7 +275,9 @@ class PathFollower:
         if not ok:
             self.problem.restore(start)
             self.set_load(self.t)
-            raise ConvergenceError(f"{where}: {why}", f"relaxation at t = {t_new:.5g} failed: {reason}")
+            raise ConvergenceError(
+                f"{where}: {why}", f"relaxation at t = {t_new:.5g} failed: {reason}"
+            )
         return its_total
 
     def report(self) -> StepReport:
@@ -242,9 +289,16 @@ class _Callables:
         self.solve, self.save, self.restore = solve, save, restore
 
 
-def advance(set_load: Callable[[float], None], solve: Callable[[], tuple[bool, int, str]],
-            save: Callable[[], object], restore: Callable[[object], None], *, where: str,
-            first: float = 1.0, min_fraction: float = 1.0 / 256.0) -> StepReport:
+def advance(
+    set_load: Callable[[float], None],
+    solve: Callable[[], tuple[bool, int, str]],
+    save: Callable[[], object],
+    restore: Callable[[object], None],
+    *,
+    where: str,
+    first: float = 1.0,
+    min_fraction: float = 1.0 / 256.0,
+) -> StepReport:
     """Take the load from s = 0 (the last converged state) to s = 1 with :class:`PathFollower`
     (no predictor: the callables give none), trying the whole increment first.
 

@@ -20,10 +20,11 @@ Plant (:class:`SurfacePlant`)
       linear compliance between anchors, ramped in the full solve.
 
 Sensor: the nine junction-centre heights with Gaussian noise (:class:`HeightSensor`) and, with
-``ControllerSettings.sensing = "markers"`` (default), the circle curvatures measured through their own
-points (the ends of the middle ribbons and the centre, :func:`marker_curvature_sd`). The first design
-fed back the heights only, the curvature estimated through K (``sensing = "heights"``): the estimate
-is what left the dome and the saddle outside the tolerance (docs/control.md, controlled changes).
+``ControllerSettings.sensing = "markers"`` (default), the circle curvatures measured through their
+own points (the ends of the middle ribbons and the centre, :func:`marker_curvature_sd`). The first
+design fed back the heights only, the curvature estimated through K (``sensing = "heights"``): the
+estimate is what left the dome and the saddle outside the tolerance (docs/control.md, controlled
+changes).
 
 Controller (:class:`ShapeController`): internal-model control with the design Jacobian.
     * A nominal thermal observer per input (nominal 25 ohm segment, 25 C) integrates the commanded
@@ -61,11 +62,24 @@ from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
-from lcefem.models.shape_control import (BoostGuard, CurrentLimits, HeightSensor, PlantSpread,
-                                         SteadyMaps, StripHeat, draw_strips, free_stretch,
-                                         payload_weight, strip_temperature_step)
-from lcefem.solvers.analysis.curvature import (centre_frame, gridshell_curvatures, junction_centre_points,
-                                               signed_circle_curvature)
+from lcefem.models.shape_control import (
+    BoostGuard,
+    CurrentLimits,
+    HeightSensor,
+    PlantSpread,
+    SteadyMaps,
+    StripHeat,
+    draw_strips,
+    free_stretch,
+    payload_weight,
+    strip_temperature_step,
+)
+from lcefem.solvers.analysis.curvature import (
+    centre_frame,
+    gridshell_curvatures,
+    junction_centre_points,
+    signed_circle_curvature,
+)
 from lcefem.solvers.bar_hinge.design import EquilibriumMap, strip_parameters
 from lcefem.solvers.bar_hinge.newton import follow_path
 from lcefem.solvers.problems import gridshell_bh as gs
@@ -82,13 +96,16 @@ def observable_names(ribbons: int) -> list[str]:
 
 
 def surface_observable(structure: BarHingeStructure):
-    """x (n, 3) -> (junction-centre heights (n_r^2) [mm], circle kappa_x, circle kappa_y, quad kappa_x,
-    quad kappa_y [1/mm])."""
+    """x (n, 3) -> (junction-centre heights (n_r^2) [mm], circle kappa_x, circle kappa_y, quad
+    kappa_x, quad kappa_y [1/mm])."""
+
     def obs(x):
         h = junction_centre_points(structure, x)[..., 2].ravel()
         k = gridshell_curvatures(structure, x)
-        return np.concatenate([h, [k["circle_x"], k["circle_y"], k.get("quad_kx", np.nan),
-                                   k.get("quad_ky", np.nan)]])
+        return np.concatenate(
+            [h, [k["circle_x"], k["circle_y"], k.get("quad_kx", np.nan), k.get("quad_ky", np.nan)]]
+        )
+
     return obs
 
 
@@ -134,8 +151,8 @@ class Surface:
         return y_a + self.J @ (np.asarray(p) - p_a) + (weight - w_a) * self.G
 
     def full(self, p, weight: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-        """(observables, positions) of the full equilibrium at strip lambdas p and payload weight [N]
-        (warm-started from the last full solve; the payload ramped on top)."""
+        """(observables, positions) of the full equilibrium at strip lambdas p and payload weight
+        [N] (warm-started from the last full solve; the payload ramped on top)."""
         t0 = time.perf_counter()
         model = self.eq.model
         model.set_external_forces(self.base_forces)
@@ -147,9 +164,20 @@ class Surface:
             def load(t):
                 model.set_external_forces(self.base_forces + t * extra)
                 return model.reference.reshape(-1)[held]
+
             try:
-                x = follow_path(model, x, held, load, newton_options=self.eq.newton_options,
-                                path_options=gs.GRIDSHELL_PATH).states[-1].x
+                x = (
+                    follow_path(
+                        model,
+                        x,
+                        held,
+                        load,
+                        newton_options=self.eq.newton_options,
+                        path_options=gs.GRIDSHELL_PATH,
+                    )
+                    .states[-1]
+                    .x
+                )
             finally:
                 model.set_external_forces(self.base_forces)
         self.seconds += time.perf_counter() - t0
@@ -157,8 +185,12 @@ class Surface:
         return self.eq.observable(x), x
 
 
-def build_surface(shape: str, drive: Mapping, layout: GridshellLayout = GridshellLayout(),
-                  lambda_N: float = PUBLISHED_LAMBDA_N) -> Surface:
+def build_surface(
+    shape: str,
+    drive: Mapping,
+    layout: GridshellLayout = GridshellLayout(),
+    lambda_N: float = PUBLISHED_LAMBDA_N,
+) -> Surface:
     """The target's equilibrium (ramp from the as-built state, as ``lcefem run gridshell``), its
     observables and exact sensitivities to every strip's lambda and to a centre payload. ``shape``
     names the target; ``drive`` is its program, the caller's data: {"lambdas": {channel: lambda
@@ -178,13 +210,33 @@ def build_surface(shape: str, drive: Mapping, layout: GridshellLayout = Gridshel
     y_flat = obs(structure.nodes)
     setup.targets = params.rest_fractions(p_star)
     sol = gs.solve_gridshell(setup)
-    eq = EquilibriumMap(setup.model, setup.held, params, obs, newton_options=gs.GRIDSHELL_NEWTON,
-                        path_options=gs.GRIDSHELL_PATH, x0=sol.final.x, p0=p_star)
+    eq = EquilibriumMap(
+        setup.model,
+        setup.held,
+        params,
+        obs,
+        newton_options=gs.GRIDSHELL_NEWTON,
+        path_options=gs.GRIDSHELL_PATH,
+        x0=sol.final.x,
+        p0=p_star,
+    )
     st = eq.state(p_star)
     G = payload_sensitivity(eq, st.x, gs.payload_forces(structure, 1.0 / 9806.65))
-    return Surface(shape, structure, eq, setup.weight.copy(), channels, p_star, st.x.copy(),
-                   st.observables.copy(), st.jacobian.copy(), G, y_flat,
-                   seconds=time.perf_counter() - t0, full_solves=1)
+    return Surface(
+        shape,
+        structure,
+        eq,
+        setup.weight.copy(),
+        channels,
+        p_star,
+        st.x.copy(),
+        st.observables.copy(),
+        st.jacobian.copy(),
+        G,
+        y_flat,
+        seconds=time.perf_counter() - t0,
+        full_solves=1,
+    )
 
 
 def payload_sensitivity(eq: EquilibriumMap, x: np.ndarray, force: np.ndarray) -> np.ndarray:
@@ -213,15 +265,17 @@ def marker_curvature_sd(surface: Surface, noise: float) -> np.ndarray:
                 a, b = pts.copy(), pts.copy()
                 a[i, j] += h
                 b[i, j] -= h
-                grad[i, j] = (signed_circle_curvature(a, up) - signed_circle_curvature(b, up)) / (2 * h)
+                grad[i, j] = (signed_circle_curvature(a, up) - signed_circle_curvature(b, up)) / (
+                    2 * h
+                )
         out.append(noise * float(np.linalg.norm(grad)))
     return np.array(out)
 
 
 def sensor_resolution(surface: Surface, settings: ControllerSettings, noise: float) -> float:
-    """1 SD [1/mm] of the fed-back circle curvature from one scan with noise ``noise`` [mm], the larger
-    of x and y: the markers' (:func:`marker_curvature_sd`), or the height estimator's; 0 for the
-    oracle."""
+    """1 SD [1/mm] of the fed-back circle curvature from one scan with noise ``noise`` [mm], the
+    larger of x and y: the markers' (:func:`marker_curvature_sd`), or the height estimator's; 0 for
+    the oracle."""
     if settings.sensing == "markers":
         return float(marker_curvature_sd(surface, noise).max())
     if settings.sensing == "oracle":
@@ -233,14 +287,16 @@ def sensor_resolution(surface: Surface, settings: ControllerSettings, noise: flo
 def curvature_error(surface: Surface, y) -> float:
     """max |circle kappa - target| over x and y [1/mm]."""
     k = surface.heights
-    return float(np.max(np.abs(np.asarray(y)[k:k + 2] - surface.y_star[k:k + 2])))
+    return float(np.max(np.abs(np.asarray(y)[k : k + 2] - surface.y_star[k : k + 2])))
 
 
 # ------------------------------------------------------------------------------------------ plant
 class SurfacePlant:
     """The simulated surface: per-strip heat, strip stretch, quasi-static mechanics (module doc)."""
 
-    def __init__(self, surface: Surface, draw: dict, heat: StripHeat, lambda_N: float = PUBLISHED_LAMBDA_N):
+    def __init__(
+        self, surface: Surface, draw: dict, heat: StripHeat, lambda_N: float = PUBLISHED_LAMBDA_N
+    ):
         self.surface, self.draw, self.heat, self.lambda_N = surface, draw, heat, lambda_N
         n = surface.p_star.size
         self.T = np.full(n, heat.ambient)
@@ -253,8 +309,9 @@ class SurfacePlant:
         return (S @ np.asarray(inputs)) * self.draw["current_factor"] * (~self.failed)
 
     def step(self, S: np.ndarray, inputs: np.ndarray, dt: float) -> None:
-        self.T = strip_temperature_step(self.T, self.strip_currents(S, inputs), self.draw["resistance"],
-                                        dt, self.heat)
+        self.T = strip_temperature_step(
+            self.T, self.strip_currents(S, inputs), self.draw["resistance"], dt, self.heat
+        )
 
     def lambdas(self) -> np.ndarray:
         """Design lambdas p_j = lambda_N f_j of the strips (f_j their rest fractions)."""
@@ -283,31 +340,61 @@ class SurfacePlant:
 class ControllerSettings:
     """The controller's choices (all assumed; the loop is judged by the validation case)."""
 
-    filter_time: float = param(10.0, "s", "assumed: low-pass time of the output-disturbance estimate "
-                               "(averages ~10 scans of the sensor noise; slower than the ~20 s "
-                               "contraction)", positive=True)
-    thermal_gain: float = param(0.005, "A/K", "assumed: a 20 K deficit of the observer's temperature "
-                                "adds 0.1 A above the holding current (saturates at the limits)",
-                                minimum=0.0)
-    regularisation: float = param(1.0e-3, "-", "assumed: Tikhonov weight of the reference correction, "
-                                  "relative to the largest singular value squared of J_u", minimum=0.0)
-    load_prior: float = param(1.0, "N", "assumed: prior SD of an unknown centre load in the curvature "
-                              "estimator (a 100 g weight is 0.98 N)", minimum=0.0)
+    filter_time: float = param(
+        10.0,
+        "s",
+        "assumed: low-pass time of the output-disturbance estimate "
+        "(averages ~10 scans of the sensor noise; slower than the ~20 s "
+        "contraction)",
+        positive=True,
+    )
+    thermal_gain: float = param(
+        0.005,
+        "A/K",
+        "assumed: a 20 K deficit of the observer's temperature "
+        "adds 0.1 A above the holding current (saturates at the limits)",
+        minimum=0.0,
+    )
+    regularisation: float = param(
+        1.0e-3,
+        "-",
+        "assumed: Tikhonov weight of the reference correction, "
+        "relative to the largest singular value squared of J_u",
+        minimum=0.0,
+    )
+    load_prior: float = param(
+        1.0,
+        "N",
+        "assumed: prior SD of an unknown centre load in the curvature "
+        "estimator (a 100 g weight is 0.98 N)",
+        minimum=0.0,
+    )
     feedback: bool = param(True, "-", "False: open loop (nominal feed-forward and boost only)")
-    sensing: str = param("markers", "-", "what the loop feeds back: 'heights' (the nine junction-centre "
-                         "heights; the circle curvatures estimated through K), 'markers' (the circle "
-                         "curvatures measured through the points of the circle measure: the ends of "
-                         "the middle ribbons and the centre, with the sensor's noise per coordinate), "
-                         "'oracle' (the plant's true circle curvatures, noise-free: a controlled "
-                         "change that removes the estimator)")
+    sensing: str = param(
+        "markers",
+        "-",
+        "what the loop feeds back: 'heights' (the nine junction-centre "
+        "heights; the circle curvatures estimated through K), 'markers' (the circle "
+        "curvatures measured through the points of the circle measure: the ends of "
+        "the middle ribbons and the centre, with the sensor's noise per coordinate), "
+        "'oracle' (the plant's true circle curvatures, noise-free: a controlled "
+        "change that removes the estimator)",
+    )
 
 
 class ShapeController:
     """Internal-model control of the inputs (module docstring)."""
 
-    def __init__(self, surface: Surface, S: np.ndarray, settings: ControllerSettings = ControllerSettings(),
-                 limits: CurrentLimits = CurrentLimits(), heat: StripHeat = StripHeat(),
-                 spread: PlantSpread = PlantSpread(), sensor: HeightSensor = HeightSensor()):
+    def __init__(
+        self,
+        surface: Surface,
+        S: np.ndarray,
+        settings: ControllerSettings = ControllerSettings(),
+        limits: CurrentLimits = CurrentLimits(),
+        heat: StripHeat = StripHeat(),
+        spread: PlantSpread = PlantSpread(),
+        sensor: HeightSensor = HeightSensor(),
+    ):
         self.surface, self.S, self.settings, self.heat = surface, S, settings, heat
         k = surface.heights
         counts = S.sum(axis=0)
@@ -317,12 +404,15 @@ class ShapeController:
         # Linear minimum-variance estimate of the circle curvatures' deviation from the heights'
         # deviation: prior on the strip lambdas (the measured lambda_N spread) and a centre load,
         # the sensor's noise; K = J_k P J_h^T (J_h P J_h^T + R)^-1.
-        self._prior = np.concatenate([(spread.lambda_N_relative_sd * surface.p_star) ** 2,
-                                      [settings.load_prior ** 2]])
+        self._prior = np.concatenate(
+            [(spread.lambda_N_relative_sd * surface.p_star) ** 2, [settings.load_prior**2]]
+        )
         self._noise = max(sensor.noise, 1e-6) ** 2
         self.K = self.estimator(surface.J)
-        self.Jk = surface.J[k:k + 2] @ S  # circle curvatures per input lambda
-        self.k_star = surface.y_star[k:k + 2].copy()  # the model's curvatures at p_star (moves with
+        self.Jk = surface.J[k : k + 2] @ S  # circle curvatures per input lambda
+        self.k_star = surface.y_star[
+            k : k + 2
+        ].copy()  # the model's curvatures at p_star (moves with
         self.k_target = self.k_star.copy()  # a re-linearisation; the target does not)
         self.dk = np.zeros(2)
         if settings.sensing not in SENSING:
@@ -334,17 +424,22 @@ class ShapeController:
         self.d = np.zeros(k)
         self.guard = BoostGuard(limits, S.shape[1])
         s = np.linalg.svd(self.Jk, compute_uv=False)
-        # reference solve: min |J_k,u dp + K d|^2 + mu |dp|^2 over the bounds (bounded least squares:
-        # a channel at its limit leaves the correction to the others, which clipping would not)
+        # reference solve: min |J_k,u dp + K d|^2 + mu |dp|^2 over the bounds (bounded least
+        # squares: a channel at its limit leaves the correction to the others, which clipping would
+        # not)
         self._A = np.vstack([self.Jk, np.sqrt(settings.regularisation) * s[0] * np.eye(S.shape[1])])
         self.p_ref = self.p_star.copy()
 
     def estimator(self, J: np.ndarray) -> np.ndarray:
         """K = J_k P J_h^T (J_h P J_h^T + R)^-1 for sensitivities J (obs x strips)."""
         k, G = self.surface.heights, self.surface.G
-        jk = np.column_stack([J[k:k + 2], G[k:k + 2]])
+        jk = np.column_stack([J[k : k + 2], G[k : k + 2]])
         jh = np.column_stack([J[:k], G[:k]])
-        return (jk * self._prior) @ jh.T @ np.linalg.inv((jh * self._prior) @ jh.T + self._noise * np.eye(k))
+        return (
+            (jk * self._prior)
+            @ jh.T
+            @ np.linalg.inv((jh * self._prior) @ jh.T + self._noise * np.eye(k))
+        )
 
     def relinearise(self, J: np.ndarray, lambdas: np.ndarray) -> None:
         """Use the sensitivities J (obs x strips) of a full equilibrium at strip lambdas ``lambdas``
@@ -356,20 +451,24 @@ class ShapeController:
         self.K = self.estimator(J)
         self.h_star = h_now - self.J @ (p_hat - self.p_star)
         k_now = self.k_star + self.Jk @ (p_hat - self.p_star)
-        self.Jk = J[k:k + 2] @ self.S
+        self.Jk = J[k : k + 2] @ self.S
         self.k_star = k_now - self.Jk @ (p_hat - self.p_star)
         s = np.linalg.svd(self.Jk, compute_uv=False)
-        self._A = np.vstack([self.Jk, np.sqrt(self.settings.regularisation) * s[0] * np.eye(self.S.shape[1])])
+        self._A = np.vstack(
+            [self.Jk, np.sqrt(self.settings.regularisation) * s[0] * np.eye(self.S.shape[1])]
+        )
 
     def curvature_resolution(self, noise: float) -> float:
         """1 SD [1/mm] of the curvature estimate from one scan with height noise ``noise`` [mm]
         (the larger of x and y): what the sensor resolves."""
-        return float(noise * np.sqrt(np.max(np.sum(self.K ** 2, axis=1))))
+        return float(noise * np.sqrt(np.max(np.sum(self.K**2, axis=1))))
 
     def p_hat(self) -> np.ndarray:
         return np.minimum(free_stretch(self.T_hat, self.heat), PUBLISHED_LAMBDA_N)
 
-    def step(self, heights: np.ndarray, dt: float, curvatures: np.ndarray | None = None) -> np.ndarray:
+    def step(
+        self, heights: np.ndarray, dt: float, curvatures: np.ndarray | None = None
+    ) -> np.ndarray:
         """Currents [A] per input for the next ``dt`` [s], from the measured heights [mm] (with
         sensing 'oracle', from the measured circle ``curvatures`` [1/mm] instead)."""
         if self.settings.feedback:
@@ -384,15 +483,17 @@ class ShapeController:
                 est = self.K @ self.d
             b = np.concatenate([self.k_target - self.k_star - est, np.zeros(self.p_star.size)])
             lo, hi = self.lower - self.p_star, self.upper - self.p_star
-            self.p_ref = self.p_star + np.clip(lsq_linear(self._A, b, bounds=(lo, hi),
-                                                          method="bvls").x, lo, hi)
+            self.p_ref = self.p_star + np.clip(
+                lsq_linear(self._A, b, bounds=(lo, hi), method="bvls").x, lo, hi
+            )
         T_ref = self.maps.temperature(self.p_ref)
         hold = np.where(self.p_ref >= self.upper - 1e-12, 0.0, self.maps.hold_current(T_ref))
         current = hold + self.settings.thermal_gain * (T_ref - self.T_hat)
         current = np.clip(current, 0.0, self.guard.limit())
         self.guard.account(current, dt)
-        self.T_hat = strip_temperature_step(self.T_hat, current, np.full(current.size,
-                                            self.heat.segment.resistance), dt, self.heat)
+        self.T_hat = strip_temperature_step(
+            self.T_hat, current, np.full(current.size, self.heat.segment.resistance), dt, self.heat
+        )
         return current
 
 
@@ -401,27 +502,53 @@ class ShapeController:
 class Scenario:
     """Time line of one run [s]: from flat to the target, a payload step, a strip failure."""
 
-    settle: float = param(300.0, "s", "assumed: time from flat to the target (the slowest strips cool "
-                          "with a ~200 s lumped time constant)", positive=True)
-    load_phase: float = param(200.0, "s", "assumed: duration after the payload step (0: none)", minimum=0.0)
-    failure_phase: float = param(200.0, "s", "assumed: duration after one strip fails (0: none)",
-                                 minimum=0.0)
-    refine: float = param(240.0, "s", "assumed: the last part of each phase runs on the tangent map "
-                          "re-anchored at a full solve every refine_every (from flat: from 60 s on, "
-                          "once the strips are near their targets; the tangent map at the target "
-                          "alone left the cylinder's draw 2 at 0.00066 1/mm, this 0.00004)", minimum=0.0)
-    refine_every: float = param(20.0, "s", "assumed: within the refine window a full solve re-anchors "
-                                "the tangent map this often (the loop then acts on the full "
-                                "equilibrium's error, not on the tangent map's, at 3 solves per window)",
-                                positive=True)
-    full_under_load: bool = param(False, "-", "solve the full equilibrium under the payload too (slow: "
-                                  "the 100 g point load bends the soft surface by centimetres, a "
-                                  "ramp of minutes); False: the load phase runs on the tangent map")
-    relinearise: bool = param(False, "-", "at each full solve (no payload) recompute the exact "
-                              "sensitivities there, for the plant's tangent map and the controller's "
-                              "model (0.15-0.3 s per model step, control_benchmark)")
-    dt: float = param(1.0, "s", "sensor and control period (HeightSensor.period) and heat step",
-                      positive=True)
+    settle: float = param(
+        300.0,
+        "s",
+        "assumed: time from flat to the target (the slowest strips cool "
+        "with a ~200 s lumped time constant)",
+        positive=True,
+    )
+    load_phase: float = param(
+        200.0, "s", "assumed: duration after the payload step (0: none)", minimum=0.0
+    )
+    failure_phase: float = param(
+        200.0, "s", "assumed: duration after one strip fails (0: none)", minimum=0.0
+    )
+    refine: float = param(
+        240.0,
+        "s",
+        "assumed: the last part of each phase runs on the tangent map "
+        "re-anchored at a full solve every refine_every (from flat: from 60 s on, "
+        "once the strips are near their targets; the tangent map at the target "
+        "alone left the cylinder's draw 2 at 0.00066 1/mm, this 0.00004)",
+        minimum=0.0,
+    )
+    refine_every: float = param(
+        20.0,
+        "s",
+        "assumed: within the refine window a full solve re-anchors "
+        "the tangent map this often (the loop then acts on the full "
+        "equilibrium's error, not on the tangent map's, at 3 solves per window)",
+        positive=True,
+    )
+    full_under_load: bool = param(
+        False,
+        "-",
+        "solve the full equilibrium under the payload too (slow: "
+        "the 100 g point load bends the soft surface by centimetres, a "
+        "ramp of minutes); False: the load phase runs on the tangent map",
+    )
+    relinearise: bool = param(
+        False,
+        "-",
+        "at each full solve (no payload) recompute the exact "
+        "sensitivities there, for the plant's tangent map and the controller's "
+        "model (0.15-0.3 s per model step, control_benchmark)",
+    )
+    dt: float = param(
+        1.0, "s", "sensor and control period (HeightSensor.period) and heat step", positive=True
+    )
 
     def phases(self) -> list[tuple[str, float, float]]:
         out = [("target", 0.0, self.settle)]
@@ -446,7 +573,9 @@ class RunResult:
     phase_errors: dict = field(default_factory=dict)  # phase -> full-solve error [1/mm]
     phase_outputs: dict = field(default_factory=dict)  # phase -> full-solve observables
     phase_full: dict = field(default_factory=dict)  # phase -> whether its end is a full solve
-    time_to_target: dict = field(default_factory=dict)  # phase -> [s] after the phase start (nan: never)
+    time_to_target: dict = field(
+        default_factory=dict
+    )  # phase -> [s] after the phase start (nan: never)
     peak_temperature: float = 0.0
     max_current: float = 0.0
     longest_boost: float = 0.0
@@ -461,11 +590,21 @@ def failing_strip(surface: Surface, S: np.ndarray) -> int:
     return int(heated[np.argmin(np.linalg.norm(mids[heated] - centre, axis=1))])
 
 
-def simulate(surface: Surface, draw: dict, *, mode: str = "channels", feedback: bool = True,
-             scenario: Scenario = Scenario(), spread: PlantSpread = PlantSpread(),
-             sensor: HeightSensor = HeightSensor(), limits: CurrentLimits = CurrentLimits(),
-             settings: ControllerSettings | None = None, heat: StripHeat = StripHeat(),
-             seed: int = 0, progress=None) -> RunResult:
+def simulate(
+    surface: Surface,
+    draw: dict,
+    *,
+    mode: str = "channels",
+    feedback: bool = True,
+    scenario: Scenario = Scenario(),
+    spread: PlantSpread = PlantSpread(),
+    sensor: HeightSensor = HeightSensor(),
+    limits: CurrentLimits = CurrentLimits(),
+    settings: ControllerSettings | None = None,
+    heat: StripHeat = StripHeat(),
+    seed: int = 0,
+    progress=None,
+) -> RunResult:
     """One run of the loop (module docstring) from flat through the scenario's phases."""
     S, _ = surface.selection(mode)
     settings = settings or ControllerSettings()
@@ -494,15 +633,18 @@ def simulate(surface: Surface, draw: dict, *, mode: str = "channels", feedback: 
         last_anchor = -np.inf if full else np.inf  # time of the last full solve in this phase [s]
         nsteps = int(round((end - start) / dt))
         for i in range(nsteps):
-            if (end - t <= scenario.refine + 1e-9 and scenario.refine > 0
-                    and t - last_anchor >= scenario.refine_every - 1e-9):
+            if (
+                end - t <= scenario.refine + 1e-9
+                and scenario.refine > 0
+                and t - last_anchor >= scenario.refine_every - 1e-9
+            ):
                 plant.solve_full(scenario.relinearise)
                 if scenario.relinearise and feedback and plant.J is not None:
                     ctrl.relinearise(plant.J, plant.lambdas())
                 last_anchor = t
             y = plant.output()
             h = y[:k] + rng.normal(0.0, sensor.noise, k)
-            kappa = y[k:k + 2]
+            kappa = y[k : k + 2]
             if settings.sensing == "markers":
                 kappa = kappa + rng.normal(0.0, 1.0, 2) * kappa_sd
             u = ctrl.step(h, dt, kappa)
@@ -535,7 +677,11 @@ def simulate(surface: Surface, draw: dict, *, mode: str = "channels", feedback: 
         else:
             result.time_to_target[name] = float(end - start)
     result.times, result.inputs = np.array(times), np.array(inputs)
-    result.observables, result.measured, result.errors = np.array(outs), np.array(meas), np.array(errs)
+    result.observables, result.measured, result.errors = (
+        np.array(outs),
+        np.array(meas),
+        np.array(errs),
+    )
     result.max_current = float(result.inputs.max())
     return result
 

@@ -17,8 +17,9 @@ The estimates are lower bounds fitted to measured peaks (``/usr/bin/time -f %M``
   518 / 803 MB against 530 / 813 MB from the law);
 * :data:`ROD_NODE_MEMORY`: the discrete elastic rod per node (``lcefem run ribbon --nodes 1000 /
   3000``: 413 / 434 MB: 10 kB a node, its section heat grid included);
-* :data:`ROW_MEMORY`: one time step of history kept in memory (a row of ~20 floats in Python lists and
-  the problem's arrays: assumed 1 kB, an upper round figure of 20 x (24 + 8) B plus list overhead).
+* :data:`ROW_MEMORY`: one time step of history kept in memory (a row of ~20 floats in Python lists
+  and the problem's arrays: assumed 1 kB, an upper round figure of 20 x (24 + 8) B plus list
+  overhead).
 
 Besides memory, a count may have a stated bound (:meth:`Estimate.bound`): work that fits in memory
 but would not end in any useful time (a gridshell schedule's heat steps and outputs,
@@ -33,15 +34,19 @@ import os
 from lcefem.models.errors import InputError
 
 GiB = 1024.0**3
-BASE_MEMORY = 0.40 * GiB  #: [B] interpreter and libraries (measured 413-448 MB, see the module docstring)
-FE_FILL_COEFFICIENT = 220.0  #: [B] per DOF^(4/3): MUMPS factor + assembly of a 3D Q2 problem (fitted)
+BASE_MEMORY = (
+    0.40 * GiB
+)  #: [B] interpreter and libraries (measured 413-448 MB, see the module docstring)
+FE_FILL_COEFFICIENT = (
+    220.0  #: [B] per DOF^(4/3): MUMPS factor + assembly of a 3D Q2 problem (fitted)
+)
 ROD_NODE_MEMORY = 10e3  #: [B] per rod node (measured, 1000 -> 3000 nodes)
 ROW_MEMORY = 1e3  #: [B] per time step of history (assumed upper round figure)
 
 
 def host_memory() -> float:
-    """Physical memory of this host [B] (``LCEFEM_MEMORY`` [GiB] overrides it, e.g. for a batch job's
-    share of a node)."""
+    """Physical memory of this host [B] (``LCEFEM_MEMORY`` [GiB] overrides it, e.g. for a batch
+    job's share of a node)."""
     override = os.environ.get("LCEFEM_MEMORY")
     if override:
         try:
@@ -91,8 +96,8 @@ class Estimate:
         return self
 
     def bound(self, field: str, what: str, count: float, limit: float, why: str) -> "Estimate":
-        """``count`` of ``what`` (e.g. 'heat steps'), set by input ``field``, may not exceed ``limit``
-        (``why``: the bound's reason, stated in the refusal); checked by :meth:`check`."""
+        """``count`` of ``what`` (e.g. 'heat steps'), set by input ``field``, may not exceed
+        ``limit`` (``why``: the bound's reason, stated in the refusal); checked by :meth:`check`."""
         self.counts[what] = float(count)
         self.bounds.append((field, what, float(count), float(limit), why))
         return self
@@ -103,23 +108,37 @@ class Estimate:
     def check(self) -> "Estimate":
         for field, what, count, bound, why in self.bounds:
             if not count <= bound:
-                raise InputError(f"{field}: {_fmt(count)} {what}, more than the bound {bound:.3g} ({why}; "
-                                 "estimate: lcefem.solvers.cost)")
+                raise InputError(
+                    f"{field}: {_fmt(count)} {what}, more than the bound {bound:.3g} ({why}; "
+                    "estimate: lcefem.solvers.cost)"
+                )
         limit, total = host_memory(), self.total()
         if total <= limit:
             return self
         field, what, nbytes = max(self.terms[1:], key=lambda t: t[2])
-        need = "more than any machine's" if not math.isfinite(nbytes) else f"at least {nbytes / GiB:.3g} GiB"
-        raise InputError(f"{field}: {what} need {need} memory; this host has {limit / GiB:.3g} GiB "
-                         f"(estimate: lcefem.solvers.cost; LCEFEM_MEMORY sets another limit)")
+        need = (
+            "more than any machine's"
+            if not math.isfinite(nbytes)
+            else f"at least {nbytes / GiB:.3g} GiB"
+        )
+        raise InputError(
+            f"{field}: {what} need {need} memory; this host has {limit / GiB:.3g} GiB "
+            f"(estimate: lcefem.solvers.cost; LCEFEM_MEMORY sets another limit)"
+        )
 
     def as_dict(self) -> dict:
-        return {**{k: v if math.isfinite(v) else None for k, v in self.counts.items()},
-                "memory [GiB]": self.total() / GiB, "memory limit [GiB]": host_memory() / GiB}
+        return {
+            **{k: v if math.isfinite(v) else None for k, v in self.counts.items()},
+            "memory [GiB]": self.total() / GiB,
+            "memory limit [GiB]": host_memory() / GiB,
+        }
 
 
-def time_steps(field: str, duration: float, dt: float, estimate: Estimate | None = None) -> Estimate:
-    """The history of ``duration / dt`` steps, charged to ``field`` (the step, e.g. 'run.dt = 1e-300 s')."""
+def time_steps(
+    field: str, duration: float, dt: float, estimate: Estimate | None = None
+) -> Estimate:
+    """The history of ``duration / dt`` steps, charged to ``field`` (the step, e.g. 'run.dt = 1e-300
+    s')."""
     n = steps(duration, dt)
     est = estimate or Estimate()
     return est.count("steps", n).memory(field, f"{_fmt(n)} time steps", n * ROW_MEMORY)

@@ -9,8 +9,8 @@ These are thin adapters: each calls the route's existing code (models.lumped_hea
 ``steady_stretch`` and ``eq1_stretch``, HeatedGridshellFE's ``steady_hold`` and observables), so
 a change of a route's physics there reaches the adapter unchanged. The configuration section of
 a run (which route, which strip, the exchange factor, a measured contraction curve) stays
-:class:`lcefem.models.lumped_heat.CurrentRouteConfig`; :func:`route_from_config` turns it into a route
-(``lcefem run gridshell --route current`` and ``--current`` take their lambdas through it).
+:class:`lcefem.models.lumped_heat.CurrentRouteConfig`; :func:`route_from_config` turns it into a
+route (``lcefem run gridshell --route current`` and ``--current`` take their lambdas through it).
 
 A study can then compare routes through one call::
 
@@ -49,8 +49,11 @@ class CurrentRoute(Protocol):
         ...
 
 
-def _checked(currents: Mapping[str, float], strip: lh.HeatedStrip = lh.GRID_STRIP,
-             thermal: lh.LumpedThermal | None = None) -> dict[str, float]:
+def _checked(
+    currents: Mapping[str, float],
+    strip: lh.HeatedStrip = lh.GRID_STRIP,
+    thermal: lh.LumpedThermal | None = None,
+) -> dict[str, float]:
     """The currents' bounds: each in [0, 1 A] and, held, its strip's steady temperature below
     decomposition (lcefem.models.lumped_heat.check_held_current; the grid strip's balance unless the
     route has its own)."""
@@ -63,9 +66,9 @@ def _checked(currents: Mapping[str, float], strip: lh.HeatedStrip = lh.GRID_STRI
 
 @dataclass(frozen=True)
 class LumpedRoute:
-    """The steady heat balance of one lumped strip (:func:`lcefem.models.lumped_heat.steady_stretch`):
-    I^2 R = loss(T) -> lambda_s(T), capped at the as-built ``lambda_N`` (a strip whose free length
-    would exceed its glued length is slack)."""
+    """The steady heat balance of one lumped strip
+    (:func:`lcefem.models.lumped_heat.steady_stretch`): I^2 R = loss(T) -> lambda_s(T), capped at
+    the as-built ``lambda_N`` (a strip whose free length would exceed its glued length is slack)."""
 
     strip: lh.HeatedStrip = field(default_factory=lambda: lh.GRID_STRIP)
     thermal: lh.LumpedThermal = field(default_factory=lh.grid_thermal)
@@ -112,13 +115,16 @@ class FEHeatedRoute:
         obs = self.model.observables()
         missing = [k for k in currents if f"lambda {k} [-]" not in obs]
         if missing:
-            raise InputError(f"current {missing[0]}: the FE heated route reports lambda per channel "
-                             f"(Tx, Ty, Bx, By), not per {missing[0]!r}")
+            raise InputError(
+                f"current {missing[0]}: the FE heated route reports lambda per channel "
+                f"(Tx, Ty, Bx, By), not per {missing[0]!r}"
+            )
         return {k: float(obs[f"lambda {k} [-]"]) for k in currents}
 
 
-def route_from_config(config: lh.CurrentRouteConfig = lh.CurrentRouteConfig(),
-                      lambda_N: float = PUBLISHED_LAMBDA_N) -> LumpedRoute | Eq1Route:
+def route_from_config(
+    config: lh.CurrentRouteConfig = lh.CurrentRouteConfig(), lambda_N: float = PUBLISHED_LAMBDA_N
+) -> LumpedRoute | Eq1Route:
     """The route a run's ``current_route`` section names (thermal_model 'strip', 'segment' or
     'eq1'), the same numbers as :func:`lcefem.models.lumped_heat.stretch_from_current`."""
     config = config.checked()
@@ -129,11 +135,18 @@ def route_from_config(config: lh.CurrentRouteConfig = lh.CurrentRouteConfig(),
 
 
 def curve_law(config: lh.CurrentRouteConfig) -> MeasuredContraction | None:
-    """The measured curve ``config.curve`` names (as built at 25 C, the calibrated transition's T_ref),
-    or None for the sigmoid."""
+    """The measured curve ``config.curve`` names (as built at 25 C, the calibrated transition's
+    T_ref), or None for the sigmoid."""
     if not config.curve:
         return None
     return read_contraction_csv(config.curve, lh.LumpedThermal().transition.T_ref)
 
 
-__all__ = ["CurrentRoute", "Eq1Route", "FEHeatedRoute", "LumpedRoute", "curve_law", "route_from_config"]
+__all__ = [
+    "CurrentRoute",
+    "Eq1Route",
+    "FEHeatedRoute",
+    "LumpedRoute",
+    "curve_law",
+    "route_from_config",
+]

@@ -8,10 +8,10 @@ of lcefem.solvers.runtime.files).
   FE problems); FEniCSx is imported when one is built, so the bar-and-hinge and rod runs start
   without it.
 * :class:`BarHingeVTK` — one VTK PolyData file (.vtp) per converged step in ``<stem>_steps/`` and a
-  ParaView collection ``<stem>.pvd`` over them (lcefem.solvers.runtime.files.FrameSeries): the ribbon's N5B8
-  triangles and the strip and glue bars as lines, with point data ``displacement [mm]`` and cell data
-  ``element`` (0 ribbon, 1 bottom strip, 2 top strip, 3 glue) and ``axial force [N]`` (tension
-  positive; 0 on triangles).
+  ParaView collection ``<stem>.pvd`` over them (lcefem.solvers.runtime.files.FrameSeries): the
+  ribbon's N5B8 triangles and the strip and glue bars as lines, with point data ``displacement
+  [mm]`` and cell data ``element`` (0 ribbon, 1 bottom strip, 2 top strip, 3 glue) and ``axial force
+  [N]`` (tension positive; 0 on triangles).
 * :class:`BarHingeFrames`, :class:`FEFields` — export objects of a run (lcefem.solvers.runner):
   each opens its writer in the run's folder, writes one frame per converged step and, for the
   bar-and-hinge frames, the last converged state of a failed run.
@@ -28,20 +28,29 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.solvers.der.output import write_vtp
-from lcefem.solvers.runtime.files import (FrameSeries, library_os_error, part_name, partial_name,
-                                          refuse_link, replace)
+from lcefem.solvers.runtime.files import (
+    FrameSeries,
+    library_os_error,
+    part_name,
+    partial_name,
+    refuse_link,
+    replace,
+)
 from lcefem.solvers.runtime.run import Run
 
 if TYPE_CHECKING:  # annotations only: FEniCSx is imported when an FE export is built
-    import dolfinx
     from mpi4py import MPI
+
+    import dolfinx
 
 
 class FieldExport:
-    """VTX (ADIOS2 .bp) time series of dolfinx Functions sharing one element, readable by ParaView."""
+    """VTX (ADIOS2 .bp) time series of dolfinx Functions sharing one element, readable by
+    ParaView."""
 
     def __init__(self, path: pathlib.Path, functions: list[dolfinx.fem.Function], comm: MPI.Comm):
         import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+
         import dolfinx
 
         self.path = pathlib.Path(path)
@@ -88,8 +97,9 @@ class FieldExport:
             raise error
 
 
-def write_snapshot(folder, name: str, functions: list[dolfinx.fem.Function], t: float = 0.0
-                   ) -> pathlib.Path:
+def write_snapshot(
+    folder, name: str, functions: list[dolfinx.fem.Function], t: float = 0.0
+) -> pathlib.Path:
     """One VTX file ``folder/name`` of ``functions`` at time ``t`` (written as .part, then renamed);
     the ``write_fields`` of the problems in lcefem.solvers.problems."""
     folder = pathlib.Path(folder)
@@ -124,13 +134,16 @@ class BarHingeVTK(FrameSeries):
         self.structure = structure
         tri = ribbon_triangles(structure)
         self._faces = np.hstack([np.full((tri.shape[0], 1), 3), tri]).ravel()
-        self._line_groups = [g for g in ("bottom_strips", "top_strips", "glue") if g in structure.bars]
+        self._line_groups = [
+            g for g in ("bottom_strips", "top_strips", "glue") if g in structure.bars
+        ]
         pairs = [structure.bars[g] for g in self._line_groups]
         lines = np.vstack(pairs) if pairs else np.zeros((0, 2), dtype=np.int64)
         self._lines = np.hstack([np.full((lines.shape[0], 1), 2), lines]).ravel()
         self._codes = np.concatenate(
             [np.full(tri.shape[0], ELEMENT_CODES["ribbon"])]
-            + [np.full(structure.bars[g].shape[0], ELEMENT_CODES[g]) for g in self._line_groups])
+            + [np.full(structure.bars[g].shape[0], ELEMENT_CODES[g]) for g in self._line_groups]
+        )
 
     def polydata(self, x: np.ndarray, bar_forces: dict[str, np.ndarray]):
         """The state with positions x (n, 3) [mm] and bar forces by group [N]."""
@@ -140,8 +153,11 @@ class BarHingeVTK(FrameSeries):
         n_tri = self._faces.size // 4
         n_lin = self._lines.size // 3
         codes = np.concatenate([self._codes[n_tri:], self._codes[:n_tri]])
-        forces = np.concatenate([*(bar_forces[g] for g in self._line_groups), np.zeros(n_tri)]) \
-            if n_lin else np.zeros(n_tri)
+        forces = (
+            np.concatenate([*(bar_forces[g] for g in self._line_groups), np.zeros(n_tri)])
+            if n_lin
+            else np.zeros(n_tri)
+        )
         poly.cell_data["element"] = codes.astype(np.int32)
         poly.cell_data["axial force [N]"] = forces
         poly.point_data["displacement [mm]"] = x - self.structure.nodes
@@ -152,8 +168,11 @@ class BarHingeVTK(FrameSeries):
         poly = self.polydata(x, bar_forces)
         return super().write(t, lambda path: write_vtp(path, poly))
 
-    def write_single(self, path: pathlib.Path, x: np.ndarray, bar_forces: dict[str, np.ndarray]) -> None:
-        """Write one state to ``path`` (.vtp) atomically (e.g. the last converged state of a failed run)."""
+    def write_single(
+        self, path: pathlib.Path, x: np.ndarray, bar_forces: dict[str, np.ndarray]
+    ) -> None:
+        """Write one state to ``path`` (.vtp) atomically (e.g. the last converged state of a failed
+        run)."""
         path = pathlib.Path(path)
         tmp = part_name(path)
         refuse_link(tmp)
@@ -163,8 +182,9 @@ class BarHingeVTK(FrameSeries):
 
 @dataclass(frozen=True)
 class BarHingeFrames:
-    """Export object: ParaView frames of a bar-and-hinge run, ``<stem>.pvd`` + ``<stem>_steps/*.vtp``
-    (one per converged increment, at its load factor), and ``last_converged.vtp`` when it fails.
+    """Export object: ParaView frames of a bar-and-hinge run, ``<stem>.pvd`` +
+    ``<stem>_steps/*.vtp`` (one per converged increment, at its load factor), and
+    ``last_converged.vtp`` when it fails.
     :meth:`open` gives the writer of one run."""
 
     stem: str
@@ -172,7 +192,9 @@ class BarHingeFrames:
     model: object  # the BarHingeModel (its bar forces)
 
     def open(self, run: Run, out: pathlib.Path) -> "_BarHingeFramesWriter":
-        return _BarHingeFramesWriter(run.output(BarHingeVTK(out, self.stem, self.structure)), self.model)
+        return _BarHingeFramesWriter(
+            run.output(BarHingeVTK(out, self.stem, self.structure)), self.model
+        )
 
 
 class _BarHingeFramesWriter:
@@ -183,7 +205,9 @@ class _BarHingeFramesWriter:
         self.vtk.write(state.t, state.x, self.model.bar_forces(state.x))
 
     def last_converged(self, folder: pathlib.Path, state) -> None:
-        self.vtk.write_single(folder / "last_converged.vtp", state.x, self.model.bar_forces(state.x))
+        self.vtk.write_single(
+            folder / "last_converged.vtp", state.x, self.model.bar_forces(state.x)
+        )
 
 
 @dataclass(frozen=True)
@@ -226,12 +250,13 @@ class _FEFieldsWriter:
         pass  # the series itself is kept as *.partial.* up to the last converged step
 
 
-# -- exports typed on the Problem protocol (the one door, lcefem.solvers.runner.run) ------------------
-# A user lists them (a case file's [[exports]]: kind, name, times, fields; FESTIM's style). Each has
-# ``times`` (None: every record; else only the records at those times, which the run adds to its
-# steps as milestones) and ``open(run, out, problem)`` giving a writer with ``write(record, index)``
-# and ``last_converged(folder, record)``; ``record`` is a StepRecord
+# -- exports typed on the Problem protocol (the one door, lcefem.solvers.runner.run)
+# ------------------ A user lists them (a case file's [[exports]]: kind, name, times, fields;
+# FESTIM's style). Each has ``times`` (None: every record; else only the records at those times,
+# which the run adds to its steps as milestones) and ``open(run, out, problem)`` giving a writer
+# with ``write(record, index)`` and ``last_converged(folder, record)``; ``record`` is a StepRecord
 # (lcefem.solvers.problems.protocol), ``index`` its number in the run (0: the start).
+
 
 def _due(times, record, scale: float) -> bool:
     """``record`` is at one of ``times`` (None: every record); the same tolerance as the program's
@@ -243,11 +268,11 @@ def _due(times, record, scale: float) -> bool:
 
 def _unit(name: str) -> str:
     """The unit of a "name [unit]" key."""
-    return name[name.rindex("[") + 1:-1]
+    return name[name.rindex("[") + 1 : -1]
 
 
 def _bare(name: str) -> str:
-    return name[:name.rindex("[")].strip()
+    return name[: name.rindex("[")].strip()
 
 
 @dataclass(frozen=True)
@@ -279,7 +304,9 @@ class History:
             return dict(self.row(record))
         return {record.clock: record.at, **record.observables}
 
-    def open(self, run: Run, out: pathlib.Path, problem=None, main: bool = False) -> "_HistoryWriter":
+    def open(
+        self, run: Run, out: pathlib.Path, problem=None, main: bool = False
+    ) -> "_HistoryWriter":
         return _HistoryWriter(self, run, out, main)
 
 
@@ -299,13 +326,20 @@ class _HistoryWriter:
         if self.main:
             self.table = self.run.open_history(columns, self.spec.name)
         else:
-            self.table = self.run.output(CSVTable(None if self.out is None else self.out / self.spec.name,
-                                                  columns, self.run.comm))
+            self.table = self.run.output(
+                CSVTable(
+                    None if self.out is None else self.out / self.spec.name, columns, self.run.comm
+                )
+            )
 
     def write(self, record, index: int) -> None:
         import math
 
-        if not _due(self.spec.times, record, 1.0 if not math.isfinite(record.at) else max(1.0, abs(record.at))):
+        if not _due(
+            self.spec.times,
+            record,
+            1.0 if not math.isfinite(record.at) else max(1.0, abs(record.at)),
+        ):
             return
         row = self.spec.row_of(record)
         if self.table is None:
@@ -313,10 +347,19 @@ class _HistoryWriter:
         if not self.main:
             self.table.append(row)
             return
-        where = (self.spec.where(record) if self.spec.where is not None else
-                 f"t = {record.at:.4g} s" if record.clock == "time [s]" else f"load factor {record.at:.4g}")
-        self.run.record(row, where=where, at=record.at if math.isfinite(record.at) else None,
-                        postfix=None if self.spec.postfix is None else self.spec.postfix(record))
+        where = (
+            self.spec.where(record)
+            if self.spec.where is not None
+            else f"t = {record.at:.4g} s"
+            if record.clock == "time [s]"
+            else f"load factor {record.at:.4g}"
+        )
+        self.run.record(
+            row,
+            where=where,
+            at=record.at if math.isfinite(record.at) else None,
+            postfix=None if self.spec.postfix is None else self.spec.postfix(record),
+        )
 
     def last_converged(self, folder, record) -> None:
         pass  # the rows so far are kept as history.partial.csv
@@ -341,8 +384,10 @@ class Fields:
         found = problem.fields()
         missing = [f for f in self.fields if f not in found]
         if missing:
-            raise InputError(f"exports {self.name!r}: field {missing[0]!r} not among the problem's fields "
-                             f"({', '.join(found)})")
+            raise InputError(
+                f"exports {self.name!r}: field {missing[0]!r} not among the problem's fields "
+                f"({', '.join(found)})"
+            )
         return {k: found[k] for k in (self.fields or found)}
 
     def open(self, run: Run, out: pathlib.Path, problem=None, main: bool = False):
@@ -352,7 +397,9 @@ class Fields:
         if all(hasattr(f, "function_space") for f in chosen.values()):
             name = self.name if self.name.endswith(".bp") else f"{self.name}.bp"
             functions = list(chosen.values())
-            writer = run.output(FieldExport(out / name, functions, functions[0].function_space.mesh.comm))
+            writer = run.output(
+                FieldExport(out / name, functions, functions[0].function_space.mesh.comm)
+            )
             return _FieldsWriter(self, problem, lambda t: writer.write(t), None)
         structure, model = getattr(problem, "structure", None), getattr(problem, "model", None)
         if isinstance(structure, BarHingeStructure) and hasattr(model, "bar_forces"):
@@ -369,8 +416,12 @@ class Fields:
 
             return _FieldsWriter(self, problem, write, last)
         points = run.output(FrameSeries(out, self.name.removesuffix(".pvd")))
-        return _FieldsWriter(self, problem, lambda t: points.write(t, lambda p: _write_points(p, self._selected(problem))),
-                             None)
+        return _FieldsWriter(
+            self,
+            problem,
+            lambda t: points.write(t, lambda p: _write_points(p, self._selected(problem))),
+            None,
+        )
 
 
 def _write_points(path: pathlib.Path, fields: dict) -> None:
@@ -379,7 +430,9 @@ def _write_points(path: pathlib.Path, fields: dict) -> None:
     import pyvista
 
     arrays = {k: np.asarray(v, dtype=float) for k, v in fields.items()}
-    pos = next((a.reshape(-1, 3) for k, a in arrays.items() if _unit(k) == "mm" and a.size % 3 == 0), None)
+    pos = next(
+        (a.reshape(-1, 3) for k, a in arrays.items() if _unit(k) == "mm" and a.size % 3 == 0), None
+    )
     if pos is None:
         raise ValueError(f"no node positions [mm] among {', '.join(arrays)}")
     poly = pyvista.PolyData(pos)
@@ -398,7 +451,8 @@ class _FieldsWriter:
 
         spec = self.spec
         if (spec.every > 1 and index % spec.every != 0) or not _due(
-                spec.times, record, max(1.0, abs(record.at)) if math.isfinite(record.at) else 1.0):
+            spec.times, record, max(1.0, abs(record.at)) if math.isfinite(record.at) else 1.0
+        ):
             return
         self.problem.fields()  # refreshes derived fields (an interpolated stretch) before the frame
         self._write(record.at if math.isfinite(record.at) else 0.0)
@@ -435,13 +489,20 @@ class Probe:
 
         found = problem.fields()
         if self.field not in found:
-            raise InputError(f"exports {self.name!r}: field {self.field!r} not among the problem's fields "
-                             f"({', '.join(found)})")
+            raise InputError(
+                f"exports {self.name!r}: field {self.field!r} not among the problem's fields "
+                f"({', '.join(found)})"
+            )
         nodes = _reference_nodes(problem, found)
         value = _point_value(found[self.field], self.point, nodes)
         base, unit = _bare(self.field), _unit(self.field)
-        columns = ([f"{base} [{unit}]"] if value.size == 1 else
-                   [f"{base}_{'xyz'[i] if value.size == 3 else i} [{unit}]" for i in range(value.size)])
+        columns = (
+            [f"{base} [{unit}]"]
+            if value.size == 1
+            else [
+                f"{base}_{'xyz'[i] if value.size == 3 else i} [{unit}]" for i in range(value.size)
+            ]
+        )
         return _ProbeWriter(self, run, out, problem, columns, nodes)
 
 
@@ -452,8 +513,12 @@ def _reference_nodes(problem, found: dict):
     if nodes is not None:
         return np.asarray(nodes, dtype=float).reshape(-1, 3)
     for k, v in found.items():
-        if not hasattr(v, "function_space") and _unit(k) == "mm" and np.asarray(v).ndim == 2 \
-                and np.asarray(v).shape[1] == 3:
+        if (
+            not hasattr(v, "function_space")
+            and _unit(k) == "mm"
+            and np.asarray(v).ndim == 2
+            and np.asarray(v).shape[1] == 3
+        ):
             return np.array(v, dtype=float)
     return None
 
@@ -463,20 +528,25 @@ def _point_value(f, point, nodes) -> np.ndarray:
     a node array: at the node of ``nodes`` (n, 3) [mm] nearest to it)."""
     p = np.asarray(point, dtype=float)
     if hasattr(f, "function_space"):
-        import dolfinx
         from mpi4py import MPI
+
+        import dolfinx
 
         mesh = f.function_space.mesh
         tree = dolfinx.geometry.bb_tree(mesh, mesh.topology.dim)
         cells = dolfinx.geometry.compute_colliding_cells(
-            mesh, dolfinx.geometry.compute_collisions_points(tree, p.reshape(1, 3)), p.reshape(1, 3))
+            mesh, dolfinx.geometry.compute_collisions_points(tree, p.reshape(1, 3)), p.reshape(1, 3)
+        )
         found = cells.links(0)
         bs = f.function_space.dofmap.index_map_bs
-        local = f.eval(p.reshape(1, 3), found[:1]).reshape(-1) if len(found) else np.full(bs, np.nan)
+        local = (
+            f.eval(p.reshape(1, 3), found[:1]).reshape(-1) if len(found) else np.full(bs, np.nan)
+        )
         comm = mesh.comm
         owner = comm.allreduce(comm.rank if len(found) else comm.size, op=MPI.MIN)
         if owner == comm.size:
             from lcefem.models.errors import InputError
+
             raise InputError(f"probe point {tuple(point)} mm: outside the mesh")
         return np.atleast_1d(comm.bcast(local, root=owner))
     a = np.asarray(f, dtype=float)
@@ -494,10 +564,14 @@ class _ProbeWriter:
     def write(self, record, index: int) -> None:
         import math
 
-        if not _due(self.spec.times, record, max(1.0, abs(record.at)) if math.isfinite(record.at) else 1.0):
+        if not _due(
+            self.spec.times, record, max(1.0, abs(record.at)) if math.isfinite(record.at) else 1.0
+        ):
             return
         if self.table is None:
-            self.table = _PointTable(self.run, self.out, self.spec.name, [record.clock, *self.columns]).table
+            self.table = _PointTable(
+                self.run, self.out, self.spec.name, [record.clock, *self.columns]
+            ).table
         value = _point_value(self.problem.fields()[self.spec.field], self.spec.point, self.nodes)
         self.table.append({record.clock: record.at, **dict(zip(self.columns, value, strict=True))})
 
@@ -521,11 +595,17 @@ class Reaction:
         from lcefem.models.errors import InputError
 
         if not hasattr(problem, "reaction"):
-            raise InputError(f"exports {self.name!r}: kind 'reaction' is not available for this body "
-                             "(its problem computes no support reactions)")
+            raise InputError(
+                f"exports {self.name!r}: kind 'reaction' is not available for this body "
+                "(its problem computes no support reactions)"
+            )
         if self.component not in (0, 1, 2):
-            raise InputError(f"exports {self.name!r}: component = {self.component}: allowed 0, 1, 2")
-        problem.reaction(self.tag, self.component)  # an unknown tag fails here, before the first step
+            raise InputError(
+                f"exports {self.name!r}: component = {self.component}: allowed 0, 1, 2"
+            )
+        problem.reaction(
+            self.tag, self.component
+        )  # an unknown tag fails here, before the first step
         return _ReactionWriter(self, run, out, problem)
 
 
@@ -537,12 +617,20 @@ class _ReactionWriter:
     def write(self, record, index: int) -> None:
         import math
 
-        if not _due(self.spec.times, record, max(1.0, abs(record.at)) if math.isfinite(record.at) else 1.0):
+        if not _due(
+            self.spec.times, record, max(1.0, abs(record.at)) if math.isfinite(record.at) else 1.0
+        ):
             return
         if self.table is None:
-            self.table = _PointTable(self.run, self.out, self.spec.name, [record.clock, self.column]).table
-        self.table.append({record.clock: record.at,
-                           self.column: self.problem.reaction(self.spec.tag, self.spec.component)})
+            self.table = _PointTable(
+                self.run, self.out, self.spec.name, [record.clock, self.column]
+            ).table
+        self.table.append(
+            {
+                record.clock: record.at,
+                self.column: self.problem.reaction(self.spec.tag, self.spec.component),
+            }
+        )
 
     def last_converged(self, folder, record) -> None:
         pass
@@ -550,9 +638,12 @@ class _ReactionWriter:
 
 #: The export kinds a case file's ``[[exports]]`` may name.
 EXPORT_KINDS = {"history": History, "fields": Fields, "probe": Probe, "reaction": Reaction}
-EXPORT_KEYS = {"history": ("kind", "name", "times", "columns"), "fields": ("kind", "name", "times", "fields", "every"),
-               "probe": ("kind", "name", "times", "field", "point"),
-               "reaction": ("kind", "name", "times", "tag", "component")}
+EXPORT_KEYS = {
+    "history": ("kind", "name", "times", "columns"),
+    "fields": ("kind", "name", "times", "fields", "every"),
+    "probe": ("kind", "name", "times", "field", "point"),
+    "reaction": ("kind", "name", "times", "tag", "component"),
+}
 
 
 def exports_from_tables(tables, where: str = "exports") -> list:
@@ -574,8 +665,10 @@ def exports_from_tables(tables, where: str = "exports") -> list:
             raise InputError(f"{here}.kind = {kind!r}: allowed {', '.join(EXPORT_KINDS)}")
         unknown = [k for k in t if k not in EXPORT_KEYS[kind]]
         if unknown:
-            raise InputError(f"{here}: unknown key {unknown[0]!r} for kind {kind!r} (allowed: "
-                             f"{', '.join(EXPORT_KEYS[kind])})")
+            raise InputError(
+                f"{here}: unknown key {unknown[0]!r} for kind {kind!r} (allowed: "
+                f"{', '.join(EXPORT_KEYS[kind])})"
+            )
         name = t.get("name", "history.csv" if kind == "history" else None)
         if not isinstance(name, str) or not name or "/" in name or name in names:
             raise InputError(f"{here}.name = {name!r}: a file name, unique among the exports")
@@ -583,33 +676,55 @@ def exports_from_tables(tables, where: str = "exports") -> list:
         kw = {"name": name}
         if "times" in t:
             times = t["times"]
-            if (not isinstance(times, list) or not times
-                    or any(isinstance(v, bool) or not isinstance(v, (int, float)) or v < 0 for v in times)):
-                raise InputError(f"{here}.times = {times!r}: a list of times [s] or load fractions [-] >= 0")
+            if (
+                not isinstance(times, list)
+                or not times
+                or any(
+                    isinstance(v, bool) or not isinstance(v, (int, float)) or v < 0 for v in times
+                )
+            ):
+                raise InputError(
+                    f"{here}.times = {times!r}: a list of times [s] or load fractions [-] >= 0"
+                )
             kw["times"] = tuple(float(v) for v in times)
-        for key, typ, what in (("columns", list, "a list of \"name [unit]\""),
-                               ("fields", list, "a list of field names \"name [unit]\""),
-                               ("field", str, "a field name \"name [unit]\""),
-                               ("tag", str, "a facet tag of the mesh")):
+        for key, typ, what in (
+            ("columns", list, "a list of \"name [unit]\""),
+            ("fields", list, "a list of field names \"name [unit]\""),
+            ("field", str, "a field name \"name [unit]\""),
+            ("tag", str, "a facet tag of the mesh"),
+        ):
             if key in t:
-                if not isinstance(t[key], typ) or (typ is list and not all(isinstance(v, str) for v in t[key])):
+                if not isinstance(t[key], typ) or (
+                    typ is list and not all(isinstance(v, str) for v in t[key])
+                ):
                     raise InputError(f"{here}.{key} = {t[key]!r}: {what}")
                 kw[key] = tuple(t[key]) if typ is list else t[key]
         if "columns" in kw:
             from lcefem.solvers.problems.protocol import unnamed
+
             bad = unnamed(kw["columns"])
             if bad:
                 raise InputError(f"{here}.columns: {bad[0]!r} has no unit (\"name [unit]\")")
         for key, lo in (("every", 1), ("component", 0)):
             if key in t:
-                if isinstance(t[key], bool) or not isinstance(t[key], int) or t[key] < lo or (key == "component" and t[key] > 2):
-                    raise InputError(f"{here}.{key} = {t[key]!r}: an integer "
-                                     f"{'>= 1' if key == 'every' else '0 (x), 1 (y) or 2 (z)'}")
+                if (
+                    isinstance(t[key], bool)
+                    or not isinstance(t[key], int)
+                    or t[key] < lo
+                    or (key == "component" and t[key] > 2)
+                ):
+                    raise InputError(
+                        f"{here}.{key} = {t[key]!r}: an integer "
+                        f"{'>= 1' if key == 'every' else '0 (x), 1 (y) or 2 (z)'}"
+                    )
                 kw[key] = t[key]
         if kind == "probe":
             p = t.get("point")
-            if (not isinstance(p, list) or len(p) != 3
-                    or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in p)):
+            if (
+                not isinstance(p, list)
+                or len(p) != 3
+                or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in p)
+            ):
                 raise InputError(f"{here}.point = {p!r}: three coordinates [mm]")
             kw["point"] = tuple(float(v) for v in p)
             if "field" not in kw:

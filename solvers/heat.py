@@ -1,7 +1,8 @@
 """Transient heat conduction in a deforming body, written in its reference configuration.
 
 With X the reference coordinates, F = I + Grad u the deformation (u lagging one step in a staggered
-scheme), J = det F and C = F^T F, the energy balance per reference volume is (Holzapfel 2000, Sec. 7.3)
+scheme), J = det F and C = F^T F, the energy balance per reference volume is (Holzapfel 2000, Sec.
+7.3)
 
     rho c dT/dt - Div(k J C^-1 Grad T) = q                        in the body,
     -k J C^-1 Grad T . N = (h + h_r(T)) (T - T_a) J |F^-T N|     on exposed surfaces,
@@ -17,10 +18,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
-import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+import ufl
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -68,10 +70,11 @@ class HeatSetup:
 
 
 class HeatProblem:
-    """Backward-Euler heat solver on a :class:`TaggedMesh`; forms built once, Constants change in loops.
+    """Backward-Euler heat solver on a :class:`TaggedMesh`; forms built once, Constants change in
+    loops.
 
-    ``extra_source`` [mW/mm^3] and ``extra_flux`` [mW/mm^2, into the body, on the exposed facets] are
-    optional UFL expressions added to the right-hand side (manufactured solutions use them).
+    ``extra_source`` [mW/mm^3] and ``extra_flux`` [mW/mm^2, into the body, on the exposed facets]
+    are optional UFL expressions added to the right-hand side (manufactured solutions use them).
 
     Attributes:
         T: temperature [C] at the new time level (Function, Lagrange of ``setup.degree``).
@@ -80,25 +83,41 @@ class HeatProblem:
         displacement: the Function u [mm] used for the pull-back (None: rigid body).
     """
 
-    def __init__(self, tmesh: TaggedMesh, setup: HeatSetup, *, displacement=None,
-                 extra_source=None, extra_flux=None, bcs=(), petsc_options: dict | None = None,
-                 prefix: str = "lcefem_heat_", quadrature_degree: int = 4):
+    def __init__(
+        self,
+        tmesh: TaggedMesh,
+        setup: HeatSetup,
+        *,
+        displacement=None,
+        extra_source=None,
+        extra_flux=None,
+        bcs=(),
+        petsc_options: dict | None = None,
+        prefix: str = "lcefem_heat_",
+        quadrature_degree: int = 4,
+    ):
         mesh = tmesh.mesh
         self.mesh, self.setup = mesh, setup
         V = dolfinx.fem.functionspace(mesh, ("Lagrange", setup.degree))
         self.V = V
         self.T = dolfinx.fem.Function(V, name="temperature")
         self.T_old = dolfinx.fem.Function(V, name="temperature_old")
-        t0 = setup.exchange.ambient_temperature if setup.initial_temperature is None \
+        t0 = (
+            setup.exchange.ambient_temperature
+            if setup.initial_temperature is None
             else setup.initial_temperature
+        )
         self.T.x.array[:] = t0
         self.T_old.x.array[:] = t0
         self.inv_dt = dolfinx.fem.Constant(mesh, PETSc.ScalarType(0.0))
         self.power_density = dolfinx.fem.Constant(mesh, PETSc.ScalarType(0.0))
         self.displacement = displacement
-        self.bcs = list(bcs(V) if callable(bcs) else bcs)  # a callable receives the temperature space
+        self.bcs = list(
+            bcs(V) if callable(bcs) else bcs
+        )  # a callable receives the temperature space
 
-        # Material data as Constants: forms compile once; set_materials() changes them (calibration).
+        # Material data as Constants: forms compile once; set_materials() changes them
+        # (calibration).
         def const(value):
             return dolfinx.fem.Constant(mesh, PETSc.ScalarType(value))
 
@@ -111,7 +130,8 @@ class HeatProblem:
         if self._cell_fields is not None:  # piecewise constant per cell set (DG0)
             rho_c, k = self._cell_fields["rho_c"], self._cell_fields["k"]
         T, w = ufl.TrialFunction(V), ufl.TestFunction(V)
-        # A fixed degree: UFL's estimate for the pulled-back conductivity (rational in Grad u) is huge.
+        # A fixed degree: UFL's estimate for the pulled-back conductivity (rational in Grad u) is
+        # huge.
         md = {"quadrature_degree": quadrature_degree}
         dx = ufl.Measure("dx", domain=mesh, subdomain_data=tmesh.cell_tags, metadata=md)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=tmesh.facet_tags, metadata=md)
@@ -143,12 +163,15 @@ class HeatProblem:
                     h_f = h_f + radiative_film_coefficient(self.T_old, T_af, const(own.emissivity))
             a += h_f * area_ratio * T * w * ds(tag)
             L += h_f * area_ratio * T_af * w * ds(tag)
-            if extra_flux is not None:  # inward flux [mW/mm^2 reference area] (manufactured solutions)
+            if (
+                extra_flux is not None
+            ):  # inward flux [mW/mm^2 reference area] (manufactured solutions)
                 L += extra_flux * w * ds(tag)
         options = dict(LU_OPTIONS)
         options.update(petsc_options or {})
         self._problem = dolfinx.fem.petsc.LinearProblem(
-            a, L, bcs=self.bcs, u=self.T, petsc_options=options, petsc_options_prefix=prefix)
+            a, L, bcs=self.bcs, u=self.T, petsc_options=options, petsc_options_prefix=prefix
+        )
         volume_form = dolfinx.fem.form(1.0 * dx)
         self._volume = mesh.comm.allreduce(dolfinx.fem.assemble_scalar(volume_form), op=MPI.SUM)
         self._mean_form = dolfinx.fem.form(self.T * dx)
@@ -163,7 +186,10 @@ class HeatProblem:
         self._T_a.value = exchange.ambient_temperature
         if self._cell_fields is not None:
             own = self._cell_fields["own"]
-            for key, value in (("rho_c", thermal.volumetric_heat_capacity), ("k", thermal.conductivity)):
+            for key, value in (
+                ("rho_c", thermal.volumetric_heat_capacity),
+                ("k", thermal.conductivity),
+            ):
                 f = self._cell_fields[key]
                 f.x.array[~own] = value
                 f.x.scatter_forward()
@@ -192,20 +218,25 @@ class HeatProblem:
         self._solve(where=f"heat step dt = {dt:g} s")
 
     def steady(self, rtol: float = 1e-10, max_iterations: int = 50) -> int:
-        """Steady state (1/dt = 0); Picard iterations on the radiation coefficient. Returns iterations."""
+        """Steady state (1/dt = 0); Picard iterations on the radiation coefficient. Returns
+        iterations."""
         self.inv_dt.value = 0.0
         last = np.inf
         for it in range(1, max_iterations + 1):
             self.T_old.x.array[:] = self.T.x.array
             self._solve(where="steady heat")
             change = self.mesh.comm.allreduce(
-                float(np.max(np.abs(self.T.x.array - self.T_old.x.array), initial=0.0)), op=MPI.MAX)
-            scale = self.mesh.comm.allreduce(float(np.max(np.abs(self.T.x.array), initial=0.0)),
-                                             op=MPI.MAX)
+                float(np.max(np.abs(self.T.x.array - self.T_old.x.array), initial=0.0)), op=MPI.MAX
+            )
+            scale = self.mesh.comm.allreduce(
+                float(np.max(np.abs(self.T.x.array), initial=0.0)), op=MPI.MAX
+            )
             if settled(change, last, max(scale, 1.0), rtol):
                 return it
             last = change
-        raise ConvergenceError("steady heat", f"Picard iteration did not settle in {max_iterations}")
+        raise ConvergenceError(
+            "steady heat", f"Picard iteration did not settle in {max_iterations}"
+        )
 
     def _solve(self, where: str) -> None:
         self._problem.solve()
@@ -222,5 +253,6 @@ class HeatProblem:
     def max_temperature(self) -> float:
         """Largest nodal temperature [C]."""
         n = self.V.dofmap.index_map.size_local
-        return self.mesh.comm.allreduce(float(np.max(self.T.x.array[:n], initial=-np.inf)),
-                                        op=MPI.MAX)
+        return self.mesh.comm.allreduce(
+            float(np.max(self.T.x.array[:n], initial=-np.inf)), op=MPI.MAX
+        )

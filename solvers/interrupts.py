@@ -36,7 +36,8 @@ def interrupt_in(exc: BaseException | None) -> KeyboardInterrupt | None:
 
 
 def raise_if_interrupted(exc: BaseException | None = None) -> None:
-    """Re-raise the interrupt hidden inside a library's error (:func:`interrupt_in`); no-op otherwise."""
+    """Re-raise the interrupt hidden inside a library's error (:func:`interrupt_in`); no-op
+    otherwise."""
     interrupt = interrupt_in(exc)
     if interrupt is not None:
         raise interrupt

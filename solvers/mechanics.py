@@ -23,10 +23,11 @@ from __future__ import annotations
 import atexit
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
-import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+import ufl
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -39,10 +40,10 @@ from lcefem.solvers.petsc_options import check_case_options, forget_solver_optio
 from lcefem.solvers.pmultigrid import PMG_OPTIONS, PMG_PLANE_SMOOTHER, PMultigrid
 
 #: Quadrature degree for hyperelastic forms: UFL's own estimate for an energy with an inverse
-#: spontaneous deformation asks for enormous tables (70 GiB seen); 4 integrates P2/Q2 stiffness well.
-#: On hexahedra 4 means 27 points; the next cheaper rule (degree 2 or 3) has 8 points, a reduced
-#: integration of Q2 with spurious zero-energy modes: with it the level-0 free strip (0.2 A) stops
-#: converging in its first 2 s step and the beam ramp fails at its first step, so 4 stays.
+#: spontaneous deformation asks for enormous tables (70 GiB seen); 4 integrates P2/Q2 stiffness
+#: well. On hexahedra 4 means 27 points; the next cheaper rule (degree 2 or 3) has 8 points, a
+#: reduced integration of Q2 with spurious zero-energy modes: with it the level-0 free strip (0.2 A)
+#: stops converging in its first 2 s step and the beam ramp fails at its first step, so 4 stays.
 QUADRATURE_DEGREE = 4
 
 #: C compiler flags of the generated kernels (FFCx -> CFFI) of every mechanics form (residual,
@@ -55,10 +56,18 @@ QUADRATURE_DEGREE = 4
 #: carry NaN by design. The -O3 compile of the beam's forms takes about a minute once (cached
 #: after), so a process that finds another compiling the same form waits up to ``timeout`` seconds
 #: (dolfinx's default, 10 s, failed with two benchmark processes started together).
-JIT_OPTIONS = {"cffi_extra_compile_args": ["-O3", "-g0", "-fno-math-errno", "-fno-trapping-math",
-                                           "-fno-signed-zeros", "-fassociative-math",
-                                           "-freciprocal-math"],
-               "timeout": 600}
+JIT_OPTIONS = {
+    "cffi_extra_compile_args": [
+        "-O3",
+        "-g0",
+        "-fno-math-errno",
+        "-fno-trapping-math",
+        "-fno-signed-zeros",
+        "-fassociative-math",
+        "-freciprocal-math",
+    ],
+    "timeout": 600,
+}
 
 NEWTON_OPTIONS = {
     "snes_type": "newtonls",
@@ -75,25 +84,38 @@ NEWTON_OPTIONS = {
 #: The unsymmetric factorisation (the default before LDL^T): ``petsc_options=LU_OPTIONS``.
 LU_OPTIONS = {"pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
 
-#: The iterative path: conjugate gradients with smoothed-aggregation algebraic multigrid (hypre is not
-#: in this PETSc build), the six rigid-body modes as its near-nullspace and the matrix blocked by 3
-#: (``HyperelasticProblem`` sets both when ``pc_type`` is ``gamg``). ``pc_type = "gamg"`` in the
-#: overrides brings the whole set (CG, not the direct path's ``preonly``). CG stops at a relative
-#: residual of 1e-4 (an inexact Newton): on the strip's hot-core solve Newton still takes 3
-#: iterations (as with 1e-8 at 15k DOFs, as LDL^T at 46k) and CG 0.46x the iterations of 1e-8 at 15k;
-#: Eisenstat-Walker tolerances (snes_ksp_ew) failed to converge there. Chebyshev/Jacobi stays: SOR
-#: halves the CG iterations but costs more per iteration (1.3x CPU at 46k); thresholds -1, 0, 0.05,
-#: no aggressive coarsening and Chebyshev degree 2 or 5 were no faster at 15k
+#: The iterative path: conjugate gradients with smoothed-aggregation algebraic multigrid (hypre is
+#: not in this PETSc build), the six rigid-body modes as its near-nullspace and the matrix blocked
+#: by 3 (``HyperelasticProblem`` sets both when ``pc_type`` is ``gamg``). ``pc_type = "gamg"`` in
+#: the overrides brings the whole set (CG, not the direct path's ``preonly``). CG stops at a
+#: relative residual of 1e-4 (an inexact Newton): on the strip's hot-core solve Newton still takes 3
+#: iterations (as with 1e-8 at 15k DOFs, as LDL^T at 46k) and CG 0.46x the iterations of 1e-8 at
+#: 15k; Eisenstat-Walker tolerances (snes_ksp_ew) failed to converge there. Chebyshev/Jacobi stays:
+#: SOR halves the CG iterations but costs more per iteration (1.3x CPU at 46k); thresholds -1, 0,
+#: 0.05, no aggressive coarsening and Chebyshev degree 2 or 5 were no faster at 15k
 #: (``benchmarks/linear_solver_benchmark.py``, README "Linear solvers on large meshes").
-GAMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "gamg",
-                "pc_gamg_threshold": 0.02, "pc_gamg_square_graph": 1, "mg_levels_ksp_type": "chebyshev",
-                "mg_levels_pc_type": "jacobi", "mg_levels_ksp_max_it": 3}
+GAMG_OPTIONS = {
+    "ksp_type": "cg",
+    "ksp_rtol": 1e-4,
+    "ksp_max_it": 2000,
+    "pc_type": "gamg",
+    "pc_gamg_threshold": 0.02,
+    "pc_gamg_square_graph": 1,
+    "mg_levels_ksp_type": "chebyshev",
+    "mg_levels_pc_type": "jacobi",
+    "mg_levels_ksp_max_it": 3,
+}
 
 #: One GAMG V-cycle on the linear level of the p-multigrid instead of its factorisation (with
 #: ``pc_type = "pmg"``): the AMG settings of :data:`GAMG_OPTIONS` under the coarse solver's prefix.
-PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg",
-                   **{f"mg_coarse_{k}": v for k, v in GAMG_OPTIONS.items()
-                      if k.startswith(("pc_gamg_", "mg_levels_"))}}
+PMG_GAMG_COARSE = {
+    "mg_coarse_pc_type": "gamg",
+    **{
+        f"mg_coarse_{k}": v
+        for k, v in GAMG_OPTIONS.items()
+        if k.startswith(("pc_gamg_", "mg_levels_"))
+    },
+}
 
 #: Forcing of the last Newton step on the iterative paths [-]: from the third Newton step on, when
 #: the quadratic model of the iteration, |R_k+1| ~ |R_k|^3 / |R_k-1|^2, expects Newton's tolerance
@@ -111,15 +133,15 @@ PMG_GAMG_COARSE = {"mg_coarse_pc_type": "gamg",
 #: in 25 iterations).
 FINAL_STEP_FORCING = 0.02
 
-#: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when the
-#: caller names no ``pc_type``: CG + p-multigrid (:data:`lcefem.solvers.pmultigrid.PMG_OPTIONS`) for
-#: quadratic elements. CPU time per Newton iteration (Jacobian + linear solve) on the heated strip,
-#: quarter, Q2, one process, p-MG / MUMPS LDL^T: 1.12 at 46k DOFs (3.33 / 2.97 s, back to back),
-#: 0.70, 0.49 (back to back), 0.28, 0.20 at 105k, 200k, 339k, 532k (``linear_solver_benchmark
-#: --levels 2 3 4 5 6 --solvers ldlt pmg --newton-its 2``, 2026-11-25, load 3-6 on 2 cores; the LDL^T
-#: rows above 200k from 2026-11-24); ratio 1 at 5.6e4 DOFs by log-log interpolation. That protocol
-#: (two Newton iterations from the cast state) flatters CG: over the whole path-followed solve
-#: (``--levels 2 4 --solvers ldlt pmg``) the later tangents need 83 (46k) and 126 (200k) CG
+#: Displacement DOFs (global) [-] from which :func:`solver_options` takes the iterative path when
+#: the caller names no ``pc_type``: CG + p-multigrid (:data:`lcefem.solvers.pmultigrid.PMG_OPTIONS`)
+#: for quadratic elements. CPU time per Newton iteration (Jacobian + linear solve) on the heated
+#: strip, quarter, Q2, one process, p-MG / MUMPS LDL^T: 1.12 at 46k DOFs (3.33 / 2.97 s, back to
+#: back), 0.70, 0.49 (back to back), 0.28, 0.20 at 105k, 200k, 339k, 532k (``linear_solver_benchmark
+#: --levels 2 3 4 5 6 --solvers ldlt pmg --newton-its 2``, 2026-11-25, load 3-6 on 2 cores; the
+#: LDL^T rows above 200k from 2026-11-24); ratio 1 at 5.6e4 DOFs by log-log interpolation. That
+#: protocol (two Newton iterations from the cast state) flatters CG: over the whole path-followed
+#: solve (``--levels 2 4 --solvers ldlt pmg``) the later tangents need 83 (46k) and 126 (200k) CG
 #: iterations per solve against 43 and 52, Newton 4 iterations against LDL^T's 3 at 200k, and p-MG
 #: took 181 s CPU against 136 s for LDL^T at 200k. So the switch stays at 3e5, where the
 #: two-iteration ratio is 3.6x (339k) and the GAMG crossover was; CG also needs a positive
@@ -136,15 +158,17 @@ ITERATIVE_PATH_DOFS = 300_000
 
 #: The Q2 smoother of the p-multigrid that :func:`solver_options` selects by size: block Jacobi over
 #: node planes (:data:`lcefem.solvers.pmultigrid.PMG_PLANE_SMOOTHER`, whose comment gives the
-#: measurements) instead of PMG_OPTIONS's one SOR sweep, which stays for ``pc_type = "pmg"`` named by
-#: the caller. The blocks need node planes across the longest axis (transfinite hexahedral meshes:
-#: the strip, the twisted ribbon); on unstructured meshes the sweep is close to point-block Jacobi.
+#: measurements) instead of PMG_OPTIONS's one SOR sweep, which stays for ``pc_type = "pmg"`` named
+#: by the caller. The blocks need node planes across the longest axis (transfinite hexahedral
+#: meshes: the strip, the twisted ribbon); on unstructured meshes the sweep is close to point-block
+#: Jacobi.
 AUTOMATIC_PMG_SMOOTHER = PMG_PLANE_SMOOTHER
 
 
 #: The direct path (``pc_type = "cholesky"``) in serial stores the tangent's upper triangle in node
 #: blocks (SBAIJ, :func:`_upper_block_matrix`) instead of the whole matrix (AIJ); False keeps AIJ
-#: (the benchmarks' reference). Parallel runs keep AIJ: the packed matrix was measured in serial only.
+#: (the benchmarks' reference). Parallel runs keep AIJ: the packed matrix was measured in serial
+#: only.
 PACKED_TANGENT = True
 
 
@@ -186,7 +210,9 @@ def rigid_body_modes(V: dolfinx.fem.FunctionSpace) -> PETSc.NullSpace:
     arrays[4][:, 0], arrays[4][:, 2] = x[:, 2], -x[:, 0]
     arrays[5][:, 2], arrays[5][:, 1] = x[:, 1], -x[:, 2]
     dolfinx.la.orthonormalize(basis)
-    vecs = [PETSc.Vec().createWithArray(b.array[: n * bs], bsize=bs, comm=V.mesh.comm) for b in basis]
+    vecs = [
+        PETSc.Vec().createWithArray(b.array[: n * bs], bsize=bs, comm=V.mesh.comm) for b in basis
+    ]
     return PETSc.NullSpace().create(vectors=vecs, comm=V.mesh.comm)
 
 
@@ -197,13 +223,21 @@ def displacement_space(mesh: dolfinx.mesh.Mesh, degree: int = 2) -> dolfinx.fem.
 
 def volume_measure(tmesh: TaggedMesh, degree: int = QUADRATURE_DEGREE) -> ufl.Measure:
     """dx with the cell tags and a fixed quadrature degree."""
-    return ufl.Measure("dx", domain=tmesh.mesh, subdomain_data=tmesh.cell_tags,
-                       metadata={"quadrature_degree": degree})
+    return ufl.Measure(
+        "dx",
+        domain=tmesh.mesh,
+        subdomain_data=tmesh.cell_tags,
+        metadata={"quadrature_degree": degree},
+    )
 
 
 def surface_measure(tmesh: TaggedMesh, degree: int = QUADRATURE_DEGREE) -> ufl.Measure:
-    return ufl.Measure("ds", domain=tmesh.mesh, subdomain_data=tmesh.facet_tags,
-                       metadata={"quadrature_degree": degree})
+    return ufl.Measure(
+        "ds",
+        domain=tmesh.mesh,
+        subdomain_data=tmesh.facet_tags,
+        metadata={"quadrature_degree": degree},
+    )
 
 
 def deformation_gradient(u) -> ufl.core.expr.Expr:
@@ -223,34 +257,56 @@ class HyperelasticProblem:
             size unless they name a ``pc_type`` (:func:`solver_options`).
     """
 
-    def __init__(self, u: dolfinx.fem.Function, energy: ufl.Form, bcs=(), *,
-                 prefix: str = "lcefem_mech_", petsc_options: dict | None = None,
-                 check_inversion: bool = True, user_options=()):
+    def __init__(
+        self,
+        u: dolfinx.fem.Function,
+        energy: ufl.Form,
+        bcs=(),
+        *,
+        prefix: str = "lcefem_mech_",
+        petsc_options: dict | None = None,
+        check_inversion: bool = True,
+        user_options=(),
+    ):
         self.u = u
         V = u.function_space
         self.bcs = list(bcs)
         #: the options a user gave (a case file's [petsc]): each one a case file may set (also for a
-        #: library caller, who passes them here without the command line), and each read by the solver
+        #: library caller, who passes them here without the command line), and each read by the
+        #: solver
         given = dict(petsc_options or {})
         check_case_options({k: given[k] for k in user_options if k in given})
         self._unchecked_options = [prefix + str(k) for k in user_options]
         self.test = ufl.TestFunction(V)
         self.residual = ufl.derivative(energy, u, self.test)
         jacobian = ufl.derivative(self.residual, u, ufl.TrialFunction(V))
-        options = solver_options(V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
-                                 petsc_options, V.ufl_element().embedded_superdegree)
+        options = solver_options(
+            V.dofmap.index_map.size_global * V.dofmap.index_map_bs,
+            petsc_options,
+            V.ufl_element().embedded_superdegree,
+        )
         self.iterative = options.get("pc_type") in ("gamg", "mg")
         if not self.iterative:  # a direct factorisation that cannot fit: refuse before assembling
             ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
-            cost.Estimate().memory("mesh (its level or size)", f"{ndofs} displacement DOFs factorised directly",
-                                   cost.fe_memory(ndofs)).check()
+            cost.Estimate().memory(
+                "mesh (its level or size)",
+                f"{ndofs} displacement DOFs factorised directly",
+                cost.fe_memory(ndofs),
+            ).check()
         _drop_stale_options(prefix, options)
         self._problem = dolfinx.fem.petsc.NonlinearProblem(
-            self.residual, u, bcs=self.bcs, J=jacobian, petsc_options=options,
-            petsc_options_prefix=prefix, jit_options=JIT_OPTIONS)
+            self.residual,
+            u,
+            bcs=self.bcs,
+            J=jacobian,
+            petsc_options=options,
+            petsc_options_prefix=prefix,
+            jit_options=JIT_OPTIONS,
+        )
         self.symmetric = options.get("pc_type") in ("cholesky", "gamg", "mg")
-        self.packed = (PACKED_TANGENT and options.get("pc_type") == "cholesky"
-                       and V.mesh.comm.size == 1)
+        self.packed = (
+            PACKED_TANGENT and options.get("pc_type") == "cholesky" and V.mesh.comm.size == 1
+        )
         if self.packed:
             pattern = dolfinx.fem.create_sparsity_pattern(self._problem.J)
             pattern.finalize()
@@ -276,7 +332,9 @@ class HyperelasticProblem:
         A, P, (jac, jargs, jkw) = snes.getJacobian()
         if options.get("pc_type") == "mg":
             self.pmultigrid = PMultigrid(V, rigid_body_modes, snes.getKSP())
-            snes.setJacobian(self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)})
+            snes.setJacobian(
+                self._assemble_jacobian_pmg, A, P, kargs={"assemble": (jac, jargs, jkw)}
+            )
         else:
             snes.setJacobian(self._assemble_jacobian, A, P, kargs={"assemble": (jac, jargs, jkw)})
         self._ksp_rtol = options.get("ksp_rtol")
@@ -300,7 +358,7 @@ class HyperelasticProblem:
                 snes_rtol, atol, _, _ = self.snes.getTolerances()
                 target = max(atol, snes_rtol * self._newton_norms[0])
                 previous = self._newton_norms[-2]
-                if norm ** 3 / previous ** 2 < target:
+                if norm**3 / previous**2 < target:
                     rtol = min(rtol, FINAL_STEP_FORCING * target / norm)
         ksp.setTolerances(rtol=rtol)
 
@@ -396,7 +454,9 @@ class HyperelasticProblem:
             A = create_matrix(self.u.function_space.mesh.comm, pattern, None)
             dolfinx.fem.petsc.assemble_matrix(A, self._problem.J, bcs=self.bcs)
             A.assemble(PETSc.Mat.AssemblyType.FLUSH)
-            dofs = (bs * blocks[:, :, None] + np.arange(bs, dtype=np.int32)).reshape(len(blocks), -1)
+            dofs = (bs * blocks[:, :, None] + np.arange(bs, dtype=np.int32)).reshape(
+                len(blocks), -1
+            )
             zeros = np.zeros((dofs.shape[1], dofs.shape[1]))
             for row in dofs:
                 A.setValues(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
@@ -479,8 +539,9 @@ class HyperelasticProblem:
         if self._tolerances is None:
             self._tolerances = self.snes.getTolerances()
         rtol, atol0, stol, max_it = self._tolerances
-        self.snes.setTolerances(rtol=rtol, atol=atol0 if atol is None else max(atol0, atol),
-                                stol=stol, max_it=max_it)
+        self.snes.setTolerances(
+            rtol=rtol, atol=atol0 if atol is None else max(atol0, atol), stol=stol, max_it=max_it
+        )
 
     @property
     def snes(self):
@@ -519,10 +580,12 @@ class HyperelasticProblem:
         self._unchecked_options = []
         if unused:
             prefix = self._problem.solver.getOptionsPrefix() or ""
-            names = ", ".join(n[len(prefix):] if n.startswith(prefix) else n for n in unused)
-            raise InputError(f"[petsc] {names}: not read by this problem's solver (SNES, KSP, PC, "
-                             "factorisation): an unknown or misspelt option, or one this solver "
-                             "does not use; see the PETSc manual pages")
+            names = ", ".join(n[len(prefix) :] if n.startswith(prefix) else n for n in unused)
+            raise InputError(
+                f"[petsc] {names}: not read by this problem's solver (SNES, KSP, PC, "
+                "factorisation): an unknown or misspelt option, or one this solver "
+                "does not use; see the PETSc manual pages"
+            )
 
     def save(self) -> np.ndarray:
         return self.u.x.array.copy()
@@ -537,18 +600,21 @@ class HyperelasticProblem:
         return comm.allreduce(dolfinx.fem.assemble_scalar(self.energy_form), op=MPI.SUM)
 
     def reaction_form(self, weight: dolfinx.fem.Function) -> dolfinx.fem.Form:
-        """Compiled R(u; weight): with ``weight`` equal to a unit vector on the dofs of a constrained
-        face and 0 elsewhere, this is the force [N] the body exerts on that face's support."""
-        return dolfinx.fem.form(ufl.replace(self.residual, {self.test: weight}),
-                                jit_options=JIT_OPTIONS)
+        """Compiled R(u; weight): with ``weight`` equal to a unit vector on the dofs of a
+        constrained face and 0 elsewhere, this is the force [N] the body exerts on that face's
+        support."""
+        return dolfinx.fem.form(
+            ufl.replace(self.residual, {self.test: weight}), jit_options=JIT_OPTIONS
+        )
 
 
 # lcefem's problems leave their options in PETSc's database (their solvers read some only when they
-# need them); at exit, before PETSc finalises (petsc4py registered its finalisation at import, earlier,
-# and atexit runs the latest first), they are removed, so that an option a problem never needed (a
-# beam confirmed in 0 Newton iterations never factorises: mat_mumps_icntl_7) is not reported as
-# "options you set that were not used" (lcefem.solvers.petsc_options.forget_solver_options; the command line
-# also calls it when a command ends).
+# need them); at exit, before PETSc finalises (petsc4py registered its finalisation at import,
+# earlier, and atexit runs the latest first), they are removed, so that an option a problem never
+# needed (a beam confirmed in 0 Newton iterations never factorises: mat_mumps_icntl_7) is not
+# reported as "options you set that were not used"
+# (lcefem.solvers.petsc_options.forget_solver_options; the command line also calls it when a command
+# ends).
 atexit.register(forget_solver_options)
 
 
@@ -559,7 +625,7 @@ def _drop_stale_options(prefix: str, options: dict) -> None:
     would inherit them (``pc_mg_levels`` of a p-multigrid is an error for GAMG)."""
     db = PETSc.Options()
     for name in db.getAll():
-        if name.startswith(prefix) and name[len(prefix):] not in options:
+        if name.startswith(prefix) and name[len(prefix) :] not in options:
             db.delValue(name)
 
 
@@ -582,7 +648,9 @@ def _upper_block_matrix(pattern, bs: int, comm) -> PETSc.Mat:
     keys = np.unique(rows[upper] * n + edges[upper])  # row-major, columns sorted in each row
     starts = np.zeros(n + 1, dtype=PETSc.IntType)
     np.cumsum(np.bincount(keys // n, minlength=n), out=starts[1:])
-    A = PETSc.Mat().createSBAIJ(n * bs, bs, csr=(starts, (keys % n).astype(PETSc.IntType)), comm=comm)
+    A = PETSc.Mat().createSBAIJ(
+        n * bs, bs, csr=(starts, (keys % n).astype(PETSc.IntType)), comm=comm
+    )
     A.setOption(PETSc.Mat.Option.IGNORE_LOWER_TRIANGULAR, True)
     A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
     return A

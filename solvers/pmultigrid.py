@@ -19,10 +19,10 @@ the tangent, as GAMG on K would be.
 from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from mpi4py import MPI
 from petsc4py import PETSc
 
 import numpy as np
-from mpi4py import MPI
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -40,21 +40,31 @@ from lcefem.models.errors import InputError
 #: needs 86-113 and 1.6-2.0x the CPU time; two SOR sweeps cut the iterations by
 #: 15-25 % for 1.2x the CPU, Chebyshev(3)/Jacobi was 1.5x the CPU of one sweep at 46k, and threshold
 #: 0.05, no aggressive coarsening, SOR or two cycles on the Q1 GAMG changed less than 5 %.
-#: ``pmg_smoother_mat_type`` (ours, not PETSc's): the SOR sweeps and the level residual run on a copy
-#: of K in 3x3 node blocks (BAIJ, refreshed with every tangent; the Galerkin product needs AIJ):
-#: a third of AIJ's index traffic, and SOR then inverts each node's 3x3 block. On the hot-state
-#: tangent of the 46k strip one CG solve took 6.7-6.8 s CPU with 102 iterations against 8.3-9.0 s
-#: with 108 on AIJ (1.27x), one product K x 1.21x faster, the copy 0.105 s CPU per tangent
+#: ``pmg_smoother_mat_type`` (ours, not PETSc's): the SOR sweeps and the level residual run on a
+#: copy of K in 3x3 node blocks (BAIJ, refreshed with every tangent; the Galerkin product needs
+#: AIJ): a third of AIJ's index traffic, and SOR then inverts each node's 3x3 block. On the
+#: hot-state tangent of the 46k strip one CG solve took 6.7-6.8 s CPU with 102 iterations against
+#: 8.3-9.0 s with 108 on AIJ (1.27x), one product K x 1.21x faster, the copy 0.105 s CPU per tangent
 #: (the Jacobian 0.9 s); over the path-followed solve 188.6 against 203.8 s CPU at 200k DOFs
 #: (1.08x, back to back), 1.0-1.07x at 46k. The copy costs memory: 3.2 GiB peak at 532k against
 #: 2.4. Chebyshev(2) with the SOR sweep as its preconditioner halves the CG iterations of the
 #: hot-state solves (172 against 371 at 46k) for the same or 1.12x the CPU, so it is not kept.
-PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type": "mg",
-               "pc_mg_levels": 2, "pc_mg_type": "multiplicative", "pc_mg_cycle_type": "v",
-               "mg_levels_ksp_type": "richardson", "mg_levels_pc_type": "sor",
-               "mg_levels_ksp_max_it": 1,
-               "mg_coarse_ksp_type": "preonly", "mg_coarse_pc_type": "cholesky",
-               "mg_coarse_pc_factor_mat_solver_type": "mumps", "pmg_smoother_mat_type": "baij"}
+PMG_OPTIONS = {
+    "ksp_type": "cg",
+    "ksp_rtol": 1e-4,
+    "ksp_max_it": 2000,
+    "pc_type": "mg",
+    "pc_mg_levels": 2,
+    "pc_mg_type": "multiplicative",
+    "pc_mg_cycle_type": "v",
+    "mg_levels_ksp_type": "richardson",
+    "mg_levels_pc_type": "sor",
+    "mg_levels_ksp_max_it": 1,
+    "mg_coarse_ksp_type": "preonly",
+    "mg_coarse_pc_type": "cholesky",
+    "mg_coarse_pc_factor_mat_solver_type": "mumps",
+    "pmg_smoother_mat_type": "baij",
+}
 
 
 #: The Q2 smoother by node planes (``pc_type = "pmg"`` with these overrides; ``pmg_smoother_blocks``
@@ -68,8 +78,8 @@ PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type"
 #: section of stretched cells (axial aspect 4), which a point SOR sweep relaxes node by node. On the
 #: hot tangent of the 46k path (the three Newton right-hand sides) CG took 15/15/15 iterations and
 #: 6.1 s CPU against 83/102/109 and 26 s with one SOR sweep; weight 0.5: 16-18 its, 7.5 s; one plane
-#: per block 23-27 its (0.5), two 15-20 (0.7); Chebyshev(2) instead of Richardson 10-11 its, 5.6-7.3 s.
-#: Over the path-followed solve of the hot-core strip (``linear_solver_benchmark --levels 2 3 4
+#: per block 23-27 its (0.5), two 15-20 (0.7); Chebyshev(2) instead of Richardson 10-11 its, 5.6-7.3
+#: s. Over the path-followed solve of the hot-core strip (``linear_solver_benchmark --levels 2 3 4
 #: --solvers pmg-planes pmg``, back to back, 2026-11-26) 51-55 CG iterations for the whole path
 #: against 371-485, 1.93x / 2.25x / 2.53x less CPU at 46k / 105k / 200k DOFs, and 344 s CPU at 532k
 #: (SOR: 602 s; MUMPS LDL^T 1138 s: 3.3x), the stretch LDL^T's to 1.3e-14; peak memory 4.3 GiB at
@@ -78,10 +88,15 @@ PMG_OPTIONS = {"ksp_type": "cg", "ksp_rtol": 1e-4, "ksp_max_it": 2000, "pc_type"
 #: blocks' inverse times K has eigenvalues below ~2 and 0.7 keeps the sweep contracting (SPD cycle,
 #: as CG needs). Needs planes of nodes (structured, transfinite meshes such as the strip's); on an
 #: unstructured mesh the blocks are a few nodes and the sweep is close to point-block Jacobi.
-PMG_PLANE_SMOOTHER = {"pmg_smoother_blocks": "planes", "pmg_smoother_mat_type": "aij",
-                      "mg_levels_pc_type": "asm", "mg_levels_pc_asm_type": "basic",
-                      "mg_levels_pc_asm_overlap": 0, "mg_levels_sub_pc_type": "cholesky",
-                      "mg_levels_ksp_richardson_scale": 0.7}
+PMG_PLANE_SMOOTHER = {
+    "pmg_smoother_blocks": "planes",
+    "pmg_smoother_mat_type": "aij",
+    "mg_levels_pc_type": "asm",
+    "mg_levels_pc_asm_type": "basic",
+    "mg_levels_pc_asm_overlap": 0,
+    "mg_levels_sub_pc_type": "cholesky",
+    "mg_levels_ksp_richardson_scale": 0.7,
+}
 
 #: Node planes per block of :data:`PMG_PLANE_SMOOTHER` [-]: 3 (15 CG its per solve at 46k) against
 #: 2 (15-20) and 1 (23-27 with weight 0.5), the same CPU for 2 and 3.
@@ -89,9 +104,9 @@ PLANES_PER_BLOCK = 3
 
 
 def node_planes(V: dolfinx.fem.FunctionSpace, per_block: int = PLANES_PER_BLOCK) -> list[PETSc.IS]:
-    """The owned DOFs of ``V`` grouped by node planes normal to the mesh's longest axis, ``per_block``
-    consecutive planes a block (global PETSc numbering, one IS per block on this process): a plane
-    is the nodes whose coordinate along that axis agrees to 1e-6 of the extent."""
+    """The owned DOFs of ``V`` grouped by node planes normal to the mesh's longest axis,
+    ``per_block`` consecutive planes a block (global PETSc numbering, one IS per block on this
+    process): a plane is the nodes whose coordinate along that axis agrees to 1e-6 of the extent."""
     mesh = V.mesh
     comm = mesh.comm
     x = mesh.geometry.x
@@ -124,12 +139,16 @@ class PMultigrid:
     def __init__(self, V: dolfinx.fem.FunctionSpace, near_nullspace, ksp: PETSc.KSP):
         pc = ksp.getPC()
         if pc.getType() != PETSc.PC.Type.MG or pc.getMGLevels() != 2:
-            raise InputError('[petsc] pc_type = "pmg": pc_mg_levels must stay 2 (the fine and the '
-                             f'linear level), got {pc.getMGLevels()}')
+            raise InputError(
+                '[petsc] pc_type = "pmg": pc_mg_levels must stay 2 (the fine and the '
+                f'linear level), got {pc.getMGLevels()}'
+            )
         degree = V.ufl_element().embedded_superdegree
         if degree < 2:
-            raise InputError(f'[petsc] pc_type = "pmg": needs displacements of degree >= 2, these have '
-                             f'degree {degree} (use pc_type = "gamg")')
+            raise InputError(
+                f'[petsc] pc_type = "pmg": needs displacements of degree >= 2, these have '
+                f'degree {degree} (use pc_type = "gamg")'
+            )
         mesh = V.mesh
         self.coarse_space = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (mesh.geometry.dim,)))
         # rows: fine (Q2) DOFs, columns: coarse (Q1) DOFs; ghost contributions summed by assemble
@@ -171,8 +190,11 @@ class PMultigrid:
                 m.destroy()
         self._fine = K
         self.coarse_matrix = K.ptap(self.P)
-        self.smoothed_matrix = (K if self.smoother_mat_type == K.getType()
-                                else K.convert(self.smoother_mat_type, PETSc.Mat()))
+        self.smoothed_matrix = (
+            K
+            if self.smoother_mat_type == K.getType()
+            else K.convert(self.smoother_mat_type, PETSc.Mat())
+        )
         self.coarse_matrix.setNearNullSpace(self.coarse_nullspace)
         self.coarse_matrix.setOption(PETSc.Mat.Option.SYMMETRIC, True)
         return True

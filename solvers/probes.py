@@ -3,16 +3,17 @@
 from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
 from mpi4py import MPI
+
+import numpy as np
 
 import dolfinx
 import dolfinx.geometry
 
 
 class PointProbe:
-    """Evaluates Functions at fixed points (n, 3) [mm]; the owning rank of each point answers and the
-    result is shared with every rank. The search tree is built once."""
+    """Evaluates Functions at fixed points (n, 3) [mm]; the owning rank of each point answers and
+    the result is shared with every rank. The search tree is built once."""
 
     def __init__(self, mesh: dolfinx.mesh.Mesh, points: np.ndarray):
         self.mesh = mesh
@@ -40,7 +41,9 @@ class PointProbe:
         size = int(np.prod(f.ufl_shape)) if f.ufl_shape else 1
         local = np.zeros((len(self.points), size))
         if self._index:
-            local[self._index] = f.eval(self.points[self._index], np.array(self._cells, dtype=np.int32))
+            local[self._index] = f.eval(
+                self.points[self._index], np.array(self._cells, dtype=np.int32)
+            )
         total = self.mesh.comm.allreduce(local, op=MPI.SUM)
         return total / self._owner_count[:, None]
 
@@ -81,8 +84,10 @@ class StationCurvature:
                 i = int(np.argmin(d))
                 if d[i] <= self.tol:
                     return i, planes
-        raise ValueError(f"station point {p.tolist()} mm is no node of the mesh (nor mirrored across "
-                         f"{', '.join(f'{"xyz"[a]} = {c:g}' for a, c in self.mirrors) or 'no plane'})")
+        raise ValueError(
+            f"station point {p.tolist()} mm is no node of the mesh (nor mirrored across "
+            f"{', '.join(f'{"xyz"[a]} = {c:g}' for a, c in self.mirrors) or 'no plane'})"
+        )
 
     def _position(self, x: np.ndarray, node) -> np.ndarray:
         i, planes = node
@@ -91,7 +96,9 @@ class StationCurvature:
     def points(self, u: dolfinx.fem.Function) -> np.ndarray:
         """Deformed stations (n, 3) [mm]."""
         x = self.X + u.x.array.reshape(-1, 3)[: self.X.shape[0]]
-        return np.array([np.mean([self._position(x, n) for n in group], axis=0) for group in self.groups])
+        return np.array(
+            [np.mean([self._position(x, n) for n in group], axis=0) for group in self.groups]
+        )
 
     def __call__(self, u: dolfinx.fem.Function) -> float:
         from lcefem.solvers.analysis.curvature import signed_circle_curvature

@@ -59,18 +59,26 @@ class Program:
         if not (math.isfinite(self.end) and self.end > 0):
             raise InputError(f"program.duration = {self.end} {unit}: must be > 0")
         if not (math.isfinite(self.dt) and 0 < self.dt <= self.end):
-            raise InputError(f"program.dt = {self.dt} {unit}: must be > 0 and <= {self.end:g} {unit}")
+            raise InputError(
+                f"program.dt = {self.dt} {unit}: must be > 0 and <= {self.end:g} {unit}"
+            )
         if self.clock == LOAD and self.end != 1.0:
-            raise InputError(f"program.duration = {self.end}: a load program ends at 1 (the drives set)")
+            raise InputError(
+                f"program.duration = {self.end}: a load program ends at 1 (the drives set)"
+            )
         if self.steady and self.clock != TIME:
             raise InputError("program.steady: only with clock = 'time'")
         times = [at for at, _ in self.drives]
         if not times or times[0] != 0.0:
             raise InputError("program.drives: the first entry must be at = 0")
         if any(b <= a for a, b in zip(times, times[1:])) or times[-1] >= self.end:
-            raise InputError(f"program.drives: 'at' must increase and stay below the end ({self.end:g} {unit})")
+            raise InputError(
+                f"program.drives: 'at' must increase and stay below the end ({self.end:g} {unit})"
+            )
         if self.clock == LOAD and len(times) > 1:
-            raise InputError("program.drives: a load program has one entry (at = 0), the drives it ramps to")
+            raise InputError(
+                "program.drives: a load program has one entry (at = 0), the drives it ramps to"
+            )
 
     @classmethod
     def in_time(cls, drives: Mapping[str, float], duration: float, dt: float, **kw) -> "Program":
@@ -89,7 +97,9 @@ class Program:
         n = max(1, int(math.ceil(self.end / self.dt - 1e-9)))
         h = self.end / n
         grid = [k * h for k in range(1, n + 1)]
-        extra = [t for t in (*[at for at, _ in self.drives[1:]], *milestones) if 0.0 < t <= self.end]
+        extra = [
+            t for t in (*[at for at, _ in self.drives[1:]], *milestones) if 0.0 < t <= self.end
+        ]
         tol = SAME_STOP * self.end
         stops = list(grid)
         for t in extra:
@@ -106,8 +116,13 @@ class Program:
 
     def describe(self) -> dict:
         """The program for summary.json."""
-        return {"clock": self.clock, "end": self.end, "dt": self.dt, "steady": self.steady,
-                "drives": [{"at": at, **dict(d)} for at, d in self.drives]}
+        return {
+            "clock": self.clock,
+            "end": self.end,
+            "dt": self.dt,
+            "steady": self.steady,
+            "drives": [{"at": at, **dict(d)} for at, d in self.drives],
+        }
 
 
 PROGRAM_KEYS = ("clock", "duration", "dt", "steady", "drives")
@@ -126,7 +141,9 @@ def program_from_table(table, where: str = "program") -> Program:
         raise InputError(f"{where}: must be a table with keys {', '.join(PROGRAM_KEYS)}")
     unknown = [k for k in table if k not in PROGRAM_KEYS]
     if unknown:
-        raise InputError(f"{where}: unknown key {unknown[0]!r} (allowed: {', '.join(PROGRAM_KEYS)})")
+        raise InputError(
+            f"{where}: unknown key {unknown[0]!r} (allowed: {', '.join(PROGRAM_KEYS)})"
+        )
     clock = table.get("clock", "time")
     if clock not in CLOCKS:
         raise InputError(f"{where}.clock = {clock!r}: allowed {', '.join(repr(c) for c in CLOCKS)}")
@@ -146,14 +163,18 @@ def program_from_table(table, where: str = "program") -> Program:
     dt = _number(table.get("dt", end), f"{where}.dt")
     entries = table.get("drives")
     if not isinstance(entries, list) or not entries:
-        raise InputError(f"{where}.drives: must be a list of tables [[{where}.drives]] with 'at' and tag = value")
+        raise InputError(
+            f"{where}.drives: must be a list of tables [[{where}.drives]] with 'at' and tag = value"
+        )
     drives = []
     for i, entry in enumerate(entries):
         here = f"{where}.drives[{i}]"
         if not isinstance(entry, Mapping):
             raise InputError(f"{here}: must be a table with 'at' and tag = value")
         if "at" not in entry:
-            raise InputError(f"{here}: missing key 'at' ({'[s]' if clock == 'time' else '0 for a load program'})")
+            raise InputError(
+                f"{here}: missing key 'at' ({'[s]' if clock == 'time' else '0 for a load program'})"
+            )
         values = {k: _number(v, f"{here}.{k}") for k, v in entry.items() if k != "at"}
         if not values:
             raise InputError(f"{here}: no drive (tag = value)")

@@ -130,33 +130,110 @@ def targets() -> dict[str, str]:
 
 
 _P = "lcefem.solvers.problems."
-register(Body("ribbon", "a twisted LCE ribbon rolling on a hot plate (Discrete Elastic Rods)", "ribbon", "ribbon",
-              _P + "twisted_ribbon_der:RibbonConfig", _P + "twisted_ribbon_der:RollingRibbonDER",
-              _P + "twisted_ribbon_der:run_ribbon"))
-register(Body("strip", "the LCE strip heated by its coil, 3D FE thermo-mechanics (seed 001, Fig. 2)", "strip",
-              "strip", _P + "strip:StripConfig", _P + "strip:StripSimulation", _P + "strip:run_strip",
-              program=_P + "strip:strip_program", exports=_P + "strip:strip_exports"))
-register(Body("beam", "the composite beam, bar-and-hinge (Fig. 3)", "beam", "beam",
-              _P + "composite_beam_bh:BeamConfig", _P + "composite_beam_bh:beam_problem",
-              _P + "composite_beam_bh:run_beam", program=_P + "composite_beam_bh:beam_program"))
-register(Body("beam-fe", "the composite beam in 3D FE, lambdas prescribed or a coil current", "beam", "beam",
-              _P + "composite_beam_run:BeamFEConfig", _P + "composite_beam_run:beam_fe_problem",
-              _P + "composite_beam_run:run_beam_fe", program=_P + "composite_beam_run:beam_fe_program",
-              exports=_P + "composite_beam_run:beam_fe_exports"))
-register(Body("ribbon-buckling", "the Kapton ribbon's buckling test, bar-and-hinge (Fig. 2G)", "ribbon-buckling",
-              "ribbon_buckling", _P + "kapton_specimen_bh:KaptonSpecimenConfig",
-              _P + "kapton_specimen_bh:specimen_problem", _P + "kapton_specimen_bh:run_specimen"))
-register(Body("ribbon-buckling-fe", "the Kapton ribbon's buckling test in 3D FE", "ribbon-buckling",
-              "ribbon_buckling", _P + "kapton_specimen:KaptonSpecimenFEConfig", _P + "kapton_specimen:KaptonSpecimenFE",
-              _P + "kapton_specimen:run_specimen_fe"))
-register(Body("gridshell", "the robotic surface, bar-and-hinge (Fig. 4, 5)", "gridshell", "gridshell",
-              _P + "gridshell_bh_run:GridshellBHRunConfig", _P + "gridshell_bh:GridshellBH",
-              _P + "gridshell_bh_run:run_gridshell"))
-register(Body("gridshell-fe", "the robotic surface in 3D FE, lambdas prescribed or heated", "gridshell",
-              "gridshell", _P + "gridshell:GridshellConfig", _P + "gridshell:GridshellFE",
-              None))
-register(Body("body", "your own 3D FE LCE body from a mesh and a case file (docs/own_robot.md)", "body", "body",
-              _P + "body_case:BodyCase", _P + "body:BodyProblem", _P + "body:run_body"))
+register(
+    Body(
+        "ribbon",
+        "a twisted LCE ribbon rolling on a hot plate (Discrete Elastic Rods)",
+        "ribbon",
+        "ribbon",
+        _P + "twisted_ribbon_der:RibbonConfig",
+        _P + "twisted_ribbon_der:RollingRibbonDER",
+        _P + "twisted_ribbon_der:run_ribbon",
+    )
+)
+register(
+    Body(
+        "strip",
+        "the LCE strip heated by its coil, 3D FE thermo-mechanics (seed 001, Fig. 2)",
+        "strip",
+        "strip",
+        _P + "strip:StripConfig",
+        _P + "strip:StripSimulation",
+        _P + "strip:run_strip",
+        program=_P + "strip:strip_program",
+        exports=_P + "strip:strip_exports",
+    )
+)
+register(
+    Body(
+        "beam",
+        "the composite beam, bar-and-hinge (Fig. 3)",
+        "beam",
+        "beam",
+        _P + "composite_beam_bh:BeamConfig",
+        _P + "composite_beam_bh:beam_problem",
+        _P + "composite_beam_bh:run_beam",
+        program=_P + "composite_beam_bh:beam_program",
+    )
+)
+register(
+    Body(
+        "beam-fe",
+        "the composite beam in 3D FE, lambdas prescribed or a coil current",
+        "beam",
+        "beam",
+        _P + "composite_beam_run:BeamFEConfig",
+        _P + "composite_beam_run:beam_fe_problem",
+        _P + "composite_beam_run:run_beam_fe",
+        program=_P + "composite_beam_run:beam_fe_program",
+        exports=_P + "composite_beam_run:beam_fe_exports",
+    )
+)
+register(
+    Body(
+        "ribbon-buckling",
+        "the Kapton ribbon's buckling test, bar-and-hinge (Fig. 2G)",
+        "ribbon-buckling",
+        "ribbon_buckling",
+        _P + "kapton_specimen_bh:KaptonSpecimenConfig",
+        _P + "kapton_specimen_bh:specimen_problem",
+        _P + "kapton_specimen_bh:run_specimen",
+    )
+)
+register(
+    Body(
+        "ribbon-buckling-fe",
+        "the Kapton ribbon's buckling test in 3D FE",
+        "ribbon-buckling",
+        "ribbon_buckling",
+        _P + "kapton_specimen:KaptonSpecimenFEConfig",
+        _P + "kapton_specimen:KaptonSpecimenFE",
+        _P + "kapton_specimen:run_specimen_fe",
+    )
+)
+register(
+    Body(
+        "gridshell",
+        "the robotic surface, bar-and-hinge (Fig. 4, 5)",
+        "gridshell",
+        "gridshell",
+        _P + "gridshell_bh_run:GridshellBHRunConfig",
+        _P + "gridshell_bh:GridshellBH",
+        _P + "gridshell_bh_run:run_gridshell",
+    )
+)
+register(
+    Body(
+        "gridshell-fe",
+        "the robotic surface in 3D FE, lambdas prescribed or heated",
+        "gridshell",
+        "gridshell",
+        _P + "gridshell:GridshellConfig",
+        _P + "gridshell:GridshellFE",
+        None,
+    )
+)
+register(
+    Body(
+        "body",
+        "your own 3D FE LCE body from a mesh and a case file (docs/own_robot.md)",
+        "body",
+        "body",
+        _P + "body_case:BodyCase",
+        _P + "body:BodyProblem",
+        _P + "body:run_body",
+    )
+)
 
 
 # The validation cases (lcefem.validation.cases.CASE_MODULES and so ``lcefem validate``'s order and
@@ -170,9 +247,25 @@ register_cases("beam-fe", "beam_fe")
 register_cases("ribbon-buckling-fe", "ribbon_fe")
 register_cases("gridshell", "gridshell_bh")
 register_cases("gridshell-fe", "gridshell_fe", "gridshell_heated_fe")
-register_cases("gridshell", "gridshell_uncertainty", "gridshell_design_bh", "gridshell_reach_bh",
-               "gridshell_reach_study_bh",
-               "gridshell_fig5_bh", "gridshell_control_bh", "gridshell_bh_vs_fe")
+register_cases(
+    "gridshell",
+    "gridshell_uncertainty",
+    "gridshell_design_bh",
+    "gridshell_reach_bh",
+    "gridshell_reach_study_bh",
+    "gridshell_fig5_bh",
+    "gridshell_control_bh",
+    "gridshell_bh_vs_fe",
+)
 
 
-__all__ = ["BODIES", "Body", "CASES", "body", "case_modules", "register", "register_cases", "targets"]
+__all__ = [
+    "BODIES",
+    "Body",
+    "CASES",
+    "body",
+    "case_modules",
+    "register",
+    "register_cases",
+    "targets",
+]

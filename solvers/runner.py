@@ -65,9 +65,12 @@ class HistoryExport:
     def record(self, run, state) -> None:
         """The row of ``state`` into the run's history (when due)."""
         if self.when is None or self.when(state):
-            run.record(self.row(state), where=self.where(state),
-                       at=None if self.at is None else self.at(state),
-                       postfix=None if self.postfix is None else self.postfix(state))
+            run.record(
+                self.row(state),
+                where=self.where(state),
+                at=None if self.at is None else self.at(state),
+                postfix=None if self.postfix is None else self.postfix(state),
+            )
 
     def __post_init__(self):
         bad = unnamed(self.columns)
@@ -75,16 +78,24 @@ class HistoryExport:
             raise ValueError(f"history columns without a unit: {bad}")
 
 
-def run(problem, program: Program, exports, out: pathlib.Path | None, *, config: dict,
-        progress: Progress | None = None, summarize: Callable[[Run, list], dict] | None = None,
-        comm=None) -> dict:
+def run(
+    problem,
+    program: Program,
+    exports,
+    out: pathlib.Path | None,
+    *,
+    config: dict,
+    progress: Progress | None = None,
+    summarize: Callable[[Run, list], dict] | None = None,
+    comm=None,
+) -> dict:
     """Drive ``problem`` along ``program`` inside the run skeleton (progress bar, .part files,
     failure.json, summary.json last) and let every export (``exports``: objects of
     :mod:`lcefem.solvers.exports`, the first History the run's history) write each record.
 
-    Steps: the program's drives at 0 (``set_drives``; none: those set before), the start record (``problem.start()`` if the
-    problem has it and the program records its start: a dead load applied first; else its
-    observables at 0), then for a time program
+    Steps: the program's drives at 0 (``set_drives``; none: those set before), the start record
+    (``problem.start()`` if the problem has it and the program records its start: a dead load
+    applied first; else its observables at 0), then for a time program
     ``advance(stop - previous)`` to each stop (equal steps of at most dt, the drive switches and the
     exports' times as milestones; the clock ``problem.time`` set to the stop exactly; a problem
     with ``increment_record(state)`` gives a record per step of its own, ``advance(dt, on_step=)``:
@@ -103,8 +114,11 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
     late = [t for t in milestones if t > program.end * (1.0 + 1e-12)]
     if late and not program.steady:
         from lcefem.models.errors import InputError
-        raise InputError(f"exports times: {late[0]:g} beyond the program's end ({program.end:g} "
-                         f"{'s' if program.clock == TIME else 'of the way'})")
+
+        raise InputError(
+            f"exports times: {late[0]:g} beyond the program's end ({program.end:g} "
+            f"{'s' if program.clock == TIME else 'of the way'})"
+        )
     stops = [] if program.steady else program.stops(milestones)
     with Run(out, config=config, progress=progress, comm=comm) as skeleton:
         main = next((e for e in exports if isinstance(e, History)), None)
@@ -119,11 +133,18 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
             count[0] += 1
             last[:] = [record]
 
-        skeleton.on_failure(lambda folder: last and [w.last_converged(folder, last[0]) for w in writers])
-        if program.drives[0][1]:  # none: the drives set beforehand (a gridshell's rest fraction per bar)
+        skeleton.on_failure(
+            lambda folder: last and [w.last_converged(folder, last[0]) for w in writers]
+        )
+        if program.drives[0][
+            1
+        ]:  # none: the drives set beforehand (a gridshell's rest fraction per bar)
             problem.set_drives(program.drives[0][1])
-        start = (problem.start() if program.record_start and hasattr(problem, "start") else
-                 StepRecord(0.0, problem.observables(), clock=program.clock))
+        start = (
+            problem.start()
+            if program.record_start and hasattr(problem, "start")
+            else StepRecord(0.0, problem.observables(), clock=program.clock)
+        )
         records.append(start)
         if program.record_start:
             emit(start)
@@ -136,15 +157,21 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
             switch = program.drives_at(previous) if previous > 0.0 else None
             if switch is not None:
                 problem.set_drives(switch)
-            if program.clock == TIME and increments is not None:  # the problem's own steps to the stop
-                record = replace(problem.advance(stop - previous, on_step=lambda s: emit(increments(s))), at=stop)
+            if (
+                program.clock == TIME and increments is not None
+            ):  # the problem's own steps to the stop
+                record = replace(
+                    problem.advance(stop - previous, on_step=lambda s: emit(increments(s))), at=stop
+                )
             elif program.clock == TIME:
                 record = problem.advance(stop - previous)
                 if hasattr(problem, "time"):
                     with contextlib.suppress(AttributeError):  # a clock the problem keeps read-only
                         problem.time = stop  # k x dt exactly, not a sum of steps
                 obs = record.observables
-                record = replace(record, at=stop, observables={**obs, TIME: stop} if TIME in obs else obs)
+                record = replace(
+                    record, at=stop, observables={**obs, TIME: stop} if TIME in obs else obs
+                )
                 emit(record)
             else:
                 base, left = previous, 1.0 - previous
@@ -152,14 +179,24 @@ def run(problem, program: Program, exports, out: pathlib.Path | None, *, config:
                     record = problem.advance((stop - previous) / left if stop < 1.0 else 1.0)
                     emit(replace(record, at=stop))
                 else:
-                    record = problem.advance((stop - previous) / left if stop < 1.0 else 1.0, on_step=lambda s: emit(
-                        (lambda r: replace(r, at=base + left * r.at))(increments(s))))
+                    record = problem.advance(
+                        (stop - previous) / left if stop < 1.0 else 1.0,
+                        on_step=lambda s: emit(
+                            (lambda r: replace(r, at=base + left * r.at))(increments(s))
+                        ),
+                    )
                     record = replace(record, at=stop)
             records.append(record)
             previous = stop
-        summary = (summarize(skeleton, records) if summarize is not None else
-                   {"program": program.describe(), "steps": len(records) - 1,
-                    "final": dict(records[-1].observables)})
+        summary = (
+            summarize(skeleton, records)
+            if summarize is not None
+            else {
+                "program": program.describe(),
+                "steps": len(records) - 1,
+                "final": dict(records[-1].observables),
+            }
+        )
         return skeleton.complete(summary)
 
 
@@ -186,9 +223,15 @@ class _StateHistoryWriter:
 
         h, state = self.history, record.detail
         if h.when is None or h.when(state):  # the bar at the state's own place, else the record's
-            at = h.at(state) if h.at is not None else record.at if math.isfinite(record.at) else None
-            self.run.record(h.row(state), where=h.where(state), at=at,
-                            postfix=None if h.postfix is None else h.postfix(state))
+            at = (
+                h.at(state) if h.at is not None else record.at if math.isfinite(record.at) else None
+            )
+            self.run.record(
+                h.row(state),
+                where=h.where(state),
+                at=at,
+                postfix=None if h.postfix is None else h.postfix(state),
+            )
 
     def last_converged(self, folder, record) -> None:
         pass  # the rows so far are kept as history.partial.csv
@@ -229,14 +272,24 @@ class PathProblem:
 
     drive = "none [-]"
 
-    def __init__(self, follow: Callable[[Callable[[Any], None]], Any], *, clock: str = TIME,
-                 end: float = 1.0, at: Callable[[Any], float] | None = None, comm=None):
+    def __init__(
+        self,
+        follow: Callable[[Callable[[Any], None]], Any],
+        *,
+        clock: str = TIME,
+        end: float = 1.0,
+        at: Callable[[Any], float] | None = None,
+        comm=None,
+    ):
         self.follow, self.clock, self.end, self.at, self.comm = follow, clock, float(end), at, comm
 
     def program(self) -> Program:
         """The program of one step to the path's end (its drives its own: none set by the door)."""
-        return (Program.in_time({}, self.end, self.end, record_start=False) if self.clock == TIME else
-                Program.quasi_static({}, record_start=False))
+        return (
+            Program.in_time({}, self.end, self.end, record_start=False)
+            if self.clock == TIME
+            else Program.quasi_static({}, record_start=False)
+        )
 
     def drive_tags(self) -> tuple[str, ...]:
         return ()
@@ -244,6 +297,7 @@ class PathProblem:
     def set_drives(self, drives: Mapping[str, float]) -> None:
         if drives:
             from lcefem.models.errors import InputError
+
             raise InputError(f"drives {', '.join(drives)}: a path of its own takes none")
 
     def advance(self, dt: float, on_step: Callable[[Any], None] | None = None) -> StepRecord:
@@ -251,16 +305,29 @@ class PathProblem:
         return StepRecord(self.end, {}, clock=self.clock, detail=result)
 
     def increment_record(self, state) -> StepRecord:
-        return StepRecord(self.end if self.at is None else float(self.at(state)), {}, clock=self.clock,
-                          detail=state)
+        return StepRecord(
+            self.end if self.at is None else float(self.at(state)),
+            {},
+            clock=self.clock,
+            detail=state,
+        )
 
     def observables(self) -> dict[str, float]:
         return {}
 
 
-def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *, config: dict,
-                     history: HistoryExport, fields, progress: Progress,
-                     summarize: Callable[[Any, Any], dict], progress_scale: float | None = 1.0) -> dict:
+def run_quasi_static(
+    problem,
+    drives: Mapping[str, float],
+    out: pathlib.Path,
+    *,
+    config: dict,
+    history: HistoryExport,
+    fields,
+    progress: Progress,
+    summarize: Callable[[Any, Any], dict],
+    progress_scale: float | None = 1.0,
+) -> dict:
     """One run of a quasi-static problem through the door (:func:`run`): the load program to
     ``drives`` in one advance (the whole way), each converged increment of the problem's path
     follower a record (``problem.increment_record``), written by ``history`` (a HistoryExport of the
@@ -270,13 +337,30 @@ def run_quasi_static(problem, drives: Mapping[str, float], out: pathlib.Path, *,
     the way (``progress_scale``: kept for the callers; the door's bar follows the records).
     Returns the summary."""
     exports = [StateHistory(history), *(() if fields is None else (StateExport(fields),))]
-    return run(problem, Program.quasi_static(drives, record_start=False), exports, out, config=config,
-               progress=progress, summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
+    return run(
+        problem,
+        Program.quasi_static(drives, record_start=False),
+        exports,
+        out,
+        config=config,
+        progress=progress,
+        summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail),
+    )
 
 
-def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, duration: float, dt: float,
-                config: dict, columns, progress: Progress, summarize: Callable[[Any, list], dict],
-                fields=None) -> dict:
+def run_in_time(
+    problem,
+    drives: Mapping[str, float],
+    out: pathlib.Path,
+    *,
+    duration: float,
+    dt: float,
+    config: dict,
+    columns,
+    progress: Progress,
+    summarize: Callable[[Any, list], dict],
+    fields=None,
+) -> dict:
     """One run of a heated problem in time through the door (:func:`run`): ``drives`` held for
     ``duration`` [s] in equal steps of at most ``dt`` [s] (the clock ``time`` [s] set to k x step
     exactly, not a sum of steps); history.csv gets ``columns`` of the observables at 0 and after
@@ -286,8 +370,25 @@ def run_in_time(problem, drives: Mapping[str, float], out: pathlib.Path, *, dura
     from lcefem.solvers.exports import History
 
     exports = [History(columns=tuple(columns)), *(() if fields is None else (fields,))]
-    return run(problem, Program.in_time(drives, duration, dt), exports, out, config=config, progress=progress,
-               summarize=lambda skeleton, records: summarize(skeleton, [dict(r.observables) for r in records]))
+    return run(
+        problem,
+        Program.in_time(drives, duration, dt),
+        exports,
+        out,
+        config=config,
+        progress=progress,
+        summarize=lambda skeleton, records: summarize(
+            skeleton, [dict(r.observables) for r in records]
+        ),
+    )
 
 
-__all__ = ["HistoryExport", "PathProblem", "StateExport", "StateHistory", "run", "run_in_time", "run_quasi_static"]
+__all__ = [
+    "HistoryExport",
+    "PathProblem",
+    "StateExport",
+    "StateHistory",
+    "run",
+    "run_in_time",
+    "run_quasi_static",
+]

@@ -19,8 +19,9 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
 from petsc4py import PETSc
+
+import numpy as np
 
 import dolfinx
 
@@ -29,8 +30,10 @@ from lcefem.models.errors import InputError
 
 def _facets(tmesh, face: str) -> np.ndarray:
     if face not in tmesh.facets:
-        raise InputError(f"support face {face!r}: not a facet tag of the mesh (has "
-                         f"{', '.join(sorted(tmesh.facets))})")
+        raise InputError(
+            f"support face {face!r}: not a facet tag of the mesh (has "
+            f"{', '.join(sorted(tmesh.facets))})"
+        )
     tdim = tmesh.mesh.topology.dim
     tmesh.mesh.topology.create_connectivity(tdim - 1, tdim)
     return tmesh.facet_tags.find(tmesh.facet_tag(face))
@@ -48,16 +51,21 @@ def clamp_face(tmesh, V, face: str, value=None) -> list:
 def plane_clamp(tmesh, V, face: str, component: int) -> list:
     """u_component = 0 on the facets tagged ``face`` (a mirror plane normal to that axis, or a
     frictionless wall)."""
-    dofs = dolfinx.fem.locate_dofs_topological(V.sub(component), tmesh.mesh.topology.dim - 1,
-                                               _facets(tmesh, face))
+    dofs = dolfinx.fem.locate_dofs_topological(
+        V.sub(component), tmesh.mesh.topology.dim - 1, _facets(tmesh, face)
+    )
     return [dolfinx.fem.dirichletbc(PETSc.ScalarType(0.0), dofs, V.sub(component))]
 
 
 def mirror_planes(tmesh, V, planes: Iterable[tuple[str, int]]) -> list:
     """:func:`plane_clamp` for each (face, normal component) whose face the mesh has (a quarter
     model has two mirror planes, a half model one, the full model none)."""
-    return [bc for face, comp in planes if face in tmesh.facets
-            for bc in plane_clamp(tmesh, V, face, comp)]
+    return [
+        bc
+        for face, comp in planes
+        if face in tmesh.facets
+        for bc in plane_clamp(tmesh, V, face, comp)
+    ]
 
 
 def point_dofs(V, component: int, point, tol: float = 1e-6) -> np.ndarray:
@@ -66,10 +74,13 @@ def point_dofs(V, component: int, point, tol: float = 1e-6) -> np.ndarray:
     Vc, _ = V.sub(component).collapse()
     p = np.asarray(point, dtype=float)
     dofs = dolfinx.fem.locate_dofs_geometrical(
-        (V.sub(component), Vc), lambda x: np.linalg.norm(x.T - p, axis=1) < tol)[0]
+        (V.sub(component), Vc), lambda x: np.linalg.norm(x.T - p, axis=1) < tol
+    )[0]
     # the node lives on one or a few processes: the others find none, which is no error
     if V.mesh.comm.allreduce(int(dofs.size)) == 0:
-        raise InputError(f"support point {tuple(float(v) for v in p)}: no node there (tolerance {tol:g} mm)")
+        raise InputError(
+            f"support point {tuple(float(v) for v in p)}: no node there (tolerance {tol:g} mm)"
+        )
     return dofs
 
 
@@ -93,9 +104,20 @@ def rigid_body_321(V, a, b, c, tol: float = 1e-6) -> list:
     """The 3-2-1 rule: point ``a`` held in x, y, z; point ``b`` (along x from a) in y and z;
     point ``c`` (off the line ab, in the x-y plane) in z. Removes the six rigid-body motions and
     adds no constraint (no reaction when the body is free of load)."""
-    return (point_support(V, a, (0, 1, 2), tol) + point_support(V, b, (1, 2), tol)
-            + point_support(V, c, (2,), tol))
+    return (
+        point_support(V, a, (0, 1, 2), tol)
+        + point_support(V, b, (1, 2), tol)
+        + point_support(V, c, (2,), tol)
+    )
 
 
-__all__ = ["clamp_face", "component_bc", "mirror_planes", "nodes_on_line", "plane_clamp",
-           "point_dofs", "point_support", "rigid_body_321"]
+__all__ = [
+    "clamp_face",
+    "component_bc",
+    "mirror_planes",
+    "nodes_on_line",
+    "plane_clamp",
+    "point_dofs",
+    "point_support",
+    "rigid_body_321",
+]

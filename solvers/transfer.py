@@ -5,6 +5,7 @@ refinement, ``lcefem converge --prolong``).
 from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+
 import numpy as np
 
 from lcefem.models.errors import InputError
@@ -36,8 +37,9 @@ def prolong_by_tag(u_from, tags_from, V_to, tags_to) -> np.ndarray:
             continue
         pts = np.ascontiguousarray(X[nodes])
         tree = geometry.bb_tree(mesh0, dim, entities=cells0)
-        hits = geometry.compute_colliding_cells(mesh0, geometry.compute_collisions_points(tree, pts),
-                                                pts)
+        hits = geometry.compute_colliding_cells(
+            mesh0, geometry.compute_collisions_points(tree, pts), pts
+        )
         counts = np.diff(hits.offsets)
         owner = np.full(nodes.size, -1, dtype=np.int32)
         owner[counts > 0] = hits.array[hits.offsets[:-1][counts > 0]]

@@ -28,18 +28,25 @@ def mpiexec():
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
-#: The ``fast`` tier (``pytest -m fast``, run first by .ci/run): the material laws and closed forms of
-#: tests/models and the fast checks of the tree (layers, docs, packaging), no mesh and no solve.
-#: Measured: ``pytest -m fast`` 194 tests, 10.5 s user CPU with the collection of the whole suite (39 s
-#: wall with the 2 cores at load ~10); the slowest, the layer checks' AST walks, 1.7-6.7 s wall there.
-FAST = ("tests/models/", "tests/test_layers.py", "tests/test_docs.py", "tests/test_docs_paths.py",
-        "tests/test_docs_titles.py", "tests/test_packaging.py")
+#: The ``fast`` tier (``pytest -m fast``, run first by .ci/run): the material laws and closed forms
+#: of tests/models and the fast checks of the tree (layers, docs, packaging), no mesh and no solve.
+#: Measured: ``pytest -m fast`` 194 tests, 10.5 s user CPU with the collection of the whole suite
+#: (39 s wall with the 2 cores at load ~10); the slowest, the layer checks' AST walks, 1.7-6.7 s
+#: wall there.
+FAST = (
+    "tests/models/",
+    "tests/test_layers.py",
+    "tests/test_docs.py",
+    "tests/test_docs_paths.py",
+    "tests/test_docs_titles.py",
+    "tests/test_packaging.py",
+)
 
 
 def pytest_collection_modifyitems(config, items):
-    """The mpiexec tests (marker ``mpi``) run one after the other on one xdist worker (``make test``:
-    ``-n 2 --dist loadgroup``): two of them side by side would put 4 ranks on the 2 cores. The tests
-    of :data:`FAST` get the marker ``fast``."""
+    """The mpiexec tests (marker ``mpi``) run one after the other on one xdist worker (``make
+    test``: ``-n 2 --dist loadgroup``): two of them side by side would put 4 ranks on the 2 cores.
+    The tests of :data:`FAST` get the marker ``fast``."""
     for item in items:
         if item.get_closest_marker("mpi"):
             item.add_marker(pytest.mark.xdist_group("mpi"))
@@ -49,9 +56,10 @@ def pytest_collection_modifyitems(config, items):
 
 
 def run_quick_case(name: str, out: pathlib.Path) -> list[dict]:
-    """Run one registered validation case at its quick (CI) resolution; return its metrics as dicts."""
-    from lcefem.validation.cases import CaseContext, registry
+    """Run one registered validation case at its quick (CI) resolution; return its metrics as
+    dicts."""
     from lcefem.validation.app.validate import run_case
+    from lcefem.validation.cases import CaseContext, registry
 
     case = registry()[name]
     result = run_case(case, CaseContext(out=out / name, quick=True, progress=False), out)
@@ -63,14 +71,18 @@ def assert_phenomena_shown(name: str, metrics: list[dict]) -> None:
     metrics: the resolution run shows the physics the case is about (issue 16)."""
     from lcefem.validation.app.phenomena import evaluate
 
-    missing = [f"{p['phenomenon']} ({p['selector']} {p['condition']}: "
-               f"{p['values'] or 'no such metric'})" for p in evaluate(name, metrics) if not p["holds"]]
+    missing = [
+        f"{p['phenomenon']} ({p['selector']} {p['condition']}: {p['values'] or 'no such metric'})"
+        for p in evaluate(name, metrics)
+        if not p["holds"]
+    ]
     assert not missing, f"{name} does not show: " + "; ".join(missing)
 
 
 def assert_failures_known(metrics: list[dict], level: str = "quick") -> None:
-    """Every failing row is a known disagreement (validation/data/known_disagreements.toml) expected at
-    ``level``: an explained disagreement with experiment passes, an unexplained failure does not."""
+    """Every failing row is a known disagreement (validation/data/known_disagreements.toml) expected
+    at ``level``: an explained disagreement with experiment passes, an unexplained failure does
+    not."""
     from lcefem.validation.cases.reference_data import known_disagreements
 
     assert metrics, "the case returned no metrics"
@@ -80,14 +92,22 @@ def assert_failures_known(metrics: list[dict], level: str = "quick") -> None:
         k = known.get((m["case"], m["metric"]))
         return k is not None and k.level in (level, "both")
 
-    unexplained = [f"{m['case']}: {m['metric']}: {m['value']} {m['unit']} vs {m['reference']} +- "
-                   f"{m['tolerance']}" for m in metrics if m["passed"] is False and not expected(m)]
+    unexplained = [
+        f"{m['case']}: {m['metric']}: {m['value']} {m['unit']} vs {m['reference']} +- "
+        f"{m['tolerance']}"
+        for m in metrics
+        if m["passed"] is False and not expected(m)
+    ]
     assert not unexplained, "unexplained failures: " + "; ".join(unexplained)
 
 
 def assert_metrics_pass(metrics: list[dict]) -> None:
-    """Every checked metric passes; the message lists the failures with value, reference and tolerance."""
+    """Every checked metric passes; the message lists the failures with value, reference and
+    tolerance."""
     assert metrics, "the case returned no metrics"
-    failed = [f"{m['metric']}: {m['value']:.6g} {m['unit']} vs {m['reference']} +- {m['tolerance']}"
-              for m in metrics if m["passed"] is False]
+    failed = [
+        f"{m['metric']}: {m['value']:.6g} {m['unit']} vs {m['reference']} +- {m['tolerance']}"
+        for m in metrics
+        if m["passed"] is False
+    ]
     assert not failed, "; ".join(failed)

@@ -1,7 +1,8 @@
 """The user's documentation keeps its promises: the README is a short entry page whose links stay
 inside the repository, every docs page has a title and valid local links, and every example is
 rendered in the site and executed by a test. (The site itself is built with warnings as errors by
-``make docs``, which .ci/run runs after the test suite: a full Sphinx build takes about a minute.)"""
+``make docs``, which .ci/run runs after the test suite: a full Sphinx build takes about a
+minute.)"""
 
 import re
 import tomllib
@@ -34,8 +35,9 @@ def test_readme_is_an_entry_page():
     assert not re.search(r"\b20\d\d-\d\d-\d\d\b", text)
 
 
-@pytest.mark.parametrize("page", [REPO / "README.md", REPO / "CHANGELOG.md", *DOCS],
-                         ids=lambda p: p.name)
+@pytest.mark.parametrize(
+    "page", [REPO / "README.md", REPO / "CHANGELOG.md", *DOCS], ids=lambda p: p.name
+)
 def test_local_links_resolve_inside_the_repository(page):
     for target in local_links(page):
         resolved = (page.parent / target).resolve()
@@ -54,8 +56,9 @@ def test_every_example_is_rendered_and_executed():
     examples = sorted((REPO / "docs" / "examples").glob("*.py"))
     assert examples
     page = (REPO / "docs" / "examples.md").read_text()
-    tests = "\n".join(p.read_text() for p in (REPO / "tests").rglob("test_*.py")
-                      if p.name != "test_docs.py")
+    tests = "\n".join(
+        p.read_text() for p in (REPO / "tests").rglob("test_*.py") if p.name != "test_docs.py"
+    )
     for example in examples:
         assert f"```{{literalinclude}} examples/{example.name}" in page, example.name
         assert example.name in tests, f"no test runs docs/examples/{example.name}"

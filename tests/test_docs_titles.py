@@ -19,13 +19,21 @@ def test_titles_are_distinct_and_name_no_issue():
     titles = {}
     for page in PAGES:
         titles.setdefault(title(page), []).append(page.relative_to(REPO).as_posix())
-        assert not re.search(r"\bissues? \d+", title(page), re.IGNORECASE), f"{page.name}: {title(page)}"
+        assert not re.search(r"\bissues? \d+", title(page), re.IGNORECASE), (
+            f"{page.name}: {title(page)}"
+        )
     doubles = {t: p for t, p in titles.items() if len(p) > 1}
     assert not doubles, f"pages sharing a title: {doubles}"
 
 
 def test_topic_pages_stay_short():
     # the generated validation summaries are copies of a report, not written pages
-    long = [f"{p.name} ({n} lines)" for p in sorted((REPO / "docs").glob("*.md"))
-            if not p.name.startswith("validation_summary_") and (n := len(p.read_text().splitlines())) > 300]
-    assert not long, "pages over 300 lines (move the dated record to docs/notes/): " + ", ".join(long)
+    long = [
+        f"{p.name} ({n} lines)"
+        for p in sorted((REPO / "docs").glob("*.md"))
+        if not p.name.startswith("validation_summary_")
+        and (n := len(p.read_text().splitlines())) > 300
+    ]
+    assert not long, "pages over 300 lines (move the dated record to docs/notes/): " + ", ".join(
+        long
+    )

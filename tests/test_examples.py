@@ -101,10 +101,20 @@ def test_example_runs_and_gives_its_number(name, tmp_path, monkeypatch, capsys):
 def test_fe_example_under_two_ranks(name, tmp_path, mpiexec):
     """The same key number on two ranks (the strip's MPI test: within 1e-8 relative of serial;
     here the stored serial value at its tolerance)."""
-    env = {**os.environ, "LCEFEM_EXAMPLE_QUICK": "1", "LCEFEM_EXAMPLE_OUT": str(tmp_path),
-           "OMP_NUM_THREADS": "1"}
-    done = subprocess.run([mpiexec, "-n", "2", sys.executable, str(EXAMPLES / name)], env=env, cwd=REPO,
-                          capture_output=True, text=True, timeout=900)
+    env = {
+        **os.environ,
+        "LCEFEM_EXAMPLE_QUICK": "1",
+        "LCEFEM_EXAMPLE_OUT": str(tmp_path),
+        "OMP_NUM_THREADS": "1",
+    }
+    done = subprocess.run(
+        [mpiexec, "-n", "2", sys.executable, str(EXAMPLES / name)],
+        env=env,
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert done.returncode == 0, done.stderr[-2000:]
     last = done.stdout.strip().splitlines()[-1]
     value, rtol = EXPECTED[name][:2]

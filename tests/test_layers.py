@@ -13,12 +13,24 @@ PACKAGES = ("models", "meshes", "solvers", "validation")
 RUNTIME = "lcefem.solvers.runtime"
 
 #: The numerics: what a solver needs to compute, nothing of how a command runs.
-NUMERICS = ("lcefem.solvers.mechanics", "lcefem.solvers.heat", "lcefem.solvers.thermomechanics",
-            "lcefem.solvers.continuation", "lcefem.solvers.contact", "lcefem.solvers.pmultigrid",
-            "lcefem.solvers.supports", "lcefem.solvers.probes", "lcefem.solvers.interrupts",
-            "lcefem.solvers.petsc_options", "lcefem.solvers.bar_hinge", "lcefem.solvers.der",
-            "lcefem.models", "lcefem.meshes")
-#: Output writers inside a numerics package (they write files, so they may use the runtime's writers).
+NUMERICS = (
+    "lcefem.solvers.mechanics",
+    "lcefem.solvers.heat",
+    "lcefem.solvers.thermomechanics",
+    "lcefem.solvers.continuation",
+    "lcefem.solvers.contact",
+    "lcefem.solvers.pmultigrid",
+    "lcefem.solvers.supports",
+    "lcefem.solvers.probes",
+    "lcefem.solvers.interrupts",
+    "lcefem.solvers.petsc_options",
+    "lcefem.solvers.bar_hinge",
+    "lcefem.solvers.der",
+    "lcefem.models",
+    "lcefem.meshes",
+)
+#: Output writers inside a numerics package (they write files, so they may use the runtime's
+#: writers).
 WRITERS = ("lcefem.solvers.der.output",)
 
 #: Private names still imported across modules, each with why it is not renamed yet.
@@ -52,14 +64,15 @@ def imports(name: str) -> list[tuple[str, str | None, int]]:
             base = node.module or ""
             if node.level:
                 anchor = package.split(".")
-                anchor = anchor[:len(anchor) - node.level + 1]
+                anchor = anchor[: len(anchor) - node.level + 1]
                 base = ".".join(anchor + ([base] if base else []))
             found += [(base, a.name, node.lineno) for a in node.names]
     return found
 
 
 def targets(name: str) -> set[str]:
-    """The lcefem modules ``name`` imports (a ``from package import submodule`` names the submodule)."""
+    """The lcefem modules ``name`` imports (a ``from package import submodule`` names the
+    submodule)."""
     out = set()
     for module, imported, _ in imports(name):
         if not module.startswith("lcefem."):
@@ -116,11 +129,19 @@ def test_numerics_never_reach_the_runtime():
 
 def test_imports_flow_one_way():
     """validation -> solvers -> models, validation/solvers -> meshes: never upward."""
-    forbidden = {"lcefem.models": ("lcefem.meshes", "lcefem.solvers", "lcefem.validation"),
-                 "lcefem.meshes": ("lcefem.solvers", "lcefem.validation"),
-                 "lcefem.solvers": ("lcefem.validation",)}
-    bad = [f"{name} imports {t}" for name in SOURCES for layer, above in forbidden.items()
-           if in_any(name, [layer]) for t in targets(name) if in_any(t, above)]
+    forbidden = {
+        "lcefem.models": ("lcefem.meshes", "lcefem.solvers", "lcefem.validation"),
+        "lcefem.meshes": ("lcefem.solvers", "lcefem.validation"),
+        "lcefem.solvers": ("lcefem.validation",),
+    }
+    bad = [
+        f"{name} imports {t}"
+        for name in SOURCES
+        for layer, above in forbidden.items()
+        if in_any(name, [layer])
+        for t in targets(name)
+        if in_any(t, above)
+    ]
     assert not bad, "\n".join(bad)
 
 
@@ -131,19 +152,27 @@ def test_no_module_imports_another_modules_private_name():
     bad = []
     for name in SOURCES:
         for module, imported, line in imports(name):
-            if (imported and imported.startswith("_") and not imported.startswith("__")
-                    and module.startswith("lcefem.") and f"{module}.{imported}" not in SOURCES
-                    and (name, imported) not in PRIVATE_ALLOWED):
+            if (
+                imported
+                and imported.startswith("_")
+                and not imported.startswith("__")
+                and module.startswith("lcefem.")
+                and f"{module}.{imported}" not in SOURCES
+                and (name, imported) not in PRIVATE_ALLOWED
+            ):
                 bad.append(f"{SOURCES[name].relative_to(ROOT)}:{line}: {imported} from {module}")
     assert not bad, "\n".join(bad)
 
 
 def test_no_import_cycle_through_the_command_line():
-    """lcefem.validation.app.cli loads the commands (validate, converge, ...) by name; none of them may
-    import the command line back (a hidden cycle: which module finishes loading first depends on
+    """lcefem.validation.app.cli loads the commands (validate, converge, ...) by name; none of them
+    may import the command line back (a hidden cycle: which module finishes loading first depends on
     which one the user started from)."""
-    bad = [name for name in SOURCES if name != "lcefem.validation.app.cli"
-           and "lcefem.validation.app.cli" in targets(name)]
+    bad = [
+        name
+        for name in SOURCES
+        if name != "lcefem.validation.app.cli" and "lcefem.validation.app.cli" in targets(name)
+    ]
     assert not bad, bad
 
 
@@ -156,9 +185,15 @@ def test_the_current_bound_lives_once():
     from lcefem.models.errors import InputError
     from lcefem.models.limits import MAX_CURRENT, check_current, current_param
 
-    users = sorted(name for name, path in SOURCES.items() if name != "lcefem.models.limits"
-                   and any(isinstance(n, ast.Name) and n.id == "MAX_CURRENT"
-                           for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))))
+    users = sorted(
+        name
+        for name, path in SOURCES.items()
+        if name != "lcefem.models.limits"
+        and any(
+            isinstance(n, ast.Name) and n.id == "MAX_CURRENT"
+            for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        )
+    )
     assert users == []
     assert current_param(0.2, "test").metadata["maximum"] == MAX_CURRENT
     assert check_current("current", 0.2) == 0.2
@@ -169,11 +204,21 @@ def test_the_current_bound_lives_once():
 
 
 # The rooms of validation/ (docs/layout.md), written by scripts/dev/rooms.py.
-APP, STUDIES, CASES = "lcefem.validation.app", "lcefem.validation.studies", "lcefem.validation.cases"
-#: the application's doors: the command line and the commands' drivers, imported by the application only
-DOORS = ("lcefem.validation.app.cli", "lcefem.validation.app.commands", "lcefem.validation.app.validate",
-         "lcefem.validation.app.converge", "lcefem.validation.app.converge_body",
-         "lcefem.validation.app.farm")
+APP, STUDIES, CASES = (
+    "lcefem.validation.app",
+    "lcefem.validation.studies",
+    "lcefem.validation.cases",
+)
+#: the application's doors: the command line and the commands' drivers, imported by the application
+#: only
+DOORS = (
+    "lcefem.validation.app.cli",
+    "lcefem.validation.app.commands",
+    "lcefem.validation.app.validate",
+    "lcefem.validation.app.converge",
+    "lcefem.validation.app.converge_body",
+    "lcefem.validation.app.farm",
+)
 #: the scripts outside the package (python benchmarks/<script>.py): the package never imports them
 SCRIPTS = sorted(p.stem for p in (ROOT / "benchmarks").rglob("*.py"))
 
@@ -193,18 +238,29 @@ def test_every_validation_module_is_in_a_room():
     loose beside them, and every study sits in a topic folder."""
     rooms = [n for n in SOURCES if in_any(n, [APP, STUDIES, CASES])]
     assert len(rooms) > 40 and all(n in SOURCES for n in DOORS)
-    loose = [n for n in SOURCES if in_any(n, ["lcefem.validation"]) and n != "lcefem.validation"
-             and n not in rooms]
-    flat = [n for n in SOURCES if in_any(n, [STUDIES]) and n.count(".") == 3
-            and SOURCES[n].name != "__init__.py"]
+    loose = [
+        n
+        for n in SOURCES
+        if in_any(n, ["lcefem.validation"]) and n != "lcefem.validation" and n not in rooms
+    ]
+    flat = [
+        n
+        for n in SOURCES
+        if in_any(n, [STUDIES]) and n.count(".") == 3 and SOURCES[n].name != "__init__.py"
+    ]
     assert not loose and not flat, f"outside a room: {loose}, a study without a topic: {flat}"
 
 
 def test_only_the_application_imports_its_doors():
     """A study or a case computes; running a command, farming cases or writing the report is the
     application's (a study importing the CLI would load every command with it)."""
-    bad = [f"{name} imports {t}" for name in SOURCES if not in_any(name, [APP])
-           for t in targets(name) if in_any(t, DOORS)]
+    bad = [
+        f"{name} imports {t}"
+        for name in SOURCES
+        if not in_any(name, [APP])
+        for t in targets(name)
+        if in_any(t, DOORS)
+    ]
     assert not bad, "\n".join(bad)
 
 
@@ -213,8 +269,13 @@ def test_studies_never_import_a_case():
     inside the computation (the cases package's helpers, Metric and write_csv, are fine)."""
     cases = case_modules()
     assert len(cases) > 10 and all(c in SOURCES for c in cases)
-    bad = [f"{name} imports {t}" for name in SOURCES if in_any(name, [STUDIES])
-           for t in targets(name) if t in cases]
+    bad = [
+        f"{name} imports {t}"
+        for name in SOURCES
+        if in_any(name, [STUDIES])
+        for t in targets(name)
+        if t in cases
+    ]
     assert not bad, "\n".join(bad)
 
 
@@ -222,6 +283,10 @@ def test_the_package_never_imports_the_scripts():
     """The benchmark and calibration scripts import lcefem; lcefem never imports them (they are not
     installed)."""
     assert len(SCRIPTS) > 20 and "timing" in SCRIPTS
-    bad = [f"{name} imports {module}" for name in SOURCES for module, _, _ in imports(name)
-           if module.split(".")[0] in [*SCRIPTS, "benchmarks"]]
+    bad = [
+        f"{name} imports {module}"
+        for name in SOURCES
+        for module, _, _ in imports(name)
+        if module.split(".")[0] in [*SCRIPTS, "benchmarks"]
+    ]
     assert not bad, "\n".join(bad)

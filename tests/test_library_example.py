@@ -13,7 +13,8 @@ def test_library_example_runs_at_level_0(tmp_path, capsys):
     r = example["main"](level=0, out=tmp_path)
     # a free strip at a uniform spontaneous stretch takes exactly that length (homogeneous state)
     assert r["free strip stretch at lambda_s = 1.2 [-]"] == pytest.approx(1.2, rel=1e-8)
-    # a linear stretch field 1.35 -> 1.25 along the strip: length = its mean (to the Q2 interpolation)
+    # a linear stretch field 1.35 -> 1.25 along the strip: length = its mean (to the Q2
+    # interpolation)
     assert r["free strip stretch, graded 1.35 -> 1.25 [-]"] == pytest.approx(1.30, rel=1e-3)
     # only the coil cells hot: the strip contracts, but far less than fully (bulk stays nematic)
     assert 1.3 < r["free strip stretch, coil at 90 C [-]"] < 1.426

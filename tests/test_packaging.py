@@ -5,8 +5,12 @@ import pathlib
 import tomllib
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
-ROOTS = {"models": "lcefem.models", "meshes": "lcefem.meshes", "solvers": "lcefem.solvers",
-         "validation": "lcefem.validation"}
+ROOTS = {
+    "models": "lcefem.models",
+    "meshes": "lcefem.meshes",
+    "solvers": "lcefem.solvers",
+    "validation": "lcefem.validation",
+}
 
 
 def test_every_subpackage_is_listed():

@@ -18,7 +18,11 @@ import pathlib
 import numpy as np
 from scipy.optimize import linprog
 
-from lcefem.models.hyperelastic import LCEElasticity, lce_uniaxial_nominal_stress, ogden_uniaxial_nominal_stress
+from lcefem.models.hyperelastic import (
+    LCEElasticity,
+    lce_uniaxial_nominal_stress,
+    ogden_uniaxial_nominal_stress,
+)
 
 STRETCH_RANGE = (1.0, 1.5)  # issue: "within 5 % in nominal stress for stretch 1.0-1.5"
 C10_FLOOR = 0.005  # MPa, keeps an I1 term so the law is strictly a Mooney-Rivlin solid
@@ -27,11 +31,14 @@ OUT = pathlib.Path(__file__).resolve().parents[2] / "validation" / "data" / "iso
 
 def basis(stretch: np.ndarray) -> np.ndarray:
     """Columns: uniaxial nominal stress [MPa] per unit c10, c01, c30."""
-    return np.stack([
-        lce_uniaxial_nominal_stress(stretch, LCEElasticity(c10=1.0, c01=0.0, c30=0.0)),
-        lce_uniaxial_nominal_stress(stretch, LCEElasticity(c10=0.0, c01=1.0, c30=0.0)),
-        lce_uniaxial_nominal_stress(stretch, LCEElasticity(c10=0.0, c01=0.0, c30=1.0)),
-    ], axis=1)
+    return np.stack(
+        [
+            lce_uniaxial_nominal_stress(stretch, LCEElasticity(c10=1.0, c01=0.0, c30=0.0)),
+            lce_uniaxial_nominal_stress(stretch, LCEElasticity(c10=0.0, c01=1.0, c30=0.0)),
+            lce_uniaxial_nominal_stress(stretch, LCEElasticity(c10=0.0, c01=0.0, c30=1.0)),
+        ],
+        axis=1,
+    )
 
 
 def fit(n: int = 201) -> tuple[np.ndarray, float]:
@@ -43,8 +50,12 @@ def fit(n: int = 201) -> tuple[np.ndarray, float]:
     # variables (c10, c01, c30, t): minimise t subject to |a c - 1| <= t
     a_ub = np.block([[a, -np.ones((m, 1))], [-a, -np.ones((m, 1))]])
     b_ub = np.r_[np.ones(m), -np.ones(m)]
-    res = linprog(np.r_[0.0, 0.0, 0.0, 1.0], A_ub=a_ub, b_ub=b_ub,
-                  bounds=[(C10_FLOOR, None), (0.0, None), (0.0, None), (0.0, None)])
+    res = linprog(
+        np.r_[0.0, 0.0, 0.0, 1.0],
+        A_ub=a_ub,
+        b_ub=b_ub,
+        bounds=[(C10_FLOOR, None), (0.0, None), (0.0, None), (0.0, None)],
+    )
     if not res.success:
         raise RuntimeError(f"fit failed: {res.message}")
     return res.x[:3], float(res.x[3])
@@ -60,8 +71,14 @@ def main() -> None:
     tmp = OUT.with_suffix(".csv.part")
     with tmp.open("w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["stretch [-]", "ogden_nominal_stress [MPa]", "fit_nominal_stress [MPa]",
-                    "relative_residual [-]"])
+        w.writerow(
+            [
+                "stretch [-]",
+                "ogden_nominal_stress [MPa]",
+                "fit_nominal_stress [MPa]",
+                "relative_residual [-]",
+            ]
+        )
         for l, a, b in zip(lam, p_og, p_fit):
             w.writerow([f"{l:.4f}", f"{a:.6e}", f"{b:.6e}", f"{(b - a) / a:.4e}" if a else "nan"])
     tmp.replace(OUT)

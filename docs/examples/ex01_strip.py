@@ -25,9 +25,10 @@ Run: ``python docs/examples/ex01_strip.py`` (``LCEFEM_EXAMPLE_QUICK=1``: 4 s of 
 import os
 import pathlib
 
+from mpi4py import MPI
+
 import matplotlib
 import numpy as np
-from mpi4py import MPI
 
 from lcefem.meshes.strip import StripMesh
 from lcefem.solvers.exports import History, Probe

@@ -25,9 +25,10 @@ instead of 12 s; output in ``results/examples/ex02_heated_beam`` or ``$LCEFEM_EX
 import os
 import pathlib
 
+from mpi4py import MPI
+
 import matplotlib
 import numpy as np
-from mpi4py import MPI
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.composite_beam_fe import BeamFEMesh
@@ -45,10 +46,20 @@ OUT = pathlib.Path(os.environ.get("LCEFEM_EXAMPLE_OUT", "results/examples")) / "
 DURATION = 3.0 if QUICK else 12.0  # [s]
 
 beam_body = body("beam-fe")
-config = BeamFEConfig(heat_run=HeatedBeamRun(current=0.2, heated="bottom", duration=DURATION, dt=1.0),
-                      geometry=CompositeBeamGeometry(segments=2), mesh=BeamFEMesh(level=0))
+config = BeamFEConfig(
+    heat_run=HeatedBeamRun(current=0.2, heated="bottom", duration=DURATION, dt=1.0),
+    geometry=CompositeBeamGeometry(segments=2),
+    mesh=BeamFEMesh(level=0),
+)
 beam = beam_body.build(config)  # a HeatedBeamFE: the current flows in the bottom strips
-run(beam, beam_body.default_program(config), [History()], OUT, config=config.resolved(), progress=None)
+run(
+    beam,
+    beam_body.default_program(config),
+    [History()],
+    OUT,
+    config=config.resolved(),
+    progress=None,
+)
 
 history = np.genfromtxt(OUT / "history.csv", delimiter=",", names=True)
 t = history["time_s"]

@@ -30,15 +30,21 @@ import numpy as np
 
 from lcefem.meshes.kapton_ribbon import KaptonFEMesh
 from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFEConfig
-from lcefem.solvers.problems.kapton_specimen_bh import (KaptonSpecimenConfig, KaptonSpecimenRun,
-                                                        closed_forms, critical_load)
+from lcefem.solvers.problems.kapton_specimen_bh import (
+    KaptonSpecimenConfig,
+    KaptonSpecimenRun,
+    closed_forms,
+    critical_load,
+)
 from lcefem.solvers.registry import body
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 QUICK = os.environ.get("LCEFEM_EXAMPLE_QUICK") == "1"
-OUT = pathlib.Path(os.environ.get("LCEFEM_EXAMPLE_OUT", "results/examples")) / "ex03_kapton_buckling"
+OUT = (
+    pathlib.Path(os.environ.get("LCEFEM_EXAMPLE_OUT", "results/examples")) / "ex03_kapton_buckling"
+)
 COMPRESSION = 0.05 if QUICK else 0.5  # end shortening / length [-]
 
 # Bar-and-hinge: the shortening path (history.csv: compression, force) and the bifurcation load.
@@ -59,9 +65,17 @@ for name, value in euler.items():
     ax.axhline(value, ls=":", lw=1, color="grey")
     ax.annotate(name, (COMPRESSION, value), ha="right", va="bottom", fontsize=7)
 ax.axhline(p_fe, ls="--", color="C1", label=f"FE linearised buckling (level 0): {p_fe:.3f} N")
-ax.plot([shortening_bh / config.specimen.length], [p_bh], "ko",
-        label=f"bar-and-hinge bifurcation: {p_bh:.3f} N")
-ax.set(xlabel="end shortening / length [-]", ylabel="compressive force [N]", title="Kapton ribbon buckling")
+ax.plot(
+    [shortening_bh / config.specimen.length],
+    [p_bh],
+    "ko",
+    label=f"bar-and-hinge bifurcation: {p_bh:.3f} N",
+)
+ax.set(
+    xlabel="end shortening / length [-]",
+    ylabel="compressive force [N]",
+    title="Kapton ribbon buckling",
+)
 ax.legend(fontsize=7, loc="lower right")
 fig.tight_layout()
 fig.savefig(OUT / "ex03_kapton_buckling.png", dpi=100)

@@ -38,7 +38,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 OUT = pathlib.Path(os.environ.get("LCEFEM_EXAMPLE_OUT", "results/examples")) / "ex04_rolling_ribbon"
 DURATION = 15.0  # [s] on the plate
 
-config = RibbonConfig(run=RibbonRun(ground_temperature=100.0, duration=DURATION, output_interval=0.0))
+config = RibbonConfig(
+    run=RibbonRun(ground_temperature=100.0, duration=DURATION, output_interval=0.0)
+)
 ribbon = body("ribbon").runner()(config, OUT, progress=False)  # a RibbonResult
 h = ribbon.history
 

@@ -20,8 +20,8 @@ Key number
     The dome's circle curvature kappa_x [1/mm] (stored value; by the dome's symmetry kappa_y is the
     same).
 
-Run: ``python docs/examples/ex05_gridshell_bh.py`` (the same at ``LCEFEM_EXAMPLE_QUICK=1``; output in
-``results/examples/ex05_gridshell_bh`` or ``$LCEFEM_EXAMPLE_OUT``).
+Run: ``python docs/examples/ex05_gridshell_bh.py`` (the same at ``LCEFEM_EXAMPLE_QUICK=1``; output
+in ``results/examples/ex05_gridshell_bh`` or ``$LCEFEM_EXAMPLE_OUT``).
 """
 
 import os
@@ -49,8 +49,12 @@ fig = plt.figure(figsize=(5.5, 4.2))
 ax = fig.add_subplot(projection="3d")
 x, y, z = (nodes[n] for n in nodes.dtype.names[-3:])
 ax.scatter(x, y, z, c=z, s=2, cmap="viridis")
-ax.set(xlabel="x [mm]", ylabel="y [mm]", zlabel="z [mm]",
-       title=f"dome (Tx Ty 1.33, Bx By 1.05)\nkappa_x, kappa_y = {kx:.4f}, {ky:.4f} 1/mm")
+ax.set(
+    xlabel="x [mm]",
+    ylabel="y [mm]",
+    zlabel="z [mm]",
+    title=f"dome (Tx Ty 1.33, Bx By 1.05)\nkappa_x, kappa_y = {kx:.4f}, {ky:.4f} 1/mm",
+)
 ax.set_box_aspect((1, 1, 0.4))
 fig.tight_layout()
 fig.savefig(OUT / "ex05_gridshell_bh.png", dpi=100)

@@ -50,7 +50,9 @@ for route in routes:
 dome = SHAPE_DRIVES["dome"]["currents"]  # Fig. 4 dome hold currents per channel [A]
 held = routes[0].lambdas(dome)
 ax.plot(list(dome.values()), list(held.values()), "ko", label="dome's hold currents (lumped)")
-ax.set(xlabel="coil current [A]", ylabel="steady lambda [-]", title="current -> lambda of a grid strip")
+ax.set(
+    xlabel="coil current [A]", ylabel="steady lambda [-]", title="current -> lambda of a grid strip"
+)
 ax.legend()
 fig.tight_layout()
 fig.savefig(OUT / "ex06_current_routes.png", dpi=100)

@@ -22,9 +22,10 @@ the coarser mesh; output in ``results/examples/ex07_own_robot`` or ``$LCEFEM_EXA
 import os
 import pathlib
 
+from mpi4py import MPI
+
 import matplotlib
 import numpy as np
-from mpi4py import MPI
 
 from lcefem.solvers.problems.body import run_body
 from lcefem.solvers.problems.body_case import load_case
@@ -47,7 +48,11 @@ if MPI.COMM_WORLD.rank == 0:
     fig, ax = plt.subplots(figsize=(5.5, 3.4))
     ax.plot(history["time_s"], history["T_max_C"], "o-", ms=3, label="T_max")
     ax.plot(history["time_s"], history["T_mean_C"], "s-", ms=3, label="T_mean")
-    ax.set(xlabel="time [s]", ylabel="temperature [C]", title="own robot: examples/bodies/strip at 0.2 A")
+    ax.set(
+        xlabel="time [s]",
+        ylabel="temperature [C]",
+        title="own robot: examples/bodies/strip at 0.2 A",
+    )
     ax.legend()
     fig.tight_layout()
     fig.savefig(OUT / "ex07_own_robot.png", dpi=100)

@@ -18,17 +18,19 @@ Equations
 Key number
     kappa_circle_x at the end of the ramp [1/mm] (stored value; level 0, the coarsest mesh).
 
-Run: ``python docs/examples/ex08_gridshell_fe.py`` (the same at ``LCEFEM_EXAMPLE_QUICK=1``: the level-0
-quarter is the coarsest; output in ``results/examples/ex08_gridshell_fe`` or ``$LCEFEM_EXAMPLE_OUT``).
-Also under MPI: ``mpiexec -n 2 python docs/examples/ex08_gridshell_fe.py``.
+Run: ``python docs/examples/ex08_gridshell_fe.py`` (the same at ``LCEFEM_EXAMPLE_QUICK=1``: the
+level-0 quarter is the coarsest; output in ``results/examples/ex08_gridshell_fe`` or
+``$LCEFEM_EXAMPLE_OUT``). Also under MPI: ``mpiexec -n 2 python
+docs/examples/ex08_gridshell_fe.py``.
 """
 
 import os
 import pathlib
 
+from mpi4py import MPI
+
 import matplotlib
 import numpy as np
-from mpi4py import MPI
 
 from lcefem.meshes.gridshell_fe import GridshellFEMesh
 from lcefem.solvers.exports import History
@@ -53,10 +55,17 @@ run(shell, program, [history], OUT, config={"cells": config.cells, "level": 0}, 
 if MPI.COMM_WORLD.rank == 0:
     history = np.genfromtxt(OUT / "history.csv", delimiter=",", names=True)
     fig, ax = plt.subplots(figsize=(5.5, 3.4))
-    ax.plot(history["load_fraction_"], history["kappa_circle_x_1mm"], "o-", label="kappa_x (circle)")
-    ax.plot(history["load_fraction_"], history["kappa_circle_y_1mm"], "s--", label="kappa_y (circle)")
-    ax.set(xlabel="load fraction [-]", ylabel="centre curvature [1/mm]",
-           title=f"FE dome, {config.cells} x {config.cells} grid, level 0 quarter")
+    ax.plot(
+        history["load_fraction_"], history["kappa_circle_x_1mm"], "o-", label="kappa_x (circle)"
+    )
+    ax.plot(
+        history["load_fraction_"], history["kappa_circle_y_1mm"], "s--", label="kappa_y (circle)"
+    )
+    ax.set(
+        xlabel="load fraction [-]",
+        ylabel="centre curvature [1/mm]",
+        title=f"FE dome, {config.cells} x {config.cells} grid, level 0 quarter",
+    )
     ax.legend()
     fig.tight_layout()
     fig.savefig(OUT / "ex08_gridshell_fe.png", dpi=100)

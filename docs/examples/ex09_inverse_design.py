@@ -18,8 +18,9 @@ Key number
     The centre curvature kappa_x reached by the forward check [1/mm]; it must equal the target
     within 1e-4 1/mm (the design's tolerance).
 
-Run: ``python docs/examples/ex09_inverse_design.py`` (``LCEFEM_EXAMPLE_QUICK=1``: one grid cell instead of
-the 3 x 3 grid; output in ``results/examples/ex09_inverse_design`` or ``$LCEFEM_EXAMPLE_OUT``).
+Run: ``python docs/examples/ex09_inverse_design.py`` (``LCEFEM_EXAMPLE_QUICK=1``: one grid cell
+instead of the 3 x 3 grid; output in ``results/examples/ex09_inverse_design`` or
+``$LCEFEM_EXAMPLE_OUT``).
 """
 
 import os
@@ -29,8 +30,8 @@ import matplotlib
 import numpy as np
 
 from lcefem.meshes.gridshell import GridshellLayout
-from lcefem.validation.studies.design import gridshell_design as design
 from lcefem.validation.cases.programs import SHAPE_DRIVES
+from lcefem.validation.studies.design import gridshell_design as design
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -49,11 +50,22 @@ fig, (a, b) = plt.subplots(1, 2, figsize=(8, 3.2))
 idx = np.arange(len(problem.names))
 a.bar(idx - 0.2, p_dome, 0.4, label="dome (Fig. 4)")
 a.bar(idx + 0.2, found.p, 0.4, label="found")
-a.set(xticks=idx, xticklabels=problem.names, ylim=(1.0, 1.45), ylabel="lambda [-]", title="channel lambdas")
+a.set(
+    xticks=idx,
+    xticklabels=problem.names,
+    ylim=(1.0, 1.45),
+    ylabel="lambda [-]",
+    title="channel lambdas",
+)
 a.legend(fontsize=8)
 b.bar([0, 1], [target["circle_x"], target["circle_y"]], 0.4, label="target")
 b.bar([0.4, 1.4], [reached["circle_x"], reached["circle_y"]], 0.4, label="reached")
-b.set(xticks=[0.2, 1.2], xticklabels=["kappa_x", "kappa_y"], ylabel="curvature [1/mm]", title="curvatures")
+b.set(
+    xticks=[0.2, 1.2],
+    xticklabels=["kappa_x", "kappa_y"],
+    ylabel="curvature [1/mm]",
+    title="curvatures",
+)
 b.legend(fontsize=8)
 fig.tight_layout()
 fig.savefig(OUT / "ex09_inverse_design.png", dpi=100)

@@ -22,8 +22,8 @@ Key number
     open loop's (stored value; quick: 120 s settling on the tangent map, normal: 300 s with
     re-anchoring full solves).
 
-Run: ``python docs/examples/ex10_control.py`` (``LCEFEM_EXAMPLE_QUICK=1``: the short scenario; output in
-``results/examples/ex10_control`` or ``$LCEFEM_EXAMPLE_OUT``).
+Run: ``python docs/examples/ex10_control.py`` (``LCEFEM_EXAMPLE_QUICK=1``: the short scenario;
+output in ``results/examples/ex10_control`` or ``$LCEFEM_EXAMPLE_OUT``).
 """
 
 import os
@@ -48,8 +48,10 @@ else:
 
 surface = control.build_surface("dome", SHAPE_DRIVES["dome"])
 plant = control.draw_plant(surface, PlantSpread(), seed=2)  # one drawn set of real strips
-loops = {name: control.simulate(surface, plant, feedback=feedback, scenario=scenario, seed=1)
-         for name, feedback in (("open loop", False), ("closed loop", True))}
+loops = {
+    name: control.simulate(surface, plant, feedback=feedback, scenario=scenario, seed=1)
+    for name, feedback in (("open loop", False), ("closed loop", True))
+}
 
 fig, (a, b) = plt.subplots(1, 2, figsize=(8, 3.2))
 for name, r in loops.items():

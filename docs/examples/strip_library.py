@@ -1,5 +1,6 @@
 """Scripting lcefem from Python (docs/library.md): the thermo-mechanical strip with prescribed
-spontaneous-stretch and temperature fields, a custom support, and the Kapton specimen's buckling load.
+spontaneous-stretch and temperature fields, a custom support, and the Kapton specimen's buckling
+load.
 
 Run: ``python docs/examples/strip_library.py [--level L] [--out DIR]`` (level 0: about 10 s on one
 core). tests/test_library_example.py runs it at level 0 and checks its numbers.
@@ -24,8 +25,9 @@ def main(level: int = 0, out: pathlib.Path | None = None) -> dict[str, float]:
 
     # 1. A free strip (no current) at a uniform spontaneous stretch: with no load it takes exactly
     #    that length relative to its isotropic length.
-    free = StripSimulation(StripConfig(run=StripRun(bc="free", current=0.0),
-                                       mesh=StripMesh(level=level)))
+    free = StripSimulation(
+        StripConfig(run=StripRun(bc="free", current=0.0), mesh=StripMesh(level=level))
+    )
     free.set_spontaneous_stretch(1.2)
     results["free strip stretch at lambda_s = 1.2 [-]"] = free.observables()["stretch [-]"]
 
@@ -38,8 +40,9 @@ def main(level: int = 0, out: pathlib.Path | None = None) -> dict[str, float]:
     results["free strip stretch, graded 1.35 -> 1.25 [-]"] = free.observables()["stretch [-]"]
 
     # 3. Held strip (both ends clamped at the as-built length): the force of a uniform stretch.
-    held = StripSimulation(StripConfig(run=StripRun(bc="held", current=0.0),
-                                       mesh=StripMesh(level=level)))
+    held = StripSimulation(
+        StripConfig(run=StripRun(bc="held", current=0.0), mesh=StripMesh(level=level))
+    )
     held.set_spontaneous_stretch(1.2)
     results["held strip force at lambda_s = 1.2 [N]"] = held.observables()["force [N]"]
 

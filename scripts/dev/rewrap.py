@@ -40,8 +40,12 @@ def docstring_owners(tree: ast.AST):
     for node in ast.walk(tree):
         if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
             body = node.body
-            if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
-                    and isinstance(body[0].value.value, str):
+            if (
+                body
+                and isinstance(body[0], ast.Expr)
+                and isinstance(body[0].value, ast.Constant)
+                and isinstance(body[0].value.value, str)
+            ):
                 yield body[0].value, node
 
 
@@ -59,18 +63,29 @@ def normalized(source: str) -> str:
 
 
 def docstring_rows(source: str) -> dict[int, tuple[int, int, int, bool]]:
-    """{row: (base indentation, first row, last row, a module's)} of every docstring row (1-based)."""
+    """{row: (base indentation, first row, last row, a module's)} of every docstring row
+    (1-based)."""
     out = {}
     lines = source.split("\n")
     for node, owner in docstring_owners(ast.parse(source)):
         rows = range(node.lineno + 1, node.end_lineno + 1)
-        base = min((len(lines[r - 1]) - len(lines[r - 1].lstrip(" ")) for r in rows
-                    if lines[r - 1].strip()), default=None)
+        base = min(
+            (
+                len(lines[r - 1]) - len(lines[r - 1].lstrip(" "))
+                for r in rows
+                if lines[r - 1].strip()
+            ),
+            default=None,
+        )
         first = lines[node.lineno - 1]
         if base is None:  # a one-line docstring: its continuation aligns with the quotes
             base = len(first) - len(first.lstrip(" "))
-        out.update({r: (base, node.lineno, node.end_lineno, isinstance(owner, ast.Module))
-                    for r in range(node.lineno, node.end_lineno + 1)})
+        out.update(
+            {
+                r: (base, node.lineno, node.end_lineno, isinstance(owner, ast.Module))
+                for r in range(node.lineno, node.end_lineno + 1)
+            }
+        )
     return out
 
 
@@ -91,7 +106,7 @@ def carry(lines: list[str], i: int, prefix: str, cont_prefix: str, limit: int, j
     ``joinable(line)`` says it continues the paragraph (and it then still fits or is cut in its
     turn), or becomes a new line ``cont_prefix`` + tail. True if something changed."""
     line = lines[i]
-    text = line[len(prefix):]
+    text = line[len(prefix) :]
     cut = split_at(text, limit - len(prefix))
     if not cut:
         return False
@@ -99,7 +114,7 @@ def carry(lines: list[str], i: int, prefix: str, cont_prefix: str, limit: int, j
     lines[i] = prefix + head
     nxt = lines[i + 1] if i + 1 < len(lines) else None
     if nxt is not None and joinable(nxt):
-        lines[i + 1] = cont_prefix + tail + " " + nxt[len(cont_prefix):]
+        lines[i + 1] = cont_prefix + tail + " " + nxt[len(cont_prefix) :]
     else:
         lines.insert(i + 1, cont_prefix + tail)
     return True
@@ -119,9 +134,14 @@ def rewrap_comments(source: str, limit: int) -> str:
             prefix = m.group(1) + m.group(2)
 
             def joinable(nxt, prefix=prefix):
-                rest = nxt[len(prefix):]
-                return (nxt.startswith(prefix) and rest[:1].strip() and not BULLET.match(rest)
-                        and not PRAGMA.search(nxt) and not rest.startswith(("#", " ")))
+                rest = nxt[len(prefix) :]
+                return (
+                    nxt.startswith(prefix)
+                    and rest[:1].strip()
+                    and not BULLET.match(rest)
+                    and not PRAGMA.search(nxt)
+                    and not rest.startswith(("#", " "))
+                )
 
             if carry(lines, i, prefix, prefix, limit, joinable):
                 changed = True
@@ -160,9 +180,14 @@ def rewrap_docstrings(source: str, limit: int) -> str:
                 continue  # a literal block, a usage line, a table: as written
 
             def joinable(nxt, cont=cont, n=n, last=last):
-                r = nxt[len(cont):]
-                return (n + 1 <= last and nxt.startswith(cont) and r[:1].strip() and not BULLET.match(r)
-                        and not r.startswith(('"""', "'''", ">>>", "..", ":")))
+                r = nxt[len(cont) :]
+                return (
+                    n + 1 <= last
+                    and nxt.startswith(cont)
+                    and r[:1].strip()
+                    and not BULLET.match(r)
+                    and not r.startswith(('"""', "'''", ">>>", "..", ":"))
+                )
 
             if carry(lines, i, prefix, cont, limit, joinable):
                 changed = True
@@ -209,8 +234,8 @@ def rewrap_strings(source: str, limit: int) -> str:
             cut = body.rfind(" ", 0, width)
             if cut <= 0:
                 break
-            pieces.append(body[:cut + 1])
-            body = body[cut + 1:]
+            pieces.append(body[: cut + 1])
+            body = body[cut + 1 :]
             width = max(limit - col - 2 - len(pre) - 1, 20)
         if not pieces:
             continue
@@ -251,16 +276,27 @@ def rewrap_fstrings(source: str, limit: int) -> str:
                 level += 1
             elif t.type == tokenize.OP and t.string == "}":
                 level -= 1
-            elif t.type == tokenize.FSTRING_MIDDLE and level == 0 and nest == 1 and t.start[0] == t.end[0]:
-                text = lines[t.start[0] - 1][t.start[1]:t.end[1]]
+            elif (
+                t.type == tokenize.FSTRING_MIDDLE
+                and level == 0
+                and nest == 1
+                and t.start[0] == t.end[0]
+            ):
+                text = lines[t.start[0] - 1][t.start[1] : t.end[1]]
                 cuts += [t.start[1] + i + 1 for i, ch in enumerate(text) if ch == " "]
             j += 1
         end = toks[j - 1]
         row, col = tok.start
         line = lines[row - 1]
         quote = tok.string[-1]
-        simple = (end.start[0] == row and len(line) > limit and depth > 0 and len(tok.string) <= 3
-                  and "{{" not in line[col:end.end[1]] and "}}" not in line[col:end.end[1]])
+        simple = (
+            end.start[0] == row
+            and len(line) > limit
+            and depth > 0
+            and len(tok.string) <= 3
+            and "{{" not in line[col : end.end[1]]
+            and "}}" not in line[col : end.end[1]]
+        )
         if simple:
             body_start, body_end = col + len(tok.string), end.start[1]
             pieces, start, room = [], body_start, limit - 1
@@ -276,7 +312,11 @@ def rewrap_fstrings(source: str, limit: int) -> str:
                 out = []
                 for a, b in pieces:
                     piece = line[a:b]
-                    pre = tok.string[:-1] if "{" in piece else tok.string[:-1].replace("f", "").replace("F", "")
+                    pre = (
+                        tok.string[:-1]
+                        if "{" in piece
+                        else tok.string[:-1].replace("f", "").replace("F", "")
+                    )
                     out.append(f"{pre}{quote}{piece}{quote}")
                 edits.append((row, col, end.end[1], ("\n" + " " * col).join(out)))
         k = j
@@ -290,7 +330,7 @@ def comment_rows(source: str) -> set[int]:
     """Rows (1-based) holding a comment and nothing else."""
     rows = set()
     for tok in tokenize.generate_tokens(io.StringIO(source).readline):
-        if tok.type == tokenize.COMMENT and not tok.line[:tok.start[1]].strip():
+        if tok.type == tokenize.COMMENT and not tok.line[: tok.start[1]].strip():
             rows.add(tok.start[0])
     return rows
 
@@ -303,7 +343,8 @@ def rewrap(source: str, limit: int) -> str:
 
 
 def kind(source: str, row: int, cache: dict) -> str:
-    """What makes line ``row`` long: comment, inline comment, docstring, module summary, string, code."""
+    """What makes line ``row`` long: comment, inline comment, docstring, module summary, string,
+    code."""
     if "tokens" not in cache:
         cache["tokens"] = list(tokenize.generate_tokens(io.StringIO(source).readline))
         cache["doc"] = docstring_rows(source)
@@ -312,11 +353,15 @@ def kind(source: str, row: int, cache: dict) -> str:
         base, first, last, module = doc[row]
         if row == first and module:
             return "module summary line (a command's --help)"
-        return "docstring: summary line" if row == first else "docstring: literal block, table or usage"
+        return (
+            "docstring: summary line"
+            if row == first
+            else "docstring: literal block, table or usage"
+        )
     for tok in cache["tokens"]:
         if tok.start[0] <= row <= tok.end[0]:
             if tok.type == tokenize.COMMENT:
-                return "inline comment" if tok.line[:tok.start[1]].strip() else "comment"
+                return "inline comment" if tok.line[: tok.start[1]].strip() else "comment"
             if tok.type == tokenize.STRING or tok.type == getattr(tokenize, "FSTRING_START", None):
                 if tok.type != tokenize.STRING or tok.string[:1] in "fF":
                     return "f-string"
@@ -339,8 +384,9 @@ def report(lines: list[str]) -> str:
         k = kind(sources[name], row, caches.setdefault(name, {}))
         counts[k] = counts.get(k, 0) + 1
     total = sum(counts.values())
-    return f"E501 left: {total}" + "".join(f"\n  {n:5d}  {k}" for k, n in
-                                         sorted(counts.items(), key=lambda kv: -kv[1]))
+    return f"E501 left: {total}" + "".join(
+        f"\n  {n:5d}  {k}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1])
+    )
 
 
 def main(argv=None) -> int:
@@ -348,14 +394,21 @@ def main(argv=None) -> int:
     parser.add_argument("files", nargs="*")
     parser.add_argument("--limit", type=int, default=100)
     parser.add_argument("--check", action="store_true")
-    parser.add_argument("--report", action="store_true",
-                        help="read ruff's E501 findings (--output-format concise) on stdin, count them by kind")
+    parser.add_argument(
+        "--report",
+        action="store_true",
+        help="read ruff's E501 findings (--output-format concise) on stdin, count them by kind",
+    )
     args = parser.parse_args(argv)
     if args.report:
         print(report(sys.stdin.read().splitlines()))
         return 0
-    files = args.files or [str(ROOT / f) for f in subprocess.run(
-        ["git", "ls-files", "*.py"], cwd=ROOT, capture_output=True, text=True, check=True).stdout.split()]
+    files = args.files or [
+        str(ROOT / f)
+        for f in subprocess.run(
+            ["git", "ls-files", "*.py"], cwd=ROOT, capture_output=True, text=True, check=True
+        ).stdout.split()
+    ]
     changed, refused = [], []
     for name in files:
         path = pathlib.Path(name)
@@ -375,7 +428,9 @@ def main(argv=None) -> int:
             path.write_text(new, encoding="utf-8")
     print(f"rewrap: {len(changed)} files {'to rewrap' if args.check else 'rewrapped'}")
     if refused:
-        print("rewrap: left as they were (the syntax tree would change):\n  " + "\n  ".join(refused))
+        print(
+            "rewrap: left as they were (the syntax tree would change):\n  " + "\n  ".join(refused)
+        )
     return 0
 
 

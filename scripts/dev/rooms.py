@@ -16,8 +16,8 @@ What it does, in order (docs/layout.md says where things go and why):
 3. rewrites every reference in the tracked text files (:func:`rewrite_text`): dotted
    ``lcefem.validation.<name>`` names (imports, "module:attr" registry strings, CASE_MODULES,
    monkeypatch strings, ``python -m``), ``from lcefem.validation import a, b`` lines (split by the
-   names' new packages), repository paths ``validation/<module>.py`` and folders, the benchmarks' imports
-   of each other and their ``python -m`` (now ``python benchmarks/<script>.py``);
+   names' new packages), repository paths ``validation/<module>.py`` and folders, the benchmarks'
+   imports of each other and their ``python -m`` (now ``python benchmarks/<script>.py``);
 4. pyproject.toml: the packages list regenerated from the folders, pytest's pythonpath (the tests
    import the benchmark scripts by name), ruff's src; tests/test_layers.py: the rooms' rules;
 5. checks that no import of an old module remains (exit 1 naming the file and line otherwise).
@@ -92,13 +92,33 @@ MOVES: dict[str, str | None] = {
     "validation/programs.py": "validation/cases/programs.py",
     # scripts, out of the package: benchmarks/ (calibration/ inside)
     "validation/benchmarks/__init__.py": "benchmarks/timing.py",
-    **{f"validation/benchmarks/{n}.py": f"benchmarks/{n}.py" for n in (
-        "bar_hinge_benchmark", "beam_fe_benchmark", "body_vs_dedicated", "control_benchmark",
-        "der_benchmark", "dismech_benchmark", "fe_benchmark", "gridshell_benchmark",
-        "gridshell_fe_benchmark", "gridshell_fe_dome_levels", "gridshell_fe_speed", "knife_edges",
-        "layout_benchmark", "linear_solver_benchmark", "reach_benchmark", "ribbon_benchmark",
-        "ribbon_convergence", "ribbon_curve_shape", "ribbon_heat_study", "ribbon_material_scan",
-        "ribbon_speed_windows", "strip_benchmark")},
+    **{
+        f"validation/benchmarks/{n}.py": f"benchmarks/{n}.py"
+        for n in (
+            "bar_hinge_benchmark",
+            "beam_fe_benchmark",
+            "body_vs_dedicated",
+            "control_benchmark",
+            "der_benchmark",
+            "dismech_benchmark",
+            "fe_benchmark",
+            "gridshell_benchmark",
+            "gridshell_fe_benchmark",
+            "gridshell_fe_dome_levels",
+            "gridshell_fe_speed",
+            "knife_edges",
+            "layout_benchmark",
+            "linear_solver_benchmark",
+            "reach_benchmark",
+            "ribbon_benchmark",
+            "ribbon_convergence",
+            "ribbon_curve_shape",
+            "ribbon_heat_study",
+            "ribbon_material_scan",
+            "ribbon_speed_windows",
+            "strip_benchmark",
+        )
+    },
     "validation/calibration/__init__.py": None,
     "validation/calibration/calibrate_thermal.py": "benchmarks/calibration/calibrate_thermal.py",
     "validation/calibration/fit_isotropic_law.py": "benchmarks/calibration/fit_isotropic_law.py",
@@ -110,38 +130,55 @@ STAYS = ("validation/__init__.py", "validation/cases/", "validation/data/")
 ROOMS = ("validation/app/", "validation/studies/")
 
 #: folders that moved as a whole (a path naming the folder, or a file not listed above, follows it)
-FOLDERS = {"validation/commands": "validation/app/commands", "validation/benchmarks": "benchmarks",
-           "validation/calibration": "benchmarks/calibration"}
+FOLDERS = {
+    "validation/commands": "validation/app/commands",
+    "validation/benchmarks": "benchmarks",
+    "validation/calibration": "benchmarks/calibration",
+}
 
 #: the script folders (outside the package): a module there is imported by its bare name
-SCRIPT_FOLDERS = {"validation/benchmarks": "benchmarks", "validation/calibration": "benchmarks/calibration"}
+SCRIPT_FOLDERS = {
+    "validation/benchmarks": "benchmarks",
+    "validation/calibration": "benchmarks/calibration",
+}
 #: names the benchmarks' package exported, now in a module of their folder
 SCRIPT_PACKAGE_NAMES = {"best_of": "timing"}
 
 NEW_PACKAGES = {
-    "validation/app/__init__.py":
-        "The application: the ``lcefem`` command line, its commands, case files, the farm, the report.",
-    "validation/studies/__init__.py":
-        "The studies, one folder per topic: what the cases and commands compute beyond a body's run.",
+    "validation/app/__init__.py": "The application: the ``lcefem`` command line, its commands, "
+    "case files, the farm, the report.",
+    "validation/studies/__init__.py": "The studies, one folder per topic: what the cases and "
+    "commands compute beyond a body's run.",
     "validation/studies/beam/__init__.py": "Studies of the composite beam (seed 001, Fig. 3).",
     "validation/studies/ribbon/__init__.py": "Studies of the rolling twisted ribbon (seed 000).",
-    "validation/studies/gridshell/__init__.py":
-        "Studies of the robotic surface, the gridshell (seed 001, Fig. 4 and 5).",
-    "validation/studies/design/__init__.py": "Inverse design and closed-loop control of the robotic surface.",
-    "validation/studies/verification/__init__.py":
-        "Verification: manufactured solutions, the rod's closed forms, the grid convergence index.",
+    "validation/studies/gridshell/__init__.py": "Studies of the robotic surface, the gridshell "
+    "(seed 001, Fig. 4 and 5).",
+    "validation/studies/design/__init__.py": "Inverse design and closed-loop control of the "
+    "robotic surface.",
+    "validation/studies/verification/__init__.py": "Verification: manufactured solutions, the "
+    "rod's closed forms, the grid convergence "
+    "index.",
 }
 
 #: tracked files whose text is rewritten: these suffixes and names, minus SKIP
 TEXT_SUFFIXES = (".py", ".md", ".toml", ".sh", ".cfg", ".txt", ".rst", ".yml", ".yaml", ".ini")
 TEXT_NAMES = ("Makefile", ".ci/run")
-SKIP = ("docs/notes/", "docs/experiments/", "CHANGELOG.md", "validation/data/", "scripts/dev/",
-        "tests/regression/data/")
+SKIP = (
+    "docs/notes/",
+    "docs/experiments/",
+    "CHANGELOG.md",
+    "validation/data/",
+    "scripts/dev/",
+    "tests/regression/data/",
+)
 
 LAYERS_MARKER = "# The rooms of validation/ (docs/layout.md), written by scripts/dev/rooms.py."
-LAYERS_RULES = '''
+LAYERS_RULES = (
+    '''
 
-''' + LAYERS_MARKER + '''
+'''
+    + LAYERS_MARKER
+    + '''
 APP, STUDIES, CASES = "lcefem.validation.app", "lcefem.validation.studies", "lcefem.validation.cases"
 #: the application's doors: the command line and the commands' drivers, imported by the application only
 DOORS = ("lcefem.validation.app.cli", "lcefem.validation.app.commands", "lcefem.validation.app.validate",
@@ -199,14 +236,18 @@ def test_the_package_never_imports_the_scripts():
            if module.split(".")[0] in [*SCRIPTS, "benchmarks"]]
     assert not bad, "\\n".join(bad)
 '''
+)
 
 
 def git(*args: str) -> str:
-    return subprocess.run(["git", *args], cwd=ROOT, check=True, capture_output=True, text=True).stdout
+    return subprocess.run(
+        ["git", *args], cwd=ROOT, check=True, capture_output=True, text=True
+    ).stdout
 
 
 def dotted(path: str) -> str | None:
-    """``lcefem.validation.<package>.<module>`` of a package path, None for a script outside the package."""
+    """``lcefem.validation.<package>.<module>`` of a package path, None for a script outside the
+    package."""
     p = pathlib.PurePosixPath(path)
     if p.parts[0] != "validation":
         return None
@@ -244,7 +285,7 @@ def folder_moves(files: list[str]) -> dict[str, str]:
     for f in files:
         for old, new in FOLDERS.items():
             if f.startswith(old + "/") and f not in MOVES and f.endswith(".py"):
-                out[f] = new + f[len(old):]
+                out[f] = new + f[len(old) :]
     return out
 
 
@@ -342,9 +383,12 @@ DOTTED = re.compile(r"(?<![\w.])" + OLD_NAME)
 #: python -m of a script, and its argv form ("-m", "lcefem.validation.benchmarks.x")
 RUN_M = re.compile(r"-m\s+" + OLD_NAME)
 RUN_M_LIST = re.compile(r"""(["'])-m\1,\s*(["'])""" + OLD_NAME + r"\2")
-FROM_IMPORT = re.compile(r"^([ \t]*)from\s+lcefem\.validation(\.[\w.]+)?\s+import\s+([\w ,]+?)[ \t]*(#.*)?$",
-                         re.M)
-FROM_IMPORT_PAREN = re.compile(r"^([ \t]*)from\s+lcefem\.validation(\.[\w.]+)?\s+import\s+\(([^)]*)\)", re.M)
+FROM_IMPORT = re.compile(
+    r"^([ \t]*)from\s+lcefem\.validation(\.[\w.]+)?\s+import\s+([\w ,]+?)[ \t]*(#.*)?$", re.M
+)
+FROM_IMPORT_PAREN = re.compile(
+    r"^([ \t]*)from\s+lcefem\.validation(\.[\w.]+)?\s+import\s+\(([^)]*)\)", re.M
+)
 PATH = re.compile(r"(?<![\w/.-])validation/((?:[\w-]+/)*[\w-]+(?:\.\w+)?)")
 
 
@@ -393,7 +437,9 @@ def rewrite_imports(text: str, here: str) -> str:
                     groups.setdefault("import", []).append(item)
                 continue
             if package in SCRIPTS:  # from a script import names
-                groups.setdefault(f"from {pathlib.PurePosixPath(SCRIPTS[package]).stem}", []).append(item)
+                groups.setdefault(
+                    f"from {pathlib.PurePosixPath(SCRIPTS[package]).stem}", []
+                ).append(item)
                 continue
             hit = longest(full, MODULES)
             if hit and hit[0] == full:  # a module moved: import it from its new package
@@ -424,7 +470,9 @@ def rewrite_text(text: str, here: str) -> str:
         if not target:
             return m.group(0)
         if pathlib.PurePosixPath(target).stem != stem:
-            raise SystemExit(f"rooms: {here} runs another script by -m ({m.group(3)}): rewrite it by hand")
+            raise SystemExit(
+                f"rooms: {here} runs another script by -m ({m.group(3)}): rewrite it by hand"
+            )
         # the script runs itself in a child process: by its path, as it is now run
         return "__file__"
 
@@ -436,7 +484,7 @@ def rewrite_text(text: str, here: str) -> str:
         full = "lcefem.validation." + m.group(1)
         hit = longest(full, MODULES)
         if hit:
-            return hit[1] + full[len(hit[0]):]
+            return hit[1] + full[len(hit[0]) :]
         path = script_path(full)
         if path and full in SCRIPTS:
             return path
@@ -462,8 +510,13 @@ def rewrite_text(text: str, here: str) -> str:
 
 def text_files() -> list[str]:
     files = git("ls-files").splitlines()
-    return [f for f in files if (f.endswith(TEXT_SUFFIXES) or f in TEXT_NAMES)
-            and not f.startswith(SKIP) and (ROOT / f).is_file()]
+    return [
+        f
+        for f in files
+        if (f.endswith(TEXT_SUFFIXES) or f in TEXT_NAMES)
+        and not f.startswith(SKIP)
+        and (ROOT / f).is_file()
+    ]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -471,12 +524,19 @@ def text_files() -> list[str]:
 
 
 def packages_block() -> str:
-    roots = {"models": "lcefem.models", "meshes": "lcefem.meshes", "solvers": "lcefem.solvers",
-             "validation": "lcefem.validation"}
+    roots = {
+        "models": "lcefem.models",
+        "meshes": "lcefem.meshes",
+        "solvers": "lcefem.solvers",
+        "validation": "lcefem.validation",
+    }
     names = []
     for folder, package in roots.items():
-        subs = sorted(".".join([package, *init.parent.relative_to(ROOT / folder).parts])
-                      for init in (ROOT / folder).rglob("__init__.py") if init.parent != ROOT / folder)
+        subs = sorted(
+            ".".join([package, *init.parent.relative_to(ROOT / folder).parts])
+            for init in (ROOT / folder).rglob("__init__.py")
+            if init.parent != ROOT / folder
+        )
         names += [package, *subs]
     return "packages = [\n" + "".join(f'    "{n}",\n' for n in names) + "]"
 
@@ -484,13 +544,19 @@ def packages_block() -> str:
 def rewrite_pyproject(text: str) -> str:
     text = re.sub(r"packages = \[\n(?:    \"[^\"\n]+\",\n)*\]", packages_block(), text, count=1)
     if "pythonpath" not in text:
-        text = text.replace('testpaths = ["tests"]\n',
-                            'testpaths = ["tests"]\n# the benchmark scripts (benchmarks/, not installed) import '
-                            'each other by name, as the tests do\npythonpath = ["benchmarks"]\n', 1)
+        text = text.replace(
+            'testpaths = ["tests"]\n',
+            'testpaths = ["tests"]\n# the benchmark scripts (benchmarks/, not installed) import '
+            'each other by name, as the tests do\npythonpath = ["benchmarks"]\n',
+            1,
+        )
     if "\nsrc = " not in text:
-        text = text.replace('target-version = "py312"\n',
-                            'target-version = "py312"\n# benchmarks/: scripts importing each other by name '
-                            '(first-party to the import order)\nsrc = [".", "benchmarks"]\n', 1)
+        text = text.replace(
+            'target-version = "py312"\n',
+            'target-version = "py312"\n# benchmarks/: scripts importing each other by name '
+            '(first-party to the import order)\nsrc = [".", "benchmarks"]\n',
+            1,
+        )
     return text
 
 
@@ -500,8 +566,11 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     missing = unplaced(git("ls-files", "validation").splitlines())
     if missing:
-        print("rooms: files of validation/ without a room in scripts/dev/rooms.py MOVES "
-              "(add each, or a folder to STAYS):\n  " + "\n  ".join(missing), file=sys.stderr)
+        print(
+            "rooms: files of validation/ without a room in scripts/dev/rooms.py MOVES "
+            "(add each, or a folder to STAYS):\n  " + "\n  ".join(missing),
+            file=sys.stderr,
+        )
         return 2
     for line in move(args.dry_run):
         print(line)
@@ -539,7 +608,11 @@ def check() -> list[str]:
             if longest("lcefem.validation." + m.group(1), {o: o for o in olds}):
                 bad.append(f"{f}: {m.group(0)}")
         for m in PATH.finditer(text):
-            if m.group(1) in PATHS or m.group(1).split("/")[0] in ("commands", "benchmarks", "calibration"):
+            if m.group(1) in PATHS or m.group(1).split("/")[0] in (
+                "commands",
+                "benchmarks",
+                "calibration",
+            ):
                 bad.append(f"{f}: validation/{m.group(1)}")
         if f.endswith(".py"):
             try:
@@ -549,8 +622,11 @@ def check() -> list[str]:
                 continue
             for node in ast.walk(tree):
                 if isinstance(node, ast.ImportFrom) and node.module == "lcefem.validation":
-                    bad += [f"{f}:{node.lineno}: from lcefem.validation import {a.name}"
-                            for a in node.names if f"lcefem.validation.{a.name}" in olds]
+                    bad += [
+                        f"{f}:{node.lineno}: from lcefem.validation import {a.name}"
+                        for a in node.names
+                        if f"lcefem.validation.{a.name}" in olds
+                    ]
     return bad
 
 

@@ -11,7 +11,8 @@
 * :func:`gridshell_curvatures`: both of the paper's measures at the gridshell's centre junction:
   (1) the circle through the apex (centre junction) and the two ends of the middle composite beam,
   in x and in y (the paper's method for the gridshell without cover scales); (2) the quadratic
-  surface through the junction centres (the paper's method with cover scales, nine points for 3 x 3).
+  surface through the junction centres (the paper's method with cover scales, nine points for 3 x
+  3).
 
 Sign of surface curvatures (seed 001, Fig. 4: "the principal curvatures [of the dome] are both
 negative"): kappa = d^2 w/ds^2 with w along the centre junction's normal on the top strips' side
@@ -47,9 +48,9 @@ def circle_fit(points) -> tuple[float, np.ndarray, np.ndarray]:
     _, _, vt = np.linalg.svd(q)
     e1, e2, normal = vt[0], vt[1], vt[2]
     u, v = q @ e1, q @ e2
-    scale = max(np.sqrt(np.mean(u ** 2 + v ** 2)), 1e-300)
+    scale = max(np.sqrt(np.mean(u**2 + v**2)), 1e-300)
     u, v = u / scale, v / scale
-    z = u ** 2 + v ** 2
+    z = u**2 + v**2
     zmat = np.column_stack([z, u, v, np.ones_like(u)])
     _, sv, vtz = np.linalg.svd(zmat, full_matrices=True)
     if zmat.shape[0] < 4 or sv[-1] < 1e-12 * sv[0]:  # exact fit: the null vector
@@ -62,7 +63,7 @@ def circle_fit(points) -> tuple[float, np.ndarray, np.ndarray]:
         ok = np.flatnonzero(vals > 0)
         coef = np.linalg.solve(y, vecs[:, ok[np.argmin(vals[ok])]].real)
     a, b, c, dd = coef
-    disc = b ** 2 + c ** 2 - 4.0 * a * dd
+    disc = b**2 + c**2 - 4.0 * a * dd
     if disc <= 0:
         raise InputError("points: degenerate circle fit")
     curvature = 2.0 * abs(a) / math.sqrt(disc) / scale
@@ -93,17 +94,15 @@ def beam_curvature(structure: BarHingeStructure, positions, stations=None) -> fl
     return signed_circle_curvature(pts[idx], beam_up_vector(structure, positions))
 
 
-
-
 # --------------------------------------------------------------------------- surfaces
 def quadratic_surface_curvatures(u, v, w) -> dict:
-    """Least-squares quadratic w = a + b u + c v + (A u^2 + 2 B u v + C v^2)/2 through points (u, v, w)
-    [mm] of a local frame, and its curvatures at u = v = 0.
+    """Least-squares quadratic w = a + b u + c v + (A u^2 + 2 B u v + C v^2)/2 through points (u, v,
+    w) [mm] of a local frame, and its curvatures at u = v = 0.
 
-    With the gradient p = (b, c), the first fundamental form I = [[1 + b^2, b c], [b c, 1 + c^2]] and
-    the second II = [[A, B], [B, C]]/sqrt(1 + b^2 + c^2) (do Carmo 1976, Sec. 3-3), the principal
-    curvatures are the eigenvalues of I^-1 II and the principal directions their eigenvectors (in
-    (u, v) coordinates, mapped to the tangent vectors (1, 0, b) and (0, 1, c)).
+    With the gradient p = (b, c), the first fundamental form I = [[1 + b^2, b c], [b c, 1 + c^2]]
+    and the second II = [[A, B], [B, C]]/sqrt(1 + b^2 + c^2) (do Carmo 1976, Sec. 3-3), the
+    principal curvatures are the eigenvalues of I^-1 II and the principal directions their
+    eigenvectors (in (u, v) coordinates, mapped to the tangent vectors (1, 0, b) and (0, 1, c)).
 
     Returns:
         dict with "k1" <= "k2" [1/mm], "dir1", "dir2" (unit 3-vectors in the (u, v, w) frame),
@@ -114,7 +113,7 @@ def quadratic_surface_curvatures(u, v, w) -> dict:
     u, v, w = (np.asarray(a, dtype=float).ravel() for a in (u, v, w))
     if not (u.size == v.size == w.size) or u.size < 6:
         raise InputError("points: need at least 6 points (u, v, w) for a quadratic surface fit")
-    design = np.column_stack([np.ones_like(u), u, v, 0.5 * u ** 2, u * v, 0.5 * v ** 2])
+    design = np.column_stack([np.ones_like(u), u, v, 0.5 * u**2, u * v, 0.5 * v**2])
     coef, _, rank, _ = np.linalg.lstsq(design, w, rcond=None)
     if rank < 6:
         raise InputError("points: degenerate layout for a quadratic surface fit (rank < 6)")
@@ -131,11 +130,18 @@ def quadratic_surface_curvatures(u, v, w) -> dict:
         t = np.array([duv[0], duv[1], b * duv[0] + c * duv[1]])
         dirs.append(t / np.linalg.norm(t))
     resid = w - design @ coef
-    return {"k1": float(vals[0]), "k2": float(vals[1]), "dir1": dirs[0], "dir2": dirs[1],
-            "ku": float(second[0, 0] / first[0, 0]), "kv": float(second[1, 1] / first[1, 1]),
-            "gaussian": float(np.linalg.det(second) / np.linalg.det(first)),
-            "mean": float(0.5 * (vals[0] + vals[1])), "coefficients": coef,
-            "rms_residual": float(np.sqrt(np.mean(resid ** 2)))}
+    return {
+        "k1": float(vals[0]),
+        "k2": float(vals[1]),
+        "dir1": dirs[0],
+        "dir2": dirs[1],
+        "ku": float(second[0, 0] / first[0, 0]),
+        "kv": float(second[1, 1] / first[1, 1]),
+        "gaussian": float(np.linalg.det(second) / np.linalg.det(first)),
+        "mean": float(0.5 * (vals[0] + vals[1])),
+        "coefficients": coef,
+        "rms_residual": float(np.sqrt(np.mean(resid**2))),
+    }
 
 
 def junction_centre_points(structure: BarHingeStructure, positions=None) -> np.ndarray:
@@ -146,8 +152,8 @@ def junction_centre_points(structure: BarHingeStructure, positions=None) -> np.n
 
 
 def centre_frame(structure: BarHingeStructure, positions=None) -> tuple[np.ndarray, np.ndarray]:
-    """(origin, rows e1, e2, e3) of the centre junction's frame: origin its centre, e3 its unit normal
-    on the top strips' side, e1 its x edge direction (corner 0 -> 1) in the tangent plane."""
+    """(origin, rows e1, e2, e3) of the centre junction's frame: origin its centre, e3 its unit
+    normal on the top strips' side, e1 its x edge direction (corner 0 -> 1) in the tangent plane."""
     x = structure.nodes if positions is None else np.asarray(positions).reshape(-1, 3)
     c = x[structure.node_sets["centre_junction"]]
     e3 = np.cross(c[1] - c[0], c[3] - c[0])
@@ -170,19 +176,30 @@ def gridshell_curvatures(structure: BarHingeStructure, positions=None) -> dict:
     x = structure.nodes if positions is None else np.asarray(positions).reshape(-1, 3)
     n = structure.info["ribbons"]
     if n % 2 == 0:
-        raise InputError(f"ribbons = {n}: the centre-junction curvatures need an odd number of ribbons")
+        raise InputError(
+            f"ribbons = {n}: the centre-junction curvatures need an odd number of ribbons"
+        )
     origin, frame = centre_frame(structure, x)
     up = frame[2]
     out = {}
     apex = junction_centre_points(structure, x)[n // 2, n // 2]
     for direction in ("x", "y"):
         ends = x[structure.node_sets[f"ribbon_ends_{direction}"][n // 2]].mean(axis=1)
-        out[f"circle_{direction}"] = -signed_circle_curvature(np.vstack([ends[0], apex, ends[1]]), up)
+        out[f"circle_{direction}"] = -signed_circle_curvature(
+            np.vstack([ends[0], apex, ends[1]]), up
+        )
     pts = junction_centre_points(structure, x).reshape(-1, 3) - origin
     local = pts @ frame.T
     if local.shape[0] >= 6:
         q = quadratic_surface_curvatures(local[:, 0], local[:, 1], local[:, 2])
-        out.update(quad_k1=q["k1"], quad_k2=q["k2"], quad_dir1=q["dir1"] @ frame,
-                   quad_dir2=q["dir2"] @ frame, quad_kx=q["ku"], quad_ky=q["kv"],
-                   gaussian=q["gaussian"], rms_residual=q["rms_residual"])
+        out.update(
+            quad_k1=q["k1"],
+            quad_k2=q["k2"],
+            quad_dir1=q["dir1"] @ frame,
+            quad_dir2=q["dir2"] @ frame,
+            quad_kx=q["ku"],
+            quad_ky=q["kv"],
+            gaussian=q["gaussian"],
+            rms_residual=q["rms_residual"],
+        )
     return out

@@ -1,9 +1,9 @@
 """Rod-like measures of a ribbon or strip solved as a 3D body (units: mm, 1/mm, rad/mm): the
-centreline curvatures in the material frame, the twist rate and the stretch, measured the way Discrete
-Elastic Rods measure a rod, so a 3D FE shape and a DER shape compare number for number.
+centreline curvatures in the material frame, the twist rate and the stretch, measured the way
+Discrete Elastic Rods measure a rod, so a 3D FE shape and a DER shape compare number for number.
 
-Measured on stations x_k along the reference centreline from the deformed centre and edge points, with
-the discrete formulas of Discrete Elastic Rods (Bergou et al. 2008; :mod:`lcefem.models.rod`):
+Measured on stations x_k along the reference centreline from the deformed centre and edge points,
+with the discrete formulas of Discrete Elastic Rods (Bergou et al. 2008; :mod:`lcefem.models.rod`):
 
 - edges e_k between stations, tangents t_k; material frame m1 = width direction (edge points'
   difference at the edge midpoint, made normal to t_k), m2 = t_k x m1 (thickness direction, towards
@@ -16,9 +16,9 @@ the discrete formulas of Discrete Elastic Rods (Bergou et al. 2008; :mod:`lcefem
 - circle curvature: Pratt's circle through the centre stations (:func:`.curvature.circle_fit`).
 
 These are second-order accurate in the station spacing s (on a helix of curvature kappa and torsion
-tau the curvature's relative error is about -tau^2 s^2/4: -0.6 % for the twisted ribbons at s = 0.5 mm),
-so shapes are Richardson-extrapolated from the spacings s and 2 s (:func:`measure_extrapolated`;
-tests/validation/test_ribbon_fe.py).
+tau the curvature's relative error is about -tau^2 s^2/4: -0.6 % for the twisted ribbons at s = 0.5
+mm), so shapes are Richardson-extrapolated from the spacings s and 2 s
+(:func:`measure_extrapolated`; tests/validation/test_ribbon_fe.py).
 """
 
 from __future__ import annotations
@@ -40,9 +40,13 @@ class RodLikeShape:
 
     stretch: float  #: centreline length / reference length [-]
     curvature: float  #: mean |kappa| of the centreline [1/mm]
-    material_curvature: np.ndarray  #: mean (kappa_1, kappa_2): towards width m1, thickness m2 [1/mm]
+    material_curvature: (
+        np.ndarray
+    )  #: mean (kappa_1, kappa_2): towards width m1, thickness m2 [1/mm]
     twist_rate: float  #: [rad/mm]
-    circle_curvature: float  #: of the least-squares circle through the stations (planar shapes) [1/mm]
+    circle_curvature: (
+        float  #: of the least-squares circle through the stations (planar shapes) [1/mm]
+    )
     centreline: np.ndarray  #: (n, 3) stations [mm]
 
 
@@ -67,15 +71,19 @@ def measure_shape(centre: np.ndarray, edge_plus: np.ndarray, edge_minus: np.ndar
     voronoi = 0.5 * (length[1:] + length[:-1])
     kappa = material_curvatures(e[:-1], e[1:], m1[:-1], m2[:-1], m1[1:], m2[1:]) / voronoi[:, None]
     twist = signed_angle(parallel_transport(m1[:-1], t[:-1], t[1:]), m1[1:], t[1:])
-    return {"arc_length": float(length.sum()), "material_curvature": kappa.mean(axis=0),
-            "curvature": float(np.linalg.norm(kappa, axis=1).mean()),
-            "twist_rate": float(twist.sum() / voronoi.sum()), "circle_curvature": circle_fit(centre)[0]}
+    return {
+        "arc_length": float(length.sum()),
+        "material_curvature": kappa.mean(axis=0),
+        "curvature": float(np.linalg.norm(kappa, axis=1).mean()),
+        "twist_rate": float(twist.sum() / voronoi.sum()),
+        "circle_curvature": circle_fit(centre)[0],
+    }
 
 
 def measure_extrapolated(centre: np.ndarray, edge_plus: np.ndarray, edge_minus: np.ndarray) -> dict:
     """:func:`measure_shape` at the stations' spacing s and at 2 s (every other station; give an odd
-    number of equally spaced stations), Richardson-extrapolated to s -> 0: (4 m(s) - m(2 s))/3 for the
-    arc length, the curvatures and the twist rate, whose error is O(s^2) (O(s^4) after)."""
+    number of equally spaced stations), Richardson-extrapolated to s -> 0: (4 m(s) - m(2 s))/3 for
+    the arc length, the curvatures and the twist rate, whose error is O(s^2) (O(s^4) after)."""
     if len(centre) % 2 == 0 or len(centre) < 5:
         raise InputError(f"{len(centre)} stations: need an odd number >= 5")
     fine = measure_shape(centre, edge_plus, edge_minus)

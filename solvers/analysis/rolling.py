@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-#: A ribbon "rolls" when, over the analysis window, its centroid moved at least this far [mm] and both
-#: ends turned at least this much [rad] the same way (a quarter turn: more than the rocking and
+#: A ribbon "rolls" when, over the analysis window, its centroid moved at least this far [mm] and
+#: both ends turned at least this much [rad] the same way (a quarter turn: more than the rocking and
 #: untwisting seen below the threshold).
 ROLL_DISTANCE = 2.0
 ROLL_ANGLE = 0.5 * math.pi
@@ -25,7 +25,9 @@ def window(history: dict[str, np.ndarray], start_fraction: float = 0.5) -> np.nd
     return t >= t[0] + start_fraction * (t[-1] - t[0])
 
 
-def rolling_metrics(history: dict[str, np.ndarray], start_fraction: float = 0.5) -> dict[str, float]:
+def rolling_metrics(
+    history: dict[str, np.ndarray], start_fraction: float = 0.5
+) -> dict[str, float]:
     """Average speed [mm/s] (net centroid distance over the window's time), end spin rates [rad/s]
     (least-squares slopes), their ratio, mean contact points, final and mean twist density and its
     relative variation (max - min)/mean over the window, and ``rolls``."""
@@ -42,12 +44,18 @@ def rolling_metrics(history: dict[str, np.ndarray], start_fraction: float = 0.5)
     s1 = np.polyfit(t, h["spin_end [rad]"][w], 1)[0]
     turn0 = h["spin_start [rad]"][w][-1] - h["spin_start [rad]"][w][0]
     turn1 = h["spin_end [rad]"][w][-1] - h["spin_end [rad]"][w][0]
-    rolls = bool(distance >= ROLL_DISTANCE and abs(turn0) >= ROLL_ANGLE and abs(turn1) >= ROLL_ANGLE
-                 and turn0 * turn1 > 0)
+    rolls = bool(
+        distance >= ROLL_DISTANCE
+        and abs(turn0) >= ROLL_ANGLE
+        and abs(turn1) >= ROLL_ANGLE
+        and turn0 * turn1 > 0
+    )
     twist = h["twist_density [turns/mm]"][w]
     mean_twist = float(np.mean(twist))
-    total = math.hypot(h["centroid_x [mm]"][-1] - h["centroid_x [mm]"][0],
-                       h["centroid_y [mm]"][-1] - h["centroid_y [mm]"][0])
+    total = math.hypot(
+        h["centroid_x [mm]"][-1] - h["centroid_x [mm]"][0],
+        h["centroid_y [mm]"][-1] - h["centroid_y [mm]"][0],
+    )
     return {
         "average_speed [mm/s]": distance / span,
         "distance [mm]": distance,
@@ -58,9 +66,11 @@ def rolling_metrics(history: dict[str, np.ndarray], start_fraction: float = 0.5)
         "contact_points [-]": float(np.mean(h["contact_points [-]"][w])),
         "twist_density_final [turns/mm]": float(h["twist_density [turns/mm]"][-1]),
         "twist_density_mean [turns/mm]": mean_twist,
-        # (max - min)/mean of the interior twist density over the window: 0 for a constant twist density
+        # (max - min)/mean of the interior twist density over the window: 0 for a constant twist
+        # density
         "twist_density_variation [-]": float((twist.max() - twist.min()) / abs(mean_twist))
-        if abs(mean_twist) > 1e-12 else float("nan"),
+        if abs(mean_twist) > 1e-12
+        else float("nan"),
         "T_mean_final [C]": float(h["T_mean [C]"][-1]),
         "T_max_final [C]": float(h["T_max [C]"][-1]),
         "rolls": rolls,

@@ -22,7 +22,8 @@ DISTRIBUTIONS = ("unif", "norm")
 
 @dataclass(frozen=True)
 class UncertainInput:
-    """One uncertain input: ``dist`` "unif" with ``params`` = (lo, hi), or "norm" with (mean, sd)."""
+    """One uncertain input: ``dist`` "unif" with ``params`` = (lo, hi), or "norm" with (mean,
+    sd)."""
 
     name: str
     dist: str
@@ -33,7 +34,9 @@ class UncertainInput:
     def checked(self) -> "UncertainInput":
         a, b = self.params
         if self.dist not in DISTRIBUTIONS:
-            raise InputError(f"{self.name}: distribution {self.dist!r}: allowed {', '.join(DISTRIBUTIONS)}")
+            raise InputError(
+                f"{self.name}: distribution {self.dist!r}: allowed {', '.join(DISTRIBUTIONS)}"
+            )
         if self.dist == "unif" and not a < b:
             raise InputError(f"{self.name}: uniform bounds ({a}, {b}): need lo < hi")
         if self.dist == "norm" and not b > 0:
@@ -54,8 +57,12 @@ class UncertainInput:
 def salib_problem(inputs: list[UncertainInput]) -> dict:
     """SALib's problem dictionary (groups only when every input names one)."""
     inputs = [i.checked() for i in inputs]
-    problem = {"num_vars": len(inputs), "names": [i.name for i in inputs],
-               "bounds": [list(i.params) for i in inputs], "dists": [i.dist for i in inputs]}
+    problem = {
+        "num_vars": len(inputs),
+        "names": [i.name for i in inputs],
+        "bounds": [list(i.params) for i in inputs],
+        "dists": [i.dist for i in inputs],
+    }
     if all(i.group for i in inputs):
         problem["groups"] = [i.group for i in inputs]
     return problem
@@ -71,8 +78,13 @@ def sample_inputs(inputs: list[UncertainInput], n: int, seed: int = 0) -> np.nda
     return np.column_stack(cols) if cols else np.zeros((n, 0))
 
 
-def sobol_indices(model: Callable[[np.ndarray], np.ndarray], inputs: list[UncertainInput],
-                  base_samples: int = 1024, seed: int = 0, outputs: list[str] | None = None) -> dict:
+def sobol_indices(
+    model: Callable[[np.ndarray], np.ndarray],
+    inputs: list[UncertainInput],
+    base_samples: int = 1024,
+    seed: int = 0,
+    outputs: list[str] | None = None,
+) -> dict:
     """First-order and total Sobol indices of a vectorised ``model`` (X (m, d) -> Y (m,) or (m, k)).
 
     ``base_samples`` N (a power of 2) gives N (2 D + 2) model evaluations, D the number of inputs or
@@ -82,7 +94,9 @@ def sobol_indices(model: Callable[[np.ndarray], np.ndarray], inputs: list[Uncert
     from SALib.sample import sobol as sample
 
     if base_samples < 2 or base_samples & (base_samples - 1):
-        raise InputError(f"sobol base samples = {base_samples}: must be a power of 2 (SALib's Sobol' design)")
+        raise InputError(
+            f"sobol base samples = {base_samples}: must be a power of 2 (SALib's Sobol' design)"
+        )
     problem = salib_problem(inputs)
     X = sample.sample(problem, base_samples, calc_second_order=False, seed=seed)
     Y = np.asarray(model(X), dtype=float)
@@ -94,10 +108,22 @@ def sobol_indices(model: Callable[[np.ndarray], np.ndarray], inputs: list[Uncert
         y = Y[:, k]
         if np.ptp(y) == 0.0:  # a constant output: no variance to apportion
             zero = [0.0] * len(labels)
-            out[name] = {"names": labels, "S1": zero, "S1_conf": zero, "ST": zero, "ST_conf": zero,
-                         "variance": 0.0}
+            out[name] = {
+                "names": labels,
+                "S1": zero,
+                "S1_conf": zero,
+                "ST": zero,
+                "ST_conf": zero,
+                "variance": 0.0,
+            }
             continue
         res = analyze.analyze(problem, y, calc_second_order=False, seed=seed)
-        out[name] = {"names": labels, "S1": res["S1"].tolist(), "S1_conf": res["S1_conf"].tolist(),
-                     "ST": res["ST"].tolist(), "ST_conf": res["ST_conf"].tolist(), "variance": float(np.var(y))}
+        out[name] = {
+            "names": labels,
+            "S1": res["S1"].tolist(),
+            "S1_conf": res["S1_conf"].tolist(),
+            "ST": res["ST"].tolist(),
+            "ST_conf": res["ST_conf"].tolist(),
+            "variance": float(np.var(y)),
+        }
     return out

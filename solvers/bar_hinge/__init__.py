@@ -6,9 +6,27 @@ Entry points: :class:`BarHingeModel` (structure + materials -> energy, gradient,
 """
 
 from lcefem.solvers.bar_hinge.model import BarHingeModel, ReducedHessian
-from lcefem.solvers.bar_hinge.newton import (NewtonOptions, NewtonResult, PathOptions, PathResult,
-                                             PathState, follow_path, newton)
+from lcefem.solvers.bar_hinge.newton import (
+    NewtonOptions,
+    NewtonResult,
+    PathOptions,
+    PathResult,
+    PathState,
+    follow_path,
+    newton,
+)
 from lcefem.solvers.bar_hinge.supports import held_dofs, isostatic_supports
 
-__all__ = ["BarHingeModel", "ReducedHessian", "NewtonOptions", "NewtonResult", "PathOptions",
-           "PathResult", "PathState", "follow_path", "newton", "held_dofs", "isostatic_supports"]
+__all__ = [
+    "BarHingeModel",
+    "ReducedHessian",
+    "NewtonOptions",
+    "NewtonResult",
+    "PathOptions",
+    "PathResult",
+    "PathState",
+    "follow_path",
+    "newton",
+    "held_dofs",
+    "isostatic_supports",
+]

@@ -17,9 +17,9 @@ D A_b (kx^2 + ky^2 + 2 nu kx ky + 2 (1 - nu) kxy^2)/2 is written as the positive
 
 with a_x = A_b / (number of x stencils) etc.: for a uniform curvature it is exactly the plate energy
 over A_b. U = x^T H x / 2 with a constant Hessian H (3N x 3N, N nodes): the layer adds one fixed
-block to the model's Hessian. Approximations (stated in docs/fig5_tasks.md): the in-plane part of the
-differences (non-uniform in-plane strain) is penalised too; the layer carries no membrane force (the
-disks slide); the disks' own weight is in the surface's measured 33 g.
+block to the model's Hessian. Approximations (stated in docs/fig5_tasks.md): the in-plane part of
+the differences (non-uniform in-plane strain) is penalised too; the layer carries no membrane force
+(the disks slide); the disks' own weight is in the surface's measured 33 g.
 """
 
 from __future__ import annotations
@@ -45,11 +45,15 @@ def centre_operator(structure: BarHingeStructure) -> sp.csr_matrix:
     """P (n*n, N): junction centres = P @ node positions (mean of each junction's four corners)."""
     corners = structure.node_sets["junction_corners"].reshape(-1, 4)
     rows = np.repeat(np.arange(corners.shape[0]), 4)
-    return sp.csr_matrix((np.full(rows.size, 0.25), (rows, corners.ravel())),
-                         shape=(corners.shape[0], structure.num_nodes))
+    return sp.csr_matrix(
+        (np.full(rows.size, 0.25), (rows, corners.ravel())),
+        shape=(corners.shape[0], structure.num_nodes),
+    )
 
 
-def scale_layer_matrix(structure: BarHingeStructure, scales: CoverScales = CoverScales()) -> sp.csr_matrix:
+def scale_layer_matrix(
+    structure: BarHingeStructure, scales: CoverScales = CoverScales()
+) -> sp.csr_matrix:
     """The layer's constant Hessian H [N/mm] on the 3N position DOFs (module docstring)."""
     scales = scales.checked()
     n = structure.node_sets["junction_corners"].shape[0]
@@ -67,16 +71,39 @@ def scale_layer_matrix(structure: BarHingeStructure, scales: CoverScales = Cover
                 data.append(v)
         return sp.csr_matrix((data, (r, c)), shape=(len(entries), n * n))
 
-    dx = stencil_rows([[(idx[i - 1, j], 1.0), (idx[i, j], -2.0), (idx[i + 1, j], 1.0)]
-                       for i in range(1, n - 1) for j in range(n)])
-    dy = stencil_rows([[(idx[i, j - 1], 1.0), (idx[i, j], -2.0), (idx[i, j + 1], 1.0)]
-                       for i in range(n) for j in range(1, n - 1)])
-    dxy = stencil_rows([[(idx[i + 1, j + 1], 1.0), (idx[i + 1, j], -1.0), (idx[i, j + 1], -1.0),
-                         (idx[i, j], 1.0)] for i in range(n - 1) for j in range(n - 1)])
+    dx = stencil_rows(
+        [
+            [(idx[i - 1, j], 1.0), (idx[i, j], -2.0), (idx[i + 1, j], 1.0)]
+            for i in range(1, n - 1)
+            for j in range(n)
+        ]
+    )
+    dy = stencil_rows(
+        [
+            [(idx[i, j - 1], 1.0), (idx[i, j], -2.0), (idx[i, j + 1], 1.0)]
+            for i in range(n)
+            for j in range(1, n - 1)
+        ]
+    )
+    dxy = stencil_rows(
+        [
+            [
+                (idx[i + 1, j + 1], 1.0),
+                (idx[i + 1, j], -1.0),
+                (idx[i, j + 1], -1.0),
+                (idx[i, j], 1.0),
+            ]
+            for i in range(n - 1)
+            for j in range(n - 1)
+        ]
+    )
     mean = sp.csr_matrix(dx.mean(axis=0) + dy.mean(axis=0))
-    s = ((1.0 - nu) * (area / dx.shape[0] * (dx.T @ dx) + area / dy.shape[0] * (dy.T @ dy))
-         + nu * area * (mean.T @ mean) + 2.0 * (1.0 - nu) * area / dxy.shape[0] * (dxy.T @ dxy))
-    s = s * (scales.bending_stiffness / p ** 4)
+    s = (
+        (1.0 - nu) * (area / dx.shape[0] * (dx.T @ dx) + area / dy.shape[0] * (dy.T @ dy))
+        + nu * area * (mean.T @ mean)
+        + 2.0 * (1.0 - nu) * area / dxy.shape[0] * (dxy.T @ dxy)
+    )
+    s = s * (scales.bending_stiffness / p**4)
     pc = centre_operator(structure)
     scalar = (pc.T @ s @ pc).tocsr()
     return sp.kron(scalar, sp.identity(3), format="csr")
@@ -85,9 +112,12 @@ def scale_layer_matrix(structure: BarHingeStructure, scales: CoverScales = Cover
 class CoveredModel(BarHingeModel):
     """A :class:`BarHingeModel` with the cover-scale layer: Pi + factor * x^T H x / 2. Build with
     :meth:`from_materials` and call :meth:`attach_scales` before the first solve (it extends the
-    Hessian's pattern). ``factor`` (0..1) ramps the layer in (continuation from a bare equilibrium)."""
+    Hessian's pattern). ``factor`` (0..1) ramps the layer in (continuation from a bare
+    equilibrium)."""
 
-    def attach_scales(self, scales: CoverScales = CoverScales(), factor: float = 1.0) -> "CoveredModel":
+    def attach_scales(
+        self, scales: CoverScales = CoverScales(), factor: float = 1.0
+    ) -> "CoveredModel":
         if "_reduced_hessians" in self.__dict__:
             raise InputError("cover scales: attach them before the first solve")
         self.scales = scales.checked()

@@ -37,7 +37,7 @@ import scipy.optimize as opt
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.bar_hinge.model import BarHingeModel, ReducedHessian
-from lcefem.solvers.bar_hinge.newton import (NewtonOptions, PathOptions, factorize, follow_path)
+from lcefem.solvers.bar_hinge.newton import NewtonOptions, PathOptions, factorize, follow_path
 
 #: Largest nodal move [mm] of the central difference of the observables along dx/dp (the shapes'
 #: features are 1-100 mm: truncation ~ (1e-4/1)^2 relative, round-off ~ 1e-16 * 100 mm / 1e-4 mm).
@@ -54,8 +54,9 @@ FAILED_RESIDUAL = 1.0e3
 #: (reflective, Coleman-Li scaling) zigzags, |r| 4.0e-4 1/mm after 60 evaluations with the
 #: FE-calibrated set (2.3e-5 after 200), 29 evaluations with the published one.
 METHOD = "dogbox"
-WARM_PATH = PathOptions(initial_increment=1.0, max_increment=1.0, easy_iterations=8, growth=2.0,
-                        min_increment=1.0e-3)
+WARM_PATH = PathOptions(
+    initial_increment=1.0, max_increment=1.0, easy_iterations=8, growth=2.0, min_increment=1.0e-3
+)
 
 
 @dataclass
@@ -85,8 +86,12 @@ class StripParameters:
         return out
 
 
-def strip_parameters(structure: BarHingeStructure, selections: Sequence, lambda_N: float,
-                     fixed_lambda: float | None = None) -> StripParameters:
+def strip_parameters(
+    structure: BarHingeStructure,
+    selections: Sequence,
+    lambda_N: float,
+    fixed_lambda: float | None = None,
+) -> StripParameters:
     """Design variables for selections of strips (channels "Tx", groups "XD1", strip ids, ... as
     :func:`lcefem.meshes.gridshell.select_strips`); the selections must not overlap; other strips
     keep ``fixed_lambda`` (default lambda_N: as built)."""
@@ -97,8 +102,9 @@ def strip_parameters(structure: BarHingeStructure, selections: Sequence, lambda_
     for j, key in enumerate(selections):
         for s in select_strips(structure, key, "design.channels").tolist():
             if s in owner:
-                raise InputError(f"design.channels: strip {s} is in both {selections[owner[s]]!r} "
-                                 f"and {key!r}")
+                raise InputError(
+                    f"design.channels: strip {s} is in both {selections[owner[s]]!r} and {key!r}"
+                )
             owner[s] = j
     index, fixed = {}, {}
     f0 = (lambda_N if fixed_lambda is None else fixed_lambda) / lambda_N
@@ -141,20 +147,29 @@ class EquilibriumMap:
             designed strip at lambda_N).
     """
 
-    def __init__(self, model: BarHingeModel, held: np.ndarray, params: StripParameters,
-                 observable: Callable[[np.ndarray], np.ndarray], *,
-                 newton_options: NewtonOptions = NewtonOptions(),
-                 path_options: PathOptions = PathOptions(),
-                 x0: np.ndarray | None = None, p0: np.ndarray | None = None):
+    def __init__(
+        self,
+        model: BarHingeModel,
+        held: np.ndarray,
+        params: StripParameters,
+        observable: Callable[[np.ndarray], np.ndarray],
+        *,
+        newton_options: NewtonOptions = NewtonOptions(),
+        path_options: PathOptions = PathOptions(),
+        x0: np.ndarray | None = None,
+        p0: np.ndarray | None = None,
+    ):
         self.model, self.params, self.observable = model, params, observable
         self.held = np.asarray(held, dtype=np.int64)
         self.free = np.setdiff1d(np.arange(model.ndof), self.held)
         self.reduced = ReducedHessian.of(model, self.free)
         self.newton_options, self.path_options = newton_options, path_options
-        self.reference_f = {g: v.copy() for g, v in params.rest_fractions(
-            np.full(params.size, params.lambda_N)).items()}
+        self.reference_f = {
+            g: v.copy()
+            for g, v in params.rest_fractions(np.full(params.size, params.lambda_N)).items()
+        }
         self._x = (model.reference if x0 is None else np.asarray(x0, dtype=float)).reshape(-1, 3)
-        self._f = (self.reference_f if p0 is None else params.rest_fractions(p0))
+        self._f = self.reference_f if p0 is None else params.rest_fractions(p0)
         self._cache: DesignState | None = None
         self.stats = ForwardStats()
 
@@ -162,8 +177,15 @@ class EquilibriumMap:
         def load(t):
             self.model.set_rest_fractions({g: f_from[g] + t * (f_to[g] - f_from[g]) for g in f_to})
             return self.model.reference.reshape(-1)[self.held]
-        res = follow_path(self.model, x_start, self.held, load, newton_options=self.newton_options,
-                          path_options=path)
+
+        res = follow_path(
+            self.model,
+            x_start,
+            self.held,
+            load,
+            newton_options=self.newton_options,
+            path_options=path,
+        )
         return res.states[-1].x, int(sum(res.newton_iterations))
 
     def equilibrium(self, p) -> tuple[np.ndarray, int, bool]:
@@ -177,7 +199,9 @@ class EquilibriumMap:
             restarted = True
             self.stats.restarts += 1
             try:
-                x, its = self._ramp(self.reference_f, f_new, self.model.reference, self.path_options)
+                x, its = self._ramp(
+                    self.reference_f, f_new, self.model.reference, self.path_options
+                )
             except ConvergenceError:
                 # No equilibrium reached at p (e.g. the dome's ramp from as built meets a fold near
                 # t = 0.96): keep the last equilibrium as the state to continue from.
@@ -223,10 +247,16 @@ class EquilibriumMap:
             for j in range(params.size):
                 on = idx == j
                 if np.any(on):
-                    rhs[:, j] += np.bincount(dofs[on].ravel(), weights=values[on].ravel(),
-                                             minlength=model.ndof) / params.lambda_N
+                    rhs[:, j] += (
+                        np.bincount(
+                            dofs[on].ravel(), weights=values[on].ravel(), minlength=model.ndof
+                        )
+                        / params.lambda_N
+                    )
         dx = -self.tangent_solve(x, rhs)
-        return np.column_stack([self.directional_derivative(x, dx[:, j]) for j in range(params.size)])
+        return np.column_stack(
+            [self.directional_derivative(x, dx[:, j]) for j in range(params.size)]
+        )
 
     def reseed(self, x: np.ndarray, p) -> None:
         """Continue from another known equilibrium x (n, 3) at design variables p (e.g. the one a
@@ -245,8 +275,14 @@ class EquilibriumMap:
             self.model.set_rest_fractions(self.params.rest_fractions(p))
         else:
             x, its, restarted = self.equilibrium(p)
-        state = DesignState(p, x, np.asarray(self.observable(x), dtype=float),
-                            self.jacobian(x) if jacobian else None, its, restarted)
+        state = DesignState(
+            p,
+            x,
+            np.asarray(self.observable(x), dtype=float),
+            self.jacobian(x) if jacobian else None,
+            its,
+            restarted,
+        )
         self._cache = state
         return state
 
@@ -270,9 +306,18 @@ class _Reached(Exception):
     """The residual is below the absolute tolerance: stop the optimiser."""
 
 
-def solve_design(eq: EquilibriumMap, target, p0, lower: float, upper: float, *,
-                 scale: float | np.ndarray = 1.0, tolerance: float = 1e-10,
-                 absolute: float = 1e-4, max_evaluations: int = 60) -> DesignResult:
+def solve_design(
+    eq: EquilibriumMap,
+    target,
+    p0,
+    lower: float,
+    upper: float,
+    *,
+    scale: float | np.ndarray = 1.0,
+    tolerance: float = 1e-10,
+    absolute: float = 1e-4,
+    max_evaluations: int = 60,
+) -> DesignResult:
     """Least squares min_p 0.5 |(obs(p) - target)/scale|^2 with lower <= p <= upper.
 
     Args:
@@ -298,7 +343,8 @@ def solve_design(eq: EquilibriumMap, target, p0, lower: float, upper: float, *,
             if evaluations == 1:
                 raise  # no equilibrium at the start: nothing to step back to
             # A trial point without an equilibrium: a residual larger than any reachable one makes
-            # the trust region reject the step and shrink (the optimiser never differentiates there).
+            # the trust region reject the step and shrink (the optimiser never differentiates
+            # there).
             return np.full(target.shape, FAILED_RESIDUAL)
         if np.linalg.norm(r) <= absolute:
             raise _Reached(np.array(p, dtype=float))
@@ -308,17 +354,35 @@ def solve_design(eq: EquilibriumMap, target, p0, lower: float, upper: float, *,
         return eq.state(p).jacobian / scale[:, None]
 
     try:
-        sol = opt.least_squares(fun, p0, jac=jac, bounds=(lower, upper), method=METHOD,
-                                ftol=tolerance, xtol=tolerance, gtol=tolerance,
-                                max_nfev=max_evaluations, x_scale="jac")
+        sol = opt.least_squares(
+            fun,
+            p0,
+            jac=jac,
+            bounds=(lower, upper),
+            method=METHOD,
+            ftol=tolerance,
+            xtol=tolerance,
+            gtol=tolerance,
+            max_nfev=max_evaluations,
+            x_scale="jac",
+        )
         p, optimality, message = sol.x, float(sol.optimality), str(sol.message)
     except _Reached as reached:
         p, optimality, message = reached.args[0], 0.0, f"target reached (|r| <= {absolute:g})"
     state = eq.state(p)
     resid = state.observables - target
-    return DesignResult(p, state, target, resid, float(0.5 * np.sum((resid / scale) ** 2)),
-                        optimality, evaluations, message, dataclasses.replace(eq.stats),
-                        time.perf_counter() - t0)
+    return DesignResult(
+        p,
+        state,
+        target,
+        resid,
+        float(0.5 * np.sum((resid / scale) ** 2)),
+        optimality,
+        evaluations,
+        message,
+        dataclasses.replace(eq.stats),
+        time.perf_counter() - t0,
+    )
 
 
 def objective_and_gradient(eq: EquilibriumMap, p, target, scale=1.0) -> tuple[float, np.ndarray]:

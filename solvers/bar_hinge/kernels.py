@@ -4,8 +4,8 @@
 L_h psi(theta), Liu & Paulino 2017, Eq. 12-15) with the dihedral angle's derivatives of
 :func:`lcefem.models.bar_hinge.dihedral_angle` written element by element: the numpy version builds
 some twenty (n, 3, 3) and (n, 12, 12) temporaries per call, and its Hessian was half of the
-gridshell's assembly time. The models' functions stay the definition; tests/solvers/test_bar_hinge_kernels.py
-checks the two agree to round-off.
+gridshell's assembly time. The models' functions stay the definition;
+tests/solvers/test_bar_hinge_kernels.py checks the two agree to round-off.
 """
 
 from __future__ import annotations
@@ -93,8 +93,8 @@ def hinge_forces(xj, xk, xi, xl, force_coef, stiffness_coef, grad, hess):
         for r in range(3):
             for c in range(3):
                 h_ee[r, c] = gl[r] * dB[c] + B * dgl_de[r, c] - gi[r] * dA[c] - A * dgi_de[r, c]
-        # h_aa = dgi_da, h_ae = dgi_de, h_bb = -dgl_db, h_be = -dgl_de, h_ea = h_ae^T, h_eb = h_be^T;
-        # node rows (j, k, i, l) of d(a, e, b)/d(nodes) contracted as in dihedral_angle.
+        # h_aa = dgi_da, h_ae = dgi_de, h_bb = -dgl_db, h_be = -dgl_de, h_ea = h_ae^T, h_eb =
+        # h_be^T; node rows (j, k, i, l) of d(a, e, b)/d(nodes) contracted as in dihedral_angle.
         for r in range(3):
             for c in range(3):
                 haa, hae, hea = dgi_da[r, c], dgi_de[r, c], dgi_de[c, r]
@@ -105,16 +105,28 @@ def hinge_forces(xj, xk, xi, xl, force_coef, stiffness_coef, grad, hess):
                 hh[r, c], hh[r, 3 + c], hh[r, 6 + c], hh[r, 9 + c] = -(ra + re), re + rb, ra, -rb
                 # row k: ra = h_ea, re = h_ee + h_be, rb = h_eb + h_bb
                 ra, re, rb = hea, hee + hbe, heb + hbb
-                hh[3 + r, c], hh[3 + r, 3 + c], hh[3 + r, 6 + c], hh[3 + r, 9 + c] = \
-                    -(ra + re), re + rb, ra, -rb
+                hh[3 + r, c], hh[3 + r, 3 + c], hh[3 + r, 6 + c], hh[3 + r, 9 + c] = (
+                    -(ra + re),
+                    re + rb,
+                    ra,
+                    -rb,
+                )
                 # row i: ra = h_aa, re = h_ae
                 ra, re = haa, hae
-                hh[6 + r, c], hh[6 + r, 3 + c], hh[6 + r, 6 + c], hh[6 + r, 9 + c] = \
-                    -(ra + re), re, ra, 0.0
+                hh[6 + r, c], hh[6 + r, 3 + c], hh[6 + r, 6 + c], hh[6 + r, 9 + c] = (
+                    -(ra + re),
+                    re,
+                    ra,
+                    0.0,
+                )
                 # row l: re = -h_be, rb = -h_bb
                 re, rb = -hbe, -hbb
-                hh[9 + r, c], hh[9 + r, 3 + c], hh[9 + r, 6 + c], hh[9 + r, 9 + c] = \
-                    -re, re + rb, 0.0, -rb
+                hh[9 + r, c], hh[9 + r, 3 + c], hh[9 + r, 6 + c], hh[9 + r, 9 + c] = (
+                    -re,
+                    re + rb,
+                    0.0,
+                    -rb,
+                )
         c1, c2 = force_coef[h], stiffness_coef[h]
         for r in range(12):
             grad[h, r] = c1 * g[r]

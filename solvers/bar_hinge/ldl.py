@@ -4,10 +4,10 @@ The bar-and-hinge tangent K (free DOFs) keeps its sparsity pattern for a whole l
 Newton iterations factorise it tens of thousands of times (42,858 factorisations in the full-level
 design case). SuperLU (``scipy.sparse.linalg.splu``) repeats the fill-reducing ordering and its
 symbolic work at every call: 36 ms for the 2536-DOF gridshell tangent, 19 ms of it without the
-ordering. Here the ordering (SuperLU's MMD on A^T + A with its elimination-tree postorder, taken once
-from a first ``splu``), the permuted upper triangle, the elimination tree and the column counts of L
-are computed once; each factorisation is the numeric up-looking LDL^T of QDLDL (Stellato, Banjac,
-Goulart et al., the OSQP solver's LDL^T, Apache 2.0), compiled with numba.
+ordering. Here the ordering (SuperLU's MMD on A^T + A with its elimination-tree postorder, taken
+once from a first ``splu``), the permuted upper triangle, the elimination tree and the column counts
+of L are computed once; each factorisation is the numeric up-looking LDL^T of QDLDL (Stellato,
+Banjac, Goulart et al., the OSQP solver's LDL^T, Apache 2.0), compiled with numba.
 
 No pivoting: K = L D L^T in the fixed order, the same factors (up to round-off) as SuperLU with
 ``diag_pivot_thresh = 0`` and a symmetric ordering, whose U diagonal is D. By Sylvester's law of
@@ -127,10 +127,16 @@ class SymbolicLDL:
         rows = np.asarray(indices, dtype=np.int64)
         # Ordering: SuperLU's, from a diagonally dominant matrix of the pattern (MMD and the etree
         # postorder depend on the structure only).
-        probe = sp.csc_matrix((np.where(rows == cols, 2.0 * n, -1.0), indices, indptr), shape=(n, n))
+        probe = sp.csc_matrix(
+            (np.where(rows == cols, 2.0 * n, -1.0), indices, indptr), shape=(n, n)
+        )
         probe = probe + sp.identity(n, format="csc") * (2.0 * n)
-        perm = sla.splu(probe.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                        options={"SymmetricMode": True}).perm_c
+        perm = sla.splu(
+            probe.tocsc(),
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        ).perm_c
         self.perm = perm  # original index i -> position perm[i]
         # Upper triangle of the permuted matrix, diagonal always stored: entry p of the original
         # CSC data goes to slot source_of[...] of the permuted upper data.
@@ -140,11 +146,15 @@ class SymbolicLDL:
         keys = np.concatenate([pc[upper] * n + pr[upper], diag_slots * n + diag_slots])
         unique, inverse = np.unique(keys, return_inverse=True)
         self.ai = (unique % n).astype(np.int64)
-        self.ap = np.concatenate([[0], np.cumsum(np.bincount(unique // n, minlength=n))]).astype(np.int64)
+        self.ap = np.concatenate([[0], np.cumsum(np.bincount(unique // n, minlength=n))]).astype(
+            np.int64
+        )
         self.nnz = unique.size
         self._from = np.flatnonzero(upper)  # original data positions kept
-        self._to = inverse[:self._from.size]  # their slots
-        self.diagonal_slots = inverse[self._from.size:]  # slot of the diagonal of permuted column j
+        self._to = inverse[: self._from.size]  # their slots
+        self.diagonal_slots = inverse[
+            self._from.size :
+        ]  # slot of the diagonal of permuted column j
         self.parent, lnz = _etree(n, self.ap, self.ai)
         self.lp = np.concatenate([[0], np.cumsum(lnz)]).astype(np.int64)
 

@@ -9,8 +9,9 @@ positions x (n, 3) [mm],
 
 (U_p: the panels' bending elements of ``kapton.twist = "plate"``,
 :func:`lcefem.models.bar_hinge.panel_bending_element`), with the gradient dPi/dx [N] (the internal
-minus the external forces; at a held node the reaction) and the Hessian [N/mm] as a scipy.sparse CSR matrix whose sparsity pattern is computed once. The
-external forces f_ext [N] (3n,) are dead loads (weight, a payload), zero unless set with
+minus the external forces; at a held node the reaction) and the Hessian [N/mm] as a scipy.sparse CSR
+matrix whose sparsity pattern is computed once. The external forces f_ext [N] (3n,) are dead loads
+(weight, a payload), zero unless set with
 :meth:`BarHingeModel.set_external_forces`.
 """
 
@@ -58,7 +59,7 @@ class BarSet:
         A f P(p), A f^2 L0 (so that V W'(p)/L_r = A f P(p))."""
         if self.published_area is None:
             return self.volume
-        return self.published_area * self.rest_fraction ** 2 * self.length0
+        return self.published_area * self.rest_fraction**2 * self.length0
 
     def law(self, ogden: OgdenLaw):
         if self.kind == "lce":
@@ -80,13 +81,15 @@ class HingeSet:
     theta2: np.ndarray | float
 
     def law(self):
-        return lambda th: bhm.enhanced_linear_law(th, self.rest_angle, self.stiffness,
-                                                  self.theta1, self.theta2)
+        return lambda th: bhm.enhanced_linear_law(
+            th, self.rest_angle, self.stiffness, self.theta1, self.theta2
+        )
 
 
 @dataclass
 class ContactSet:
-    """Unilateral point-plane contacts: rows (c, 4) (p, a, b, c), rest gap g0 [mm], stiffness [N/mm]."""
+    """Unilateral point-plane contacts: rows (c, 4) (p, a, b, c), rest gap g0 [mm], stiffness
+    [N/mm]."""
 
     name: str
     nodes: np.ndarray
@@ -98,19 +101,26 @@ class BarHingeModel:
     """Energy, gradient and Hessian of a bar-and-hinge structure with given materials."""
 
     @classmethod
-    def from_materials(cls, structure: BarHingeStructure,
-                       materials: bhm.BarHingeMaterials = bhm.BarHingeMaterials()) -> "BarHingeModel":
-        """The model of ``structure`` with every law of ``materials`` (the one definition in models)."""
+    def from_materials(
+        cls,
+        structure: BarHingeStructure,
+        materials: bhm.BarHingeMaterials = bhm.BarHingeMaterials(),
+    ) -> "BarHingeModel":
+        """The model of ``structure`` with every law of ``materials`` (the one definition in
+        models)."""
         m = materials
         return cls(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)
 
-    def __init__(self, structure: BarHingeStructure,
-                 kapton: bhm.KaptonBarHinge = bhm.KaptonBarHinge(),
-                 lce: bhm.LCEStripBars = bhm.LCEStripBars(),
-                 glue: bhm.GlueBars = bhm.GlueBars(),
-                 contact: bhm.StripContactSprings = bhm.StripContactSprings(),
-                 ogden: OgdenLaw = OgdenLaw(),
-                 strip_contact: bhm.StripContact = bhm.StripContact()):
+    def __init__(
+        self,
+        structure: BarHingeStructure,
+        kapton: bhm.KaptonBarHinge = bhm.KaptonBarHinge(),
+        lce: bhm.LCEStripBars = bhm.LCEStripBars(),
+        glue: bhm.GlueBars = bhm.GlueBars(),
+        contact: bhm.StripContactSprings = bhm.StripContactSprings(),
+        ogden: OgdenLaw = OgdenLaw(),
+        strip_contact: bhm.StripContact = bhm.StripContact(),
+    ):
         """
         Args:
             structure: geometry and topology; ``structure.sections`` gives the strips' cast section,
@@ -118,15 +128,23 @@ class BarHingeModel:
         """
         structure.validate()
         self.structure = structure
-        self.kapton, self.lce, self.glue, self.contact, self.ogden = kapton, lce, glue, contact, ogden
+        self.kapton, self.lce, self.glue, self.contact, self.ogden = (
+            kapton,
+            lce,
+            glue,
+            contact,
+            ogden,
+        )
         self.strip_contact = strip_contact
         lce.checked()
 
         def section(group: str, key: str) -> float:
             value = structure.sections.get(group, {}).get(key)
             if value is None or value <= 0:
-                raise InputError(f"structure.sections[{group!r}][{key!r}]: must be > 0 for a "
-                                 f"structure with {group} bars")
+                raise InputError(
+                    f"structure.sections[{group!r}][{key!r}]: must be > 0 for a "
+                    f"structure with {group} bars"
+                )
             return float(value)
 
         x0 = structure.nodes
@@ -141,33 +159,63 @@ class BarHingeModel:
             length0 = structure.bar_lengths(name)
             if name == "kapton":
                 area = self._kapton_areas()
-                self.bar_sets.append(BarSet(name, pairs, length0, area * length0, "stiffening",
-                                            np.full(length0.size, kapton.youngs_modulus), exps))
+                self.bar_sets.append(
+                    BarSet(
+                        name,
+                        pairs,
+                        length0,
+                        area * length0,
+                        "stiffening",
+                        np.full(length0.size, kapton.youngs_modulus),
+                        exps,
+                    )
+                )
             elif name == "glue":
                 area = section(name, "area")
-                self.bar_sets.append(BarSet(name, pairs, length0, area * length0, "stiffening",
-                                            np.full(length0.size, glue.youngs_modulus), exps))
+                self.bar_sets.append(
+                    BarSet(
+                        name,
+                        pairs,
+                        length0,
+                        area * length0,
+                        "stiffening",
+                        np.full(length0.size, glue.youngs_modulus),
+                        exps,
+                    )
+                )
             elif name in STRIP_GROUPS:
                 # Volume conserved: V = (A_iso / bars per strip) * L_iso, L_iso = L0/lambda_N.
                 area = section(name, "section") / lce.bars_per_strip
                 volume = area * length0 / lce.lambda_N
-                self.bar_sets.append(BarSet(name, pairs, length0, volume, "lce",
-                                            rest_fraction=np.ones(length0.size),
-                                            published_area=area if lce.force_law == "published" else None))
+                self.bar_sets.append(
+                    BarSet(
+                        name,
+                        pairs,
+                        length0,
+                        volume,
+                        "lce",
+                        rest_fraction=np.ones(length0.size),
+                        published_area=area if lce.force_law == "published" else None,
+                    )
+                )
             else:
-                raise InputError(f"bar group {name!r}: no material law (allowed: kapton, glue, "
-                                 f"{', '.join(STRIP_GROUPS)})")
+                raise InputError(
+                    f"bar group {name!r}: no material law (allowed: kapton, glue, "
+                    f"{', '.join(STRIP_GROUPS)})"
+                )
         k_ribbon = kapton.checked().hinge_stiffness(structure.thickness)
         t1, t2 = math.radians(kapton.linear_from), math.radians(kapton.linear_to)
-        # kapton.twist = "plate": spokes beta k (their twist mode) + a panel bending element (1 - beta) k
+        # kapton.twist = "plate": spokes beta k (their twist mode) + a panel bending element (1 -
+        # beta) k
         self.panel_set = self._panel_bending_set(k_ribbon) if kapton.twist == "plate" else None
         self.hinge_sets: list[HingeSet] = []
         for name, rows in structure.hinges.items():
             if rows.shape[0] == 0:
                 continue
             axis = np.linalg.norm(x0[rows[:, 1]] - x0[rows[:, 0]], axis=1)
-            theta_ref = law.dihedral_angle(x0[rows[:, 0]], x0[rows[:, 1]], x0[rows[:, 2]],
-                                           x0[rows[:, 3]], derivatives=0)
+            theta_ref = law.dihedral_angle(
+                x0[rows[:, 0]], x0[rows[:, 1]], x0[rows[:, 2]], x0[rows[:, 3]], derivatives=0
+            )
             if name in ("bend", "fold"):
                 k = np.full(axis.size, k_ribbon)
                 if name == "bend" and self.panel_set is not None:
@@ -181,8 +229,12 @@ class BarHingeModel:
                 lo = np.where(theta_ref < np.pi, theta_ref, 2.0 * np.pi - theta_ref)
                 hi = 2.0 * np.pi - lo
             else:
-                raise InputError(f"hinge group {name!r}: no law (allowed: bend, fold, strip_contact)")
-            self.hinge_sets.append(HingeSet(name, rows, axis, k, np.asarray(rest, dtype=float), lo, hi))
+                raise InputError(
+                    f"hinge group {name!r}: no law (allowed: bend, fold, strip_contact)"
+                )
+            self.hinge_sets.append(
+                HingeSet(name, rows, axis, k, np.asarray(rest, dtype=float), lo, hi)
+            )
         self.contact_sets: list[ContactSet] = []
         for name, rows in structure.contacts.items():
             if rows.shape[0] == 0:
@@ -191,23 +243,29 @@ class BarHingeModel:
             gap0 = structure.contact_rest.get(name)
             if gap0 is None:
                 gap0 = law.point_plane_gap(*(x0[rows[:, c]] for c in range(4)), derivatives=0)
-            self.contact_sets.append(ContactSet(name, rows, np.asarray(gap0, dtype=float),
-                                                np.full(rows.shape[0], stiffness)))
+            self.contact_sets.append(
+                ContactSet(
+                    name, rows, np.asarray(gap0, dtype=float), np.full(rows.shape[0], stiffness)
+                )
+            )
         self._build_pattern()
         self.external_force = np.zeros(self.ndof)
 
     # ------------------------------------------------------------------ set-up
     def _panel_bending_set(self, k_ribbon: float) -> dict:
-        """Per panel: nodes (centre, corners), spoke lengths and rest angles, the twist fraction beta
-        (:func:`law.panel_twist_fraction`) and the bending element's stiffness (1 - beta) k."""
+        """Per panel: nodes (centre, corners), spoke lengths and rest angles, the twist fraction
+        beta (:func:`law.panel_twist_fraction`) and the bending element's stiffness (1 - beta) k."""
         s = self.structure
         bend = s.hinges.get("bend", np.zeros((0, 4), dtype=np.int64))
         p = s.panels.shape[0]
         rows = bend.reshape(-1, 4, 4) if bend.shape[0] == 4 * p else None
-        if rows is None or not (np.all(rows[:, :, 0] == s.panel_centres[:, None])
-                                and np.all(rows[:, :, 1] == s.panels)):
-            raise InputError("kapton.twist = 'plate': the structure's bend hinges must be the N5B8 "
-                             "spokes, four per panel in panel order (meshes.bar_hinge_structure)")
+        if rows is None or not (
+            np.all(rows[:, :, 0] == s.panel_centres[:, None]) and np.all(rows[:, :, 1] == s.panels)
+        ):
+            raise InputError(
+                "kapton.twist = 'plate': the structure's bend hinges must be the N5B8 "
+                "spokes, four per panel in panel order (meshes.bar_hinge_structure)"
+            )
         nodes = np.concatenate([s.panel_centres[:, None], s.panels], axis=1)
         x0 = s.nodes
         flat = rows.reshape(-1, 4)
@@ -215,17 +273,24 @@ class BarHingeModel:
         lengths = np.linalg.norm(x0[rows[:, :, 1]] - x0[rows[:, :, 0]], axis=2)
         width, height = panel_dimensions(s)
         # The plate's torsion is GJ = G w t^3/3 of a rectangle w x h: on a parallelogram (a rhombic
-        # gridshell's panels) it breaks the grid's mirror symmetry (measured: 0.25 mm of 3.8 mm z range
-        # on the rhombic60 layout at lambda_B = 1.395, clamp; 2e-7 mm with the N5B8 spokes).
+        # gridshell's panels) it breaks the grid's mirror symmetry (measured: 0.25 mm of 3.8 mm z
+        # range on the rhombic60 layout at lambda_B = 1.395, clamp; 2e-7 mm with the N5B8 spokes).
         c = x0[s.panels]
         d1 = np.linalg.norm(c[:, 2] - c[:, 0], axis=1)
         d2 = np.linalg.norm(c[:, 3] - c[:, 1], axis=1)
         if np.any(np.abs(d1 - d2) > 1e-6 * np.maximum(d1, d2)):
-            raise InputError("kapton.twist = 'plate': needs rectangular panels (a rhombic layout's are "
-                             "parallelograms); use kapton.twist = 'n5b8'")
+            raise InputError(
+                "kapton.twist = 'plate': needs rectangular panels (a rhombic layout's are "
+                "parallelograms); use kapton.twist = 'n5b8'"
+            )
         beta = law.panel_twist_fraction(self.kapton, s.thickness, width, height)
-        return {"nodes": nodes, "lengths": lengths, "rest": rest, "beta": beta,
-                "stiffness": (1.0 - beta) * k_ribbon}
+        return {
+            "nodes": nodes,
+            "lengths": lengths,
+            "rest": rest,
+            "beta": beta,
+            "stiffness": (1.0 - beta) * k_ribbon,
+        }
 
     def _kapton_areas(self) -> np.ndarray:
         s = self.structure
@@ -250,25 +315,36 @@ class BarHingeModel:
         """Merge the groups of each element kind into one block (one vectorised call per kind) and
         fix the Hessian's COO pattern."""
         self.ndof = 3 * self.structure.num_nodes
-        kinds = [("stiffening", [b for b in self.bar_sets if b.kind == "stiffening"]),
-                 ("lce", [b for b in self.bar_sets if b.kind == "lce"]),
-                 ("hinge", list(self.hinge_sets)), ("contact", list(self.contact_sets))]
+        kinds = [
+            ("stiffening", [b for b in self.bar_sets if b.kind == "stiffening"]),
+            ("lce", [b for b in self.bar_sets if b.kind == "lce"]),
+            ("hinge", list(self.hinge_sets)),
+            ("contact", list(self.contact_sets)),
+        ]
         self._blocks = []
         for kind, sets in kinds:
             if not sets:
                 continue
-            block = {"kind": kind, "sets": sets,
-                     "nodes": np.vstack([g.nodes for g in sets])}
-            cat = lambda attr: np.concatenate([np.broadcast_to(np.asarray(getattr(g, attr), float),
-                                                               (g.nodes.shape[0],)) for g in sets])
+            block = {"kind": kind, "sets": sets, "nodes": np.vstack([g.nodes for g in sets])}
+            cat = lambda attr: np.concatenate(
+                [
+                    np.broadcast_to(np.asarray(getattr(g, attr), float), (g.nodes.shape[0],))
+                    for g in sets
+                ]
+            )
             if kind in ("stiffening", "lce"):
                 block.update(length0=cat("length0"), volume=cat("volume"))
             if kind == "stiffening":
                 block["modulus"] = cat("modulus")
                 block["exponents"] = sets[0].exponents
             if kind == "hinge":
-                block.update(length=cat("length"), stiffness=cat("stiffness"),
-                             rest=cat("rest_angle"), theta1=cat("theta1"), theta2=cat("theta2"))
+                block.update(
+                    length=cat("length"),
+                    stiffness=cat("stiffness"),
+                    rest=cat("rest_angle"),
+                    theta1=cat("theta1"),
+                    theta2=cat("theta2"),
+                )
             if kind == "contact":
                 block.update(rest_gap=cat("rest_gap"), stiffness=cat("stiffness"))
             nodes = block["nodes"]
@@ -276,8 +352,14 @@ class BarHingeModel:
             self._blocks.append(block)
         if getattr(self, "panel_set", None) is not None:
             nodes = self.panel_set["nodes"]
-            self._blocks.append({"kind": "panel", "nodes": nodes, **self.panel_set,
-                                 "dofs": (3 * nodes[:, :, None] + np.arange(3)).reshape(nodes.shape[0], -1)})
+            self._blocks.append(
+                {
+                    "kind": "panel",
+                    "nodes": nodes,
+                    **self.panel_set,
+                    "dofs": (3 * nodes[:, :, None] + np.arange(3)).reshape(nodes.shape[0], -1),
+                }
+            )
         dofs = [b["dofs"] for b in self._blocks]
         start = 0
         for b in self._blocks:  # each block's slice of the COO values
@@ -296,8 +378,10 @@ class BarHingeModel:
         names = {b.name: b for b in self.strip_sets()}
         for name, value in fractions.items():
             if name not in names:
-                raise InputError(f"rest fraction for {name!r}: no such strip group "
-                                 f"(have: {', '.join(names) or 'none'})")
+                raise InputError(
+                    f"rest fraction for {name!r}: no such strip group "
+                    f"(have: {', '.join(names) or 'none'})"
+                )
             value = np.broadcast_to(np.asarray(value, dtype=float), names[name].length0.shape)
             if np.any(value <= 0):
                 raise InputError(f"rest fraction of {name}: must be > 0")
@@ -332,23 +416,39 @@ class BarHingeModel:
             kind = block["kind"]
             if kind == "stiffening":
                 exps = block["exponents"]
-                out = law.bar_element(xs[0], xs[1], block["length0"], block["volume"],
-                                      lambda lam: bhm.stiffening_bar_law(lam, block["modulus"], exps),
-                                      derivatives=derivatives)
+                out = law.bar_element(
+                    xs[0],
+                    xs[1],
+                    block["length0"],
+                    block["volume"],
+                    lambda lam: bhm.stiffening_bar_law(lam, block["modulus"], exps),
+                    derivatives=derivatives,
+                )
             elif kind == "lce":
                 rest = np.concatenate([g.rest_length for g in block["sets"]])
                 volume = np.concatenate([g.energy_volume for g in block["sets"]])
-                out = law.bar_element(xs[0], xs[1], rest, volume,
-                                      lambda lam: bhm.tension_only_ogden_law(lam, self.ogden),
-                                      derivatives=derivatives)
+                out = law.bar_element(
+                    xs[0],
+                    xs[1],
+                    rest,
+                    volume,
+                    lambda lam: bhm.tension_only_ogden_law(lam, self.ogden),
+                    derivatives=derivatives,
+                )
             elif kind == "hinge":
                 out = self._hinges(block, xs, derivatives, values)
             elif kind == "panel":
-                out = law.panel_bending_element(*xs, block["lengths"], block["rest"], block["stiffness"],
-                                                derivatives=derivatives)
+                out = law.panel_bending_element(
+                    *xs,
+                    block["lengths"],
+                    block["rest"],
+                    block["stiffness"],
+                    derivatives=derivatives,
+                )
             else:
-                out = law.unilateral_contact_element(*xs, block["rest_gap"], block["stiffness"],
-                                                     derivatives=derivatives)
+                out = law.unilateral_contact_element(
+                    *xs, block["rest_gap"], block["stiffness"], derivatives=derivatives
+                )
             if derivatives == 0:
                 energy += float(np.sum(out))
                 continue
@@ -371,8 +471,9 @@ class BarHingeModel:
         """:func:`law.hinge_element` of the hinge block, its derivatives from the compiled kernel
         (the Hessian written straight into its slice of ``values`` when given)."""
         theta = law.dihedral_angle(*xs, derivatives=0)
-        psi, moment, dmoment = bhm.enhanced_linear_law(theta, block["rest"], block["stiffness"],
-                                                       block["theta1"], block["theta2"])
+        psi, moment, dmoment = bhm.enhanced_linear_law(
+            theta, block["rest"], block["stiffness"], block["theta1"], block["theta2"]
+        )
         energy = block["length"] * psi
         if derivatives == 0:
             return energy
@@ -394,15 +495,24 @@ class BarHingeModel:
         return self.evaluate(x, derivatives=1)[1]
 
     def hessian(self, x) -> sp.csr_matrix:
-        """Full Hessian [N/mm] as CSR (for tests and small problems; solvers use the reduced one)."""
+        """Full Hessian [N/mm] as CSR (for tests and small problems; solvers use the reduced
+        one)."""
         _, _, vals = self.evaluate(x)
         return sp.csr_matrix((vals, self.coo_pattern), shape=(self.ndof, self.ndof))
 
     def bar_forces(self, x) -> dict[str, np.ndarray]:
         """Axial force [N] (tension positive) of every bar, by group."""
         x = np.asarray(x, dtype=float).reshape(-1, 3)
-        return {b.name: law.axial_force(x[b.nodes[:, 0]], x[b.nodes[:, 1]], b.rest_length,
-                                        b.energy_volume, b.law(self.ogden)) for b in self.bar_sets}
+        return {
+            b.name: law.axial_force(
+                x[b.nodes[:, 0]],
+                x[b.nodes[:, 1]],
+                b.rest_length,
+                b.energy_volume,
+                b.law(self.ogden),
+            )
+            for b in self.bar_sets
+        }
 
     def contact_forces(self, x) -> dict[str, np.ndarray]:
         """Contact pressure force k <g0 - g>_+ [N] of every contact, by group."""
@@ -419,8 +529,8 @@ class BarHingeModel:
         With rest length L_r = f L0, stretch l = L/L_r and axial force F = V w'(l)/L_r, the bar's
         gradient is F (-u, u) (u its unit vector), and dF/df = -V (l w''(l) + w'(l))/(f L_r) with
         the material volume V (the volume law), A (w'(l) - l w''(l)) with the published law
-        F = A f w'(l) (V = A f^2 L0); the other elements do not depend on f. Used for exact design sensitivities (implicit function
-        theorem: dx/df = -K^-1 d(gradient)/df at an equilibrium).
+        F = A f w'(l) (V = A f^2 L0); the other elements do not depend on f. Used for exact design
+        sensitivities (implicit function theorem: dx/df = -K^-1 d(gradient)/df at an equilibrium).
         """
         x = np.asarray(x, dtype=float).reshape(-1, 3)
         out = {}
@@ -441,8 +551,16 @@ class BarHingeModel:
     def hinge_angles(self, x) -> dict[str, np.ndarray]:
         """Dihedral angles [rad] of every hinge, by group."""
         x = np.asarray(x, dtype=float).reshape(-1, 3)
-        return {h.name: law.dihedral_angle(x[h.nodes[:, 0]], x[h.nodes[:, 1]], x[h.nodes[:, 2]],
-                                           x[h.nodes[:, 3]], derivatives=0) for h in self.hinge_sets}
+        return {
+            h.name: law.dihedral_angle(
+                x[h.nodes[:, 0]],
+                x[h.nodes[:, 1]],
+                x[h.nodes[:, 2]],
+                x[h.nodes[:, 3]],
+                derivatives=0,
+            )
+            for h in self.hinge_sets
+        }
 
 
 class ReducedHessian:
@@ -455,7 +573,8 @@ class ReducedHessian:
 
     @classmethod
     def of(cls, model: BarHingeModel, free: np.ndarray) -> "ReducedHessian":
-        """The reduced Hessian of ``model`` on ``free``, built once per model and set of free DOFs."""
+        """The reduced Hessian of ``model`` on ``free``, built once per model and set of free
+        DOFs."""
         free = np.asarray(free, dtype=np.int64)
         cache = model.__dict__.setdefault("_reduced_hessians", {})
         key = free.tobytes()

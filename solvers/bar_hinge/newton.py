@@ -38,47 +38,90 @@ from lcefem.solvers.bar_hinge.model import BarHingeModel, ReducedHessian
 class NewtonOptions:
     """Newton iteration settings."""
 
-    max_iterations: int = param(50, "-", "chosen: quadratic convergence takes < 10; more means a poor "
-                                "start, so the increment is halved instead", minimum=1)
-    force_tolerance: float = param(1.0e-8, "N", "chosen: 1e-7 of the 0.1 N strip and ribbon forces; "
-                                   "displacement error < 1e-6 mm for the softest buckled mode "
-                                   "(~0.01 N/mm)", positive=True)
+    max_iterations: int = param(
+        50,
+        "-",
+        "chosen: quadratic convergence takes < 10; more means a poor "
+        "start, so the increment is halved instead",
+        minimum=1,
+    )
+    force_tolerance: float = param(
+        1.0e-8,
+        "N",
+        "chosen: 1e-7 of the 0.1 N strip and ribbon forces; "
+        "displacement error < 1e-6 mm for the softest buckled mode "
+        "(~0.01 N/mm)",
+        positive=True,
+    )
     line_search: bool = param(True, "-", "Armijo backtracking on the total energy")
-    inertia_control: bool = param(True, "-", "shift K until positive definite, so Newton settles in "
-                                  "minima (off: plain Newton, which may also converge to saddles)")
+    inertia_control: bool = param(
+        True,
+        "-",
+        "shift K until positive definite, so Newton settles in "
+        "minima (off: plain Newton, which may also converge to saddles)",
+    )
     max_shifts: int = param(30, "-", "chosen: each shift multiplies mu by 10", minimum=1)
-    max_step: float = param(2.0, "mm", "chosen: trust radius, the largest nodal move of one Newton "
-                            "step (the structures' features are 1-10 mm); guards near-singular "
-                            "tangents at folds of the path", positive=True)
-    stall_iterations: int = param(0, "-", "chosen: after this many Newton iterations without halving "
-                                  "the residual (0: never), the steps are damped (K + mu I, mu from "
-                                  "1e-8 of the largest stiffness, x10 after a damped step that did not "
-                                  "lower the residual, /10 after one that did, at most 1e-2; undamped "
-                                  "again once the residual is halved): "
-                                  "near contact and slack-strip kinks of the tangent, undamped Newton "
-                                  "cycles a few 1e-6 N above the tolerance", minimum=0)
-    snap_iterations: int = param(1000, "-", "chosen: extra iterations allowed once a state has lost "
-                                 "stability and Newton descends to a new stable state (snap-through)",
-                                 minimum=0)
+    max_step: float = param(
+        2.0,
+        "mm",
+        "chosen: trust radius, the largest nodal move of one Newton "
+        "step (the structures' features are 1-10 mm); guards near-singular "
+        "tangents at folds of the path",
+        positive=True,
+    )
+    stall_iterations: int = param(
+        0,
+        "-",
+        "chosen: after this many Newton iterations without halving "
+        "the residual (0: never), the steps are damped (K + mu I, mu from "
+        "1e-8 of the largest stiffness, x10 after a damped step that did not "
+        "lower the residual, /10 after one that did, at most 1e-2; undamped "
+        "again once the residual is halved): "
+        "near contact and slack-strip kinks of the tangent, undamped Newton "
+        "cycles a few 1e-6 N above the tolerance",
+        minimum=0,
+    )
+    snap_iterations: int = param(
+        1000,
+        "-",
+        "chosen: extra iterations allowed once a state has lost "
+        "stability and Newton descends to a new stable state (snap-through)",
+        minimum=0,
+    )
 
 
 @dataclass(frozen=True)
 class PathOptions:
     """Load-factor stepping settings (t from 0 to 1)."""
 
-    initial_increment: float = param(0.05, "-", "chosen: 20 increments over the ramp (the published "
-                                     "model used 300 fixed ones)", positive=True, maximum=1.0)
-    max_increment: float = param(0.1, "-", "chosen: keeps the output history readable", positive=True,
-                                 maximum=1.0)
-    min_increment: float = param(1.0e-5, "-", "chosen: below this the path is declared lost",
-                                 positive=True)
+    initial_increment: float = param(
+        0.05,
+        "-",
+        "chosen: 20 increments over the ramp (the published model used 300 fixed ones)",
+        positive=True,
+        maximum=1.0,
+    )
+    max_increment: float = param(
+        0.1, "-", "chosen: keeps the output history readable", positive=True, maximum=1.0
+    )
+    min_increment: float = param(
+        1.0e-5, "-", "chosen: below this the path is declared lost", positive=True
+    )
     growth: float = param(1.5, "-", "increment growth after an easy increment", minimum=1.0)
-    snap_increment: float = param(1.0e-3, "-", "chosen: when an increment smaller than this fails "
-                                  "(a fold of the path: the next stable state is far away), one "
-                                  "attempt jumps this far with the snap-through iteration budget",
-                                  positive=True)
-    easy_iterations: int = param(6, "-", "an increment that converged within this many Newton "
-                                 "iterations lets the next one grow", minimum=1)
+    snap_increment: float = param(
+        1.0e-3,
+        "-",
+        "chosen: when an increment smaller than this fails "
+        "(a fold of the path: the next stable state is far away), one "
+        "attempt jumps this far with the snap-through iteration budget",
+        positive=True,
+    )
+    easy_iterations: int = param(
+        6,
+        "-",
+        "an increment that converged within this many Newton iterations lets the next one grow",
+        minimum=1,
+    )
 
 
 @dataclass
@@ -122,33 +165,52 @@ class PathResult:
 ZERO_PIVOT = 1e-12
 
 
-def factorize(matrix: sp.csc_matrix, diagonal: np.ndarray | None = None, shift: float = 0.0,
-               ldl: SymbolicLDL | None = None):
-    """Factorise ``matrix`` + ``shift`` I; returns (factors with a ``solve`` method, negative pivots,
-    zero pivots). ``ldl``: the symbolic LDL^T of the matrix's pattern (:attr:`ReducedHessian.ldl`):
-    the numeric LDL^T alone, unpivoted, whose D gives the inertia; without it, or when a pivot is
-    exactly zero, symmetric-mode SuperLU, whose counts are -1 when the inertia is not available
-    (off-diagonal pivoting happened). ``diagonal``: the shifted matrix's diagonal if known (it sets
-    the zero-pivot threshold)."""
+def factorize(
+    matrix: sp.csc_matrix,
+    diagonal: np.ndarray | None = None,
+    shift: float = 0.0,
+    ldl: SymbolicLDL | None = None,
+):
+    """Factorise ``matrix`` + ``shift`` I; returns (factors with a ``solve`` method, negative
+    pivots, zero pivots). ``ldl``: the symbolic LDL^T of the matrix's pattern
+    (:attr:`ReducedHessian.ldl`): the numeric LDL^T alone, unpivoted, whose D gives the inertia;
+    without it, or when a pivot is exactly zero, symmetric-mode SuperLU, whose counts are -1 when
+    the inertia is not available (off-diagonal pivoting happened). ``diagonal``: the shifted
+    matrix's diagonal if known (it sets the zero-pivot threshold)."""
     if diagonal is None:
         diagonal = matrix.diagonal() + shift
     tol = ZERO_PIVOT * max(float(np.max(np.abs(diagonal))) if diagonal.size else 0.0, 1e-300)
     factors = ldl.factorize(matrix.data, shift) if ldl is not None else None
     if factors is not None:
         pivots = factors.pivots
-        return factors, int(np.count_nonzero(pivots < -tol)), int(np.count_nonzero(np.abs(pivots) <= tol))
+        return (
+            factors,
+            int(np.count_nonzero(pivots < -tol)),
+            int(np.count_nonzero(np.abs(pivots) <= tol)),
+        )
     if shift:
         matrix = matrix + shift * sp.identity(matrix.shape[0], format="csc")
-    lu = sla.splu(matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                  options={"SymmetricMode": True})
+    lu = sla.splu(
+        matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+    )
     if np.array_equal(lu.perm_r, lu.perm_c):
         pivots = lu.U.diagonal()
-        return lu, int(np.count_nonzero(pivots < -tol)), int(np.count_nonzero(np.abs(pivots) <= tol))
+        return (
+            lu,
+            int(np.count_nonzero(pivots < -tol)),
+            int(np.count_nonzero(np.abs(pivots) <= tol)),
+        )
     return lu, -1, -1
 
 
-def _descent_step(kmat: sp.csc_matrix, rhs: np.ndarray, options: NewtonOptions, damping: float = 0.0,
-                  diagonal: np.ndarray | None = None, ldl: SymbolicLDL | None = None):
+def _descent_step(
+    kmat: sp.csc_matrix,
+    rhs: np.ndarray,
+    options: NewtonOptions,
+    damping: float = 0.0,
+    diagonal: np.ndarray | None = None,
+    ldl: SymbolicLDL | None = None,
+):
     """Solve (K + mu I) d = rhs; mu = 0 if K is positive definite (or inertia control is off); with
     ``damping`` > 0, mu >= damping times the largest diagonal entry. ``diagonal``: K's diagonal if
     known (the shifted matrices' diagonals follow from it). ``ldl``: see :func:`factorize`."""
@@ -212,16 +274,16 @@ def _negative_curvature_direction(kmat: sp.csc_matrix) -> tuple[float, np.ndarra
 #: Negative curvature of the tangent above -NEGLIGIBLE_CURVATURE times its largest diagonal entry is
 #: numerically zero: no escape is tried. Chosen from the dome of Fig. 4 (largest diagonal entry
 #: 1485 N/mm): at its fold the lowest eigenvalues of the tangent are -1e-11 to -8e-8 N/mm
-#: (7e-15 to 5e-11 of the largest entry), with several further eigenvalues within 1e-12 to 2e-8 N/mm of
-#: zero (near-mechanisms of slack strips and contacts): all 10 escapes along such a direction there
-#: ended in a failed increment, after a dense eigh each (2 s CPU).
+#: (7e-15 to 5e-11 of the largest entry), with several further eigenvalues within 1e-12 to 2e-8 N/mm
+#: of zero (near-mechanisms of slack strips and contacts): all 10 escapes along such a direction
+#: there ended in a failed increment, after a dense eigh each (2 s CPU).
 NEGLIGIBLE_CURVATURE = 1.0e-10
 
 
 def _negligible_negative_curvature(kmat: sp.csc_matrix, reduced: ReducedHessian) -> bool:
-    """True when K + tau I is positive definite, tau = NEGLIGIBLE_CURVATURE times the largest diagonal
-    entry (Sylvester's law on its LDL^T, one factorisation): the lowest eigenvalue of K is above -tau,
-    no direction of K lowers the energy by more than tau/2 |v|^2."""
+    """True when K + tau I is positive definite, tau = NEGLIGIBLE_CURVATURE times the largest
+    diagonal entry (Sylvester's law on its LDL^T, one factorisation): the lowest eigenvalue of K is
+    above -tau, no direction of K lowers the energy by more than tau/2 |v|^2."""
     diag = reduced.diagonal(kmat)
     tau = NEGLIGIBLE_CURVATURE * max(float(np.max(np.abs(diag))) if diag.size else 0.0, 1e-300)
     try:
@@ -236,8 +298,9 @@ def _negligible_negative_curvature(kmat: sp.csc_matrix, reduced: ReducedHessian)
 DENSE_EIGEN = 4000
 
 
-def _stall(best: float, stalled: int, level: int, residual: float, previous: float, damping: float
-           ) -> tuple[float, int, int]:
+def _stall(
+    best: float, stalled: int, level: int, residual: float, previous: float, damping: float
+) -> tuple[float, int, int]:
     """Stall bookkeeping after an accepted step: (best residual, stalled iterations, damping level).
     Halving the best residual ends the stall (no damping); a damped step lowers the damping when it
     lowered the residual, else raises it (at most 1e-2 of the largest stiffness)."""
@@ -248,9 +311,13 @@ def _stall(best: float, stalled: int, level: int, residual: float, previous: flo
     return best, stalled + 1, level
 
 
-def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
-           options: NewtonOptions = NewtonOptions(), reduced: ReducedHessian | None = None
-           ) -> NewtonResult:
+def newton(
+    model: BarHingeModel,
+    x0: np.ndarray,
+    free: np.ndarray,
+    options: NewtonOptions = NewtonOptions(),
+    reduced: ReducedHessian | None = None,
+) -> NewtonResult:
     """Minimise the model's energy over the DOFs ``free`` starting from positions ``x0`` (n, 3).
 
     With inertia control, a point where the gradient vanishes but the tangent is indefinite (a
@@ -269,7 +336,9 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
     escapes = 0
     it = 0
     best, stalled = residual, 0  # iterations since the residual was last halved
-    level = 0  # damping exponent of the stalled iterations (mu = 1e-8 * 10^level of the largest entry)
+    level = (
+        0  # damping exponent of the stalled iterations (mu = 1e-8 * 10^level of the largest entry)
+    )
 
     def escape() -> bool:
         """Step along negative curvature until the energy drops; False if it cannot."""
@@ -286,7 +355,7 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         vec = sign * vec / np.max(np.abs(vec))
         trial = x.copy()
         for k in range(30):
-            alpha = 2.0 ** -k  # from 1 mm (largest nodal move) down
+            alpha = 2.0**-k  # from 1 mm (largest nodal move) down
             trial[free] = x[free] + alpha * vec
             e_new = model.evaluate(trial, derivatives=0)
             if math.isfinite(e_new) and e_new < energy - 1e-13 * abs(energy):
@@ -301,8 +370,9 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
 
     while True:
         if not math.isfinite(energy) or not math.isfinite(residual):
-            return NewtonResult(x.reshape(-1, 3), False, it, residual, energy,
-                                "energy or residual not finite")
+            return NewtonResult(
+                x.reshape(-1, 3), False, it, residual, energy, "energy or residual not finite"
+            )
         if residual <= options.force_tolerance:
             try:
                 kmat = reduced.matrix(coo)
@@ -320,11 +390,12 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         r_old = residual
         damping = 0.0
         if options.stall_iterations and stalled >= options.stall_iterations:
-            damping = 1e-8 * 10.0 ** level
+            damping = 1e-8 * 10.0**level
         try:
             kmat = reduced.matrix(coo)
-            step, negative, _ = _descent_step(kmat, -r, options, damping, reduced.diagonal(kmat),
-                                              reduced.ldl)
+            step, negative, _ = _descent_step(
+                kmat, -r, options, damping, reduced.diagonal(kmat), reduced.ldl
+            )
         except np.linalg.LinAlgError as exc:
             return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, str(exc), negative)
         longest = float(np.max(np.abs(step))) if step.size else 0.0
@@ -339,8 +410,9 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
         for _ in range(20 if options.line_search and resolvable else 0):
             trial[free] = x[free] + alpha * step
             e_new = model.evaluate(trial, derivatives=0)
-            if math.isfinite(e_new) and (slope >= 0 or e_new <= energy + 1e-4 * alpha * slope
-                                         + 1e-13 * abs(energy)):
+            if math.isfinite(e_new) and (
+                slope >= 0 or e_new <= energy + 1e-4 * alpha * slope + 1e-13 * abs(energy)
+            ):
                 accepted = True
                 break
             alpha *= 0.5
@@ -351,7 +423,8 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             best, stalled, level = _stall(best, stalled, level, residual, r_old, damping)
             continue
         # The energy cannot resolve the step: backtrack on the residual instead (near a kink of the
-        # tangent, e.g. a contact switching on, the full step can overshoot while a part of it helps).
+        # tangent, e.g. a contact switching on, the full step can overshoot while a part of it
+        # helps).
         reduced_step = False
         alpha = 1.0
         for _ in range(12):
@@ -376,18 +449,31 @@ def newton(model: BarHingeModel, x0: np.ndarray, free: np.ndarray,
             level = min(level + 1, 6) if damping else level
             stalled = max(stalled + 1, options.stall_iterations)
             continue
-        return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, "line search failed",
-                            negative)
-    return NewtonResult(x.reshape(-1, 3), False, it, residual, energy,
-                        f"no convergence in {it} iterations (|g| = {residual:.3g} N)", negative)
+        return NewtonResult(
+            x.reshape(-1, 3), False, it, residual, energy, "line search failed", negative
+        )
+    return NewtonResult(
+        x.reshape(-1, 3),
+        False,
+        it,
+        residual,
+        energy,
+        f"no convergence in {it} iterations (|g| = {residual:.3g} N)",
+        negative,
+    )
 
 
-def follow_path(model: BarHingeModel, x_start: np.ndarray, held: np.ndarray,
-                load: Callable[[float], np.ndarray], *,
-                newton_options: NewtonOptions = NewtonOptions(),
-                path_options: PathOptions = PathOptions(),
-                on_step: Callable[[PathState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> PathResult:
+def follow_path(
+    model: BarHingeModel,
+    x_start: np.ndarray,
+    held: np.ndarray,
+    load: Callable[[float], np.ndarray],
+    *,
+    newton_options: NewtonOptions = NewtonOptions(),
+    path_options: PathOptions = PathOptions(),
+    on_step: Callable[[PathState], None] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> PathResult:
     """Follow the equilibrium path from t = 0 to t = 1.
 
     Args:
@@ -412,7 +498,9 @@ def follow_path(model: BarHingeModel, x_start: np.ndarray, held: np.ndarray,
     result = PathResult()
 
     snap_options = dataclasses.replace(
-        newton_options, max_iterations=newton_options.max_iterations + newton_options.snap_iterations)
+        newton_options,
+        max_iterations=newton_options.max_iterations + newton_options.snap_iterations,
+    )
 
     def solve(t, guess, options=newton_options):
         x = np.array(guess, dtype=float).reshape(-1)
@@ -421,8 +509,16 @@ def follow_path(model: BarHingeModel, x_start: np.ndarray, held: np.ndarray,
 
     def record(t, res, snapped=False):
         grad = model.evaluate(res.x, derivatives=1)[1]
-        state = PathState(t, res.x.copy(), res.iterations, res.energy, res.residual,
-                          grad[held].copy(), res.negative_pivots, snapped)
+        state = PathState(
+            t,
+            res.x.copy(),
+            res.iterations,
+            res.energy,
+            res.residual,
+            grad[held].copy(),
+            res.negative_pivots,
+            snapped,
+        )
         result.states.append(state)
         if on_step is not None:
             on_step(state)
@@ -473,7 +569,8 @@ def follow_path(model: BarHingeModel, x_start: np.ndarray, held: np.ndarray,
             result.seconds = time.perf_counter() - started
             err = ConvergenceError(
                 f"load factor t = {last.t:.6g} (last converged; trying t = {t_try:.6g})",
-                f"{res.reason}; increment halved below {path_options.min_increment:g}")
+                f"{res.reason}; increment halved below {path_options.min_increment:g}",
+            )
             err.last_state = last
             err.result = result
             raise err

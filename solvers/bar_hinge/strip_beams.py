@@ -1,10 +1,12 @@
 """The bar-and-hinge model with the LCE strips' own bending stiffness (``mesh.strip_element`` =
 'bending' or 'beam'): :class:`StripBeamModel` adds one
 :func:`lcefem.models.bar_hinge.strip_beam_element` per strip piece and rail (rows
-``structure.info["strip_beams"]``, written by :func:`lcefem.meshes.composite_beam.apply_strip_element`)
-to :class:`lcefem.solvers.bar_hinge.BarHingeModel`'s energy, gradient and Hessian (its COO pattern
+``structure.info["strip_beams"]``, written by
+:func:`lcefem.meshes.composite_beam.apply_strip_element`) to
+:class:`lcefem.solvers.bar_hinge.BarHingeModel`'s energy, gradient and Hessian (its COO pattern
 extended by the elements' 18 x 18 blocks). :func:`bar_hinge_model` builds it when the structure has
-such rows and the plain model otherwise, so that 'bar' and 'offset' structures run exactly as before.
+such rows and the plain model otherwise, so that 'bar' and 'offset' structures run exactly as
+before.
 
 E I per rail = lce.bending_modulus (3 mu_0 = 0.543 MPa) x lce.bending_factor x
 sections["strip_beams"]["second_moment"] (half the as-built strip section's w_s h_s^3/12); the
@@ -37,34 +39,54 @@ class StripBeamModel(BarHingeModel):
         self._beam_rest_b = law.dihedral_angle(xs[3], xs[4], xs[5], xs[0], derivatives=0)
         super().__init__(structure, *args, **kwargs)
         second_moment = float(structure.sections["strip_beams"]["second_moment"])
-        self.strip_bending_stiffness = self.lce.bending_modulus * self.lce.bending_factor * second_moment
-        self._beam_c = np.full(self._beam_rows.shape[0], 2.0 * self.strip_bending_stiffness) \
+        self.strip_bending_stiffness = (
+            self.lce.bending_modulus * self.lce.bending_factor * second_moment
+        )
+        self._beam_c = (
+            np.full(self._beam_rows.shape[0], 2.0 * self.strip_bending_stiffness)
             / self._beam_length
+        )
 
     def _build_pattern(self) -> None:
         super()._build_pattern()
-        dofs = (3 * self._beam_rows[:, :, None] + np.arange(3)).reshape(self._beam_rows.shape[0], -1)
+        dofs = (3 * self._beam_rows[:, :, None] + np.arange(3)).reshape(
+            self._beam_rows.shape[0], -1
+        )
         start = self._coo_rows.size
         self._beam_dofs = dofs
         self._beam_coo = slice(start, start + dofs.size * dofs.shape[1])
-        self._coo_rows = np.concatenate([self._coo_rows, np.repeat(dofs, dofs.shape[1], axis=1).ravel()])
+        self._coo_rows = np.concatenate(
+            [self._coo_rows, np.repeat(dofs, dofs.shape[1], axis=1).ravel()]
+        )
         self._coo_cols = np.concatenate([self._coo_cols, np.tile(dofs, (1, dofs.shape[1])).ravel()])
 
     def strip_beam_energy(self, x) -> np.ndarray:
         """Bending energy [mJ] of every strip element."""
         x = np.asarray(x, dtype=float).reshape(-1, 3)
-        return law.strip_beam_element(*(x[self._beam_rows[:, c]] for c in range(6)), self._beam_c,
-                                      self._beam_rest_a, self._beam_rest_b, derivatives=0)
+        return law.strip_beam_element(
+            *(x[self._beam_rows[:, c]] for c in range(6)),
+            self._beam_c,
+            self._beam_rest_a,
+            self._beam_rest_b,
+            derivatives=0,
+        )
 
     def evaluate(self, x: np.ndarray, derivatives: int = 2):
         out = super().evaluate(x, derivatives)
         x = np.asarray(x, dtype=float).reshape(-1, 3)
-        o = law.strip_beam_element(*(x[self._beam_rows[:, c]] for c in range(6)), self._beam_c,
-                                   self._beam_rest_a, self._beam_rest_b, derivatives=derivatives)
+        o = law.strip_beam_element(
+            *(x[self._beam_rows[:, c]] for c in range(6)),
+            self._beam_c,
+            self._beam_rest_a,
+            self._beam_rest_b,
+            derivatives=derivatives,
+        )
         if derivatives == 0:
             return out + float(np.sum(o))
         energy = out[0] + float(np.sum(o[0]))
-        grad = out[1] + np.bincount(self._beam_dofs.ravel(), weights=o[1].ravel(), minlength=self.ndof)
+        grad = out[1] + np.bincount(
+            self._beam_dofs.ravel(), weights=o[1].ravel(), minlength=self.ndof
+        )
         if derivatives == 1:
             return energy, grad
         values = out[2]
@@ -72,11 +94,14 @@ class StripBeamModel(BarHingeModel):
         return energy, grad, values
 
 
-def bar_hinge_model(structure: BarHingeStructure,
-                    materials: bhm.BarHingeMaterials = bhm.BarHingeMaterials()) -> BarHingeModel:
+def bar_hinge_model(
+    structure: BarHingeStructure, materials: bhm.BarHingeMaterials = bhm.BarHingeMaterials()
+) -> BarHingeModel:
     """The model of ``structure``: :class:`StripBeamModel` when it has strip bending elements
     (``mesh.strip_element`` 'bending' or 'beam'), :class:`BarHingeModel` otherwise."""
     if len(structure.info.get("strip_beams", ())):
         m = materials
-        return StripBeamModel(structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact)
+        return StripBeamModel(
+            structure, m.kapton, m.lce, m.glue, m.strip_contact, m.ogden, m.contact
+        )
     return BarHingeModel.from_materials(structure, materials)

@@ -21,4 +21,6 @@ def isostatic_supports(a: int, b: int, c: int) -> np.ndarray:
     """Six DOFs that remove the rigid-body motions and nothing else (no reactions at equilibrium):
     node a held in x, y, z; node b (a's neighbour across the ribbon) in x and z; node c (a's
     neighbour along the beam) in z. a, b, c must not be collinear."""
-    return np.sort(np.concatenate([held_dofs([a], "xyz"), held_dofs([b], "xz"), held_dofs([c], "z")]))
+    return np.sort(
+        np.concatenate([held_dofs([a], "xyz"), held_dofs([b], "xz"), held_dofs([c], "z")])
+    )

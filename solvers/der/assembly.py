@@ -21,8 +21,7 @@ import numpy as np
 
 from lcefem.models import rod as rodlaw
 from lcefem.models.contact import normal_force
-from lcefem.solvers.der import kernels
-from lcefem.solvers.der import contact_kernels
+from lcefem.solvers.der import contact_kernels, kernels
 from lcefem.solvers.der.model import Box, DiscreteRod, Ground, RodState, n_dofs
 
 BANDWIDTH = 10
@@ -58,7 +57,9 @@ class ContactSampling:
     offsets: np.ndarray
     per_edge: int
     stencil: rodlaw.StencilPoints | None
-    end_sigma: np.ndarray  # (2, p_end): fractions on the first and last edge (or (1, p) for all edges)
+    end_sigma: (
+        np.ndarray
+    )  # (2, p_end): fractions on the first and last edge (or (1, p) for all edges)
     end_offsets: np.ndarray  # (p_end, 2)
 
     @classmethod
@@ -89,15 +90,22 @@ class ContactSampling:
         return cache[key]
 
     def end_edges(self, n_edges: int) -> np.ndarray:
-        return self._cached(("end_edges", n_edges), lambda: np.array([0, n_edges - 1]) if self.interpolated
-                            else np.arange(n_edges))
+        return self._cached(
+            ("end_edges", n_edges),
+            lambda: np.array([0, n_edges - 1]) if self.interpolated else np.arange(n_edges),
+        )
 
     def end_sigma_rows(self, n_edges: int) -> np.ndarray:
-        """Fractions along the edge of the end-edge points, one row per edge of :meth:`end_edges`."""
+        """Fractions along the edge of the end-edge points, one row per edge of
+        :meth:`end_edges`."""
         if self.interpolated:
             return self.end_sigma
-        return self._cached(("end_sigma", n_edges), lambda: np.ascontiguousarray(
-            np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1]))))
+        return self._cached(
+            ("end_sigma", n_edges),
+            lambda: np.ascontiguousarray(
+                np.broadcast_to(self.end_sigma, (n_edges, self.end_sigma.shape[1]))
+            ),
+        )
 
     def end_offsets_array(self) -> np.ndarray:
         """``end_offsets`` as a contiguous float array (for the kernels)."""
@@ -105,11 +113,17 @@ class ContactSampling:
 
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(side as bool, sigma, offsets) of the stencil points (empty without interpolation)."""
+
         def make():
             if self.stencil is None:
                 return np.zeros(0, bool), np.zeros(0), np.zeros((0, 2))
             st = self.stencil
-            return st.side.astype(bool), np.asarray(st.sigma, float), np.ascontiguousarray(st.offsets, float)
+            return (
+                st.side.astype(bool),
+                np.asarray(st.sigma, float),
+                np.ascontiguousarray(st.offsets, float),
+            )
+
         return self._cached("kernel_arrays", make)
 
 
@@ -123,14 +137,28 @@ def sample_points(state: RodState, sampling: ContactSampling):
         geo = state.geometry()
         n_edges = len(geo.t)
         side, sigma, offsets = sampling.kernel_arrays()
-        out = contact_kernels.sample_points(state.x, state.a1, geo.t, state.theta, geo.twist, geo.m1, geo.m2, side, sigma,
-                                    offsets, sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                    sampling.end_offsets_array())
+        out = contact_kernels.sample_points(
+            state.x,
+            state.a1,
+            geo.t,
+            state.theta,
+            geo.twist,
+            geo.m1,
+            geo.m2,
+            side,
+            sigma,
+            offsets,
+            sampling.end_edges(n_edges),
+            sampling.end_sigma_rows(n_edges),
+            sampling.end_offsets_array(),
+        )
         cache[id(sampling)] = out
     return out
 
 
-def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling, plane: Ground | Box | None = None):
+def all_gaps(
+    rod: DiscreteRod, state: RodState, sampling: ContactSampling, plane: Ground | Box | None = None
+):
     """Gaps [mm] of every sample point to the ground (or to ``plane``, a plane or a box): (stencil
     (N-2, p_s) or None, ends (n_end, p_e))."""
     plane = rod.ground if plane is None else plane
@@ -144,7 +172,9 @@ def all_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling, plane
     return gs, pos_e @ nrm - h
 
 
-def point_positions(state: RodState, sampling: ContactSampling, kind: str, elem: np.ndarray, col: np.ndarray):
+def point_positions(
+    state: RodState, sampling: ContactSampling, kind: str, elem: np.ndarray, col: np.ndarray
+):
     """Positions (k, 3) of selected sample points, with their frame offsets r and edge tangents t
     (k, 3); ``elem`` is the stencil index or the row of the end-edge set."""
     pos_s, r_s, pos_e, r_e = sample_points(state, sampling)
@@ -169,21 +199,33 @@ class FrictionLag:
     boxes: tuple["FrictionLag", ...] = ()  # the same for each of ``rod.boxes``
 
     def with_normals_of(self, new: "FrictionLag") -> "FrictionLag":
-        """These start-of-step points with the normal forces of ``new`` (re-solves with updated forces)."""
-        return FrictionLag(new.stencil_normal, self.stencil_points, new.end_normal, self.end_points,
-                           tuple(a.with_normals_of(b) for a, b in zip(self.obstacles, new.obstacles)),
-                           tuple(a.with_normals_of(b) for a, b in zip(self.boxes, new.boxes)))
+        """These start-of-step points with the normal forces of ``new`` (re-solves with updated
+        forces)."""
+        return FrictionLag(
+            new.stencil_normal,
+            self.stencil_points,
+            new.end_normal,
+            self.end_points,
+            tuple(a.with_normals_of(b) for a, b in zip(self.obstacles, new.obstacles)),
+            tuple(a.with_normals_of(b) for a, b in zip(self.boxes, new.boxes)),
+        )
 
     def all_lags(self) -> tuple["FrictionLag", ...]:
-        """The ground's, the walls' and the boxes' lags, in the order of ``DiscreteRod.contact_shapes``."""
+        """The ground's, the walls' and the boxes' lags, in the order of
+        ``DiscreteRod.contact_shapes``."""
         return (self,) + self.obstacles + self.boxes
 
 
-def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
-                 all_points: bool = False, plane: Ground | Box | None = None) -> FrictionLag:
-    """Sample points and contact normal forces of ``state`` (the start of a step) on the ground (and,
-    in ``obstacles`` and ``boxes``, on each wall and box), or on ``plane`` alone; positions of all points with
-    ``all_points``, else only of those with a normal force."""
+def friction_lag(
+    rod: DiscreteRod,
+    state: RodState,
+    sampling: ContactSampling,
+    all_points: bool = False,
+    plane: Ground | Box | None = None,
+) -> FrictionLag:
+    """Sample points and contact normal forces of ``state`` (the start of a step) on the ground
+    (and, in ``obstacles`` and ``boxes``, on each wall and box), or on ``plane`` alone; positions of
+    all points with ``all_points``, else only of those with a normal force."""
     if plane is None and (rod.obstacles or rod.boxes):
         ground = friction_lag(rod, state, sampling, all_points, rod.ground)
         walls = tuple(friction_lag(rod, state, sampling, all_points, w) for w in rod.obstacles)
@@ -196,10 +238,16 @@ def friction_lag(rod: DiscreteRod, state: RodState, sampling: ContactSampling,
             out += [None, None]
             continue
         law = rod.contact
-        normal = contact_kernels.normal_force(np.ascontiguousarray(gap), float(law.clearance), float(law.delta),
-                                      float(law.K1), float(law.stiffness))
+        normal = contact_kernels.normal_force(
+            np.ascontiguousarray(gap),
+            float(law.clearance),
+            float(law.delta),
+            float(law.K1),
+            float(law.stiffness),
+        )
         # the sample positions where a point has a force (all with all_points), NaN elsewhere: one
-        # np.where instead of full + nonzero + fancy indexing (the same values, ~2x less time, issue 17)
+        # np.where instead of full + nonzero + fancy indexing (the same values, ~2x less time, issue
+        # 17)
         points = sample_points(state, sampling)[0 if kind == "stencil" else 2]
         pos = points.copy() if all_points else np.where((normal > 0.0)[..., None], points, np.nan)
         out += [normal, pos]
@@ -219,13 +267,19 @@ class Assembly:
         self._e_pairs = np.tril_indices(7)
         self._s_pairs = np.tril_indices(11)
         a, c = self._e_pairs
-        self.edge_band = ((a - c)[None, :] * nd + self.edge_base[:, None] + c[None, :])
+        self.edge_band = (a - c)[None, :] * nd + self.edge_base[:, None] + c[None, :]
         a, c = self._s_pairs
-        self.stencil_band = ((a - c)[None, :] * nd + self.node_base[:, None] + c[None, :])
+        self.stencil_band = (a - c)[None, :] * nd + self.node_base[:, None] + c[None, :]
         self.band_size = (BANDWIDTH + 1) * nd
-        self._no_db, self._no_ddb = np.zeros((1, 3)), np.zeros((1, 3, 3))  # placeholders (same source)
+        self._no_db, self._no_ddb = (
+            np.zeros((1, 3)),
+            np.zeros((1, 3, 3)),
+        )  # placeholders (same source)
         self._no_band = np.zeros((1, 1))  # placeholder (no Hessian)
-        self._no_lag_n, self._no_lag_p = np.zeros((1, 1)), np.zeros((1, 1, 3))  # placeholders (no friction)
+        self._no_lag_n, self._no_lag_p = (
+            np.zeros((1, 1)),
+            np.zeros((1, 1, 3)),
+        )  # placeholders (no friction)
         self._no_box = np.zeros(8)  # placeholder (a plane)
 
     # -- scatter ---------------------------------------------------------------------------
@@ -288,20 +342,49 @@ class Assembly:
         change = source_change(state) if order >= 1 else None
         db, ddb = change if change is not None else (self._no_db, self._no_ddb)
         grad, band, given = self._outputs(order, out)
-        energy = kernels.elastic(state.x, geo.m1, geo.m2, geo.twist, rest.edge_length, rest.curvature, rest.twist,
-                                 rest.voronoi_length, float(sec.EA), float(sec.EI1), float(sec.EI2),
-                                 float(sec.GJ), db, ddb, change is not None, order >= 2, grad, band)
+        energy = kernels.elastic(
+            state.x,
+            geo.m1,
+            geo.m2,
+            geo.twist,
+            rest.edge_length,
+            rest.curvature,
+            rest.twist,
+            rest.voronoi_length,
+            float(sec.EA),
+            float(sec.EI1),
+            float(sec.EI2),
+            float(sec.GJ),
+            db,
+            ddb,
+            change is not None,
+            order >= 2,
+            grad,
+            band,
+        )
         if given:
             return energy, None, []
-        return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])
+        return (
+            energy,
+            (grad if order >= 1 else None),
+            ([("band", band, None)] if order >= 2 else []),
+        )
 
     # -- contact and friction ----------------------------------------------------------------
-    def contact(self, rod: DiscreteRod, state: RodState, sampling: ContactSampling, order: int = 2,
-                friction: FrictionLag | None = None, step: float = 0.0, out=None):
-        """Contact potential k E(gap) of the sample points with the ground, the walls and the boxes, plus
-        (when ``friction`` is given) the friction potential over a step of length ``step`` [s]
-        (compiled: :func:`contact_kernels.contact`). Only the points within reach of a plane (or carrying a
-        lagged friction force on it) are differentiated.
+    def contact(
+        self,
+        rod: DiscreteRod,
+        state: RodState,
+        sampling: ContactSampling,
+        order: int = 2,
+        friction: FrictionLag | None = None,
+        step: float = 0.0,
+        out=None,
+    ):
+        """Contact potential k E(gap) of the sample points with the ground, the walls and the boxes,
+        plus (when ``friction`` is given) the friction potential over a step of length ``step`` [s]
+        (compiled: :func:`contact_kernels.contact`). Only the points within reach of a plane (or
+        carrying a lagged friction force on it) are differentiated.
 
         Args:
             out: as in :meth:`elastic`.
@@ -322,9 +405,14 @@ class Assembly:
         side, sigma, _ = sampling.kernel_arrays()
         grad, band, given = self._outputs(order, out)
         energy = 0.0
-        if fric and (len(friction.obstacles) != len(rod.obstacles) or len(friction.boxes) != len(rod.boxes)):
-            raise ValueError(f"friction lag has {len(friction.obstacles)} obstacles and {len(friction.boxes)} boxes, "
-                             f"the rod {len(rod.obstacles)} and {len(rod.boxes)}")
+        if fric and (
+            len(friction.obstacles) != len(rod.obstacles) or len(friction.boxes) != len(rod.boxes)
+        ):
+            raise ValueError(
+                f"friction lag has {len(friction.obstacles)} obstacles and {len(friction.boxes)} "
+                "boxes, "
+                f"the rod {len(rod.obstacles)} and {len(rod.boxes)}"
+            )
         shapes = rod.contact_shapes()
         lags = friction.all_lags() if fric else (None,) * len(shapes)
         for plane, lag in zip(shapes, lags):
@@ -336,21 +424,58 @@ class Assembly:
                 lag_ne, lag_pe = lag.end_normal, lag.end_points
                 mu, K2 = rod.friction.mu, rod.friction.K2
             else:
-                lag_ns, lag_ps, lag_ne, lag_pe = self._no_lag_n, self._no_lag_p, self._no_lag_n, self._no_lag_p
+                lag_ns, lag_ps, lag_ne, lag_pe = (
+                    self._no_lag_n,
+                    self._no_lag_p,
+                    self._no_lag_n,
+                    self._no_lag_p,
+                )
                 mu, K2 = 0.0, 1.0
             is_box = isinstance(plane, Box)
             normal = np.array(rod.ground.unit_normal() if is_box else plane.unit_normal())
             height = 0.0 if is_box else float(plane.height)
-            energy += contact_kernels.contact(pos_s, r_s, pos_e, r_e, state.x, geo.t, geo.length, side, sigma,
-                                      sampling.end_edges(n_edges), sampling.end_sigma_rows(n_edges),
-                                      normal, height, float(law.clearance),
-                                      float(law.delta), float(law.K1), float(law.stiffness), fric, lag_ns, lag_ps,
-                                      lag_ne, lag_pe, float(mu), float(K2), float(step), db, ddb,
-                                      change is not None, order, grad, band,
-                                      plane.array() if is_box else self._no_box, is_box)
+            energy += contact_kernels.contact(
+                pos_s,
+                r_s,
+                pos_e,
+                r_e,
+                state.x,
+                geo.t,
+                geo.length,
+                side,
+                sigma,
+                sampling.end_edges(n_edges),
+                sampling.end_sigma_rows(n_edges),
+                normal,
+                height,
+                float(law.clearance),
+                float(law.delta),
+                float(law.K1),
+                float(law.stiffness),
+                fric,
+                lag_ns,
+                lag_ps,
+                lag_ne,
+                lag_pe,
+                float(mu),
+                float(K2),
+                float(step),
+                db,
+                ddb,
+                change is not None,
+                order,
+                grad,
+                band,
+                plane.array() if is_box else self._no_box,
+                is_box,
+            )
         if given:
             return energy, None, []
-        return energy, (grad if order >= 1 else None), ([("band", band, None)] if order >= 2 else [])
+        return (
+            energy,
+            (grad if order >= 1 else None),
+            ([("band", band, None)] if order >= 2 else []),
+        )
 
 
 def source_change(state: RodState):
@@ -359,17 +484,23 @@ def source_change(state: RodState):
     src = state.source_tangents
     if src is None:
         return None
-    if "_source_change" in state.__dict__:  # computed once per state (elastic and contact both need it)
+    if (
+        "_source_change" in state.__dict__
+    ):  # computed once per state (elastic and contact both need it)
         return state.__dict__["_source_change"]
     geo = state.geometry()
-    out = None if np.max(np.abs(src - geo.t)) == 0.0 else kernels.source_change(src, geo.t, geo.length)
+    out = (
+        None
+        if np.max(np.abs(src - geo.t)) == 0.0
+        else kernels.source_change(src, geo.t, geo.length)
+    )
     state.__dict__["_source_change"] = out
     return out
 
 
 def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:
-    """Contact force vector per node (N, 3) [N]: each sample point's force shared by the nodes of its
-    edge in proportion to its position along the edge."""
+    """Contact force vector per node (N, 3) [N]: each sample point's force shared by the nodes of
+    its edge in proportion to its position along the edge."""
     out = np.zeros((rod.n_nodes, 3))
     if not rod.has_contact:
         return out
@@ -377,7 +508,11 @@ def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSamp
     nrm = rod.ground.unit_normal()
     n_edges = rod.n_nodes - 1
     f_end = normal_force(ge, rod.contact)
-    sig = sampling.end_sigma if sampling.interpolated else np.broadcast_to(sampling.end_sigma, f_end.shape)
+    sig = (
+        sampling.end_sigma
+        if sampling.interpolated
+        else np.broadcast_to(sampling.end_sigma, f_end.shape)
+    )
     ids = sampling.end_edges(n_edges)
     np.add.at(out, ids, ((1.0 - sig) * f_end).sum(1)[:, None] * nrm)
     np.add.at(out, ids + 1, (sig * f_end).sum(1)[:, None] * nrm)
@@ -397,8 +532,8 @@ def node_contact_forces(rod: DiscreteRod, state: RodState, sampling: ContactSamp
 
 
 def edge_corner_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSampling) -> np.ndarray:
-    """Smallest gap [mm] of each section point kind (e.g. each corner) over the samples of each edge,
-    shape (N-1, len(offsets)); +inf without a ground. One compiled pass over the sample points
+    """Smallest gap [mm] of each section point kind (e.g. each corner) over the samples of each
+    edge, shape (N-1, len(offsets)); +inf without a ground. One compiled pass over the sample points
     (:func:`contact_kernels.edge_min_gaps`; the gaps as :func:`all_gaps` computes them)."""
     n_edges = rod.n_nodes - 1
     k = len(sampling.offsets)
@@ -406,14 +541,26 @@ def edge_corner_gaps(rod: DiscreteRod, state: RodState, sampling: ContactSamplin
         return np.full((n_edges, k), np.inf)
     pos_s, _, pos_e, _ = sample_points(state, sampling)
     side, slot_s, slot_e = gap_slots(sampling)
-    return contact_kernels.edge_min_gaps(pos_s, pos_e, side, slot_s, sampling.end_edges(n_edges), slot_e, n_edges, k,
-                                 rod.ground.unit_normal(), float(rod.ground.height), sampling.interpolated)
+    return contact_kernels.edge_min_gaps(
+        pos_s,
+        pos_e,
+        side,
+        slot_s,
+        sampling.end_edges(n_edges),
+        slot_e,
+        n_edges,
+        k,
+        rod.ground.unit_normal(),
+        float(rod.ground.height),
+        sampling.interpolated,
+    )
 
 
 def gap_slots(sampling: ContactSampling) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """For :func:`contact_kernels.edge_min_gaps` and the block's corner gaps: the edge (0: the stencil's first,
-    1: its second) and section point kind of every stencil point, and the kind of every end-edge point
-    (points of one edge are stored kind-fastest: ``ContactSampling.of``); computed once per sampling."""
+    """For :func:`contact_kernels.edge_min_gaps` and the block's corner gaps: the edge (0: the
+    stencil's first, 1: its second) and section point kind of every stencil point, and the kind of
+    every end-edge point (points of one edge are stored kind-fastest: ``ContactSampling.of``);
+    computed once per sampling."""
     return sampling._cached("edge_min_gaps", lambda: _make_gap_slots(sampling))
 
 

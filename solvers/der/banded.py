@@ -11,7 +11,6 @@ import numpy as np
 from numba import njit
 
 
-
 # ----------------------------------------------------------------------------------------------
 # Banded Cholesky (the Newton loop's and the heat step's symmetric banded systems)
 # ----------------------------------------------------------------------------------------------
@@ -86,7 +85,8 @@ def band_cholesky_solve_rows(L, x):
 
 @njit(cache=True, error_model="numpy")
 def band_cholesky_solve(factor, x):
-    """Solves L L^T y = x in place with the factor of :func:`band_cholesky` (LAPACK dpbtrs, lower)."""
+    """Solves L L^T y = x in place with the factor of :func:`band_cholesky` (LAPACK dpbtrs,
+    lower)."""
     kd = factor.shape[0] - 1
     n = factor.shape[1]
     for j in range(n):  # L z = x (dtbsv, lower, no transpose)

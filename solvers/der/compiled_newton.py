@@ -6,39 +6,44 @@ transported from the source's tangents (``RodState.moved``), a new source when a
 more than ``resource_angle``, the elastic and contact/friction kernels of
 :mod:`lcefem.solvers.der.kernels` added into the inertial gradient and band, fixed dofs masked, the
 banded Cholesky factor of H + lambda I (Levenberg shift grown tenfold), the lagged-Hessian (chord)
-steps below ``lag_residual``, the step limits, the unchecked steps, the Armijo test with the watchdog
-and the backtracking line search (and ``StepOptions.elastic_hessian_at_source``). Why: at the ribbon's
-sizes the Python around the kernels (state objects, masks, the trial logic, scipy's LAPACK wrappers)
-cost as much as the kernels (issue 17).
+steps below ``lag_residual``, the step limits, the unchecked steps, the Armijo test with the
+watchdog and the backtracking line search (and ``StepOptions.elastic_hessian_at_source``). Why: at
+the ribbon's sizes the Python around the kernels (state objects, masks, the trial logic, scipy's
+LAPACK wrappers) cost as much as the kernels (issue 17).
 
 The banded Cholesky (:func:`banded.band_cholesky`) is LAPACK's unblocked lower ``dpbtf2`` /
 ``dpbtrs`` written out (dpbtrf takes the unblocked path for half-bandwidths below its block size,
 10 < 32 here), so the factors agree with the Python path's to round-off (the order of the rank-one
 updates is LAPACK's; BLAS kernels may fuse multiply-adds differently).
-``tests/solvers/test_der_compiled_newton.py`` checks that both paths take the same steps (iterations,
-cuts, states to round-off) on a ribbon on the hot plate, a rod thrown at a wall and a clamped rod.
+``tests/solvers/test_der_compiled_newton.py`` checks that both paths take the same steps
+(iterations, cuts, states to round-off) on a ribbon on the hot plate, a rod thrown at a wall and a
+clamped rod.
 """
 
 from __future__ import annotations
 
-
 import numpy as np
 from numba import njit
 
-from lcefem.solvers.der import kernels
-from lcefem.solvers.der import contact_kernels
-from lcefem.solvers.der import frame_kernels
+from lcefem.solvers.der import contact_kernels, frame_kernels, kernels
 from lcefem.solvers.der.banded import band_cholesky, band_cholesky_solve
 
 # Return codes of :func:`minimise_step` (the reasons of ``newton.NewtonResult``).
-REASONS = ("residual below force_tol", "update below step_tol", "non-finite residual", "singular Hessian",
-           "line search failed", "too many iterations")
+REASONS = (
+    "residual below force_tol",
+    "update below step_tol",
+    "non-finite residual",
+    "singular Hessian",
+    "line search failed",
+    "too many iterations",
+)
 CONVERGED_CODES = (0, 1)
 
 
 @njit(cache=True, error_model="numpy")
 def _own_geometry(x, theta, a1, ref):
-    """(x, theta, a1, ref, e, length, t, m1, m2, twist) of a state with its own frames (``RodState.geometry``)."""
+    """(x, theta, a1, ref, e, length, t, m1, m2, twist) of a state with its own frames
+    (``RodState.geometry``)."""
     e, length, t = frame_kernels.edge_tangents(x)
     m1, m2, twist = frame_kernels.material_frames_twist(t, a1, theta, ref)
     return x, theta, a1, ref, e, length, t, m1, m2, twist
@@ -46,7 +51,8 @@ def _own_geometry(x, theta, a1, ref):
 
 @njit(cache=True, error_model="numpy")
 def _moved(src, dq):
-    """``RodState.moved``: the source displaced by dq, frames transported from the source's tangents."""
+    """``RodState.moved``: the source displaced by dq, frames transported from the source's
+    tangents."""
     x0, theta0, a10, ref0 = src[0], src[1], src[2], src[3]
     t0 = src[6]
     n = len(x0)
@@ -75,27 +81,58 @@ def _q(st):
 
 
 @njit(cache=True, error_model="numpy")
-def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no_ddb, no_band, source_elastic,
-              elastic_band):
-    """``StepPotential.evaluate``: (energy, grad, band) of the state ``st`` (``own``: its frames are its
-    own, no source change); order 0 energy, 1 with gradient, 2 with the lower band. ``source_elastic``
-    (``StepOptions.elastic_hessian_at_source``): the elastic part of the band of a source (own) state
-    is stored in ``elastic_band`` and a moved state takes that one instead of its own."""
+def _evaluate(
+    st,
+    own,
+    src_t,
+    inertia,
+    rest,
+    sampling,
+    contact,
+    order,
+    no_db,
+    no_ddb,
+    no_band,
+    source_elastic,
+    elastic_band,
+):
+    """``StepPotential.evaluate``: (energy, grad, band) of the state ``st`` (``own``: its frames are
+    its own, no source change); order 0 energy, 1 with gradient, 2 with the lower band.
+    ``source_elastic`` (``StepOptions.elastic_hessian_at_source``): the elastic part of the band of
+    a source (own) state is stored in ``elastic_band`` and a moved state takes that one instead of
+    its own."""
     mass, q_n, q_star, load, diag, h, damping = inertia
     rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ = rest
     side, sigma, offsets, end_ids, end_sigma, end_offsets = sampling
-    (normals, heights, boxes, clearance, delta, K1, stiffness, fric, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2) = contact
+    (
+        normals,
+        heights,
+        boxes,
+        clearance,
+        delta,
+        K1,
+        stiffness,
+        fric,
+        lag_ns,
+        lag_ps,
+        lag_ne,
+        lag_pe,
+        mu,
+        K2,
+    ) = contact
     x, theta, a1, ref, e, length, t, m1, m2, twist = st
     nd = len(mass)
     q = _q(st)
     dq = q - q_star
     dn = q - q_n
-    energy = 0.5 / h ** 2 * np.dot(mass, dq ** 2) + 0.5 * damping / h * np.dot(mass, dn ** 2) - np.dot(load, q)
+    energy = (
+        0.5 / h**2 * np.dot(mass, dq**2) + 0.5 * damping / h * np.dot(mass, dn**2) - np.dot(load, q)
+    )
     grad = np.zeros(nd)
     band = no_band
     if order >= 1:
         for i in range(nd):
-            grad[i] = mass[i] * (dq[i] / h ** 2 + damping * dn[i] / h) - load[i]
+            grad[i] = mass[i] * (dq[i] / h**2 + damping * dn[i] / h) - load[i]
         if order >= 2:
             band = np.zeros((11, nd))
             band[0, :] = diag
@@ -110,25 +147,74 @@ def _evaluate(st, own, src_t, inertia, rest, sampling, contact, order, no_db, no
     keep_source = order >= 2 and source_elastic
     if keep_source and own:
         elastic_band[:, :] = 0.0
-    energy += kernels.elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
-                              db, ddb, with_source, order >= 2 and (own or not source_elastic), grad,
-                              (elastic_band if own else no_band) if keep_source else band)
+    energy += kernels.elastic(
+        x,
+        m1,
+        m2,
+        twist,
+        rest_length,
+        kappa_bar,
+        twist_bar,
+        voronoi,
+        EA,
+        EI1,
+        EI2,
+        GJ,
+        db,
+        ddb,
+        with_source,
+        order >= 2 and (own or not source_elastic),
+        grad,
+        (elastic_band if own else no_band) if keep_source else band,
+    )
     if keep_source:
         band += elastic_band
     if len(heights):
         no_box = np.zeros(8)
-        pos_s, r_s, pos_e, r_e = contact_kernels.sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
-                                                       end_sigma, end_offsets)
+        pos_s, r_s, pos_e, r_e = contact_kernels.sample_points(
+            x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids, end_sigma, end_offsets
+        )
         e_contact = 0.0
         n_planes = len(heights)
         for p in range(n_planes + len(boxes)):
             is_box = p >= n_planes
             box = boxes[p - n_planes] if is_box else no_box
             plane = 0 if is_box else p
-            e_contact += contact_kernels.contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma,
-                                         normals[plane], heights[plane], clearance, delta, K1, stiffness, fric,
-                                         lag_ns[p], lag_ps[p], lag_ne[p], lag_pe[p], mu, K2, h, db, ddb, with_source,
-                                         order, grad, band, box, is_box)
+            e_contact += contact_kernels.contact(
+                pos_s,
+                r_s,
+                pos_e,
+                r_e,
+                x,
+                t,
+                length,
+                side,
+                sigma,
+                end_ids,
+                end_sigma,
+                normals[plane],
+                heights[plane],
+                clearance,
+                delta,
+                K1,
+                stiffness,
+                fric,
+                lag_ns[p],
+                lag_ps[p],
+                lag_ne[p],
+                lag_pe[p],
+                mu,
+                K2,
+                h,
+                db,
+                ddb,
+                with_source,
+                order,
+                grad,
+                band,
+                box,
+                is_box,
+            )
         energy += e_contact
     return energy, grad, band
 
@@ -184,20 +270,46 @@ def _max_abs_nodes_twists(step):
 
 
 @njit(cache=True, error_model="numpy")
-def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, rest, sampling, contact, options,
-                  source_elastic):
+def minimise_step(
+    start_x,
+    start_theta,
+    start_a1,
+    start_ref,
+    fixed,
+    inertia,
+    rest,
+    sampling,
+    contact,
+    options,
+    source_elastic,
+):
     """``newton.minimise`` of the step potential from the state (start_x, start_theta, start_a1,
-    start_ref) (its own frames: the start is the first source); ``source_elastic``: the iterates moved
-    from a source take its elastic Hessian (``StepOptions.elastic_hessian_at_source``).
+    start_ref) (its own frames: the start is the first source); ``source_elastic``: the iterates
+    moved from a source take its elastic Hessian (``StepOptions.elastic_hessian_at_source``).
 
     options = (max_iterations, force_tol, step_tol, armijo, min_step, max_shift_tries, watchdog,
-    cos(resource_angle), max_rotation, max_displacement, unchecked_step, lag_residual, lag_contraction).
+    cos(resource_angle), max_rotation, max_displacement, unchecked_step, lag_residual,
+    lag_contraction).
 
     Returns (code, iterations, residual, state, own, source tangents): code indexes ``REASONS``;
-    state = (x, theta, a1, ref_twist, e, length, t, m1, m2, twist); own: the state is its own source.
+    state = (x, theta, a1, ref_twist, e, length, t, m1, m2, twist); own: the state is its own
+    source.
     """
-    (max_iterations, force_tol, step_tol, armijo, min_step, max_shift_tries, watchdog, cos_limit, max_rotation,
-     max_displacement, unchecked_step, lag_residual, lag_contraction) = options
+    (
+        max_iterations,
+        force_tol,
+        step_tol,
+        armijo,
+        min_step,
+        max_shift_tries,
+        watchdog,
+        cos_limit,
+        max_rotation,
+        max_displacement,
+        unchecked_step,
+        lag_residual,
+        lag_contraction,
+    ) = options
     no_db = np.zeros((1, 3))
     no_ddb = np.zeros((1, 3, 3))
     no_band = np.zeros((1, 1))
@@ -226,14 +338,29 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
             src_t, t = source[6], state[6]
             low = np.inf
             for k in range(len(t)):
-                low = min(low, src_t[k, 0] * t[k, 0] + src_t[k, 1] * t[k, 1] + src_t[k, 2] * t[k, 2])
+                low = min(
+                    low, src_t[k, 0] * t[k, 0] + src_t[k, 1] * t[k, 1] + src_t[k, 2] * t[k, 2]
+                )
             if low < cos_limit:
                 source, total = state, np.zeros(nd)
                 own, have_d, have_factor = yes, False, False
         previous = residual
         if not have_d:
-            d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, with_band,
-                                                 no_db, no_ddb, no_band, source_elastic, elastic_band)
+            d_energy, d_grad, d_band = _evaluate(
+                state,
+                own,
+                source[6],
+                inertia,
+                rest,
+                sampling,
+                contact,
+                with_band,
+                no_db,
+                no_ddb,
+                no_band,
+                source_elastic,
+                elastic_band,
+            )
             d_has_band = True
             have_d = True
         _mask(fixed, d_grad, d_band, d_has_band)
@@ -245,8 +372,21 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         if residual <= force_tol and not have_checkpoint:
             return 0, it - 1, residual, state, own, source[6]
         if not d_has_band and (not have_factor or residual > lag_contraction * previous):
-            d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact, with_band,
-                                                 no_db, no_ddb, no_band, source_elastic, elastic_band)
+            d_energy, d_grad, d_band = _evaluate(
+                state,
+                own,
+                source[6],
+                inertia,
+                rest,
+                sampling,
+                contact,
+                with_band,
+                no_db,
+                no_ddb,
+                no_band,
+                source_elastic,
+                elastic_band,
+            )
             d_has_band = True
             _mask(fixed, d_grad, d_band, yes)
         if d_has_band:
@@ -262,7 +402,9 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         dx, dth = _max_abs_nodes_twists(step)
         if max(dx, dth) <= step_tol and not have_checkpoint:
             return 1, it, residual, _moved(source, total + step), moved_state, source[6]
-        scale = min(1.0, max_rotation / dth if dth > 0 else 1.0, max_displacement / dx if dx > 0 else 1.0)
+        scale = min(
+            1.0, max_rotation / dth if dth > 0 else 1.0, max_displacement / dx if dx > 0 else 1.0
+        )
         if scale < 1.0:
             step *= scale
         slope = np.dot(d_grad, step)
@@ -272,16 +414,40 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
         if not have_checkpoint and max(dx, dth) * scale <= unchecked_step:
             state, total, own = trial, total + step, moved_state
             if lag:
-                d_energy, d_grad, d_band = _evaluate(state, own, source[6], inertia, rest, sampling, contact,
-                                                     with_gradient, no_db, no_ddb, no_band, source_elastic,
-                                                     elastic_band)
+                d_energy, d_grad, d_band = _evaluate(
+                    state,
+                    own,
+                    source[6],
+                    inertia,
+                    rest,
+                    sampling,
+                    contact,
+                    with_gradient,
+                    no_db,
+                    no_ddb,
+                    no_band,
+                    source_elastic,
+                    elastic_band,
+                )
                 d_has_band = False
             else:
                 have_d = False
             continue
-        t_energy, t_grad, t_band = _evaluate(trial, moved_state, source[6], inertia, rest, sampling, contact,
-                                             with_gradient if lag else with_band, no_db, no_ddb, no_band,
-                                             source_elastic, elastic_band)
+        t_energy, t_grad, t_band = _evaluate(
+            trial,
+            moved_state,
+            source[6],
+            inertia,
+            rest,
+            sampling,
+            contact,
+            with_gradient if lag else with_band,
+            no_db,
+            no_ddb,
+            no_band,
+            source_elastic,
+            elastic_band,
+        )
         finite = np.isfinite(t_energy)
         if finite and t_energy <= d_energy + armijo * slope + allowance:
             state, total, own = trial, total + step, moved_state
@@ -289,7 +455,14 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
             continue
         if finite and watched < watchdog:
             if not have_checkpoint:
-                cp_total, cp_state, cp_own, cp_energy, cp_step, cp_slope = total, state, own, d_energy, step, slope
+                cp_total, cp_state, cp_own, cp_energy, cp_step, cp_slope = (
+                    total,
+                    state,
+                    own,
+                    d_energy,
+                    step,
+                    slope,
+                )
                 have_checkpoint = True
             watched += 1
             state, total, own = trial, total + step, moved_state
@@ -297,15 +470,35 @@ def minimise_step(start_x, start_theta, start_a1, start_ref, fixed, inertia, res
             continue
         # Back to the checkpoint (if any) and backtrack along its direction.
         if have_checkpoint:
-            total, state, own, energy0, step, slope = cp_total, cp_state, cp_own, cp_energy, cp_step, cp_slope
+            total, state, own, energy0, step, slope = (
+                cp_total,
+                cp_state,
+                cp_own,
+                cp_energy,
+                cp_step,
+                cp_slope,
+            )
             have_checkpoint, watched = False, 0
         else:
             energy0 = d_energy
         alpha = 0.5
         while True:
             trial = _moved(source, total + alpha * step)
-            e_trial = _evaluate(trial, moved_state, source[6], inertia, rest, sampling, contact, energy_only, no_db,
-                                no_ddb, no_band, source_elastic, elastic_band)[0]
+            e_trial = _evaluate(
+                trial,
+                moved_state,
+                source[6],
+                inertia,
+                rest,
+                sampling,
+                contact,
+                energy_only,
+                no_db,
+                no_ddb,
+                no_band,
+                source_elastic,
+                elastic_band,
+            )[0]
             if np.isfinite(e_trial) and e_trial <= energy0 + armijo * alpha * slope + allowance:
                 break
             alpha *= 0.5

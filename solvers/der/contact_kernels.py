@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from lcefem.solvers.der.kernel_ops import dot3, cross3, scatter, source_change_into
+from lcefem.solvers.der.kernel_ops import cross3, dot3, scatter, source_change_into
 from lcefem.solvers.der.kernels import element_scratch, stencil_point_element
 
 
@@ -20,12 +20,15 @@ from lcefem.solvers.der.kernels import element_scratch, stencil_point_element
 # All sample points of the contact sampling, and the whole contact + friction potential
 # ----------------------------------------------------------------------------------------------
 @njit(cache=True, error_model="numpy")
-def sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids, end_sigma, end_offsets):
+def sample_points(
+    x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids, end_sigma, end_offsets
+):
     """Positions and frame offsets r = a m1 + b m2 [mm] of every contact sample point.
 
     Stencil points (``models.rod.stencil_points``; frame angle interpolated with the node's twist):
-    (N-2, p_s, 3) each, empty when ``side`` is empty. End-edge points (``models.rod.section_points``,
-    the edge's own frame): (len(end_ids), p_e, 3) each; end_sigma is (len(end_ids), p_e).
+    (N-2, p_s, 3) each, empty when ``side`` is empty. End-edge points
+    (``models.rod.section_points``, the edge's own frame): (len(end_ids), p_e, 3) each; end_sigma is
+    (len(end_ids), p_e).
     """
     ns = len(twist) if len(side) else 0
     ps = len(side)
@@ -37,8 +40,9 @@ def sample_points(x, a1, t, theta, twist, m1, m2, side, sigma, offsets, end_ids,
         c, s_ = 1.0, 0.0
         for j in range(ps):
             edge = k + (1 if side[j] else 0)
-            # the section points of one sample section (e.g. its four corners) share the frame angle:
-            # its cos, sin and a2 once per section (the same values; 4x fewer sin/cos, issue 17)
+            # the section points of one sample section (e.g. its four corners) share the frame
+            # angle: its cos, sin and a2 once per section (the same values; 4x fewer sin/cos, issue
+            # 17)
             if edge != last_edge or sigma[j] != last_sigma:
                 last_edge, last_sigma = edge, sigma[j]
                 th = theta[edge] + (sigma[j] - 0.5) * twist[k]
@@ -101,14 +105,14 @@ def _friction(u, normal, fn, h, mu, K2, grad, hess, with_hessian, w):
     a = 0.5 * K2
     z = a * v
     if z < 1e-3:
-        logcosh = 0.5 * z * z - z ** 4 / 12.0
+        logcosh = 0.5 * z * z - z**4 / 12.0
         phi = a * (1.0 - z * z / 3.0)
-        psi = -2.0 * a ** 3 / 3.0 + 8.0 * a ** 5 * v * v / 15.0
+        psi = -2.0 * a**3 / 3.0 + 8.0 * a**5 * v * v / 15.0
     else:
         logcosh = z + math.log1p(math.exp(-2.0 * z)) - math.log(2.0)
         th = math.tanh(z)
         phi = th / v
-        psi = (a * (1.0 - th * th) * v - th) / v ** 3
+        psi = (a * (1.0 - th * th) * v - th) / v**3
     coef = mu * fn
     for i in range(3):
         grad[i] = coef * phi / h * w[i]
@@ -155,15 +159,47 @@ def _section_point_element(t, length, r, sig, g, jac, h7, tr):
 
 
 @njit(cache=True, error_model="numpy")
-def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigma, normal, height, clearance, delta, K1,
-            stiffness, with_friction, lag_ns, lag_ps, lag_ne, lag_pe, mu, K2, h, db, ddb, with_source, order,
-            grad, band, box, is_box):
+def contact(
+    pos_s,
+    r_s,
+    pos_e,
+    r_e,
+    x,
+    t,
+    length,
+    side,
+    sigma,
+    end_ids,
+    end_sigma,
+    normal,
+    height,
+    clearance,
+    delta,
+    K1,
+    stiffness,
+    with_friction,
+    lag_ns,
+    lag_ps,
+    lag_ne,
+    lag_pe,
+    mu,
+    K2,
+    h,
+    db,
+    ddb,
+    with_source,
+    order,
+    grad,
+    band,
+    box,
+    is_box,
+):
     """Contact potential k E(gap) of all sample points with the plane {n.p = height} (or, with
-    ``is_box``, with the rounded box ``box`` = (lo, hi, radius, friction) of ``model.Box``: gap, normal and the
-    gap's Hessian per point, :func:`box_gap`) plus (with friction) the friction potential of the
-    points with a lagged normal force (on a box, tangential to the box's normal at the lagged
-    point); ``order`` 0 energy, 1 with gradient, 2 with Hessian (added into grad and band). Returns
-    the energy [mJ].
+    ``is_box``, with the rounded box ``box`` = (lo, hi, radius, friction) of ``model.Box``: gap,
+    normal and the gap's Hessian per point, :func:`box_gap`) plus (with friction) the friction
+    potential of the points with a lagged normal force (on a box, tangential to the box's normal at
+    the lagged point); ``order`` 0 energy, 1 with gradient, 2 with Hessian (added into grad and
+    band). Returns the energy [mJ].
 
     Mirrors ``Assembly.contact``: a point is differentiated when within reach of the plane or
     carrying a lagged friction force.
@@ -266,13 +302,29 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                     for i in range(3):
                         e[i] = x[k + 1, i] - x[k, i]
                         f[i] = x[k + 2, i] - x[k + 1, i]
-                    stencil_point_element(e, f, rr[row, j], t[edge], side[j], sigma[j], g_pt, jac, h11, hv, jv,
-                                           tmp8, with_hessian, ws)
+                    stencil_point_element(
+                        e,
+                        f,
+                        rr[row, j],
+                        t[edge],
+                        side[j],
+                        sigma[j],
+                        g_pt,
+                        jac,
+                        h11,
+                        hv,
+                        jv,
+                        tmp8,
+                        with_hessian,
+                        ws,
+                    )
                     _chain_point(jac, h11, g_pt, cc, nrm, hD, g11, with_hessian)
                     _accumulate(g11, h11, acc_g, acc_h, with_hessian)
                 else:
                     edge = end_ids[row]
-                    _section_point_element(t[edge], length[edge], rr[row, j], end_sigma[row, j], g_pt, jac7, h7, w3)
+                    _section_point_element(
+                        t[edge], length[edge], rr[row, j], end_sigma[row, j], g_pt, jac7, h7, w3
+                    )
                     _chain_point(jac7, h7, g_pt, cc, nrm, hD, g7, with_hessian)
                     _accumulate(g7, h7, acc_g, acc_h, with_hessian)
             if not active:
@@ -284,26 +336,40 @@ def contact(pos_s, r_s, pos_e, r_e, x, t, length, side, sigma, end_ids, end_sigm
                     dbs[1] = db[k + 1]
                     ddbs[0] = ddb[k]
                     ddbs[1] = ddb[k + 1]
-                    source_change_into(acc_g, acc_h, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11,
-                                        with_hessian)
+                    source_change_into(
+                        acc_g,
+                        acc_h,
+                        slot_a,
+                        slot_t,
+                        slot_b,
+                        dbs,
+                        ddbs,
+                        W,
+                        tmp11,
+                        out11,
+                        with_hessian,
+                    )
                 scatter(4 * k, acc_g, acc_h, grad, band, with_hessian)
             else:
                 edge = end_ids[row]
                 if with_source:
                     db1[0] = db[edge]
                     ddb1[0] = ddb[edge]
-                    source_change_into(acc_g, acc_h, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian)
+                    source_change_into(
+                        acc_g, acc_h, e_a, e_t, e_b, db1, ddb1, W7, tmp7, out7, with_hessian
+                    )
                 scatter(4 * edge, acc_g, acc_h, grad, band, with_hessian)
     return energy
 
 
 @njit(cache=True, error_model="numpy")
 def box_gap(p, box, n, hg):
-    """Gap [mm] of the point p to the rounded box ``box`` = (lo (3), hi (3), radius) of ``model.Box``;
-    the outward unit normal (the gap's gradient) into n (3,) and the gap's Hessian into hg (3, 3).
-    Beyond the inner box [lo + r, hi - r]: gap = D - r with D the distance to it, Hessian (P - n n^T)/D,
-    P the axes along which p lies beyond it. Inside the inner box (a penetration deeper than the edge
-    radius): minus the depth below the nearest face, minus r, with that face's normal and no curvature."""
+    """Gap [mm] of the point p to the rounded box ``box`` = (lo (3), hi (3), radius) of
+    ``model.Box``; the outward unit normal (the gap's gradient) into n (3,) and the gap's Hessian
+    into hg (3, 3). Beyond the inner box [lo + r, hi - r]: gap = D - r with D the distance to it,
+    Hessian (P - n n^T)/D, P the axes along which p lies beyond it. Inside the inner box (a
+    penetration deeper than the edge radius): minus the depth below the nearest face, minus r, with
+    that face's normal and no curvature."""
     r = box[6]
     d2 = 0.0
     for i in range(3):
@@ -368,27 +434,42 @@ def _chain_point(jac, hloc, g_pt, cc, normal, hD, g_loc, with_hessian):
             jnj = normal[0] * jac[0, j] + normal[1] * jac[1, j] + normal[2] * jac[2, j]
             s = cc * jni * jnj
             for a in range(3):
-                s += jac[a, i] * (hD[a, 0] * jac[0, j] + hD[a, 1] * jac[1, j] + hD[a, 2] * jac[2, j])
+                s += jac[a, i] * (
+                    hD[a, 0] * jac[0, j] + hD[a, 1] * jac[1, j] + hD[a, 2] * jac[2, j]
+                )
             hloc[i, j] += s
 
 
 @njit(cache=True, error_model="numpy")
-def edge_min_gaps(pos_s, pos_e, side, slot_s, end_ids, slot_e, n_edges, k, normal, height, interpolated):
+def edge_min_gaps(
+    pos_s, pos_e, side, slot_s, end_ids, slot_e, n_edges, k, normal, height, interpolated
+):
     """``assembly.edge_corner_gaps``: the smallest gap [mm] (position . normal - height) of each of
     the k section point kinds over the sample points of each edge, (n_edges, k), +inf where an edge
     has none. pos_s (N-2, p_s, 3) the stencil points (point j on edge s + side[j], kind slot_s[j];
-    used when ``interpolated``), pos_e (n_end, p_e, 3) those of the edges end_ids (kind slot_e[j])."""
+    used when ``interpolated``), pos_e (n_end, p_e, 3) those of the edges end_ids (kind
+    slot_e[j])."""
     out = np.full((n_edges, k), np.inf)
     for r in range(len(end_ids)):
         edge = end_ids[r]
         for j in range(pos_e.shape[1]):
-            g = pos_e[r, j, 0] * normal[0] + pos_e[r, j, 1] * normal[1] + pos_e[r, j, 2] * normal[2] - height
+            g = (
+                pos_e[r, j, 0] * normal[0]
+                + pos_e[r, j, 1] * normal[1]
+                + pos_e[r, j, 2] * normal[2]
+                - height
+            )
             if g < out[edge, slot_e[j]]:
                 out[edge, slot_e[j]] = g
     if interpolated:
         for s in range(pos_s.shape[0]):
             for j in range(pos_s.shape[1]):
-                g = pos_s[s, j, 0] * normal[0] + pos_s[s, j, 1] * normal[1] + pos_s[s, j, 2] * normal[2] - height
+                g = (
+                    pos_s[s, j, 0] * normal[0]
+                    + pos_s[s, j, 1] * normal[1]
+                    + pos_s[s, j, 2] * normal[2]
+                    - height
+                )
                 edge = s + side[j]
                 if g < out[edge, slot_s[j]]:
                     out[edge, slot_s[j]] = g

@@ -9,7 +9,7 @@ import math
 import numpy as np
 from numba import njit
 
-from lcefem.solvers.der.kernel_ops import dot3, cross3
+from lcefem.solvers.der.kernel_ops import cross3, dot3
 
 
 # ----------------------------------------------------------------------------------------------
@@ -74,7 +74,8 @@ def edge_tangents(x):
 @njit(cache=True, error_model="numpy")
 def material_frames_twist(t, a1, theta, ref):
     """Material frames m1 = cos(theta) a1 + sin(theta) t x a1, m2 = -sin(theta) a1 + cos(theta)
-    t x a1 (``frames.material_frames``) and the integrated twists theta_(k+1) - theta_k + ref_k [rad]."""
+    t x a1 (``frames.material_frames``) and the integrated twists theta_(k+1) - theta_k + ref_k
+    [rad]."""
     n = len(theta)
     m1 = np.empty((n, 3))
     m2 = np.empty((n, 3))

@@ -32,7 +32,9 @@ def transport_directors(a1: np.ndarray, t_old: np.ndarray, t_new: np.ndarray) ->
     return unit(a)
 
 
-def reference_twist(a1: np.ndarray, t: np.ndarray, previous: np.ndarray | None = None) -> np.ndarray:
+def reference_twist(
+    a1: np.ndarray, t: np.ndarray, previous: np.ndarray | None = None
+) -> np.ndarray:
     """Reference twist [rad] of the interior nodes, continued from ``previous`` (no 2 pi jumps)."""
     u = parallel_transport(a1[:-1], t[:-1], t[1:])
     angle = signed_angle(u, a1[1:], t[1:])
@@ -41,7 +43,9 @@ def reference_twist(a1: np.ndarray, t: np.ndarray, previous: np.ndarray | None =
     return previous + np.angle(np.exp(1j * (angle - previous)))
 
 
-def material_frames(a1: np.ndarray, t: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def material_frames(
+    a1: np.ndarray, t: np.ndarray, theta: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """(m1, m2) of each edge from its reference director, tangent and angle."""
     a2 = cross(t, a1)
     c = np.cos(theta)[:, None]

@@ -19,8 +19,8 @@ from lcefem.solvers.der.banded import band_cholesky_rows, band_cholesky_solve_ro
 @njit(cache=True, error_model="numpy")
 def heat_solve(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial):
     """Cell temperatures (n, n_cells) [C] of one implicit-Euler heat step: the banded system
-    (C + G_g + G_a + conduction) T_new = C T + G_g T_ground + G_a T_air assembled (cells of edge k at
-    rows n_cells k ..., in-section pairs (pair_a, pair_b) with conductance per length pair_g
+    (C + G_g + G_a + conduction) T_new = C T + G_g T_ground + G_a T_air assembled (cells of edge k
+    at rows n_cells k ..., in-section pairs (pair_a, pair_b) with conductance per length pair_g
     [mW/(K mm)], the same cell of neighbouring edges k_axial / mean length) and solved by
     :func:`band_cholesky`. C (n, 1) [mW/K] = capacity / dt; the rest (n, n_cells).
     The sums are taken in the order of the numpy assembly it replaces (diagonal: capacity and
@@ -59,21 +59,22 @@ def heat_solve(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, 
     return rhs.reshape(n, nc)
 
 
-#: Largest ratio q of a row's off-diagonal conductances to its diagonal for which :func:`heat_solve_fast`
-#: iterates (Gauss-Seidel contracts the max-norm error by q or better per sweep); above it the banded
-#: Cholesky. At the ribbon's 0.005-0.01 s steps q ~ 0.04-0.08 (capacity/dt dominates), at the 0.5 s
-#: steps of the heat tests q > 1.
+#: Largest ratio q of a row's off-diagonal conductances to its diagonal for which
+#: :func:`heat_solve_fast` iterates (Gauss-Seidel contracts the max-norm error by q or better per
+#: sweep); above it the banded Cholesky. At the ribbon's 0.005-0.01 s steps q ~ 0.04-0.08
+#: (capacity/dt dominates), at the 0.5 s steps of the heat tests q > 1.
 ITERATIVE_MAX_RATIO = 0.25
 
 
 @njit(cache=True, error_model="numpy")
 def heat_solve_fast(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial):
-    """:func:`heat_solve`'s system solved by Gauss-Seidel sweeps from T when it is diagonally dominant
-    (off-diagonal row sums at most ``ITERATIVE_MAX_RATIO`` of the diagonal), to round-off: the sweeps
-    stop once no temperature moves by more than 8 ulp of the largest |T| (the error is then below
-    q/(1-q) of that, q <= 0.25), at most 60 sweeps; otherwise (or without convergence) the banded
-    Cholesky of :func:`heat_solve`. The same temperatures as the Cholesky to ~1e-13 K; ~5x cheaper at
-    100 edges x 24 cells (the band's fill-in, n_cells^2 per row, is what the Cholesky pays)."""
+    """:func:`heat_solve`'s system solved by Gauss-Seidel sweeps from T when it is diagonally
+    dominant (off-diagonal row sums at most ``ITERATIVE_MAX_RATIO`` of the diagonal), to round-off:
+    the sweeps stop once no temperature moves by more than 8 ulp of the largest |T| (the error is
+    then below q/(1-q) of that, q <= 0.25), at most 60 sweeps; otherwise (or without convergence)
+    the banded Cholesky of :func:`heat_solve`. The same temperatures as the Cholesky to ~1e-13 K;
+    ~5x cheaper at 100 edges x 24 cells (the band's fill-in, n_cells^2 per row, is what the Cholesky
+    pays)."""
     n, nc = G_g.shape
     diag = np.empty((n, nc))
     rhs = np.empty((n, nc))
@@ -134,17 +135,37 @@ def heat_solve_fast(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pai
 
 
 @njit(cache=True, error_model="numpy")
-def heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p_cell, p_area, p_axis, p_sign, p_off,
-                  corner_cells, corner_off, T_uniform, gradient, air, ground, K1):
-    """``SectionHeat.coefficients`` in one loop over edges and patches: the conductances [mW/K] of each
-    cell with the ground G_g and the air G_a (n, n_cells) and the conductance-weighted ground and air
-    temperatures [C] (n, n_cells). air = (film coefficient [mW/(mm^2 K)], ambient temperature [C],
-    emissivity), ground = (air conductivity [mW/(mm K)], gap floor z0 [mm], plate emissivity,
-    boundary layer d_bl [mm], contact conductance G_c [mW/(mm K)]) (``models.heat.SurfaceExchange``,
-    ``models.ribbon.GroundHeatExchange``); the plate at T_uniform + gradient . x [C]. The formulas
-    and their order of operations are those of the numpy reference, which stays:
-    ``tests/solvers/test_der_ribbon.py`` compares both (the sums over a cell's patches are taken in
-    patch order; numpy's matrix products add the same one or two nonzero terms)."""
+def heat_exchange(
+    T,
+    centre,
+    m1,
+    m2,
+    length,
+    corner_gap,
+    normal,
+    plane_height,
+    p_cell,
+    p_area,
+    p_axis,
+    p_sign,
+    p_off,
+    corner_cells,
+    corner_off,
+    T_uniform,
+    gradient,
+    air,
+    ground,
+    K1,
+):
+    """``SectionHeat.coefficients`` in one loop over edges and patches: the conductances [mW/K] of
+    each cell with the ground G_g and the air G_a (n, n_cells) and the conductance-weighted ground
+    and air temperatures [C] (n, n_cells). air = (film coefficient [mW/(mm^2 K)], ambient
+    temperature [C], emissivity), ground = (air conductivity [mW/(mm K)], gap floor z0 [mm], plate
+    emissivity, boundary layer d_bl [mm], contact conductance G_c [mW/(mm K)])
+    (``models.heat.SurfaceExchange``, ``models.ribbon.GroundHeatExchange``); the plate at T_uniform
+    + gradient . x [C]. The formulas and their order of operations are those of the numpy reference,
+    which stays: ``tests/solvers/test_der_ribbon.py`` compares both (the sums over a cell's patches
+    are taken in patch order; numpy's matrix products add the same one or two nonzero terms)."""
     n, nc = T.shape
     film, ambient, emissivity = air
     k_air, gap_floor, plate_emissivity, boundary_layer, contact_conductance = ground
@@ -156,7 +177,9 @@ def heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p
     Q_g = np.zeros((n, nc))
     Q_a = np.zeros((n, nc))
     for k in range(n):
-        cz = (centre[k, 0] * normal[0] + centre[k, 1] * normal[1] + centre[k, 2] * normal[2]) - plane_height
+        cz = (
+            centre[k, 0] * normal[0] + centre[k, 1] * normal[1] + centre[k, 2] * normal[2]
+        ) - plane_height
         m1z = m1[k, 0] * normal[0] + m1[k, 1] * normal[1] + m1[k, 2] * normal[2]
         m2z = m2[k, 0] * normal[0] + m2[k, 1] * normal[1] + m2[k, 2] * normal[2]
         gc = centre[k, 0] * gradient[0] + centre[k, 1] * gradient[1] + centre[k, 2] * gradient[2]
@@ -172,9 +195,13 @@ def heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p
             tk = T[k, c] + kelvin
             tgk = tg + kelvin
             above = max(height, 0.0)
-            h_ground = facing * (k_air / (above + gap_floor)
-                                 + plate_emissivity * sigma * (tk ** 2 + tgk ** 2) * (tk + tgk))
-            h_amb = film + emissivity * sigma * (tk ** 2 + tak_amb ** 2) * (tk + tak_amb) * (1.0 - facing)
+            h_ground = facing * (
+                k_air / (above + gap_floor)
+                + plate_emissivity * sigma * (tk**2 + tgk**2) * (tk + tgk)
+            )
+            h_amb = film + emissivity * sigma * (tk**2 + tak_amb**2) * (tk + tak_amb) * (
+                1.0 - facing
+            )
             t_air = ambient + (tg - ambient) * math.exp(-above / boundary_layer)
             G_g[k, c] += h_ground * area
             Q_g[k, c] += h_ground * area * tg
@@ -185,7 +212,9 @@ def heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p
             weight = 0.5 * (1.0 - math.tanh(0.5 * K1 * corner_gap[k, j]))
             g_contact = contact_conductance * length[k] * weight
             G_g[k, c] += g_contact
-            Q_g[k, c] += g_contact * (T_uniform + gc + corner_off[j, 0] * g1 + corner_off[j, 1] * g2)
+            Q_g[k, c] += g_contact * (
+                T_uniform + gc + corner_off[j, 0] * g1 + corner_off[j, 1] * g2
+            )
     for k in range(n):
         for c in range(nc):
             Q_a[k, c] /= max(G_a[k, c], 1e-300)
@@ -201,16 +230,54 @@ def heat_step(T, dt, centre, m1, m2, length, corner_gap, T_uniform, gradient, mo
     (4, 2) [mm], air, ground, K1 [1/mm], pair_a, pair_b, pair_g [mW/(K mm)], k_axial [mW mm/K])
     (``SectionHeat._kernel_data``). Returns (T_new (n, n_cells) [C], power from the ground (n,)
     [mW], power to the air (n,) [mW])."""
-    (capacity, normal, plane_height, p_cell, p_area, p_axis, p_sign, p_off, corner_cells, corner_off, air, ground,
-     K1, pair_a, pair_b, pair_g, k_axial) = model
-    G_g, G_a, T_air, T_ground = heat_exchange(T, centre, m1, m2, length, corner_gap, normal, plane_height, p_cell,
-                                              p_area, p_axis, p_sign, p_off, corner_cells, corner_off, T_uniform,
-                                              gradient, air, ground, K1)
+    (
+        capacity,
+        normal,
+        plane_height,
+        p_cell,
+        p_area,
+        p_axis,
+        p_sign,
+        p_off,
+        corner_cells,
+        corner_off,
+        air,
+        ground,
+        K1,
+        pair_a,
+        pair_b,
+        pair_g,
+        k_axial,
+    ) = model
+    G_g, G_a, T_air, T_ground = heat_exchange(
+        T,
+        centre,
+        m1,
+        m2,
+        length,
+        corner_gap,
+        normal,
+        plane_height,
+        p_cell,
+        p_area,
+        p_axis,
+        p_sign,
+        p_off,
+        corner_cells,
+        corner_off,
+        T_uniform,
+        gradient,
+        air,
+        ground,
+        K1,
+    )
     n, nc = T.shape
     C = np.empty((n, 1))
     for k in range(n):
         C[k, 0] = capacity[k] / dt
-    T_new = heat_solve_fast(C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial)
+    T_new = heat_solve_fast(
+        C, G_g, G_a, T, T_ground, T_air, length, pair_a, pair_b, pair_g, k_axial
+    )
     from_ground = np.zeros(n)
     to_air = np.zeros(n)
     for k in range(n):

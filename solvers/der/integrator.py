@@ -38,7 +38,14 @@ import numpy as np
 
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.der import compiled_newton
-from lcefem.solvers.der.assembly import BANDWIDTH, Assembly, ContactSampling, Derivatives, FrictionLag, friction_lag
+from lcefem.solvers.der.assembly import (
+    BANDWIDTH,
+    Assembly,
+    ContactSampling,
+    Derivatives,
+    FrictionLag,
+    friction_lag,
+)
 from lcefem.solvers.der.model import DiscreteRod, Geometry, RodState, node_dofs, twist_dofs
 from lcefem.solvers.der.newton import NewtonOptions, NewtonResult, minimise
 
@@ -51,10 +58,11 @@ class StepOptions:
     min_dt: float = 1e-6  # [s]
     friction_iterations: int = 1  # >1: re-solve with the normal force of the new state
     predict: bool = True  # start Newton from the inertial prediction q_n + h qdot_n
-    # ... plus h^2 a_n, a_n = (qdot_n - qdot_(n-1))/dt_(n-1) the last step's mean acceleration (when known):
-    # a second-order guess of q_(n+1) for smooth motion (rolling), ~0.5 Newton iterations fewer. Not
-    # after an impulsive step (max |h a_n| > max |qdot_n|, e.g. landing on the ground), and a step
-    # whose Newton loop fails from it is retried from the inertial guess before it is halved.
+    # ... plus h^2 a_n, a_n = (qdot_n - qdot_(n-1))/dt_(n-1) the last step's mean acceleration (when
+    # known): a second-order guess of q_(n+1) for smooth motion (rolling), ~0.5 Newton iterations
+    # fewer. Not after an impulsive step (max |h a_n| > max |qdot_n|, e.g. landing on the ground),
+    # and a step whose Newton loop fails from it is retried from the inertial guess before it is
+    # halved.
     extrapolate: bool = False
     newton: NewtonOptions = field(default_factory=NewtonOptions)
     # The Newton loop in one compiled call (compiled_newton.minimise_step: the same algorithm as
@@ -106,7 +114,8 @@ class StepControl:
             raise InputError(f"dt_min = {self.dt_min} s: must be <= dt_max = {self.dt_max} s")
 
     def error(self, start: RodState, new: RodState) -> float:
-        """Local error estimate err [mm] of the implicit Euler step start -> new (module docstring)."""
+        """Local error estimate err [mm] of the implicit Euler step start -> new (module
+        docstring)."""
         h = new.time - start.time
         dv = float(np.max(np.abs(new.v - start.v)))
         dw = float(np.max(np.abs(new.omega - start.omega))) if len(new.omega) else 0.0
@@ -130,8 +139,16 @@ def generalised_load(rod: DiscreteRod) -> np.ndarray:
 class StepPotential:
     """The incremental potential Phi of one implicit step of length h from ``start``."""
 
-    def __init__(self, rod: DiscreteRod, start: RodState, h: float, assembly: Assembly,
-                 sampling: ContactSampling, lag: FrictionLag | None, elastic_hessian_at_source: bool = False):
+    def __init__(
+        self,
+        rod: DiscreteRod,
+        start: RodState,
+        h: float,
+        assembly: Assembly,
+        sampling: ContactSampling,
+        lag: FrictionLag | None,
+        elastic_hessian_at_source: bool = False,
+    ):
         self.rod, self.h, self.asm, self.lag, self.sampling = rod, h, assembly, lag, sampling
         self.source_elastic = elastic_hessian_at_source  # StepOptions.elastic_hessian_at_source
         self._elastic_band = None  # the elastic Hessian of the last source evaluated (own frames)
@@ -139,7 +156,7 @@ class StepPotential:
         self.q_n = start.q()
         self.q_star = self.q_n + h * start.qdot()
         self.load = generalised_load(rod)
-        self.diag = self.mass * (1.0 / h ** 2 + rod.damping / h)
+        self.diag = self.mass * (1.0 / h**2 + rod.damping / h)
 
     def __call__(self, state: RodState, hessian: bool) -> Derivatives:
         return self.evaluate(state, 2 if hessian else 0)
@@ -154,18 +171,23 @@ class StepPotential:
         q = state.q()
         dq = q - self.q_star
         dn = q - self.q_n
-        energy = (0.5 / h ** 2 * float(self.mass @ dq ** 2) + 0.5 * self.rod.damping / h * float(self.mass @ dn ** 2)
-                  - float(self.load @ q))
+        energy = (
+            0.5 / h**2 * float(self.mass @ dq**2)
+            + 0.5 * self.rod.damping / h * float(self.mass @ dn**2)
+            - float(self.load @ q)
+        )
         out = None
         if order >= 1:  # the kernels add their derivatives into the inertial ones
-            grad = self.mass * (dq / h ** 2 + self.rod.damping * dn / h) - self.load
+            grad = self.mass * (dq / h**2 + self.rod.damping * dn / h) - self.load
             band = None
             if order >= 2:
                 band = np.zeros((BANDWIDTH + 1, len(q)))
                 band[0] = self.diag
             out = (grad, band)
         if order >= 2 and self.source_elastic:
-            if state.source_tangents is None:  # a source: its elastic Hessian, kept for the iterates moved from it
+            if (
+                state.source_tangents is None
+            ):  # a source: its elastic Hessian, kept for the iterates moved from it
                 self._elastic_band = np.zeros_like(band)
                 energy += self.asm.elastic(self.rod, state, 2, out=(grad, self._elastic_band))[0]
             else:
@@ -173,7 +195,9 @@ class StepPotential:
             band += self._elastic_band
         else:
             energy += self.asm.elastic(self.rod, state, order, out=out)[0]
-        energy += self.asm.contact(self.rod, state, self.sampling, order, friction=self.lag, step=h, out=out)[0]
+        energy += self.asm.contact(
+            self.rod, state, self.sampling, order, friction=self.lag, step=h, out=out
+        )[0]
         if order == 0:
             return Derivatives(energy, None, None)
         return Derivatives(energy, grad, band)
@@ -182,28 +206,80 @@ class StepPotential:
         """``newton.minimise(start, rod.fixed, self, options)`` in one compiled call
         (:func:`compiled_newton.minimise_step`)."""
         rod, rest, sec = self.rod, self.rod.rest, self.rod.section
-        inertia = (self.mass, self.q_n, self.q_star, self.load, self.diag, float(self.h), float(rod.damping))
-        rest_arrays = (np.ascontiguousarray(rest.edge_length, float), np.ascontiguousarray(rest.curvature, float),
-                       np.ascontiguousarray(rest.twist, float), np.ascontiguousarray(rest.voronoi_length, float),
-                       float(sec.EA), float(sec.EI1), float(sec.EI2), float(sec.GJ))
+        inertia = (
+            self.mass,
+            self.q_n,
+            self.q_star,
+            self.load,
+            self.diag,
+            float(self.h),
+            float(rod.damping),
+        )
+        rest_arrays = (
+            np.ascontiguousarray(rest.edge_length, float),
+            np.ascontiguousarray(rest.curvature, float),
+            np.ascontiguousarray(rest.twist, float),
+            np.ascontiguousarray(rest.voronoi_length, float),
+            float(sec.EA),
+            float(sec.EI1),
+            float(sec.EI2),
+            float(sec.GJ),
+        )
         n_edges = rod.n_nodes - 1
-        sampling = self.sampling._cached(("compiled_newton", n_edges), lambda: self.sampling.kernel_arrays() + (
-            self.sampling.end_edges(n_edges), self.sampling.end_sigma_rows(n_edges), self.sampling.end_offsets_array()))
+        sampling = self.sampling._cached(
+            ("compiled_newton", n_edges),
+            lambda: self.sampling.kernel_arrays()
+            + (
+                self.sampling.end_edges(n_edges),
+                self.sampling.end_sigma_rows(n_edges),
+                self.sampling.end_offsets_array(),
+            ),
+        )
         c = np.ascontiguousarray  # one kernel signature whatever the caller's array layouts
         result = compiled_newton.minimise_step(
-            c(start.x, float), c(start.theta, float), c(start.a1, float), c(start.ref_twist, float),
-            c(rod.fixed, bool), inertia, rest_arrays, sampling, self._contact_arrays(), _options_tuple(options),
-            bool(self.source_elastic))
-        code, iterations, residual, (x, theta, a1, ref, e, length, t, m1, m2, twist), own, source_t = result
-        state = RodState(x, theta, start.v.copy(), start.omega.copy(), a1, ref, start.time,
-                         None if own else source_t)
+            c(start.x, float),
+            c(start.theta, float),
+            c(start.a1, float),
+            c(start.ref_twist, float),
+            c(rod.fixed, bool),
+            inertia,
+            rest_arrays,
+            sampling,
+            self._contact_arrays(),
+            _options_tuple(options),
+            bool(self.source_elastic),
+        )
+        (
+            code,
+            iterations,
+            residual,
+            (x, theta, a1, ref, e, length, t, m1, m2, twist),
+            own,
+            source_t,
+        ) = result
+        state = RodState(
+            x,
+            theta,
+            start.v.copy(),
+            start.omega.copy(),
+            a1,
+            ref,
+            start.time,
+            None if own else source_t,
+        )
         state.__dict__["_geometry"] = Geometry(e, length, t, m1, m2, twist)
-        return NewtonResult(state, code in compiled_newton.CONVERGED_CODES, iterations, float(residual),
-                            compiled_newton.REASONS[code])
+        return NewtonResult(
+            state,
+            code in compiled_newton.CONVERGED_CODES,
+            iterations,
+            float(residual),
+            compiled_newton.REASONS[code],
+        )
 
     def _contact_arrays(self) -> tuple:
         """The planes, the contact law and the lagged friction data of every plane, stacked for
-        :func:`compiled_newton.minimise_step` (the arguments ``Assembly.contact`` passes per plane)."""
+        :func:`compiled_newton.minimise_step` (the arguments ``Assembly.contact`` passes per
+        plane)."""
         rod = self.rod
         planes = rod.contact_planes()
         normals = np.array([p.unit_normal() for p in planes], float).reshape(len(planes), 3)
@@ -215,22 +291,37 @@ class StepPotential:
         boxes = np.array([b.array() for b in rod.boxes], float).reshape(len(rod.boxes), 8)
         lags = self.lag.all_lags() if fric else (None,) * (len(planes) + len(boxes))
         if fric and len(lags) != len(planes) + len(boxes):
-            raise ValueError(f"friction lag has {len(lags) - 1} obstacles, the rod {len(rod.obstacles)} walls and "
-                             f"{len(rod.boxes)} boxes")
+            raise ValueError(
+                f"friction lag has {len(lags) - 1} obstacles, the rod {len(rod.obstacles)} walls "
+                "and "
+                f"{len(rod.boxes)} boxes"
+            )
         stacks = ([], [], [], [])
         for lag in lags:
-            arrays = ((lag.stencil_normal, lag.stencil_points) if fric and interpolated else (no_n, no_p)) + (
-                (lag.end_normal, lag.end_points) if fric else (no_n, no_p))
+            arrays = (
+                (lag.stencil_normal, lag.stencil_points) if fric and interpolated else (no_n, no_p)
+            ) + ((lag.end_normal, lag.end_points) if fric else (no_n, no_p))
             for stack, a in zip(stacks, arrays):
                 stack.append(a)
-        lag_ns, lag_ps, lag_ne, lag_pe = (_stacked(s) if s else np.zeros((0,) + z.shape)
-                                          for s, z in zip(stacks, (no_n, no_p, no_n, no_p)))
+        lag_ns, lag_ps, lag_ne, lag_pe = (
+            _stacked(s) if s else np.zeros((0,) + z.shape)
+            for s, z in zip(stacks, (no_n, no_p, no_n, no_p))
+        )
         mu, K2 = (float(rod.friction.mu), float(rod.friction.K2)) if fric else (0.0, 1.0)
         if law is None:
             constants = (0.0, 1.0, 1.0, 0.0)
         else:
-            constants = (float(law.clearance), float(law.delta), float(law.K1), float(law.stiffness))
-        return (normals, heights, boxes) + constants + (bool(fric), lag_ns, lag_ps, lag_ne, lag_pe, mu, K2)
+            constants = (
+                float(law.clearance),
+                float(law.delta),
+                float(law.K1),
+                float(law.stiffness),
+            )
+        return (
+            (normals, heights, boxes)
+            + constants
+            + (bool(fric), lag_ns, lag_ps, lag_ne, lag_pe, mu, K2)
+        )
 
 
 def _stacked(arrays: list) -> np.ndarray:
@@ -245,16 +336,33 @@ def _stacked(arrays: list) -> np.ndarray:
 @functools.lru_cache(maxsize=16)
 def _options_tuple(o: NewtonOptions) -> tuple:
     """``NewtonOptions`` in the order of :func:`compiled_newton.minimise_step`."""
-    return (int(o.max_iterations), float(o.force_tol), float(o.step_tol), float(o.armijo), float(o.min_step),
-            int(o.max_shift_tries), int(o.watchdog), float(np.cos(o.resource_angle)), float(o.max_rotation),
-            float(o.max_displacement), float(o.unchecked_step), float(o.lag_residual), float(o.lag_contraction))
+    return (
+        int(o.max_iterations),
+        float(o.force_tol),
+        float(o.step_tol),
+        float(o.armijo),
+        float(o.min_step),
+        int(o.max_shift_tries),
+        int(o.watchdog),
+        float(np.cos(o.resource_angle)),
+        float(o.max_rotation),
+        float(o.max_displacement),
+        float(o.unchecked_step),
+        float(o.lag_residual),
+        float(o.lag_contraction),
+    )
 
 
 class Integrator:
     """Steps a rod in time; ``rod.rest`` may be replaced between calls (actuation)."""
 
-    def __init__(self, rod: DiscreteRod, state: RodState, options: StepOptions = StepOptions(),
-                 on_failure: Callable[[RodState], None] | None = None):
+    def __init__(
+        self,
+        rod: DiscreteRod,
+        state: RodState,
+        options: StepOptions = StepOptions(),
+        on_failure: Callable[[RodState], None] | None = None,
+    ):
         self.rod = rod
         self.state = state
         self.options = options
@@ -264,7 +372,9 @@ class Integrator:
         self.total_iterations = 0
         self.total_cuts = 0
 
-    def _attempt(self, start: RodState, dt: float, extrapolate: bool) -> tuple[RodState | None, NewtonResult]:
+    def _attempt(
+        self, start: RodState, dt: float, extrapolate: bool
+    ) -> tuple[RodState | None, NewtonResult]:
         rod = self.rod
         midpoint = self.options.method == "midpoint"
         h = 0.5 * dt if midpoint else dt
@@ -284,8 +394,15 @@ class Integrator:
         result = None
         passes = self.options.friction_iterations if use_friction else 1
         for k in range(passes):
-            potential = StepPotential(rod, start, h, self.assembly, self.sampling, lag,
-                                      self.options.elastic_hessian_at_source)
+            potential = StepPotential(
+                rod,
+                start,
+                h,
+                self.assembly,
+                self.sampling,
+                lag,
+                self.options.elastic_hessian_at_source,
+            )
             if self.options.compiled:
                 result = potential.minimise(guess, self.options.newton)
             else:
@@ -327,9 +444,11 @@ class Integrator:
         if half < self.options.min_dt:
             if self.on_failure is not None:
                 self.on_failure(start)
-            raise ConvergenceError(f"t = {start.time:.6g} s",
-                                   f"Newton failed ({result.reason}, residual {result.residual:.3g}) with "
-                                   f"dt = {dt:.3g} s; smallest allowed step {self.options.min_dt:.3g} s")
+            raise ConvergenceError(
+                f"t = {start.time:.6g} s",
+                f"Newton failed ({result.reason}, residual {result.residual:.3g}) with "
+                f"dt = {dt:.3g} s; smallest allowed step {self.options.min_dt:.3g} s",
+            )
         mid, it1, c1 = self._advance(start, half, depth + 1)
         end, it2, c2 = self._advance(mid, half, depth + 1)
         return end, result.iterations + it1 + it2, 1 + c1 + c2

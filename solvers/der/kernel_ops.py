@@ -9,22 +9,20 @@ q[4k : 4k + 11] = (x_k, theta_k, x_(k+1), theta_(k+1), x_(k+2)).
 
 from __future__ import annotations
 
-
 import numpy as np
 from numba import njit
 
 from lcefem.models.rod import STENCIL_MAP
 
-
-# ``models.rod.STENCIL_MAP`` as index lists: local variable i -> stencil dofs MAP_IDX[i] with signs MAP_SGN[i]
-# (two entries for the edge vectors e = x_k - x_(k-1), f = x_(k+1) - x_k; one, padded with sign 0, for
-# the angles), so that S H S^T costs 256 multiply-adds instead of 1672.
+# ``models.rod.STENCIL_MAP`` as index lists: local variable i -> stencil dofs MAP_IDX[i] with signs
+# MAP_SGN[i] (two entries for the edge vectors e = x_k - x_(k-1), f = x_(k+1) - x_k; one, padded
+# with sign 0, for the angles), so that S H S^T costs 256 multiply-adds instead of 1672.
 MAP_IDX = np.zeros((8, 2), np.int64)
 MAP_SGN = np.zeros((8, 2))
 for _i in range(8):
     _rows = np.nonzero(STENCIL_MAP[:, _i])[0]
-    MAP_IDX[_i, :len(_rows)] = _rows
-    MAP_SGN[_i, :len(_rows)] = STENCIL_MAP[_rows, _i]
+    MAP_IDX[_i, : len(_rows)] = _rows
+    MAP_SGN[_i, : len(_rows)] = STENCIL_MAP[_rows, _i]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -108,9 +106,9 @@ def scatter(base, g_loc, H_loc, grad, band, with_hessian):
 
 @njit(cache=True, error_model="numpy")
 def source_change_into(g_loc, H_loc, slot_a, slot_t, slot_b, db, ddb, W, tmp, out, with_hessian):
-    """Chain rule of ``models.rod.apply_source_change`` for one element, in place on g_loc and on the
-    lower triangle of H_loc (the only part :func:`scatter` reads); slots (node a start, theta index,
-    node b start), db (n_slots, 3), ddb (n_slots, 3, 3).
+    """Chain rule of ``models.rod.apply_source_change`` for one element, in place on g_loc and on
+    the lower triangle of H_loc (the only part :func:`scatter` reads); slots (node a start, theta
+    index, node b start), db (n_slots, 3), ddb (n_slots, 3, 3).
 
     D (the change of the angle rows t_s) has six nonzero columns per slot, so H D and D^T H D run
     over those only, and over the lower triangle (issue 17: 2.6x fewer operations at 11 dofs; the

@@ -1,12 +1,12 @@
 """Compiled (numba) element loops of the DER assembly: the same formulas as the vectorised numpy
 functions of :mod:`lcefem.models.rod` (``stretching``, ``bend_twist``, ``twist_hessian_ef``,
-``apply_source_change``, ``stencil_point_derivatives``), fused with the scatter into the gradient and
-the lower banded Hessian (LAPACK storage ab[i - j, j] = H[i, j], half-bandwidth 10).
+``apply_source_change``, ``stencil_point_derivatives``), fused with the scatter into the gradient
+and the lower banded Hessian (LAPACK storage ab[i - j, j] = H[i, j], half-bandwidth 10).
 
 Why: at the ribbon's sizes (30-200 nodes) the numpy versions spend most of their time in the
-Python/numpy overhead of ~100 calls on small arrays per evaluation (issue 17: ~5 ms of fixed cost per
-step). The numpy versions stay the reference: ``tests/solvers/test_der_kernels.py`` checks that both
-give the same energies, gradients and Hessians to round-off.
+Python/numpy overhead of ~100 calls on small arrays per evaluation (issue 17: ~5 ms of fixed cost
+per step). The numpy versions stay the reference: ``tests/solvers/test_der_kernels.py`` checks that
+both give the same energies, gradients and Hessians to round-off.
 
 The other compiled loops live beside it: the dense helpers in :mod:`lcefem.solvers.der.kernel_ops`,
 contact and friction in :mod:`lcefem.solvers.der.contact_kernels`, frame transport in
@@ -18,7 +18,6 @@ q[4k : 4k + 7] = (x_k, theta_k, x_(k+1)); the stencil of interior node k + 1 tou
 q[4k : 4k + 11] = (x_k, theta_k, x_(k+1), theta_(k+1), x_(k+2)).
 """
 
-
 from __future__ import annotations
 
 import math
@@ -26,8 +25,18 @@ import math
 import numpy as np
 from numba import njit
 
-from lcefem.solvers.der.kernel_ops import (dot3, cross3, skew_into, matmul, to_stencil, rows_to_stencil,
-                                           scatter, source_change_into, MAP_IDX, MAP_SGN)
+from lcefem.solvers.der.kernel_ops import (
+    MAP_IDX,
+    MAP_SGN,
+    cross3,
+    dot3,
+    matmul,
+    rows_to_stencil,
+    scatter,
+    skew_into,
+    source_change_into,
+    to_stencil,
+)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -56,7 +65,9 @@ def source_change(source, t, length):
         for i in range(3):
             for j in range(3):
                 # sym(outer(-g c, t + s)) / (2 c^2)
-                hb[i, j] = (-(g[i] * c) * (tk[j] + s[j]) - (g[j] * c) * (tk[i] + s[i])) / (2.0 * c * c)
+                hb[i, j] = (-(g[i] * c) * (tk[j] + s[j]) - (g[j] * c) * (tk[i] + s[i])) / (
+                    2.0 * c * c
+                )
                 P[i, j] = (1.0 if i == j else 0.0) - tk[i] * tk[j]
         matmul(P, hb, tmp)
         matmul(tmp, P, hb)
@@ -109,22 +120,57 @@ def _twist_hessian_ef(te, tf, le, lf, kb, out, w33):
 
 @njit(cache=True, error_model="numpy")
 def element_scratch():
-    """Scratch arrays of the element functions (:func:`_bend_twist_element`, :func:`stencil_point_element`),
-    allocated once per kernel call: (v3 (12, 3), v6 (5, 6), v8 (4, 8), m36 (2, 3, 6), m66 (4, 6, 6),
-    w33 (6, 3, 3))."""
-    return (np.zeros((12, 3)), np.zeros((5, 6)), np.zeros((4, 8)), np.zeros((2, 3, 6)), np.zeros((4, 6, 6)),
-            np.zeros((6, 3, 3)))
+    """Scratch arrays of the element functions (:func:`_bend_twist_element`,
+    :func:`stencil_point_element`), allocated once per kernel call: (v3 (12, 3), v6 (5, 6), v8 (4,
+    8), m36 (2, 3, 6), m66 (4, 6, 6), w33 (6, 3, 3))."""
+    return (
+        np.zeros((12, 3)),
+        np.zeros((5, 6)),
+        np.zeros((4, 8)),
+        np.zeros((2, 3, 6)),
+        np.zeros((4, 6, 6)),
+        np.zeros((6, 3, 3)),
+    )
 
 
 @njit(cache=True, error_model="numpy")
-def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv_l, EI1, EI2, GJ,
-                        grad, hess, with_hessian, ws):
+def _bend_twist_element(
+    e,
+    f,
+    m1e,
+    m2e,
+    m1f,
+    m2f,
+    twist,
+    kbar1,
+    kbar2,
+    tbar,
+    inv_l,
+    EI1,
+    EI2,
+    GJ,
+    grad,
+    hess,
+    with_hessian,
+    ws,
+):
     """``models.rod.bend_twist`` of one interior node: energy; gradient (8,) and Hessian (8, 8) in
     (e, f, theta_e, theta_f) written into grad, hess; ``ws`` the scratch of :func:`element_scratch`
     (no allocation per element: at ~100 nodes the allocations cost as much as the arithmetic)."""
     v3, v6, v8, m36, m66, w33 = ws
-    te, tf, nv, kb, M1, M2, w, ue, uf, me, mf = v3[0], v3[1], v3[2], v3[3], v3[4], v3[5], v3[6], v3[7], v3[8], \
-        v3[9], v3[10]
+    te, tf, nv, kb, M1, M2, w, ue, uf, me, mf = (
+        v3[0],
+        v3[1],
+        v3[2],
+        v3[3],
+        v3[4],
+        v3[5],
+        v3[6],
+        v3[7],
+        v3[8],
+        v3[9],
+        v3[10],
+    )
     dD, dnw, jte, jtf = v6[0], v6[1], v6[2], v6[3]
     g1, g2, gt = v8[0], v8[1], v8[2]
     dn, jac = m36[0], m36[1]
@@ -256,8 +302,26 @@ def _bend_twist_element(e, f, m1e, m2e, m1f, m2f, twist, kbar1, kbar2, tbar, inv
 
 
 @njit(cache=True, error_model="numpy")
-def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI1, EI2, GJ,
-            db, ddb, with_source, with_hessian, grad, band):
+def elastic(
+    x,
+    m1,
+    m2,
+    twist,
+    rest_length,
+    kappa_bar,
+    twist_bar,
+    voronoi,
+    EA,
+    EI1,
+    EI2,
+    GJ,
+    db,
+    ddb,
+    with_source,
+    with_hessian,
+    grad,
+    band,
+):
     """Stretching + bending + twisting of the whole rod; adds the gradient into ``grad`` (4N-1,) and
     (with_hessian) the lower band into ``band`` (11, 4N-1); returns the energy [mJ].
 
@@ -314,9 +378,26 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
         for i in range(3):
             e[i] = x[k + 1, i] - x[k, i]
             f[i] = x[k + 2, i] - x[k + 1, i]
-        energy += _bend_twist_element(e, f, m1[k], m2[k], m1[k + 1], m2[k + 1], twist[k], kappa_bar[k, 0],
-                                      kappa_bar[k, 1], twist_bar[k], 1.0 / voronoi[k], EI1, EI2, GJ,
-                                      g8, h8, with_hessian, ws)
+        energy += _bend_twist_element(
+            e,
+            f,
+            m1[k],
+            m2[k],
+            m1[k + 1],
+            m2[k + 1],
+            twist[k],
+            kappa_bar[k, 0],
+            kappa_bar[k, 1],
+            twist_bar[k],
+            1.0 / voronoi[k],
+            EI1,
+            EI2,
+            GJ,
+            g8,
+            h8,
+            with_hessian,
+            ws,
+        )
         g11[:] = 0.0
         for i in range(8):
             for p in range(2):
@@ -328,7 +409,9 @@ def elastic(x, m1, m2, twist, rest_length, kappa_bar, twist_bar, voronoi, EA, EI
             dbs[1] = db[k + 1]
             ddbs[0] = ddb[k]
             ddbs[1] = ddb[k + 1]
-            source_change_into(g11, h11, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11, with_hessian)
+            source_change_into(
+                g11, h11, slot_a, slot_t, slot_b, dbs, ddbs, W, tmp11, out11, with_hessian
+            )
         scatter(4 * k, g11, h11, grad, band, with_hessian)
     return energy
 
@@ -385,7 +468,9 @@ def stencil_point_element(e, f, r, t, side, sigma, g, jac, h11, hv, jv, tmp, wit
     hv[:, :] = 0.0
     for i in range(3):
         for j in range(3):
-            hv[off + i, off + j] = (gt * (r[i] * t[j] + t[i] * r[j]) - 0.5 * (r[i] * pg[j] + pg[i] * r[j])) * inv_l2
+            hv[off + i, off + j] = (
+                gt * (r[i] * t[j] + t[i] * r[j]) - 0.5 * (r[i] * pg[j] + pg[i] * r[j])
+            ) * inv_l2
     cross_v[:] = 0.0
     for i in range(3):
         cross_v[off + i] = -(gt / length) * tr[i]

@@ -16,8 +16,10 @@ import numpy as np
 from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.errors import InputError
 from lcefem.models.rod import CORNER_SIGNS, RodSection
-from lcefem.solvers.der import frames as fr
 from lcefem.solvers.der import frame_kernels
+from lcefem.solvers.der import frames as fr
+
+
 def n_dofs(n_nodes: int) -> int:
     return 4 * n_nodes - 1
 
@@ -76,9 +78,11 @@ class RestShape:
         return cls(np.asarray(edge_length, float).copy(), np.zeros((n, 2)), np.zeros(n))
 
     @classmethod
-    def from_densities(cls, edge_length: np.ndarray, curvature: np.ndarray, twist: np.ndarray) -> "RestShape":
-        """From curvature densities (kappa_1, kappa_2) [1/mm] and twist density [rad/mm] at interior nodes
-        (scalars, (N-2,) or (N-2, 2)), integrated over the rest Voronoi lengths."""
+    def from_densities(
+        cls, edge_length: np.ndarray, curvature: np.ndarray, twist: np.ndarray
+    ) -> "RestShape":
+        """From curvature densities (kappa_1, kappa_2) [1/mm] and twist density [rad/mm] at interior
+        nodes (scalars, (N-2,) or (N-2, 2)), integrated over the rest Voronoi lengths."""
         edge_length = np.asarray(edge_length, float)
         vor = 0.5 * (edge_length[:-1] + edge_length[1:])
         k = np.broadcast_to(np.asarray(curvature, float), (len(vor), 2)) * vor[:, None]
@@ -120,22 +124,29 @@ class Box:
     lo: tuple[float, float, float]
     hi: tuple[float, float, float]
     radius: float
-    friction: float | None = None  # friction coefficient on the box [-]; None: the rod's friction law's
+    friction: float | None = (
+        None  # friction coefficient on the box [-]; None: the rod's friction law's
+    )
 
     def __post_init__(self):
         lo, hi = np.asarray(self.lo, float), np.asarray(self.hi, float)
         if lo.shape != (3,) or hi.shape != (3,):
-            raise InputError(f"box lo = {self.lo}, hi = {self.hi}: must be three coordinates each [mm]")
+            raise InputError(
+                f"box lo = {self.lo}, hi = {self.hi}: must be three coordinates each [mm]"
+            )
         if not self.radius > 0:
             raise InputError(f"box radius = {self.radius} mm: must be > 0 mm")
         if self.friction is not None and not self.friction >= 0:
             raise InputError(f"box friction = {self.friction}: must be >= 0")
         if np.any(hi - lo <= 2.0 * self.radius):
-            raise InputError(f"box lo = {self.lo}, hi = {self.hi} mm: each side must exceed twice the edge "
-                             f"radius {self.radius} mm")
+            raise InputError(
+                f"box lo = {self.lo}, hi = {self.hi} mm: each side must exceed twice the edge "
+                f"radius {self.radius} mm"
+            )
 
     def array(self) -> np.ndarray:
-        """(lo, hi, radius, friction coefficient or -1 for the rod's) as an (8,) float array (for the kernels)."""
+        """(lo, hi, radius, friction coefficient or -1 for the rod's) as an (8,) float array (for
+        the kernels)."""
         mu = -1.0 if self.friction is None else float(self.friction)
         return np.array(tuple(self.lo) + tuple(self.hi) + (self.radius, mu), float)
 
@@ -151,8 +162,8 @@ class Box:
         return np.where(outside > 0.0, outside, np.minimum(inside, 0.0)) - r
 
     def normals(self, points: np.ndarray) -> np.ndarray:
-        """Outward unit normals (..., 3) of the rounded box at the points nearest to ``points`` (..., 3)
-        (the gradient of :meth:`gaps`; inside the inner box, that of its nearest face)."""
+        """Outward unit normals (..., 3) of the rounded box at the points nearest to ``points``
+        (..., 3) (the gradient of :meth:`gaps`; inside the inner box, that of its nearest face)."""
         p = np.asarray(points, float)
         r = self.radius
         lo = np.asarray(self.lo, float) + r
@@ -296,8 +307,13 @@ class RodState:
     acceleration: np.ndarray | None = None
 
     @classmethod
-    def from_positions(cls, x: np.ndarray, theta: np.ndarray | None = None,
-                       first_director: np.ndarray | None = None, time: float = 0.0) -> "RodState":
+    def from_positions(
+        cls,
+        x: np.ndarray,
+        theta: np.ndarray | None = None,
+        first_director: np.ndarray | None = None,
+        time: float = 0.0,
+    ) -> "RodState":
         """A rod at rest with reference directors space-parallel transported from ``first_director``
         (so the reference twist starts at zero)."""
         x = np.asarray(x, float).copy()
@@ -311,12 +327,22 @@ class RodState:
 
     def copy(self) -> "RodState":
         src = None if self.source_tangents is None else self.source_tangents.copy()
-        return RodState(self.x.copy(), self.theta.copy(), self.v.copy(), self.omega.copy(),
-                        self.a1.copy(), self.ref_twist.copy(), self.time, src)
+        return RodState(
+            self.x.copy(),
+            self.theta.copy(),
+            self.v.copy(),
+            self.omega.copy(),
+            self.a1.copy(),
+            self.ref_twist.copy(),
+            self.time,
+            src,
+        )
 
     def resourced(self) -> "RodState":
         """The same configuration with its own tangents as the transport source."""
-        return RodState(self.x, self.theta, self.v, self.omega, self.a1, self.ref_twist, self.time, None)
+        return RodState(
+            self.x, self.theta, self.v, self.omega, self.a1, self.ref_twist, self.time, None
+        )
 
     def geometry(self) -> Geometry:
         """Edges, tangents, material frames and twists (computed once per state; states are not
@@ -363,7 +389,9 @@ class RodState:
         theta = self.theta + dq[twist_dofs(n)]
         t_old = self.tangents
         # frames, tangents and twists in one compiled pass (a Newton iterate is a moved state)
-        e, length, t_new, a1, ref, m1, m2, twist = frame_kernels.moved_geometry(x, theta, self.a1, t_old, self.ref_twist)
+        e, length, t_new, a1, ref, m1, m2, twist = frame_kernels.moved_geometry(
+            x, theta, self.a1, t_old, self.ref_twist
+        )
         out = RodState(x, theta, self.v.copy(), self.omega.copy(), a1, ref, self.time, t_old)
         out.__dict__["_geometry"] = Geometry(e, length, t_new, m1, m2, twist)
         return out

@@ -36,10 +36,16 @@ class NewtonOptions:
     max_shift_tries: int = 12
     watchdog: int = 3  # full steps allowed to raise the potential before backtracking
     resource_angle: float = 1.0  # [rad] edge rotation from the start that triggers a new source
-    max_rotation: float = 0.5  # [rad] largest edge-angle update of one iteration (longer steps are scaled)
+    max_rotation: float = (
+        0.5  # [rad] largest edge-angle update of one iteration (longer steps are scaled)
+    )
     max_displacement: float = float("inf")  # [mm] largest node update of one iteration
-    unchecked_step: float = 0.0  # [mm, rad] updates below this are taken without the line-search energy
-    lag_residual: float = 0.0  # [N, N mm] below this residual the Hessian factor is reused (minimise); 0: never
+    unchecked_step: float = (
+        0.0  # [mm, rad] updates below this are taken without the line-search energy
+    )
+    lag_residual: float = (
+        0.0  # [N, N mm] below this residual the Hessian factor is reused (minimise); 0: never
+    )
     lag_contraction: float = 0.25  # [-] a lagged step must cut the residual at least by this factor
 
 
@@ -95,7 +101,8 @@ def banded_cholesky_solve(factor: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 
 def factorise_banded_spd(band: np.ndarray, shift0: float, max_tries: int):
-    """Cholesky factor of H + lambda I, lambda = 0 first, then growing from shift0; returns (factor, lambda)."""
+    """Cholesky factor of H + lambda I, lambda = 0 first, then growing from shift0; returns (factor,
+    lambda)."""
     lam = 0.0
     scale = float(np.max(np.abs(band[0]))) or 1.0
     for _ in range(max_tries + 1):
@@ -110,8 +117,12 @@ def factorise_banded_spd(band: np.ndarray, shift0: float, max_tries: int):
     raise LinAlgError("Hessian not positive definite even with a shift")
 
 
-def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, bool], Derivatives],
-             options: NewtonOptions = NewtonOptions()) -> NewtonResult:
+def minimise(
+    start: RodState,
+    fixed: np.ndarray,
+    evaluate: Callable[[RodState, bool], Derivatives],
+    options: NewtonOptions = NewtonOptions(),
+) -> NewtonResult:
     """Minimise the potential ``evaluate`` from ``start`` over the free dofs.
 
     A full Newton step that raises the potential is still taken up to ``options.watchdog`` times
@@ -129,10 +140,12 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
     converges linearly at a rate that falls with the distance to the solution), else the Hessian is
     evaluated there. The converged iterate then costs a gradient only, and so do the last
     iterations of a step. Far from the solution (residual above ``lag_residual``) the chord rate is
-    poor (measured on the rolling ribbon: 0.36 per iteration at 1e-5 N), so full Newton is kept there.
+    poor (measured on the rolling ribbon: 0.36 per iteration at 1e-5 N), so full Newton is kept
+    there.
 
-    The integrator runs the same loop compiled (:func:`lcefem.solvers.der.compiled_newton.minimise_step`,
-    ``StepOptions.compiled``); this one is its reference and serves any other potential (statics).
+    The integrator runs the same loop compiled
+    (:func:`lcefem.solvers.der.compiled_newton.minimise_step`, ``StepOptions.compiled``); this one
+    is its reference and serves any other potential (statics).
 
     Args:
         evaluate: (state, hessian) -> Derivatives; with hessian False it may leave band None and
@@ -153,7 +166,10 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
     d = None  # derivatives of ``state`` (band None: gradient only)
     factor = None  # Cholesky factor of the last evaluated Hessian (and its shift)
     for it in range(1, options.max_iterations + 1):
-        if checkpoint is None and np.min(np.einsum("ki,ki->k", source.tangents, state.tangents)) < cos_limit:
+        if (
+            checkpoint is None
+            and np.min(np.einsum("ki,ki->k", source.tangents, state.tangents)) < cos_limit
+        ):
             source, total = state.resourced(), np.zeros_like(total)
             state, d, factor = source, None, None
         previous = residual
@@ -174,7 +190,9 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
             mask.apply(g, d.band)
         try:
             if d.band is not None:
-                factor, shift = factorise_banded_spd(d.band, max(shift * 0.1, 0.0), options.max_shift_tries)
+                factor, shift = factorise_banded_spd(
+                    d.band, max(shift * 0.1, 0.0), options.max_shift_tries
+                )
             step = banded_cholesky_solve(factor, -g)
         except LinAlgError:
             return NewtonResult(state, False, it, residual, "singular Hessian")
@@ -183,10 +201,15 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
         dth = float(np.max(np.abs(step[ti]))) if len(ti) else 0.0
         if max(dx, dth) <= options.step_tol and checkpoint is None:
             # The Newton update is at round-off level (e.g. a stiff EA sets a residual floor).
-            return NewtonResult(source.moved(total + step), True, it, residual, "update below step_tol")
+            return NewtonResult(
+                source.moved(total + step), True, it, residual, "update below step_tol"
+            )
         # Limit the update (a soft mode, e.g. rolling about the axis, can ask for huge steps).
-        scale = min(1.0, options.max_rotation / dth if dth > 0 else 1.0,
-                    options.max_displacement / dx if dx > 0 else 1.0)
+        scale = min(
+            1.0,
+            options.max_rotation / dth if dth > 0 else 1.0,
+            options.max_displacement / dx if dx > 0 else 1.0,
+        )
         if scale < 1.0:
             step *= scale
         slope = float(g @ step)
@@ -198,7 +221,8 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
             state, total = trial, total + step
             d = gradient_only(state) if lag else None
             continue
-        # The trial's derivatives come with its energy: an accepted trial needs no second evaluation.
+        # The trial's derivatives come with its energy: an accepted trial needs no second
+        # evaluation.
         d_trial = gradient_only(trial) if lag else evaluate(trial, True)
         e_trial = d_trial.energy
         if np.isfinite(e_trial) and e_trial <= d.energy + options.armijo * slope + allowance:
@@ -220,7 +244,10 @@ def minimise(start: RodState, fixed: np.ndarray, evaluate: Callable[[RodState, b
         while True:
             trial = source.moved(total + alpha * step)
             e_trial = evaluate(trial, False).energy
-            if np.isfinite(e_trial) and e_trial <= energy0 + options.armijo * alpha * slope + allowance:
+            if (
+                np.isfinite(e_trial)
+                and e_trial <= energy0 + options.armijo * alpha * slope + allowance
+            ):
                 break
             alpha *= 0.5
             if alpha < options.min_step:

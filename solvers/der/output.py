@@ -19,8 +19,12 @@ from vtk.util.numpy_support import numpy_to_vtk
 from lcefem.solvers.runtime.files import CSVTable, FrameSeries
 
 
-def polydata(points: np.ndarray, lines: list[np.ndarray] | None = None, quads: np.ndarray | None = None,
-             point_data: dict[str, np.ndarray] | None = None) -> vtk.vtkPolyData:
+def polydata(
+    points: np.ndarray,
+    lines: list[np.ndarray] | None = None,
+    quads: np.ndarray | None = None,
+    point_data: dict[str, np.ndarray] | None = None,
+) -> vtk.vtkPolyData:
     """vtkPolyData with the given points (n, 3), polylines (lists of point ids), quads (m, 4) and
     point arrays ((n,) or (n, 3))."""
     pd = vtk.vtkPolyData()

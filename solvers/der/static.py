@@ -47,13 +47,20 @@ class StaticResult:
 
 
 def interpolate_rest(a: RestShape, b: RestShape, s: float) -> RestShape:
-    return RestShape((1 - s) * a.edge_length + s * b.edge_length,
-                     (1 - s) * a.curvature + s * b.curvature, (1 - s) * a.twist + s * b.twist)
+    return RestShape(
+        (1 - s) * a.edge_length + s * b.edge_length,
+        (1 - s) * a.curvature + s * b.curvature,
+        (1 - s) * a.twist + s * b.twist,
+    )
 
 
-def solve_static(rod: DiscreteRod, state: RodState, increments: int = 1,
-                 rest_from: RestShape | None = None,
-                 options: NewtonOptions = NewtonOptions(max_iterations=60)) -> StaticResult:
+def solve_static(
+    rod: DiscreteRod,
+    state: RodState,
+    increments: int = 1,
+    rest_from: RestShape | None = None,
+    options: NewtonOptions = NewtonOptions(max_iterations=60),
+) -> StaticResult:
     """Equilibrium reached from ``state`` by ``increments`` load increments.
 
     Raises:
@@ -74,7 +81,9 @@ def solve_static(rod: DiscreteRod, state: RodState, increments: int = 1,
         s = min(1.0, done + step)
         rest = target if rest_from is None else interpolate_rest(rest_from, target, s)
         trial_rod = rod.replace(rest=rest)
-        result: NewtonResult = minimise(state, rod.fixed, StaticPotential(trial_rod, asm, s * full_load), options)
+        result: NewtonResult = minimise(
+            state, rod.fixed, StaticPotential(trial_rod, asm, s * full_load), options
+        )
         total_its += result.iterations
         if result.converged:
             state = result.state
@@ -85,8 +94,11 @@ def solve_static(rod: DiscreteRod, state: RodState, increments: int = 1,
             step *= 0.5
             cuts += 1
             if cuts > 8 * increments:
-                raise ConvergenceError(f"load factor {done:.4g}", f"static Newton failed ({result.reason}, "
-                                       f"residual {result.residual:.3g}) at increment size {step:.3g}")
+                raise ConvergenceError(
+                    f"load factor {done:.4g}",
+                    f"static Newton failed ({result.reason}, "
+                    f"residual {result.residual:.3g}) at increment size {step:.3g}",
+                )
     return StaticResult(state, total_its, count, result.residual)
 
 

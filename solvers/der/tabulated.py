@@ -7,7 +7,8 @@ On the interval [x_k, x_k + h] the cubic through the law's values at x_(k-1), x_
 
 Why: the rolling ribbon's natural shape evaluates the contraction ratio a(T) (an exp and a cube
 root, ``models.lce.contraction_ratio``) at every section quadrature point of every edge each time
-step, ~19,000 points at 100 nodes: 0.6 ms per step in numpy, a table lookup a fraction of it (issue 17).
+step, ~19,000 points at 100 nodes: 0.6 ms per step in numpy, a table lookup a fraction of it (issue
+17).
 """
 
 from __future__ import annotations
@@ -38,7 +39,9 @@ def piecewise_cubic(x, lo, inv_h, coefficients, out):
             continue
         k = int(s)
         u = s - k
-        out[i] = coefficients[k, 0] + u * (coefficients[k, 1] + u * (coefficients[k, 2] + u * coefficients[k, 3]))
+        out[i] = coefficients[k, 0] + u * (
+            coefficients[k, 1] + u * (coefficients[k, 2] + u * coefficients[k, 3])
+        )
     return outside
 
 
@@ -57,8 +60,10 @@ class TabulatedLaw:
         n = int(math.ceil((hi - lo) / spacing))
         nodes = lo + spacing * np.arange(-1, n + 2)
         values = np.asarray(law(nodes), float)
-        stencil = np.stack([values[k:k + n] for k in range(4)], axis=1)  # f at x_(k-1) .. x_(k+2)
-        return cls(law, float(lo), float(spacing), np.ascontiguousarray(stencil @ _TO_COEFFICIENTS.T))
+        stencil = np.stack([values[k : k + n] for k in range(4)], axis=1)  # f at x_(k-1) .. x_(k+2)
+        return cls(
+            law, float(lo), float(spacing), np.ascontiguousarray(stencil @ _TO_COEFFICIENTS.T)
+        )
 
     @property
     def hi(self) -> float:

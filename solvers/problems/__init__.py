@@ -3,8 +3,8 @@ advance/ramp, named observables with units, fields for output.
 
 * :mod:`.strip` — the LCE strip heated by its coil (current per coil tag; prescribed temperature or
   spontaneous-stretch fields).
-* :mod:`.composite_beam` — the FE composite beam (lambda per strip tag; coil current through the heat
-  model: :class:`~.composite_beam.HeatedBeamFE`).
+* :mod:`.composite_beam` — the FE composite beam (lambda per strip tag; coil current through the
+  heat model: :class:`~.composite_beam.HeatedBeamFE`).
 * :mod:`.kapton_specimen` — the passive Kapton buckling specimen (end shortening).
 * :mod:`.tension_specimen` — the LCE tension test in the isotropic phase.
 * :mod:`.gridshell` — the FE gridshell (lambda per strip tag, group or channel).

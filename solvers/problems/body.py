@@ -7,9 +7,9 @@ The physics is the strip's (:mod:`lcefem.solvers.problems.strip`), on any mesh w
 * heat: backward Euler in the reference configuration pulled back with the lagging displacement
   (:class:`lcefem.solvers.heat.HeatProblem`); a coil's Joule power P = I^2 R
   (:meth:`lcefem.models.heat.Coil.power`) spread uniformly over its region, q = P / (s V_mesh)
-  [mW/mm^3] with s the case's symmetry factor (the mesh is 1/s of the body); convection h (T - T_inf)
-  and linearised grey-body radiation per boundary, fixed temperatures as Dirichlet conditions;
-  other boundaries adiabatic (or mirror planes);
+  [mW/mm^3] with s the case's symmetry factor (the mesh is 1/s of the body); convection h (T -
+  T_inf) and linearised grey-body radiation per boundary, fixed temperatures as Dirichlet
+  conditions; other boundaries adiabatic (or mirror planes);
 * heat capacity rho c and conductivity k per region (DG0; [thermal] where a region gives none);
 * mechanics: W(F F_s(T)^-1) in LCE regions (director per region, a vector, a through-thickness
   twist or three expressions of x, y, z, :mod:`.body_expression`), compressible neo-Hookean passive
@@ -37,8 +37,9 @@ stretch lambda [-] instead of the temperature's, W(F U(1/a)), a = lambda / lambd
 as-built lambda_N to the targets along a load factor t: 0 -> 1 by the shared path follower
 (:class:`lcefem.solvers.continuation.PathFollower`, with :class:`NodalDamping` across folds); no
 heat steps. The history's clock is ``load factor [-]``, with ``stretch <set> [-]`` per driven set
-and ``curvature <name> [1/mm]`` per ``[[curvature]]`` (:class:`lcefem.solvers.probes.StationCurvature`).
-examples/bodies/composite_beam is the FE composite beam this way.
+and ``curvature <name> [1/mm]`` per ``[[curvature]]``
+(:class:`lcefem.solvers.probes.StationCurvature`). examples/bodies/composite_beam is the FE
+composite beam this way.
 """
 
 from __future__ import annotations
@@ -50,10 +51,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
-import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+import ufl
 
 import dolfinx
 
@@ -65,8 +67,8 @@ from lcefem.models.lce import MeasuredContraction, NematicTransition, spontaneou
 from lcefem.models.limits import check_current
 from lcefem.solvers.contact import NodalDamping, NodePairContact, attach, facing_pairs
 from lcefem.solvers.continuation import PathControl, PathFollower
-from lcefem.solvers.exports import FEFields
 from lcefem.solvers.contraction_curve import read_contraction_csv
+from lcefem.solvers.exports import FEFields
 from lcefem.solvers.heat import HeatSetup, settled
 from lcefem.solvers.mechanics import assemble_global, surface_measure, volume_measure
 from lcefem.solvers.probes import PointProbe, StationCurvature
@@ -87,11 +89,14 @@ def lce_elasticity(shear_modulus: float) -> LCEElasticity:
     k = shear_modulus / _LAW.shear_modulus
     if k == 1.0:
         return _LAW
-    return LCEElasticity(c10=_LAW.c10 * k, c01=_LAW.c01 * k, c30=_LAW.c30 * k,
-                         bulk_modulus=_LAW.bulk_modulus * k)
+    return LCEElasticity(
+        c10=_LAW.c10 * k, c01=_LAW.c01 * k, c30=_LAW.c30 * k, bulk_modulus=_LAW.bulk_modulus * k
+    )
 
 
-def twisted_layer_director(x, axis: int, bounds: tuple[float, float], from_deg: float, to_deg: float):
+def twisted_layer_director(
+    x, axis: int, bounds: tuple[float, float], from_deg: float, to_deg: float
+):
     """Director [-] turning through the thickness along ``axis`` (UFL, reference coordinates x
     [mm]): n = cos(theta) e_1 + sin(theta) e_2 with (e_1, e_2) the next two axes in cyclic order
     (axis z: x then y) and theta going linearly from ``from_deg`` at x_axis = bounds[0] to
@@ -113,8 +118,12 @@ def contraction_law(region: dict) -> NematicTransition | MeasuredContraction:
     order parameter with T_NI [C], width [K], lambda_N [-], T_ref [C])."""
     if region.get("curve") is not None:
         return read_contraction_csv(region["curve"], T_ref=region["T_ref"])
-    return NematicTransition(T_NI=region["T_NI"], width=region["width"], lambda_N=region["lambda_N"],
-                             T_ref=region["T_ref"])
+    return NematicTransition(
+        T_NI=region["T_NI"],
+        width=region["width"],
+        lambda_N=region["lambda_N"],
+        T_ref=region["T_ref"],
+    )
 
 
 def region_thermal(case: BodyCase) -> dict[str, ThermalProperties]:
@@ -135,8 +144,12 @@ def gravity_work(case: BodyCase, tm, mesh, g, u, dx):
     density, else [thermal] density; ``g`` [mm/s^2]."""
     th = case.thermal
     if all(r.get("density") is None for r in case.regions):  # one density: one integral
-        return ufl.dot(dolfinx.fem.Constant(mesh, np.asarray(g, dtype=PETSc.ScalarType) * th["density"]),
-                       u) * dx
+        return (
+            ufl.dot(
+                dolfinx.fem.Constant(mesh, np.asarray(g, dtype=PETSc.ScalarType) * th["density"]), u
+            )
+            * dx
+        )
     rho = {n: (r.get("density") or th["density"]) for r in case.regions for n in r["name"]}
     work = 0
     for name, value in rho.items():
@@ -167,8 +180,11 @@ class BodyProblem:
         self.comm = comm = mesh.comm
         self.symmetry = case.mesh["symmetry_factor"]
         th = case.thermal
-        thermal = ThermalProperties(density=th["density"], specific_heat=th["specific_heat"],
-                                    conductivity=th["conductivity"])
+        thermal = ThermalProperties(
+            density=th["density"],
+            specific_heat=th["specific_heat"],
+            conductivity=th["conductivity"],
+        )
         # Heat exchange per boundary: one SurfaceExchange each (h and emissivity 0 when not given).
         exchange: dict[str, dict] = {}
         fixed = []
@@ -176,8 +192,10 @@ class BodyProblem:
             for b in h["boundary"]:
                 if h["type"] == "fixed":
                     continue
-                e = exchange.setdefault(b, {"film_coefficient": 0.0, "emissivity": 0.0,
-                                            "ambient_temperature": h["T_inf"]})
+                e = exchange.setdefault(
+                    b,
+                    {"film_coefficient": 0.0, "emissivity": 0.0, "ambient_temperature": h["T_inf"]},
+                )
                 if h["type"] == "convection":
                     e["film_coefficient"] = h["h"]
                 else:
@@ -185,24 +203,37 @@ class BodyProblem:
             if h["type"] == "fixed":
                 fixed.append(h)
         exchanges = {b: SurfaceExchange(**e) for b, e in exchange.items()}
-        common = next(iter(exchanges.values()), SurfaceExchange(0.0, 0.0, th["initial_temperature"]))
+        common = next(
+            iter(exchanges.values()), SurfaceExchange(0.0, 0.0, th["initial_temperature"])
+        )
         own = {b: e for b, e in exchanges.items() if e != common}
-        self._fixed_T = {h["name"]: dolfinx.fem.Constant(mesh, PETSc.ScalarType(h["temperature"]))
-                         for h in fixed}
+        self._fixed_T = {
+            h["name"]: dolfinx.fem.Constant(mesh, PETSc.ScalarType(h["temperature"])) for h in fixed
+        }
 
         def heat_bcs(V):
             bcs = []
             for h in fixed:
                 for b in h["boundary"]:
-                    dofs = dolfinx.fem.locate_dofs_topological(V, 2, tm.facet_tags.find(tm.facet_tag(b)))
+                    dofs = dolfinx.fem.locate_dofs_topological(
+                        V, 2, tm.facet_tags.find(tm.facet_tag(b))
+                    )
                     bcs.append(dolfinx.fem.dirichletbc(self._fixed_T[h["name"]], dofs, V))
             return bcs
 
-        setup = HeatSetup(thermal, common, heated_cells=[], exposed_facets=list(exchanges),
-                          initial_temperature=th["initial_temperature"], facet_exchange=own,
-                          cell_thermal=region_thermal(case))
+        setup = HeatSetup(
+            thermal,
+            common,
+            heated_cells=[],
+            exposed_facets=list(exchanges),
+            initial_temperature=th["initial_temperature"],
+            facet_exchange=own,
+            cell_thermal=region_thermal(case),
+        )
         # Coils: a DG0 power density, P / (s V) on each coil's cells.
-        self.q = dolfinx.fem.Function(dolfinx.fem.functionspace(mesh, ("DG", 0)), name="power_density")
+        self.q = dolfinx.fem.Function(
+            dolfinx.fem.functionspace(mesh, ("DG", 0)), name="power_density"
+        )
         dx = volume_measure(tm)
         one = dolfinx.fem.Constant(mesh, PETSc.ScalarType(1.0))
         self._coil_cells, self._coil_volume, self.coils = {}, {}, {}
@@ -210,13 +241,16 @@ class BodyProblem:
             self.coils[c["name"]] = Coil(resistance=c["resistance"])
             self._coil_cells[c["name"]] = tm.cell_tags.find(tm.cell_tag(c["region"]))
             self._coil_volume[c["name"]] = self.symmetry * assemble_global(
-                dolfinx.fem.form(one * dx(tm.cell_tag(c["region"]))), comm)
+                dolfinx.fem.form(one * dx(tm.cell_tag(c["region"]))), comm
+            )
         self.power = {name: 0.0 for name in self.coils}
 
         # Mechanics: regions, supports, loads.
         x = ufl.SpatialCoordinate(mesh)
         lce, passive, self._transitions = [], [], []
-        self.stretches: dict[str, dict] = {}  # prescribed stretch per LCE cell set ([program] stretches)
+        self.stretches: dict[
+            str, dict
+        ] = {}  # prescribed stretch per LCE cell set ([program] stretches)
         for r in case.regions:
             if r["material"] == "lce":
                 transition = contraction_law(r)
@@ -227,15 +261,27 @@ class BodyProblem:
                 else:
                     tw = r["twist"]
                     axis = AXES[tw["axis"]]
-                    director = twisted_layer_director(x, axis, self._extent(r["name"], axis),
-                                                      float(tw["from_deg"]), float(tw["to_deg"]))
-                lce += self._stretch_regions(r, director, transition, lce_elasticity(r["shear_modulus"]))
+                    director = twisted_layer_director(
+                        x,
+                        axis,
+                        self._extent(r["name"], axis),
+                        float(tw["from_deg"]),
+                        float(tw["to_deg"]),
+                    )
+                lce += self._stretch_regions(
+                    r, director, transition, lce_elasticity(r["shear_modulus"])
+                )
                 self._transitions.append((r["name"], transition))
             else:
-                passive.append(PassiveRegion(r["name"], NeoHookeanSolid(youngs_modulus=r["E"],
-                                                                         poisson_ratio=r["nu"])))
+                passive.append(
+                    PassiveRegion(
+                        r["name"], NeoHookeanSolid(youngs_modulus=r["E"], poisson_ratio=r["nu"])
+                    )
+                )
         ds = surface_measure(tm)
-        self._factors = {ld["name"]: dolfinx.fem.Constant(mesh, PETSc.ScalarType(1.0)) for ld in case.loads}
+        self._factors = {
+            ld["name"]: dolfinx.fem.Constant(mesh, PETSc.ScalarType(1.0)) for ld in case.loads
+        }
 
         def external_work(u):
             work = 0
@@ -244,11 +290,18 @@ class BodyProblem:
                 if ld["type"] == "force":
                     tag = tm.facet_tag(ld["boundary"])
                     area = assemble_global(dolfinx.fem.form(one * ds(tag)), comm)
-                    t = dolfinx.fem.Constant(mesh, np.asarray(ld["force"], dtype=PETSc.ScalarType) / area)
+                    t = dolfinx.fem.Constant(
+                        mesh, np.asarray(ld["force"], dtype=PETSc.ScalarType) / area
+                    )
                     work += f * ufl.dot(t, u) * ds(tag)
                 elif ld["type"] == "pressure":
                     p = dolfinx.fem.Constant(mesh, PETSc.ScalarType(ld["pressure"]))
-                    work += -f * p * ufl.dot(ufl.FacetNormal(mesh), u) * ds(tm.facet_tag(ld["boundary"]))
+                    work += (
+                        -f
+                        * p
+                        * ufl.dot(ufl.FacetNormal(mesh), u)
+                        * ds(tm.facet_tag(ld["boundary"]))
+                    )
                 else:
                     work += f * gravity_work(case, tm, mesh, ld["g"], u, dx)
             return work
@@ -267,10 +320,18 @@ class BodyProblem:
                     bcs += rigid_body_321(V, *s["points"])
             return bcs
 
-        self.model = ThermoMechanicalModel(tm, setup, lce, passive, dirichlet=dirichlet,
-                                           external_work=external_work if case.loads else None,
-                                           petsc_options=case.petsc, prefix="lcefem_body_",
-                                           heat_source=self.q if case.coils else None, heat_bcs=heat_bcs)
+        self.model = ThermoMechanicalModel(
+            tm,
+            setup,
+            lce,
+            passive,
+            dirichlet=dirichlet,
+            external_work=external_work if case.loads else None,
+            petsc_options=case.petsc,
+            prefix="lcefem_body_",
+            heat_source=self.q if case.coils else None,
+            heat_bcs=heat_bcs,
+        )
         self.contacts = self._contacts_setup(case)
         self.damping = self._ramp_setup()
         self._curvatures = self._curvature_setup(case)
@@ -281,9 +342,17 @@ class BodyProblem:
             self.model.T_mech.x.array[:] = t_refs.pop()
         self._observables_setup(case, one, ds, dx)
         self.lambda_s = dolfinx.fem.Function(self.model.heat.V, name="spontaneous_stretch")
-        self._lambda_exprs = [(tm.cell_tags.find(tm.cell_tag(n)), dolfinx.fem.Expression(
-            spontaneous_stretch(self.model.heat.T, tr), self.model.heat.V.element.interpolation_points))
-            for names, tr in self._transitions for n in names]
+        self._lambda_exprs = [
+            (
+                tm.cell_tags.find(tm.cell_tag(n)),
+                dolfinx.fem.Expression(
+                    spontaneous_stretch(self.model.heat.T, tr),
+                    self.model.heat.V.element.interpolation_points,
+                ),
+            )
+            for names, tr in self._transitions
+            for n in names
+        ]
         self.time = 0.0  # [s]
         self.last_report = None
 
@@ -297,7 +366,9 @@ class BodyProblem:
         lo = self.comm.allreduce(float(np.min(coords, initial=np.inf)), op=MPI.MIN)
         hi = self.comm.allreduce(float(np.max(coords, initial=-np.inf)), op=MPI.MAX)
         if not hi > lo:
-            raise InputError(f"twist of {names}: the region has no thickness along axis {'xyz'[axis]}")
+            raise InputError(
+                f"twist of {names}: the region has no thickness along axis {'xyz'[axis]}"
+            )
         return lo, hi
 
     def _director_field(self, region: dict):
@@ -305,10 +376,15 @@ class BodyProblem:
         expressions d(X) of the reference coordinates [mm], :mod:`.body_expression`) as UFL, used at
         the mechanics' quadrature points. |d| is evaluated on the region's nodes and at those
         quadrature points first: zero (or not finite) anywhere is an InputError naming the entry."""
-        from lcefem.solvers.mechanics import QUADRATURE_DEGREE
-        from lcefem.solvers.problems.body_expression import ExpressionError, check_expression, to_numpy, to_ufl
-
         import basix
+
+        from lcefem.solvers.mechanics import QUADRATURE_DEGREE
+        from lcefem.solvers.problems.body_expression import (
+            ExpressionError,
+            check_expression,
+            to_numpy,
+            to_ufl,
+        )
 
         tm, mesh = self.tmesh, self.tmesh.mesh
         index = next(i for i, r in enumerate(self.case.regions) if r is region)
@@ -319,21 +395,30 @@ class BodyProblem:
             d = ufl.as_vector([to_ufl(tree, x) for tree in trees])
         except ExpressionError as exc:
             raise InputError(f"{entry}: {exc}") from None
-        cells = np.concatenate([tm.cell_tags.find(tm.cell_tag(n)) for n in region["name"]]).astype(np.int32)
+        cells = np.concatenate([tm.cell_tags.find(tm.cell_tag(n)) for n in region["name"]]).astype(
+            np.int32
+        )
         nodes = mesh.geometry.x[dolfinx.mesh.entities_to_geometry(mesh, 3, cells).reshape(-1)]
         cell_type = basix.CellType[mesh.topology.cell_name()]
         points, _ = basix.make_quadrature(cell_type, QUADRATURE_DEGREE)
-        at_points = dolfinx.fem.Expression(x, points).eval(mesh, cells).reshape(-1, 3) if cells.size \
+        at_points = (
+            dolfinx.fem.Expression(x, points).eval(mesh, cells).reshape(-1, 3)
+            if cells.size
             else np.empty((0, 3))
+        )
         where = np.vstack([nodes, at_points])
-        length = np.sqrt(sum(to_numpy(tree, where) ** 2 for tree in trees)) if where.size else np.ones(1)
+        length = (
+            np.sqrt(sum(to_numpy(tree, where) ** 2 for tree in trees)) if where.size else np.ones(1)
+        )
         bad = ~(np.isfinite(length) & (length > 1e-12))
         first = where[np.argmax(bad)].tolist() if bad.any() else None
         first = next((p for p in self.comm.allgather(first) if p is not None), None)
         if first is not None:
-            raise InputError(f"{entry}: the director is zero or undefined at ({first[0]:.4g}, "
-                             f"{first[1]:.4g}, {first[2]:.4g}) mm; allowed a nonzero, finite vector "
-                             "everywhere in the region")
+            raise InputError(
+                f"{entry}: the director is zero or undefined at ({first[0]:.4g}, "
+                f"{first[1]:.4g}, {first[2]:.4g}) mm; allowed a nonzero, finite vector "
+                "everywhere in the region"
+            )
         return d / ufl.sqrt(ufl.dot(d, d))
 
     def _contacts_setup(self, case: BodyCase) -> dict[str, NodePairContact]:
@@ -344,8 +429,13 @@ class BodyProblem:
         contacts = {}
         for c in case.contact:
             try:
-                pairs, areas = facing_pairs(self.tmesh, self.model.u.function_space, c["boundary"],
-                                            c["target"], AXES[c["axis"]])
+                pairs, areas = facing_pairs(
+                    self.tmesh,
+                    self.model.u.function_space,
+                    c["boundary"],
+                    c["target"],
+                    AXES[c["axis"]],
+                )
             except ValueError as exc:
                 raise InputError(f"{case.path.name}: [[contact]] {c['name']}: {exc}") from None
             contacts[c["name"]] = NodePairContact(self.model.u, pairs, areas, c["penalty"])
@@ -367,14 +457,19 @@ class BodyProblem:
             a = None
             if n in targets:
                 a = dolfinx.fem.Constant(self.tmesh.mesh, PETSc.ScalarType(1.0))
-                self.stretches[n] = {"a": a, "lambda_N": r["lambda_N"], "lambda": r["lambda_N"],
-                                     "target": targets[n]}
+                self.stretches[n] = {
+                    "a": a,
+                    "lambda_N": r["lambda_N"],
+                    "lambda": r["lambda_N"],
+                    "target": targets[n],
+                }
             out.append(LCERegion([n], director, transition, elasticity, stretch=a))
         return out
 
     def _ramp_setup(self) -> NodalDamping | None:
         """The proximal term the path follower relaxes with across a fold of the stretch ramp
-        (:class:`lcefem.solvers.contact.NodalDamping`, zero weight off a fold); None without a ramp."""
+        (:class:`lcefem.solvers.contact.NodalDamping`, zero weight off a fold); None without a
+        ramp."""
         if not self.stretches:
             return None
         damping = NodalDamping(self.model.u)
@@ -393,12 +488,16 @@ class BodyProblem:
             if s["type"] == "mirror":
                 axis = AXES[s["normal"]]
                 facets = tm.facet_tags.find(tm.facet_tag(s["boundary"]))
-                nodes = dolfinx.mesh.entities_to_geometry(tm.mesh, 2, facets.astype(np.int32)).reshape(-1)
+                nodes = dolfinx.mesh.entities_to_geometry(
+                    tm.mesh, 2, facets.astype(np.int32)
+                ).reshape(-1)
                 mirrors.append((axis, float(np.mean(tm.mesh.geometry.x[nodes, axis]))))
         out = {}
         for c in case.curvature:
             try:
-                out[c["name"]] = StationCurvature(self.model.u.function_space, c["stations"], c["up"], mirrors)
+                out[c["name"]] = StationCurvature(
+                    self.model.u.function_space, c["stations"], c["up"], mirrors
+                )
             except ValueError as exc:
                 raise InputError(f"{case.path.name}: [[curvature]] {c['name']}: {exc}") from None
         return out
@@ -420,12 +519,17 @@ class BodyProblem:
         start = {n: st["lambda"] for n, st in self.stretches.items()}
 
         def set_load(t: float) -> None:
-            self.set_stretches({n: l0 + t * (self.stretches[n]["target"] - l0) for n, l0 in start.items()})
+            self.set_stretches(
+                {n: l0 + t * (self.stretches[n]["target"] - l0) for n, l0 in start.items()}
+            )
 
         follower = PathFollower(self.model.mechanics, set_load, control, self.damping)
-        follower.follow(1.0, where="stretch ramp to " + ", ".join(
-            f"{n} = {st['target']:g}" for n, st in self.stretches.items()),
-            on_step=lambda t, its: on_step(t, its, follower.cuts))
+        follower.follow(
+            1.0,
+            where="stretch ramp to "
+            + ", ".join(f"{n} = {st['target']:g}" for n, st in self.stretches.items()),
+            on_step=lambda t, its: on_step(t, its, follower.cuts),
+        )
         return follower
 
     def _observables_setup(self, case: BodyCase, one, ds, dx) -> None:
@@ -445,8 +549,9 @@ class BodyProblem:
             if p["boundary"] is not None:
                 tag = tm.facet_tag(p["boundary"])
                 area = assemble_global(dolfinx.fem.form(one * ds(tag)), comm)
-                forms = [dolfinx.fem.form(u[i] * ds(tag)) for i in range(3)] + \
-                    [dolfinx.fem.form(heat.T * ds(tag))]
+                forms = [dolfinx.fem.form(u[i] * ds(tag)) for i in range(3)] + [
+                    dolfinx.fem.form(heat.T * ds(tag))
+                ]
                 self._boundary_probes.append((p["name"], forms, area))
             else:
                 self._point_probes.append((p["name"], PointProbe(tm.mesh, np.array(p["point"]))))
@@ -472,8 +577,10 @@ class BodyProblem:
         volume (the mesh's share times the symmetry factor)."""
         for name, current in drives.items():
             if name not in self.coils:
-                raise InputError(f"drive {name!r}: not a coil of this body (allowed "
-                                 f"{', '.join(self.coils) or 'none'})")
+                raise InputError(
+                    f"drive {name!r}: not a coil of this body (allowed "
+                    f"{', '.join(self.coils) or 'none'})"
+                )
             check_current(f"current[{name}]", current)
             self.power[name] = self.coils[name].power(float(current))
         self._put_power()
@@ -488,14 +595,18 @@ class BodyProblem:
         """Fixed temperature [C] of each ``[[heat]]`` entry of type fixed, by name."""
         for name, value in temperatures.items():
             if name not in self._fixed_T:
-                raise InputError(f"temperature drive {name!r}: allowed {', '.join(self._fixed_T) or 'none'}")
+                raise InputError(
+                    f"temperature drive {name!r}: allowed {', '.join(self._fixed_T) or 'none'}"
+                )
             self._fixed_T[name].value = float(value)
 
     def set_load_factors(self, factors: Mapping[str, float]) -> None:
         """Factor [-] of each ``[[loads]]`` entry, by name."""
         for name, value in factors.items():
             if name not in self._factors:
-                raise InputError(f"load drive {name!r}: allowed {', '.join(self._factors) or 'none'}")
+                raise InputError(
+                    f"load drive {name!r}: allowed {', '.join(self._factors) or 'none'}"
+                )
             self._factors[name].value = float(value)
 
     def set_program(self, t: float) -> None:
@@ -526,13 +637,18 @@ class BodyProblem:
         for it in range(1, max_iterations + 1):
             self.model.heat.steady()
             iterations += self.equilibrate(f"steady state, fixed-point iteration {it}").iterations
-            change = self.comm.allreduce(float(np.max(np.abs(u.x.array - previous), initial=0.0)), op=MPI.MAX)
+            change = self.comm.allreduce(
+                float(np.max(np.abs(u.x.array - previous), initial=0.0)), op=MPI.MAX
+            )
             scale = self.comm.allreduce(float(np.max(np.abs(u.x.array), initial=0.0)), op=MPI.MAX)
             if settled(change, last, max(scale, 1e-12), rtol):  # round-off floor: solvers/heat.py
                 return iterations
             previous, last = u.x.array.copy(), change
-        raise ConvergenceError("steady state", f"displacement still changing after {max_iterations} "
-                               "heat-mechanics fixed-point iterations")
+        raise ConvergenceError(
+            "steady state",
+            f"displacement still changing after {max_iterations} "
+            "heat-mechanics fixed-point iterations",
+        )
 
     # -- observables ------------------------------------------------------------------------
     def observables(self) -> dict[str, float]:
@@ -541,7 +657,8 @@ class BodyProblem:
         for name, (form, vol) in self._set_T.items():
             obs[f"T_mean {name} [C]"] = assemble_global(form, comm) / vol
             obs[f"T_max {name} [C]"] = comm.allreduce(
-                float(np.max(heat.T.x.array[self._set_dofs[name]], initial=-np.inf)), op=MPI.MAX)
+                float(np.max(heat.T.x.array[self._set_dofs[name]], initial=-np.inf)), op=MPI.MAX
+            )
         for name, power in self.power.items():
             obs[f"power {name} [mW]"] = power
         for name, forms, area in self._boundary_probes:
@@ -567,16 +684,22 @@ class BodyProblem:
 
     def fields(self) -> dict:
         self._update_stretch()
-        return {"displacement [mm]": self.model.u, "temperature [C]": self.model.heat.T,
-                "spontaneous stretch [-]": self.lambda_s}
+        return {
+            "displacement [mm]": self.model.u,
+            "temperature [C]": self.model.heat.T,
+            "spontaneous stretch [-]": self.lambda_s,
+        }
 
     def _update_stretch(self) -> None:
         self.lambda_s.x.array[:] = 1.0  # passive regions: no spontaneous stretch
         for cells, expr in self._lambda_exprs:
             self.lambda_s.interpolate(expr, cells0=cells)
         for name, st in self.stretches.items():  # prescribed, whatever the temperature
-            dofs = dolfinx.fem.locate_dofs_topological(self.lambda_s.function_space, 3,
-                                                       self.tmesh.cell_tags.find(self.tmesh.cell_tag(name)))
+            dofs = dolfinx.fem.locate_dofs_topological(
+                self.lambda_s.function_space,
+                3,
+                self.tmesh.cell_tags.find(self.tmesh.cell_tag(name)),
+            )
             self.lambda_s.x.array[dofs] = st["lambda"]
         self.lambda_s.x.scatter_forward()
 
@@ -584,10 +707,14 @@ class BodyProblem:
         return [self.model.u, self.model.heat.T, self.model.heat.T_old, self.model.T_mech]
 
     def save_state(self) -> dict:
-        return {"arrays": copy_arrays(self._state_functions()), "time": self.time, "power": dict(self.power),
-                "stretches": {n: st["lambda"] for n, st in self.stretches.items()},
-                "fixed": {k: float(c.value) for k, c in self._fixed_T.items()},
-                "factors": {k: float(c.value) for k, c in self._factors.items()}}
+        return {
+            "arrays": copy_arrays(self._state_functions()),
+            "time": self.time,
+            "power": dict(self.power),
+            "stretches": {n: st["lambda"] for n, st in self.stretches.items()},
+            "fixed": {k: float(c.value) for k, c in self._fixed_T.items()},
+            "factors": {k: float(c.value) for k, c in self._factors.items()},
+        }
 
     def restore_state(self, state: dict) -> None:
         put_arrays(self._state_functions(), state["arrays"])
@@ -598,8 +725,12 @@ class BodyProblem:
         self.set_stretches(state.get("stretches", {}))
 
 
-def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = True,
-             comm: MPI.Comm | None = None) -> BodyResult:
+def run_body(
+    case: BodyCase,
+    out: pathlib.Path | None = None,
+    progress: bool = True,
+    comm: MPI.Comm | None = None,
+) -> BodyResult:
     """Build the body of ``case`` and run its program (a transient of equal steps to the duration,
     the drives at the end of each step; or the steady state) through the run skeleton
     (the door, :func:`lcefem.solvers.runner.run`): history.csv, temperature.bp / displacement.bp,
@@ -615,30 +746,55 @@ def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = T
     ramp = bool(problem.stretches)  # a quasi-static stretch ramp: the clock is the load factor
     clock, end = ("load factor [-]", 1.0) if ramp else ("time [s]", prog["duration"])
     columns = (clock, *first, "newton_iterations [-]", "step_cuts [-]")
-    bar = Progress(end, f"body {case.path.stem}", "load" if ramp else "s", enabled=progress and not steady,
-                   comm=problem.comm)
+    bar = Progress(
+        end,
+        f"body {case.path.stem}",
+        "load" if ramp else "s",
+        enabled=progress and not steady,
+        comm=problem.comm,
+    )
 
     def row(state) -> dict:
         return state[0]
 
-    history = HistoryExport(columns, row, where=lambda s: s[2], at=lambda s: min(s[0][clock], end),
-                            postfix=lambda s: f"T_max={s[0]['T_max [C]']:.1f}C")
+    history = HistoryExport(
+        columns,
+        row,
+        where=lambda s: s[2],
+        at=lambda s: min(s[0][clock], end),
+        postfix=lambda s: f"T_max={s[0]['T_max [C]']:.1f}C",
+    )
     exports = ()
     if out is not None and output["fields"]:
-        common = dict(comm=problem.comm, time=lambda s: s[0][clock] if math.isfinite(s[0][clock])
-                      else 0.0, start=False, every=output["every"], step=lambda s: s[1])
-        exports = (FEFields("temperature.bp", (problem.model.heat.T, problem.lambda_s),
-                            update=problem._update_stretch, **common),
-                   FEFields("displacement.bp", (problem.model.u,), **common))
+        common = dict(
+            comm=problem.comm,
+            time=lambda s: s[0][clock] if math.isfinite(s[0][clock]) else 0.0,
+            start=False,
+            every=output["every"],
+            step=lambda s: s[1],
+        )
+        exports = (
+            FEFields(
+                "temperature.bp",
+                (problem.model.heat.T, problem.lambda_s),
+                update=problem._update_stretch,
+                **common,
+            ),
+            FEFields("displacement.bp", (problem.model.u,), **common),
+        )
 
     def observe(t: float, report) -> dict:
-        return {clock: t, **problem.observables(),
-                "newton_iterations [-]": report.iterations if report else 0,
-                "step_cuts [-]": report.cuts if report else 0}
+        return {
+            clock: t,
+            **problem.observables(),
+            "newton_iterations [-]": report.iterations if report else 0,
+            "step_cuts [-]": report.cuts if report else 0,
+        }
 
     def drive(on_step) -> dict:
         needs_start = bool(case.loads or case.drives["temperatures"]) or any(
-            tr.T_ref != case.thermal["initial_temperature"] for _, tr in problem._transitions)
+            tr.T_ref != case.thermal["initial_temperature"] for _, tr in problem._transitions
+        )
         if ramp:
             return ramp_stretches(problem, on_step, needs_start)
         if steady:
@@ -665,24 +821,49 @@ def run_body(case: BodyCase, out: pathlib.Path | None = None, progress: bool = T
 
         def record(t: float, its: int, cuts: int) -> None:
             steps.append(t)
-            row = {clock: t, **problem.observables(), "newton_iterations [-]": its, "step_cuts [-]": cuts}
+            row = {
+                clock: t,
+                **problem.observables(),
+                "newton_iterations [-]": its,
+                "step_cuts [-]": cuts,
+            }
             on_step((row, len(steps), f"load factor {t:.4g}"))
 
         follower = problem.ramp(PathControl(**case.path_control), record)
-        return {"steps": len(steps), "newton_iterations": follower.iterations, "cut_steps": follower.cuts,
-                "folds crossed": follower.snaps}
+        return {
+            "steps": len(steps),
+            "newton_iterations": follower.iterations,
+            "cut_steps": follower.cuts,
+            "folds crossed": follower.snaps,
+        }
 
     found = {}
 
     def summarize(run, result: dict) -> dict:
         found["history"] = run.history
         final = run.last_row() if hasattr(run, "last_row") else None
-        return {"mesh": {**problem.mesh_info, "mpi_ranks": problem.comm.size}, **result,
-                "final": final, "wall_time [s]": time.perf_counter() - started}
+        return {
+            "mesh": {**problem.mesh_info, "mpi_ranks": problem.comm.size},
+            **result,
+            "final": final,
+            "wall_time [s]": time.perf_counter() - started,
+        }
 
-    path = PathProblem(drive, clock=LOAD if ramp else TIME, end=end, comm=problem.comm,
-                       at=lambda s: min(s[0][clock], end))  # the steady state's inf: the end
-    summary = run(path, path.program(), [StateHistory(history), *(StateExport(e) for e in exports)], out,
-                  config=case.resolved(), progress=bar, comm=problem.comm,
-                  summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
+    path = PathProblem(
+        drive,
+        clock=LOAD if ramp else TIME,
+        end=end,
+        comm=problem.comm,
+        at=lambda s: min(s[0][clock], end),
+    )  # the steady state's inf: the end
+    summary = run(
+        path,
+        path.program(),
+        [StateHistory(history), *(StateExport(e) for e in exports)],
+        out,
+        config=case.resolved(),
+        progress=bar,
+        comm=problem.comm,
+        summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail),
+    )
     return BodyResult(found["history"].as_arrays(), summary, out)

@@ -20,10 +20,10 @@ from typing import Any
 
 import numpy as np
 
+from lcefem.models.bar_hinge_materials import GlueBars
 from lcefem.models.errors import InputError
 from lcefem.models.heat import Coil, SurfaceExchange, ThermalProperties
 from lcefem.models.hyperelastic import KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_RATIO, LCEElasticity
-from lcefem.models.bar_hinge_materials import GlueBars
 from lcefem.models.lce import NematicTransition
 from lcefem.models.limits import CURRENT_RANGE, check_current
 from lcefem.solvers.continuation import PathControl
@@ -40,10 +40,16 @@ CONTACT_PENALTY = 50.0
 
 #: Passive presets: (E [MPa], nu [-], source).
 PRESETS = {
-    "kapton": (KAPTON_DATASHEET_MODULUS, KAPTON_POISSON_RATIO, "DuPont Kapton HN datasheet "
-               "(models/hyperelastic.py)"),
-    "glue": (GlueBars().youngs_modulus, 0.3, "E: the published model's glue bars "
-             "(models/bar_hinge_materials.GlueBars); nu assumed 0.3"),
+    "kapton": (
+        KAPTON_DATASHEET_MODULUS,
+        KAPTON_POISSON_RATIO,
+        "DuPont Kapton HN datasheet (models/hyperelastic.py)",
+    ),
+    "glue": (
+        GlueBars().youngs_modulus,
+        0.3,
+        "E: the published model's glue bars (models/bar_hinge_materials.GlueBars); nu assumed 0.3",
+    ),
 }
 MATERIALS = ("lce", "neo-hookean", *PRESETS)
 SUPPORT_TYPES = ("clamp", "roller", "mirror", "point", "3-2-1")
@@ -54,52 +60,126 @@ AXES = {"x": 0, "y": 1, "z": 2}
 # Each key: (kind, unit, default (REQUIRED: none), bounds or allowed values, what it is).
 REQUIRED = object()
 POSITIVE = "> 0"  #: a lower bound: strictly positive
-NUM, INT, STR, BOOL, VEC, NAMES, TABLE, ANY = ("number", "integer", "string", "boolean", "3-vector",
-                                               "name or list of names", "table", "value")
+NUM, INT, STR, BOOL, VEC, NAMES, TABLE, ANY = (
+    "number",
+    "integer",
+    "string",
+    "boolean",
+    "3-vector",
+    "name or list of names",
+    "table",
+    "value",
+)
 EXPRS = "3 expressions"  #: a list of three strings of x, y, z (solvers/problems/body_expression.py)
 #: the region keys that override [thermal] in that region
 REGION_THERMAL = ("density", "specific_heat", "conductivity")
 
 SCHEMA: dict[str, dict[str, tuple]] = {
     "mesh": {
-        "file": (STR, "-", REQUIRED, None, "mesh file, relative to the case file: .geo, .msh or "
-                 "meshio-readable with named sets"),
+        "file": (
+            STR,
+            "-",
+            REQUIRED,
+            None,
+            "mesh file, relative to the case file: .geo, .msh or meshio-readable with named sets",
+        ),
         "size_factor": (NUM, "-", 1.0, (0.01, 10.0), "gmsh Mesh.MeshSizeFactor for a .geo"),
-        "symmetry_factor": (INT, "-", 1, (1, 2, 4, 8), "the whole body is this many copies of the "
-                            "mesh (mirror planes): coil power and reactions are for the whole body"),
-        "refine": (INT, "-", 0, (0, 4), "uniform refinements of the read mesh (each halves every "
-                   "edge: tetrahedra only; dolfinx.mesh.refine)"),
+        "symmetry_factor": (
+            INT,
+            "-",
+            1,
+            (1, 2, 4, 8),
+            "the whole body is this many copies of the "
+            "mesh (mirror planes): coil power and reactions are for the whole body",
+        ),
+        "refine": (
+            INT,
+            "-",
+            0,
+            (0, 4),
+            "uniform refinements of the read mesh (each halves every "
+            "edge: tetrahedra only; dolfinx.mesh.refine)",
+        ),
     },
     "thermal": {
-        "density": (NUM, "t/mm^3", _H.density, (POSITIVE, None), "density (heat capacity, gravity)"),
+        "density": (
+            NUM,
+            "t/mm^3",
+            _H.density,
+            (POSITIVE, None),
+            "density (heat capacity, gravity)",
+        ),
         "specific_heat": (NUM, "mJ/(t K)", _H.specific_heat, (POSITIVE, None), "specific heat"),
-        "conductivity": (NUM, "mW/(mm K)", _H.conductivity, (POSITIVE, None), "thermal conductivity"),
-        "initial_temperature": (NUM, "C", _X.ambient_temperature, (-273.15, 400.0),
-                                "uniform temperature at t = 0 (the as-built state)"),
+        "conductivity": (
+            NUM,
+            "mW/(mm K)",
+            _H.conductivity,
+            (POSITIVE, None),
+            "thermal conductivity",
+        ),
+        "initial_temperature": (
+            NUM,
+            "C",
+            _X.ambient_temperature,
+            (-273.15, 400.0),
+            "uniform temperature at t = 0 (the as-built state)",
+        ),
     },
     "regions": {
         "name": (NAMES, "-", REQUIRED, None, "physical name(s) of cell sets in the mesh"),
         "material": (STR, "-", REQUIRED, MATERIALS, "LCE, or a passive neo-Hookean solid"),
         "director": (VEC, "-", None, None, "LCE: director (normalised; not zero)"),
         "twist": (TABLE, "-", None, None, "LCE: through-thickness twist {axis, from_deg, to_deg}"),
-        "director_expression": (EXPRS, "-", None, None, "LCE: director as three expressions of the "
-                                "reference x, y, z [mm] (numbers, pi, + - * / **, sin cos tan exp sqrt "
-                                "atan2), normalised; zero length anywhere is an error"),
+        "director_expression": (
+            EXPRS,
+            "-",
+            None,
+            None,
+            "LCE: director as three expressions of the "
+            "reference x, y, z [mm] (numbers, pi, + - * / **, sin cos tan exp sqrt "
+            "atan2), normalised; zero length anywhere is an error",
+        ),
         "lambda_N": (NUM, "-", _T.lambda_N, (1.0, 3.0), "LCE: nematic spontaneous stretch"),
         "T_NI": (NUM, "C", _T.T_NI, (-50.0, 300.0), "LCE: midpoint of the order parameter's fall"),
         "width": (NUM, "K", _T.width, (0.1, 100.0), "LCE: width of the transition"),
-        "T_ref": (NUM, "C", _T.T_ref, (-50.0, 300.0), "LCE: as-built temperature (lambda_s = lambda_N)"),
-        "shear_modulus": (NUM, "MPa", _E.shear_modulus, (1e-4, 1e3), "LCE: small-strain shear "
-                          "modulus (the whole law scaled, its Poisson ratio kept)"),
+        "T_ref": (
+            NUM,
+            "C",
+            _T.T_ref,
+            (-50.0, 300.0),
+            "LCE: as-built temperature (lambda_s = lambda_N)",
+        ),
+        "shear_modulus": (
+            NUM,
+            "MPa",
+            _E.shear_modulus,
+            (1e-4, 1e3),
+            "LCE: small-strain shear modulus (the whole law scaled, its Poisson ratio kept)",
+        ),
         "curve": (STR, "-", None, None, "LCE: measured contraction curve, CSV with units"),
         "E": (NUM, "MPa", None, (1e-4, 1e6), "passive: Young's modulus (preset's by default)"),
         "nu": (NUM, "-", None, (0.0, 0.49), "passive: Poisson's ratio (preset's by default)"),
-        "density": (NUM, "t/mm^3", None, (POSITIVE, None), "this region's density (heat capacity, "
-                    "gravity; default: [thermal])"),
-        "specific_heat": (NUM, "mJ/(t K)", None, (POSITIVE, None), "this region's specific heat "
-                          "(default: [thermal])"),
-        "conductivity": (NUM, "mW/(mm K)", None, (POSITIVE, None), "this region's thermal "
-                         "conductivity (default: [thermal])"),
+        "density": (
+            NUM,
+            "t/mm^3",
+            None,
+            (POSITIVE, None),
+            "this region's density (heat capacity, gravity; default: [thermal])",
+        ),
+        "specific_heat": (
+            NUM,
+            "mJ/(t K)",
+            None,
+            (POSITIVE, None),
+            "this region's specific heat (default: [thermal])",
+        ),
+        "conductivity": (
+            NUM,
+            "mW/(mm K)",
+            None,
+            (POSITIVE, None),
+            "this region's thermal conductivity (default: [thermal])",
+        ),
     },
     "coils": {
         "name": (STR, "-", REQUIRED, None, "the coil's name: its drive tag in [program] currents"),
@@ -111,14 +191,24 @@ SCHEMA: dict[str, dict[str, tuple]] = {
         "type": (STR, "-", REQUIRED, HEAT_TYPES, "convection, radiation or fixed temperature"),
         "h": (NUM, "mW/(mm^2 K)", _X.film_coefficient, (0.0, 10.0), "convection: film coefficient"),
         "emissivity": (NUM, "-", _X.emissivity, (0.0, 1.0), "radiation: emissivity"),
-        "T_inf": (NUM, "C", _X.ambient_temperature, (-273.15, 1000.0), "convection, radiation: "
-                  "ambient temperature"),
+        "T_inf": (
+            NUM,
+            "C",
+            _X.ambient_temperature,
+            (-273.15, 1000.0),
+            "convection, radiation: ambient temperature",
+        ),
         "temperature": (NUM, "C", None, (-273.15, 400.0), "fixed: temperature (also a drive)"),
         "name": (STR, "-", None, None, "fixed: drive tag in [program] temperatures"),
     },
     "supports": {
-        "type": (STR, "-", REQUIRED, SUPPORT_TYPES, "clamp (all components), roller / mirror "
-                 "(normal component), point, 3-2-1"),
+        "type": (
+            STR,
+            "-",
+            REQUIRED,
+            SUPPORT_TYPES,
+            "clamp (all components), roller / mirror (normal component), point, 3-2-1",
+        ),
         "boundary": (STR, "-", None, None, "clamp, roller, mirror: physical facet name"),
         "normal": (STR, "-", None, tuple(AXES), "roller, mirror: the fixed component"),
         "point": (VEC, "mm", None, None, "point: the node held"),
@@ -142,66 +232,183 @@ SCHEMA: dict[str, dict[str, tuple]] = {
     "program": {
         "duration": (NUM, "s", 30.0, (POSITIVE, 1e6), "simulated time (transient)"),
         "dt": (NUM, "s", 0.5, (POSITIVE, 1e5), "time step (backward Euler)"),
-        "steady": (BOOL, "-", False, None, "thermal and mechanical equilibrium at the drives at t = 0"),
-        "currents": (TABLE, "A", {}, None, "coil name = current, or [[t, I], ...] (" + CURRENT_RANGE + ")"),
+        "steady": (
+            BOOL,
+            "-",
+            False,
+            None,
+            "thermal and mechanical equilibrium at the drives at t = 0",
+        ),
+        "currents": (
+            TABLE,
+            "A",
+            {},
+            None,
+            "coil name = current, or [[t, I], ...] (" + CURRENT_RANGE + ")",
+        ),
         "temperatures": (TABLE, "C", {}, (-273.15, 400.0), "fixed heat name = T, or [[t, T], ...]"),
         "loads": (TABLE, "-", {}, (-1e6, 1e6), "load name = factor, or [[t, f], ...]"),
         "schedule": (STR, "-", None, None, "CSV: 'time [s]' then '<tag> [A|C|-]' columns"),
-        "stretches": (TABLE, "-", {}, (1.0, 3.0), "LCE cell set = spontaneous stretch lambda, reached by "
-                      "a quasi-static ramp from the as-built lambda_N (load factor 0 -> 1, path follower; "
-                      "no heat steps, no currents or temperatures)"),
+        "stretches": (
+            TABLE,
+            "-",
+            {},
+            (1.0, 3.0),
+            "LCE cell set = spontaneous stretch lambda, reached by "
+            "a quasi-static ramp from the as-built lambda_N (load factor 0 -> 1, path follower; "
+            "no heat steps, no currents or temperatures)",
+        ),
     },
     "compare": {
-        "observable": (STR, "-", REQUIRED, None, "a history observable of this body, 'name [unit]'"),
-        "data": (STR, "-", REQUIRED, None, "CSV relative to the case file: 'time [s]' and the "
-                 "observable's column with its unit (C or K, mm, um or m, N or mN, mW or W, 1/mm or 1/m)"),
-        "tolerance": (STR, "unit or %", REQUIRED, None, "largest allowed deviation: '0.5 C' "
-                      "(absolute, any unit of the observable's kind) or '5 %' (of the measured value)"),
-        "source": (STR, "-", REQUIRED, None, "where the measurements come from (shown in the report)"),
+        "observable": (
+            STR,
+            "-",
+            REQUIRED,
+            None,
+            "a history observable of this body, 'name [unit]'",
+        ),
+        "data": (
+            STR,
+            "-",
+            REQUIRED,
+            None,
+            "CSV relative to the case file: 'time [s]' and the "
+            "observable's column with its unit (C or K, mm, um or m, N or mN, mW or W, 1/mm or "
+            "1/m)",
+        ),
+        "tolerance": (
+            STR,
+            "unit or %",
+            REQUIRED,
+            None,
+            "largest allowed deviation: '0.5 C' "
+            "(absolute, any unit of the observable's kind) or '5 %' (of the measured value)",
+        ),
+        "source": (
+            STR,
+            "-",
+            REQUIRED,
+            None,
+            "where the measurements come from (shown in the report)",
+        ),
     },
     "contact": {
         "boundary": (STR, "-", REQUIRED, None, "facet set whose nodes may not pass through target"),
-        "target": (STR, "-", REQUIRED, None, "facet set of the other body's face towards boundary "
-                   "(single-valued across axis)"),
-        "axis": (STR, "-", REQUIRED, tuple(AXES), "reference direction across the contact: a node of "
-                 "boundary pairs with the node of target at its two other coordinates"),
-        "penalty": (NUM, "N/mm^3", CONTACT_PENALTY, (POSITIVE, 1e9), "contact pressure per penetration "
-                    "(default: the composite beam's, solvers/contact.py PenaltyContact)"),
+        "target": (
+            STR,
+            "-",
+            REQUIRED,
+            None,
+            "facet set of the other body's face towards boundary (single-valued across axis)",
+        ),
+        "axis": (
+            STR,
+            "-",
+            REQUIRED,
+            tuple(AXES),
+            "reference direction across the contact: a node of "
+            "boundary pairs with the node of target at its two other coordinates",
+        ),
+        "penalty": (
+            NUM,
+            "N/mm^3",
+            CONTACT_PENALTY,
+            (POSITIVE, 1e9),
+            "contact pressure per penetration "
+            "(default: the composite beam's, solvers/contact.py PenaltyContact)",
+        ),
         "name": (STR, "-", None, None, "observable name (default: boundary/target)"),
     },
     "path": {
-        "first_step": (NUM, "-", _P.first_step, (POSITIVE, 1.0), "stretch ramp: first increment of the "
-                       "load factor (solvers/continuation.py PathControl, as the FE beam's run)"),
+        "first_step": (
+            NUM,
+            "-",
+            _P.first_step,
+            (POSITIVE, 1.0),
+            "stretch ramp: first increment of the "
+            "load factor (solvers/continuation.py PathControl, as the FE beam's run)",
+        ),
         "max_step": (NUM, "-", _P.max_step, (POSITIVE, 1.0), "stretch ramp: largest increment"),
-        "min_step": (NUM, "-", _P.min_step, (POSITIVE, 1.0), "stretch ramp: an increment below this that "
-                     "still fails is a fold, crossed by damped relaxation"),
-        "growth": (NUM, "-", _P.growth, (1.0, 100.0), "stretch ramp: largest increment growth per step"),
-        "target_iterations": (INT, "-", _P.target_iterations, (1, 100), "stretch ramp: Newton iterations "
-                              "per increment the step size aims at"),
+        "min_step": (
+            NUM,
+            "-",
+            _P.min_step,
+            (POSITIVE, 1.0),
+            "stretch ramp: an increment below this that "
+            "still fails is a fold, crossed by damped relaxation",
+        ),
+        "growth": (
+            NUM,
+            "-",
+            _P.growth,
+            (1.0, 100.0),
+            "stretch ramp: largest increment growth per step",
+        ),
+        "target_iterations": (
+            INT,
+            "-",
+            _P.target_iterations,
+            (1, 100),
+            "stretch ramp: Newton iterations per increment the step size aims at",
+        ),
     },
     "curvature": {
         "name": (STR, "-", REQUIRED, None, "observable 'curvature <name> [1/mm]'"),
-        "stations": (ANY, "mm", REQUIRED, None, "three or more stations, each a node [x, y, z] or a list "
-                     "of nodes (their deformed mean); a node beyond a mirror plane is its image's "
-                     "mirrored"),
-        "up": (ANY, "mm", REQUIRED, None, "two nodes [a, b]: the curvature is positive when the fitted "
-               "circle's centre lies opposite to the deformed b - a"),
+        "stations": (
+            ANY,
+            "mm",
+            REQUIRED,
+            None,
+            "three or more stations, each a node [x, y, z] or a list "
+            "of nodes (their deformed mean); a node beyond a mirror plane is its image's "
+            "mirrored",
+        ),
+        "up": (
+            ANY,
+            "mm",
+            REQUIRED,
+            None,
+            "two nodes [a, b]: the curvature is positive when the fitted "
+            "circle's centre lies opposite to the deformed b - a",
+        ),
     },
     "output": {
         "fields": (BOOL, "-", True, None, "write temperature.bp and displacement.bp (VTX)"),
         "every": (INT, "-", 1, (1, 100000), "a field frame every n steps"),
     },
 }
-ARRAYS = ("regions", "coils", "heat", "supports", "loads", "probes", "compare", "contact", "curvature")
+ARRAYS = (
+    "regions",
+    "coils",
+    "heat",
+    "supports",
+    "loads",
+    "probes",
+    "compare",
+    "contact",
+    "curvature",
+)
 
-#: Units a measured column or a tolerance may carry: {unit: (kind, scale, offset)}, value in lcefem's
-#: unit = scale * value + offset (README: mm, s, N, mW, C). A tolerance is a difference: scale only.
-UNITS = {"C": ("temperature", 1.0, 0.0), "K": ("temperature", 1.0, -273.15),
-         "mm": ("length", 1.0, 0.0), "um": ("length", 1e-3, 0.0), "m": ("length", 1e3, 0.0),
-         "N": ("force", 1.0, 0.0), "mN": ("force", 1e-3, 0.0),
-         "mW": ("power", 1.0, 0.0), "W": ("power", 1e3, 0.0), "s": ("time", 1.0, 0.0),
-         "MPa": ("stress", 1.0, 0.0), "kPa": ("stress", 1e-3, 0.0), "-": ("ratio", 1.0, 0.0),
-         "1/mm": ("curvature", 1.0, 0.0), "1/m": ("curvature", 1e-3, 0.0)}
+#: Units a measured column or a tolerance may carry: {unit: (kind, scale, offset)}, value in
+#: lcefem's unit = scale * value + offset (README: mm, s, N, mW, C). A tolerance is a difference:
+#: scale only.
+UNITS = {
+    "C": ("temperature", 1.0, 0.0),
+    "K": ("temperature", 1.0, -273.15),
+    "mm": ("length", 1.0, 0.0),
+    "um": ("length", 1e-3, 0.0),
+    "m": ("length", 1e3, 0.0),
+    "N": ("force", 1.0, 0.0),
+    "mN": ("force", 1e-3, 0.0),
+    "mW": ("power", 1.0, 0.0),
+    "W": ("power", 1e3, 0.0),
+    "s": ("time", 1.0, 0.0),
+    "MPa": ("stress", 1.0, 0.0),
+    "kPa": ("stress", 1e-3, 0.0),
+    "-": ("ratio", 1.0, 0.0),
+    "1/mm": ("curvature", 1.0, 0.0),
+    "1/m": ("curvature", 1e-3, 0.0),
+}
 SECTIONS = ("mesh", "thermal", "program", "output", "petsc", "path", *ARRAYS)
 
 
@@ -246,14 +453,24 @@ class BodyCase:
 
     def resolved(self) -> dict:
         """Every resolved value, with units (summary.json)."""
+
         def unitised(section: str, values: dict) -> dict:
             spec = SCHEMA[section]
-            return {k: {"value": _jsonable(v), "unit": spec[k][1]} if k in spec else _jsonable(v)
-                    for k, v in values.items()}
-        out = {"case_file": str(self.path), "mesh": unitised("mesh", self.mesh),
-               "thermal": unitised("thermal", self.thermal), "program": unitised("program", self.program),
-               "output": unitised("output", self.output), "petsc": dict(self.petsc),
-               "mesh_cell_sets": dict(self.cell_names), "mesh_facet_sets": dict(self.facet_names)}
+            return {
+                k: {"value": _jsonable(v), "unit": spec[k][1]} if k in spec else _jsonable(v)
+                for k, v in values.items()
+            }
+
+        out = {
+            "case_file": str(self.path),
+            "mesh": unitised("mesh", self.mesh),
+            "thermal": unitised("thermal", self.thermal),
+            "program": unitised("program", self.program),
+            "output": unitised("output", self.output),
+            "petsc": dict(self.petsc),
+            "mesh_cell_sets": dict(self.cell_names),
+            "mesh_facet_sets": dict(self.facet_names),
+        }
         for name in ARRAYS:
             out[name] = [unitised(name, e) for e in getattr(self, name)]
         if self.program.get("stretches"):  # the ramp's stepping
@@ -281,7 +498,11 @@ class _Checker:
         raise InputError(f"{self.file}: {entry}: {what}")
 
     def number(self, entry, value, bounds, unit, integer=False):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or (integer and not isinstance(value, int)):
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or (integer and not isinstance(value, int))
+        ):
             self.fail(entry, f"{value!r} is not {'an integer' if integer else 'a number'}")
         if not math.isfinite(value):
             self.fail(entry, f"{value} is not finite")
@@ -289,17 +510,27 @@ class _Checker:
         if isinstance(bounds, tuple) and len(bounds) == 2:
             lo, hi = bounds
             positive = lo == POSITIVE
-            if (positive and value <= 0) or (not positive and lo is not None and value < lo) \
-                    or (hi is not None and value > hi):
+            if (
+                (positive and value <= 0)
+                or (not positive and lo is not None and value < lo)
+                or (hi is not None and value > hi)
+            ):
                 low = "> 0" if positive else f">= {lo:g}"
-                self.fail(entry, f"{value:g}{u}: allowed {low}{u}" + ("" if hi is None else f" and <= {hi:g}{u}"))
+                self.fail(
+                    entry,
+                    f"{value:g}{u}: allowed {low}{u}"
+                    + ("" if hi is None else f" and <= {hi:g}{u}"),
+                )
         elif isinstance(bounds, tuple) and value not in bounds:
             self.fail(entry, f"{value}: allowed {', '.join(map(str, bounds))}")
         return float(value) if not integer else int(value)
 
     def vector(self, entry, value):
-        if (not isinstance(value, list) or len(value) != 3
-                or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value)):
+        if (
+            not isinstance(value, list)
+            or len(value) != 3
+            or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value)
+        ):
             self.fail(entry, f"{value!r}: allowed a list of three numbers")
         return [float(v) for v in value]
 
@@ -353,7 +584,7 @@ class _Checker:
 def _schedule(check: _Checker, entry: str, value, bounds, unit) -> Schedule:
     """A constant, or [[t, value], ...] with increasing t."""
     if isinstance(value, list):
-        if (not value or not all(isinstance(p, list) and len(p) == 2 for p in value)):
+        if not value or not all(isinstance(p, list) and len(p) == 2 for p in value):
             check.fail(entry, f"{value!r}: allowed a number or a list of [time s, value] pairs")
         ts = [check.number(f"{entry} time", p[0], (0.0, None), "s") for p in value]
         vs = [check.number(entry, p[1], bounds, unit) for p in value]
@@ -364,7 +595,9 @@ def _schedule(check: _Checker, entry: str, value, bounds, unit) -> Schedule:
     return Schedule((0.0,), (v,))
 
 
-def _read_schedule_csv(check: _Checker, path: pathlib.Path, entry: str) -> dict[str, tuple[str, Schedule]]:
+def _read_schedule_csv(
+    check: _Checker, path: pathlib.Path, entry: str
+) -> dict[str, tuple[str, Schedule]]:
     """{tag: (unit, Schedule)} of a CSV with a 'time [s]' column and '<tag> [unit]' columns."""
     import csv
 
@@ -388,13 +621,18 @@ def _read_schedule_csv(check: _Checker, path: pathlib.Path, entry: str) -> dict[
     out = {}
     for j, name in enumerate(header[1:], start=1):
         if not (name.endswith("]") and " [" in name):
-            check.fail(entry, f"{path.name}: column {name!r}: allowed '<tag> [A]', '<tag> [C]' or '<tag> [-]'")
+            check.fail(
+                entry,
+                f"{path.name}: column {name!r}: allowed '<tag> [A]', '<tag> [C]' or '<tag> [-]'",
+            )
         tag, unit = name[:-1].split(" [", 1)
         out[tag] = (unit, Schedule(tuple(data[:, 0]), tuple(data[:, j])))
     return out
 
 
-def observable_names(cells, coils, probes, supports, contacts=(), curvatures=(), stretches=()) -> list[str]:
+def observable_names(
+    cells, coils, probes, supports, contacts=(), curvatures=(), stretches=()
+) -> list[str]:
     """The history observables "name [unit]" of a body with these cell sets, coils, probes,
     supports and contacts, as :meth:`lcefem.solvers.problems.body.BodyProblem.observables` names
     them."""
@@ -426,8 +664,10 @@ def _check_curvatures(check: _Checker, curvatures: list[dict]) -> None:
         seen.add(c["name"])
         st = c["stations"]
         if not isinstance(st, list) or len(st) < 3:
-            check.fail(f"{e}.stations", "allowed a list of three or more stations, each [x, y, z] or a "
-                       "list of [x, y, z]")
+            check.fail(
+                f"{e}.stations",
+                "allowed a list of three or more stations, each [x, y, z] or a list of [x, y, z]",
+            )
         groups = []
         for j, g in enumerate(st):
             pts = [g] if isinstance(g, list) and g and not isinstance(g[0], list) else g
@@ -453,8 +693,11 @@ def _check_stretches(check: _Checker, prog: dict, regions: list[dict], drives: d
     lce = {n: r for r in regions if r["material"] == "lce" for n in r["name"]}
     for kind in ("currents", "temperatures"):
         if drives[kind]:
-            check.fail("[program].stretches", f"a stretch ramp is quasi-static: no [program] {kind} "
-                       f"(given: {', '.join(drives[kind])})")
+            check.fail(
+                "[program].stretches",
+                f"a stretch ramp is quasi-static: no [program] {kind} "
+                f"(given: {', '.join(drives[kind])})",
+            )
     if prog["steady"]:
         check.fail("[program].stretches", "a stretch ramp is quasi-static; allowed steady = false")
     out = {}
@@ -464,8 +707,11 @@ def _check_stretches(check: _Checker, prog: dict, regions: list[dict], drives: d
             check.fail(entry, f"not an LCE cell set; allowed: {', '.join(lce) or 'none'}")
         v = check.number(entry, value, SCHEMA["program"]["stretches"][3], "-")
         if not 1.0 <= v <= lce[tag]["lambda_N"]:
-            check.fail(entry, f"{v:g}: allowed >= 1 (isotropic) and <= the region's lambda_N = "
-                       f"{lce[tag]['lambda_N']:g} (as built)")
+            check.fail(
+                entry,
+                f"{v:g}: allowed >= 1 (isotropic) and <= the region's lambda_N = "
+                f"{lce[tag]['lambda_N']:g} (as built)",
+            )
         out[tag] = v
     return out
 
@@ -479,7 +725,9 @@ def _check_contacts(check: _Checker, contacts: list[dict], facet_set, comm) -> N
         facet_set(f"{e}.boundary", c["boundary"])
         facet_set(f"{e}.target", c["target"])
         if c["boundary"] == c["target"]:
-            check.fail(f"{e}.target", f"{c['target']!r} is the boundary itself; allowed another facet set")
+            check.fail(
+                f"{e}.target", f"{c['target']!r} is the boundary itself; allowed another facet set"
+            )
         c["name"] = c["name"] or f"{c['boundary']}/{c['target']}"
         if c["name"] in seen:
             check.fail(f"{e}.name", f"{c['name']!r} is used twice")
@@ -490,8 +738,11 @@ def _check_contacts(check: _Checker, contacts: list[dict], facet_set, comm) -> N
 def _serial_only(check: _Checker, entry: str, used: bool, comm, what: str) -> None:
     """One line when a serial-only feature is used on more than one rank."""
     if used and comm is not None and comm.size > 1:
-        check.fail(entry, f"{what} runs in serial only (this run has {comm.size} ranks); allowed: "
-                   f"no {entry} under mpiexec")
+        check.fail(
+            entry,
+            f"{what} runs in serial only (this run has {comm.size} ranks); allowed: "
+            f"no {entry} under mpiexec",
+        )
 
 
 def _name_unit(label: str) -> tuple[str, str]:
@@ -530,16 +781,20 @@ def _read_measured_csv(check: _Checker, path: pathlib.Path, entry: str, name: st
     header = [_name_unit(h) for h in rows[0]]
     if header[0] != ("time", "s"):
         check.fail(entry, f"{path.name}: first column must be 'time [s]' (got {rows[0][0]!r})")
-    cols = [j for j, (n, _) in enumerate(header) if j and n == name] or \
-        ([1] if len(header) == 2 else [])
+    cols = [j for j, (n, _) in enumerate(header) if j and n == name] or (
+        [1] if len(header) == 2 else []
+    )
     if not cols:
         check.fail(entry, f"{path.name}: no column '{name} [unit]' (columns: {', '.join(rows[0])})")
     j = cols[0]
     got = header[j][1]
     if got not in UNITS or UNITS[got][0] != UNITS.get(unit, ("?",))[0]:
         same = [u for u, k in UNITS.items() if k[0] == UNITS.get(unit, ("?",))[0]]
-        check.fail(entry, f"{path.name}: column {rows[0][j]!r}: unit {got or 'missing'!r}; allowed "
-                   f"{', '.join(same) or unit} (the observable is in {unit})")
+        check.fail(
+            entry,
+            f"{path.name}: column {rows[0][j]!r}: unit {got or 'missing'!r}; allowed "
+            f"{', '.join(same) or unit} (the observable is in {unit})",
+        )
     try:
         data = np.array([[float(r[0]), float(r[j])] for r in rows[1:]])
     except (ValueError, IndexError):
@@ -566,7 +821,11 @@ def _tolerance(check: _Checker, entry: str, text: str, unit: str) -> dict:
     same = [u for u, k in UNITS.items() if k[0] == UNITS.get(unit, ("?",))[0]]
     if parts[1] not in same:
         check.fail(entry, f"{text!r}: unit {parts[1]!r}; allowed % or {', '.join(same) or unit}")
-    return {"absolute": float(to_unit(value, parts[1], unit, difference=True)), "unit": unit, "text": text}
+    return {
+        "absolute": float(to_unit(value, parts[1], unit, difference=True)),
+        "unit": unit,
+        "text": text,
+    }
 
 
 def _check_director_expression(check: _Checker, entry: str, value) -> None:
@@ -602,7 +861,9 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
     for key, value in data.items():
         if key not in SECTIONS:
             check.fail(f"[{key}]", f"unknown section; allowed: {', '.join(SECTIONS)}")
-        if key in ARRAYS and not (isinstance(value, list) and all(isinstance(v, dict) for v in value)):
+        if key in ARRAYS and not (
+            isinstance(value, list) and all(isinstance(v, dict) for v in value)
+        ):
             check.fail(f"[[{key}]]", "must be an array of tables ([[" + key + "]])")
         if key not in ARRAYS and not isinstance(value, dict):
             check.fail(f"[{key}]", "must be a table")
@@ -610,8 +871,14 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         check.fail("[mesh]", "missing (at least: file = \"body.geo\")")
     if not data.get("regions"):
         check.fail("[[regions]]", "missing: every cell set of the mesh needs a material")
-    sec = {s: check.table(s, f"[{s}]", data.get(s, {})) for s in ("mesh", "thermal", "program", "output", "path")}
-    arr = {s: [check.table(s, f"[[{s}]][{i}]", t) for i, t in enumerate(data.get(s, []))] for s in ARRAYS}
+    sec = {
+        s: check.table(s, f"[{s}]", data.get(s, {}))
+        for s in ("mesh", "thermal", "program", "output", "path")
+    }
+    arr = {
+        s: [check.table(s, f"[[{s}]][{i}]", t) for i, t in enumerate(data.get(s, []))]
+        for s in ARRAYS
+    }
     try:  # the allow-list every case file's [petsc] goes through (nothing that runs code or writes)
         petsc = check_case_options(data.get("petsc", {}), "[petsc]")
     except InputError as exc:
@@ -619,7 +886,9 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
 
     mesh_file = path.parent / sec["mesh"]["file"]
     if not mesh_file.is_file():
-        check.fail("[mesh].file", f"{sec['mesh']['file']!r}: file not found (relative to the case file)")
+        check.fail(
+            "[mesh].file", f"{sec['mesh']['file']!r}: file not found (relative to the case file)"
+        )
     try:
         cells, facets = physical_names(mesh_file, sec["mesh"]["size_factor"], comm)
     except InputError as exc:
@@ -627,12 +896,18 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
 
     def cell_set(entry, name):
         if name not in cells:
-            check.fail(entry, f"{name!r} is not a cell set of {mesh_file.name}; allowed: {', '.join(cells)}")
+            check.fail(
+                entry,
+                f"{name!r} is not a cell set of {mesh_file.name}; allowed: {', '.join(cells)}",
+            )
 
     def facet_set(entry, name):
         if name not in facets:
-            check.fail(entry, f"{name!r} is not a facet set of {mesh_file.name}; allowed: "
-                       f"{', '.join(facets) or 'none'}")
+            check.fail(
+                entry,
+                f"{name!r} is not a facet set of {mesh_file.name}; allowed: "
+                f"{', '.join(facets) or 'none'}",
+            )
 
     # Regions: every cell set exactly once; LCE and passive keys where they belong.
     material_of = {}
@@ -646,24 +921,36 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         if r["material"] == "lce":
             for k in ("E", "nu"):
                 if r[k] is not None:
-                    check.fail(f"{e}.{k}", "only for a passive material (neo-hookean, kapton, glue)")
+                    check.fail(
+                        f"{e}.{k}", "only for a passive material (neo-hookean, kapton, glue)"
+                    )
             given = [k for k in ("director", "twist", "director_expression") if r[k] is not None]
             if len(given) != 1:
-                check.fail(f"{e}", "an LCE region needs exactly one of director = [x, y, z], "
-                           "twist = {axis, from_deg, to_deg} or director_expression = [\"...\", "
-                           "\"...\", \"...\"]" + (f" (given: {', '.join(given)})" if given else ""))
+                check.fail(
+                    f"{e}",
+                    "an LCE region needs exactly one of director = [x, y, z], "
+                    "twist = {axis, from_deg, to_deg} or director_expression = [\"...\", "
+                    "\"...\", \"...\"]" + (f" (given: {', '.join(given)})" if given else ""),
+                )
             if r["director_expression"] is not None:
-                _check_director_expression(check, f"{e}.director_expression", r["director_expression"])
+                _check_director_expression(
+                    check, f"{e}.director_expression", r["director_expression"]
+                )
             if r["director"] is not None:
                 n = np.linalg.norm(r["director"])
                 if not n > 1e-12:
-                    check.fail(f"{e}.director", f"{r['director']}: zero length; allowed a nonzero vector")
+                    check.fail(
+                        f"{e}.director", f"{r['director']}: zero length; allowed a nonzero vector"
+                    )
                 r["director"] = [v / n for v in r["director"]]
             if r["twist"] is not None:
                 tw = dict(r["twist"])
                 unknown = set(tw) - {"axis", "from_deg", "to_deg"}
                 if unknown or tw.get("axis") not in AXES:
-                    check.fail(f"{e}.twist", "allowed {axis = 'x'|'y'|'z', from_deg = number, to_deg = number}")
+                    check.fail(
+                        f"{e}.twist",
+                        "allowed {axis = 'x'|'y'|'z', from_deg = number, to_deg = number}",
+                    )
                 for k in ("from_deg", "to_deg"):
                     check.number(f"{e}.twist.{k}", tw.get(k), (-3600.0, 3600.0), "deg")
             if r["curve"] is not None:
@@ -680,7 +967,9 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         else:
             for k in ("director", "twist", "director_expression", "curve"):
                 if r[k] is not None:
-                    check.fail(f"{e}.{k}", f"only for material = 'lce' (this region is {r['material']!r})")
+                    check.fail(
+                        f"{e}.{k}", f"only for material = 'lce' (this region is {r['material']!r})"
+                    )
             preset = PRESETS.get(r["material"])
             if preset is None and (r["E"] is None or r["nu"] is None):
                 check.fail(e, "a neo-hookean region needs E [MPa] and nu [-]")
@@ -689,8 +978,11 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                 r["nu"] = preset[1] if r["nu"] is None else r["nu"]
     missing = [n for n in cells if n not in material_of]
     if missing:
-        check.fail("[[regions]]", f"cell set {missing[0]!r} of {mesh_file.name} has no material; "
-                   "every cell set needs one region")
+        check.fail(
+            "[[regions]]",
+            f"cell set {missing[0]!r} of {mesh_file.name} has no material; "
+            "every cell set needs one region",
+        )
 
     # Coils: on LCE regions, names unique.
     coil_names = set()
@@ -698,8 +990,11 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         e = f"[[coils]][{i}]"
         cell_set(f"{e}.region", c["region"])
         if material_of[c["region"]] != "lce":
-            check.fail(f"{e}.region", f"{c['region']!r} is a passive region ({material_of[c['region']]}); "
-                       "a coil heats an LCE region")
+            check.fail(
+                f"{e}.region",
+                f"{c['region']!r} is a passive region ({material_of[c['region']]}); "
+                "a coil heats an LCE region",
+            )
         if c["name"] in coil_names:
             check.fail(f"{e}.name", f"{c['name']!r} is used twice")
         coil_names.add(c["name"])
@@ -713,7 +1008,9 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
             if h["type"] in kinds.get(b, ()):
                 check.fail(f"{e}.boundary", f"{b!r} has a {h['type']} entry already")
             if h["type"] == "fixed" and kinds.get(b) or "fixed" in kinds.get(b, ()):
-                check.fail(f"{e}.boundary", f"{b!r}: a fixed temperature excludes convection and radiation")
+                check.fail(
+                    f"{e}.boundary", f"{b!r}: a fixed temperature excludes convection and radiation"
+                )
             kinds.setdefault(b, set()).add(h["type"])
             if h["type"] != "fixed":
                 if b in ambient and ambient[b] != h["T_inf"]:
@@ -741,16 +1038,25 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
             comps = {0, 1, 2} if t == "clamp" else {AXES[s["normal"]]}
             twice = held.setdefault(s["boundary"], set()) & comps
             if twice:
-                check.fail(e, f"boundary {s['boundary']!r}: component "
-                           f"{'xyz'[min(twice)]} is constrained twice; allowed one support per component")
+                check.fail(
+                    e,
+                    f"boundary {s['boundary']!r}: component "
+                    f"{'xyz'[min(twice)]} is constrained twice; allowed one support per component",
+                )
             held[s["boundary"]] |= comps
         elif t == "point":
             if s["point"] is None:
                 check.fail(f"{e}.point", "missing: [x, y, z] mm")
             comps = s["components"]
-            if not (isinstance(comps, list) and comps and all(c in AXES for c in comps)
-                    and len(set(comps)) == len(comps)):
-                check.fail(f"{e}.components", f"{comps!r}: allowed a list of distinct 'x', 'y', 'z'")
+            if not (
+                isinstance(comps, list)
+                and comps
+                and all(c in AXES for c in comps)
+                and len(set(comps)) == len(comps)
+            ):
+                check.fail(
+                    f"{e}.components", f"{comps!r}: allowed a list of distinct 'x', 'y', 'z'"
+                )
         else:  # 3-2-1
             pts = s["points"]
             if not (isinstance(pts, list) and len(pts) == 3):
@@ -777,30 +1083,46 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
     _check_contacts(check, arr["contact"], facet_set, comm)
 
     if sec["mesh"]["refine"] and mesh_file.suffix.lower() == ".geo":
-        check.fail("[mesh].refine", "a .geo is refined by its size_factor; refine is for a read mesh "
-                   "(.msh, .vtu, .xdmf)")
+        check.fail(
+            "[mesh].refine",
+            "a .geo is refined by its size_factor; refine is for a read mesh (.msh, .vtu, .xdmf)",
+        )
 
-    # Comparisons with measurements: the observable exists, the data's units are known and of its kind.
+    # Comparisons with measurements: the observable exists, the data's units are known and of its
+    # kind.
     _check_curvatures(check, arr["curvature"])
-    names = observable_names(cells, arr["coils"], arr["probes"], arr["supports"], arr["contact"],
-                             arr["curvature"], sec["program"]["stretches"])
+    names = observable_names(
+        cells,
+        arr["coils"],
+        arr["probes"],
+        arr["supports"],
+        arr["contact"],
+        arr["curvature"],
+        sec["program"]["stretches"],
+    )
     for i, c in enumerate(arr["compare"]):
         e = f"[[compare]][{i}]"
         name, unit = _name_unit(c["observable"])
         if c["observable"] not in names:
-            check.fail(f"{e}.observable", f"{c['observable']!r} is not an observable of this body; allowed: "
-                       f"{', '.join(names)}")
+            check.fail(
+                f"{e}.observable",
+                f"{c['observable']!r} is not an observable of this body; allowed: "
+                f"{', '.join(names)}",
+            )
         data_file = (path.parent / c["data"]).resolve()
         c["data"] = str(data_file)
-        c["times [s]"], c["values"], c["data_unit"] = _read_measured_csv(check, data_file, f"{e}.data",
-                                                                          name, unit)
+        c["times [s]"], c["values"], c["data_unit"] = _read_measured_csv(
+            check, data_file, f"{e}.data", name, unit
+        )
         c["tolerance"] = _tolerance(check, f"{e}.tolerance", c["tolerance"], unit)
 
     # The program: drives by tag, each a constant or a schedule.
     prog = sec["program"]
     if not prog["steady"]:
         if prog["dt"] > prog["duration"]:
-            check.fail("[program].dt", f"{prog['dt']} s: allowed <= duration = {prog['duration']} s")
+            check.fail(
+                "[program].dt", f"{prog['dt']} s: allowed <= duration = {prog['duration']} s"
+            )
     drives = {"currents": {}, "temperatures": {}, "loads": {}}
     known = {"currents": coil_names, "temperatures": fixed_names, "loads": load_names}
     units = {"currents": "A", "temperatures": "C", "loads": "-"}
@@ -808,19 +1130,29 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
         bounds = SCHEMA["program"][kind][3]
         for tag, value in prog[kind].items():
             if tag not in known[kind]:
-                check.fail(f"[program].{kind}.{tag}", f"not a {kind[:-1]} tag; allowed: "
-                           f"{', '.join(sorted(known[kind])) or 'none'}")
-            drives[kind][tag] = _schedule(check, f"[program].{kind}.{tag}", value, bounds, units[kind])
+                check.fail(
+                    f"[program].{kind}.{tag}",
+                    f"not a {kind[:-1]} tag; allowed: {', '.join(sorted(known[kind])) or 'none'}",
+                )
+            drives[kind][tag] = _schedule(
+                check, f"[program].{kind}.{tag}", value, bounds, units[kind]
+            )
             if kind == "currents":
-                check_current(f"{check.file}: [program].currents.{tag}", list(drives[kind][tag].values))
+                check_current(
+                    f"{check.file}: [program].currents.{tag}", list(drives[kind][tag].values)
+                )
     if prog["schedule"] is not None:
         by_unit = {"A": "currents", "C": "temperatures", "-": "loads"}
-        for tag, (unit, sched) in _read_schedule_csv(check, path.parent / prog["schedule"],
-                                                     "[program].schedule").items():
+        for tag, (unit, sched) in _read_schedule_csv(
+            check, path.parent / prog["schedule"], "[program].schedule"
+        ).items():
             kind = by_unit.get(unit)
             if kind is None or tag not in known[kind]:
-                check.fail("[program].schedule", f"column '{tag} [{unit}]': not a coil [A], fixed "
-                           "temperature [C] or load [-] tag of this case")
+                check.fail(
+                    "[program].schedule",
+                    f"column '{tag} [{unit}]': not a coil [A], fixed "
+                    "temperature [C] or load [-] tag of this case",
+                )
             if tag in drives[kind]:
                 check.fail("[program].schedule", f"{tag!r} is also given in [program].{kind}")
             for v in sched.values:
@@ -829,23 +1161,47 @@ def load_case(path: str | pathlib.Path, comm=None, overrides: dict | None = None
                 check_current(f"{check.file}: [program].schedule {tag}", list(sched.values))
             drives[kind][tag] = sched
     prog["stretches"] = _check_stretches(check, prog, arr["regions"], drives)
-    _serial_only(check, "[program].stretches", bool(prog["stretches"]), comm,
-                 "the stretch ramp's relaxation across folds (nodal damping)")
+    _serial_only(
+        check,
+        "[program].stretches",
+        bool(prog["stretches"]),
+        comm,
+        "the stretch ramp's relaxation across folds (nodal damping)",
+    )
     _serial_only(check, "[[curvature]]", bool(arr["curvature"]), comm, "the station lookup")
     if prog["stretches"] and arr["compare"]:
-        check.fail("[[compare]]", "measurements are compared against time and a stretch ramp's clock is "
-                   "its load factor; allowed: no [[compare]] with [program] stretches")
+        check.fail(
+            "[[compare]]",
+            "measurements are compared against time and a stretch ramp's clock is "
+            "its load factor; allowed: no [[compare]] with [program] stretches",
+        )
     path_ = sec["path"]
     if path_["min_step"] > path_["max_step"] or path_["first_step"] > path_["max_step"]:
-        check.fail("[path]", f"allowed min_step ({path_['min_step']:g}) and first_step "
-                   f"({path_['first_step']:g}) <= max_step ({path_['max_step']:g})")
+        check.fail(
+            "[path]",
+            f"allowed min_step ({path_['min_step']:g}) and first_step "
+            f"({path_['first_step']:g}) <= max_step ({path_['max_step']:g})",
+        )
     if "path" in data and not prog["stretches"]:
         check.fail("[path]", "only with a stretch ramp ([program] stretches)")
-    return BodyCase(path=path.resolve(), mesh=sec["mesh"], thermal=sec["thermal"],
-                    regions=tuple(arr["regions"]), coils=tuple(arr["coils"]), heat=tuple(arr["heat"]),
-                    supports=tuple(arr["supports"]), loads=tuple(arr["loads"]), probes=tuple(arr["probes"]),
-                    program=prog, output=sec["output"], compare=tuple(arr["compare"]),
-                    contact=tuple(arr["contact"]), curvature=tuple(arr["curvature"]),
-                    path_control=sec["path"],
-                    petsc=petsc,
-                    drives=drives, cell_names=cells, facet_names=facets)
+    return BodyCase(
+        path=path.resolve(),
+        mesh=sec["mesh"],
+        thermal=sec["thermal"],
+        regions=tuple(arr["regions"]),
+        coils=tuple(arr["coils"]),
+        heat=tuple(arr["heat"]),
+        supports=tuple(arr["supports"]),
+        loads=tuple(arr["loads"]),
+        probes=tuple(arr["probes"]),
+        program=prog,
+        output=sec["output"],
+        compare=tuple(arr["compare"]),
+        contact=tuple(arr["contact"]),
+        curvature=tuple(arr["curvature"]),
+        path_control=sec["path"],
+        petsc=petsc,
+        drives=drives,
+        cell_names=cells,
+        facet_names=facets,
+    )

@@ -24,7 +24,7 @@ import math
 #: one-argument functions and atan2, the names allowed
 FUNCTIONS = ("sin", "cos", "tan", "exp", "sqrt", "atan2")
 NAMES = ("x", "y", "z", "pi")
-ALLOWED = ("numbers, x, y, z [mm], pi, + - * / **, unary -, " + " ".join(FUNCTIONS))
+ALLOWED = "numbers, x, y, z [mm], pi, + - * / **, unary -, " + " ".join(FUNCTIONS)
 #: a case file's expression is short; a longer text is refused before parsing
 MAX_LENGTH = 500
 _BINOPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)
@@ -36,7 +36,8 @@ class ExpressionError(ValueError):
 
 
 def check_expression(text: str) -> ast.Expression:
-    """The checked syntax tree of ``text`` (module docstring); :class:`ExpressionError` otherwise."""
+    """The checked syntax tree of ``text`` (module docstring); :class:`ExpressionError`
+    otherwise."""
     if not isinstance(text, str) or not text.strip():
         raise ExpressionError(f"{text!r}: allowed a non-empty string of {ALLOWED}")
     if len(text) > MAX_LENGTH:
@@ -44,8 +45,9 @@ def check_expression(text: str) -> ast.Expression:
     try:
         tree = ast.parse(text.strip(), mode="eval")
     except (SyntaxError, ValueError, RecursionError, MemoryError) as exc:
-        raise ExpressionError(f"{text!r}: not an expression ({type(exc).__name__}); allowed "
-                              f"{ALLOWED}") from None
+        raise ExpressionError(
+            f"{text!r}: not an expression ({type(exc).__name__}); allowed {ALLOWED}"
+        ) from None
     try:
         _check(tree.body, text)
     except RecursionError:
@@ -80,13 +82,21 @@ def _check(node: ast.AST, text: str) -> None:
         if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
             if isinstance(node.func, ast.Attribute):
                 refuse(f"calling the attribute .{node.func.attr}")
-            refuse("calling " + (repr(node.func.id) if isinstance(node.func, ast.Name)
-                                 else f"a {type(node.func).__name__}"))
+            refuse(
+                "calling "
+                + (
+                    repr(node.func.id)
+                    if isinstance(node.func, ast.Name)
+                    else f"a {type(node.func).__name__}"
+                )
+            )
         if node.keywords:
             refuse("a keyword argument")
         wanted = 2 if node.func.id == "atan2" else 1
         if len(node.args) != wanted:
-            raise ExpressionError(f"{text!r}: {node.func.id} takes {wanted} argument(s), got {len(node.args)}")
+            raise ExpressionError(
+                f"{text!r}: {node.func.id} takes {wanted} argument(s), got {len(node.args)}"
+            )
         for arg in node.args:
             if isinstance(arg, ast.Starred):
                 refuse("a starred argument")
@@ -133,12 +143,13 @@ def to_ufl(tree: ast.Expression, x):
             if all(isinstance(a, float) for a in args):  # fold: math keeps it a plain number
                 return getattr(math, name)(*args)
             return getattr(ufl, name)(*args)
+
         return call
 
     functions = {name: fn(name) for name in FUNCTIONS}
     names = {"x": x[0], "y": x[1], "z": x[2], "pi": math.pi}
     try:
-        return _build(tree.body, names, functions, lambda a, b: a ** b)
+        return _build(tree.body, names, functions, lambda a, b: a**b)
     except (OverflowError, ZeroDivisionError, ValueError) as exc:
         raise ExpressionError(f"{ast.unparse(tree)!r}: {exc}") from None
 

@@ -24,8 +24,8 @@ problem, used by ``lcefem run beam --model fe``, the validation cases of
 
 Curvature: the same stations and circle fit as the bar-and-hinge beam
 (:func:`lcefem.meshes.composite_beam.middle_station_indices`,
-:func:`~lcefem.solvers.analysis.curvature.signed_circle_curvature`): junction centres on the ribbon's
-mid-surface, positive when the beam bends towards its bottom strips (Eq. 2's sign).
+:func:`~lcefem.solvers.analysis.curvature.signed_circle_curvature`): junction centres on the
+ribbon's mid-surface, positive when the beam bends towards its bottom strips (Eq. 2's sign).
 """
 
 from __future__ import annotations
@@ -39,36 +39,53 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
-import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+import ufl
 
 import dolfinx
 import dolfinx.fem.petsc
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry, middle_station_indices
 from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
-from lcefem.models.errors import InputError
-from lcefem.models.hyperelastic import (LCEElasticity, NeoHookeanSolid, lce_strain_energy,
-                                        neo_hookean_strain_energy)
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
+from lcefem.models.errors import InputError
 from lcefem.models.heat import GridSegmentCoil
+from lcefem.models.hyperelastic import (
+    LCEElasticity,
+    NeoHookeanSolid,
+    lce_strain_energy,
+    neo_hookean_strain_energy,
+)
 from lcefem.models.lce import isochoric_uniaxial
 from lcefem.models.limits import check_lambda, current_param
 from lcefem.models.parameters import param
 from lcefem.solvers.analysis.curvature import signed_circle_curvature
-from lcefem.solvers.contact import (NodalDamping, NodePairContact, PenaltyContact, attach,
-                                    face_pairs)
+from lcefem.solvers.contact import NodalDamping, NodePairContact, PenaltyContact, attach, face_pairs
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
-from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
-from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
-                                      displacement_space, volume_measure)
+from lcefem.solvers.mechanics import (
+    HyperelasticProblem,
+    assemble_global,
+    deformation_gradient,
+    displacement_space,
+    volume_measure,
+)
+from lcefem.solvers.problems.protocol import (
+    LOAD,
+    StepRecord,
+    check_quasi_static_step,
+    copy_arrays,
+    put_arrays,
+)
 from lcefem.solvers.supports import plane_clamp, point_support
 
-PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
-             "shared/reference/published_reduced_model.md)")
+PUBLISHED = (
+    "published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK; "
+    "shared/reference/published_reduced_model.md)"
+)
 _prefix = itertools.count()
 #: Newton settings of the beam: full steps (the critical-point line search's single secant step
 #: stalls on the as-built beam's near-mechanism), few iterations before a cut; converged when the
@@ -77,8 +94,13 @@ _prefix = itertools.count()
 #: (``pc_type = "cholesky"``: MUMPS LDL^T at every size, not the automatic iterative path above
 #: ``mechanics.ITERATIVE_PATH_DOFS``: CG + p-multigrid did not finish the level-0 ramp to (1.33,
 #: 1.05) in 900 s wall, where LDL^T takes 98 Newton iterations and 6.8 s CPU; 2026-11-25.)
-BEAM_NEWTON = {"snes_linesearch_type": "basic", "snes_max_it": 14, "snes_atol": 1e-7,
-               "snes_stol": 1e-11, "pc_type": "cholesky"}
+BEAM_NEWTON = {
+    "snes_linesearch_type": "basic",
+    "snes_max_it": 14,
+    "snes_atol": 1e-7,
+    "snes_stol": 1e-11,
+    "pc_type": "cholesky",
+}
 
 #: Fill-reducing ordering of the beam's LDL^T: MUMPS's approximate minimum degree with quasi-dense
 #: row detection (QAMD, ICNTL(7) = 6) instead of MUMPS's automatic choice, METIS's nested
@@ -109,8 +131,13 @@ def _unique_prefix(stem: str) -> str:
 class BeamActuation:
     """How the prescribed relative lengths enter the FE beam."""
 
-    lambda_N: float = param(PUBLISHED_LAMBDA_N, "-", PUBLISHED + ": isotropic/nematic length ratio 1/0.7143 (the "
-                            "bar-and-hinge beam and Eq. 2 use the same value)", minimum=1.0)
+    lambda_N: float = param(
+        PUBLISHED_LAMBDA_N,
+        "-",
+        PUBLISHED + ": isotropic/nematic length ratio 1/0.7143 (the "
+        "bar-and-hinge beam and Eq. 2 use the same value)",
+        minimum=1.0,
+    )
 
 
 @dataclass(frozen=True)
@@ -134,13 +161,16 @@ def beam_supports(tmesh, V) -> list:
     bcs += point_support(V, a, (2,))
     if info["symmetry"] == "half":
         bcs += point_support(V, a, (0,))
-        bcs += point_support(V, (info["second_support_x"], 0.5 * W, info["second_support_height"]), (2,))
+        bcs += point_support(
+            V, (info["second_support_x"], 0.5 * W, info["second_support_height"]), (2,)
+        )
     return bcs
 
 
 class BeamStations:
     """Deformed curvature stations of the FE beam from the nodes at the reference points of
-    :func:`lcefem.meshes.composite_beam_fe.fe_stations` (mirrored about x = x_mid in the quarter model)."""
+    :func:`lcefem.meshes.composite_beam_fe.fe_stations` (mirrored about x = x_mid in the quarter
+    model)."""
 
     def __init__(self, tmesh, V):
         info = tmesh.info
@@ -157,15 +187,19 @@ class BeamStations:
             self.groups.append(group)
         tp = info["ribbon_thickness"]
         z0 = info["mid_surface_height"]
-        self.up_nodes = (self._node((self.x_mid, 0.5 * info["ribbon_width"], z0 - 0.5 * tp)),
-                         self._node((self.x_mid, 0.5 * info["ribbon_width"], z0 + 0.5 * tp)))
+        self.up_nodes = (
+            self._node((self.x_mid, 0.5 * info["ribbon_width"], z0 - 0.5 * tp)),
+            self._node((self.x_mid, 0.5 * info["ribbon_width"], z0 + 0.5 * tp)),
+        )
         self.segments = info["segments"]
 
     def _node(self, point) -> int:
         d = np.linalg.norm(self.X - np.asarray(point), axis=1)
         i = int(np.argmin(d))
         if d[i] > 1e-6:
-            raise RuntimeError(f"no node at station point {tuple(point)} (nearest {d[i]:.3g} mm away)")
+            raise RuntimeError(
+                f"no node at station point {tuple(point)} (nearest {d[i]:.3g} mm away)"
+            )
         return i
 
     def points(self, u: dolfinx.fem.Function) -> np.ndarray:
@@ -228,11 +262,17 @@ class BeamFE:
     #: The strip tags that carry a drive (cell tags of :func:`build_beam_fe`).
     STRIPS = ("top_strips", "bottom_strips")
 
-    def __init__(self, geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                 mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
-                 actuation: BeamActuation = BeamActuation(), contact: PenaltyContact = PenaltyContact(),
-                 control: PathControl | None = None, petsc_options: dict | None = None,
-                 comm: MPI.Comm | None = None):
+    def __init__(
+        self,
+        geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+        mesh: BeamFEMesh = BeamFEMesh(),
+        materials: FEMaterials = FEMaterials(),
+        actuation: BeamActuation = BeamActuation(),
+        contact: PenaltyContact = PenaltyContact(),
+        control: PathControl | None = None,
+        petsc_options: dict | None = None,
+        comm: MPI.Comm | None = None,
+    ):
         self.geometry, self.mesh_options, self.materials = geometry, mesh, materials
         self.control = control or BEAM_CONTROL
         options = {**BEAM_NEWTON, **BEAM_ORDERING}
@@ -247,8 +287,14 @@ class BeamFE:
         dx = volume_measure(tm)
         energy = sum(w * dx(tm.cell_tag(name)) for name, w in self.energy_density.items())
         self.bcs = beam_supports(tm, V)
-        self.problem = HyperelasticProblem(u, energy, self.bcs, prefix=_unique_prefix("beamfe"),
-                                           petsc_options=options, user_options=tuple(petsc_options or ()))
+        self.problem = HyperelasticProblem(
+            u,
+            energy,
+            self.bcs,
+            prefix=_unique_prefix("beamfe"),
+            petsc_options=options,
+            user_options=tuple(petsc_options or ()),
+        )
         self.contacts = make_contacts(tm, u, contact)
         self.damping = NodalDamping(u)  # proximal term of PathFollower's relaxation across folds
         attach(self.problem, [*self.contacts, self.damping])
@@ -270,8 +316,9 @@ class BeamFE:
         lambda_N) per strip tag (:attr:`STRIPS`); reached by :meth:`advance`."""
         for tag, value in drives.items():
             if tag not in self.STRIPS:
-                raise InputError(f"drive {tag!r}: not a strip tag of the beam (allowed "
-                                 f"{', '.join(self.STRIPS)})")
+                raise InputError(
+                    f"drive {tag!r}: not a strip tag of the beam (allowed {', '.join(self.STRIPS)})"
+                )
             self.target[tag] = check_lambda(f"lambda[{tag}]", value, self.actuation.lambda_N)
 
     def curvature(self) -> float:
@@ -288,12 +335,21 @@ class BeamFE:
 
     def observables(self) -> dict[str, float]:
         """Named observables, keys "name [unit]"."""
-        return {"lambda_top [-]": self.lambda_top, "lambda_bottom [-]": self.lambda_bottom,
-                "curvature [1/mm]": self.curvature(), "contact force [N]": self.contact_force(),
-                "min gap [mm]": self.min_gap()}
+        return {
+            "lambda_top [-]": self.lambda_top,
+            "lambda_bottom [-]": self.lambda_bottom,
+            "curvature [1/mm]": self.curvature(),
+            "contact force [N]": self.contact_force(),
+            "min gap [mm]": self.min_gap(),
+        }
 
-    def advance(self, dt: float = 1.0, *, on_step: Callable[[BeamState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> StepRecord:
+    def advance(
+        self,
+        dt: float = 1.0,
+        *,
+        on_step: Callable[[BeamState], None] | None = None,
+        progress: Callable[[float], None] | None = None,
+    ) -> StepRecord:
         """Take the strips linearly from their current lengths to the targets of :meth:`set_drives`
         (load parameter t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way) with
         :class:`PathFollower`; ``on_step`` sees one :class:`BeamState` per accepted step (the
@@ -310,27 +366,49 @@ class BeamFE:
         states: list[BeamState] = []
 
         def record(t: float, its: int) -> None:
-            state = BeamState(t, self.lambda_top, self.lambda_bottom, self.curvature(), its,
-                              follower.cuts, self.contact_force(), self.min_gap())
+            state = BeamState(
+                t,
+                self.lambda_top,
+                self.lambda_bottom,
+                self.curvature(),
+                its,
+                follower.cuts,
+                self.contact_force(),
+                self.min_gap(),
+            )
             states.append(state)
             if on_step is not None:
                 on_step(state)
             if progress is not None:
                 progress(t)
 
-        follower.follow(dt, where=f"beam ramp to lambda_T = {lambda_top:g}, lambda_B = "
-                        f"{lambda_bottom:g}", on_step=record)
+        follower.follow(
+            dt,
+            where=f"beam ramp to lambda_T = {lambda_top:g}, lambda_B = {lambda_bottom:g}",
+            on_step=record,
+        )
         self.last_follower = follower
-        return StepRecord(dt, self.observables(), follower.iterations, follower.cuts, clock=LOAD,
-                          detail=states)
+        return StepRecord(
+            dt, self.observables(), follower.iterations, follower.cuts, clock=LOAD, detail=states
+        )
 
     def increment_record(self, state: BeamState) -> StepRecord:
         """The :class:`StepRecord` of one converged increment of :meth:`advance` (``at``: its
         fraction of the way; the one door, lcefem.solvers.runner.run, records every increment)."""
-        return StepRecord(state.load_factor, {
-            "lambda_top [-]": state.lambda_top, "lambda_bottom [-]": state.lambda_bottom,
-            "curvature [1/mm]": state.curvature, "contact force [N]": state.contact_force,
-            "min gap [mm]": state.min_gap}, state.iterations, state.cuts, clock=LOAD, detail=state)
+        return StepRecord(
+            state.load_factor,
+            {
+                "lambda_top [-]": state.lambda_top,
+                "lambda_bottom [-]": state.lambda_bottom,
+                "curvature [1/mm]": state.curvature,
+                "contact force [N]": state.contact_force,
+                "min gap [mm]": state.min_gap,
+            },
+            state.iterations,
+            state.cuts,
+            clock=LOAD,
+            detail=state,
+        )
 
     def ramp(self, lambda_top: float, lambda_bottom: float, **kw) -> list[BeamState]:
         """:meth:`set_drives` of (lambda_T, lambda_B) then :meth:`advance`; the states of the
@@ -358,8 +436,11 @@ class BeamFE:
         return {"displacement [mm]": self.u}
 
     def save_state(self) -> dict:
-        return {"u": copy_arrays([self.u]), "lambdas": (self.lambda_top, self.lambda_bottom),
-                "target": dict(self.target)}
+        return {
+            "u": copy_arrays([self.u]),
+            "lambdas": (self.lambda_top, self.lambda_bottom),
+            "target": dict(self.target),
+        }
 
     def restore_state(self, state: dict) -> None:
         put_arrays([self.u], state["u"])
@@ -394,10 +475,13 @@ def beam_energy_terms(u, materials: FEMaterials, a_top, a_bottom) -> dict:
     def lce(a):
         return lce_strain_energy(F * isochoric_uniaxial(1.0 / a, n), materials.lce)
 
-    return {"kapton": neo_hookean_strain_energy(F, materials.kapton),
-            "bottom_strips": lce(a_bottom), "top_strips": lce(a_top),
-            "bottom_pads": lce_strain_energy(F, materials.lce),
-            "top_pads": lce_strain_energy(F, materials.lce)}
+    return {
+        "kapton": neo_hookean_strain_energy(F, materials.kapton),
+        "bottom_strips": lce(a_bottom),
+        "top_strips": lce(a_top),
+        "bottom_pads": lce_strain_energy(F, materials.lce),
+        "top_pads": lce_strain_energy(F, materials.lce),
+    }
 
 
 def make_contacts(tmesh, u, options: PenaltyContact) -> list[NodePairContact]:
@@ -412,12 +496,17 @@ def make_contacts(tmesh, u, options: PenaltyContact) -> list[NodePairContact]:
     return out
 
 
-def solve_beam_fe(lambda_top: float, lambda_bottom: float,
-                  geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                  mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
-                  actuation: BeamActuation = BeamActuation(),
-                  contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
-                  **kw) -> tuple[BeamFE, list[BeamState]]:
+def solve_beam_fe(
+    lambda_top: float,
+    lambda_bottom: float,
+    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+    mesh: BeamFEMesh = BeamFEMesh(),
+    materials: FEMaterials = FEMaterials(),
+    actuation: BeamActuation = BeamActuation(),
+    contact: PenaltyContact = PenaltyContact(),
+    control: PathControl | None = None,
+    **kw,
+) -> tuple[BeamFE, list[BeamState]]:
     """Build the FE beam and ramp it from the as-built state to (lambda_T, lambda_B); returns
     (model, states)."""
     model = BeamFE(geometry, mesh, materials, actuation, contact, control)
@@ -445,14 +534,18 @@ def sweep_order(lambdas) -> list[tuple[float, float]]:
 NEIGHBOUR_FIRST_STEP = 0.3
 
 
-def curvature_map_fe(lambdas, geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                     mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
-                     actuation: BeamActuation = BeamActuation(),
-                     contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
-                     on_point: Callable[[float, float, float, int], None] | None = None,
-                     neighbour_first_step: float = NEIGHBOUR_FIRST_STEP,
-                     on_state: Callable[[float, float, "BeamFE"], None] | None = None
-                     ) -> tuple[np.ndarray, dict, "BeamFE"]:
+def curvature_map_fe(
+    lambdas,
+    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+    mesh: BeamFEMesh = BeamFEMesh(),
+    materials: FEMaterials = FEMaterials(),
+    actuation: BeamActuation = BeamActuation(),
+    contact: PenaltyContact = PenaltyContact(),
+    control: PathControl | None = None,
+    on_point: Callable[[float, float, float, int], None] | None = None,
+    neighbour_first_step: float = NEIGHBOUR_FIRST_STEP,
+    on_state: Callable[[float, float, "BeamFE"], None] | None = None,
+) -> tuple[np.ndarray, dict, "BeamFE"]:
     """kappa[i, j] [1/mm] at (lambdas[i], lambdas[j]) = (lambda_T, lambda_B), one model swept
     through the grid (:func:`sweep_order`: the first point is ramped from the as-built state, each
     next one from its neighbour, starting with the increment ``neighbour_first_step`` of t).
@@ -462,11 +555,18 @@ def curvature_map_fe(lambdas, geometry: CompositeBeamGeometry = CompositeBeamGeo
     lam = [float(v) for v in lambdas]
     model = BeamFE(geometry, mesh, materials, actuation, contact, control)
     ramp_control = model.control
-    neighbour = dataclasses.replace(ramp_control,
-                                    first_step=max(model.control.first_step, neighbour_first_step))
+    neighbour = dataclasses.replace(
+        ramp_control, first_step=max(model.control.first_step, neighbour_first_step)
+    )
     kappa = np.full((len(lam), len(lam)), np.nan)
-    stats = {"iterations": 0, "snaps": 0, "max_contact_force [N]": 0.0, "min_gap [mm]": math.inf,
-             "points": 0, "dofs": model.ndofs}
+    stats = {
+        "iterations": 0,
+        "snaps": 0,
+        "max_contact_force [N]": 0.0,
+        "min_gap [mm]": math.inf,
+        "points": 0,
+        "dofs": model.ndofs,
+    }
     started = time.perf_counter()
     for n, (lt, lb) in enumerate(sweep_order(lam)):
         if n == 1:
@@ -494,27 +594,46 @@ def curvature_map_fe(lambdas, geometry: CompositeBeamGeometry = CompositeBeamGeo
 class HeatedBeamRun:
     """A coil current through one group of strips (the heat model has one power density)."""
 
-    current: float = current_param(0.0, "0 (default) prescribes lambda_T, lambda_B instead; seed 001 "
-                                   "used 0.2 A for rapid contraction, 0.1 A for slow (Fig. 2A-B)")
-    heated: str = param("bottom", "-", "strips carrying the current: 'bottom', 'top' or 'both' (the "
-                        "others stay at room temperature, as built)")
-    duration: float = param(12.0, "s", "chosen: part of the 0.2 A transient (T_NI reached in about 10 s, "
-                            "seed 001)", positive=True)
+    current: float = current_param(
+        0.0,
+        "0 (default) prescribes lambda_T, lambda_B instead; seed 001 "
+        "used 0.2 A for rapid contraction, 0.1 A for slow (Fig. 2A-B)",
+    )
+    heated: str = param(
+        "bottom",
+        "-",
+        "strips carrying the current: 'bottom', 'top' or 'both' (the "
+        "others stay at room temperature, as built)",
+    )
+    duration: float = param(
+        12.0,
+        "s",
+        "chosen: part of the 0.2 A transient (T_NI reached in about 10 s, seed 001)",
+        positive=True,
+    )
     dt: float = param(1.0, "s", "chosen: time step (backward Euler)", positive=True)
 
     def checked(self) -> "HeatedBeamRun":
         from lcefem.models.parameters import check
+
         check(self, "heat_run")
         if self.heated not in ("bottom", "top", "both"):
-            raise InputError(f"heat_run.heated = {self.heated!r}: allowed 'bottom', 'top' or 'both'")
+            raise InputError(
+                f"heat_run.heated = {self.heated!r}: allowed 'bottom', 'top' or 'both'"
+            )
         if self.dt > self.duration:
-            raise InputError(f"heat_run.dt = {self.dt} s: must be <= heat_run.duration = {self.duration} s")
+            raise InputError(
+                f"heat_run.dt = {self.dt} s: must be <= heat_run.duration = {self.duration} s"
+            )
         return self
 
 
 #: Strip groups a ``HeatedBeamRun.heated`` choice puts the coil current through.
-HEATED_STRIPS = {"bottom": ("bottom_strips",), "top": ("top_strips",),
-                 "both": ("bottom_strips", "top_strips")}
+HEATED_STRIPS = {
+    "bottom": ("bottom_strips",),
+    "top": ("top_strips",),
+    "both": ("bottom_strips", "top_strips"),
+}
 
 
 class HeatedBeamFE:
@@ -527,55 +646,98 @@ class HeatedBeamFE:
     the new temperature with :class:`PathFollower` (tangent predictor in time).
 
     Build with the strip tags that carry a coil (``heated``: forms are compiled once, so the set
-    is fixed); drive: :meth:`set_drives` (coil currents) per strip tag; advance: :meth:`advance` (dt [s]);
-    observe: :meth:`observables`.
+    is fixed); drive: :meth:`set_drives` (coil currents) per strip tag; advance: :meth:`advance` (dt
+    [s]); observe: :meth:`observables`.
     """
 
-    def __init__(self, heated=("bottom_strips",),
-                 geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                 mesh: BeamFEMesh = BeamFEMesh(), materials: FEMaterials = FEMaterials(),
-                 contact: PenaltyContact = PenaltyContact(), control: PathControl | None = None,
-                 transition=None, thermal=None, exchange=None,
-                 coil: GridSegmentCoil = GridSegmentCoil(), dt: float = 1.0):
+    def __init__(
+        self,
+        heated=("bottom_strips",),
+        geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+        mesh: BeamFEMesh = BeamFEMesh(),
+        materials: FEMaterials = FEMaterials(),
+        contact: PenaltyContact = PenaltyContact(),
+        control: PathControl | None = None,
+        transition=None,
+        thermal=None,
+        exchange=None,
+        coil: GridSegmentCoil = GridSegmentCoil(),
+        dt: float = 1.0,
+    ):
         from lcefem.models.heat import SurfaceExchange, ThermalProperties
         from lcefem.models.lce import NematicTransition
         from lcefem.solvers.heat import HeatSetup
-        from lcefem.solvers.thermomechanics import (LCERegion, PassiveRegion, TemperatureFollower,
-                                                    ThermoMechanicalModel)
+        from lcefem.solvers.thermomechanics import (
+            LCERegion,
+            PassiveRegion,
+            TemperatureFollower,
+            ThermoMechanicalModel,
+        )
 
         unknown = [t for t in heated if t not in BeamFE.STRIPS]
         if unknown or not heated:
-            raise InputError(f"heated = {tuple(heated)}: strip tags among {', '.join(BeamFE.STRIPS)}")
+            raise InputError(
+                f"heated = {tuple(heated)}: strip tags among {', '.join(BeamFE.STRIPS)}"
+            )
         self.heated, self.coil = tuple(heated), coil
         transition = transition or NematicTransition()
         self.tmesh = tm = build_beam_mesh(geometry, transition.lambda_N, mesh, None)
         n = ufl.as_vector([1.0, 0.0, 0.0])
-        exposed = [f for f in ("ribbon_top", "ribbon_bottom", "top_strip_underside",
-                               "bottom_strip_topside", "surface") if f in tm.facets]
-        setup = HeatSetup(thermal or ThermalProperties(), exchange or SurfaceExchange(),
-                          heated_cells=list(self.heated), exposed_facets=exposed)
+        exposed = [
+            f
+            for f in (
+                "ribbon_top",
+                "ribbon_bottom",
+                "top_strip_underside",
+                "bottom_strip_topside",
+                "surface",
+            )
+            if f in tm.facets
+        ]
+        setup = HeatSetup(
+            thermal or ThermalProperties(),
+            exchange or SurfaceExchange(),
+            heated_cells=list(self.heated),
+            exposed_facets=exposed,
+        )
         passive_lce = NematicTransition(lambda_N=1.0)  # no order, no spontaneous strain: bond pads
-        lce = [LCERegion(["bottom_strips"], n, transition, materials.lce),
-               LCERegion(["top_strips"], n, transition, materials.lce),
-               LCERegion(["bottom_pads", "top_pads"], n, passive_lce, materials.lce)]
+        lce = [
+            LCERegion(["bottom_strips"], n, transition, materials.lce),
+            LCERegion(["top_strips"], n, transition, materials.lce),
+            LCERegion(["bottom_pads", "top_pads"], n, passive_lce, materials.lce),
+        ]
         self.model = model = ThermoMechanicalModel(
-            tm, setup, lce, [PassiveRegion(["kapton"], materials.kapton)],
+            tm,
+            setup,
+            lce,
+            [PassiveRegion(["kapton"], materials.kapton)],
             dirichlet=lambda V: beam_supports(tm, V),
             petsc_options={**BEAM_NEWTON, **BEAM_ORDERING},
-            prefix=_unique_prefix("heatbeam"))
+            prefix=_unique_prefix("heatbeam"),
+        )
         self.u = model.u
         self.contacts = make_contacts(tm, model.u, contact)
         damping = NodalDamping(model.u)
         attach(model.mechanics, [*self.contacts, damping])
-        self._strip_volume = geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
+        self._strip_volume = (
+            geometry.segment_length * tm.info["strip_width"] * tm.info["strip_thickness"]
+        )
         self.stations = BeamStations(tm, model.u.function_space)
         dx = volume_measure(tm)
-        self._mean_T = {name: (dolfinx.fem.form(model.heat.T * dx(tm.cell_tag(name))),
-                               assemble_global(dolfinx.fem.form(1.0 * dx(tm.cell_tag(name))), tm.mesh.comm))
-                        for name in ("bottom_strips", "top_strips", "kapton")}
-        self.stepper = TemperatureFollower(model.heat, model.T_mech, model.mechanics,
-                                           control or PathControl(first_step=dt, max_step=dt),
-                                           damping)
+        self._mean_T = {
+            name: (
+                dolfinx.fem.form(model.heat.T * dx(tm.cell_tag(name))),
+                assemble_global(dolfinx.fem.form(1.0 * dx(tm.cell_tag(name))), tm.mesh.comm),
+            )
+            for name in ("bottom_strips", "top_strips", "kapton")
+        }
+        self.stepper = TemperatureFollower(
+            model.heat,
+            model.T_mech,
+            model.mechanics,
+            control or PathControl(first_step=dt, max_step=dt),
+            damping,
+        )
         self.current = 0.0  # [A]
 
     @property
@@ -593,8 +755,10 @@ class HeatedBeamFE:
         values = {float(v) for k, v in drives.items() if k in self.heated}
         extra = [k for k in drives if k not in self.heated]
         if extra or len(values) != 1 or set(drives) != set(self.heated):
-            raise InputError(f"current drives {dict(drives)}: give one current [A] for each of the "
-                             f"heated strip tags {', '.join(self.heated)} (one power density)")
+            raise InputError(
+                f"current drives {dict(drives)}: give one current [A] for each of the "
+                f"heated strip tags {', '.join(self.heated)} (one power density)"
+            )
         self.current = values.pop()
         # mW per strip over its volume
         self.model.heat.power_density.value = self.coil.power(self.current) / self._strip_volume
@@ -602,10 +766,13 @@ class HeatedBeamFE:
     def observables(self, iterations: int = 0) -> dict[str, float]:
         """Named observables, keys "name [unit]"."""
         tm = self.tmesh
-        row = {"time [s]": self.time, "curvature [1/mm]": self.stations.curvature(self.u),
-               "newton iterations [-]": iterations,
-               "contact force [N]": tm.info["symmetry_factor"] * sum(c.normal_force()
-                                                                      for c in self.contacts)}
+        row = {
+            "time [s]": self.time,
+            "curvature [1/mm]": self.stations.curvature(self.u),
+            "newton iterations [-]": iterations,
+            "contact force [N]": tm.info["symmetry_factor"]
+            * sum(c.normal_force() for c in self.contacts),
+        }
         for name, (form, vol) in self._mean_T.items():
             row[f"T_mean {name} [C]"] = assemble_global(form, tm.mesh.comm) / vol
         return row
@@ -633,8 +800,11 @@ class HeatedBeamFE:
         return [self.u, self.model.heat.T, self.model.heat.T_old, self.model.T_mech]
 
     def save_state(self) -> dict:
-        return {"arrays": copy_arrays(self._state_functions()), "time": self.time,
-                "current": self.current}
+        return {
+            "arrays": copy_arrays(self._state_functions()),
+            "time": self.time,
+            "current": self.current,
+        }
 
     def restore_state(self, state: dict) -> None:
         put_arrays(self._state_functions(), state["arrays"])

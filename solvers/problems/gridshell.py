@@ -5,8 +5,8 @@ route). The heated route (coil currents per strip through the Joule-heated heat 
 :meth:`GridshellFE.prolong_from` is :func:`lcefem.solvers.transfer.prolong_by_tag`.
 
 Mesh: :func:`lcefem.meshes.gridshell_fe.build_gridshell_fe` (per-strip cell tags, groups, channels).
-Physics: the FE composite beam's (:mod:`lcefem.solvers.problems.composite_beam`), generalised from two strips to
-48 and from one strip direction to two:
+Physics: the FE composite beam's (:mod:`lcefem.solvers.problems.composite_beam`), generalised from
+two strips to 48 and from one strip direction to two:
 
 * Kapton ribbons: compressible neo-Hookean, datasheet E and nu (``FEMaterials.kapton``).
 * LCE strips: W(F U(a)^-1) of :mod:`lcefem.models.hyperelastic` with
@@ -17,13 +17,14 @@ Physics: the FE composite beam's (:mod:`lcefem.solvers.problems.composite_beam`)
 * Bond pads (LCE under the tabs, junctions and crowns): the same law with a = 1 (passive, as the
   beam's); glue squares where the top strips cross: a stiff neo-Hookean block (the published
   model's glue bars, E = 1e4 MPa).
-* Strip-ribbon frictionless penalty contact: :func:`lcefem.solvers.problems.composite_beam.make_contacts`.
-* Supports (:class:`GridshellSupports`): mirror planes of the reduced model (u_n = 0) plus either the
-  published perimeter rollers (dome, cylinder, table: u_z = 0 at the outer ribbons' end corners,
-  8 in the full surface) or the published saddle clamp (the centre junction's corners held); in-plane
-  rigid-body motion removed as the published script does when a mirror plane does not; or the
-  experiment's table ('table': the surface's weight and frictionless unilateral penalty contact of
-  its lowest faces, the bottom strips and pads, with a rigid plane,
+* Strip-ribbon frictionless penalty contact:
+  :func:`lcefem.solvers.problems.composite_beam.make_contacts`.
+* Supports (:class:`GridshellSupports`): mirror planes of the reduced model (u_n = 0) plus either
+  the published perimeter rollers (dome, cylinder, table: u_z = 0 at the outer ribbons' end corners,
+  8 in the full surface) or the published saddle clamp (the centre junction's corners held);
+  in-plane rigid-body motion removed as the published script does when a mirror plane does not; or
+  the experiment's table ('table': the surface's weight and frictionless unilateral penalty contact
+  of its lowest faces, the bottom strips and pads, with a rigid plane,
   :class:`lcefem.solvers.contact.RigidPlaneContact`; only the in-plane rigid-body motion removed).
   Optional gravity (always on the table): the surface's 33 g (seed 001) spread uniformly over its
   volume.
@@ -57,37 +58,67 @@ from dataclasses import dataclass, field
 from types import SimpleNamespace
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
-import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+import ufl
 
 import dolfinx
 import dolfinx.fem.petsc
 import dolfinx.io
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
-from lcefem.meshes.gridshell_fe import (GridshellFEMesh, build_gridshell_fe, cell_group,
-                                        strip_catalogue)
+from lcefem.meshes.gridshell_fe import (
+    GridshellFEMesh,
+    build_gridshell_fe,
+    cell_group,
+    strip_catalogue,
+)
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, GlueBars
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import NeoHookeanSolid, lce_strain_energy, neo_hookean_strain_energy
-from lcefem.models.lce import (isochoric_uniaxial)
+from lcefem.models.lce import isochoric_uniaxial
 from lcefem.models.loads import SurfaceWeight
 from lcefem.models.parameters import check, param
 from lcefem.solvers.analysis.curvature import gridshell_curvatures
-from lcefem.solvers.contact import (NodalDamping, NodalLoad, PenaltyContact, RigidPlaneContact, attach,
-                                    plane_face_nodes)
-from lcefem.solvers.mechanics import (QUADRATURE_DEGREE, HyperelasticProblem, assemble_global,
-                                      deformation_gradient, displacement_space, volume_measure)
-from lcefem.solvers.problems.composite_beam import BEAM_NEWTON, FEMaterials, check_lambda, make_contacts
-from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
+from lcefem.solvers.contact import (
+    NodalDamping,
+    NodalLoad,
+    PenaltyContact,
+    RigidPlaneContact,
+    attach,
+    plane_face_nodes,
+)
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import write_snapshot
+from lcefem.solvers.mechanics import (
+    QUADRATURE_DEGREE,
+    HyperelasticProblem,
+    assemble_global,
+    deformation_gradient,
+    displacement_space,
+    volume_measure,
+)
+from lcefem.solvers.problems.composite_beam import (
+    BEAM_NEWTON,
+    FEMaterials,
+    check_lambda,
+    make_contacts,
+)
+from lcefem.solvers.problems.protocol import (
+    LOAD,
+    StepRecord,
+    check_quasi_static_step,
+    copy_arrays,
+    put_arrays,
+)
 from lcefem.solvers.transfer import prolong_by_tag
 
-PUBLISHED = ("published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK, Examples2D.m; "
-             "shared/reference/published_reduced_model.md)")
+PUBLISHED = (
+    "published reduced-order model (Daraio-lab/RoboticSurface_SciRob_LiuK, Examples2D.m; "
+    "shared/reference/published_reduced_model.md)"
+)
 _prefix = itertools.count()
 #: Standard gravity [mm/s^2] (m/s^2 x 1e3: lengths in mm).
 STANDARD_GRAVITY = 9.80665e3
@@ -112,36 +143,55 @@ SUPPORT_KINDS = ("rollers", "centre_clamp", "table")
 class GridshellMaterials(FEMaterials):
     """The FE beam's materials (Kapton, LCE) plus the glue squares where the top strips cross."""
 
-    # E of the published glue bars (models.bar_hinge_materials.GlueBars, 1e4 MPa); nu = 0.34 chosen as Kapton's.
-    # 2e4 times stiffer than the LCE: the raised square is effectively rigid.
+    # E of the published glue bars (models.bar_hinge_materials.GlueBars, 1e4 MPa); nu = 0.34 chosen
+    # as Kapton's. 2e4 times stiffer than the LCE: the raised square is effectively rigid.
     glue: NeoHookeanSolid = field(
-        default_factory=lambda: NeoHookeanSolid(youngs_modulus=GlueBars().youngs_modulus))
+        default_factory=lambda: NeoHookeanSolid(youngs_modulus=GlueBars().youngs_modulus)
+    )
 
 
 @dataclass(frozen=True)
 class GridshellSupports:
     """How the surface is held."""
 
-    kind: str = param("rollers", "-", PUBLISHED + ": 'rollers' (dome, cylinder, table: u_z = 0 at "
-                      "the outer ribbons' end corners, 8 in all) or 'centre_clamp' (saddle: the "
-                      "centre junction's four corners clamped); seed 001's experiment: 'table' "
-                      "(the surface lies on a rigid table: its weight, frictionless unilateral "
-                      "contact of its lowest faces with the plane, in-plane rigid-body motion "
-                      "removed as by the rollers, nothing else held)")
-    gravity: bool = param(False, "-", "chosen: the published simulations have no gravity; True "
-                          "loads the surface with its weight (always on for kind = 'table')")
-    table_stiffness: float = param(50.0, "N/mm^3", "chosen: the strip-ribbon contact's penalty "
-                                   "(solvers.contact.PenaltyContact.stiffness): the 33 g rest on "
-                                   "the table with ~1e-5 mm penetration", positive=True)
-    mass: float = param(SurfaceWeight().total_mass, "t", "seed 001: 33 g "
-                        "(models.loads.SurfaceWeight), spread uniformly over the gridshell's volume",
-                        positive=True)
+    kind: str = param(
+        "rollers",
+        "-",
+        PUBLISHED + ": 'rollers' (dome, cylinder, table: u_z = 0 at "
+        "the outer ribbons' end corners, 8 in all) or 'centre_clamp' (saddle: the "
+        "centre junction's four corners clamped); seed 001's experiment: 'table' "
+        "(the surface lies on a rigid table: its weight, frictionless unilateral "
+        "contact of its lowest faces with the plane, in-plane rigid-body motion "
+        "removed as by the rollers, nothing else held)",
+    )
+    gravity: bool = param(
+        False,
+        "-",
+        "chosen: the published simulations have no gravity; True "
+        "loads the surface with its weight (always on for kind = 'table')",
+    )
+    table_stiffness: float = param(
+        50.0,
+        "N/mm^3",
+        "chosen: the strip-ribbon contact's penalty "
+        "(solvers.contact.PenaltyContact.stiffness): the 33 g rest on "
+        "the table with ~1e-5 mm penetration",
+        positive=True,
+    )
+    mass: float = param(
+        SurfaceWeight().total_mass,
+        "t",
+        "seed 001: 33 g (models.loads.SurfaceWeight), spread uniformly over the gridshell's volume",
+        positive=True,
+    )
 
     def checked(self) -> "GridshellSupports":
         check(self, "supports")
         if self.kind not in SUPPORT_KINDS:
-            raise InputError(f"supports.kind = {self.kind!r}: allowed "
-                             + ", ".join(repr(k) for k in SUPPORT_KINDS))
+            raise InputError(
+                f"supports.kind = {self.kind!r}: allowed "
+                + ", ".join(repr(k) for k in SUPPORT_KINDS)
+            )
         return self
 
     @property
@@ -157,10 +207,18 @@ class GridshellConfig:
     geometry: CompositeBeamGeometry = field(default_factory=CompositeBeamGeometry)
     mesh: GridshellFEMesh = field(default_factory=GridshellFEMesh)
     cells: int = param(3, "-", "seed 001: the 3 x 3 grid (ribbons per direction)", minimum=1)
-    symmetry: str = param("quarter", "-", "reduced model (meshes.gridshell_fe.RECIPE_SYMMETRY): "
-                          "'quarter', 'half_x', 'half_y' or 'full'")
-    lambda_N: float = param(PUBLISHED_LAMBDA_N, "-", PUBLISHED + ": as-built (nematic) stretch "
-                            "relative to the isotropic length", minimum=1.0)
+    symmetry: str = param(
+        "quarter",
+        "-",
+        "reduced model (meshes.gridshell_fe.RECIPE_SYMMETRY): "
+        "'quarter', 'half_x', 'half_y' or 'full'",
+    )
+    lambda_N: float = param(
+        PUBLISHED_LAMBDA_N,
+        "-",
+        PUBLISHED + ": as-built (nematic) stretch relative to the isotropic length",
+        minimum=1.0,
+    )
     materials: GridshellMaterials = field(default_factory=GridshellMaterials)
     supports: GridshellSupports = field(default_factory=GridshellSupports)
     contact: PenaltyContact = field(default_factory=PenaltyContact)
@@ -198,13 +256,18 @@ class GridshellFE:
     :meth:`observables`, :meth:`junction_centres`. Output: :meth:`write_fields`.
     """
 
-    def __init__(self, config: GridshellConfig = GridshellConfig(), comm: MPI.Comm | None = None,
-                 petsc_options: dict | None = None):
+    def __init__(
+        self,
+        config: GridshellConfig = GridshellConfig(),
+        comm: MPI.Comm | None = None,
+        petsc_options: dict | None = None,
+    ):
         self.config = cfg = config
         supports = cfg.supports.checked()
         self.lambda_N = lam_n = float(cfg.lambda_N)
-        self.tmesh = tm = build_gridshell_fe(cfg.geometry, lam_n, cfg.mesh, comm, cells=cfg.cells,
-                                             symmetry=cfg.symmetry)
+        self.tmesh = tm = build_gridshell_fe(
+            cfg.geometry, lam_n, cfg.mesh, comm, cells=cfg.cells, symmetry=cfg.symmetry
+        )
         self.info = tm.info
         msh = tm.mesh
         self.V = V = displacement_space(msh, 2)
@@ -212,8 +275,9 @@ class GridshellFE:
         # cell-wise drive and director (DG0): one value per cell, set per strip tag
         self.V0 = V0 = dolfinx.fem.functionspace(msh, ("DG", 0))
         self.lam = dolfinx.fem.Function(V0, name="lambda")
-        self.director = dolfinx.fem.Function(dolfinx.fem.functionspace(msh, ("DG", 0, (3,))),
-                                             name="director")
+        self.director = dolfinx.fem.Function(
+            dolfinx.fem.functionspace(msh, ("DG", 0, (3,))), name="director"
+        )
         ncells = msh.topology.index_map(3).size_local + msh.topology.index_map(3).num_ghosts
         cell_values = np.zeros(ncells, dtype=np.int32)
         cell_values[tm.cell_tags.indices] = tm.cell_tags.values
@@ -236,20 +300,26 @@ class GridshellFE:
         F = deformation_gradient(u)
         dx = volume_measure(tm, QUADRATURE_DEGREE)
         strips = cell_group(tm, "bottom_strips") + cell_group(tm, "top_strips")
-        pads = tuple(t for g in ("bottom_pads", "top_pads") if g in tm.info["cell_groups"]
-                     for t in cell_group(tm, g))
+        pads = tuple(
+            t
+            for g in ("bottom_pads", "top_pads")
+            if g in tm.info["cell_groups"]
+            for t in cell_group(tm, g)
+        )
         glue = cell_group(tm, "glue") if "glue" in tm.info["cell_groups"] else ()
         a = self._strip_stretch_ratio(u)
-        densities = {"kapton": (neo_hookean_strain_energy, mats.kapton, cell_group(tm, "kapton")),
-                     "lce": (lambda G, law: lce_strip_energy(G, a, self.director, law), mats.lce,
-                             strips),
-                     "pads": (lce_strain_energy, mats.lce, pads),  # passive: a = 1, the beam's
-                     "glue": (neo_hookean_strain_energy, mats.glue, glue)}
+        densities = {
+            "kapton": (neo_hookean_strain_energy, mats.kapton, cell_group(tm, "kapton")),
+            "lce": (lambda G, law: lce_strip_energy(G, a, self.director, law), mats.lce, strips),
+            "pads": (lce_strain_energy, mats.lce, pads),  # passive: a = 1, the beam's
+            "glue": (neo_hookean_strain_energy, mats.glue, glue),
+        }
         energy = sum(w(F, law) * dx(tags) for w, law, tags in densities.values() if tags)
         self.volume = assemble_global(dolfinx.fem.form(1.0 * dx), msh.comm)  # [mm^3], model
         self.gravity = dolfinx.fem.Constant(msh, np.zeros(3, dtype=PETSc.ScalarType))  # [N/mm^3]
-        self._weight_density = (supports.mass * STANDARD_GRAVITY
-                                / (self.volume * tm.info["symmetry_factor"]))
+        self._weight_density = (
+            supports.mass * STANDARD_GRAVITY / (self.volume * tm.info["symmetry_factor"])
+        )
         if supports.weight:
             energy = energy - ufl.dot(self.gravity, u) * dx
         self.gravity_on = 0.0  # fraction of the weight applied
@@ -265,11 +335,19 @@ class GridshellFE:
         # Kapton; the finest dome level used so far (3, 369k DOFs) factorised in 3.2 GB.
         options = {**BEAM_NEWTON, "pc_type": "cholesky"}
         options.update(petsc_options or {})
-        if options["pc_type"] == "cholesky" and options.get("pc_factor_mat_solver_type", "mumps") == "mumps":
+        if (
+            options["pc_type"] == "cholesky"
+            and options.get("pc_factor_mat_solver_type", "mumps") == "mumps"
+        ):
             options = {**GRIDSHELL_ORDERING, **options}  # the caller's own ordering wins
-        self.problem = HyperelasticProblem(u, energy, self.bcs,
-                                           prefix=f"lcefem_gridshell{next(_prefix)}_",
-                                           petsc_options=options, user_options=tuple(petsc_options or ()))
+        self.problem = HyperelasticProblem(
+            u,
+            energy,
+            self.bcs,
+            prefix=f"lcefem_gridshell{next(_prefix)}_",
+            petsc_options=options,
+            user_options=tuple(petsc_options or ()),
+        )
         self.problem.snes.setDivergenceTolerance(1e30)
         self.contacts = make_contacts(tm, u, cfg.contact)
         self.table = None
@@ -279,8 +357,10 @@ class GridshellFE:
             self.table = RigidPlaneContact(u, nodes, areas, z0, supports.table_stiffness)
         self.damping = NodalDamping(u)  # proximal term of the path follower's relaxation at folds
         self.offset = NodalLoad(u)  # the residual homotopy's offset (settle); off otherwise
-        attach(self.problem, [*self.contacts, *([self.table] if self.table else []), self.damping,
-                              self.offset])
+        attach(
+            self.problem,
+            [*self.contacts, *([self.table] if self.table else []), self.damping, self.offset],
+        )
 
         # stress measure for output: von Mises of the Cauchy stress, cell-wise (DG0), per material
         Fv = ufl.variable(F)
@@ -313,8 +393,11 @@ class GridshellFE:
         if "directions" in self.info:
             xy = np.asarray(xy[:2], dtype=float) @ np.asarray(self.info["directions"])
         half = 0.5 * self.info["ribbon_thickness"] + tol
-        hit = np.flatnonzero((np.abs(X[:, 0] - xy[0]) < tol) & (np.abs(X[:, 1] - xy[1]) < tol)
-                             & (np.abs(X[:, 2]) <= half))
+        hit = np.flatnonzero(
+            (np.abs(X[:, 0] - xy[0]) < tol)
+            & (np.abs(X[:, 1] - xy[1]) < tol)
+            & (np.abs(X[:, 2]) <= half)
+        )
         return hit
 
     def _supports(self, supports: GridshellSupports) -> list:
@@ -343,12 +426,17 @@ class GridshellFE:
                 nodes = self._nodes_at(corner[:2])
                 for comp in range(3):
                     held[comp] += list(nodes)
-        self.support_nodes = {comp: np.unique(np.asarray(v, dtype=np.int32))
-                              for comp, v in held.items()}
-        held_z = tm.mesh.comm.allreduce(int(self.support_nodes[2].size), op=MPI.SUM)  # over the ranks
+        self.support_nodes = {
+            comp: np.unique(np.asarray(v, dtype=np.int32)) for comp, v in held.items()
+        }
+        held_z = tm.mesh.comm.allreduce(
+            int(self.support_nodes[2].size), op=MPI.SUM
+        )  # over the ranks
         if held_z == 0 and supports.kind != "table":
-            raise InputError(f"supports.kind = {supports.kind!r}: no support point in the "
-                             f"{info['symmetry']} model")
+            raise InputError(
+                f"supports.kind = {supports.kind!r}: no support point in the "
+                f"{info['symmetry']} model"
+            )
         for comp, nodes in self.support_nodes.items():
             if nodes.size:
                 dofs = self._component_dofs(comp, nodes)
@@ -376,9 +464,16 @@ class GridshellFE:
         c = info["junction_centres"]
         lo, hi = -info["end_tab"], info["ribbon_length"] + info["end_tab"]
         edge_lo, edge_hi = c[0] - 0.5 * W, c[n - 1] + 0.5 * W  # outer edges of the outer ribbons
-        pts = [((edge_lo, lo), (0, 1)), ((edge_lo, hi), (0,)), ((edge_hi, lo), (1,)),
-               ((edge_hi, hi), ()),  # y ribbons' ends
-               ((hi, edge_lo), ()), ((hi, edge_hi), ()), ((lo, edge_lo), ()), ((lo, edge_hi), ())]
+        pts = [
+            ((edge_lo, lo), (0, 1)),
+            ((edge_lo, hi), (0,)),
+            ((edge_hi, lo), (1,)),
+            ((edge_hi, hi), ()),  # y ribbons' ends
+            ((hi, edge_lo), ()),
+            ((hi, edge_hi), ()),
+            ((lo, edge_lo), ()),
+            ((lo, edge_hi), ()),
+        ]
         return pts
 
     # ------------------------------------------------------------------ drives
@@ -393,11 +488,14 @@ class GridshellFE:
                 raise InputError(f"drive {selector!r}: not a group of LCE strips (a material)")
             return tags
         if selector in self._all_strips or _is_full_group(selector, self.config.cells):
-            raise InputError(f"drive {selector!r}: lies outside the {self.info['symmetry']} model "
-                             "(its mirror image carries the same drive); drive a channel or a "
-                             "piece inside the model")
-        raise InputError(f"drive {selector!r}: not a strip tag, group (XD1..YU3) or channel "
-                         "(Tx, Ty, Bx, By)")
+            raise InputError(
+                f"drive {selector!r}: lies outside the {self.info['symmetry']} model "
+                "(its mirror image carries the same drive); drive a channel or a "
+                "piece inside the model"
+            )
+        raise InputError(
+            f"drive {selector!r}: not a strip tag, group (XD1..YU3) or channel (Tx, Ty, Bx, By)"
+        )
 
     def set_lambda(self, drives: Mapping[str, float]) -> None:
         """Target spontaneous stretches lambda [-] (relative to the isotropic length; as built:
@@ -412,8 +510,9 @@ class GridshellFE:
         arr = self.target if target else self.lam.x.array
         return np.unique(arr[np.isin(self._dof_tag, self._tags_of(selector))])
 
-    def advance(self, dt: float = 1.0, *, on_step: Callable[[GridshellState], None] | None = None
-                ) -> StepRecord:
+    def advance(
+        self, dt: float = 1.0, *, on_step: Callable[[GridshellState], None] | None = None
+    ) -> StepRecord:
         """Take every strip linearly from its current lambda to its target (path parameter
         t: 0 -> 1; ``dt`` < 1 stops at that fraction of the way; with gravity on, its weight rises
         with t on the first ramp) with the path follower. Raises ConvergenceError (the model keeps
@@ -430,18 +529,29 @@ class GridshellFE:
             self._set_weight(g0 + t * (g1 - g0))
 
         states = self._follow(set_load, self.config.control, "gridshell ramp", on_step)
-        self.lam.x.array[:] = self.target if dt == 1.0 else lam0 + dlam  # exactly, not lam0 + 1.0 * dlam
+        self.lam.x.array[:] = (
+            self.target if dt == 1.0 else lam0 + dlam
+        )  # exactly, not lam0 + 1.0 * dlam
         follower = self.last_follower
-        return StepRecord(dt, states[-1].observables if states else self.observables(), follower.iterations,
-                          follower.cuts, clock=LOAD, detail=states)
+        return StepRecord(
+            dt,
+            states[-1].observables if states else self.observables(),
+            follower.iterations,
+            follower.cuts,
+            clock=LOAD,
+            detail=states,
+        )
 
     def ramp(self, drives: Mapping[str, float], **kw) -> list[GridshellState]:
         """:meth:`set_lambda` then :meth:`advance`; the states of the ramp."""
         self.set_lambda(drives)
         return self.advance(**kw).detail
 
-    def settle(self, first_step: float = SETTLE_FIRST_STEP,
-               on_step: Callable[[GridshellState], None] | None = None) -> list[GridshellState]:
+    def settle(
+        self,
+        first_step: float = SETTLE_FIRST_STEP,
+        on_step: Callable[[GridshellState], None] | None = None,
+    ) -> list[GridshellState]:
         """Equilibrium at the target lambdas (and the full weight, if any) from the current
         displacement u_0, e.g. one prolonged from a coarser mesh (:meth:`prolong_from`) or the
         equilibrium of other materials, which is no equilibrium here: the residual homotopy
@@ -496,8 +606,13 @@ class GridshellFE:
         self.gravity_on = fraction
         self.gravity.value = fraction * np.array([0.0, 0.0, -self._weight_density])
 
-    def _follow(self, set_load: Callable[[float], None], control: PathControl, where: str,
-                on_step: Callable[[GridshellState], None] | None) -> list[GridshellState]:
+    def _follow(
+        self,
+        set_load: Callable[[float], None],
+        control: PathControl,
+        where: str,
+        on_step: Callable[[GridshellState], None] | None,
+    ) -> list[GridshellState]:
         """The path follower from t = 0 (the current state) to 1 at ``set_load(t)``; one
         :class:`GridshellState` per accepted step (``on_step`` called with it)."""
         follower = PathFollower(self.problem, set_load, control, self.damping)
@@ -529,9 +644,19 @@ class GridshellFE:
         tags = np.asarray(sorted(self.strip_tags.values()), dtype=np.int32)
         lam = np.array([self._tag_value(self.lam.x.array, t) for t in tags])
         tmp = path.with_name(path.name + ".part.npz")
-        np.savez(tmp, u=self.u.x.array, dof_coordinates=self._X, strip_tags=tags, strip_lambda=lam,
-                 gravity_on=self.gravity_on, level=m.level, ribbon_layers=m.ribbon_layers,
-                 strip_layers=m.strip_layers, symmetry=self.config.symmetry, cells=self.config.cells)
+        np.savez(
+            tmp,
+            u=self.u.x.array,
+            dof_coordinates=self._X,
+            strip_tags=tags,
+            strip_lambda=lam,
+            gravity_on=self.gravity_on,
+            level=m.level,
+            ribbon_layers=m.ribbon_layers,
+            strip_layers=m.strip_layers,
+            symmetry=self.config.symmetry,
+            cells=self.config.cells,
+        )
         tmp.replace(path)
         return path
 
@@ -548,25 +673,38 @@ class GridshellFE:
         weight fraction. Then :meth:`settle` finds the equilibrium on this mesh."""
         with np.load(path) as data:
             saved = {k: data[k] for k in data.files}
-        mine = {"ribbon_layers": self.config.mesh.ribbon_layers, "strip_layers":
-                self.config.mesh.strip_layers, "symmetry": self.config.symmetry,
-                "cells": self.config.cells}
+        mine = {
+            "ribbon_layers": self.config.mesh.ribbon_layers,
+            "strip_layers": self.config.mesh.strip_layers,
+            "symmetry": self.config.symmetry,
+            "cells": self.config.cells,
+        }
         for key, value in mine.items():
             if saved[key].item() != value:
-                raise InputError(f"prolong_from {path}: {key} = {saved[key].item()!r}, this model "
-                                 f"has {value!r}")
+                raise InputError(
+                    f"prolong_from {path}: {key} = {saved[key].item()!r}, this model has {value!r}"
+                )
         if self.tmesh.mesh.comm.size > 1:
             raise InputError("prolong_from: serial only (the saved DOF order is one process's)")
         cfg = self.config
         mesh0 = dataclasses.replace(cfg.mesh, level=int(saved["level"]))
-        tm0 = build_gridshell_fe(cfg.geometry, self.lambda_N, mesh0, MPI.COMM_SELF,
-                                 cells=cfg.cells, symmetry=cfg.symmetry)
+        tm0 = build_gridshell_fe(
+            cfg.geometry,
+            self.lambda_N,
+            mesh0,
+            MPI.COMM_SELF,
+            cells=cfg.cells,
+            symmetry=cfg.symmetry,
+        )
         u0 = dolfinx.fem.Function(displacement_space(tm0.mesh, 2))
         X0 = u0.function_space.tabulate_dof_coordinates()
-        if X0.shape != saved["dof_coordinates"].shape or \
-                not np.allclose(X0, saved["dof_coordinates"], rtol=0.0, atol=1e-9):
-            raise InputError(f"prolong_from {path}: the rebuilt level-{mesh0.level} mesh does not "
-                             "match the saved DOF coordinates")
+        if X0.shape != saved["dof_coordinates"].shape or not np.allclose(
+            X0, saved["dof_coordinates"], rtol=0.0, atol=1e-9
+        ):
+            raise InputError(
+                f"prolong_from {path}: the rebuilt level-{mesh0.level} mesh does not "
+                "match the saved DOF coordinates"
+            )
         u0.x.array[:] = saved["u"]
         self.u.x.array[:] = prolong_by_tag(u0, tm0.cell_tags, self.V, self.tmesh.cell_tags).ravel()
         self.u.x.scatter_forward()
@@ -594,17 +732,29 @@ class GridshellFE:
             return index[key]
 
         corners = ((-h, -h), (h, -h), (h, h), (-h, h))  # order of the centre frame (x edge first)
-        jc = np.array([[[station((c[i] + a, c[j] + b)) for a, b in corners] for j in range(n)]
-                       for i in range(n)])
-        ends_x = np.array([[[station((e, c[r] + s)) for s in (-h, h)] for e in (0.0, length)]
-                           for r in range(n)])
-        ends_y = np.array([[[station((c[r] + s, e)) for s in (-h, h)] for e in (0.0, length)]
-                           for r in range(n)])
+        jc = np.array(
+            [
+                [[station((c[i] + a, c[j] + b)) for a, b in corners] for j in range(n)]
+                for i in range(n)
+            ]
+        )
+        ends_x = np.array(
+            [[[station((e, c[r] + s)) for s in (-h, h)] for e in (0.0, length)] for r in range(n)]
+        )
+        ends_y = np.array(
+            [[[station((c[r] + s, e)) for s in (-h, h)] for e in (0.0, length)] for r in range(n)]
+        )
         mid = n // 2
         structure = SimpleNamespace(
-            nodes=None, info={"ribbons": n},
-            node_sets={"junction_corners": jc, "centre_junction": jc[mid, mid],
-                       "ribbon_ends_x": ends_x, "ribbon_ends_y": ends_y})
+            nodes=None,
+            info={"ribbons": n},
+            node_sets={
+                "junction_corners": jc,
+                "centre_junction": jc[mid, mid],
+                "ribbon_ends_x": ends_x,
+                "ribbon_ends_y": ends_y,
+            },
+        )
         # each station: model nodes of its mirror image inside the model, and the reflection
         centre = info["centre"]
         cut_x, cut_y = "sym_x" in self.tmesh.facets, "sym_y" in self.tmesh.facets
@@ -626,8 +776,11 @@ class GridshellFE:
         images for stations outside a reduced model."""
         s = self._stations
         x = self._X + self.u.x.array.reshape(-1, 3)
-        # sums and counts of the owned nodes of each station, added over the ranks (serial: the mean)
-        sums = np.array([np.append(x[nodes].sum(axis=0), nodes.size) for nodes in s.nodes]).reshape(-1, 4)
+        # sums and counts of the owned nodes of each station, added over the ranks (serial: the
+        # mean)
+        sums = np.array([np.append(x[nodes].sum(axis=0), nodes.size) for nodes in s.nodes]).reshape(
+            -1, 4
+        )
         sums = self.tmesh.mesh.comm.allreduce(sums, op=MPI.SUM)
         out = np.empty((len(s.nodes), 3))
         for k, (fx, fy) in enumerate(s.flips):
@@ -646,26 +799,33 @@ class GridshellFE:
         return x[self._stations.structure.node_sets["junction_corners"]].mean(axis=2)
 
     def observables(self) -> dict[str, float]:
-        """Named observables, keys "name [unit]" (module docstring; curvature sign: + bowl, - dome)."""
+        """Named observables, keys "name [unit]" (module docstring; curvature sign: + bowl, -
+        dome)."""
         x = self.station_positions()
         k = gridshell_curvatures(self._stations.structure, x)
         z = (self._X + self.u.x.array.reshape(-1, 3))[:, 2]
         comm = self.tmesh.mesh.comm
-        zmin, zmax = comm.allreduce(float(z.min()), op=MPI.MIN), comm.allreduce(float(z.max()), op=MPI.MAX)
+        zmin, zmax = (
+            comm.allreduce(float(z.min()), op=MPI.MIN),
+            comm.allreduce(float(z.max()), op=MPI.MAX),
+        )
         jc = self.junction_centres()
         n = jc.shape[0]
-        out = {"kappa_circle_x [1/mm]": k["circle_x"], "kappa_circle_y [1/mm]": k["circle_y"],
-               "kappa_quad_x [1/mm]": k.get("quad_kx", math.nan),
-               "kappa_quad_y [1/mm]": k.get("quad_ky", math.nan),
-               "kappa_quad_1 [1/mm]": k.get("quad_k1", math.nan),
-               "kappa_quad_2 [1/mm]": k.get("quad_k2", math.nan),
-               "gaussian_quad [1/mm^2]": k.get("gaussian", math.nan),
-               "quad_rms_residual [mm]": k.get("rms_residual", math.nan),
-               "z_range [mm]": zmax - zmin,  # of the whole deformed body
-               "surface_z_range [mm]": float(np.ptp(jc[:, :, 2])),  # of the junction centres
-               "apex_z [mm]": float(jc[n // 2, n // 2, 2]),
-               "contact_force [N]": self.info["symmetry_factor"] * sum(c.normal_force()
-                                                                        for c in self.contacts)}
+        out = {
+            "kappa_circle_x [1/mm]": k["circle_x"],
+            "kappa_circle_y [1/mm]": k["circle_y"],
+            "kappa_quad_x [1/mm]": k.get("quad_kx", math.nan),
+            "kappa_quad_y [1/mm]": k.get("quad_ky", math.nan),
+            "kappa_quad_1 [1/mm]": k.get("quad_k1", math.nan),
+            "kappa_quad_2 [1/mm]": k.get("quad_k2", math.nan),
+            "gaussian_quad [1/mm^2]": k.get("gaussian", math.nan),
+            "quad_rms_residual [mm]": k.get("rms_residual", math.nan),
+            "z_range [mm]": zmax - zmin,  # of the whole deformed body
+            "surface_z_range [mm]": float(np.ptp(jc[:, :, 2])),  # of the junction centres
+            "apex_z [mm]": float(jc[n // 2, n // 2, 2]),
+            "contact_force [N]": self.info["symmetry_factor"]
+            * sum(c.normal_force() for c in self.contacts),
+        }
         if self.table is not None:  # whole surface: the model's reaction x the symmetry factor
             out["table_force [N]"] = self.info["symmetry_factor"] * self.table.normal_force()
             out["apex_height_above_table [mm]"] = out["apex_z [mm]"] - self.table.height
@@ -716,13 +876,20 @@ class GridshellFE:
 
     def fields(self) -> dict:
         lam, stress, director = GridshellFE._cell_fields(self)
-        return {"displacement [mm]": self.u, "lambda [-]": lam, "von Mises stress [MPa]": stress,
-                "director [-]": director}
+        return {
+            "displacement [mm]": self.u,
+            "lambda [-]": lam,
+            "von Mises stress [MPa]": stress,
+            "director [-]": director,
+        }
 
     def memory_state(self) -> dict:
         """What :meth:`advance` changes: displacement, lambda and its targets, weight fraction."""
-        return {"arrays": copy_arrays([self.u, self.lam]), "target": self.target.copy(),
-                "gravity_on": self.gravity_on}
+        return {
+            "arrays": copy_arrays([self.u, self.lam]),
+            "target": self.target.copy(),
+            "gravity_on": self.gravity_on,
+        }
 
     def restore_state(self, state: dict) -> None:
         put_arrays([self.u, self.lam], state["arrays"])
@@ -734,9 +901,23 @@ def _is_full_group(name: str, n: int) -> bool:
     """A published group (XD1..YU{n}) or channel name of the full model."""
     if name in ("Tx", "Ty", "Bx", "By"):
         return True
-    return (len(name) >= 3 and name[0] in "XY" and name[1] in "DU" and name[2:].isdigit()
-            and 1 <= int(name[2:]) <= n)
+    return (
+        len(name) >= 3
+        and name[0] in "XY"
+        and name[1] in "DU"
+        and name[2:].isdigit()
+        and 1 <= int(name[2:]) <= n
+    )
 
 
-__all__ = ["GRIDSHELL_ORDERING", "GridshellConfig", "GridshellFE", "GridshellMaterials", "GridshellState",
-           "GridshellSupports", "SUPPORT_KINDS", "lce_strip_energy", "von_mises"]
+__all__ = [
+    "GRIDSHELL_ORDERING",
+    "GridshellConfig",
+    "GridshellFE",
+    "GridshellMaterials",
+    "GridshellState",
+    "GridshellSupports",
+    "SUPPORT_KINDS",
+    "lce_strip_energy",
+    "von_mises",
+]

@@ -29,11 +29,13 @@ linearly from the current ones to the targets: the paper's quasi-static route) b
   (:func:`lcefem.solvers.analysis.curvature.gridshell_curvatures`; dome negative), the z range, the
   centre junction's height.
 
-The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`, :func:`solve_gridshell`,
+The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`,
+:func:`solve_gridshell`,
 ...) are used by the study (:mod:`lcefem.validation.studies.gridshell.gridshell_bh`: the paper's curvatures), which
 re-exports them. One run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
 is in :mod:`lcefem.solvers.problems.gridshell_bh_run`; the paper's Fig. 4 programs and the published
-recipes are validation data (:mod:`lcefem.validation.cases.programs`); the current route (currents -> lambdas) is
+recipes are validation data (:mod:`lcefem.validation.cases.programs`); the current route (currents
+-> lambdas) is
 :class:`lcefem.models.lumped_heat.CurrentRouteConfig`.
 
 Units: mm, N, t, s.
@@ -49,22 +51,36 @@ import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, panel_dimensions
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
-from lcefem.meshes.gridshell import (CHANNELS, FAMILIES, GridshellLayout, STRIP_GROUPS,
-                                    build_gridshell_bar_hinge, resolve_bar_values)
+from lcefem.meshes.gridshell import (
+    CHANNELS,
+    FAMILIES,
+    STRIP_GROUPS,
+    GridshellLayout,
+    build_gridshell_bar_hinge,
+    resolve_bar_values,
+)
 from lcefem.models import bar_hinge_materials as law
 from lcefem.models import units
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.loads import SurfaceWeight
 from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
-from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult,
-                                      PathState, follow_path, held_dofs)
+from lcefem.solvers.bar_hinge import (
+    BarHingeModel,
+    NewtonOptions,
+    PathOptions,
+    PathResult,
+    PathState,
+    follow_path,
+    held_dofs,
+)
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
-GRIDSHELL_PATH = PathOptions(initial_increment=0.1, max_increment=0.5, easy_iterations=8,
-                             growth=2.0)
+GRIDSHELL_PATH = PathOptions(
+    initial_increment=0.1, max_increment=0.5, easy_iterations=8, growth=2.0
+)
 #: Newton settings: |g| <= 1e-6 N (1e-5 of the ~0.1 N strip forces; displacement error ~1e-4 mm on
 #: the softest ~0.01 N/mm mode, 1e-7 1/mm in curvature). The beam's 1e-8 N is not reachable here:
 #: with ~1300 strip-ribbon contacts some sit at their kink (penalty switching on) and the residual
@@ -74,10 +90,10 @@ GRIDSHELL_NEWTON = NewtonOptions(force_tolerance=1.0e-6)
 #: after 5 iterations without halving the residual. Near the dome's fold the slack top strips'
 #: raised square floats (4 tangent eigenvalues ~1e-8 N/mm) and undamped steps there are cut by the
 #: trust radius, so the ribbons hardly move (Fig. 4 dome: 53 increments, 24 failed, 678 Newton
-#: iterations, 22.6 s CPU -> 15, 1 and 237, 2.3 s; the same equilibrium: ribbon nodes within 1e-5 mm,
-#: only the 4 floating nodes move, along those modes). Not the default of the other paths: the Fig. 5B
-#: ball's flat -> bowl ramp (clamp, cover scales) then buckles into the bowl's mirror image across
-#: the diagonal (quadratic fit 0.026033 / 0.006015 instead of 0.006015 / 0.026033 1/mm).
+#: iterations, 22.6 s CPU -> 15, 1 and 237, 2.3 s; the same equilibrium: ribbon nodes within 1e-5
+#: mm, only the 4 floating nodes move, along those modes). Not the default of the other paths: the
+#: Fig. 5B ball's flat -> bowl ramp (clamp, cover scales) then buckles into the bowl's mirror image
+#: across the diagonal (quadratic fit 0.026033 / 0.006015 instead of 0.006015 / 0.026033 1/mm).
 RAMP_NEWTON = replace(GRIDSHELL_NEWTON, stall_iterations=5)
 
 
@@ -88,13 +104,15 @@ def check_lambda_values(values: dict[str, np.ndarray], lambda_N: float, name: st
     for g, v in values.items():
         if np.any(~np.isfinite(v)) or np.any(v < 1.0) or np.any(v > lambda_N):
             bad = v[(~np.isfinite(v)) | (v < 1.0) | (v > lambda_N)][0]
-            raise InputError(f"{name}: lambda = {bad}: must be between 1 (isotropic) and lambda_N = "
-                             f"{lambda_N} (as built)")
+            raise InputError(
+                f"{name}: lambda = {bad}: must be between 1 (isotropic) and lambda_N = "
+                f"{lambda_N} (as built)"
+            )
 
 
-
-def lumped_node_weights(structure: BarHingeStructure, model: BarHingeModel,
-                        weight: SurfaceWeight) -> np.ndarray:
+def lumped_node_weights(
+    structure: BarHingeStructure, model: BarHingeModel, weight: SurfaceWeight
+) -> np.ndarray:
     """Nodal forces (3n,) [N] of the surface's weight: panel (Kapton) and strip (LCE) masses lumped
     equally on their nodes, scaled so that they add up to the measured total mass."""
     mass = np.zeros(structure.num_nodes)
@@ -112,7 +130,9 @@ def lumped_node_weights(structure: BarHingeStructure, model: BarHingeModel,
     return forces.reshape(-1)
 
 
-def add_table(structure: BarHingeStructure, geometry: CompositeBeamGeometry, lambda_N: float) -> None:
+def add_table(
+    structure: BarHingeStructure, geometry: CompositeBeamGeometry, lambda_N: float
+) -> None:
     """A rigid table below the bottom strips: three held anchor nodes span its plane at
     z_t = -(t_p/2 + t_a/sqrt(lambda_N)) (the as-built bottom strip's underside), and every node a
     bottom strip attaches to stays at least t_p/2 + t_a/sqrt(lambda_N) above it (frictionless
@@ -120,12 +140,16 @@ def add_table(structure: BarHingeStructure, geometry: CompositeBeamGeometry, lam
     depth = 0.5 * geometry.ribbon_thickness + geometry.strip_thickness / math.sqrt(lambda_N)
     span = float(np.ptp(structure.nodes[:, 0])) + 100.0
     lo = float(structure.nodes[:, 0].min()) - 50.0
-    a, b, c = structure.add_nodes([(lo, lo, -depth), (lo, lo + span, -depth), (lo + span, lo, -depth)])
+    a, b, c = structure.add_nodes(
+        [(lo, lo, -depth), (lo, lo + span, -depth), (lo + span, lo, -depth)]
+    )
     pts = structure.node_sets["bottom_strip_ends"]
     structure.add_contacts("table_contact", [(int(p), a, b, c) for p in pts], rest=depth)
     structure.node_sets["table_anchors"] = np.array([a, b, c])
-    structure.sections["table_contact"] = {"area": 0.25 * geometry.strip_width * geometry.junction_length,
-                                           "depth": geometry.strip_thickness}
+    structure.sections["table_contact"] = {
+        "area": 0.25 * geometry.strip_width * geometry.junction_length,
+        "depth": geometry.strip_thickness,
+    }
 
 
 def published_roller_dofs(structure: BarHingeStructure) -> np.ndarray:
@@ -137,10 +161,28 @@ def published_roller_dofs(structure: BarHingeStructure) -> np.ndarray:
     ex, ey = structure.node_sets["ribbon_ends_x"], structure.node_sets["ribbon_ends_y"]
     # x ribbons: side 0 at the lower y; y ribbons: side 0 at the higher x (meshes.gridshell).
     # ends[r, end, side]: ribbon r, end 0 (low) / 1 (high).
-    a, b, c, d = ey[0, 0, 1], ey[0, 1, 1], ey[n - 1, 0, 0], ey[n - 1, 1, 0]  # (30,0) (30,141) (111,0) (111,141)
-    xs = [ex[0, 1, 0], ex[n - 1, 1, 1], ex[0, 0, 0], ex[n - 1, 0, 1]]  # (141,30) (141,111) (0,30) (0,111)
-    return np.unique(np.concatenate([held_dofs([a, b, c, d, *xs], "z"), held_dofs([a], "xy"),
-                                     held_dofs([b], "x"), held_dofs([c], "y")]))
+    a, b, c, d = (
+        ey[0, 0, 1],
+        ey[0, 1, 1],
+        ey[n - 1, 0, 0],
+        ey[n - 1, 1, 0],
+    )  # (30,0) (30,141) (111,0) (111,141)
+    xs = [
+        ex[0, 1, 0],
+        ex[n - 1, 1, 1],
+        ex[0, 0, 0],
+        ex[n - 1, 0, 1],
+    ]  # (141,30) (141,111) (0,30) (0,111)
+    return np.unique(
+        np.concatenate(
+            [
+                held_dofs([a, b, c, d, *xs], "z"),
+                held_dofs([a], "xy"),
+                held_dofs([b], "x"),
+                held_dofs([c], "y"),
+            ]
+        )
+    )
 
 
 def support_dofs(structure: BarHingeStructure, support: str) -> np.ndarray:
@@ -153,12 +195,17 @@ def support_dofs(structure: BarHingeStructure, support: str) -> np.ndarray:
     if support == "rollers":
         return published_roller_dofs(structure)
     if support == "middle_rollers":
-        ends = np.concatenate([structure.node_sets["ribbon_ends_x"][n // 2].ravel(),
-                               structure.node_sets["ribbon_ends_y"][n // 2].ravel()])
+        ends = np.concatenate(
+            [
+                structure.node_sets["ribbon_ends_x"][n // 2].ravel(),
+                structure.node_sets["ribbon_ends_y"][n // 2].ravel(),
+            ]
+        )
         return np.unique(np.concatenate([held_dofs(ends, "z"), inplane]))
     if support == "table":
-        return np.unique(np.concatenate([held_dofs(structure.node_sets["table_anchors"], "xyz"),
-                                         inplane]))
+        return np.unique(
+            np.concatenate([held_dofs(structure.node_sets["table_anchors"], "xyz"), inplane])
+        )
     raise InputError(f"support = {support!r}: allowed {', '.join(SUPPORTS)}")
 
 
@@ -177,9 +224,12 @@ class GridshellSetup:
         return self.model.reference.reshape(-1)[self.held]
 
 
-
-def targets_from_lambdas(structure: BarHingeStructure, lambdas: dict, lambda_N: float = PUBLISHED_LAMBDA_N,
-                         name: str = "lambda") -> dict[str, np.ndarray]:
+def targets_from_lambdas(
+    structure: BarHingeStructure,
+    lambdas: dict,
+    lambda_N: float = PUBLISHED_LAMBDA_N,
+    name: str = "lambda",
+) -> dict[str, np.ndarray]:
     """Rest fractions f = lambda/lambda_N per bar from lambdas per selection (default lambda_N)."""
     values = resolve_bar_values(structure, lambdas, lambda_N, name)
     check_lambda_values(values, lambda_N, name)
@@ -211,12 +261,14 @@ class GridshellSolution:
 
 
 def ribbon_nodes(structure: BarHingeStructure) -> np.ndarray:
-    """Nodes of the Kapton ribbons (panel corners and centres; not the raised squares or anchors)."""
+    """Nodes of the Kapton ribbons (panel corners and centres; not the raised squares or
+    anchors)."""
     return np.unique(np.concatenate([structure.panels.ravel(), structure.panel_centres]))
 
 
 def shape_summary(structure: BarHingeStructure, x: np.ndarray) -> dict:
-    """Centre curvatures (both measures), z range of the ribbons and the junction centres' heights."""
+    """Centre curvatures (both measures), z range of the ribbons and the junction centres'
+    heights."""
     x = np.asarray(x).reshape(-1, 3)
     k = gridshell_curvatures(structure, x)
     z = x[ribbon_nodes(structure), 2]
@@ -230,18 +282,24 @@ def shape_summary(structure: BarHingeStructure, x: np.ndarray) -> dict:
 
 #: Strip-ribbon penetration [mm] above which a run says that strips pass through the ribbon: twice
 #: the deepest penalty penetration measured with the contact on (0.18 mm over the eight published
-#: recipes, docs/gridshell_configuration.md); without the contact the published states reach 1-3.6 mm.
+#: recipes, docs/gridshell_configuration.md); without the contact the published states reach 1-3.6
+#: mm.
 PENETRATION_LIMIT = 0.36
 
 
-def strip_ribbon_penetration(x: np.ndarray, geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                             layout: GridshellLayout = GridshellLayout(),
-                             mesh: BeamBarHingeMesh = BeamBarHingeMesh()) -> float:
+def strip_ribbon_penetration(
+    x: np.ndarray,
+    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+    layout: GridshellLayout = GridshellLayout(),
+    mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
+) -> float:
     """Deepest strip-ribbon interpenetration [mm] of node positions x (n, 3) of the gridshell built
     from (geometry, layout, mesh): the largest g0 - g over the strip-ribbon contact rows
     (:func:`lcefem.models.bar_hinge.point_plane_gap`, g0 the as-built gap), measured whether or not
     the run had the contact (0 if every strip point stays on its side of the ribbon)."""
-    return structure_penetration(build_gridshell_bar_hinge(geometry, layout, replace(mesh, contact=True)), x)
+    return structure_penetration(
+        build_gridshell_bar_hinge(geometry, layout, replace(mesh, contact=True)), x
+    )
 
 
 def structure_penetration(s: BarHingeStructure, x: np.ndarray) -> float:
@@ -252,7 +310,9 @@ def structure_penetration(s: BarHingeStructure, x: np.ndarray) -> float:
 
     x = np.asarray(x).reshape(-1, 3)
     if x.shape[0] != s.num_nodes:
-        raise ValueError(f"strip-ribbon penetration: {x.shape[0]} nodes, the structure has {s.num_nodes}")
+        raise ValueError(
+            f"strip-ribbon penetration: {x.shape[0]} nodes, the structure has {s.num_nodes}"
+        )
     if not s.contacts:
         return math.nan
     worst = 0.0
@@ -265,19 +325,33 @@ def structure_penetration(s: BarHingeStructure, x: np.ndarray) -> float:
     return worst
 
 
-def solve_gridshell(setup: GridshellSetup, *, newton_options: NewtonOptions = RAMP_NEWTON,
-                    path: PathOptions = GRIDSHELL_PATH,
-                    on_step: Callable[[PathState], None] | None = None,
-                    progress: Callable[[float], None] | None = None) -> GridshellSolution:
+def solve_gridshell(
+    setup: GridshellSetup,
+    *,
+    newton_options: NewtonOptions = RAMP_NEWTON,
+    path: PathOptions = GRIDSHELL_PATH,
+    on_step: Callable[[PathState], None] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> GridshellSolution:
     """Ramp the rest fractions from the as-built state to their targets (see module docstring)."""
-    result = follow_path(setup.model, setup.structure.nodes, setup.held, setup.load,
-                         newton_options=newton_options, path_options=path, on_step=on_step,
-                         progress=progress)
-    return GridshellSolution(setup, result, gridshell_curvatures(setup.structure, result.states[-1].x))
+    result = follow_path(
+        setup.model,
+        setup.structure.nodes,
+        setup.held,
+        setup.load,
+        newton_options=newton_options,
+        path_options=path,
+        on_step=on_step,
+        progress=progress,
+    )
+    return GridshellSolution(
+        setup, result, gridshell_curvatures(setup.structure, result.states[-1].x)
+    )
 
 
-def payload_forces(structure: BarHingeStructure, mass: float, gravity: float = units.STANDARD_GRAVITY
-                   ) -> np.ndarray:
+def payload_forces(
+    structure: BarHingeStructure, mass: float, gravity: float = units.STANDARD_GRAVITY
+) -> np.ndarray:
     """Weight of a payload of ``mass`` [t] on a central pad: -m g shared by the four corners of the
     raised square over the centre junction (the top of the surface at its centre) [N], (3n,)."""
     n = structure.info["ribbons"]
@@ -287,9 +361,13 @@ def payload_forces(structure: BarHingeStructure, mass: float, gravity: float = u
     return f.reshape(-1)
 
 
-def solve_payload(solution: GridshellSolution, mass: float, *,
-                  newton_options: NewtonOptions = GRIDSHELL_NEWTON,
-                  path: PathOptions = GRIDSHELL_PATH) -> PathResult:
+def solve_payload(
+    solution: GridshellSolution,
+    mass: float,
+    *,
+    newton_options: NewtonOptions = GRIDSHELL_NEWTON,
+    path: PathOptions = GRIDSHELL_PATH,
+) -> PathResult:
     """Add a payload of ``mass`` [t] on the central pad of an actuated surface, ramped from 0 to its
     weight (the strips held at their targets); returns the path (states' positions)."""
     setup = solution.setup
@@ -302,8 +380,14 @@ def solve_payload(solution: GridshellSolution, mass: float, *,
         return setup.model.reference.reshape(-1)[setup.held]
 
     try:
-        return follow_path(setup.model, solution.final.x, setup.held, load,
-                           newton_options=newton_options, path_options=path)
+        return follow_path(
+            setup.model,
+            solution.final.x,
+            setup.held,
+            load,
+            newton_options=newton_options,
+            path_options=path,
+        )
     finally:
         setup.model.set_external_forces(base)
 
@@ -314,9 +398,12 @@ def centre_height(structure: BarHingeStructure, x: np.ndarray) -> float:
     return float(junction_centre_points(structure, x)[n // 2, n // 2, 2])
 
 
-def prepare_structure(structure: BarHingeStructure, support: str,
-                      geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                      lambda_N: float = PUBLISHED_LAMBDA_N) -> None:
+def prepare_structure(
+    structure: BarHingeStructure,
+    support: str,
+    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+    lambda_N: float = PUBLISHED_LAMBDA_N,
+) -> None:
     """Check the support kind and add what it needs to the structure (the table's plane and
     contacts) before the model is built."""
     if support not in SUPPORTS:
@@ -325,23 +412,29 @@ def prepare_structure(structure: BarHingeStructure, support: str,
         add_table(structure, geometry, lambda_N)
 
 
-def setup_from_model(structure: BarHingeStructure, model: BarHingeModel, support: str,
-                     rest_fractions: dict[str, np.ndarray] | None = None,
-                     weight: SurfaceWeight = SurfaceWeight()) -> GridshellSetup:
+def setup_from_model(
+    structure: BarHingeStructure,
+    model: BarHingeModel,
+    support: str,
+    rest_fractions: dict[str, np.ndarray] | None = None,
+    weight: SurfaceWeight = SurfaceWeight(),
+) -> GridshellSetup:
     """Supports, weight (table only) and ramp targets (default: as built) on a built model."""
     forces = np.zeros(model.ndof)
     if support == "table":
         forces = lumped_node_weights(structure, model, weight)
         model.set_external_forces(forces)
     targets = rest_fractions or {g: np.ones(structure.bars[g].shape[0]) for g in STRIP_GROUPS}
-    return GridshellSetup(structure, model, support_dofs(structure, support), targets, support, forces)
+    return GridshellSetup(
+        structure, model, support_dofs(structure, support), targets, support, forces
+    )
 
 
 # --------------------------------------------------------------------------- the problem
 @dataclass(frozen=True)
 class GridshellBHConfig:
-    """Material laws (:class:`lcefem.models.bar_hinge_materials.BarHingeMaterials`, the published model's values),
-    support, solver and path settings."""
+    """Material laws (:class:`lcefem.models.bar_hinge_materials.BarHingeMaterials`, the published
+    model's values), support, solver and path settings."""
 
     materials: law.BarHingeMaterials = field(default_factory=law.BarHingeMaterials)
     weight: SurfaceWeight = field(default_factory=SurfaceWeight)
@@ -363,7 +456,9 @@ class GridshellBH:
         g.observables()["circle kappa_x [1/mm]"]
     """
 
-    def __init__(self, structure: BarHingeStructure, config: GridshellBHConfig = GridshellBHConfig()):
+    def __init__(
+        self, structure: BarHingeStructure, config: GridshellBHConfig = GridshellBHConfig()
+    ):
         self.structure, self.config = structure, config
         prepare_structure(structure, config.support, config.geometry, config.materials.lce.lambda_N)
         model = bar_hinge_model(structure, config.materials)
@@ -400,25 +495,37 @@ class GridshellBH:
         :func:`targets_from_lambdas`), reached by :meth:`advance`; groups not named keep theirs."""
         for g, v in fractions.items():
             if g not in self._target:
-                raise InputError(f"rest fractions for {g!r}: no such strip group (have: {', '.join(self._target)})")
+                raise InputError(
+                    f"rest fractions for {g!r}: no such strip group (have: "
+                    f"{', '.join(self._target)})"
+                )
             v = np.asarray(v, dtype=float)
             if v.shape != self._target[g].shape or np.any(v <= 0.0):
-                raise InputError(f"rest fractions of {g}: {self._target[g].size} values > 0 expected")
+                raise InputError(
+                    f"rest fractions of {g}: {self._target[g].size} values > 0 expected"
+                )
             self._target[g] = v.copy()
 
     def lambda_of(self, group: str) -> np.ndarray:
         """Target lambda [-] of every bar of a strip group."""
         return self._target[group] * self.lambda_N
 
-    def advance(self, dt: float = 1.0, *, on_step: Callable[[PathState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> StepRecord:
-        """Ramp the rest fractions from the current state to the targets (t: 0 -> 1; ``dt`` < 1 stops
-        at that fraction of the way) from the current positions; raises ConvergenceError when the
-        increment falls below its minimum. The record's ``detail``: the :class:`PathResult`."""
+    def advance(
+        self,
+        dt: float = 1.0,
+        *,
+        on_step: Callable[[PathState], None] | None = None,
+        progress: Callable[[float], None] | None = None,
+    ) -> StepRecord:
+        """Ramp the rest fractions from the current state to the targets (t: 0 -> 1; ``dt`` < 1
+        stops at that fraction of the way) from the current positions; raises ConvergenceError when
+        the increment falls below its minimum. The record's ``detail``: the :class:`PathResult`."""
         dt = check_quasi_static_step(dt)
         start = {g: v.copy() for g, v in self._current.items()}
-        target = {g: v.copy() if dt == 1.0 else start[g] + dt * (v - start[g])
-                  for g, v in self._target.items()}
+        target = {
+            g: v.copy() if dt == 1.0 else start[g] + dt * (v - start[g])
+            for g, v in self._target.items()
+        }
         model, held = self.model, self.setup.held
 
         def load(t: float) -> np.ndarray:
@@ -426,8 +533,16 @@ class GridshellBH:
             return model.reference.reshape(-1)[held]
 
         self._fraction = dt
-        result = follow_path(model, self.x, held, load, newton_options=self.config.solver,
-                             path_options=self.config.path, on_step=on_step, progress=progress)
+        result = follow_path(
+            model,
+            self.x,
+            held,
+            load,
+            newton_options=self.config.solver,
+            path_options=self.config.path,
+            on_step=on_step,
+            progress=progress,
+        )
         self.x = result.states[-1].x.copy()
         self._current = target
         self.history.extend(result.states[1:])
@@ -436,8 +551,13 @@ class GridshellBH:
     def increment_record(self, state: PathState) -> StepRecord:
         """The :class:`StepRecord` of one converged increment of :meth:`advance` (``at``: its
         fraction of the way; the one door, lcefem.solvers.runner.run, records every increment)."""
-        return StepRecord(state.t * self._fraction, self._observe(state.x), state.iterations, clock=LOAD,
-                          detail=state)
+        return StepRecord(
+            state.t * self._fraction,
+            self._observe(state.x),
+            state.iterations,
+            clock=LOAD,
+            detail=state,
+        )
 
     def observables(self) -> dict[str, float]:
         """Centre curvatures by both measures [1/mm] (dome negative), z range of the ribbons and the
@@ -448,8 +568,14 @@ class GridshellBH:
         s = shape_summary(self.structure, x)
         out = {"circle kappa_x [1/mm]": s["circle_x"], "circle kappa_y [1/mm]": s["circle_y"]}
         if "quad_kx" in s:
-            out.update({"quad kappa_x [1/mm]": s["quad_kx"], "quad kappa_y [1/mm]": s["quad_ky"],
-                        "quad kappa_1 [1/mm]": s["quad_k1"], "quad kappa_2 [1/mm]": s["quad_k2"]})
+            out.update(
+                {
+                    "quad kappa_x [1/mm]": s["quad_kx"],
+                    "quad kappa_y [1/mm]": s["quad_ky"],
+                    "quad kappa_1 [1/mm]": s["quad_k1"],
+                    "quad kappa_2 [1/mm]": s["quad_k2"],
+                }
+            )
         out["z range [mm]"] = s["z_range [mm]"]
         out["centre height [mm]"] = centre_height(self.structure, x)
         return out
@@ -469,14 +595,18 @@ class GridshellBH:
         return {"node positions [mm]": self.x}
 
     def save_state(self) -> dict:
-        return {"x": self.x.copy(), "current": {g: v.copy() for g, v in self._current.items()},
-                "target": {g: v.copy() for g, v in self._target.items()}, "steps": len(self.history)}
+        return {
+            "x": self.x.copy(),
+            "current": {g: v.copy() for g, v in self._current.items()},
+            "target": {g: v.copy() for g, v in self._target.items()},
+            "steps": len(self.history),
+        }
 
     def restore_state(self, state: dict) -> None:
         self.x = state["x"].copy()
         self._current = {g: v.copy() for g, v in state["current"].items()}
         self._target = {g: v.copy() for g, v in state["target"].items()}
-        del self.history[state["steps"]:]
+        del self.history[state["steps"] :]
         self.model.set_rest_fractions(self._current)
 
 
@@ -487,13 +617,16 @@ def _selection_masks(structure: BarHingeStructure, key) -> dict[str, np.ndarray]
     return {g: v != 0.0 for g, v in values.items()}
 
 
-def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support: str = "rollers",
-                    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
-                    layout: GridshellLayout = GridshellLayout(),
-                    mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
-                    materials: law.BarHingeMaterials = law.BarHingeMaterials(),
-                    weight: SurfaceWeight = SurfaceWeight(),
-                    structure: BarHingeStructure | None = None) -> GridshellSetup:
+def setup_gridshell(
+    rest_fractions: dict[str, np.ndarray] | None = None,
+    support: str = "rollers",
+    geometry: CompositeBeamGeometry = CompositeBeamGeometry(),
+    layout: GridshellLayout = GridshellLayout(),
+    mesh: BeamBarHingeMesh = BeamBarHingeMesh(),
+    materials: law.BarHingeMaterials = law.BarHingeMaterials(),
+    weight: SurfaceWeight = SurfaceWeight(),
+    structure: BarHingeStructure | None = None,
+) -> GridshellSetup:
     """Structure, model, supports and ramp. ``rest_fractions`` per bar by group (default: as built);
     build them with :func:`targets_from_lambdas` / :func:`targets_from_recipe` on ``structure``
     (pass the same structure here)."""
@@ -501,6 +634,6 @@ def setup_gridshell(rest_fractions: dict[str, np.ndarray] | None = None, support
         raise InputError(f"support = {support!r}: allowed {', '.join(SUPPORTS)}")
     structure = structure or build_gridshell_bar_hinge(geometry, layout, mesh)
     prepare_structure(structure, support, geometry, materials.lce.lambda_N)
-    return setup_from_model(structure, bar_hinge_model(structure, materials), support,
-                            rest_fractions, weight)
-
+    return setup_from_model(
+        structure, bar_hinge_model(structure, materials), support, rest_fractions, weight
+    )

@@ -15,9 +15,10 @@ import time
 from collections.abc import Callable, Mapping
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from mpi4py import MPI
+
 import numpy as np
 import ufl
-from mpi4py import MPI
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -43,27 +44,27 @@ _prefix = itertools.count()
 STEADY_TEMPERATURE_TOL = 1e-3
 #: Where the coils' heat goes (HeatedGridshellFE ``junction_heating``): "off" the strips only,
 #: "added" also the pads and glue squares the coils pass, at the strips' power density (the default,
-#: :data:`JUNCTION_HEATING_DEFAULT`), "spread" the same with each coil's power unchanged (spread over
-#: its strips and those pads).
+#: :data:`JUNCTION_HEATING_DEFAULT`), "spread" the same with each coil's power unchanged (spread
+#: over its strips and those pads).
 JUNCTION_HEATING = ("off", "added", "spread")
 #: The experiment's coil path (issue 31): the coil runs through the junctions at the strips' linear
 #: power density. Source: seed 001, Materials and Methods: the LCE was injected into "a high-density
-#: polyethylene mold with grid-shaped channels with heating coils placed inside" and "the heating coil
-#: is integrated inside each LCE strip" (Results), so each coil lies in its line of the moulded grid,
-#: through the junction crossings; it is wound at a uniform pitch ("the resistance of the coil is 1.25
-#: ohms/mm on average before stretch", fig. S8), so a junction piece is heated per unit length as a
-#: segment. The density is the measured coil over the measured active length (126-134 ohm over 80 mm
-#: isotropic, "preserved in the 3x3 grid design"), the same density as the lumped grid strip
-#: (models.lumped_heat.GRID_STRIP) of the bar-and-hinge current route, whose one exchange factor was
-#: calibrated with it. Not "off": a coil that skips the junctions contradicts the grid-shaped channels.
-#: Not "spread": it rescales the measured density by the FE's own pad volumes (the published layout's
-#: bottom line is ~98 mm isotropic at 1.63 ohm/mm with its pads and tabs, the top ~122 mm with its crowns
-#: and glue squares, against the measured 80 mm), a model geometry.
+#: polyethylene mold with grid-shaped channels with heating coils placed inside" and "the heating
+#: coil is integrated inside each LCE strip" (Results), so each coil lies in its line of the moulded
+#: grid, through the junction crossings; it is wound at a uniform pitch ("the resistance of the coil
+#: is 1.25 ohms/mm on average before stretch", fig. S8), so a junction piece is heated per unit
+#: length as a segment. The density is the measured coil over the measured active length (126-134
+#: ohm over 80 mm isotropic, "preserved in the 3x3 grid design"), the same density as the lumped
+#: grid strip (models.lumped_heat.GRID_STRIP) of the bar-and-hinge current route, whose one exchange
+#: factor was calibrated with it. Not "off": a coil that skips the junctions contradicts the
+#: grid-shaped channels. Not "spread": it rescales the measured density by the FE's own pad volumes
+#: (the published layout's bottom line is ~98 mm isotropic at 1.63 ohm/mm with its pads and tabs,
+#: the top ~122 mm with its crowns and glue squares, against the measured 80 mm), a model geometry.
 JUNCTION_HEATING_DEFAULT = "added"
 #: Picard iterations allowed to the steady heat equation (HeatProblem.steady's radiation update).
-#: Measured: the table's 0.2 A on every strip, junctions heated, settles at 315 C with the change per
-#: iteration shrinking by ~0.63 (1e-10 relative after ~55 iterations, more than HeatProblem's 50); the
-#: holds of 0.04-0.08 A settle in ~12.
+#: Measured: the table's 0.2 A on every strip, junctions heated, settles at 315 C with the change
+#: per iteration shrinking by ~0.63 (1e-10 relative after ~55 iterations, more than HeatProblem's
+#: 50); the holds of 0.04-0.08 A settle in ~12.
 STEADY_PICARD_ITERATIONS = 200
 
 
@@ -82,38 +83,58 @@ class HeatedGridshellFE(GridshellFE):
     over 80 mm isotropic, seed 001) spread uniformly, i.e. the part of it in one 30 mm segment
     (:func:`lcefem.models.lumped_heat.grid_segment_resistance`, 34.8 ohm; the earlier 25 ohm segment
     reading under-powered the strips by 28 %) over a 30 mm strip's as-built volume,
-    q = I^2 R / (L W_s H) [mW/mm^3], in every LCE cell of a driven strip (cell-wise field: each strip
-    tag its own current); the glue squares where the top strips cross (4.2 of a top strip's 30 mm)
-    are heated by the coil passing through them at its strips' power density (``junction_heating``
-    "added", the default, :data:`JUNCTION_HEATING_DEFAULT`: the experiment's coil path); "off" heats
-    the strips only (neither the glue squares nor the bond pads); "spread" spreads each coil's unchanged power over its strips and the pads it passes
+    q = I^2 R / (L W_s H) [mW/mm^3], in every LCE cell of a driven strip (cell-wise field: each
+    strip tag its own current); the glue squares where the top strips cross (4.2 of a top strip's 30
+    mm) are heated by the coil passing through them at its strips' power density
+    (``junction_heating`` "added", the default, :data:`JUNCTION_HEATING_DEFAULT`: the experiment's
+    coil path); "off" heats the strips only (neither the glue squares nor the bond pads); "spread"
+    spreads each coil's unchanged power over its strips and the pads it passes
     (:meth:`_junction_coil_map`; the seed's coils lie in the grid-shaped mould channels, so they run
     through the junctions): the controlled changes that measure the heat the strips lose into
-    unheated junctions. Exchange: the free strip's calibrated convection times the grid's one calibrated
-    factor (:func:`lcefem.models.lumped_heat.grid_thermal`, calibrated on the bar-and-hinge dome
-    protocol), and radiation.
+    unheated junctions. Exchange: the free strip's calibrated convection times the grid's one
+    calibrated factor (:func:`lcefem.models.lumped_heat.grid_thermal`, calibrated on the
+    bar-and-hinge dome protocol), and radiation.
 
     Drive: :meth:`set_current` per channel, group or strip tag (as :meth:`GridshellFE.set_lambda`);
     step: :meth:`advance_time`; a schedule: :meth:`run_protocol`. The mesh is built at the
     transition's as-built stretch (``transition.lambda_N``; the heated beam's choice).
     """
 
-    def __init__(self, config: GridshellConfig = GridshellConfig(), *, transition=None,
-                 thermal=None, exchange=None, coil=None, dt: float = 1.0,
-                 junction_heating: str = JUNCTION_HEATING_DEFAULT,
-                 comm: MPI.Comm | None = None, petsc_options: dict | None = None):
+    def __init__(
+        self,
+        config: GridshellConfig = GridshellConfig(),
+        *,
+        transition=None,
+        thermal=None,
+        exchange=None,
+        coil=None,
+        dt: float = 1.0,
+        junction_heating: str = JUNCTION_HEATING_DEFAULT,
+        comm: MPI.Comm | None = None,
+        petsc_options: dict | None = None,
+    ):
         self.transition = transition or NematicTransition()
         if junction_heating not in JUNCTION_HEATING:
-            raise InputError(f"junction_heating = {junction_heating!r}: allowed {', '.join(JUNCTION_HEATING)}")
+            raise InputError(
+                f"junction_heating = {junction_heating!r}: allowed {', '.join(JUNCTION_HEATING)}"
+            )
         self.junction_heating = junction_heating
         self.coil = coil or Coil(resistance=grid_segment_resistance())
         self._heat_materials = (thermal or ThermalProperties(), exchange or grid_thermal().exchange)
-        super().__init__(dataclasses.replace(config, lambda_N=self.transition.lambda_N), comm,
-                         petsc_options)
+        super().__init__(
+            dataclasses.replace(config, lambda_N=self.transition.lambda_N), comm, petsc_options
+        )
         g = self.config.geometry
-        self._segment_volume = g.segment_length * self.info["strip_width"] * self.info["strip_thickness"]
-        self.stepper = TemperatureFollower(self.heat, self.T_mech, self.problem,
-                                           PathControl(first_step=dt, max_step=dt), self.damping)
+        self._segment_volume = (
+            g.segment_length * self.info["strip_width"] * self.info["strip_thickness"]
+        )
+        self.stepper = TemperatureFollower(
+            self.heat,
+            self.T_mech,
+            self.problem,
+            PathControl(first_step=dt, max_step=dt),
+            self.damping,
+        )
         self.currents = np.zeros(self.lam.x.array.size)  # [A] per cell (0 outside the strips)
         dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
         comm_ = self.tmesh.mesh.comm
@@ -121,13 +142,17 @@ class HeatedGridshellFE(GridshellFE):
         for ch in ("Tx", "Ty", "Bx", "By"):
             if ch in self.info["cell_groups"]:
                 tags = cell_group(self.tmesh, ch)
-                self._channel_T[ch] = (dolfinx.fem.form(self.heat.T * dx(tags)),
-                                       assemble_global(dolfinx.fem.form(1.0 * dx(tags)), comm_))
+                self._channel_T[ch] = (
+                    dolfinx.fem.form(self.heat.T * dx(tags)),
+                    assemble_global(dolfinx.fem.form(1.0 * dx(tags)), comm_),
+                )
         # Output of the heated state (write_fields): lambda_s(T) [-] on the temperature space and
         # at the strips' cell midpoints; the pads, glue and ribbons are passive (lambda_N).
         lam_T = spontaneous_stretch(self.heat.T, self.transition)
         self.lambda_s = dolfinx.fem.Function(self.heat.V, name="spontaneous_stretch")
-        self._lambda_s_expr = dolfinx.fem.Expression(lam_T, self.heat.V.element.interpolation_points)
+        self._lambda_s_expr = dolfinx.fem.Expression(
+            lam_T, self.heat.V.element.interpolation_points
+        )
         self._lam_cells = dolfinx.fem.Function(self.V0, name="lambda")
         self._lam_cells_expr = dolfinx.fem.Expression(lam_T, self.V0.element.interpolation_points)
         tags = self.tmesh.cell_tags
@@ -160,14 +185,26 @@ class HeatedGridshellFE(GridshellFE):
         half = 0.5 * self.info["strip_width"] + 1e-9
         strips = self.info["strips"]
         tag_of = {name: self.tmesh.cell_tag(name) for name in strips}
-        volume = dolfinx.fem.assemble_vector(dolfinx.fem.form(
-            ufl.TestFunction(self.V0) * volume_measure(self.tmesh, QUADRATURE_DEGREE))).array  # [mm^3]
+        volume = dolfinx.fem.assemble_vector(
+            dolfinx.fem.form(
+                ufl.TestFunction(self.V0) * volume_measure(self.tmesh, QUADRATURE_DEGREE)
+            )
+        ).array  # [mm^3]
         out = []
         for layer, pad_groups in (("bottom", ("bottom_pads",)), ("top", ("top_pads", "glue"))):
-            pad_tags = [t for g in pad_groups if g in self.info["cell_groups"] for t in cell_group(self.tmesh, g)]
+            pad_tags = [
+                t
+                for g in pad_groups
+                if g in self.info["cell_groups"]
+                for t in cell_group(self.tmesh, g)
+            ]
             pads = np.flatnonzero(np.isin(self._dof_tag, pad_tags))
             for d, across in (("x", 1), ("y", 0)):
-                own = [tag_of[n] for n, s in strips.items() if s["layer"] == layer and s["direction"] == d]
+                own = [
+                    tag_of[n]
+                    for n, s in strips.items()
+                    if s["layer"] == layer and s["direction"] == d
+                ]
                 sdofs = np.flatnonzero(np.isin(self._dof_tag, own))
                 if pads.size == 0 or sdofs.size == 0:
                     continue
@@ -179,7 +216,9 @@ class HeatedGridshellFE(GridshellFE):
                 out.append((in_band, sdofs[nearest]))
                 if self.junction_heating == "spread":
                     v = volume[sdofs].sum()
-                    self.coil_share[f"{layer[0].upper()}{d}"] = float(v / (v + volume[in_band].sum()))
+                    self.coil_share[f"{layer[0].upper()}{d}"] = float(
+                        v / (v + volume[in_band].sum())
+                    )
         return out
 
     def _strip_stretch_ratio(self, u):
@@ -188,9 +227,13 @@ class HeatedGridshellFE(GridshellFE):
         thermal, exchange = self._heat_materials
         exposed = [f for f in self.tmesh.facets if f not in ("sym_x", "sym_y")]
         self.power = dolfinx.fem.Function(self.V0, name="power_density")  # [mW/mm^3]
-        self.heat = HeatProblem(self.tmesh, HeatSetup(thermal, exchange, exposed_facets=exposed),
-                                displacement=u, extra_source=self.power,
-                                prefix=f"lcefem_gridshell_heat{next(_prefix)}_")
+        self.heat = HeatProblem(
+            self.tmesh,
+            HeatSetup(thermal, exchange, exposed_facets=exposed),
+            displacement=u,
+            extra_source=self.power,
+            prefix=f"lcefem_gridshell_heat{next(_prefix)}_",
+        )
         self.T_mech = dolfinx.fem.Function(self.heat.V, name="temperature_mechanics")
         self.T_mech.x.array[:] = self.heat.T.x.array
         return contraction_ratio(self.T_mech, self.transition)
@@ -233,7 +276,9 @@ class HeatedGridshellFE(GridshellFE):
         for ch, share in self.coil_share.items():  # "spread": each coil's power unchanged
             if ch in self.info["cell_groups"]:
                 cells = np.isin(self._dof_tag, cell_group(self.tmesh, ch))
-                self.power.x.array[cells] = share * np.vectorize(self.power_density)(self.currents[cells])
+                self.power.x.array[cells] = share * np.vectorize(self.power_density)(
+                    self.currents[cells]
+                )
         if self._pad_sources is not None:  # the coils through the pads and glue squares
             pad_all = np.unique(np.concatenate([p for p, _ in self._pad_sources]))
             self.power.x.array[pad_all] = 0.0
@@ -241,8 +286,10 @@ class HeatedGridshellFE(GridshellFE):
                 np.add.at(self.power.x.array, pads, self.power.x.array[sources])
 
     def set_lambda(self, drives):
-        raise InputError("the heated gridshell is driven by set_current (currents [A]); "
-                         "set_lambda belongs to the prescribed-lambda route (GridshellFE)")
+        raise InputError(
+            "the heated gridshell is driven by set_current (currents [A]); "
+            "set_lambda belongs to the prescribed-lambda route (GridshellFE)"
+        )
 
     def observables(self) -> dict[str, float]:
         """:meth:`GridshellFE.observables` plus time [s], the channels' mean temperature [C],
@@ -253,8 +300,9 @@ class HeatedGridshellFE(GridshellFE):
             T = assemble_global(form, comm) / volume
             out[f"T_mean {ch} [C]"] = T
             out[f"lambda {ch} [-]"] = float(spontaneous_stretch(T, self.transition))
-            out[f"current {ch} [A]"] = float(self.currents[np.isin(self._dof_tag,
-                                                                      cell_group(self.tmesh, ch))].max())
+            out[f"current {ch} [A]"] = float(
+                self.currents[np.isin(self._dof_tag, cell_group(self.tmesh, ch))].max()
+            )
         out["T_max [C]"] = self.heat.max_temperature()
         out.update(super().observables())
         return out
@@ -287,8 +335,13 @@ class HeatedGridshellFE(GridshellFE):
             self.wall_time += time.perf_counter() - started
         return {**self.observables(), "newton iterations [-]": its}
 
-    def run_protocol(self, protocol, duration: float = 60.0, dt: float = 1.0,
-                     on_step: Callable[[dict], None] | None = None) -> list[dict]:
+    def run_protocol(
+        self,
+        protocol,
+        duration: float = 60.0,
+        dt: float = 1.0,
+        on_step: Callable[[dict], None] | None = None,
+    ) -> list[dict]:
         """Currents switched at the protocol's times ((t [s], {selector: I [A]}), first at 0),
         held until the next switch, stepped with ``dt`` [s] up to ``duration`` [s]; one row of
         observables per step (the first at t = 0)."""
@@ -312,8 +365,14 @@ class HeatedGridshellFE(GridshellFE):
                 on_step(rows[-1])
         return rows
 
-    def hold(self, currents: Mapping[str, float], until: float, first_dt: float,
-             growth: float = 2.0, on_step: Callable[[dict], None] | None = None) -> list[dict]:
+    def hold(
+        self,
+        currents: Mapping[str, float],
+        until: float,
+        first_dt: float,
+        growth: float = 2.0,
+        on_step: Callable[[dict], None] | None = None,
+    ) -> list[dict]:
         """Hold ``currents`` [A] from now up to ``until`` [s] with time steps growing geometrically
         (``first_dt`` [s], x ``growth``; the last one cut at ``until``). Backward Euler is
         unconditionally stable and tends to the steady state, so the held shape is reached in a few
@@ -321,8 +380,10 @@ class HeatedGridshellFE(GridshellFE):
         (it steps the temperature change of a long heat step in increments it chooses itself,
         cut on failure). One row of observables per step."""
         if not (first_dt > 0 and growth >= 1.0 and until > self.time):
-            raise InputError(f"hold: first_dt = {first_dt} s (> 0), growth = {growth} (>= 1), "
-                             f"until = {until} s (> the current time {self.time:g} s)")
+            raise InputError(
+                f"hold: first_dt = {first_dt} s (> 0), growth = {growth} (>= 1), "
+                f"until = {until} s (> the current time {self.time:g} s)"
+            )
         self.set_current(currents)
         follower = self.stepper.follower
         control = follower.control
@@ -339,9 +400,14 @@ class HeatedGridshellFE(GridshellFE):
             follower.control = control
         return rows
 
-    def steady_hold(self, currents: Mapping[str, float], *,
-                    temperature_tol: float = STEADY_TEMPERATURE_TOL, max_sweeps: int = 8,
-                    on_step: Callable[[dict], None] | None = None) -> list[dict]:
+    def steady_hold(
+        self,
+        currents: Mapping[str, float],
+        *,
+        temperature_tol: float = STEADY_TEMPERATURE_TOL,
+        max_sweeps: int = 8,
+        on_step: Callable[[dict], None] | None = None,
+    ) -> list[dict]:
         """The held shape at constant ``currents`` [A] directly, without the transient: the steady
         heat equation (rho c dT/dt = 0, :meth:`HeatProblem.steady`) on the current deformed body
         -> temperature -> lambda_s(T) -> the mechanics from the temperature it last saw to that
@@ -350,14 +416,18 @@ class HeatedGridshellFE(GridshellFE):
         temperature by more than ``temperature_tol`` [K]. The limit of :meth:`hold` as t -> oo;
         the clock does not move. One row of observables per sweep."""
         if not (temperature_tol > 0 and max_sweeps >= 1):
-            raise InputError(f"steady_hold: temperature_tol = {temperature_tol} K (> 0), "
-                             f"max_sweeps = {max_sweeps} (>= 1)")
+            raise InputError(
+                f"steady_hold: temperature_tol = {temperature_tol} K (> 0), "
+                f"max_sweeps = {max_sweeps} (>= 1)"
+            )
         self.set_current(currents)
         rows, previous = [], None
         for sweep in range(1, max_sweeps + 1):
             self.heat.steady(max_iterations=STEADY_PICARD_ITERATIONS)
             T1 = self.heat.T.x.array.copy()
-            follower = temperature_path(self.problem, self.T_mech, T1, self.config.control, self.damping)
+            follower = temperature_path(
+                self.problem, self.T_mech, T1, self.config.control, self.damping
+            )
             started = time.perf_counter()
             try:
                 follower.follow(1.0, where=f"heated gridshell, steady hold, sweep {sweep}")
@@ -366,15 +436,23 @@ class HeatedGridshellFE(GridshellFE):
                 self.last_follower = follower
             self.T_mech.x.array[:] = T1
             change = math.inf if previous is None else float(np.max(np.abs(T1 - previous)))
-            rows.append({**self.observables(), "newton iterations [-]": follower.iterations,
-                         "steady sweep [-]": sweep, "temperature change [K]": change})
+            rows.append(
+                {
+                    **self.observables(),
+                    "newton iterations [-]": follower.iterations,
+                    "steady sweep [-]": sweep,
+                    "temperature change [K]": change,
+                }
+            )
             if on_step is not None:
                 on_step(rows[-1])
             if change <= temperature_tol:
                 return rows
             previous = T1
-        raise ConvergenceError("heated gridshell, steady hold", f"the steady temperature still "
-                               f"moves {change:.3g} K after {max_sweeps} sweeps")
+        raise ConvergenceError(
+            "heated gridshell, steady hold",
+            f"the steady temperature still moves {change:.3g} K after {max_sweeps} sweeps",
+        )
 
     # -- the Problem protocol (lcefem.solvers.problems.protocol) --------------------------------
     drive = "current [A]"
@@ -396,8 +474,13 @@ class HeatedGridshellFE(GridshellFE):
         return {**out, "temperature [C]": self.heat.T, "spontaneous stretch [-]": self.lambda_s}
 
     def memory_state(self) -> dict:
-        return {**super().memory_state(), "heat": copy_arrays([self.heat.T, self.heat.T_old, self.T_mech]),
-                "time": self.time, "currents": self.currents.copy(), "power": copy_arrays([self.power])}
+        return {
+            **super().memory_state(),
+            "heat": copy_arrays([self.heat.T, self.heat.T_old, self.T_mech]),
+            "time": self.time,
+            "currents": self.currents.copy(),
+            "power": copy_arrays([self.power]),
+        }
 
     def restore_state(self, state: dict) -> None:
         super().restore_state(state)
@@ -407,5 +490,10 @@ class HeatedGridshellFE(GridshellFE):
         self.stepper.time = state["time"]
 
 
-__all__ = ["JUNCTION_HEATING", "JUNCTION_HEATING_DEFAULT", "STEADY_PICARD_ITERATIONS", "STEADY_TEMPERATURE_TOL",
-           "HeatedGridshellFE"]
+__all__ = [
+    "JUNCTION_HEATING",
+    "JUNCTION_HEATING_DEFAULT",
+    "STEADY_PICARD_ITERATIONS",
+    "STEADY_TEMPERATURE_TOL",
+    "HeatedGridshellFE",
+]

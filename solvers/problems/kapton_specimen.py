@@ -11,8 +11,8 @@ project's one path follower (:class:`lcefem.solvers.continuation.PathFollower`).
   generalised eigenproblem, repeated at the estimate: a secant refinement).
 * :meth:`KaptonSpecimenFE.add_imperfection` — the first mode as geometric imperfection.
 * :meth:`KaptonSpecimenFE.follow` — displacement-controlled path to the final compression.
-* :class:`KaptonSpecimenFEConfig`, :func:`run_specimen_fe` — ``lcefem run ribbon-buckling --model fe``:
-  the configuration sections and one run through the door (lcefem.solvers.runner.run).
+* :class:`KaptonSpecimenFEConfig`, :func:`run_specimen_fe` — ``lcefem run ribbon-buckling --model
+  fe``: the configuration sections and one run through the door (lcefem.solvers.runner.run).
 
 Observables (:meth:`KaptonSpecimenFE.observables`), keys "name [unit]": compressive force [N] on the
 whole specimen, mid-span deflection [mm]. Not to be confused with the twisted LCE ribbon
@@ -31,10 +31,11 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
-import numpy as np
-import ufl
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+import ufl
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -46,13 +47,24 @@ from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energ
 from lcefem.models.parameters import param
 from lcefem.solvers.continuation import PathControl, PathFollower
 from lcefem.solvers.exports import FEFields, write_snapshot
+from lcefem.solvers.mechanics import (
+    HyperelasticProblem,
+    assemble_global,
+    deformation_gradient,
+    displacement_space,
+    volume_measure,
+)
 from lcefem.solvers.problems.kapton_specimen_bh import KaptonSpecimenRun
-from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, copy_arrays, put_arrays
-from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.problems.protocol import (
+    LOAD,
+    StepRecord,
+    check_quasi_static_step,
+    copy_arrays,
+    put_arrays,
+)
 from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
+from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.run import Progress
-from lcefem.solvers.mechanics import (HyperelasticProblem, assemble_global, deformation_gradient,
-                                      displacement_space, volume_measure)
 from lcefem.solvers.supports import clamp_face, mirror_planes
 
 _prefix = itertools.count()
@@ -62,15 +74,30 @@ _prefix = itertools.count()
 class KaptonSpecimenFEPath:
     """Stepping of the FE buckling test and its imperfection."""
 
-    imperfection: float = param(1.0e-3, "-", "chosen: amplitude/length of the first buckling "
-                                "eigenmode added to the geometry (the bar-and-hinge run uses the "
-                                "same amplitude of the fixed-fixed mode shape)", minimum=0.0,
-                                maximum=0.1)
-    step: float = param(0.02, "-", "chosen: compression increment in the post-buckling range",
-                        positive=True, maximum=0.25)
-    onset_steps: int = param(12, "-", "chosen: geometric increments from 0.2 to 50 x the critical "
-                             "compression (resolves the rise of the force to its plateau)",
-                             minimum=2, maximum=200)
+    imperfection: float = param(
+        1.0e-3,
+        "-",
+        "chosen: amplitude/length of the first buckling "
+        "eigenmode added to the geometry (the bar-and-hinge run uses the "
+        "same amplitude of the fixed-fixed mode shape)",
+        minimum=0.0,
+        maximum=0.1,
+    )
+    step: float = param(
+        0.02,
+        "-",
+        "chosen: compression increment in the post-buckling range",
+        positive=True,
+        maximum=0.25,
+    )
+    onset_steps: int = param(
+        12,
+        "-",
+        "chosen: geometric increments from 0.2 to 50 x the critical "
+        "compression (resolves the rise of the force to its plateau)",
+        minimum=2,
+        maximum=200,
+    )
 
 
 @dataclass
@@ -89,28 +116,43 @@ class KaptonSpecimenFE:
     clamp face, times the symmetry factor.
     """
 
-    def __init__(self, specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
-                 mesh: KaptonFEMesh = KaptonFEMesh(),
-                 solid: NeoHookeanSolid = NeoHookeanSolid(), petsc_options: dict | None = None,
-                 comm: MPI.Comm | None = None):
+    def __init__(
+        self,
+        specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+        mesh: KaptonFEMesh = KaptonFEMesh(),
+        solid: NeoHookeanSolid = NeoHookeanSolid(),
+        petsc_options: dict | None = None,
+        comm: MPI.Comm | None = None,
+    ):
         self.specimen, self.solid = specimen, solid
         self.tmesh = tm = build_ribbon_fe(specimen, mesh, comm)
         self.V = V = displacement_space(tm.mesh, 2)
         self.u = u = dolfinx.fem.Function(V, name="displacement")
         self.end = dolfinx.fem.Constant(tm.mesh, np.zeros(3, dtype=PETSc.ScalarType))  # [mm]
-        self.bcs = (clamp_face(tm, V, "clamp_left") + clamp_face(tm, V, "clamp_right", self.end)
-                    + mirror_planes(tm, V, [("sym_y", 1)]))
+        self.bcs = (
+            clamp_face(tm, V, "clamp_left")
+            + clamp_face(tm, V, "clamp_right", self.end)
+            + mirror_planes(tm, V, [("sym_y", 1)])
+        )
         right = dolfinx.fem.locate_dofs_topological(
-            V, tm.mesh.topology.dim - 1, tm.facet_tags.find(tm.facet_tag("clamp_right")))
+            V, tm.mesh.topology.dim - 1, tm.facet_tags.find(tm.facet_tag("clamp_right"))
+        )
         dx = volume_measure(tm)
         energy = neo_hookean_strain_energy(deformation_gradient(u), solid) * dx
-        self.problem = HyperelasticProblem(u, energy, self.bcs, prefix=f"lcefem_kaptonfe{next(_prefix)}_",
-                                           petsc_options=petsc_options,
-                                           user_options=tuple(petsc_options or ()))
+        self.problem = HyperelasticProblem(
+            u,
+            energy,
+            self.bcs,
+            prefix=f"lcefem_kaptonfe{next(_prefix)}_",
+            petsc_options=petsc_options,
+            user_options=tuple(petsc_options or ()),
+        )
         weight = dolfinx.fem.Function(V)
         weight.x.array[3 * right] = 1.0
         self._reaction = self.problem.reaction_form(weight)
-        self._jacobian = dolfinx.fem.form(ufl.derivative(self.problem.residual, u, ufl.TrialFunction(V)))
+        self._jacobian = dolfinx.fem.form(
+            ufl.derivative(self.problem.residual, u, ufl.TrialFunction(V))
+        )
         self.factor = tm.info["symmetry_factor"]
         self.length = specimen.length
         self.ndofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
@@ -135,8 +177,12 @@ class KaptonSpecimenFE:
     def observables(self) -> dict[str, float]:
         """Named observables, keys "name [unit]"."""
         shortening = -float(self.end.value[0])
-        return {"end shortening [mm]": shortening, "compression [-]": shortening / self.length,
-                "force [N]": self.force(), "mid-span deflection [mm]": self.mid_deflection()}
+        return {
+            "end shortening [mm]": shortening,
+            "compression [-]": shortening / self.length,
+            "force [N]": self.force(),
+            "mid-span deflection [mm]": self.mid_deflection(),
+        }
 
     def write_fields(self, folder, t: float = 0.0) -> list[pathlib.Path]:
         """displacement.bp (Q2, VTX, ParaView) of the current state in ``folder``."""
@@ -176,8 +222,12 @@ class KaptonSpecimenFE:
 
         spec = self.specimen
         area = spec.width * spec.thickness
-        euler = 4.0 * math.pi ** 2 * self.solid.youngs_modulus * spec.second_moment / spec.length ** 2
-        d_r = euler * spec.length / (self.solid.youngs_modulus * area) if start is None else float(start)
+        euler = 4.0 * math.pi**2 * self.solid.youngs_modulus * spec.second_moment / spec.length**2
+        d_r = (
+            euler * spec.length / (self.solid.youngs_modulus * area)
+            if start is None
+            else float(start)
+        )
         self.problem.restore(np.zeros(self.u.x.array.size))
         self._set_shortening(0.0)
         K0 = self.tangent()
@@ -204,7 +254,9 @@ class KaptonSpecimenFE:
             eps.destroy()
             dK.destroy()
             if not theta < 0:
-                raise ConvergenceError("buckling eigenproblem", f"no negative eigenvalue ({theta:g})")
+                raise ConvergenceError(
+                    "buckling eigenproblem", f"no negative eigenvalue ({theta:g})"
+                )
             d_new = -d_r / theta
             change = abs(d_new - d_r) / d_new
             d_r = d_new
@@ -220,7 +272,8 @@ class KaptonSpecimenFE:
         return CriticalLoad(force, d_r, mode, change)
 
     def add_imperfection(self, mode: dolfinx.fem.Function, amplitude: float) -> None:
-        """Move the mesh (the stress-free reference) by ``amplitude`` [mm] x the mode (max |u_z| = 1)."""
+        """Move the mesh (the stress-free reference) by ``amplitude`` [mm] x the mode (max |u_z| =
+        1)."""
         from scipy.spatial import cKDTree
 
         X = self.V.tabulate_dof_coordinates()
@@ -230,20 +283,27 @@ class KaptonSpecimenFE:
             raise RuntimeError("geometry nodes are not displacement nodes")
         geom[:, :] += amplitude * mode.x.array.reshape(-1, 3)[idx]
 
-    def compression_schedule(self, c_cr: float, c_max: float, path: KaptonSpecimenFEPath) -> np.ndarray:
+    def compression_schedule(
+        self, c_cr: float, c_max: float, path: KaptonSpecimenFEPath
+    ) -> np.ndarray:
         """Compressions: geometric from 0.2 to 50 c_cr, then steps of ``path.step`` to c_max."""
         onset = np.geomspace(0.2 * c_cr, min(50.0 * c_cr, c_max), path.onset_steps)
         start = onset[-1]
         n = max(1, int(math.ceil((c_max - start) / path.step - 1e-9)))
         return np.concatenate([onset, np.linspace(start, c_max, n + 1)[1:]])
 
-    def follow(self, compressions, control: PathControl = PathControl(first_step=1.0, max_step=1.0,
-                                                                         min_step=1e-3),
-               on_step: Callable[[float, int], None] | None = None) -> PathFollower:
+    def follow(
+        self,
+        compressions,
+        control: PathControl = PathControl(first_step=1.0, max_step=1.0, min_step=1e-3),
+        on_step: Callable[[float, int], None] | None = None,
+    ) -> PathFollower:
         """Displacement-controlled path through the given compressions (end shortening / L) with
         adaptive sub-steps (load parameter t = compression); ``on_step(compression, iterations)``
         after each given compression is reached. Returns the follower (iteration counts)."""
-        follower = PathFollower(self.problem, lambda t: self._set_shortening(t * self.length), control)
+        follower = PathFollower(
+            self.problem, lambda t: self._set_shortening(t * self.length), control
+        )
         for c in compressions:
             before = follower.iterations
             follower.step = max(follower.step, float(c) - follower.t)
@@ -259,12 +319,17 @@ class KaptonSpecimenFE:
         return ("clamp_right",)  # the moved clamp face; clamp_left is held
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
-        """Target end shortening [mm] of the moved clamp (0 <= d < L), reached by :meth:`advance`."""
+        """Target end shortening [mm] of the moved clamp (0 <= d < L), reached by
+        :meth:`advance`."""
         for tag, value in drives.items():
             if tag not in self.drive_tags():
-                raise InputError(f"drive {tag!r}: not a driven face of the specimen (allowed clamp_right)")
+                raise InputError(
+                    f"drive {tag!r}: not a driven face of the specimen (allowed clamp_right)"
+                )
             if not isinstance(value, (int, float)) or not 0.0 <= value < self.length:
-                raise InputError(f"end shortening[{tag}] = {value} mm: must be in [0, {self.length:g}) mm")
+                raise InputError(
+                    f"end shortening[{tag}] = {value} mm: must be in [0, {self.length:g}) mm"
+                )
             self.target_shortening = float(value)
 
     def advance(self, dt: float = 1.0) -> StepRecord:
@@ -274,12 +339,17 @@ class KaptonSpecimenFE:
         dt = check_quasi_static_step(dt)
         start = -float(self.end.value[0]) / self.length
         goal = start + dt * (self.target_shortening / self.length - start)
-        follower = PathFollower(self.problem, lambda c: self._set_shortening(c * self.length),
-                                PathControl(first_step=1.0, max_step=1.0, min_step=1e-3), t0=start)
+        follower = PathFollower(
+            self.problem,
+            lambda c: self._set_shortening(c * self.length),
+            PathControl(first_step=1.0, max_step=1.0, min_step=1e-3),
+            t0=start,
+        )
         if goal != start:
             follower.follow(goal, where=f"ribbon compression {100 * goal:.3g} %")
-        return StepRecord(dt, self.observables(), follower.iterations, follower.cuts, clock=LOAD,
-                          detail=follower)
+        return StepRecord(
+            dt, self.observables(), follower.iterations, follower.cuts, clock=LOAD, detail=follower
+        )
 
     def fields(self) -> dict:
         return {"displacement [mm]": self.u}
@@ -314,12 +384,18 @@ class KaptonSpecimenFEConfig:
         return resolved(self)
 
 
-FE_COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "mid-span deflection [mm]",
-              "newton iterations [-]"]
+FE_COLUMNS = [
+    "compression [-]",
+    "end shortening [mm]",
+    "force [N]",
+    "mid-span deflection [mm]",
+    "newton iterations [-]",
+]
 
 
-def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bool = True,
-                    report=None) -> dict:
+def run_specimen_fe(
+    cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bool = True, report=None
+) -> dict:
     """The FE buckling test through the run skeleton: critical load, then the path of the specimen
     with a mode imperfection to ``run.compression`` (history.csv of :data:`FE_COLUMNS`,
     displacement.bp, summary.json); returns the summary. ``report(out, cfg, model, critical,
@@ -332,13 +408,20 @@ def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bo
     critical = model.critical_load()
     length = cfg.specimen.length
     model.add_imperfection(critical.mode, cfg.path.imperfection * length)
-    schedule = model.compression_schedule(critical.shortening / length, cfg.run.compression, cfg.path)
+    schedule = model.compression_schedule(
+        critical.shortening / length, cfg.run.compression, cfg.path
+    )
     bar = Progress(100 * cfg.run.compression, "ribbon buckling (FE)", "%", enabled=progress)
 
     def row(step) -> dict:
         c, its = step
-        return {"compression [-]": c, "end shortening [mm]": c * length, "force [N]": model.force(),
-                "mid-span deflection [mm]": model.mid_deflection(), "newton iterations [-]": its}
+        return {
+            "compression [-]": c,
+            "end shortening [mm]": c * length,
+            "force [N]": model.force(),
+            "mid-span deflection [mm]": model.mid_deflection(),
+            "newton iterations [-]": its,
+        }
 
     def drive(on_step):
         """The compression schedule (the path follower's targets, one row each), from the start."""
@@ -354,22 +437,43 @@ def run_specimen_fe(cfg: KaptonSpecimenFEConfig, out: pathlib.Path, progress: bo
         return {
             "model": "fe",
             "results": {
-                "critical load [N]": critical.force, "critical end shortening [mm]": critical.shortening,
+                "critical load [N]": critical.force,
+                "critical end shortening [mm]": critical.shortening,
                 **(extra or {}),
                 **{f"force at {100 * p:g} % compression [N]": v for p, v in at.items()},
-                "force at final compression [N]": float(f[-1]), "final compression [-]": float(c[-1]),
+                "force at final compression [N]": float(f[-1]),
+                "final compression [-]": float(c[-1]),
                 "force ratio final / critical [-]": float(f[-1] / critical.force),
-                "elastica force ratio at final compression [-]": buckling.elastica_force_ratio(float(c[-1])),
+                "elastica force ratio at final compression [-]": buckling.elastica_force_ratio(
+                    float(c[-1])
+                ),
             },
-            "dofs": model.ndofs, "increments": len(schedule), "newton_iterations": follower.iterations,
-            "cut_steps": follower.cuts, "wall_time [s]": wall,
+            "dofs": model.ndofs,
+            "increments": len(schedule),
+            "newton_iterations": follower.iterations,
+            "cut_steps": follower.cuts,
+            "wall_time [s]": wall,
         }
 
-    history = HistoryExport(tuple(FE_COLUMNS), row, where=lambda step: f"compression {step[0]:.4g}",
-                            at=lambda step: 100 * step[0])
-    fields = FEFields("displacement.bp", (model.u,), model.tmesh.mesh.comm, lambda step: step[0], start=False)
+    history = HistoryExport(
+        tuple(FE_COLUMNS),
+        row,
+        where=lambda step: f"compression {step[0]:.4g}",
+        at=lambda step: 100 * step[0],
+    )
+    fields = FEFields(
+        "displacement.bp", (model.u,), model.tmesh.mesh.comm, lambda step: step[0], start=False
+    )
     # the load fraction [-] of a state: its compression over the run's
-    problem = PathProblem(drive, clock=LOAD, at=lambda step: step[0] / cfg.run.compression,
-                          comm=model.tmesh.mesh.comm)
-    return run(problem, problem.program(), [StateHistory(history), StateExport(fields)], out, config=cfg.resolved(),
-               progress=bar, summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
+    problem = PathProblem(
+        drive, clock=LOAD, at=lambda step: step[0] / cfg.run.compression, comm=model.tmesh.mesh.comm
+    )
+    return run(
+        problem,
+        problem.program(),
+        [StateHistory(history), StateExport(fields)],
+        out,
+        config=cfg.resolved(),
+        progress=bar,
+        summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail),
+    )

@@ -7,7 +7,8 @@
   (Sylvester inertia of the sparse LDL^T), found by bisection.
 * :class:`KaptonSpecimenBH` — the same specimen as a problem object (drive: end shortening [mm]).
 * Closed forms: :mod:`lcefem.models.buckling` (Euler, elastica),
-  :func:`lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness`; :func:`closed_forms` of a configuration.
+  :func:`lcefem.models.bar_hinge.n5b8_ribbon_bending_stiffness`; :func:`closed_forms` of a
+  configuration.
 * :class:`KaptonSpecimenConfig`, :func:`run_specimen` — ``lcefem run ribbon-buckling``: the
   configuration sections and one run through the run skeleton (history.csv, ribbon.pvd +
   ribbon_steps/*.vtp, summary.json).
@@ -25,19 +26,31 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure
-from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
+from lcefem.meshes.kapton_ribbon import (
+    KaptonBarHingeMesh,
+    KaptonSpecimenGeometry,
+    build_ribbon_bar_hinge,
+)
 from lcefem.models import bar_hinge as law
 from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models import buckling
 from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import param
-from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, PathResult, PathState,
-                                      follow_path, held_dofs, newton)
-from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
-from lcefem.solvers.runtime.checks import check_config, resolved
+from lcefem.solvers.bar_hinge import (
+    BarHingeModel,
+    NewtonOptions,
+    PathOptions,
+    PathResult,
+    PathState,
+    follow_path,
+    held_dofs,
+    newton,
+)
 from lcefem.solvers.exports import BarHingeFrames
+from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
 from lcefem.solvers.runner import HistoryExport, run_quasi_static
+from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.run import Progress
 
 #: Default stepping of the end shortening (0 -> 50 %); small increments resolve the force curve.
@@ -54,7 +67,9 @@ class KaptonSpecimenSolution:
     max_compression: float
 
 
-def specimen_model(specimen: KaptonSpecimenGeometry, mesh: KaptonBarHingeMesh, materials: BarHingeMaterials):
+def specimen_model(
+    specimen: KaptonSpecimenGeometry, mesh: KaptonBarHingeMesh, materials: BarHingeMaterials
+):
     """(structure, model, held DOFs of the left clamp, of the right clamp)."""
     structure = build_ribbon_bar_hinge(specimen, mesh)
     model = BarHingeModel.from_materials(structure, materials)
@@ -87,33 +102,47 @@ class KaptonSpecimenSetup:
         return compressive_force(state.reactions, self.held, self.right_x)
 
 
-def setup_specimen(max_compression: float = 0.5,
-                   specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
-                   mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
-                   materials: BarHingeMaterials = BarHingeMaterials()) -> KaptonSpecimenSetup:
+def setup_specimen(
+    max_compression: float = 0.5,
+    specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+    mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
+    materials: BarHingeMaterials = BarHingeMaterials(),
+) -> KaptonSpecimenSetup:
     """Clamps held, the right one moved by -t * max_compression * length along x."""
     if not isinstance(max_compression, (int, float)) or not 0.0 < max_compression < 0.95:
-        raise InputError(f"compression = {max_compression}: must be in (0, 0.95) (end shortening / "
-                         f"free length)")
+        raise InputError(
+            f"compression = {max_compression}: must be in (0, 0.95) (end shortening / free length)"
+        )
     structure, model, left, right = specimen_model(specimen, mesh, materials)
     held = np.concatenate([left, right])
     right_x = right[right % 3 == 0]
     base = structure.nodes.reshape(-1)[held].copy()
     shift = np.where(np.isin(held, right_x), -max_compression * specimen.length, 0.0)
-    return KaptonSpecimenSetup(specimen, float(max_compression), structure, model, held, right_x,
-                               lambda t: base + t * shift)
+    return KaptonSpecimenSetup(
+        specimen,
+        float(max_compression),
+        structure,
+        model,
+        held,
+        right_x,
+        lambda t: base + t * shift,
+    )
 
 
-def solve_specimen_buckling(max_compression: float = 0.5,
-                            specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
-                            mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
-                            materials: BarHingeMaterials = BarHingeMaterials(), *,
-                            newton_options: NewtonOptions = NewtonOptions(),
-                            path: PathOptions = SPECIMEN_PATH,
-                            on_step: Callable[[PathState], None] | None = None,
-                            progress: Callable[[float], None] | None = None,
-                            setup: KaptonSpecimenSetup | None = None) -> KaptonSpecimenSolution:
-    """Fixed-fixed specimen shortened to ``max_compression`` of its free length (displacement control).
+def solve_specimen_buckling(
+    max_compression: float = 0.5,
+    specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+    mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
+    materials: BarHingeMaterials = BarHingeMaterials(),
+    *,
+    newton_options: NewtonOptions = NewtonOptions(),
+    path: PathOptions = SPECIMEN_PATH,
+    on_step: Callable[[PathState], None] | None = None,
+    progress: Callable[[float], None] | None = None,
+    setup: KaptonSpecimenSetup | None = None,
+) -> KaptonSpecimenSolution:
+    """Fixed-fixed specimen shortened to ``max_compression`` of its free length (displacement
+    control).
 
     The compressive force is the sum of the x-components of the internal forces on the right
     clamp's nodes (the reaction the testing machine applies).
@@ -126,19 +155,31 @@ def solve_specimen_buckling(max_compression: float = 0.5,
         if on_step is not None:
             on_step(state)
 
-    result = follow_path(setup.model, setup.structure.nodes, setup.held, setup.load,
-                         newton_options=newton_options, path_options=path, on_step=record,
-                         progress=progress)
+    result = follow_path(
+        setup.model,
+        setup.structure.nodes,
+        setup.held,
+        setup.load,
+        newton_options=newton_options,
+        path_options=path,
+        on_step=record,
+        progress=progress,
+    )
     compression = np.array([s.t * setup.max_compression for s in result.states])
-    return KaptonSpecimenSolution(setup.structure, setup.model, result, compression, np.array(forces),
-                                  setup.max_compression)
+    return KaptonSpecimenSolution(
+        setup.structure, setup.model, result, compression, np.array(forces), setup.max_compression
+    )
 
 
-def critical_load(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
-                  mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
-                  materials: BarHingeMaterials = BarHingeMaterials(), *,
-                  rel_tol: float = 1e-4) -> tuple[float, float]:
-    """Bifurcation of the perfect (flat) specimen: (critical compressive force [N], end shortening [mm]).
+def critical_load(
+    specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+    mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
+    materials: BarHingeMaterials = BarHingeMaterials(),
+    *,
+    rel_tol: float = 1e-4,
+) -> tuple[float, float]:
+    """Bifurcation of the perfect (flat) specimen: (critical compressive force [N], end shortening
+    [mm]).
 
     Along the straight path (imperfection 0) the equilibrium is computed with plain Newton (no
     inertia control, so it stays straight) and the number of negative pivots of the tangent is
@@ -182,14 +223,20 @@ def critical_load(specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
 class KaptonSpecimenBH:
     """The bar-and-hinge specimen as a problem (lcefem.solvers.problems.protocol.Problem): the
     right clamp's end shortening [mm] is the drive, reached by :meth:`advance` along the path
-    follower from the present state (:func:`solve_specimen_buckling` is the same path in one call)."""
+    follower from the present state (:func:`solve_specimen_buckling` is the same path in one
+    call)."""
 
     drive = "end shortening [mm]"
 
-    def __init__(self, specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
-                 mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
-                 materials: BarHingeMaterials = BarHingeMaterials(), *,
-                 newton_options: NewtonOptions = NewtonOptions(), path: PathOptions = SPECIMEN_PATH):
+    def __init__(
+        self,
+        specimen: KaptonSpecimenGeometry = KaptonSpecimenGeometry(),
+        mesh: KaptonBarHingeMesh = KaptonBarHingeMesh(),
+        materials: BarHingeMaterials = BarHingeMaterials(),
+        *,
+        newton_options: NewtonOptions = NewtonOptions(),
+        path: PathOptions = SPECIMEN_PATH,
+    ):
         self.specimen, self.newton_options, self.path = specimen, newton_options, path
         self.structure, self.model, left, right = specimen_model(specimen, mesh, materials)
         self.held = np.concatenate([left, right])
@@ -206,14 +253,25 @@ class KaptonSpecimenBH:
     def set_drives(self, drives) -> None:
         for tag, value in drives.items():
             if tag not in self.drive_tags():
-                raise InputError(f"drive {tag!r}: not a driven clamp of the specimen (allowed right_clamp)")
-            if not isinstance(value, (int, float)) or not 0.0 <= value < 0.95 * self.specimen.length:
-                raise InputError(f"end shortening[{tag}] = {value} mm: must be in [0, "
-                                 f"{0.95 * self.specimen.length:g}) mm (95 % of the free length)")
+                raise InputError(
+                    f"drive {tag!r}: not a driven clamp of the specimen (allowed right_clamp)"
+                )
+            if (
+                not isinstance(value, (int, float))
+                or not 0.0 <= value < 0.95 * self.specimen.length
+            ):
+                raise InputError(
+                    f"end shortening[{tag}] = {value} mm: must be in [0, "
+                    f"{0.95 * self.specimen.length:g}) mm (95 % of the free length)"
+                )
             self.target_shortening = float(value)
 
-    def advance(self, dt: float = 1.0, on_step: Callable[[PathState], None] | None = None,
-                progress: Callable[[float], None] | None = None) -> StepRecord:
+    def advance(
+        self,
+        dt: float = 1.0,
+        on_step: Callable[[PathState], None] | None = None,
+        progress: Callable[[float], None] | None = None,
+    ) -> StepRecord:
         """The fraction ``dt`` (0 < dt <= 1) of the way from the present end shortening to the
         target (from the flat specimen the path of :func:`setup_specimen`, to the last bit);
         ``on_step(state)`` after every converged increment, ``progress(t)``. Raises
@@ -221,10 +279,16 @@ class KaptonSpecimenBH:
         start = self.shortening
         goal = start + check_quasi_static_step(dt) * (self.target_shortening - start)
         self._ramp = (start, goal, dt)
-        result = follow_path(self.model, self.x, self.held,
-                             lambda t: self._base - np.where(self._moving, start + t * (goal - start), 0.0),
-                             newton_options=self.newton_options, path_options=self.path, on_step=on_step,
-                             progress=progress)
+        result = follow_path(
+            self.model,
+            self.x,
+            self.held,
+            lambda t: self._base - np.where(self._moving, start + t * (goal - start), 0.0),
+            newton_options=self.newton_options,
+            path_options=self.path,
+            on_step=on_step,
+            progress=progress,
+        )
         last = result.states[-1]
         self.x, self.shortening = last.x.copy(), goal
         self.force = compressive_force(last.reactions, self.held, self.right_x)
@@ -235,15 +299,25 @@ class KaptonSpecimenBH:
         fraction of the way; the one door, lcefem.solvers.runner.run, records every increment)."""
         start, goal, frac = self._ramp
         d = start + state.t * (goal - start)
-        return StepRecord(state.t * frac, self._observe(d, compressive_force(state.reactions, self.held, self.right_x),
-                                                        state.x), state.iterations, clock=LOAD, detail=state)
+        return StepRecord(
+            state.t * frac,
+            self._observe(d, compressive_force(state.reactions, self.held, self.right_x), state.x),
+            state.iterations,
+            clock=LOAD,
+            detail=state,
+        )
 
     def _observe(self, shortening: float, force: float, x) -> dict[str, float]:
-        mid = np.argmin(np.abs(self.structure.nodes[:, 0] - 0.5 * self.specimen.length)
-                        + np.abs(self.structure.nodes[:, 1]))
-        return {"end shortening [mm]": shortening,
-                "compression [-]": shortening / self.specimen.length, "force [N]": force,
-                "mid-span deflection [mm]": float(x[mid, 2] - self.structure.nodes[mid, 2])}
+        mid = np.argmin(
+            np.abs(self.structure.nodes[:, 0] - 0.5 * self.specimen.length)
+            + np.abs(self.structure.nodes[:, 1])
+        )
+        return {
+            "end shortening [mm]": shortening,
+            "compression [-]": shortening / self.specimen.length,
+            "force [N]": force,
+            "mid-span deflection [mm]": float(x[mid, 2] - self.structure.nodes[mid, 2]),
+        }
 
     def observables(self) -> dict[str, float]:
         return self._observe(self.shortening, self.force, self.x)
@@ -252,13 +326,20 @@ class KaptonSpecimenBH:
         return {"node positions [mm]": self.x}
 
     def save_state(self) -> dict:
-        return {"x": self.x.copy(), "shortening": self.shortening, "target": self.target_shortening,
-                "force": self.force}
+        return {
+            "x": self.x.copy(),
+            "shortening": self.shortening,
+            "target": self.target_shortening,
+            "force": self.force,
+        }
 
     def restore_state(self, state: dict) -> None:
         self.x = state["x"].copy()
-        self.shortening, self.target_shortening, self.force = (state["shortening"], state["target"],
-                                                               state["force"])
+        self.shortening, self.target_shortening, self.force = (
+            state["shortening"],
+            state["target"],
+            state["force"],
+        )
 
 
 # -- one run (``lcefem run ribbon-buckling``) ---------------------------------------------------
@@ -266,8 +347,13 @@ class KaptonSpecimenBH:
 class KaptonSpecimenRun:
     """What the experimenter sets: how far to shorten the specimen."""
 
-    compression: float = param(0.5, "-", "seed 001 Fig. 2G: compression up to 50 % (end shortening "
-                               "over length)", positive=True, maximum=0.9)
+    compression: float = param(
+        0.5,
+        "-",
+        "seed 001 Fig. 2G: compression up to 50 % (end shortening over length)",
+        positive=True,
+        maximum=0.9,
+    )
 
 
 @dataclass(frozen=True)
@@ -294,15 +380,19 @@ class KaptonSpecimenConfig:
 
 
 def closed_forms(cfg: KaptonSpecimenConfig) -> dict[str, float]:
-    """Euler loads [N] of the specimen: datasheet EI, with the 5.5 factor, and the chain's own EI."""
+    """Euler loads [N] of the specimen: datasheet EI, with the 5.5 factor, and the chain's own
+    EI."""
     spec, kap = cfg.specimen, cfg.kapton
     ei = kap.youngs_modulus * spec.second_moment
     k = kap.hinge_stiffness(spec.thickness)
     ei_chain = law.n5b8_ribbon_bending_stiffness(k, spec.length / cfg.mesh.panels, spec.width)
-    return {"Euler, E I (datasheet E)": buckling.euler_fixed_fixed(ei, spec.length),
-            f"Euler, {kap.bending_factor:g} E I": buckling.euler_fixed_fixed(kap.bending_factor * ei,
-                                                                           spec.length),
-            "Euler, bar-and-hinge chain EI": buckling.euler_fixed_fixed(ei_chain, spec.length)}
+    return {
+        "Euler, E I (datasheet E)": buckling.euler_fixed_fixed(ei, spec.length),
+        f"Euler, {kap.bending_factor:g} E I": buckling.euler_fixed_fixed(
+            kap.bending_factor * ei, spec.length
+        ),
+        "Euler, bar-and-hinge chain EI": buckling.euler_fixed_fixed(ei_chain, spec.length),
+    }
 
 
 COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterations [-]"]
@@ -311,11 +401,14 @@ COLUMNS = ["compression [-]", "end shortening [mm]", "force [N]", "newton iterat
 def specimen_problem(config: KaptonSpecimenConfig) -> KaptonSpecimenBH:
     """The bar-and-hinge buckling specimen of a (validated) configuration."""
     cfg = config.validated()
-    return KaptonSpecimenBH(cfg.specimen, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path)
+    return KaptonSpecimenBH(
+        cfg.specimen, cfg.mesh, cfg.materials, newton_options=cfg.solver, path=cfg.path
+    )
 
 
-def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True,
-                 report=None) -> dict:
+def run_specimen(
+    config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool = True, report=None
+) -> dict:
     """The bar-and-hinge buckling test: :class:`KaptonSpecimenBH` driven to ``run.compression``
     through the runner (:func:`lcefem.solvers.runner.run_quasi_static`; history.csv of
     :data:`COLUMNS`, ribbon.pvd + ribbon_steps/*.vtp), the critical load of the perfect specimen
@@ -333,15 +426,24 @@ def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool
 
     def row(state) -> dict:
         c = state.t * compression_max
-        return {"compression [-]": c, "end shortening [mm]": c * length, "force [N]": force(state),
-                "newton iterations [-]": state.iterations}
+        return {
+            "compression [-]": c,
+            "end shortening [mm]": c * length,
+            "force [N]": force(state),
+            "newton iterations [-]": state.iterations,
+        }
 
     started = time.perf_counter()
 
     def summarize(run, path: PathResult) -> dict:
-        solution = KaptonSpecimenSolution(problem.structure, model, path,
-                                          np.array([s.t * compression_max for s in path.states]),
-                                          np.array([force(s) for s in path.states]), float(compression_max))
+        solution = KaptonSpecimenSolution(
+            problem.structure,
+            model,
+            path,
+            np.array([s.t * compression_max for s in path.states]),
+            np.array([force(s) for s in path.states]),
+            float(compression_max),
+        )
         p_cr, shortening_cr = critical_load(cfg.specimen, cfg.mesh, cfg.materials)
         wall = time.perf_counter() - started
         euler = closed_forms(cfg)
@@ -350,22 +452,32 @@ def run_specimen(config: KaptonSpecimenConfig, out: pathlib.Path, progress: bool
         return {
             "model": "bar-hinge",
             "results": {
-                "critical load [N]": p_cr, "critical end shortening [mm]": shortening_cr,
+                "critical load [N]": p_cr,
+                "critical end shortening [mm]": shortening_cr,
                 **(extra or {}),
                 **{f"{k} [N]": v for k, v in euler.items()},
                 "force at final compression [N]": float(force_[-1]),
                 "final compression [-]": float(compression[-1]),
                 "force ratio final / critical [-]": float(force_[-1] / p_cr),
-                "elastica force ratio at final compression [-]":
-                    buckling.elastica_force_ratio(float(compression[-1])),
+                "elastica force ratio at final compression [-]": buckling.elastica_force_ratio(
+                    float(compression[-1])
+                ),
             },
-            "dofs": int(model.ndof), "increments": len(path.states) - 1,
+            "dofs": int(model.ndof),
+            "increments": len(path.states) - 1,
             "newton_iterations": int(sum(path.newton_iterations)),
-            "failed_increments": path.failed_increments, "wall_time [s]": wall,
+            "failed_increments": path.failed_increments,
+            "wall_time [s]": wall,
         }
 
-    return run_quasi_static(problem, {"right_clamp": compression_max * length}, out, config=cfg.resolved(),
-                            history=HistoryExport(tuple(COLUMNS), row),
-                            fields=BarHingeFrames("ribbon", problem.structure, model),
-                            progress=Progress(100 * compression_max, "ribbon buckling", "%", enabled=progress),
-                            summarize=summarize, progress_scale=100 * compression_max)
+    return run_quasi_static(
+        problem,
+        {"right_clamp": compression_max * length},
+        out,
+        config=cfg.resolved(),
+        history=HistoryExport(tuple(COLUMNS), row),
+        fields=BarHingeFrames("ribbon", problem.structure, model),
+        progress=Progress(100 * compression_max, "ribbon buckling", "%", enabled=progress),
+        summarize=summarize,
+        progress_scale=100 * compression_max,
+    )

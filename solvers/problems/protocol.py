@@ -108,8 +108,9 @@ class Problem(Protocol):
         ...
 
 
-def steps_in_time(problem, duration: float, dt: float,
-                  on_row: Callable[[dict], None] | None = None) -> list[dict]:
+def steps_in_time(
+    problem, duration: float, dt: float, on_row: Callable[[dict], None] | None = None
+) -> list[dict]:
     """Observables of ``problem`` at its current state and after each of the equal steps of at most
     ``dt`` [s] that end at ``duration`` [s] (``problem.advance(step)``); the clock ``problem.time``
     [s] is set to k x step exactly, not a sum of steps. ``on_row`` sees each row as it comes."""
@@ -131,8 +132,14 @@ def path_record(fraction: float, observables: Mapping[str, float], path) -> Step
     """The :class:`StepRecord` of a bar-and-hinge advance along ``fraction`` [-] of the way:
     ``path`` a :class:`lcefem.solvers.bar_hinge.PathResult` (its Newton iterations summed, its
     failed increments as the cuts; kept as the record's ``detail``)."""
-    return StepRecord(fraction, observables, int(sum(path.newton_iterations)), int(path.failed_increments),
-                      clock=LOAD, detail=path)
+    return StepRecord(
+        fraction,
+        observables,
+        int(sum(path.newton_iterations)),
+        int(path.failed_increments),
+        clock=LOAD,
+        detail=path,
+    )
 
 
 def check_quasi_static_step(dt: float) -> float:
@@ -141,8 +148,10 @@ def check_quasi_static_step(dt: float) -> float:
     from lcefem.models.errors import InputError
 
     if not isinstance(dt, (int, float)) or not 0.0 < dt <= 1.0:
-        raise InputError(f"dt = {dt}: a quasi-static problem advances by a fraction of the way to "
-                         "its targets, 0 < dt <= 1")
+        raise InputError(
+            f"dt = {dt}: a quasi-static problem advances by a fraction of the way to "
+            "its targets, 0 < dt <= 1"
+        )
     return float(dt)
 
 

@@ -10,12 +10,14 @@ over the plate; the heated side contracts (LCE spontaneous stretch of lcefem.mod
 bends and untwists the ribbon, and it may roll. Units: mm, s, N, C; the twist density is given in
 turns/mm (the paper's "number of twists per unit length").
 
-In --out DIR: centerline.pvd / centerline_steps/*.vtp (polyline: twist density, curvatures, temperature,
-contact force, width direction), surface.pvd / surface_steps/*.vtp (the ribbon as quads, temperature on
-each edge line), centroid.csv, history.csv, summary.json (resolved configuration and metrics;
+In --out DIR: centerline.pvd / centerline_steps/*.vtp (polyline: twist density, curvatures,
+temperature, contact force, width direction), surface.pvd / surface_steps/*.vtp (the ribbon as
+quads, temperature on each edge line), centroid.csv, history.csv, summary.json (resolved
+configuration and metrics;
 :func:`lcefem.solvers.analysis.rolling.rolling_metrics`), and what the ``report`` hook adds
-(``lcefem run ribbon``: trajectory.png). Files keep a .part suffix until the run completes; a failed run leaves *.partial.*
-files, failure.json and last_converged_state.json (node positions and edge angles).
+(``lcefem run ribbon``: trajectory.png). Files keep a .part suffix until the run completes; a failed
+run leaves *.partial.* files, failure.json and last_converged_state.json (node positions and edge
+angles).
 """
 
 from __future__ import annotations
@@ -35,15 +37,14 @@ from lcefem.models.limits import DECOMPOSITION_TEMPERATURE, check_between
 from lcefem.models.parameters import param
 from lcefem.models.ribbon import SEED000_RIBBON, RibbonGeometry, RibbonLCE
 from lcefem.solvers import cost
+from lcefem.solvers.analysis.rolling import rolling_metrics
 from lcefem.solvers.contraction_curve import LCECurve, law_summary
 from lcefem.solvers.der.output import PolylineSeries, polydata
-from lcefem.solvers.der.ribbon import (HISTORY_COLUMNS, RibbonSections, RibbonSetup,
-                                       RibbonSimulation)
-from lcefem.solvers.analysis.rolling import rolling_metrics
+from lcefem.solvers.der.ribbon import HISTORY_COLUMNS, RibbonSections, RibbonSetup, RibbonSimulation
 from lcefem.solvers.problems.protocol import StepRecord
+from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.checks import check_config, resolved
 from lcefem.solvers.runtime.files import CSVTable, write_json
-from lcefem.solvers.runner import HistoryExport, PathProblem, StateExport, StateHistory, run
 from lcefem.solvers.runtime.run import Progress
 from lcefem.solvers.runtime.signals import deferred_signals
 
@@ -54,13 +55,21 @@ CENTROID_COLUMNS = ["time [s]", "x [mm]", "y [mm]", "z [mm]"]
 class RibbonRun:
     """What the experimenter sets."""
 
-    ground_temperature: float = param(100.0, "C", "chosen: seed 000 / press release: the real ribbons roll on "
-                                      "surfaces of at least ~55 C; the model's threshold is 80-100 C (issue 32, "
-                                      "ribbon_threshold: the seed-000 ribbon LCE does not roll at 80 C, rolls at 100 C; "
-                                      "a registered known disagreement), so the default run uses 100 C, where the model "
-                                      "rolls", minimum=-50.0, maximum=DECOMPOSITION_TEMPERATURE)
+    ground_temperature: float = param(
+        100.0,
+        "C",
+        "chosen: seed 000 / press release: the real ribbons roll on "
+        "surfaces of at least ~55 C; the model's threshold is 80-100 C (issue 32, "
+        "ribbon_threshold: the seed-000 ribbon LCE does not roll at 80 C, rolls at 100 C; "
+        "a registered known disagreement), so the default run uses 100 C, where the model "
+        "rolls",
+        minimum=-50.0,
+        maximum=DECOMPOSITION_TEMPERATURE,
+    )
     duration: float = param(60.0, "s", "chosen: heated time after settling", positive=True)
-    output_interval: float = param(0.5, "s", "chosen: time between field frames (0: no fields)", minimum=0.0)
+    output_interval: float = param(
+        0.5, "s", "chosen: time between field frames (0: no fields)", minimum=0.0
+    )
     record_interval: float = param(0.05, "s", "chosen: time between history rows", positive=True)
 
 
@@ -75,49 +84,82 @@ class RibbonConfig(RibbonSections):
     obstacle: Block = field(default_factory=Block)  # a block on the plate (width 0: none)
 
     #: The case file's sections in their documented order (summary.json's config, --help).
-    SECTIONS = ("run", "geometry", "numerics", "material", "thermal", "air", "ground_heat", "contact",
-                "friction", "obstacle")
+    SECTIONS = (
+        "run",
+        "geometry",
+        "numerics",
+        "material",
+        "thermal",
+        "air",
+        "ground_heat",
+        "contact",
+        "friction",
+        "obstacle",
+    )
 
     def law(self) -> NematicTransition | MeasuredContraction:
-        """The ribbon's contraction law: the material's sigmoid, or the measured curve of ``material.curve``."""
+        """The ribbon's contraction law: the material's sigmoid, or the measured curve of
+        ``material.curve``."""
         return LCECurve(self.material.curve).law(self.material.transition())
 
     def validated(self) -> "RibbonConfig":
         check_config(self)
         self.law()  # a bad curve file is an InputError before the run
         ob = self.obstacle
-        ob.block_temperature(self.run.ground_temperature, self.air.ambient_temperature)  # obstacle.heat is one of Block.HEAT
+        ob.block_temperature(
+            self.run.ground_temperature, self.air.ambient_temperature
+        )  # obstacle.heat is one of Block.HEAT
         if ob.present:
             for name in ("width", "depth", "height"):
                 if getattr(ob, name) <= 2.0 * ob.edge_radius:
-                    raise InputError(f"obstacle.{name} = {getattr(ob, name)} mm: must exceed twice "
-                                     f"obstacle.edge_radius = {ob.edge_radius} mm")
+                    raise InputError(
+                        f"obstacle.{name} = {getattr(ob, name)} mm: must exceed twice "
+                        f"obstacle.edge_radius = {ob.edge_radius} mm"
+                    )
         if self.numerics.method not in ("euler", "midpoint"):
             raise InputError(f"numerics.method = {self.numerics.method!r}: allowed euler, midpoint")
         if self.numerics.dt > self.run.duration:
-            raise InputError(f"numerics.dt = {self.numerics.dt} s: must be <= run.duration = {self.run.duration} s")
+            raise InputError(
+                f"numerics.dt = {self.numerics.dt} s: must be <= run.duration = "
+                f"{self.run.duration} "
+                "s"
+            )
         if self.numerics.contact_samples > 1 and self.numerics.contact_samples % 2:
-            raise InputError(f"numerics.contact_samples = {self.numerics.contact_samples}: must be 1 or even")
-        if self.geometry.is_helical and self.geometry.twist_density not in (0.0, RibbonGeometry().twist_density):
-            # initial_ribbon_state winds a helix untwisted: a twist density would be reported, not used
-            raise InputError(f"geometry.twist_density = {self.geometry.twist_density} turns/mm: a helical "
-                             f"ribbon (geometry.helix_radius = {self.geometry.helix_radius} mm) is untwisted; "
-                             "give one of the two")
+            raise InputError(
+                f"numerics.contact_samples = {self.numerics.contact_samples}: must be 1 or even"
+            )
+        if self.geometry.is_helical and self.geometry.twist_density not in (
+            0.0,
+            RibbonGeometry().twist_density,
+        ):
+            # initial_ribbon_state winds a helix untwisted: a twist density would be reported, not
+            # used
+            raise InputError(
+                f"geometry.twist_density = {self.geometry.twist_density} turns/mm: a helical "
+                f"ribbon (geometry.helix_radius = {self.geometry.helix_radius} mm) is untwisted; "
+                "give one of the two"
+            )
         edge = self.geometry.length / (self.numerics.nodes - 1)
-        if self.geometry.twist_density * edge > 0.5:  # beyond half a turn per edge the frames alias (Nyquist)
-            raise InputError(f"geometry.twist_density = {self.geometry.twist_density} turns/mm: more than "
-                             f"half a turn per rod edge ({edge:.3g} mm at numerics.nodes = "
-                             f"{self.numerics.nodes}); at most {0.5 / edge:.3g} turns/mm, or more nodes")
+        if (
+            self.geometry.twist_density * edge > 0.5
+        ):  # beyond half a turn per edge the frames alias (Nyquist)
+            raise InputError(
+                f"geometry.twist_density = {self.geometry.twist_density} turns/mm: more than "
+                f"half a turn per rod edge ({edge:.3g} mm at numerics.nodes = "
+                f"{self.numerics.nodes}); at most {0.5 / edge:.3g} turns/mm, or more nodes"
+            )
         self.estimate().check()
         rows = summary_rows(self.run.duration, self.numerics.dt, self.run.record_interval)
         if rows < MIN_SUMMARY_ROWS:
             # the summary's rolling metrics fit slopes over the run's last half: refused before the
             # run rather than after it (issue 45)
             spacing = record_spacing(self.run.duration, self.numerics.dt, self.run.record_interval)
-            raise InputError(f"run.duration = {self.run.duration:g} s: the summary's rolling metrics need "
-                             f"{MIN_SUMMARY_ROWS} history rows in the run's last half ({rows} at a row every "
-                             f"{spacing:.3g} s, run.record_interval and numerics.dt); give at least "
-                             f"{(2 * MIN_SUMMARY_ROWS - 1) * spacing:.3g} s or a shorter run.record_interval")
+            raise InputError(
+                f"run.duration = {self.run.duration:g} s: the summary's rolling metrics need "
+                f"{MIN_SUMMARY_ROWS} history rows in the run's last half ({rows} at a row every "
+                f"{spacing:.3g} s, run.record_interval and numerics.dt); give at least "
+                f"{(2 * MIN_SUMMARY_ROWS - 1) * spacing:.3g} s or a shorter run.record_interval"
+            )
         return self
 
     def estimate(self) -> cost.Estimate:
@@ -125,8 +167,12 @@ class RibbonConfig(RibbonSections):
         n = self.numerics.nodes
         est = cost.Estimate().count("nodes", n)
         est.memory(f"numerics.nodes = {n}", f"{n} rod nodes", n * cost.ROD_NODE_MEMORY)
-        return cost.time_steps(f"numerics.dt = {self.numerics.dt} s (run.duration = {self.run.duration} s)",
-                               self.run.duration, self.numerics.dt, est)
+        return cost.time_steps(
+            f"numerics.dt = {self.numerics.dt} s (run.duration = {self.run.duration} s)",
+            self.run.duration,
+            self.numerics.dt,
+            est,
+        )
 
     def resolved(self) -> dict:
         out = resolved(self)
@@ -137,9 +183,13 @@ class RibbonConfig(RibbonSections):
         """The simulation's setup: the same sections, the plate temperature, the material's laws and
         the obstacle."""
         sections = {f.name: getattr(self, f.name) for f in dataclasses.fields(RibbonSections)}
-        return RibbonSetup(**sections, ground_temperature=self.run.ground_temperature,
-                           transition=self.law(), elasticity=self.material.elasticity(),
-                           blocks=(self.obstacle,) if self.obstacle.present else ())
+        return RibbonSetup(
+            **sections,
+            ground_temperature=self.run.ground_temperature,
+            transition=self.law(),
+            elasticity=self.material.elasticity(),
+            blocks=(self.obstacle,) if self.obstacle.present else (),
+        )
 
 
 #: History rows the rolling summary needs in the analysis window (the run's last half): the end spin
@@ -193,19 +243,25 @@ def centerline_fields(sim: RibbonSimulation) -> dict[str, np.ndarray]:
     st = sim.state
     geo = st.geometry()
     vor = 0.5 * (geo.length[:-1] + geo.length[1:])
-    kappa = material_curvatures(geo.e[:-1], geo.e[1:], geo.m1[:-1], geo.m2[:-1], geo.m1[1:], geo.m2[1:]) / vor[:, None]
+    kappa = (
+        material_curvatures(geo.e[:-1], geo.e[1:], geo.m1[:-1], geo.m2[:-1], geo.m1[1:], geo.m2[1:])
+        / vor[:, None]
+    )
     k_nodes = _interior_to_nodes(kappa)
-    return {"twist_density [rad/mm]": _interior_to_nodes(geo.twist / vor),
-            "curvature_m1 [1/mm]": k_nodes[:, 0], "curvature_m2 [1/mm]": k_nodes[:, 1],
-            "curvature [1/mm]": np.linalg.norm(k_nodes, axis=1),
-            "temperature [C]": sim.node_temperatures(),
-            "contact_force [N]": sim.contact_forces(),
-            "width_direction [-]": _node_average(geo.m1)}
+    return {
+        "twist_density [rad/mm]": _interior_to_nodes(geo.twist / vor),
+        "curvature_m1 [1/mm]": k_nodes[:, 0],
+        "curvature_m2 [1/mm]": k_nodes[:, 1],
+        "curvature [1/mm]": np.linalg.norm(k_nodes, axis=1),
+        "temperature [C]": sim.node_temperatures(),
+        "contact_force [N]": sim.contact_forces(),
+        "width_direction [-]": _node_average(geo.m1),
+    }
 
 
 def surface_polydata(sim: RibbonSimulation):
-    """The ribbon as a strip of quads between its two edge lines (x +- w/2 m1 at the nodes), with the
-    temperature of the cells along each edge line."""
+    """The ribbon as a strip of quads between its two edge lines (x +- w/2 m1 at the nodes), with
+    the temperature of the cells along each edge line."""
     st = sim.state
     geo = st.geometry()
     m1 = _node_average(geo.m1)
@@ -217,7 +273,9 @@ def surface_polydata(sim: RibbonSimulation):
     T_left = sim.T[:, :nt].mean(1)
     T_right = sim.T[:, -nt:].mean(1)
     temp = np.concatenate([_node_average(T_left), _node_average(T_right)])
-    quads = np.stack([np.arange(n - 1), np.arange(1, n), n + np.arange(1, n), n + np.arange(n - 1)], 1)
+    quads = np.stack(
+        [np.arange(n - 1), np.arange(1, n), n + np.arange(1, n), n + np.arange(n - 1)], 1
+    )
     return polydata(pts, quads=quads, point_data={"temperature [C]": temp})
 
 
@@ -250,7 +308,10 @@ class RibbonFrames:
         self.sim, self.every, self.last = sim, every, last
 
     def open(self, run, out: pathlib.Path) -> "RibbonFrames":
-        self.series = [run.output(PolylineSeries(out, "centerline")), run.output(PolylineSeries(out, "surface"))]
+        self.series = [
+            run.output(PolylineSeries(out, "centerline")),
+            run.output(PolylineSeries(out, "surface")),
+        ]
         return self
 
     def write(self, state: RibbonStep) -> None:
@@ -258,7 +319,9 @@ class RibbonFrames:
             sim = self.sim
             n = len(sim.state.x)
             t = sim.state.time
-            self.series[0].write(t, polydata(sim.state.x, lines=[np.arange(n)], point_data=centerline_fields(sim)))
+            self.series[0].write(
+                t, polydata(sim.state.x, lines=[np.arange(n)], point_data=centerline_fields(sim))
+            )
             self.series[1].write(t, surface_polydata(sim))
 
     def last_converged(self, folder, state) -> None:
@@ -269,14 +332,22 @@ class CentroidTable:
     """Export object: centroid.csv, the centroid [mm] of every history row."""
 
     def open(self, run, out) -> "CentroidTable":
-        self.table = run.output(CSVTable(None if out is None else out / "centroid.csv", CENTROID_COLUMNS))
+        self.table = run.output(
+            CSVTable(None if out is None else out / "centroid.csv", CENTROID_COLUMNS)
+        )
         return self
 
     def write(self, state: RibbonStep) -> None:
         row = state.row
         if row is not None:
-            self.table.append({"time [s]": row["time [s]"], "x [mm]": row["centroid_x [mm]"],
-                               "y [mm]": row["centroid_y [mm]"], "z [mm]": row["centroid_z [mm]"]})
+            self.table.append(
+                {
+                    "time [s]": row["time [s]"],
+                    "x [mm]": row["centroid_x [mm]"],
+                    "y [mm]": row["centroid_y [mm]"],
+                    "z [mm]": row["centroid_z [mm]"],
+                }
+            )
 
     def last_converged(self, folder, state) -> None:
         pass
@@ -297,12 +368,20 @@ class LastConvergedState:
 
     def last_converged(self, folder, state) -> None:
         s = self.saved[-1]
-        write_json(folder / "last_converged_state.json",
-                   {"time [s]": float(s.time), "x [mm]": s.x, "theta [rad]": s.theta})
+        write_json(
+            folder / "last_converged_state.json",
+            {"time [s]": float(s.time), "x [mm]": s.x, "theta [rad]": s.theta},
+        )
 
 
-def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: bool = True,
-               fields: bool = True, label: str = "ribbon", report=None) -> RibbonResult:
+def run_ribbon(
+    config: RibbonConfig,
+    out: pathlib.Path | None = None,
+    progress: bool = True,
+    fields: bool = True,
+    label: str = "ribbon",
+    report=None,
+) -> RibbonResult:
     """Build and run one rolling-ribbon simulation (see module docstring); ``out`` None writes
     nothing. ``report(out, config, history)`` (optional: the validation's figures) runs, when
     ``out`` is given, before the summary is written."""
@@ -316,8 +395,12 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
     n_steps = max(1, int(math.ceil(run_cfg.duration / dt - 1e-9)))
     dt = run_cfg.duration / n_steps
     rec_every = max(1, int(round(run_cfg.record_interval / dt)))
-    out_every = max(1, int(round(run_cfg.output_interval / dt))) if run_cfg.output_interval > 0 else 0
-    bar = Progress(run_cfg.duration, f"{label} {run_cfg.ground_temperature:g} C", "s", enabled=progress)
+    out_every = (
+        max(1, int(round(run_cfg.output_interval / dt))) if run_cfg.output_interval > 0 else 0
+    )
+    bar = Progress(
+        run_cfg.duration, f"{label} {run_cfg.ground_temperature:g} C", "s", enabled=progress
+    )
 
     def drive(on_step):
         """Fixed steps of dt (every step seen: frames every ``out_every`` steps, rows every
@@ -347,21 +430,47 @@ def run_ribbon(config: RibbonConfig, out: pathlib.Path | None = None, progress: 
         if out is not None and report is not None:
             report(out, config, hist)
         return {
-            "metrics": metrics, "steps": sim.steps_taken, "dt [s]": dt, "nodes": config.numerics.nodes,
+            "metrics": metrics,
+            "steps": sim.steps_taken,
+            "dt [s]": dt,
+            "nodes": config.numerics.nodes,
             "edge_length [mm]": config.geometry.length / (config.numerics.nodes - 1),
-            "newton_iterations": sim.integrator.total_iterations, "step_cuts": sim.integrator.total_cuts,
+            "newton_iterations": sim.integrator.total_iterations,
+            "step_cuts": sim.integrator.total_cuts,
             "rejected_steps": sim.rejected,
-            "wall_time [s]": wall, "wall_time_per_simulated_second": wall / run_cfg.duration}
+            "wall_time [s]": wall,
+            "wall_time_per_simulated_second": wall / run_cfg.duration,
+        }
 
-    history = HistoryExport(tuple(HISTORY_COLUMNS), lambda s: s.row, when=lambda s: s.row is not None,
-                            where=lambda s: f"t = {s.row['time [s]']:.4g} s", at=lambda s: s.row["time [s]"],
-                            postfix=lambda s: f"y={s.row['centroid_y [mm]']:.2f}mm T={s.row['T_mean [C]']:.1f}C")
-    frames = RibbonFrames(sim, out_every, n_steps) if out is not None and fields and out_every else None
+    history = HistoryExport(
+        tuple(HISTORY_COLUMNS),
+        lambda s: s.row,
+        when=lambda s: s.row is not None,
+        where=lambda s: f"t = {s.row['time [s]']:.4g} s",
+        at=lambda s: s.row["time [s]"],
+        postfix=lambda s: f"y={s.row['centroid_y [mm]']:.2f}mm T={s.row['T_mean [C]']:.1f}C",
+    )
+    frames = (
+        RibbonFrames(sim, out_every, n_steps) if out is not None and fields and out_every else None
+    )
     problem = PathProblem(drive, end=run_cfg.duration, at=lambda s: s.step * dt)
-    exports = [StateHistory(history), *(StateExport(e) for e in (frames, CentroidTable(), LastConvergedState(saved))
-                                        if e is not None)]
-    summary = run(problem, problem.program(), exports, out, config=config.resolved(), progress=bar,
-                  summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail))
+    exports = [
+        StateHistory(history),
+        *(
+            StateExport(e)
+            for e in (frames, CentroidTable(), LastConvergedState(saved))
+            if e is not None
+        ),
+    ]
+    summary = run(
+        problem,
+        problem.program(),
+        exports,
+        out,
+        config=config.resolved(),
+        progress=bar,
+        summarize=lambda skeleton, records: summarize(skeleton, records[-1].detail),
+    )
     return RibbonResult(found["hist"], found["metrics"], summary, out, sim)
 
 
@@ -387,12 +496,20 @@ class RollingRibbonDER:
 
         for tag, value in drives.items():
             if tag not in self.drive_tags():
-                raise InputError(f"drive {tag!r}: the ribbon's only drive is the plate (allowed plate)")
+                raise InputError(
+                    f"drive {tag!r}: the ribbon's only drive is the plate (allowed plate)"
+                )
             # the bounds of the case file's and the command line's run.ground_temperature (its
             # field's minimum; below decomposition, lcefem.models.limits.check_temperature)
-            check_between(f"ground temperature[{tag}]", value, RibbonRun.__dataclass_fields__["ground_temperature"].metadata["minimum"],
-                          DECOMPOSITION_TEMPERATURE, "C", high_open=True,
-                          high_note="decomposition, lcefem.models.limits")
+            check_between(
+                f"ground temperature[{tag}]",
+                value,
+                RibbonRun.__dataclass_fields__["ground_temperature"].metadata["minimum"],
+                DECOMPOSITION_TEMPERATURE,
+                "C",
+                high_open=True,
+                high_note="decomposition, lcefem.models.limits",
+            )
             self.sim.setup = dataclasses.replace(self.sim.setup, ground_temperature=float(value))
 
     def advance(self, dt: float) -> StepRecord:
@@ -403,7 +520,10 @@ class RollingRibbonDER:
         return StepRecord(float(self.sim.time), self.observables())
 
     def observables(self) -> dict[str, float]:
-        return {**self.sim.observe(), "ground temperature [C]": float(self.sim.setup.ground_temperature)}
+        return {
+            **self.sim.observe(),
+            "ground temperature [C]": float(self.sim.setup.ground_temperature),
+        }
 
     def fields(self) -> dict:
         return {"node positions [mm]": self.sim.state.x, **centerline_fields(self.sim)}

@@ -8,19 +8,34 @@ import dataclasses
 import math
 
 from lcefem.models.errors import InputError, PhysicalBoundsError
-from lcefem.models.limits import (ABSOLUTE_ZERO, DECOMPOSITION_TEMPERATURE, MAX_DURATION, TEMPERATURE_RANGE,
-                                  check_current, check_temperature)
+from lcefem.models.limits import (
+    ABSOLUTE_ZERO,
+    DECOMPOSITION_TEMPERATURE,
+    MAX_DURATION,
+    TEMPERATURE_RANGE,
+    check_current,
+    check_temperature,
+)
 
-__all__ = ["TEMPERATURE_RANGE", "check_config", "check_physical", "check_row", "check_seed", "check_temperature",
-           "resolved"]
+__all__ = [
+    "TEMPERATURE_RANGE",
+    "check_config",
+    "check_physical",
+    "check_row",
+    "check_seed",
+    "check_temperature",
+    "resolved",
+]
 
 
 def check_seed(name: str, value) -> int:
-    """A random seed: an integer between 0 and 2^32 - 1, both included (numpy's legacy seed range, the
-    one every command's --seed shares); raises InputError naming ``name``."""
+    """A random seed: an integer between 0 and 2^32 - 1, both included (numpy's legacy seed range,
+    the one every command's --seed shares); raises InputError naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 2**32 - 1:
-        raise InputError(f"{name} = {value!r}: must be an integer between 0 and 2^32 - 1, both included "
-                         "(numpy's seed)")
+        raise InputError(
+            f"{name} = {value!r}: must be an integer between 0 and 2^32 - 1, both included "
+            "(numpy's seed)"
+        )
     return value
 
 
@@ -38,7 +53,11 @@ def check_physical(config, section: str = "") -> None:
             continue
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             continue
-        if isinstance(f.default, int) and not isinstance(f.default, bool) and not isinstance(value, int):
+        if (
+            isinstance(f.default, int)
+            and not isinstance(f.default, bool)
+            and not isinstance(value, int)
+        ):
             raise InputError(f"{name} = {value}: must be an integer")
         if not math.isfinite(value):
             raise InputError(f"{name} = {value}: must be a finite number")
@@ -46,7 +65,9 @@ def check_physical(config, section: str = "") -> None:
         if unit == "A" and "current" in f.name:
             check_current(name, value)
         if unit == "s" and "duration" in f.name and value > MAX_DURATION:
-            raise InputError(f"{name} = {value} s: must be <= {MAX_DURATION} s (lcefem.models.limits)")
+            raise InputError(
+                f"{name} = {value} s: must be <= {MAX_DURATION} s (lcefem.models.limits)"
+            )
         if unit == "C":
             check_temperature(name, value)
         elif unit == "MPa" and "modulus" in f.name and not value > 0:
@@ -84,5 +105,9 @@ def resolved(config) -> dict:
     """The configuration as written next to results: every value with its unit and source."""
     from lcefem.models.parameters import describe
 
-    return {f.name: dict(getattr(config, f.name)) if isinstance(getattr(config, f.name), dict)
-            else describe(getattr(config, f.name)) for f in dataclasses.fields(config)}
+    return {
+        f.name: dict(getattr(config, f.name))
+        if isinstance(getattr(config, f.name), dict)
+        else describe(getattr(config, f.name))
+        for f in dataclasses.fields(config)
+    }

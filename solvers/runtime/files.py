@@ -33,9 +33,13 @@ def is_disk_error(exc: BaseException) -> bool:
 
 
 #: errno -> what to do when the file is not in --out (a cache, a case file's folder, ...)
-ELSEWHERE = {errno.ENOSPC: "free space on that device", errno.EDQUOT: "free space in your quota",
-             errno.EROFS: "that file system is read-only", errno.EACCES: "you may not write there",
-             errno.EPERM: "you may not write there"}
+ELSEWHERE = {
+    errno.ENOSPC: "free space on that device",
+    errno.EDQUOT: "free space in your quota",
+    errno.EROFS: "that file system is read-only",
+    errno.EACCES: "you may not write there",
+    errno.EPERM: "you may not write there",
+}
 
 
 def cache_folders() -> dict[pathlib.Path, tuple[str, str]]:
@@ -47,16 +51,22 @@ def cache_folders() -> dict[pathlib.Path, tuple[str, str]]:
     folders = {xdg / "fenics": ("the FFCx/DOLFINx JIT cache", "XDG_CACHE_HOME")}
     if os.environ.get("NUMBA_CACHE_DIR"):
         folders[pathlib.Path(os.environ["NUMBA_CACHE_DIR"])] = ("numba's cache", "NUMBA_CACHE_DIR")
-    folders[pathlib.Path(os.environ.get("MPLCONFIGDIR") or
-                         pathlib.Path(os.environ.get("XDG_CONFIG_HOME") or home / ".config") / "matplotlib")] \
-        = ("matplotlib's configuration and cache", "MPLCONFIGDIR")
+    folders[
+        pathlib.Path(
+            os.environ.get("MPLCONFIGDIR")
+            or pathlib.Path(os.environ.get("XDG_CONFIG_HOME") or home / ".config") / "matplotlib"
+        )
+    ] = ("matplotlib's configuration and cache", "MPLCONFIGDIR")
     return folders
 
 
 def _within(path: pathlib.Path, folder: pathlib.Path) -> bool:
-    """``path`` is ``folder``, lies inside it, or is one of the folders that must be created for it."""
+    """``path`` is ``folder``, lies inside it, or is one of the folders that must be created for
+    it."""
     path, folder = pathlib.Path(os.path.abspath(path)), pathlib.Path(os.path.abspath(folder))
-    return path.is_relative_to(folder) or (folder.is_relative_to(path) and path != pathlib.Path("/"))
+    return path.is_relative_to(folder) or (
+        folder.is_relative_to(path) and path != pathlib.Path("/")
+    )
 
 
 def disk_error_message(exc: OSError, out=None) -> str:
@@ -69,13 +79,23 @@ def disk_error_message(exc: OSError, out=None) -> str:
     if exc.filename:
         for folder, (what, variable) in cache_folders().items():
             if _within(pathlib.Path(str(exc.filename)), folder):
-                return (f"cannot write {where}: {cause}{name}; it is {what} ({folder}): set {variable} "
-                        "to a folder you may write to")
-    in_out = out is not None and exc.filename and pathlib.Path(os.path.abspath(str(exc.filename))) \
-        .is_relative_to(pathlib.Path(os.path.abspath(out)))
+                return (
+                    f"cannot write {where}: {cause}{name}; it is {what} ({folder}): set {variable} "
+                    "to a folder you may write to"
+                )
+    in_out = (
+        out is not None
+        and exc.filename
+        and pathlib.Path(os.path.abspath(str(exc.filename))).is_relative_to(
+            pathlib.Path(os.path.abspath(out))
+        )
+    )
     if exc.errno in DISK_ERRORS:
-        todo = DISK_ERRORS[exc.errno][1] if in_out or (out is None and not exc.filename) \
+        todo = (
+            DISK_ERRORS[exc.errno][1]
+            if in_out or (out is None and not exc.filename)
             else ELSEWHERE[exc.errno]
+        )
         return f"cannot write {where}: {cause}{name}; {todo}"
     return f"cannot write {where}: {cause}"
 
@@ -118,14 +138,16 @@ def refuse_link(path) -> None:
     """InputError when ``path`` is a symbolic link: lcefem never writes through a link planted in an
     output folder (it would overwrite the link's target, anywhere)."""
     if os.path.islink(path):
-        raise InputError(f"'{path}': a symbolic link inside the output folder; lcefem does not write "
-                         "through links: remove it or choose another --out")
+        raise InputError(
+            f"'{path}': a symbolic link inside the output folder; lcefem does not write "
+            "through links: remove it or choose another --out"
+        )
 
 
 def open_new(path, mode: str = "w", **kwargs):
-    """A new file at ``path`` for writing (text ``mode`` "w" or binary "wb"): a link there is refused
-    (:func:`refuse_link`), any other old entry removed first (a hard link's other name keeps its
-    data), and the file created with O_EXCL | O_NOFOLLOW so that a link planted meanwhile is not
+    """A new file at ``path`` for writing (text ``mode`` "w" or binary "wb"): a link there is
+    refused (:func:`refuse_link`), any other old entry removed first (a hard link's other name keeps
+    its data), and the file created with O_EXCL | O_NOFOLLOW so that a link planted meanwhile is not
     followed either."""
     path = pathlib.Path(path)
     refuse_link(path)
@@ -154,8 +176,8 @@ def replace(src: pathlib.Path, dst: pathlib.Path) -> None:
 
 
 def json_safe(obj):
-    """Plain JSON values: numpy scalars and arrays as Python ones, NaN and infinities as None, paths as
-    strings (strict JSON)."""
+    """Plain JSON values: numpy scalars and arrays as Python ones, NaN and infinities as None, paths
+    as strings (strict JSON)."""
     if hasattr(obj, "tolist"):  # numpy scalars and arrays
         obj = obj.tolist()
     if isinstance(obj, float) and not math.isfinite(obj):
@@ -234,6 +256,7 @@ class CSVTable:
 
     def column(self, name: str):
         import numpy as np
+
         i = self.columns.index(name)
         return np.array([r[i] for r in self.rows])
 
@@ -257,9 +280,10 @@ class CSVTable:
 
 
 class FrameSeries:
-    """A ParaView time series: frames ``<stem>_steps/<stem>_NNNNN.vtp`` and the index ``<stem>.pvd``.
-    Frames go to ``<stem>_steps.part/`` during the run; :meth:`finalize` renames the folder and writes
-    the index (``<stem>_steps.partial/`` and ``<stem>.partial.pvd`` for an unfinished run)."""
+    """A ParaView time series: frames ``<stem>_steps/<stem>_NNNNN.vtp`` and the index
+    ``<stem>.pvd``. Frames go to ``<stem>_steps.part/`` during the run; :meth:`finalize` renames the
+    folder and writes the index (``<stem>_steps.partial/`` and ``<stem>.partial.pvd`` for an
+    unfinished run)."""
 
     def __init__(self, out: pathlib.Path, stem: str):
         self.out = pathlib.Path(out)
@@ -282,16 +306,20 @@ class FrameSeries:
     def finalize(self, complete: bool = True) -> pathlib.Path:
         folder = self.folder if complete else partial_name(self.folder)
         replace(self.part, folder)
-        rows = "\n".join(f'    <DataSet timestep="{t:.10g}" group="" part="0" file="{folder.name}/{name}"/>'
-                         for t, name in self.entries)
-        return write_text(self.out / (f"{self.stem}.pvd" if complete else f"{self.stem}.partial.pvd"),
-                          '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
-                          f"{rows}\n  </Collection>\n</VTKFile>\n")
+        rows = "\n".join(
+            f'    <DataSet timestep="{t:.10g}" group="" part="0" file="{folder.name}/{name}"/>'
+            for t, name in self.entries
+        )
+        return write_text(
+            self.out / (f"{self.stem}.pvd" if complete else f"{self.stem}.partial.pvd"),
+            '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
+            f"{rows}\n  </Collection>\n</VTKFile>\n",
+        )
 
 
 def salvage_parts(out: pathlib.Path) -> None:
-    """Rename every ``*.part`` entry of ``out`` to its ``*.partial.*`` name, without collectives (any
-    rank may call it; a rename another rank did first is skipped)."""
+    """Rename every ``*.part`` entry of ``out`` to its ``*.partial.*`` name, without collectives
+    (any rank may call it; a rename another rank did first is skipped)."""
     for p in list(pathlib.Path(out).glob("*.part")):
         with contextlib.suppress(OSError):
-            replace(p, partial_name(p.with_name(p.name[:-len(".part")])))
+            replace(p, partial_name(p.with_name(p.name[: -len(".part")])))

@@ -9,6 +9,7 @@ import pathlib
 
 from lcefem.models.errors import InputError
 
+
 def read_text(path, name: str) -> str:
     """The one decoding path of every file lcefem reads from the user (case files, schedules): UTF-8
     (TOML's encoding; a UTF-8 byte-order mark is skipped), else one InputError naming ``name`` (e.g.
@@ -27,8 +28,10 @@ def read_text(path, name: str) -> str:
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise InputError(f"{name}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start}); "
-                         "save it as UTF-8 (TOML files are UTF-8)") from None
+        raise InputError(
+            f"{name}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start}); "
+            "save it as UTF-8 (TOML files are UTF-8)"
+        ) from None
 
 
 def read_toml(path, name: str) -> dict:
@@ -41,7 +44,9 @@ def read_toml(path, name: str) -> dict:
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{name}: invalid TOML ({exc})") from None
     except RecursionError:  # tomllib recurses per nested table or array (a 2,000-deep nesting)
-        raise InputError(f"{name}: invalid TOML (tables or arrays nested too deep for the parser)") from None
+        raise InputError(
+            f"{name}: invalid TOML (tables or arrays nested too deep for the parser)"
+        ) from None
     except (ValueError, TypeError) as exc:  # an integer of more digits than Python converts (4,300)
         first = str(exc).splitlines()[0][:160] if str(exc) else type(exc).__name__
         raise InputError(f"{name}: invalid TOML ({first})") from None
@@ -69,9 +74,9 @@ NUMERIC_ENVIRONMENT = {
 
 def check_start(argv: list[str], environ=None) -> None:
     """Start-up checks, before any library (dolfinx, numba, PETSc) is imported: every argument is
-    valid UTF-8 (dolfinx passes sys.argv to C++ at import and fails on bytes a shell passed through),
-    and every numeric environment variable of :data:`NUMERIC_ENVIRONMENT` that is set is a number in
-    its range. InputError naming the argument or the variable."""
+    valid UTF-8 (dolfinx passes sys.argv to C++ at import and fails on bytes a shell passed
+    through), and every numeric environment variable of :data:`NUMERIC_ENVIRONMENT` that is set is a
+    number in its range. InputError naming the argument or the variable."""
     for i, arg in enumerate(argv):
         try:
             str(arg).encode("utf-8")
@@ -88,10 +93,16 @@ def check_start(argv: list[str], environ=None) -> None:
             value = kind(text.strip()) if text.strip().isascii() else None
         except ValueError:
             value = None
-        if value is None or (kind is float and not math.isfinite(value)) or value < low \
-                or (kind is float and value <= low):
+        if (
+            value is None
+            or (kind is float and not math.isfinite(value))
+            or value < low
+            or (kind is float and value <= low)
+        ):
             shown = text.encode("ascii", "backslashreplace").decode()[:40]
-            raise InputError(f"environment variable {var} = {shown!r}: must be {what}; unset it or fix it")
+            raise InputError(
+                f"environment variable {var} = {shown!r}: must be {what}; unset it or fix it"
+            )
 
 
 def _writable_folder(folder: pathlib.Path) -> bool:
@@ -112,8 +123,10 @@ def matplotlib_folder_note(environ=None) -> str | None:
     if environ.get("MPLCONFIGDIR"):
         return None
     home = pathlib.Path(os.path.expanduser("~"))
-    folders = [pathlib.Path(environ.get("XDG_CONFIG_HOME") or home / ".config") / "matplotlib",
-               pathlib.Path(environ.get("XDG_CACHE_HOME") or home / ".cache") / "matplotlib"]
+    folders = [
+        pathlib.Path(environ.get("XDG_CONFIG_HOME") or home / ".config") / "matplotlib",
+        pathlib.Path(environ.get("XDG_CACHE_HOME") or home / ".cache") / "matplotlib",
+    ]
     bad = next((f for f in folders if not _writable_folder(f)), None)
     if bad is None:
         return None
@@ -122,8 +135,11 @@ def matplotlib_folder_note(environ=None) -> str | None:
 
     environ["MPLCONFIGDIR"] = tempfile.mkdtemp(prefix="lcefem-matplotlib-")
     atexit.register(shutil.rmtree, environ["MPLCONFIGDIR"], True)
-    return (f"lcefem: matplotlib's folder {bad} is not writable; using a temporary one (set MPLCONFIGDIR "
-            "to a writable folder to keep its cache)")
+    return (
+        f"lcefem: matplotlib's folder {bad} is not writable; using a temporary one (set "
+        "MPLCONFIGDIR "
+        "to a writable folder to keep its cache)"
+    )
 
 
 def check_jit_cache() -> None:
@@ -141,5 +157,7 @@ def check_jit_cache() -> None:
     except Exception:  # an older dolfinx without these options: the compilation will tell
         return
     if not _writable_folder(folder):
-        raise InputError(f"the FFCx/DOLFINx JIT cache folder {folder} cannot be written: set "
-                         "XDG_CACHE_HOME to a folder you may write to (the cache goes to its fenics/)")
+        raise InputError(
+            f"the FFCx/DOLFINx JIT cache folder {folder} cannot be written: set "
+            "XDG_CACHE_HOME to a folder you may write to (the cache goes to its fenics/)"
+        )

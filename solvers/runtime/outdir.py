@@ -25,18 +25,19 @@ LOCK = ".lcefem.lock"  #: "pid host" of the run writing the folder
 STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it) and by which command
 STAMP_TEXT = "written by lcefem; --overwrite may empty this folder\ncommand: {command}\n"
 #: [s] how old a lock file without a readable "pid host" must be before it is taken over: the claim
-#: writes the pid right after creating the file (microseconds), so an older empty or garbled lock was
-#: left by a run that died there (a full disk during the claim) and would otherwise block for ever
+#: writes the pid right after creating the file (microseconds), so an older empty or garbled lock
+#: was left by a run that died there (a full disk during the claim) and would otherwise block for
+#: ever
 LOCK_GRACE = 2.0
 #: where --overwrite puts the previous run's files while the new run starts: an input error found
-#: only once the run is under way (a [petsc] option the solver never reads) puts them back, so exit 2
-#: leaves the folder as it was; any other end deletes them
+#: only once the run is under way (a [petsc] option the solver never reads) puts them back, so exit
+#: 2 leaves the folder as it was; any other end deletes them
 PREVIOUS = ".lcefem-previous"
 
 
 def stamped_command(out: pathlib.Path) -> str | None:
-    """The command recorded in ``out``'s marker (``run strip``, ``validate``, ``converge CASE``), None
-    when there is none (no marker, or one written before commands were recorded)."""
+    """The command recorded in ``out``'s marker (``run strip``, ``validate``, ``converge CASE``),
+    None when there is none (no marker, or one written before commands were recorded)."""
     try:
         fd = os.open(pathlib.Path(out) / STAMP, os.O_RDONLY | os.O_NOFOLLOW)
         with os.fdopen(fd, "rb") as fh:
@@ -45,7 +46,7 @@ def stamped_command(out: pathlib.Path) -> str | None:
         return None
     for line in text.splitlines():
         if line.startswith("command:"):
-            return line[len("command:"):].strip() or None
+            return line[len("command:") :].strip() or None
     return None
 
 
@@ -70,8 +71,10 @@ def _check_out_path(out, flag: str) -> pathlib.Path:
         raise InputError(f"{flag} = '{out}': is a file, not a folder")
     source = _source_folder(out)
     if source is not None:
-        raise InputError(f"{flag} = '{out}': inside lcefem's own source tree ({source}); results go to "
-                         "a folder of their own, e.g. results/<name>")
+        raise InputError(
+            f"{flag} = '{out}': inside lcefem's own source tree ({source}); results go to "
+            "a folder of their own, e.g. results/<name>"
+        )
     return out
 
 
@@ -142,20 +145,24 @@ def live_lock_inside(folder: pathlib.Path) -> pathlib.Path | None:
 
 
 def remove_owned(path: pathlib.Path, flag: str = "--out") -> None:
-    """Delete ``path`` (a file, or a folder of an lcefem run) without following links, after checking
-    that no live run holds a lock below it (InputError naming it)."""
+    """Delete ``path`` (a file, or a folder of an lcefem run) without following links, after
+    checking that no live run holds a lock below it (InputError naming it)."""
     path = pathlib.Path(path)
     if path.is_dir() and not path.is_symlink():
         held = live_lock_inside(path)
         if held is not None:
-            raise InputError(f"{flag}: '{held.parent}' is in use by another lcefem run (lock file "
-                             f"{held}); wait for it or choose another folder")
+            raise InputError(
+                f"{flag}: '{held.parent}' is in use by another lcefem run (lock file "
+                f"{held}); wait for it or choose another folder"
+            )
         shutil.rmtree(path)
     else:
         path.unlink(missing_ok=True)
 
 
-def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str, command: str | None) -> None:
+def _take(
+    out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str, command: str | None
+) -> None:
     """Rank 0's part of :func:`claim_out` (raises InputError)."""
     try:
         out.mkdir(parents=True, exist_ok=True)
@@ -167,8 +174,10 @@ def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str, co
                 break
             except FileExistsError:
                 if lock.is_symlink() or not lock.is_file():
-                    raise InputError(f"{flag} = '{out}': its lock file {lock} is a link or not a "
-                                     "file; lcefem does not write through links: remove it") from None
+                    raise InputError(
+                        f"{flag} = '{out}': its lock file {lock} is a link or not a "
+                        "file; lcefem does not write through links: remove it"
+                    ) from None
                 owner = _lock_owner(lock)
                 if owner is None:  # no readable pid: stale once older than LOCK_GRACE
                     try:
@@ -179,51 +188,98 @@ def _take(out: pathlib.Path, resume: bool | None, overwrite: bool, flag: str, co
                         time.sleep(0.1)
                         waited += 0.1
                         continue
-                    print(f"lcefem: taking over {lock}: it names no process (empty or garbled, "
-                          f"{age:.0f} s old), left by a run that died while claiming the folder",
-                          file=sys.stderr)
+                    print(
+                        f"lcefem: taking over {lock}: it names no process (empty or garbled, "
+                        f"{age:.0f} s old), left by a run that died while claiming the folder",
+                        file=sys.stderr,
+                    )
                     lock.unlink(missing_ok=True)
                     continue
                 pid, host = owner
                 if host == socket.gethostname() and not _pid_alive(pid):
                     lock.unlink(missing_ok=True)  # left by a killed run
                     continue
-                raise InputError(f"{flag} = '{out}': in use by another lcefem run (pid {pid} on {host}, "
-                                 f"lock file {LOCK}); wait for it or choose another folder") from None
+                raise InputError(
+                    f"{flag} = '{out}': in use by another lcefem run (pid {pid} on {host}, "
+                    f"lock file {LOCK}); wait for it or choose another folder"
+                ) from None
         with os.fdopen(fd, "w") as fh:
             fh.write(f"{os.getpid()} {socket.gethostname()}\n")
         others = [p for p in out.iterdir() if p.name not in (LOCK, STAMP)]
         stamp = out / STAMP
         if stamp.is_symlink() or (stamp.exists() and not stamp.is_file()):
-            raise _release(out, InputError(
-                f"{flag} = '{out}': its marker {stamp} is a link or not a file; lcefem does not write "
-                "through links: remove it"))
+            raise _release(
+                out,
+                InputError(
+                    f"{flag} = '{out}': its marker {stamp} is a link or not a file; lcefem does "
+                    "not "
+                    "write "
+                    "through links: remove it"
+                ),
+            )
         previous = stamped_command(out)
         if others and resume and not stamp.exists():
-            raise _release(out, InputError(
-                f"{flag} = '{out}': holds files not written by lcefem (no {STAMP} marker); --resume "
-                "continues only a folder lcefem wrote: choose another folder"))
+            raise _release(
+                out,
+                InputError(
+                    f"{flag} = '{out}': holds files not written by lcefem (no {STAMP} marker); "
+                    "--resume "
+                    "continues only a folder lcefem wrote: choose another folder"
+                ),
+            )
         if others and resume and command and previous != command:
-            raise _release(out, InputError(
-                f"{flag} = '{out}': holds the results of `lcefem {previous or 'an unrecorded command'}`; "
-                f"--resume continues only a folder of `lcefem {command}`: choose another folder"))
+            raise _release(
+                out,
+                InputError(
+                    f"{flag} = '{out}': holds the results of `lcefem {
+                        previous or 'an unrecorded command'
+                    }`; "
+                    f"--resume continues only a folder of `lcefem {command}`: choose another folder"
+                ),
+            )
         if others and not resume:
             if not overwrite:
-                raise _release(out, InputError(
-                    f"{flag} = '{out}': holds the results of another run ({len(others)} entries, e.g. "
-                    f"{sorted(p.name for p in others)[0]}); pass --overwrite to replace them"
-                    f"{' or --resume to continue' if resume is not None else ''}"))
+                raise _release(
+                    out,
+                    InputError(
+                        f"{flag} = '{out}': holds the results of another run ({len(others)} "
+                        "entries, "
+                        "e.g. "
+                        f"{sorted(p.name for p in others)[0]}); pass --overwrite to replace them"
+                        f"{' or --resume to continue' if resume is not None else ''}"
+                    ),
+                )
             if not (out / STAMP).exists():
-                raise _release(out, InputError(
-                    f"{flag} = '{out}': holds files not written by lcefem; --overwrite empties only "
-                    "lcefem output folders: choose another folder"))
-            held = next((h for p in others if p.is_dir() and not p.is_symlink()
-                         for h in [live_lock_inside(p)] if h is not None), None)
+                raise _release(
+                    out,
+                    InputError(
+                        f"{flag} = '{out}': holds files not written by lcefem; --overwrite empties "
+                        "only "
+                        "lcefem output folders: choose another folder"
+                    ),
+                )
+            held = next(
+                (
+                    h
+                    for p in others
+                    if p.is_dir() and not p.is_symlink()
+                    for h in [live_lock_inside(p)]
+                    if h is not None
+                ),
+                None,
+            )
             if held is not None:
-                raise _release(out, InputError(
-                    f"{flag} = '{out}': '{held.parent}' inside it is in use by another lcefem run (lock "
-                    f"file {held}); --overwrite would delete its files: wait for it or choose another "
-                    "folder"))
+                raise _release(
+                    out,
+                    InputError(
+                        f"{flag} = '{out}': '{held.parent}' inside it is in use by another lcefem "
+                        "run "
+                        "(lock "
+                        f"file {held}); --overwrite would delete its files: wait for it or choose "
+                        "another "
+                        "folder"
+                    ),
+                )
             aside = out / PREVIOUS
             if aside.is_dir() and not aside.is_symlink():  # left by a run killed before it ended
                 shutil.rmtree(aside)
@@ -253,20 +309,30 @@ def _release(out: pathlib.Path, exc: BaseException) -> BaseException:
 
 
 @contextlib.contextmanager
-def claim_out(out, *, resume: bool | None = False, overwrite: bool = False, comm=None,
-              flag: str = "--out", command: str | None = None, inputs: dict | None = None):
+def claim_out(
+    out,
+    *,
+    resume: bool | None = False,
+    overwrite: bool = False,
+    comm=None,
+    flag: str = "--out",
+    command: str | None = None,
+    inputs: dict | None = None,
+):
     """Own ``out`` while the body runs: check the path, refuse another run's results (unless
     ``resume`` or ``overwrite``, which empties an lcefem folder first), hold a lock file naming
     this process. ``resume=None``: the command has no --resume. ``command`` (e.g. ``run strip``) is
     recorded in the folder's marker; --resume refuses a folder another command wrote. ``inputs``
-    (flag -> path: the case files the command reads) may not lie inside a folder --overwrite empties.
-    Errors are InputError on every rank."""
+    (flag -> path: the case files the command reads) may not lie inside a folder --overwrite
+    empties. Errors are InputError on every rank."""
     out = _check_out_path(out, flag)
     if overwrite and out.is_dir():
         for name, path in (inputs or {}).items():
             if path is not None and _inside(pathlib.Path(path), out):
-                raise InputError(f"{name} = '{path}': inside --out = '{out}', which --overwrite empties; "
-                                 "move the file out of the folder first")
+                raise InputError(
+                    f"{name} = '{path}': inside --out = '{out}', which --overwrite empties; "
+                    "move the file out of the folder first"
+                )
     created = not out.exists()
     message = None
     if rank(comm) == 0:
@@ -316,7 +382,8 @@ def _settle_previous(out: pathlib.Path, restore: bool) -> None:
 
 
 def claimed(out) -> bool:
-    """True when ``out`` is, or lies below, a folder this process holds through :func:`claim_out`."""
+    """True when ``out`` is, or lies below, a folder this process holds through
+    :func:`claim_out`."""
     try:
         path = pathlib.Path(out).resolve()
     except (OSError, RuntimeError):
@@ -325,14 +392,19 @@ def claimed(out) -> bool:
 
 
 def _not_utf8(text: str) -> str | None:
-    """None, or the message for a name that is not valid UTF-8 (bytes the shell passed through, held by
-    Python as lone surrogates): dolfinx, ADIOS2 and VTK take UTF-8 names and fail deep inside on it."""
+    """None, or the message for a name that is not valid UTF-8 (bytes the shell passed through, held
+    by Python as lone surrogates): dolfinx, ADIOS2 and VTK take UTF-8 names and fail deep inside on
+    it."""
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:
-        return (f"= {text.encode('utf-8', 'surrogateescape').decode('utf-8', 'backslashreplace')!r}: "
-                "not valid UTF-8; choose a UTF-8 name")
-    if any(ord(c) < 32 or ord(c) == 127 for c in text):  # a newline would split every one-line message
+        return (
+            f"= {text.encode('utf-8', 'surrogateescape').decode('utf-8', 'backslashreplace')!r}: "
+            "not valid UTF-8; choose a UTF-8 name"
+        )
+    if any(
+        ord(c) < 32 or ord(c) == 127 for c in text
+    ):  # a newline would split every one-line message
         return f"= {text!r}: contains a control character (newline, tab, ...); choose a plain name"
     return None
 
@@ -348,11 +420,19 @@ def _out_path(text: str) -> pathlib.Path:
 
 def add_out_arguments(parser, default: str | None, *, resume: bool = False) -> None:
     """--out, --overwrite (and --resume), --quiet: the same flags and words for every command."""
-    parser.add_argument("--out", type=_out_path, default=None if default is None else pathlib.Path(default),
-                        help=f"output folder (default {default})" if default else "output folder")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace the results of an earlier run in --out")
+    parser.add_argument(
+        "--out",
+        type=_out_path,
+        default=None if default is None else pathlib.Path(default),
+        help=f"output folder (default {default})" if default else "output folder",
+    )
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace the results of an earlier run in --out"
+    )
     if resume:
-        parser.add_argument("--resume", action="store_true",
-                            help="keep the complete parts of an earlier run in --out and do the rest")
+        parser.add_argument(
+            "--resume",
+            action="store_true",
+            help="keep the complete parts of an earlier run in --out and do the rest",
+        )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -16,14 +16,15 @@ def barrier(comm) -> None:
 
 
 def barrier_quietly(comm) -> None:
-    """A barrier only when no exception is in flight: on an interrupt the ranks may not all get here;
-    the lock is rank 0's, so don't wait for them."""
+    """A barrier only when no exception is in flight: on an interrupt the ranks may not all get
+    here; the lock is rank 0's, so don't wait for them."""
     if comm is not None and comm.size > 1 and sys.exc_info()[0] is None:
         comm.barrier()
 
 
 def mpi_launched() -> bool:
-    """Started by mpiexec (its environment variables are set), whether or not MPI is imported yet."""
+    """Started by mpiexec (its environment variables are set), whether or not MPI is imported
+    yet."""
     return any(k in os.environ for k in ("PMI_RANK", "PMI_SIZE", "OMPI_COMM_WORLD_SIZE"))
 
 
@@ -33,9 +34,11 @@ def world():
         return None
     import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
     from mpi4py import MPI
+
     return MPI.COMM_WORLD if MPI.COMM_WORLD.size > 1 else None
 
 
 def world_rank() -> int:
-    """This process's rank under mpiexec, read from the launcher's environment (MPI not imported)."""
+    """This process's rank under mpiexec, read from the launcher's environment (MPI not
+    imported)."""
     return int(os.environ.get("PMI_RANK", os.environ.get("OMPI_COMM_WORLD_RANK", "0")))

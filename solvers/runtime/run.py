@@ -15,17 +15,30 @@ from lcefem.solvers.runtime.outdir import claim_out, claimed
 from lcefem.solvers.runtime.ranks import barrier, rank
 from lcefem.solvers.runtime.signals import reinstall_signal_handlers
 
+
 class Progress:
     """A tqdm bar on stderr (rank 0 only) over a quantity: simulated time, load factor, ..."""
 
-    def __init__(self, total: float, desc: str, unit: str, fmt: str = ".1f", enabled: bool = True,
-                 comm=None):
+    def __init__(
+        self, total: float, desc: str, unit: str, fmt: str = ".1f", enabled: bool = True, comm=None
+    ):
         self.bar = None
         if enabled and rank(comm) == 0:
             from tqdm import tqdm
-            self.bar = tqdm(total=total, desc=desc, unit=unit, file=sys.stderr,
-                            bar_format="{l_bar}{bar}| {n:" + fmt + "}/{total:" + fmt
-                            + "} " + unit + " [{elapsed}<{remaining}{postfix}]")
+
+            self.bar = tqdm(
+                total=total,
+                desc=desc,
+                unit=unit,
+                file=sys.stderr,
+                bar_format="{l_bar}{bar}| {n:"
+                + fmt
+                + "}/{total:"
+                + fmt
+                + "} "
+                + unit
+                + " [{elapsed}<{remaining}{postfix}]",
+            )
 
     def to(self, value: float, postfix: str | None = None) -> None:
         if self.bar is not None:
@@ -54,8 +67,16 @@ class Run:
     failure.json is written (it would claim a physics failure). The exception propagates.
     """
 
-    def __init__(self, out: pathlib.Path | None, *, config: dict, columns: list[str] | None = None,
-                 history: str = "history.csv", progress: Progress | None = None, comm=None):
+    def __init__(
+        self,
+        out: pathlib.Path | None,
+        *,
+        config: dict,
+        columns: list[str] | None = None,
+        history: str = "history.csv",
+        progress: Progress | None = None,
+        comm=None,
+    ):
         reinstall_signal_handlers()  # the problem was just built: gmsh and PETSc may have taken them
         self.out = None if out is None else pathlib.Path(out)
         self.config = config
@@ -69,11 +90,21 @@ class Run:
         self._claim = contextlib.ExitStack()
         if self.out is not None and not claimed(self.out):
             try:
-                self._claim.enter_context(claim_out(self.out, resume=None, overwrite=False, comm=comm,
-                                                    flag="out", command="library run"))
+                self._claim.enter_context(
+                    claim_out(
+                        self.out,
+                        resume=None,
+                        overwrite=False,
+                        comm=comm,
+                        flag="out",
+                        command="library run",
+                    )
+                )
             except InputError as exc:
-                raise InputError(f"{exc} (a library run: to replace them, claim the folder first, "
-                                 "with lcefem.solvers.runtime.outdir.claim_out(out, overwrite=True): ...)") from None
+                raise InputError(
+                    f"{exc} (a library run: to replace them, claim the folder first, "
+                    "with lcefem.solvers.runtime.outdir.claim_out(out, overwrite=True): ...)"
+                ) from None
         if self.out is not None and rank(comm) == 0:
             self.out.mkdir(parents=True, exist_ok=True)
             for stale in ("failure.json", "summary.json"):  # this run owns the folder's state
@@ -81,8 +112,9 @@ class Run:
         barrier(comm)
         self.history = None
         if columns is not None:
-            self.history = self.output(CSVTable(None if self.out is None else self.out / history,
-                                                columns, comm))
+            self.history = self.output(
+                CSVTable(None if self.out is None else self.out / history, columns, comm)
+            )
         self.done = False
 
     def output(self, writer):
@@ -94,15 +126,18 @@ class Run:
         columns are known (a run built without ``columns``: the one door,
         lcefem.solvers.runner.run)."""
         if self.history is None:
-            self.history = self.output(CSVTable(None if self.out is None else self.out / name, columns,
-                                                self.comm))
+            self.history = self.output(
+                CSVTable(None if self.out is None else self.out / name, columns, self.comm)
+            )
         return self.history
 
     def on_failure(self, hook) -> None:
         """``hook(out)`` runs after a ConvergenceError, e.g. to save the last converged state."""
         self._failure_hooks.append(hook)
 
-    def record(self, row: dict, where: str, at: float | None = None, postfix: str | None = None) -> None:
+    def record(
+        self, row: dict, where: str, at: float | None = None, postfix: str | None = None
+    ) -> None:
         """Check ``row`` against physical bounds, append it to the history, advance the bar. An
         interrupt a library swallowed (raised inside one of its callbacks) stops the run here at
         the latest."""
@@ -159,12 +194,30 @@ class Run:
             with contextlib.suppress(Exception):  # keep the original error
                 w.finalize(False)
         if failed:
-            kept = sorted(p.name for p in self.out.iterdir() if ".partial" in p.name or
-                          p.name.startswith("last_converged")) if rank(self.comm) == 0 else []
-            write_json(self.out / "failure.json", {
-                "status": "failed", "kind": "out of physical bounds" if isinstance(exc, PhysicalBoundsError)
-                else "no convergence", "where": exc.where, "reason": exc.reason,
-                "last_converged": self.last_row(), "kept": kept, "config": self.config}, self.comm)
+            kept = (
+                sorted(
+                    p.name
+                    for p in self.out.iterdir()
+                    if ".partial" in p.name or p.name.startswith("last_converged")
+                )
+                if rank(self.comm) == 0
+                else []
+            )
+            write_json(
+                self.out / "failure.json",
+                {
+                    "status": "failed",
+                    "kind": "out of physical bounds"
+                    if isinstance(exc, PhysicalBoundsError)
+                    else "no convergence",
+                    "where": exc.where,
+                    "reason": exc.reason,
+                    "last_converged": self.last_row(),
+                    "kept": kept,
+                    "config": self.config,
+                },
+                self.comm,
+            )
         return False
 
 

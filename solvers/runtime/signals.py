@@ -1,6 +1,6 @@
 """Signal handlers of the command line: Ctrl-C and SIGTERM raise KeyboardInterrupt (SIGTERM as
-:class:`~lcefem.solvers.interrupts.Terminated`) so every ``finally`` runs; each signal is recorded in
-lcefem.solvers.interrupts.received, where solvers that catch library errors look for it."""
+:class:`~lcefem.solvers.interrupts.Terminated`) so every ``finally`` runs; each signal is recorded
+in lcefem.solvers.interrupts.received, where solvers that catch library errors look for it."""
 
 from __future__ import annotations
 
@@ -13,7 +13,9 @@ from lcefem.solvers.interrupts import Terminated, raise_if_interrupted
 
 _installed: list[bool] = []  # [True] while the command line owns SIGINT and SIGTERM
 
-_deferred: list[bool] = []  # [True] inside deferred_signals(): record the signal, raise at the next check
+_deferred: list[
+    bool
+] = []  # [True] inside deferred_signals(): record the signal, raise at the next check
 
 
 def _on_signal(signum, frame):
@@ -64,10 +66,10 @@ def reinstall_signal_handlers() -> None:
 def keep_petsc_off_signals() -> None:
     """PETSc, when it initialises (the first import of petsc4py.PETSc, which may come inside a case
     or a plot long after the command line took the signals), installs a handler of its own that ends
-    the process on SIGTERM with status 15 ("Caught signal number 15") and no clean-up: the lock stays,
-    .part files stay. PETSc's option -no_signal_handler, read from PETSC_OPTIONS at initialisation,
-    stops that at the root; :func:`reinstall_signal_handlers` still guards the cases where PETSc was
-    initialised before (a library user's own session)."""
+    the process on SIGTERM with status 15 ("Caught signal number 15") and no clean-up: the lock
+    stays, .part files stay. PETSc's option -no_signal_handler, read from PETSC_OPTIONS at
+    initialisation, stops that at the root; :func:`reinstall_signal_handlers` still guards the cases
+    where PETSc was initialised before (a library user's own session)."""
     options = os.environ.get("PETSC_OPTIONS", "")
     if "-no_signal_handler" not in options.split():
         os.environ["PETSC_OPTIONS"] = f"{options} -no_signal_handler".strip()

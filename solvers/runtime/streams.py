@@ -39,7 +39,9 @@ class GuardedStream:
                 return self._stream.write(text)
             except UnicodeEncodeError:
                 encoding = getattr(self._stream, "encoding", None) or "ascii"
-                return self._stream.write(text.encode(encoding, "replace").decode(encoding, "replace"))
+                return self._stream.write(
+                    text.encode(encoding, "replace").decode(encoding, "replace")
+                )
         except BrokenPipeError:
             if not self._quiet:
                 raise

@@ -5,11 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from lcefem.meshes.composite_beam import (BeamBarHingeMesh, CompositeBeamGeometry, beam_stations,
-                                          build_beam_bar_hinge, middle_station_indices)
-from lcefem.solvers.analysis.curvature import beam_curvature, circle_fit, signed_circle_curvature
+from lcefem.meshes.composite_beam import (
+    BeamBarHingeMesh,
+    CompositeBeamGeometry,
+    beam_stations,
+    build_beam_bar_hinge,
+    middle_station_indices,
+)
 from lcefem.models import bar_hinge as bh
 from lcefem.models.errors import InputError
+from lcefem.solvers.analysis.curvature import beam_curvature, circle_fit, signed_circle_curvature
 
 
 @pytest.fixture(scope="module")
@@ -43,8 +48,8 @@ def test_arch_and_top_square_height(beam):
 
 
 def test_strips_have_the_ribbon_straight_length(beam):
-    """As built, bottom strips (chords) and top strips (crown edge -> over the junction -> crown edge)
-    both span 30 mm = L (published model)."""
+    """As built, bottom strips (chords) and top strips (crown edge -> over the junction -> crown
+    edge) both span 30 mm = L (published model)."""
     bottom = beam.bar_lengths("bottom_strips")
     np.testing.assert_allclose(bottom, 30.0)
     assert bottom.size == 2 * 4
@@ -80,8 +85,15 @@ def test_node_sets(beam):
     assert odd.nodes[odd.node_sets["middle_panel"], 0].mean() == pytest.approx(37.0 + 15.0)
 
 
-@pytest.mark.parametrize("bad", [dict(segments=1), dict(segment_length=-1.0),
-                                 dict(crown_bond_length=30.0), dict(ribbon_thickness=0.0)])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        dict(segments=1),
+        dict(segment_length=-1.0),
+        dict(crown_bond_length=30.0),
+        dict(ribbon_thickness=0.0),
+    ],
+)
 def test_bad_geometry_is_an_input_error(bad):
     with pytest.raises(InputError):
         build_beam_bar_hinge(CompositeBeamGeometry(**bad))
@@ -118,9 +130,10 @@ def test_circle_fit_of_collinear_points_is_zero():
 
 def test_beam_curvature_sign_convention_and_invariance(beam):
     """A beam wrapped on a circle of radius R with its ends down (towards the bottom strips) has
-    positive curvature (the sign of Eq. 2 when the top strips are longer); ends up, negative; a rigid
-    motion changes nothing; the as-built beam is straight. The stations are the junction squares'
-    centroids, which lie on chords of the arc: radius R cos(d/(2R)) for junctions of length d."""
+    positive curvature (the sign of Eq. 2 when the top strips are longer); ends up, negative; a
+    rigid motion changes nothing; the as-built beam is straight. The stations are the junction
+    squares' centroids, which lie on chords of the arc: radius R cos(d/(2R)) for junctions of length
+    d."""
     assert beam_curvature(beam, beam.nodes) == pytest.approx(0.0, abs=1e-12)
     radius, xc, d = 60.0, 70.5, 7.0
     expected = 1.0 / (radius * math.cos(d / (2 * radius)))
@@ -128,8 +141,10 @@ def test_beam_curvature_sign_convention_and_invariance(beam):
         x0 = beam.nodes
         s = x0[:, 0] - xc
         r = radius + sign * x0[:, 2]  # centre at z = -sign R: the top side is outside for sign +1
-        bent = np.stack([xc + r * np.sin(s / radius), x0[:, 1],
-                         -sign * radius + sign * r * np.cos(s / radius)], axis=1)
+        bent = np.stack(
+            [xc + r * np.sin(s / radius), x0[:, 1], -sign * radius + sign * r * np.cos(s / radius)],
+            axis=1,
+        )
         assert beam_curvature(beam, bent) == pytest.approx(sign * expected, rel=1e-9)
         moved = bent @ _rotation([1.0, -0.5, 2.0], 2.4).T + np.array([3.0, -8.0, 1.0])
         assert beam_curvature(beam, moved) == pytest.approx(sign * expected, rel=1e-9)

@@ -3,6 +3,7 @@
 import math
 
 import dolfinx_solver  # noqa: F401
+
 import pytest
 import ufl
 
@@ -24,7 +25,9 @@ def quarter():
 
 def _volumes(tm):
     dx = ufl.Measure("dx", domain=tm.mesh, subdomain_data=tm.cell_tags)
-    return {n: dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(t))) for n, t in tm.cells.items()}
+    return {
+        n: dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(t))) for n, t in tm.cells.items()
+    }
 
 
 def _area(tm, name):
@@ -72,15 +75,19 @@ def test_free_faces_do_not_share_nodes_with_the_ribbon_away_from_bond_edges(quar
     mesh = tm.mesh
     mesh.topology.create_connectivity(2, 0)
     mesh.topology.create_connectivity(3, 0)
-    ribbon_vertices = set(dolfinx.mesh.compute_incident_entities(
-        mesh.topology, tm.cell_tags.find(tm.cell_tag("kapton")), 3, 0))
+    ribbon_vertices = set(
+        dolfinx.mesh.compute_incident_entities(
+            mesh.topology, tm.cell_tags.find(tm.cell_tag("kapton")), 3, 0
+        )
+    )
     x = mesh.geometry.x
     g = G
     seg_ends = [g.segment_start(s) + e for s in range(g.segments) for e in (0.0, g.segment_length)]
     crown_edges = [g.segment_start(s) + e for s in range(g.segments) for e in g.crown_edges]
     for face, edges in (("bottom_strip_topside", seg_ends), ("top_strip_underside", crown_edges)):
         verts = dolfinx.mesh.compute_incident_entities(
-            mesh.topology, tm.facet_tags.find(tm.facet_tag(face)), 2, 0)
+            mesh.topology, tm.facet_tags.find(tm.facet_tag(face)), 2, 0
+        )
         shared = [v for v in verts if v in ribbon_vertices]
         assert shared, face
         # vertex indices equal geometry indices for this linear mesh built in serial
@@ -96,9 +103,14 @@ def test_stations_and_levels():
     assert c1 == 4 * c0  # in-plane refinement only
 
 
-@pytest.mark.parametrize("geometry, mesh", [(G, BeamFEMesh(symmetry="full")),
-                                            (G, BeamFEMesh(size=-1.0)),
-                                            (CompositeBeamGeometry(strip_width=9.0), BeamFEMesh())])
+@pytest.mark.parametrize(
+    "geometry, mesh",
+    [
+        (G, BeamFEMesh(symmetry="full")),
+        (G, BeamFEMesh(size=-1.0)),
+        (CompositeBeamGeometry(strip_width=9.0), BeamFEMesh()),
+    ],
+)
 def test_bad_input(geometry, mesh):
     with pytest.raises(InputError):
         build_beam_fe(geometry, LAMBDA_N, mesh)

@@ -4,8 +4,12 @@ import numpy as np
 import pytest
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry
-from lcefem.meshes.gridshell import (GridshellLayout, build_gridshell_bar_hinge, resolve_bar_values,
-                                     select_strips)
+from lcefem.meshes.gridshell import (
+    GridshellLayout,
+    build_gridshell_bar_hinge,
+    resolve_bar_values,
+    select_strips,
+)
 from lcefem.meshes.gridshell_fe import junction_centres
 from lcefem.models.errors import InputError
 
@@ -34,8 +38,10 @@ def test_counts_follow_the_published_layout(grid):
     per_strip = np.bincount(sob, weights=top)[np.unique(sob)] / 2.0  # two edges per strip
     np.testing.assert_allclose(per_strip, 30.0, atol=1e-9)
     # the raised squares sit at the crown-edge height 0.982 mm
-    np.testing.assert_allclose(grid.nodes[grid.node_sets["top_squares"].ravel(), 2],
-                               CompositeBeamGeometry().top_strip_height)
+    np.testing.assert_allclose(
+        grid.nodes[grid.node_sets["top_squares"].ravel(), 2],
+        CompositeBeamGeometry().top_strip_height,
+    )
     assert CompositeBeamGeometry().top_strip_height == pytest.approx(0.982, abs=5e-4)
 
 
@@ -66,7 +72,9 @@ def test_top_junction_modes():
 
 def test_selections_and_half_planes(grid):
     vals = resolve_bar_values(grid, {"XU:x<70.5": 0.75, "XU:x>70.5": 0.95}, 1.0)
-    mid = 0.5 * (grid.nodes[grid.bars["top_strips"][:, 0]] + grid.nodes[grid.bars["top_strips"][:, 1]])
+    mid = 0.5 * (
+        grid.nodes[grid.bars["top_strips"][:, 0]] + grid.nodes[grid.bars["top_strips"][:, 1]]
+    )
     xs = np.isin(grid.info["strip_of_bar"]["top_strips"], grid.info["groups"]["Tx"])
     assert np.all(vals["top_strips"][xs & (mid[:, 0] < 70.4)] == 0.75)
     assert np.all(vals["top_strips"][xs & (mid[:, 0] > 70.6)] == 0.95)

@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 import dolfinx_solver  # noqa: F401
+
 import numpy as np
 import pytest
 import ufl
@@ -16,8 +17,14 @@ import dolfinx
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.composite_beam_fe import BeamFEMesh, build_beam_fe
-from lcefem.meshes.gridshell_fe import (CHANNELS, MATERIAL_CELLS, RECIPE_SYMMETRY, GridshellFEMesh,
-                                        build_gridshell_fe, cell_group)
+from lcefem.meshes.gridshell_fe import (
+    CHANNELS,
+    MATERIAL_CELLS,
+    RECIPE_SYMMETRY,
+    GridshellFEMesh,
+    build_gridshell_fe,
+    cell_group,
+)
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 
@@ -54,8 +61,10 @@ def _cell_volumes(tm):
 
 def _group_volumes(tm):
     vol, tags = _cell_volumes(tm)
-    return {name: float(vol[np.isin(tags, cell_group(tm, name))].sum())
-            for name in tm.info["cell_groups"]}
+    return {
+        name: float(vol[np.isin(tags, cell_group(tm, name))].sum())
+        for name in tm.info["cell_groups"]
+    }
 
 
 def _area(tm, name):
@@ -64,8 +73,11 @@ def _area(tm, name):
 
 
 def _strips(tm, layer, direction=None):
-    return [k for k, s in tm.info["strips"].items()
-            if s["layer"] == layer and direction in (None, s["direction"])]
+    return [
+        k
+        for k, s in tm.info["strips"].items()
+        if s["layer"] == layer and direction in (None, s["direction"])
+    ]
 
 
 def test_tag_counts_full_and_quarter(full, quarter):
@@ -74,11 +86,11 @@ def test_tag_counts_full_and_quarter(full, quarter):
     n top halves (the centre junction's hi half and both halves of the (n - 1)/2 outer ones)."""
     n = N
     assert len(_strips(full, "bottom")) == 2 * n * (n + 1) == 24
-    assert len(_strips(full, "top")) == 4 * n ** 2
+    assert len(_strips(full, "top")) == 4 * n**2
     whole = {k for k in full.info["cell_groups"] if k.startswith("top_") and "_j" in k}
-    assert len(whole) == 2 * n ** 2 == 18  # the published model's top strips
+    assert len(whole) == 2 * n**2 == 18  # the published model's top strips
     assert set(MATERIAL_CELLS) <= set(full.cells)
-    assert len(full.cells) == len(MATERIAL_CELLS) + 2 * n * (n + 1) + 4 * n ** 2
+    assert len(full.cells) == len(MATERIAL_CELLS) + 2 * n * (n + 1) + 4 * n**2
     assert len(_strips(quarter, "bottom")) == 2 * ((n + 1) // 2) ** 2 == 8
     assert len(_strips(quarter, "top")) == 2 * ((n + 1) // 2) * n == 12
     # a tag means the same piece in every model
@@ -92,12 +104,15 @@ def test_channel_and_published_groups(full):
     n = N
     for channel, (layer, direction) in CHANNELS.items():
         assert set(groups[channel]) == {full.cells[k] for k in _strips(full, layer, direction)}
-    assert len(groups["Bx"]) == n * (n + 1) and len(groups["Tx"]) == 2 * n ** 2
+    assert len(groups["Bx"]) == n * (n + 1) and len(groups["Tx"]) == 2 * n**2
     assert {full.cells[f"bottom_x_r0_s{s}"] for s in range(n + 1)} == set(groups["XD1"])
     assert len(groups["YU3"]) == 2 * n  # ribbon 3: n strips of two halves
     # paper top segments: the halves over segment s; the end segments have one half
     assert groups["top_x_r0_s0"] == (full.cells["top_x_r0_j0_lo"],)
-    assert set(groups["top_x_r0_s1"]) == {full.cells["top_x_r0_j0_hi"], full.cells["top_x_r0_j1_lo"]}
+    assert set(groups["top_x_r0_s1"]) == {
+        full.cells["top_x_r0_j0_hi"],
+        full.cells["top_x_r0_j1_lo"],
+    }
     # the wave recipe's split at x = 70.5 falls between the halves over the centre junction
     mids = {k: s["midpoint"] for k, s in full.info["strips"].items()}
     assert mids["top_x_r1_j1_lo"][0] < 70.5 < mids["top_x_r1_j1_hi"][0]
@@ -113,15 +128,16 @@ def test_volumes_full_closed_forms(full):
     n, L, d, tab, tp = N, G.segment_length, G.ribbon_width, LEVEL0.end_tab, G.ribbon_thickness
     v = _group_volumes(full)
     length = (n + 1) * L + n * d
-    assert v["kapton"] == pytest.approx((2 * n * (length + 2 * tab) * d - n ** 2 * d ** 2) * tp,
-                                        rel=1e-10)
+    assert v["kapton"] == pytest.approx(
+        (2 * n * (length + 2 * tab) * d - n**2 * d**2) * tp, rel=1e-10
+    )
     assert v["bottom_strips"] == pytest.approx(2 * n * (n + 1) * L * WS * H, rel=1e-10)
     top_lce = 2 * (L - G.crown_edges[1]) + d - WS
-    assert v["top_strips"] == pytest.approx(2 * n ** 2 * top_lce * WS * H, rel=1e-10)
-    assert v["glue"] == pytest.approx(n ** 2 * WS ** 2 * H, rel=1e-10)
+    assert v["top_strips"] == pytest.approx(2 * n**2 * top_lce * WS * H, rel=1e-10)
+    assert v["glue"] == pytest.approx(n**2 * WS**2 * H, rel=1e-10)
     assert v["top_pads"] == pytest.approx(2 * n * (n + 1) * G.crown_bond_length * WS * H, rel=1e-10)
-    cross = 2 * d * WS - WS ** 2
-    assert v["bottom_pads"] == pytest.approx((n ** 2 * cross + 4 * n * tab * WS) * H, rel=1e-10)
+    cross = 2 * d * WS - WS**2
+    assert v["bottom_pads"] == pytest.approx((n**2 * cross + 4 * n * tab * WS) * H, rel=1e-10)
     vol, tags = _cell_volumes(full)
     for name, strip in full.info["strips"].items():  # every strip tag has its piece's volume
         piece = L if strip["layer"] == "bottom" else 0.5 * top_lce
@@ -136,10 +152,10 @@ def test_ribbon_top_face_carries_the_arch(full):
     arch (2.9e-3 of the area)."""
     n, L, d = N, G.segment_length, G.ribbon_width
     length = (n + 1) * L + n * d
-    flat = 2 * n * (length + 2 * LEVEL0.end_tab) * d - n ** 2 * d ** 2
+    flat = 2 * n * (length + 2 * LEVEL0.end_tab) * d - n**2 * d**2
     s = np.linspace(0.0, L, 200001)
     slope = G.arch_gap * np.pi / L * np.sin(2 * np.pi * s / L)
-    excess = np.sqrt(1 + slope ** 2) - 1
+    excess = np.sqrt(1 + slope**2) - 1
     lo, hi = G.crown_edges
     crown = (s >= lo) & (s <= hi)
     per_segment = d * np.trapezoid(excess, s) - WS * np.trapezoid(np.where(crown, excess, 0.0), s)
@@ -149,8 +165,10 @@ def test_ribbon_top_face_carries_the_arch(full):
     assert abs(got - (expected - 2 * n * (n + 1) * per_segment)) > 10 * 3e-4 * expected
 
 
-@pytest.mark.parametrize("cells, symmetry, factor", [(3, "quarter", 4), (3, "half_x", 2),
-                                                     (3, "half_y", 2), (2, "quarter", 4)])
+@pytest.mark.parametrize(
+    "cells, symmetry, factor",
+    [(3, "quarter", 4), (3, "half_x", 2), (3, "half_y", 2), (2, "quarter", 4)],
+)
 def test_symmetric_models_are_fractions_of_the_full(cells, symmetry, factor, full):
     """Every material group of a mirror model is 1/factor of the full surface's (for n = 2 the
     planes cut segments through their crowns)."""
@@ -168,12 +186,15 @@ def test_single_cell_grid_matches_the_composite_beam():
     pad; the x top strip plus the glue square is the beam's top strip; the two ribbons share the
     junction."""
     grid = _group_volumes(_mesh("full", cells=1))
-    beam = build_beam_fe(CompositeBeamGeometry(segments=2), LAMBDA_N, BeamFEMesh(level=0,
-                                                                                 symmetry="half"))
+    beam = build_beam_fe(
+        CompositeBeamGeometry(segments=2), LAMBDA_N, BeamFEMesh(level=0, symmetry="half")
+    )
     dx = ufl.Measure("dx", domain=beam.mesh, subdomain_data=beam.cell_tags)
     f = beam.info["symmetry_factor"]
-    vb = {k: f * dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(t)))
-          for k, t in beam.cells.items()}
+    vb = {
+        k: f * dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(t)))
+        for k, t in beam.cells.items()
+    }
     assert grid["XD1"] == pytest.approx(vb["bottom_strips"], rel=1e-10)
     assert grid["YD1"] == pytest.approx(vb["bottom_strips"], rel=1e-10)
     assert grid["top_strips"] / 2 + grid["glue"] == pytest.approx(vb["top_strips"], rel=1e-10)
@@ -193,9 +214,11 @@ def test_nodes_are_mirror_symmetric(full, quarter):
     x = full.mesh.geometry.x
     c = full.info["centre"]
     ref = _rows(x)
-    for mapped in (np.column_stack([2 * c - x[:, 0], x[:, 1:]]),
-                   np.column_stack([x[:, 0], 2 * c - x[:, 1], x[:, 2]]),
-                   x[:, [1, 0, 2]]):
+    for mapped in (
+        np.column_stack([2 * c - x[:, 0], x[:, 1:]]),
+        np.column_stack([x[:, 0], 2 * c - x[:, 1], x[:, 2]]),
+        x[:, [1, 0, 2]],
+    ):
         assert np.array_equal(_rows(mapped), ref)
     keep = (x[:, 0] >= c - 1e-9) & (x[:, 1] >= c - 1e-9)
     assert np.array_equal(_rows(quarter.mesh.geometry.x), _rows(x[keep]))
@@ -215,7 +238,8 @@ def test_support_and_contact_faces(full, quarter):
     assert _area(full, "bottom_strip_topside") == pytest.approx(2 * n * (n + 1) * L * WS, rel=1e-10)
     top_lce = 2 * (L - G.crown_edges[1]) + d - WS
     assert _area(full, "top_strip_underside") == pytest.approx(
-        2 * n ** 2 * top_lce * WS + n ** 2 * WS ** 2, rel=1e-10)
+        2 * n**2 * top_lce * WS + n**2 * WS**2, rel=1e-10
+    )
     assert "centre_junction" not in _mesh("quarter", cells=2).facets  # even n: no centre junction
 
 
@@ -243,7 +267,8 @@ def test_levels_refine_in_plane():
 
 
 #: Target rest-length fractions P0 of the published recipes (shared/reference/gridshell_recipes.md):
-#: per family a number, a list per ribbon (1..3), or ("x", below c, above c) by the strip's midpoint.
+#: per family a number, a list per ribbon (1..3), or ("x", below c, above c) by the strip's
+#: midpoint.
 RECIPES = {
     "saddle": {"XD": 0.75, "YD": 0.95, "XU": 0.95, "YU": 0.75},
     "dome": {"XD": 0.75, "YD": 0.75, "XU": 0.95, "YU": 0.95},
@@ -283,15 +308,19 @@ def test_recipe_symmetry_table_holds(recipe, full):
         assert all(same) if axis in valid else not all(same), (recipe, axis)
 
 
-@pytest.mark.parametrize("kwargs, field", [
-    (dict(cells=0), "cells"), (dict(cells=2.0), "cells"),
-    (dict(mesh=GridshellFEMesh(level=-1)), "mesh.level"),
-    (dict(mesh=GridshellFEMesh(size=0.0)), "mesh.size"),
-    (dict(symmetry="eighth"), "symmetry"),
-    (dict(lambda_N=0.5), "lambda_N"),
-    (dict(geometry=CompositeBeamGeometry(junction_length=8.0)), "geometry.junction_length"),
-    (dict(geometry=CompositeBeamGeometry(strip_width=9.0)), "geometry.strip_width"),
-])
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(cells=0), "cells"),
+        (dict(cells=2.0), "cells"),
+        (dict(mesh=GridshellFEMesh(level=-1)), "mesh.level"),
+        (dict(mesh=GridshellFEMesh(size=0.0)), "mesh.size"),
+        (dict(symmetry="eighth"), "symmetry"),
+        (dict(lambda_N=0.5), "lambda_N"),
+        (dict(geometry=CompositeBeamGeometry(junction_length=8.0)), "geometry.junction_length"),
+        (dict(geometry=CompositeBeamGeometry(strip_width=9.0)), "geometry.strip_width"),
+    ],
+)
 def test_bad_input_names_the_field(kwargs, field):
     args = dict(geometry=G, lambda_N=LAMBDA_N, mesh=LEVEL0, cells=1, symmetry="full")
     args.update(kwargs)
@@ -326,8 +355,11 @@ def test_two_ranks_give_the_serial_mesh(tmp_path, mpiexec):
     results = {}
     for ranks in (1, 2):
         out = tmp_path / f"{ranks}.json"
-        subprocess.run([mpiexec, "-n", str(ranks), sys.executable, str(script), str(out)], check=True,
-                       timeout=300)
+        subprocess.run(
+            [mpiexec, "-n", str(ranks), sys.executable, str(script), str(out)],
+            check=True,
+            timeout=300,
+        )
         results[ranks] = json.loads(out.read_text())
     assert results[2]["ranks"] == 2
     serial, parallel = results[1]["values"], results[2]["values"]

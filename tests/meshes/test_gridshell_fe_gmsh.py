@@ -1,14 +1,15 @@
 """The FE gridshell mesh made by gmsh (issue 47) against the structured builder it replaces: the same
-vertices bit for bit, the same cells under every tag, the same tagged faces; a layout's mesh (refined,
-rhombic) against closed-form volumes; bad input."""
+vertices bit for bit, the same cells under every tag, the same tagged faces; a layout's mesh
+(refined, rhombic) against closed-form volumes; bad input."""
 
 import math
 
 import dolfinx_solver  # noqa: F401
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
-from mpi4py import MPI
 
 import dolfinx
 
@@ -23,17 +24,27 @@ G = CompositeBeamGeometry()
 
 
 def _pair(cells, symmetry, level=0):
-    return [build_gridshell_fe(G, PUBLISHED_LAMBDA_N, GridshellFEMesh(level=level, mesher=m),
-                               MPI.COMM_SELF, cells=cells, symmetry=symmetry)
-            for m in ("hexgrid", "gmsh")]
+    return [
+        build_gridshell_fe(
+            G,
+            PUBLISHED_LAMBDA_N,
+            GridshellFEMesh(level=level, mesher=m),
+            MPI.COMM_SELF,
+            cells=cells,
+            symmetry=symmetry,
+        )
+        for m in ("hexgrid", "gmsh")
+    ]
 
 
 def _cells_by_tag(tm):
     """Per cell tag name: its cells, each by its 8 corners' coordinates (independent of the
     numbering; exact: the vertices are bit for bit the same)."""
     x, dofmap = tm.mesh.geometry.x, tm.mesh.geometry.dofmaps[0]
-    return {name: sorted(tuple(sorted(map(tuple, x[dofmap[c]]))) for c in tm.cell_tags.find(t))
-            for name, t in tm.cells.items()}
+    return {
+        name: sorted(tuple(sorted(map(tuple, x[dofmap[c]]))) for c in tm.cell_tags.find(t))
+        for name, t in tm.cells.items()
+    }
 
 
 def _facets_by_tag(tm):
@@ -83,16 +94,16 @@ def _kapton_volume(tm):
 def test_layout_mesh_kapton_volume_closed_form(name):
     """Kapton volume of a layout's mesh = t_p (2 n l w - n^2 w^2 / sin a): 2 n ribbons of width w
     (7 mm, across the ribbon) and length l = (n + 1) L + n d + 2 tab along it, less the n^2 junction
-    rhombi counted twice (side d = w / sin a, area w^2 / sin a); the arch shears the film vertically,
-    which keeps its volume. 5 x 5 as a quarter (the default on an orthogonal grid), the rhombic 60 deg
-    grid whole."""
+    rhombi counted twice (side d = w / sin a, area w^2 / sin a); the arch shears the film
+    vertically, which keeps its volume. 5 x 5 as a quarter (the default on an orthogonal grid), the
+    rhombic 60 deg grid whole."""
     layout = NAMED_LAYOUTS[name]
     mesh = GridshellFEMesh(level=0)
     tm = build_layout_fe(layout, G, PUBLISHED_LAMBDA_N, mesh, MPI.COMM_SELF)
     n, s = layout.ribbons, math.sin(math.radians(layout.angle))
     w, d = G.ribbon_width, G.ribbon_width / s
     length = (n + 1) * (G.pitch - d) + n * d + 2 * mesh.end_tab
-    expected = G.ribbon_thickness * (2 * n * length * w - n ** 2 * w ** 2 / s)
+    expected = G.ribbon_thickness * (2 * n * length * w - n**2 * w**2 / s)
     assert tm.info["symmetry"] == ("full" if layout.oblique else "quarter")
     assert tm.info["symmetry_factor"] * _kapton_volume(tm) == pytest.approx(expected, rel=1e-12)
 

@@ -27,6 +27,7 @@ def digest(s) -> str:
         h.update(str(a.dtype).encode())
         h.update(str(a.shape).encode())
         h.update(a.tobytes())
+
     add("nodes", s.nodes)
     add("panels", s.panels)
     add("panel_centres", s.panel_centres)
@@ -39,10 +40,14 @@ def digest(s) -> str:
 
 
 # Digests of the structures the builder gave before the layout existed (commit 029ea8c, the
-# GridshellLayout(ribbons) builder): default mesh, the published configuration's glue squares without
-# contact, the refined 5 x 5 and the 1 x 1.
-BEFORE = {"default": "36c829495157ad59", "glue": "384d06b64e3e72ac", "5x5": "fe365d99ca6af350",
-          "1x1": "a97515773f3b8d57"}
+# GridshellLayout(ribbons) builder): default mesh, the published configuration's glue squares
+# without contact, the refined 5 x 5 and the 1 x 1.
+BEFORE = {
+    "default": "36c829495157ad59",
+    "glue": "384d06b64e3e72ac",
+    "5x5": "fe365d99ca6af350",
+    "1x1": "a97515773f3b8d57",
+}
 
 
 def test_published_layout_reproduces_todays_structure():
@@ -52,8 +57,15 @@ def test_published_layout_reproduces_todays_structure():
     assert digest(build_gridshell_bar_hinge(layout=NAMED_LAYOUTS["5x5"])) == BEFORE["5x5"]
     assert digest(build_gridshell_bar_hinge(layout=Layout(ribbons=1))) == BEFORE["1x1"]
     # the same through the [layout] loader: explicit published lengths change nothing
-    table = {"pitch": 37.0, "ribbon_width": 7.0, "ribbon_thickness": 0.127, "strip_width": 5.0,
-             "strip_thickness": 2.0, "wiring": "channels", "glued": "all"}
+    table = {
+        "pitch": 37.0,
+        "ribbon_width": 7.0,
+        "ribbon_thickness": 0.127,
+        "strip_width": 5.0,
+        "strip_thickness": 2.0,
+        "wiring": "channels",
+        "glued": "all",
+    }
     assert digest(build_gridshell_bar_hinge(layout=layout_from_table(table))) == BEFORE["default"]
 
 
@@ -102,23 +114,32 @@ def test_unbonded_junctions_and_wiring():
     w = build_gridshell_bar_hinge(layout=Layout(wiring=(("edge", ("XD1", "YD1")), ("top", ("T",)))))
     assert w.info["wiring"] == ("edge", "top")
     assert set(select_strips(w, "edge").tolist()) == set(select_strips(w, "XD1").tolist()) | set(
-        select_strips(w, "YD1").tolist())
+        select_strips(w, "YD1").tolist()
+    )
     assert len(select_strips(w, "top")) == 18
-    assert build_gridshell_bar_hinge(layout=Layout(wiring="strips")).info["wiring"] == tuple(range(42))
+    assert build_gridshell_bar_hinge(layout=Layout(wiring="strips")).info["wiring"] == tuple(
+        range(42)
+    )
 
 
-@pytest.mark.parametrize("table, message", [
-    ({"kind": "hex"}, "layout.kind = 'hex': allowed orthogonal, rhombic, triangular, hexagonal"),
-    ({"ribbons": 0}, "layout.ribbons = 0: must be >= 1"),
-    ({"angle": 20.0}, "layout.angle = 20.0: must be >= 30.0 deg"),
-    ({"colour": 1}, "unknown key 'layout.colour'"),
-    ({"preset": "square"}, "layout.preset = 'square': allowed published"),
-    ({"glued": [[0, 5]]}, "layout.glued: (0, 5): a junction [i_x, i_y], each 0..2"),
-    ({"wiring": "pairs"}, "layout.wiring = 'pairs': allowed channels, ribbons, strips"),
-    ({"wiring": {"A": []}}, "layout.wiring: ('A', ()): a tag and a non-empty list"),
-    ({"support": "glue"}, "layout.support = 'glue': allowed"),
-    ({"pitch": 12.0}, None),
-])
+@pytest.mark.parametrize(
+    "table, message",
+    [
+        (
+            {"kind": "hex"},
+            "layout.kind = 'hex': allowed orthogonal, rhombic, triangular, hexagonal",
+        ),
+        ({"ribbons": 0}, "layout.ribbons = 0: must be >= 1"),
+        ({"angle": 20.0}, "layout.angle = 20.0: must be >= 30.0 deg"),
+        ({"colour": 1}, "unknown key 'layout.colour'"),
+        ({"preset": "square"}, "layout.preset = 'square': allowed published"),
+        ({"glued": [[0, 5]]}, "layout.glued: (0, 5): a junction [i_x, i_y], each 0..2"),
+        ({"wiring": "pairs"}, "layout.wiring = 'pairs': allowed channels, ribbons, strips"),
+        ({"wiring": {"A": []}}, "layout.wiring: ('A', ()): a tag and a non-empty list"),
+        ({"support": "glue"}, "layout.support = 'glue': allowed"),
+        ({"pitch": 12.0}, None),
+    ],
+)
 def test_layout_loader_errors_are_one_line(table, message):
     if message is None:  # pitch too short for the junction and crown: the builder's geometry check
         with pytest.raises(InputError, match="layout.pitch = 12.0 mm: must exceed"):
@@ -130,7 +151,9 @@ def test_layout_loader_errors_are_one_line(table, message):
 
 
 def test_bar_hinge_builder_refuses_three_ribbon_junctions():
-    with pytest.raises(InputError, match="layout.kind = 'triangular': the bar-and-hinge builder builds"):
+    with pytest.raises(
+        InputError, match="layout.kind = 'triangular': the bar-and-hinge builder builds"
+    ):
         build_gridshell_bar_hinge(layout=NAMED_LAYOUTS["triangular"])
 
 

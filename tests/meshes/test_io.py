@@ -4,17 +4,18 @@ built mesh's number of cells per tag: .msh through dolfinx's gmsh reader (physic
 .vtu through meshio (ParaView's formats; names from the sidecar). The FE meshes read back from .msh
 have the built mesh's volume per cell tag and area per facet tag, so a user can start from them."""
 
-import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 import json
+
+import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from mpi4py import MPI
 
 import meshio
 import numpy as np
 import pytest
-from mpi4py import MPI
+import ufl
 
 import dolfinx
 import dolfinx.io.gmsh
-import ufl
 
 from lcefem.meshes.io import FORMATS, TAG_DATA, to_meshio, write_mesh
 from lcefem.meshes.strip import strip_volume
@@ -65,14 +66,21 @@ def read_counts(path, fmt: str) -> tuple[dict[str, int], dict[str, tuple[int, in
         assert sidecar["cell_data"] == TAG_DATA and sidecar["units"] == {"length": "mm"}
         groups = sidecar["groups"]
         names = {n: (g["tag"], g["dim"]) for n, g in groups.items() if "tag" in g}
-        points = {n: int(np.count_nonzero(m.point_data[g["point_data"]]))
-                  for n, g in groups.items() if "point_data" in g}  # XDMF's node sets
+        points = {
+            n: int(np.count_nonzero(m.point_data[g["point_data"]]))
+            for n, g in groups.items()
+            if "point_data" in g
+        }  # XDMF's node sets
         key = TAG_DATA
     found: dict[tuple[int, int], int] = {}
     for block, tags in zip(m.cells, m.cell_data[key]):
         for tag, count in zip(*np.unique(np.asarray(tags), return_counts=True)):
-            found[(int(tag), DIM[block.type])] = found.get((int(tag), DIM[block.type]), 0) + int(count)
-    assert set(found) == set(names.values()), "a tag in the file without a name, or a name without cells"
+            found[(int(tag), DIM[block.type])] = found.get((int(tag), DIM[block.type]), 0) + int(
+                count
+            )
+    assert set(found) == set(names.values()), (
+        "a tag in the file without a name, or a name without cells"
+    )
     if fmt != "msh":
         return {**{n: found[td] for n, td in names.items()}, **points}, names
     return {n: found[td] for n, td in names.items()}, names
@@ -86,12 +94,16 @@ def test_every_mesh_round_trips_names_and_counts(tmp_path, request_, fmt):
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".part")] == []
     assert files[-1] == tmp_path / f"{request_.stem}{FORMATS[fmt]}"
     counts, names = read_counts(files[-1], fmt)
-    expected = fe_counts(tagged) if request_.model == "fe" else bh_counts(tagged, distinct=fmt == "xdmf")
+    expected = (
+        fe_counts(tagged) if request_.model == "fe" else bh_counts(tagged, distinct=fmt == "xdmf")
+    )
     assert counts == expected
     if request_.model == "fe":
         tdim = tagged.mesh.topology.dim
-        assert names == {**{n: (t, tdim) for n, t in tagged.cells.items()},
-                         **{n: (t, tdim - 1) for n, t in tagged.facets.items()}}
+        assert names == {
+            **{n: (t, tdim) for n, t in tagged.cells.items()},
+            **{n: (t, tdim - 1) for n, t in tagged.facets.items()},
+        }
     assert meshio.read(files[-1]).points.shape == m.points.shape
 
 
@@ -161,11 +173,16 @@ def test_untagged_cells_and_unnamed_tags_are_refused():
     with pytest.raises(InputError, match="cell tag 2 has no name"):
         to_meshio(tm.mesh, tm.cell_tags, tm.facet_tags, {"cells": {"lce": 1}, "facets": tm.facets})
     with pytest.raises(InputError, match="both a cell and a facet tag"):
-        to_meshio(tm.mesh, tm.cell_tags, tm.facet_tags, {"cells": tm.cells,
-                                                         "facets": {**tm.facets, "lce": 9}})
+        to_meshio(
+            tm.mesh,
+            tm.cell_tags,
+            tm.facet_tags,
+            {"cells": tm.cells, "facets": {**tm.facets, "lce": 9}},
+        )
     n = tm.mesh.topology.index_map(3).size_local
-    some = dolfinx.mesh.meshtags(tm.mesh, 3, np.arange(n // 2, dtype=np.int32),
-                                 np.ones(n // 2, dtype=np.int32))
+    some = dolfinx.mesh.meshtags(
+        tm.mesh, 3, np.arange(n // 2, dtype=np.int32), np.ones(n // 2, dtype=np.int32)
+    )
     with pytest.raises(InputError, match=f"{n - n // 2} of {n} cells carry no cell tag"):
         to_meshio(tm.mesh, some, None, {"cells": {"lce": 1}})
 
@@ -176,6 +193,7 @@ def test_vtk_readers_open_them(tmp_path, request_, fmt):
     """ParaView's own readers (VTK's XML unstructured-grid and XDMF readers) give every point,
     every cell and each cell's tag."""
     import vtk  # with pyvista (requirements.lock)
+
     _, m = built(request_)
     path = write_mesh(m, tmp_path, request_.stem, fmt)[-1]
     reader = vtk.vtkXMLUnstructuredGridReader() if fmt == "vtu" else vtk.vtkXdmfReader()

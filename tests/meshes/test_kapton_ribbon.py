@@ -3,7 +3,11 @@
 import numpy as np
 import pytest
 
-from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
+from lcefem.meshes.kapton_ribbon import (
+    KaptonBarHingeMesh,
+    KaptonSpecimenGeometry,
+    build_ribbon_bar_hinge,
+)
 from lcefem.models.errors import InputError
 
 
@@ -19,14 +23,19 @@ def test_specimen_structure():
     assert s.nodes[s.node_sets["left_clamp"], 0].max() == 0.0
     # first fixed-fixed mode, amplitude a L at mid-span, zero slope at the clamps
     assert s.nodes[s.node_sets["mid_span"], 2] == pytest.approx(1e-3 * spec.length)
-    assert spec.second_moment == pytest.approx(7 * 0.127 ** 3 / 12)
+    assert spec.second_moment == pytest.approx(7 * 0.127**3 / 12)
     # every shared edge carries a fold hinge: 12 + 2 panels -> 13 folds
     assert s.hinges["fold"].shape[0] == 13
 
 
-@pytest.mark.parametrize("spec,mesh", [(KaptonSpecimenGeometry(supports="pinned"), KaptonBarHingeMesh()),
-                                       (KaptonSpecimenGeometry(length=-1.0), KaptonBarHingeMesh()),
-                                       (KaptonSpecimenGeometry(), KaptonBarHingeMesh(panels=1))])
+@pytest.mark.parametrize(
+    "spec,mesh",
+    [
+        (KaptonSpecimenGeometry(supports="pinned"), KaptonBarHingeMesh()),
+        (KaptonSpecimenGeometry(length=-1.0), KaptonBarHingeMesh()),
+        (KaptonSpecimenGeometry(), KaptonBarHingeMesh(panels=1)),
+    ],
+)
 def test_bad_input(spec, mesh):
     with pytest.raises(InputError):
         build_ribbon_bar_hinge(spec, mesh)

@@ -5,8 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from lcefem.models.contact import (ContactLaw, FrictionLaw, contact_energy, friction_force, friction_gamma,
-                                   friction_potential, normal_force)
+from lcefem.models.contact import (
+    ContactLaw,
+    FrictionLaw,
+    contact_energy,
+    friction_force,
+    friction_gamma,
+    friction_potential,
+    normal_force,
+)
 
 LAW = ContactLaw(delta=0.05, stiffness=2.0, clearance=0.1)
 
@@ -22,7 +29,7 @@ def test_pieces_of_the_contact_energy():
     gaps = np.array([-0.3, two_h - 2 * d, two_h - 0.5 * d, two_h, two_h + 0.5 * d, two_h + 2 * d])
     E = contact_energy(gaps, LAW)[0]
     assert E[0] == pytest.approx((two_h + 0.3) ** 2)
-    assert E[1] == pytest.approx(d ** 2 * 4)
+    assert E[1] == pytest.approx(d**2 * 4)
     K1 = LAW.K1
     assert E[2] == pytest.approx((math.log1p(math.exp(K1 * 0.5 * d)) / K1) ** 2)
     assert E[3] == pytest.approx((math.log(2.0) / K1) ** 2)
@@ -57,12 +64,15 @@ def test_gamma_is_the_seed_formula():
 
 
 def test_friction_potential_gives_the_coulomb_force_and_its_jacobian():
-    """-dD/du is the seed's F_fr = -mu gamma v_T/|v_T| F_n with v = u/h; the Hessian by differences."""
+    """-dD/du is the seed's F_fr = -mu gamma v_T/|v_T| F_n with v = u/h; the Hessian by
+    differences."""
     rng = np.random.default_rng(0)
     law = FrictionLaw(mu=0.4, slip_speed=0.3)
     nrm = np.array([0.1, 0.2, 1.0]) / np.linalg.norm([0.1, 0.2, 1.0])
     h = 0.01
-    u = np.concatenate([1e-2 * rng.standard_normal((5, 3)), 1e-6 * rng.standard_normal((2, 3))])  # slip and stick
+    u = np.concatenate(
+        [1e-2 * rng.standard_normal((5, 3)), 1e-6 * rng.standard_normal((2, 3))]
+    )  # slip and stick
     fn = 0.1 + rng.random(len(u))
     D, g, H = friction_potential(u, nrm, fn, h, law)
     v_t = (u - (u @ nrm)[:, None] * nrm) / h
@@ -71,11 +81,13 @@ def test_friction_potential_gives_the_coulomb_force_and_its_jacobian():
     for i in range(len(u)):
         for d in np.eye(3):
             hh = 1e-8
-            gp = friction_potential((u[i] + hh * d)[None], nrm, fn[i:i + 1], h, law)[1][0]
-            gm = friction_potential((u[i] - hh * d)[None], nrm, fn[i:i + 1], h, law)[1][0]
-            assert np.allclose(H[i] @ d, (gp - gm) / (2 * hh), rtol=1e-5, atol=1e-6 * np.abs(H[i]).max())
-        Dp = friction_potential((u[i] * (1 + 1e-6))[None], nrm, fn[i:i + 1], h, law)[0][0]
-        Dm = friction_potential((u[i] * (1 - 1e-6))[None], nrm, fn[i:i + 1], h, law)[0][0]
+            gp = friction_potential((u[i] + hh * d)[None], nrm, fn[i : i + 1], h, law)[1][0]
+            gm = friction_potential((u[i] - hh * d)[None], nrm, fn[i : i + 1], h, law)[1][0]
+            assert np.allclose(
+                H[i] @ d, (gp - gm) / (2 * hh), rtol=1e-5, atol=1e-6 * np.abs(H[i]).max()
+            )
+        Dp = friction_potential((u[i] * (1 + 1e-6))[None], nrm, fn[i : i + 1], h, law)[0][0]
+        Dm = friction_potential((u[i] * (1 - 1e-6))[None], nrm, fn[i : i + 1], h, law)[0][0]
         assert (Dp - Dm) / (2e-6) == pytest.approx(g[i] @ u[i], rel=1e-5, abs=1e-18)
 
 

@@ -29,5 +29,5 @@ def test_eq2_sign_and_flat_beam():
     assert eq2_curvature(1.33, 1.05) > 0 > eq2_curvature(1.05, 1.33)
     # hand evaluation at (1.33, 1.05), l_p = 30, t_a = 2, lambda_N = 1.4, eta = 0.57
     s = 2.38
-    expected = 16 * 0.57 * 0.28 / (s * (2.0 + 30.0 * np.sqrt(4 - s ** 2 / 1.96)))
+    expected = 16 * 0.57 * 0.28 / (s * (2.0 + 30.0 * np.sqrt(4 - s**2 / 1.96)))
     assert eq2_curvature(1.33, 1.05, Eq2()) == pytest.approx(expected, rel=1e-12)

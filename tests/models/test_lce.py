@@ -1,18 +1,25 @@
 """Nematic order, spontaneous stretch and the spontaneous-strain tensor (models/lce.py)."""
 
 import dolfinx_solver  # noqa: F401
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
-from mpi4py import MPI
 
 import dolfinx
 
 from lcefem.meshes.block import build_block
 from lcefem.models.hyperelastic import LCEElasticity, lce_strain_energy
-from lcefem.models.lce import (NematicTransition, contraction_ratio, inverse_spontaneous_deformation,
-                               order_parameter, order_parameter_from_stretch, spontaneous_deformation,
-                               spontaneous_stretch)
+from lcefem.models.lce import (
+    NematicTransition,
+    contraction_ratio,
+    inverse_spontaneous_deformation,
+    order_parameter,
+    order_parameter_from_stretch,
+    spontaneous_deformation,
+    spontaneous_stretch,
+)
 
 P = NematicTransition()
 
@@ -31,7 +38,8 @@ def test_isotropic_limit_and_monotone_decrease():
 
 
 def test_warner_terentjev_inverse():
-    """lambda = ((1 + 2Q)/(1 - Q))^(1/3) and Q(lambda) are inverse (Q ~ 0.37 for 1.4: materials.md)."""
+    """lambda = ((1 + 2Q)/(1 - Q))^(1/3) and Q(lambda) are inverse (Q ~ 0.37 for 1.4:
+    materials.md)."""
     for lam in (1.05, 1.4, 1.628):
         q = order_parameter_from_stretch(lam)
         assert ((1 + 2 * q) / (1 - q)) ** (1 / 3) == pytest.approx(lam, rel=1e-14)
@@ -62,7 +70,8 @@ def test_spontaneous_deformation_is_isochoric_uniaxial(cube):
             assert _evaluate(ufl.det(Fs), cube) == pytest.approx(1.0, abs=1e-12)
             assert _evaluate(ufl.inner(eye, eye), cube) == pytest.approx(0.0, abs=1e-24)
             assert _evaluate(ufl.dot(n_c, Fs * n_c), cube) == pytest.approx(
-                float(contraction_ratio(T, P)), rel=1e-12)
+                float(contraction_ratio(T, P)), rel=1e-12
+            )
 
 
 def test_identity_at_reference_temperature(cube):
@@ -72,11 +81,14 @@ def test_identity_at_reference_temperature(cube):
 
 
 def test_zero_energy_and_stress_at_rest(cube):
-    """W(F_e = I) = 0 and P = dW/dF = 0 at F = F_s (stress-free spontaneous shape) at any temperature."""
+    """W(F_e = I) = 0 and P = dW/dF = 0 at F = F_s (stress-free spontaneous shape) at any
+    temperature."""
     n = ufl.as_vector((0.48, 0.6, 0.64))
     for T in (25.0, 75.0):
         F = ufl.variable(spontaneous_deformation(ufl.as_ufl(T), n, P))
-        W = lce_strain_energy(F * inverse_spontaneous_deformation(ufl.as_ufl(T), n, P), LCEElasticity())
+        W = lce_strain_energy(
+            F * inverse_spontaneous_deformation(ufl.as_ufl(T), n, P), LCEElasticity()
+        )
         stress = ufl.diff(W, F)
         assert _evaluate(W, cube) == pytest.approx(0.0, abs=1e-14)
         assert _evaluate(ufl.inner(stress, stress), cube) == pytest.approx(0.0, abs=1e-24)

@@ -3,22 +3,30 @@ sigmoid law's quantities, its piecewise-linear error against a smooth law (quadr
 spacing), and the UFL form equal to numpy at the rows, between them and outside the table."""
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
-from mpi4py import MPI
 
 import dolfinx
 
 from lcefem.models.errors import InputError
-from lcefem.models.lce import (MeasuredContraction, NematicTransition, contraction_ratio, order_parameter,
-                               spontaneous_stretch, temperature_for_stretch)
+from lcefem.models.lce import (
+    MeasuredContraction,
+    NematicTransition,
+    contraction_ratio,
+    order_parameter,
+    spontaneous_stretch,
+    temperature_for_stretch,
+)
 
 SIGMOID = NematicTransition()
 
 
 def sampled(spacing: float, transition: NematicTransition = SIGMOID) -> MeasuredContraction:
-    """The present law's lambda_s(T) sampled every ``spacing`` K over 0-200 C (hot end: isotropic)."""
+    """The present law's lambda_s(T) sampled every ``spacing`` K over 0-200 C (hot end:
+    isotropic)."""
     T = np.arange(0.0, 200.0 + 0.5 * spacing, spacing)
     return MeasuredContraction.from_rows(T, spontaneous_stretch(T, transition), source="sigmoid")
 
@@ -33,7 +41,9 @@ def test_normalisation_matches_the_sigmoid_law():
     T = np.array([30.0, 60.0, 69.0, 80.0])
     np.testing.assert_allclose(order_parameter(T, m), order_parameter(T, SIGMOID), atol=2e-4)
     # the inverse: the temperature of a stretch, back through the curve
-    assert float(spontaneous_stretch(temperature_for_stretch(1.2, m), m)) == pytest.approx(1.2, rel=1e-12)
+    assert float(spontaneous_stretch(temperature_for_stretch(1.2, m), m)) == pytest.approx(
+        1.2, rel=1e-12
+    )
 
 
 def test_strain_rows_and_cooling_order_give_the_same_curve():
@@ -49,7 +59,9 @@ def test_strain_rows_and_cooling_order_give_the_same_curve():
 def test_constant_outside_the_table():
     """Below the first row the first value, above the last the last: no extrapolation."""
     m = MeasuredContraction.from_rows([40.0, 60.0, 90.0], [1.0, 0.8, 0.75])
-    np.testing.assert_array_equal(m.measured(np.array([-10.0, 40.0, 90.0, 300.0])), [1.0, 1.0, 0.75, 0.75])
+    np.testing.assert_array_equal(
+        m.measured(np.array([-10.0, 40.0, 90.0, 300.0])), [1.0, 1.0, 0.75, 0.75]
+    )
     assert float(m.measured(50.0)) == pytest.approx(0.9, rel=1e-15)  # linear between the rows
 
 
@@ -57,8 +69,10 @@ def test_interpolation_error_of_a_sampled_sigmoid_falls_quadratically():
     """max |lambda_table - lambda_sigmoid| over 20-120 C for rows every 4, 2, 1, 0.5 K: each halving
     divides it by 4 (piecewise-linear error h^2 max|lambda''| / 8); measured ratios 3.9-4.0."""
     T = np.linspace(20.0, 120.0, 20001)
-    errors = [np.max(np.abs(spontaneous_stretch(T, sampled(h)) - spontaneous_stretch(T, SIGMOID)))
-              for h in (4.0, 2.0, 1.0, 0.5)]
+    errors = [
+        np.max(np.abs(spontaneous_stretch(T, sampled(h)) - spontaneous_stretch(T, SIGMOID)))
+        for h in (4.0, 2.0, 1.0, 0.5)
+    ]
     ratios = [a / b for a, b in zip(errors, errors[1:])]
     assert all(3.6 < r < 4.4 for r in ratios), (errors, ratios)
     # h^2/8 max|lambda''|: the bound the error must stay under at every spacing
@@ -66,13 +80,16 @@ def test_interpolation_error_of_a_sampled_sigmoid_falls_quadratically():
     assert all(e <= 1.02 * h * h / 8.0 * d2 for e, h in zip(errors, (4.0, 2.0, 1.0, 0.5)))
 
 
-@pytest.mark.parametrize("rows", [
-    ([25.0], [1.0]),  # one row
-    ([25.0, 25.0, 60.0], [1.0, 0.9, 0.8]),  # repeated temperature
-    ([25.0, 60.0, 40.0], [1.0, 0.9, 0.8]),  # not monotonic
-    ([25.0, 60.0], [1.0, 0.0]),  # stretch 0
-    ([25.0, float("nan")], [1.0, 0.8]),  # NaN
-])
+@pytest.mark.parametrize(
+    "rows",
+    [
+        ([25.0], [1.0]),  # one row
+        ([25.0, 25.0, 60.0], [1.0, 0.9, 0.8]),  # repeated temperature
+        ([25.0, 60.0, 40.0], [1.0, 0.9, 0.8]),  # not monotonic
+        ([25.0, 60.0], [1.0, 0.0]),  # stretch 0
+        ([25.0, float("nan")], [1.0, 0.8]),  # NaN
+    ],
+)
 def test_bad_rows_are_one_line_input_errors(rows):
     with pytest.raises(InputError) as err:
         MeasuredContraction.from_rows(*rows)
@@ -82,9 +99,13 @@ def test_bad_rows_are_one_line_input_errors(rows):
 def test_ufl_form_equals_numpy_at_rows_between_and_outside():
     """The UFL conditionals interpolated at points placed on every row, between rows and outside the
     table give the numpy values to rounding (1e-15), for a measured curve with uneven rows."""
-    m = MeasuredContraction.from_rows([25.0, 35.0, 40.0, 45.0, 50.0, 60.0, 90.0, 150.0],
-                                      [1.0, 0.921, 0.877, 0.779, 0.635, 0.587, 0.593, 0.617])
-    probes = np.concatenate([m.temperatures, [10.0, 25.0 - 1e-9, 37.5, 44.999, 51.0, 100.0, 150.0 + 1e-9, 400.0]])
+    m = MeasuredContraction.from_rows(
+        [25.0, 35.0, 40.0, 45.0, 50.0, 60.0, 90.0, 150.0],
+        [1.0, 0.921, 0.877, 0.779, 0.635, 0.587, 0.593, 0.617],
+    )
+    probes = np.concatenate(
+        [m.temperatures, [10.0, 25.0 - 1e-9, 37.5, 44.999, 51.0, 100.0, 150.0 + 1e-9, 400.0]]
+    )
     mesh = dolfinx.mesh.create_interval(MPI.COMM_SELF, len(probes) - 1, [0.0, 1.0])
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1))
     T = dolfinx.fem.Function(V)

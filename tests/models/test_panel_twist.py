@@ -57,9 +57,10 @@ def end_energy(panel_length, panels, twist, mode, angle=1e-4):
 
 def ribbon_gj(panel_length, twist, angle=1e-4):
     """GJ [N mm^2] from U = GJ angle^2/(2 L) + (end effects), two lengths."""
-    (l1, u1), (l2, u2) = ((p * panel_length, end_energy(panel_length, p, twist, "torsion", angle))
-                          for p in (14, 28))
-    return 2.0 * (u1 - u2) / (1.0 / l1 - 1.0 / l2) / angle ** 2
+    (l1, u1), (l2, u2) = (
+        (p * panel_length, end_energy(panel_length, p, twist, "torsion", angle)) for p in (14, 28)
+    )
+    return 2.0 * (u1 - u2) / (1.0 / l1 - 1.0 / l2) / angle**2
 
 
 @pytest.mark.parametrize("panel_length", [2.3, 7.0])
@@ -70,7 +71,7 @@ def test_n5b8_ribbon_twists_as_its_closed_form_and_plate_as_the_plate_strip(pane
     # (the two-length extrapolation leaves end effects of ~1e-6)
     gj = ribbon_gj(panel_length, "n5b8")
     assert gj == pytest.approx(law.n5b8_ribbon_twist_stiffness(k, panel_length, W_RIBBON), rel=1e-5)
-    plate = kap.shear_modulus * W_RIBBON * T_RIBBON ** 3 / 3.0  # G w t^3/3 = 4.46 N mm^2
+    plate = kap.shear_modulus * W_RIBBON * T_RIBBON**3 / 3.0  # G w t^3/3 = 4.46 N mm^2
     assert plate == pytest.approx(4.4585, rel=1e-4)
     assert gj > 10.0 * plate
     assert ribbon_gj(panel_length, "plate") == pytest.approx(plate, rel=1e-5)
@@ -101,11 +102,16 @@ def panel_state(rng, amplitude):
 
 
 def element(x, x_ref, k=0.7, derivatives=2):
-    rest = np.array([law.dihedral_angle(*(x_ref[None, s] for s in law.SPOKE_SLOTS[m]), derivatives=0)[0]
-                     for m in range(4)])[None, :]
+    rest = np.array(
+        [
+            law.dihedral_angle(*(x_ref[None, s] for s in law.SPOKE_SLOTS[m]), derivatives=0)[0]
+            for m in range(4)
+        ]
+    )[None, :]
     lengths = np.linalg.norm(x_ref[1:] - x_ref[0], axis=1)[None, :]
-    return law.panel_bending_element(*(x[None, i] for i in range(5)), lengths, rest, np.array([k]),
-                                     derivatives=derivatives)
+    return law.panel_bending_element(
+        *(x[None, i] for i in range(5)), lengths, rest, np.array([k]), derivatives=derivatives
+    )
 
 
 def test_panel_element_stores_the_bending_mode_and_not_the_twist_or_rigid_motion():
@@ -134,7 +140,9 @@ def test_panel_element_derivatives_match_finite_differences():
     xp, xm = x + step * v.reshape(5, 3), x - step * v.reshape(5, 3)
     fd = (element(xp, x_ref, derivatives=0)[0] - element(xm, x_ref, derivatives=0)[0]) / (2 * step)
     assert fd == pytest.approx(g[0] @ v, rel=1e-6)
-    fd_h = (element(xp, x_ref, derivatives=1)[1][0] - element(xm, x_ref, derivatives=1)[1][0]) / (2 * step)
+    fd_h = (element(xp, x_ref, derivatives=1)[1][0] - element(xm, x_ref, derivatives=1)[1][0]) / (
+        2 * step
+    )
     assert np.allclose(fd_h, h[0] @ v, rtol=1e-5, atol=1e-8 * np.abs(h[0] @ v).max())
     assert np.allclose(h[0], h[0].T)
 

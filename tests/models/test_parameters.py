@@ -28,4 +28,3 @@ def test_override_and_errors():
 def test_negative_current_rejected():
     with pytest.raises(InputError, match="current = -0.1 A: must be between 0 and 1 A"):
         joule_power(-0.1, 146.6)
-

@@ -22,14 +22,15 @@ def test_elasticity_has_the_ribbon_modulus():
     m = RibbonLCE(youngs_modulus=4.0)
     assert 3.0 * m.elasticity().shear_modulus == pytest.approx(4.0, rel=1e-12)
     assert m.elasticity().bulk_modulus / m.elasticity().shear_modulus == pytest.approx(
-        SEED000_RIBBON.elasticity().bulk_modulus / SEED000_RIBBON.elasticity().shear_modulus)
+        SEED000_RIBBON.elasticity().bulk_modulus / SEED000_RIBBON.elasticity().shear_modulus
+    )
 
 
 def test_thermal_curvature_fades_once_the_section_passes_the_transition():
-    """The bending drive of a section heated from one face: a small linear temperature gradient g across
-    the thickness gives the beam closed form kappa_2 = -a'(T0) g (eps* = a(T) - 1 linear in y2). It is
-    largest near T_NI and fades once the whole section is past the transition (the fall of the rolling
-    speed above 120 C, issue 32: docs/ribbon.md)."""
+    """The bending drive of a section heated from one face: a small linear temperature gradient g
+    across the thickness gives the beam closed form kappa_2 = -a'(T0) g (eps* = a(T) - 1 linear in
+    y2). It is largest near T_NI and fades once the whole section is past the transition (the fall
+    of the rolling speed above 120 C, issue 32: docs/ribbon.md)."""
 
     from lcefem.models.ribbon import SectionGrid, natural_strains
 
@@ -38,7 +39,9 @@ def test_thermal_curvature_fades_once_the_section_passes_the_transition():
     g = 1.0  # K/mm: 0.8 K across the 0.8 mm thickness
 
     def kappa(T0):
-        T = T0 + g * grid.y2  # linear through the thickness: exact on 2 cells (SectionGrid docstring)
+        T = (
+            T0 + g * grid.y2
+        )  # linear through the thickness: exact on 2 cells (SectionGrid docstring)
         return float(natural_strains(T[None, :], grid, tr).curvature[0, 1])
 
     def slope(T0, h=1e-3):
@@ -46,4 +49,6 @@ def test_thermal_curvature_fades_once_the_section_passes_the_transition():
 
     for T0 in (55.0, 80.0, 120.0, 180.0):
         assert kappa(T0) == pytest.approx(-slope(T0) * g, rel=2e-3)
-    assert abs(kappa(180.0)) < 0.02 * abs(kappa(80.0))  # saturated section: < 2 % of the drive at T_NI
+    assert abs(kappa(180.0)) < 0.02 * abs(
+        kappa(80.0)
+    )  # saturated section: < 2 % of the drive at T_NI

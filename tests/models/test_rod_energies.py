@@ -21,7 +21,9 @@ EYE11 = np.eye(11)
 
 def stencil_setup(seed, move_source=False):
     rng = np.random.default_rng(seed)
-    xs = np.array([[0.0, 0.0, 0.0], [1.0, 0.1, 0.05], [1.8, 0.6, -0.2]]) + 0.1 * rng.standard_normal((3, 3))
+    xs = np.array(
+        [[0.0, 0.0, 0.0], [1.0, 0.1, 0.05], [1.8, 0.6, -0.2]]
+    ) + 0.1 * rng.standard_normal((3, 3))
     s = fr.unit(fr.edges_of(xs))
     a1s = fr.transport_directors(fr.perpendicular_director(s, rng.standard_normal(3)), s, s)
     refs = fr.reference_twist(a1s, s)
@@ -53,12 +55,25 @@ STIFF = (2.0, 0.7, 0.5)
 def bend_twist_energy(q, s, a1s, refs):
     x, th, t, a1, ref, m1, m2 = frames_at(q, s, a1s, refs)
     e, f = x[1] - x[0], x[2] - x[1]
-    return rod.bend_twist(e[None], f[None], m1[:1], m2[:1], m1[1:], m2[1:], th[1] - th[0] + ref, KBAR, TBAR, VOR,
-                          *STIFF)[0][0]
+    return rod.bend_twist(
+        e[None],
+        f[None],
+        m1[:1],
+        m2[:1],
+        m1[1:],
+        m2[1:],
+        th[1] - th[0] + ref,
+        KBAR,
+        TBAR,
+        VOR,
+        *STIFF,
+    )[0][0]
 
 
 def fd_gradient(fun, q0, h=1e-6):
-    return np.array([(fun(q0 + h * EYE11[i]) - fun(q0 - h * EYE11[i])) / (2 * h) for i in range(len(q0))])
+    return np.array(
+        [(fun(q0 + h * EYE11[i]) - fun(q0 - h * EYE11[i])) / (2 * h) for i in range(len(q0))]
+    )
 
 
 def fd_hessian(fun, q0, h=1e-4):
@@ -67,8 +82,12 @@ def fd_hessian(fun, q0, h=1e-4):
     for i in range(n):
         for j in range(i, n):
             ei, ej = EYE11[i][:n], EYE11[j][:n]
-            H[i, j] = H[j, i] = (fun(q0 + h * (ei + ej)) - fun(q0 + h * (ei - ej)) - fun(q0 - h * (ei - ej))
-                                 + fun(q0 - h * (ei + ej))) / (4 * h * h)
+            H[i, j] = H[j, i] = (
+                fun(q0 + h * (ei + ej))
+                - fun(q0 + h * (ei - ej))
+                - fun(q0 - h * (ei - ej))
+                + fun(q0 - h * (ei + ej))
+            ) / (4 * h * h)
     return H
 
 
@@ -78,10 +97,18 @@ def test_stretching_derivatives():
     rest = np.array([1.0, 2.0, 0.5, 1.5])
     E, g, H = rod.stretching(e, rest, 3.0)
     for k in range(4):
-        fun = lambda v, k=k: rod.stretching(v[None], rest[k:k + 1], 3.0)[0][0]  # noqa: E731
+        fun = lambda v, k=k: rod.stretching(v[None], rest[k : k + 1], 3.0)[0][0]  # noqa: E731
         g_fd = np.array([(fun(e[k] + 1e-6 * d) - fun(e[k] - 1e-6 * d)) / 2e-6 for d in np.eye(3)])
-        H_fd = np.array([(rod.stretching((e[k] + 1e-6 * d)[None], rest[k:k + 1], 3.0)[1][0]
-                          - rod.stretching((e[k] - 1e-6 * d)[None], rest[k:k + 1], 3.0)[1][0]) / 2e-6 for d in np.eye(3)])
+        H_fd = np.array(
+            [
+                (
+                    rod.stretching((e[k] + 1e-6 * d)[None], rest[k : k + 1], 3.0)[1][0]
+                    - rod.stretching((e[k] - 1e-6 * d)[None], rest[k : k + 1], 3.0)[1][0]
+                )
+                / 2e-6
+                for d in np.eye(3)
+            ]
+        )
         assert np.allclose(g[k], g_fd, rtol=0, atol=1e-7 * np.abs(g[k]).max())
         assert np.allclose(H[k], H_fd, rtol=0, atol=1e-6 * np.abs(H[k]).max())
     assert E[1] == pytest.approx(0.5 * 3.0 * (np.linalg.norm(e[1]) / 2.0 - 1) ** 2 * 2.0)
@@ -95,13 +122,26 @@ def test_bend_twist_derivatives(move_source):
     fun = lambda q: bend_twist_energy(q, s, a1s, refs)  # noqa: E731
     x, th, t, a1, ref, m1, m2 = frames_at(q0, s, a1s, refs)
     e, f = x[1] - x[0], x[2] - x[1]
-    E, g8, H8 = rod.bend_twist(e[None], f[None], m1[:1], m2[:1], m1[1:], m2[1:], th[1] - th[0] + ref, KBAR, TBAR,
-                               VOR, *STIFF)
+    E, g8, H8 = rod.bend_twist(
+        e[None],
+        f[None],
+        m1[:1],
+        m2[:1],
+        m1[1:],
+        m2[1:],
+        th[1] - th[0] + ref,
+        KBAR,
+        TBAR,
+        VOR,
+        *STIFF,
+    )
     g = g8 @ rod.STENCIL_MAP.T
     H = rod.STENCIL_MAP @ H8 @ rod.STENCIL_MAP.T
     if move_source:
         db, ddb = rod.source_change(s, t, np.linalg.norm(fr.edges_of(x), axis=1))
-        g, H = rod.apply_source_change(g, H, ((0, 3, 4), (4, 7, 8)), (db[:1], db[1:]), (ddb[:1], ddb[1:]))
+        g, H = rod.apply_source_change(
+            g, H, ((0, 3, 4), (4, 7, 8)), (db[:1], db[1:]), (ddb[:1], ddb[1:])
+        )
     assert E[0] == pytest.approx(fun(q0), rel=1e-12)
     g_fd, H_fd = fd_gradient(fun, q0), fd_hessian(fun, q0)
     assert np.max(np.abs(g[0] - g_fd)) < 1e-7 * np.max(np.abs(g))
@@ -114,8 +154,19 @@ def test_without_source_change_the_gradient_is_wrong_away_from_the_source():
     fun = lambda q: bend_twist_energy(q, s, a1s, refs)  # noqa: E731
     x, th, t, a1, ref, m1, m2 = frames_at(q0, s, a1s, refs)
     e, f = x[1] - x[0], x[2] - x[1]
-    g8 = rod.bend_twist(e[None], f[None], m1[:1], m2[:1], m1[1:], m2[1:], th[1] - th[0] + ref, KBAR, TBAR, VOR,
-                        *STIFF)[1]
+    g8 = rod.bend_twist(
+        e[None],
+        f[None],
+        m1[:1],
+        m2[:1],
+        m1[1:],
+        m2[1:],
+        th[1] - th[0] + ref,
+        KBAR,
+        TBAR,
+        VOR,
+        *STIFF,
+    )[1]
     assert np.max(np.abs(g8 @ rod.STENCIL_MAP.T - fd_gradient(fun, q0))) > 1e-3
 
 
@@ -141,8 +192,21 @@ def test_section_point_derivatives():
     j_fd = np.stack([(points(q0 + 1e-6 * d) - points(q0 - 1e-6 * d)) / 2e-6 for d in eye], axis=-1)
     assert np.max(np.abs(jac - j_fd)) < 1e-8
     fun = lambda q: float(np.sum(g * points(q)))  # noqa: E731
-    H_fd = np.array([[(fun(q0 + 1e-4 * (a + b)) - fun(q0 + 1e-4 * (a - b)) - fun(q0 - 1e-4 * (a - b))
-                       + fun(q0 - 1e-4 * (a + b))) / 4e-8 for b in eye] for a in eye])
+    H_fd = np.array(
+        [
+            [
+                (
+                    fun(q0 + 1e-4 * (a + b))
+                    - fun(q0 + 1e-4 * (a - b))
+                    - fun(q0 - 1e-4 * (a - b))
+                    + fun(q0 - 1e-4 * (a + b))
+                )
+                / 4e-8
+                for b in eye
+            ]
+            for a in eye
+        ]
+    )
     assert np.max(np.abs(hess.sum(axis=1)[0] - H_fd)) < 1e-6 * np.max(np.abs(H_fd))
 
 
@@ -160,16 +224,33 @@ def test_stencil_point_derivatives():
 
     p, r, t = points(q0)
     x, _ = unpack(q0)
-    jac, hess = rod.stencil_point_derivatives(np.repeat([x[1] - x[0]], len(cols), 0), np.repeat([x[2] - x[1]], len(cols), 0),
-                                              r, t, pts.side, pts.sigma, g)
-    j_fd = np.stack([(points(q0 + 1e-6 * d)[0] - points(q0 - 1e-6 * d)[0]) / 2e-6 for d in EYE11], axis=-1)
+    jac, hess = rod.stencil_point_derivatives(
+        np.repeat([x[1] - x[0]], len(cols), 0),
+        np.repeat([x[2] - x[1]], len(cols), 0),
+        r,
+        t,
+        pts.side,
+        pts.sigma,
+        g,
+    )
+    j_fd = np.stack(
+        [(points(q0 + 1e-6 * d)[0] - points(q0 - 1e-6 * d)[0]) / 2e-6 for d in EYE11], axis=-1
+    )
     assert np.max(np.abs(jac - j_fd)) < 1e-8
     fun = lambda q: float(np.sum(g * points(q)[0]))  # noqa: E731
-    assert np.max(np.abs(hess.sum(axis=0) - fd_hessian(fun, q0))) < 1e-6 * np.max(np.abs(hess.sum(axis=0)))
+    assert np.max(np.abs(hess.sum(axis=0) - fd_hessian(fun, q0))) < 1e-6 * np.max(
+        np.abs(hess.sum(axis=0))
+    )
     # The interpolated sections join the edges' own sections at sigma = 1/2 (no jump at the node).
-    heights = rod.stencil_point_heights(x, fr.transport_directors(a1s, s, s), s, unpack(q0)[1],
-                                        np.array([unpack(q0)[1][1] - unpack(q0)[1][0] + refs[0]]), pts,
-                                        np.array([0.0, 0.0, 1.0]))
+    heights = rod.stencil_point_heights(
+        x,
+        fr.transport_directors(a1s, s, s),
+        s,
+        unpack(q0)[1],
+        np.array([unpack(q0)[1][1] - unpack(q0)[1][0] + refs[0]]),
+        pts,
+        np.array([0.0, 0.0, 1.0]),
+    )
     assert np.allclose(heights[0], p[:, 2], atol=1e-12)
 
 
@@ -177,13 +258,21 @@ def timoshenko_torsion_constant(w, t, terms=200):
     """Exact series J = w t^3/3 [1 - (192/pi^5)(t/w) sum_n odd tanh(n pi w/(2t))/n^5] (Timoshenko &
     Goodier, Theory of Elasticity, Sec. 109)."""
     n = np.arange(1, 2 * terms, 2)
-    return w * t ** 3 / 3.0 * (1.0 - 192.0 / math.pi ** 5 * (t / w) * np.sum(np.tanh(n * math.pi * w / (2 * t)) / n ** 5))
+    return (
+        w
+        * t**3
+        / 3.0
+        * (1.0 - 192.0 / math.pi**5 * (t / w) * np.sum(np.tanh(n * math.pi * w / (2 * t)) / n**5))
+    )
 
 
 @pytest.mark.parametrize("ratio", [1.0, 2.0, 5.0, 20.0])
 def test_torsion_constant_against_exact_series(ratio):
-    """Roark's formula is within 0.5 % of the exact series for every aspect ratio (Roark, Table 10.7)."""
-    assert rod.torsion_constant_rectangle(ratio, 1.0) == pytest.approx(timoshenko_torsion_constant(ratio, 1.0), rel=5e-3)
+    """Roark's formula is within 0.5 % of the exact series for every aspect ratio (Roark, Table
+    10.7)."""
+    assert rod.torsion_constant_rectangle(ratio, 1.0) == pytest.approx(
+        timoshenko_torsion_constant(ratio, 1.0), rel=5e-3
+    )
 
 
 def test_thin_strip_limit_and_section():

@@ -21,8 +21,11 @@ def piece(phi_a: float, phi_b: float, rotation=np.eye(3)):
 def rest():
     x = piece(0.0, 0.0)
     from lcefem.models.bar_hinge import dihedral_angle
-    return (dihedral_angle(x[0], x[1], x[2], x[3], derivatives=0),
-            dihedral_angle(x[3], x[4], x[5], x[0], derivatives=0))
+
+    return (
+        dihedral_angle(x[0], x[1], x[2], x[3], derivatives=0),
+        dihedral_angle(x[3], x[4], x[5], x[0], derivatives=0),
+    )
 
 
 @pytest.mark.parametrize("kappa", [1e-3, 0.01, 0.03])
@@ -34,7 +37,7 @@ def test_uniform_curvature_stores_EI_kappa2_L_over_2(kappa):
     ra, rb = rest()
     x = piece(-kappa * L / 2, kappa * L / 2)
     u = strip_beam_element(*x, np.array([2 * ei / L]), ra, rb, derivatives=0)[0]
-    assert u == pytest.approx(ei * kappa ** 2 * L / 2, rel=1e-9)
+    assert u == pytest.approx(ei * kappa**2 * L / 2, rel=1e-9)
 
 
 def test_end_moments_follow_the_slope_deflection_equations():
@@ -53,8 +56,9 @@ def test_end_moments_follow_the_slope_deflection_equations():
 def test_rigid_motion_stores_nothing():
     ra, rb = rest()
     th = 0.7
-    rot = np.array([[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1]]) @ \
-        np.array([[1, 0, 0], [0, np.cos(1.1), -np.sin(1.1)], [0, np.sin(1.1), np.cos(1.1)]])
+    rot = np.array(
+        [[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1]]
+    ) @ np.array([[1, 0, 0], [0, np.cos(1.1), -np.sin(1.1)], [0, np.sin(1.1), np.cos(1.1)]])
     e, g, _ = strip_beam_element(*piece(0.0, 0.0, rot), np.array([0.12]), ra, rb)
     assert abs(e[0]) < 1e-24 and np.abs(g).max() < 1e-12
 
@@ -65,7 +69,9 @@ def test_gradient_and_hessian_match_finite_differences():
     c, ra, rb = np.array([0.4]), np.array([3.0]), np.array([3.3])
 
     def f(v):
-        return strip_beam_element(*(v.reshape(6, 3)[k][None] for k in range(6)), c, ra, rb, derivatives=1)
+        return strip_beam_element(
+            *(v.reshape(6, 3)[k][None] for k in range(6)), c, ra, rb, derivatives=1
+        )
 
     _, g, h = strip_beam_element(*(x0[k][None] for k in range(6)), c, ra, rb)
     v0, eps = x0.ravel(), 1e-6

@@ -16,9 +16,28 @@ GOLDEN = DATA / "strip_0p2A_20s_level0_dt1_history.csv"
 
 def test_the_strip_through_the_door_writes_the_golden_history(tmp_path, lcefem_cmd):
     out = tmp_path / "flags"
-    subprocess.run([*lcefem_cmd, "run", "strip", "--current", "0.2", "--duration", "20", "--mesh-level", "0",
-                    "--dt", "1", "--no-fields", "--out", str(out), "--quiet"], check=True, timeout=600,
-                   capture_output=True)
+    subprocess.run(
+        [
+            *lcefem_cmd,
+            "run",
+            "strip",
+            "--current",
+            "0.2",
+            "--duration",
+            "20",
+            "--mesh-level",
+            "0",
+            "--dt",
+            "1",
+            "--no-fields",
+            "--out",
+            str(out),
+            "--quiet",
+        ],
+        check=True,
+        timeout=600,
+        capture_output=True,
+    )
     assert (out / "history.csv").read_bytes() == GOLDEN.read_bytes()
 
 
@@ -29,9 +48,11 @@ def test_a_case_file_program_gives_the_same_history(tmp_path):
     from lcefem.validation.app.config import config_from_toml, door_from_toml
 
     case = tmp_path / "case.toml"
-    case.write_text('[mesh]\nlevel = 0\n\n[program]\nclock = "time"\nduration = 20.0\ndt = 1.0\n'
-                    '[[program.drives]]\nat = 0.0\ncoil = 0.2\n\n[[exports]]\nkind = "history"\n'
-                    f'columns = {list(COLUMNS)!r}\n'.replace("'", '"'))
+    case.write_text(
+        '[mesh]\nlevel = 0\n\n[program]\nclock = "time"\nduration = 20.0\ndt = 1.0\n'
+        '[[program.drives]]\nat = 0.0\ncoil = 0.2\n\n[[exports]]\nkind = "history"\n'
+        f'columns = {list(COLUMNS)!r}\n'.replace("'", '"')
+    )
     cfg = config_from_toml(case, StripConfig(), door=True)
     program, exports = door_from_toml(case)
     result = run_strip(cfg, tmp_path / "case", progress=False, program=program, exports=exports)

@@ -17,12 +17,14 @@ RTOL = 1e-6
 
 
 def _strip_history(bc: str) -> dict:
-    """0.2 A, two backward-Euler steps of 2 s, level-0 hexahedral quarter model (the case file defaults
-    otherwise)."""
+    """0.2 A, two backward-Euler steps of 2 s, level-0 hexahedral quarter model (the case file
+    defaults otherwise)."""
     from lcefem.meshes.strip import StripMesh
     from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
-    cfg = StripConfig(run=StripRun(current=0.2, duration=4.0, dt=2.0, bc=bc), mesh=StripMesh(level=0))
+    cfg = StripConfig(
+        run=StripRun(current=0.2, duration=4.0, dt=2.0, bc=bc), mesh=StripMesh(level=0)
+    )
     return StripSimulation(cfg).run(None, progress=False, fields=False).history
 
 
@@ -46,8 +48,8 @@ def test_held_strip_force_at_4s():
 
 
 def test_kapton_specimen_buckling_load_bar_and_hinge():
-    """Default N5B8 chain (32 panels): critical force [N] and end shortening [mm] (bisection to 1e-4,
-    deterministic)."""
+    """Default N5B8 chain (32 panels): critical force [N] and end shortening [mm] (bisection to
+    1e-4, deterministic)."""
     from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
 
     force, shortening = kapton_bh.critical_load()
@@ -57,7 +59,8 @@ def test_kapton_specimen_buckling_load_bar_and_hinge():
 
 @pytest.mark.slow
 def test_kapton_specimen_buckling_load_fe():
-    """Level-0 Q2 specimen, linearised buckling (SLEPc): critical force [N] and end shortening [mm]."""
+    """Level-0 Q2 specimen, linearised buckling (SLEPc): critical force [N] and end shortening
+    [mm]."""
     from lcefem.meshes.kapton_ribbon import KaptonFEMesh, KaptonSpecimenGeometry
     from lcefem.solvers.problems.kapton_specimen import KaptonSpecimenFE
 
@@ -67,14 +70,17 @@ def test_kapton_specimen_buckling_load_fe():
 
 
 def test_composite_beam_bar_and_hinge_at_1p33_1p05():
-    """Default 4-segment beam ramped to (lambda_T, lambda_B) = (1.33, 1.05): curvature [1/mm], bottom
-    strip force [N] (two strips), and the number of path states (the step controller's trace)."""
+    """Default 4-segment beam ramped to (lambda_T, lambda_B) = (1.33, 1.05): curvature [1/mm],
+    bottom strip force [N] (two strips), and the number of path states (the step controller's
+    trace)."""
     from lcefem.solvers.problems import composite_beam_bh as beam_bh
 
     sol = beam_bh.solve_beam(1.33, 1.05)
     forces = sol.model.bar_forces(sol.path.states[-1].x)
     assert sol.curvature == pytest.approx(0.03859300813998696, rel=RTOL)
-    assert 2.0 * float(np.mean(forces["bottom_strips"])) == pytest.approx(0.0951843559313803, rel=RTOL)
+    assert 2.0 * float(np.mean(forces["bottom_strips"])) == pytest.approx(
+        0.0951843559313803, rel=RTOL
+    )
     assert len(sol.path.states) == 13
 
 
@@ -98,8 +104,9 @@ def test_twisted_ribbon_der_static_twist():
     from lcefem.models.ribbon import RibbonGeometry
     from lcefem.solvers.der.ribbon import ribbon_static_response
 
-    res = ribbon_static_response(RibbonGeometry(length=20.0, twist_density=0.05), 41,
-                                 face_temperatures=(80.0, 60.0))
+    res = ribbon_static_response(
+        RibbonGeometry(length=20.0, twist_density=0.05), 41, face_temperatures=(80.0, 60.0)
+    )
     assert res.mean_twist_density == pytest.approx(0.24438248174822658, rel=RTOL)
     assert res.mean_curvature[1] == pytest.approx(0.3096889942203144, rel=RTOL)
     assert res.mean_curvature[0] == pytest.approx(0.0, abs=1e-9)

@@ -8,19 +8,32 @@ import numpy as np
 import pytest
 
 from lcefem.meshes.bar_hinge_structure import BarHingeStructure, n5b8_structure
-from lcefem.meshes.composite_beam import BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge
+from lcefem.meshes.composite_beam import (
+    BeamBarHingeMesh,
+    CompositeBeamGeometry,
+    build_beam_bar_hinge,
+)
 from lcefem.models import bar_hinge_materials as bh
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.hyperelastic import ogden_uniaxial_nominal_stress
-from lcefem.solvers.bar_hinge import (BarHingeModel, NewtonOptions, PathOptions, follow_path,
-                                      held_dofs, isostatic_supports, newton)
+from lcefem.solvers.bar_hinge import (
+    BarHingeModel,
+    NewtonOptions,
+    PathOptions,
+    follow_path,
+    held_dofs,
+    isostatic_supports,
+    newton,
+)
 
 RNG = np.random.default_rng(7)
 
 
 @pytest.fixture(scope="module")
 def small_beam():
-    structure = build_beam_bar_hinge(CompositeBeamGeometry(segments=2), BeamBarHingeMesh(flank_panels=2))
+    structure = build_beam_bar_hinge(
+        CompositeBeamGeometry(segments=2), BeamBarHingeMesh(flank_panels=2)
+    )
     return structure, BarHingeModel(structure)
 
 
@@ -42,8 +55,9 @@ def test_assembled_gradient_and_hessian(small_beam):
         assert (ep - em) / (2 * h) == pytest.approx(grad @ v, rel=1e-6, abs=1e-9)
         gp = model.gradient(x.ravel() + h * v)
         gm = model.gradient(x.ravel() - h * v)
-        np.testing.assert_allclose(hess @ v, (gp - gm) / (2 * h), rtol=0,
-                                   atol=1e-6 * np.max(np.abs(hess @ v)))
+        np.testing.assert_allclose(
+            hess @ v, (gp - gm) / (2 * h), rtol=0, atol=1e-6 * np.max(np.abs(hess @ v))
+        )
     assert abs(hess - hess.T).max() <= 1e-10 * abs(hess).max()
     model.set_rest_fractions({"bottom_strips": 1.0, "top_strips": 1.0})
 
@@ -57,8 +71,14 @@ def test_single_square_panel_in_plane_stretching():
     kap = bh.KaptonBarHinge()
     model = BarHingeModel(structure, kap)
     strain = 1e-5
-    held = np.concatenate([held_dofs([0, 3], "x"), held_dofs([1, 2], "x"), held_dofs([0], "y"),
-                           held_dofs([0, 1, 2, 3, 4], "z")])
+    held = np.concatenate(
+        [
+            held_dofs([0, 3], "x"),
+            held_dofs([1, 2], "x"),
+            held_dofs([0], "y"),
+            held_dofs([0, 1, 2, 3, 4], "z"),
+        ]
+    )
     free = np.setdiff1d(np.arange(model.ndof), held)
     x0 = structure.nodes.copy()
     x0[[1, 2], 0] += strain * w
@@ -83,7 +103,9 @@ def test_single_fold_hinge_moment():
     moving = np.array([4, 5, structure.panel_centres[1]])
     axis_point = structure.nodes[1]
     for phi in (0.1, 0.6, math.radians(160.0)):  # last one: dihedral 20 deg < 30 deg, stiffening
-        rot = np.array([[math.cos(phi), 0, -math.sin(phi)], [0, 1, 0], [math.sin(phi), 0, math.cos(phi)]])
+        rot = np.array(
+            [[math.cos(phi), 0, -math.sin(phi)], [0, 1, 0], [math.sin(phi), 0, math.cos(phi)]]
+        )
         x = structure.nodes.copy()
         x[moving] = (x[moving] - axis_point) @ rot.T + axis_point
         g = model.gradient(x).reshape(-1, 3)
@@ -99,17 +121,21 @@ def test_single_fold_hinge_moment():
 
 def _strip_structure(length=30.0):
     nodes = np.array([[0.0, 0, 0], [length, 0, 0]])
-    s = BarHingeStructure(nodes=nodes, thickness=0.127, panels=np.zeros((0, 4), dtype=np.int64),
-                          panel_centres=np.zeros(0, dtype=np.int64),
-                          panel_bars=np.zeros((0, 8), dtype=np.int64))
+    s = BarHingeStructure(
+        nodes=nodes,
+        thickness=0.127,
+        panels=np.zeros((0, 4), dtype=np.int64),
+        panel_centres=np.zeros(0, dtype=np.int64),
+        panel_bars=np.zeros((0, 8), dtype=np.int64),
+    )
     s.add_bars("bottom_strips", [(0, 1)])
     s.sections["bottom_strips"] = {"section": 10.0}
     return s
 
 
 def test_lce_bars_are_tension_only_with_volume_conserving_force():
-    """Force of one bar (half of a 10 mm^2 strip) at rest fraction f = lambda/lambda_N and stretch p:
-    (5 mm^2/lambda) P_Ogden(p) in tension, zero force and stiffness when slack."""
+    """Force of one bar (half of a 10 mm^2 strip) at rest fraction f = lambda/lambda_N and stretch
+    p: (5 mm^2/lambda) P_Ogden(p) in tension, zero force and stiffness when slack."""
     structure = _strip_structure()
     lce = bh.LCEStripBars()
     model = BarHingeModel(structure, lce=lce)
@@ -131,18 +157,26 @@ def test_newton_leaves_a_saddle_for_a_stable_state():
     """The perfect flat ribbon compressed beyond its critical load is an equilibrium but a saddle;
     with inertia control Newton leaves it along the negative curvature and settles in a buckled,
     stable state of lower energy."""
-    from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry, build_ribbon_bar_hinge
+    from lcefem.meshes.kapton_ribbon import (
+        KaptonBarHingeMesh,
+        KaptonSpecimenGeometry,
+        build_ribbon_bar_hinge,
+    )
 
     spec = KaptonSpecimenGeometry()
     s = build_ribbon_bar_hinge(spec, KaptonBarHingeMesh(panels=8, imperfection=0.0))
     model = BarHingeModel(s)
-    held = np.concatenate([held_dofs(s.node_sets["left_clamp"]), held_dofs(s.node_sets["right_clamp"])])
+    held = np.concatenate(
+        [held_dofs(s.node_sets["left_clamp"]), held_dofs(s.node_sets["right_clamp"])]
+    )
     free = np.setdiff1d(np.arange(model.ndof), held)
     x = s.nodes.copy()
     shortening = 0.5  # mm, well beyond the critical 0.003 mm
     x[s.node_sets["right_clamp"], 0] -= shortening
-    inner = np.setdiff1d(np.arange(s.num_nodes), np.concatenate([s.node_sets["left_clamp"],
-                                                                s.node_sets["right_clamp"]]))
+    inner = np.setdiff1d(
+        np.arange(s.num_nodes),
+        np.concatenate([s.node_sets["left_clamp"], s.node_sets["right_clamp"]]),
+    )
     x[inner, 0] *= 1.0 - shortening / spec.length
     flat = newton(model, x, free, NewtonOptions(inertia_control=False))
     assert flat.converged and flat.negative_pivots >= 1
@@ -166,10 +200,15 @@ def test_path_restarts_from_the_last_converged_state(small_beam):
         return fixed
 
     seen = []
-    result = follow_path(model, structure.nodes, held, load,
-                         newton_options=NewtonOptions(max_iterations=6),
-                         path_options=PathOptions(initial_increment=0.5, max_increment=0.5),
-                         on_step=lambda st: seen.append((st.t, model.rest_fractions()["bottom_strips"][0])))
+    result = follow_path(
+        model,
+        structure.nodes,
+        held,
+        load,
+        newton_options=NewtonOptions(max_iterations=6),
+        path_options=PathOptions(initial_increment=0.5, max_increment=0.5),
+        on_step=lambda st: seen.append((st.t, model.rest_fractions()["bottom_strips"][0])),
+    )
     assert result.failed_increments > 0
     assert seen[-1][0] == 1.0
     for t, f in seen:
@@ -187,8 +226,14 @@ def test_path_failure_raises_with_the_last_converged_state(small_beam):
 
     options = NewtonOptions(max_iterations=1, snap_iterations=0)
     with pytest.raises(ConvergenceError) as info:
-        follow_path(model, structure.nodes, held, load, newton_options=options,
-                    path_options=PathOptions(initial_increment=0.1, min_increment=0.02))
+        follow_path(
+            model,
+            structure.nodes,
+            held,
+            load,
+            newton_options=options,
+            path_options=PathOptions(initial_increment=0.1, min_increment=0.02),
+        )
     err = info.value
     assert "load factor t = " in err.where and err.last_state.t < 1.0
     assert "increment halved below" in err.reason
@@ -198,7 +243,12 @@ def test_invalid_options_are_input_errors(small_beam):
     structure, model = small_beam
     held = isostatic_supports(*structure.node_sets["centre_support"])
     with pytest.raises(InputError):
-        follow_path(model, structure.nodes, held, lambda t: structure.nodes.reshape(-1)[held],
-                    path_options=dataclasses.replace(PathOptions(), initial_increment=-0.1))
+        follow_path(
+            model,
+            structure.nodes,
+            held,
+            lambda t: structure.nodes.reshape(-1)[held],
+            path_options=dataclasses.replace(PathOptions(), initial_increment=-0.1),
+        )
     with pytest.raises(InputError):
         held_dofs([0], "w")

@@ -24,12 +24,14 @@ def _rotated(eigenvalues, seed=1):
 
 
 def _reduced(k):
-    return types.SimpleNamespace(diagonal=lambda m: m.diagonal(),
-                                 ldl=SymbolicLDL(k.indices, k.indptr, k.shape[0]))
+    return types.SimpleNamespace(
+        diagonal=lambda m: m.diagonal(), ldl=SymbolicLDL(k.indices, k.indptr, k.shape[0])
+    )
 
 
-@pytest.mark.parametrize("lowest, negligible", [(-1e-13, True), (-1e-9, True), (-1e-5, False),
-                                                (-1.0, False)])
+@pytest.mark.parametrize(
+    "lowest, negligible", [(-1e-13, True), (-1e-9, True), (-1e-5, False), (-1.0, False)]
+)
 def test_negligible_negative_curvature_follows_the_lowest_eigenvalue(lowest, negligible):
     # Spectrum from `lowest` to 1000 N/mm: the largest diagonal entry is below 1000, so tau =
     # 1e-10 of it is below 1e-7: -1e-9 and -1e-13 are above -tau (numerically zero), -1e-5 below.

@@ -3,7 +3,6 @@
 import numpy as np
 
 from lcefem.models import bar_hinge as law
-
 from lcefem.models import bar_hinge_materials as bhm
 from lcefem.solvers.bar_hinge.kernels import hinge_forces
 

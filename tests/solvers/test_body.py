@@ -42,7 +42,9 @@ def test_loads_are_taken_by_the_supports(tmp_path):
     (negative, dead) pressure and gravity, the force and pressure ramped by the program: the
     roller's reaction is their sum (equilibrium, to Newton's tolerance), and the end's mean
     displacement is F L / (E A) to first order in the strain (0.5 %)."""
-    case, result = run_case(tmp_path, """
+    case, result = run_case(
+        tmp_path,
+        """
 [mesh]
 file = "block.geo"
 [thermal]
@@ -84,7 +86,8 @@ boundary = "x1"
 duration = 2.0
 dt = 1.0
 loads = { pull = [[0.0, 0.0], [2.0, 1.0]], suction = [[0.0, 0.0], [2.0, 1.0]] }
-""")
+""",
+    )
     h = result.history
     weight = 1.2e-9 * 1.0e5 * 4.0  # rho g V [N]
     applied = np.array([weight + f * 0.005 for f in (0.0, 0.5, 1.0)])
@@ -99,7 +102,9 @@ def test_steady_coil_heat_leaves_through_the_convecting_boundaries(tmp_path):
     1.0001), convection h = 0.01 mW/(mm^2 K) on x1 and 0.005 on y1 and z1, the rest adiabatic,
     held by a 3-2-1 support: at the steady state sum_b h_b A_b (mean T_b - T_inf) = P, to the
     reference-area share of the deformation (1e-4)."""
-    case, result = run_case(tmp_path, """
+    case, result = run_case(
+        tmp_path,
+        """
 [mesh]
 file = "block.geo"
 [[regions]]
@@ -134,12 +139,15 @@ boundary = "z1"
 [program]
 steady = true
 currents = { heater = 0.005 }
-""")
+""",
+    )
     row = {k: v[-1] for k, v in result.history.items()}
-    power = 0.005 ** 2 * 100.0 * 1e3  # [mW]
+    power = 0.005**2 * 100.0 * 1e3  # [mW]
     assert row["power heater [mW]"] == pytest.approx(power)
-    out = sum(hb * area * (row[f"T {b} [C]"] - 25.0) for b, hb, area in
-              (("x1", 0.01, 1.0), ("y1", 0.005, 4.0), ("z1", 0.005, 4.0)))
+    out = sum(
+        hb * area * (row[f"T {b} [C]"] - 25.0)
+        for b, hb, area in (("x1", 0.01, 1.0), ("y1", 0.005, 4.0), ("z1", 0.005, 4.0))
+    )
     assert out == pytest.approx(power, rel=1e-4)
     assert row["T_max [C]"] > row["T x1 [C]"] > 25.0
 
@@ -177,7 +185,9 @@ def test_schedule_file_drives_and_bounds(tmp_path):
     assert [current(t) for t in (0.0, 1.0, 2.0, 3.0)] == pytest.approx([0.0, 0.1, 0.2, 0.2])
     assert case.regions[0]["director"] == [0.0, 0.0, 1.0]
     (tmp_path / "program.csv").write_text("time [s],heater [A]\n0,0.0\n2,2.0\n")
-    with pytest.raises(InputError, match=r"case.toml: \[program\].schedule heater = .*between 0 and 1 A"):
+    with pytest.raises(
+        InputError, match=r"case.toml: \[program\].schedule heater = .*between 0 and 1 A"
+    ):
         load_case(tmp_path / "case.toml")
     (tmp_path / "program.csv").write_text("time [s],cooler [A]\n0,0.0\n")
     with pytest.raises(InputError, match="column 'cooler \\[A\\]': not a coil"):

@@ -109,15 +109,37 @@ def test_default_penalty_is_the_beams():
     assert SCHEMA["contact"]["penalty"][2] == PenaltyContact().stiffness
 
 
-@pytest.mark.parametrize("old, new, message", [
-    ('target = "lower_top"', 'target = "lid"', "[[contact]][0].target: 'lid' is not a facet set"),
-    ('target = "lower_top"', 'target = "upper_bottom"',
-     "[[contact]][0].target: 'upper_bottom' is the boundary itself"),
-    ('boundary = "upper_bottom"', 'boundary = "floor"', "[[contact]][0].boundary: 'floor' is not a facet set"),
-    ("penalty = 50.0", "penalty = -1.0", "[[contact]][0].penalty: -1 N/mm^3: allowed > 0 N/mm^3"),
-    ('axis = "z"', 'axis = "w"', "[[contact]][0].axis: 'w': allowed x, y, z"),
-    ('name = "blocks"', 'name = "blocks"\nfriction = 0.3', "[[contact]][0].friction: unknown key"),
-])
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (
+            'target = "lower_top"',
+            'target = "lid"',
+            "[[contact]][0].target: 'lid' is not a facet set",
+        ),
+        (
+            'target = "lower_top"',
+            'target = "upper_bottom"',
+            "[[contact]][0].target: 'upper_bottom' is the boundary itself",
+        ),
+        (
+            'boundary = "upper_bottom"',
+            'boundary = "floor"',
+            "[[contact]][0].boundary: 'floor' is not a facet set",
+        ),
+        (
+            "penalty = 50.0",
+            "penalty = -1.0",
+            "[[contact]][0].penalty: -1 N/mm^3: allowed > 0 N/mm^3",
+        ),
+        ('axis = "z"', 'axis = "w"', "[[contact]][0].axis: 'w': allowed x, y, z"),
+        (
+            'name = "blocks"',
+            'name = "blocks"\nfriction = 0.3',
+            "[[contact]][0].friction: unknown key",
+        ),
+    ],
+)
 def test_bad_contact_is_one_line_before_any_mesh(tmp_path, monkeypatch, old, new, message):
     from lcefem.models.errors import InputError
     from lcefem.solvers.problems import body_case
@@ -128,6 +150,7 @@ def test_bad_contact_is_one_line_before_any_mesh(tmp_path, monkeypatch, old, new
     path.write_text(text.replace(old, new))
     # nothing is meshed: the checks read the physical names only
     import lcefem.meshes.reader as reader
+
     monkeypatch.setattr(reader, "read_tagged_mesh", lambda *a, **k: pytest.fail("a mesh was built"))
     with pytest.raises(InputError) as err:
         body_case.load_case(path)
@@ -147,8 +170,10 @@ def test_facing_pairs_are_the_beams_strip_ribbon_pairs():
 
     tm = build_beam_fe(CompositeBeamGeometry(), 1.4, BeamFEMesh(level=0))
     V = displacement_space(tm.mesh, 2)
-    for face, target, above in (("top_strip_underside", "ribbon_top", True),
-                                ("bottom_strip_topside", "ribbon_bottom", False)):
+    for face, target, above in (
+        ("top_strip_underside", "ribbon_top", True),
+        ("bottom_strip_topside", "ribbon_bottom", False),
+    ):
         pairs, areas = face_pairs(tm, V, face, "kapton", strip_above=above)
         general, general_areas = facing_pairs(tm, V, face, target, axis=2)
         assert pairs.shape[0] > 50

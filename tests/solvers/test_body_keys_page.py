@@ -28,6 +28,8 @@ def test_every_schema_key_is_on_the_page_with_its_unit():
         assert section in page, f"[{section}] is not on docs/own_robot_keys.md"
         for key, spec in keys.items():
             assert key in page[section], f"[{section}] {key} is not on docs/own_robot_keys.md"
-            assert page[section][key] == spec[1], f"[{section}] {key}: unit {page[section][key]!r} != {spec[1]!r}"
+            assert page[section][key] == spec[1], (
+                f"[{section}] {key}: unit {page[section][key]!r} != {spec[1]!r}"
+            )
         extra = set(page[section]) - set(keys)
         assert not extra, f"[{section}] keys on the page but not in the schema: {sorted(extra)}"

@@ -2,9 +2,10 @@
 the gap's sign, the pairs of the FE beam, and the assembled residual/Jacobian against each other."""
 
 import dolfinx_solver  # noqa: F401
+from petsc4py import PETSc
+
 import numpy as np
 import pytest
-from petsc4py import PETSc
 
 import dolfinx
 
@@ -37,11 +38,15 @@ def test_gap_sign_and_rotation_invariance():
     rigid rotation and insensitive to tangential offsets (frictionless sliding)."""
     q, r = np.array([[0.0, 0.0, 0.1]]), np.array([[0.0, 0.0, -0.1]])
     for p, expected in (([[3.0, 1.0, 0.6]], 0.5), ([[-2.0, 0.0, -0.2]], -0.3)):
-        assert gap_and_derivatives(np.array(p), q, r, hessian=False)[0][0] == pytest.approx(expected)
+        assert gap_and_derivatives(np.array(p), q, r, hessian=False)[0][0] == pytest.approx(
+            expected
+        )
     a = 0.7
     rot = np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
     p = np.array([[3.0, 1.0, 0.6]])
-    assert gap_and_derivatives(p @ rot.T, q @ rot.T, r @ rot.T, hessian=False)[0][0] == pytest.approx(0.5)
+    assert gap_and_derivatives(p @ rot.T, q @ rot.T, r @ rot.T, hessian=False)[0][
+        0
+    ] == pytest.approx(0.5)
 
 
 @pytest.fixture(scope="module")
@@ -59,8 +64,10 @@ def test_beam_pairs(beam):
     X = V.tabulate_dof_coordinates()
     w = tm.info["strip_width"] / 2
     row = w * 11.5 / 4  # level 0: the 11.5 mm flanks have 4 elements
-    for face, above, area in (("top_strip_underside", True, 45.0 * w - 3 * row / 6),
-                              ("bottom_strip_topside", False, 60.0 * w - 4 * row / 6)):
+    for face, above, area in (
+        ("top_strip_underside", True, 45.0 * w - 3 * row / 6),
+        ("bottom_strip_topside", False, 60.0 * w - 4 * row / 6),
+    ):
         pairs, areas = face_pairs(tm, V, face, "kapton", strip_above=above)
         np.testing.assert_allclose(X[pairs[:, 0], :2], X[pairs[:, 1], :2], atol=1e-9)
         np.testing.assert_allclose(X[pairs[:, 0], :2], X[pairs[:, 2], :2], atol=1e-9)

@@ -1,6 +1,6 @@
 """The measured-curve CSV (lcefem.solvers.contraction_curve, issue 44): what it reads, its one-line
-errors naming file and row, and the option in the rolling ribbon (material.curve) and the lumped strip
-of the bar-and-hinge current routes (current_route.curve). The FE strip's option:
+errors naming file and row, and the option in the rolling ribbon (material.curve) and the lumped
+strip of the bar-and-hinge current routes (current_route.curve). The FE strip's option:
 tests/solvers/test_strip_curve.py."""
 
 from __future__ import annotations
@@ -36,12 +36,19 @@ def test_shipped_curve_reads_with_its_source():
     assert float(m.stretch(70.0)) == 1.0
 
 
-@pytest.mark.parametrize("header, rows, scale", [
-    ("temperature [C],stretch [-]", [(25, 1.0), (60, 0.8), (100, 0.7)], lambda v: v),
-    ("temperature [C],strain [-]", [(25, 0.0), (60, -0.2), (100, -0.3)], lambda v: 1.0 + v),
-    ("temperature [C],strain [%]", [(25, 0.0), (60, -20.0), (100, -30.0)], lambda v: 1.0 + v / 100.0),
-    ("temperature [K],stretch [-]", [(298.15, 1.0), (333.15, 0.8), (373.15, 0.7)], lambda v: v),
-])
+@pytest.mark.parametrize(
+    "header, rows, scale",
+    [
+        ("temperature [C],stretch [-]", [(25, 1.0), (60, 0.8), (100, 0.7)], lambda v: v),
+        ("temperature [C],strain [-]", [(25, 0.0), (60, -0.2), (100, -0.3)], lambda v: 1.0 + v),
+        (
+            "temperature [C],strain [%]",
+            [(25, 0.0), (60, -20.0), (100, -30.0)],
+            lambda v: 1.0 + v / 100.0,
+        ),
+        ("temperature [K],stretch [-]", [(298.15, 1.0), (333.15, 0.8), (373.15, 0.7)], lambda v: v),
+    ],
+)
 def test_units_are_converted(tmp_path, header, rows, scale):
     text = "# a test curve\n" + header + "\n" + "\n".join(f"{t},{v}" for t, v in rows) + "\n"
     m = read_contraction_csv(write(tmp_path, text))
@@ -53,24 +60,29 @@ def test_units_are_converted(tmp_path, header, rows, scale):
 def test_write_then_read_is_exact(tmp_path):
     """write_contraction_csv writes repr floats: the curve comes back bit for bit."""
     T = np.arange(0.0, 200.5, 0.7)
-    m = MeasuredContraction.from_rows(T, spontaneous_stretch(T, NematicTransition()), source="sigmoid")
+    m = MeasuredContraction.from_rows(
+        T, spontaneous_stretch(T, NematicTransition()), source="sigmoid"
+    )
     back = read_contraction_csv(write_contraction_csv(tmp_path / "s.csv", m))
     assert back == m
     assert not (tmp_path / "s.csv.part").exists()
 
 
-@pytest.mark.parametrize("text, row, says", [
-    ("temperature [C],stretch [-]\n25,1.0\n60,0.8\n40,0.7\n", 4, "strictly monotonic"),
-    ("temperature [C],stretch [-]\n25,1.0\n", None, "at least 2 rows"),
-    ("temperature,stretch\n25,1.0\n60,0.8\n", 1, "has no unit"),
-    ("temperature [F],stretch [-]\n25,1.0\n60,0.8\n", 1, "unknown unit [F]"),
-    ("temperature [C],strain [mm]\n25,1.0\n60,0.8\n", 1, "unknown unit [mm]"),
-    ("temperature [C],stretch [-]\n25,1.0\n60,nan\n", 3, "finite"),
-    ("temperature [C],stretch [-]\n25,1.0\n60,0\n", 3, "stretch > 0"),
-    ("temperature [C],strain [%]\n25,0\n60,-100\n", 3, "stretch > 0"),
-    ("temperature [C],stretch [-]\n25,1.0\n60,abc\n", 3, "not two numbers"),
-    ("temperature [C],stretch [-],extra [-]\n25,1.0,1\n", 1, "two"),
-])
+@pytest.mark.parametrize(
+    "text, row, says",
+    [
+        ("temperature [C],stretch [-]\n25,1.0\n60,0.8\n40,0.7\n", 4, "strictly monotonic"),
+        ("temperature [C],stretch [-]\n25,1.0\n", None, "at least 2 rows"),
+        ("temperature,stretch\n25,1.0\n60,0.8\n", 1, "has no unit"),
+        ("temperature [F],stretch [-]\n25,1.0\n60,0.8\n", 1, "unknown unit [F]"),
+        ("temperature [C],strain [mm]\n25,1.0\n60,0.8\n", 1, "unknown unit [mm]"),
+        ("temperature [C],stretch [-]\n25,1.0\n60,nan\n", 3, "finite"),
+        ("temperature [C],stretch [-]\n25,1.0\n60,0\n", 3, "stretch > 0"),
+        ("temperature [C],strain [%]\n25,0\n60,-100\n", 3, "stretch > 0"),
+        ("temperature [C],stretch [-]\n25,1.0\n60,abc\n", 3, "not two numbers"),
+        ("temperature [C],stretch [-],extra [-]\n25,1.0,1\n", 1, "two"),
+    ],
+)
 def test_bad_files_are_one_line_errors_naming_file_and_row(tmp_path, text, row, says):
     with pytest.raises(InputError) as err:
         read_contraction_csv(write(tmp_path, text, "bad.csv"))
@@ -118,10 +130,10 @@ def test_ribbon_material_curve_reaches_the_ribbon_table(tmp_path):
 
 
 def test_curve_shape_benchmark_table_is_the_former_table(tmp_path):
-    """ribbon_curve_shape.py now passes its shaped a(T) as material.curve, sampled at the a(T) table's
-    nodes: the ribbon's table is the former one (the in-code replacement) coefficient for coefficient,
-    so its runs give the same numbers (checked: HTNI and LTNI at 55 C, 61 nodes, 120 s, every JSON
-    field equal)."""
+    """ribbon_curve_shape.py now passes its shaped a(T) as material.curve, sampled at the a(T)
+    table's nodes: the ribbon's table is the former one (the in-code replacement) coefficient for
+    coefficient, so its runs give the same numbers (checked: HTNI and LTNI at 55 C, 61 nodes, 120 s,
+    every JSON field equal)."""
     from lcefem.solvers.der.ribbon import CONTRACTION_TABLE, tabulated_contraction
     from lcefem.solvers.der.tabulated import TabulatedLaw
     from ribbon_curve_shape import contraction_of_shape, shaped_curve_file
@@ -133,20 +145,23 @@ def test_curve_shape_benchmark_table_is_the_former_table(tmp_path):
 
 
 def test_lumped_route_with_a_sampled_sigmoid_is_the_sigmoid_route(tmp_path):
-    """A table of the calibrated sigmoid every 1 K gives the grid strip's steady lambda at the dome's
-    hold currents within the interpolation error (1e-4); a curve that contracts earlier gives a lower
-    lambda at the same current; Eq. 1 takes no curve."""
+    """A table of the calibrated sigmoid every 1 K gives the grid strip's steady lambda at the
+    dome's hold currents within the interpolation error (1e-4); a curve that contracts earlier gives
+    a lower lambda at the same current; Eq. 1 takes no curve."""
     T = np.arange(0.0, 200.5, 1.0)
     tr = NematicTransition()
-    path = write_contraction_csv(tmp_path / "s.csv", MeasuredContraction.from_rows(T, spontaneous_stretch(T, tr)))
+    path = write_contraction_csv(
+        tmp_path / "s.csv", MeasuredContraction.from_rows(T, spontaneous_stretch(T, tr))
+    )
     currents = {"Tx": 0.04, "Bx": 0.07, "hot": 0.09}
     plain = route_from_config(lh.CurrentRouteConfig()).lambdas(currents)
     table = route_from_config(lh.CurrentRouteConfig(curve=str(path))).lambdas(currents)
     for k in currents:
         assert table[k] == pytest.approx(plain[k], abs=1e-4)
     early = NematicTransition(T_NI=tr.T_NI - 10.0)
-    path_early = write_contraction_csv(tmp_path / "e.csv",
-                                       MeasuredContraction.from_rows(T, spontaneous_stretch(T, early)))
+    path_early = write_contraction_csv(
+        tmp_path / "e.csv", MeasuredContraction.from_rows(T, spontaneous_stretch(T, early))
+    )
     shifted = route_from_config(lh.CurrentRouteConfig(curve=str(path_early))).lambdas(currents)
     assert shifted["Bx"] < plain["Bx"] - 0.05
     with pytest.raises(InputError, match="thermal_model"):

@@ -7,8 +7,16 @@ import numpy as np
 import pytest
 
 from lcefem.models.lumped_heat import HeatedStrip, implicit_euler_step
-from lcefem.models.shape_control import (BoostGuard, CurrentLimits, HeightSensor, PlantSpread, StripHeat,
-                                         draw_strips, free_stretch, strip_temperature_step)
+from lcefem.models.shape_control import (
+    BoostGuard,
+    CurrentLimits,
+    HeightSensor,
+    PlantSpread,
+    StripHeat,
+    draw_strips,
+    free_stretch,
+    strip_temperature_step,
+)
 from lcefem.solvers import control as ctl
 from lcefem.validation.app.cli import main as cli_main
 from lcefem.validation.cases.programs import SHAPE_DRIVES
@@ -33,8 +41,9 @@ def linear_surface(seed: int = 3) -> LinearSurface:
     J = np.vstack([Jh, Jk])
     y_star = np.concatenate([rng.normal(0, 5, 9), [-0.02, -0.02, -0.015, -0.015]])
     G = np.concatenate([rng.normal(0, 1, 9), rng.normal(0, 1e-3, 4)])
-    return LinearSurface("dome", None, None, np.zeros(3), channels, p_star, None, y_star, J, G,
-                         y_star.copy())
+    return LinearSurface(
+        "dome", None, None, np.zeros(3), channels, p_star, None, y_star, J, G, y_star.copy()
+    )
 
 
 SCENARIO = ctl.Scenario(settle=300.0, load_phase=0.0, failure_phase=0.0, refine=0.0)
@@ -47,25 +56,29 @@ def test_closed_loop_drives_a_linear_plant_to_its_target():
     draw = draw_strips(PlantSpread(), 8, np.random.default_rng(5))
     sensor = HeightSensor(noise=0.01)
     heights = ctl.ControllerSettings(sensing="heights")
-    o = ctl.simulate(surface, draw, feedback=False, scenario=SCENARIO, sensor=sensor, seed=1,
-                     settings=heights)
-    c = ctl.simulate(surface, draw, feedback=True, scenario=SCENARIO, sensor=sensor, seed=1,
-                     settings=heights)
+    o = ctl.simulate(
+        surface, draw, feedback=False, scenario=SCENARIO, sensor=sensor, seed=1, settings=heights
+    )
+    c = ctl.simulate(
+        surface, draw, feedback=True, scenario=SCENARIO, sensor=sensor, seed=1, settings=heights
+    )
     assert o.phase_errors["target"] > 2e-3  # the spreads matter open loop
     assert c.phase_errors["target"] < 1e-4
     assert c.phase_errors["target"] < 0.05 * o.phase_errors["target"]
 
 
 def wide_linear_surface(seed: int = 5) -> LinearSurface:
-    """Sixteen strips (four per channel) seen by nine heights: more unknowns than the sensor sees."""
+    """Sixteen strips (four per channel) seen by nine heights: more unknowns than the sensor
+    sees."""
     rng = np.random.default_rng(seed)
     channels = [c for c in ("Tx", "Ty", "Bx", "By") for _ in range(4)]
     p_star = np.array([1.33] * 8 + [1.05] * 8)
     J = np.vstack([rng.normal(0.0, 20.0, (9, 16)), rng.normal(0.0, 0.02, (4, 16))])
     y_star = np.concatenate([rng.normal(0, 5, 9), [-0.02, -0.02, -0.015, -0.015]])
     G = np.concatenate([rng.normal(0, 1, 9), rng.normal(0, 1e-3, 4)])
-    return LinearSurface("dome", None, None, np.zeros(3), channels, p_star, None, y_star, J, G,
-                         y_star.copy())
+    return LinearSurface(
+        "dome", None, None, np.zeros(3), channels, p_star, None, y_star, J, G, y_star.copy()
+    )
 
 
 def test_curvature_feedback_beats_the_height_estimate_when_strips_outnumber_heights():
@@ -78,8 +91,14 @@ def test_curvature_feedback_beats_the_height_estimate_when_strips_outnumber_heig
     sensor = HeightSensor(noise=0.0)
     err = {}
     for sensing in ("heights", "oracle"):
-        r = ctl.simulate(surface, draw, scenario=SCENARIO, sensor=sensor, seed=1,
-                         settings=ctl.ControllerSettings(sensing=sensing))
+        r = ctl.simulate(
+            surface,
+            draw,
+            scenario=SCENARIO,
+            sensor=sensor,
+            seed=1,
+            settings=ctl.ControllerSettings(sensing=sensing),
+        )
         err[sensing] = r.phase_errors["target"]
     assert err["heights"] > 2e-3  # misses the issue's tolerance
     assert err["oracle"] < 1e-4
@@ -88,7 +107,12 @@ def test_curvature_feedback_beats_the_height_estimate_when_strips_outnumber_heig
 def test_marker_curvature_sd_matches_sampling():
     """The marker sensor's curvature SD (linearised) equals the SD of the circle through the three
     points perturbed by 0.1 mm Gaussian noise per coordinate (4000 samples: 1.1 % sampling SD)."""
-    from lcefem.solvers.analysis.curvature import centre_frame, junction_centre_points, signed_circle_curvature
+    from lcefem.solvers.analysis.curvature import (
+        centre_frame,
+        junction_centre_points,
+        signed_circle_curvature,
+    )
+
     surface = ctl.build_surface("cylinder", SHAPE_DRIVES["cylinder"])
     sd = ctl.marker_curvature_sd(surface, 0.1)
     st, x = surface.structure, surface.x_star.reshape(-1, 3)
@@ -107,8 +131,15 @@ def test_current_limits_are_respected():
     draw = draw_strips(PlantSpread(), 8, np.random.default_rng(2))
     limits = CurrentLimits()
     for feedback in (False, True):
-        r = ctl.simulate(surface, draw, feedback=feedback, scenario=SCENARIO, limits=limits, seed=2,
-                         settings=ctl.ControllerSettings(sensing="heights"))
+        r = ctl.simulate(
+            surface,
+            draw,
+            feedback=feedback,
+            scenario=SCENARIO,
+            limits=limits,
+            seed=2,
+            settings=ctl.ControllerSettings(sensing="heights"),
+        )
         assert r.inputs.min() >= 0.0
         assert r.inputs.max() <= limits.maximum + 1e-12
         assert r.longest_boost <= limits.boost_time + 1e-9
@@ -142,13 +173,15 @@ def test_vectorised_heat_step_matches_the_lumped_step():
     R = np.array([24.0, 25.0, 26.0])
     got = strip_temperature_step(T, I, R, 0.5, heat)
     for k in range(3):
-        want = implicit_euler_step(float(T[k]), float(I[k]), 0.5, HeatedStrip(resistance=float(R[k])))
+        want = implicit_euler_step(
+            float(T[k]), float(I[k]), 0.5, HeatedStrip(resistance=float(R[k]))
+        )
         assert got[k] == pytest.approx(want, abs=1e-6)
 
 
 def test_full_contraction_at_0p2_A_takes_about_20_s():
-    """Seed 001, Fig. 2: at 0.2 A 'about 20 s until full contraction'; the segment's lumped transient
-    (no added lag) reaches lambda = 1.06 between 15 and 30 s."""
+    """Seed 001, Fig. 2: at 0.2 A 'about 20 s until full contraction'; the segment's lumped
+    transient (no added lag) reaches lambda = 1.06 between 15 and 30 s."""
     heat = StripHeat()
     T = np.array([heat.ambient])
     for step in range(1, 61):
@@ -158,12 +191,15 @@ def test_full_contraction_at_0p2_A_takes_about_20_s():
     assert 15.0 <= step * 0.5 <= 30.0
 
 
-@pytest.mark.parametrize("args, field", [
-    (["--shape", "cube"], "--shape"),
-    (["--max-current", "-0.1"], "--max-current"),
-    (["--inputs", "wires"], "--inputs"),
-    (["--noise-mm", "-1"], "--noise-mm"),
-])
+@pytest.mark.parametrize(
+    "args, field",
+    [
+        (["--shape", "cube"], "--shape"),
+        (["--max-current", "-0.1"], "--max-current"),
+        (["--inputs", "wires"], "--inputs"),
+        (["--noise-mm", "-1"], "--noise-mm"),
+    ],
+)
 def test_bad_input_exits_2_with_one_line(tmp_path, capsys, args, field):
     code = cli_main(["control", *args, "--out", str(tmp_path / "o"), "--quiet"])
     err = capsys.readouterr().err.strip()

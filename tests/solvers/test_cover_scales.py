@@ -24,8 +24,11 @@ def test_lens_area_closed_forms():
     assert s.lens_area(0.0) == pytest.approx(math.pi * r * r, rel=1e-12)
     assert s.lens_area(50.0) == 0.0
     # d = r: 2 r^2 acos(1/2) - (r/2) sqrt(3) r = r^2 (2 pi/3 - sqrt(3)/2)
-    assert s.lens_area(r) == pytest.approx(r * r * (2.0 * math.pi / 3.0 - math.sqrt(3.0) / 2.0), rel=1e-12)
-    # 3 x 3 disks on a 37 mm pitch: 12 neighbour lenses, diagonals (52.3 mm) apart, both layers counted
+    assert s.lens_area(r) == pytest.approx(
+        r * r * (2.0 * math.pi / 3.0 - math.sqrt(3.0) / 2.0), rel=1e-12
+    )
+    # 3 x 3 disks on a 37 mm pitch: 12 neighbour lenses, diagonals (52.3 mm) apart, both layers
+    # counted
     assert s.bent_area(37.0, 3) == pytest.approx(24.0 * s.lens_area(37.0), rel=1e-12)
     assert CoverScales(bent="disks").bent_area(37.0, 3) == pytest.approx(9 * math.pi * r * r)
     with pytest.raises(InputError, match="scales.bent"):
@@ -41,8 +44,8 @@ def _paraboloid(structure, kx, ky):
 
 @pytest.mark.parametrize("kx, ky", [(-0.02, -0.02), (-0.01, 0.015), (0.018, 0.0)])
 def test_layer_energy_is_plate_energy_on_paraboloid(structure, kx, ky):
-    """U = D A_b (kx^2 + ky^2 + 2 nu kx ky)/2 exactly: the second differences of z = (kx X^2 + ky Y^2)/2
-    on the junction grid are (0, 0, k p^2) and the mixed ones vanish."""
+    """U = D A_b (kx^2 + ky^2 + 2 nu kx ky)/2 exactly: the second differences of z = (kx X^2 + ky
+    Y^2)/2 on the junction grid are (0, 0, k p^2) and the mixed ones vanish."""
     s = CoverScales()
     h = scale_layer_matrix(structure, s)
     x = _paraboloid(structure, kx, ky).reshape(-1)
@@ -58,7 +61,9 @@ def test_layer_energy_invariant_under_rotation_and_zero_flat(structure):
     assert abs(0.5 * flat @ (h @ flat)) < 1e-12
     x = _paraboloid(structure, -0.01, 0.015)
     a = 0.4
-    rot = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(a), -math.sin(a)], [0.0, math.sin(a), math.cos(a)]])
+    rot = np.array(
+        [[1.0, 0.0, 0.0], [0.0, math.cos(a), -math.sin(a)], [0.0, math.sin(a), math.cos(a)]]
+    )
     y = (x @ rot.T + np.array([3.0, -2.0, 5.0])).reshape(-1)
     x = x.reshape(-1)
     assert 0.5 * y @ (h @ y) == pytest.approx(0.5 * x @ (h @ x), rel=1e-10)

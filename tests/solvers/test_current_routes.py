@@ -10,7 +10,13 @@ import pytest
 from lcefem.models import lumped_heat as lh
 from lcefem.models.errors import InputError
 from lcefem.models.heat import Coil
-from lcefem.solvers.current_routes import CurrentRoute, Eq1Route, FEHeatedRoute, LumpedRoute, route_from_config
+from lcefem.solvers.current_routes import (
+    CurrentRoute,
+    Eq1Route,
+    FEHeatedRoute,
+    LumpedRoute,
+    route_from_config,
+)
 
 DOME_HOLD = {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}
 
@@ -51,7 +57,11 @@ class HeldModel:
         return []
 
     def observables(self):
-        return {f"lambda {ch} [-]": 1.4 - I for ch, I in self.held.items() if ch in ("Tx", "Ty", "Bx", "By")}
+        return {
+            f"lambda {ch} [-]": 1.4 - I
+            for ch, I in self.held.items()
+            if ch in ("Tx", "Ty", "Bx", "By")
+        }
 
 
 def test_fe_heated_route_holds_the_model_and_reads_the_channels():
@@ -60,12 +70,15 @@ def test_fe_heated_route_holds_the_model_and_reads_the_channels():
     assert isinstance(route, CurrentRoute) and route.name == "fe"
     assert route.lambdas(DOME_HOLD) == {k: 1.4 - v for k, v in DOME_HOLD.items()}
     assert model.held == DOME_HOLD
-    with pytest.raises(InputError, match="^current XD1: the FE heated route reports lambda per channel"):
+    with pytest.raises(
+        InputError, match="^current XD1: the FE heated route reports lambda per channel"
+    ):
         route.lambdas({"XD1": 0.05})
 
 
-@pytest.mark.parametrize("route", [LumpedRoute(), Eq1Route(), FEHeatedRoute(HeldModel())],
-                         ids=["lumped", "eq1", "fe"])
+@pytest.mark.parametrize(
+    "route", [LumpedRoute(), Eq1Route(), FEHeatedRoute(HeldModel())], ids=["lumped", "eq1", "fe"]
+)
 def test_a_bad_current_is_refused_by_name(route):
     with pytest.raises(InputError, match="^current Tx"):
         route.lambdas({"Tx": -0.1})

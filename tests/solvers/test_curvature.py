@@ -16,14 +16,17 @@ def _grid_points(f):
     return u.ravel(), v.ravel(), f(u.ravel(), v.ravel())
 
 
-@pytest.mark.parametrize("ka, kb, angle", [(-0.017, -0.017, 0.0), (-0.010, 0.014, 0.0),
-                                           (0.018, 0.0, 0.0), (-0.010, 0.014, 0.4)])
+@pytest.mark.parametrize(
+    "ka, kb, angle",
+    [(-0.017, -0.017, 0.0), (-0.010, 0.014, 0.0), (0.018, 0.0, 0.0), (-0.010, 0.014, 0.4)],
+)
 def test_quadratic_fit_is_exact_on_quadratics(ka, kb, angle):
     c, s = math.cos(angle), math.sin(angle)
 
     def f(u, v):
         a, b = c * u + s * v, -s * u + c * v
-        return 0.5 * (ka * a ** 2 + kb * b ** 2) + 3.0
+        return 0.5 * (ka * a**2 + kb * b**2) + 3.0
+
     q = quadratic_surface_curvatures(*_grid_points(f))
     assert q["k1"] == pytest.approx(min(ka, kb), abs=1e-12)
     assert q["k2"] == pytest.approx(max(ka, kb), abs=1e-12)
@@ -34,12 +37,14 @@ def test_quadratic_fit_is_exact_on_quadratics(ka, kb, angle):
 
 
 def test_quadratic_fit_of_a_sphere_cap():
-    # A sphere is not a quadratic: z = R - r^2/(2R) - r^4/(8R^3) - ... On the 3 x 3 grid of pitch h the
-    # least-squares fit absorbs the quartic term into the curvature, a relative error of order
+    # A sphere is not a quadratic: z = R - r^2/(2R) - r^4/(8R^3) - ... On the 3 x 3 grid of pitch h
+    # the least-squares fit absorbs the quartic term into the curvature, a relative error of order
     # (h/R)^2 (about 0.69 (h/R)^2 here); it must vanish like (h/R)^2.
     errors = []
     for radius in (200.0, 400.0, 1000.0):
-        q = quadratic_surface_curvatures(*_grid_points(lambda u, v: np.sqrt(radius ** 2 - u ** 2 - v ** 2)))
+        q = quadratic_surface_curvatures(
+            *_grid_points(lambda u, v: np.sqrt(radius**2 - u**2 - v**2))
+        )
         assert q["k1"] == pytest.approx(q["k2"], abs=1e-14)
         err = q["k1"] * radius + 1.0  # relative error of -1/R (the fit overestimates |k|)
         assert 0.0 < -err < (37.0 / radius) ** 2
@@ -52,8 +57,10 @@ def grid():
     return build_gridshell_bar_hinge()
 
 
-@pytest.mark.parametrize("ka, kb", [(-1 / 60.0, -1 / 60.0), (1 / 60.0, 1 / 60.0), (-1 / 100.0, 1 / 70.0),
-                                    (1 / 55.0, 0.0)])
+@pytest.mark.parametrize(
+    "ka, kb",
+    [(-1 / 60.0, -1 / 60.0), (1 / 60.0, 1 / 60.0), (-1 / 100.0, 1 / 70.0), (1 / 55.0, 0.0)],
+)
 def test_gridshell_measures_and_signs(grid, ka, kb):
     # Map every node onto z + (ka (x - c)^2 + kb (y - c)^2)/2: junction centres (means of four
     # corners) lie on a shifted copy of the same paraboloid, so the quadratic fit is exact; the
@@ -67,7 +74,7 @@ def test_gridshell_measures_and_signs(grid, ka, kb):
     assert k["quad_ky"] == pytest.approx(kb, abs=1e-10)
     a = 70.5
     for name, kk in (("circle_x", ka), ("circle_y", kb)):
-        h = 0.5 * kk * (a ** 2 - 3.5 ** 2)  # ends' height over the apex (corners at +-3.5 average out)
-        expected = 2.0 * h / (a ** 2 + h ** 2)
+        h = 0.5 * kk * (a**2 - 3.5**2)  # ends' height over the apex (corners at +-3.5 average out)
+        expected = 2.0 * h / (a**2 + h**2)
         assert k[name] == pytest.approx(expected, abs=1e-10)
         assert np.sign(k[name]) == np.sign(kk)  # dome negative, bowl positive (seed 001)

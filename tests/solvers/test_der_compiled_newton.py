@@ -14,7 +14,12 @@ from scipy.linalg import lapack
 from lcefem.models.contact import ContactLaw, FrictionLaw
 from lcefem.models.rod import RodSection, rectangular_section
 from lcefem.models.units import STANDARD_GRAVITY
-from lcefem.solvers.der.banded import band_cholesky, band_cholesky_rows, band_cholesky_solve, band_cholesky_solve_rows
+from lcefem.solvers.der.banded import (
+    band_cholesky,
+    band_cholesky_rows,
+    band_cholesky_solve,
+    band_cholesky_solve_rows,
+)
 from lcefem.solvers.der.integrator import Integrator, StepOptions
 from lcefem.solvers.der.model import DiscreteRod, Ground, RestShape, RodState, lumped_masses, n_dofs
 from lcefem.solvers.der.newton import NewtonOptions
@@ -30,10 +35,12 @@ def test_band_cholesky_matches_lapack():
     rng = np.random.default_rng(3)
     n, kd = 40, 10
     dense = rng.standard_normal((n, n))
-    dense = np.tril(np.triu(dense @ dense.T, -kd), kd) + 2 * kd * np.eye(n)  # banded, diagonally dominant
+    dense = np.tril(np.triu(dense @ dense.T, -kd), kd) + 2 * kd * np.eye(
+        n
+    )  # banded, diagonally dominant
     ab = np.zeros((kd + 1, n))
     for r in range(kd + 1):
-        ab[r, :n - r] = np.diagonal(dense, -r)
+        ab[r, : n - r] = np.diagonal(dense, -r)
     ref, info = lapack.dpbtrf(ab, lower=1)
     assert info == 0
     mine = ab.copy()
@@ -46,7 +53,8 @@ def test_band_cholesky_matches_lapack():
     bad = ab.copy()
     bad[0, 7] = -1.0  # the leading minor of order 8 is not positive definite (LAPACK's info)
     assert band_cholesky(bad.copy()) == lapack.dpbtrf(bad, lower=1)[1] == 8
-    # the transposed storage (the compiled Newton loop and the heat step): the same factor and solve bit for bit
+    # the transposed storage (the compiled Newton loop and the heat step): the same factor and solve
+    # bit for bit
     rows = np.ascontiguousarray(ab.T)
     assert band_cholesky_rows(rows) == 0
     np.testing.assert_array_equal(rows.T, mine)
@@ -57,8 +65,8 @@ def test_band_cholesky_matches_lapack():
 
 
 def _run_both(make, steps, dt):
-    """(python integrator, compiled integrator) after ``steps`` steps of dt from ``make()``, with the
-    Newton iterations and step cuts of every step (must agree exactly)."""
+    """(python integrator, compiled integrator) after ``steps`` steps of dt from ``make()``, with
+    the Newton iterations and step cuts of every step (must agree exactly)."""
     out = []
     for compiled in (False, True):
         integ = make()
@@ -76,10 +84,16 @@ def _run_both(make, steps, dt):
 @pytest.mark.parametrize("at_source", [False, True])
 def test_ribbon_on_the_hot_plate_same_iterates(at_source):
     """16-node ribbon settled on the 100 C plate, 25 steps of 0.02 s heating (contact, friction,
-    lagged Hessians and a moving source every step), with exact Hessians and with the elastic Hessian
-    of the transport source (``StepOptions.elastic_hessian_at_source``)."""
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(
-        nodes=16, dt=0.02, settle_time=0.1, elastic_hessian_at_source=at_source)))
+    lagged Hessians and a moving source every step), with exact Hessians and with the elastic
+    Hessian of the transport source (``StepOptions.elastic_hessian_at_source``)."""
+    sim = RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0,
+            numerics=RibbonNumerics(
+                nodes=16, dt=0.02, settle_time=0.1, elastic_hessian_at_source=at_source
+            ),
+        )
+    )
     state = sim.state.copy()
     state.acceleration = sim.state.acceleration
 
@@ -106,8 +120,17 @@ def test_rod_thrown_at_a_wall_same_iterates(angle_deg):
     x[:, 2] = 2.1  # just above the ground: its corners touch it
     state = RodState.from_positions(x, first_director=np.array([0.0, 0.0, 1.0]))
     wall = Ground(tuple(normal), float(np.min(x @ normal)) - 4.0)
-    rod = DiscreteRod(sec, rest, nm, ei, gravity=np.array([0.0, 0.0, -STANDARD_GRAVITY]), ground=Ground(),
-                      contact=ContactLaw(), friction=FrictionLaw(), obstacles=(wall,))
+    rod = DiscreteRod(
+        sec,
+        rest,
+        nm,
+        ei,
+        gravity=np.array([0.0, 0.0, -STANDARD_GRAVITY]),
+        ground=Ground(),
+        contact=ContactLaw(),
+        friction=FrictionLaw(),
+        obstacles=(wall,),
+    )
     state.v = np.tile(-speed * normal, (n, 1))
     _, cc, _ = _run_both(lambda: Integrator(rod, state.copy()), 60, 1e-3)
     # the paths were compared through the impact: 6 mm of free flight against a wall 4 mm away, and
@@ -119,13 +142,21 @@ def test_clamped_rod_with_step_cuts_same_iterates():
     """A clamped, falling, bending rod whose 0.1 s step needs cutting (fixed dofs, failed Newton
     loops, halved steps: test_der_integrator.test_step_cutting_recovers)."""
     n = 8
-    sec = RodSection(EA=1e4, EI1=1.0, EI2=1.0, GJ=1.0, mass_per_length=1e-6, inertia_per_length=1e-8)
+    sec = RodSection(
+        EA=1e4, EI1=1.0, EI2=1.0, GJ=1.0, mass_per_length=1e-6, inertia_per_length=1e-8
+    )
     rest = RestShape.straight(np.full(n - 1, 10.0 / (n - 1)))
     nm, ei = lumped_masses(sec, rest.edge_length)
     x = np.zeros((n, 3))
     x[:, 0] = np.linspace(0.0, 10.0, n)
-    rod = DiscreteRod(sec, rest, nm, ei, gravity=np.array([0.0, 0.0, -STANDARD_GRAVITY]),
-                      fixed=np.r_[np.ones(8, bool), np.zeros(n_dofs(n) - 8, bool)])
+    rod = DiscreteRod(
+        sec,
+        rest,
+        nm,
+        ei,
+        gravity=np.array([0.0, 0.0, -STANDARD_GRAVITY]),
+        fixed=np.r_[np.ones(8, bool), np.zeros(n_dofs(n) - 8, bool)],
+    )
     state = RodState.from_positions(x)
     options = StepOptions(min_dt=1e-3, newton=NewtonOptions(max_iterations=6))
     _, _, reports = _run_both(lambda: Integrator(rod, state.copy(), options), 2, 0.1)

@@ -45,8 +45,12 @@ def fd_check(potential, source, offset):
     H_fd = np.empty((nd, nd))
     for i in range(nd):
         for j in range(i, nd):
-            H_fd[i, j] = H_fd[j, i] = (energy(h * (eye[i] + eye[j])) - energy(h * (eye[i] - eye[j]))
-                                       - energy(h * (eye[j] - eye[i])) + energy(-h * (eye[i] + eye[j]))) / (4 * h * h)
+            H_fd[i, j] = H_fd[j, i] = (
+                energy(h * (eye[i] + eye[j]))
+                - energy(h * (eye[i] - eye[j]))
+                - energy(h * (eye[j] - eye[i]))
+                + energy(-h * (eye[i] + eye[j]))
+            ) / (4 * h * h)
     return d.grad, g_fd, H, H_fd
 
 
@@ -54,10 +58,18 @@ def ribbon_rod(n, samples, friction=True, rng=None):
     sec = rectangular_section(4.0, 0.8, 0.52, 0.175, 1.15e-9)
     rest = RestShape.from_densities(np.full(n - 1, 1.1), [0.1, -0.2], 0.3)
     nm, ei = lumped_masses(sec, rest.edge_length)
-    return DiscreteRod(sec, rest, nm, ei, gravity=np.array([0.0, 0.0, -9806.65]), damping=0.5, ground=Ground(),
-                       contact=ContactLaw(delta=0.2, stiffness=0.3),
-                       friction=FrictionLaw(mu=0.4, slip_speed=2.0) if friction else None,
-                       contact_samples=samples)
+    return DiscreteRod(
+        sec,
+        rest,
+        nm,
+        ei,
+        gravity=np.array([0.0, 0.0, -9806.65]),
+        damping=0.5,
+        ground=Ground(),
+        contact=ContactLaw(delta=0.2, stiffness=0.3),
+        friction=FrictionLaw(mu=0.4, slip_speed=2.0) if friction else None,
+        contact_samples=samples,
+    )
 
 
 def ribbon_state(n, rng):
@@ -65,8 +77,11 @@ def ribbon_state(n, rng):
     x[:, 0] = np.arange(n) * 1.0
     x += 0.05 * rng.standard_normal((n, 3))
     x[:, 2] += 1.9
-    st = RodState.from_positions(x, theta=0.3 * np.arange(n - 1) + 0.2 * rng.standard_normal(n - 1),
-                                 first_director=np.array([0.0, 0.0, 1.0]))
+    st = RodState.from_positions(
+        x,
+        theta=0.3 * np.arange(n - 1) + 0.2 * rng.standard_normal(n - 1),
+        first_director=np.array([0.0, 0.0, 1.0]),
+    )
     st.v = rng.standard_normal((n, 3))
     st.omega = rng.standard_normal(n - 1)
     return st
@@ -81,8 +96,12 @@ def test_step_potential_derivatives_with_contact_and_friction(samples):
     sampling = ContactSampling.of(rod)
     lag = friction_lag(rod, start, sampling, all_points=True)
     # Non-zero lagged normal forces everywhere, so friction acts on every sample point.
-    lag = FrictionLag(None if lag.stencil_normal is None else 1e-3 * (1 + rng.random(lag.stencil_normal.shape)),
-                      lag.stencil_points, 1e-3 * (1 + rng.random(lag.end_normal.shape)), lag.end_points)
+    lag = FrictionLag(
+        None if lag.stencil_normal is None else 1e-3 * (1 + rng.random(lag.stencil_normal.shape)),
+        lag.stencil_points,
+        1e-3 * (1 + rng.random(lag.end_normal.shape)),
+        lag.end_points,
+    )
     pot = StepPotential(rod, start, 0.01, Assembly(n), sampling, lag)
     offset = 0.05 * rng.standard_normal(4 * n - 1)  # away from the transport source
     g, g_fd, H, H_fd = fd_check(pot, start, offset)

@@ -8,11 +8,15 @@ import pytest
 
 from lcefem.models import rod as rodlaw
 from lcefem.models.contact import ContactLaw, contact_energy, friction_potential, normal_force
-from lcefem.solvers.der import kernels
-from lcefem.solvers.der import contact_kernels
-from lcefem.solvers.der import frame_kernels
-from lcefem.solvers.der.assembly import (EDGE_SLOTS, STENCIL_SLOTS, Assembly, ContactSampling, FrictionLag,
-                                         friction_lag)
+from lcefem.solvers.der import contact_kernels, frame_kernels, kernels
+from lcefem.solvers.der.assembly import (
+    EDGE_SLOTS,
+    STENCIL_SLOTS,
+    Assembly,
+    ContactSampling,
+    FrictionLag,
+    friction_lag,
+)
 from tests.solvers.test_der_derivatives import ribbon_rod, ribbon_state
 
 TOL = 1e-12
@@ -23,8 +27,21 @@ def numpy_elastic(asm: Assembly, rod, state):
     sec, rest, geo = rod.section, rod.rest, state.geometry()
     e, m1, m2 = geo.e, geo.m1, geo.m2
     es, gs, hs = rodlaw.stretching(e, rest.edge_length, sec.EA)
-    eb, gb, hb = rodlaw.bend_twist(e[:-1], e[1:], m1[:-1], m2[:-1], m1[1:], m2[1:], geo.twist, rest.curvature,
-                                   rest.twist, rest.voronoi_length, sec.EI1, sec.EI2, sec.GJ)
+    eb, gb, hb = rodlaw.bend_twist(
+        e[:-1],
+        e[1:],
+        m1[:-1],
+        m2[:-1],
+        m1[1:],
+        m2[1:],
+        geo.twist,
+        rest.curvature,
+        rest.twist,
+        rest.voronoi_length,
+        sec.EI1,
+        sec.EI2,
+        sec.GJ,
+    )
     n = len(e)
     g_edges = np.zeros((n, 7))
     g_edges[:, 0:3], g_edges[:, 4:7] = -gs, gs
@@ -34,7 +51,9 @@ def numpy_elastic(asm: Assembly, rod, state):
     g_sten = gb @ rodlaw.STENCIL_MAP.T
     h_sten = rodlaw.STENCIL_MAP @ hb @ rodlaw.STENCIL_MAP.T
     db, ddb = rodlaw.source_change(state.source_tangents, geo.t, geo.length)
-    g_sten, h_sten = rodlaw.apply_source_change(g_sten, h_sten, STENCIL_SLOTS, (db[:-1], db[1:]), (ddb[:-1], ddb[1:]))
+    g_sten, h_sten = rodlaw.apply_source_change(
+        g_sten, h_sten, STENCIL_SLOTS, (db[:-1], db[1:]), (ddb[:-1], ddb[1:])
+    )
     grad = asm.gradient(g_edges, g_sten)
     band = asm.band([("edge", h_edges, None), ("stencil", h_sten, None)], None)
     return float(es.sum() + eb.sum()), grad, band
@@ -77,19 +96,23 @@ def numpy_points(state, sampling):
     if sampling.interpolated:
         st = sampling.stencil
         rows, cols = np.meshgrid(np.arange(n_edges - 1), np.arange(len(st.side)), indexing="ij")
-        pos, r, t = rodlaw.stencil_points(state.x, state.a1, geo.t, state.theta, geo.twist, st, rows.ravel(),
-                                          cols.ravel())
+        pos, r, t = rodlaw.stencil_points(
+            state.x, state.a1, geo.t, state.theta, geo.twist, st, rows.ravel(), cols.ravel()
+        )
         out["stencil"] = [a.reshape(rows.shape + (3,)) for a in (pos, r, t)]
     ids = sampling.end_edges(n_edges)
     sig = sampling.end_sigma_rows(n_edges)
-    pos = rodlaw.section_points(state.x[ids], state.x[ids + 1], geo.m1[ids], geo.m2[ids], sampling.end_offsets, sig)
+    pos = rodlaw.section_points(
+        state.x[ids], state.x[ids + 1], geo.m1[ids], geo.m2[ids], sampling.end_offsets, sig
+    )
     r = pos - state.x[ids][:, None] - sig[..., None] * geo.e[ids][:, None]
     out["edge"] = [pos, r, np.broadcast_to(geo.t[ids][:, None], pos.shape)]
     return out
 
 
 def numpy_contact(asm, rod, state, sampling, lag, step):
-    """Contact + friction energy, gradient and band from the numpy functions (the pre-numba assembly)."""
+    """Contact + friction energy, gradient and band from the numpy functions (the pre-numba
+    assembly)."""
     law, nrm = rod.contact, rod.ground.unit_normal()
     geo = state.geometry()
     db, ddb = rodlaw.source_change(state.source_tangents, geo.t, geo.length)
@@ -107,20 +130,39 @@ def numpy_contact(asm, rod, state, sampling, lag, step):
         g_pt = (law.stiffness * d1)[:, None] * nrm + gD
         if kind == "stencil":
             st = sampling.stencil
-            jac, h = rodlaw.stencil_point_derivatives(geo.e[elem], geo.e[elem + 1], r[elem, col], t[elem, col],
-                                                      st.side[col], st.sigma[col], g_pt)
+            jac, h = rodlaw.stencil_point_derivatives(
+                geo.e[elem],
+                geo.e[elem + 1],
+                r[elem, col],
+                t[elem, col],
+                st.side[col],
+                st.sigma[col],
+                g_pt,
+            )
             slots, dbs, ddbs = STENCIL_SLOTS, (db[elem], db[elem + 1]), (ddb[elem], ddb[elem + 1])
         else:
             ids = sampling.end_edges(len(geo.t))[elem]
             sig = sampling.end_sigma_rows(len(geo.t))[elem, col]
-            jac, h = rodlaw.section_point_derivatives(state.x[ids], state.x[ids + 1], geo.m1[ids], geo.m2[ids],
-                                                      sampling.end_offsets[col][:, None], g_pt[:, None], sig[:, None])
+            jac, h = rodlaw.section_point_derivatives(
+                state.x[ids],
+                state.x[ids + 1],
+                geo.m1[ids],
+                geo.m2[ids],
+                sampling.end_offsets[col][:, None],
+                g_pt[:, None],
+                sig[:, None],
+            )
             jac, h = jac[:, 0], h[:, 0]
             slots, dbs, ddbs = EDGE_SLOTS, (db[ids],), (ddb[ids],)
         jn = np.einsum("kci,c->ki", jac, nrm)
-        h = (h + (law.stiffness * d2)[:, None, None] * jn[:, :, None] * jn[:, None, :]
-             + np.swapaxes(jac, 1, 2) @ (hD @ jac))
-        g_loc, h = rodlaw.apply_source_change(np.einsum("kc,kci->ki", g_pt, jac), h, slots, dbs, ddbs)
+        h = (
+            h
+            + (law.stiffness * d2)[:, None, None] * jn[:, :, None] * jn[:, None, :]
+            + np.swapaxes(jac, 1, 2) @ (hD @ jac)
+        )
+        g_loc, h = rodlaw.apply_source_change(
+            np.einsum("kc,kci->ki", g_pt, jac), h, slots, dbs, ddbs
+        )
         if kind == "stencil":
             grad += asm.gradient(None, g_loc, stencil_rows=elem)
             terms.append(("stencil", h, elem))
@@ -140,8 +182,12 @@ def test_compiled_contact_and_friction_equal_numpy(samples):
     start = ribbon_state(n, rng)
     sampling = ContactSampling.of(rod)
     lag = friction_lag(rod, start, sampling, all_points=True)
-    lag = FrictionLag(None if lag.stencil_normal is None else 1e-3 * (1 + rng.random(lag.stencil_normal.shape)),
-                      lag.stencil_points, 1e-3 * (1 + rng.random(lag.end_normal.shape)), lag.end_points)
+    lag = FrictionLag(
+        None if lag.stencil_normal is None else 1e-3 * (1 + rng.random(lag.stencil_normal.shape)),
+        lag.stencil_points,
+        1e-3 * (1 + rng.random(lag.end_normal.shape)),
+        lag.end_points,
+    )
     state = start.moved(0.05 * rng.standard_normal(4 * n - 1))
     asm = Assembly(n)
     e_ref, g_ref, b_ref = numpy_contact(asm, rod, state, sampling, lag, 0.01)
@@ -156,6 +202,7 @@ def test_compiled_contact_and_friction_equal_numpy(samples):
 
 def test_compiled_frame_transport_equals_numpy():
     from lcefem.solvers.der import frames as fr
+
     rng = np.random.default_rng(17)
     n = 9
     state = ribbon_state(n, rng)
@@ -163,7 +210,9 @@ def test_compiled_frame_transport_equals_numpy():
     e = np.diff(state.x + 0.1 * rng.standard_normal(state.x.shape), axis=0)
     t_new = e / np.linalg.norm(e, axis=1)[:, None]
     a1_ref = fr.transport_directors(state.a1, t_old, t_new)
-    ref_ref = fr.reference_twist(a1_ref, t_new, state.ref_twist + 2 * np.pi)  # continued past a full turn
+    ref_ref = fr.reference_twist(
+        a1_ref, t_new, state.ref_twist + 2 * np.pi
+    )  # continued past a full turn
     a1, ref = frame_kernels.transport_frames(state.a1, t_old, t_new, state.ref_twist + 2 * np.pi)
     assert np.max(np.abs(a1 - a1_ref)) <= TOL
     assert np.max(np.abs(ref - ref_ref)) <= TOL * np.max(np.abs(ref_ref))
@@ -179,9 +228,10 @@ def test_compiled_normal_force_equals_numpy():
 
 
 def test_moved_state_geometry_equals_numpy():
-    """RodState.moved's one compiled pass (frame_kernels.moved_geometry) gives the tangents, transported
-    directors, material frames and twists of the numpy formulas (frames.py)."""
+    """RodState.moved's one compiled pass (frame_kernels.moved_geometry) gives the tangents,
+    transported directors, material frames and twists of the numpy formulas (frames.py)."""
     from lcefem.solvers.der import frames as fr
+
     rng = np.random.default_rng(19)
     n = 9
     state = ribbon_state(n, rng)

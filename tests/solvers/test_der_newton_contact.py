@@ -21,19 +21,25 @@ from lcefem.solvers.der.ribbon import RibbonNumerics, RibbonSetup, RibbonSimulat
 def _landing(nodes=16, **numerics):
     """A ribbon placed on the plate (no settling yet): its first steps are contact events (the
     corners land, the friction points stick). The seed-001 strip material and the unlocked twist of
-    issue 17, for which the iteration counts below were measured (the stiffer seed-000 ribbon of issue
-    32 lands in fewer iterations: 70 against 129 with the watchdog)."""
-    return RibbonSimulation(RibbonSetup(ground_temperature=100.0, transition=NematicTransition(),
-                                        elasticity=LCEElasticity(), geometry=RibbonGeometry(),
-                                        numerics=RibbonNumerics(nodes=nodes, dt=0.01, settle_time=0.0, **numerics)))
+    issue 17, for which the iteration counts below were measured (the stiffer seed-000 ribbon of
+    issue 32 lands in fewer iterations: 70 against 129 with the watchdog)."""
+    return RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0,
+            transition=NematicTransition(),
+            elasticity=LCEElasticity(),
+            geometry=RibbonGeometry(),
+            numerics=RibbonNumerics(nodes=nodes, dt=0.01, settle_time=0.0, **numerics),
+        )
+    )
 
 
 def test_full_newton_steps_converge_quadratically_in_the_landing_steps(monkeypatch):
-    """The Python reference loop with a fresh, exact Hessian at every iterate (lag_tol 0, the elastic
-    Hessian not taken from the source): once the residual
+    """The Python reference loop with a fresh, exact Hessian at every iterate (lag_tol 0, the
+    elastic Hessian not taken from the source): once the residual
     is below 0.1 node weights, each step cuts it by more than the one before and
-    r_(k+1) <= C r_k^2 with C = 10 per node weight (measured up to 3.4). A linear contraction (e.g. the
-    ~3x per iteration of the pre-asymptotic phase) fails both."""
+    r_(k+1) <= C r_k^2 with C = 10 per node weight (measured up to 3.4). A linear contraction (e.g.
+    the ~3x per iteration of the pre-asymptotic phase) fails both."""
     sim = _landing(lag_tol=0.0, elastic_hessian_at_source=False)
     sim.integrator.options = dataclasses.replace(sim.options, compiled=False)
     weight = float(sim.rod.node_mass.max() * STANDARD_GRAVITY)
@@ -56,7 +62,9 @@ def test_full_newton_steps_converge_quadratically_in_the_landing_steps(monkeypat
     monkeypatch.setattr(integrator_module, "minimise", recording_minimise)
     for _ in range(3):
         sim.integrator.step(0.01)
-    assert len(histories) == 3 and max(len(h) for h in histories) >= 10  # contact events, not quiet steps
+    assert (
+        len(histories) == 3 and max(len(h) for h in histories) >= 10
+    )  # contact events, not quiet steps
     for history in histories:
         tail = [r for r in history if r < 0.1]
         assert len(tail) >= 3
@@ -96,9 +104,10 @@ def test_compiled_loop_follows_the_watchdog_option(watchdog):
 
 
 def test_the_source_elastic_hessian_reaches_the_same_steps():
-    """Newton with the elastic Hessian of the transport source (the ribbon's default) converges to the
-    same implicit steps as with exact Hessians: the landing ribbon's nodes after 10 steps agree to
-    well below the contact smoothing width (Newton stops within force_tol of either minimiser)."""
+    """Newton with the elastic Hessian of the transport source (the ribbon's default) converges to
+    the same implicit steps as with exact Hessians: the landing ribbon's nodes after 10 steps agree
+    to well below the contact smoothing width (Newton stops within force_tol of either
+    minimiser)."""
     states = []
     for at_source in (False, True):
         sim = _landing(elastic_hessian_at_source=at_source)

@@ -27,11 +27,15 @@ def test_rod_thrown_at_a_wall_stays_out(angle_deg):
     x[:, 0] = np.arange(n) - 0.5 * (n - 1)
     x[:, 2] = 50.0  # far above the ground: only the wall acts
     state = RodState.from_positions(x, first_director=np.array([0.0, 0.0, 1.0]))
-    wall = Ground(tuple(normal), float(np.min(x @ normal)) - 2.0 - gap0)  # the nearest corner gap0 away
+    wall = Ground(
+        tuple(normal), float(np.min(x @ normal)) - 2.0 - gap0
+    )  # the nearest corner gap0 away
     law = ContactLaw()
-    rod = DiscreteRod(sec, rest, nm, ei, ground=Ground(), contact=law, friction=FrictionLaw(), obstacles=(wall,))
+    rod = DiscreteRod(
+        sec, rest, nm, ei, ground=Ground(), contact=law, friction=FrictionLaw(), obstacles=(wall,)
+    )
     state.v = np.tile(-speed * normal, (n, 1))
-    kinetic = 0.5 * nm.sum() * speed ** 2  # [mJ]
+    kinetic = 0.5 * nm.sum() * speed**2  # [mJ]
     bound = math.sqrt(kinetic / law.stiffness)
     integ = Integrator(rod, state)
     deepest = np.inf

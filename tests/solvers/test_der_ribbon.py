@@ -1,26 +1,30 @@
 """The LCE ribbon as a rod: static response to given temperatures (the API for FE comparisons) and
 the ribbon simulation's bookkeeping."""
 
-
 import dataclasses
 
 import numpy as np
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.models.hyperelastic import LCEElasticity
+from lcefem.models.lce import NematicTransition, contraction_ratio
 from lcefem.models.ribbon import HelicoidCoupling, RibbonGeometry, SectionGrid, natural_strains
 from lcefem.solvers.der.output import PolylineSeries, polydata
-from lcefem.solvers.der.ribbon import (RibbonNumerics, RibbonSetup, RibbonSimulation, initial_ribbon_state,
-                                       ribbon_static_response)
+from lcefem.solvers.der.ribbon import (
+    RibbonNumerics,
+    RibbonSetup,
+    RibbonSimulation,
+    initial_ribbon_state,
+    ribbon_static_response,
+)
 
 TR = NematicTransition()
 
 
 def test_straight_strip_with_a_through_thickness_gradient_curls_to_its_natural_curvature():
-    """A free straight strip (no gravity) takes its natural shape: curvature towards the hot face equal
-    to the eigenstrain's, length scaled by the mean contraction."""
+    """A free straight strip (no gravity) takes its natural shape: curvature towards the hot face
+    equal to the eigenstrain's, length scaled by the mean contraction."""
     geo = RibbonGeometry(length=20.0, twist_density=0.0)
     res = ribbon_static_response(geo, 21, face_temperatures=(80.0, 60.0))
     grid = SectionGrid(geo.width, geo.thickness)
@@ -41,7 +45,9 @@ def test_twisted_ribbon_heated_uniformly_untwists_and_shortens():
     cpl = HelicoidCoupling.of(geo, 3.0 * mu, mu)
     stretch = a * cpl.stretch_factor(a)
     # integrated twist per as-built length tau_bar; per current length divided by the stretch
-    assert res.mean_twist_density == pytest.approx(geo.twist_rate * cpl.twist_factor(a) / stretch, rel=1e-6)
+    assert res.mean_twist_density == pytest.approx(
+        geo.twist_rate * cpl.twist_factor(a) / stretch, rel=1e-6
+    )
     assert res.length == pytest.approx(20.0 * stretch, rel=1e-6)
     assert 1.0 < cpl.release < 2.0 and stretch > a  # untwists and contracts less than the fibres
     assert np.allclose(res.mean_curvature, 0.0, atol=1e-8)
@@ -49,17 +55,19 @@ def test_twisted_ribbon_heated_uniformly_untwists_and_shortens():
 
 @pytest.mark.parametrize("T", [40.0, 72.0, 150.0])
 def test_locked_twist_keeps_the_programmed_turns(T):
-    """twist_lock = 1 (issue 32): uniformly heated to any temperature, the free twisted ribbon contracts
-    by the fibres' a(T) and keeps its number of turns: twist per current length tau_0/a, i.e. the
-    total twist angle of the as-built ribbon. (With twist_lock = 0 the same heating untwists it.)"""
+    """twist_lock = 1 (issue 32): uniformly heated to any temperature, the free twisted ribbon
+    contracts by the fibres' a(T) and keeps its number of turns: twist per current length tau_0/a,
+    i.e. the total twist angle of the as-built ribbon. (With twist_lock = 0 the same heating
+    untwists it.)"""
     geo = RibbonGeometry(length=20.0, twist_density=0.05, twist_lock=1.0)
     res = ribbon_static_response(geo, 41, cell_temperatures=np.full(12, T))
     a = contraction_ratio(T, TR)
     assert res.length == pytest.approx(20.0 * a, rel=1e-6)
     assert res.mean_twist_density == pytest.approx(geo.twist_rate / a, rel=1e-6)
     assert res.mean_twist_density * res.length == pytest.approx(geo.twist_rate * 20.0, rel=1e-6)
-    free = ribbon_static_response(RibbonGeometry(length=20.0, twist_density=0.05), 41,
-                                  cell_temperatures=np.full(12, T))
+    free = ribbon_static_response(
+        RibbonGeometry(length=20.0, twist_density=0.05), 41, cell_temperatures=np.full(12, T)
+    )
     assert free.mean_twist_density * free.length < 0.999 * geo.twist_rate * 20.0
 
 
@@ -70,7 +78,9 @@ def test_half_locked_twist_halves_the_release():
     half = cpl.locked(0.5)
     a = 0.8
     assert half.twist_factor(a) - 1.0 == pytest.approx(0.5 * (cpl.twist_factor(a) - 1.0), rel=1e-12)
-    assert half.stretch_factor(a) - 1.0 == pytest.approx(0.5 * (cpl.stretch_factor(a) - 1.0), rel=1e-12)
+    assert half.stretch_factor(a) - 1.0 == pytest.approx(
+        0.5 * (cpl.stretch_factor(a) - 1.0), rel=1e-12
+    )
     assert cpl.locked(1.0).twist_factor(a) == pytest.approx(1.0) and cpl.locked(0.0) == cpl
 
 
@@ -83,6 +93,7 @@ def test_static_response_takes_node_face_temperatures():
 
 def test_static_response_rejects_ambiguous_temperatures():
     from lcefem.models.errors import InputError
+
     with pytest.raises(InputError):
         ribbon_static_response(RibbonGeometry(), 5)
     with pytest.raises(InputError, match="nodes"):
@@ -94,13 +105,20 @@ def test_initial_twisted_ribbon_lies_on_its_edges():
     st = initial_ribbon_state(geo, 61)
     geo_ = st.geometry()
     assert np.allclose(geo_.twist / np.diff(np.linspace(0, 60, 61))[1:], geo.twist_rate)
-    lowest = 0.5 * (st.x[:-1, 2] + st.x[1:, 2]) - 2.0 * np.abs(geo_.m1[:, 2]) - 0.4 * np.abs(geo_.m2[:, 2])
+    lowest = (
+        0.5 * (st.x[:-1, 2] + st.x[1:, 2])
+        - 2.0 * np.abs(geo_.m1[:, 2])
+        - 0.4 * np.abs(geo_.m2[:, 2])
+    )
     assert lowest.min() == pytest.approx(0.0, abs=1e-12)
 
 
 def test_short_heated_run_conserves_bookkeeping():
-    """A 0.2 s run on a hot plate: the ribbon stays on the plate, heats up, history rows are complete."""
-    setup = RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(nodes=16, dt=0.02, settle_time=0.1))
+    """A 0.2 s run on a hot plate: the ribbon stays on the plate, heats up, history rows are
+    complete."""
+    setup = RibbonSetup(
+        ground_temperature=100.0, numerics=RibbonNumerics(nodes=16, dt=0.02, settle_time=0.1)
+    )
     sim = RibbonSimulation(setup)
     T0 = sim.T.mean()
     for _ in range(10):
@@ -119,8 +137,12 @@ def test_short_heated_run_conserves_bookkeeping():
 def test_imperfection_spins_the_settled_ribbon_about_its_axis(spin):
     """The documented imperfection: after settling, the rod turns about the x axis at the set rate
     (sign of the right-handed twist), nodes and edges alike."""
-    base = RibbonSimulation(RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=0.0)))
-    sim = RibbonSimulation(RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=spin)))
+    base = RibbonSimulation(
+        RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=0.0))
+    )
+    sim = RibbonSimulation(
+        RibbonSetup(numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, perturbation=spin))
+    )
     st, st0 = sim.state, base.state
     assert np.allclose(st.omega - st0.omega, spin)
     line = np.array([0.0, st.x[:, 1].mean(), 0.0])
@@ -137,6 +159,7 @@ def test_polyline_series_is_atomic(tmp_path):
     s.finalize(complete=False)
     assert {p.name for p in tmp_path.iterdir()} == {"rod_steps.partial", "rod.partial.pvd"}
     import pyvista as pv
+
     assert pv.read(tmp_path / "rod_steps.partial" / "rod_00000.vtp").point_data["a"][3] == 3.0
     assert "rod_steps.partial/rod_00000.vtp" in (tmp_path / "rod.partial.pvd").read_text()
 
@@ -145,9 +168,15 @@ def test_plate_gradient_warms_the_side_over_the_hotter_plate():
     """A plate hotter towards +y heats the section cells on the +y side more; no gradient and a
     zero gradient give the same step. (The seed-001 strip material: the settled ribbon this test was
     written for; the stiffer seed-000 ribbon settles on a slightly different edge line.)"""
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, transition=TR, elasticity=LCEElasticity(),
-                                       geometry=RibbonGeometry(),
-                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    sim = RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0,
+            transition=TR,
+            elasticity=LCEElasticity(),
+            geometry=RibbonGeometry(),
+            numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04),
+        )
+    )
     geo = sim.heat_geometry()
     T0 = np.full_like(sim.T, 25.0)
     uniform, _ = sim.heat.step(T0, 1.0, geo, 100.0)
@@ -155,16 +184,22 @@ def test_plate_gradient_warms_the_side_over_the_hotter_plate():
     assert np.allclose(uniform, zero, rtol=0, atol=1e-12)
     tilted, _ = sim.heat.step(T0, 1.0, geo, 100.0, np.array([0.0, 5.0, 0.0]))
     # cell centres' y positions: the +y cells gain more than the -y ones
-    y = (geo.centre[:, None, 1] + sim.grid.y1[None, :] * geo.m1[:, None, 1] + sim.grid.y2[None, :] * geo.m2[:, None, 1])
+    y = (
+        geo.centre[:, None, 1]
+        + sim.grid.y1[None, :] * geo.m1[:, None, 1]
+        + sim.grid.y2[None, :] * geo.m2[:, None, 1]
+    )
     gain = (tilted - uniform).ravel()
     assert np.corrcoef(y.ravel(), gain)[0, 1] > 0.5
 
 
 def test_adaptive_steps_land_on_the_requested_times_and_meet_the_tolerance():
-    """Adaptive stepping on the hot plate: advance() ends exactly at each requested time, every accepted
-    step's error estimate is within the tolerance (or the step is dt_min), and the steps stay within
-    [dt_min, dt_max]."""
-    num = RibbonNumerics(nodes=16, dt=0.02, settle_time=0.1, error_tolerance=2e-3, dt_min=1e-3, dt_max=0.05)
+    """Adaptive stepping on the hot plate: advance() ends exactly at each requested time, every
+    accepted step's error estimate is within the tolerance (or the step is dt_min), and the steps
+    stay within [dt_min, dt_max]."""
+    num = RibbonNumerics(
+        nodes=16, dt=0.02, settle_time=0.1, error_tolerance=2e-3, dt_min=1e-3, dt_max=0.05
+    )
     sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=num))
     accepted = []
     step = sim.step
@@ -187,7 +222,9 @@ def test_adaptive_steps_land_on_the_requested_times_and_meet_the_tolerance():
 
 
 def test_adaptive_steps_need_implicit_euler():
-    num = RibbonNumerics(nodes=11, dt=0.02, settle_time=0.0, error_tolerance=1e-2, method="midpoint")
+    num = RibbonNumerics(
+        nodes=11, dt=0.02, settle_time=0.0, error_tolerance=1e-2, method="midpoint"
+    )
     with pytest.raises(InputError, match="numerics.method"):
         RibbonSimulation(RibbonSetup(numerics=num))
 
@@ -199,21 +236,29 @@ def test_mirrored_twist_rolls_the_other_way():
     6 s on a 100 C plate (24 nodes, 0.02 s): both move ~0.9 mm sideways, opposite ways; the paths
     agree with the mirror image to 2e-10 mm with Newton converged to 1e-7 node weights, asserted
     within 2e-2 mm, 2 % of the sideways motion. (At the default force_tol, 1e-5, the two Newton
-    loops stop at slightly different iterates and a contact event at 3-3.5 s amplifies that: 3.7e-3 mm
-    at 6 s with watched Newton steps, 2.7e-2 mm without, issue 17: a test of the tolerance's
+    loops stop at slightly different iterates and a contact event at 3-3.5 s amplifies that: 3.7e-3
+    mm at 6 s with watched Newton steps, 2.7e-2 mm without, issue 17: a test of the tolerance's
     footprint, not of the symmetry.)"""
-    sims = [RibbonSimulation(RibbonSetup(geometry=RibbonGeometry(twist_density=tw), ground_temperature=100.0,
-                                         numerics=RibbonNumerics(nodes=24, dt=0.02, force_tol=1e-7)))
-            for tw in (0.05, -0.05)]
+    sims = [
+        RibbonSimulation(
+            RibbonSetup(
+                geometry=RibbonGeometry(twist_density=tw),
+                ground_temperature=100.0,
+                numerics=RibbonNumerics(nodes=24, dt=0.02, force_tol=1e-7),
+            )
+        )
+        for tw in (0.05, -0.05)
+    ]
     y0 = [s.state.x[:, 1].mean() for s in sims]
     for s in sims:
         s.advance(6.0)
     right, left = (s.state.x for s in sims)
     assert np.abs(right - left * np.array([1.0, -1.0, 1.0])).max() < 2e-2
     moved = [s.state.x[:, 1].mean() - y for s, y in zip(sims, y0)]
-    # Which way the pair goes is not asserted: the settled ribbon is symmetric under a half turn about
-    # the vertical, and the Newton path of the landing picks the side (with and without watched steps
-    # the right-handed ribbon's 20 s paths are exact mirror images, y -> -y, to 0.01 mm; issue 17).
+    # Which way the pair goes is not asserted: the settled ribbon is symmetric under a half turn
+    # about the vertical, and the Newton path of the landing picks the side (with and without
+    # watched steps the right-handed ribbon's 20 s paths are exact mirror images, y -> -y, to 0.01
+    # mm; issue 17).
     assert moved[0] * moved[1] < 0 and min(abs(m) for m in moved) > 0.5
 
 
@@ -222,10 +267,15 @@ def test_heat_step_balances_stored_and_exchanged_heat():
     cancels, so sum C (T_new - T)/dt = power from the ground - power to the air (the step's own
     fluxes), to round-off of the banded solve; and at the ambient temperature everywhere (plate
     included) nothing changes."""
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
-                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    sim = RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0, numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)
+        )
+    )
     geo = sim.heat_geometry()
-    T0 = np.full_like(sim.T, 25.0) + np.linspace(0.0, 5.0, sim.T.size).reshape(sim.T.shape)  # non-uniform
+    T0 = np.full_like(sim.T, 25.0) + np.linspace(0.0, 5.0, sim.T.size).reshape(
+        sim.T.shape
+    )  # non-uniform
     dt = 0.5
     T1, flux = sim.heat.step(T0, dt, geo, 100.0)
     stored = float((sim.heat.capacity[:, None] / dt * (T1 - T0)).sum())  # [mW]
@@ -239,11 +289,15 @@ def test_heat_step_balances_stored_and_exchanged_heat():
 
 
 def test_compiled_heat_step_equals_the_numpy_reference():
-    """kernels.heat_step (coefficients, solve and fluxes in one call) against SectionHeat.coefficients
-    in numpy with the same solve: the same temperatures and fluxes to round-off, with and without a
-    plate gradient and with the midpoint sections' corner gaps (HeatGeometry without corner_gap)."""
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
-                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+    """kernels.heat_step (coefficients, solve and fluxes in one call) against
+    SectionHeat.coefficients in numpy with the same solve: the same temperatures and fluxes to
+    round-off, with and without a plate gradient and with the midpoint sections' corner gaps
+    (HeatGeometry without corner_gap)."""
+    sim = RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0, numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)
+        )
+    )
     geo = sim.heat_geometry()
     geo.corner_gap[3, 2] = -0.01  # one corner pressed into the plate: contact conduction
     T0 = np.full_like(sim.T, 25.0) + np.linspace(0.0, 5.0, sim.T.size).reshape(sim.T.shape)
@@ -257,20 +311,49 @@ def test_compiled_heat_step_equals_the_numpy_reference():
 
 
 def test_iterative_heat_solve_equals_the_banded_cholesky_at_the_rolling_steps():
-    """heat_kernels.heat_solve_fast (Gauss-Seidel while the system is diagonally dominant, the rolling
-    ribbon's 0.005-0.01 s steps) against the banded Cholesky of heat_solve: the same temperatures to
-    round-off (1e-11 K of ~30 K changes); at a 0.5 s step (not dominant) it is the Cholesky itself."""
+    """heat_kernels.heat_solve_fast (Gauss-Seidel while the system is diagonally dominant, the
+    rolling ribbon's 0.005-0.01 s steps) against the banded Cholesky of heat_solve: the same
+    temperatures to round-off (1e-11 K of ~30 K changes); at a 0.5 s step (not dominant) it is the
+    Cholesky itself."""
     from lcefem.solvers.der import heat_kernels as hk
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(
-        nodes=11, dt=0.02, settle_time=0.04, cells_thickness=4)))
+
+    sim = RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0,
+            numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04, cells_thickness=4),
+        )
+    )
     geo = sim.heat_geometry()
     geo.corner_gap[3, 2] = -0.01  # contact conduction at one corner
     T0 = np.full_like(sim.T, 25.0) + np.linspace(0.0, 30.0, sim.T.size).reshape(sim.T.shape)
     h = sim.heat
     data = h._kernel_data()
-    G_g, G_a, T_air, T_g = hk.heat_exchange(T0, geo.centre, geo.m1, geo.m2, geo.length, geo.corner_gap, data[1],
-                                            data[2], *data[3:10], 100.0, np.zeros(3), data[10], data[11], data[12])
-    args = (T0, T_g, T_air, np.ascontiguousarray(geo.length), h._pair_a, h._pair_b, h._pair_g, float(h.k_axial))
+    G_g, G_a, T_air, T_g = hk.heat_exchange(
+        T0,
+        geo.centre,
+        geo.m1,
+        geo.m2,
+        geo.length,
+        geo.corner_gap,
+        data[1],
+        data[2],
+        *data[3:10],
+        100.0,
+        np.zeros(3),
+        data[10],
+        data[11],
+        data[12],
+    )
+    args = (
+        T0,
+        T_g,
+        T_air,
+        np.ascontiguousarray(geo.length),
+        h._pair_a,
+        h._pair_b,
+        h._pair_g,
+        float(h.k_axial),
+    )
     for dt, same in ((0.005, False), (0.01, False), (0.5, True)):
         C = (h.capacity / dt)[:, None]
         fast, ref = hk.heat_solve_fast(C, G_g, G_a, *args), hk.heat_solve(C, G_g, G_a, *args)
@@ -283,12 +366,16 @@ def test_iterative_heat_solve_equals_the_banded_cholesky_at_the_rolling_steps():
 
 
 def test_edge_corner_gaps_are_the_smallest_sample_gaps_per_edge_and_corner():
-    """The compiled edge_corner_gaps against the gaps of all sample points (all_gaps) reduced in numpy:
-    each corner's smallest gap over the samples of each edge, the stencil points assigned to their
-    edge by ``side``, the outer halves of the end edges from the end-edge set."""
+    """The compiled edge_corner_gaps against the gaps of all sample points (all_gaps) reduced in
+    numpy: each corner's smallest gap over the samples of each edge, the stencil points assigned to
+    their edge by ``side``, the outer halves of the end edges from the end-edge set."""
     from lcefem.solvers.der.assembly import all_gaps, edge_corner_gaps
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0,
-                                       numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)))
+
+    sim = RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0, numerics=RibbonNumerics(nodes=11, dt=0.02, settle_time=0.04)
+        )
+    )
     rod, sampling = sim.rod, sim.integrator.sampling
     state = sim.state.moved(np.random.default_rng(3).normal(0.0, 0.05, 4 * rod.n_nodes - 1))
     gs, ge = all_gaps(rod, state, sampling)
@@ -304,8 +391,12 @@ def test_edge_corner_gaps_are_the_smallest_sample_gaps_per_edge_and_corner():
 
 
 def _heated(heat_dt: float, steps: int, dt: float = 0.02) -> RibbonSimulation:
-    sim = RibbonSimulation(RibbonSetup(ground_temperature=100.0, numerics=RibbonNumerics(
-        nodes=16, dt=dt, settle_time=0.04, heat_dt=heat_dt)))
+    sim = RibbonSimulation(
+        RibbonSetup(
+            ground_temperature=100.0,
+            numerics=RibbonNumerics(nodes=16, dt=dt, settle_time=0.04, heat_dt=heat_dt),
+        )
+    )
     for _ in range(steps):
         sim.step(dt)
     return sim
@@ -319,9 +410,9 @@ def test_a_heat_step_no_longer_than_the_mechanics_step_is_the_single_rate_scheme
 
 
 def test_multirate_heat_steps_stay_within_the_implicit_euler_step_error():
-    """2 s on the 100 C plate with heat steps of H = 0.1 s against h = 0.02 s: the section temperatures
-    differ by less than the first-order global error of implicit Euler, (H - h)/2 int |T''| dt <=
-    (H - h)/2 max|dT/dt| (the rate rises to its largest when a corner first touches the hot plate and
+    """2 s on the 100 C plate with heat steps of H = 0.1 s against h = 0.02 s: the section
+    temperatures differ by less than the first-order global error of implicit Euler, (H - h)/2 int
+    |T''| dt <= (H - h)/2 max|dT/dt| (the rate rises to its largest when a corner first touches the hot plate and
     decays after), the rate measured step by step on the single-rate run."""
     fine = _heated(0.0, 0)
     rate = 0.0
@@ -348,8 +439,8 @@ def test_a_pickled_simulation_continues_as_the_original():
 
 
 def test_contact_spacing_sets_the_samples_per_edge():
-    """RibbonNumerics.contact_spacing: the smallest even count (>= 2) with a spacing along the edge at most
-    the given length; 0 keeps contact_samples."""
+    """RibbonNumerics.contact_spacing: the smallest even count (>= 2) with a spacing along the edge
+    at most the given length; 0 keeps contact_samples."""
     import dataclasses
 
     from lcefem.solvers.der.ribbon import RibbonNumerics, contact_samples_per_edge
@@ -359,4 +450,7 @@ def test_contact_spacing_sets_the_samples_per_edge():
         k = contact_samples_per_edge(num, 60.0)
         assert k == expected
         assert 60.0 / (nodes - 1) / k <= 0.25 < 60.0 / (nodes - 1) / max(k - 2, 1) or k == 2
-    assert contact_samples_per_edge(dataclasses.replace(RibbonNumerics(), nodes=31), 60.0) == RibbonNumerics().contact_samples
+    assert (
+        contact_samples_per_edge(dataclasses.replace(RibbonNumerics(), nodes=31), 60.0)
+        == RibbonNumerics().contact_samples
+    )

@@ -22,8 +22,11 @@ class HoleMap:
             self.hits += 1
             raise ConvergenceError("fake ramp", "fold")
         self.stats.solves += 1
-        return type("S", (), {"p": p, "observables": p ** 2,
-                              "jacobian": np.diag(2.0 * p) if jacobian else None})()
+        return type(
+            "S",
+            (),
+            {"p": p, "observables": p**2, "jacobian": np.diag(2.0 * p) if jacobian else None},
+        )()
 
 
 def test_a_trial_without_equilibrium_is_rejected_and_the_design_still_reaches_its_target():
@@ -31,7 +34,7 @@ def test_a_trial_without_equilibrium_is_rejected_and_the_design_still_reaches_it
     # overshoots to 1.3052, inside the band (1.30, 1.31): rejected, the trust region shrinks, and
     # the design reaches the target from below the band.
     eq = HoleMap(1.30, 1.31)
-    res = solve_design(eq, [1.28 ** 2], [1.05], 1.05, 1.4, absolute=1e-9)
+    res = solve_design(eq, [1.28**2], [1.05], 1.05, 1.4, absolute=1e-9)
     assert eq.hits >= 1
     assert res.p[0] == pytest.approx(1.28, abs=1e-6)
     assert res.residual[0] == pytest.approx(0.0, abs=1e-8)

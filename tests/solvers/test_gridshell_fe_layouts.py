@@ -6,6 +6,7 @@ import argparse
 import math
 
 import dolfinx_solver  # noqa: F401
+
 import pytest
 
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
@@ -37,10 +38,29 @@ def test_fe_run_takes_the_layout():
 
 
 def test_fe_layout_refusals_exit_2(tmp_path, capsys):
-    for argv, msg in ((["--layout", "triangular"], "kind 'triangular': the 3D FE is built for orthogonal, rhombic"),
-                      (["--layout", "lattice"], "--layout = 'lattice': a name (published")):
-        assert main(["run", "gridshell", "--model", "fe", "--shape", "dome", *argv,
-                     "--out", str(tmp_path / "bad")]) == 2, argv
+    for argv, msg in (
+        (
+            ["--layout", "triangular"],
+            "kind 'triangular': the 3D FE is built for orthogonal, rhombic",
+        ),
+        (["--layout", "lattice"], "--layout = 'lattice': a name (published"),
+    ):
+        assert (
+            main(
+                [
+                    "run",
+                    "gridshell",
+                    "--model",
+                    "fe",
+                    "--shape",
+                    "dome",
+                    *argv,
+                    "--out",
+                    str(tmp_path / "bad"),
+                ]
+            )
+            == 2
+        ), argv
         err = capsys.readouterr().err.strip()
         assert msg in err and len(err.splitlines()) == 1, (argv, err)
     assert not (tmp_path / "bad").exists()
@@ -58,9 +78,13 @@ def test_rhombic_families_are_mirror_images():
     from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellFE, GridshellSupports
 
     layout = Layout(kind="rhombic", ribbons=1, angle=60.0)
-    cfg = GridshellConfig(cells=1, geometry=layout_fe_geometry(layout, CompositeBeamGeometry()),
-                          mesh=GridshellFEMesh(level=0, shear_angle=60.0), symmetry="full",
-                          supports=GridshellSupports(kind="centre_clamp"))
+    cfg = GridshellConfig(
+        cells=1,
+        geometry=layout_fe_geometry(layout, CompositeBeamGeometry()),
+        mesh=GridshellFEMesh(level=0, shear_angle=60.0),
+        symmetry="full",
+        supports=GridshellSupports(kind="centre_clamp"),
+    )
     got = []
     for drive in ({"Bx": 1.35}, {"By": 1.35}):
         model = GridshellFE(cfg)
@@ -69,4 +93,6 @@ def test_rhombic_families_are_mirror_images():
         got.append((obs["kappa_circle_x [1/mm]"], obs["kappa_circle_y [1/mm]"]))
     (kx_a, ky_a), (kx_b, ky_b) = got
     assert kx_a < -1e-3 and abs(ky_a) < 0.1 * abs(kx_a)  # the driven family bends, the other barely
-    assert ky_b == pytest.approx(kx_a, rel=1e-8) and kx_b == pytest.approx(ky_a, rel=1e-6, abs=1e-10)
+    assert ky_b == pytest.approx(kx_a, rel=1e-8) and kx_b == pytest.approx(
+        ky_a, rel=1e-6, abs=1e-10
+    )

@@ -1,11 +1,11 @@
 """Refined and non-orthogonal gridshells (lcefem.meshes.gridshell_layout) in the bar-and-hinge model,
-FE-calibrated set (its plate torsion only on rectangular panels: ModelSet.materials_for), driven to an
-equilibrium; physics asserted: a uniform drive of one layer on the 5 x 5 grid gives a dome whose two
-curvatures agree, and the rhombic grid's shape keeps its mirror symmetry about both diagonals.
+FE-calibrated set (its plate torsion only on rectangular panels: ModelSet.materials_for), driven to
+an equilibrium; physics asserted: a uniform drive of one layer on the 5 x 5 grid gives a dome whose
+two curvatures agree, and the rhombic grid's shape keeps its mirror symmetry about both diagonals.
 
 Tolerances: the equilibria are converged to |g| <= 1e-6 N (GRIDSHELL_NEWTON: ~1e-4 mm on the softest
-mode, 1e-7 1/mm in curvature); the symmetric drives below stay under the flat plate's bifurcation to a
-cylinder (a bottom-layer lambda_B of 1.2 on the 5 x 5 grid and 1.37 on the rhombic one buckle into
+mode, 1e-7 1/mm in curvature); the symmetric drives below stay under the flat plate's bifurcation to
+a cylinder (a bottom-layer lambda_B of 1.2 on the 5 x 5 grid and 1.37 on the rhombic one buckle into
 shapes with kappa_x != kappa_y, measured)."""
 
 import numpy as np
@@ -20,8 +20,9 @@ from lcefem.validation.studies.gridshell import calibrate
 def solve(name: str, support: str, drive: dict) -> GridshellBH:
     ms = calibrate.model_set("fe-calibrated")
     layout = NAMED_LAYOUTS[name]
-    problem = GridshellBH(ms.structure(layout), GridshellBHConfig(materials=ms.materials_for(layout),
-                                                                  support=support))
+    problem = GridshellBH(
+        ms.structure(layout), GridshellBHConfig(materials=ms.materials_for(layout), support=support)
+    )
     problem.set_drives(drive)
     problem.advance()
     return problem
@@ -37,7 +38,9 @@ def test_refined_5x5_uniform_bottom_drive_gives_a_round_dome():
     assert kx < -1e-3 and ky < -1e-3
     assert kx == pytest.approx(ky, abs=1e-6)
     assert o["quad kappa_1 [1/mm]"] == pytest.approx(o["quad kappa_2 [1/mm]"], abs=1e-6)
-    assert p.structure.info["ribbons"] == 5 and len(p.structure.info["strips"]) == 2 * 5 * 6 + 2 * 25
+    assert (
+        p.structure.info["ribbons"] == 5 and len(p.structure.info["strips"]) == 2 * 5 * 6 + 2 * 25
+    )
 
 
 def test_rhombic_shape_is_mirror_symmetric_about_its_diagonals():
@@ -68,4 +71,6 @@ def test_plate_torsion_refused_on_parallelogram_panels():
     ms = calibrate.model_set("fe-calibrated")
     layout = NAMED_LAYOUTS["rhombic60"]
     with pytest.raises(InputError, match="kapton.twist = 'plate': needs rectangular panels"):
-        GridshellBH(ms.structure(layout), GridshellBHConfig(materials=ms.materials, support="clamp"))
+        GridshellBH(
+            ms.structure(layout), GridshellBHConfig(materials=ms.materials, support="clamp")
+        )

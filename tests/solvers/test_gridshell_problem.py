@@ -11,7 +11,6 @@ from lcefem.solvers.continuation import PathControl
 from lcefem.solvers.problems.gridshell import GridshellConfig, GridshellFE
 from lcefem.validation.cases.programs import DOME_PROTOCOL, FIG4_SHAPES, fig4_shape
 
-
 #: Fraction of the Fig. 4 ramps the tests take (the whole dome ramp takes ~100 path steps, tens of
 #: minutes): the signs and the x <-> y symmetry are set from the first steps on.
 FRACTION = 0.04
@@ -124,10 +123,12 @@ def test_single_cell_grid_against_the_composite_beam():
     from lcefem.solvers.problems.composite_beam import BeamFE
 
     control = PathControl(first_step=0.25, max_step=0.5)
-    beam = BeamFE(CompositeBeamGeometry(segments=2), BeamFEMesh(level=0, symmetry="quarter"),
-                  control=control)
-    cell = GridshellFE(GridshellConfig(cells=1, symmetry="quarter", mesh=GridshellFEMesh(level=0),
-                                       control=control))
+    beam = BeamFE(
+        CompositeBeamGeometry(segments=2), BeamFEMesh(level=0, symmetry="quarter"), control=control
+    )
+    cell = GridshellFE(
+        GridshellConfig(cells=1, symmetry="quarter", mesh=GridshellFEMesh(level=0), control=control)
+    )
     lam_n = cell.lambda_N
     ratios = []
     for lam_b in (1.35, 1.30):
@@ -149,9 +150,14 @@ def test_table_carries_the_weight():
     from lcefem.models.loads import SurfaceWeight
     from lcefem.solvers.problems.gridshell import STANDARD_GRAVITY, GridshellSupports
 
-    m = GridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter",
-                                    supports=GridshellSupports(kind="table"),
-                                    control=PathControl(first_step=0.5, max_step=1.0)))
+    m = GridshellFE(
+        GridshellConfig(
+            mesh=GridshellFEMesh(level=0),
+            symmetry="quarter",
+            supports=GridshellSupports(kind="table"),
+            control=PathControl(first_step=0.5, max_step=1.0),
+        )
+    )
     m.advance()
     obs = m.observables()
     weight = SurfaceWeight().total_mass * STANDARD_GRAVITY  # [N]
@@ -211,13 +217,14 @@ def test_heated_route_first_second(tmp_path):
 
 def test_heated_hold_reaches_the_steady_state():
     """HeatedGridshellFE.hold: backward-Euler steps growing 4x (50, 200, 800, 3200, 12800 s) at the
-    dome's hold currents (0.04 A top, 0.07 A bottom) from the as-built state reach the steady state of
-    the heat equation (HeatProblem.steady, 1/dt = 0): a step dt leaves 1/(1 + dt/tau) of the distance
-    to it. With the junctions heated (the default) the heated pads and ribbons add a slow mode: four
-    steps left Bx 0.14 K short of the steady 66.0 C (tau ~ 250 s), so a fifth step (12800 s) is
-    taken; then the channels' mean temperatures agree within 0.1 K. The bottom strips settle warmer
-    than the top (0.07 vs 0.04 A, power 3x) and below T_NI (the hold keeps them nematic-side), and
-    the centre domes (both curvatures negative and equal). Bad input is refused by name."""
+    dome's hold currents (0.04 A top, 0.07 A bottom) from the as-built state reach the steady state
+    of the heat equation (HeatProblem.steady, 1/dt = 0): a step dt leaves 1/(1 + dt/tau) of the
+    distance to it. With the junctions heated (the default) the heated pads and ribbons add a slow
+    mode: four steps left Bx 0.14 K short of the steady 66.0 C (tau ~ 250 s), so a fifth step (12800
+    s) is taken; then the channels' mean temperatures agree within 0.1 K. The bottom strips settle
+    warmer than the top (0.07 vs 0.04 A, power 3x) and below T_NI (the hold keeps them
+    nematic-side), and the centre domes (both curvatures negative and equal). Bad input is refused
+    by name."""
     from lcefem.meshes.gridshell_fe import GridshellFEMesh
     from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
@@ -250,9 +257,11 @@ def test_prolongation_keeps_a_linear_field_and_each_body_its_own():
     where the fine arch nodes lie off the coarse chords and the polynomial is extended); and tag by
     tag: with the bottom strips and pads lifted by 1 mm on the coarse mesh (every node of theirs
     but those bonded to the Kapton), each fine strip node takes the lifted value and each fine
-    Kapton node the Kapton's, also where the strips touch the ribbons (at the junctions and tabs)."""
-    import dolfinx
+    Kapton node the Kapton's, also where the strips touch the ribbons (at the junctions and
+    tabs)."""
     from mpi4py import MPI
+
+    import dolfinx
 
     from lcefem.meshes.composite_beam import CompositeBeamGeometry
     from lcefem.meshes.gridshell_fe import GridshellFEMesh, build_gridshell_fe, cell_group
@@ -261,8 +270,9 @@ def test_prolongation_keeps_a_linear_field_and_each_body_its_own():
     from lcefem.solvers.transfer import prolong_by_tag
 
     def space(level):
-        tm = build_gridshell_fe(CompositeBeamGeometry(), PUBLISHED_LAMBDA_N,
-                                GridshellFEMesh(level=level), MPI.COMM_SELF)
+        tm = build_gridshell_fe(
+            CompositeBeamGeometry(), PUBLISHED_LAMBDA_N, GridshellFEMesh(level=level), MPI.COMM_SELF
+        )
         return tm, displacement_space(tm.mesh, 2)
 
     def nodes(tm, V, group):
@@ -278,8 +288,9 @@ def test_prolongation_keeps_a_linear_field_and_each_body_its_own():
     u0.interpolate(lambda x: A @ x + b[:, None])
     X1 = V1.tabulate_dof_coordinates()
     linear = X1 @ A.T + b
-    assert np.allclose(prolong_by_tag(u0, tm0.cell_tags, V1, tm1.cell_tags), linear, rtol=0.0,
-                       atol=1e-10)  # [mm]
+    assert np.allclose(
+        prolong_by_tag(u0, tm0.cell_tags, V1, tm1.cell_tags), linear, rtol=0.0, atol=1e-10
+    )  # [mm]
 
     # the lower layer (bottom strips and pads) lifted but where it is bonded to the Kapton (the
     # pads, and the strips' end edges at the junctions)
@@ -342,8 +353,9 @@ def test_junction_heating_continues_each_coil_through_its_pads():
     from lcefem.meshes.gridshell_fe import GridshellFEMesh, cell_group
     from lcefem.solvers.problems.gridshell_heated import HeatedGridshellFE
 
-    m = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
-                          junction_heating="added")
+    m = HeatedGridshellFE(
+        GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"), junction_heating="added"
+    )
     q_b, q_t = m.power_density(0.07), m.power_density(0.04)
     m.set_current({"Bx": 0.07, "By": 0.0, "Tx": 0.04, "Ty": 0.04})
     power = m.power.x.array
@@ -371,6 +383,7 @@ def test_junction_heating_continues_each_coil_through_its_pads():
     # the strips then get less of it and the pads pass their share on to the Kapton: colder strips
     # (measured 57.37 C, undeformed)
     import dolfinx
+
     from lcefem.solvers.mechanics import QUADRATURE_DEGREE, volume_measure
 
     def total(model):
@@ -378,8 +391,10 @@ def test_junction_heating_continues_each_coil_through_its_pads():
         return dolfinx.fem.assemble_scalar(dolfinx.fem.form(model.power * dx))
 
     strips_only = total(m)
-    s = HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
-                          junction_heating="spread")
+    s = HeatedGridshellFE(
+        GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
+        junction_heating="spread",
+    )
     s.set_current({"Bx": 0.07, "By": 0.07, "Tx": 0.04, "Ty": 0.04})
     assert total(s) == pytest.approx(strips_only, rel=1e-12)
     assert all(0.5 < share < 1.0 for share in s.coil_share.values())

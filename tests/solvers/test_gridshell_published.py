@@ -14,10 +14,12 @@ from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import OgdenLaw
 from lcefem.solvers.bar_hinge import BarHingeModel
 from lcefem.solvers.problems import gridshell_bh as g
-
 from lcefem.solvers.problems import gridshell_bh_run as grun
 from lcefem.validation.cases.programs import RECIPES, SHAPE_DRIVES
-PUBLISHED_MESH, PUBLISHED_LCE, _ = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "clamp")
+
+PUBLISHED_MESH, PUBLISHED_LCE, _ = grun.published_configuration(
+    BeamBarHingeMesh(), law.LCEStripBars(), "clamp"
+)
 
 
 def _held_points(structure, dofs):
@@ -33,13 +35,34 @@ def test_published_supports_per_recipe():
     s = build_gridshell_bar_hinge(mesh=PUBLISHED_MESH)
     rollers = _held_points(s, g.support_dofs(s, "rollers"))
     # Examples2D.m: z at the outer ribbons' outer-edge end nodes; (30,0) x y, (30,141) x, (111,0) y.
-    assert rollers == {(30.0, 0.0): "xyz", (30.0, 141.0): "xz", (111.0, 0.0): "yz", (111.0, 141.0): "z",
-                       (141.0, 30.0): "z", (141.0, 111.0): "z", (0.0, 30.0): "z", (0.0, 111.0): "z"}
+    assert rollers == {
+        (30.0, 0.0): "xyz",
+        (30.0, 141.0): "xz",
+        (111.0, 0.0): "yz",
+        (111.0, 141.0): "z",
+        (141.0, 30.0): "z",
+        (141.0, 111.0): "z",
+        (0.0, 30.0): "z",
+        (0.0, 111.0): "z",
+    }
     clamp = _held_points(s, g.support_dofs(s, "clamp"))
-    assert clamp == {(67.0, 67.0): "xyz", (74.0, 67.0): "xyz", (74.0, 74.0): "xyz", (67.0, 74.0): "xyz"}
+    assert clamp == {
+        (67.0, 67.0): "xyz",
+        (74.0, 67.0): "xyz",
+        (74.0, 74.0): "xyz",
+        (67.0, 74.0): "xyz",
+    }
     supports = {name: support for name, (_, support) in RECIPES.items()}
-    assert supports == {"saddle": "clamp", "cone": "clamp", "twisted": "clamp", "wave": "clamp",
-                        "dustpan": "clamp", "dome": "rollers", "cylinder": "rollers", "table": "rollers"}
+    assert supports == {
+        "saddle": "clamp",
+        "cone": "clamp",
+        "twisted": "clamp",
+        "wave": "clamp",
+        "dustpan": "clamp",
+        "dome": "rollers",
+        "cylinder": "rollers",
+        "table": "rollers",
+    }
 
 
 def test_published_structure_has_120_lce_and_54_glue_bars():
@@ -106,31 +129,49 @@ def test_published_force_law_is_A_f_P_and_its_sensitivity_is_exact():
 
 
 def test_departures_and_configurations():
-    mesh, lce, support = grun.published_configuration(BeamBarHingeMesh(), law.LCEStripBars(), "rollers",
-                                                   "contact,volume_law,middle_rollers")
-    assert (mesh.contact, mesh.top_junction, lce.force_law, support) == (True, "glue", "volume",
-                                                                         "middle_rollers")
+    mesh, lce, support = grun.published_configuration(
+        BeamBarHingeMesh(), law.LCEStripBars(), "rollers", "contact,volume_law,middle_rollers"
+    )
+    assert (mesh.contact, mesh.top_junction, lce.force_law, support) == (
+        True,
+        "glue",
+        "volume",
+        "middle_rollers",
+    )
     with pytest.raises(InputError, match="unknown departure"):
         grun.parse_departures("contakt")
     programs = {"shapes": SHAPE_DRIVES, "recipes": RECIPES}
     # the published script: no contact; the published model set (the default) adds the contact
-    cfg = grun.GridshellBHRunConfig(run=grun.GridshellRun(recipe="cone", configuration="published"), **programs)
+    cfg = grun.GridshellBHRunConfig(
+        run=grun.GridshellRun(recipe="cone", configuration="published"), **programs
+    )
     assert cfg.support == "clamp" and cfg.run.resolved_departures == ()
-    assert cfg.effective[0].contact is False and cfg.effective_materials.lce.force_law == "published"
+    assert (
+        cfg.effective[0].contact is False and cfg.effective_materials.lce.force_law == "published"
+    )
     shape = grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome"), **programs)
     assert shape.effective[0].contact is True and shape.effective[0].top_junction == "glue"
-    fe = grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", model_set="fe-calibrated"), **programs)
+    fe = grun.GridshellBHRunConfig(
+        run=grun.GridshellRun(shape="dome", model_set="fe-calibrated"), **programs
+    )
     assert fe.effective[0].strip_element == "beam" and fe.effective[1].force_law == "volume"
     with pytest.raises(InputError, match="published model set"):
-        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome", model_set="fe-calibrated",
-                                                        configuration="published"), **programs).validated()
+        grun.GridshellBHRunConfig(
+            run=grun.GridshellRun(
+                shape="dome", model_set="fe-calibrated", configuration="published"
+            ),
+            **programs,
+        ).validated()
     with pytest.raises(InputError, match=r"run.shape = 'dome': allowed $"):
-        grun.GridshellBHRunConfig(run=grun.GridshellRun(shape="dome")).validated()  # no programs given
+        grun.GridshellBHRunConfig(
+            run=grun.GridshellRun(shape="dome")
+        ).validated()  # no programs given
 
 
 #: Golden values of the published recipes (published configuration; circle and quadratic-fit centre
-#: curvatures [1/mm]), measured on 2026-11-28 (lcefem.validation.studies.gridshell.gridshell_configuration; the
-#: Newton tolerance 1e-6 N gives ~1e-7 1/mm).
+#: curvatures [1/mm]), measured on 2026-11-28
+#: (lcefem.validation.studies.gridshell.gridshell_configuration; the Newton tolerance 1e-6 N gives
+#: ~1e-7 1/mm).
 GOLDEN = {
     "cone": (-0.02045, -0.001569, -0.0205, -0.001772),
     "twisted": (-0.004112, 6.07e-05, -0.00423, 0.001851),

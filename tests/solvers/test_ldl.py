@@ -38,7 +38,8 @@ def test_ldl_solve_and_inertia_match_dense(shift):
 
 
 def test_ldl_zero_pivot_falls_back_to_pivoting_lu():
-    # [[0, 1], [1, 0]]: no LDL^T without pivoting; SuperLU pivots off the diagonal (inertia unknown).
+    # [[0, 1], [1, 0]]: no LDL^T without pivoting; SuperLU pivots off the diagonal (inertia
+    # unknown).
     k = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 0.0]]))
     symbolic = SymbolicLDL(k.indices, k.indptr, 2)
     assert symbolic.factorize(k.data) is None

@@ -3,10 +3,11 @@
 
 import dataclasses
 
+import dolfinx_solver  # noqa: F401  (before dolfinx/petsc4py)
+
 import numpy as np
 import pytest
 
-import dolfinx_solver  # noqa: F401  (before dolfinx/petsc4py)
 from lcefem.models.errors import InputError
 from lcefem.models.lce import NematicTransition, spontaneous_stretch, temperature_for_stretch
 from lcefem.solvers.problems.strip import StripConfig, StripSimulation, run_strip
@@ -15,16 +16,23 @@ from lcefem.solvers.runtime.outdir import claim_out
 
 def _small_strip() -> StripConfig:
     cfg = StripConfig()
-    return dataclasses.replace(cfg, run=dataclasses.replace(cfg.run, duration=1.0, dt=0.5),
-                               mesh=dataclasses.replace(cfg.mesh, level=0))
+    return dataclasses.replace(
+        cfg,
+        run=dataclasses.replace(cfg.run, duration=1.0, dt=0.5),
+        mesh=dataclasses.replace(cfg.mesh, level=0),
+    )
 
 
 def test_temperature_for_stretch_is_the_inverse_inside_its_range_and_refuses_outside():
     tr = NematicTransition()
     for lam in (1.05, 1.2, tr.lambda_N):
-        assert float(spontaneous_stretch(temperature_for_stretch(lam, tr), tr)) == pytest.approx(lam, rel=1e-12)
+        assert float(spontaneous_stretch(temperature_for_stretch(lam, tr), tr)) == pytest.approx(
+            lam, rel=1e-12
+        )
     for lam in (0.5, 1.0, 1.5, float("nan")):  # no temperature gives these (NaN or inf before)
-        with pytest.raises(InputError, match=r"^stretch = .*: must be > 1 \(isotropic\) and < 1\.426"):
+        with pytest.raises(
+            InputError, match=r"^stretch = .*: must be > 1 \(isotropic\) and < 1\.426"
+        ):
             temperature_for_stretch(lam, tr)
     with pytest.raises(InputError):
         temperature_for_stretch(np.array([1.1, 0.9]), tr)
@@ -55,6 +63,8 @@ def test_run_strip_claims_its_folder_like_the_command_line(tmp_path):
     with pytest.raises(InputError):
         run_strip(cfg, mine, progress=False)
     assert [p.name for p in mine.iterdir()] == ["notes.txt"]
-    with claim_out(first, overwrite=True, command="library run"):  # the caller's claim replaces them
+    with claim_out(
+        first, overwrite=True, command="library run"
+    ):  # the caller's claim replaces them
         result = run_strip(cfg, first / "again", progress=False)
     assert (first / "again" / "summary.json").is_file() and result.summary["status"] == "completed"

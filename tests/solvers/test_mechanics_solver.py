@@ -2,14 +2,16 @@
 the residual without lifting equals dolfinx's lifted residual when every Dirichlet value is zero,
 LDL^T and LU give the same equilibrium, inverted or non-finite iterates are refused, the controller
 cuts, recovers and never grows straight into a known failure, the contact pairs are in the
-Jacobian's preallocated pattern, and the direct path's upper-triangle storage is the whole tangent."""
+Jacobian's preallocated pattern, and the direct path's upper-triangle storage is the whole
+tangent."""
 
 import dolfinx_solver  # noqa: F401
+from mpi4py import MPI
+from petsc4py import PETSc
+
 import numpy as np
 import pytest
 import ufl
-from mpi4py import MPI
-from petsc4py import PETSc
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -17,22 +19,29 @@ import dolfinx.fem.petsc
 from lcefem.models.errors import ConvergenceError
 from lcefem.models.hyperelastic import NeoHookeanSolid, neo_hookean_strain_energy
 from lcefem.solvers.continuation import PathControl, PathFollower, advance
-from lcefem.solvers.mechanics import (LU_OPTIONS, HyperelasticProblem, deformation_gradient,
-                                      displacement_space)
+from lcefem.solvers.mechanics import (
+    LU_OPTIONS,
+    HyperelasticProblem,
+    deformation_gradient,
+    displacement_space,
+)
 
 
 def _block(traction: float, prefix: str, options=None, clamp_value=None):
     """A 4 x 1 x 1 mm neo-Hookean bar (soft: E = 1 MPa), clamped at x = 0, pulled at x = 4 by a dead
     traction [MPa]; returns (problem, traction Constant, clamp Constant)."""
-    mesh = dolfinx.mesh.create_box(MPI.COMM_WORLD, [[0, 0, 0], [4, 1, 1]], [4, 1, 1],
-                                   dolfinx.mesh.CellType.hexahedron)
+    mesh = dolfinx.mesh.create_box(
+        MPI.COMM_WORLD, [[0, 0, 0], [4, 1, 1]], [4, 1, 1], dolfinx.mesh.CellType.hexahedron
+    )
     V = displacement_space(mesh, 2)
     u = dolfinx.fem.Function(V)
     fdim = mesh.topology.dim - 1
     left = dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x: np.isclose(x[0], 0.0))
     right = dolfinx.mesh.locate_entities_boundary(mesh, fdim, lambda x: np.isclose(x[0], 4.0))
     tags = dolfinx.mesh.meshtags(mesh, fdim, right, np.ones_like(right))
-    clamp = dolfinx.fem.Constant(mesh, np.zeros(3) if clamp_value is None else np.asarray(clamp_value))
+    clamp = dolfinx.fem.Constant(
+        mesh, np.zeros(3) if clamp_value is None else np.asarray(clamp_value)
+    )
     bcs = [dolfinx.fem.dirichletbc(clamp, dolfinx.fem.locate_dofs_topological(V, fdim, left), V)]
     t = dolfinx.fem.Constant(mesh, PETSc.ScalarType(traction))
     dx = ufl.Measure("dx", domain=mesh, metadata={"quadrature_degree": 4})
@@ -211,8 +220,9 @@ class _Arc:
         self.state = np.array(state, dtype=float)
 
     def tangent_predictor(self, set_load, t_from, t_to, converged=None):
-        self.state = self.equilibrium(t_from) + (t_to - t_from) * np.array([-np.sin(t_from),
-                                                                             np.cos(t_from)])
+        self.state = self.equilibrium(t_from) + (t_to - t_from) * np.array(
+            [-np.sin(t_from), np.cos(t_from)]
+        )
         set_load(t_to)
         return True
 
@@ -232,15 +242,16 @@ def test_predictor_errors_on_a_rotation_match_their_closed_forms(predictor):
     h1 = h) by h^2 (h + h1)/6 + O(h^4) (the third derivative of the arc has length 1)."""
     h = 0.05
     p = _Arc()
-    f = PathFollower(p, p.set_load, PathControl(first_step=h, max_step=h, growth=1.0,
-                                                predictor=predictor))
+    f = PathFollower(
+        p, p.set_load, PathControl(first_step=h, max_step=h, growth=1.0, predictor=predictor)
+    )
     f.follow(0.5, "test")
     np.testing.assert_allclose(p.state, p.equilibrium(0.5), atol=1e-15)
     euler = np.hypot(1.0 - np.cos(h), h - np.sin(h))
     errors = np.array(p.start_errors)
     assert len(errors) == 10
     np.testing.assert_allclose(errors[0], euler, rtol=1e-9)  # no previous state yet: Euler
-    expected = euler if predictor == "tangent" else h ** 2 * (2 * h) / 6.0
+    expected = euler if predictor == "tangent" else h**2 * (2 * h) / 6.0
     np.testing.assert_allclose(errors[1:], expected, rtol=0.05 if predictor == "curved" else 1e-9)
 
 
@@ -251,8 +262,11 @@ def test_tangent_predictor_path_reaches_the_direct_solution():
     direct, _, _ = _block(0.25, "test_direct_")
     ok, _, reason = direct.solve()
     assert ok, reason
-    f = PathFollower(path, lambda s: setattr(t_path, "value", 0.25 * s),
-                     PathControl(first_step=0.25, max_step=1.0))
+    f = PathFollower(
+        path,
+        lambda s: setattr(t_path, "value", 0.25 * s),
+        PathControl(first_step=0.25, max_step=1.0),
+    )
     f.follow(1.0, "test")
     np.testing.assert_allclose(path.u.x.array, direct.u.x.array, rtol=0, atol=1e-8)
 
@@ -340,8 +354,12 @@ def test_rigid_body_modes_have_no_strain_energy():
     neo-Hookean tangent (linear elasticity) maps each to zero, and they are orthonormal."""
     from lcefem.solvers.mechanics import rigid_body_modes
 
-    mesh = dolfinx.mesh.create_box(MPI.COMM_WORLD, [[0.0, 0.0, 0.0], [3.0, 1.0, 0.5]], [3, 2, 2],
-                                   dolfinx.mesh.CellType.hexahedron)
+    mesh = dolfinx.mesh.create_box(
+        MPI.COMM_WORLD,
+        [[0.0, 0.0, 0.0], [3.0, 1.0, 0.5]],
+        [3, 2, 2],
+        dolfinx.mesh.CellType.hexahedron,
+    )
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 2, (3,)))
     u = dolfinx.fem.Function(V)
     W = neo_hookean_strain_energy(deformation_gradient(u), NeoHookeanSolid())
@@ -365,8 +383,9 @@ def test_path_tolerance_loosens_and_restores():
     V = dolfinx.fem.functionspace(mesh, ("Lagrange", 1, (3,)))
     u = dolfinx.fem.Function(V)
     W = neo_hookean_strain_energy(deformation_gradient(u), NeoHookeanSolid())
-    problem = HyperelasticProblem(u, W * ufl.dx(metadata={"quadrature_degree": 2}),
-                                  prefix="test_path_tol_")
+    problem = HyperelasticProblem(
+        u, W * ufl.dx(metadata={"quadrature_degree": 2}), prefix="test_path_tol_"
+    )
     atol = problem.snes.getTolerances()[1]
     problem.path_tolerance(1e-3)
     assert problem.snes.getTolerances()[1] == 1e-3
@@ -383,7 +402,10 @@ def test_linear_solver_follows_the_size_unless_named():
     # the size-selected p-multigrid smooths by node planes; a named "pmg" keeps PMG_OPTIONS's SOR
     expected = {**PMG_OPTIONS, **PMG_PLANE_SMOOTHER}
     assert {k: large[k] for k in expected} == expected
-    assert solver_options(10, {"pc_type": "pmg"})["mg_levels_pc_type"] == PMG_OPTIONS["mg_levels_pc_type"]
+    assert (
+        solver_options(10, {"pc_type": "pmg"})["mg_levels_pc_type"]
+        == PMG_OPTIONS["mg_levels_pc_type"]
+    )
     # linear elements have no lower degree: their iterative path is GAMG on the matrix itself
     linear = solver_options(ITERATIVE_PATH_DOFS, degree=1)
     assert {k: linear[k] for k in GAMG_OPTIONS} == GAMG_OPTIONS
@@ -416,8 +438,9 @@ def test_pmultigrid_transfer_is_exact_for_linear_fields():
         y = pmg.P.createVecLeft()
         pmg.P.mult(c, y)
         local = y.getArray()
-        residual = local - F @ np.linalg.lstsq(F, local, rcond=None)[0] if V.mesh.comm.size == 1 \
-            else None
+        residual = (
+            local - F @ np.linalg.lstsq(F, local, rcond=None)[0] if V.mesh.comm.size == 1 else None
+        )
         assert y.norm() > 1.0
         if residual is not None:
             assert np.max(np.abs(residual)) < 1e-12 * np.max(np.abs(local))
@@ -431,7 +454,9 @@ def test_iterative_path_gives_the_direct_newton_solution():
     sims = _hot_core_strips((("cholesky", {}), ("gamg", {"pc_gamg_coarse_eq_limit": 100})))
     ksp = sims["gamg"].model.mechanics.snes.getKSP()
     assert (ksp.getType(), ksp.getPC().getType()) == ("cg", "gamg")
-    assert ksp.getPC().getMGLevels() >= 3 and min(sims["gamg"].cg_its) > 10  # multigrid, not a coarse solve
+    assert (
+        ksp.getPC().getMGLevels() >= 3 and min(sims["gamg"].cg_its) > 10
+    )  # multigrid, not a coarse solve
     A = ksp.getOperators()[0]
     assert A.getBlockSize() == 3 and A.getNearNullSpace().getVecs()
     _assert_same_displacement(sims["cholesky"], sims["gamg"])
@@ -445,7 +470,9 @@ def test_pmultigrid_gives_the_direct_newton_solution(coarse):
     vertex, about 1/8 of the Q2 DOFs), recomputed with every tangent."""
     from lcefem.solvers.mechanics import PMG_GAMG_COARSE
 
-    extra = {**PMG_GAMG_COARSE, "mg_coarse_pc_gamg_coarse_eq_limit": 100} if coarse == "gamg" else {}
+    extra = (
+        {**PMG_GAMG_COARSE, "mg_coarse_pc_gamg_coarse_eq_limit": 100} if coarse == "gamg" else {}
+    )
     sims = _hot_core_strips((("cholesky", {}), ("pmg", extra)))
     mech = sims["pmg"].model.mechanics
     pc = mech.snes.getKSP().getPC()
@@ -498,8 +525,9 @@ def _assert_same_displacement(direct, other) -> None:
 
     u_direct, u_other = direct.model.u.x.array, other.model.u.x.array
     assert np.max(np.abs(u_direct)) > 1.0  # mm: the hot core contracts the strip
-    np.testing.assert_allclose(u_other, u_direct, rtol=0,
-                               atol=NEWTON_OPTIONS["snes_rtol"] * np.max(np.abs(u_direct)))
+    np.testing.assert_allclose(
+        u_other, u_direct, rtol=0, atol=NEWTON_OPTIONS["snes_rtol"] * np.max(np.abs(u_direct))
+    )
 
 
 def test_final_newton_step_is_solved_to_the_newton_tolerance(monkeypatch):
@@ -542,6 +570,7 @@ def _hot_core_strips(solvers) -> dict:
             sim.cg_its.append(ksp.getIterationNumber())
             sim.cg_rtols.append(ksp.getTolerances()[0])
             sim.rhs_norms.append(b.norm())
+
         sim.model.mechanics.snes.getKSP().setPostSolve(record)
         sim.set_temperature(hot_core(sim.dims))
         sims[pc] = sim

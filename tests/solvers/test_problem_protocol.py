@@ -14,25 +14,43 @@ import numpy as np
 import pytest
 
 from lcefem.models.errors import InputError
-from lcefem.solvers.problems.protocol import NAME_WITH_UNIT, Problem, StepRecord, check_quasi_static_step, unnamed
+from lcefem.solvers.problems.protocol import (
+    NAME_WITH_UNIT,
+    Problem,
+    StepRecord,
+    check_quasi_static_step,
+    unnamed,
+)
 
 PROBLEMS = pathlib.Path(__file__).resolve().parents[2] / "solvers" / "problems"
 #: A class defining one of these is a body's problem (it drives or observes a body).
-MARKS = {"observables", "observe", "set_lambda", "set_current", "set_shortening", "set_load", "set_drives"}
+MARKS = {
+    "observables",
+    "observe",
+    "set_lambda",
+    "set_current",
+    "set_shortening",
+    "set_load",
+    "set_drives",
+}
 
 #: Modules of solvers/problems without a problem object, each with why (left for a session that
 #: can move their contents: they are written as functions over a setup, not as a problem class).
 WITHOUT_PROBLEM_OBJECT = {
-    "composite_beam_run": "the FE beam's run (BeamFEConfig, run_beam_fe) around composite_beam's problems",
+    "composite_beam_run": "the FE beam's run (BeamFEConfig, run_beam_fe) around composite_beam's "
+    "problems",
     "tension_specimen": "one function (a closed-form check of the LCE law)",
-    "body_case": "the case file of lcefem run body (schema and checks; its problem is body.BodyProblem)",
+    "body_case": "the case file of lcefem run body (schema and checks; its problem is "
+    "body.BodyProblem)",
     "gridshell_bh_ball": "a ball rolling on a given surface history (no body of its own)",
     "gridshell_bh_scales": "load paths for GridshellBH",
     "gridshell_bh_sequence": "a schedule driving GridshellBH's path",
     "gridshell_bh_weights": "load paths for GridshellBH",
-    "gridshell_bh_run": "one run of lcefem run gridshell (GridshellBHRunConfig, run_gridshell) around GridshellBH",
-    "gridshell_fe_run": "one run of lcefem run gridshell --model fe (GridshellFERunConfig, run_gridshell_fe) "
-                        "around GridshellFE / HeatedGridshellFE",
+    "gridshell_bh_run": "one run of lcefem run gridshell (GridshellBHRunConfig, run_gridshell) "
+    "around GridshellBH",
+    "gridshell_fe_run": "one run of lcefem run gridshell --model fe (GridshellFERunConfig, "
+    "run_gridshell_fe) "
+    "around GridshellFE / HeatedGridshellFE",
 }
 
 
@@ -42,8 +60,12 @@ def problem_classes() -> dict[str, list[str]]:
         if path.name in ("__init__.py", "protocol.py"):
             continue
         tree = ast.parse(path.read_text(encoding="utf-8"))
-        found[path.stem] = [node.name for node in tree.body if isinstance(node, ast.ClassDef)
-                            and MARKS & {f.name for f in node.body if isinstance(f, ast.FunctionDef)}]
+        found[path.stem] = [
+            node.name
+            for node in tree.body
+            if isinstance(node, ast.ClassDef)
+            and MARKS & {f.name for f in node.body if isinstance(f, ast.FunctionDef)}
+        ]
     return found
 
 
@@ -57,9 +79,19 @@ def load(module: str, name: str):
 def test_the_walk_finds_the_problems_and_only_the_listed_modules_lack_one():
     found = problem_classes()
     assert {m for m, names in found.items() if not names} == set(WITHOUT_PROBLEM_OBJECT)
-    assert {"StripSimulation", "BeamFE", "HeatedBeamFE", "KaptonSpecimenFE", "TwistedRibbonFE",
-            "GridshellFE", "HeatedGridshellFE", "GridshellBH", "KaptonSpecimenBH",
-            "CompositeBeamBH", "RollingRibbonDER"} <= {n for _, n in CLASSES}
+    assert {
+        "StripSimulation",
+        "BeamFE",
+        "HeatedBeamFE",
+        "KaptonSpecimenFE",
+        "TwistedRibbonFE",
+        "GridshellFE",
+        "HeatedGridshellFE",
+        "GridshellBH",
+        "KaptonSpecimenBH",
+        "CompositeBeamBH",
+        "RollingRibbonDER",
+    } <= {n for _, n in CLASSES}
 
 
 @pytest.mark.parametrize("module, name", CLASSES, ids=[n for _, n in CLASSES])
@@ -80,8 +112,12 @@ def test_every_problem_class_implements_the_protocol(module, name):
 
 def test_names_with_units():
     assert unnamed(["curvature [1/mm]", "stretch [-]", "T_mean bottom_strips [C]"]) == []
-    assert unnamed(["curvature", "stretch[-]", "force [N] total", "[N]"]) == ["curvature", "stretch[-]",
-                                                                           "force [N] total", "[N]"]
+    assert unnamed(["curvature", "stretch[-]", "force [N] total", "[N]"]) == [
+        "curvature",
+        "stretch[-]",
+        "force [N] total",
+        "[N]",
+    ]
 
 
 def test_a_quasi_static_step_is_a_fraction_of_the_way():
@@ -126,9 +162,8 @@ def test_bar_and_hinge_gridshell_as_a_problem():
 def test_fe_twisted_ribbon_as_a_problem():
     """An FE instance through the protocol alone: the fraction dt of the way to the drive set,
     restore_state brings back the saved equilibrium exactly, names carry units."""
-    from tests.solvers.test_twisted_ribbon import LENGTH, THICKNESS, TWIST, WIDTH, hot_top, mesh
-
     from lcefem.solvers.problems.twisted_ribbon import TwistedRibbonFE
+    from tests.solvers.test_twisted_ribbon import LENGTH, THICKNESS, TWIST, WIDTH, hot_top, mesh
 
     ribbon = TwistedRibbonFE(LENGTH, WIDTH, THICKNESS, TWIST, hot_top, resolution=mesh())
     assert isinstance(ribbon, Problem)
@@ -174,9 +209,9 @@ def test_bar_and_hinge_specimen_as_a_problem_is_the_one_call_path():
 
 
 def test_bar_and_hinge_beam_as_a_problem_is_the_one_call_path():
-    """CompositeBeamBH driven through the protocol to the dome's lambdas (seed 001 Fig. 4C: 1.33 top,
-    1.05 bottom) reaches the curvature of solve_beam (the same ramp, same steps); in two halves the
-    same elastic equilibrium; restore_state goes back to the straight beam; a lambda out of
+    """CompositeBeamBH driven through the protocol to the dome's lambdas (seed 001 Fig. 4C: 1.33
+    top, 1.05 bottom) reaches the curvature of solve_beam (the same ramp, same steps); in two halves
+    the same elastic equilibrium; restore_state goes back to the straight beam; a lambda out of
     [1, lambda_N] and an unknown tag are refused by name."""
     from lcefem.solvers.problems.composite_beam_bh import CompositeBeamBH, solve_beam
 
@@ -243,10 +278,15 @@ def test_the_ribbons_sections_are_defined_once():
 
     shared = {f.name for f in dataclasses.fields(RibbonSections)}
     assert len(shared) == 7
-    own = {cls: {f.name for f in dataclasses.fields(cls)} - shared for cls in (RibbonConfig, RibbonSetup)}
+    own = {
+        cls: {f.name for f in dataclasses.fields(cls)} - shared
+        for cls in (RibbonConfig, RibbonSetup)
+    }
     for cls in (RibbonConfig, RibbonSetup):
         assert issubclass(cls, RibbonSections)
-        assert {n for n, v in vars(cls).get("__annotations__", {}).items()} == own[cls]  # none redeclared
+        assert {n for n, v in vars(cls).get("__annotations__", {}).items()} == own[
+            cls
+        ]  # none redeclared
     assert set(RibbonConfig.SECTIONS) == {f.name for f in dataclasses.fields(RibbonConfig)}
     cfg = RibbonConfig(run=RibbonRun(ground_temperature=90.0), friction=FrictionLaw(mu=0.3))
     setup = cfg.setup()

@@ -28,7 +28,8 @@ def test_beam_run_through_the_problem_is_the_one_call_path(tmp_path):
         rows = list(csv.DictReader(f))
     # every converged increment, the as-built state first (CSV: 10 significant digits)
     assert [float(r["load factor [-]"]) for r in rows] == pytest.approx(
-        [s.t for s in one_call.path.states], rel=1e-9, abs=1e-12)
+        [s.t for s in one_call.path.states], rel=1e-9, abs=1e-12
+    )
     assert float(rows[-1]["curvature [1/mm]"]) == pytest.approx(one_call.curvature, rel=1e-9)
     assert summary["results"]["curvature [1/mm]"] == one_call.curvature
     assert summary["increments"] == len(one_call.path.states) - 1
@@ -61,8 +62,12 @@ def test_path_of_its_own_through_the_door_records_the_due_rows_and_shows_every_s
     from lcefem.solvers.runner import PathProblem, StateExport, StateHistory, run
     from lcefem.solvers.runtime.run import Progress
 
-    history = HistoryExport(("step [-]", "value [mm]"), lambda s: {"step [-]": s, "value [mm]": 0.5 * s},
-                            when=lambda s: s % 2 == 0, where=lambda s: f"step {s}")
+    history = HistoryExport(
+        ("step [-]", "value [mm]"),
+        lambda s: {"step [-]": s, "value [mm]": 0.5 * s},
+        when=lambda s: s % 2 == 0,
+        where=lambda s: f"step {s}",
+    )
     rec = _Recorder()
 
     def drive(on_step):
@@ -71,9 +76,18 @@ def test_path_of_its_own_through_the_door_records_the_due_rows_and_shows_every_s
         return "done"
 
     problem = PathProblem(drive, clock=LOAD, at=lambda s: s / 4)
-    summary = run(problem, problem.program(), [StateHistory(history), StateExport(rec)], tmp_path / "ok",
-                  config={}, progress=Progress(0, "", "", enabled=False),
-                  summarize=lambda run, records: {"result": records[-1].detail, "rows": len(run.history.rows)})
+    summary = run(
+        problem,
+        problem.program(),
+        [StateHistory(history), StateExport(rec)],
+        tmp_path / "ok",
+        config={},
+        progress=Progress(0, "", "", enabled=False),
+        summarize=lambda run, records: {
+            "result": records[-1].detail,
+            "rows": len(run.history.rows),
+        },
+    )
     assert rec.seen == [0, 1, 2, 3, 4]
     assert summary["result"] == "done" and summary["rows"] == 3
     with open(tmp_path / "ok" / "history.csv", newline="") as f:
@@ -88,7 +102,16 @@ def test_path_of_its_own_through_the_door_records_the_due_rows_and_shows_every_s
 
     problem = PathProblem(failing, end=3.0)  # on the time clock [s]
     with pytest.raises(ConvergenceError):
-        run(problem, problem.program(), [StateHistory(history), StateExport(rec)], tmp_path / "bad", config={},
-            progress=Progress(0, "", "", enabled=False), summarize=lambda run, records: {})
+        run(
+            problem,
+            problem.program(),
+            [StateHistory(history), StateExport(rec)],
+            tmp_path / "bad",
+            config={},
+            progress=Progress(0, "", "", enabled=False),
+            summarize=lambda run, records: {},
+        )
     assert rec.failed_at == 1
-    assert (tmp_path / "bad" / "failure.json").is_file() and not (tmp_path / "bad" / "summary.json").exists()
+    assert (tmp_path / "bad" / "failure.json").is_file() and not (
+        tmp_path / "bad" / "summary.json"
+    ).exists()

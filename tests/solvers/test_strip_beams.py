@@ -6,22 +6,27 @@ import json
 import numpy as np
 import pytest
 
-from lcefem.meshes.composite_beam import (BeamBarHingeMesh, CompositeBeamGeometry, build_beam_bar_hinge,
-                                          strip_centroid_offset, strip_second_moment)
+from lcefem.meshes.composite_beam import (
+    BeamBarHingeMesh,
+    CompositeBeamGeometry,
+    build_beam_bar_hinge,
+    strip_centroid_offset,
+    strip_second_moment,
+)
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.bar_hinge_materials import BarHingeMaterials
 from lcefem.models.errors import InputError
 from lcefem.solvers.bar_hinge import BarHingeModel
-from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.solvers.bar_hinge.strip_beams import StripBeamModel, bar_hinge_model
+from lcefem.solvers.problems import composite_beam_bh as beam_bh
 from lcefem.validation.cases.reference_data import DATA_DIR
 
 
 def test_section_numbers():
     g = CompositeBeamGeometry()
     # t_p/2 + t_a/(2 sqrt(1.4)) and (5/sqrt(1.4)) (2/sqrt(1.4))^3/12
-    assert strip_centroid_offset(g, 1.4) == pytest.approx(0.0635 + 1.0 / 1.4 ** 0.5, rel=1e-12)
-    assert strip_second_moment(g, 1.4) == pytest.approx(5 * 8 / 12 / 1.4 ** 2, rel=1e-12)
+    assert strip_centroid_offset(g, 1.4) == pytest.approx(0.0635 + 1.0 / 1.4**0.5, rel=1e-12)
+    assert strip_second_moment(g, 1.4) == pytest.approx(5 * 8 / 12 / 1.4**2, rel=1e-12)
 
 
 def test_bar_element_is_the_published_structure_and_bad_names_fail():
@@ -54,14 +59,16 @@ def test_offset_puts_every_strip_bar_end_at_the_centroid(builder):
         dz = np.take_along_axis(d[:, :, 2], np.linalg.norm(d, axis=2).argmin(axis=1)[:, None], 1)
         assert np.all(sign * dz > 0.98 * e)
     # three rigid links per new node
-    assert s.bars["glue"].shape[0] - base.bars["glue"].shape[0] == 3 * (s.num_nodes - base.num_nodes)
+    assert s.bars["glue"].shape[0] - base.bars["glue"].shape[0] == 3 * (
+        s.num_nodes - base.num_nodes
+    )
 
 
 def test_model_adds_the_strip_energy_with_consistent_derivatives():
     s = build_beam_bar_hinge(mesh=BeamBarHingeMesh(strip_element="beam"))
     model = bar_hinge_model(s, BarHingeMaterials())
     assert isinstance(model, StripBeamModel)
-    assert model.strip_bending_stiffness == pytest.approx(0.543 * 0.5 * 5 * 8 / 12 / 1.4 ** 2)
+    assert model.strip_bending_stiffness == pytest.approx(0.543 * 0.5 * 5 * 8 / 12 / 1.4**2)
     plain = BarHingeModel.from_materials(s, BarHingeMaterials())
     rng = np.random.default_rng(1)
     x = s.nodes + 0.05 * rng.normal(size=s.nodes.shape)
@@ -79,12 +86,15 @@ def test_model_adds_the_strip_energy_with_consistent_derivatives():
 
 def test_strip_element_brings_the_beam_within_10_percent_of_the_3d_fe():
     # The 3D FE composite beam at (lambda_T, lambda_B) = (1.33, 1.05), mesh level 0 (1.1 % from its
-    # extrapolated value): 0.02564 1/mm. The FE's top strips contract over the junctions (its passive
-    # pads are the bonds), as mesh.top_junction = 'lce'. Bars alone: 0.0386 (+51 %); the strip
-    # element (centroid offset + own bending, E I = 0.92 N mm^2): 0.0272 (+6 %).
+    # extrapolated value): 0.02564 1/mm. The FE's top strips contract over the junctions (its
+    # passive pads are the bonds), as mesh.top_junction = 'lce'. Bars alone: 0.0386 (+51 %); the
+    # strip element (centroid offset + own bending, E I = 0.92 N mm^2): 0.0272 (+6 %).
     fe = json.loads((DATA_DIR / "beam_fe_curvature_map_level0.json").read_text())
-    k_fe = [k for a, b, k in zip(fe["lambda_top [-]"], fe["lambda_bottom [-]"], fe["FE curvature [1/mm]"])
-            if (a, b) == (1.33, 1.05)][0]
+    k_fe = [
+        k
+        for a, b, k in zip(fe["lambda_top [-]"], fe["lambda_bottom [-]"], fe["FE curvature [1/mm]"])
+        if (a, b) == (1.33, 1.05)
+    ][0]
     bars = beam_bh.solve_beam(1.33, 1.05).curvature
     strips = beam_bh.solve_beam(1.33, 1.05, mesh=BeamBarHingeMesh(strip_element="beam")).curvature
     assert abs(bars - k_fe) > 0.3 * k_fe
@@ -96,7 +106,6 @@ def test_plate_twist_brings_the_saddle_kappa_y_within_tolerance_of_the_3d_fe():
     # BH with the strip element, published factors: 0.0087 with the N5B8 panels' torsion (GJ 13.6 x
     # the plate's), 0.0128 with kapton.twist = "plate" (GJ = G w t^3/3); tolerance 0.002 1/mm.
     import dataclasses
-
 
     from lcefem.models import bar_hinge_materials as law
     from lcefem.validation.studies.gridshell import calibrate as cal

@@ -11,6 +11,7 @@ for 6 s at 0.2 A (dt 1 s: the mean temperature rises 25 -> 50 C, through the sig
 from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+
 import numpy as np
 import pytest
 
@@ -37,11 +38,17 @@ def test_sampled_sigmoid_converges_quadratically_to_the_sigmoid_strip(sigmoid_hi
     differences = []
     for h in (8.0, 4.0, 2.0):
         T = np.arange(0.0, 200.0 + 0.5 * h, h)
-        curve = MeasuredContraction.from_rows(T, spontaneous_stretch(T, tr), source=f"sigmoid every {h:g} K")
+        curve = MeasuredContraction.from_rows(
+            T, spontaneous_stretch(T, tr), source=f"sigmoid every {h:g} K"
+        )
         h_history = history(str(write_contraction_csv(tmp_path / f"sigmoid_{h:g}.csv", curve)))
         # same heat problem: the temperatures differ only through the deformed geometry
-        np.testing.assert_allclose(h_history["T_mean [C]"], sigmoid_history["T_mean [C]"], rtol=1e-4)
-        differences.append(float(np.max(np.abs(h_history["stretch [-]"] - sigmoid_history["stretch [-]"]))))
+        np.testing.assert_allclose(
+            h_history["T_mean [C]"], sigmoid_history["T_mean [C]"], rtol=1e-4
+        )
+        differences.append(
+            float(np.max(np.abs(h_history["stretch [-]"] - sigmoid_history["stretch [-]"])))
+        )
     ratios = [a / b for a, b in zip(differences, differences[1:])]
     assert all(3.0 < r < 5.5 for r in ratios), (differences, ratios)
     # the contraction itself (1.426 -> 1.360) is 30-500 x the table's error
@@ -50,18 +57,24 @@ def test_sampled_sigmoid_converges_quadratically_to_the_sigmoid_strip(sigmoid_hi
 
 
 def test_steeper_onset_contracts_the_strip_earlier(sigmoid_history, tmp_path):
-    """Two curves with the sigmoid's lambda_N, flat to 30 C, then linear to the isotropic length: at 45 C
-    (steep) or at 120 C (gentle). At the same current the steep one's stretch is below the gentle one's
-    at every step after the onset, and it passes 1 % contraction earlier."""
+    """Two curves with the sigmoid's lambda_N, flat to 30 C, then linear to the isotropic length: at
+    45 C (steep) or at 120 C (gentle). At the same current the steep one's stretch is below the
+    gentle one's at every step after the onset, and it passes 1 % contraction earlier."""
     lam_n = NematicTransition().lambda_N
     runs = {}
     for name, end in (("steep", 45.0), ("gentle", 120.0)):
-        curve = MeasuredContraction.from_rows([25.0, 30.0, end, 200.0], [lam_n, lam_n, 1.0, 1.0], source=name)
+        curve = MeasuredContraction.from_rows(
+            [25.0, 30.0, end, 200.0], [lam_n, lam_n, 1.0, 1.0], source=name
+        )
         runs[name] = history(str(write_contraction_csv(tmp_path / f"{name}.csv", curve)))
     steep, gentle = runs["steep"]["stretch [-]"], runs["gentle"]["stretch [-]"]
-    assert steep[0] == pytest.approx(lam_n, rel=1e-12) and gentle[0] == pytest.approx(lam_n, rel=1e-12)
+    assert steep[0] == pytest.approx(lam_n, rel=1e-12) and gentle[0] == pytest.approx(
+        lam_n, rel=1e-12
+    )
     after_onset = runs["steep"]["T_mean [C]"] > 31.0
     assert np.all(steep[after_onset] < gentle[after_onset])
     t = runs["steep"]["time [s]"]
     level = 0.99 * lam_n
-    assert first_crossing(t, steep, level, rising=False) < first_crossing(t, gentle, level, rising=False)
+    assert first_crossing(t, steep, level, rising=False) < first_crossing(
+        t, gentle, level, rising=False
+    )

@@ -12,8 +12,9 @@ from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 
 @pytest.mark.parametrize("cell, symmetry", [("tet", "quarter")])
 def test_uniform_heating_gives_isotropic_shape(cell, symmetry):
-    """Far above T_NI the free strip's length ratio is 1/lambda_ref within 0.5 % and its cross-section
-    grows by the incompressible factor lambda_ref (stress-free homogeneous contraction)."""
+    """Far above T_NI the free strip's length ratio is 1/lambda_ref within 0.5 % and its
+    cross-section grows by the incompressible factor lambda_ref (stress-free homogeneous
+    contraction)."""
     cfg = StripConfig(mesh=StripMesh(cell=cell, symmetry=symmetry))
     sim = StripSimulation(cfg)
     T = 200.0
@@ -32,20 +33,27 @@ def test_quarter_model_equals_full_model():
     must agree to solver tolerance (free strips, 0.2 A, 2 steps of 2 s)."""
     results = {}
     for symmetry in ("quarter", "full"):
-        cfg = StripConfig(run=StripRun(current=0.2, duration=4.0, dt=2.0), mesh=StripMesh(symmetry=symmetry))
+        cfg = StripConfig(
+            run=StripRun(current=0.2, duration=4.0, dt=2.0), mesh=StripMesh(symmetry=symmetry)
+        )
         results[symmetry] = StripSimulation(cfg).run(None, progress=False).history
     for column in ("T_mean [C]", "T_max [C]", "stretch [-]", "end_area_ratio [-]"):
         np.testing.assert_allclose(results["quarter"][column], results["full"][column], rtol=1e-7)
-    assert results["full"]["stretch [-]"][-1] < results["full"]["stretch [-]"][0] - 1e-4  # it contracted
+    assert (
+        results["full"]["stretch [-]"][-1] < results["full"]["stretch [-]"][0] - 1e-4
+    )  # it contracted
 
 
 def test_steady_state_continued_from_another_current_is_the_fresh_steady_state():
     """strip_steady_eq1 reuses one model for all hold currents: the steady state at 0.07 A reached
     from the 0.05 A one is the steady state of a fresh model at 0.07 A (the heat-mechanics fixed
     point is unique; its tolerance is 1e-8 in stretch)."""
+
     def sim(current):
-        return StripSimulation(StripConfig(run=StripRun(current=current, steady=True),
-                                           mesh=StripMesh(level=0)))
+        return StripSimulation(
+            StripConfig(run=StripRun(current=current, steady=True), mesh=StripMesh(level=0))
+        )
+
     fresh = sim(0.07).steady_state()
     reused = sim(0.05)
     reused.steady_state()

@@ -18,8 +18,9 @@ def _serial_and_two_ranks(args, tmp_path, lcefem_cmd, mpiexec):
     """Run ``lcefem ARGS`` serially and under ``mpiexec -n 2``: the two out folders."""
     serial, parallel = tmp_path / "serial", tmp_path / "mpi2"
     subprocess.run(lcefem_cmd + args + ["--out", str(serial)], check=True, timeout=600)
-    subprocess.run([mpiexec, "-n", "2"] + lcefem_cmd + args + ["--out", str(parallel)], check=True,
-                   timeout=600)
+    subprocess.run(
+        [mpiexec, "-n", "2"] + lcefem_cmd + args + ["--out", str(parallel)], check=True, timeout=600
+    )
     return serial, parallel
 
 
@@ -36,25 +37,55 @@ def _assert_same_history(serial, parallel, min_force):
 
 @pytest.mark.mpi
 def test_two_ranks_equal_serial(tmp_path, lcefem_cmd, mpiexec):
-    args = ["run", "strip", "--current", "0.2", "--duration", "12", "--dt", "3", "--bc", "held",
-            "--quiet", "--no-fields"]
+    args = [
+        "run",
+        "strip",
+        "--current",
+        "0.2",
+        "--duration",
+        "12",
+        "--dt",
+        "3",
+        "--bc",
+        "held",
+        "--quiet",
+        "--no-fields",
+    ]
     serial, parallel = _serial_and_two_ranks(args, tmp_path, lcefem_cmd, mpiexec)
     _assert_same_history(serial, parallel, min_force=0.3)
 
 
 @pytest.mark.mpi
-@pytest.mark.parametrize("petsc", ['pc_type = "gamg"\npc_gamg_coarse_eq_limit = 100',
-                                   'pc_type = "pmg"'],
-                         ids=["gamg", "pmg"])
+@pytest.mark.parametrize(
+    "petsc",
+    ['pc_type = "gamg"\npc_gamg_coarse_eq_limit = 100', 'pc_type = "pmg"'],
+    ids=["gamg", "pmg"],
+)
 def test_two_ranks_iterative_path_equal_serial(tmp_path, lcefem_cmd, mpiexec, petsc):
     """CG + GAMG, and CG + Q2 -> Q1 p-multigrid (its transfer P built, its Galerkin coarse
-    operator P^T K P computed and factorised across ranks), forced by the case file on 2 ranks: the aggregates
-    differ from the serial ones, the Newton solution does not (to its tolerance, snes_rtol = 1e-10:
-    within 1e-8 relative)."""
+    operator P^T K P computed and factorised across ranks), forced by the case file on 2 ranks: the
+    aggregates differ from the serial ones, the Newton solution does not (to its tolerance,
+    snes_rtol = 1e-10: within 1e-8 relative)."""
     case = tmp_path / "case.toml"
     case.write_text(f"[petsc]\n{petsc}\n")
-    args = ["run", "strip", "--current", "0.2", "--duration", "6", "--dt", "3", "--bc", "held",
-            "--mesh-level", "0", "--config", str(case), "--quiet", "--no-fields"]
+    args = [
+        "run",
+        "strip",
+        "--current",
+        "0.2",
+        "--duration",
+        "6",
+        "--dt",
+        "3",
+        "--bc",
+        "held",
+        "--mesh-level",
+        "0",
+        "--config",
+        str(case),
+        "--quiet",
+        "--no-fields",
+    ]
     serial, parallel = _serial_and_two_ranks(args, tmp_path, lcefem_cmd, mpiexec)
     for out in (serial, parallel):
         resolved = json.loads((out / "summary.json").read_text())

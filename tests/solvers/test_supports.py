@@ -17,7 +17,8 @@ def block():
 
 
 def _held(V, bcs) -> list[tuple[int, int]]:
-    """(node, component) pairs held by ``bcs`` (serial; DirichletBC dofs are unrolled, 3 per node)."""
+    """(node, component) pairs held by ``bcs`` (serial; DirichletBC dofs are unrolled, 3 per
+    node)."""
     return [(int(d) // 3, int(d) % 3) for bc in bcs for d in bc.dof_indices()[0]]
 
 
@@ -45,7 +46,11 @@ def test_face_helpers_hold_the_named_components(block):
     assert clamp and all(np.isclose(X[n, 0], 0.0) for n, _ in clamp)
     assert {c for _, c in clamp} == {0, 1, 2}
     plane = _held(V, plane_clamp(tm, V, "y0", 1))
-    assert plane and {c for _, c in plane} == {1} and all(np.isclose(X[n, 1], 0.0) for n, _ in plane)
-    assert len(mirror_planes(tm, V, [("y0", 1), ("sym_q", 0)])) == 1  # planes the mesh lacks: skipped
+    assert (
+        plane and {c for _, c in plane} == {1} and all(np.isclose(X[n, 1], 0.0) for n, _ in plane)
+    )
+    assert (
+        len(mirror_planes(tm, V, [("y0", 1), ("sym_q", 0)])) == 1
+    )  # planes the mesh lacks: skipped
     with pytest.raises(InputError, match="support face 'nope'"):
         clamp_face(tm, V, "nope")

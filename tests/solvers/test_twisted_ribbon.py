@@ -23,7 +23,9 @@ def mesh():
 
 
 def test_advancing_in_two_parts_gives_the_one_ramp_equilibrium():
-    once = solve_twisted_ribbon(LENGTH, WIDTH, THICKNESS, TWIST, hot_top, resolution=mesh(), first=0.5)
+    once = solve_twisted_ribbon(
+        LENGTH, WIDTH, THICKNESS, TWIST, hot_top, resolution=mesh(), first=0.5
+    )
     ribbon = TwistedRibbonFE(LENGTH, WIDTH, THICKNESS, TWIST, hot_top, resolution=mesh())
     ribbon.advance(0.5, first=0.5)
     half = ribbon.observables()

@@ -11,13 +11,12 @@ import pytest
 from lcefem.meshes.bar_hinge_structure import n5b8_structure
 from lcefem.meshes.composite_beam import CompositeBeamGeometry
 from lcefem.meshes.kapton_ribbon import KaptonBarHingeMesh, KaptonSpecimenGeometry
-from lcefem.models.empirical import eq2_curvature
 from lcefem.models import bar_hinge as law
-from lcefem.models import buckling
+from lcefem.models import buckling, hyperelastic
 from lcefem.models.bar_hinge_materials import BarHingeMaterials
+from lcefem.models.empirical import eq2_curvature
 from lcefem.solvers.bar_hinge import BarHingeModel, held_dofs, newton
 from lcefem.solvers.problems import composite_beam_bh as beam_bh
-from lcefem.models import hyperelastic
 from lcefem.solvers.problems import kapton_specimen_bh as kapton_bh
 from lcefem.validation.app.cli import main as cli_main
 from tests.conftest import assert_failures_known
@@ -48,13 +47,13 @@ def _bending_energy(panels: int, kappa: float, w: float = 2.0, h: float = 7.0) -
 
 
 def test_closed_form_bending_stiffness_of_the_n5b8_chain():
-    """U(n + 1) - U(n) = EI_eff W kappa^2/2: one interior panel of the chain under cylindrical bending,
-    against EI_eff = k W H D^3/(2 H^3 + D^3) (small kappa: linear regime)."""
+    """U(n + 1) - U(n) = EI_eff W kappa^2/2: one interior panel of the chain under cylindrical
+    bending, against EI_eff = k W H D^3/(2 H^3 + D^3) (small kappa: linear regime)."""
     w, h, kappa = 2.0, 7.0, 1e-4
     # 8 and 9 panels: the end boundary layers (0.6 % at 4 panels) have decayed to 2e-5
     per_panel = _bending_energy(9, kappa, w, h) - _bending_energy(8, kappa, w, h)
     ei = law.n5b8_ribbon_bending_stiffness(K, w, h)
-    assert per_panel == pytest.approx(0.5 * ei * kappa ** 2 * w, rel=1e-3)
+    assert per_panel == pytest.approx(0.5 * ei * kappa**2 * w, rel=1e-3)
 
 
 def test_critical_load_converges_to_the_euler_load_of_the_chain():
@@ -96,6 +95,7 @@ def test_elastica_ratio_closed_form():
     """Timoshenko & Gere (1961) Table 2-5: end slope alpha = 60 deg -> P/P_cr = 1.152 and
     alpha = 120 deg -> 1.884, at the end shortenings of the same elastica."""
     from scipy import special
+
     assert buckling.elastica_force_ratio(0.0) == 1.0
     for alpha, ratio in ((60.0, 1.152), (120.0, 1.884)):
         m = np.sin(np.radians(alpha / 2)) ** 2
@@ -123,6 +123,7 @@ def test_beam_curvature_against_eq2():
 
 def test_lambda_outside_the_physical_range_is_an_input_error():
     from lcefem.models.errors import InputError
+
     with pytest.raises(InputError, match="lambda_top = 1.5"):
         beam_bh.solve_beam(1.5, 1.05)
 
@@ -134,8 +135,22 @@ def run(cmd, *args):
 
 def test_run_beam_end_to_end(tmp_path, lcefem_cmd):
     out = tmp_path / "beam"
-    res = run(lcefem_cmd, "run", "beam", "--lambda-top", "1.33", "--lambda-bottom", "1.05",
-              "--segments", "2", "--out", str(out), "--quiet", "--model", "bar-hinge")
+    res = run(
+        lcefem_cmd,
+        "run",
+        "beam",
+        "--lambda-top",
+        "1.33",
+        "--lambda-bottom",
+        "1.05",
+        "--segments",
+        "2",
+        "--out",
+        str(out),
+        "--quiet",
+        "--model",
+        "bar-hinge",
+    )
     assert res.returncode == 0, res.stderr
     names = {p.name for p in out.iterdir()}
     assert {"beam.pvd", "beam_steps", "history.csv", "beam.png", "summary.json"} <= names
@@ -151,15 +166,22 @@ def test_run_beam_end_to_end(tmp_path, lcefem_cmd):
     assert summary["config"]["run"]["lambda_top"]["unit"] == "-"
     assert summary["results"]["curvature [1/mm]"] > 0
     import pyvista
+
     mesh = pyvista.read(steps[-1])
     assert "displacement [mm]" in mesh.point_data and "axial force [N]" in mesh.cell_data
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--lambda-top", "1.6"], "run.lambda_top = 1.6: must be between 1 (isotropic) and lambda_N"),
-    (["--segments", "1"], "geometry.segments = 1: must be >= 2"),
-    (["--model", "xyz"], "invalid choice: 'xyz'"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["--lambda-top", "1.6"],
+            "run.lambda_top = 1.6: must be between 1 (isotropic) and lambda_N",
+        ),
+        (["--segments", "1"], "geometry.segments = 1: must be >= 2"),
+        (["--model", "xyz"], "invalid choice: 'xyz'"),
+    ],
+)
 def test_run_beam_bad_input(tmp_path, capsys, args, message):
     out = tmp_path / "o"
     with pytest.raises(SystemExit) if "--model" in args else _no_raise():
@@ -189,14 +211,21 @@ def test_failed_beam_run_leaves_nothing_that_looks_complete(tmp_path, capsys):
     """A Newton budget too small to converge: exit 3 and a ConvergenceError naming where, the
     converged steps kept as *.partial.*, the last converged state, failure.json, no summary."""
     case = tmp_path / "case.toml"
-    case.write_text("[geometry]\nsegments = 2\n[solver]\nmax_iterations = 2\nsnap_iterations = 0\n"
-                    "[path]\nmin_increment = 0.02\n")
+    case.write_text(
+        "[geometry]\nsegments = 2\n[solver]\nmax_iterations = 2\nsnap_iterations = 0\n"
+        "[path]\nmin_increment = 0.02\n"
+    )
     out = tmp_path / "o"
     assert cli_main(["run", "beam", "--config", str(case), "--out", str(out), "--quiet"]) == 3
     assert "no convergence at load factor t = " in capsys.readouterr().err
     names = {p.name for p in out.iterdir()}
-    assert {"failure.json", "last_converged.vtp", "history.partial.csv", "beam_steps.partial",
-            "beam.partial.pvd"} <= names
+    assert {
+        "failure.json",
+        "last_converged.vtp",
+        "history.partial.csv",
+        "beam_steps.partial",
+        "beam.partial.pvd",
+    } <= names
     assert not {"summary.json", "history.csv", "beam.pvd", "beam_steps"} & names
     failure = json.loads((out / "failure.json").read_text())
     assert failure["status"] == "failed" and failure["last_converged"]["load factor [-]"] < 1.0
@@ -204,10 +233,18 @@ def test_failed_beam_run_leaves_nothing_that_looks_complete(tmp_path, capsys):
 
 def test_run_ribbon_buckling(tmp_path, capsys):
     out = tmp_path / "rib"
-    assert cli_main(["run", "ribbon-buckling", "--compression", "0.05", "--out", str(out),
-                     "--quiet"]) == 0
+    assert (
+        cli_main(["run", "ribbon-buckling", "--compression", "0.05", "--out", str(out), "--quiet"])
+        == 0
+    )
     names = {p.name for p in out.iterdir()}
-    assert {"ribbon.pvd", "ribbon_steps", "history.csv", "ribbon_buckling.png", "summary.json"} <= names
+    assert {
+        "ribbon.pvd",
+        "ribbon_steps",
+        "history.csv",
+        "ribbon_buckling.png",
+        "summary.json",
+    } <= names
     with open(out / "history.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert {"compression [-]", "end shortening [mm]", "force [N]"} <= set(rows[0])
@@ -219,7 +256,9 @@ def test_run_ribbon_buckling(tmp_path, capsys):
 
 
 # ---------------------------------------------------------------------------- validation cases
-@pytest.mark.parametrize("name", ["ribbon_buckling_bh", "beam_curvature_map_bh", "beam_segment_count_bh"])
+@pytest.mark.parametrize(
+    "name", ["ribbon_buckling_bh", "beam_curvature_map_bh", "beam_segment_count_bh"]
+)
 def test_quick_cases_meet_their_tolerances(tmp_path, name):
     """The registered cases at --quick resolution: every failing metric is a known disagreement, and
     each writes its CSV table and figures."""

@@ -1,7 +1,8 @@
 """`lcefem run body` on examples/bodies/composite_beam/ (the composite beam as a case file: prescribed
 stretches per LCE cell set reached by the path follower, strip-ribbon [[contact]], the [[curvature]]
-of the middle stations) reproduces `lcefem run beam --model fe` (the default ramp to lambda_T = 1.33,
-lambda_B = 1.05) at mesh level 0, on the mesh `lcefem mesh beam --format msh --mesh-level 0` writes."""
+of the middle stations) reproduces `lcefem run beam --model fe` (the default ramp to lambda_T =
+1.33, lambda_B = 1.05) at mesh level 0, on the mesh `lcefem mesh beam --format msh --mesh-level 0`
+writes."""
 
 import csv
 import shutil
@@ -21,7 +22,8 @@ def read_history(path):
 
 
 def level0_case(folder):
-    """The example's case file beside the level-0 beam mesh (as `lcefem mesh beam --mesh-level 0`)."""
+    """The example's case file beside the level-0 beam mesh (as `lcefem mesh beam --mesh-level
+    0`)."""
     from lcefem.meshes.io import write_mesh
     from lcefem.validation.app.mesh import MeshRequest, build
 
@@ -34,8 +36,8 @@ def level0_case(folder):
 @pytest.mark.slow
 def test_beam_instance_equals_the_fe_beam(tmp_path):
     """Every accepted increment of the ramp: the same load factors and Newton iterations, the
-    curvature and the smallest strip-ribbon gap within 1e-6 relative, the contact force within 1e-9 N
-    (measured 2026-12-07 against history.csv, which keeps 10 significant digits: load factors,
+    curvature and the smallest strip-ribbon gap within 1e-6 relative, the contact force within 1e-9
+    N (measured 2026-12-07 against history.csv, which keeps 10 significant digits: load factors,
     stretches, curvature and gap within 4e-10 relative, the CSV's rounding; in memory, against
     solve_beam_fe with the run's PathControl(), the load factors are equal, the curvature within
     9e-11 relative and the gap within 1e-12; the contact stays open
@@ -55,37 +57,93 @@ def test_beam_instance_equals_the_fe_beam(tmp_path):
     np.testing.assert_allclose(b["stretch top_strips [-]"], s["lambda_top [-]"], rtol=1e-6)
     np.testing.assert_allclose(b["stretch bottom_strips [-]"], s["lambda_bottom [-]"], rtol=1e-6)
     np.testing.assert_allclose(b["curvature beam [1/mm]"], s["curvature [1/mm]"], rtol=1e-6)
-    np.testing.assert_allclose(b["contact_force top [N]"] + b["contact_force bottom [N]"],
-                               s["contact force [N]"], rtol=1e-6, atol=1e-9)
-    np.testing.assert_allclose(np.minimum(b["min_gap top [mm]"], b["min_gap bottom [mm]"]), s["min gap [mm]"],
-                               rtol=1e-6)
+    np.testing.assert_allclose(
+        b["contact_force top [N]"] + b["contact_force bottom [N]"],
+        s["contact force [N]"],
+        rtol=1e-6,
+        atol=1e-9,
+    )
+    np.testing.assert_allclose(
+        np.minimum(b["min_gap top [mm]"], b["min_gap bottom [mm]"]), s["min gap [mm]"], rtol=1e-6
+    )
     assert np.array_equal(b["newton_iterations [-]"], s["newton iterations [-]"])
     assert s["curvature [1/mm]"][-1] > 0.02  # the beam did bend (towards its bottom strips)
 
 
-@pytest.mark.parametrize("old, new, message", [
-    ("top_strips = 1.33", "kapton = 1.33", "[program].stretches.kapton: not an LCE cell set; allowed: top_strips"),
-    ("top_strips = 1.33", "top_strips = 1.45", "[program].stretches.top_strips: 1.45: allowed >= 1 (isotropic) "
-     "and <= the region's lambda_N = 1.4"),
-    ("[program]\n", '[[coils]]\nname = "c"\nregion = "top_pads"\n[program]\ncurrents = { c = 0.1 }\n',
-     "[program].stretches: a stretch ramp is quasi-static: no [program] currents (given: c)"),
-    ("[program]\n", "[program]\nsteady = true\n", "[program].stretches: a stretch ramp is quasi-static; allowed "
-     "steady = false"),
-    ("stretches = { top_strips = 1.33, bottom_strips = 1.05 }", "duration = 2.0\n[path]\nmax_step = 0.25",
-     "[path]: only with a stretch ramp ([program] stretches)"),
-    ("[program]\n", "[path]\nmax_step = 0.001\n[program]\n", "[path]: allowed min_step (0.0001) and first_step "
-     "(0.01) <= max_step (0.001)"),
-    ("[program]\n", "[path]\ngrowth = 0.5\n[program]\n", "[path].growth: 0.5: allowed >= 1 and <= 100"),
-    ("            [[104.0, 0.0, 0.0], [111.0, 0.0, 0.0]]]", "]", "[[curvature]][0].stations: allowed a list of "
-     "three or more stations"),
-    ("up = [[70.5, 3.5, -0.0635], [70.5, 3.5, 0.0635]]", "up = [[70.5, 3.5, 0.0], [70.5, 3.5, 0.0]]",
-     "[[curvature]][0].up: the two points coincide"),
-    ('target = "ribbon_top"', 'target = "ribbon_middle"', "[[contact]][0].target: 'ribbon_middle' is not a facet set"),
-    ('target = "ribbon_top"', 'target = "top_strip_underside"',
-     "[[contact]][0].target: 'top_strip_underside' is the boundary itself"),
-], ids=["stretch-on-passive", "stretch-above-lambda_N", "stretch-and-current", "stretch-and-steady",
-        "path-without-ramp", "path-steps", "path-growth", "two-stations", "up-coincident", "contact-unknown",
-        "contact-itself"])
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (
+            "top_strips = 1.33",
+            "kapton = 1.33",
+            "[program].stretches.kapton: not an LCE cell set; allowed: top_strips",
+        ),
+        (
+            "top_strips = 1.33",
+            "top_strips = 1.45",
+            "[program].stretches.top_strips: 1.45: allowed >= 1 (isotropic) "
+            "and <= the region's lambda_N = 1.4",
+        ),
+        (
+            "[program]\n",
+            '[[coils]]\nname = "c"\nregion = "top_pads"\n[program]\ncurrents = { c = 0.1 }\n',
+            "[program].stretches: a stretch ramp is quasi-static: no [program] currents (given: c)",
+        ),
+        (
+            "[program]\n",
+            "[program]\nsteady = true\n",
+            "[program].stretches: a stretch ramp is quasi-static; allowed steady = false",
+        ),
+        (
+            "stretches = { top_strips = 1.33, bottom_strips = 1.05 }",
+            "duration = 2.0\n[path]\nmax_step = 0.25",
+            "[path]: only with a stretch ramp ([program] stretches)",
+        ),
+        (
+            "[program]\n",
+            "[path]\nmax_step = 0.001\n[program]\n",
+            "[path]: allowed min_step (0.0001) and first_step (0.01) <= max_step (0.001)",
+        ),
+        (
+            "[program]\n",
+            "[path]\ngrowth = 0.5\n[program]\n",
+            "[path].growth: 0.5: allowed >= 1 and <= 100",
+        ),
+        (
+            "            [[104.0, 0.0, 0.0], [111.0, 0.0, 0.0]]]",
+            "]",
+            "[[curvature]][0].stations: allowed a list of three or more stations",
+        ),
+        (
+            "up = [[70.5, 3.5, -0.0635], [70.5, 3.5, 0.0635]]",
+            "up = [[70.5, 3.5, 0.0], [70.5, 3.5, 0.0]]",
+            "[[curvature]][0].up: the two points coincide",
+        ),
+        (
+            'target = "ribbon_top"',
+            'target = "ribbon_middle"',
+            "[[contact]][0].target: 'ribbon_middle' is not a facet set",
+        ),
+        (
+            'target = "ribbon_top"',
+            'target = "top_strip_underside"',
+            "[[contact]][0].target: 'top_strip_underside' is the boundary itself",
+        ),
+    ],
+    ids=[
+        "stretch-on-passive",
+        "stretch-above-lambda_N",
+        "stretch-and-current",
+        "stretch-and-steady",
+        "path-without-ramp",
+        "path-steps",
+        "path-growth",
+        "two-stations",
+        "up-coincident",
+        "contact-unknown",
+        "contact-itself",
+    ],
+)
 def test_bad_beam_case_one_line_before_any_mesh(tmp_path, old, new, message):
     from lcefem.models.errors import InputError
     from lcefem.solvers.problems.body_case import load_case
@@ -104,14 +162,25 @@ def test_bad_contact_exits_2_with_one_line_and_writes_nothing(tmp_path, lcefem_c
     import subprocess
 
     shutil.copy(BEAM / "beam.msh", tmp_path / "beam.msh")
-    text = (BEAM / "case.toml").read_text().replace('target = "ribbon_bottom"', 'target = "bottom_strip_topside"')
+    text = (
+        (BEAM / "case.toml")
+        .read_text()
+        .replace('target = "ribbon_bottom"', 'target = "bottom_strip_topside"')
+    )
     (tmp_path / "case.toml").write_text(text)
     out = tmp_path / "out"
-    res = subprocess.run(lcefem_cmd + ["run", "body", "--config", str(tmp_path / "case.toml"), "--out", str(out)],
-                         capture_output=True, text=True, timeout=600)
+    res = subprocess.run(
+        lcefem_cmd + ["run", "body", "--config", str(tmp_path / "case.toml"), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert res.returncode == 2, res.stderr
     lines = res.stderr.strip().splitlines()
-    assert len(lines) == 1 and "[[contact]][1].target: 'bottom_strip_topside' is the boundary itself" in lines[0]
+    assert (
+        len(lines) == 1
+        and "[[contact]][1].target: 'bottom_strip_topside' is the boundary itself" in lines[0]
+    )
     assert not out.exists() or not any(out.iterdir())
 
 
@@ -125,11 +194,20 @@ def test_a_stretch_ramp_is_not_compared_against_time_nor_converged(tmp_path):
     shutil.copy(BEAM / "beam.msh", tmp_path / "beam.msh")
     text = (BEAM / "case.toml").read_text()
     (tmp_path / "case.toml").write_text(text)
-    with pytest.raises(InputError, match="a stretch ramp .* records the path follower's own increments"):
+    with pytest.raises(
+        InputError, match="a stretch ramp .* records the path follower's own increments"
+    ):
         check_refinable(load_case(tmp_path / "case.toml"), 3)
     (tmp_path / "k.csv").write_text("time [s],stretch top_strips [-]\n0,1.4\n1,1.33\n")
-    (tmp_path / "case.toml").write_text(text.replace("[program]\n", '[[compare]]\nobservable = "stretch '
-                                                     'top_strips [-]"\ndata = "k.csv"\ntolerance = "5 %"\nsource = "x"\n'
-                                                     "[program]\n"))
-    with pytest.raises(InputError, match=r"\[\[compare\]\]: measurements are compared against time"):
+    (tmp_path / "case.toml").write_text(
+        text.replace(
+            "[program]\n",
+            '[[compare]]\nobservable = "stretch '
+            'top_strips [-]"\ndata = "k.csv"\ntolerance = "5 %"\nsource = "x"\n'
+            "[program]\n",
+        )
+    )
+    with pytest.raises(
+        InputError, match=r"\[\[compare\]\]: measurements are compared against time"
+    ):
         load_case(tmp_path / "case.toml")

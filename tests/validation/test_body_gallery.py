@@ -19,8 +19,13 @@ def run_coarse(path, **overrides):
     from lcefem.solvers.problems.body import run_body
     from lcefem.solvers.problems.body_case import load_case
 
-    case = load_case(path, overrides={("mesh", "size_factor"): 1.0,
-                                      **{("program", k): v for k, v in overrides.items()}})
+    case = load_case(
+        path,
+        overrides={
+            ("mesh", "size_factor"): 1.0,
+            **{("program", k): v for k, v in overrides.items()},
+        },
+    )
     return case, run_body(case, None, progress=False)
 
 
@@ -37,7 +42,8 @@ def test_every_example_runs_at_its_coarse_level(path):
     h = result.history
     clock = "load factor [-]" if program.get("stretches") else "time [s]"  # a stretch ramp's clock
     assert len(h[clock]) >= 2 and h[clock][-1] == pytest.approx(
-        1.0 if program.get("stretches") else min(program.get("duration", 30.0), 2 * dt))
+        1.0 if program.get("stretches") else min(program.get("duration", 30.0), 2 * dt)
+    )
     assert all(np.all(np.isfinite(v)) for v in h.values())
     assert result.summary["status"] == "completed"
 
@@ -48,13 +54,15 @@ def timoshenko_curvature(strain: float, h1: float, h2: float, E1: float, E2: flo
     1925): kappa = 6 eps (1 + m)^2 / (h (3 (1 + m)^2 + (1 + m n)(m^2 + 1 / (m n)))), m = h1 / h2,
     n = E1 / E2, h = h1 + h2; positive when layer 1 is on the convex side."""
     m, n, h = h1 / h2, E1 / E2, h1 + h2
-    return 6.0 * strain * (1 + m) ** 2 / (h * (3 * (1 + m) ** 2 + (1 + m * n) * (m ** 2 + 1 / (m * n))))
+    return (
+        6.0 * strain * (1 + m) ** 2 / (h * (3 * (1 + m) ** 2 + (1 + m * n) * (m**2 + 1 / (m * n))))
+    )
 
 
 def test_bilayer_curvature_is_timoshenkos():
-    """The bilayer at 47.21 C: the LCE layer's free strain a - 1 = -0.0100 (a = lambda_s / lambda_N),
-    the passive layer's 0; equal thicknesses (0.5 mm) and moduli (0.524821 MPa, the LCE law's
-    small-strain E). The tip section's rotation over the half length is the curvature.
+    """The bilayer at 47.21 C: the LCE layer's free strain a - 1 = -0.0100 (a = lambda_s /
+    lambda_N), the passive layer's 0; equal thicknesses (0.5 mm) and moduli (0.524821 MPa, the LCE
+    law's small-strain E). The tip section's rotation over the half length is the curvature.
 
     Measured: kappa_FE / kappa_Timoshenko = 0.99460 at size factor 1 and 0.99448 at 0.5 (1280
     cells): the mesh's discretisation error at size factor 1 is about 1.2e-4, so the 0.54 % gap is
@@ -105,10 +113,12 @@ def test_gripper_bends_toward_the_lce_and_balances_its_heat():
     row = {k: v[-1] for k, v in run_body(case, None, progress=False).history.items()}
     conf = tomllib.loads(path.read_text())
     h, T_inf = conf["heat"][0]["h"], conf["heat"][0]["T_inf"]
-    power = 0.2 ** 2 * conf["coils"][0]["resistance"] * 1e3  # mW
+    power = 0.2**2 * conf["coils"][0]["resistance"] * 1e3  # mW
     assert row["power heater [mW]"] == pytest.approx(power)
     area = 2 * 30 * 10 + (2 * 30 + 10) * 1.125  # mm^2
     rise = power / (h * area)  # K
     assert (row["T surface [C]"] - T_inf) / rise == pytest.approx(1.0218, abs=0.009)
     assert (row["T_mean coil [C]"] - T_inf) / rise == pytest.approx(1.1078, abs=0.045)
-    assert row["u_z tip [mm]"] > 0.1 * 30  # bent up toward the LCE by more than a tenth of its length
+    assert (
+        row["u_z tip [mm]"] > 0.1 * 30
+    )  # bent up toward the LCE by more than a tenth of its length

@@ -23,7 +23,11 @@ def run(cmd, *args):
 
 def bilayer_case(folder, size_factor: float, extra: str = "") -> str:
     shutil.copy(BILAYER / "bilayer.geo", folder / "bilayer.geo")
-    text = (BILAYER / "case.toml").read_text().replace("size_factor = 1.0", f"size_factor = {size_factor}")
+    text = (
+        (BILAYER / "case.toml")
+        .read_text()
+        .replace("size_factor = 1.0", f"size_factor = {size_factor}")
+    )
     (folder / "case.toml").write_text(text + extra)
     return str(folder / "case.toml")
 
@@ -36,10 +40,18 @@ def test_converge_bilayer_observed_order(tmp_path, lcefem_cmd):
     too. Tolerance 0.3 on p: the two tip orders' spread (0.25) plus a margin."""
     case = bilayer_case(tmp_path, 2.0)
     out = tmp_path / "study"
-    res = run(lcefem_cmd, "converge", "--config", case, "--levels", "3", "--out", str(out), "--quiet")
+    res = run(
+        lcefem_cmd, "converge", "--config", case, "--levels", "3", "--out", str(out), "--quiet"
+    )
     assert res.returncode == 0, res.stderr
-    for name in ("levels.csv", "gci.csv", "gci_by_time.csv", "convergence.json", "convergence.png",
-                 "report.md"):
+    for name in (
+        "levels.csv",
+        "gci.csv",
+        "gci_by_time.csv",
+        "convergence.json",
+        "convergence.png",
+        "report.md",
+    ):
         assert (out / name).is_file(), name
     study = {m["metric"]: m for m in json.loads((out / "convergence.json").read_text())["metrics"]}
     assert study["u_z tip_top"]["p"] == pytest.approx(3.98, abs=0.3)
@@ -71,7 +83,9 @@ source = "Timoshenko's bimorph (J. Opt. Soc. Am. 11, 233, 1925), as a test's clo
 """
 
 
-@pytest.mark.parametrize("shift, code", [(1.0, 0), (1.10, 1)], ids=["closed-form-passes", "shifted-fails"])
+@pytest.mark.parametrize(
+    "shift, code", [(1.0, 0), (1.10, 1)], ids=["closed-form-passes", "shifted-fails"]
+)
 def test_compare_with_a_closed_form(tmp_path, lcefem_cmd, shift, code):
     """The bilayer's tip deflection against Timoshenko's, written in um (converted to mm). Measured:
     the body gives -2.934 mm, the closed form -2.978 mm (1.5 %: the beam theory against the 3D
@@ -81,7 +95,9 @@ def test_compare_with_a_closed_form(tmp_path, lcefem_cmd, shift, code):
     (tmp_path / "measured.csv").write_text(f"time [s],u_z tip_bottom [um]\n0.0,{w}\n1.0,{w}\n")
     case = bilayer_case(tmp_path, 1.0, COMPARE)
     out = tmp_path / "out"
-    res = run(lcefem_cmd, "run", "body", "--config", case, "--out", str(out), "--quiet", "--no-fields")
+    res = run(
+        lcefem_cmd, "run", "body", "--config", case, "--out", str(out), "--quiet", "--no-fields"
+    )
     assert res.returncode == code, res.stdout + res.stderr
     summary = json.loads((out / "summary.json").read_text())
     (row,) = summary["comparisons"]
@@ -93,25 +109,59 @@ def test_compare_with_a_closed_form(tmp_path, lcefem_cmd, shift, code):
     assert (out / "compare_u_z_tip_bottom_mm.png").is_file()
 
 
-GOOD = (STRIP / "case.toml").read_text() + """
+GOOD = (
+    (STRIP / "case.toml").read_text()
+    + """
 [[compare]]
 observable = "T_max coil [C]"
 data = "measured.csv"
 tolerance = "2 K"
 source = "a test"
 """
+)
 
 
-@pytest.mark.parametrize("old, new, message", [
-    ('"T_max coil [C]"', '"T_max heater [C]"', "[[compare]][0].observable: 'T_max heater [C]' is not an observable"),
-    ('tolerance = "2 K"', 'tolerance = "2 mm"', "[[compare]][0].tolerance: '2 mm': unit 'mm'; allowed % or C, K"),
-    ('tolerance = "2 K"', 'tolerance = "two"', "[[compare]][0].tolerance: 'two': allowed"),
-    ('data = "measured.csv"', 'data = "mm.csv"', "[[compare]][0].data: mm.csv: column 'T [mm]': unit 'mm'"),
-    ('data = "measured.csv"', 'data = "nounit.csv"', "[[compare]][0].data: nounit.csv: column 'T': unit 'missing'"),
-    ('data = "measured.csv"', 'data = "absent.csv"', "[[compare]][0].data: absent.csv: file not found"),
-    ('source = "a test"', '', "[[compare]][0].source: missing"),
-], ids=["unknown-observable", "tolerance-unit", "tolerance-text", "data-unit", "data-no-unit", "data-missing",
-        "no-source"])
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (
+            '"T_max coil [C]"',
+            '"T_max heater [C]"',
+            "[[compare]][0].observable: 'T_max heater [C]' is not an observable",
+        ),
+        (
+            'tolerance = "2 K"',
+            'tolerance = "2 mm"',
+            "[[compare]][0].tolerance: '2 mm': unit 'mm'; allowed % or C, K",
+        ),
+        ('tolerance = "2 K"', 'tolerance = "two"', "[[compare]][0].tolerance: 'two': allowed"),
+        (
+            'data = "measured.csv"',
+            'data = "mm.csv"',
+            "[[compare]][0].data: mm.csv: column 'T [mm]': unit 'mm'",
+        ),
+        (
+            'data = "measured.csv"',
+            'data = "nounit.csv"',
+            "[[compare]][0].data: nounit.csv: column 'T': unit 'missing'",
+        ),
+        (
+            'data = "measured.csv"',
+            'data = "absent.csv"',
+            "[[compare]][0].data: absent.csv: file not found",
+        ),
+        ('source = "a test"', '', "[[compare]][0].source: missing"),
+    ],
+    ids=[
+        "unknown-observable",
+        "tolerance-unit",
+        "tolerance-text",
+        "data-unit",
+        "data-no-unit",
+        "data-missing",
+        "no-source",
+    ],
+)
 def test_bad_compare_entry_exit_2(tmp_path, lcefem_cmd, old, new, message):
     shutil.copy(STRIP / "strip.geo", tmp_path / "strip.geo")
     (tmp_path / "measured.csv").write_text("time [s],T [K]\n0,298.15\n20,330\n")
@@ -146,8 +196,16 @@ def test_hexahedral_read_mesh_is_not_refined(tmp_path, lcefem_cmd):
     msh = next((tmp_path / "mesh").glob("*.msh"))
     text = (STRIP / "case.toml").read_text().replace('file = "strip.geo"', f'file = "{msh}"')
     (tmp_path / "case.toml").write_text(text)
-    res = run(lcefem_cmd, "converge", "--config", str(tmp_path / "case.toml"), "--levels", "3",
-              "--out", str(tmp_path / "study"))
+    res = run(
+        lcefem_cmd,
+        "converge",
+        "--config",
+        str(tmp_path / "case.toml"),
+        "--levels",
+        "3",
+        "--out",
+        str(tmp_path / "study"),
+    )
     assert res.returncode == 2, res.stderr
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and "refines tetrahedra only" in lines[0], lines
@@ -157,9 +215,10 @@ def test_uniform_refinement_carries_the_named_sets(tmp_path):
     """A tetrahedral .msh (the gripper's coarse level) refined once: every named cell set has 8x
     its cells and every named facet set 4x its facets (each tetrahedron into eight, each triangle
     into four), with the same names."""
+    from mpi4py import MPI
+
     import gmsh
     import numpy as np
-    from mpi4py import MPI
 
     from lcefem.meshes.reader import read_tagged_mesh
 

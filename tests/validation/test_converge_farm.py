@@ -36,8 +36,12 @@ sys.exit(main(["converge", "test_trapezoid", "--levels", "4", "--out", sys.argv[
 
 
 def _converge(prefix, script, out, fail_level=-1):
-    return subprocess.run(prefix + [sys.executable, str(script), str(out), str(fail_level)],
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        prefix + [sys.executable, str(script), str(out), str(fail_level)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 def _rows(path):
@@ -57,9 +61,13 @@ def test_farmed_levels_give_the_serial_study(mpiexec, tmp_path):
         assert res.returncode == 0, res.stderr[-3000:]
     for name in ("levels.csv", "gci.csv"):
         assert _rows(farmed / name) == _rows(serial / name)
-    p = float(_rows(farmed / "gci.csv")[1][_rows(farmed / "gci.csv")[0].index("observed order p [-]")])
+    p = float(
+        _rows(farmed / "gci.csv")[1][_rows(farmed / "gci.csv")[0].index("observed order p [-]")]
+    )
     assert p == pytest.approx(2.0, abs=1e-3)  # the trapezoid rule's order
-    ranks = {json.loads((farmed / f"level{i}" / "metrics.json").read_text())["rank"] for i in range(4)}
+    ranks = {
+        json.loads((farmed / f"level{i}" / "metrics.json").read_text())["rank"] for i in range(4)
+    }
     assert ranks == {0, 1}
 
 

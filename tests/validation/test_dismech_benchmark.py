@@ -25,7 +25,7 @@ def test_heavy_elastica_reference_tends_to_the_linear_cantilever():
     c = bench.StripCantilever()
     light = dataclasses.replace(c, gravity=c.gravity * 1e-4)
     lf = c.length - c.clamped_length
-    linear = light.weight_per_length * lf ** 4 / (8.0 * light.bending_stiffness)
+    linear = light.weight_per_length * lf**4 / (8.0 * light.bending_stiffness)
     _, z = bench.heavy_elastica_tip(light)
     assert -z == pytest.approx(linear, rel=1e-4)
 
@@ -34,14 +34,21 @@ def test_our_der_converges_to_the_heavy_elastica():
     c = bench.StripCantilever()
     x_ref, z_ref = bench.heavy_elastica_tip(c)
     scale = math.hypot(c.length - x_ref, z_ref)
-    tips = {n: np.array(bench.our_static(dataclasses.replace(c, nodes=n))["tip"]) for n in (51, 101, 201)}
+    tips = {
+        n: np.array(bench.our_static(dataclasses.replace(c, nodes=n))["tip"])
+        for n in (51, 101, 201)
+    }
     err = {n: float(np.hypot(*(t - (x_ref, z_ref)))) for n, t in tips.items()}
     assert err[51] / scale < 0.016  # measured 1.405 % of the 106.6 mm tip displacement
     assert 1.8 < err[51] / err[101] < 2.1  # first order (measured 1.90)
     assert 1.8 < err[101] / err[201] < 2.1  # (measured 1.92)
     extrapolated = 2.0 * tips[201] - tips[101]
-    stretch = c.weight_per_length * (c.length - c.clamped_length) ** 2 / (2.0 * c.youngs_modulus * c.area)
-    assert float(np.hypot(*(extrapolated - (x_ref, z_ref)))) < 2.0 * stretch  # measured 0.033 mm, stretch 0.024
+    stretch = (
+        c.weight_per_length * (c.length - c.clamped_length) ** 2 / (2.0 * c.youngs_modulus * c.area)
+    )
+    assert (
+        float(np.hypot(*(extrapolated - (x_ref, z_ref)))) < 2.0 * stretch
+    )  # measured 0.033 mm, stretch 0.024
 
 
 def test_dismech_solves_the_same_problem():
@@ -52,7 +59,9 @@ def test_dismech_solves_the_same_problem():
     x_ref, z_ref = bench.heavy_elastica_tip(c)
     scale = math.hypot(c.length - x_ref, z_ref)
     ours, peer = bench.our_dynamics(c, 0.01), bench.dismech_dynamics(c, 0.01)
-    assert bench.path_error(ours["path"], peer["path"], scale) < 0.005  # measured 0.365 % (DisMech stops Newton
+    assert (
+        bench.path_error(ours["path"], peer["path"], scale) < 0.005
+    )  # measured 0.365 % (DisMech stops Newton
     # at |dq| < 0.1 mm per 0.01 s step)
     # the energy implicit Euler leaves after 1 s (0 at the start): -0.6332 / -0.6324 mJ measured
     assert ours["energy_mJ"] == pytest.approx(peer["energy_mJ"], rel=0.003)

@@ -1,8 +1,8 @@
 """The second catalogue (issue 36): work that cannot fit, encodings, signals, full disks, folder rules,
-ignored inputs. Each ends in one line, a documented exit status (docs/failure_modes.md) and an output
-folder that says what happened. In-process where possible (lcefem.validation.app.cli.main); the option
-values are refused in argument checking, before any output folder is claimed (checked by a claim
-that fails the test instead of running).
+ignored inputs. Each ends in one line, a documented exit status (docs/failure_modes.md) and an
+output folder that says what happened. In-process where possible (lcefem.validation.app.cli.main);
+the option values are refused in argument checking, before any output folder is claimed (checked by
+a claim that fails the test instead of running).
 """
 
 import errno
@@ -24,15 +24,37 @@ from lcefem.solvers.runtime.outdir import STAMP_TEXT, stamped_command
 from lcefem.validation.app import cli as cli_module
 from lcefem.validation.app.cli import main as cli_main
 
-# The first catalogue's helpers: the same in-process command line, one-line check and folder listing.
-from tests.validation.test_failure_modes import BEAM, LOCK, STRIP, cli, one_line, results  # noqa: E402
-
+# The first catalogue's helpers: the same in-process command line, one-line check and folder
+# listing.
+from tests.validation.test_failure_modes import (  # noqa: E402
+    BEAM,
+    LOCK,
+    STRIP,
+    cli,
+    one_line,
+    results,
+)
 
 # -- 1. every option of every command with nonsense values: refused in argument checking --------
 OPTIONS = {
-    "run strip": ["--current", "--duration", "--dt", "--tip-load", "--mesh-level", "--mesh-size", "--resistance"],
-    "run ribbon": ["--ground-temperature", "--twist-density", "--duration", "--nodes", "--dt",
-                   "--error-tolerance", "--helix-radius"],
+    "run strip": [
+        "--current",
+        "--duration",
+        "--dt",
+        "--tip-load",
+        "--mesh-level",
+        "--mesh-size",
+        "--resistance",
+    ],
+    "run ribbon": [
+        "--ground-temperature",
+        "--twist-density",
+        "--duration",
+        "--nodes",
+        "--dt",
+        "--error-tolerance",
+        "--helix-radius",
+    ],
     "run beam": ["--lambda-top", "--lambda-bottom", "--segments", "--mesh-level"],
     "run beam --model fe": ["--current", "--duration", "--mesh-level"],
     "run ribbon-buckling": ["--compression"],
@@ -44,21 +66,36 @@ OPTIONS = {
     "design --target-kx -0.016 --target-ky -0.016": ["--ribbons", "--target-height"],
 }
 VALUES = ["nan", "inf", "-inf", "0", "-1", "1e300", "abc"]
-#: values that mean something (a cold start, zero load, the coarsest level, a flat target...) or that
-#: the run's own checks of results stop (exit 3): they are not refused in argument checking
+#: values that mean something (a cold start, zero load, the coarsest level, a flat target...) or
+#: that the run's own checks of results stop (exit 3): they are not refused in argument checking
 MEANINGFUL = {
-    ("run strip", "--current", "0"), ("run strip", "--tip-load", "0"), ("run strip", "--tip-load", "1e300"),
-    ("run strip", "--mesh-level", "0"), ("run strip", "--mesh-size", "1e300"),
-    ("run strip", "--resistance", "1e300"), ("run ribbon", "--ground-temperature", "0"),
-    ("run ribbon", "--ground-temperature", "-1"), ("run ribbon", "--twist-density", "0"),
-    ("run ribbon", "--error-tolerance", "0"), ("run ribbon", "--error-tolerance", "1e300"),
-    ("run ribbon", "--helix-radius", "0"), ("run ribbon", "--helix-radius", "1e300"),
-    ("run beam --model fe", "--current", "0"), ("run beam --model fe", "--mesh-level", "0"),
-    ("run ribbon-buckling --model fe", "--mesh-level", "0"), ("uncertainty gridshell", "--seed", "0"),
+    ("run strip", "--current", "0"),
+    ("run strip", "--tip-load", "0"),
+    ("run strip", "--tip-load", "1e300"),
+    ("run strip", "--mesh-level", "0"),
+    ("run strip", "--mesh-size", "1e300"),
+    ("run strip", "--resistance", "1e300"),
+    ("run ribbon", "--ground-temperature", "0"),
+    ("run ribbon", "--ground-temperature", "-1"),
+    ("run ribbon", "--twist-density", "0"),
+    ("run ribbon", "--error-tolerance", "0"),
+    ("run ribbon", "--error-tolerance", "1e300"),
+    ("run ribbon", "--helix-radius", "0"),
+    ("run ribbon", "--helix-radius", "1e300"),
+    ("run beam --model fe", "--current", "0"),
+    ("run beam --model fe", "--mesh-level", "0"),
+    ("run ribbon-buckling --model fe", "--mesh-level", "0"),
+    ("uncertainty gridshell", "--seed", "0"),
     ("design --target-ky -0.016", "--target-kx", "0"),
     *(("design --target-kx -0.016 --target-ky -0.016", "--target-height", v) for v in ("0", "-1")),
 }
-NONSENSE = [(c, o, v) for c, opts in OPTIONS.items() for o in opts for v in VALUES if (c, o, v) not in MEANINGFUL]
+NONSENSE = [
+    (c, o, v)
+    for c, opts in OPTIONS.items()
+    for o in opts
+    for v in VALUES
+    if (c, o, v) not in MEANINGFUL
+]
 
 
 class _Claimed(Exception):
@@ -66,8 +103,9 @@ class _Claimed(Exception):
 
 
 @pytest.mark.parametrize("command, option, value", NONSENSE, ids=[" ".join(x) for x in NONSENSE])
-def test_nonsense_option_value_refused_in_argument_checking(command, option, value, capsys, monkeypatch,
-                                                            tmp_path):
+def test_nonsense_option_value_refused_in_argument_checking(
+    command, option, value, capsys, monkeypatch, tmp_path
+):
     def claimed(*args, **kwargs):
         raise _Claimed()
 
@@ -81,13 +119,16 @@ def test_nonsense_option_value_refused_in_argument_checking(command, option, val
 
 
 # -- 2. cost: work that cannot fit this host ----------------------------------------------------
-@pytest.mark.parametrize("argv, field", [
-    (["run", "strip", "--dt", "1e-300", "--duration", "1"], "run.dt = 1e-300 s"),
-    (["run", "strip", "--mesh-size", "1e-4"], "mesh.size = 0.0001 mm"),
-    (["run", "strip", "--mesh-size", "1e-320"], "mesh.size = 1e-320 mm"),
-    (["run", "ribbon", "--nodes", "100000000"], "numerics.nodes = 100000000"),
-    (["run", "ribbon", "--dt", "1e-300"], "numerics.dt = 1e-300 s"),
-])
+@pytest.mark.parametrize(
+    "argv, field",
+    [
+        (["run", "strip", "--dt", "1e-300", "--duration", "1"], "run.dt = 1e-300 s"),
+        (["run", "strip", "--mesh-size", "1e-4"], "mesh.size = 0.0001 mm"),
+        (["run", "strip", "--mesh-size", "1e-320"], "mesh.size = 1e-320 mm"),
+        (["run", "ribbon", "--nodes", "100000000"], "numerics.nodes = 100000000"),
+        (["run", "ribbon", "--dt", "1e-300"], "numerics.dt = 1e-300 s"),
+    ],
+)
 def test_work_that_cannot_fit_is_refused_naming_the_field(argv, field, capsys, tmp_path):
     out = tmp_path / "out"
     code, err = cli(capsys, *argv, "--quiet", "--out", out)
@@ -100,8 +141,8 @@ def test_work_that_cannot_fit_is_refused_naming_the_field(argv, field, capsys, t
 def test_cost_estimate_of_the_strip_counts_the_mesh_it_builds():
     """The counts without gmsh equal the built meshes' (levels 0-2: 60 / 480 / 1620 hexahedra,
     2325 / 14823 / 46137 displacement DOFs, measured from summary.json)."""
-    from lcefem.solvers.problems.strip import StripConfig
     from lcefem.meshes.strip import StripMesh
+    from lcefem.solvers.problems.strip import StripConfig
 
     for level, cells, dofs in ((0, 60, 2325), (1, 480, 14823), (2, 1620, 46137)):
         est = StripConfig(mesh=StripMesh(level=level)).estimate()
@@ -122,7 +163,9 @@ def test_host_memory_is_the_physical_memory():
 
 
 def test_converge_levels_beyond_the_meshes_are_refused(capsys, tmp_path):
-    code, err = cli(capsys, "converge", "strip_transient_0p2A", "--levels", "10", "--out", tmp_path / "c")
+    code, err = cli(
+        capsys, "converge", "strip_transient_0p2A", "--levels", "10", "--out", tmp_path / "c"
+    )
     assert code == 2 and "--levels = 10: must be between 4 and 9" in one_line(err)
 
 
@@ -174,14 +217,21 @@ def test_out_name_not_utf8_one_line_exit_2(command, capsys, tmp_path):
 def test_petsc_never_takes_sigterm(tmp_path):
     """Started after the command line, PETSc would end the process with status 15 on SIGTERM (its
     handler, "Caught signal number 15"); with -no_signal_handler the run's own handler raises."""
-    code = ("import os, signal, sys, time\n"
-            "from lcefem.solvers.runtime import signals\n"
-            "signals.install_signal_handlers(); signals.keep_petsc_off_signals()\n"
-            "import dolfinx_solver\nfrom petsc4py import PETSc\n"
-            "try:\n    os.kill(os.getpid(), signal.SIGTERM); time.sleep(5)\n"
-            "except signals.Terminated:\n    sys.exit(143)\n")
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
-                         env={**os.environ, "PETSC_OPTIONS": ""})
+    code = (
+        "import os, signal, sys, time\n"
+        "from lcefem.solvers.runtime import signals\n"
+        "signals.install_signal_handlers(); signals.keep_petsc_off_signals()\n"
+        "import dolfinx_solver\nfrom petsc4py import PETSc\n"
+        "try:\n    os.kill(os.getpid(), signal.SIGTERM); time.sleep(5)\n"
+        "except signals.Terminated:\n    sys.exit(143)\n"
+    )
+    res = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "PETSC_OPTIONS": ""},
+    )
     assert res.returncode == 143, res.stderr
     assert "PETSC ERROR" not in res.stderr
 
@@ -207,8 +257,11 @@ def test_converge_interrupted_while_plotting_leaves_no_final_names(capsys, tmp_p
     code, err = cli(capsys, "converge", "rod_closed_forms", "--quiet", "--out", out)
     assert code == 143 and "interrupted (SIGTERM)" in one_line(err)
     assert results(out) == {"study.partial"}  # levels.csv, gci.csv, convergence.json only in there
-    assert {p.name for p in (out / "study.partial").iterdir()} == {"levels.csv", "gci.csv",
-                                                                    "convergence.json"}
+    assert {p.name for p in (out / "study.partial").iterdir()} == {
+        "levels.csv",
+        "gci.csv",
+        "convergence.json",
+    }
     assert not (out / LOCK).exists()
 
 
@@ -225,7 +278,9 @@ def test_converge_resume_replaces_an_earlier_study_s_files(capsys, tmp_path, mon
     assert (out / "gci.csv").read_text() != "stale"
 
 
-def test_interrupt_swallowed_inside_a_petsc_callback_still_stops_the_run(capsys, tmp_path, monkeypatch):
+def test_interrupt_swallowed_inside_a_petsc_callback_still_stops_the_run(
+    capsys, tmp_path, monkeypatch
+):
     """A Ctrl-C that lands inside the Jacobian assembly of a strip run and is swallowed there (PETSc
     turns a callback's exception into an error code) ends the run with 130 and its converged steps,
     instead of running on (before: exit 0 after all 20 steps)."""
@@ -258,8 +313,12 @@ def test_converge_sigterm_then_resume(lcefem_cmd, tmp_path):
     """SIGTERM during a study: exit 143, lock released, no study files; --resume reuses the finished
     levels and completes it."""
     out = tmp_path / "c"
-    proc = subprocess.Popen(lcefem_cmd + ["converge", "rod_closed_forms", "--quiet", "--out", str(out)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        lcefem_cmd + ["converge", "rod_closed_forms", "--quiet", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     end = time.monotonic() + 120
     while not (out / "level0" / "metrics.json").exists():
         assert time.monotonic() < end and proc.poll() is None
@@ -268,8 +327,12 @@ def test_converge_sigterm_then_resume(lcefem_cmd, tmp_path):
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 143, err
     assert not (out / LOCK).exists() and not (out / "levels.csv").exists()
-    res = subprocess.run(lcefem_cmd + ["converge", "rod_closed_forms", "--quiet", "--resume", "--out", str(out)],
-                         capture_output=True, text=True, timeout=300)
+    res = subprocess.run(
+        lcefem_cmd + ["converge", "rod_closed_forms", "--quiet", "--resume", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert res.returncode == 0, res.stderr
     assert json.loads((out / "level0" / "metrics.json").read_text())["status"] == "done"
     assert (out / "convergence.json").exists()
@@ -281,16 +344,23 @@ def test_validate_sigkill_then_resume(lcefem_cmd, tmp_path):
     --resume keeps the case whose completion marker exists and runs the rest."""
     out = tmp_path / "v"
     cases = ["tension_law", "ribbon_buckling_bh"]
-    proc = subprocess.Popen(lcefem_cmd + ["validate", *cases, "--quick", "--quiet", "--out", str(out)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        lcefem_cmd + ["validate", *cases, "--quick", "--quiet", "--out", str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     end = time.monotonic() + 120
     while not (out / "tension_law" / "metrics.json").exists():
         assert time.monotonic() < end and proc.poll() is None
         time.sleep(0.05)
     proc.kill()
     proc.wait(timeout=60)
-    res = subprocess.run(lcefem_cmd + ["validate", *cases, "--quick", "--quiet", "--resume", "--out", str(out)],
-                         capture_output=True, text=True, timeout=300)
+    res = subprocess.run(
+        lcefem_cmd + ["validate", *cases, "--quick", "--quiet", "--resume", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert res.returncode == 0, res.stderr
     report = (out / "report.md").read_text()
     assert "INCOMPLETE" not in report
@@ -312,17 +382,26 @@ def test_run_sigkill_then_overwrite(lcefem_cmd, tmp_path):
     proc.kill()
     proc.wait(timeout=60)
     assert not (out / "summary.json").exists() and not (out / "history.csv").exists()
-    res = subprocess.run(lcefem_cmd + argv + ["--overwrite"], capture_output=True, text=True, timeout=300)
+    res = subprocess.run(
+        lcefem_cmd + argv + ["--overwrite"], capture_output=True, text=True, timeout=300
+    )
     assert res.returncode == 0, res.stderr
     assert json.loads((out / "summary.json").read_text())["status"] == "completed"
 
 
 # -- 5. full disks ------------------------------------------------------------------------------
-@pytest.mark.parametrize("code, cause", [(errno.ENOSPC, "no space left on the device (ENOSPC)"),
-                                         (errno.EDQUOT, "disk quota exceeded (EDQUOT)"),
-                                         (errno.EROFS, "read-only file system (EROFS)"),
-                                         (errno.EACCES, "permission denied (EACCES)")])
-def test_disk_errors_classified_by_cause_naming_the_file(code, cause, capsys, tmp_path, monkeypatch):
+@pytest.mark.parametrize(
+    "code, cause",
+    [
+        (errno.ENOSPC, "no space left on the device (ENOSPC)"),
+        (errno.EDQUOT, "disk quota exceeded (EDQUOT)"),
+        (errno.EROFS, "read-only file system (EROFS)"),
+        (errno.EACCES, "permission denied (EACCES)"),
+    ],
+)
+def test_disk_errors_classified_by_cause_naming_the_file(
+    code, cause, capsys, tmp_path, monkeypatch
+):
     import csv
 
     append = CSVTable.append
@@ -350,7 +429,9 @@ def test_disk_errors_classified_by_cause_naming_the_file(code, cause, capsys, tm
     out = tmp_path / "disk"
     rc, err = cli(capsys, *BEAM, "--out", out)
     assert rc == 2
-    assert one_line(err).startswith(f"lcefem: error: cannot write '{out / 'history.csv.part'}': {cause}")
+    assert one_line(err).startswith(
+        f"lcefem: error: cannot write '{out / 'history.csv.part'}': {cause}"
+    )
     assert "history.partial.csv" in results(out) and "summary.json" not in results(out)
 
 
@@ -384,9 +465,13 @@ def test_a_failed_write_gives_its_space_back_and_keeps_the_old_file(tmp_path, mo
 
 
 def test_adios2_error_text_becomes_an_os_error_naming_the_file():
-    text = ("\x1b[1;36m[Sat Nov 28 2026]\x1b[1;34m [ADIOS2 EXCEPTION]\x1b[0m <Toolkit> <transport::file::"
-            "FilePOSIX> <Write> : couldn't write to file /r/thermal.bp.part/md.0 : errno = 28: No space "
-            "left on device\x1b[0m\n: iostream error")
+    text = (
+        "\x1b[1;36m[Sat Nov 28 2026]\x1b[1;34m [ADIOS2 EXCEPTION]\x1b[0m <Toolkit> "
+        "<transport::file::"
+        "FilePOSIX> <Write> : couldn't write to file /r/thermal.bp.part/md.0 : errno = 28: No "
+        "space "
+        "left on device\x1b[0m\n: iostream error"
+    )
     exc = library_os_error(RuntimeError(text))
     assert (exc.errno, exc.filename) == (errno.ENOSPC, "/r/thermal.bp.part/md.0")
     assert library_os_error(RuntimeError("no errno here")) is None
@@ -400,11 +485,17 @@ def test_validate_on_a_full_disk_stops_with_report_incomplete(capsys, tmp_path, 
 
     monkeypatch.setattr(plots, "save_figure", full)
     out = tmp_path / "v"
-    code, err = cli(capsys, "validate", "tension_law", "rod_closed_forms", "--quick", "--quiet", "--out", out)
+    code, err = cli(
+        capsys, "validate", "tension_law", "rod_closed_forms", "--quick", "--quiet", "--out", out
+    )
     assert code == 2
     assert "no space left on the device (ENOSPC)" in one_line(err)
     report = (out / "report.md").read_text()
-    assert "INCOMPLETE" in report and "tension_law: error" in report and "rod_closed_forms: not run" in report
+    assert (
+        "INCOMPLETE" in report
+        and "tension_law: error" in report
+        and "rod_closed_forms: not run" in report
+    )
 
 
 # -- 6. folder rules ----------------------------------------------------------------------------
@@ -419,8 +510,9 @@ def test_the_folder_marker_records_the_command(beam_folder):
     assert stamped_command(beam_folder) == "run beam"
 
 
-@pytest.mark.parametrize("command", [["validate", "tension_law", "--quick"],
-                                     ["converge", "rod_closed_forms"]])
+@pytest.mark.parametrize(
+    "command", [["validate", "tension_law", "--quick"], ["converge", "rod_closed_forms"]]
+)
 def test_resume_into_another_command_s_folder_is_refused(command, beam_folder, capsys):
     before = sorted(p.name for p in beam_folder.iterdir())
     code, err = cli(capsys, *command, "--quiet", "--resume", "--out", beam_folder)
@@ -450,7 +542,10 @@ def test_exit_3_before_the_run_exists_leaves_failure_json(capsys, tmp_path, monk
     code, err = cli(capsys, *BEAM, "--out", out)
     assert code == 3 and "no convergence at the as-built state" in one_line(err)
     failure = json.loads((out / "failure.json").read_text())
-    assert failure["where"] == "the as-built state" and failure["config"]["run"]["lambda_top"]["value"] == 1.38
+    assert (
+        failure["where"] == "the as-built state"
+        and failure["config"]["run"]["lambda_top"]["value"] == 1.38
+    )
 
 
 # -- 7. inputs silently ignored -----------------------------------------------------------------
@@ -462,16 +557,29 @@ def test_unknown_petsc_option_is_refused_naming_it(capsys, tmp_path):
     out = tmp_path / "out"
     code, err = cli(capsys, *STRIP, "--duration", "2", "--dt", "1", "--config", case, "--out", out)
     assert code == 2
-    assert one_line(err).startswith("lcefem: error: [petsc] pc_gamg_threshold: not read by this problem's solver")
+    assert one_line(err).startswith(
+        "lcefem: error: [petsc] pc_gamg_threshold: not read by this problem's solver"
+    )
     assert "summary.json" not in results(out)
     from petsc4py import PETSc
 
-    assert not [n for n in PETSc.Options().getAll() if n.startswith("lcefem_")]  # nothing left to warn
+    assert not [
+        n for n in PETSc.Options().getAll() if n.startswith("lcefem_")
+    ]  # nothing left to warn
 
 
 def test_helix_with_twist_density_is_refused(capsys, tmp_path):
-    code, err = cli(capsys, "run", "ribbon", "--helix-radius", "2", "--twist-density", "0.1",
-                    "--out", tmp_path / "out")
+    code, err = cli(
+        capsys,
+        "run",
+        "ribbon",
+        "--helix-radius",
+        "2",
+        "--twist-density",
+        "0.1",
+        "--out",
+        tmp_path / "out",
+    )
     assert code == 2 and "a helical ribbon (helix radius 2.0 mm) is untwisted" in one_line(err)
     case = tmp_path / "case.toml"
     case.write_text("[geometry]\nhelix_radius = 2.0\ntwist_density = 0.1\n")
@@ -484,9 +592,19 @@ def test_helix_reports_no_twist(tmp_path):
 
     from lcefem.validation.app.commands.ribbon import config_from_args
 
-    args = Namespace(config=None, ground_temperature=None, duration=None, twist_density=None, helix_radius=2.0,
-                     nodes=None, dt=None, error_tolerance=None, obstacle=None,
-                     obstacle_offset=None, obstacle_distance=None)
+    args = Namespace(
+        config=None,
+        ground_temperature=None,
+        duration=None,
+        twist_density=None,
+        helix_radius=2.0,
+        nodes=None,
+        dt=None,
+        error_tolerance=None,
+        obstacle=None,
+        obstacle_offset=None,
+        obstacle_distance=None,
+    )
     assert config_from_args(args).geometry.twist_density == 0.0
 
 
@@ -501,31 +619,55 @@ def test_strip_ids_in_a_case_file_as_on_the_command_line(tmp_path):
 
 
 def test_curvature_chart_legend_lists_only_drawn_series(tmp_path, monkeypatch):
-    from lcefem.validation.studies.gridshell import gridshell_plots
     from lcefem.validation.app import plots
+    from lcefem.validation.studies.gridshell import gridshell_plots
 
     figures = []
     monkeypatch.setattr(plots, "save_figure", lambda fig, path, dpi: figures.append(fig) or path)
-    gridshell_plots.curvature_bar_chart(tmp_path / "c.png", ["dome", "saddle"], {
-        "ours (lambda route)": {"dome": (-0.01, -0.01), "saddle": (0.01, -0.01)},
-        "ours (current route)": {"dome": (None, None)},
-        "paper": {"dome": (-0.012, -0.011)}}, ["seed"])
+    gridshell_plots.curvature_bar_chart(
+        tmp_path / "c.png",
+        ["dome", "saddle"],
+        {
+            "ours (lambda route)": {"dome": (-0.01, -0.01), "saddle": (0.01, -0.01)},
+            "ours (current route)": {"dome": (None, None)},
+            "paper": {"dome": (-0.012, -0.011)},
+        },
+        ["seed"],
+    )
     legend = figures[0].axes[1].get_legend()
     assert [t.get_text() for t in legend.get_texts()] == ["ours (lambda route)", "paper"]
-    assert "no values, not drawn: ours (current route)" in " ".join(t.get_text() for t in figures[0].texts)
+    assert "no values, not drawn: ours (current route)" in " ".join(
+        t.get_text() for t in figures[0].texts
+    )
 
 
 # -- 8. under mpiexec ---------------------------------------------------------------------------
 @pytest.mark.mpi
-@pytest.mark.parametrize("argv, message", [
-    (["run", "strip", "--dt", "1e-300", "--duration", "1"], "run.dt = 1e-300 s"),
-    (["run", "strip", "--config", "{utf16}"], "UTF-16 text"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["run", "strip", "--dt", "1e-300", "--duration", "1"], "run.dt = 1e-300 s"),
+        (["run", "strip", "--config", "{utf16}"], "UTF-16 text"),
+    ],
+)
 def test_refusals_under_mpiexec_one_line_exit_2(argv, message, lcefem_cmd, mpiexec, tmp_path):
     case = tmp_path / "case.toml"
     case.write_bytes("[run]\n".encode("utf-16"))
-    res = subprocess.run([mpiexec, "-n", "2", *lcefem_cmd, *[a.replace("{utf16}", str(case)) for a in argv],
-                          "--quiet", "--out", str(tmp_path / "out")], capture_output=True, text=True, timeout=300)
+    res = subprocess.run(
+        [
+            mpiexec,
+            "-n",
+            "2",
+            *lcefem_cmd,
+            *[a.replace("{utf16}", str(case)) for a in argv],
+            "--quiet",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert res.returncode == 2, res.stderr
     assert message in one_line(res.stderr)
     assert not (tmp_path / "out").exists()

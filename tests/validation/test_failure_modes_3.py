@@ -23,7 +23,15 @@ from lcefem.solvers.runtime.files import disk_error_message
 from lcefem.solvers.runtime.outdir import STAMP_TEXT
 from tests.conftest import REPO, VENV_BIN
 
-BEAM = ["run", "beam", "--segments", "2", "--lambda-top", "1.38", "--quiet"]  # ~3 s bar-and-hinge run
+BEAM = [
+    "run",
+    "beam",
+    "--segments",
+    "2",
+    "--lambda-top",
+    "1.38",
+    "--quiet",
+]  # ~3 s bar-and-hinge run
 STRIP = ["run", "strip", "--mesh-level", "0", "--quiet", "--no-fields"]
 TENSION = ["validate", "tension_law", "--quick", "--quiet"]  # ~3 s, no FE solve
 LOCK = ".lcefem.lock"
@@ -31,8 +39,15 @@ LOCK = ".lcefem.lock"
 
 def lcefem(cmd, *args, env=None, cwd=None, **kwargs):
     """``lcefem ARGS`` in a subprocess; ``env`` entries are added to this environment."""
-    return subprocess.run(cmd + [a if isinstance(a, bytes) else str(a) for a in args], capture_output=True,
-                          text=True, timeout=120, cwd=cwd, env={**os.environ, **(env or {})}, **kwargs)
+    return subprocess.run(
+        cmd + [a if isinstance(a, bytes) else str(a) for a in args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=cwd,
+        env={**os.environ, **(env or {})},
+        **kwargs,
+    )
 
 
 def one_line(res) -> str:
@@ -46,7 +61,12 @@ def one_line(res) -> str:
 def validated(tmp_path_factory):
     """A finished ``validate tension_law --quick`` folder to copy."""
     out = tmp_path_factory.mktemp("validated") / "v"
-    res = subprocess.run([str(VENV_BIN / "lcefem"), *TENSION, "--out", str(out)], capture_output=True, text=True, timeout=120)
+    res = subprocess.run(
+        [str(VENV_BIN / "lcefem"), *TENSION, "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert res.returncode == 0, res.stderr
     return out
 
@@ -70,7 +90,9 @@ EVIL = {
 
 @pytest.mark.parametrize("name", EVIL)
 def test_case_file_petsc_section_cannot_run_code_or_write_files(name, lcefem_cmd, tmp_path):
-    (tmp_path / "evil.py").write_text(f"def run(pc):\n    open({str(tmp_path / 'ran')!r}, 'w').write('x')\n")
+    (tmp_path / "evil.py").write_text(
+        f"def run(pc):\n    open({str(tmp_path / 'ran')!r}, 'w').write('x')\n"
+    )
     (tmp_path / "more.opts").write_text("-snes_monitor\n")
     case = tmp_path / "case.toml"
     case.write_text("[petsc]\n" + EVIL[name].format(dir=tmp_path))
@@ -82,36 +104,71 @@ def test_case_file_petsc_section_cannot_run_code_or_write_files(name, lcefem_cmd
 
 
 def test_petsc_allow_list_accepts_numerics_and_refuses_the_rest():
-    ok = check_case_options({"pc_type": "gamg", "pc_gamg_threshold": 0.02, "snes_max_it": 40,
-                             "mat_mumps_icntl_14": "50", "mat_mumps_cntl_1": "0.01",
-                             "mg_levels_ksp_type": "chebyshev", "mg_coarse_pc_type": "cholesky",
-                             "snes_ksp_ew": True, "pmg_smoother_blocks": "planes"})
-    assert ok["pc_gamg_threshold"] == "0.02" and ok["snes_max_it"] == "40" and ok["snes_ksp_ew"] == "true"
-    for table in ({"pc_type": "shell"}, {"snes_max_it": "1.5"}, {"snes_rtol": "nan"}, {"ksp_rtol": "١"},
-                  {"mg_levels_pc_python_type": "x:y"}, {"snes_linesearch_monitor": ""},
-                  {"log_view": ""}, {"lcefem_mech_pc_type": "lu"}, {"pc_type": ["lu"]}):
+    ok = check_case_options(
+        {
+            "pc_type": "gamg",
+            "pc_gamg_threshold": 0.02,
+            "snes_max_it": 40,
+            "mat_mumps_icntl_14": "50",
+            "mat_mumps_cntl_1": "0.01",
+            "mg_levels_ksp_type": "chebyshev",
+            "mg_coarse_pc_type": "cholesky",
+            "snes_ksp_ew": True,
+            "pmg_smoother_blocks": "planes",
+        }
+    )
+    assert (
+        ok["pc_gamg_threshold"] == "0.02"
+        and ok["snes_max_it"] == "40"
+        and ok["snes_ksp_ew"] == "true"
+    )
+    for table in (
+        {"pc_type": "shell"},
+        {"snes_max_it": "1.5"},
+        {"snes_rtol": "nan"},
+        {"ksp_rtol": "١"},
+        {"mg_levels_pc_python_type": "x:y"},
+        {"snes_linesearch_monitor": ""},
+        {"log_view": ""},
+        {"lcefem_mech_pc_type": "lu"},
+        {"pc_type": ["lu"]},
+    ):
         with pytest.raises(InputError):
             check_case_options(table)
 
 
 def test_petsc_options_environment_is_ignored_in_one_line(lcefem_cmd, tmp_path):
     """Honoured, -lcefem_mech_snes_max_it 0 would stop the strip's first solve (exit 3)."""
-    res = lcefem(lcefem_cmd, *STRIP, "--duration", "2", "--dt", "1", "--out", tmp_path / "out",
-                 env={"PETSC_OPTIONS": "-lcefem_mech_snes_max_it 0 -log_view"})
+    res = lcefem(
+        lcefem_cmd,
+        *STRIP,
+        "--duration",
+        "2",
+        "--dt",
+        "1",
+        "--out",
+        tmp_path / "out",
+        env={"PETSC_OPTIONS": "-lcefem_mech_snes_max_it 0 -log_view"},
+    )
     assert res.returncode == 0, res.stderr
     assert res.stderr.strip().splitlines() == [
-        "lcefem: PETSC_OPTIONS ignored (-lcefem_mech_snes_max_it 0 -log_view): solver options come only "
-        "from a case file's [petsc] section (docs/failure_modes.md)"]
+        "lcefem: PETSC_OPTIONS ignored (-lcefem_mech_snes_max_it 0 -log_view): solver options "
+        "come only "
+        "from a case file's [petsc] section (docs/failure_modes.md)"
+    ]
 
 
 def test_a_petscrc_in_the_working_folder_is_ignored_in_one_line(lcefem_cmd, tmp_path):
     """PETSc reads ./.petscrc at start: honoured, -log_view :path would write that file."""
     (tmp_path / ".petscrc").write_text(f"-log_view :{tmp_path / 'log.txt'}\n")
-    res = lcefem(lcefem_cmd, *STRIP, "--duration", "2", "--dt", "1", "--out", tmp_path / "out", cwd=tmp_path)
+    res = lcefem(
+        lcefem_cmd, *STRIP, "--duration", "2", "--dt", "1", "--out", tmp_path / "out", cwd=tmp_path
+    )
     assert res.returncode == 0, res.stderr
     assert res.stderr.strip().splitlines() == [
         "lcefem: .petscrc ignored: solver options come only from a case file's [petsc] section "
-        "(docs/failure_modes.md)"]
+        "(docs/failure_modes.md)"
+    ]
     assert not (tmp_path / "log.txt").exists()
 
 
@@ -154,8 +211,10 @@ def test_a_planted_part_link_is_refused_naming_it(planted, validated, lcefem_cmd
     (out / planted).symlink_to(victim)
     res = lcefem(lcefem_cmd, *TENSION, "--resume", "--out", out)
     assert res.returncode == 2
-    assert one_line(res) == (f"lcefem: error: '{out / planted}': a symbolic link inside the output folder; "
-                             "lcefem does not write through links: remove it or choose another --out")
+    assert one_line(res) == (
+        f"lcefem: error: '{out / planted}': a symbolic link inside the output folder; "
+        "lcefem does not write through links: remove it or choose another --out"
+    )
     assert victim.read_text() == "precious"
 
 
@@ -168,7 +227,9 @@ def test_a_linked_case_folder_is_removed_not_followed(validated, lcefem_cmd, tmp
     (out / "tension_law").symlink_to(mine, target_is_directory=True)
     res = lcefem(lcefem_cmd, *TENSION, "--resume", "--out", out)
     assert res.returncode == 0, res.stderr
-    assert (mine / "data.csv").read_text() == "1,2\n" and sorted(p.name for p in mine.iterdir()) == ["data.csv"]
+    assert (mine / "data.csv").read_text() == "1,2\n" and sorted(
+        p.name for p in mine.iterdir()
+    ) == ["data.csv"]
     assert (out / "tension_law").is_dir() and not (out / "tension_law").is_symlink()
 
 
@@ -202,7 +263,9 @@ def test_a_lock_of_a_live_pid_keeps_the_folder(lcefem_cmd, tmp_path):
     out.mkdir()
     (out / LOCK).write_text(f"{os.getpid()} {socket.gethostname()}\n")  # this test process: alive
     res = lcefem(lcefem_cmd, *BEAM, "--out", out)
-    assert res.returncode == 2 and f"in use by another lcefem run (pid {os.getpid()}" in one_line(res)
+    assert res.returncode == 2 and f"in use by another lcefem run (pid {os.getpid()}" in one_line(
+        res
+    )
     assert sorted(p.name for p in out.iterdir()) == [LOCK]
 
 
@@ -210,13 +273,24 @@ def test_a_lock_of_a_live_pid_keeps_the_folder(lcefem_cmd, tmp_path):
 @pytest.fixture(scope="module")
 def finished_beam(tmp_path_factory):
     out = tmp_path_factory.mktemp("beam") / "done"
-    res = subprocess.run([str(VENV_BIN / "lcefem"), *BEAM, "--out", str(out)], capture_output=True, text=True, timeout=120)
+    res = subprocess.run(
+        [str(VENV_BIN / "lcefem"), *BEAM, "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert res.returncode == 0, res.stderr
     return out
 
 
-@pytest.mark.parametrize("case", ['[petsc]\nsnes_typo = "1"\n', "[run]\nsegments = 2\nno_such_key = 1\n",
-                                  "[run]\nlambda_top = 1e400\n"])
+@pytest.mark.parametrize(
+    "case",
+    [
+        '[petsc]\nsnes_typo = "1"\n',
+        "[run]\nsegments = 2\nno_such_key = 1\n",
+        "[run]\nlambda_top = 1e400\n",
+    ],
+)
 def test_overwrite_with_bad_input_keeps_the_previous_run(case, finished_beam, lcefem_cmd, tmp_path):
     out = _copy(finished_beam, tmp_path / "done")
     before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
@@ -238,7 +312,10 @@ def test_input_error_found_during_the_run_restores_the_previous_run(lcefem_cmd, 
     before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
     (tmp_path / "case.toml").write_text('[petsc]\npc_gamg_threshold = "0.1"\n')
     res = lcefem(lcefem_cmd, *args, "--config", tmp_path / "case.toml", "--overwrite")
-    assert res.returncode == 2 and "[petsc] pc_gamg_threshold: not read by this problem's solver" in one_line(res)
+    assert (
+        res.returncode == 2
+        and "[petsc] pc_gamg_threshold: not read by this problem's solver" in one_line(res)
+    )
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before
     assert sorted(p.name for p in out.iterdir()) == sorted(before)
 
@@ -270,19 +347,38 @@ def test_case_file_parser_errors_are_one_line(name, lcefem_cmd, tmp_path):
 
 
 def test_schedule_with_a_unicode_digit_key_is_one_line(lcefem_cmd, tmp_path):
-    """"²" is a digit to str.isdigit but not to int(): a selection name, refused as unknown."""
-    (tmp_path / "s.toml").write_text('[schedule]\ntimes = [0.0]\nend = 10.0\noutput_interval = 5.0\n'
-                                     '[currents]\n"²" = [0.1]\n', encoding="utf-8")
-    res = lcefem(lcefem_cmd, "run", "gridshell", "--schedule", tmp_path / "s.toml", "--quiet",
-                 "--out", tmp_path / "out")
-    assert res.returncode == 2 and one_line(res).startswith("lcefem: error: currents.²: unknown strip selection")
+    """ "²" is a digit to str.isdigit but not to int(): a selection name, refused as unknown."""
+    (tmp_path / "s.toml").write_text(
+        '[schedule]\ntimes = [0.0]\nend = 10.0\noutput_interval = 5.0\n[currents]\n"²" = [0.1]\n',
+        encoding="utf-8",
+    )
+    res = lcefem(
+        lcefem_cmd,
+        "run",
+        "gridshell",
+        "--schedule",
+        tmp_path / "s.toml",
+        "--quiet",
+        "--out",
+        tmp_path / "out",
+    )
+    assert res.returncode == 2 and one_line(res).startswith(
+        "lcefem: error: currents.²: unknown strip selection"
+    )
 
 
-@pytest.mark.parametrize("stored", ["[1, 2]", '{"case": "tension_law", "status": "done", "quick": true, '
-                                    '"metrics": [1], "figures": []}',
-                                    '{"case": "tension_law", "status": "done", "quick": true, '
-                                    '"metrics": [], "figures": [{"path": 3}]}'])
-def test_resume_with_a_metrics_json_of_the_wrong_shape_is_one_line(stored, validated, lcefem_cmd, tmp_path):
+@pytest.mark.parametrize(
+    "stored",
+    [
+        "[1, 2]",
+        '{"case": "tension_law", "status": "done", "quick": true, "metrics": [1], "figures": []}',
+        '{"case": "tension_law", "status": "done", "quick": true, '
+        '"metrics": [], "figures": [{"path": 3}]}',
+    ],
+)
+def test_resume_with_a_metrics_json_of_the_wrong_shape_is_one_line(
+    stored, validated, lcefem_cmd, tmp_path
+):
     out = _copy(validated, tmp_path / "v")
     (out / "tension_law" / "metrics.json").write_text(stored)
     res = lcefem(lcefem_cmd, *TENSION, "--resume", "--out", out)
@@ -291,8 +387,16 @@ def test_resume_with_a_metrics_json_of_the_wrong_shape_is_one_line(stored, valid
 
 # -- 7. start-up checks before dolfinx and numba are imported -------------------------------------
 def test_out_not_utf8_is_refused_before_dolfinx_starts(lcefem_cmd, tmp_path):
-    res = subprocess.run([os.fsencode(lcefem_cmd[0]), *[a.encode() for a in STRIP], b"--out",
-                          os.fsencode(tmp_path) + b"/o/bad\xffx"], capture_output=True, timeout=120)
+    res = subprocess.run(
+        [
+            os.fsencode(lcefem_cmd[0]),
+            *[a.encode() for a in STRIP],
+            b"--out",
+            os.fsencode(tmp_path) + b"/o/bad\xffx",
+        ],
+        capture_output=True,
+        timeout=120,
+    )
     err = res.stderr.decode("utf-8", "replace")
     assert res.returncode == 2 and len(err.strip().splitlines()) == 1, err
     assert "--out = " in err and "not valid UTF-8" in err
@@ -305,13 +409,25 @@ def test_out_with_a_newline_is_refused_in_one_line(lcefem_cmd, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("var, value", [("NUMBA_NUM_THREADS", "0"), ("NUMBA_NUM_THREADS", "-2"),
-                                        ("NUMBA_NUM_THREADS", "many"), ("LCEFEM_MEMORY", "-1"),
-                                        ("LCEFEM_MEMORY", "nan"), ("PMI_RANK", "x")])
+@pytest.mark.parametrize(
+    "var, value",
+    [
+        ("NUMBA_NUM_THREADS", "0"),
+        ("NUMBA_NUM_THREADS", "-2"),
+        ("NUMBA_NUM_THREADS", "many"),
+        ("LCEFEM_MEMORY", "-1"),
+        ("LCEFEM_MEMORY", "nan"),
+        ("PMI_RANK", "x"),
+    ],
+)
 def test_bad_numeric_environment_is_one_line(var, value, lcefem_cmd, tmp_path):
-    res = lcefem(lcefem_cmd, "run", "ribbon", "--quiet", "--out", tmp_path / "out", env={var: value})
+    res = lcefem(
+        lcefem_cmd, "run", "ribbon", "--quiet", "--out", tmp_path / "out", env={var: value}
+    )
     assert res.returncode == 2
-    assert one_line(res).startswith(f"lcefem: error: environment variable {var} = '{value}': must be ")
+    assert one_line(res).startswith(
+        f"lcefem: error: environment variable {var} = '{value}': must be "
+    )
     assert not (tmp_path / "out").exists()
 
 
@@ -334,8 +450,13 @@ def test_disk_errors_blame_out_only_for_files_in_out(tmp_path):
 
 def test_an_unwritable_jit_cache_names_its_variable(lcefem_cmd, tmp_path):
     (tmp_path / "file").write_text("not a folder")  # unwritable for every user, also root
-    res = lcefem(lcefem_cmd, *STRIP, "--out", tmp_path / "out", env={"XDG_CACHE_HOME": str(tmp_path / "file"),
-                                                                      "MPLCONFIGDIR": str(tmp_path / "mpl")})
+    res = lcefem(
+        lcefem_cmd,
+        *STRIP,
+        "--out",
+        tmp_path / "out",
+        env={"XDG_CACHE_HOME": str(tmp_path / "file"), "MPLCONFIGDIR": str(tmp_path / "mpl")},
+    )
     assert res.returncode == 2
     line = one_line(res)
     assert "set XDG_CACHE_HOME to a folder you may write to" in line and "--out" not in line
@@ -344,26 +465,39 @@ def test_an_unwritable_jit_cache_names_its_variable(lcefem_cmd, tmp_path):
 
 def test_ascii_stdout_never_turns_a_finished_run_into_a_traceback(validated, lcefem_cmd, tmp_path):
     out = _copy(validated, tmp_path / "v")
-    res = lcefem(lcefem_cmd, *TENSION, "--resume", "--out", out,
-                 env={"PYTHONIOENCODING": "ascii", "LC_ALL": "C"})
+    res = lcefem(
+        lcefem_cmd,
+        *TENSION,
+        "--resume",
+        "--out",
+        out,
+        env={"PYTHONIOENCODING": "ascii", "LC_ALL": "C"},
+    )
     assert res.returncode == 0, res.stderr
     assert "reference ? tol" in res.stdout  # "±" replaced, the table printed
     assert "Traceback" not in res.stderr
 
 
-@pytest.mark.parametrize("argv, code", [(["run", "beam", "--segments", "-1"], 2),
-                                        (["validate", "no_such_case"], 2), (BEAM, 0)])
+@pytest.mark.parametrize(
+    "argv, code",
+    [(["run", "beam", "--segments", "-1"], 2), (["validate", "no_such_case"], 2), (BEAM, 0)],
+)
 def test_stderr_on_a_full_device_keeps_the_exit_status(argv, code, lcefem_cmd, tmp_path):
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full here")
     with open("/dev/full", "w") as full:
-        res = subprocess.run(lcefem_cmd + argv + ["--out", str(tmp_path / "out")], stdout=subprocess.PIPE,
-                             stderr=full, timeout=120)
+        res = subprocess.run(
+            lcefem_cmd + argv + ["--out", str(tmp_path / "out")],
+            stdout=subprocess.PIPE,
+            stderr=full,
+            timeout=120,
+        )
     assert res.returncode == code
 
 
 def test_the_library_checks_petsc_options_as_the_command_line(tmp_path):
-    """A library caller's StripConfig.petsc goes through the same allow-list (before PETSc sees it)."""
+    """A library caller's StripConfig.petsc goes through the same allow-list (before PETSc sees
+    it)."""
     from lcefem.meshes.strip import StripMesh
     from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 

@@ -9,10 +9,10 @@ from lcefem.validation.studies.verification.gci import gci, observed_order
 
 def test_celik_2008_table1_reattachment_length():
     """Celik et al. 2008, J. Fluids Eng. 130, 078001, Table 1, first column (phi = dimensionless
-    reattachment length, monotonic convergence): 2D grids of N1, N2, N3 = 18000, 8000, 4500 cells, so
-    h ~ N^(-1/2), r21 = 1.5, r32 = 1.333; phi = 6.063, 5.972, 5.863. Published: p = 1.53,
+    reattachment length, monotonic convergence): 2D grids of N1, N2, N3 = 18000, 8000, 4500 cells,
+    so h ~ N^(-1/2), r21 = 1.5, r32 = 1.333; phi = 6.063, 5.972, 5.863. Published: p = 1.53,
     phi_ext21 = 6.1685, e_a21 = 1.5 %, e_ext21 = 1.7 %, GCI_fine21 = 2.2 %."""
-    h = tuple(n ** -0.5 for n in (18000, 8000, 4500))
+    h = tuple(n**-0.5 for n in (18000, 8000, 4500))
     res = gci(h, (6.063, 5.972, 5.863))
     assert round(res.r21, 3) == 1.5 and round(res.r32, 3) == 1.333
     assert round(res.p, 2) == 1.53
@@ -29,12 +29,12 @@ def test_observed_order_of_a_second_order_sequence(ratios):
     """f(h) = 1 + 0.3 h^2 exactly: p = 2, extrapolated value 1, GCI = Fs |f1 - 1|/f1 exactly."""
     h1 = 0.1
     h = (h1, h1 * ratios[0], h1 * ratios[0] * ratios[1])
-    f = tuple(1.0 + 0.3 * x ** 2 for x in h)
+    f = tuple(1.0 + 0.3 * x**2 for x in h)
     res = gci(h, f)
     assert res.p == pytest.approx(2.0, abs=1e-6)
     assert res.extrapolated == pytest.approx(1.0, abs=1e-10)
     # with the exact order the GCI is the safety factor times the true relative error of phi1
-    assert res.gci_fine == pytest.approx(1.25 * 0.3 * h1 ** 2 / f[0], rel=1e-6)
+    assert res.gci_fine == pytest.approx(1.25 * 0.3 * h1**2 / f[0], rel=1e-6)
 
 
 def test_alternating_differences_are_flagged_oscillatory():

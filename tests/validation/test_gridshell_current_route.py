@@ -49,16 +49,22 @@ def test_bands_are_drawn_around_the_currents_given():
 
     before = dict(gs.SHAPES["saddle"]["currents"])
     rule = lumped_heat.shape_currents(gs.SHAPES["saddle"]["lambdas"])
-    assert rule["Ty"] == pytest.approx(0.0786, abs=1e-4) and rule["Tx"] == pytest.approx(0.0640, abs=1e-4)
+    assert rule["Ty"] == pytest.approx(0.0786, abs=1e-4) and rule["Tx"] == pytest.approx(
+        0.0640, abs=1e-4
+    )
     law = unc.StretchLaw("strip")
     x = unc.nominal_row(unc.gridshell_inputs("saddle"))
     f_rule = unc.rest_fractions_of(x, "saddle", law, rule)[0]
     f_prog = unc.rest_fractions_of(x, "saddle", law)[0]
     lam_n = unc.PUBLISHED_LAMBDA_N
-    for k, c in enumerate(unc.CHANNELS):  # the nominal row is the steady stretch at the given current
+    for k, c in enumerate(
+        unc.CHANNELS
+    ):  # the nominal row is the steady stretch at the given current
         power = rule[c] ** 2 * law.coil_resistance * 1.0e3
         assert f_rule[k] == pytest.approx(min(law(power), lam_n) / lam_n, rel=1e-9)
-    assert not abs(f_rule - f_prog).max() < 1e-6  # the rule's currents differ from the programmed ones
+    assert (
+        not abs(f_rule - f_prog).max() < 1e-6
+    )  # the rule's currents differ from the programmed ones
     assert gs.SHAPES["saddle"]["currents"] == before
     with pytest.raises(InputError, match="currents"):
         unc.BandsConfig(shape="saddle", currents={"Tx": 0.05}).checked()
@@ -73,4 +79,6 @@ def test_fe_calibrated_bh_at_the_fe_lambdas_meets_the_stored_fe_dome():
     k = route.bh_curvatures("dome", route.fe_lambdas(held), "fe-calibrated")
     fe = held["kappa_circle_x [1/mm]"]
     assert abs(k["circle_x"] - fe) <= max(0.1 * abs(fe), 0.002)
-    assert k["circle_x"] == pytest.approx(k["circle_y"], abs=1e-5)  # the dome's symmetry (2.4e-6 apart)
+    assert k["circle_x"] == pytest.approx(
+        k["circle_y"], abs=1e-5
+    )  # the dome's symmetry (2.4e-6 apart)

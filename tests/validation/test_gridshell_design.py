@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 from lcefem.meshes.gridshell import GridshellLayout, build_gridshell_bar_hinge
-from lcefem.solvers.bar_hinge.design import objective_and_gradient
-from lcefem.validation.studies.gridshell import gridshell_bh as gs
 from lcefem.models import lumped_heat
+from lcefem.solvers.bar_hinge.design import objective_and_gradient
 from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation.studies.design import gridshell_design as gd
+from lcefem.validation.studies.gridshell import gridshell_bh as gs
 
 ONE = GridshellLayout(ribbons=1)
 
@@ -42,6 +42,7 @@ def test_design_gradient_matches_central_differences():
     # below 1e-5 relative; contact kinks are the limit (1e-3 steps crossed some: 2e-3 measured),
     # hence 1e-4 relative.
     from lcefem.solvers.bar_hinge import NewtonOptions
+
     d = gd.setup_design("4", "rollers", layout=ONE, newton=NewtonOptions(force_tolerance=1e-10))
     p = np.array([1.30, 1.25, 1.10, 1.15])  # Tx, Ty, Bx, By
     target = np.array([-0.01, -0.012])
@@ -57,10 +58,12 @@ def test_design_gradient_matches_central_differences():
             vals.append(st.observables)
             r = (st.observables - target) / gd.CURVATURE_SCALE
             objs.append(0.5 * r @ r)
-        np.testing.assert_allclose((vals[0] - vals[1]) / (2 * h), jac[:, k], rtol=1e-4,
-                                   atol=1e-4 * np.abs(jac).max())
-        assert (objs[0] - objs[1]) / (2 * h) == pytest.approx(grad[k], rel=1e-4,
-                                                               abs=1e-4 * np.abs(grad).max())
+        np.testing.assert_allclose(
+            (vals[0] - vals[1]) / (2 * h), jac[:, k], rtol=1e-4, atol=1e-4 * np.abs(jac).max()
+        )
+        assert (objs[0] - objs[1]) / (2 * h) == pytest.approx(
+            grad[k], rel=1e-4, abs=1e-4 * np.abs(grad).max()
+        )
 
 
 @pytest.mark.slow
@@ -95,7 +98,9 @@ def test_random_strip_lambdas_shape_is_recovered():
     check = res.check
     assert abs(check["circle_x"] - truth["circle_x"]) < 1e-4
     assert abs(check["circle_y"] - truth["circle_y"]) < 1e-4
-    assert problem_bh.centre_height(d.structure, check["x"]) == pytest.approx(z_true, abs=1e-2)  # [mm]
+    assert problem_bh.centre_height(d.structure, check["x"]) == pytest.approx(
+        z_true, abs=1e-2
+    )  # [mm]
 
 
 def test_currents_invert_the_current_route():
@@ -112,9 +117,22 @@ def test_design_command_writes_summary_and_csv(tmp_path, capsys):
     import json
 
     from lcefem.validation.app.cli import main
+
     out = tmp_path / "d"
-    rc = main(["design", "--target-kx", "-0.01", "--target-ky", "-0.01", "--ribbons", "1", "--quiet",
-               "--out", str(out)])
+    rc = main(
+        [
+            "design",
+            "--target-kx",
+            "-0.01",
+            "--target-ky",
+            "-0.01",
+            "--ribbons",
+            "1",
+            "--quiet",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 0
     s = json.loads((out / "summary.json").read_text())
     assert s["status"] == "completed" and s["residual norm [1/mm]"] <= gd.REACHED
@@ -126,7 +144,10 @@ def test_design_command_writes_summary_and_csv(tmp_path, capsys):
     assert set(s["currents [A]"]) == {"strip", "segment", "eq1"}
     rows = np.loadtxt(out / "design.csv", delimiter=",", skiprows=1)
     assert rows.shape == (4, 4) and np.all((rows[:, 1] >= 1.05) & (rows[:, 1] <= 1.4))
-    assert main(["design", "--target-kx", "0.5", "--target-ky", "0", "--out", str(tmp_path / "e")]) == 2
+    assert (
+        main(["design", "--target-kx", "0.5", "--target-ky", "0", "--out", str(tmp_path / "e")])
+        == 2
+    )
     assert "--target-kx = 0.5" in capsys.readouterr().err
 
 
@@ -166,13 +187,15 @@ def test_fe_calibrated_model_set_round_trip():
     assert published.model_set == "published" and published.materials.kapton.twist == "n5b8"
 
 
-# The measured saddle (seed 001) on rollers, FE-calibrated set (issue 50), as `lcefem design` found it:
-# the design loop's lambdas hold the target on a branch the run from flat does not reach; the
+# The measured saddle (seed 001) on rollers, FE-calibrated set (issue 50), as `lcefem design` found
+# it: the design loop's lambdas hold the target on a branch the run from flat does not reach; the
 # program overshoots (Ty 1.05, Bx 1.096) and releases.
 SADDLE = (-0.012, 0.015)
 SADDLE_LOOP = [1.33223806, 1.06779547, 1.06393541, 1.4]
-SADDLE_PROGRAM = [[1.3999992774923076, 1.050001028380802, 1.0958369015488283, 1.3999991001027978],
-                  [1.3942274608042873, 1.0908074562223957, 1.0911891300354617, 1.3999991001027978]]
+SADDLE_PROGRAM = [
+    [1.3999992774923076, 1.050001028380802, 1.0958369015488283, 1.3999991001027978],
+    [1.3942274608042873, 1.0908074562223957, 1.0911891300354617, 1.3999991001027978],
+]
 
 
 def test_program_schedule_file_round_trips(tmp_path):
@@ -187,11 +210,14 @@ def test_program_schedule_file_round_trips(tmp_path):
     assert back.support == "rollers" and back.thermal_model == "strip"
     for name in d.names:
         np.testing.assert_allclose(back.currents[name], sched.currents[name], rtol=1e-8)
-    # each drive's current holds its lambda through the design's 'strip' route (0 A only at lambda_N)
+    # each drive's current holds its lambda through the design's 'strip' route (0 A only at
+    # lambda_N)
     assert all(0.0 < i < 0.1 for i in back.currents["Ty"])
     # per-strip designs: one selection per strip id, read back as integer keys
     strips = gd.setup_design("all", "rollers", layout=ONE)
-    path.write_text(gd.schedule_toml(gd.program_schedule(strips, [np.full(strips.eq.params.size, 1.2)])))
+    path.write_text(
+        gd.schedule_toml(gd.program_schedule(strips, [np.full(strips.eq.params.size, 1.2)]))
+    )
     assert sorted(load_schedule(path).currents) == sorted(int(n) for n in strips.names)
 
 
@@ -215,11 +241,12 @@ def test_bands_count_a_sample_whose_run_from_flat_ends_off_the_nominal_branch():
 @pytest.mark.slow
 def test_measured_saddle_is_reached_by_its_program_not_by_the_loop_lambdas(tmp_path):
     # The run from flat at the design loop's lambdas lands on another branch (measured -0.01468 /
-    # 0.01206 1/mm, 3e-3 off); the program replayed by `lcefem run gridshell --schedule` lands within
-    # the design tolerance (measured 3.3e-7 1/mm off).
+    # 0.01206 1/mm, 3e-3 off); the program replayed by `lcefem run gridshell --schedule` lands
+    # within the design tolerance (measured 3.3e-7 1/mm off).
     import json
 
     from lcefem.validation.app.cli import main
+
     d = gd.setup_design("4", "rollers")
     flat = gd.forward_check(d, np.array(SADDLE_LOOP))
     assert max(abs(flat["circle_x"] - SADDLE[0]), abs(flat["circle_y"] - SADDLE[1])) > 1e-3
@@ -234,9 +261,10 @@ def test_measured_saddle_is_reached_by_its_program_not_by_the_loop_lambdas(tmp_p
 
 def test_lambdas_a_round_off_below_lambda_N_are_lambda_N():
     # The current that holds a lambda jumps at lambda_N (0 A there, 0.0544 A for any lambda below:
-    # the strip's onset of contraction, 'strip' route of the FE-calibrated set); the saddle's program
-    # left Tx and By 7.2e-7 and 9.0e-7 below lambda_N, which printed 0.054 A on channels meant to be
-    # off. Within LAMBDA_SNAP (1e-5) they are lambda_N and 0 A; 1e-3 below still needs its current.
+    # the strip's onset of contraction, 'strip' route of the FE-calibrated set); the saddle's
+    # program left Tx and By 7.2e-7 and 9.0e-7 below lambda_N, which printed 0.054 A on channels
+    # meant to be off. Within LAMBDA_SNAP (1e-5) they are lambda_N and 0 A; 1e-3 below still needs
+    # its current.
     d = gd.setup_design("4", "rollers", layout=ONE)
     stages = [np.array(p) for p in SADDLE_PROGRAM]
     sched = gd.program_schedule(d, stages)
@@ -245,13 +273,17 @@ def test_lambdas_a_round_off_below_lambda_N_are_lambda_N():
     route = calibrate_route(d)
     assert gd.current_for_lambda(d.lambda_N - 1e-9, route, d.lambda_N) == 0.0
     assert gd.current_for_lambda(d.lambda_N - 1e-3, route, d.lambda_N) > 0.05
-    np.testing.assert_array_equal(gd.snapped([1.4 - 2e-5, 1.4 - 5e-6, 1.4], 1.4), [1.4 - 2e-5, 1.4, 1.4])
+    np.testing.assert_array_equal(
+        gd.snapped([1.4 - 2e-5, 1.4 - 5e-6, 1.4], 1.4), [1.4 - 2e-5, 1.4, 1.4]
+    )
 
 
 def calibrate_route(d):
     from lcefem.validation.studies.gridshell import calibrate
 
-    return calibrate.model_set(d.model_set).current_route(lumped_heat.CurrentRouteConfig(thermal_model="strip"))
+    return calibrate.model_set(d.model_set).current_route(
+        lumped_heat.CurrentRouteConfig(thermal_model="strip")
+    )
 
 
 def test_schedule_carries_the_design_model_set_and_layout(tmp_path):
@@ -266,17 +298,25 @@ def test_schedule_carries_the_design_model_set_and_layout(tmp_path):
     back = load_schedule(path)
     assert back.model_set == "published" and back.layout == ONE
     ms, structure, materials = surface_model(back)
-    assert ms.name == "published" and structure.info["ribbons"] == 1 and materials.kapton.twist == "n5b8"
+    assert (
+        ms.name == "published"
+        and structure.info["ribbons"] == 1
+        and materials.kapton.twist == "n5b8"
+    )
     # a layout with its own wiring table round-trips through the file's [layout] section
     from lcefem.meshes.gridshell_layout import layout_from_table
 
-    wired = layout_from_table({"ribbons": 1, "wiring": {"top": ["Tx", "Ty"], "bottom": ["Bx", "By"]}})
+    wired = layout_from_table(
+        {"ribbons": 1, "wiring": {"top": ["Tx", "Ty"], "bottom": ["Bx", "By"]}}
+    )
     text = "\n".join(gd.layout_toml(wired))
     import tomllib
 
     assert layout_from_table(tomllib.loads(text)["layout"]) == wired
     path.write_text(path.read_text().replace('model_set = "published"', 'model_set = "mine"'))
-    assert "schedule.model_set = 'mine'" in str(pytest.raises(Exception, surface_model, load_schedule(path)).value)
+    assert "schedule.model_set = 'mine'" in str(
+        pytest.raises(Exception, surface_model, load_schedule(path)).value
+    )
 
 
 @pytest.mark.slow
@@ -289,6 +329,7 @@ def test_replay_ends_on_the_design_target_with_the_design_model_set(tmp_path):
     import json
 
     from lcefem.validation.app.cli import main
+
     d = gd.setup_design("4", "rollers", model_set="published")
     p = np.array([1.30, 1.25, 1.10, 1.15])
     target = gd.forward_check(d, p)
@@ -297,9 +338,16 @@ def test_replay_ends_on_the_design_target_with_the_design_model_set(tmp_path):
     finals = {}
     for name, extra in (("own", []), ("fe", ["--model-set", "fe-calibrated"])):
         out = tmp_path / name
-        assert main(["run", "gridshell", "--schedule", str(path), "--out", str(out), "--quiet", *extra]) == 0
+        assert (
+            main(
+                ["run", "gridshell", "--schedule", str(path), "--out", str(out), "--quiet", *extra]
+            )
+            == 0
+        )
         f = json.loads((out / "summary.json").read_text())["final"]
-        finals[name] = max(abs(f["circle kappa_x [1/mm]"] - target["circle_x"]),
-                           abs(f["circle kappa_y [1/mm]"] - target["circle_y"]))
+        finals[name] = max(
+            abs(f["circle kappa_x [1/mm]"] - target["circle_x"]),
+            abs(f["circle kappa_y [1/mm]"] - target["circle_y"]),
+        )
     assert finals["own"] <= gd.DESIGN_TOLERANCE
     assert finals["fe"] > 10 * gd.DESIGN_TOLERANCE

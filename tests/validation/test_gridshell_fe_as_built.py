@@ -4,6 +4,7 @@ along each strip's own direction, passive pads and glue) vanishes at u = 0 on th
 level 0; one channel actuated, it does not."""
 
 import dolfinx_solver  # noqa: F401
+
 import numpy as np
 import pytest
 import ufl
@@ -21,9 +22,15 @@ from lcefem.solvers.problems.composite_beam import FEMaterials
 
 @pytest.fixture(scope="module")
 def model():
-    """Quarter gridshell with per-cell stretch a and director n (DG0), residual form compiled once."""
-    tm = build_gridshell_fe(CompositeBeamGeometry(), PUBLISHED_LAMBDA_N, GridshellFEMesh(level=0),
-                            cells=3, symmetry="quarter")
+    """Quarter gridshell with per-cell stretch a and director n (DG0), residual form compiled
+    once."""
+    tm = build_gridshell_fe(
+        CompositeBeamGeometry(),
+        PUBLISHED_LAMBDA_N,
+        GridshellFEMesh(level=0),
+        cells=3,
+        symmetry="quarter",
+    )
     V = displacement_space(tm.mesh, 2)
     u = dolfinx.fem.Function(V)
     a = dolfinx.fem.Function(dolfinx.fem.functionspace(tm.mesh, ("DG", 0)))
@@ -31,11 +38,13 @@ def model():
     materials = FEMaterials()
     F = deformation_gradient(u)
     dx = volume_measure(tm)
-    energy = (neo_hookean_strain_energy(F, materials.kapton) * dx(cell_group(tm, "kapton"))
-              + lce_strain_energy(F * isochoric_uniaxial(1.0 / a, director), materials.lce)
-              * dx(cell_group(tm, "bottom_strips") + cell_group(tm, "top_strips"))
-              + lce_strain_energy(F, materials.lce)
-              * dx(cell_group(tm, "bottom_pads") + cell_group(tm, "top_pads") + cell_group(tm, "glue")))
+    energy = (
+        neo_hookean_strain_energy(F, materials.kapton) * dx(cell_group(tm, "kapton"))
+        + lce_strain_energy(F * isochoric_uniaxial(1.0 / a, director), materials.lce)
+        * dx(cell_group(tm, "bottom_strips") + cell_group(tm, "top_strips"))
+        + lce_strain_energy(F, materials.lce)
+        * dx(cell_group(tm, "bottom_pads") + cell_group(tm, "top_pads") + cell_group(tm, "glue"))
+    )
     residual = dolfinx.fem.form(ufl.derivative(energy, u, ufl.TestFunction(V)))
     tags = np.zeros(a.x.array.size, dtype=np.int32)
     tags[tm.cell_tags.indices] = tm.cell_tags.values

@@ -6,15 +6,22 @@ import json
 import math
 
 from lcefem.solvers.problems.gridshell_heated import JUNCTION_HEATING_DEFAULT
-from lcefem.validation.studies.gridshell import gridshell_fe_current_store as store
 from lcefem.validation.cases import gridshell_heated_fe
 from lcefem.validation.cases.gridshell_heated_fe import _stored_current_route_rows
+from lcefem.validation.studies.gridshell import gridshell_fe_current_store as store
 
 
 def _summary(shape: str, level: int, heating: str) -> dict:
-    return {"shape": shape, "mesh level": level, "support": "rollers", "current [A]": {},
-            "current rule": "r", "held": {"kappa_circle_x [1/mm]": -0.01, "kappa_circle_y [1/mm]": -0.01},
-            "cpu [s]": 1.0, "junction_heating": heating}
+    return {
+        "shape": shape,
+        "mesh level": level,
+        "support": "rollers",
+        "current [A]": {},
+        "current rule": "r",
+        "held": {"kappa_circle_x [1/mm]": -0.01, "kappa_circle_y [1/mm]": -0.01},
+        "cpu [s]": 1.0,
+        "junction_heating": heating,
+    }
 
 
 def test_store_refuses_a_level_below_one_by_name(tmp_path, capsys):

@@ -1,6 +1,7 @@
 """benchmarks/gridshell_fe_recipes.py: a recipe the command refuses is reported as failed,
-with the command's one-line reason and exit code, and no figures (the benchmark never reads a summary
-the run did not write)."""
+with the command's one-line reason and exit code, and no figures (the benchmark never reads a
+summary the run did not write)."""
+
 import gridshell_fe_recipes as bench
 
 

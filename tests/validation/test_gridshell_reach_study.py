@@ -10,7 +10,9 @@ from lcefem.validation.studies.design import gridshell_reach_study as rs
 def _grid(n=9, side=141.0):
     u = np.linspace(-side / 2, side / 2, n)
     x, y = np.meshgrid(u, u)
-    return np.column_stack([x.ravel() + 30.0, y.ravel() - 12.0, np.zeros(x.size)])  # off-centre on purpose
+    return np.column_stack(
+        [x.ravel() + 30.0, y.ravel() - 12.0, np.zeros(x.size)]
+    )  # off-centre on purpose
 
 
 def test_rigid_fit_removes_translation_and_tilts_only():
@@ -24,7 +26,7 @@ def test_rigid_fit_removes_translation_and_tilts_only():
     pts[:, 2] = xy[:, 0] ** 2 / 200.0
     r = rs.rigid_residual(pts, lambda x, y: 0.0 * x)
     q = xy[:, 0] ** 2 / 200.0
-    assert np.sqrt(np.mean(r ** 2)) == pytest.approx(np.std(q), rel=1e-12)
+    assert np.sqrt(np.mean(r**2)) == pytest.approx(np.std(q), rel=1e-12)
 
 
 def test_flat_surface_against_the_twist_is_its_rms():
@@ -34,7 +36,7 @@ def test_flat_surface_against_the_twist_is_its_rms():
     xy = pts[:, :2] - pts[:, :2].mean(axis=0)
     r = rs.rigid_residual(pts, rs.TARGETS["twisted"][0])
     expected = rs.TWIST * np.sqrt(np.mean((xy[:, 0] * xy[:, 1]) ** 2))
-    assert np.sqrt(np.mean(r ** 2)) == pytest.approx(expected, rel=1e-12)
+    assert np.sqrt(np.mean(r**2)) == pytest.approx(expected, rel=1e-12)
     assert expected > 1.0  # the flat surface misses the twist by more than the study's 1 mm
 
 
@@ -44,4 +46,6 @@ def test_study_grids_keep_the_published_side():
     for name in ("3x3", "5x5"):
         g = rs.GRIDS[name].geometry(CompositeBeamGeometry())
         n = rs.GRIDS[name].ribbons
-        assert (n + 1) * g.segment_length + n * g.junction_length == pytest.approx(rs.SIDE, abs=1e-9)
+        assert (n + 1) * g.segment_length + n * g.junction_length == pytest.approx(
+            rs.SIDE, abs=1e-9
+        )

@@ -11,13 +11,21 @@ import pytest
 from lcefem.meshes.gridshell import build_gridshell_bar_hinge
 from lcefem.models.errors import InputError
 from lcefem.models.lce import spontaneous_stretch
-from lcefem.models.lumped_heat import (FREE_STRIP, GRID_STRIP, HeatedStrip, LumpedThermal, grid_thermal,
-                                       steady_temperature)
+from lcefem.models.lumped_heat import (
+    FREE_STRIP,
+    GRID_STRIP,
+    HeatedStrip,
+    LumpedThermal,
+    grid_thermal,
+    steady_temperature,
+)
 from lcefem.solvers.problems import gridshell_bh_sequence as seq
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
-GOOD = {"schedule": {"times": [0.0, 20.0], "end": 60.0, "output_interval": 10.0},
-        "currents": {"Tx": [0.1, 0.04], "Bx": [0.2, 0.07]}}
+GOOD = {
+    "schedule": {"times": [0.0, 20.0], "end": 60.0, "output_interval": 10.0},
+    "currents": {"Tx": [0.1, 0.04], "Bx": [0.2, 0.07]},
+}
 
 
 def _with(section, key, value):
@@ -29,22 +37,25 @@ def _with(section, key, value):
     return data
 
 
-@pytest.mark.parametrize("data, field", [
-    ({**GOOD, "extra": {}}, "[extra]"),
-    (_with("schedule", "durations", [1.0]), "schedule.durations"),
-    (_with("schedule", "times", [0.0, 20.0, 20.0]), "schedule.times[2]"),
-    (_with("schedule", "times", [5.0, 20.0]), "schedule.times[0]"),
-    (_with("schedule", "end", 10.0), "schedule.end"),
-    (_with("schedule", "end", 1.0e5), "schedule.end"),
-    (_with("schedule", "output_interval", 0.0), "schedule.output_interval"),
-    (_with("schedule", "support", "glue"), "schedule.support"),
-    (_with("schedule", "thermal_model", "fe"), "schedule.thermal_model"),
-    (_with("currents", "Tx", [0.1, -0.04]), "currents.Tx[1]"),
-    (_with("currents", "Tx", [0.1, 1.5]), "currents.Tx[1]"),
-    (_with("currents", "Tx", [0.1]), "currents.Tx"),
-    (_with("currents", "Tx", [0.1, "a"]), "currents.Tx[1]"),
-    (_with("schedule", "times", None), "schedule.times"),
-])
+@pytest.mark.parametrize(
+    "data, field",
+    [
+        ({**GOOD, "extra": {}}, "[extra]"),
+        (_with("schedule", "durations", [1.0]), "schedule.durations"),
+        (_with("schedule", "times", [0.0, 20.0, 20.0]), "schedule.times[2]"),
+        (_with("schedule", "times", [5.0, 20.0]), "schedule.times[0]"),
+        (_with("schedule", "end", 10.0), "schedule.end"),
+        (_with("schedule", "end", 1.0e5), "schedule.end"),
+        (_with("schedule", "output_interval", 0.0), "schedule.output_interval"),
+        (_with("schedule", "support", "glue"), "schedule.support"),
+        (_with("schedule", "thermal_model", "fe"), "schedule.thermal_model"),
+        (_with("currents", "Tx", [0.1, -0.04]), "currents.Tx[1]"),
+        (_with("currents", "Tx", [0.1, 1.5]), "currents.Tx[1]"),
+        (_with("currents", "Tx", [0.1]), "currents.Tx"),
+        (_with("currents", "Tx", [0.1, "a"]), "currents.Tx[1]"),
+        (_with("schedule", "times", None), "schedule.times"),
+    ],
+)
 def test_bad_schedules_are_refused_naming_the_field(data, field):
     with pytest.raises(InputError) as err:
         seq.schedule_from_dict(data)
@@ -59,9 +70,16 @@ def test_unknown_selection_is_refused():
 
 def test_command_line_refuses_a_bad_schedule_in_one_line(tmp_path, lcefem_cmd):
     bad = tmp_path / "bad.toml"
-    bad.write_text('[schedule]\ntimes = [0, 10, 5]\nend = 20\noutput_interval = 5\n[currents]\nTx = [0.1, 0.1, 0.1]\n')
-    p = subprocess.run([*lcefem_cmd, "run", "gridshell", "--schedule", str(bad), "--out", str(tmp_path / "o")],
-                       capture_output=True, text=True, timeout=120)
+    bad.write_text(
+        '[schedule]\ntimes = [0, 10, 5]\nend = 20\noutput_interval = 5\n[currents]\nTx = [0.1, '
+        '0.1, 0.1]\n'
+    )
+    p = subprocess.run(
+        [*lcefem_cmd, "run", "gridshell", "--schedule", str(bad), "--out", str(tmp_path / "o")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert p.returncode == 2
     assert p.stderr.strip().count("\n") == 0 and "schedule.times[2]" in p.stderr
     assert not (tmp_path / "o").exists()
@@ -74,17 +92,26 @@ def test_shipped_schedules_parse():
         seq.check_selections(sched, build_gridshell_bar_hinge())
 
 
-@pytest.mark.parametrize("thermal_model, strip", [("segment", HeatedStrip()), ("eq1", FREE_STRIP),
-                                                   ("strip", GRID_STRIP)])
+@pytest.mark.parametrize(
+    "thermal_model, strip", [("segment", HeatedStrip()), ("eq1", FREE_STRIP), ("strip", GRID_STRIP)]
+)
 def test_constant_current_reaches_the_closed_form_steady_state(thermal_model, strip):
-    # tau = C / (dLoss/dT) ~ 100 s: after 2000 s the transient is e^-20 below the steady state, which
-    # implicit Euler shares exactly (its fixed point is the root of I^2 R = loss(T)).
+    # tau = C / (dLoss/dT) ~ 100 s: after 2000 s the transient is e^-20 below the steady state,
+    # which implicit Euler shares exactly (its fixed point is the root of I^2 R = loss(T)).
     current = 0.08
-    sched = seq.Schedule((0.0,), {"Tx": (current,)}, end=2000.0, output_interval=500.0,
-                         thermal_model=thermal_model, heat_step=0.5)
+    sched = seq.Schedule(
+        (0.0,),
+        {"Tx": (current,)},
+        end=2000.0,
+        output_interval=500.0,
+        thermal_model=thermal_model,
+        heat_step=0.5,
+    )
     temps, lambdas = seq.strip_histories(sched, sched.output_times())
     # the grid strip carries the calibrated grid exchange (models.lumped_heat.grid_thermal)
-    T_ss = steady_temperature(current, strip, grid_thermal() if thermal_model == "strip" else LumpedThermal())
+    T_ss = steady_temperature(
+        current, strip, grid_thermal() if thermal_model == "strip" else LumpedThermal()
+    )
     assert temps["Tx"][0] == pytest.approx(LumpedThermal().exchange.ambient_temperature)
     assert temps["Tx"][-1] == pytest.approx(T_ss, abs=1e-6)
     assert np.all(np.diff(temps["Tx"]) > -1e-9)  # heating from ambient is monotonic
@@ -100,8 +127,9 @@ def test_switch_time_belongs_to_the_new_interval():
 
 
 def test_zero_current_leaves_the_surface_as_built():
-    sched = dataclasses.replace(seq.schedule_from_dict(GOOD), currents={"T": (0.0, 0.0), "B": (0.0, 0.0)},
-                                end=20.0)
+    sched = dataclasses.replace(
+        seq.schedule_from_dict(GOOD), currents={"T": (0.0, 0.0), "B": (0.0, 0.0)}, end=20.0
+    )
     summary = seq.run_sequence(sched, None, progress=False)
     h = summary["history"]
     assert np.allclose(h["T lambda [-]"], 1.4) and np.allclose(h["B lambda [-]"], 1.4)

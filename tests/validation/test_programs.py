@@ -15,18 +15,38 @@ from lcefem.validation.cases import programs
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: The experiment programs (and what derives from them) that once lived in solvers/.
-NAMES = {"SHAPE_DRIVES", "SHAPE_DRIVE_SOURCES", "RECIPES", "RECIPE_SOURCE", "DOME_PROTOCOL", "SEED_T_NI",
-         "FIG4_SHAPES", "PUBLISHED_SUPPORTS"}
+NAMES = {
+    "SHAPE_DRIVES",
+    "SHAPE_DRIVE_SOURCES",
+    "RECIPES",
+    "RECIPE_SOURCE",
+    "DOME_PROTOCOL",
+    "SEED_T_NI",
+    "FIG4_SHAPES",
+    "PUBLISHED_SUPPORTS",
+}
 
 GOLDEN_SHAPE_DRIVES = {
-    "table": {"lambdas": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
-              "currents": {"Tx": 0.2, "Ty": 0.2, "Bx": 0.2, "By": 0.2}, "support": "rollers"},
-    "dome": {"lambdas": {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05},
-             "currents": {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}, "support": "rollers"},
-    "saddle": {"lambdas": {"Tx": 1.33, "Ty": 1.05, "Bx": 1.05, "By": 1.33},
-               "currents": {"Tx": 0.04, "Ty": 0.07, "Bx": 0.07, "By": 0.04}, "support": "clamp"},
-    "cylinder": {"lambdas": {"Tx": 1.05, "Ty": 1.33, "Bx": 1.33, "By": 1.33},
-                 "currents": {"Tx": 0.07, "Ty": 0.04, "Bx": 0.04, "By": 0.04}, "support": "rollers"},
+    "table": {
+        "lambdas": {"Tx": 1.05, "Ty": 1.05, "Bx": 1.05, "By": 1.05},
+        "currents": {"Tx": 0.2, "Ty": 0.2, "Bx": 0.2, "By": 0.2},
+        "support": "rollers",
+    },
+    "dome": {
+        "lambdas": {"Tx": 1.33, "Ty": 1.33, "Bx": 1.05, "By": 1.05},
+        "currents": {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07},
+        "support": "rollers",
+    },
+    "saddle": {
+        "lambdas": {"Tx": 1.33, "Ty": 1.05, "Bx": 1.05, "By": 1.33},
+        "currents": {"Tx": 0.04, "Ty": 0.07, "Bx": 0.07, "By": 0.04},
+        "support": "clamp",
+    },
+    "cylinder": {
+        "lambdas": {"Tx": 1.05, "Ty": 1.33, "Bx": 1.33, "By": 1.33},
+        "currents": {"Tx": 0.07, "Ty": 0.04, "Bx": 0.04, "By": 0.04},
+        "support": "rollers",
+    },
 }
 GOLDEN_RECIPES = {
     "saddle": ({"XD": 0.75, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "clamp"),
@@ -34,20 +54,52 @@ GOLDEN_RECIPES = {
     "cylinder": ({"XD": 0.95, "YD": 0.95, "XU": 0.95, "YU": 0.75}, "rollers"),
     "table": ({"XD": 0.75, "YD": 0.75, "XU": 0.72, "YU": 0.72}, "rollers"),
     "cone": ({"XD1": 0.75, "XD2": 0.85, "XD3": 0.95, "YD": 0.90, "XU": 0.95, "YU": 0.90}, "clamp"),
-    "twisted": ({"XD1": 0.85, "XD2": 0.80, "XD3": 0.95, "YD": 0.90, "XU1": 0.95, "XU2": 0.80,
-                 "XU3": 0.85, "YU": 0.90}, "clamp"),
-    "wave": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.75, "YD": 0.90, "XU:x<70.5": 0.75, "XU:x>70.5": 0.95,
-              "YU": 0.90}, "clamp"),
-    "dustpan": ({"XD:x<70.5": 0.95, "XD:x>70.5": 0.85, "YD": 0.95, "XU:x<70.5": 0.80,
-                 "XU:x>70.5": 0.95, "YU": 0.80}, "clamp"),
+    "twisted": (
+        {
+            "XD1": 0.85,
+            "XD2": 0.80,
+            "XD3": 0.95,
+            "YD": 0.90,
+            "XU1": 0.95,
+            "XU2": 0.80,
+            "XU3": 0.85,
+            "YU": 0.90,
+        },
+        "clamp",
+    ),
+    "wave": (
+        {
+            "XD:x<70.5": 0.95,
+            "XD:x>70.5": 0.75,
+            "YD": 0.90,
+            "XU:x<70.5": 0.75,
+            "XU:x>70.5": 0.95,
+            "YU": 0.90,
+        },
+        "clamp",
+    ),
+    "dustpan": (
+        {
+            "XD:x<70.5": 0.95,
+            "XD:x>70.5": 0.85,
+            "YD": 0.95,
+            "XU:x<70.5": 0.80,
+            "XU:x>70.5": 0.95,
+            "YU": 0.80,
+        },
+        "clamp",
+    ),
 }
-GOLDEN_DOME_PROTOCOL = ((0.0, {"Tx": 0.1, "Ty": 0.1, "Bx": 0.2, "By": 0.2}),
-                        (20.0, {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}))
+GOLDEN_DOME_PROTOCOL = (
+    (0.0, {"Tx": 0.1, "Ty": 0.1, "Bx": 0.2, "By": 0.2}),
+    (20.0, {"Tx": 0.04, "Ty": 0.04, "Bx": 0.07, "By": 0.07}),
+)
 
 
 def test_solvers_define_no_experiment_program():
     """No module of solvers/ binds one of the names at any depth (ast: assignments, functions,
-    classes); a walk that saw nothing would pass, so it must see the run module it once held them."""
+    classes); a walk that saw nothing would pass, so it must see the run module it once held
+    them."""
     sources = sorted((ROOT / "solvers").rglob("*.py"))
     assert ROOT / "solvers" / "problems" / "gridshell_bh_run.py" in sources
     defined = []
@@ -56,7 +108,9 @@ def test_solvers_define_no_experiment_program():
             targets = []
             if isinstance(node, ast.Assign):
                 targets = [t for t in node.targets if isinstance(t, ast.Name)]
-            elif isinstance(node, (ast.AnnAssign, ast.AugAssign)) and isinstance(node.target, ast.Name):
+            elif isinstance(node, (ast.AnnAssign, ast.AugAssign)) and isinstance(
+                node.target, ast.Name
+            ):
                 targets = [node.target]
             names = {t.id for t in targets}
             if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
@@ -67,12 +121,21 @@ def test_solvers_define_no_experiment_program():
 
 def test_loaded_programs_equal_the_former_python_values():
     assert programs.SHAPE_DRIVES == GOLDEN_SHAPE_DRIVES
-    assert list(programs.SHAPE_DRIVES) == ["table", "dome", "saddle", "cylinder"]  # order: shape index
+    assert list(programs.SHAPE_DRIVES) == [
+        "table",
+        "dome",
+        "saddle",
+        "cylinder",
+    ]  # order: shape index
     assert programs.RECIPES == GOLDEN_RECIPES and list(programs.RECIPES) == list(GOLDEN_RECIPES)
     assert programs.DOME_PROTOCOL == GOLDEN_DOME_PROTOCOL
     assert programs.SEED_T_NI == 70.0
-    assert programs.PUBLISHED_SUPPORTS == {"table": "rollers", "dome": "rollers", "saddle": "centre_clamp",
-                                           "cylinder": "rollers"}
+    assert programs.PUBLISHED_SUPPORTS == {
+        "table": "rollers",
+        "dome": "rollers",
+        "saddle": "centre_clamp",
+        "cylinder": "rollers",
+    }
     assert programs.FIG4_SHAPES["saddle"] == GOLDEN_SHAPE_DRIVES["saddle"]["lambdas"]
     # every program carries its source (seed and place)
     assert programs.SHAPE_DRIVE_SOURCES["lambdas"].startswith("seed 001, Results (Fig. 4 B-E)")
@@ -90,17 +153,38 @@ def _variant(tmp_path, old: str, new: str) -> pathlib.Path:
     return path
 
 
-@pytest.mark.parametrize("old, new, message", [
-    ('[gridshell_shapes.dome]\nlambdas', '[gridshell_shapes.dome]\nlambda = 1.0\nlambdas',
-     r"^programs.toml: gridshell_shapes.dome: unknown key 'lambda' \(allowed: lambdas, currents, support\)$"),
-    ('support = "clamp"', 'support = "clamps"', r"gridshell_shapes.saddle.support = 'clamps': allowed clamp,"),
-    ('Tx = 1.33, Ty = 1.33, Bx = 1.05', 'Tx = "1.33", Ty = 1.33, Bx = 1.05',
-     r"gridshell_shapes.dome.lambdas.Tx = '1.33': must be a number$"),
-    ('{ start = 20.0,', '{ begin = 20.0,', r"dome_protocol.steps\[1\]: unknown key 'begin'"),
-    ('temperature = 70.0', 'temperature = 70.0\nunit = "C"', r"strip_crossing: unknown key 'unit'"),
-    ('# ---------------------------------------------------------------- single strip',
-     '[ribbon]\nx = 1\n', r"^programs.toml: unknown key 'ribbon'"),
-])
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        (
+            '[gridshell_shapes.dome]\nlambdas',
+            '[gridshell_shapes.dome]\nlambda = 1.0\nlambdas',
+            r"^programs.toml: gridshell_shapes.dome: unknown key 'lambda' \(allowed: lambdas, "
+            r"currents, support\)$",
+        ),
+        (
+            'support = "clamp"',
+            'support = "clamps"',
+            r"gridshell_shapes.saddle.support = 'clamps': allowed clamp,",
+        ),
+        (
+            'Tx = 1.33, Ty = 1.33, Bx = 1.05',
+            'Tx = "1.33", Ty = 1.33, Bx = 1.05',
+            r"gridshell_shapes.dome.lambdas.Tx = '1.33': must be a number$",
+        ),
+        ('{ start = 20.0,', '{ begin = 20.0,', r"dome_protocol.steps\[1\]: unknown key 'begin'"),
+        (
+            'temperature = 70.0',
+            'temperature = 70.0\nunit = "C"',
+            r"strip_crossing: unknown key 'unit'",
+        ),
+        (
+            '# ---------------------------------------------------------------- single strip',
+            '[ribbon]\nx = 1\n',
+            r"^programs.toml: unknown key 'ribbon'",
+        ),
+    ],
+)
 def test_a_bad_programs_file_is_one_line_naming_the_key(tmp_path, old, new, message):
     with pytest.raises(InputError, match=message) as err:
         programs.load_programs(_variant(tmp_path, old, new))
@@ -122,4 +206,6 @@ def test_the_pulse_before_a_hold_is_the_dome_protocols():
         data = read_toml(path, path.name)
         hold = {k: v[1] for k, v in data["currents"].items()}
         assert data["schedule"]["times"][1] == duration
-        assert programs.pulse_currents(hold)[1] == {k: v[0] for k, v in data["currents"].items()}, path.name
+        assert programs.pulse_currents(hold)[1] == {k: v[0] for k, v in data["currents"].items()}, (
+            path.name
+        )

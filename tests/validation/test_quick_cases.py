@@ -1,8 +1,8 @@
 """Every validation case at its quick resolution: each failing row must be a registered known
 disagreement (validation/data/known_disagreements.toml), so a physics regression (an unexplained
 failure) fails CI while an explained disagreement with experiment does not (issues 3, 16), and each
-must show the phenomena declared for it in validation/data/phenomena.toml, the physics its full level
-shows (issue 16).
+must show the phenomena declared for it in validation/data/phenomena.toml, the physics its full
+level shows (issue 16).
 Verification cases (manufactured solutions, closed forms of the FE mechanics) run in
 tests/verification/test_verification_cases.py."""
 

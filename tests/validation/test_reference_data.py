@@ -38,7 +38,11 @@ def test_every_entry_has_value_unit_and_source(dataset):
 @pytest.mark.parametrize("dataset", rd.DATASETS)
 def test_each_published_value_appears_in_its_quote(dataset):
     for key, ref in rd.load(dataset).items():
-        values = ref.published_value if isinstance(ref.published_value, tuple) else (ref.published_value,)
+        values = (
+            ref.published_value
+            if isinstance(ref.published_value, tuple)
+            else (ref.published_value,)
+        )
         quoted = _quoted_numbers(ref.quote)
         for v in values:
             assert any(abs(v - q) <= 1e-12 * max(1.0, abs(v)) for q in quoted), (key, v, quoted)
@@ -86,7 +90,8 @@ def test_unknown_key_names_close_matches():
 
 
 def test_each_coil_and_nematic_number_has_one_definition_matching_the_seed():
-    """models/ holds the numbers; the seed records in validation/data are the evidence they must match."""
+    """models/ holds the numbers; the seed records in validation/data are the evidence they must
+    match."""
     from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, LCEStripBars
     from lcefem.models.empirical import EQ1_LAMBDA_N, Eq1, Eq2
     from lcefem.models.heat import Coil, GridSegmentCoil
@@ -96,7 +101,7 @@ def test_each_coil_and_nematic_number_has_one_definition_matching_the_seed():
     seg = GridSegmentCoil()
     assert seg.resistance == reference("coil.segment_resistance").value == 25.0
     assert seg.resistance_per_length == reference("coil.resistance_per_length").value
-    assert seg.power(0.2) == pytest.approx(0.2 ** 2 * 25.0 * 1e3)  # mW
+    assert seg.power(0.2) == pytest.approx(0.2**2 * 25.0 * 1e3)  # mW
     assert Coil().power(0.2) == pytest.approx(5864.0)  # seed 001: 5.79 +- 0.27 W at 0.2 A
     assert EQ1_LAMBDA_N == 1.0 + Eq1().gamma_1 == NematicTransition().lambda_N
     assert Eq2().lambda_N == LCEStripBars().lambda_N == PUBLISHED_LAMBDA_N == 1.4

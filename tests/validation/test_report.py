@@ -5,8 +5,8 @@ import math
 
 from lcefem.solvers.runtime.files import json_safe
 from lcefem.validation.app import report
-from lcefem.validation.cases import Metric
 from lcefem.validation.app.report import CaseResult
+from lcefem.validation.cases import Metric
 
 
 def _row(metric: Metric) -> dict:
@@ -35,13 +35,23 @@ def test_nan_values_are_written_as_null_and_fail():
 
 
 def test_report_lists_errors_and_figures_with_captions():
-    ok = CaseResult("a", "case a", "done", 1.25, metrics=[_row(Metric.info("a", "x", 1.0, "N", "src"))],
-                    figures=[{"path": "a/fig.png", "caption": "A figure. Sources: seed 001."}])
-    bad = CaseResult("b", "case b", "error", 0.5, error="ConvergenceError: no convergence at t = 3 s")
+    ok = CaseResult(
+        "a",
+        "case a",
+        "done",
+        1.25,
+        metrics=[_row(Metric.info("a", "x", 1.0, "N", "src"))],
+        figures=[{"path": "a/fig.png", "caption": "A figure. Sources: seed 001."}],
+    )
+    bad = CaseResult(
+        "b", "case b", "error", 0.5, error="ConvergenceError: no convergence at t = 3 s"
+    )
     md = report.render_report([ok, bad], command="lcefem validate a b", quick=True, total_wall=1.75)
     assert "`lcefem validate a b`" in md and "quick (coarse, CI)" in md
     assert "| a | x | 1 | N | - | - | info | src |" in md
-    assert "| b | (error) | - |  | - | - | ERROR | ConvergenceError: no convergence at t = 3 s |" in md
+    assert (
+        "| b | (error) | - |  | - | - | ERROR | ConvergenceError: no convergence at t = 3 s |" in md
+    )
     assert "![Figure 1](a/fig.png)" in md and "*Figure 1. A figure. Sources: seed 001.*" in md
     assert "wall time: 1.25 s" in md and "1 metrics pass" not in md  # informative only
     assert "0 metrics pass, 0 fail, 1 informative; 1 cases did not finish" in md
@@ -51,6 +61,7 @@ def test_numpy_scalars_from_cases_are_written_as_plain_json():
     import numpy as np
 
     m = Metric.within("c", "x", np.float64(1.0), "-", np.float64(1.0), np.float64(0.1), "s")
-    text = json.dumps(json_safe(m.as_dict() | {"n": np.int64(3), "ok": np.bool_(True)}),
-                      allow_nan=False)
+    text = json.dumps(
+        json_safe(m.as_dict() | {"n": np.int64(3), "ok": np.bool_(True)}), allow_nan=False
+    )
     assert '"passed": true' in text and '"n": 3' in text and '"ok": true' in text

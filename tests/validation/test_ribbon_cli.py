@@ -10,14 +10,23 @@ from lcefem.models.errors import InputError
 from lcefem.validation.app.cli import main
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["--duration", "-1"], "--duration = -1.0 s: must be > 0 s"),
-    (["--nodes", "0"], "--nodes = 0: must be >= 3"),
-    (["--config", "/nonexistent/case.toml"], "file not found"),
-    (["--obstacle", "0", "10"], "--obstacle WIDTH = 0.0 mm: must be > 0 mm"),
-    (["--obstacle-offset", "5"], "--obstacle-offset/--obstacle-distance: give the block's size"),
-    (["--obstacle", "0.8", "10"], "obstacle.width = 0.8 mm: must exceed twice obstacle.edge_radius"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--duration", "-1"], "--duration = -1.0 s: must be > 0 s"),
+        (["--nodes", "0"], "--nodes = 0: must be >= 3"),
+        (["--config", "/nonexistent/case.toml"], "file not found"),
+        (["--obstacle", "0", "10"], "--obstacle WIDTH = 0.0 mm: must be > 0 mm"),
+        (
+            ["--obstacle-offset", "5"],
+            "--obstacle-offset/--obstacle-distance: give the block's size",
+        ),
+        (
+            ["--obstacle", "0.8", "10"],
+            "obstacle.width = 0.8 mm: must exceed twice obstacle.edge_radius",
+        ),
+    ],
+)
 def test_bad_input_exits_2(argv, message, capsys, tmp_path):
     code = main(["run", "ribbon", "--quiet", "--out", str(tmp_path / "out"), *argv])
     err = capsys.readouterr().err
@@ -30,50 +39,95 @@ def test_bad_input_exits_2(argv, message, capsys, tmp_path):
 def test_unknown_config_key(tmp_path, capsys):
     cfg = tmp_path / "case.toml"
     cfg.write_text("[geometry]\nwidht = 4.0\n")
-    assert main(["run", "ribbon", "--quiet", "--config", str(cfg), "--out", str(tmp_path / "o")]) == 2
+    assert (
+        main(["run", "ribbon", "--quiet", "--config", str(cfg), "--out", str(tmp_path / "o")]) == 2
+    )
     assert "unknown key 'geometry.widht'" in capsys.readouterr().err
 
 
 def test_config_bounds(tmp_path, capsys):
     cfg = tmp_path / "case.toml"
     cfg.write_text("[numerics]\nnodes = 2\n")
-    assert main(["run", "ribbon", "--quiet", "--config", str(cfg), "--out", str(tmp_path / "o")]) == 2
+    assert (
+        main(["run", "ribbon", "--quiet", "--config", str(cfg), "--out", str(tmp_path / "o")]) == 2
+    )
     assert "numerics.nodes = 2" in capsys.readouterr().err
 
 
 def test_short_run_end_to_end(tmp_path, lcefem_cmd):
     out = tmp_path / "run"
-    proc = subprocess.run([*lcefem_cmd, "run", "ribbon", "--ground-temperature", "90", "--duration", "0.4",
-                           "--nodes", "12", "--dt", "0.02", "--out", str(out), "--quiet"],
-                          capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(
+        [
+            *lcefem_cmd,
+            "run",
+            "ribbon",
+            "--ground-temperature",
+            "90",
+            "--duration",
+            "0.4",
+            "--nodes",
+            "12",
+            "--dt",
+            "0.02",
+            "--out",
+            str(out),
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert proc.returncode == 0, proc.stderr
     names = {p.name for p in out.iterdir()}
-    assert {"centerline.pvd", "surface.pvd", "centroid.csv", "history.csv", "trajectory.png", "summary.json"} <= names
+    assert {
+        "centerline.pvd",
+        "surface.pvd",
+        "centroid.csv",
+        "history.csv",
+        "trajectory.png",
+        "summary.json",
+    } <= names
     assert not any(n.endswith(".part") for n in names)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["config"]["run"]["ground_temperature"]["value"] == 90.0
     assert summary["config"]["numerics"]["nodes"]["value"] == 12
     assert (out / "centroid.csv").read_text().splitlines()[0] == "time [s],x [mm],y [mm],z [mm]"
     import pyvista as pv
+
     reader = pv.get_reader(str(out / "centerline.pvd"))
     assert len(reader.time_values) >= 2
     mesh = reader.read()[0]
     assert mesh.n_points == 12
-    for name in ("twist_density [rad/mm]", "curvature [1/mm]", "temperature [C]", "contact_force [N]"):
+    for name in (
+        "twist_density [rad/mm]",
+        "curvature [1/mm]",
+        "temperature [C]",
+        "contact_force [N]",
+    ):
         assert name in mesh.point_data
 
 
 def test_config_from_args_rejects_bad_dt(tmp_path):
     from argparse import Namespace
+
     from lcefem.validation.app.commands.ribbon import config_from_args
-    args = Namespace(config=None, ground_temperature=None, duration=None, twist_density=None, helix_radius=None,
-                     nodes=None, dt=0.0)
+
+    args = Namespace(
+        config=None,
+        ground_temperature=None,
+        duration=None,
+        twist_density=None,
+        helix_radius=None,
+        nodes=None,
+        dt=0.0,
+    )
     with pytest.raises(InputError, match="--dt"):
         config_from_args(args)
 
 
 def test_obstacle_reaches_the_rod(tmp_path):
-    """--obstacle places a box of that width and height in the ribbon's path, centred on its middle."""
+    """--obstacle places a box of that width and height in the ribbon's path, centred on its
+    middle."""
     import argparse
 
     from lcefem.solvers.der.ribbon import RibbonSimulation
@@ -85,7 +139,9 @@ def test_obstacle_reaches_the_rod(tmp_path):
     cfg = ribbon.config_from_args(args).validated()
     setup = cfg.setup()
     assert len(setup.blocks) == 1
-    sim = RibbonSimulation(dataclasses.replace(setup, numerics=dataclasses.replace(setup.numerics, settle_time=0.0)))
+    sim = RibbonSimulation(
+        dataclasses.replace(setup, numerics=dataclasses.replace(setup.numerics, settle_time=0.0))
+    )
     (box,) = sim.rod.boxes
     x = sim.state.x
     mid = 0.5 * (x[:, 0].min() + x[:, 0].max())

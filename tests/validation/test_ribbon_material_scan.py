@@ -13,10 +13,23 @@ def test_bad_point_exits_2(tmp_path, capsys):
 
 
 def test_table_names_the_changed_parameter(tmp_path):
-    row = {"average_speed [mm/s]": 4.818, "rolls": 1.0, "spin_rate_ratio [-]": 1.0,
-           "twist_density_variation [-]": 0.0113, "T_mean_final [C]": 51.07, "T": 65.0, "nodes": 61, "dt": 0.005,
-           "duration": 120.0, "cpu": 64.3,
-           "changes": ["numerics.cells_thickness=4", "numerics.perturbation=1.0", "material.actuation_stretch=1.75"]}
+    row = {
+        "average_speed [mm/s]": 4.818,
+        "rolls": 1.0,
+        "spin_rate_ratio [-]": 1.0,
+        "twist_density_variation [-]": 0.0113,
+        "T_mean_final [C]": 51.07,
+        "T": 65.0,
+        "nodes": 61,
+        "dt": 0.005,
+        "duration": 120.0,
+        "cpu": 64.3,
+        "changes": [
+            "numerics.cells_thickness=4",
+            "numerics.perturbation=1.0",
+            "material.actuation_stretch=1.75",
+        ],
+    }
     rows = tmp_path / "r.jsonl"
     rows.write_text(json.dumps(row) + "\n")
     csv = tmp_path / "scan.csv"

@@ -12,13 +12,16 @@ def run(cmd, *args, **kw):
     return subprocess.run(cmd + list(args), capture_output=True, text=True, timeout=600, **kw)
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--current", "-0.1"], "run.current = -0.1: must be >= 0.0 A"),
-    (["--mesh-size", "0"], "mesh.size = 0.0: must be > 0 mm"),
-    (["--duration", "0"], "run.duration = 0.0: must be > 0 s"),
-    (["--config", "/nonexistent/case.toml"], "file not found"),
-    (["--bc", "sideways"], "invalid choice: 'sideways'"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--current", "-0.1"], "run.current = -0.1: must be >= 0.0 A"),
+        (["--mesh-size", "0"], "mesh.size = 0.0: must be > 0 mm"),
+        (["--duration", "0"], "run.duration = 0.0: must be > 0 s"),
+        (["--config", "/nonexistent/case.toml"], "file not found"),
+        (["--bc", "sideways"], "invalid choice: 'sideways'"),
+    ],
+)
 def test_bad_input_one_line_exit_2(tmp_path, lcefem_cmd, args, message):
     out = tmp_path / "out"
     res = run(lcefem_cmd, "run", "strip", "--out", str(out), *args)
@@ -38,7 +41,9 @@ def test_unknown_config_key(tmp_path, lcefem_cmd):
 
 def test_completed_run_outputs(tmp_path, lcefem_cmd):
     case = tmp_path / "case.toml"
-    case.write_text("[run]\ncurrent = 0.15\nduration = 4.0\ndt = 2.0\n[exchange]\nemissivity = 0.8\n")
+    case.write_text(
+        "[run]\ncurrent = 0.15\nduration = 4.0\ndt = 2.0\n[exchange]\nemissivity = 0.8\n"
+    )
     out = tmp_path / "run"
     res = run(lcefem_cmd, "run", "strip", "--config", str(case), "--out", str(out), "--quiet")
     assert res.returncode == 0, res.stderr
@@ -51,14 +56,18 @@ def test_completed_run_outputs(tmp_path, lcefem_cmd):
     assert float(rows[-1]["T_mean [C]"]) > 25.0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "completed"
-    assert summary["config"]["run"]["current"] == {"value": 0.15, "unit": "A",
-                                                   "source": summary["config"]["run"]["current"]["source"]}
+    assert summary["config"]["run"]["current"] == {
+        "value": 0.15,
+        "unit": "A",
+        "source": summary["config"]["run"]["current"]["source"],
+    }
     assert summary["config"]["exchange"]["emissivity"]["value"] == 0.8
-    assert summary["power [mW]"] == pytest.approx(0.15 ** 2 * 146.6 * 1e3)
+    assert summary["power [mW]"] == pytest.approx(0.15**2 * 146.6 * 1e3)
 
 
 def test_failed_run_keeps_converged_steps_as_partial(tmp_path, lcefem_cmd):
-    """Newton allowed no iteration: the first heated step cannot converge even after step cutting."""
+    """Newton allowed no iteration: the first heated step cannot converge even after step
+    cutting."""
     case = tmp_path / "case.toml"
     case.write_text("[run]\nduration = 2.0\ndt = 1.0\n[petsc]\nsnes_max_it = 0\n")
     out = tmp_path / "run"

@@ -8,9 +8,9 @@ import pytest
 from lcefem.solvers.runtime.outdir import STAMP_TEXT
 from lcefem.validation import cases as case_registry
 from lcefem.validation.app import plots
-from lcefem.validation.cases import Case, Metric
 from lcefem.validation.app.cli import main as cli_main
 from lcefem.validation.app.report import METRIC_KEYS
+from lcefem.validation.cases import Case, Metric
 
 EMPIRICAL = ["tension_law", "ribbon_load_strain"]
 
@@ -18,8 +18,12 @@ EMPIRICAL = ["tension_law", "ribbon_load_strain"]
 def test_validate_quick_on_the_closed_form_cases(lcefem_cmd, tmp_path):
     """The console command end to end; every quick metric of these cases meets its tolerance."""
     out = tmp_path / "v"
-    proc = subprocess.run([*lcefem_cmd, "validate", *EMPIRICAL, "--quick", "--quiet", "--out", str(out)],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [*lcefem_cmd, "validate", *EMPIRICAL, "--quick", "--quiet", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     rows = json.loads((out / "metrics.json").read_text())
     assert rows and all(tuple(r) == METRIC_KEYS for r in rows)
@@ -28,7 +32,9 @@ def test_validate_quick_on_the_closed_form_cases(lcefem_cmd, tmp_path):
     assert all(r["source"] for r in rows)
     for name in EMPIRICAL:
         assert (out / name / "metrics.json").is_file()
-        assert (out / name / f"{name}.csv").read_text().splitlines()[0].count("[") >= 3  # units in headers
+        assert (out / name / f"{name}.csv").read_text().splitlines()[0].count(
+            "["
+        ) >= 3  # units in headers
     md = (out / "report.md").read_text()
     assert "| case | metric | value | unit | reference ± tolerance | error | pass | source |" in md
     assert "lcefem validate tension_law ribbon_load_strain --quick --quiet --out" in md
@@ -39,8 +45,13 @@ def test_validate_quick_on_the_closed_form_cases(lcefem_cmd, tmp_path):
 
 def _ok_case(ctx):
     (ctx.out / "data.csv").write_text("x [-]\n1\n")
-    png = plots.comparison_plot(ctx.path("ok.png"), [plots.Series([0, 1], [0, 1], "model")],
-                                xlabel="x [-]", ylabel="y [-]", sources=["test"])
+    png = plots.comparison_plot(
+        ctx.path("ok.png"),
+        [plots.Series([0, 1], [0, 1], "model")],
+        xlabel="x [-]",
+        ylabel="y [-]",
+        sources=["test"],
+    )
     ctx.add_figure(png, "a line. Sources: test.")
     return [Metric.within("", "one", 1.0, "-", 1.0, 0.1, "test")]
 
@@ -63,8 +74,13 @@ def test_validate_with_a_relative_out_from_another_directory(lcefem_cmd, tmp_pat
     (A figure path joined to the out folder twice failed every case that writes a figure.)"""
     cwd = tmp_path / "elsewhere"
     cwd.mkdir()
-    proc = subprocess.run([*lcefem_cmd, "validate", "tension_law", "--quick", "--quiet", "--out", "rel/v"],
-                          capture_output=True, text=True, timeout=120, cwd=cwd)
+    proc = subprocess.run(
+        [*lcefem_cmd, "validate", "tension_law", "--quick", "--quiet", "--out", "rel/v"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=cwd,
+    )
     assert proc.returncode == 0, proc.stderr
     out = cwd / "rel" / "v"
     assert (out / "tension_law" / "tension_law.png").is_file()
@@ -81,11 +97,18 @@ def toy_cases(monkeypatch):
         def run(ctx):
             calls[ctx.case] = calls.get(ctx.case, 0) + 1
             return func(ctx)
+
         return run
 
-    for name, func in (("toy_ok", _ok_case), ("toy_fail", _failing_metric_case),
-                       ("toy_raise", _raising_case), ("toy_interrupt", _interrupted_case)):
-        monkeypatch.setitem(case_registry._CASES, name, Case(name, counted(func), f"{name} case", False, False))
+    for name, func in (
+        ("toy_ok", _ok_case),
+        ("toy_fail", _failing_metric_case),
+        ("toy_raise", _raising_case),
+        ("toy_interrupt", _interrupted_case),
+    ):
+        monkeypatch.setitem(
+            case_registry._CASES, name, Case(name, counted(func), f"{name} case", False, False)
+        )
     return calls
 
 
@@ -135,12 +158,28 @@ def test_interrupted_run_keeps_completed_cases_and_leaves_no_marker(toy_cases, t
     out = tmp_path / "v"
     # a stale marker of an earlier complete run must not survive a resumed run that is interrupted
     (out / "toy_interrupt").mkdir(parents=True)
-    (out / ".lcefem-out").write_text(STAMP_TEXT.format(command="validate"))  # --resume: lcefem's folder
-    (out / "toy_interrupt" / "metrics.json").write_text(  # of another resolution (quick): not reused
-        '{"case": "toy_interrupt", "description": "", "status": "done", "wall_time": 0.0, "quick": true, '
-        '"metrics": [], "figures": []}')
-    rc = cli_main(["validate", "toy_ok", "toy_interrupt", "toy_fail", "--out", str(out), "--quiet",
-                   "--resume"])
+    (out / ".lcefem-out").write_text(
+        STAMP_TEXT.format(command="validate")
+    )  # --resume: lcefem's folder
+    (
+        out / "toy_interrupt" / "metrics.json"
+    ).write_text(  # of another resolution (quick): not reused
+        '{"case": "toy_interrupt", "description": "", "status": "done", "wall_time": 0.0, '
+        '"quick": true, '
+        '"metrics": [], "figures": []}'
+    )
+    rc = cli_main(
+        [
+            "validate",
+            "toy_ok",
+            "toy_interrupt",
+            "toy_fail",
+            "--out",
+            str(out),
+            "--quiet",
+            "--resume",
+        ]
+    )
     assert rc == 130 and "interrupted" in capsys.readouterr().err
     assert (out / "toy_ok" / "metrics.json").is_file()
     assert not (out / "toy_interrupt" / "metrics.json").exists()

@@ -47,7 +47,9 @@ def test_helix_from_natural_curvature_and_twist():
     radius, pitch = zip(*[rv.helix_relaxation(n) for n in (21, 41, 81)])
     for comps in (radius, pitch):
         err = [c.relative_error for c in comps]
-        assert rv.observed_order([c.edge_length for c in comps], err) == pytest.approx(2.0, abs=0.15)
+        assert rv.observed_order([c.edge_length for c in comps], err) == pytest.approx(
+            2.0, abs=0.15
+        )
     assert radius[-1].relative_error < 5e-3 and pitch[-1].relative_error < 1e-3
 
 
@@ -60,22 +62,25 @@ def test_euler_buckling():
 def test_incline_stick_and_slide():
     """tan(20 deg) = 0.36 < mu = 0.5: sticks, creeping at the smooth law's speed
     (2 nu/15) atanh(tan(alpha)/mu) = 0.025 mm/s; tan(35 deg) = 0.70 > 0.5: slides with
-    a = g (sin - mu cos) (exact: constant lagged normal force, implicit Euler exact for constant a)."""
+    a = g (sin - mu cos) (exact: constant lagged normal force, implicit Euler exact for constant
+    a)."""
     acc, ref, v = rv.incline_sliding(20.0, 0.5)
     creep = 2 * 0.2 / 15 * math.atanh(math.tan(math.radians(20.0)) / 0.5)
     assert abs(acc) < 1e-3 * STANDARD_GRAVITY
     assert v == pytest.approx(creep, rel=0.05)
     acc, ref, v = rv.incline_sliding(35.0, 0.5)
-    assert ref == pytest.approx(STANDARD_GRAVITY * (math.sin(math.radians(35)) - 0.5 * math.cos(math.radians(35))))
+    assert ref == pytest.approx(
+        STANDARD_GRAVITY * (math.sin(math.radians(35)) - 0.5 * math.cos(math.radians(35)))
+    )
     assert acc == pytest.approx(ref, rel=1e-6)
 
 
 @pytest.mark.slow
 def test_twisted_ribbon_rolls_down_an_incline():
-    """a = (3/4) g sin(alpha) for rolling without slip (mu = 1 >= tan(5 deg)/4). Tolerance 2.5 %: the
-    measured acceleration varies by about +-1 % with the node count, step and window (contact points
-    entering and leaving at the ribbon's ends), without a clean trend in the node count (21 nodes:
-    1.9 %, 41: 0.2 %, 81: 0.9 %); a body sliding instead of rolling would give g sin = 855 mm/s^2
-    (+33 %), a rolling cylinder (2/3) g sin (-11 %)."""
+    """a = (3/4) g sin(alpha) for rolling without slip (mu = 1 >= tan(5 deg)/4). Tolerance 2.5 %:
+    the measured acceleration varies by about +-1 % with the node count, step and window (contact
+    points entering and leaving at the ribbon's ends), without a clean trend in the node count (21
+    nodes: 1.9 %, 41: 0.2 %, 81: 0.9 %); a body sliding instead of rolling would give g sin = 855
+    mm/s^2 (+33 %), a rolling cylinder (2/3) g sin (-11 %)."""
     for n in (21, 41):
         assert rv.incline_rolling(n).relative_error < 0.025

@@ -20,7 +20,11 @@ import traceback
 
 from lcefem.models.errors import ConvergenceError, InputError, PhysicalBoundsError
 from lcefem.solvers.interrupts import Terminated, interrupt_in
-from lcefem.solvers.petsc_options import forget_solver_options, own_petsc_environment, skip_petscrc_files
+from lcefem.solvers.petsc_options import (
+    forget_solver_options,
+    own_petsc_environment,
+    skip_petscrc_files,
+)
 from lcefem.solvers.runtime.exits import EXIT_INPUT, interrupt_exit_code
 from lcefem.solvers.runtime.exits import EXIT_SOLVER as EXIT_CONVERGENCE
 from lcefem.solvers.runtime.files import disk_error_message, library_os_error, write_json
@@ -28,21 +32,35 @@ from lcefem.solvers.runtime.inputs import check_jit_cache, check_start, matplotl
 from lcefem.solvers.runtime.outdir import claim_out
 from lcefem.solvers.runtime.ranks import world, world_rank
 from lcefem.solvers.runtime.run import finish_pending
+from lcefem.solvers.runtime.signals import (
+    install_signal_handlers,
+    keep_petsc_off_signals,
+    reinstall_signal_handlers,
+    restore_signal_handlers,
+)
 from lcefem.solvers.runtime.streams import guarded_streams
-from lcefem.solvers.runtime.signals import (install_signal_handlers, keep_petsc_off_signals,
-                                            reinstall_signal_handlers, restore_signal_handlers)
 from lcefem.validation.app.commands import RUN_TARGETS
 
-#: commands besides ``run``: name -> its module (with add_arguments and main), written out in full so
-#: that a module's move is one edit here (scripts/dev/rooms.py rewrites these strings)
-COMMANDS = {"validate": "lcefem.validation.app.validate", "converge": "lcefem.validation.app.converge",
-            "uncertainty": "lcefem.validation.studies.gridshell.uncertainty", "design": "lcefem.validation.studies.design.design",
-            "control": "lcefem.validation.studies.design.control", "calibrate": "lcefem.validation.studies.gridshell.calibrate",
-            "mesh": "lcefem.validation.app.mesh"}
+#: commands besides ``run``: name -> its module (with add_arguments and main), written out in full
+#: so that a module's move is one edit here (scripts/dev/rooms.py rewrites these strings)
+COMMANDS = {
+    "validate": "lcefem.validation.app.validate",
+    "converge": "lcefem.validation.app.converge",
+    "uncertainty": "lcefem.validation.studies.gridshell.uncertainty",
+    "design": "lcefem.validation.studies.design.design",
+    "control": "lcefem.validation.studies.design.control",
+    "calibrate": "lcefem.validation.studies.gridshell.calibrate",
+    "mesh": "lcefem.validation.app.mesh",
+}
 EXIT_BROKEN_PIPE = 128 + 13  #: as a Unix tool killed by SIGPIPE when its reader closes the pipe
 AGREE_SECONDS = 3.0  #: s, how long a failing rank waits for the others before aborting them
-ABORT_FLUSH_SECONDS = 0.5  #: s, the launcher's time to forward the aborting rank's last line (see _end)
-INPUT_FILES = ("config", "schedule")  #: options naming files a command reads (--overwrite must spare them)
+ABORT_FLUSH_SECONDS = (
+    0.5  #: s, the launcher's time to forward the aborting rank's last line (see _end)
+)
+INPUT_FILES = (
+    "config",
+    "schedule",
+)  #: options naming files a command reads (--overwrite must spare them)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -58,8 +76,12 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     parser = _Parser(prog="lcefem", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     run = sub.add_parser("run", help="run one simulation")
-    targets = run.add_subparsers(dest="target", required=True, parser_class=_Parser,
-                                 metavar="{" + ",".join(RUN_TARGETS) + "}")
+    targets = run.add_subparsers(
+        dest="target",
+        required=True,
+        parser_class=_Parser,
+        metavar="{" + ",".join(RUN_TARGETS) + "}",
+    )
     wanted = list(RUN_TARGETS)
     if argv and len(argv) >= 2 and argv[0] == "run" and argv[1] in RUN_TARGETS:
         wanted = [argv[1]]
@@ -81,9 +103,13 @@ def _classify(exc: BaseException, out=None) -> tuple[int, str]:
     exc = interrupt_in(exc) or exc  # a signal wrapped in a library's error is still a signal
     if isinstance(exc, KeyboardInterrupt):
         name = "SIGTERM" if isinstance(exc, Terminated) else "Ctrl-C"
-        return (interrupt_exit_code(exc),
-                f"lcefem: interrupted ({name}); converged steps are kept as *.partial.* files")
-    if isinstance(exc, BrokenPipeError):  # the reader went away (``| head``): stop quietly, as Unix tools do
+        return (
+            interrupt_exit_code(exc),
+            f"lcefem: interrupted ({name}); converged steps are kept as *.partial.* files",
+        )
+    if isinstance(
+        exc, BrokenPipeError
+    ):  # the reader went away (``| head``): stop quietly, as Unix tools do
         return EXIT_BROKEN_PIPE, ""
     if isinstance(exc, InputError):
         return EXIT_INPUT, f"lcefem: error: {exc}"
@@ -94,9 +120,14 @@ def _classify(exc: BaseException, out=None) -> tuple[int, str]:
     disk = library_os_error(exc) if isinstance(exc, RuntimeError) else None
     if disk is not None:  # a C++ writer's (ADIOS2, VTK) error text naming an errno and its file
         return EXIT_INPUT, f"lcefem: error: {disk_error_message(disk, out)}"
-    if type(exc).__module__.startswith("petsc4py"):  # raised while setting up: an option PETSc rejects
+    if type(exc).__module__.startswith(
+        "petsc4py"
+    ):  # raised while setting up: an option PETSc rejects
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        return EXIT_INPUT, f"lcefem: error: PETSc refused the set-up ({first}); check the [petsc] options"
+        return (
+            EXIT_INPUT,
+            f"lcefem: error: PETSc refused the set-up ({first}); check the [petsc] options",
+        )
     return 1, "".join(traceback.format_exception(exc)).rstrip()  # a bug: keep the traceback
 
 
@@ -113,10 +144,19 @@ def _failure_json(out, exc: ConvergenceError, args, comm) -> None:
     prepared = getattr(args, "prepared", None)
     config = prepared.resolved() if hasattr(prepared, "resolved") else None
     with contextlib.suppress(Exception):  # the original error matters more than this record
-        write_json(path, {
-            "status": "failed", "kind": "out of physical bounds" if isinstance(exc, PhysicalBoundsError)
-            else "no convergence", "where": getattr(exc, "where", ""), "reason": getattr(exc, "reason", str(exc)),
-            "last_converged": None, "config": config})
+        write_json(
+            path,
+            {
+                "status": "failed",
+                "kind": "out of physical bounds"
+                if isinstance(exc, PhysicalBoundsError)
+                else "no convergence",
+                "where": getattr(exc, "where", ""),
+                "reason": getattr(exc, "reason", str(exc)),
+                "last_converged": None,
+                "config": config,
+            },
+        )
 
 
 def _end(code: int, message: str, comm) -> int:
@@ -124,7 +164,8 @@ def _end(code: int, message: str, comm) -> int:
     too (they wait in a collective of their own), abort them all rather than hang."""
     if comm is None:
         if code == EXIT_BROKEN_PIPE:
-            # Later writes (and the interpreter's final flush) must not raise again on the closed pipe.
+            # Later writes (and the interpreter's final flush) must not raise again on the closed
+            # pipe.
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         else:
             print(message, file=sys.stderr)
@@ -134,10 +175,14 @@ def _end(code: int, message: str, comm) -> int:
     while not req.Test():
         if time.monotonic() > deadline:
             finish_pending(agreed=False)
-            print(f"{message} [rank {comm.rank}; aborting the other ranks]", file=sys.stderr, flush=True)
-            # MPICH's launcher forwards a rank's stderr through its proxy; MPI_Abort kills the proxy's
-            # children at once, and under load the line above was lost on its way (CI, stop 51). A
-            # short pause lets the proxy forward it before the abort.
+            print(
+                f"{message} [rank {comm.rank}; aborting the other ranks]",
+                file=sys.stderr,
+                flush=True,
+            )
+            # MPICH's launcher forwards a rank's stderr through its proxy; MPI_Abort kills the
+            # proxy's children at once, and under load the line above was lost on its way (CI, stop
+            # 51). A short pause lets the proxy forward it before the abort.
             time.sleep(ABORT_FLUSH_SECONDS)
             comm.Abort(code)
         time.sleep(0.01)
@@ -147,7 +192,9 @@ def _end(code: int, message: str, comm) -> int:
     return code
 
 
-_ERRORS = None  # a duplicate of COMM_WORLD: failing ranks agree there without disturbing the solvers
+_ERRORS = (
+    None  # a duplicate of COMM_WORLD: failing ranks agree there without disturbing the solvers
+)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -167,14 +214,20 @@ def _main(argv: list[str] | None) -> int:
         print(note, file=sys.stderr)
     ignored = own_petsc_environment()
     if ignored and world_rank() == 0:
-        print(f"lcefem: PETSC_OPTIONS ignored ({ignored[:80]}): solver options come only from a case "
-              "file's [petsc] section (docs/failure_modes.md)", file=sys.stderr)
+        print(
+            f"lcefem: PETSC_OPTIONS ignored ({ignored[:80]}): solver options come only from a case "
+            "file's [petsc] section (docs/failure_modes.md)",
+            file=sys.stderr,
+        )
     previous = install_signal_handlers()
     keep_petsc_off_signals()
     skipped = skip_petscrc_files()  # after PETSC_OPTIONS is lcefem's own: PETSc may start here
     if skipped and world_rank() == 0:
-        print(f"lcefem: {', '.join(skipped)} ignored: solver options come only from a case file's "
-              "[petsc] section (docs/failure_modes.md)", file=sys.stderr)
+        print(
+            f"lcefem: {', '.join(skipped)} ignored: solver options come only from a case file's "
+            "[petsc] section (docs/failure_modes.md)",
+            file=sys.stderr,
+        )
     comm = None
     out = None
     try:
@@ -195,14 +248,29 @@ def _main(argv: list[str] | None) -> int:
         if hasattr(mod, "prepare"):  # bad input is refused before the output folder is touched
             args.prepared = mod.prepare(args)
         out = mod.out_folder(args) if hasattr(mod, "out_folder") else args.out
-        command = f"run {args.target}" if args.command == "run" else (
-            f"converge {args.case or args.config}" if args.command == "converge" else args.command)
+        command = (
+            f"run {args.target}"
+            if args.command == "run"
+            else (
+                f"converge {args.case or args.config}"
+                if args.command == "converge"
+                else args.command
+            )
+        )
         inputs = {f"--{flag}": getattr(args, flag, None) for flag in INPUT_FILES}
-        with claim_out(out, resume=getattr(args, "resume", None), overwrite=args.overwrite,
-                       comm=comm, command=command, inputs=inputs):
+        with claim_out(
+            out,
+            resume=getattr(args, "resume", None),
+            overwrite=args.overwrite,
+            comm=comm,
+            command=command,
+            inputs=inputs,
+        ):
             try:
                 return int(mod.main(args) or 0)
-            except ConvergenceError as exc:  # stopped before its Run existed: failure.json still says why
+            except (
+                ConvergenceError
+            ) as exc:  # stopped before its Run existed: failure.json still says why
                 _failure_json(out, exc, args, comm)
                 raise
     except BaseException as exc:

@@ -26,8 +26,8 @@ import numpy as np
 
 from lcefem.solvers.runtime.files import write_json
 from lcefem.validation.app import plots
-from lcefem.validation.cases import Metric
 from lcefem.validation.app.report import CaseResult, write_report
+from lcefem.validation.cases import Metric
 
 
 def judge(case, history: dict[str, np.ndarray], name: str | None = None) -> list[Metric]:
@@ -47,19 +47,41 @@ def judge(case, history: dict[str, np.ndarray], name: str | None = None) -> list
             inside = (t_meas >= t_model[0] - 1e-9) & (t_meas <= t_model[-1] + 1e-9)
             t, measured = t_meas[inside], y_meas[inside]
             model = np.interp(t, t_model, y_model)
-        source = f"{c['source']} ({pathlib.Path(c['data']).name}; tolerance {c['tolerance']['text']})"
+        source = (
+            f"{c['source']} ({pathlib.Path(c['data']).name}; tolerance {c['tolerance']['text']})"
+        )
         if t.size == 0:
-            rows.append(Metric(name, f"{obs}: no measured time inside the run "
-                               f"[{t_model[0]:g}, {t_model[-1]:g}] s", math.nan, unit, None, None, False,
-                               source))
+            rows.append(
+                Metric(
+                    name,
+                    f"{obs}: no measured time inside the run [{t_model[0]:g}, {t_model[-1]:g}] s",
+                    math.nan,
+                    unit,
+                    None,
+                    None,
+                    False,
+                    source,
+                )
+            )
             continue
         tol = c["tolerance"]
-        allowed = np.full_like(measured, tol["absolute"]) if "absolute" in tol else tol["relative"] * np.abs(measured)
+        allowed = (
+            np.full_like(measured, tol["absolute"])
+            if "absolute" in tol
+            else tol["relative"] * np.abs(measured)
+        )
         excess = np.abs(model - measured) / np.maximum(allowed, 1e-300)
         k = int(np.argmax(excess))
         where = "steady state" if not np.all(np.isfinite(t_model)) else f"t = {t[k]:g} s"
-        row = Metric.within(name, f"{obs}: largest deviation ({where}, {t.size} measured points)",
-                            float(model[k]), unit, float(measured[k]), float(allowed[k]), source)
+        row = Metric.within(
+            name,
+            f"{obs}: largest deviation ({where}, {t.size} measured points)",
+            float(model[k]),
+            unit,
+            float(measured[k]),
+            float(allowed[k]),
+            source,
+        )
         rows.append(row)
     return rows
 
@@ -73,8 +95,11 @@ def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9]+", "_", text).strip("_")
 
 
-def plot_entry(path: pathlib.Path, case, history: dict[str, np.ndarray], entry: dict) -> pathlib.Path:
-    """The model's history of the entry's observable and the measurements (tolerance as error bars)."""
+def plot_entry(
+    path: pathlib.Path, case, history: dict[str, np.ndarray], entry: dict
+) -> pathlib.Path:
+    """The model's history of the entry's observable and the measurements (tolerance as error
+    bars)."""
     obs = entry["observable"]
     tol = entry["tolerance"]
     y = np.asarray(entry["values"])
@@ -84,11 +109,18 @@ def plot_entry(path: pathlib.Path, case, history: dict[str, np.ndarray], entry: 
     t_meas = np.asarray(entry["times [s]"])
     if not np.all(np.isfinite(t_model)):  # steady: the state as a line over the measured times
         t_model, y_model = np.array([t_meas[0], t_meas[-1]]), np.full(2, y_model[-1])
-    series = [plots.Series(t_model, y_model, f"lcefem body ({case.path.name})", kind="model"),
-              plots.Series(t_meas, y, f"measured ± tolerance {tol['text']}", kind="experiment",
-                           yerr=err)]
-    return plots.comparison_plot(path, series, xlabel="time [s]", ylabel=obs, sources=[entry["source"]],
-                                 title=f"{case_label(case)}: {obs}")
+    series = [
+        plots.Series(t_model, y_model, f"lcefem body ({case.path.name})", kind="model"),
+        plots.Series(t_meas, y, f"measured ± tolerance {tol['text']}", kind="experiment", yerr=err),
+    ]
+    return plots.comparison_plot(
+        path,
+        series,
+        xlabel="time [s]",
+        ylabel=obs,
+        sources=[entry["source"]],
+        title=f"{case_label(case)}: {obs}",
+    )
 
 
 def write_comparisons(case, result, out: pathlib.Path, command: str) -> list[Metric]:
@@ -98,16 +130,38 @@ def write_comparisons(case, result, out: pathlib.Path, command: str) -> list[Met
     rows = judge(case, result.history)
     figures = []
     for entry in case.compare:
-        png = plot_entry(out / f"compare_{_slug(entry['observable'])}.png", case, result.history, entry)
-        figures.append({"path": png.name, "caption": plots.caption(
-            f"{entry['observable']}: the body's run (line) against measurements (markers, the tolerance "
-            f"{entry['tolerance']['text']} as error bars).", [entry["source"]])})
+        png = plot_entry(
+            out / f"compare_{_slug(entry['observable'])}.png", case, result.history, entry
+        )
+        figures.append(
+            {
+                "path": png.name,
+                "caption": plots.caption(
+                    f"{entry['observable']}: the body's run (line) against measurements (markers, "
+                    "the "
+                    "tolerance "
+                    f"{entry['tolerance']['text']} as error bars).",
+                    [entry["source"]],
+                ),
+            }
+        )
     wall = float(result.summary.get("wall_time [s]", 0.0))
-    res = CaseResult(case_label(case), f"`lcefem run body` of {case.path}, compared with measurements "
-                     "([[compare]] entries).", "done", wall, metrics=[r.as_dict() for r in rows],
-                     figures=figures)
-    write_report(out / "report.md", [res], command=command, quick=False, total_wall=wall,
-                 title=f"lcefem body report: {case.path.name}")
+    res = CaseResult(
+        case_label(case),
+        f"`lcefem run body` of {case.path}, compared with measurements ([[compare]] entries).",
+        "done",
+        wall,
+        metrics=[r.as_dict() for r in rows],
+        figures=figures,
+    )
+    write_report(
+        out / "report.md",
+        [res],
+        command=command,
+        quick=False,
+        total_wall=wall,
+        title=f"lcefem body report: {case.path.name}",
+    )
     summary_path = out / "summary.json"
     if summary_path.is_file():
         summary = json.loads(summary_path.read_text())

@@ -3,17 +3,18 @@
 Each case runs whole on one rank, inside ``case_communicator(MPI.COMM_SELF)``
 (:mod:`lcefem.meshes.communicator`), so its meshes, PETSc objects and collectives are its own; the
 answers are those of the serial run, whatever N. What is farmed is an *affinity group*: cases that
-share an in-process cache (:data:`lcefem.validation.cases.AFFINITY`) run on one rank in their registry
-order, as in the serial run, so the shared work is done once.
+share an in-process cache (:data:`lcefem.validation.cases.AFFINITY`) run on one rank in their
+registry order, as in the serial run, so the shared work is done once.
 
 Order: groups by expected cost, largest first (:func:`schedule`; the cost of a case is its wall time
 in the last full or quick run, ``validation/data/case_costs.toml``; a missing entry counts as the
-largest; a case that ``--resume`` will reuse costs nothing). Hand-out: dynamic. Rank 0 runs cases like
-every other rank; a thread of rank 0 (:func:`_serve`) answers the other ranks' "next?" between its
-polls, hands out the next group, collects each finished case's result and rewrites ``DIR/report.md``
-and ``DIR/metrics.json``. A thread, because MPI one-sided counters (``MPI.Win.Fetch_and_op``) do not
-progress while the target rank computes: measured with MPICH 5.0.2 (the venv's), a fetch-and-add on
-rank 0's window waited 3.5 s for rank 0 to leave a 4 s compute loop.
+largest; a case that ``--resume`` will reuse costs nothing). Hand-out: dynamic. Rank 0 runs cases
+like every other rank; a thread of rank 0 (:func:`_serve`) answers the other ranks' "next?" between
+its polls, hands out the next group, collects each finished case's result and rewrites
+``DIR/report.md`` and ``DIR/metrics.json``. A thread, because MPI one-sided counters
+(``MPI.Win.Fetch_and_op``) do not progress while the target rank computes: measured with MPICH 5.0.2
+(the venv's), a fetch-and-add on rank 0's window waited 3.5 s for rank 0 to leave a 4 s compute
+loop.
 
 Each case keeps its own folder, completion marker and error.log, written by the rank that ran it;
 rank 0 owns the folder itself (claimed by the command line) and the run-level files.
@@ -33,16 +34,19 @@ import threading
 import time
 import tomllib
 
-from lcefem.validation.cases import AFFINITY, Case
 from lcefem.validation.app.report import CaseResult
+from lcefem.validation.cases import AFFINITY, Case
 
 COSTS = pathlib.Path(__file__).parents[1] / "data" / "case_costs.toml"
 TAG_NEXT, TAG_WORK, TAG_RESULT, TAG_END = 31, 32, 33, 34  #: message tags on the farm's communicator
 STOP = -1  #: the answer to "next?" when no group is left
 STOPPED = "stopped"  #: a rank's "next?" after an interrupt: hand it nothing more
-POLL_SECONDS = 0.02  #: how often a waiting rank looks for a message (a signal is handled in between)
+POLL_SECONDS = (
+    0.02  #: how often a waiting rank looks for a message (a signal is handled in between)
+)
 #: After an interrupt, how long rank 0 waits for the other ranks' reports [s]: longer than a numba
-#: kernel's compilation, which Python cannot interrupt (15 s seen, solvers/interrupts.py interrupt_in).
+#: kernel's compilation, which Python cannot interrupt (15 s seen, solvers/interrupts.py
+#: interrupt_in).
 DRAIN_SECONDS = 60.0
 #: How long rank 0 waits for its dispatcher thread to return once told to [s]: it looks at its quit
 #: flag every POLL_SECONDS, between two MPI calls.
@@ -76,8 +80,8 @@ def case_costs(quick: bool) -> dict[str, float]:
 
 
 def affinity_groups(cases: list[Case]) -> list[list[int]]:
-    """Indices into ``cases``: one list per affinity group (members in ``cases`` order), a case of no
-    group alone; groups in the order of their first member."""
+    """Indices into ``cases``: one list per affinity group (members in ``cases`` order), a case of
+    no group alone; groups in the order of their first member."""
     group_of = {name: g for g, names in AFFINITY.items() for name in names}
     groups: dict[str, list[int]] = {}
     for i, case in enumerate(cases):
@@ -110,7 +114,9 @@ class _Board:
         self.next = 0
         self.stopping = False
         self.main_done = threading.Event()
-        self.quit = threading.Event()  # the dispatcher returns at once (before the farm frees its comm)
+        self.quit = (
+            threading.Event()
+        )  # the dispatcher returns at once (before the farm frees its comm)
         self.current: dict[int, int] = {}  # rank -> the group it was handed last
         self.ended: set[int] = set()  # ranks that have asked for work after their last group
 
@@ -166,7 +172,8 @@ def _serve(board: _Board, comm) -> None:
         g = board.take(rank)
         if g == STOP and board.stopping and not board.main_done.is_set():
             # An interrupted rank leaves only once rank 0 has stopped too, so that all of them reach
-            # the command line's exit agreement together (a rank that gets there alone aborts the rest).
+            # the command line's exit agreement together (a rank that gets there alone aborts the
+            # rest).
             deferred.append(rank)
             continue
         comm.send(g, dest=rank, tag=TAG_WORK)
@@ -193,8 +200,9 @@ def _interrupt_named(error: str) -> KeyboardInterrupt:
     return Terminated() if "Terminated" in error else KeyboardInterrupt()
 
 
-def farm_validation(cases: list[Case], groups: list[list[int]], results: list[CaseResult], run_one,
-                    flush, bar, comm) -> list[CaseResult]:
+def farm_validation(
+    cases: list[Case], groups: list[list[int]], results: list[CaseResult], run_one, flush, bar, comm
+) -> list[CaseResult]:
     """Farm ``groups`` (indices into ``cases``, in hand-out order) over the ranks of ``comm``;
     ``run_one(case)`` runs one case on this rank and returns its CaseResult (an interrupt in
     ``.interrupt``). Rank 0 fills ``results`` and calls ``flush()`` after each finished case;
@@ -214,7 +222,8 @@ def farm_validation(cases: list[Case], groups: list[list[int]], results: list[Ca
 
 
 def _run_group(cases, group, run_one, report) -> KeyboardInterrupt | None:
-    """Run a group's cases in order on this rank; ``report(index, result)`` each; stop at an interrupt."""
+    """Run a group's cases in order on this rank; ``report(index, result)`` each; stop at an
+    interrupt."""
     for i in group:
         result = run_one(cases[i])
         report(i, result)
@@ -262,8 +271,12 @@ def _lead_cases(cases, groups, results, run_one, flush, comm, board, server) -> 
         for rank, g in board.current.items():  # still in a case when the wait ended: say so
             i = next((i for i in groups[g] if results[i].status == "not run"), None)
             if rank not in board.ended and i is not None:
-                results[i] = dataclasses.replace(results[i], status="interrupted", rank=rank,
-                                                 error=f"interrupted (rank {rank} did not report)")
+                results[i] = dataclasses.replace(
+                    results[i],
+                    status="interrupted",
+                    rank=rank,
+                    error=f"interrupted (rank {rank} did not report)",
+                )
         flush()
         finished = [r.as_dict() for r in results]
     if interrupt is None:

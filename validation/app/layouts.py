@@ -1,6 +1,7 @@
 """``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design``: a named gridshell layout
-(:data:`lcefem.meshes.gridshell_layout.NAMED_LAYOUTS`) or a TOML case file whose ``[layout]`` section
-describes one (:func:`lcefem.meshes.gridshell_layout.layout_from_table`; docs/layouts.md)."""
+(:data:`lcefem.meshes.gridshell_layout.NAMED_LAYOUTS`) or a TOML case file whose ``[layout]``
+section describes one (:func:`lcefem.meshes.gridshell_layout.layout_from_table`;
+docs/layouts.md)."""
 
 from __future__ import annotations
 
@@ -18,8 +19,10 @@ def load_layout(spec: str) -> Layout:
         return NAMED_LAYOUTS[spec].checked()
     path = pathlib.Path(spec)
     if not path.is_file():
-        raise InputError(f"--layout = {spec!r}: a name ({', '.join(NAMED_LAYOUTS)}) or an existing TOML "
-                         "file with a [layout] section")
+        raise InputError(
+            f"--layout = {spec!r}: a name ({', '.join(NAMED_LAYOUTS)}) or an existing TOML "
+            "file with a [layout] section"
+        )
     from lcefem.solvers.problems.gridshell_bh_run import GridshellBHRunConfig
 
     data = load_toml(path, {*GridshellBHRunConfig.PARAM_SECTIONS, "lambda", "current"})

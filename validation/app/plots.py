@@ -1,8 +1,8 @@
 """Comparison, convergence and map plots for validation cases (matplotlib, Agg, PNG).
 
 Every axis label carries its unit in brackets (``"time [s]"``) and every figure names the sources of
-its data in a footer; the same sources go into the report caption (:func:`caption`). Figures are built
-with :class:`matplotlib.figure.Figure` (no pyplot state) and written atomically.
+its data in a footer; the same sources go into the report caption (:func:`caption`). Figures are
+built with :class:`matplotlib.figure.Figure` (no pyplot state) and written atomically.
 
 Typical use in a case::
 
@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.figure import Figure
+
 from lcefem.models.errors import InputError
 from lcefem.solvers.runtime.files import naming, open_new
 
@@ -42,7 +43,8 @@ _STYLE = {
 @dataclass(frozen=True)
 class Series:
     """One curve or point set. ``kind`` picks the style: model (solid), experiment (markers with
-    error bars or a shaded ``band`` = (lower, upper)), closed form (dashed), published model (dotted)."""
+    error bars or a shaded ``band`` = (lower, upper)), closed form (dashed), published model
+    (dotted)."""
 
     x: Sequence[float]
     y: Sequence[float]
@@ -105,12 +107,16 @@ def sources_footer(fig: Figure, sources: Sequence[str]) -> None:
 
 
 def save_figure(fig: Figure, path: pathlib.Path, dpi: int) -> pathlib.Path:
-    """Write ``fig`` to ``path`` through a ``*.part.png`` name (an unfinished figure never looks complete)."""
+    """Write ``fig`` to ``path`` through a ``*.part.png`` name (an unfinished figure never looks
+    complete)."""
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.stem + ".part" + path.suffix)  # keeps the .png suffix for the writer
     try:
-        with naming(tmp), open_new(tmp, "wb") as fh:  # a planted link at tmp is refused, not followed
+        with (
+            naming(tmp),
+            open_new(tmp, "wb") as fh,
+        ):  # a planted link at tmp is refused, not followed
             fig.savefig(fh, dpi=dpi, format=path.suffix.lstrip(".") or "png")
     except InputError:
         raise
@@ -139,15 +145,27 @@ def _draw_series(ax, s: Series) -> None:
         ax.plot(x, y, label=s.label, **style)
 
 
-def comparison_plot(path: pathlib.Path, series: Sequence[Series], *, xlabel: str, ylabel: str,
-                    sources: Sequence[str], title: str = "", hlines: Sequence[Line] = (),
-                    vlines: Sequence[Line] = (), vspans: Sequence[Span] = (),
-                    logx: bool = False, logy: bool = False,
-                    secondary_y: tuple[float, str] | None = None,
-                    size: tuple[float, float] = (6.4, 4.4), dpi: int = 150) -> pathlib.Path:
+def comparison_plot(
+    path: pathlib.Path,
+    series: Sequence[Series],
+    *,
+    xlabel: str,
+    ylabel: str,
+    sources: Sequence[str],
+    title: str = "",
+    hlines: Sequence[Line] = (),
+    vlines: Sequence[Line] = (),
+    vspans: Sequence[Span] = (),
+    logx: bool = False,
+    logy: bool = False,
+    secondary_y: tuple[float, str] | None = None,
+    size: tuple[float, float] = (6.4, 4.4),
+    dpi: int = 150,
+) -> pathlib.Path:
     """Model vs experiment vs closed form on one axes; returns the PNG path.
 
-    ``secondary_y = (factor, label)`` adds a right axis showing ``factor * y`` (e.g. stress -> force).
+    ``secondary_y = (factor, label)`` adds a right axis showing ``factor * y`` (e.g. stress ->
+    force).
     """
     _require_unit(xlabel, "x")
     _require_unit(ylabel, "y")
@@ -159,10 +177,14 @@ def comparison_plot(path: pathlib.Path, series: Sequence[Series], *, xlabel: str
         _draw_series(ax, s)
     for ln in hlines:
         _check_kind(ln.kind)
-        ax.axhline(ln.value, color=_STYLE[ln.kind]["color"], linestyle=":", linewidth=1, label=ln.label)
+        ax.axhline(
+            ln.value, color=_STYLE[ln.kind]["color"], linestyle=":", linewidth=1, label=ln.label
+        )
     for ln in vlines:
         _check_kind(ln.kind)
-        ax.axvline(ln.value, color=_STYLE[ln.kind]["color"], linestyle="-.", linewidth=1, label=ln.label)
+        ax.axvline(
+            ln.value, color=_STYLE[ln.kind]["color"], linestyle="-.", linewidth=1, label=ln.label
+        )
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     if logx:
@@ -172,7 +194,9 @@ def comparison_plot(path: pathlib.Path, series: Sequence[Series], *, xlabel: str
     if secondary_y is not None:
         factor, label = secondary_y
         _require_unit(label, "secondary y")
-        ax.secondary_yaxis("right", functions=(lambda v: v * factor, lambda v: v / factor)).set_ylabel(label)
+        ax.secondary_yaxis(
+            "right", functions=(lambda v: v * factor, lambda v: v / factor)
+        ).set_ylabel(label)
     if title:
         ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.3)
@@ -190,9 +214,16 @@ class ConvergenceSeries:
     order: float
 
 
-def convergence_plot(path: pathlib.Path, mesh_sizes: Sequence[float], series: Sequence[ConvergenceSeries],
-                     *, xlabel: str = "mesh size [mm]", title: str = "", sources: Sequence[str] = (),
-                     dpi: int = 150) -> pathlib.Path:
+def convergence_plot(
+    path: pathlib.Path,
+    mesh_sizes: Sequence[float],
+    series: Sequence[ConvergenceSeries],
+    *,
+    xlabel: str = "mesh size [mm]",
+    title: str = "",
+    sources: Sequence[str] = (),
+    dpi: int = 150,
+) -> pathlib.Path:
     """Log-log |value - extrapolated| vs mesh size, one panel per metric, with a slope-p guide line
     through the finest point (Celik et al. 2008 extrapolation)."""
     _require_unit(xlabel, "x")
@@ -213,12 +244,24 @@ def convergence_plot(path: pathlib.Path, mesh_sizes: Sequence[float], series: Se
                 idx = np.flatnonzero(ok)[-3:]  # the finest levels: where p was measured
                 i = idx[-1]
                 hh = np.array([h[idx].min(), h[idx].max()])
-                ax.loglog(hh, err[i] * (hh / h[i]) ** s.order, "--", color="C3",
-                          label=f"slope p = {s.order:.2f}")
+                ax.loglog(
+                    hh,
+                    err[i] * (hh / h[i]) ** s.order,
+                    "--",
+                    color="C3",
+                    label=f"slope p = {s.order:.2f}",
+                )
             ax.legend(fontsize=7)
         else:
-            ax.text(0.5, 0.5, "no mesh dependence\nor no extrapolation", ha="center", va="center",
-                    transform=ax.transAxes, fontsize=8)
+            ax.text(
+                0.5,
+                0.5,
+                "no mesh dependence\nor no extrapolation",
+                ha="center",
+                va="center",
+                transform=ax.transAxes,
+                fontsize=8,
+            )
             ax.set_xticks([])
             ax.set_yticks([])
         ax.set_xlabel(xlabel)
@@ -242,10 +285,24 @@ class MapPoints:
     kind: str = "experiment"
 
 
-def map_plot(path: pathlib.Path, x: Sequence[float], y: Sequence[float], z: np.ndarray, *, xlabel: str,
-             ylabel: str, zlabel: str, sources: Sequence[str], title: str = "",
-             points: Sequence[MapPoints] = (), style: str = "map", contours: int = 8,
-             cmap: str = "RdBu_r", symmetric: bool = True, dpi: int = 150) -> pathlib.Path:
+def map_plot(
+    path: pathlib.Path,
+    x: Sequence[float],
+    y: Sequence[float],
+    z: np.ndarray,
+    *,
+    xlabel: str,
+    ylabel: str,
+    zlabel: str,
+    sources: Sequence[str],
+    title: str = "",
+    points: Sequence[MapPoints] = (),
+    style: str = "map",
+    contours: int = 8,
+    cmap: str = "RdBu_r",
+    symmetric: bool = True,
+    dpi: int = 150,
+) -> pathlib.Path:
     """A field z(x, y) on a grid (``z[j, i]`` at ``x[i], y[j]``), e.g. kappa(lambda_T, lambda_B).
 
     ``style="map"``: colour map with contour lines; ``style="surface"``: 3D surface (as Fig. 3B of
@@ -260,13 +317,22 @@ def map_plot(path: pathlib.Path, x: Sequence[float], y: Sequence[float], z: np.n
     if z.shape != (y.size, x.size):
         raise ValueError(f"z has shape {z.shape}; expected (len(y), len(x)) = {(y.size, x.size)}")
     values = [z[np.isfinite(z)]] + [np.asarray(p.z, float) for p in points]
-    vmin, vmax = (float(min(v.min() for v in values if v.size)), float(max(v.max() for v in values if v.size)))
+    vmin, vmax = (
+        float(min(v.min() for v in values if v.size)),
+        float(max(v.max() for v in values if v.size)),
+    )
     if symmetric:
         m = max(abs(vmin), abs(vmax))
         vmin, vmax = -m, m
     fig = Figure(figsize=(6.4, 4.8), layout="constrained")
     X, Y = np.meshgrid(x, y)
-    marker = {"experiment": "X", "model": "o", "published model": "s", "closed form": "^", "reference": "d"}
+    marker = {
+        "experiment": "X",
+        "model": "o",
+        "published model": "s",
+        "closed form": "^",
+        "reference": "d",
+    }
     if style == "map":
         ax = fig.add_subplot()
         mesh = ax.pcolormesh(X, Y, z, cmap=cmap, vmin=vmin, vmax=vmax, shading="auto")
@@ -275,15 +341,33 @@ def map_plot(path: pathlib.Path, x: Sequence[float], y: Sequence[float], z: np.n
             ax.clabel(cs, fontsize=6, fmt="%.3g")
         for p in points:
             _check_kind(p.kind)
-            ax.scatter(p.x, p.y, c=p.z, cmap=cmap, vmin=vmin, vmax=vmax, marker=marker[p.kind],
-                       edgecolors="k", s=60, label=p.label)
+            ax.scatter(
+                p.x,
+                p.y,
+                c=p.z,
+                cmap=cmap,
+                vmin=vmin,
+                vmax=vmax,
+                marker=marker[p.kind],
+                edgecolors="k",
+                s=60,
+                label=p.label,
+            )
     else:
         ax = fig.add_subplot(projection="3d")
         mesh = ax.plot_surface(X, Y, z, cmap=cmap, vmin=vmin, vmax=vmax, alpha=0.8, linewidth=0)
         for p in points:
             _check_kind(p.kind)
-            ax.scatter(p.x, p.y, p.z, color="k" if p.kind == "experiment" else "C1",
-                       marker=marker[p.kind], s=30, label=p.label, depthshade=False)
+            ax.scatter(
+                p.x,
+                p.y,
+                p.z,
+                color="k" if p.kind == "experiment" else "C1",
+                marker=marker[p.kind],
+                s=30,
+                label=p.label,
+                depthshade=False,
+            )
         ax.set_zlabel(zlabel)
     fig.colorbar(mesh, ax=ax, label=zlabel, shrink=0.85)
     ax.set_xlabel(xlabel)

@@ -17,9 +17,10 @@ import os
 import pathlib
 import sys
 
+import dolfinx_solver  # noqa: F401  (must be imported before dolfinx)
+
 import numpy as np
 
-import dolfinx_solver  # noqa: F401  (must be imported before dolfinx)
 import dolfinx.fem
 import dolfinx.plot
 
@@ -30,10 +31,11 @@ if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
 VIEWS = ("iso", "xy", "xz", "yz")
 
 
-def _node_values(displacement: dolfinx.fem.Function, scalar) -> tuple[np.ndarray, np.ndarray, np.ndarray,
-                                                                         np.ndarray, np.ndarray]:
-    """(topology, cell types, node coordinates, displacement (n, 3), scalar (n,)) on the nodes of the
-    displacement's space (P1 or P2 Lagrange): the scalar is interpolated there."""
+def _node_values(
+    displacement: dolfinx.fem.Function, scalar
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(topology, cell types, node coordinates, displacement (n, 3), scalar (n,)) on the nodes of
+    the displacement's space (P1 or P2 Lagrange): the scalar is interpolated there."""
     V = displacement.function_space
     bs = V.dofmap.index_map_bs
     if V.num_sub_spaces == 0 or bs not in (2, 3):
@@ -57,12 +59,23 @@ def _node_values(displacement: dolfinx.fem.Function, scalar) -> tuple[np.ndarray
     return topology, cell_types, geometry, disp, values
 
 
-def render_deformed(path: pathlib.Path, displacement: dolfinx.fem.Function, scalar, *,
-                    scalar_label: str = "temperature [C]", size: tuple[int, int] = (1200, 700),
-                    warp: float = 1.0, view: str = "iso", clim: tuple[float, float] | None = None,
-                    cmap: str = "coolwarm", show_undeformed: bool = True, title: str = "",
-                    zoom: float = 1.0, mirror: tuple[tuple[int, float], ...] = (),
-                    crop: tuple[int, float, float] | None = None) -> pathlib.Path:
+def render_deformed(
+    path: pathlib.Path,
+    displacement: dolfinx.fem.Function,
+    scalar,
+    *,
+    scalar_label: str = "temperature [C]",
+    size: tuple[int, int] = (1200, 700),
+    warp: float = 1.0,
+    view: str = "iso",
+    clim: tuple[float, float] | None = None,
+    cmap: str = "coolwarm",
+    show_undeformed: bool = True,
+    title: str = "",
+    zoom: float = 1.0,
+    mirror: tuple[tuple[int, float], ...] = (),
+    crop: tuple[int, float, float] | None = None,
+) -> pathlib.Path:
     """Render the body displaced by ``warp * displacement`` [mm], coloured by ``scalar``, to a PNG.
 
     Args:
@@ -82,7 +95,9 @@ def render_deformed(path: pathlib.Path, displacement: dolfinx.fem.Function, scal
         ``path`` (written atomically via a ``*.part.png`` name).
     """
     if displacement.function_space.mesh.comm.size > 1:
-        raise NotImplementedError("render_deformed runs in serial; open the VTX/XDMF files in ParaView")
+        raise NotImplementedError(
+            "render_deformed runs in serial; open the VTX/XDMF files in ParaView"
+        )
     if view not in VIEWS:
         raise ValueError(f"view {view!r}: allowed: {', '.join(VIEWS)}")
     if not (scalar_label.rstrip().endswith("]") and "[" in scalar_label):
@@ -114,18 +129,40 @@ def render_deformed(path: pathlib.Path, displacement: dolfinx.fem.Function, scal
     try:
         plotter.set_background("white")
         if show_undeformed:
-            plotter.add_mesh(grid.extract_surface(algorithm="dataset_surface").extract_feature_edges(),
-                             color="grey", opacity=0.5, line_width=1)
-        plotter.add_mesh(warped, scalars=scalar_label, cmap=cmap, clim=clim, show_edges=False,
-                         scalar_bar_args={"title": scalar_label, "color": "black", "vertical": True,
-                                          "position_x": 0.80, "position_y": 0.12, "width": 0.06,
-                                          "height": 0.72, "title_font_size": 14, "label_font_size": 12})
+            plotter.add_mesh(
+                grid.extract_surface(algorithm="dataset_surface").extract_feature_edges(),
+                color="grey",
+                opacity=0.5,
+                line_width=1,
+            )
+        plotter.add_mesh(
+            warped,
+            scalars=scalar_label,
+            cmap=cmap,
+            clim=clim,
+            show_edges=False,
+            scalar_bar_args={
+                "title": scalar_label,
+                "color": "black",
+                "vertical": True,
+                "position_x": 0.80,
+                "position_y": 0.12,
+                "width": 0.06,
+                "height": 0.72,
+                "title_font_size": 14,
+                "label_font_size": 12,
+            },
+        )
         if title or warp != 1.0:
             note = title + (f"   (displacement x {warp:g})" if warp != 1.0 else "")
             plotter.add_text(note, position="upper_left", font_size=11, color="black")
         plotter.add_axes(color="black")
-        {"iso": plotter.view_isometric, "xy": plotter.view_xy, "xz": plotter.view_xz,
-         "yz": plotter.view_yz}[view]()
+        {
+            "iso": plotter.view_isometric,
+            "xy": plotter.view_xy,
+            "xz": plotter.view_xz,
+            "yz": plotter.view_yz,
+        }[view]()
         plotter.reset_camera()
         if zoom != 1.0:
             plotter.camera.zoom(zoom)

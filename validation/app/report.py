@@ -2,14 +2,14 @@
 
 :class:`CaseResult` is what ``lcefem validate`` keeps per case (and writes, as JSON, to the case's
 completion marker ``DIR/<case>/metrics.json``); :func:`write_report` writes ``DIR/report.md``: the
-command, the software versions, a one-screen summary (per case judged rows passed/failed and the worst
-relative error, the phenomena shown; the known disagreements of
-``validation/data/known_disagreements.toml`` met in the run grouped by cause: one table of the causes
-with their rows and missing data, each row in one line naming its cause, then each cause's statement and
-the controlled changes that show it), the phenomena each case must show at every level
-(``validation/data/phenomena.toml``), the table of all metrics with pass/fail ("FAIL (known: <cause>)"
-for a known disagreement), and per case its wall time, figures (with captions naming their sources) and
-errors.
+command, the software versions, a one-screen summary (per case judged rows passed/failed and the
+worst relative error, the phenomena shown; the known disagreements of
+``validation/data/known_disagreements.toml`` met in the run grouped by cause: one table of the
+causes with their rows and missing data, each row in one line naming its cause, then each cause's
+statement and the controlled changes that show it), the phenomena each case must show at every level
+(``validation/data/phenomena.toml``), the table of all metrics with pass/fail ("FAIL (known:
+<cause>)" for a known disagreement), and per case its wall time, figures (with captions naming their
+sources) and errors.
 """
 
 from __future__ import annotations
@@ -24,8 +24,9 @@ from dataclasses import asdict, dataclass, field
 from lcefem.solvers.runtime.files import write_text
 
 METRIC_KEYS = ("case", "metric", "value", "unit", "reference", "tolerance", "passed", "source")
-#: done (this run), reused (--resume), failed (the solver failed or a result left its physical bounds),
-#: error (any other exception), interrupted (Ctrl-C, SIGTERM), not run (selected, never started).
+#: done (this run), reused (--resume), failed (the solver failed or a result left its physical
+#: bounds), error (any other exception), interrupted (Ctrl-C, SIGTERM), not run (selected, never
+#: started).
 STATUSES = ("done", "reused", "failed", "error", "interrupted", "not run")
 FINISHED = ("done", "reused")
 
@@ -44,11 +45,14 @@ class CaseResult:
     level: int | None = None
     mesh_size: float | None = None
     mesh_size_unit: str = ""
-    #: the case's declared phenomena evaluated on its metrics (:func:`lcefem.validation.app.phenomena.evaluate`)
+    #: the case's declared phenomena evaluated on its metrics
+    #: (:func:`lcefem.validation.app.phenomena.evaluate`)
     phenomena: list[dict] = field(default_factory=list)
     error: str = ""  #: one line; the traceback is in DIR/<case>/error.log
     finished: str = ""  #: ISO time
-    rank: int | None = None  #: the MPI rank that ran the case under ``mpiexec -n N lcefem validate``
+    rank: int | None = (
+        None  #: the MPI rank that ran the case under ``mpiexec -n N lcefem validate``
+    )
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -59,8 +63,16 @@ class CaseResult:
 
     def error_row(self) -> dict:
         """A metrics.json row standing for a case that did not finish (passed = False)."""
-        return {"case": self.case, "metric": f"({self.status})", "value": None, "unit": "",
-                "reference": None, "tolerance": None, "passed": False, "source": self.error}
+        return {
+            "case": self.case,
+            "metric": f"({self.status})",
+            "value": None,
+            "unit": "",
+            "reference": None,
+            "tolerance": None,
+            "passed": False,
+            "source": self.error,
+        }
 
 
 def all_rows(results: list[CaseResult]) -> list[dict]:
@@ -103,7 +115,8 @@ def fmt_error(row: dict) -> str:
 
 def is_status_row(row: dict) -> bool:
     """The row standing for a case that did not finish (:meth:`CaseResult.error_row`: metric
-    "(<status>)", no value), not a metric whose name merely starts with a parenthesis ("(a) ...")."""
+    "(<status>)", no value), not a metric whose name merely starts with a parenthesis ("(a)
+    ...")."""
     return row.get("value") is None and row.get("metric", "")[1:-1] in STATUSES
 
 
@@ -116,7 +129,9 @@ def fmt_pass(row: dict) -> str:
     return {True: "pass", False: "FAIL", None: "info"}[row.get("passed")]
 
 
-NOT_JUDGED = "not judged: "  # as lcefem.validation.cases.NOT_JUDGED (not imported: no case modules here)
+NOT_JUDGED = (
+    "not judged: "  # as lcefem.validation.cases.NOT_JUDGED (not imported: no case modules here)
+)
 
 
 def known_disagreement(row: dict):
@@ -143,18 +158,27 @@ def count_rows(rows: list[dict]) -> dict[str, int]:
     """Counts for the summary: judged, passed, failed (of which known), informative with a reference
     (of which with a reason) and informative without one."""
     kinds = [row_kind(r) for r in rows]
-    return {"judged": sum(k in ("pass", "known", "FAIL") for k in kinds),
-            "passed": kinds.count("pass"), "failed": kinds.count("known") + kinds.count("FAIL"),
-            "known": kinds.count("known"),
-            "info with reference": kinds.count("info-reason") + kinds.count("info-no-reason"),
-            "info with reference, no reason": kinds.count("info-no-reason"),
-            "info without reference": kinds.count("info")}
+    return {
+        "judged": sum(k in ("pass", "known", "FAIL") for k in kinds),
+        "passed": kinds.count("pass"),
+        "failed": kinds.count("known") + kinds.count("FAIL"),
+        "known": kinds.count("known"),
+        "info with reference": kinds.count("info-reason") + kinds.count("info-no-reason"),
+        "info with reference, no reason": kinds.count("info-no-reason"),
+        "info without reference": kinds.count("info"),
+    }
 
 
 def relative_error(row: dict) -> float | None:
-    """|value - reference|/|reference| of a judged row with a non-zero target (not a range), else None."""
+    """|value - reference|/|reference| of a judged row with a non-zero target (not a range), else
+    None."""
     v, ref, tol = row.get("value"), row.get("reference"), row.get("tolerance")
-    if row.get("passed") is None or ref is None or ref == 0 or (tol is not None and abs(ref) <= tol):
+    if (
+        row.get("passed") is None
+        or ref is None
+        or ref == 0
+        or (tol is not None and abs(ref) <= tol)
+    ):
         return None
     if v is None or not math.isfinite(v):
         return math.inf
@@ -165,14 +189,19 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
     """The one-screen summary: per case judged rows passed/failed and the worst relative error of
     its judged rows against a target, then the known disagreements met in this run, grouped by cause
     (:func:`causes_lines`)."""
-    lines = ["## Summary", "",
-             "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
-             "target (not a range), against experiment, a published fit or a closed form as the row's "
-             "source says; * marks a known disagreement. Wall time: the case's own run (for a reused "
-             "case, the run that produced it). Phenomena: the qualitative physics the case must show at "
-             "every level (validation/data/phenomena.toml), shown / declared.", "",
-             "| case | state | judged | passed | failed (known) | worst error | wall time [s] | phenomena |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "## Summary",
+        "",
+        "Worst error: largest |value - reference|/|reference| over the case's judged rows with a "
+        "target (not a range), against experiment, a published fit or a closed form as the row's "
+        "source says; * marks a known disagreement. Wall time: the case's own run (for a reused "
+        "case, the run that produced it). Phenomena: the qualitative physics the case must show at "
+        "every level (validation/data/phenomena.toml), shown / declared.",
+        "",
+        "| case | state | judged | passed | failed (known) | worst error | wall time [s] | "
+        "phenomena |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     met = []
     for res in results:
         rows = res.metrics if res.status in FINISHED else [res.error_row()]
@@ -188,34 +217,56 @@ def summary_lines(results: list["CaseResult"]) -> list[str]:
         ph = f"{shown}/{len(res.phenomena)}" if res.status in FINISHED else "-"
         if res.status in FINISHED and shown < len(res.phenomena):
             ph += " NOT SHOWN"
-        lines.append(f"| {res.case} | {res.status} | {c['judged']} | {c['passed']} | "
-                     f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} | "
-                     f"{res.wall_time:.1f} | {ph} |")
+        lines.append(
+            f"| {res.case} | {res.status} | {c['judged']} | {c['passed']} | "
+            f"{c['failed']} ({c['known']}) | {w}{' *' if worst_known else ''} | "
+            f"{res.wall_time:.1f} | {ph} |"
+        )
     lines += causes_lines(met)
-    # A registered disagreement whose row now passes is stale (the model was fixed, or the row renamed):
-    # say so, so the registry does not keep excusing a row that no longer needs it.
-    # An entry is stale only at the level it is registered for: a row expected to fail at the quick level
-    # alone may pass at the full level.
-    passed = {(r["case"], r["metric"], "quick" if res.quick else "full") for res in results
-              if res.status in FINISHED for r in res.metrics if r.get("passed") is True}
-    stale = [k for key, k in known_disagreements_registry().items()
-             if any((*key, lv) in passed for lv in (("quick", "full") if k.level == "both" else (k.level,)))]
+    # A registered disagreement whose row now passes is stale (the model was fixed, or the row
+    # renamed): say so, so the registry does not keep excusing a row that no longer needs it.
+    # An entry is stale only at the level it is registered for: a row expected to fail at the quick
+    # level alone may pass at the full level.
+    passed = {
+        (r["case"], r["metric"], "quick" if res.quick else "full")
+        for res in results
+        if res.status in FINISHED
+        for r in res.metrics
+        if r.get("passed") is True
+    }
+    stale = [
+        k
+        for key, k in known_disagreements_registry().items()
+        if any(
+            (*key, lv) in passed for lv in (("quick", "full") if k.level == "both" else (k.level,))
+        )
+    ]
     if stale:
-        lines += ["", "Registered disagreements that pass in this run (remove them from the registry): "
-                  + "; ".join(f"{k.case}: {k.metric}" for k in stale) + "."]
+        lines += [
+            "",
+            "Registered disagreements that pass in this run (remove them from the registry): "
+            + "; ".join(f"{k.case}: {k.metric}" for k in stale)
+            + ".",
+        ]
     return lines + [""]
 
 
 def causes_lines(met: list[tuple[dict, object]]) -> list[str]:
-    """The known disagreements met in a run, grouped by cause: one table of the causes (title, issue,
-    rows per case, missing datum), then each row in one line naming its cause, then each cause's
-    statement and the controlled changes that show it. ``met``: (row, KnownDisagreement) pairs."""
+    """The known disagreements met in a run, grouped by cause: one table of the causes (title,
+    issue, rows per case, missing datum), then each row in one line naming its cause, then each
+    cause's statement and the controlled changes that show it. ``met``: (row, KnownDisagreement)
+    pairs."""
     by_cause: dict[str, list[tuple[dict, object]]] = {}
     for r, k in met:
         by_cause.setdefault(k.cause.id, []).append((r, k))
-    lines = ["", f"### Known disagreements: {len(met)} rows from {len(by_cause)} causes", "",
-             "Each cause is one physical gap between the model and its reference, with the datum that "
-             "would decide it (registry: validation/data/known_disagreements.toml).", ""]
+    lines = [
+        "",
+        f"### Known disagreements: {len(met)} rows from {len(by_cause)} causes",
+        "",
+        "Each cause is one physical gap between the model and its reference, with the datum that "
+        "would decide it (registry: validation/data/known_disagreements.toml).",
+        "",
+    ]
     if not met:
         return lines + ["- none"]
     lines += ["| cause | issue | rows | missing datum |", "|---|---|---|---|"]
@@ -225,39 +276,69 @@ def causes_lines(met: list[tuple[dict, object]]) -> list[str]:
         for r, _ in pairs:
             per_case[r["case"]] = per_case.get(r["case"], 0) + 1
         rows = f"{len(pairs)}: " + ", ".join(f"{c} ({n})" for c, n in per_case.items())
-        lines.append("| " + " | ".join(_md_cell(c) for c in (
-            f"{cause.title} (`{cid}`)", cause.issue, rows, cause.missing_datum)) + " |")
+        lines.append(
+            "| "
+            + " | ".join(
+                _md_cell(c)
+                for c in (f"{cause.title} (`{cid}`)", cause.issue, rows, cause.missing_datum)
+            )
+            + " |"
+        )
     lines += ["", "Rows (value vs reference, cause: the row's own numbers):", ""]
-    lines += [f"- {r['case']}: {r['metric']} = {fmt_number(r['value'])} {r['unit']} vs {fmt_reference(r)}; "
-              f"`{k.cause.id}`" + (f": {k.note}" if k.note else "") for cid in by_cause
-              for r, k in by_cause[cid]]
+    lines += [
+        f"- {r['case']}: {r['metric']} = {fmt_number(r['value'])} {r['unit']} vs "
+        f"{fmt_reference(r)}; "
+        f"`{k.cause.id}`" + (f": {k.note}" if k.note else "")
+        for cid in by_cause
+        for r, k in by_cause[cid]
+    ]
     lines += ["", "Causes:", ""]
     for cid, pairs in by_cause.items():
         cause = pairs[0][1].cause
-        lines += [f"- **{cause.title}** (`{cid}`, issue {cause.issue}): {cause.statement} "
-                  f"Controlled changes: {cause.controlled_changes} Missing datum: {cause.missing_datum}"]
+        lines += [
+            f"- **{cause.title}** (`{cid}`, issue {cause.issue}): {cause.statement} "
+            f"Controlled changes: {cause.controlled_changes} Missing datum: {cause.missing_datum}"
+        ]
     return lines
 
 
 def phenomena_lines(results: list["CaseResult"]) -> list[str]:
     """The section listing every declared phenomenon of the finished cases: shown or NOT SHOWN, the
     values it was read from, and why it must hold."""
-    lines = ["## Phenomena", "",
-             "What each case must show at every resolution, quick and full alike "
-             "(`validation/data/phenomena.toml`); a phenomenon NOT SHOWN means this level does not show "
-             "the physics the case is about.", "",
-             "| case | phenomenon | condition | values | shown | why |", "|---|---|---|---|---|---|"]
+    lines = [
+        "## Phenomena",
+        "",
+        "What each case must show at every resolution, quick and full alike "
+        "(`validation/data/phenomena.toml`); a phenomenon NOT SHOWN means this level does not show "
+        "the physics the case is about.",
+        "",
+        "| case | phenomenon | condition | values | shown | why |",
+        "|---|---|---|---|---|---|",
+    ]
     for res in results:
         if res.status not in FINISHED:
             continue
         for p in res.phenomena:
-            values = "; ".join(f"{k} = {fmt_number(v)}" for k, v in p["values"].items()) or \
-                f"no metric matches {p['selector']}"
+            values = (
+                "; ".join(f"{k} = {fmt_number(v)}" for k, v in p["values"].items())
+                or f"no metric matches {p['selector']}"
+            )
             # the condition as a code span: its regular expression ([^)] ...) is not Markdown
             condition = "`" + _md_cell(f"{p['selector']} {p['condition']}") + "`"
-            lines.append("| " + " | ".join((_md_cell(res.case), _md_cell(p["phenomenon"]), condition,
-                                            _md_cell(values), "yes" if p["holds"] else "NOT SHOWN",
-                                            _md_cell(p["why"]))) + " |")
+            lines.append(
+                "| "
+                + " | ".join(
+                    (
+                        _md_cell(res.case),
+                        _md_cell(p["phenomenon"]),
+                        condition,
+                        _md_cell(values),
+                        "yes" if p["holds"] else "NOT SHOWN",
+                        _md_cell(p["why"]),
+                    )
+                )
+                + " |"
+            )
     return lines + [""]
 
 
@@ -266,21 +347,45 @@ MODEL_VS_MODEL = "model vs model"  #: marks a row that compares two of our model
 
 def model_vs_model_lines(results: list["CaseResult"]) -> list[str]:
     """Rows comparing two of our own models (FE, bar-and-hinge, DER, closed forms of them), grouped:
-    they say how far the reduced models can be trusted, not whether one agrees with experiment. A row
-    with an agreed band is judged there; one without says in its source what is expected and why."""
-    rows = [r for res in results if res.status in FINISHED for r in res.metrics
-            if MODEL_VS_MODEL in (r.get("source") or "").lower()]
+    they say how far the reduced models can be trusted, not whether one agrees with experiment. A
+    row with an agreed band is judged there; one without says in its source what is expected and
+    why."""
+    rows = [
+        r
+        for res in results
+        if res.status in FINISHED
+        for r in res.metrics
+        if MODEL_VS_MODEL in (r.get("source") or "").lower()
+    ]
     if not rows:
         return []
-    lines = ["## Model vs model", "",
-             "Our models against each other (3D FE, bar-and-hinge, Discrete Elastic Rods): judged where a "
-             "band is agreed, else informative with the reason in the source.", "",
-             "| case | metric | value | other model | error | pass | expected, and why |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        "## Model vs model",
+        "",
+        "Our models against each other (3D FE, bar-and-hinge, Discrete Elastic Rods): judged "
+        "where a "
+        "band is agreed, else informative with the reason in the source.",
+        "",
+        "| case | metric | value | other model | error | pass | expected, and why |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
-        lines.append("| " + " | ".join(_md_cell(c) for c in (
-            r["case"], r["metric"], f"{fmt_number(r['value'])} {r['unit']}", fmt_reference(r), fmt_error(r),
-            fmt_pass(r), r["source"])) + " |")
+        lines.append(
+            "| "
+            + " | ".join(
+                _md_cell(c)
+                for c in (
+                    r["case"],
+                    r["metric"],
+                    f"{fmt_number(r['value'])} {r['unit']}",
+                    fmt_reference(r),
+                    fmt_error(r),
+                    fmt_pass(r),
+                    r["source"],
+                )
+            )
+            + " |"
+        )
     return lines + [""]
 
 
@@ -299,9 +404,14 @@ def known_disagreements_registry() -> dict:
 def versions() -> dict[str, str]:
     """Versions of lcefem, dolfinx (the dolfinx-solver-real wheel), numpy, scipy and Python."""
     out = {"python": platform.python_version()}
-    for name, dist in (("lcefem", "lcefem"), ("dolfinx", "dolfinx-solver-real"),
-                       ("numpy", "numpy"), ("scipy", "scipy"), ("matplotlib", "matplotlib"),
-                       ("pyvista", "pyvista")):
+    for name, dist in (
+        ("lcefem", "lcefem"),
+        ("dolfinx", "dolfinx-solver-real"),
+        ("numpy", "numpy"),
+        ("scipy", "scipy"),
+        ("matplotlib", "matplotlib"),
+        ("pyvista", "pyvista"),
+    ):
         try:
             out[name] = importlib.metadata.version(dist)
         except importlib.metadata.PackageNotFoundError:
@@ -313,11 +423,19 @@ def _md_cell(text: str) -> str:
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
-def render_report(results: list[CaseResult], *, command: str, quick: bool, total_wall: float,
-                  title: str | None = None, ranks: int = 1) -> str:
-    """The Markdown text of the report (figure paths relative to the report's folder); ``ranks``: the
-    MPI ranks the cases were farmed over (1: one after the other). The default title names the level,
-    so that the quick and full summaries copied into the documentation are two pages with two titles."""
+def render_report(
+    results: list[CaseResult],
+    *,
+    command: str,
+    quick: bool,
+    total_wall: float,
+    title: str | None = None,
+    ranks: int = 1,
+) -> str:
+    """The Markdown text of the report (figure paths relative to the report's folder); ``ranks``:
+    the MPI ranks the cases were farmed over (1: one after the other). The default title names the
+    level, so that the quick and full summaries copied into the documentation are two pages with two
+    titles."""
     if title is None:
         title = f"lcefem validation report, {'quick' if quick else 'full'} level"
     rows = all_rows(results)
@@ -329,38 +447,63 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
     unfinished = [r for r in results if r.status not in FINISHED]
     ver = versions()
     now = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
-    lines = [f"# {title}", "",
-             f"- command: `{command}`",
-             f"- resolution: {'quick (coarse, CI)' if quick else 'default'}",
-             f"- written: {now}; total wall time {total_wall:.1f} s"
-             + (f" on {ranks} MPI ranks (cases farmed, each case on one rank)" if ranks > 1 else ""),
-             "- versions: " + ", ".join(f"{k} {v}" for k, v in ver.items()),
-             "",
-             f"**{len(results)} cases: {n_pass} metrics pass, {n_fail} fail, {n_info} informative; "
-             f"{len(unfinished)} cases did not finish"
-             + (f": this report is INCOMPLETE ({', '.join(f'{r.case}: {r.status}' for r in unfinished)}).**"
-                if unfinished else ".**"), "",
-             f"Judged {counts['judged']}: {counts['passed']} pass, {counts['failed']} fail "
-             f"({counts['known']} known disagreements from {n_causes} causes, "
-             f"{counts['failed'] - counts['known']} unexplained); "
-             f"informative {counts['info with reference']} with a reference "
-             f"({counts['info with reference, no reason']} without a reason to stay unjudged), "
-             f"{counts['info without reference']} without. "
-             "Phenomena shown: {}/{}.".format(*phenomena_count(results)), "",
-             *summary_lines(results),
-             *phenomena_lines(results),
-             *model_vs_model_lines(results),
-             "## Metrics", "",
-             "Pass means |value - reference| <= tolerance (a range [lo, hi] is lo <= value <= hi). Error is "
-             "(value - reference)/|reference| against a target, or (value - reference)/tolerance "
-             "(\"tol\") against a range or a zero target; informative rows have no pass/fail.",
-             "",
-             "| case | metric | value | unit | reference ± tolerance | error | pass | source |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"# {title}",
+        "",
+        f"- command: `{command}`",
+        f"- resolution: {'quick (coarse, CI)' if quick else 'default'}",
+        f"- written: {now}; total wall time {total_wall:.1f} s"
+        + (f" on {ranks} MPI ranks (cases farmed, each case on one rank)" if ranks > 1 else ""),
+        "- versions: " + ", ".join(f"{k} {v}" for k, v in ver.items()),
+        "",
+        f"**{len(results)} cases: {n_pass} metrics pass, {n_fail} fail, {n_info} informative; "
+        f"{len(unfinished)} cases did not finish"
+        + (
+            ": this report is INCOMPLETE "
+            f"({', '.join(f'{r.case}: {r.status}' for r in unfinished)}).**"
+            if unfinished
+            else ".**"
+        ),
+        "",
+        f"Judged {counts['judged']}: {counts['passed']} pass, {counts['failed']} fail "
+        f"({counts['known']} known disagreements from {n_causes} causes, "
+        f"{counts['failed'] - counts['known']} unexplained); "
+        f"informative {counts['info with reference']} with a reference "
+        f"({counts['info with reference, no reason']} without a reason to stay unjudged), "
+        f"{counts['info without reference']} without. "
+        "Phenomena shown: {}/{}.".format(*phenomena_count(results)),
+        "",
+        *summary_lines(results),
+        *phenomena_lines(results),
+        *model_vs_model_lines(results),
+        "## Metrics",
+        "",
+        "Pass means |value - reference| <= tolerance (a range [lo, hi] is lo <= value <= hi). "
+        "Error is "
+        "(value - reference)/|reference| against a target, or (value - reference)/tolerance "
+        "(\"tol\") against a range or a zero target; informative rows have no pass/fail.",
+        "",
+        "| case | metric | value | unit | reference ± tolerance | error | pass | source |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
-        lines.append("| " + " | ".join(_md_cell(c) for c in (
-            r["case"], r["metric"], fmt_number(r["value"]), r["unit"], fmt_reference(r), fmt_error(r),
-            fmt_pass(r), r["source"])) + " |")
+        lines.append(
+            "| "
+            + " | ".join(
+                _md_cell(c)
+                for c in (
+                    r["case"],
+                    r["metric"],
+                    fmt_number(r["value"]),
+                    r["unit"],
+                    fmt_reference(r),
+                    fmt_error(r),
+                    fmt_pass(r),
+                    r["source"],
+                )
+            )
+            + " |"
+        )
     lines += ["", "## Cases", ""]
     fig_no = 0
     for res in results:
@@ -369,10 +512,14 @@ def render_report(results: list[CaseResult], *, command: str, quick: bool, total
         if res.description:
             lines.append(res.description)
             lines.append("")
-        status = {"done": "completed in this run", "reused": "reused from an earlier run (--resume)",
-                  "failed": "FAILED: the solver failed or a result left its physical bounds",
-                  "error": "FAILED with an error", "interrupted": "interrupted",
-                  "not run": "not run (the run stopped before this case)"}[res.status]
+        status = {
+            "done": "completed in this run",
+            "reused": "reused from an earlier run (--resume)",
+            "failed": "FAILED: the solver failed or a result left its physical bounds",
+            "error": "FAILED with an error",
+            "interrupted": "interrupted",
+            "not run": "not run (the run stopped before this case)",
+        }[res.status]
         facts = [f"status: {status}", f"wall time: {res.wall_time:.2f} s"]
         if res.mesh_size is not None:
             facts.append(f"mesh size: {res.mesh_size:.4g} {res.mesh_size_unit}")

@@ -15,12 +15,12 @@ validation/data (running the FE gridshell takes minutes to hours).
   stored FE map (level 0), ours judged, the FE's configuration and controlled changes informative.
 - The strip element (``mesh.strip_element = "beam"``: the strips' centroid offset and own bending)
   and the plate's torsion of the Kapton panels (``kapton.twist = "plate"``) with the FE-calibrated
-  parameters of validation/data/bar_hinge_calibration.json (``lcefem calibrate bar-hinge``): judged rows "<shape>: circle kappa_<x|y> BH vs FE (strip element,
-  FE-calibrated)" on the four shapes (the dome included: with the strip element it takes seconds)
-  and the beam map (the FE beam's configuration: its top strips contract over the junctions; quick:
-  the 4 corners); at the full level the offset alone, the bending alone and both, with the N5B8
-  panels' and with the plate's torsion, at the published factors, informative
-  (docs/gridshell_calibration.md).
+  parameters of validation/data/bar_hinge_calibration.json (``lcefem calibrate bar-hinge``): judged
+  rows "<shape>: circle kappa_<x|y> BH vs FE (strip element, FE-calibrated)" on the four shapes (the
+  dome included: with the strip element it takes seconds) and the beam map (the FE beam's
+  configuration: its top strips contract over the junctions; quick: the 4 corners); at the full
+  level the offset alone, the bending alone and both, with the N5B8 panels' and with the plate's
+  torsion, at the published factors, informative (docs/gridshell_calibration.md).
 
 - The layouts (issue 47): the FE-calibrated BH against the 3D FE on the gmsh mesh of a refined
   (5 x 5, quarter, rollers) and a non-orthogonal (rhombic 60 deg, whole, clamp) layout, a tenth of
@@ -30,8 +30,8 @@ validation/data (running the FE gridshell takes minutes to hours).
 FE references (:data:`FE_REFERENCE`): gridshell_fe_fig4_quarter_level0.json (quarter model, mesh
 level 0, 26,904 Q2 DOFs; the published supports) and, for the dome, the mesh-converged level 2 of
 gridshell_fe_dome_full_ramp_from_flat_levels.json (levels 0-2: circle -0.02217, -0.01952, -0.01933
-1/mm, observed order 3.6, GCI of the finest level 0.0037 1/mm): the level-0 circle of the dome is 15 %
-off its extrapolated value, which is the stated discretisation error of the other three shapes' FE
+1/mm, observed order 3.6, GCI of the finest level 0.0037 1/mm): the level-0 circle of the dome is 15
+% off its extrapolated value, which is the stated discretisation error of the other three shapes' FE
 values (level 0 only).
 """
 
@@ -46,9 +46,16 @@ from lcefem.meshes.composite_beam import BeamBarHingeMesh
 from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.problems import gridshell_bh as problem_bh
-from lcefem.validation.studies.gridshell.calibrate import ABS_TOL, AS_FE, REL_TOL, fe_reference, shape_setup, tolerance
 from lcefem.validation.cases import NOT_JUDGED, CaseContext, Metric, case, write_csv
 from lcefem.validation.cases.reference_data import DATA_DIR
+from lcefem.validation.studies.gridshell.calibrate import (
+    ABS_TOL,
+    AS_FE,
+    REL_TOL,
+    fe_reference,
+    shape_setup,
+    tolerance,
+)
 
 BH = "bar-and-hinge gridshell (lcefem.solvers.problems.gridshell_bh)"
 #: Controlled changes of the BH (label -> (departures, kapton bending factor multiplier, support)).
@@ -59,8 +66,6 @@ CHANGES = {
     "published bar law A f P": (("contact",), 1.0, None),
     "middle ribbons' rollers": ((*AS_FE, "middle_rollers"), 1.0, None),
 }
-
-
 
 
 def solve_bh(shape: str, departures=AS_FE, bending=1.0, support=None):
@@ -87,18 +92,28 @@ def _beam_variants() -> dict:
     return {
         "ours (contracting squares)": (BeamBarHingeMesh(), base),
         "as FE (glue squares)": (glue, base),
-        "as FE, published bar law A f P": (glue, dataclasses.replace(base, lce=law.LCEStripBars(force_law="published"))),
-        "as FE, hinge factor x2": (glue, dataclasses.replace(base, kapton=law.KaptonBarHinge(bending_factor=11.0))),
+        "as FE, published bar law A f P": (
+            glue,
+            dataclasses.replace(base, lce=law.LCEStripBars(force_law="published")),
+        ),
+        "as FE, hinge factor x2": (
+            glue,
+            dataclasses.replace(base, kapton=law.KaptonBarHinge(bending_factor=11.0)),
+        ),
         "as FE, strip-panel springs at the strip's bending stiffness": (
-            glue, dataclasses.replace(base, strip_contact=law.StripContactSprings(stiffness=STRIP_BENDING_SPRING))),
+            glue,
+            dataclasses.replace(
+                base, strip_contact=law.StripContactSprings(stiffness=STRIP_BENDING_SPRING)
+            ),
+        ),
     }
 
 
 #: Stiffness per unit hinge length [N mm/(rad mm)] of a strip end clamped against rotation by the
-#: strip's own bending: 4 E I/(L w) with E I = 0.53 MPa x 5 x 2^3/12 mm^4 = 1.77 N mm^2 (the 5 x 2 mm
-#: strip at 3 mu_0 of the published Ogden law), L = 30 mm, w = 7 mm (the hinge's axis: the ribbon
+#: strip's own bending: 4 E I/(L w) with E I = 0.53 MPa x 5 x 2^3/12 mm^4 = 1.77 N mm^2 (the 5 x 2
+#: mm strip at 3 mu_0 of the published Ogden law), L = 30 mm, w = 7 mm (the hinge's axis: the ribbon
 #: width): 0.034 (a controlled change, not a calibrated value).
-STRIP_BENDING_SPRING = 4.0 * 0.53 * 5.0 * 2.0 ** 3 / 12.0 / (30.0 * 7.0)
+STRIP_BENDING_SPRING = 4.0 * 0.53 * 5.0 * 2.0**3 / 12.0 / (30.0 * 7.0)
 
 
 def _beam_map(ctx: CaseContext, name: str) -> list[Metric]:
@@ -113,43 +128,84 @@ def _beam_map(ctx: CaseContext, name: str) -> list[Metric]:
     pick = np.ones(lt.size, dtype=bool)
     if ctx.quick:  # the 2 x 2 corners
         pick = np.isin(lt, (lt.min(), lt.max())) & np.isin(lb, (lb.min(), lb.max()))
-    src = "3D FE composite beam, mesh level 0 (validation/data/beam_fe_curvature_map_level0.json: " \
-          "level 0 within 1.1 % of the extrapolated curvature at (1.33, 1.05)); " + BH
+    src = (
+        "3D FE composite beam, mesh level 0 (validation/data/beam_fe_curvature_map_level0.json: "
+        "level 0 within 1.1 % of the extrapolated curvature at (1.33, 1.05)); " + BH
+    )
     out = []
     variants = _beam_variants()
     if ctx.quick:
         variants = dict(list(variants.items())[:2])
     for label, (mesh, mats) in variants.items():
-        kbh = np.array([beam_bh.solve_beam(float(a), float(b), mesh=mesh, materials=mats).curvature
-                        for a, b in zip(lt[pick], lb[pick])])
+        kbh = np.array(
+            [
+                beam_bh.solve_beam(float(a), float(b), mesh=mesh, materials=mats).curvature
+                for a, b in zip(lt[pick], lb[pick])
+            ]
+        )
         ref = kfe[pick]
         excess = np.abs(kbh - ref) / np.maximum(REL_TOL * np.abs(ref), ABS_TOL)
         worst = int(np.argmax(excess))
-        where = f"worst at (lambda_T, lambda_B) = ({lt[pick][worst]:.2f}, {lb[pick][worst]:.2f}): BH " \
-                f"{kbh[worst]:.4f}, FE {ref[worst]:.4f} 1/mm"
-        metric = f"beam map: largest |kappa_BH - kappa_FE| in units of the tolerance, BH vs FE ({label})"
+        where = (
+            f"worst at (lambda_T, lambda_B) = ({lt[pick][worst]:.2f}, {lb[pick][worst]:.2f}): BH "
+            f"{kbh[worst]:.4f}, FE {ref[worst]:.4f} 1/mm"
+        )
+        metric = (
+            f"beam map: largest |kappa_BH - kappa_FE| in units of the tolerance, BH vs FE ({label})"
+        )
         if label.startswith("ours"):
-            out.append(Metric.within(name, metric, float(excess.max()), "-", 0.0, 1.0,
-                                     src + "; tolerance per point: 10 % of the FE or 0.002 1/mm; " + where))
+            out.append(
+                Metric.within(
+                    name,
+                    metric,
+                    float(excess.max()),
+                    "-",
+                    0.0,
+                    1.0,
+                    src + "; tolerance per point: 10 % of the FE or 0.002 1/mm; " + where,
+                )
+            )
         else:
-            out.append(Metric.info(name, metric, float(excess.max()), "-",
-                                   NOT_JUDGED + "a configuration / controlled change; " + src + "; " + where,
-                                   reference=1.0))
-        out.append(Metric.info(name, f"beam map: RMS (kappa_BH - kappa_FE) ({label})",
-                               float(np.sqrt(np.mean((kbh - ref) ** 2))), "1/mm", src))
+            out.append(
+                Metric.info(
+                    name,
+                    metric,
+                    float(excess.max()),
+                    "-",
+                    NOT_JUDGED + "a configuration / controlled change; " + src + "; " + where,
+                    reference=1.0,
+                )
+            )
+        out.append(
+            Metric.info(
+                name,
+                f"beam map: RMS (kappa_BH - kappa_FE) ({label})",
+                float(np.sqrt(np.mean((kbh - ref) ** 2))),
+                "1/mm",
+                src,
+            )
+        )
     return out
 
 
-@case("gridshell_bh_vs_fe", "Robotic surface: bar-and-hinge vs 3D FE on identical supports and lambdas "
-      "(Fig. 4 shapes), with controlled changes of the BH where they differ by > 10 %", fe=False)
+@case(
+    "gridshell_bh_vs_fe",
+    "Robotic surface: bar-and-hinge vs 3D FE on identical supports and lambdas "
+    "(Fig. 4 shapes), with controlled changes of the BH where they differ by > 10 %",
+    fe=False,
+)
 def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
     name = ctx.case or "gridshell_bh_vs_fe"
     fe = fe_reference()
     metrics: list[Metric] = []
-    rows = {k: [] for k in ("shape", "variant", "circle_x", "circle_y", "quad_kx", "quad_ky", "seconds")}
+    rows = {
+        k: [] for k in ("shape", "variant", "circle_x", "circle_y", "quad_kx", "quad_ky", "seconds")
+    }
     # The quick level leaves out the dome: its snap-through (a dense eigensolve of ~2500 DOFs per
     # escape) takes 1-10 min on the shared machine (docs/gridshell_configuration.md, speed).
-    shapes = ("table", "saddle", "cylinder") if ctx.quick else ("table", "dome", "saddle", "cylinder")
+    shapes = (
+        ("table", "saddle", "cylinder") if ctx.quick else ("table", "dome", "saddle", "cylinder")
+    )
     for shape in shapes:
         ref = fe[shape]
         k, secs, why = solve_bh(shape)
@@ -161,52 +217,87 @@ def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
         far = False
         for c in comps:
             key = f"circle_{c}"
-            m = Metric.within(name, f"{shape}: circle kappa_{c} BH vs FE", k[key], "1/mm", ref[key],
-                              tolerance(ref[key]), src + "; tolerance: 10 % or 0.002 1/mm (issue 30)")
+            m = Metric.within(
+                name,
+                f"{shape}: circle kappa_{c} BH vs FE",
+                k[key],
+                "1/mm",
+                ref[key],
+                tolerance(ref[key]),
+                src + "; tolerance: 10 % or 0.002 1/mm (issue 30)",
+            )
             metrics.append(m)
             far |= not m.passed
             q = f"quad_k{c}"
-            metrics.append(Metric.info(name, f"{shape}: quadratic-fit kappa_{c} BH vs FE", k[q], "1/mm",
-                                       NOT_JUDGED + "the Fig. 5 measure, informative here; " + src,
-                                       reference=ref[q]))
-        for key, v in zip(rows, [shape, "as FE", k["circle_x"], k["circle_y"], k["quad_kx"], k["quad_ky"], secs]):
+            metrics.append(
+                Metric.info(
+                    name,
+                    f"{shape}: quadratic-fit kappa_{c} BH vs FE",
+                    k[q],
+                    "1/mm",
+                    NOT_JUDGED + "the Fig. 5 measure, informative here; " + src,
+                    reference=ref[q],
+                )
+            )
+        for key, v in zip(
+            rows, [shape, "as FE", k["circle_x"], k["circle_y"], k["quad_kx"], k["quad_ky"], secs]
+        ):
             rows[key].append(v)
         if ctx.quick or not far:
             continue
         for label, (deps, bending, support) in CHANGES.items():
             kc, secs_c, why_c = solve_bh(shape, deps, bending, support)
-            vals = [kc[c] if kc else math.nan for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")]
+            vals = [
+                kc[c] if kc else math.nan for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")
+            ]
             for key, v in zip(rows, [shape, label, *vals, secs_c]):
                 rows[key].append(v)
             for c in comps:
                 key = f"circle_{c}"
-                metrics.append(Metric.info(
-                    name, f"{shape}: circle kappa_{c} BH vs FE, controlled change: {label}",
-                    kc[key] if kc else math.nan, "1/mm",
-                    NOT_JUDGED + "a controlled change that shows the cause of the difference; "
-                    + (why_c or src), reference=ref[key]))
+                metrics.append(
+                    Metric.info(
+                        name,
+                        f"{shape}: circle kappa_{c} BH vs FE, controlled change: {label}",
+                        kc[key] if kc else math.nan,
+                        "1/mm",
+                        NOT_JUDGED
+                        + "a controlled change that shows the cause of the difference; "
+                        + (why_c or src),
+                        reference=ref[key],
+                    )
+                )
     metrics += _beam_map(ctx, name)
     metrics += _strip_element(ctx, name, fe)
     metrics += _layouts(name)
-    write_csv(ctx.path("gridshell_bh_vs_fe.csv"), {
-        "row [-]": list(range(len(rows["shape"]))),
-        "circle kappa_x [1/mm]": rows["circle_x"], "circle kappa_y [1/mm]": rows["circle_y"],
-        "quad kappa_x [1/mm]": rows["quad_kx"], "quad kappa_y [1/mm]": rows["quad_ky"],
-        "wall time [s]": rows["seconds"]})
+    write_csv(
+        ctx.path("gridshell_bh_vs_fe.csv"),
+        {
+            "row [-]": list(range(len(rows["shape"]))),
+            "circle kappa_x [1/mm]": rows["circle_x"],
+            "circle kappa_y [1/mm]": rows["circle_y"],
+            "quad kappa_x [1/mm]": rows["quad_kx"],
+            "quad kappa_y [1/mm]": rows["quad_ky"],
+            "wall time [s]": rows["seconds"],
+        },
+    )
     (ctx.path("gridshell_bh_vs_fe_rows.txt")).write_text(
-        "\n".join(f"{i}: {s} / {v}" for i, (s, v) in enumerate(zip(rows["shape"], rows["variant"]))) + "\n")
+        "\n".join(f"{i}: {s} / {v}" for i, (s, v) in enumerate(zip(rows["shape"], rows["variant"])))
+        + "\n"
+    )
     return metrics
 
 
 #: The strip element's and the panels' torsion's controlled changes (label -> (mesh.strip_element,
 #: kapton.twist)), published factors. The dome with bars and the plate's torsion is left out: its
 #: ramp does not converge (stopped after 207 s CPU, docs/gridshell_calibration.md).
-STRIP_CHANGES = {"strip centroid offset alone": ("offset", "n5b8"),
-                 "strip bending alone": ("bending", "n5b8"),
-                 "strip element (offset + bending)": ("beam", "n5b8"),
-                 "plate torsion alone (bars)": ("bar", "plate"),
-                 "strip centroid offset + plate torsion": ("offset", "plate"),
-                 "strip element + plate torsion": ("beam", "plate")}
+STRIP_CHANGES = {
+    "strip centroid offset alone": ("offset", "n5b8"),
+    "strip bending alone": ("bending", "n5b8"),
+    "strip element (offset + bending)": ("beam", "n5b8"),
+    "plate torsion alone (bars)": ("bar", "plate"),
+    "strip centroid offset + plate torsion": ("offset", "plate"),
+    "strip element + plate torsion": ("beam", "plate"),
+}
 SKIP = {("dome", "plate torsion alone (bars)")}
 
 
@@ -222,25 +313,58 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
     record = cal.load()
     out: list[Metric] = []
     if record is None:
-        return [Metric(name, "calibrated set: parameter file present", 0.0, "-", 1.0, 0.0, False,
-                       "validation/data/bar_hinge_calibration.json missing: run lcefem calibrate bar-hinge")]
+        return [
+            Metric(
+                name,
+                "calibrated set: parameter file present",
+                0.0,
+                "-",
+                1.0,
+                0.0,
+                False,
+                "validation/data/bar_hinge_calibration.json missing: run lcefem calibrate "
+                "bar-hinge",
+            )
+        ]
     mats = cal.calibrated_materials(record)
     params = ", ".join(f"{k} = {v:.4g}" for k, v in record["parameters"].items())
     fixed = ", ".join(f"{k} = '{v}'" for k, v in record.get("fixed", {}).items())
-    src = (f"{BH} with the strip element (mesh.strip_element = 'beam'), {fixed}, FE-calibrated: {params} "
-           "(validation/data/bar_hinge_calibration.json, lcefem calibrate bar-hinge); published supports "
-           "and glue squares + contact + volume law")
+    src = (
+        f"{BH} with the strip element (mesh.strip_element = 'beam'), {fixed}, FE-calibrated: "
+        f"{params} "
+        "(validation/data/bar_hinge_calibration.json, lcefem calibrate bar-hinge); published "
+        "supports "
+        "and glue squares + contact + volume law"
+    )
     for shape in ("table", "dome", "saddle", "cylinder"):
         ref = fe[shape]
         k = cal.solve_shape(shape, mats)
         if k is None:
-            out.append(Metric(name, f"{shape}: BH converged (strip element, FE-calibrated)", 0.0, "-", 1.0,
-                              0.0, False, src))
+            out.append(
+                Metric(
+                    name,
+                    f"{shape}: BH converged (strip element, FE-calibrated)",
+                    0.0,
+                    "-",
+                    1.0,
+                    0.0,
+                    False,
+                    src,
+                )
+            )
             continue
         for c in cal.components(shape):
-            out.append(Metric.within(name, f"{shape}: circle kappa_{c[-1]} BH vs FE (strip element, "
-                                     "FE-calibrated)", k[c], "1/mm", ref[c], tolerance(ref[c]),
-                                     ref["source"] + "; " + src + "; tolerance: 10 % or 0.002 1/mm"))
+            out.append(
+                Metric.within(
+                    name,
+                    f"{shape}: circle kappa_{c[-1]} BH vs FE (strip element, FE-calibrated)",
+                    k[c],
+                    "1/mm",
+                    ref[c],
+                    tolerance(ref[c]),
+                    ref["source"] + "; " + src + "; tolerance: 10 % or 0.002 1/mm",
+                )
+            )
         if ctx.quick:
             continue
         for label, (element, twist) in STRIP_CHANGES.items():
@@ -248,38 +372,71 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
                 continue
             kc = cal.solve_shape(shape, cal.fe_equivalent(twist=twist), element)
             for c in cal.components(shape):
-                out.append(Metric.info(name, f"{shape}: circle kappa_{c[-1]} BH vs FE, controlled change: "
-                                       f"{label}", kc[c] if kc else math.nan, "1/mm",
-                                       NOT_JUDGED + "published hinge factor and strip E I; " + BH,
-                                       reference=ref[c]))
+                out.append(
+                    Metric.info(
+                        name,
+                        f"{shape}: circle kappa_{c[-1]} BH vs FE, controlled change: {label}",
+                        kc[c] if kc else math.nan,
+                        "1/mm",
+                        NOT_JUDGED + "published hinge factor and strip E I; " + BH,
+                        reference=ref[c],
+                    )
+                )
     targets = cal.fe_targets((), "corners" if ctx.quick else "all")
     lt, lb, kfe = targets["beam"]
-    fe_src = ("3D FE composite beam, mesh level 0 (validation/data/beam_fe_curvature_map_level0.json; "
-              "its top strips contract over the junctions: BH mesh.top_junction = 'lce')")
+    fe_src = (
+        "3D FE composite beam, mesh level 0 (validation/data/beam_fe_curvature_map_level0.json; "
+        "its top strips contract over the junctions: BH mesh.top_junction = 'lce')"
+    )
     variants = {"strip element, FE-calibrated": ("beam", mats)}
     if not ctx.quick:
-        variants.update({f"{label}, published factors": (el, cal.fe_equivalent(twist=tw))
-                         for label, (el, tw) in STRIP_CHANGES.items()})
+        variants.update(
+            {
+                f"{label}, published factors": (el, cal.fe_equivalent(twist=tw))
+                for label, (el, tw) in STRIP_CHANGES.items()
+            }
+        )
     for label, (element, m) in variants.items():
         kbh = cal.solve_beam_map(lt, lb, m, element)
         excess = np.abs(kbh - kfe) / np.maximum(REL_TOL * np.abs(kfe), ABS_TOL)
         w = int(np.nanargmax(excess))
-        where = (f"worst at (lambda_T, lambda_B) = ({lt[w]:.2f}, {lb[w]:.2f}): BH {kbh[w]:.4f}, FE "
-                 f"{kfe[w]:.4f} 1/mm")
-        metric = f"beam map: largest |kappa_BH - kappa_FE| in units of the tolerance, BH vs FE ({label})"
+        where = (
+            f"worst at (lambda_T, lambda_B) = ({lt[w]:.2f}, {lb[w]:.2f}): BH {kbh[w]:.4f}, FE "
+            f"{kfe[w]:.4f} 1/mm"
+        )
+        metric = (
+            f"beam map: largest |kappa_BH - kappa_FE| in units of the tolerance, BH vs FE ({label})"
+        )
         if label.endswith("FE-calibrated"):
-            out.append(Metric.within(name, metric, float(np.nanmax(excess)), "-", 0.0, 1.0,
-                                     fe_src + "; " + src + "; tolerance per point: 10 % of the FE or "
-                                     "0.002 1/mm; " + where))
+            out.append(
+                Metric.within(
+                    name,
+                    metric,
+                    float(np.nanmax(excess)),
+                    "-",
+                    0.0,
+                    1.0,
+                    fe_src + "; " + src + "; tolerance per point: 10 % of the FE or "
+                    "0.002 1/mm; " + where,
+                )
+            )
         else:
-            out.append(Metric.info(name, metric, float(np.nanmax(excess)), "-",
-                                   NOT_JUDGED + "a controlled change; " + fe_src + "; " + where,
-                                   reference=1.0))
+            out.append(
+                Metric.info(
+                    name,
+                    metric,
+                    float(np.nanmax(excess)),
+                    "-",
+                    NOT_JUDGED + "a controlled change; " + fe_src + "; " + where,
+                    reference=1.0,
+                )
+            )
     return out
 
 
 #: FE references of the layouts (issue 47): the 3D FE gridshell on the gmsh mesh of a refined and a
-#: non-orthogonal layout, mesh level 0, a fraction of the Fig. 4 dome's ramp (FE_LAYOUTS["fraction"]).
+#: non-orthogonal layout, mesh level 0, a fraction of the Fig. 4 dome's ramp
+#: (FE_LAYOUTS["fraction"]).
 FE_LAYOUTS = DATA_DIR / "gridshell_fe_layouts_level0.json"
 
 
@@ -287,9 +444,9 @@ def _layouts(name: str) -> list[Metric]:
     """Judged rows "<layout> <shape> (<support>, <f> of the ramp): circle kappa_<x|y> BH vs FE": the
     FE-calibrated bar-and-hinge (the model set of ``lcefem run gridshell``, its materials for the
     layout) against the stored FE of each layout of :data:`FE_LAYOUTS`, both from the as-built
-    state to the same fraction f of the Fig. 4 lambdas. Tolerance: 10 % of the FE (issue 30's target)
-    or 0.002 1/mm x f, the floor of the full shapes scaled with the ramp (a tenth of the ramp bends
-    the surface about a tenth as much)."""
+    state to the same fraction f of the Fig. 4 lambdas. Tolerance: 10 % of the FE (issue 30's
+    target) or 0.002 1/mm x f, the floor of the full shapes scaled with the ramp (a tenth of the
+    ramp bends the surface about a tenth as much)."""
     from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
     from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
@@ -302,14 +459,20 @@ def _layouts(name: str) -> list[Metric]:
     out = []
     for row in ref["rows"]:
         layout = NAMED_LAYOUTS[row["layout"]]
-        lambdas = {k: PUBLISHED_LAMBDA_N + f * (v - PUBLISHED_LAMBDA_N)
-                   for k, v in gs.SHAPES[row["shape"]]["lambdas"].items()}
+        lambdas = {
+            k: PUBLISHED_LAMBDA_N + f * (v - PUBLISHED_LAMBDA_N)
+            for k, v in gs.SHAPES[row["shape"]]["lambdas"].items()
+        }
         label = f"{row['layout']} {row['shape']} ({row['support']}, {f:g} of the ramp)"
-        src = (f"{ref['source']}; {BH}, FE-calibrated model set (validation.calibrate.model_set, "
-               f"materials_for the layout); tolerance: 10 % or 0.002 1/mm x {f:g}")
+        src = (
+            f"{ref['source']}; {BH}, FE-calibrated model set (validation.calibrate.model_set, "
+            f"materials_for the layout); tolerance: 10 % or 0.002 1/mm x {f:g}"
+        )
         try:
-            p = GridshellBH(ms.structure(layout), GridshellBHConfig(materials=ms.materials_for(layout),
-                                                                  support=row["support"]))
+            p = GridshellBH(
+                ms.structure(layout),
+                GridshellBHConfig(materials=ms.materials_for(layout), support=row["support"]),
+            )
             p.set_lambda(lambdas)
             p.advance()
         except ConvergenceError as exc:
@@ -318,10 +481,25 @@ def _layouts(name: str) -> list[Metric]:
         k = p.observables()
         for c in ("x", "y"):
             fe_k = row[f"circle_{c}"]
-            out.append(Metric.within(name, f"{label}: circle kappa_{c} BH vs FE", k[f"circle kappa_{c} [1/mm]"],
-                                     "1/mm", fe_k, max(REL_TOL * abs(fe_k), ABS_TOL * f), src))
-            out.append(Metric.info(name, f"{label}: quadratic-fit kappa_{c} BH vs FE",
-                                   k.get(f"quad kappa_{c} [1/mm]", math.nan), "1/mm",
-                                   NOT_JUDGED + "the Fig. 5 measure, informative here; " + src,
-                                   reference=row[f"quad_{c}"]))
+            out.append(
+                Metric.within(
+                    name,
+                    f"{label}: circle kappa_{c} BH vs FE",
+                    k[f"circle kappa_{c} [1/mm]"],
+                    "1/mm",
+                    fe_k,
+                    max(REL_TOL * abs(fe_k), ABS_TOL * f),
+                    src,
+                )
+            )
+            out.append(
+                Metric.info(
+                    name,
+                    f"{label}: quadratic-fit kappa_{c} BH vs FE",
+                    k.get(f"quad kappa_{c} [1/mm]", math.nan),
+                    "1/mm",
+                    NOT_JUDGED + "the Fig. 5 measure, informative here; " + src,
+                    reference=row[f"quad_{c}"],
+                )
+            )
     return out

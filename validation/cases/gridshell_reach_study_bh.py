@@ -1,18 +1,19 @@
 """What refinement and more channels buy (issue 47, item 3): the RMS distance [mm] of the best surface
-each grid and wiring reaches from a set of target surfaces (:mod:`lcefem.validation.studies.design.gridshell_reach_study`:
-targets, grids, wirings, the rigid fit). Informative rows (one per target, grid and wiring) and the
-phenomenon the study shows (validation/data/phenomena.toml); figure: RMS against grid and wiring.
+each grid and wiring reaches from a set of target surfaces
+(:mod:`lcefem.validation.studies.design.gridshell_reach_study`: targets, grids, wirings, the rigid
+fit). Informative rows (one per target, grid and wiring) and the phenomenon the study shows
+(validation/data/phenomena.toml); figure: RMS against grid and wiring.
 
 Per target, one more row: the RMS of the paper's surface (3 x 3, 4 channels) minus the smallest RMS
-of the other grids and wirings run [mm] (> 0: refinement or more drives come closer). Measured on the
-Gaussian bump (2026-12-07, FE-calibrated set, rollers; CPU s on the shared machine): 3 x 3 with 4
-channels 1.882 mm (14 s), 3 x 3 per strip 1.156 mm (24 s, 42 drives), refined 5 x 5 with 4 channels
-1.855 mm (49 s), refined 5 x 5 per strip 0.761 mm (91 s, 110 drives): the bump the paper's surface
-misses by 1.9 mm comes within 1 mm on the refined grid with a drive per strip, and neither the
-refinement alone nor the drives alone bring it there. The two-wave surface likewise (3 x 3 with 4 channels
-2.338 mm, refined 5 x 5 per strip 0.518 mm); the twisted one does not (4 channels 2.145 mm: they
-leave the surface flat; per strip 1.520 mm on the 3 x 3, 1.615 mm on the refined 5 x 5 at the
-loop's 40-evaluation cap). Table and sources: docs/design.md.
+of the other grids and wirings run [mm] (> 0: refinement or more drives come closer). Measured on
+the Gaussian bump (2026-12-07, FE-calibrated set, rollers; CPU s on the shared machine): 3 x 3 with
+4 channels 1.882 mm (14 s), 3 x 3 per strip 1.156 mm (24 s, 42 drives), refined 5 x 5 with 4
+channels 1.855 mm (49 s), refined 5 x 5 per strip 0.761 mm (91 s, 110 drives): the bump the paper's
+surface misses by 1.9 mm comes within 1 mm on the refined grid with a drive per strip, and neither
+the refinement alone nor the drives alone bring it there. The two-wave surface likewise (3 x 3 with
+4 channels 2.338 mm, refined 5 x 5 per strip 0.518 mm); the twisted one does not (4 channels 2.145
+mm: they leave the surface flat; per strip 1.520 mm on the 3 x 3, 1.615 mm on the refined 5 x 5 at
+the loop's 40-evaluation cap). Table and sources: docs/design.md.
 
 Quick level: :data:`QUICK` (the Gaussian bump on the 3 x 3 with 4 channels and per strip, 40 s CPU:
 it shows that more drives come closer; the refined grid's 91 s is beyond the quick level's 60 s);
@@ -22,12 +23,14 @@ waits for the FE mesh of the new layouts.
 
 from __future__ import annotations
 
-from lcefem.validation.studies.design import gridshell_reach_study as rs
-from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.app.plots import caption
+from lcefem.validation.cases import CaseContext, Metric, case, write_csv
+from lcefem.validation.studies.design import gridshell_reach_study as rs
 
-STUDY = ("bar-and-hinge design loop, FE-calibrated set, rollers: the closest equilibrium found "
-         "(lcefem.validation.studies.design.gridshell_reach_study)")
+STUDY = (
+    "bar-and-hinge design loop, FE-calibrated set, rollers: the closest equilibrium found "
+    "(lcefem.validation.studies.design.gridshell_reach_study)"
+)
 #: (target, grid, wiring) of the quick level.
 QUICK = (("gaussian bump", "3x3", "4 channels"), ("gaussian bump", "3x3", "per strip"))
 
@@ -46,36 +49,74 @@ def gain_name(target: str) -> str:
     return f"{target}: RMS of the 3x3 with 4 channels minus the best other grid and wiring"
 
 
-@case("gridshell_reach_study_bh", "Robotic surface: what refinement and more channels buy (RMS distance "
-      "of the best reachable surface from target surfaces, per grid and wiring)", fe=False)
+@case(
+    "gridshell_reach_study_bh",
+    "Robotic surface: what refinement and more channels buy (RMS distance "
+    "of the best reachable surface from target surfaces, per grid and wiring)",
+    fe=False,
+)
 def gridshell_reach_study_bh(ctx: CaseContext) -> list[Metric]:
     name = ctx.case or "gridshell_reach_study_bh"
     metrics, rows = [], []
     for target, grid, wiring in combinations(ctx.quick):
         r = rs.best_surface(target, grid, wiring, max_evaluations=30 if ctx.quick else 40)
         rows.append(r)
-        metrics.append(Metric.info(name, metric_name(target, grid, wiring), r.rms, "mm",
-                                   f"{rs.TARGETS[target][1]}; {STUDY}; {r.variables} drives, "
-                                   f"{r.evaluations} evaluations, {r.cpu:.1f} s CPU"))
+        metrics.append(
+            Metric.info(
+                name,
+                metric_name(target, grid, wiring),
+                r.rms,
+                "mm",
+                f"{rs.TARGETS[target][1]}; {STUDY}; {r.variables} drives, "
+                f"{r.evaluations} evaluations, {r.cpu:.1f} s CPU",
+            )
+        )
     for target in rs.TARGETS:
-        paper = [r.rms for r in rows if (r.target, r.grid, r.wiring) == (target, "3x3", "4 channels")]
-        others = [r.rms for r in rows if r.target == target and (r.grid, r.wiring) != ("3x3", "4 channels")]
+        paper = [
+            r.rms for r in rows if (r.target, r.grid, r.wiring) == (target, "3x3", "4 channels")
+        ]
+        others = [
+            r.rms
+            for r in rows
+            if r.target == target and (r.grid, r.wiring) != ("3x3", "4 channels")
+        ]
         if paper and others:
-            metrics.append(Metric.info(name, gain_name(target), paper[0] - min(others), "mm",
-                                       f"{rs.TARGETS[target][1]}; {STUDY}; the 3 x 3 with 4 channels "
-                                       f"{paper[0]:.3f} mm, the best other {min(others):.3f} mm"))
+            metrics.append(
+                Metric.info(
+                    name,
+                    gain_name(target),
+                    paper[0] - min(others),
+                    "mm",
+                    f"{rs.TARGETS[target][1]}; {STUDY}; the 3 x 3 with 4 channels "
+                    f"{paper[0]:.3f} mm, the best other {min(others):.3f} mm",
+                )
+            )
     targets = list(rs.TARGETS)
     grids, wirings = list(rs.GRIDS), list(rs.WIRINGS)
-    write_csv(ctx.path("reach_study.csv"), {
-        "target index [-]": [targets.index(r.target) for r in rows],
-        "grid index [-]": [grids.index(r.grid) for r in rows],
-        "wiring index [-]": [wirings.index(r.wiring) for r in rows],
-        "drives [-]": [r.variables for r in rows], "RMS distance [mm]": [r.rms for r in rows],
-        "evaluations [-]": [r.evaluations for r in rows], "CPU [s]": [r.cpu for r in rows]})
+    write_csv(
+        ctx.path("reach_study.csv"),
+        {
+            "target index [-]": [targets.index(r.target) for r in rows],
+            "grid index [-]": [grids.index(r.grid) for r in rows],
+            "wiring index [-]": [wirings.index(r.wiring) for r in rows],
+            "drives [-]": [r.variables for r in rows],
+            "RMS distance [mm]": [r.rms for r in rows],
+            "evaluations [-]": [r.evaluations for r in rows],
+            "CPU [s]": [r.cpu for r in rows],
+        },
+    )
     fig = rs.reach_figure(ctx.path("reach_study.png"), rows)
-    ctx.add_figure(fig, caption(
-        "RMS distance of the best surface the design loop finds from each target (rigid fit removed), "
-        "against grid and wiring; dashed: 1 mm. Targets: " + "; ".join(
-            f"{t}: {rs.TARGETS[t][1]}" for t in targets if any(r.target == t for r in rows)) + ".",
-        ["seed 001, Fig. 4 and its next steps (fig. S6, S7)", STUDY]))
+    ctx.add_figure(
+        fig,
+        caption(
+            "RMS distance of the best surface the design loop finds from each target (rigid fit "
+            "removed), "
+            "against grid and wiring; dashed: 1 mm. Targets: "
+            + "; ".join(
+                f"{t}: {rs.TARGETS[t][1]}" for t in targets if any(r.target == t for r in rows)
+            )
+            + ".",
+            ["seed 001, Fig. 4 and its next steps (fig. S6, S7)", STUDY],
+        ),
+    )
     return metrics

@@ -68,37 +68,58 @@ def load_programs(path=PATH) -> dict:
 
     path = pathlib.Path(path)
     name = path.name
-    data = _keys(read_toml(path, f"programs = {str(path)!r}"),
-                 ("gridshell_shapes", "gridshell_recipes", "dome_protocol", "strip_crossing", "run_programs"),
-                 name, required=("gridshell_shapes", "gridshell_recipes", "dome_protocol", "strip_crossing"))
+    data = _keys(
+        read_toml(path, f"programs = {str(path)!r}"),
+        (
+            "gridshell_shapes",
+            "gridshell_recipes",
+            "dome_protocol",
+            "strip_crossing",
+            "run_programs",
+        ),
+        name,
+        required=("gridshell_shapes", "gridshell_recipes", "dome_protocol", "strip_crossing"),
+    )
 
     shapes_t = data["gridshell_shapes"]
-    source = _keys(shapes_t.get("source"), ("lambdas", "currents", "support"),
-                   f"{name}: gridshell_shapes.source")
+    source = _keys(
+        shapes_t.get("source"),
+        ("lambdas", "currents", "support"),
+        f"{name}: gridshell_shapes.source",
+    )
     shapes = {}
     for shape, table in shapes_t.items():
         if shape == "source":
             continue
         where = f"{name}: gridshell_shapes.{shape}"
         _keys(table, ("lambdas", "currents", "support"), where)
-        shapes[shape] = {"lambdas": _numbers(table["lambdas"], f"{where}.lambdas", CHANNELS),
-                         "currents": _numbers(table["currents"], f"{where}.currents", CHANNELS),
-                         "support": _support(table["support"], f"{where}.support")}
+        shapes[shape] = {
+            "lambdas": _numbers(table["lambdas"], f"{where}.lambdas", CHANNELS),
+            "currents": _numbers(table["currents"], f"{where}.currents", CHANNELS),
+            "support": _support(table["support"], f"{where}.support"),
+        }
 
     recipes_t = data["gridshell_recipes"]
-    recipe_source = _keys(recipes_t.get("source"), ("recipes",), f"{name}: gridshell_recipes.source")
+    recipe_source = _keys(
+        recipes_t.get("source"), ("recipes",), f"{name}: gridshell_recipes.source"
+    )
     recipes = {}
     for recipe, table in recipes_t.items():
         if recipe == "source":
             continue
         where = f"{name}: gridshell_recipes.{recipe}"
         _keys(table, ("p0", "support"), where)
-        recipes[recipe] = (_numbers(table["p0"], f"{where}.p0"), _support(table["support"], f"{where}.support"))
+        recipes[recipe] = (
+            _numbers(table["p0"], f"{where}.p0"),
+            _support(table["support"], f"{where}.support"),
+        )
 
     dome = _keys(data["dome_protocol"], ("source", "steps"), f"{name}: dome_protocol")
     steps = dome["steps"]
     if not isinstance(steps, list) or not steps:
-        raise InputError(f"{name}: dome_protocol.steps: must be a non-empty list of {{start, currents}}")
+        raise InputError(
+            f"{name}: dome_protocol.steps: must be a non-empty list of {{start, currents}}"
+        )
     protocol = []
     for i, step in enumerate(steps):
         where = f"{name}: dome_protocol.steps[{i}]"
@@ -112,18 +133,25 @@ def load_programs(path=PATH) -> dict:
         where = f"{name}: run_programs.{program}"
         if not isinstance(table, dict):
             raise InputError(f"{where}: must be a table")
-        run_programs[program] = (_run_program({k: v for k, v in table.items() if k != "source"}, where),
-                                 _text(table.get("source"), f"{where}.source"))
+        run_programs[program] = (
+            _run_program({k: v for k, v in table.items() if k != "source"}, where),
+            _text(table.get("source"), f"{where}.source"),
+        )
     return {
         "run_programs": run_programs,
         "shapes": shapes,
-        "shape_sources": {k: _text(source[k], f"{name}: gridshell_shapes.source.{k}") for k in source},
+        "shape_sources": {
+            k: _text(source[k], f"{name}: gridshell_shapes.source.{k}") for k in source
+        },
         "recipes": recipes,
-        "recipe_source": _text(recipe_source["recipes"], f"{name}: gridshell_recipes.source.recipes"),
+        "recipe_source": _text(
+            recipe_source["recipes"], f"{name}: gridshell_recipes.source.recipes"
+        ),
         "dome_protocol": tuple(protocol),
         "dome_protocol_source": _text(dome["source"], f"{name}: dome_protocol.source"),
-        "strip_crossing": _numbers({"temperature": crossing["temperature"]},
-                                   f"{name}: strip_crossing")["temperature"],
+        "strip_crossing": _numbers(
+            {"temperature": crossing["temperature"]}, f"{name}: strip_crossing"
+        )["temperature"],
         "strip_crossing_source": _text(crossing["source"], f"{name}: strip_crossing.source"),
     }
 
@@ -145,6 +173,7 @@ def run_program(name: str):
         raise InputError(f"program {name!r}: allowed {', '.join(PROGRAMS['run_programs'])}")
     return PROGRAMS["run_programs"][name]
 
+
 #: The paper's Fig. 4 programs: lambda [-] and current [A] per channel, and the published support
 #: (sources: :data:`SHAPE_DRIVE_SOURCES`; the curvatures the paper reports are
 #: lcefem.validation.studies.gridshell.gridshell_bh.SHAPES).
@@ -164,11 +193,15 @@ SEED_T_NI_SOURCE = PROGRAMS["strip_crossing_source"]
 FIG4_SHAPES = {name: dict(drive["lambdas"]) for name, drive in SHAPE_DRIVES.items()}
 #: Supports of each shape in the published example script, as the 3D FE gridshell names them: the
 #: bar-and-hinge "clamp" (centre junction held) is the FE "centre_clamp".
-PUBLISHED_SUPPORTS = {name: {"clamp": "centre_clamp"}.get(drive["support"], drive["support"])
-                      for name, drive in SHAPE_DRIVES.items()}
+PUBLISHED_SUPPORTS = {
+    name: {"clamp": "centre_clamp"}.get(drive["support"], drive["support"])
+    for name, drive in SHAPE_DRIVES.items()
+}
 
 
-def pulse_currents(hold: Mapping[str, float], protocol=DOME_PROTOCOL) -> tuple[float, dict[str, float]]:
+def pulse_currents(
+    hold: Mapping[str, float], protocol=DOME_PROTOCOL
+) -> tuple[float, dict[str, float]]:
     """The actuation pulse before a hold, from the dome's protocol (seed 001: 'we first apply 0.1 A
     to each of the top LCE strips and 0.2 A to the bottom ... after about 20 s, the currents are
     switched'; 'the other geometries are programmed similarly'): (its duration [s], the start of the
@@ -178,7 +211,9 @@ def pulse_currents(hold: Mapping[str, float], protocol=DOME_PROTOCOL) -> tuple[f
     (_, pulse), (duration, _) = protocol[0], protocol[1]
     low, high = min(pulse.values()), max(pulse.values())
     top = max(hold.values())
-    return duration, {k: (high if math.isclose(v, top, rel_tol=1e-9) else low) for k, v in hold.items()}
+    return duration, {
+        k: (high if math.isclose(v, top, rel_tol=1e-9) else low) for k, v in hold.items()
+    }
 
 
 def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **config):
@@ -190,6 +225,7 @@ def fig4_shape(name: str, mesh_level: int = 0, symmetry: str = "quarter", **conf
     if name not in FIG4_SHAPES:
         raise InputError(f"shape {name!r}: allowed {', '.join(FIG4_SHAPES)}")
     supports = config.pop("supports", GridshellSupports(kind=PUBLISHED_SUPPORTS[name]))
-    cfg = GridshellConfig(mesh=GridshellFEMesh(level=mesh_level), symmetry=symmetry,
-                          supports=supports, **config)
+    cfg = GridshellConfig(
+        mesh=GridshellFEMesh(level=mesh_level), symmetry=symmetry, supports=supports, **config
+    )
     return GridshellFE(cfg)

@@ -9,8 +9,8 @@ Cases take every measured or published number from here, never from literals::
     p = reference("strip.transient_powers")          # value (1500.0, 3260.0, 5790.0) mW, spread in mW
     reference("surface.dome.curvature_exp")["kx"]    # -0.016 (1/mm), by component name
 
-Values are converted from the published unit (``published_value``, ``published_unit``) into the lcefem
-unit system (mm, s, N, MPa, mJ, mW, tonne, C; currents in A, resistances in ohm).
+Values are converted from the published unit (``published_value``, ``published_unit``) into the
+lcefem unit system (mm, s, N, MPa, mJ, mW, tonne, C; currents in A, resistances in ohm).
 """
 
 from __future__ import annotations
@@ -91,7 +91,9 @@ class Reference:
         """The entry of a list value by component name, e.g. ``ref["kx"]``."""
         if self.components is None or component not in self.components:
             allowed = ", ".join(self.components or ())
-            raise InputError(f"{self.key}: no component '{component}'; allowed: {allowed or 'none'}")
+            raise InputError(
+                f"{self.key}: no component '{component}'; allowed: {allowed or 'none'}"
+            )
         return self.value[self.components.index(component)]
 
     def __float__(self) -> float:
@@ -105,8 +107,11 @@ def _numbers(raw, key: str, field: str) -> Number:
         raise InputError(f"{key}.{field} = {raw!r}: expected a number or a list of numbers")
     if isinstance(raw, (int, float)):
         return float(raw)
-    if isinstance(raw, list) and raw and all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                             for v in raw):
+    if (
+        isinstance(raw, list)
+        and raw
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in raw)
+    ):
         return tuple(float(v) for v in raw)
     raise InputError(f"{key}.{field} = {raw!r}: expected a number or a list of numbers")
 
@@ -118,8 +123,10 @@ def _scale(value: Number, factor: float) -> Number:
 def _entry(key: str, table: dict, citation: str) -> Reference:
     unknown = set(table) - set(REQUIRED) - set(OPTIONAL)
     if unknown:
-        raise InputError(f"{key}: unknown field(s) {', '.join(sorted(unknown))}; allowed: "
-                         f"{', '.join(REQUIRED + OPTIONAL)}")
+        raise InputError(
+            f"{key}: unknown field(s) {', '.join(sorted(unknown))}; allowed: "
+            f"{', '.join(REQUIRED + OPTIONAL)}"
+        )
     missing = [f for f in REQUIRED if not table.get(f) and table.get(f) != 0]
     if missing:
         raise InputError(f"{key}: missing {', '.join(missing)}")
@@ -137,16 +144,29 @@ def _entry(key: str, table: dict, citation: str) -> Reference:
     spread = _numbers(table["spread"], key, "spread") if "spread" in table else None
     components = tuple(table["components"]) if "components" in table else None
     for name, other in (("spread", spread), ("components", components)):
-        if other is not None and (isinstance(value, tuple) != isinstance(other, tuple)
-                                  or (isinstance(value, tuple) and len(other) != len(value))):
+        if other is not None and (
+            isinstance(value, tuple) != isinstance(other, tuple)
+            or (isinstance(value, tuple) and len(other) != len(value))
+        ):
             raise InputError(f"{key}.{name}: must have the same shape as value")
     internal_unit, factor = UNIT_CONVERSIONS[unit]
     return Reference(
-        key=key, value=_scale(value, factor), unit=internal_unit, published_value=value,
-        published_unit=unit, kind=table["kind"], section=table["section"], quote=table["quote"],
-        citation=citation, spread=None if spread is None else _scale(spread, factor),
-        spread_kind=table.get("spread_kind", ""), samples=table.get("samples"), bound=bound,
-        components=components, note=table.get("note", ""))
+        key=key,
+        value=_scale(value, factor),
+        unit=internal_unit,
+        published_value=value,
+        published_unit=unit,
+        kind=table["kind"],
+        section=table["section"],
+        quote=table["quote"],
+        citation=citation,
+        spread=None if spread is None else _scale(spread, factor),
+        spread_kind=table.get("spread_kind", ""),
+        samples=table.get("samples"),
+        bound=bound,
+        components=components,
+        note=table.get("note", ""),
+    )
 
 
 def _flatten(table: dict, prefix: str, citation: str, out: dict[str, Reference]) -> None:
@@ -234,26 +254,35 @@ _ROW_FIELDS = ("case", "metric", "cause", "level", "note")
 
 
 @functools.cache
-def _registry(path: pathlib.Path) -> tuple[dict[str, Cause], dict[tuple[str, str], KnownDisagreement]]:
+def _registry(
+    path: pathlib.Path,
+) -> tuple[dict[str, Cause], dict[tuple[str, str], KnownDisagreement]]:
     with path.open("rb") as fh:
         data = tomllib.load(fh)
     causes: dict[str, Cause] = {}
     for i, c in enumerate(data.get("cause", [])):
         if set(c) != set(_CAUSE_FIELDS) or not all(str(c[k]).strip() for k in _CAUSE_FIELDS):
-            raise InputError(f"{path.name}: cause {i + 1} needs exactly {', '.join(sorted(_CAUSE_FIELDS))}"
-                             f" (none empty); got {', '.join(sorted(c))}")
+            raise InputError(
+                f"{path.name}: cause {i + 1} needs exactly {', '.join(sorted(_CAUSE_FIELDS))}"
+                f" (none empty); got {', '.join(sorted(c))}"
+            )
         if c["id"] in causes:
             raise InputError(f"{path.name}: cause {c['id']} listed twice")
         causes[c["id"]] = Cause(**c)
     rows: dict[tuple[str, str], KnownDisagreement] = {}
     for i, e in enumerate(data.get("disagreement", [])):
-        if not {"case", "metric", "cause", "level"} <= set(e) <= set(_ROW_FIELDS) \
-                or e["level"] not in ("quick", "full", "both"):
-            raise InputError(f"{path.name}: entry {i + 1} needs case, metric, cause, level (quick | full |"
-                             f" both) and may have a note; got {', '.join(sorted(e))}")
+        if not {"case", "metric", "cause", "level"} <= set(e) <= set(_ROW_FIELDS) or e[
+            "level"
+        ] not in ("quick", "full", "both"):
+            raise InputError(
+                f"{path.name}: entry {i + 1} needs case, metric, cause, level (quick | full |"
+                f" both) and may have a note; got {', '.join(sorted(e))}"
+            )
         if e["cause"] not in causes:
-            raise InputError(f"{path.name}: entry {i + 1} names cause '{e['cause']}', not one of "
-                             f"{', '.join(causes)}")
+            raise InputError(
+                f"{path.name}: entry {i + 1} names cause '{e['cause']}', not one of "
+                f"{', '.join(causes)}"
+            )
         key = (e["case"], e["metric"])
         if key in rows:
             raise InputError(f"{path.name}: {key[0]} / {key[1]} listed twice")
@@ -264,27 +293,39 @@ def _registry(path: pathlib.Path) -> tuple[dict[str, Cause], dict[tuple[str, str
     return causes, rows
 
 
-def known_disagreements(path: pathlib.Path | None = None) -> dict[tuple[str, str], KnownDisagreement]:
+def known_disagreements(
+    path: pathlib.Path | None = None,
+) -> dict[tuple[str, str], KnownDisagreement]:
     """The registry of known disagreements, by (case, metric), each with its :class:`Cause`; a
-    malformed entry, a row naming no registered cause or a cause explaining no row raises InputError."""
-    return _registry(DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path))[1]
+    malformed entry, a row naming no registered cause or a cause explaining no row raises
+    InputError."""
+    return _registry(DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path))[
+        1
+    ]
 
 
 def causes(path: pathlib.Path | None = None) -> dict[str, Cause]:
     """The causes of the known disagreements, by id, in the registry's order."""
-    return _registry(DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path))[0]
+    return _registry(DATA_DIR / "known_disagreements.toml" if path is None else pathlib.Path(path))[
+        0
+    ]
 
 
 def eq2_parameters(eq2: Eq2 = Eq2()) -> str:
     """Eq. 2's inputs as text for captions, from the one definition in :class:`Eq2`."""
-    return (f"eta = {eq2.eta:g}, l_p = {eq2.ribbon_length:g} mm, t_a = {eq2.strip_thickness:g} mm, "
-            f"lambda_N = {eq2.lambda_N:g}")
+    return (
+        f"eta = {eq2.eta:g}, l_p = {eq2.ribbon_length:g} mm, t_a = {eq2.strip_thickness:g} mm, "
+        f"lambda_N = {eq2.lambda_N:g}"
+    )
 
 
 def eq2_inputs_note(eq2: Eq2 = Eq2()) -> str:
     """How Eq. 2's inputs are chosen, as text for captions and sources."""
-    return (f"Eq. 2 with l_p = {eq2.ribbon_length:g} mm (the segment's straight length, as the beam's "
-            f"bottom strips span it), t_a = {eq2.strip_thickness:g} mm (the cast strip thickness), "
-            f"lambda_N = {eq2.lambda_N:g} (the published model's isotropic/nematic ratio, the same "
-            "lambda_N the bar-and-hinge rest lengths use, so that lambda_T = lambda_B = lambda_N is the "
-            f"flat as-built beam in both), eta = {eq2.eta:g} (seed 001)")
+    return (
+        f"Eq. 2 with l_p = {eq2.ribbon_length:g} mm (the segment's straight length, as the beam's "
+        f"bottom strips span it), t_a = {eq2.strip_thickness:g} mm (the cast strip thickness), "
+        f"lambda_N = {eq2.lambda_N:g} (the published model's isotropic/nematic ratio, the same "
+        "lambda_N the bar-and-hinge rest lengths use, so that lambda_T = lambda_B = lambda_N is "
+        "the "
+        f"flat as-built beam in both), eta = {eq2.eta:g} (seed 001)"
+    )

@@ -32,8 +32,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def prepare(args: argparse.Namespace):
     """The checked case (before the output folder is touched and before any mesh is built); the
     options given override the file's keys and are checked like them."""
-    overrides = {("mesh", "size_factor"): args.size_factor, ("program", "duration"): args.duration,
-                 ("program", "dt"): args.dt, ("output", "fields"): False if args.no_fields else None}
+    overrides = {
+        ("mesh", "size_factor"): args.size_factor,
+        ("program", "duration"): args.duration,
+        ("program", "dt"): args.dt,
+        ("output", "fields"): False if args.no_fields else None,
+    }
     return load_case(args.config, overrides={k: v for k, v in overrides.items() if v is not None})
 
 
@@ -43,9 +47,13 @@ def main(args: argparse.Namespace) -> int:
     if default_comm().rank == 0:
         final = result.summary.get("final") or {}
         what = "steady state" if case.program["steady"] else f"{result.summary['steps']} steps"
-        print(f"lcefem: body {case.path.name}, {what} in {result.summary['wall_time [s]']:.1f} s; "
-              f"T_max {final.get('T_max [C]', float('nan')):.1f} C, T_mean {final.get('T_mean [C]', float('nan')):.1f} C; "
-              f"results in {result.out}")
+        print(
+            f"lcefem: body {case.path.name}, {what} in {result.summary['wall_time [s]']:.1f} s; "
+            f"T_max {final.get('T_max [C]', float('nan')):.1f} C, T_mean "
+            f"{final.get('T_mean [C]', float('nan')):.1f} "
+            "C; "
+            f"results in {result.out}"
+        )
     if not case.compare:
         return 0
     if result.out is None:
@@ -55,11 +63,15 @@ def main(args: argparse.Namespace) -> int:
 
     rows = None
     if default_comm().rank == 0:
-        rows = write_comparisons(case, result, result.out, command=f"lcefem run body --config {args.config}")
+        rows = write_comparisons(
+            case, result, result.out, command=f"lcefem run body --config {args.config}"
+        )
         for r in rows:
-            print(f"  compare {r.metric}: model {r.value:.4g} {r.unit}, measured "
-                  f"{r.reference if r.reference is not None else float('nan'):.4g} {r.unit} "
-                  f"-> {'pass' if r.passed else 'FAIL'}")
+            print(
+                f"  compare {r.metric}: model {r.value:.4g} {r.unit}, measured "
+                f"{r.reference if r.reference is not None else float('nan'):.4g} {r.unit} "
+                f"-> {'pass' if r.passed else 'FAIL'}"
+            )
         print(f"report: {result.out / 'report.md'}")
     failed = default_comm().bcast(None if rows is None else any(not r.passed for r in rows), root=0)
     if failed:

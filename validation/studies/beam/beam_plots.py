@@ -14,26 +14,39 @@ from lcefem.validation.app.plots import save_figure
 
 
 def draw_side_view(ax, structure: BarHingeStructure, x: np.ndarray, *, label: bool = True) -> None:
-    """x-z view of the ribbon edge y = 0 (black), bottom strips (red), top strips (blue), stations."""
+    """x-z view of the ribbon edge y = 0 (black), bottom strips (red), top strips (blue),
+    stations."""
     x = np.asarray(x).reshape(-1, 3)
     edge = structure.nodes[:, 1] < 0.5 * structure.nodes[:, 1].max()
     for p in structure.panels:
         q = x[[p[0], p[1]]]
         ax.plot(q[:, 0], q[:, 2], "k-", lw=1.2)
-    styles = {"bottom_strips": ("tab:red", "bottom strip"), "top_strips": ("tab:blue", "top strip"),
-              "glue": ("tab:green", "glue")}
+    styles = {
+        "bottom_strips": ("tab:red", "bottom strip"),
+        "top_strips": ("tab:blue", "top strip"),
+        "glue": ("tab:green", "glue"),
+    }
     for group, (colour, name) in styles.items():
         for k, (i, j) in enumerate(structure.bars.get(group, [])):
             if not edge[i]:
                 continue
             q = x[[i, j]]
-            ax.plot(q[:, 0], q[:, 2], "-", color=colour, lw=1.0, label=name if label and k == 0 else None)
+            ax.plot(
+                q[:, 0],
+                q[:, 2],
+                "-",
+                color=colour,
+                lw=1.0,
+                label=name if label and k == 0 else None,
+            )
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("z [mm]")
 
 
-def plot_beam_run(path, structure, x_final, load_factor, curvature, eq2, title: str) -> pathlib.Path:
+def plot_beam_run(
+    path, structure, x_final, load_factor, curvature, eq2, title: str
+) -> pathlib.Path:
     """Curvature vs load factor along the ramp (bar-and-hinge and Eq. 2) and the final side view."""
     fig = Figure(figsize=(11, 4.4), layout="constrained")
     a, b = fig.subplots(1, 2)
@@ -64,12 +77,17 @@ def plot_fe_side_view(path, model, u, title: str, extra=None) -> pathlib.Path:
         extra(axes[0])
     ax = axes[1]
     edge = np.abs(X[:, 1] - tm.info["strip_y_range"][0]) < 1e-9
-    colours = {"kapton": ("k", "Kapton ribbon"), "bottom_strips": ("tab:red", "bottom strips"),
-               "bottom_pads": ("salmon", "bottom bond pads"), "top_strips": ("tab:blue", "top strips"),
-               "top_pads": ("lightblue", "top bond pads")}
+    colours = {
+        "kapton": ("k", "Kapton ribbon"),
+        "bottom_strips": ("tab:red", "bottom strips"),
+        "bottom_pads": ("salmon", "bottom bond pads"),
+        "top_strips": ("tab:blue", "top strips"),
+        "top_pads": ("lightblue", "top bond pads"),
+    }
     for name, (colour, label) in colours.items():
-        dofs = dolfinx.fem.locate_dofs_topological(u.function_space, 3,
-                                                   tm.cell_tags.find(tm.cell_tag(name)))
+        dofs = dolfinx.fem.locate_dofs_topological(
+            u.function_space, 3, tm.cell_tags.find(tm.cell_tag(name))
+        )
         dofs = dofs[edge[dofs]]
         ax.plot(x[dofs, 0], x[dofs, 2], ".", ms=2, color=colour, label=label)
         ax.plot(model_nodes[dofs, 0], model_nodes[dofs, 2], ".", ms=1, color="0.8")
@@ -91,5 +109,13 @@ def render_fe_beam(path, model, title: str) -> pathlib.Path:
     if info["symmetry"] == "quarter":
         mirror.append((0, info["x_mid"]))
     u = model.u
-    return render.render_deformed(path, u, lambda x: x[2], scalar_label="height z (as built) [mm]",
-                                  title=title, mirror=tuple(mirror), view="xz", show_undeformed=False)
+    return render.render_deformed(
+        path,
+        u,
+        lambda x: x[2],
+        scalar_label="height z (as built) [mm]",
+        title=title,
+        mirror=tuple(mirror),
+        view="xz",
+        show_undeformed=False,
+    )

@@ -8,8 +8,9 @@ study asks how close each (grid, wiring) comes to a set of targets:
 * Targets (:data:`TARGETS`), height fields z(x, y) [mm] over the surface's footprint, x and y from
   the centroid of the observed points: the four Fig. 4 shapes as the quadrics
   z = (kappa_x x^2 + kappa_y y^2) / 2 of the paper's centre curvatures (seed 001 Fig. 4: measured
-  dome, saddle, cylinder; the table's simulated value, as :data:`lcefem.validation.studies.gridshell.gridshell_bh.SHAPES`);
-  a Gaussian bump, a two-wave surface and a twisted surface (assumed amplitudes, stated per target).
+  dome, saddle, cylinder; the table's simulated value, as
+  :data:`lcefem.validation.studies.gridshell.gridshell_bh.SHAPES`); a Gaussian bump, a two-wave
+  surface and a twisted surface (assumed amplitudes, stated per target).
 * Grids (:data:`GRIDS`): the published 3 x 3, the refined 5 x 5 and the rhombic 60 deg grid
   (lcefem.meshes.gridshell_layout). The triangular grid is not built by the bar-and-hinge builder
   (it refuses it: three ribbons per junction), so it is not in the study.
@@ -38,9 +39,9 @@ from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
 from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.bar_hinge.design import EquilibriumMap, solve_design, strip_parameters
 from lcefem.solvers.problems import gridshell_bh as problem_bh
+from lcefem.validation.studies.design import gridshell_design as gd
 from lcefem.validation.studies.gridshell import calibrate
 from lcefem.validation.studies.gridshell import gridshell_bh as gs
-from lcefem.validation.studies.design import gridshell_design as gd
 
 
 def _quadric(shape: str):
@@ -60,14 +61,32 @@ TWIST = 1.0 / 600.0
 
 #: Targets: name -> (z(x, y) [mm], source).
 TARGETS = {
-    "dome": (_quadric("dome"), "seed 001 Fig. 4: the measured dome's centre curvatures as a quadric"),
-    "saddle": (_quadric("saddle"), "seed 001 Fig. 4: the measured saddle's centre curvatures as a quadric"),
-    "cylinder": (_quadric("cylinder"), "seed 001 Fig. 4: the measured cylinder's centre curvatures as a quadric"),
-    "table": (_quadric("table"), "seed 001 Fig. 4: the table, flat (0, 0 1/mm by symmetry; no number published)"),
-    "gaussian bump": (lambda x, y: BUMP[0] * np.exp(-(x * x + y * y) / (2.0 * BUMP[1] ** 2)),
-                      f"assumed: {BUMP[0]:g} mm high, sigma {BUMP[1]:g} mm"),
-    "two-wave": (lambda x, y: 0.5 * WAVE[0] * (np.cos(2 * math.pi * x / WAVE[1]) + np.cos(2 * math.pi * y / WAVE[1])),
-                 f"assumed: amplitude {WAVE[0]:g} mm, wavelength {WAVE[1]:g} mm in x and y"),
+    "dome": (
+        _quadric("dome"),
+        "seed 001 Fig. 4: the measured dome's centre curvatures as a quadric",
+    ),
+    "saddle": (
+        _quadric("saddle"),
+        "seed 001 Fig. 4: the measured saddle's centre curvatures as a quadric",
+    ),
+    "cylinder": (
+        _quadric("cylinder"),
+        "seed 001 Fig. 4: the measured cylinder's centre curvatures as a quadric",
+    ),
+    "table": (
+        _quadric("table"),
+        "seed 001 Fig. 4: the table, flat (0, 0 1/mm by symmetry; no number published)",
+    ),
+    "gaussian bump": (
+        lambda x, y: BUMP[0] * np.exp(-(x * x + y * y) / (2.0 * BUMP[1] ** 2)),
+        f"assumed: {BUMP[0]:g} mm high, sigma {BUMP[1]:g} mm",
+    ),
+    "two-wave": (
+        lambda x, y: 0.5
+        * WAVE[0]
+        * (np.cos(2 * math.pi * x / WAVE[1]) + np.cos(2 * math.pi * y / WAVE[1])),
+        f"assumed: amplitude {WAVE[0]:g} mm, wavelength {WAVE[1]:g} mm in x and y",
+    ),
     "twisted": (lambda x, y: TWIST * x * y, f"assumed: z = x y / {1 / TWIST:g} mm"),
 }
 #: Side of the published surface [mm]: 4 segments of 30 mm and 3 junctions of 7 mm (seed 001; the
@@ -76,19 +95,24 @@ SIDE = 141.0
 #: Grids: study name -> layout. The refined grid keeps the published side (fig. S7 refines the grid
 #: of the same surface): 5 ribbons, pitch p with 6 (p - 7 mm) + 5 x 7 mm = 141 mm. The rhombic grid
 #: is the named 60 deg one (the published pitch).
-GRIDS = {"3x3": NAMED_LAYOUTS["published"],
-         "5x5": dataclasses.replace(NAMED_LAYOUTS["5x5"], pitch=(SIDE - 5 * 7.0) / 6 + 7.0),
-         "rhombic": NAMED_LAYOUTS["rhombic60"]}
+GRIDS = {
+    "3x3": NAMED_LAYOUTS["published"],
+    "5x5": dataclasses.replace(NAMED_LAYOUTS["5x5"], pitch=(SIDE - 5 * 7.0) / 6 + 7.0),
+    "rhombic": NAMED_LAYOUTS["rhombic60"],
+}
 #: Wirings: study name -> (design mode of gridshell_design, the layout's wiring).
-WIRINGS = {"4 channels": ("4", "channels"), "per ribbon and layer": ("wiring", "ribbons"),
-           "per strip": ("all", "channels")}
+WIRINGS = {
+    "4 channels": ("4", "channels"),
+    "per ribbon and layer": ("wiring", "ribbons"),
+    "per strip": ("all", "channels"),
+}
 #: Support of every design (the Fig. 4 dome's and cylinder's published rollers).
 SUPPORT = "rollers"
 
 
 def rigid_residual(points: np.ndarray, target) -> np.ndarray:
-    """z - z_target(x, y) [mm] at ``points`` (m, 3) (x, y from their centroid) with the least-squares
-    plane a + b x + c y removed (the linearised rigid fit)."""
+    """z - z_target(x, y) [mm] at ``points`` (m, 3) (x, y from their centroid) with the
+    least-squares plane a + b x + c y removed (the linearised rigid fit)."""
     xy = points[:, :2] - points[:, :2].mean(axis=0)
     r = points[:, 2] - target(xy[:, 0], xy[:, 1])
     basis = np.column_stack([np.ones(len(r)), xy])
@@ -109,9 +133,15 @@ class ReachResult:
     x: np.ndarray | None = None  # (n, 3) [mm]
 
 
-def best_surface(target: str, grid: str, wiring: str, model_set: str = calibrate.DEFAULT_MODEL_SET,
-                 max_evaluations: int = 40) -> ReachResult:
-    """The design loop's closest surface to ``target`` on ``grid`` with ``wiring`` (module docstring)."""
+def best_surface(
+    target: str,
+    grid: str,
+    wiring: str,
+    model_set: str = calibrate.DEFAULT_MODEL_SET,
+    max_evaluations: int = 40,
+) -> ReachResult:
+    """The design loop's closest surface to ``target`` on ``grid`` with ``wiring`` (module
+    docstring)."""
     t0 = time.process_time()
     mode, wires = WIRINGS[wiring]
     layout = dataclasses.replace(GRIDS[grid], wiring=wires)
@@ -122,37 +152,68 @@ def best_surface(target: str, grid: str, wiring: str, model_set: str = calibrate
     params = strip_parameters(structure, gd.channel_selections(structure, mode), lambda_N)
     points = structure.panel_centres
     z = TARGETS[target][0]
-    eq = EquilibriumMap(setup.model, setup.held, params,
-                        lambda x: rigid_residual(np.asarray(x).reshape(-1, 3)[points], z),
-                        newton_options=gd.DESIGN_NEWTON, path_options=problem_bh.GRIDSHELL_PATH)
+    eq = EquilibriumMap(
+        setup.model,
+        setup.held,
+        params,
+        lambda x: rigid_residual(np.asarray(x).reshape(-1, 3)[points], z),
+        newton_options=gd.DESIGN_NEWTON,
+        path_options=problem_bh.GRIDSHELL_PATH,
+    )
     p0 = np.full(params.size, 0.5 * (gd.LAMBDA_MIN + lambda_N))
     try:
-        res = solve_design(eq, np.zeros(len(points)), p0, gd.LAMBDA_MIN, lambda_N, scale=1.0,
-                           absolute=1e-3, tolerance=1e-6, max_evaluations=max_evaluations)
+        res = solve_design(
+            eq,
+            np.zeros(len(points)),
+            p0,
+            gd.LAMBDA_MIN,
+            lambda_N,
+            scale=1.0,
+            absolute=1e-3,
+            tolerance=1e-6,
+            max_evaluations=max_evaluations,
+        )
         r, p, x, n = res.residual, res.p, res.state.x, res.iterations
     except ConvergenceError:  # not even the mid-range lambdas: the flat surface is the answer
         r, p, x, n = rigid_residual(structure.nodes[points], z), p0, None, 0
     rms = float(np.sqrt(np.mean(np.square(r))))
-    return ReachResult(target, grid, wiring, rms, params.size, np.asarray(p), n, time.process_time() - t0, x)
+    return ReachResult(
+        target, grid, wiring, rms, params.size, np.asarray(p), n, time.process_time() - t0, x
+    )
 
 
 def reach_figure(path, rows: list[ReachResult], tolerance: float = 1.0):
     """RMS distance [mm] against grid and wiring, one line per target; the 1 mm line dashed."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from lcefem.validation.app.plots import save_figure
 
-    combos = [(g, w) for g in GRIDS for w in WIRINGS if any(r.grid == g and r.wiring == w for r in rows)]
+    combos = [
+        (g, w) for g in GRIDS for w in WIRINGS if any(r.grid == g and r.wiring == w for r in rows)
+    ]
     fig, ax = plt.subplots(figsize=(9, 4.5))
     for k, target in enumerate(t for t in TARGETS if any(r.target == t for r in rows)):
-        pts = [(j, r.rms) for j, c in enumerate(combos) for r in rows if (r.grid, r.wiring) == c and r.target == target]
+        pts = [
+            (j, r.rms)
+            for j, c in enumerate(combos)
+            for r in rows
+            if (r.grid, r.wiring) == c and r.target == target
+        ]
         ax.plot(*zip(*pts), "o-", color=f"C{k}", label=target)
     ax.axhline(tolerance, color="k", ls="--", lw=0.8)
-    ax.set_xticks(range(len(combos)), [f"{g}\n{w} ({n})" for (g, w), n in
-                                       zip(combos, [next(r.variables for r in rows if (r.grid, r.wiring) == c)
-                                                    for c in combos])], fontsize=7)
+    ax.set_xticks(
+        range(len(combos)),
+        [
+            f"{g}\n{w} ({n})"
+            for (g, w), n in zip(
+                combos, [next(r.variables for r in rows if (r.grid, r.wiring) == c) for c in combos]
+            )
+        ],
+        fontsize=7,
+    )
     ax.set_ylim(bottom=0.0)
     ax.set_ylabel("RMS distance from the target [mm]")
     ax.set_xlabel("grid, wiring (number of drives)")

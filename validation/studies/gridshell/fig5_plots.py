@@ -1,6 +1,6 @@
 """Figures and movies of the robotic surface's Fig. 5 tasks (matplotlib, off-screen): the covered
-surface (ribbons and the cover-scale disks in each junction's tangent plane, optionally the ball), the
-bare/covered curvature chart, curvature and ball trajectories over time, and GIF movies (pillow;
+surface (ribbons and the cover-scale disks in each junction's tangent plane, optionally the ball),
+the bare/covered curvature chart, curvature and ball trajectories over time, and GIF movies (pillow;
 no video encoder needed)."""
 
 from __future__ import annotations
@@ -30,7 +30,8 @@ def junction_frames(structure, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def disk_outline(centre: np.ndarray, normal: np.ndarray, radius: float, n: int = 48) -> np.ndarray:
-    """(n, 3) points of a circle of ``radius`` [mm] in the plane through ``centre`` normal to ``normal``."""
+    """(n, 3) points of a circle of ``radius`` [mm] in the plane through ``centre`` normal to
+    ``normal``."""
     a = np.cross(normal, [0.0, 1.0, 0.0])
     a /= np.linalg.norm(a)
     b = np.cross(normal, a)
@@ -38,8 +39,9 @@ def disk_outline(centre: np.ndarray, normal: np.ndarray, radius: float, n: int =
     return centre + radius * (np.cos(phi)[:, None] * a + np.sin(phi)[:, None] * b)
 
 
-def draw_surface(ax, structure, x, scales=None, ball: tuple[np.ndarray, float] | None = None,
-                 lift: float = 1.0) -> None:
+def draw_surface(
+    ax, structure, x, scales=None, ball: tuple[np.ndarray, float] | None = None, lift: float = 1.0
+) -> None:
     """Ribbons (grey triangles), scales (translucent orange disks, ``lift`` mm above the junction)
     and a ball (centre [mm], radius [mm])."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
@@ -50,13 +52,24 @@ def draw_surface(ax, structure, x, scales=None, ball: tuple[np.ndarray, float] |
     if scales is not None:
         c, n = junction_frames(structure, x)
         disks = [disk_outline(ci + lift * ni, ni, 0.5 * scales.diameter) for ci, ni in zip(c, n)]
-        ax.add_collection3d(Poly3DCollection(disks, facecolor=(1.0, 0.6, 0.1, 0.35),
-                                             edgecolor=(0.7, 0.35, 0.0, 0.8), linewidth=0.6))
+        ax.add_collection3d(
+            Poly3DCollection(
+                disks,
+                facecolor=(1.0, 0.6, 0.1, 0.35),
+                edgecolor=(0.7, 0.35, 0.0, 0.8),
+                linewidth=0.6,
+            )
+        )
     if ball is not None:
         centre, r = ball
-        u, v = np.mgrid[0:2 * np.pi:16j, 0:np.pi:9j]
-        ax.plot_surface(centre[0] + r * np.cos(u) * np.sin(v), centre[1] + r * np.sin(u) * np.sin(v),
-                        centre[2] + r * np.cos(v), color="royalblue", linewidth=0)
+        u, v = np.mgrid[0 : 2 * np.pi : 16j, 0 : np.pi : 9j]
+        ax.plot_surface(
+            centre[0] + r * np.cos(u) * np.sin(v),
+            centre[1] + r * np.sin(u) * np.sin(v),
+            centre[2] + r * np.cos(v),
+            color="royalblue",
+            linewidth=0,
+        )
     lo, hi = x[:, :2].min() - 20.0, x[:, :2].max() + 20.0
     ax.set_xlim(lo, hi)
     ax.set_ylim(lo, hi)
@@ -80,7 +93,8 @@ def render_covered(path, structure, x, scales, title: str, ball=None) -> pathlib
 
 
 def scale_chart(path, chart: dict, sources: Sequence[str]) -> pathlib.Path:
-    """Grouped bars per shape: kappa_x and kappa_y [1/mm] of each series ({shape: {label: (kx, ky)}})."""
+    """Grouped bars per shape: kappa_x and kappa_y [1/mm] of each series ({shape: {label: (kx,
+    ky)}})."""
     from lcefem.validation.app.plots import save_figure, sources_footer
 
     fig = _figure((11, 4.5))
@@ -91,8 +105,12 @@ def scale_chart(path, chart: dict, sources: Sequence[str]) -> pathlib.Path:
     pos = np.arange(len(shapes))
     for k, (ax, comp) in enumerate(zip(axes, ("kappa_x", "kappa_y"))):
         for i, label in enumerate(labels):
-            ax.bar(pos + (i - 0.5 * (len(labels) - 1)) * width, [chart[s][label][k] for s in shapes],
-                   width, label=label)
+            ax.bar(
+                pos + (i - 0.5 * (len(labels) - 1)) * width,
+                [chart[s][label][k] for s in shapes],
+                width,
+                label=label,
+            )
         ax.set_xticks(pos, shapes)
         ax.axhline(0.0, color="k", lw=0.8)
         ax.set_title(f"{comp} at the centre (dome negative)", fontsize=9)
@@ -111,8 +129,14 @@ def write_gif(path, frames: Sequence[np.ndarray], seconds_per_frame: float = 0.2
     path.parent.mkdir(parents=True, exist_ok=True)
     images = [Image.fromarray(np.asarray(f)[..., :3]) for f in frames]
     tmp = path.with_name(path.stem + ".part.gif")
-    images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
-                   duration=int(1000 * seconds_per_frame), loop=0)
+    images[0].save(
+        tmp,
+        format="GIF",
+        save_all=True,
+        append_images=images[1:],
+        duration=int(1000 * seconds_per_frame),
+        loop=0,
+    )
     tmp.replace(path)
     return path
 
@@ -134,10 +158,13 @@ def surface_frame(structure, x, scales, title: str, ball=None) -> np.ndarray:
         ax = fig.add_subplot(projection="3d")
         draw_surface(ax, structure, x, scales, ball)
         ax.set_title(title, fontsize=9)
+
     return frame_image(draw)
 
 
-def ball_trajectory_plot(path, traj: dict, times: dict, half_width: float, radius: float) -> pathlib.Path:
+def ball_trajectory_plot(
+    path, traj: dict, times: dict, half_width: float, radius: float
+) -> pathlib.Path:
     """Top view of the ball's path (footprint square) and its x, y against time (phases marked)."""
     from lcefem.validation.app.plots import save_figure
 
@@ -157,7 +184,15 @@ def ball_trajectory_plot(path, traj: dict, times: dict, half_width: float, radiu
     b.plot(t, traj["v [mm]"], label="y - y_c [mm]")
     for name, value in times.items():
         b.axvline(value, color="0.8", lw=0.8)
-        b.text(value, 1.0, " " + name, rotation=90, va="top", fontsize=7, transform=b.get_xaxis_transform())
+        b.text(
+            value,
+            1.0,
+            " " + name,
+            rotation=90,
+            va="top",
+            fontsize=7,
+            transform=b.get_xaxis_transform(),
+        )
     b.axhspan(-radius, radius, color="0.9", label="within one ball radius of the centre")
     b.set_xlabel("time [s]")
     b.set_ylabel("ball centre [mm]")
@@ -166,7 +201,8 @@ def ball_trajectory_plot(path, traj: dict, times: dict, half_width: float, radiu
 
 
 def pad_height_plot(path, record, rows: dict, flat: float) -> pathlib.Path:
-    """Pad height [mm] against its mass [g]: the loads of Fig. 5C and the ramp on to the give-way load."""
+    """Pad height [mm] against its mass [g]: the loads of Fig. 5C and the ramp on to the give-way
+    load."""
     from lcefem.validation.app.plots import save_figure
 
     fig = _figure((6.5, 4))
@@ -174,7 +210,9 @@ def pad_height_plot(path, record, rows: dict, flat: float) -> pathlib.Path:
     if record:
         m, h = np.array(record).T
         ax.plot(m / 1e-6, h, "-", color="0.5", label="ramp beyond 200 g")
-    ax.plot(rows["pad mass [g]"], rows["pad height [mm]"], "o", label="Fig. 5C loads (100, 150, 200 g)")
+    ax.plot(
+        rows["pad mass [g]"], rows["pad height [mm]"], "o", label="Fig. 5C loads (100, 150, 200 g)"
+    )
     ax.axhline(flat, color="k", lw=0.8, ls="--", label="pad on the flat surface")
     ax.set_xlabel("pad mass [g]")
     ax.set_ylabel("pad height above the table plane [mm]")

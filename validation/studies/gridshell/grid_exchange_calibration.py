@@ -10,8 +10,9 @@ the lumped steady state does not depend on the pulse before the hold (lambda_s(T
 hysteresis), and the quasi-static surface reaches the same dome from the as-built state. Brent's
 method on the factor for the circle measure (mean of x and y) = -0.016 1/mm.
 
-``python -m lcefem.validation.studies.gridshell.grid_exchange_calibration [--model-set NAME] [--out FILE.json]`` (default
-the set's stored calibration, :data:`lcefem.validation.studies.gridshell.calibrate.EXCHANGE_CALIBRATIONS`:
+``python -m lcefem.validation.studies.gridshell.grid_exchange_calibration [--model-set NAME] [--out
+FILE.json]`` (default the set's stored calibration,
+:data:`lcefem.validation.studies.gridshell.calibrate.EXCHANGE_CALIBRATIONS`:
 validation/data/grid_exchange_calibration.json for 'published',
 grid_exchange_calibration_fe_calibrated.json for 'fe-calibrated'; written to a .part name then
 renamed). Each model set runs its current route with its own factor
@@ -42,12 +43,13 @@ DATA = pathlib.Path(__file__).parents[2] / "data" / "grid_exchange_calibration.j
 def dome_hold_curvature(factor: float, model_set: str = "published") -> dict:
     """Centre curvatures [1/mm] and lambdas [-] of the bar-and-hinge dome held at :data:`DOME_HOLD`
     with the grid exchange factor ``factor`` [-] (published rollers), in the bar-and-hinge model set
-    ``model_set`` (:func:`lcefem.validation.studies.gridshell.gridshell_current_route.bh_setup`: 'published', the
-    default and the calibration of record, or 'fe-calibrated')."""
+    ``model_set`` (:func:`lcefem.validation.studies.gridshell.gridshell_current_route.bh_setup`:
+    'published', the default and the calibration of record, or 'fe-calibrated')."""
     from lcefem.validation.studies.gridshell.gridshell_current_route import bh_curvatures
 
-    lambdas = lambda_assignments_from_currents(DOME_HOLD, CurrentRouteConfig(exchange_factor=factor),
-                                               PUBLISHED_LAMBDA_N)
+    lambdas = lambda_assignments_from_currents(
+        DOME_HOLD, CurrentRouteConfig(exchange_factor=factor), PUBLISHED_LAMBDA_N
+    )
     k = bh_curvatures("dome", lambdas, model_set)
     k = {c: float(k[c]) for c in ("circle_x", "circle_y", "quad_kx", "quad_ky")}
     return {"lambda": lambdas, **k, "circle": 0.5 * (k["circle_x"] + k["circle_y"])}
@@ -67,26 +69,38 @@ def calibrate(tol: float = 1e-4, model_set: str = "published") -> dict:
     at = dome_hold_curvature(factor, model_set)
     return {
         "parameter": "lcefem.models.lumped_heat.GRID_EXCHANGE_FACTOR (grid strip's convective film "
-                     "coefficient / the free strip's calibrated 5.805 W/(m^2 K)) [-]",
+        "coefficient / the free strip's calibrated 5.805 W/(m^2 K)) [-]",
         "value [-]": round(factor, 4),
-        "case": "dome protocol, seed 001 Results: hold 0.04 A top / 0.07 A bottom after 0.1/0.2 A for "
-                "~20 s; measured centre curvature -0.016 1/mm (circle measure)",
-        "model": f"bar-and-hinge gridshell (published rollers, model set '{model_set}'), steady lambdas "
-                 "of the lumped grid strip (thermal model 'strip': 130 ohm over 80 mm isotropic)",
+        "case": "dome protocol, seed 001 Results: hold 0.04 A top / 0.07 A bottom after 0.1/0.2 A "
+        "for "
+        "~20 s; measured centre curvature -0.016 1/mm (circle measure)",
+        "model": f"bar-and-hinge gridshell (published rollers, model set '{model_set}'), steady "
+        "lambdas "
+        "of the lumped grid strip (thermal model 'strip': 130 ohm over 80 mm isotropic)",
         "result at the calibrated value": at,
         "uncalibrated (factor 1.0)": dome_hold_curvature(1.0, model_set),
         "trials": trials,
-        "command": f"python -m lcefem.validation.studies.gridshell.grid_exchange_calibration --model-set {model_set}",
+        "command": "python -m lcefem.validation.studies.gridshell.grid_exchange_calibration "
+        "--model-set "
+        f"{model_set}",
         "wall time [s]": round(time.perf_counter() - started, 1),
     }
 
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--out", default=None, help="output JSON (default: the model set's stored "
-                   "calibration, lcefem.validation.studies.gridshell.calibrate.EXCHANGE_CALIBRATIONS)")
-    p.add_argument("--model-set", default="published", choices=("published", "fe-calibrated"),
-                   help="bar-and-hinge model set (default published, the calibration of record)")
+    p.add_argument(
+        "--out",
+        default=None,
+        help="output JSON (default: the model set's stored "
+        "calibration, lcefem.validation.studies.gridshell.calibrate.EXCHANGE_CALIBRATIONS)",
+    )
+    p.add_argument(
+        "--model-set",
+        default="published",
+        choices=("published", "fe-calibrated"),
+        help="bar-and-hinge model set (default published, the calibration of record)",
+    )
     args = p.parse_args(argv)
     result = calibrate(model_set=args.model_set)
     from lcefem.validation.studies.gridshell.calibrate import EXCHANGE_CALIBRATIONS
@@ -95,9 +109,11 @@ def main(argv=None) -> int:
     part = out.with_name(out.name + ".part")
     part.write_text(json.dumps(result, indent=2) + "\n")
     part.replace(out)
-    print(f"grid exchange factor {result['value [-]']} (dome circle "
-          f"{result['result at the calibrated value']['circle']:.4f} 1/mm; uncalibrated "
-          f"{result['uncalibrated (factor 1.0)']['circle']:.4f}); {out}")
+    print(
+        f"grid exchange factor {result['value [-]']} (dome circle "
+        f"{result['result at the calibrated value']['circle']:.4f} 1/mm; uncalibrated "
+        f"{result['uncalibrated (factor 1.0)']['circle']:.4f}); {out}"
+    )
     return 0
 
 

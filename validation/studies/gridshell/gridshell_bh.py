@@ -2,9 +2,9 @@
 cases, the benchmark and the tests: the paper's Fig. 4 settings with the curvatures it reports
 (:data:`SHAPES`, validation data of validation/data/seed001.toml).
 
-The problem, its supports, ramp and observables are :mod:`lcefem.solvers.problems.gridshell_bh`'s; the
-paper's programs and the published recipes are :mod:`lcefem.validation.cases.programs`' (validation/data/
-programs.toml); the current route (currents per channel/group ->
+The problem, its supports, ramp and observables are :mod:`lcefem.solvers.problems.gridshell_bh`'s;
+the paper's programs and the published recipes are :mod:`lcefem.validation.cases.programs`'
+(validation/data/ programs.toml); the current route (currents per channel/group ->
 lambdas through the strip's thermal model) is :mod:`lcefem.models.lumped_heat`'s: import them from
 there.
 
@@ -31,13 +31,17 @@ def _paper_curvatures(shape: str, kind: str) -> tuple[float, float]:
 #: (seed 001, Results and Methods). The table is the flat shape (0, 0) of the paper's
 #: classification; no measured value is given.
 SHAPES = {
-    name: {**drive,
-           "paper_sim": (0.0, 0.0) if name == "table" else _paper_curvatures(name, "sim"),
-           "paper_exp": (None, None) if name == "table" else _paper_curvatures(name, "exp")}
-    for name, drive in SHAPE_DRIVES.items()}
+    name: {
+        **drive,
+        "paper_sim": (0.0, 0.0) if name == "table" else _paper_curvatures(name, "sim"),
+        "paper_exp": (None, None) if name == "table" else _paper_curvatures(name, "exp"),
+    }
+    for name, drive in SHAPE_DRIVES.items()
+}
 SHAPE_SOURCES = {
     **SHAPE_DRIVE_SOURCES,
-    "curvatures": "seed 001, Results (dome) and Materials and Methods (saddle, cylinder): principal "
-                  "curvatures at the centre joint, simulation / experiment; table: flat (0, 0) by "
-                  "symmetry, no number published",
+    "curvatures": "seed 001, Results (dome) and Materials and Methods (saddle, cylinder): "
+    "principal "
+    "curvatures at the centre joint, simulation / experiment; table: flat (0, 0) by "
+    "symmetry, no number published",
 }

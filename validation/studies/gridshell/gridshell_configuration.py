@@ -5,14 +5,15 @@ published recipes (issue 30; the table of docs/gridshell_configuration.md).
 
 For every recipe (:data:`lcefem.validation.cases.programs.RECIPES`) it runs the published
 configuration (its published support, glue squares, bar law A f P(p), no strip-ribbon contact), the
-published configuration with one departure (:data:`~lcefem.solvers.problems.gridshell_bh_run.DEPARTURES`)
-at a time, all departures together, and the configuration shipped before issue 30 (all departures,
-on the middle ribbons' rollers for every recipe but the saddle; for dome, cylinder and table the
-same as all departures, so not repeated). Per run: converged, centre curvatures
-by the circle (Fig. 4) and the nine-point quadratic fit, z range, the nine junction centres' RMS
-distance to the published run's after a rigid (Kabsch) fit, increments, Newton iterations, wall time.
-Writes ``configuration_effects.csv`` (units in the header) and ``configuration_effects.md`` into DIR
-(default results/gridshell_configuration), each through a .part name.
+published configuration with one departure
+(:data:`~lcefem.solvers.problems.gridshell_bh_run.DEPARTURES`) at a time, all departures together,
+and the configuration shipped before issue 30 (all departures, on the middle ribbons' rollers for
+every recipe but the saddle; for dome, cylinder and table the same as all departures, so not
+repeated). Per run: converged, centre curvatures by the circle (Fig. 4) and the nine-point quadratic
+fit, z range, the nine junction centres' RMS distance to the published run's after a rigid (Kabsch)
+fit, increments, Newton iterations, wall time. Writes ``configuration_effects.csv`` (units in the
+header) and ``configuration_effects.md`` into DIR (default results/gridshell_configuration), each
+through a .part name.
 """
 
 from __future__ import annotations
@@ -32,8 +33,8 @@ from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.analysis.curvature import junction_centre_points
 from lcefem.solvers.problems import gridshell_bh as g
 from lcefem.solvers.problems import gridshell_bh_run as grun
-from lcefem.validation.cases.programs import RECIPES
 from lcefem.solvers.runtime.files import write_text
+from lcefem.validation.cases.programs import RECIPES
 
 #: The variants measured: label -> (departures, support override or None).
 VARIANTS = {
@@ -51,7 +52,8 @@ def former_support(recipe: str) -> str:
 
 
 def rigid_rms(a: np.ndarray, b: np.ndarray) -> float:
-    """RMS distance [mm] between point sets a and b (m, 3) after the best rigid motion of b onto a."""
+    """RMS distance [mm] between point sets a and b (m, 3) after the best rigid motion of b onto
+    a."""
     ca, cb = a.mean(axis=0), b.mean(axis=0)
     u, _, vt = np.linalg.svd((b - cb).T @ (a - ca))
     d = np.sign(np.linalg.det(u @ vt))
@@ -69,14 +71,19 @@ def run_variant(recipe: str, departures, support_override) -> dict:
     """One recipe in one configuration: the numbers of the table (NaN where it did not converge)."""
     p0, support = RECIPES[recipe]
     if support_override == "former":
-        mesh, lce, _ = grun.published_configuration(BeamBarHingeMesh(), bhm.LCEStripBars(), support, departures)
+        mesh, lce, _ = grun.published_configuration(
+            BeamBarHingeMesh(), bhm.LCEStripBars(), support, departures
+        )
         support = former_support(recipe)
     else:
-        mesh, lce, support = grun.published_configuration(BeamBarHingeMesh(), bhm.LCEStripBars(), support,
-                                                       departures)
+        mesh, lce, support = grun.published_configuration(
+            BeamBarHingeMesh(), bhm.LCEStripBars(), support, departures
+        )
     s = build_gridshell_bar_hinge(mesh=mesh)
     materials = dataclasses.replace(bhm.BarHingeMaterials(), lce=lce)
-    setup = g.setup_gridshell(g.targets_from_recipe(s, p0), support, structure=s, materials=materials)
+    setup = g.setup_gridshell(
+        g.targets_from_recipe(s, p0), support, structure=s, materials=materials
+    )
     t0 = time.perf_counter()
     out = {"recipe": recipe, "support": support, "converged": False, "why": ""}
     try:
@@ -86,22 +93,38 @@ def run_variant(recipe: str, departures, support_override) -> dict:
         return out
     k = sol.curvatures
     summ = g.shape_summary(s, sol.final.x)
-    out.update(converged=True, seconds=time.perf_counter() - t0, circle_x=k["circle_x"],
-               circle_y=k["circle_y"], quad_kx=k["quad_kx"], quad_ky=k["quad_ky"],
-               z_range=summ["z_range [mm]"], increments=len(sol.path.states) - 1,
-               newton=int(sum(sol.path.newton_iterations)),
-               centres=junction_centre_points(s, sol.final.x).reshape(-1, 3),
-               penetration=penetration(mesh, sol.final.x))
+    out.update(
+        converged=True,
+        seconds=time.perf_counter() - t0,
+        circle_x=k["circle_x"],
+        circle_y=k["circle_y"],
+        quad_kx=k["quad_kx"],
+        quad_ky=k["quad_ky"],
+        z_range=summ["z_range [mm]"],
+        increments=len(sol.path.states) - 1,
+        newton=int(sum(sol.path.newton_iterations)),
+        centres=junction_centre_points(s, sol.final.x).reshape(-1, 3),
+        penetration=penetration(mesh, sol.final.x),
+    )
     return out
 
 
-COLUMNS = [("recipe", "recipe [-]"), ("variant", "variant [-]"), ("support", "support [-]"),
-           ("converged", "converged [-]"), ("circle_x", "circle kappa_x [1/mm]"),
-           ("circle_y", "circle kappa_y [1/mm]"), ("quad_kx", "quad kappa_x [1/mm]"),
-           ("quad_ky", "quad kappa_y [1/mm]"), ("z_range", "z range [mm]"),
-           ("rms", "junction centres RMS vs published [mm]"),
-           ("penetration", "deepest strip-ribbon penetration [mm]"), ("increments", "increments [-]"),
-           ("newton", "Newton iterations [-]"), ("seconds", "wall time [s]")]
+COLUMNS = [
+    ("recipe", "recipe [-]"),
+    ("variant", "variant [-]"),
+    ("support", "support [-]"),
+    ("converged", "converged [-]"),
+    ("circle_x", "circle kappa_x [1/mm]"),
+    ("circle_y", "circle kappa_y [1/mm]"),
+    ("quad_kx", "quad kappa_x [1/mm]"),
+    ("quad_ky", "quad kappa_y [1/mm]"),
+    ("z_range", "z range [mm]"),
+    ("rms", "junction centres RMS vs published [mm]"),
+    ("penetration", "deepest strip-ribbon penetration [mm]"),
+    ("increments", "increments [-]"),
+    ("newton", "Newton iterations [-]"),
+    ("seconds", "wall time [s]"),
+]
 
 
 def measure(recipes, variants=VARIANTS, echo=print) -> list[dict]:
@@ -117,32 +140,51 @@ def measure(recipes, variants=VARIANTS, echo=print) -> list[dict]:
             r["variant"] = label
             if label == "published" and r["converged"]:
                 base = r["centres"]
-            r["rms"] = rigid_rms(base, r["centres"]) if (base is not None and r["converged"]) else math.nan
+            r["rms"] = (
+                rigid_rms(base, r["centres"]) if (base is not None and r["converged"]) else math.nan
+            )
             rows.append(r)
-            echo(" ".join(f"{r.get(k, math.nan):.4g}" if isinstance(r.get(k), float) else str(r.get(k, ""))
-                          for k, _ in COLUMNS) + (f"  ({r['why']})" if r["why"] else ""))
+            echo(
+                " ".join(
+                    f"{r.get(k, math.nan):.4g}"
+                    if isinstance(r.get(k), float)
+                    else str(r.get(k, ""))
+                    for k, _ in COLUMNS
+                )
+                + (f"  ({r['why']})" if r["why"] else "")
+            )
     return rows
 
 
 def write_tables(rows: list[dict], out: pathlib.Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     lines = [",".join(h for _, h in COLUMNS)]
-    md = ["| recipe | variant | support | circle kx | circle ky | quad kx | quad ky | z range | "
-          "RMS vs published | penetration | Newton it. | time |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    md = [
+        "| recipe | variant | support | circle kx | circle ky | quad kx | quad ky | z range | "
+        "RMS vs published | penetration | Newton it. | time |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
         vals = []
         for k, _ in COLUMNS:
             v = r.get(k, math.nan)
-            vals.append(f"{v:.6g}" if isinstance(v, float) else str(int(v) if isinstance(v, bool) else v))
+            vals.append(
+                f"{v:.6g}" if isinstance(v, float) else str(int(v) if isinstance(v, bool) else v)
+            )
         lines.append(",".join(vals))
         if r["converged"]:
-            md.append(f"| {r['recipe']} | {r['variant']} | {r['support']} | {r['circle_x']:.4f} | "
-                      f"{r['circle_y']:.4f} | {r['quad_kx']:.4f} | {r['quad_ky']:.4f} | "
-                      f"{r['z_range']:.1f} | {r['rms']:.2f} | {r['penetration']:.2f} | {r['newton']} | {r['seconds']:.1f} s |")
+            md.append(
+                f"| {r['recipe']} | {r['variant']} | {r['support']} | {r['circle_x']:.4f} | "
+                f"{r['circle_y']:.4f} | {r['quad_kx']:.4f} | {r['quad_ky']:.4f} | "
+                f"{r['z_range']:.1f} | {r['rms']:.2f} | {r['penetration']:.2f} | {r['newton']} | "
+                f"{r['seconds']:.1f} s "
+                "|"
+            )
         else:
-            md.append(f"| {r['recipe']} | {r['variant']} | {r['support']} | did not converge "
-                      f"({r['why']}) | | | | | | | | {r['seconds']:.1f} s |")
+            md.append(
+                f"| {r['recipe']} | {r['variant']} | {r['support']} | did not converge "
+                f"({r['why']}) | | | | | | | | {r['seconds']:.1f} s |"
+            )
     write_text(out / "configuration_effects.csv", "\n".join(lines) + "\n")
     write_text(out / "configuration_effects.md", "\n".join(md) + "\n")
 

@@ -20,8 +20,9 @@ if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
-def render_gridshell(path: pathlib.Path, structure: BarHingeStructure, x: np.ndarray, title: str
-                     ) -> pathlib.Path:
+def render_gridshell(
+    path: pathlib.Path, structure: BarHingeStructure, x: np.ndarray, title: str
+) -> pathlib.Path:
     """PNG of the deformed ribbons (coloured by height z [mm]), strips as lines (bottom red, top
     blue) and the junction centres as black spheres."""
     import pyvista as pv
@@ -39,7 +40,10 @@ def render_gridshell(path: pathlib.Path, structure: BarHingeStructure, x: np.nda
             lines = np.hstack([np.full((pairs.shape[0], 1), 2), pairs]).ravel()
             plotter.add_mesh(pv.PolyData(x, lines=lines), color=colour, line_width=3)
     centres = junction_centre_points(structure, x).reshape(-1, 3)
-    plotter.add_mesh(pv.PolyData(centres).glyph(geom=pv.Sphere(radius=2.0), scale=False, orient=False), color="black")
+    plotter.add_mesh(
+        pv.PolyData(centres).glyph(geom=pv.Sphere(radius=2.0), scale=False, orient=False),
+        color="black",
+    )
     plotter.add_text(title, font_size=10)
     plotter.view_isometric()
     path = pathlib.Path(path)
@@ -51,8 +55,9 @@ def render_gridshell(path: pathlib.Path, structure: BarHingeStructure, x: np.nda
     return path
 
 
-def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[str, dict],
-                        sources: Sequence[str]) -> pathlib.Path:
+def curvature_bar_chart(
+    path: pathlib.Path, shapes: Sequence[str], series: dict[str, dict], sources: Sequence[str]
+) -> pathlib.Path:
     """Grouped bars of kappa_x and kappa_y [1/mm] per shape; ``series`` maps a label to
     {shape: (kappa_x, kappa_y)} (None for a missing value)."""
     from matplotlib.figure import Figure
@@ -60,7 +65,9 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
     from lcefem.validation.app.plots import save_figure, sources_footer
 
     def drawn(values: dict) -> bool:
-        return any(v is not None and np.isfinite(v) for s in shapes for v in values.get(s, (None, None)))
+        return any(
+            v is not None and np.isfinite(v) for s in shapes for v in values.get(s, (None, None))
+        )
 
     # a series without a single value (e.g. the current route, not run at the quick level) gets no
     # legend entry, which would name bars that are not there; the footer says it was left out
@@ -88,8 +95,9 @@ def curvature_bar_chart(path: pathlib.Path, shapes: Sequence[str], series: dict[
     return save_figure(fig, pathlib.Path(path), 150)
 
 
-def reachable_set_figure(path: pathlib.Path, kappa: np.ndarray, points: dict[str, tuple[float, float]],
-                         title: str) -> pathlib.Path:
+def reachable_set_figure(
+    path: pathlib.Path, kappa: np.ndarray, points: dict[str, tuple[float, float]], title: str
+) -> pathlib.Path:
     """Scatter of reachable centre curvatures (kappa_x, kappa_y) [1/mm] (rows of ``kappa``) with
     their convex hull, and labelled target points."""
     import matplotlib
@@ -100,7 +108,9 @@ def reachable_set_figure(path: pathlib.Path, kappa: np.ndarray, points: dict[str
 
     kappa = np.asarray(kappa, dtype=float)
     fig, ax = plt.subplots(figsize=(6.0, 5.5))
-    ax.scatter(kappa[:, 0], kappa[:, 1], s=8, color="tab:blue", label="equilibria on the lambda grid")
+    ax.scatter(
+        kappa[:, 0], kappa[:, 1], s=8, color="tab:blue", label="equilibria on the lambda grid"
+    )
     if kappa.shape[0] >= 3:
         hull = ConvexHull(kappa)
         loop = np.append(hull.vertices, hull.vertices[0])
@@ -138,8 +148,16 @@ def layout_plan_figure(path: pathlib.Path, plan: dict, title: str) -> pathlib.Pa
     for a, b in np.asarray(plan["lines"], dtype=float):
         t = (b - a) / np.linalg.norm(b - a)
         n = np.array([-t[1], t[0]]) * half
-        ax.add_patch(Polygon([a + n, b + n, b - n, a - n], closed=True, facecolor="goldenrod",
-                             edgecolor="saddlebrown", lw=0.5, alpha=0.6))
+        ax.add_patch(
+            Polygon(
+                [a + n, b + n, b - n, a - n],
+                closed=True,
+                facecolor="goldenrod",
+                edgecolor="saddlebrown",
+                lw=0.5,
+                alpha=0.6,
+            )
+        )
     j = np.asarray(plan["junctions"], dtype=float)
     ax.plot(j[:, 0], j[:, 1], "k.", ms=4, label="junction centres")
     pts = np.asarray(plan["lines"], dtype=float).reshape(-1, 2)
@@ -178,9 +196,15 @@ def reach_figure(path: pathlib.Path, designs: dict) -> pathlib.Path:
         ax.plot(*d["design"], "*", color=c, ms=12, mfc=c if d["kind"] == "constant" else "none")
         if d.get("overshoot") is not None:  # a program: the overshoot's landing, then the release
             ax.plot(*d["overshoot"], "^", color=c, ms=8, mfc="none")
-            ax.annotate("", xy=d["design"], xytext=d["overshoot"],
-                        arrowprops={"arrowstyle": "->", "color": c, "lw": 1.0})
-            ax.plot([], [], "^", color="k", mfc="none", label="program: the overshoot's run from flat")
+            ax.annotate(
+                "",
+                xy=d["design"],
+                xytext=d["overshoot"],
+                arrowprops={"arrowstyle": "->", "color": c, "lw": 1.0},
+            )
+            ax.plot(
+                [], [], "^", color="k", mfc="none", label="program: the overshoot's run from flat"
+            )
     ax.plot([], [], ".", color="k", alpha=0.5, label="other runs from flat tried (one drive)")
     ax.plot([], [], "o", color="k", mfc="none", label="design loop (holds the target)")
     ax.plot([], [], "s", color="k", mfc="none", label="run from flat at those lambdas")

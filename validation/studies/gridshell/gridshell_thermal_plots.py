@@ -1,7 +1,8 @@
 """Strip temperatures and lambdas over time of a gridshell current sequence (issue 31,
-docs/gridshell_thermal.md): ``python -m lcefem.validation.studies.gridshell.gridshell_thermal_plots HISTORY.csv OUT.png``
-reads the history.csv of ``lcefem run gridshell --schedule`` (time [s], per channel temperature [C]
-and lambda [-]) and draws both over time, with T_NI of the calibrated transition."""
+docs/gridshell_thermal.md): ``python -m lcefem.validation.studies.gridshell.gridshell_thermal_plots
+HISTORY.csv OUT.png`` reads the history.csv of ``lcefem run gridshell --schedule`` (time [s], per
+channel temperature [C] and lambda [-]) and draws both over time, with T_NI of the calibrated
+transition."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ CHANNELS = ("Tx", "Ty", "Bx", "By")
 
 def plot_strip_temperatures(history: pathlib.Path, png: pathlib.Path) -> pathlib.Path:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -44,6 +46,10 @@ def plot_strip_temperatures(history: pathlib.Path, png: pathlib.Path) -> pathlib
 
 if __name__ == "__main__":
     if len(sys.argv) != 3:
-        print("usage: python -m lcefem.validation.studies.gridshell.gridshell_thermal_plots HISTORY.csv OUT.png", file=sys.stderr)
+        print(
+            "usage: python -m lcefem.validation.studies.gridshell.gridshell_thermal_plots "
+            "HISTORY.csv OUT.png",
+            file=sys.stderr,
+        )
         raise SystemExit(2)
     print(plot_strip_temperatures(pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])))

@@ -10,8 +10,11 @@ import numpy as np
 from lcefem.validation.app.plots import save_figure
 
 
-def plot_trajectory(history: dict[str, np.ndarray], path: pathlib.Path, title: str = "") -> pathlib.Path:
-    """PNG: centroid path in the plane (mm) and speed, end spin angles and temperatures against time."""
+def plot_trajectory(
+    history: dict[str, np.ndarray], path: pathlib.Path, title: str = ""
+) -> pathlib.Path:
+    """PNG: centroid path in the plane (mm) and speed, end spin angles and temperatures against
+    time."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -34,14 +37,23 @@ def plot_trajectory(history: dict[str, np.ndarray], path: pathlib.Path, title: s
     if len(t) > 20:
         k = max(1, len(t) // 20)
         kernel = np.ones(k) / k
-        ax.plot(t, np.convolve(h["speed [mm/s]"], kernel, mode="same"), lw=1.5, label=f"moving mean ({k} samples)")
+        ax.plot(
+            t,
+            np.convolve(h["speed [mm/s]"], kernel, mode="same"),
+            lw=1.5,
+            label=f"moving mean ({k} samples)",
+        )
     ax.set_xlabel("time [s]")
     ax.set_ylabel("centroid speed [mm/s]")
     ax.legend(fontsize=8)
     for ax, ylabel, curves in (
-            (axes[1, 0], "end rotation about the axis [rad]",
-             (("spin_start [rad]", "end at x = 0"), ("spin_end [rad]", "end at x = L"))),
-            (axes[1, 1], "ribbon temperature [C]", (("T_mean [C]", "mean"), ("T_max [C]", "max")))):
+        (
+            axes[1, 0],
+            "end rotation about the axis [rad]",
+            (("spin_start [rad]", "end at x = 0"), ("spin_end [rad]", "end at x = L")),
+        ),
+        (axes[1, 1], "ribbon temperature [C]", (("T_mean [C]", "mean"), ("T_max [C]", "max"))),
+    ):
         for column, label in curves:
             ax.plot(t, h[column], label=label)
         ax.set_xlabel("time [s]")
@@ -55,9 +67,16 @@ def plot_trajectory(history: dict[str, np.ndarray], path: pathlib.Path, title: s
     return path
 
 
-def plot_sweep(x, series: dict[str, list[float]], xlabel: str, ylabel: str, path: pathlib.Path,
-               reference: tuple[float, str] | None = None) -> pathlib.Path:
-    """PNG of one or more y-series against x, with an optional vertical reference line (value, label)."""
+def plot_sweep(
+    x,
+    series: dict[str, list[float]],
+    xlabel: str,
+    ylabel: str,
+    path: pathlib.Path,
+    reference: tuple[float, str] | None = None,
+) -> pathlib.Path:
+    """PNG of one or more y-series against x, with an optional vertical reference line (value,
+    label)."""
     import matplotlib
 
     matplotlib.use("Agg")

@@ -1,9 +1,9 @@
 """Manufactured solutions for the heat and mechanics solvers (verification; used by tests and cases).
 
-Heat: T_e = (1 + t/2)(30 + 10 sin(pi x/2) cos(pi y/3)(1 + z^2)) [C] on the unit cube, linear in time so
-that backward Euler is exact in time and the error is spatial, O(h^(p+1)) in L2 for degree p. The
-solver's pull-back is exercised by a prescribed quadratic displacement (exact in P2/Q2), and its Robin
-condition (film coefficient, area ratio) on x = 1 by a manufactured inward flux.
+Heat: T_e = (1 + t/2)(30 + 10 sin(pi x/2) cos(pi y/3)(1 + z^2)) [C] on the unit cube, linear in time
+so that backward Euler is exact in time and the error is spatial, O(h^(p+1)) in L2 for degree p. The
+solver's pull-back is exercised by a prescribed quadratic displacement (exact in P2/Q2), and its
+Robin condition (film coefficient, area ratio) on x = 1 by a manufactured inward flux.
 
 Mechanics: u_e = A (sin(pi y/2) z, x^2 y, sin(pi x/2) cos(pi z/2)) [mm] in an LCE block with a
 temperature gradient T = 40 + 20 x [C] and an oblique director, so F_s varies in space; body force
@@ -17,9 +17,10 @@ variant of the law (kappa = 1 MPa) and A = 0.05 mm.
 from __future__ import annotations
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
+from mpi4py import MPI
+
 import numpy as np
 import ufl
-from mpi4py import MPI
 
 import dolfinx
 
@@ -37,13 +38,16 @@ MMS_EXCHANGE = SurfaceExchange(film_coefficient=0.02, emissivity=0.0, ambient_te
 
 
 def observed_orders(sizes, errors) -> list[float]:
-    """p_i = log(e_i / e_(i+1)) / log(h_i / h_(i+1)) for successive pairs; sizes are element sizes h."""
-    return [float(np.log(errors[i] / errors[i + 1]) / np.log(sizes[i] / sizes[i + 1]))
-            for i in range(len(errors) - 1)]
+    """p_i = log(e_i / e_(i+1)) / log(h_i / h_(i+1)) for successive pairs; sizes are element sizes
+    h."""
+    return [
+        float(np.log(errors[i] / errors[i + 1]) / np.log(sizes[i] / sizes[i + 1]))
+        for i in range(len(errors) - 1)
+    ]
 
 
 def _l2(mesh, expr, degree) -> float:
-    form = dolfinx.fem.form(expr ** 2 * ufl.dx(domain=mesh, metadata={"quadrature_degree": degree}))
+    form = dolfinx.fem.form(expr**2 * ufl.dx(domain=mesh, metadata={"quadrature_degree": degree}))
     return float(np.sqrt(mesh.comm.allreduce(dolfinx.fem.assemble_scalar(form), op=MPI.SUM)))
 
 
@@ -65,19 +69,34 @@ def heat_error(n: int, degree: int, cell: str, comm: MPI.Comm | None = None) -> 
     source = MMS_THERMAL.volumetric_heat_capacity * 0.5 * spatial - ufl.div(flux)
     N = ufl.FacetNormal(mesh)
     area_ratio = J * ufl.sqrt(ufl.dot(ufl.inv(F).T * N, ufl.inv(F).T * N))
-    robin = MMS_EXCHANGE.film_coefficient * area_ratio * (T_exact - MMS_EXCHANGE.ambient_temperature) \
-        + ufl.dot(flux, N)
+    robin = MMS_EXCHANGE.film_coefficient * area_ratio * (
+        T_exact - MMS_EXCHANGE.ambient_temperature
+    ) + ufl.dot(flux, N)
     held = {}
 
     def dirichlet(V):
         held["g"] = dolfinx.fem.Function(V)
         held["expr"] = dolfinx.fem.Expression(T_exact, V.element.interpolation_points)
-        facets = np.concatenate([tm.facet_tags.find(tm.facet_tag(f)) for f in ("x0", "y0", "y1", "z0", "z1")])
-        return [dolfinx.fem.dirichletbc(held["g"], dolfinx.fem.locate_dofs_topological(V, 2, facets))]
+        facets = np.concatenate(
+            [tm.facet_tags.find(tm.facet_tag(f)) for f in ("x0", "y0", "y1", "z0", "z1")]
+        )
+        return [
+            dolfinx.fem.dirichletbc(held["g"], dolfinx.fem.locate_dofs_topological(V, 2, facets))
+        ]
 
-    setup = HeatSetup(MMS_THERMAL, MMS_EXCHANGE, exposed_facets=["x1"], degree=degree, radiation=False)
-    heat = HeatProblem(tm, setup, displacement=u, extra_source=source, extra_flux=robin, bcs=dirichlet,
-                       prefix=f"mms_heat_{degree}_{cell}_{n}_", quadrature_degree=degree + 4)
+    setup = HeatSetup(
+        MMS_THERMAL, MMS_EXCHANGE, exposed_facets=["x1"], degree=degree, radiation=False
+    )
+    heat = HeatProblem(
+        tm,
+        setup,
+        displacement=u,
+        extra_source=source,
+        extra_flux=robin,
+        bcs=dirichlet,
+        prefix=f"mms_heat_{degree}_{cell}_{n}_",
+        quadrature_degree=degree + 4,
+    )
     heat.T.interpolate(dolfinx.fem.Expression(T_exact, heat.V.element.interpolation_points))
     dt = 0.5
     for step in (1, 2):
@@ -90,21 +109,32 @@ def heat_error(n: int, degree: int, cell: str, comm: MPI.Comm | None = None) -> 
 MMS_ELASTICITY = LCEElasticity(bulk_modulus=1.0)
 
 
-def mechanics_error(n: int, cell: str, amplitude: float = 0.05, comm: MPI.Comm | None = None) -> float:
+def mechanics_error(
+    n: int, cell: str, amplitude: float = 0.05, comm: MPI.Comm | None = None
+) -> float:
     """L2 error [mm^(5/2)] of the finite-strain LCE solver (P2/Q2) on an n^3 unit cube."""
     tm = build_block((1.0, 1.0, 1.0), (n, n, n), cell, comm)
     mesh = tm.mesh
     x = ufl.SpatialCoordinate(mesh)
     A = dolfinx.fem.Constant(mesh, 0.0)  # ramped from 0 to ``amplitude`` by continuation
-    u_exact = A * ufl.as_vector([ufl.sin(np.pi * x[1] / 2) * x[2], x[0] ** 2 * x[1],
-                                 ufl.sin(np.pi * x[0] / 2) * ufl.cos(np.pi * x[2] / 2)])
+    u_exact = A * ufl.as_vector(
+        [
+            ufl.sin(np.pi * x[1] / 2) * x[2],
+            x[0] ** 2 * x[1],
+            ufl.sin(np.pi * x[0] / 2) * ufl.cos(np.pi * x[2] / 2),
+        ]
+    )
     temperature = 40.0 + 20.0 * x[0]
-    region = LCERegion(["body"], ufl.as_vector([0.8, 0.6, 0.0]), NematicTransition(), MMS_ELASTICITY)
+    region = LCERegion(
+        ["body"], ufl.as_vector([0.8, 0.6, 0.0]), NematicTransition(), MMS_ELASTICITY
+    )
     F_e = ufl.variable(ufl.Identity(3) + ufl.grad(u_exact))
 
     # P(u_e) = dW/dF from the same energy density the solver uses
-    W_exact = lce_strain_energy(F_e * inverse_spontaneous_deformation(temperature, region.director,
-                                                                      region.transition), region.elasticity)
+    W_exact = lce_strain_energy(
+        F_e * inverse_spontaneous_deformation(temperature, region.director, region.transition),
+        region.elasticity,
+    )
     P_exact = ufl.diff(W_exact, F_e)
     body_force = -ufl.div(P_exact)
     N = ufl.FacetNormal(mesh)
@@ -115,16 +145,22 @@ def mechanics_error(n: int, cell: str, amplitude: float = 0.05, comm: MPI.Comm |
     x0 = tm.facet_tags.find(tm.facet_tag("x0"))
     bcs = [dolfinx.fem.dirichletbc(u_D, dolfinx.fem.locate_dofs_topological(V, 2, x0))]
     dx = ufl.Measure("dx", domain=mesh, metadata={"quadrature_degree": 6})
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tm.facet_tags, metadata={"quadrature_degree": 6})
+    ds = ufl.Measure(
+        "ds", domain=mesh, subdomain_data=tm.facet_tags, metadata={"quadrature_degree": 6}
+    )
     traction_faces = tuple(tm.facet_tag(f) for f in ("x1", "y0", "y1", "z0", "z1"))
-    energy = (lce_energy_density(u, temperature, region) * dx - ufl.dot(body_force, u) * dx
-              - ufl.dot(P_exact * N, u) * ds(traction_faces))
+    energy = (
+        lce_energy_density(u, temperature, region) * dx
+        - ufl.dot(body_force, u) * dx
+        - ufl.dot(P_exact * N, u) * ds(traction_faces)
+    )
     problem = HyperelasticProblem(u, energy, bcs, prefix=f"mms_mech_{cell}_{n}_")
 
     def set_load(s: float) -> None:
         A.value = s * amplitude
         u_D.interpolate(u_D_expr)
 
-    continuation.advance(set_load, problem.solve, problem.save, problem.restore,
-                         where=f"mechanics MMS n = {n}")
+    continuation.advance(
+        set_load, problem.solve, problem.save, problem.restore, where=f"mechanics MMS n = {n}"
+    )
     return _l2(mesh, u - u_exact, 8)

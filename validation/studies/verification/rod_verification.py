@@ -72,8 +72,9 @@ EI = 1000.0  # N mm^2
 
 def _beam_section(mass_per_length: float = 0.0) -> RodSection:
     # EA large: the closed forms are for inextensible beams (axial strain ~1e-8 here).
-    return RodSection(EA=1e8, EI1=EI, EI2=EI, GJ=EI / 1.3, mass_per_length=mass_per_length,
-                      inertia_per_length=0.0)
+    return RodSection(
+        EA=1e8, EI1=EI, EI2=EI, GJ=EI / 1.3, mass_per_length=mass_per_length, inertia_per_length=0.0
+    )
 
 
 def _cantilever(n_nodes: int, section: RodSection, gravity=(0.0, 0.0, 0.0), tip_force=None):
@@ -86,8 +87,10 @@ def _cantilever(n_nodes: int, section: RodSection, gravity=(0.0, 0.0, 0.0), tip_
     fixed[0:8] = True  # x_0, theta_0, x_1
     f = np.zeros(n_dofs(n_nodes))
     if tip_force is not None:
-        f[4 * (n_nodes - 1): 4 * (n_nodes - 1) + 3] = tip_force
-    rod = DiscreteRod(section, rest, nm, ei, gravity=np.asarray(gravity, float), fixed=fixed, external_force=f)
+        f[4 * (n_nodes - 1) : 4 * (n_nodes - 1) + 3] = tip_force
+    rod = DiscreteRod(
+        section, rest, nm, ei, gravity=np.asarray(gravity, float), fixed=fixed, external_force=f
+    )
     return rod, RodState.from_positions(x, first_director=np.array([0.0, 1.0, 0.0])), h
 
 
@@ -95,20 +98,23 @@ def cantilever_tip_load(n_nodes: int, load: float = 1e-4) -> Comparison:
     """Tip deflection [mm] under a small transverse tip load P [N] (w/L ~ 3e-5)."""
     rod, st, h = _cantilever(n_nodes, _beam_section(), tip_force=(0.0, 0.0, -load))
     w = -solve_static(rod, st).state.x[-1, 2]
-    return Comparison(w, load * LENGTH ** 3 / (3.0 * EI), h)
+    return Comparison(w, load * LENGTH**3 / (3.0 * EI), h)
 
 
 def cantilever_self_weight(n_nodes: int, q: float = 1e-6) -> Comparison:
     """Tip deflection [mm] under a uniform weight q [N/mm] (a mass per length q/g)."""
-    rod, st, h = _cantilever(n_nodes, _beam_section(q / STANDARD_GRAVITY), gravity=(0.0, 0.0, -STANDARD_GRAVITY))
+    rod, st, h = _cantilever(
+        n_nodes, _beam_section(q / STANDARD_GRAVITY), gravity=(0.0, 0.0, -STANDARD_GRAVITY)
+    )
     # The ghost half edge behind the clamp carries no load (its mass lands on fixed nodes).
     w = -solve_static(rod, st).state.x[-1, 2]
-    return Comparison(w, q * LENGTH ** 4 / (8.0 * EI), h)
+    return Comparison(w, q * LENGTH**4 / (8.0 * EI), h)
 
 
 def elastica_tip_deflection(load_parameter: float) -> tuple[float, float]:
-    """Tip (horizontal, vertical) displacement ratios (u/L, w/L) of the inextensible cantilever under a
-    dead tip load with P L^2/EI = ``load_parameter``, by shooting on EI phi'' = -P cos(phi)."""
+    """Tip (horizontal, vertical) displacement ratios (u/L, w/L) of the inextensible cantilever
+    under a dead tip load with P L^2/EI = ``load_parameter``, by shooting on EI phi'' = -P
+    cos(phi)."""
     lam = load_parameter
 
     def rhs(s, y):  # y = (phi, phi', x, z) in units of L
@@ -124,8 +130,9 @@ def elastica_tip_deflection(load_parameter: float) -> tuple[float, float]:
 
 
 def cantilever_large_deflection(n_nodes: int, load_parameter: float = 3.0) -> Comparison:
-    """Tip deflection ratio w/L of the elastica with P L^2/EI = ``load_parameter`` (w/L = 0.603 for 3)."""
-    load = load_parameter * EI / LENGTH ** 2
+    """Tip deflection ratio w/L of the elastica with P L^2/EI = ``load_parameter`` (w/L = 0.603 for
+    3)."""
+    load = load_parameter * EI / LENGTH**2
     rod, st, h = _cantilever(n_nodes, _beam_section(), tip_force=(0.0, 0.0, -load))
     res = solve_static(rod, st, increments=6)
     w = -res.state.x[-1, 2] / LENGTH
@@ -133,17 +140,17 @@ def cantilever_large_deflection(n_nodes: int, load_parameter: float = 3.0) -> Co
 
 
 def helix_parameters(x: np.ndarray) -> tuple[float, float]:
-    """Radius and pitch [mm] of the helix through the nodes x (N, 3): axis = direction normal to every
-    second difference (they point at the axis), radius from an algebraic circle fit of the nodes
-    projected on the plane normal to it, pitch from the advance along it per turn."""
+    """Radius and pitch [mm] of the helix through the nodes x (N, 3): axis = direction normal to
+    every second difference (they point at the axis), radius from an algebraic circle fit of the
+    nodes projected on the plane normal to it, pitch from the advance along it per turn."""
     d2 = x[2:] - 2.0 * x[1:-1] + x[:-2]
     axis = np.linalg.eigh(d2.T @ d2)[1][:, 0]
     basis = np.linalg.svd(np.eye(3) - np.outer(axis, axis))[0][:, :2]
     p = x @ basis
     A = np.column_stack([2 * p, np.ones(len(p))])
-    b = (p ** 2).sum(1)
+    b = (p**2).sum(1)
     cx, cy, c = np.linalg.lstsq(A, b, rcond=None)[0]
-    radius = math.sqrt(c + cx ** 2 + cy ** 2)
+    radius = math.sqrt(c + cx**2 + cy**2)
     ang = np.unwrap(np.arctan2(p[:, 1] - cy, p[:, 0] - cx))
     turns = abs(ang[-1] - ang[0]) / (2.0 * math.pi)
     pitch = abs((x[-1] - x[0]) @ axis) / turns
@@ -164,13 +171,13 @@ def helix_relaxation(n_nodes: int, kappa: float = 0.1, tau: float = 0.05, length
     st = RodState.from_positions(x, first_director=np.array([0.0, 1.0, 0.0]))
     res = solve_static(rod, st, increments=12, rest_from=straight)
     r, p = helix_parameters(res.state.x)
-    k2 = kappa ** 2 + tau ** 2
+    k2 = kappa**2 + tau**2
     return Comparison(r, kappa / k2, h), Comparison(p, 2.0 * math.pi * tau / k2, h)
 
 
 def euler_buckling(n_nodes: int) -> Comparison:
-    """Critical axial load [N] of a pinned-pinned column: the load at which the smallest eigenvalue of
-    the constrained Hessian at the (straight, compressed) equilibrium crosses zero."""
+    """Critical axial load [N] of a pinned-pinned column: the load at which the smallest eigenvalue
+    of the constrained Hessian at the (straight, compressed) equilibrium crosses zero."""
     sec = _beam_section()
     h = LENGTH / (n_nodes - 1)
     x = np.zeros((n_nodes, 3))
@@ -180,7 +187,7 @@ def euler_buckling(n_nodes: int) -> Comparison:
     fixed = np.zeros(n_dofs(n_nodes), bool)
     fixed[0:4] = True  # pin at node 0 and the twist angle of the first edge
     last = 4 * (n_nodes - 1)
-    fixed[last + 1: last + 3] = True  # the other pin slides along x only
+    fixed[last + 1 : last + 3] = True  # the other pin slides along x only
     asm = Assembly(n_nodes)
     free = ~fixed
     st0 = RodState.from_positions(x, first_director=np.array([0.0, 1.0, 0.0]))
@@ -199,16 +206,24 @@ def euler_buckling(n_nodes: int) -> Comparison:
             H[idx, idx + r] = d.band[r, : nd - r]
         return np.linalg.eigvalsh(H[np.ix_(free, free)])[0]
 
-    p_euler = math.pi ** 2 * EI / LENGTH ** 2
+    p_euler = math.pi**2 * EI / LENGTH**2
     p_cr = brentq(smallest_eigenvalue, 0.5 * p_euler, 1.5 * p_euler, xtol=1e-12 * p_euler)
     return Comparison(p_cr, p_euler, h)
 
 
-def _flat_ribbon_on_ground(n_nodes: int, length: float, youngs: float, twist: float = 0.0,
-                           width: float = 4.0, thickness: float = 0.8, axis: int = 0,
-                           mu: float = 0.5, slip_speed: float = 0.2):
-    """A stiff ribbon (E = ``youngs``) lying on the plane z = 0 along ``axis`` (0: x, 1: y), face down
-    when untwisted; returns (rod, state)."""
+def _flat_ribbon_on_ground(
+    n_nodes: int,
+    length: float,
+    youngs: float,
+    twist: float = 0.0,
+    width: float = 4.0,
+    thickness: float = 0.8,
+    axis: int = 0,
+    mu: float = 0.5,
+    slip_speed: float = 0.2,
+):
+    """A stiff ribbon (E = ``youngs``) lying on the plane z = 0 along ``axis`` (0: x, 1: y), face
+    down when untwisted; returns (rod, state)."""
     sec = rectangular_section(width, thickness, youngs, youngs / 3.0, 1.15e-9)
     h = length / (n_nodes - 1)
     s = np.arange(n_nodes) * h
@@ -220,18 +235,32 @@ def _flat_ribbon_on_ground(n_nodes: int, length: float, youngs: float, twist: fl
     theta = twist * (s[:-1] + 0.5 * h)
     st = RodState.from_positions(x, theta, first_director=first)
     geo = st.geometry()
-    lowest = 0.5 * (x[:-1, 2] + x[1:, 2]) - 0.5 * width * np.abs(geo.m1[:, 2]) - 0.5 * thickness * np.abs(geo.m2[:, 2])
+    lowest = (
+        0.5 * (x[:-1, 2] + x[1:, 2])
+        - 0.5 * width * np.abs(geo.m1[:, 2])
+        - 0.5 * thickness * np.abs(geo.m2[:, 2])
+    )
     x[:, 2] -= lowest.min()
     st = RodState.from_positions(x, theta, first_director=first)
     rest = RestShape.from_densities(np.full(n_nodes - 1, h), [0.0, 0.0], twist)
     nm, ei = lumped_masses(sec, rest.edge_length)
-    rod = DiscreteRod(sec, rest, nm, ei, gravity=np.array([0.0, 0.0, -STANDARD_GRAVITY]), ground=Ground(),
-                      contact=ContactLaw(delta=0.02, stiffness=5.0), friction=FrictionLaw(mu=mu, slip_speed=slip_speed))
+    rod = DiscreteRod(
+        sec,
+        rest,
+        nm,
+        ei,
+        gravity=np.array([0.0, 0.0, -STANDARD_GRAVITY]),
+        ground=Ground(),
+        contact=ContactLaw(delta=0.02, stiffness=5.0),
+        friction=FrictionLaw(mu=mu, slip_speed=slip_speed),
+    )
     return rod, st
 
 
 def _settle(rod: DiscreteRod, st: RodState, dt: float, duration: float) -> RodState:
-    integ = Integrator(rod.replace(damping=50.0), st, StepOptions(newton=NewtonOptions(max_iterations=60)))
+    integ = Integrator(
+        rod.replace(damping=50.0), st, StepOptions(newton=NewtonOptions(max_iterations=60))
+    )
     for _ in range(int(round(duration / dt))):
         integ.step(dt)
     out = integ.state
@@ -240,8 +269,9 @@ def _settle(rod: DiscreteRod, st: RodState, dt: float, duration: float) -> RodSt
     return out
 
 
-def _incline_acceleration(rod, st, dt: float, duration: float, angle: float, axis: int
-                          ) -> tuple[float, float]:
+def _incline_acceleration(
+    rod, st, dt: float, duration: float, angle: float, axis: int
+) -> tuple[float, float]:
     """Tilt gravity by ``angle`` [rad] along ``axis`` (0: x, 1: y), integrate for ``duration`` [s]
     and return (mean acceleration along ``axis`` over the second half [mm/s^2], final mean velocity
     [mm/s])."""
@@ -260,7 +290,9 @@ def _incline_acceleration(rod, st, dt: float, duration: float, angle: float, axi
     return (vel[-1] - vel[half - 1]) / (dt * (steps - half)), float(vel[-1])
 
 
-def incline_sliding(angle_deg: float, mu: float, duration: float = 0.2, dt: float = 0.004, n_nodes: int = 6):
+def incline_sliding(
+    angle_deg: float, mu: float, duration: float = 0.2, dt: float = 0.004, n_nodes: int = 6
+):
     """A stiff flat ribbon on a plane inclined by ``angle_deg`` (gravity tilted) with friction mu.
 
     Returns (mean acceleration along the slope over the second half [mm/s^2], reference
@@ -273,14 +305,18 @@ def incline_sliding(angle_deg: float, mu: float, duration: float = 0.2, dt: floa
     return acc, ref, v_end
 
 
-def incline_rolling(n_nodes: int, angle_deg: float = 5.0, mu: float = 1.0, duration: float = 0.1,
-                    dt: float = 0.002) -> Comparison:
-    """A stiff twisted ribbon (helicoid, 3 turns over 30 mm) rolling down an incline across its axis.
+def incline_rolling(
+    n_nodes: int, angle_deg: float = 5.0, mu: float = 1.0, duration: float = 0.1, dt: float = 0.002
+) -> Comparison:
+    """A stiff twisted ribbon (helicoid, 3 turns over 30 mm) rolling down an incline across its
+    axis.
 
     Value: acceleration of the centroid across the axis over the second half [mm/s^2]; reference
     (3/4) g sin(alpha) (rolling without slip on the corner helices, k^2/R^2 = 1/3)."""
     turns_per_mm = 0.1
-    rod, st = _flat_ribbon_on_ground(n_nodes, 30.0, 100.0, twist=2.0 * math.pi * turns_per_mm, mu=mu)
+    rod, st = _flat_ribbon_on_ground(
+        n_nodes, 30.0, 100.0, twist=2.0 * math.pi * turns_per_mm, mu=mu
+    )
     rod = rod.replace(contact_samples=4)
     st = _settle(rod, st, dt, 0.02)
     a = math.radians(angle_deg)
@@ -288,14 +324,20 @@ def incline_rolling(n_nodes: int, angle_deg: float = 5.0, mu: float = 1.0, durat
     return Comparison(acc, 0.75 * STANDARD_GRAVITY * math.sin(a), 30.0 / (n_nodes - 1))
 
 
-def one_face_bending(cells_thickness: int, quadrature: int, faces=(60.0, 25.0), width: float = 4.0,
-                     thickness: float = 0.8, cells_width: int = 6) -> Comparison:
+def one_face_bending(
+    cells_thickness: int,
+    quadrature: int,
+    faces=(60.0, 25.0),
+    width: float = 4.0,
+    thickness: float = 0.8,
+    cells_width: int = 6,
+) -> Comparison:
     """Natural curvature kappa_bar_2 [1/mm] of a strip with a linear temperature profile through the
     thickness (faces at T_plus, T_minus [C]) from the section grid of :mod:`lcefem.models.ribbon`,
-    against the beam closed form kappa_2 = -(12/t^3) int_{-t/2}^{t/2} (a(T(y)) - 1) y dy (scipy quad to
-    1e-14). ``edge_length`` holds the cell height t/n_t [mm]. A free straight strip takes exactly this
-    curvature in DER, and the 3D FE strip agrees with the closed form to 0.2 % (case ribbon_fe_vs_der,
-    (a)); quadrature 1 is the one-sample-per-cell rule used before issue 17.
+    against the beam closed form kappa_2 = -(12/t^3) int_{-t/2}^{t/2} (a(T(y)) - 1) y dy (scipy quad
+    to 1e-14). ``edge_length`` holds the cell height t/n_t [mm]. A free straight strip takes exactly
+    this curvature in DER, and the 3D FE strip agrees with the closed form to 0.2 % (case
+    ribbon_fe_vs_der, (a)); quadrature 1 is the one-sample-per-cell rule used before issue 17.
     """
     tr = NematicTransition()
     T_plus, T_minus = faces
@@ -303,9 +345,14 @@ def one_face_bending(cells_thickness: int, quadrature: int, faces=(60.0, 25.0), 
     def profile(y):
         return T_minus + (T_plus - T_minus) * (y / thickness + 0.5)
 
-    moment = quad(lambda y: (float(contraction_ratio(profile(y), tr)) - 1.0) * y, -0.5 * thickness, 0.5 * thickness,
-                  epsabs=1e-14, epsrel=1e-12)[0]
-    reference = -12.0 * moment / thickness ** 3
+    moment = quad(
+        lambda y: (float(contraction_ratio(profile(y), tr)) - 1.0) * y,
+        -0.5 * thickness,
+        0.5 * thickness,
+        epsabs=1e-14,
+        epsrel=1e-12,
+    )[0]
+    reference = -12.0 * moment / thickness**3
     grid = SectionGrid(width, thickness, cells_width, cells_thickness, quadrature)
     value = float(natural_strains(grid.from_faces(T_plus, T_minus), grid, tr).curvature[1])
     return Comparison(value, reference, thickness / cells_thickness)
