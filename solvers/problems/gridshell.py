@@ -250,7 +250,7 @@ class GridshellState:
 class GridshellFE:
     """The FE gridshell (module docstring): forms compiled once; drives are the strips' lambda.
 
-    Build: ``GridshellFE(GridshellConfig(...))``. Drive: :meth:`set_lambda` with a strip tag
+    Build: ``GridshellFE(GridshellConfig(...))``. Drive: :meth:`set_drives` with a strip tag
     (``bottom_x_r1_s2``), a group (``XD1``..``YU3``, ``top_x_r1_j1``) or a channel (Tx, Ty, Bx, By).
     Solve: :meth:`advance` (to the targets set) or :meth:`ramp` (set and advance). Observe:
     :meth:`observables`, :meth:`junction_centres`. Output: :meth:`write_fields`.
@@ -497,7 +497,7 @@ class GridshellFE:
             f"drive {selector!r}: not a strip tag, group (XD1..YU3) or channel (Tx, Ty, Bx, By)"
         )
 
-    def set_lambda(self, drives: Mapping[str, float]) -> None:
+    def _set_lambda(self, drives: Mapping[str, float]) -> None:
         """Target spontaneous stretches lambda [-] (relative to the isotropic length; as built:
         lambda_N) per strip tag, group or channel, applied in the mapping's order (a later key
         overrides an earlier one on shared strips); reached by :meth:`advance`."""
@@ -543,8 +543,8 @@ class GridshellFE:
         )
 
     def ramp(self, drives: Mapping[str, float], **kw) -> list[GridshellState]:
-        """:meth:`set_lambda` then :meth:`advance`; the states of the ramp."""
-        self.set_lambda(drives)
+        """:meth:`set_drives` then :meth:`advance`; the states of the ramp."""
+        self._set_lambda(drives)
         return self.advance(**kw).detail
 
     def settle(
@@ -866,13 +866,13 @@ class GridshellFE:
     drive = "lambda [-]"
 
     def drive_tags(self) -> tuple[str, ...]:
-        """Strip tags, then the groups and channels made of strips (:meth:`set_lambda`)."""
+        """Strip tags, then the groups and channels made of strips (:meth:`set_drives`)."""
         strips = set(self.strip_tags.values())
         groups = [g for g, tags in self.info["cell_groups"].items() if tags and set(tags) <= strips]
         return (*self.strip_tags, *groups)
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
-        self.set_lambda(drives)
+        self._set_lambda(drives)
 
     def fields(self) -> dict:
         lam, stress, director = GridshellFE._cell_fields(self)

@@ -410,7 +410,7 @@ def run_gridshell_fe(
             record(state)
 
         if r.drive == "lambda":
-            model.set_lambda(in_model(model, fields[0]))
+            model.set_drives(in_model(model, fields[0]))
             on_step({key: 0.0, **model.observables(), "newton iterations [-]": 0})
             return model.advance(
                 1.0,

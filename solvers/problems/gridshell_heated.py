@@ -95,7 +95,7 @@ class HeatedGridshellFE(GridshellFE):
     calibrated factor (:func:`lcefem.models.lumped_heat.grid_thermal`, calibrated on the
     bar-and-hinge dome protocol), and radiation.
 
-    Drive: :meth:`set_current` per channel, group or strip tag (as :meth:`GridshellFE.set_lambda`);
+    Drive: :meth:`set_drives` (currents [A]) per channel, group or strip tag (as :meth:`GridshellFE.set_drives`);
     step: :meth:`advance_time`; a schedule: :meth:`run_protocol`. The mesh is built at the
     transition's as-built stretch (``transition.lambda_N``; the heated beam's choice).
     """
@@ -265,7 +265,7 @@ class HeatedGridshellFE(GridshellFE):
         dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
         return assemble_global(dolfinx.fem.form(self.power * dx), self.tmesh.mesh.comm)
 
-    def set_current(self, drives: Mapping[str, float]) -> None:
+    def _set_current(self, drives: Mapping[str, float]) -> None:
         """Coil current I [A] per strip tag, group or channel (a later key overrides an earlier
         one on shared strips), from now on; power density :meth:`power_density` in its LCE cells."""
         for selector, current in drives.items():
@@ -285,10 +285,10 @@ class HeatedGridshellFE(GridshellFE):
             for pads, sources in self._pad_sources:
                 np.add.at(self.power.x.array, pads, self.power.x.array[sources])
 
-    def set_lambda(self, drives):
+    def _set_lambda(self, drives):
         raise InputError(
-            "the heated gridshell is driven by set_current (currents [A]); "
-            "set_lambda belongs to the prescribed-lambda route (GridshellFE)"
+            "the heated gridshell is driven by currents [A] (set_drives); "
+            "prescribed lambdas belong to the prescribed-lambda route (GridshellFE)"
         )
 
     def observables(self) -> dict[str, float]:
@@ -356,7 +356,7 @@ class HeatedGridshellFE(GridshellFE):
         k = 0
         while self.time < duration - 1e-9:
             while k < len(protocol) and times[k] <= self.time + 1e-9:
-                self.set_current(protocol[k][1])
+                self._set_current(protocol[k][1])
                 k += 1
             nxt = times[k] if k < len(protocol) else duration
             step = min(dt, nxt - self.time, duration - self.time)
@@ -384,7 +384,7 @@ class HeatedGridshellFE(GridshellFE):
                 f"hold: first_dt = {first_dt} s (> 0), growth = {growth} (>= 1), "
                 f"until = {until} s (> the current time {self.time:g} s)"
             )
-        self.set_current(currents)
+        self._set_current(currents)
         follower = self.stepper.follower
         control = follower.control
         rows, dt = [], float(first_dt)
@@ -420,7 +420,7 @@ class HeatedGridshellFE(GridshellFE):
                 f"steady_hold: temperature_tol = {temperature_tol} K (> 0), "
                 f"max_sweeps = {max_sweeps} (>= 1)"
             )
-        self.set_current(currents)
+        self._set_current(currents)
         rows, previous = [], None
         for sweep in range(1, max_sweeps + 1):
             self.heat.steady(max_iterations=STEADY_PICARD_ITERATIONS)
@@ -458,7 +458,7 @@ class HeatedGridshellFE(GridshellFE):
     drive = "current [A]"
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
-        self.set_current(drives)
+        self._set_current(drives)
 
     def advance(self, dt: float, **unused) -> StepRecord:
         """One time step of ``dt`` [s] (:meth:`advance_time`): the heated gridshell's time is

@@ -30,7 +30,7 @@ def dome():
 
 def test_zero_actuation_stays_as_built(dome):
     m = dome
-    m.set_lambda({"Tx": m.lambda_N, "Ty": m.lambda_N, "Bx": m.lambda_N, "By": m.lambda_N})
+    m.set_drives({"Tx": m.lambda_N, "Ty": m.lambda_N, "Bx": m.lambda_N, "By": m.lambda_N})
     m.advance()
     assert np.max(np.abs(m.u.x.array)) < 1e-10  # [mm]
     obs = m.observables()
@@ -40,14 +40,14 @@ def test_zero_actuation_stays_as_built(dome):
 def test_drives_select_their_strips(dome):
     m = dome
     lam_n = m.lambda_N
-    m.set_lambda({"Bx": 1.05})
+    m.set_drives({"Bx": 1.05})
     strips = m.info["strips"]
     for tag, facts in strips.items():
         expected = 1.05 if facts["channel"] == "Bx" else lam_n
         assert m.lambda_of(tag, target=True).tolist() == [expected], tag
     # a group overrides its channel's value on its own strips only; a single tag on its own
     single = next(t for t, f in strips.items() if f["channel"] == "Ty")  # a top y half in the model
-    m.set_lambda({"XD3": 1.2, single: 1.1})
+    m.set_drives({"XD3": 1.2, single: 1.1})
     for tag, facts in strips.items():
         if tag == single:
             expected = 1.1
@@ -60,8 +60,8 @@ def test_drives_select_their_strips(dome):
     assert m.lambda_of("Bx").tolist() == [lam_n]
     for bad in ({"kapton": 1.1}, {"Tz": 1.1}, {"XD1": 1.1}, {"Tx": 0.9}, {"Tx": 1.5}):
         with pytest.raises(InputError):
-            m.set_lambda(bad)  # a material, unknown, outside the quarter, below 1, above lambda_N
-    m.set_lambda({"Tx": lam_n, "Ty": lam_n, "Bx": lam_n, "By": lam_n})
+            m.set_drives(bad)  # a material, unknown, outside the quarter, below 1, above lambda_N
+    m.set_drives({"Tx": lam_n, "Ty": lam_n, "Bx": lam_n, "By": lam_n})
 
 
 @pytest.mark.slow
@@ -197,7 +197,7 @@ def test_heated_route_first_second(tmp_path):
     kx, ky = end["kappa_circle_x [1/mm]"], end["kappa_circle_y [1/mm]"]
     assert kx < 0 and abs(kx - ky) < 1e-6 * abs(kx)
     with pytest.raises(InputError):
-        m.set_lambda({"Tx": 1.2})
+        m.set_drives({"Tx": 1.2})
     # ParaView fields of the heated state: at a uniform T_NI the strips' cell lambda is the
     # transition's lambda_s(T_NI) (Q = Q0/2), the passive pads, glue and ribbons keep lambda_N
     m.heat.T.x.array[:] = m.transition.T_NI
@@ -357,7 +357,7 @@ def test_junction_heating_continues_each_coil_through_its_pads():
         GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"), junction_heating="added"
     )
     q_b, q_t = m.power_density(0.07), m.power_density(0.04)
-    m.set_current({"Bx": 0.07, "By": 0.0, "Tx": 0.04, "Ty": 0.04})
+    m.set_drives({"Bx": 0.07, "By": 0.0, "Tx": 0.04, "Ty": 0.04})
     power = m.power.x.array
 
     def dofs(group):
@@ -369,11 +369,11 @@ def test_junction_heating_continues_each_coil_through_its_pads():
     # top layer: both coils at 0.04 A; a crown pad carries one coil, a glue square both
     np.testing.assert_allclose(power[top], q_t, rtol=1e-12)
     np.testing.assert_allclose(power[glue], 2.0 * q_t, rtol=1e-12)
-    m.set_current({"By": 0.07})  # now both bottom coils: the centre squares carry two
+    m.set_drives({"By": 0.07})  # now both bottom coils: the centre squares carry two
     assert set(np.round(power[bottom] / q_b, 12)) == {1.0, 2.0}
     m.heat.steady()
     warm = m.observables()["T_mean Bx [C]"]
-    m.set_current({"Bx": 0.07, "By": 0.07, "Tx": 0.04, "Ty": 0.04})
+    m.set_drives({"Bx": 0.07, "By": 0.07, "Tx": 0.04, "Ty": 0.04})
     m.power.x.array[bottom | top | glue] = 0.0  # the default: pads and glue squares cold
     m.heat.steady()
     cold = m.observables()["T_mean Bx [C]"]
@@ -395,7 +395,7 @@ def test_junction_heating_continues_each_coil_through_its_pads():
         GridshellConfig(mesh=GridshellFEMesh(level=0), symmetry="quarter"),
         junction_heating="spread",
     )
-    s.set_current({"Bx": 0.07, "By": 0.07, "Tx": 0.04, "Ty": 0.04})
+    s.set_drives({"Bx": 0.07, "By": 0.07, "Tx": 0.04, "Ty": 0.04})
     assert total(s) == pytest.approx(strips_only, rel=1e-12)
     assert all(0.5 < share < 1.0 for share in s.coil_share.values())
     s.heat.steady()

@@ -473,7 +473,7 @@ def _layouts(name: str) -> list[Metric]:
                 ms.structure(layout),
                 GridshellBHConfig(materials=ms.materials_for(layout), support=row["support"]),
             )
-            p.set_lambda(lambdas)
+            p.set_drives(lambdas)
             p.advance()
         except ConvergenceError as exc:
             out.append(Metric(name, f"{label}: BH converged", 0.0, "-", 1.0, 0.0, False, str(exc)))

@@ -129,13 +129,13 @@ def run_fe_shape(
         return model, _observed(model, time.perf_counter() - t0, time.process_time() - c0)
     if prolong_from is not None:
         model.prolong_from(prolong_from)
-        model.set_lambda(lambdas)
+        model.set_drives(lambdas)
         if not np.array_equal(model.target, model.lam.x.array):
             raise InputError(f"{prolong_from}: saved at other lambdas than {lambdas}")
     else:
         model.u.x.array[:] = initial
         model.u.x.scatter_forward()
-        model.set_lambda(lambdas)
+        model.set_drives(lambdas)
         model.lam.x.array[:] = model.target
     model.settle()
     return model, _observed(model, time.perf_counter() - t0, time.process_time() - c0)

@@ -118,7 +118,7 @@ def _held_shapes(quick: bool, model=None, on_shape=None) -> dict[str, dict]:
         c0 = time.process_time()
         if quick:
             model = model or HeatedGridshellFE(GridshellConfig(mesh=GridshellFEMesh(level=0)))
-            model.set_current(spec["currents"])
+            model.set_drives(spec["currents"])
             model.heat.steady(max_iterations=STEADY_PICARD_ITERATIONS)
             obs = {**model.observables(), "newton iterations [-]": 0}
         else:
