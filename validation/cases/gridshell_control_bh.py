@@ -28,9 +28,10 @@ from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.cases.programs import SHAPE_DRIVES
 from lcefem.validation.studies.design.control import ControlRequest, control_figures, run_pair
 
-SRC = "issue 37; lcefem.solvers.control (plant: bar-and-hinge gridshell with lumped strip heat "
-SRC += "and the "
-SRC += "measured spreads of seed 001)"
+SRC = (
+    "issue 37; lcefem.solvers.control (plant: bar-and-hinge gridshell with lumped strip heat "
+    "and the measured spreads of seed 001)"
+)
 DRAWS = (1, 2, 3)
 QUICK_SHAPE = "cylinder"
 
