@@ -3,7 +3,8 @@ cantilever problems against PyElastica where it is installed (DisMech: ``dismech
 
     OMP_NUM_THREADS=1 python benchmarks/der_benchmark.py [--nodes 31 100]
         [--duration 5] [--warmup 30] [--error-tolerance 0 0.01] [--baseline DIR] [--skip-ribbon]
-        [--skip-peers] [--heat-dt 0.02] [--contact-spacing 0.25] [--source-elastic] [--same-state ROUNDS] [--csv out.csv]
+        [--skip-peers] [--heat-dt 0.02] [--contact-spacing 0.25] [--source-elastic]
+        [--same-state ROUNDS] [--csv out.csv]
 
 Ribbon: the default twisted ribbon on a 100 C plate (``RibbonSetup``), settled and heated for
 ``warmup`` simulated seconds (untimed), then ``duration`` simulated seconds timed at dt = 0.01 s, or

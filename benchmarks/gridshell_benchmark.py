@@ -1,13 +1,13 @@
-"""CPU and wall time of the 3 x 3 gridshell (bar-and-hinge) per shape: the paper's four Fig. 4 shapes
-(lambda route, paper supports) and the eight published recipes (in the published configuration,
-issue 30); the number and CPU time of the lowest-eigenpair solves of the snap-throughs;
-increments, Newton iterations, failed increments, whether the target was reached exactly, centre
-curvatures (both measures) and z range; with ``--set design``, the inverse design (four channels)
-from the paper's measured curvatures of each Fig. 4 shape (table: flat): CPU and wall time per
-inverse solve (with the forward check from as built), optimiser evaluations, forward solves, Newton
-iterations, eigen solves, residual and the lambdas found; with ``--fe`` also the 3D FE gridshell
-(quarter model, level 0, the shape's published support) ramped from as built to the lambdas found:
-its centre curvatures against the target (issue 15: the design confirmed in FE).
+"""CPU and wall time of the 3 x 3 gridshell (bar-and-hinge) per shape: the paper's four Fig. 4
+shapes (lambda route, paper supports) and the eight published recipes (in the published
+configuration, issue 30); the number and CPU time of the lowest-eigenpair solves of the
+snap-throughs; increments, Newton iterations, failed increments, whether the target was reached
+exactly, centre curvatures (both measures) and z range; with ``--set design``, the inverse design
+(four channels) from the paper's measured curvatures of each Fig. 4 shape (table: flat): CPU and
+wall time per inverse solve (with the forward check from as built), optimiser evaluations, forward
+solves, Newton iterations, eigen solves, residual and the lambdas found; with ``--fe`` also the 3D
+FE gridshell (quarter model, level 0, the shape's published support) ramped from as built to the
+lambdas found: its centre curvatures against the target (issue 15: the design confirmed in FE).
 
 ``--save FILE.npz`` keeps the final states (positions; design: lambdas), ``--compare FILE.npz``
 prints each run's distance from them (ribbon nodes / all nodes [mm]; design: largest lambda

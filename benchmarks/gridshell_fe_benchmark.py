@@ -1,6 +1,6 @@
-"""Cost and centre curvatures of the 3D FE gridshell (prescribed-lambda route) for the Fig. 4 shapes:
-DOFs, path steps, Newton iterations, cut steps, wall time, peak memory, and the two curvature
-measures against the paper's simulation and experiment (seed 001).
+"""Cost and centre curvatures of the 3D FE gridshell (prescribed-lambda route) for the Fig. 4
+shapes: DOFs, path steps, Newton iterations, cut steps, wall time, peak memory, and the two
+curvature measures against the paper's simulation and experiment (seed 001).
 
     python benchmarks/gridshell_fe_benchmark.py [--shapes dome saddle] [--level 0]
         [--symmetry quarter] [--kapton datasheet|buckling_fit] [--support table] [--json out.json]

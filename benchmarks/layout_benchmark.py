@@ -12,7 +12,8 @@ curvatures (circle and quadratic measures, dome negative) and the z range.
 
 Runs (NAME: layout, support, drive): ``5x5-bottom`` (5x5, rollers, every bottom strip at lambda
 1.37: the test's round dome), ``5x5-dome`` (5x5, rollers, the Fig. 4 dome's Tx = Ty = 1.33, Bx = By
-= 1.05), ``rhombic60-bottom`` (rhombic60, clamp, lambda_B = 1.395), ``published-dome`` (the 3 x 3 for scale).
+= 1.05), ``rhombic60-bottom`` (rhombic60, clamp, lambda_B = 1.395), ``published-dome`` (the 3 x 3
+for scale).
 ``--design``: also a design on the 5 x 5 (issue 47's second target: within 2 minutes on one core):
 ``lcefem design --layout 5x5 --channels 4`` to the elongated dome (-0.010, -0.006) 1/mm on rollers
 (case gridshell_reach_bh's off-grid target), the design loop and the reach search from flat; prints

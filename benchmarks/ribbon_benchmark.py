@@ -1,5 +1,5 @@
-"""Wall time per simulated second of the rolling twisted ribbon (DER with contact, friction and heat)
-at 50, 100 and 200 nodes, on one core.
+"""Wall time per simulated second of the rolling twisted ribbon (DER, contact, friction, heat) at
+50, 100 and 200 nodes, on one core.
 
     OMP_NUM_THREADS=1 python benchmarks/ribbon_benchmark.py [--duration 10]
         [--nodes 50 100 200] [--ground-temperature 100] [--dt 0.01] [--cells-thickness 4]
@@ -413,6 +413,7 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
+    numerics = RibbonNumerics()  # the defaults, printed for the options not given
     print(
         f"ribbon benchmark: {platform.processor() or platform.machine()}, python "
         f"{platform.python_version()}, "
@@ -422,9 +423,11 @@ def main(argv: list[str] | None = None) -> int:
         f"dt {args.dt:g} s, cells_thickness "
         f"{args.cells_thickness or RibbonNumerics().cells_thickness}, "
         "contact_spacing "
-        f"{args.contact_spacing if args.contact_spacing is not None else RibbonNumerics().contact_spacing:g} mm, "
+        f"{numerics.contact_spacing if args.contact_spacing is None else args.contact_spacing:g}"
+        " mm, "
         "initial spin "
-        f"{args.perturbation if args.perturbation is not None else RibbonNumerics().perturbation:g} rad/s, "
+        f"{args.perturbation if args.perturbation is not None else numerics.perturbation:g}"
+        " rad/s, "
         f"warm-up {args.warmup:g} s, {args.duration:g} s timed per size"
     )
     for n in args.nodes:

@@ -1,4 +1,4 @@
-"""Controlled change of the shape of the ribbon LCE's contraction curve a(T) (issue 32, what-if only).
+"""Controlled change of the shape of the ribbon LCE's contraction curve a(T) (issue 32, what-if).
 
     nice python benchmarks/ribbon_curve_shape.py --curve HTNI --out rows.jsonl
         --plates 100,140,180 [--nodes 101] [--duration 180] [--perturbation 1.0]

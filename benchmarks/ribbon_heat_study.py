@@ -1,5 +1,5 @@
-"""Controlled changes of the rolling ribbon's heat model and transition (issue 32: the threshold and the
-fall above 120 C).
+"""Controlled changes of the rolling ribbon's heat model and transition (issue 32: the threshold and
+the fall above 120 C).
 
     nice python benchmarks/ribbon_heat_study.py --out rows.jsonl [--duration 120]
         [--window 15] [--nodes 61] [--dt 0.01] [--set section.field=value ...] T [T ...]

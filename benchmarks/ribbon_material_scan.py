@@ -1,7 +1,8 @@
 """One-parameter scans of the ribbon LCE (``RibbonLCE``) against the plate temperature (issue 32).
 
     nice python benchmarks/ribbon_material_scan.py --out rows.jsonl [--duration 120]
-        [--nodes 61] [--dt 0.005] [--perturbation 0.01] --plates 55,65 material.transition_width=25 ...
+        [--nodes 61] [--dt 0.005] [--perturbation 0.01] --plates 55,65 \
+        material.transition_width=25 ...
     python benchmarks/ribbon_material_scan.py --table rows.jsonl [more.jsonl ...]
         --csv validation/data/ribbon_material_scan.csv
 

@@ -1,6 +1,6 @@
-"""Benchmark of the 0.2 A free-strip transient (30 s) at three mesh levels: Newton iterations per step,
-seconds per step, degrees of freedom and peak memory. Each level runs in its own process so that the
-peak resident memory (getrusage ru_maxrss) belongs to that level alone.
+"""Benchmark of the 0.2 A free-strip transient (30 s) at three mesh levels: Newton iterations per
+step, seconds per step, degrees of freedom and peak memory. Each level runs in its own process so
+that the peak resident memory (getrusage ru_maxrss) belongs to that level alone.
 
 Run:  .venv/bin/python benchmarks/strip_benchmark.py [--levels 0 1 2] [--dt 0.5]
       (add --cell tet or --symmetry full to compare discretisations)

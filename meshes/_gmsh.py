@@ -22,7 +22,8 @@ class TaggedMesh:
         mesh: the dolfinx mesh (coordinates in mm).
         cell_tags, facet_tags: dolfinx MeshTags.
         cells, facets: {name: integer tag} for the named physical groups.
-        info: geometric facts of the body the builder derived (lengths in mm), for solvers and cases.
+        info: geometric facts of the body the builder derived (lengths in mm), for solvers and
+            cases.
     """
 
     mesh: dolfinx.mesh.Mesh

@@ -1,5 +1,5 @@
-"""Shared plumbing of the structured hexahedral meshes built directly (not with gmsh): exterior faces
-of a hex8 cell list and its conversion to a distributed dolfinx mesh with named tags.
+"""Shared plumbing of the structured hexahedral meshes built directly (not with gmsh): exterior
+faces of a hex8 cell list and its conversion to a distributed dolfinx mesh with named tags.
 
 Why not gmsh for these bodies: gmsh's fragment merges every pair of coincident faces, whereas a
 strip's unbonded face must keep its own nodes (only a contact term keeps it off the ribbon); a

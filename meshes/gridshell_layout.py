@@ -1,5 +1,6 @@
-"""One description of a gridshell's layout (seed 001's robotic surface and its next steps): which grid,
-how large, which junctions are bonded, how the strips are wired to channels, and how it is held.
+"""One description of a gridshell's layout (seed 001's robotic surface and its next steps): which
+grid, how large, which junctions are bonded, how the strips are wired to channels, and how it is
+held.
 
 Seed 001 ends with its own next steps: "To achieve higher geometric complexity, it is necessary to
 add control channels (fig. S6), refine the grid mesh (fig. S7), and explore non-orthogonal meshes."

@@ -66,7 +66,8 @@ def to_meshio(mesh, cell_tags, facet_tags, names: dict[str, dict[str, int]]):
         mesh: dolfinx mesh, coordinates in mm; shared over several processes, it is gathered to
             rank 0 of its communicator (nodes in their global order), which gets the result: the
             other ranks get None.
-        cell_tags, facet_tags: dolfinx MeshTags of the cells and facets (``facet_tags`` may be None).
+        cell_tags, facet_tags: dolfinx MeshTags of the cells and facets (``facet_tags`` may be
+            None).
         names: ``{"cells": {name: tag}, "facets": {name: tag}}``; a name must be unique across both.
 
     Returns a mesh whose cell blocks are the tagged cells (one block per tag, in tag order), then

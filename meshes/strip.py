@@ -3,7 +3,8 @@
 Dimensions follow from the cast section and the isotropic active length by the isochoric
 spontaneous stretch lambda_N along the strip axis (x):
 
-    length L = L_iso lambda_N,  width W = W_cast / sqrt(lambda_N),  thickness H = H_cast / sqrt(lambda_N).
+    length L = L_iso lambda_N,  width W = W_cast / sqrt(lambda_N),
+    thickness H = H_cast / sqrt(lambda_N).
 
 The coil (Ni-Cr wire wound on a 1 mm rod, seed 001) runs along the axis; it is represented by a
 central square prism of the same cross-sectional area as the rod's disc (pi/4 mm^2 as cast),

@@ -325,7 +325,8 @@ def strip_beam_element(
         x_a, x_a2, x_pa, x_b, x_b2, x_pb: node positions [mm], (n, 3) each.
         stiffness: 2 E I/L [N mm], (n,); rest_a, rest_b: as-built dihedral angles [rad], (n,).
     Returns:
-        energy (n,) [mJ]; gradient (n, 18) [N] ordered (a, a2, pa, b, b2, pb); Hessian (n, 18, 18) [N/mm].
+        energy (n,) [mJ]; gradient (n, 18) [N] ordered (a, a2, pa, b, b2, pb);
+        Hessian (n, 18, 18) [N/mm].
     """
     out_a = dihedral_angle(x_a, x_a2, x_pa, x_b, derivatives=derivatives)
     out_b = dihedral_angle(x_b, x_b2, x_pb, x_a, derivatives=derivatives)

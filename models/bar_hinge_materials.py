@@ -30,8 +30,10 @@ strip bending, panel torsion, contact) are :mod:`lcefem.models.bar_hinge`.
   hinge length M = k (theta - theta0) for theta1 <= theta <= theta2 (30 and 330 degrees), and
   tan-type stiffening towards 0 and 2 pi so that panels cannot pass through one another:
 
-      M = k (theta1 - theta0) + k tan(pi (theta - theta1)/(2 theta1)) / (pi/(2 theta1)),  theta < theta1,
-      M = k (theta2 - theta0) + k tan(pi (theta - theta2)/(2 (2 pi - theta2))) / (pi/(2 (2 pi - theta2))),
+      M = k (theta1 - theta0) + k tan(pi (theta - theta1)/(2 theta1)) / (pi/(2 theta1)),
+          theta < theta1,
+      M = k (theta2 - theta0)
+          + k tan(pi (theta - theta2)/(2 (2 pi - theta2))) / (pi/(2 (2 pi - theta2))),
           theta > theta2;
 
   the hinge energy is L_h psi(theta) with psi' = M.

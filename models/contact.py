@@ -1,5 +1,5 @@
-"""Smooth implicit contact and smooth Coulomb friction (seed 000, 'Contact Model'; Choi, Tong, Jawed &
-Joo, J. Appl. Mech. 2021; Tong, Choi, Joo & Jawed, 2022).
+"""Smooth implicit contact and smooth Coulomb friction (seed 000, 'Contact Model'; Choi, Tong, Jawed
+& Joo, J. Appl. Mech. 2021; Tong, Choi, Joo & Jawed, 2022).
 
 Contact energy of a point at distance Delta [mm] from a surface, with the minimum engagement
 distance 2h [mm] and the smoothing width delta [mm], K1 = 15/delta [1/mm]:

@@ -1,5 +1,5 @@
-"""Cover scales of the robotic surface (seed 001, Fig. 1B and 5): Kapton disks attached at their centres
-over each junction, overlapping their neighbours and free to slide on them.
+"""Cover scales of the robotic surface (seed 001, Fig. 1B and 5): Kapton disks attached at their
+centres over each junction, overlapping their neighbours and free to slide on them.
 
 Physics only: the disks' plate bending stiffness, their overlap (lens) areas and mass. How the layer
 enters the bar-and-hinge energy is :mod:`lcefem.solvers.bar_hinge.cover_scales`.

@@ -1,4 +1,4 @@
-"""Physical limits every input and every result must respect (checked by lcefem.solvers.runtime.checks).
+"""Physical limits every input and result must respect (checked by lcefem.solvers.runtime.checks).
 
 Beyond them the models describe nothing real: a run is refused (inputs, exit 2) or stopped
 (results, exit 3) with the field named.

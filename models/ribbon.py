@@ -1,4 +1,4 @@
-"""Twisted LCE ribbon (seed 000): geometry, programmed natural shape, thermal actuation, heat exchange.
+"""Twisted LCE ribbon (seed 000): geometry, programmed natural shape, thermal actuation, heat loss.
 
 Manufacture (seed 000, 'Manufacturing the twisting ribbon robot'; Zhao et al., PNAS 2022): a flat
 strip is stretched (mesogens align with the stretch, along the strip) and then twisted to the twist

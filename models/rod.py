@@ -4,7 +4,7 @@ Energies (seed 000, "DER - Energy Components"; Bergou et al. 2008, 2010; Jawed, 
 "A Primer on the Kinematics of Discrete Elastic Rods", 2018):
 
     stretching (edge k)   E_s = 1/2 EA (|e^k| / |e_bar^k| - 1)^2 |e_bar^k|
-    bending (node k)      E_b = 1/(2 l_bar_k) [EI_1 (kappa_1 - kappa_bar_1)^2 + EI_2 (kappa_2 - kappa_bar_2)^2]
+    bending (node k)      E_b = 1/(2 l_bar_k) sum_i EI_i (kappa_i - kappa_bar_i)^2,  i = 1, 2
     twisting (node k)     E_t = GJ/(2 l_bar_k) (m_k - m_bar_k)^2
 
 with (kappa b)_k = 2 t^(k-1) x t^k / (1 + t^(k-1).t^k), kappa_1 = 1/2 (kappa b).(m2^(k-1) + m2^k),
@@ -275,7 +275,8 @@ def apply_source_change(grad: np.ndarray, hess: np.ndarray | None, slots, d_beta
         d_beta, dd_beta: per element and per slot, (n, 3) and (n, 3, 3) from :func:`source_change`.
 
     Returns:
-        (W^T g, W^T H W + sum_j g_theta_j d2beta_j) with W the Jacobian of (x, theta) -> (x, theta + beta(x)).
+        (W^T g, W^T H W + sum_j g_theta_j d2beta_j) with W the Jacobian of
+        (x, theta) -> (x, theta + beta(x)).
     """
     n, m = grad.shape
     W = np.broadcast_to(np.eye(m), (n, m, m)).copy()

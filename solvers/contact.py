@@ -1,6 +1,6 @@
-"""Node-wise terms added to a dolfinx Newton problem outside UFL: frictionless unilateral node-to-node
-penalty contact between a strip's free face and a thin ribbon, a nodal proximal (damping) term and a
-fixed nodal load (:class:`NodalLoad`, the residual homotopy's offset).
+"""Node-wise terms added to a dolfinx Newton problem outside UFL: frictionless unilateral
+node-to-node penalty contact between a strip's free face and a thin ribbon, a nodal proximal
+(damping) term and a fixed nodal load (:class:`NodalLoad`, the residual homotopy's offset).
 
 Used by the FE composite beam (:func:`lcefem.meshes.composite_beam_fe.build_beam_fe`), whose strips
 and ribbon share their x and y stations: every node p of a strip's unbonded face has, at the same

@@ -1,5 +1,5 @@
-"""Reading a measured contraction curve (a CSV of free stretch or strain against temperature) into the
-law of :class:`lcefem.models.lce.MeasuredContraction`.
+"""Reading a measured contraction curve (a CSV of free stretch or strain against temperature) into
+the law of :class:`lcefem.models.lce.MeasuredContraction`.
 
 The file is data, read with the csv module (nothing in it runs)::
 

@@ -6,16 +6,16 @@ Plant (:class:`SurfacePlant`)
       (:func:`lcefem.models.shape_control.strip_temperature_step`, implicit Euler) with its own
       resistance and current factor drawn from the measured spreads, at an ambient that may differ
       from the model's; a failed strip (open coil) gets no current.
-    * Strip: free stretch lambda_s(T) of the calibrated transition, capped at the strip's own lambda_N
-      (drawn); its rest fraction f = min(lambda_s, lambda_N,j)/lambda_N,j, i.e. design lambda
-      p_j = 1.4 f_j on the bar-and-hinge model built at lambda_N = 1.4.
+    * Strip: free stretch lambda_s(T) of the calibrated transition, capped at the strip's own
+      lambda_N (drawn); its rest fraction f = min(lambda_s, lambda_N,j)/lambda_N,j, i.e. design
+      lambda p_j = 1.4 f_j on the bar-and-hinge model built at lambda_N = 1.4.
     * Mechanics: quasi-static. The full bar-and-hinge equilibrium (:class:`Surface`, warm-started)
-      is solved at *anchor* instants (every ``Scenario.refine_every`` in the last ``Scenario.refine``
-      of each phase, and at its end); between anchors the outputs follow the tangent map
-      y(p) = y(p_a) + J (p - p_a) (J: the exact sensitivities of the observables to the 42 strip
-      lambdas at the target's equilibrium, implicit-function theorem; before the first anchor the
-      tangent at the target itself). Every error this module reports at the end of a phase is a full
-      equilibrium (an anchor), not the tangent map.
+      is solved at *anchor* instants (every ``Scenario.refine_every`` in the last
+      ``Scenario.refine`` of each phase, and at its end); between anchors the outputs follow the
+      tangent map y(p) = y(p_a) + J (p - p_a) (J: the exact sensitivities of the observables to the
+      42 strip lambdas at the target's equilibrium, implicit-function theorem; before the first
+      anchor the tangent at the target itself). Every error this module reports at the end of a
+      phase is a full equilibrium (an anchor), not the tangent map.
     * Payload: a point weight on the centre pad (the four corners of the raised centre square),
       linear compliance between anchors, ramped in the full solve.
 

@@ -1,4 +1,4 @@
-"""Outputs a ParaView or spreadsheet user expects, written so that an unfinished run never looks complete.
+"""Outputs a ParaView or spreadsheet user expects, written so an unfinished run never looks whole.
 
 Every file is written under a ``.part`` name and renamed when :meth:`finalize` is called; a failed
 run calls :meth:`finalize(complete=False)`, which renames to ``*.partial.*`` instead (the convention

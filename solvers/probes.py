@@ -1,4 +1,4 @@
-"""Values of a dolfinx Function at given points of the reference configuration, on any number of ranks."""
+"""Values of a dolfinx Function at points of the reference configuration, on any number of ranks."""
 
 from __future__ import annotations
 

@@ -13,7 +13,8 @@ no solver (the bar-and-hinge commands start without FEniCSx)::
     strip = body("strip")
     cfg = strip.config_class()()                    # StripConfig()
     problem = strip.build(cfg)                      # StripSimulation(cfg)
-    run(problem, strip.default_program(cfg), strip.default_exports(problem), out, config=cfg.resolved())
+    run(problem, strip.default_program(cfg), strip.default_exports(problem), out,
+        config=cfg.resolved())
 
 ``program(config) -> Program`` and ``exports(problem) -> list`` are the body's defaults for the
 one door (lcefem.solvers.runner.run). Every registered ``run`` goes through that door; a body

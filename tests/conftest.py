@@ -1,4 +1,7 @@
-"""Shared test fixtures. Tests assert physics: closed forms, manufactured solutions, measured values."""
+"""Shared test fixtures.
+
+Tests assert physics: closed forms, manufactured solutions, measured values.
+"""
 
 import os
 import pathlib

@@ -3,12 +3,13 @@
 What it shows
     A free strip (one end clamped) whose embedded coil carries 0.2 A. Joule heat raises its
     temperature; above the nematic-isotropic transition the strip contracts. The run goes through
-    ``lcefem.solvers.runner.run(problem, program, exports, out)``: the body's registration builds the
-    problem, a ``Program`` holds the current against time, ``History`` and ``Probe`` exports write
-    what we plot.
+    ``lcefem.solvers.runner.run(problem, program, exports, out)``: the body's registration builds
+    the problem, a ``Program`` holds the current against time, ``History`` and ``Probe`` exports
+    write what we plot.
 
 Equations
-    Heat (backward Euler in time):  rho c dT/dt = div(k grad T) + q_coil - h (T - T_amb) on the skin,
+    Heat (backward Euler in time):  rho c dT/dt = div(k grad T) + q_coil - h (T - T_amb) on the
+    skin,
     q_coil = I^2 R / V_coil  [mW/mm^3].
     Mechanics (quasi-static, each step):  W(F F_s(T)^-1) minimised, with the spontaneous stretch
     F_s = diag(lambda_s, lambda_s^-1/2, lambda_s^-1/2) along the director and lambda_s(T) the

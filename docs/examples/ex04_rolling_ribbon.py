@@ -10,7 +10,8 @@ What it shows
 Equations
     Discrete elastic rods (Bergou et al. 2008): stretching, bending and twisting energies of a
     centre-line with a material frame per edge, E = sum_e k_s (|e|/|e_0| - lambda_s)^2 |e_0| / 2 +
-    sum_i (kappa_i - kappa_s,i)^T B (kappa_i - kappa_s,i) / (2 l_i) + sum_i GJ (tau_i - tau_0)^2 / (2 l_i),
+    sum_i (kappa_i - kappa_s,i)^T B (kappa_i - kappa_s,i) / (2 l_i)
+    + sum_i GJ (tau_i - tau_0)^2 / (2 l_i),
     the natural stretch and curvature following the LCE's spontaneous stretch lambda_s(T) across
     the thickness; penalty contact with the plate, regularised Coulomb friction; lumped heat per
     edge from the plate (contact conductance) and the air.

@@ -4,10 +4,10 @@ What it shows
     The gridshell's strips are driven by coil currents, the bar-and-hinge model by lambdas. The
     ``CurrentRoute`` protocol (``lcefem.solvers.current_routes``) maps {selection: current [A]} to
     {selection: steady lambda [-]}; this example compares the lumped heat balance of one grid strip
-    (``LumpedRoute``, the default route of ``lcefem run gridshell --route current``) with the paper's
-    own estimate (``Eq1Route``, Eq. 1 at the coil's Joule power) over 0 - 0.2 A, and reads off the
-    lambdas of the Fig. 4 dome's hold currents. (The third route, ``FEHeatedRoute``, holds the 3D FE
-    heated gridshell at the currents; it takes minutes and is left out here.)
+    (``LumpedRoute``, the default route of ``lcefem run gridshell --route current``) with the
+    paper's own estimate (``Eq1Route``, Eq. 1 at the coil's Joule power) over 0 - 0.2 A, and reads
+    off the lambdas of the Fig. 4 dome's hold currents. (The third route, ``FEHeatedRoute``, holds
+    the 3D FE heated gridshell at the currents; it takes minutes and is left out here.)
 
 Equations
     Lumped strip, steady:  I^2 R = h_eff A (T - T_amb) + eps sigma A (T^4 - T_amb^4),

@@ -4,15 +4,15 @@ What it shows
     The same gridshell as Example 5, now as hexahedral Q2 solids: Kapton ribbons, LCE strips, the
     bond pads and the glue squares where the top strips cross; by the dome's symmetry only a
     quarter is meshed (mirror planes). The registered body ``gridshell-fe`` is driven through the
-    one door with a load program: the strips' lambdas go from as built (lambda_N = 1.4) to the dome's
-    (Tx, Ty 1.33; Bx, By 1.05) with the path follower; a ``History`` export records the centre
-    curvatures of each converged increment.
+    one door with a load program: the strips' lambdas go from as built (lambda_N = 1.4) to the
+    dome's (Tx, Ty 1.33; Bx, By 1.05) with the path follower; a ``History`` export records the
+    centre curvatures of each converged increment.
 
 Equations
-    W = W_Kapton(F) + W_LCE(F F_s^-1) + W_glue(F), F_s = diag(lambda/lambda_N, (lambda/lambda_N)^-1/2,
-    (lambda/lambda_N)^-1/2) along each strip (the strip's lambda from the drive, as the
-    bar-and-hinge model's rest fraction); minimised with Newton under mirror planes and the
-    rollers; penalty contact between strips and ribbons.
+    W = W_Kapton(F) + W_LCE(F F_s^-1) + W_glue(F),
+    F_s = diag(lambda/lambda_N, (lambda/lambda_N)^-1/2, (lambda/lambda_N)^-1/2) along each strip
+    (the strip's lambda from the drive, as the bar-and-hinge model's rest fraction); minimised with
+    Newton under mirror planes and the rollers; penalty contact between strips and ribbons.
     Circle curvature: 1/R through the middle ribbon's ends and centre [1/mm].
 
 Key number

@@ -10,9 +10,11 @@ What it shows
     exact sensitivities), ``draw_plant``, ``simulate``.
 
 Equations
-    Strip heat (implicit Euler):  C dT/dt = I^2 R_j - G (T - T_amb),  lambda_j = min(lambda_s(T), lambda_N,j).
+    Strip heat (implicit Euler):  C dT/dt = I^2 R_j - G (T - T_amb),
+    lambda_j = min(lambda_s(T), lambda_N,j).
     Surface: y(p) = y(p_a) + J (p - p_a) between full equilibria at anchor instants.
-    Controller (internal-model control): disturbance d = kappa_measured - (kappa* + J_k,u (p_hat - p*)),
+    Controller (internal-model control):
+    disturbance d = kappa_measured - (kappa* + J_k,u (p_hat - p*)),
     low-pass filtered; reference p_ref = p* + argmin |J_k,u dp + d_f|^2 + mu |dp|^2; current =
     holding current of p_ref + K (T_ref - T_hat), clipped to the paper's limits.
     Error: e = max |kappa - kappa*| of the two circle curvatures [1/mm].

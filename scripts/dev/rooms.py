@@ -69,14 +69,26 @@ MOVES: dict[str, str | None] = {
     "validation/ribbon_obstacle.py": "validation/studies/ribbon/ribbon_obstacle.py",
     "validation/gridshell_bh.py": "validation/studies/gridshell/gridshell_bh.py",
     "validation/calibrate.py": "validation/studies/gridshell/calibrate.py",
-    "validation/grid_exchange_calibration.py": "validation/studies/gridshell/grid_exchange_calibration.py",
-    "validation/gridshell_configuration.py": "validation/studies/gridshell/gridshell_configuration.py",
-    "validation/gridshell_current_route.py": "validation/studies/gridshell/gridshell_current_route.py",
-    "validation/gridshell_fe_current_store.py": "validation/studies/gridshell/gridshell_fe_current_store.py",
-    "validation/gridshell_junction_heating.py": "validation/studies/gridshell/gridshell_junction_heating.py",
+    "validation/grid_exchange_calibration.py": (
+        "validation/studies/gridshell/grid_exchange_calibration.py"
+    ),
+    "validation/gridshell_configuration.py": (
+        "validation/studies/gridshell/gridshell_configuration.py"
+    ),
+    "validation/gridshell_current_route.py": (
+        "validation/studies/gridshell/gridshell_current_route.py"
+    ),
+    "validation/gridshell_fe_current_store.py": (
+        "validation/studies/gridshell/gridshell_fe_current_store.py"
+    ),
+    "validation/gridshell_junction_heating.py": (
+        "validation/studies/gridshell/gridshell_junction_heating.py"
+    ),
     "validation/gridshell_plots.py": "validation/studies/gridshell/gridshell_plots.py",
     "validation/gridshell_sequence.py": "validation/studies/gridshell/gridshell_sequence.py",
-    "validation/gridshell_thermal_plots.py": "validation/studies/gridshell/gridshell_thermal_plots.py",
+    "validation/gridshell_thermal_plots.py": (
+        "validation/studies/gridshell/gridshell_thermal_plots.py"
+    ),
     "validation/fig5_plots.py": "validation/studies/gridshell/fig5_plots.py",
     "validation/fig5_tasks.py": "validation/studies/gridshell/fig5_tasks.py",
     "validation/uncertainty.py": "validation/studies/gridshell/uncertainty.py",
@@ -179,11 +191,21 @@ LAYERS_RULES = (
 '''
     + LAYERS_MARKER
     + '''
-APP, STUDIES, CASES = "lcefem.validation.app", "lcefem.validation.studies", "lcefem.validation.cases"
-#: the application's doors: the command line and the commands' drivers, imported by the application only
-DOORS = ("lcefem.validation.app.cli", "lcefem.validation.app.commands", "lcefem.validation.app.validate",
-         "lcefem.validation.app.converge", "lcefem.validation.app.converge_body",
-         "lcefem.validation.app.farm")
+APP, STUDIES, CASES = (
+    "lcefem.validation.app",
+    "lcefem.validation.studies",
+    "lcefem.validation.cases",
+)
+#: the application's doors: the command line and the commands' drivers, imported by the application
+#: only
+DOORS = (
+    "lcefem.validation.app.cli",
+    "lcefem.validation.app.commands",
+    "lcefem.validation.app.validate",
+    "lcefem.validation.app.converge",
+    "lcefem.validation.app.converge_body",
+    "lcefem.validation.app.farm",
+)
 #: the scripts outside the package (python benchmarks/<script>.py): the package never imports them
 SCRIPTS = sorted(p.stem for p in (ROOT / "benchmarks").rglob("*.py"))
 

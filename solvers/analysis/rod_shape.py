@@ -55,7 +55,8 @@ def measure_shape(centre: np.ndarray, edge_plus: np.ndarray, edge_minus: np.ndar
     (``edge_plus`` at +w/2 along the width, i.e. m1 points from ``edge_minus`` to ``edge_plus``).
 
     Returns arc_length [mm], material_curvature (kappa_1, kappa_2) [1/mm] and curvature (mean
-    |kappa|) [1/mm] averaged over the interior stations, twist_rate [rad/mm], circle_curvature [1/mm].
+    |kappa|) [1/mm] averaged over the interior stations, twist_rate [rad/mm], circle_curvature
+    [1/mm].
     """
     centre = np.asarray(centre, float)
     if len(centre) < 3:

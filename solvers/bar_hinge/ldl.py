@@ -117,8 +117,8 @@ class SymbolicLDL:
     """Ordering, permuted upper-triangle pattern and elimination tree of one CSC sparsity pattern.
 
     Args:
-        indices, indptr: the CSC pattern (n x n, structurally symmetric) of the matrices to factorise;
-            entries of its diagonal may be missing (they are taken as zero).
+        indices, indptr: the CSC pattern (n x n, structurally symmetric) of the matrices to
+            factorise; entries of its diagonal may be missing (they are taken as zero).
     """
 
     def __init__(self, indices: np.ndarray, indptr: np.ndarray, n: int):

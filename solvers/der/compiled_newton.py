@@ -1,5 +1,6 @@
-"""The Newton loop of one implicit time step, compiled (numba): :func:`lcefem.solvers.der.newton.minimise`
-on the incremental potential of :class:`lcefem.solvers.der.integrator.StepPotential`, in one call.
+"""The Newton loop of one implicit time step, compiled (numba):
+:func:`lcefem.solvers.der.newton.minimise` on the incremental potential of
+:class:`lcefem.solvers.der.integrator.StepPotential`, in one call.
 
 Same algorithm, step for step: iterates reached from the source by one displacement with frames
 transported from the source's tangents (``RodState.moved``), a new source when an edge turns by

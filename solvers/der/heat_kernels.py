@@ -1,5 +1,6 @@
-"""Compiled (numba) section heat step of the DER ribbon (:meth:`lcefem.solvers.der.heat.SectionHeat.step`):
-exchange coefficients with the ground and the air, the implicit solve and the fluxes.
+"""Compiled (numba) section heat step of the DER ribbon
+(:meth:`lcefem.solvers.der.heat.SectionHeat.step`): exchange coefficients with the ground and the
+air, the implicit solve and the fluxes.
 """
 
 from __future__ import annotations

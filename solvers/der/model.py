@@ -59,7 +59,8 @@ class RestShape:
 
     Attributes:
         edge_length: rest edge lengths |e_bar| [mm], (N-1,).
-        curvature: natural integrated curvatures (kappa_bar_1, kappa_bar_2) [-] of interior nodes, (N-2, 2).
+        curvature: natural integrated curvatures (kappa_bar_1, kappa_bar_2) [-] of interior nodes,
+            (N-2, 2).
         twist: natural integrated twist m_bar [rad] of interior nodes, (N-2,).
     """
 
@@ -185,9 +186,11 @@ class DiscreteRod:
     """Everything a step needs besides the state.
 
     Attributes:
-        section: stiffnesses, mass and inertia per length, width/thickness (for the contact corners).
+        section: stiffnesses, mass and inertia per length, width/thickness (for the contact
+            corners).
         rest: natural geometry (may be replaced between steps).
-        node_mass: lumped node masses [t], (N,); edge_inertia: polar mass moments of the edges [t mm^2].
+        node_mass: lumped node masses [t], (N,); edge_inertia: polar mass moments of the edges
+            [t mm^2].
         gravity: acceleration vector [mm/s^2].
         damping: mass-proportional viscous damping rate [1/s] (air drag of the slow motions).
         ground, contact, friction: optional rigid plane with the smooth laws of seed 000.

@@ -1,4 +1,4 @@
-"""Files a ParaView or spreadsheet user expects, written so that an unfinished run never looks complete.
+"""Files a ParaView or spreadsheet user expects, written so an unfinished run never looks complete.
 
 * :class:`PolylineSeries`: a VTK PolyData time series, frames ``<name>_steps/<name>_NNNNN.vtp`` (in
   ``<name>_steps.part/`` during the run) and the index ``<name>.pvd`` (``.partial`` names for a

@@ -852,7 +852,8 @@ def ribbon_static_response(
         face_temperatures: (T_plus, T_minus) [C], scalars, per node (N,) or per edge (N-1,): a
             linear profile through the thickness, T_plus on the face towards m2, T_minus on the face
             towards -m2 (node values are averaged onto the edges).
-            At s = 0 m1 (width) is +z and m2 = t x m1 = -y; along the ribbon both turn by tau_0 s about x.
+            At s = 0 m1 (width) is +z and m2 = t x m1 = -y; along the ribbon both turn by tau_0 s
+            about x.
         cell_temperatures: alternatively (n_cells,) or (N-1, n_cells) [C] on ``grid``.
         grid: section cells (default 6 x 2).
         gravity: include the ribbon's weight (along -z); the rod is held by a statically determinate

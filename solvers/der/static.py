@@ -1,4 +1,4 @@
-"""Static equilibrium of a discrete rod: minimum of E_elastic + k E_contact - f.q over the free dofs.
+"""Static equilibrium of a discrete rod: minimum of E_elastic + k E_contact - f.q over free dofs.
 
 Loads (gravity, external forces) and the rest shape can be applied in increments (load stepping):
 at increment i of n the load is i/n of the full one and the rest shape is interpolated linearly

@@ -1,4 +1,4 @@
-"""A smooth law of one variable, tabulated: piecewise cubic on a uniform grid, the law itself outside.
+"""A smooth law of one variable, tabulated: piecewise cubic on a uniform grid, the law outside it.
 
 On the interval [x_k, x_k + h] the cubic through the law's values at x_(k-1), x_k, x_(k+1), x_(k+2)
 (Lagrange, monomial coefficients in u = (x - x_k)/h stored per interval), whose error is at most

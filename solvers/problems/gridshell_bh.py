@@ -30,9 +30,9 @@ linearly from the current ones to the targets: the paper's quasi-static route) b
   centre junction's height.
 
 The lower-level functions (:func:`setup_gridshell`, :func:`setup_from_model`,
-:func:`solve_gridshell`,
-...) are used by the study (:mod:`lcefem.validation.studies.gridshell.gridshell_bh`: the paper's curvatures), which
-re-exports them. One run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
+:func:`solve_gridshell`, ...) are used by the study
+(:mod:`lcefem.validation.studies.gridshell.gridshell_bh`: the paper's curvatures), which re-exports
+them. One run of ``lcefem run gridshell`` (``GridshellBHRunConfig``, ``run_gridshell``)
 is in :mod:`lcefem.solvers.problems.gridshell_bh_run`; the paper's Fig. 4 programs and the published
 recipes are validation data (:mod:`lcefem.validation.cases.programs`); the current route (currents
 -> lambdas) is

@@ -16,7 +16,8 @@ here; periods 1.9 % long; tests/solvers/test_gridshell_ball.py). It rolls
 without slipping (checked: the friction the rolling needs, (2/7) m g sin(theta), against mu N), so
 its kinetic energy is (7/5) m |v_c|^2 / 2. Lagrange's equations in q = (x, y) with z = h(q, t):
 
-    (I + grad h grad h^T) q'' = -(g/k) grad h - grad h (q'^T H q' + 2 grad h_t . q' + h_tt) + Q_rr/(k m),
+    (I + grad h grad h^T) q'' = -(g/k) grad h - grad h (q'^T H q' + 2 grad h_t . q' + h_tt)
+                                + Q_rr/(k m),
 
 k = 7/5, with the rolling resistance Q_rr = -C_rr N v_c/max(|v_c|, v_creep) projected on q
 (N = m g / sqrt(1 + |grad h|^2), the quasi-static normal force). Derivatives of h in closed form

@@ -1,6 +1,6 @@
-"""Programmed shape sequences of the robotic surface (seed 001, Fig. 5A and 5C): channel currents over
-time -> each strip's temperature (lumped transient heat balance) -> its free stretch lambda(T) ->
-the bar-and-hinge surface, solved quasi-statically at each output time from the previous
+"""Programmed shape sequences of the robotic surface (seed 001, Fig. 5A and 5C): channel currents
+over time -> each strip's temperature (lumped transient heat balance) -> its free stretch lambda(T)
+-> the bar-and-hinge surface, solved quasi-statically at each output time from the previous
 equilibrium.
 
 ``lcefem run gridshell --schedule FILE.toml [--out DIR]`` (command line and figures:
@@ -18,12 +18,14 @@ lcefem.validation.app.commands.gridshell). The schedule file::
     model_set = "published"          # optional: the bar-and-hinge model set the schedule was made
                                      # with (lcefem design writes it; checked by the command line)
 
-    [currents]                       # A per selection (channel Tx/Ty/Bx/By, layer T/B, family XD..,
-    Tx = [0.1, 0.04, 0.0]            # group XD1.., half plane, strip id), one value per switch time,
-    Bx = [0.2, 0.07, 0.0]            # held until the next; unnamed strips carry no current
+    [currents]                       # A per selection (channel Tx/Ty/Bx/By, layer T/B,
+    Tx = [0.1, 0.04, 0.0]            # family XD.., group XD1.., half plane, strip id), one
+    Bx = [0.2, 0.07, 0.0]            # value per switch time, held until the next; unnamed
+                                     # strips carry no current
 
-    [layout]                         # optional: the gridshell's layout (lcefem.meshes.gridshell_layout,
-    preset = "5x5"                   # a [layout] table; default the published 3 x 3)
+    [layout]                         # optional: the gridshell's layout
+    preset = "5x5"                   # (lcefem.meshes.gridshell_layout, a [layout] table;
+                                     # default the published 3 x 3)
 
 Physics per selection (all its strips carry the same current and are the same lumped body): the
 balance C dT/dt = I^2 R - loss(T) of :mod:`lcefem.models.lumped_heat` (implicit Euler, the current

@@ -1,5 +1,5 @@
-"""Fig. 5C of seed 001 in the bar-and-hinge model: the covered surface free on a table lifts a pad and
-carries weights on it.
+"""Fig. 5C of seed 001 in the bar-and-hinge model: the covered surface free on a table lifts a pad
+and carries weights on it.
 
 * The table: the rigid plane of :func:`lcefem.solvers.problems.gridshell_bh.add_table` (the bottom
   strips' ends on it), here with every Kapton ribbon node in frictionless unilateral contact with it

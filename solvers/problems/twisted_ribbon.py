@@ -1,7 +1,7 @@
-"""The twisted LCE ribbon (seed 000) as a static 3D finite-strain body under a prescribed temperature
-field: :class:`TwistedRibbonFE` (built once, :meth:`~TwistedRibbonFE.advance` to the load, rod-like
-observables), and :func:`solve_twisted_ribbon`, the one-call version the FE vs DER case uses.
-(The rolling ribbon on a hot plate is the Discrete Elastic Rod problem
+"""The twisted LCE ribbon (seed 000) as a static 3D finite-strain body under a prescribed
+temperature field: :class:`TwistedRibbonFE` (built once, :meth:`~TwistedRibbonFE.advance` to the
+load, rod-like observables), and :func:`solve_twisted_ribbon`, the one-call version the FE vs DER
+case uses. (The rolling ribbon on a hot plate is the Discrete Elastic Rod problem
 :mod:`lcefem.solvers.der.ribbon`.)
 
 Mesh: :func:`lcefem.meshes.twisted_ribbon.build_twisted_ribbon` (Q2 hexahedra of the helicoid; a
@@ -122,7 +122,8 @@ class TwistedRibbonFE:
         resolution: mesh divisions and level (use an even number across the width).
         stations: measuring stations in [L/6, 5L/6], an odd number (default: one per level-0 element
             face).
-        petsc_options: overrides of :data:`TWISTED_RIBBON_NEWTON` (itself over the mechanics defaults).
+        petsc_options: overrides of :data:`TWISTED_RIBBON_NEWTON` (itself over the mechanics
+            defaults).
         prefix: PETSc options prefix (default: a fresh one per instance).
     """
 

@@ -1,6 +1,6 @@
-"""The output folder's ownership: :func:`claim_out` refuses another run's results unless ``--resume``
-or ``--overwrite``, and holds a lock file while a run writes; :func:`add_out_arguments` gives every
-command the same flags and words."""
+"""The output folder's ownership: :func:`claim_out` refuses another run's results unless
+``--resume`` or ``--overwrite``, and holds a lock file while a run writes; :func:`add_out_arguments`
+gives every command the same flags and words."""
 
 from __future__ import annotations
 
@@ -22,7 +22,8 @@ from lcefem.solvers.runtime.ranks import barrier_quietly, rank
 _CLAIMED: list[pathlib.Path] = []
 
 LOCK = ".lcefem.lock"  #: "pid host" of the run writing the folder
-STAMP = ".lcefem-out"  #: marks a folder written by lcefem (so --overwrite may empty it) and by which command
+#: marks a folder written by lcefem (so --overwrite may empty it) and by which command
+STAMP = ".lcefem-out"
 STAMP_TEXT = "written by lcefem; --overwrite may empty this folder\ncommand: {command}\n"
 #: [s] how old a lock file without a readable "pid host" must be before it is taken over: the claim
 #: writes the pid right after creating the file (microseconds), so an older empty or garbled lock

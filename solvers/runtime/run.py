@@ -77,7 +77,8 @@ class Run:
         progress: Progress | None = None,
         comm=None,
     ):
-        reinstall_signal_handlers()  # the problem was just built: gmsh and PETSc may have taken them
+        # the problem was just built: gmsh and PETSc may have taken them
+        reinstall_signal_handlers()
         self.out = None if out is None else pathlib.Path(out)
         self.config = config
         self.comm = comm

@@ -77,6 +77,7 @@ def keep_petsc_off_signals() -> None:
 
 def restore_signal_handlers(previous: dict) -> None:
     _installed.clear()
-    interrupts.received.clear()  # a later run in this process (lcefem as a library) starts uninterrupted
+    # a later run in this process (lcefem as a library) starts uninterrupted
+    interrupts.received.clear()
     for sig, handler in previous.items():
         signal.signal(sig, handler)

@@ -341,7 +341,8 @@ dx = ufl.Measure("dx", domain=tm.mesh, subdomain_data=tm.cell_tags)
 ds = ufl.Measure("ds", domain=tm.mesh, subdomain_data=tm.facet_tags)
 out = {g: dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * dx(cell_group(tm, g))))
        for g in ("kapton", "glue", "bottom_strips", "top_strips", "XD2", "Ty")}
-out.update({f: dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * ds(t))) for f, t in tm.facets.items()})
+out.update({f: dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * ds(t)))
+            for f, t in tm.facets.items()})
 out = {k: tm.mesh.comm.allreduce(v) for k, v in out.items()}
 if tm.mesh.comm.rank == 0:
     json.dump({"values": out, "ranks": tm.mesh.comm.size}, open(sys.argv[1], "w"))

@@ -1,5 +1,5 @@
-"""The FE gridshell mesh made by gmsh (issue 47) against the structured builder it replaces: the same
-vertices bit for bit, the same cells under every tag, the same tagged faces; a layout's mesh
+"""The FE gridshell mesh made by gmsh (issue 47) against the structured builder it replaces: the
+same vertices bit for bit, the same cells under every tag, the same tagged faces; a layout's mesh
 (refined, rhombic) against closed-form volumes; bad input."""
 
 import math

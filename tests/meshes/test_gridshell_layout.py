@@ -1,5 +1,5 @@
-"""The gridshell layout (lcefem.meshes.gridshell_layout) and the bar-and-hinge structure built from it:
-the published 3 x 3 unchanged, the rhombic grid the orthogonal one's affine image, the loader's
+"""The gridshell layout (lcefem.meshes.gridshell_layout) and the bar-and-hinge structure built from
+it: the published 3 x 3 unchanged, the rhombic grid the orthogonal one's affine image, the loader's
 one-line errors."""
 
 import hashlib

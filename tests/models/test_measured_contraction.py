@@ -1,5 +1,5 @@
-"""The measured contraction curve (models.lce.MeasuredContraction, issue 44): its normalisation to the
-sigmoid law's quantities, its piecewise-linear error against a smooth law (quadratic in the row
+"""The measured contraction curve (models.lce.MeasuredContraction, issue 44): its normalisation to
+the sigmoid law's quantities, its piecewise-linear error against a smooth law (quadratic in the row
 spacing), and the UFL form equal to numpy at the rows, between them and outside the table."""
 
 import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)

@@ -1,5 +1,5 @@
-"""Golden values: today's answers of every body at its coarse level, pinned to 1e-6 relative (issue 12,
-step 1), so that moving code between packages is proven not to change the physics.
+"""Golden values: today's answers of every body at its coarse level, pinned to 1e-6 relative (issue
+12, step 1), so that moving code between packages is proven not to change the physics.
 
 Produced at commit 8dfa505 (branch main) with::
 

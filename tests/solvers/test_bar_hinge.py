@@ -1,5 +1,6 @@
-"""The bar-and-hinge solver: assembled derivatives, single panel and single hinge against closed forms,
-tension-only strips, saddle escape, and path following with step halving (solvers/bar_hinge)."""
+"""The bar-and-hinge solver: assembled derivatives, single panel and single hinge against closed
+forms, tension-only strips, saddle escape, and path following with step halving
+(solvers/bar_hinge)."""
 
 import dataclasses
 import math

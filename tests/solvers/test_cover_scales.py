@@ -1,5 +1,5 @@
-"""The cover-scale layer (models/cover_scales.py, solvers/bar_hinge/cover_scales.py): closed forms of
-the lens area and of the plate energy on a paraboloid, invariance under a rigid rotation, and the
+"""The cover-scale layer (models/cover_scales.py, solvers/bar_hinge/cover_scales.py): closed forms
+of the lens area and of the plate energy on a paraboloid, invariance under a rigid rotation, and the
 covered model's gradient and Hessian against finite differences."""
 
 import math

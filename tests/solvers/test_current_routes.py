@@ -1,5 +1,5 @@
-"""One CurrentRoute interface (lcefem.solvers.current_routes) over the three current -> lambda routes:
-the lumped ones give exactly what models.lumped_heat.stretch_from_current gives for the same
+"""One CurrentRoute interface (lcefem.solvers.current_routes) over the three current -> lambda
+routes: the lumped ones give exactly what models.lumped_heat.stretch_from_current gives for the same
 configuration, Eq. 1 inverted and applied again returns the stretch it was inverted at, and the FE
 heated route reads each channel's lambda from the held model."""
 

@@ -1,4 +1,4 @@
-"""Contact with a rigid block of finite size (``model.Box``: an axis-aligned box with rounded edges).
+"""Contact with a rigid block of finite size (``model.Box``: an axis-aligned box, rounded edges).
 
 - The compiled gap (``contact_kernels.box_gap``) equals the numpy one, its normal is the gradient of
   the gap and its Hessian the gradient of the normal (central differences, on a face, an edge and a

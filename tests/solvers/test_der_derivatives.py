@@ -1,4 +1,4 @@
-"""Finite-difference checks of the assembled DER potentials (elastic + contact + friction + inertia).
+"""Finite-difference checks of the assembled DER potentials (elastic, contact, friction, inertia).
 
 The step potential is one fixed function of the dofs within a Newton solve (reference frames
 transported from the solve's start), so its assembled gradient and banded Hessian must equal the

@@ -412,8 +412,8 @@ def test_a_heat_step_no_longer_than_the_mechanics_step_is_the_single_rate_scheme
 def test_multirate_heat_steps_stay_within_the_implicit_euler_step_error():
     """2 s on the 100 C plate with heat steps of H = 0.1 s against h = 0.02 s: the section
     temperatures differ by less than the first-order global error of implicit Euler, (H - h)/2 int
-    |T''| dt <= (H - h)/2 max|dT/dt| (the rate rises to its largest when a corner first touches the hot plate and
-    decays after), the rate measured step by step on the single-rate run."""
+    |T''| dt <= (H - h)/2 max|dT/dt| (the rate rises to its largest when a corner first touches the
+    hot plate and decays after), the rate measured step by step on the single-rate run."""
     fine = _heated(0.0, 0)
     rate = 0.0
     for _ in range(100):

@@ -1,7 +1,8 @@
-"""Refined and non-orthogonal gridshells (lcefem.meshes.gridshell_layout) in the bar-and-hinge model,
-FE-calibrated set (its plate torsion only on rectangular panels: ModelSet.materials_for), driven to
-an equilibrium; physics asserted: a uniform drive of one layer on the 5 x 5 grid gives a dome whose
-two curvatures agree, and the rhombic grid's shape keeps its mirror symmetry about both diagonals.
+"""Refined and non-orthogonal gridshells (lcefem.meshes.gridshell_layout) in the bar-and-hinge
+model, FE-calibrated set (its plate torsion only on rectangular panels: ModelSet.materials_for),
+driven to an equilibrium; physics asserted: a uniform drive of one layer on the 5 x 5 grid gives a
+dome whose two curvatures agree, and the rhombic grid's shape keeps its mirror symmetry about both
+diagonals.
 
 Tolerances: the equilibria are converged to |g| <= 1e-6 N (GRIDSHELL_NEWTON: ~1e-4 mm on the softest
 mode, 1e-7 1/mm in curvature); the symmetric drives below stay under the flat plate's bifurcation to

@@ -1,9 +1,9 @@
-"""The Newton problem and the shared step controller (solvers/mechanics.py, solvers/continuation.py):
-the residual without lifting equals dolfinx's lifted residual when every Dirichlet value is zero,
-LDL^T and LU give the same equilibrium, inverted or non-finite iterates are refused, the controller
-cuts, recovers and never grows straight into a known failure, the contact pairs are in the
-Jacobian's preallocated pattern, and the direct path's upper-triangle storage is the whole
-tangent."""
+"""The Newton problem and the shared step controller (solvers/mechanics.py,
+solvers/continuation.py): the residual without lifting equals dolfinx's lifted residual when every
+Dirichlet value is zero, LDL^T and LU give the same equilibrium, inverted or non-finite iterates are
+refused, the controller cuts, recovers and never grows straight into a known failure, the contact
+pairs are in the Jacobian's preallocated pattern, and the direct path's upper-triangle storage is
+the whole tangent."""
 
 import dolfinx_solver  # noqa: F401
 from mpi4py import MPI

@@ -1,5 +1,6 @@
-"""The FE strip with a measured contraction curve ([lce] curve, issue 44), at the coarsest mesh (level 0)
-for 6 s at 0.2 A (dt 1 s: the mean temperature rises 25 -> 50 C, through the sigmoid's onset).
+"""The FE strip with a measured contraction curve ([lce] curve, issue 44), at the coarsest mesh
+(level 0) for 6 s at 0.2 A (dt 1 s: the mean temperature rises 25 -> 50 C, through the sigmoid's
+onset).
 
 - A table sampled from the present sigmoid reproduces the sigmoid's strip within the interpolation
   error, and the difference falls quadratically with the row spacing (measured: max |stretch

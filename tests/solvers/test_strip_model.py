@@ -1,5 +1,5 @@
-"""The strip model: free contraction under uniform heating on tetrahedra (issue 2, item 4; the hexahedral
-quarter model runs in the case strip_uniform_heating), and the quarter-symmetry
+"""The strip model: free contraction under uniform heating on tetrahedra (issue 2, item 4; the
+hexahedral quarter model runs in the case strip_uniform_heating), and the quarter-symmetry
 model against the full one."""
 
 import numpy as np

@@ -1,6 +1,6 @@
-"""The twisted-ribbon FE problem (solvers/problems/twisted_ribbon.py) driven step by step: an elastic
-equilibrium does not depend on the path, so advancing to half the load and then to the whole gives
-the one-ramp answer; the observables carry their units and read the same shape."""
+"""The twisted-ribbon FE problem (solvers/problems/twisted_ribbon.py) driven step by step: an
+elastic equilibrium does not depend on the path, so advancing to half the load and then to the whole
+gives the one-ramp answer; the observables carry their units and read the same shape."""
 
 import math
 

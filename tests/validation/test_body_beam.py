@@ -1,8 +1,8 @@
-"""`lcefem run body` on examples/bodies/composite_beam/ (the composite beam as a case file: prescribed
-stretches per LCE cell set reached by the path follower, strip-ribbon [[contact]], the [[curvature]]
-of the middle stations) reproduces `lcefem run beam --model fe` (the default ramp to lambda_T =
-1.33, lambda_B = 1.05) at mesh level 0, on the mesh `lcefem mesh beam --format msh --mesh-level 0`
-writes."""
+"""`lcefem run body` on examples/bodies/composite_beam/ (the composite beam as a case file:
+prescribed stretches per LCE cell set reached by the path follower, strip-ribbon [[contact]], the
+[[curvature]] of the middle stations) reproduces `lcefem run beam --model fe` (the default ramp to
+lambda_T = 1.33, lambda_B = 1.05) at mesh level 0, on the mesh `lcefem mesh beam --format msh
+--mesh-level 0` writes."""
 
 import csv
 import shutil

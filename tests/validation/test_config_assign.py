@@ -1,5 +1,6 @@
-"""One ``section.field=value`` assignment of the study scripts' ``--set`` (validation.config.assign):
-cast to the field's type, bound-checked like a case file, one-line errors naming the option."""
+"""One ``section.field=value`` assignment of the study scripts' ``--set``
+(validation.config.assign): cast to the field's type, bound-checked like a case file, one-line
+errors naming the option."""
 
 import pytest
 

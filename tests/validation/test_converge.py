@@ -1,4 +1,4 @@
-"""Convergence studies: observed order, flags, refinement-ratio check and the ``lcefem converge`` command."""
+"""Convergence studies: observed order, flags, refinement-ratio check, ``lcefem converge``."""
 
 import csv
 import json

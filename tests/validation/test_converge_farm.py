@@ -1,5 +1,5 @@
-"""``mpiexec -n 2 lcefem converge``: the levels farmed over the ranks give the serial study, both ranks
-take levels, and a level that fails ends the study with its error on every rank."""
+"""``mpiexec -n 2 lcefem converge``: the levels farmed over the ranks give the serial study, both
+ranks take levels, and a level that fails ends the study with its error on every rank."""
 
 import csv
 import subprocess
@@ -28,7 +28,8 @@ def trapezoid(ctx):
     x = np.linspace(0.0, 1.0, n + 1)
     ctx.mesh_size, ctx.mesh_size_unit = 1.0 / n, "-"
     y = np.exp(x)
-    return [Metric.info("", "integral of exp", float(np.sum(0.5 * (y[1:] + y[:-1])) / n), "-", "trapezoid")]
+    integral = float(np.sum(0.5 * (y[1:] + y[:-1])) / n)
+    return [Metric.info("", "integral of exp", integral, "-", "trapezoid")]
 
 cases._CASES["test_trapezoid"] = Case("test_trapezoid", trapezoid, "trapezoid rule", False, True)
 sys.exit(main(["converge", "test_trapezoid", "--levels", "4", "--out", sys.argv[1], "--quiet"]))

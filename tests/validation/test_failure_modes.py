@@ -1,5 +1,6 @@
-"""The catalogue of issue 10: every way a run can go wrong ends in one line, a documented exit status
-and an output folder that says what happened (lcefem.solvers.runtime, through the command line).
+"""The catalogue of issue 10: every way a run can go wrong ends in one line, a documented exit
+status and an output folder that says what happened (lcefem.solvers.runtime, through the command
+line).
 
 Exit statuses: 2 bad input or unusable --out, 3 solver failure or a result out of physical bounds,
 130 Ctrl-C, 143 SIGTERM. Fast targets only: the bar-and-hinge beam (2 segments), the rod ribbon, and

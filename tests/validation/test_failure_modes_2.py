@@ -1,8 +1,8 @@
-"""The second catalogue (issue 36): work that cannot fit, encodings, signals, full disks, folder rules,
-ignored inputs. Each ends in one line, a documented exit status (docs/failure_modes.md) and an
-output folder that says what happened. In-process where possible (lcefem.validation.app.cli.main);
-the option values are refused in argument checking, before any output folder is claimed (checked by
-a claim that fails the test instead of running).
+"""The second catalogue (issue 36): work that cannot fit, encodings, signals, full disks, folder
+rules, ignored inputs. Each ends in one line, a documented exit status (docs/failure_modes.md) and
+an output folder that says what happened. In-process where possible
+(lcefem.validation.app.cli.main); the option values are refused in argument checking, before any
+output folder is claimed (checked by a claim that fails the test instead of running).
 """
 
 import errno

@@ -1,7 +1,7 @@
-"""The third catalogue (issue 45, causes 1-8): a case file must not run code, --resume and --overwrite
-must not eat a user's folder, writers never follow links, parsers raise only their decode error,
-start-up checks come before any library, and the reporting streams never change an outcome
-(docs/failure_modes.md, "Case files, folders and environment: the contract").
+"""The third catalogue (issue 45, causes 1-8): a case file must not run code, --resume and
+--overwrite must not eat a user's folder, writers never follow links, parsers raise only their
+decode error, start-up checks come before any library, and the reporting streams never change an
+outcome (docs/failure_modes.md, "Case files, folders and environment: the contract").
 
 Each probe runs as a user would: a subprocess of the installed ``lcefem`` entry point, so the
 start-up path (argument and environment checks before dolfinx and numba are imported) is covered.

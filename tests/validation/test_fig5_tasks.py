@@ -1,5 +1,6 @@
-"""Fig. 5 tasks (validation/studies/gridshell/fig5_tasks.py, solvers/problems/gridshell_bh_weights.py): the arch crowns
-that carry the pad, and the command line's one-line errors (InputError: exit 2 by the CLI)."""
+"""Fig. 5 tasks (validation/studies/gridshell/fig5_tasks.py,
+solvers/problems/gridshell_bh_weights.py): the arch crowns that carry the pad, and the command
+line's one-line errors (InputError: exit 2 by the CLI)."""
 
 import argparse
 

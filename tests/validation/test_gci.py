@@ -1,4 +1,6 @@
-"""Grid Convergence Index against the published worked example and synthetic sequences of known order."""
+"""Grid Convergence Index against the published worked example and synthetic sequences of known
+order.
+"""
 
 import math
 

@@ -1,7 +1,7 @@
-"""The bar-and-hinge current route in both model sets (validation.gridshell_current_route): the rule's
-currents give back the Fig. 4 lambdas through the lumped grid strip, the FE-calibrated set is the
-configuration it was fitted in, and at the FE's own channel lambdas it meets the stored level-1 FE
-(the mechanics alone; docs/gridshell_thermal.md)."""
+"""The bar-and-hinge current route in both model sets (validation.gridshell_current_route): the
+rule's currents give back the Fig. 4 lambdas through the lumped grid strip, the FE-calibrated set is
+the configuration it was fitted in, and at the FE's own channel lambdas it meets the stored level-1
+FE (the mechanics alone; docs/gridshell_thermal.md)."""
 
 import pytest
 

@@ -1,6 +1,6 @@
-"""The FE gridshell cases' bookkeeping (validation/cases/gridshell_fe.py): registered (the shapes case
-under lcefem converge), the model-vs-model band, the partial ramp of the quick level. The cases'
-quick runs are exercised by tests/validation/test_quick_cases.py."""
+"""The FE gridshell cases' bookkeeping (validation/cases/gridshell_fe.py): registered (the shapes
+case under lcefem converge), the model-vs-model band, the partial ramp of the quick level. The
+cases' quick runs are exercised by tests/validation/test_quick_cases.py."""
 
 import pytest
 

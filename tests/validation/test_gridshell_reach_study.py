@@ -1,5 +1,6 @@
-"""The reach study's distance (lcefem.validation.studies.design.gridshell_reach_study): the rigid fit removes exactly a
-vertical translation and two tilts, and leaves closed-form distances of the flat surface."""
+"""The reach study's distance (lcefem.validation.studies.design.gridshell_reach_study): the rigid
+fit removes exactly a vertical translation and two tilts, and leaves closed-form distances of the
+flat surface."""
 
 import numpy as np
 import pytest

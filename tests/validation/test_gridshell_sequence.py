@@ -1,5 +1,6 @@
-"""Programmed shape sequences of the gridshell (lcefem.validation.studies.gridshell.gridshell_sequence): schedule
-parsing, the heat history against the closed-form steady state, and the unheated surface."""
+"""Programmed shape sequences of the gridshell
+(lcefem.validation.studies.gridshell.gridshell_sequence): schedule parsing, the heat history against
+the closed-form steady state, and the unheated surface."""
 
 import dataclasses
 import pathlib

@@ -1,5 +1,5 @@
-"""Issue 45, causes 10-13, as a user meets them: the real entry point in a subprocess, exit 2 and one
-line naming the field and what is allowed, nothing written; the bound's words agree with the
+"""Issue 45, causes 10-13, as a user meets them: the real entry point in a subprocess, exit 2 and
+one line naming the field and what is allowed, nothing written; the bound's words agree with the
 check."""
 
 import json

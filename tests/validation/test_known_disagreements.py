@@ -1,7 +1,7 @@
-"""Known disagreements: the registry is well formed and grouped by cause (every row names a registered
-cause, every cause explains a row), the report's summary counts them and lists the causes table with
-each row in one line, an unexplained failure stays visible, and failing metrics never change the
-exit code (issue 16)."""
+"""Known disagreements: the registry is well formed and grouped by cause (every row names a
+registered cause, every cause explains a row), the report's summary counts them and lists the causes
+table with each row in one line, an unexplained failure stays visible, and failing metrics never
+change the exit code (issue 16)."""
 
 import dataclasses
 import json

@@ -1,4 +1,4 @@
-"""The reference data of validation/data/*.toml: complete, consistent with their quotes and the seed."""
+"""The reference data of validation/data/*.toml: complete, consistent with their quotes and seed."""
 
 import pathlib
 import re

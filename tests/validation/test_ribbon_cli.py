@@ -1,4 +1,4 @@
-"""``lcefem run ribbon``: bad input exits 2 with a one-line message; a short run writes complete outputs."""
+"""``lcefem run ribbon``: bad input exits 2 with one line; a short run writes complete outputs."""
 
 import dataclasses
 import json

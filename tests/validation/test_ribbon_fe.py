@@ -1,6 +1,7 @@
-"""Static twisted-ribbon FE (solvers/problems/twisted_ribbon.py, solvers/analysis/rod_shape.py): its rod measures on analytic shapes, and the FE strip
-against closed forms (uniform heating; bending by a through-thickness spontaneous-strain gradient).
-Short strips on coarse meshes: each FE test runs in seconds."""
+"""Static twisted-ribbon FE (solvers/problems/twisted_ribbon.py, solvers/analysis/rod_shape.py): its
+rod measures on analytic shapes, and the FE strip against closed forms (uniform heating; bending by
+a through-thickness spontaneous-strain gradient). Short strips on coarse meshes: each FE test runs
+in seconds."""
 
 import math
 

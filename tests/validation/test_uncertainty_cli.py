@@ -1,4 +1,4 @@
-"""``lcefem uncertainty gridshell``: bad input refused in one line before the output folder is made."""
+"""``lcefem uncertainty gridshell``: bad input refused in one line before the out folder is made."""
 
 import subprocess
 

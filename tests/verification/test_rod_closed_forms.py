@@ -1,4 +1,5 @@
-"""The discrete elastic rod against closed forms (references in lcefem.validation.studies.verification.rod_verification).
+"""The discrete elastic rod against closed forms (references in
+lcefem.validation.studies.verification.rod_verification).
 
 Each beam problem is solved at three or four node counts; the relative error must fall with the
 edge length h at the observed order 2.0 +- 0.15 (the DER curvature and twist are second-order

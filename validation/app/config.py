@@ -1,4 +1,4 @@
-"""Case files (TOML): sections override parameter dataclasses; unknown sections or keys are errors."""
+"""Case files (TOML): sections override parameter dataclasses; unknown sections, keys are errors."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""``mpiexec -n N lcefem validate``: the selected cases farmed over N MPI ranks, one case per rank at a time.
+"""``mpiexec -n N lcefem validate``: the selected cases farmed over N MPI ranks, one case per rank.
 
 Each case runs whole on one rank, inside ``case_communicator(MPI.COMM_SELF)``
 (:mod:`lcefem.meshes.communicator`), so its meshes, PETSc objects and collectives are its own; the
@@ -240,7 +240,8 @@ def _lead(cases, groups, results, run_one, flush, bar, comm, servers: list) -> l
     try:
         return _lead_cases(cases, groups, results, run_one, flush, comm, board, server)
     finally:
-        board.quit.set()  # whatever ended the wait (drained, deadline, an error): the thread returns
+        # whatever ended the wait (drained, deadline, an error): the thread returns
+        board.quit.set()
         server.join(QUIT_SECONDS)
 
 

@@ -1,5 +1,5 @@
-"""``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design``: a named gridshell layout
-(:data:`lcefem.meshes.gridshell_layout.NAMED_LAYOUTS`) or a TOML case file whose ``[layout]``
+"""``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design``: a named gridshell
+layout (:data:`lcefem.meshes.gridshell_layout.NAMED_LAYOUTS`) or a TOML case file whose ``[layout]``
 section describes one (:func:`lcefem.meshes.gridshell_layout.layout_from_table`;
 docs/layouts.md)."""
 

@@ -14,7 +14,8 @@ Declaration (one ``[[phenomenon]]`` per claim)::
     case = "beam_curvature_fe"
     phenomenon = "the beam bends towards its shorter (bottom) strip"
     metric = "kappa_FE at (1.33, 1.05) vs Eq. 2"      # exact metric name, or
-    # pattern = "^dome \\(lambda\\): kappa_[xy] circle"  # a regular expression (every match must hold)
+    # pattern = "^dome \\(lambda\\): kappa_[xy] circle"  # a regular expression (every match
+    #                                                    must hold)
     above = 0.0                                        # and/or below = ...; value strictly inside
     why = "seed 001 Fig. 3: the strip that contracts more (lambda_B < lambda_T) is on the inside"
 

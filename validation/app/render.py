@@ -5,7 +5,8 @@ Typical use at the end of an FE case::
     from lcefem.validation.app import render
     png = render.render_deformed(ctx.path("strip_0p2A_t20s.png"), u, T,
                                  scalar_label="temperature [C]", title="0.2 A, t = 20 s")
-    ctx.add_figure(png, plots.caption("Deformed strip at t = 20 s coloured by temperature.", sources))
+    ctx.add_figure(png, plots.caption("Deformed strip at t = 20 s coloured by temperature.",
+                                      sources))
 
 Serial only (the body is drawn from the local mesh); for parallel runs write VTX/XDMF files and open
 them in ParaView. Without an X display, VTK's EGL window is selected so no X server is needed.

@@ -1,4 +1,4 @@
-"""Run validation cases against experiment, closed forms and other models; write table, plots, report.
+"""Validation cases against experiment, closed forms and other models: table, plots, report.
 
 ``lcefem validate [CASE ...] [--quick] [--out DIR] [--resume] [--list] [--quiet]``
 
@@ -92,7 +92,7 @@ def run_case(case: Case, ctx: CaseContext, root: pathlib.Path) -> CaseResult:
     t0 = time.perf_counter()
     try:
         metrics = case.run(ctx)
-    finally:  # a case may have started a library that took the signals (gmsh, PETSc): take them back
+    finally:  # a case may have started a library that took the signals (gmsh, PETSc): retake them
         reinstall_signal_handlers()
     wall = time.perf_counter() - t0
     if not isinstance(metrics, (list, tuple)):
@@ -506,7 +506,8 @@ def out_folder(args: argparse.Namespace) -> pathlib.Path:
 
 def main(args: argparse.Namespace) -> int:
     cases = registry()
-    reinstall_signal_handlers()  # importing the FE case modules initialised PETSc, which took the signals
+    # importing the FE case modules initialised PETSc, which took the signals
+    reinstall_signal_handlers()
     if args.list:
         width = max((len(n) for n in cases), default=4)
         for c in cases.values():

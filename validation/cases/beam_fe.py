@@ -55,7 +55,10 @@ MAP_LEVEL = 0  #: mesh level of the curvature map at both levels (module docstri
 #: unchanged) while the path's CPU time fell from about 110 s to 77 s.
 CASE_PATH_STEP, CASE_PATH_ONSET_STEPS = 0.05, 6
 QUICK_PATH_STEP, QUICK_PATH_ONSET_STEPS = 0.1, 4  #: --quick: 10 states (CI)
-FE = "3D FE model (lcefem.solvers.problems.composite_beam: Q2 hexahedra, neo-Hookean Kapton, LCE W(F U(a)^-1))"
+FE = (
+    "3D FE model (lcefem.solvers.problems.composite_beam: Q2 hexahedra, neo-Hookean Kapton, "
+    "LCE W(F U(a)^-1))"
+)
 BH = "bar-and-hinge model (lcefem.solvers.bar_hinge)"
 #: The FE critical load must change by less than this under one refinement of its mesh (the
 #: element choice converges; issue 4 asks to show it).

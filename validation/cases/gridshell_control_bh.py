@@ -1,5 +1,5 @@
-"""Closed-loop shape control of the robotic surface (issue 37; beyond seed 001, whose Discussion names
-feedback as the next step), bar-and-hinge model: ``gridshell_control_bh``.
+"""Closed-loop shape control of the robotic surface (issue 37; beyond seed 001, whose Discussion
+names feedback as the next step), bar-and-hinge model: ``gridshell_control_bh``.
 
 For each Fig. 4 target and each drawn plant (strip resistances, current factors and lambda_N from
 the measured spreads, ambient 3 K below the model's; :mod:`lcefem.solvers.control`), open loop and
@@ -28,8 +28,10 @@ from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.cases.programs import SHAPE_DRIVES
 from lcefem.validation.studies.design.control import ControlRequest, control_figures, run_pair
 
-SRC = "issue 37; lcefem.solvers.control (plant: bar-and-hinge gridshell with lumped strip heat and the "
-SRC += "measured spreads of seed 001)"
+SRC = (
+    "issue 37; lcefem.solvers.control (plant: bar-and-hinge gridshell with lumped strip heat "
+    "and the measured spreads of seed 001)"
+)
 DRAWS = (1, 2, 3)
 QUICK_SHAPE = "cylinder"
 

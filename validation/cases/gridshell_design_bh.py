@@ -15,12 +15,12 @@
 
   Cost of the default level (issue 13): the dome's round trip is not run. It cost 1020 s of the
   case's 2737 s, and the dome's inverse from the paper's measured (-0.016, -0.016) runs the same
-  loop: the same :func:`~lcefem.validation.studies.design.gridshell_design.inverse` from the same mid-range start
-  on the same rollers, warm-started solves past the dome's fold, the forward check from as built
-  and its restarts from the ramp's branch. Only the target differs: the Fig. 4 lambdas' own
-  curvatures, -0.0236 1/mm, against -0.016 1/mm. By hand: ``lcefem design --target-kx -0.02359
-  --target-ky -0.02359``. The reachable set uses 2 lambdas per channel (the 16 corners 1.05 /
-  lambda_N) instead of 3 (81 points, 1298 s CPU); see :data:`REACHABLE_LEVELS` for the ranges of
+  loop: the same :func:`~lcefem.validation.studies.design.gridshell_design.inverse` from the same
+  mid-range start on the same rollers, warm-started solves past the dome's fold, the forward check
+  from as built and its restarts from the ramp's branch. Only the target differs: the Fig. 4
+  lambdas' own curvatures, -0.0236 1/mm, against -0.016 1/mm. By hand: ``lcefem design --target-kx
+  -0.02359 --target-ky -0.02359``. The reachable set uses 2 lambdas per channel (the 16 corners 1.05
+  / lambda_N) instead of 3 (81 points, 1298 s CPU); see :data:`REACHABLE_LEVELS` for the ranges of
   both.
 """
 

@@ -63,7 +63,10 @@ FE_STEADY = (
     "3D FE gridshell, heated route held to the steady state directly "
     "(HeatedGridshellFE.steady_hold), quarter, level 0, published supports"
 )
-FE_HEATED = "3D FE gridshell, heated route (lcefem.solvers.problems.gridshell_heated.HeatedGridshellFE), quarter, level 0"
+FE_HEATED = (
+    "3D FE gridshell, heated route (lcefem.solvers.problems.gridshell_heated.HeatedGridshellFE), "
+    "quarter, level 0"
+)
 
 
 def _heated_rows(quick: bool, on_step=None) -> tuple[object, list[dict], list[dict]]:
@@ -307,7 +310,10 @@ def _stored_current_route_rows(name: str) -> list[Metric]:
         )
     from lcefem.validation.studies.gridshell import gridshell_current_route as bh_routes
 
-    tol_src = "the issue's 10 % of the FE or 0.002 1/mm, the larger (validation.calibrate.REL_TOL, ABS_TOL)"
+    tol_src = (
+        "the issue's 10 % of the FE or 0.002 1/mm, the larger "
+        "(validation.calibrate.REL_TOL, ABS_TOL)"
+    )
     for shape, run in runs.items():
         held, exp = run["held"], gs.SHAPES[shape]["paper_exp"]
         currents = " / ".join(

@@ -25,7 +25,10 @@ from lcefem.validation.cases import CaseContext, Metric, case, write_csv
 from lcefem.validation.studies.design import gridshell_design as gd
 from lcefem.validation.studies.gridshell import gridshell_bh as gs
 
-BH = "bar-and-hinge gridshell design reached from flat (lcefem.validation.studies.design.gridshell_design.reach)"
+BH = (
+    "bar-and-hinge gridshell design reached from flat "
+    "(lcefem.validation.studies.design.gridshell_design.reach)"
+)
 #: Off-grid targets [1/mm] on rollers (not Fig. 4 shapes): an elongated dome and a shallow
 #: cylinder-like bend, inside the channels' reachable set (case gridshell_design_bh's figure).
 OFF_GRID = {"elongated dome": (-0.010, -0.006), "shallow bend": (0.008, 0.003)}

@@ -1,5 +1,5 @@
-"""What refinement and more channels buy (issue 47, item 3): the RMS distance [mm] of the best surface
-each grid and wiring reaches from a set of target surfaces
+"""What refinement and more channels buy (issue 47, item 3): the RMS distance [mm] of the best
+surface each grid and wiring reaches from a set of target surfaces
 (:mod:`lcefem.validation.studies.design.gridshell_reach_study`: targets, grids, wirings, the rigid
 fit). Informative rows (one per target, grid and wiring) and the phenomenon the study shows
 (validation/data/phenomena.toml); figure: RMS against grid and wiring.

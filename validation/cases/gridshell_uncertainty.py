@@ -1,5 +1,5 @@
-"""Prediction bands of the robotic surface (seed 001, Fig. 4; issue 15): how sure the paper's current
-recipe is, given its own measured spreads (lcefem.validation.studies.gridshell.uncertainty).
+"""Prediction bands of the robotic surface (seed 001, Fig. 4; issue 15): how sure the paper's
+current recipe is, given its own measured spreads (lcefem.validation.studies.gridshell.uncertainty).
 
 ``gridshell_bands_bh``:
 - quick and full: the heat chain alone (currents -> lambda with the sampled coil resistances,

@@ -5,8 +5,10 @@ Cases take every measured or published number from here, never from literals::
     from lcefem.validation.cases.reference_data import reference
     f_ult = reference("blocked.rupture_force")      # Reference
     f_ult.value, f_ult.unit                          # 1.36, "N"  (lcefem units)
-    f_ult.source                                     # 'seed 001 (...), Results, ...: "The ultimate ..."'
-    p = reference("strip.transient_powers")          # value (1500.0, 3260.0, 5790.0) mW, spread in mW
+    f_ult.source                                     # 'seed 001 (...), Results, ...:
+                                                     #  "The ultimate ..."'
+    p = reference("strip.transient_powers")          # value (1500.0, 3260.0, 5790.0) mW,
+                                                     # spread in mW
     reference("surface.dome.curvature_exp")["kx"]    # -0.016 (1/mm), by component name
 
 Values are converted from the published unit (``published_value``, ``published_unit``) into the

@@ -1,4 +1,4 @@
-"""Discrete-elastic-rod cases: closed forms of the rod solver and the self-rolling twisted LCE ribbon.
+"""Discrete-elastic-rod cases: closed forms of the rod solver and the self-rolling twisted ribbon.
 
 - ``rod_closed_forms``: cantilever (tip load, own weight, large-deflection elastica), helix from
   natural curvature and twist, Euler buckling, sliding and rolling on an incline; errors and

@@ -1,6 +1,7 @@
-"""Cross-validation of the two ribbon models: static 3D FE (``lcefem.solvers.problems.twisted_ribbon``) against
-Discrete Elastic Rods (``lcefem.solvers.der.ribbon.ribbon_static_response``) on the same ribbon, the
-same material and the same temperature fields (issue 5, 'Cross-validation with the FE model').
+"""Cross-validation of the two ribbon models: static 3D FE
+(``lcefem.solvers.problems.twisted_ribbon``) against Discrete Elastic Rods
+(``lcefem.solvers.der.ribbon.ribbon_static_response``) on the same ribbon, the same material and the
+same temperature fields (issue 5, 'Cross-validation with the FE model').
 
 ``ribbon_fe_vs_der``: three free ribbons, each measured as DER measures a rod (material curvatures,
 discrete twist, stretch; see ``lcefem.solvers.analysis.rod_shape``):

@@ -1,4 +1,4 @@
-"""Validation cases of the 3D FE strip model against seed 001 (Fig. 2), closed forms and manufactured
+"""Validation cases of the 3D FE strip model against seed 001 (Fig. 2), closed forms, manufactured
 solutions.
 
 Cases: the transients at 0.2, 0.15 and 0.1 A; the steady stretch at the six hold currents against
@@ -471,7 +471,10 @@ def strip_uniform_heating(ctx: CaseContext) -> list[Metric]:
     lam_N = cfg.transition.lambda_N
     ratio = sim.stretch() * cfg.geometry.length_isotropic / sim.dims["length"]
     tol, why = WINDOWS["isotropic_length"]
-    src = "closed form: F = F_s(T), length ratio a = lambda_s(T)/lambda_N, area ratio 1/a (models/lce.py)"
+    src = (
+        "closed form: F = F_s(T), length ratio a = lambda_s(T)/lambda_N, area ratio 1/a "
+        "(models/lce.py)"
+    )
     return [
         Metric.relative(
             "", "length ratio vs 1/lambda_ref", ratio, "-", 1.0 / lam_N, tol, f"{src}; {why}"

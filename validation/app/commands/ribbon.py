@@ -1,4 +1,4 @@
-"""A twisted LCE ribbon on a hot plate, as a discrete elastic rod with contact, friction and heat (seed 000).
+"""A twisted LCE ribbon (seed 000) on a hot plate: an elastic rod with contact, friction and heat.
 
 ``lcefem run ribbon [--ground-temperature C] [--twist-density TURNS/MM] [--duration S] [--nodes N]
 [--dt S] [--helix-radius MM] [--obstacle WIDTH HEIGHT] [--obstacle-offset MM] [--obstacle-distance

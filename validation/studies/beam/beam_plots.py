@@ -1,5 +1,5 @@
-"""Figures of the beam runs that :mod:`lcefem.validation.app.plots` does not cover: the side view of a
-deformed composite beam (bar-and-hinge and FE), the curvature-along-the-ramp + side-view figure of
+"""Figures of the beam runs that :mod:`lcefem.validation.app.plots` does not cover: the side view of
+a deformed composite beam (bar-and-hinge and FE), the curvature-along-the-ramp + side-view figure of
 ``lcefem run beam``, and the 3D render of the FE beam (matplotlib, Agg; units on the axes)."""
 
 from __future__ import annotations

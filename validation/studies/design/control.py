@@ -1,4 +1,4 @@
-"""Closed-loop shape control of the robotic surface: a simulated surface, a height sensor, a controller.
+"""Closed-loop shape control of the robotic surface: a simulated surface, height sensor, controller.
 
 ``lcefem control --shape dome|saddle|cylinder|table [--inputs channels|strips] [--seed S]
 [--ambient-offset K] [--payload-g G] [--noise-mm N] [--max-current A] [--sustained-current A]

@@ -1,5 +1,5 @@
-"""What refinement and more channels buy (issue 47, item 3): the RMS distance [mm] of the best surface a
-gridshell layout and wiring reaches from a target surface z(x, y) [mm].
+"""What refinement and more channels buy (issue 47, item 3): the RMS distance [mm] of the best
+surface a gridshell layout and wiring reaches from a target surface z(x, y) [mm].
 
 Seed 001 ends with its next steps: "To achieve higher geometric complexity, it is necessary to add
 control channels (fig. S6), refine the grid mesh (fig. S7), and explore non-orthogonal meshes." This

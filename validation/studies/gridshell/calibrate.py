@@ -1,4 +1,4 @@
-"""Calibrate the bar-and-hinge model's free parameters against the stored 3D FE (``lcefem calibrate bar-hinge``).
+"""Calibrate the bar-and-hinge model's free parameters against the stored 3D FE (lcefem calibrate).
 
 The bar-and-hinge (BH) model with the strip element (``mesh.strip_element = "beam"``: the LCE
 strips' centroid offset and their own bending stiffness) and the plate's torsion of the Kapton

@@ -1,7 +1,8 @@
 """The measured effect of each of our departures from the published configuration, on all eight
 published recipes (issue 30; the table of docs/gridshell_configuration.md).
 
-    python -m lcefem.validation.studies.gridshell.gridshell_configuration [--recipes dome,saddle] [--out DIR]
+    python -m lcefem.validation.studies.gridshell.gridshell_configuration \
+        [--recipes dome,saddle] [--out DIR]
 
 For every recipe (:data:`lcefem.validation.cases.programs.RECIPES`) it runs the published
 configuration (its published support, glue squares, bar law A f P(p), no strip-ribbon contact), the

@@ -1,5 +1,5 @@
-"""The bar-and-hinge current route of the Fig. 4 shapes in both bar-and-hinge model sets, next to the
-stored FE current route and the experiment (issue 31, docs/gridshell_thermal.md).
+"""The bar-and-hinge current route of the Fig. 4 shapes in both bar-and-hinge model sets, next to
+the stored FE current route and the experiment (issue 31, docs/gridshell_thermal.md).
 
 Per shape, three drives of the same surface:
 

@@ -1,5 +1,5 @@
-"""``lcefem uncertainty gridshell``: prediction bands of the robotic surface's centre curvatures from
-the measured spreads of seed 001, and which input dominates (Sobol indices).
+"""``lcefem uncertainty gridshell``: prediction bands of the robotic surface's centre curvatures
+from the measured spreads of seed 001, and which input dominates (Sobol indices).
 
 ``lcefem uncertainty gridshell --shape dome|saddle|cylinder|table [--samples N] [--sobol-samples M]
 [--thermal-model eq1|segment] [--seed S] [--out DIR] [--overwrite] [--quiet]``
@@ -7,7 +7,8 @@ the measured spreads of seed 001, and which input dominates (Sobol indices).
 The chain per channel c (Tx, Ty, Bx, By; each an independent coil, so every input is sampled per
 channel; the LCE modulus is one material):
 
-    P_c = I_c^2 R_coil (R_c / 130 ohm) p_c  ->  lambda_c = law(P_c)  ->  f_c = min(lambda_c, lambda_N,c) / lambda_N,c
+    P_c = I_c^2 R_coil (R_c / 130 ohm) p_c  ->  lambda_c = law(P_c)
+        ->  f_c = min(lambda_c, lambda_N,c) / lambda_N,c
 
 law: Eq. 1 (thermal model 'eq1', the paper's own estimate, R_coil = 146.6 ohm) or the lumped steady
 balance of a 25 ohm grid segment ('segment'); f_c the rest fraction of the channel's strip bars. The

@@ -1,10 +1,12 @@
-"""The rolling twisted ribbon meeting a block of finite size on the hot plate (seed 000, Fig. 1: the robot
-meets an obstacle; "hit near an end, it turns slightly and passes; hit in the middle, it pushes,
-snaps and reverses").
+"""The rolling twisted ribbon meeting a block of finite size on the hot plate (seed 000, Fig. 1: the
+robot meets an obstacle; "hit near an end, it turns slightly and passes; hit in the middle, it
+pushes, snaps and reverses").
 
-    OMP_NUM_THREADS=1 nice python -m lcefem.validation.studies.ribbon.ribbon_blocks [--placements none middle end]
-        [--width 20] [--end-width 10] [--overlap MM] [--height 10] [--distance 5] [--side 0] [--friction 0.5]
-        [--block-heat none|plate|ambient|given] [--block-temperature C] [--nodes 60] [--dt 0.01] [--length MM]
+    OMP_NUM_THREADS=1 nice python -m lcefem.validation.studies.ribbon.ribbon_blocks \
+        [--placements none middle end]
+        [--width 20] [--end-width 10] [--overlap MM] [--height 10] [--distance 5] [--side 0]
+        [--friction 0.5] [--block-heat none|plate|ambient|given] [--block-temperature C]
+        [--nodes 60] [--dt 0.01] [--length MM]
         [--duration 120] [--ground-temperature 100] [--every 1] [--out results/ribbon_blocks]
 
 Each placement is one run of ``lcefem run ribbon`` (the default ribbon and material) with the block

@@ -1,7 +1,8 @@
-"""The rolling twisted ribbon meeting a rigid wall on the hot plate, head-on and at an angle (seed 000,
-Fig. 1: the robot turns away from an obstacle).
+"""The rolling twisted ribbon meeting a rigid wall on the hot plate, head-on and at an angle (seed
+000, Fig. 1: the robot turns away from an obstacle).
 
-    OMP_NUM_THREADS=1 python -m lcefem.validation.studies.ribbon.ribbon_obstacle [--angles 0 30] [--distance 5]
+    OMP_NUM_THREADS=1 python -m lcefem.validation.studies.ribbon.ribbon_obstacle \
+        [--angles 0 30] [--distance 5]
         [--nodes 31] [--duration 60] [--ground-temperature 100] [--csv out.csv]
 
 For each wall angle (and a run without a wall) it prints, every ``--every`` simulated seconds, the

@@ -1,4 +1,4 @@
-"""Manufactured solutions for the heat and mechanics solvers (verification; used by tests and cases).
+"""Manufactured solutions for the heat and mechanics solvers (verification; for tests and cases).
 
 Heat: T_e = (1 + t/2)(30 + 10 sin(pi x/2) cos(pi y/3)(1 + z^2)) [C] on the unit cube, linear in time
 so that backward Euler is exact in time and the error is spatial, O(h^(p+1)) in L2 for degree p. The

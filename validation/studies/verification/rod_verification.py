@@ -1,4 +1,4 @@
-"""Closed-form problems for the discrete elastic rod, each returning the DER value and the reference.
+"""Closed-form problems for the discrete elastic rod, each returning the DER value and reference.
 
 Used by tests/verification/test_rod_closed_forms.py (with tolerances) and by the validation case
 ``rod_closed_forms`` (which records the errors and observed orders). References:
