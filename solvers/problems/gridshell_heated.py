@@ -95,9 +95,10 @@ class HeatedGridshellFE(GridshellFE):
     calibrated factor (:func:`lcefem.models.lumped_heat.grid_thermal`, calibrated on the
     bar-and-hinge dome protocol), and radiation.
 
-    Drive: :meth:`set_drives` (currents [A]) per channel, group or strip tag (as :meth:`GridshellFE.set_drives`);
-    step: :meth:`advance_time`; a schedule: :meth:`run_protocol`. The mesh is built at the
-    transition's as-built stretch (``transition.lambda_N``; the heated beam's choice).
+    Drive: :meth:`set_drives` (currents [A]) per channel, group or strip tag (as
+    :meth:`GridshellFE.set_drives`); step: :meth:`advance_time`; a schedule: :meth:`run_protocol`.
+    The mesh is built at the transition's as-built stretch (``transition.lambda_N``; the heated
+    beam's choice).
     """
 
     def __init__(
