@@ -42,6 +42,8 @@ WITHOUT_PROBLEM_OBJECT = {
     "tension_specimen": "one function (a closed-form check of the LCE law)",
     "body_case": "the case file of lcefem run body (schema and checks; its problem is "
     "body.BodyProblem)",
+    "body_expression": "the safe expressions of a body case file (a director of x, y, z; its "
+    "problem is body.BodyProblem)",
     "gridshell_bh_ball": "a ball rolling on a given surface history (no body of its own)",
     "gridshell_bh_scales": "load paths for GridshellBH",
     "gridshell_bh_sequence": "a schedule driving GridshellBH's path",
