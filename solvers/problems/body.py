@@ -44,6 +44,7 @@ composite beam this way.
 
 from __future__ import annotations
 
+import gc
 import math
 import pathlib
 import time
@@ -735,6 +736,16 @@ def run_body(
     the drives at the end of each step; or the steady state) through the run skeleton
     (the door, :func:`lcefem.solvers.runner.run`): history.csv, temperature.bp / displacement.bp,
     summary.json with every resolved value."""
+    result = _run_body(case, out, progress, comm)
+    # The problem's solvers sit in reference cycles (closures); freed by the cyclic collector at a
+    # moment of each rank's own, their collective destroy (MUMPS duplicates a communicator) met
+    # another rank's different collective and deadlocked under mpiexec (ex07, CI of 5bfec1f).
+    # Collected here, every rank frees them at the same point of the program.
+    gc.collect()
+    return result
+
+
+def _run_body(case: BodyCase, out, progress: bool, comm) -> BodyResult:
     started = time.perf_counter()
     problem = BodyProblem(case, comm)
     prog, output = case.program, case.output
