@@ -189,12 +189,12 @@ def requests(args: argparse.Namespace) -> list[MeshRequest]:
 def _layout_fe_checks(layout) -> None:
     """The one-line refusals of :func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe` (kind,
     glued)."""
-    from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS
+    from lcefem.meshes.gridshell_layout import FE_KINDS
 
-    if layout.kind not in BAR_HINGE_KINDS:
+    if layout.kind not in FE_KINDS:
         raise InputError(
             f"--layout: kind {layout.kind!r}: the FE mesh is built for "
-            f"{', '.join(BAR_HINGE_KINDS)} (two families of ribbons, two strips a junction)"
+            f"{', '.join(FE_KINDS)} (two families of ribbons, two strips a junction)"
         )
     if layout.glued != "all":
         raise InputError(
