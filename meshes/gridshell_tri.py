@@ -41,10 +41,10 @@ orthogonal junction over (meshes/gridshell.py) and are marked "assumed" where th
 
 Node sets: "junction_corners" (J, 6) hexagon vertices at 30 + 60 m deg, "junction_centres" (J,),
 "top_squares" (J, 6) (the raised plates), "centre_junction" (4: the inscribed rectangle, corner 0
--> 1 along +x, for the centre frame), "centre_clamp" (7), "ribbon_ends_a", "ribbon_ends_b", "ribbon_ends_c" (n, 2, 2:
-ribbon, end low/high along the family, side), "ribbon_ends_x" (= "ribbon_ends_a"),
-"bottom_strip_ends". ``info["junction_lattice"]`` (J, 2) gives (i, j) of each junction,
-``info["centre_junction_index"]`` the centre's row.
+-> 1 along +x, for the centre frame), "centre_clamp" (7), "ribbon_ends_a", "ribbon_ends_b",
+"ribbon_ends_c" (n, 2, 2: ribbon, end low/high along the family, side), "ribbon_ends_x" (=
+"ribbon_ends_a"), "bottom_strip_ends". ``info["junction_lattice"]`` (J, 2) gives (i, j) of each
+junction, ``info["centre_junction_index"]`` the centre's row.
 
 Units: mm.
 """
