@@ -190,7 +190,8 @@ def gridshell_curvatures(structure: BarHingeStructure, positions=None) -> dict:
     "circle_c" along its three middle ribbons, "circle_x" = "circle_a" and "circle_y" the y
     curvature of the quadratic form through the three, :func:`normal_curvature_y`), "quad_k1" <=
     "quad_k2", "quad_dir1", "quad_dir2" (principal directions in the global frame), "quad_kx",
-    "quad_ky" (normal curvatures along the centre junction's x and y edges), "gaussian" [1/mm^2] and "rms_residual" [mm] of the fit.
+    "quad_ky" (normal curvatures along the centre junction's x and y edges), "gaussian" [1/mm^2]
+    and "rms_residual" [mm] of the fit.
     """
     x = structure.nodes if positions is None else np.asarray(positions).reshape(-1, 3)
     n = structure.info["ribbons"]
