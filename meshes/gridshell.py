@@ -4,7 +4,7 @@ reduced-order model (shared/reference/gridshell_recipes.md). The layout (grid ki
 rhombic or triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.gridshell_tri`);
 ribbon count, lengths, bonded junctions, wiring) is one
 :class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
-a rhombic one is the affine image (docs/layouts.md).
+a rhombic one is the affine image (docs/layouts/rhombic.md).
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid. n ribbons run along x and
 n along y; each is n + 1 segments of length L joined by n junction squares of d x d (d = the ribbon

@@ -1,4 +1,5 @@
-"""``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design`` (docs/layouts.md)."""
+"""``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design``
+(docs/layouts/index.md)."""
 
 import json
 

@@ -38,7 +38,7 @@ QUICK = (("gaussian bump", "3x3", "4 channels"), ("gaussian bump", "3x3", "per s
 def combinations(quick: bool):
     if quick:
         return QUICK
-    return tuple((t, g, w) for t in rs.TARGETS for g in rs.GRIDS for w in rs.WIRINGS)
+    return tuple((t, g, w) for t in rs.TARGETS for g in rs.GRIDS for w in rs.grid_wirings(g))
 
 
 def metric_name(target: str, grid: str, wiring: str) -> str:

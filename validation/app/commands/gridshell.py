@@ -216,7 +216,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--layout",
         help="the gridshell's layout: a name (published, 5x5, 7x7, rhombic60, "
-        "rhombic60_5x5) or a TOML file with a [layout] section (docs/layouts.md)",
+        "rhombic60_5x5) or a TOML file with a [layout] section (docs/layouts/index.md)",
     )
     p.add_argument(
         "--schedule",
