@@ -16,10 +16,11 @@ orthogonal junction over (meshes/gridshell.py) and are marked "assumed" where th
   and leaves through the opposite one, so the hexagon's apothem sqrt(3) d/2 is where a ribbon
   leaves the other two (the outer edge of the overlap of its band with theirs). The hexagon is one
   Kapton plate of the ribbon's thickness, split into three rhombi of side d from its centre (N5B8
-  each): as the published model treats its two glued films as one 7 x 7 mm square, the glue and
-  the three films are one stiff plate (its six small triangles between the arms, 9 % of its
-  area, are counted as plate: the glue fillet). All three films lie at z = 0 (the stack's 0.25 mm
-  is neglected, as the published model neglects its two films' 0.127 mm).
+  each): as the published model treats its two glued films as one 7 x 7 mm square, the three
+  films are one plate. The three ribbons' bands cover the hexagon exactly (each of its points lies
+  on at least one ribbon), so the plate is the junction's Kapton and nothing more. All three films
+  lie at z = 0 (the stack's 0.25 mm is neglected, as the published model neglects its two films'
+  0.127 mm).
 * Segments: every ribbon segment is the published composite beam (30 mm, arch gap sin^2, the 5 + 1
   + 5 panels; :class:`lcefem.meshes.composite_beam.CompositeBeamGeometry`), between the hexagons'
   edges, and every ribbon ends one free segment beyond its last junction (as the orthogonal
