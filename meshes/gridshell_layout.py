@@ -19,7 +19,8 @@ Generators (``kind``):
   oblique coordinates (the junctions are rhombi of side d/sin a, every ribbon panel a parallelogram
   whose cross edges run along the other family; a ribbon's width across itself stays d);
 * "triangular": three families at 0, 60 and 120 deg through the points of a triangular lattice of
-  spacing p (three ribbons cross at every junction);
+  spacing p (three ribbons cross at every junction, a hexagon of side d; p defaults to L + sqrt(3) d
+  = 42.12 mm, so that every segment keeps the published 30 mm; an odd count of ribbons per family);
 * "hexagonal": the honeycomb of edge p (three ribbon pieces meet at every junction).
 
 The bar-and-hinge builder (:func:`lcefem.meshes.gridshell.build_gridshell_bar_hinge`) builds the
@@ -89,7 +90,8 @@ class Layout:
         0.0,
         "mm",
         "junction centre to junction centre along a ribbon; 0: the "
-        "geometry section's segment_length + junction_length (published: 30 + 7 mm)",
+        "geometry section's segment_length + junction_length (published: 30 + 7 mm; "
+        "triangular: 30 + sqrt(3) 7 mm, its hexagonal junction)",
         minimum=0.0,
     )
     ribbon_width: float = param(
