@@ -1,9 +1,10 @@
-"""Regenerate the pictures of docs/layouts.md: a plan of every layout type, for the two the models
-build their 3D FE mesh made by gmsh (meshes.gridshell_fe_gmsh.build_layout_fe, level 0, whole
-surface, coloured by body) and the shape of the round-dome drive (FE-calibrated bar-and-hinge set,
-as tests/solvers/test_gridshell_layouts_bh.py).
+"""Regenerate the pictures of the layout pages (docs/layouts/index.md and one page per type): a plan
+of every layout type, for the two-family ones their 3D FE mesh made by gmsh
+(meshes.gridshell_fe_gmsh.build_layout_fe, level 0, whole surface, coloured by body), and the shape
+of a uniform bottom drive on every type the bar-and-hinge model builds (FE-calibrated set; the 5 x 5
+and rhombic ones as tests/solvers/test_gridshell_layouts_bh.py).
 
-    .venv/bin/python docs/make_layout_images.py [--no-shapes]   # writes docs/images/layout_*.png
+    .venv/bin/python docs/make_layout_images.py [--no-shapes] [--no-fe]   # docs/images/layout_*.png
 """
 
 from __future__ import annotations
@@ -19,10 +20,17 @@ PLANS = {
     "published": "orthogonal 3 x 3 (published, seed 001 Fig. 4)",
     "5x5": "orthogonal 5 x 5 (refined)",
     "rhombic60": "rhombic, 60 deg, 3 x 3",
-    "triangular": "triangular, 5 per family (plan only)",
+    "triangular": "triangular, 5 ribbons per family (19 hexagonal junctions)",
     "hexagonal": "hexagonal 3 x 3 cells (plan only)",
 }
-SHAPES = {"5x5": ("rollers", {"B": 1.37}), "rhombic60": ("clamp", {"B": 1.395})}
+#: Layout -> (support, drive): a uniform bottom drive. The triangular grid has no rollers (the
+#: published rollers sit at the ends of an orthogonal grid's ribbons): the clamp of its centre
+#: hexagon.
+SHAPES = {
+    "5x5": ("rollers", {"B": 1.37}),
+    "rhombic60": ("clamp", {"B": 1.395}),
+    "triangular": ("clamp", {"B": 1.37}),
+}
 #: Layouts whose FE mesh is pictured, and the height exaggeration of the picture [-] (the arch is
 #: 1.1 mm on a 150-220 mm surface).
 FE_MESHES = ("published", "5x5", "rhombic60")
@@ -94,14 +102,14 @@ def fe_mesh_figure(name: str) -> pathlib.Path:
     return path
 
 
-def main(shapes: bool = True) -> None:
+def main(shapes: bool = True, fe: bool = True) -> None:
     for name, title in PLANS.items():
         print(
             layout_plan_figure(
                 IMAGES / f"layout_{name}_plan.png", NAMED_LAYOUTS[name].plan(), title
             )
         )
-    for name in FE_MESHES:
+    for name in FE_MESHES if fe else ():
         print(fe_mesh_figure(name))
     if not shapes:
         return
@@ -129,4 +137,4 @@ def main(shapes: bool = True) -> None:
 
 
 if __name__ == "__main__":
-    main(shapes="--no-shapes" not in sys.argv)
+    main(shapes="--no-shapes" not in sys.argv, fe="--no-fe" not in sys.argv)

@@ -1,9 +1,10 @@
 """The robotic surface of seed 001 (Fig. 4, 5): an n x n gridshell of Kapton ribbons with bottom and
 top LCE strips, in the bar-and-hinge model, with the layout and connectivity of the published
-reduced-order model (shared/reference/gridshell_recipes.md). The layout (grid kind: orthogonal or
-rhombic; ribbon count, lengths, bonded junctions, wiring) is one
+reduced-order model (shared/reference/gridshell_recipes.md). The layout (grid kind: orthogonal,
+rhombic or triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.gridshell_tri`);
+ribbon count, lengths, bonded junctions, wiring) is one
 :class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
-a rhombic one is the affine image (docs/layouts.md).
+a rhombic one is the affine image (docs/layouts/rhombic.md).
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid. n ribbons run along x and
 n along y; each is n + 1 segments of length L joined by n junction squares of d x d (d = the ribbon
@@ -125,9 +126,13 @@ def build_gridshell_bar_hinge(
     if layout.kind not in BAR_HINGE_KINDS:
         raise InputError(
             f"layout.kind = {layout.kind!r}: the bar-and-hinge builder builds "
-            f"{', '.join(BAR_HINGE_KINDS)} (two ribbons per junction); three ribbons per "
-            "junction are not built yet"
+            f"{', '.join(BAR_HINGE_KINDS)}; the honeycomb's three ribbon pieces per junction are "
+            "not built yet"
         )
+    if layout.kind == "triangular":
+        from lcefem.meshes.gridshell_tri import build_triangular_bar_hinge
+
+        return build_triangular_bar_hinge(geometry, layout, mesh)
     g = layout.geometry(geometry)
     if g.crown_bond_length >= g.segment_length:
         raise InputError(
@@ -466,14 +471,17 @@ def build_gridshell_bar_hinge(
     return structure
 
 
-def add_wiring(layout: Layout, strips: list[Strip], groups: dict[str, list[int]]) -> tuple:
+def add_wiring(
+    layout: Layout, strips: list[Strip], groups: dict[str, list[int]], channels=CHANNELS
+) -> tuple:
     """Add the layout's wiring tags to ``groups`` (strip ids by tag); return the tags in order (a
-    named wiring: the channels Tx, Ty, Bx, By; the groups XD1..YUn; or the strip ids)."""
+    named wiring: the ``channels``, Tx, Ty, Bx, By on a two-family grid; the groups XD1..YUn; or
+    the strip ids)."""
     table = layout.wiring_table()
     if table == "channels":
-        return tuple(CHANNELS)
+        return tuple(channels)
     if table == "ribbons":
-        return tuple(sorted(k for k in groups if k not in CHANNELS))
+        return tuple(sorted(k for k in groups if k not in channels))
     if table == "strips":
         return tuple(st.id for st in strips)
     tags = []

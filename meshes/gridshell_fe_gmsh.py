@@ -413,14 +413,14 @@ def build_layout_fe(
     layers of strips), and unbonded junctions (``glued`` other than 'all': the FE plan bonds every
     crossing).
     """
-    from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS
+    from lcefem.meshes.gridshell_layout import FE_KINDS
     from lcefem.models.errors import InputError
 
     layout = layout.checked()
-    if layout.kind not in BAR_HINGE_KINDS:
+    if layout.kind not in FE_KINDS:
         raise InputError(
             f"layout.kind = {layout.kind!r}: the FE mesh is built for "
-            f"{', '.join(BAR_HINGE_KINDS)} (two families of ribbons, two strips a junction)"
+            f"{', '.join(FE_KINDS)} (two families of ribbons, two strips a junction)"
         )
     if layout.glued != "all":
         raise InputError(

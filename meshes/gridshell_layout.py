@@ -19,13 +19,16 @@ Generators (``kind``):
   oblique coordinates (the junctions are rhombi of side d/sin a, every ribbon panel a parallelogram
   whose cross edges run along the other family; a ribbon's width across itself stays d);
 * "triangular": three families at 0, 60 and 120 deg through the points of a triangular lattice of
-  spacing p (three ribbons cross at every junction);
+  spacing p (three ribbons cross at every junction, a hexagon of side d; p defaults to L + sqrt(3) d
+  = 42.12 mm, so that every segment keeps the published 30 mm; an odd count of ribbons per family);
 * "hexagonal": the honeycomb of edge p (three ribbon pieces meet at every junction).
 
-The bar-and-hinge builder (:func:`lcefem.meshes.gridshell.build_gridshell_bar_hinge`) builds the two
-two-family kinds (:data:`BAR_HINGE_KINDS`) with an equal count of ribbons per family; the other two
-are described (:meth:`Layout.plan`: junctions and ribbon centre lines, for pictures and a later
-mesher) and refused by the builder with one line.
+The bar-and-hinge builder (:func:`lcefem.meshes.gridshell.build_gridshell_bar_hinge`) builds the
+two two-family kinds with an equal count of ribbons per family and the triangular one (an odd count
+per family; hexagonal junctions, :mod:`lcefem.meshes.gridshell_tri`): :data:`BAR_HINGE_KINDS`; the
+3D FE mesh the two-family kinds (:data:`FE_KINDS`). The hexagonal kind is described
+(:meth:`Layout.plan`: junctions and ribbon centre lines, for pictures and a later mesher) and
+refused by both with one line.
 
 Lengths in mm, angles in degrees (converted to radians only inside).
 """
@@ -42,8 +45,11 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
 KINDS = ("orthogonal", "rhombic", "triangular", "hexagonal")
-#: Kinds the bar-and-hinge builder builds (two families of straight ribbons, two per junction).
-BAR_HINGE_KINDS = ("orthogonal", "rhombic")
+#: Kinds the bar-and-hinge builder builds: two families of straight ribbons (two per junction) and
+#: the triangular grid (three per junction, lcefem.meshes.gridshell_tri).
+BAR_HINGE_KINDS = ("orthogonal", "rhombic", "triangular")
+#: Kinds the 3D FE mesh builds (two families of ribbons, two strips a junction).
+FE_KINDS = ("orthogonal", "rhombic")
 #: Named wirings: "channels" (seed 001 Fig. 4A: Tx, Ty, Bx, By, one current per layer and
 #: direction), "ribbons" (one per layer and ribbon: XD1 .. YUn), "strips" (one per strip id).
 WIRINGS = ("channels", "ribbons", "strips")
@@ -84,7 +90,8 @@ class Layout:
         0.0,
         "mm",
         "junction centre to junction centre along a ribbon; 0: the "
-        "geometry section's segment_length + junction_length (published: 30 + 7 mm)",
+        "geometry section's segment_length + junction_length (published: 30 + 7 mm; "
+        "triangular: 30 + sqrt(3) 7 mm, its hexagonal junction)",
         minimum=0.0,
     )
     ribbon_width: float = param(
@@ -177,6 +184,8 @@ class Layout:
         in the builder's coordinates: along the ribbons, and across them along the other family, so
         the width there is d/sin a and a junction is d/sin a long."""
         w = self.ribbon_width or base.ribbon_width
+        if self.kind == "triangular":
+            return self._triangular_geometry(base, w)
         stretch = 1.0 if not self.oblique else 1.0 / math.sin(math.radians(self.angle))
         along = w * stretch if (self.oblique or self.ribbon_width) else base.junction_length
         pitch = self.pitch or base.pitch
@@ -194,6 +203,24 @@ class Layout:
             if getattr(self, name):
                 changes[name] = getattr(self, name)
         return dataclasses.replace(base, **changes) if changes else base
+
+    def _triangular_geometry(self, base, w: float):
+        """The triangular grid's lengths: the junction is the hexagon of side w (apothem sqrt(3)
+        w/2, lcefem.meshes.gridshell_tri), so junction_length = sqrt(3) w along a ribbon; the
+        default pitch keeps the published free segment (pitch = segment_length + sqrt(3) w =
+        42.12 mm for 30 and 7 mm)."""
+        along = math.sqrt(3.0) * w
+        pitch = self.pitch or base.segment_length + along
+        if pitch - along <= base.crown_bond_length:
+            raise InputError(
+                f"layout.pitch = {pitch} mm: must exceed the hexagonal junction's length "
+                f"{along:.3f} mm + the crown bond {base.crown_bond_length} mm"
+            )
+        changes = dict(segment_length=pitch - along, junction_length=along, ribbon_width=w)
+        for name in ("ribbon_thickness", "strip_width", "strip_thickness"):
+            if getattr(self, name):
+                changes[name] = getattr(self, name)
+        return dataclasses.replace(base, **changes)
 
     def to_plane(self, xy: np.ndarray) -> np.ndarray:
         """Builder coordinates (.., 2) -> plane [mm]: x e1 + y e2 (the identity at 90 deg)."""
@@ -267,7 +294,7 @@ class Layout:
 
         g = self.checked().geometry(base or CompositeBeamGeometry())
         n, p = self.ribbons, g.pitch
-        if self.kind in BAR_HINGE_KINDS:
+        if self.kind in FE_KINDS:
             c = g.segment_length + 0.5 * g.junction_length + p * np.arange(n)
             length = (n + 1) * g.segment_length + n * g.junction_length
             ij = np.array([(a, b) for a in c for b in c])
@@ -295,7 +322,8 @@ class Layout:
                 for off in np.unique(np.round(pts @ normal, 6)):
                     on = pts[np.abs(pts @ normal - off) < 1e-6]
                     s = on @ u
-                    ext = g.segment_length
+                    # a free segment beyond the last junction's hexagon (meshes.gridshell_tri)
+                    ext = g.segment_length + 0.5 * g.junction_length
                     lines.append(
                         (off * normal + (s.min() - ext) * u, off * normal + (s.max() + ext) * u)
                     )

@@ -12,7 +12,8 @@ import pytest
 from tests.conftest import REPO
 
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
-DOCS = sorted((REPO / "docs").glob("*.md"))
+#: the topic pages and the pages of a topic's own folder (docs/layouts/: one page per layout type)
+DOCS = sorted((REPO / "docs").glob("*.md")) + sorted((REPO / "docs" / "layouts").glob("*.md"))
 
 
 def local_links(path):
@@ -46,7 +47,7 @@ def test_local_links_resolve_inside_the_repository(page):
     assert "shared/" not in page.read_text(), f"{page.name} names a folder outside the repository"
 
 
-@pytest.mark.parametrize("page", DOCS, ids=lambda p: p.name)
+@pytest.mark.parametrize("page", DOCS, ids=lambda p: p.relative_to(REPO).as_posix())
 def test_every_page_has_a_title(page):
     # the site's table of contents takes each page's first level-1 heading as its title
     assert re.search(r"^# \S", page.read_text(), re.MULTILINE), f"{page.name} has no '# Title'"

@@ -19,7 +19,11 @@ PATH = re.compile(r"(?<![\w/.-])((?:%s)/[\w./-]*?\.(?:py|md))(?![\w/])" % "|".jo
 DOTTED = re.compile(r"(?<![\w.])lcefem((?:\.\w+)+)")
 SKIP = (".venv", ".git", "lcefem.egg-info", "_build", "_autosummary", "_generated")
 
-PAGES = [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
+PAGES = [
+    REPO / "README.md",
+    *sorted((REPO / "docs").glob("*.md")),
+    *sorted((REPO / "docs" / "layouts").glob("*.md")),
+]
 MODULES = sorted(p for p in REPO.rglob("*.py") if not set(p.relative_to(REPO).parts) & set(SKIP))
 
 
@@ -88,7 +92,7 @@ def test_the_pattern_reads_paths_and_modules():
     )
 
 
-@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(REPO).as_posix())
 def test_paths_named_in_the_docs_exist(page):
     missing = missing_in(page.read_text())
     assert not missing, f"{page.relative_to(REPO)} names what does not exist: {', '.join(missing)}"

@@ -7,7 +7,11 @@ import re
 
 from tests.conftest import REPO
 
-PAGES = sorted((REPO / "docs").glob("*.md")) + sorted((REPO / "docs" / "notes").glob("*.md"))
+PAGES = (
+    sorted((REPO / "docs").glob("*.md"))
+    + sorted((REPO / "docs" / "layouts").glob("*.md"))
+    + sorted((REPO / "docs" / "notes").glob("*.md"))
+)
 
 
 def title(page):
@@ -31,6 +35,7 @@ def test_topic_pages_stay_short():
     long = [
         f"{p.name} ({n} lines)"
         for p in sorted((REPO / "docs").glob("*.md"))
+        + sorted((REPO / "docs" / "layouts").glob("*.md"))
         if not p.name.startswith("validation_summary_")
         and (n := len(p.read_text().splitlines())) > 300
     ]

@@ -146,9 +146,26 @@ def quadratic_surface_curvatures(u, v, w) -> dict:
 
 def junction_centre_points(structure: BarHingeStructure, positions=None) -> np.ndarray:
     """Junction centres (n, n, 3) [mm] of a gridshell: the mean of each junction square's four
-    corners (the same station as the composite beam's)."""
+    corners (the same station as the composite beam's); (J, 3) on a triangular grid (the mean of
+    each hexagon's six vertices, lcefem.meshes.gridshell_tri)."""
     x = structure.nodes if positions is None else np.asarray(positions).reshape(-1, 3)
-    return x[structure.node_sets["junction_corners"]].mean(axis=2)
+    return x[structure.node_sets["junction_corners"]].mean(axis=-2)
+
+
+def centre_junction_point(structure: BarHingeStructure, positions=None) -> np.ndarray:
+    """The centre junction's centre (3,) [mm] (:func:`junction_centre_points`)."""
+    pts = junction_centre_points(structure, positions)
+    if "centre_junction_index" in structure.info:
+        return pts[structure.info["centre_junction_index"]]
+    n = structure.info["ribbons"]
+    return pts[n // 2, n // 2]
+
+
+def normal_curvature_y(k0: float, k60: float, k120: float) -> float:
+    """Normal curvature along y [1/mm] of the quadratic form whose normal curvatures along 0, 60 and
+    120 deg are k0, k60, k120 (Euler: k(t) = kxx cos^2 t + 2 kxy cos t sin t + kyy sin^2 t, so
+    k60 + k120 = kxx/2 + 3 kyy/2): kyy = (2 (k60 + k120) - k0)/3."""
+    return (2.0 * (k60 + k120) - k0) / 3.0
 
 
 def centre_frame(structure: BarHingeStructure, positions=None) -> tuple[np.ndarray, np.ndarray]:
@@ -169,9 +186,12 @@ def gridshell_curvatures(structure: BarHingeStructure, positions=None) -> dict:
     docstring; sign: positive for a bowl, negative for a dome, as seed 001).
 
     Returns a dict with "circle_x", "circle_y" (circle through the two ends of the middle x / y
-    ribbon and the centre junction's centre), "quad_k1" <= "quad_k2", "quad_dir1", "quad_dir2"
-    (principal directions in the global frame), "quad_kx", "quad_ky" (normal curvatures along the
-    centre junction's x and y edges), "gaussian" [1/mm^2] and "rms_residual" [mm] of the fit.
+    ribbon and the centre junction's centre; on a triangular grid "circle_a", "circle_b",
+    "circle_c" along its three middle ribbons, "circle_x" = "circle_a" and "circle_y" the y
+    curvature of the quadratic form through the three, :func:`normal_curvature_y`), "quad_k1" <=
+    "quad_k2", "quad_dir1", "quad_dir2" (principal directions in the global frame), "quad_kx",
+    "quad_ky" (normal curvatures along the centre junction's x and y edges), "gaussian" [1/mm^2]
+    and "rms_residual" [mm] of the fit.
     """
     x = structure.nodes if positions is None else np.asarray(positions).reshape(-1, 3)
     n = structure.info["ribbons"]
@@ -182,12 +202,16 @@ def gridshell_curvatures(structure: BarHingeStructure, positions=None) -> dict:
     origin, frame = centre_frame(structure, x)
     up = frame[2]
     out = {}
-    apex = junction_centre_points(structure, x)[n // 2, n // 2]
-    for direction in ("x", "y"):
+    apex = centre_junction_point(structure, x)
+    families = structure.info.get("families", ("x", "y"))
+    for direction in families:
         ends = x[structure.node_sets[f"ribbon_ends_{direction}"][n // 2]].mean(axis=1)
         out[f"circle_{direction}"] = -signed_circle_curvature(
             np.vstack([ends[0], apex, ends[1]]), up
         )
+    if "y" not in families:  # three families at 0, 60, 120 deg
+        out["circle_x"] = out["circle_a"]
+        out["circle_y"] = normal_curvature_y(out["circle_a"], out["circle_b"], out["circle_c"])
     pts = junction_centre_points(structure, x).reshape(-1, 3) - origin
     local = pts @ frame.T
     if local.shape[0] >= 6:

@@ -64,7 +64,11 @@ from lcefem.models import units
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.loads import SurfaceWeight
-from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
+from lcefem.solvers.analysis.curvature import (
+    centre_junction_point,
+    gridshell_curvatures,
+    junction_centre_points,
+)
 from lcefem.solvers.bar_hinge import (
     BarHingeModel,
     NewtonOptions,
@@ -185,13 +189,24 @@ def published_roller_dofs(structure: BarHingeStructure) -> np.ndarray:
     )
 
 
+#: Supports of a triangular grid (lcefem.meshes.gridshell_tri): the rollers sit at the ends of an
+#: orthogonal grid's outer and middle ribbons and have no counterpart on three families.
+TRIANGULAR_SUPPORTS = ("clamp", "table")
+
+
 def support_dofs(structure: BarHingeStructure, support: str) -> np.ndarray:
     """Held DOFs of a support kind (module docstring)."""
     c = structure.node_sets["centre_junction"]
     inplane = np.concatenate([held_dofs([c[0]], "xy"), held_dofs([c[1]], "y")])
     if support == "clamp":
-        return held_dofs(c, "xyz")
+        # a triangular grid's clamp holds its centre hexagon whole (3-fold symmetric)
+        return held_dofs(structure.node_sets.get("centre_clamp", c), "xyz")
     n = structure.info["ribbons"]
+    if structure.info.get("kind") == "triangular" and support not in TRIANGULAR_SUPPORTS:
+        raise InputError(
+            f"support = {support!r}: a triangular grid is held by "
+            f"{', '.join(TRIANGULAR_SUPPORTS)} (the rollers are an orthogonal grid's)"
+        )
     if support == "rollers":
         return published_roller_dofs(structure)
     if support == "middle_rollers":
@@ -355,9 +370,10 @@ def payload_forces(
     """Weight of a payload of ``mass`` [t] on a central pad: -m g shared by the four corners of the
     raised square over the centre junction (the top of the surface at its centre) [N], (3n,)."""
     n = structure.info["ribbons"]
-    q = structure.node_sets["top_squares"][n // 2, n // 2]
+    sq = structure.node_sets["top_squares"]
+    q = sq[structure.info["centre_junction_index"]] if sq.ndim == 2 else sq[n // 2, n // 2]
     f = np.zeros((structure.num_nodes, 3))
-    f[q, 2] = -mass * gravity / 4.0
+    f[q, 2] = -mass * gravity / len(q)
     return f.reshape(-1)
 
 
@@ -394,8 +410,7 @@ def solve_payload(
 
 def centre_height(structure: BarHingeStructure, x: np.ndarray) -> float:
     """z [mm] of the centre junction's centre."""
-    n = structure.info["ribbons"]
-    return float(junction_centre_points(structure, x)[n // 2, n // 2, 2])
+    return float(centre_junction_point(structure, x)[2])
 
 
 def prepare_structure(
@@ -586,7 +601,10 @@ class GridshellBH:
     def drive_tags(self) -> tuple[str, ...]:
         """Layers, channels, families and groups (strip ids and half planes also select:
         :func:`lcefem.meshes.gridshell.resolve_bar_values`)."""
-        return ("T", "B", *CHANNELS, *FAMILIES, *sorted(self.structure.info["groups"]))
+        info = self.structure.info
+        if "channels" in info:  # a triangular grid: its six channels are among its groups
+            return ("T", "B", *sorted(info["groups"]))
+        return ("T", "B", *CHANNELS, *FAMILIES, *sorted(info["groups"]))
 
     def set_drives(self, drives: Mapping[str, float]) -> None:
         self._set_lambda(drives)

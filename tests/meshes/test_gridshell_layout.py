@@ -150,11 +150,11 @@ def test_layout_loader_errors_are_one_line(table, message):
     assert message in str(err.value) and "\n" not in str(err.value)
 
 
-def test_bar_hinge_builder_refuses_three_ribbon_junctions():
+def test_bar_hinge_builder_refuses_the_honeycomb():
     with pytest.raises(
-        InputError, match="layout.kind = 'triangular': the bar-and-hinge builder builds"
+        InputError, match="layout.kind = 'hexagonal': the bar-and-hinge builder builds"
     ):
-        build_gridshell_bar_hinge(layout=NAMED_LAYOUTS["triangular"])
+        build_gridshell_bar_hinge(layout=NAMED_LAYOUTS["hexagonal"])
 
 
 @pytest.mark.parametrize("name", sorted(NAMED_LAYOUTS))

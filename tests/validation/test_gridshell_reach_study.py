@@ -50,3 +50,27 @@ def test_study_grids_keep_the_published_side():
         assert (n + 1) * g.segment_length + n * g.junction_length == pytest.approx(
             rs.SIDE, abs=1e-9
         )
+
+
+def test_triangular_grid_has_its_own_channels_and_support():
+    """The triangular grid runs with the paper's channels extended to three families (one per layer
+    and family: 6), 6 per ribbon (3 families x 3 ribbons x 2 layers = 18), one per strip (30 bottom
+    + 21 top), under the clamp; the paper's 4 channels do not apply there (one line)."""
+    import dataclasses
+
+    from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+    from lcefem.models.errors import InputError
+    from lcefem.validation.studies.design import gridshell_design as gd
+
+    assert rs.grid_wirings("triangular") == ("6 channels", "per ribbon and layer", "per strip")
+    assert rs.grid_support("triangular") == "clamp" and rs.grid_support("3x3") == "rollers"
+    counts = []
+    for wiring in rs.grid_wirings("triangular"):
+        mode, wires = rs.WIRINGS[wiring]
+        s = build_gridshell_bar_hinge(
+            layout=dataclasses.replace(rs.GRIDS["triangular"], wiring=wires)
+        )
+        counts.append(len(gd.channel_selections(s, mode)))
+    assert counts == [6, 18, 51]
+    with pytest.raises(InputError, match="wiring = '4 channels' on grid 'triangular': allowed 6"):
+        rs.best_surface("dome", "triangular", "4 channels")

@@ -1,4 +1,5 @@
-"""``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design`` (docs/layouts.md)."""
+"""``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design``
+(docs/layouts/index.md)."""
 
 import json
 
@@ -56,8 +57,12 @@ def test_design_on_a_rhombic_layout_with_its_own_wiring(tmp_path):
         (["run", "gridshell", "--layout", "square"], "--layout = 'square': a name (published, 5x5"),
         (["run", "gridshell", "--layout", "5x5", "--ribbons", "3"], "--ribbons: not with --layout"),
         (
+            ["run", "gridshell", "--layout", "hexagonal", "--lambda", "B=1.3"],
+            "layout.kind = 'hexagonal': the bar-and-hinge builder builds orthogonal, rhombic",
+        ),
+        (
             ["run", "gridshell", "--layout", "triangular", "--lambda", "B=1.3"],
-            "layout.kind = 'triangular': the bar-and-hinge builder builds orthogonal, rhombic",
+            "support = 'rollers': a triangular grid is held by clamp, table",
         ),
         (
             ["design", "--layout", "5x5", "--ribbons", "5", "--target-kx", "0", "--target-ky", "0"],

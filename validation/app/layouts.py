@@ -1,7 +1,7 @@
 """``--layout NAME|FILE`` of ``lcefem run gridshell`` and ``lcefem design``: a named gridshell
 layout (:data:`lcefem.meshes.gridshell_layout.NAMED_LAYOUTS`) or a TOML case file whose ``[layout]``
 section describes one (:func:`lcefem.meshes.gridshell_layout.layout_from_table`;
-docs/layouts.md)."""
+docs/layouts/index.md)."""
 
 from __future__ import annotations
 

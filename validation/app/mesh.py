@@ -18,9 +18,10 @@ specimen  the Kapton buckling specimen, half (Fig. 2G)           N5B8 panels
 ========= ====================================================== ===============================
 
 ``--layout`` (gridshell only): the gridshell of a layout (:mod:`lcefem.meshes.gridshell_layout`, a
-name such as ``5x5`` or ``rhombic60`` or a TOML file with a ``[layout]`` section; docs/layouts.md):
-the FE mesh made by gmsh from it (:func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe`: quarter
-on an orthogonal grid, whole on a rhombic one) or its bar-and-hinge structure; the stem gains the
+name such as ``5x5`` or ``rhombic60`` or a TOML file with a ``[layout]`` section;
+docs/layouts/index.md): the FE mesh made by gmsh from it
+(:func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe`: quarter on an orthogonal grid, whole on a
+rhombic one) or its bar-and-hinge structure; the stem gains the
 layout's name (``gridshell_5x5``).
 
 Writes ``DIR/<stem>.<format>`` (stem: NAME, ``<NAME>_bar_hinge`` for the bar-and-hinge model), with
@@ -81,7 +82,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--layout",
         default=None,
         help="gridshell only: a layout name (published, 5x5, 7x7, rhombic60, rhombic60_5x5) or "
-        "a TOML file with a [layout] section (docs/layouts.md)",
+        "a TOML file with a [layout] section (docs/layouts/index.md)",
     )
     add_out_arguments(p, "results/mesh")
 
@@ -189,12 +190,12 @@ def requests(args: argparse.Namespace) -> list[MeshRequest]:
 def _layout_fe_checks(layout) -> None:
     """The one-line refusals of :func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe` (kind,
     glued)."""
-    from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS
+    from lcefem.meshes.gridshell_layout import FE_KINDS
 
-    if layout.kind not in BAR_HINGE_KINDS:
+    if layout.kind not in FE_KINDS:
         raise InputError(
             f"--layout: kind {layout.kind!r}: the FE mesh is built for "
-            f"{', '.join(BAR_HINGE_KINDS)} (two families of ribbons, two strips a junction)"
+            f"{', '.join(FE_KINDS)} (two families of ribbons, two strips a junction)"
         )
     if layout.glued != "all":
         raise InputError(

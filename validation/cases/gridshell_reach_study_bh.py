@@ -15,6 +15,11 @@ the refinement alone nor the drives alone bring it there. The two-wave surface l
 mm: they leave the surface flat; per strip 1.520 mm on the 3 x 3, 1.615 mm on the refined 5 x 5 at
 the loop's 40-evaluation cap). Table and sources: docs/design.md.
 
+The triangular grid (3 ribbons per family, clamp; 6 channels, 18 per ribbon, 51 per strip),
+measured alone at the full level's settings (2026-12-07): 234 s CPU for its 21 rows; the 6
+channels twist it (0.688 mm from the twisted target, 1.711 mm flat), which the 3 x 3's 4 channels
+cannot; on the bump 1.787 mm with 6 channels, 1.290 mm per ribbon (docs/design.md).
+
 Quick level: :data:`QUICK` (the Gaussian bump on the 3 x 3 with 4 channels and per strip, 40 s CPU:
 it shows that more drives come closer; the refined grid's 91 s is beyond the quick level's 60 s);
 full level: every target, grid and wiring. The 3D FE confirmation of the best designs (issue 47)
@@ -38,7 +43,7 @@ QUICK = (("gaussian bump", "3x3", "4 channels"), ("gaussian bump", "3x3", "per s
 def combinations(quick: bool):
     if quick:
         return QUICK
-    return tuple((t, g, w) for t in rs.TARGETS for g in rs.GRIDS for w in rs.WIRINGS)
+    return tuple((t, g, w) for t in rs.TARGETS for g in rs.GRIDS for w in rs.grid_wirings(g))
 
 
 def metric_name(target: str, grid: str, wiring: str) -> str:

@@ -216,7 +216,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--layout",
         help="the gridshell's layout: a name (published, 5x5, 7x7, rhombic60, "
-        "rhombic60_5x5) or a TOML file with a [layout] section (docs/layouts.md)",
+        "rhombic60_5x5) or a TOML file with a [layout] section (docs/layouts/index.md)",
     )
     p.add_argument(
         "--schedule",
@@ -519,14 +519,14 @@ def _on_layout_fe(model, spec: str):
     :func:`lcefem.meshes.gridshell_fe_gmsh.build_layout_fe`); one-line refusals of what the FE mesh
     does not build (triangular and hexagonal kinds, unbonded junctions)."""
     from lcefem.meshes.gridshell_fe_gmsh import layout_fe_geometry
-    from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS
+    from lcefem.meshes.gridshell_layout import FE_KINDS
     from lcefem.validation.app.layouts import load_layout
 
     layout = load_layout(spec)
-    if layout.kind not in BAR_HINGE_KINDS:
+    if layout.kind not in FE_KINDS:
         raise InputError(
             f"--layout {spec}: kind {layout.kind!r}: the 3D FE is built for "
-            f"{', '.join(BAR_HINGE_KINDS)} layouts"
+            f"{', '.join(FE_KINDS)} layouts"
         )
     if layout.glued != "all":
         raise InputError(

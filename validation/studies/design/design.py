@@ -2,8 +2,8 @@
 
 ``lcefem design --target-kx -0.016 --target-ky -0.016 [--target-height H] [--channels 4|all]
 [--support clamp|rollers|table] [--ribbons N | --layout NAME|FILE] [--no-check] --out DIR
-[--overwrite] [--quiet]``; with ``--layout`` (docs/layouts.md) the design variables default to the
-layout's wiring (``--channels wiring``: one lambda per drive tag of ``layout.wiring``).
+[--overwrite] [--quiet]``; with ``--layout`` (docs/layouts/index.md) the design variables default to
+the layout's wiring (``--channels wiring``: one lambda per drive tag of ``layout.wiring``).
 
 Finds lambdas in [1.05, lambda_N] (one per channel Tx, Ty, Bx, By, or one per strip) whose stable
 equilibrium has the target centre curvatures (the paper's circle measure, dome negative) by least
@@ -128,7 +128,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--layout",
         help="a gridshell layout: a name (published, 5x5, rhombic60, ...) or a TOML "
-        "file with a [layout] section (docs/layouts.md)",
+        "file with a [layout] section (docs/layouts/index.md)",
     )
     p.add_argument(
         "--no-check", action="store_true", help="skip the forward run from the as-built state"

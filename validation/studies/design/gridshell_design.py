@@ -36,7 +36,7 @@ from lcefem.meshes.gridshell_layout import Layout
 from lcefem.models import lumped_heat
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N, BarHingeMaterials
 from lcefem.models.errors import ConvergenceError, InputError
-from lcefem.solvers.analysis.curvature import gridshell_curvatures, junction_centre_points
+from lcefem.solvers.analysis.curvature import centre_junction_point, gridshell_curvatures
 from lcefem.solvers.bar_hinge import NewtonOptions
 from lcefem.solvers.bar_hinge.design import (
     DesignResult,
@@ -81,13 +81,12 @@ def channel_selections(structure: BarHingeStructure, mode: str) -> list:
 
 def curvature_observable(structure: BarHingeStructure, height: bool = False):
     """x (n, 3) -> (circle kappa_x, circle kappa_y [1/mm][, centre junction height [mm]])."""
-    n = structure.info["ribbons"]
 
     def obs(x):
         k = gridshell_curvatures(structure, x)
         out = [k["circle_x"], k["circle_y"]]
         if height:
-            out.append(junction_centre_points(structure, x)[n // 2, n // 2, 2])
+            out.append(centre_junction_point(structure, x)[2])
         return np.asarray(out)
 
     return obs

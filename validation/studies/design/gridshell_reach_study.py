@@ -11,11 +11,18 @@ study asks how close each (grid, wiring) comes to a set of targets:
   dome, saddle, cylinder; the table's simulated value, as
   :data:`lcefem.validation.studies.gridshell.gridshell_bh.SHAPES`); a Gaussian bump, a two-wave
   surface and a twisted surface (assumed amplitudes, stated per target).
-* Grids (:data:`GRIDS`): the published 3 x 3, the refined 5 x 5 and the rhombic 60 deg grid
-  (lcefem.meshes.gridshell_layout). The triangular grid is not built by the bar-and-hinge builder
-  (it refuses it: three ribbons per junction), so it is not in the study.
-* Wirings (:data:`WIRINGS`): the paper's 4 channels (Tx, Ty, Bx, By: one current per layer and
-  direction), one per ribbon and layer (layout wiring 'ribbons': 4 n drives) and one per strip.
+* Grids (:data:`GRIDS`): the published 3 x 3, the refined 5 x 5, the rhombic 60 deg grid and the
+  triangular grid of 3 ribbons per family (7 hexagonal junctions, lcefem.meshes.gridshell_tri;
+  pitch 42.12 mm, so that its segments are the published 30 mm composite beams: footprint 156 x
+  139 mm against the 3 x 3's 141 x 141 mm).
+* Wirings (:data:`WIRINGS`, per grid :func:`grid_wirings`): the paper's 4 channels (Tx, Ty, Bx, By:
+  one current per layer and direction; on the triangular grid their extension, 6 channels: one per
+  layer and family), one per ribbon and layer (layout wiring 'ribbons': 4 n drives, 6 n on the
+  triangular grid) and one per strip.
+* Support (:func:`grid_support`): the published rollers (Fig. 4 dome and cylinder) on the
+  two-family grids; the clamp of the centre hexagon on the triangular grid (the rollers sit at the
+  ends of an orthogonal grid's ribbons and have no counterpart there). The rollers hold z at 8
+  points, the clamp only the centre junction: the triangular rows are not the same support.
 * Distance: the observed points are the panel centres of the Kapton ribbons; the residual per point
   is z_i - z_target(x_i, y_i) with the plane a + b x + c y of least squares removed (the rigid fit:
   a vertical translation and the two small tilts, linearised); RMS over the points [mm].
@@ -35,8 +42,8 @@ import time
 
 import numpy as np
 
-from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
-from lcefem.models.errors import ConvergenceError
+from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS, Layout
+from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.bar_hinge.design import EquilibriumMap, solve_design, strip_parameters
 from lcefem.solvers.problems import gridshell_bh as problem_bh
 from lcefem.validation.studies.design import gridshell_design as gd
@@ -99,15 +106,32 @@ GRIDS = {
     "3x3": NAMED_LAYOUTS["published"],
     "5x5": dataclasses.replace(NAMED_LAYOUTS["5x5"], pitch=(SIDE - 5 * 7.0) / 6 + 7.0),
     "rhombic": NAMED_LAYOUTS["rhombic60"],
+    "triangular": Layout(kind="triangular", ribbons=3),
 }
 #: Wirings: study name -> (design mode of gridshell_design, the layout's wiring).
 WIRINGS = {
     "4 channels": ("4", "channels"),
+    "6 channels": ("wiring", "channels"),
     "per ribbon and layer": ("wiring", "ribbons"),
     "per strip": ("all", "channels"),
 }
-#: Support of every design (the Fig. 4 dome's and cylinder's published rollers).
+#: Support of every two-family design (the Fig. 4 dome's and cylinder's published rollers).
 SUPPORT = "rollers"
+#: Support of the triangular grid's designs (the clamp of its centre hexagon: module docstring).
+TRIANGULAR_SUPPORT = "clamp"
+
+
+def grid_wirings(grid: str) -> tuple[str, ...]:
+    """The wirings that apply to ``grid``: the paper's 4 channels on a two-family grid, their
+    extension to 6 (one per layer and family) on the triangular one; per ribbon and per strip on
+    every grid."""
+    channels = "6 channels" if GRIDS[grid].kind == "triangular" else "4 channels"
+    return (channels, "per ribbon and layer", "per strip")
+
+
+def grid_support(grid: str) -> str:
+    """The support of ``grid``'s designs (module docstring)."""
+    return TRIANGULAR_SUPPORT if GRIDS[grid].kind == "triangular" else SUPPORT
 
 
 def rigid_residual(points: np.ndarray, target) -> np.ndarray:
@@ -143,11 +167,17 @@ def best_surface(
     """The design loop's closest surface to ``target`` on ``grid`` with ``wiring`` (module
     docstring)."""
     t0 = time.process_time()
+    if wiring not in grid_wirings(grid):
+        raise InputError(
+            f"wiring = {wiring!r} on grid {grid!r}: allowed {', '.join(grid_wirings(grid))}"
+        )
     mode, wires = WIRINGS[wiring]
     layout = dataclasses.replace(GRIDS[grid], wiring=wires)
     ms = calibrate.model_set(model_set)
     structure, materials = ms.structure(layout), ms.materials_for(layout)
-    setup = problem_bh.setup_gridshell(None, SUPPORT, structure=structure, materials=materials)
+    setup = problem_bh.setup_gridshell(
+        None, grid_support(grid), structure=structure, materials=materials
+    )
     lambda_N = materials.lce.lambda_N
     params = strip_parameters(structure, gd.channel_selections(structure, mode), lambda_N)
     points = structure.panel_centres
