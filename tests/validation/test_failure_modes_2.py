@@ -618,6 +618,23 @@ def test_strip_ids_in_a_case_file_as_on_the_command_line(tmp_path):
     assert cfg.currents == {7: 0.1}
 
 
+def test_repeated_lambda_options_add_up_and_a_repeated_selection_is_refused():
+    """`--lambda Tx=1.3 --lambda By=1.1` drives both (argparse kept only the last); the same
+    selection twice is an error, not a silent choice of one value."""
+    import argparse
+
+    from lcefem.models.errors import InputError
+    from lcefem.validation.app.commands.gridshell import add_arguments, parse_assignments
+
+    p = argparse.ArgumentParser()
+    add_arguments(p)
+    args = p.parse_args(["--lambda", "Tx=1.3", "--lambda", "By=1.1", "--current", "Tx=0.1"])
+    assert parse_assignments(args.lambdas, "lambda") == {"Tx": 1.3, "By": 1.1}
+    assert parse_assignments(args.currents, "current") == {"Tx": 0.1}
+    with pytest.raises(InputError, match="--lambda Tx: given twice"):
+        parse_assignments("Tx=1.3,Tx=1.2", "lambda")
+
+
 def test_curvature_chart_legend_lists_only_drawn_series(tmp_path, monkeypatch):
     from lcefem.validation.app import plots
     from lcefem.validation.studies.gridshell import gridshell_plots

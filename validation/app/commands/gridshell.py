@@ -132,8 +132,21 @@ def parse_assignments(text: str | None, name: str) -> dict:
             val = float(value)
         except ValueError:
             raise InputError(f"--{name} {key}={value!r}: not a number") from None
-        out[int(key) if key.isdigit() else key] = val
+        key = int(key) if key.isdigit() else key
+        if key in out:
+            # A repeated selection would silently keep its last value.
+            raise InputError(f"--{name} {key}: given twice; give each selection once")
+        out[key] = val
     return out
+
+
+class _JoinAssignments(argparse.Action):
+    """A repeated ``--lambda``/``--current`` adds its assignments to the earlier ones (argparse's
+    default would keep only the last option)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        earlier = getattr(namespace, self.dest, None)
+        setattr(namespace, self.dest, f"{earlier},{values}" if earlier else values)
 
 
 def report(out, cfg: GridshellBHRunConfig, structure, x, drive: dict) -> None:
@@ -169,13 +182,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--lambda",
         dest="lambdas",
+        action=_JoinAssignments,
         help="lambdas [-] per selection, e.g. "
-        "Tx=1.33,Ty=1.33,Bx=1.05,By=1.05 (1 isotropic .. 1.4 as built)",
+        "Tx=1.33,Ty=1.33,Bx=1.05,By=1.05 (1 isotropic .. 1.4 as built); may be repeated",
     )
     p.add_argument(
         "--current",
         dest="currents",
-        help="currents [A] per selection, e.g. Tx=0.04,Ty=0.04,Bx=0.07,By=0.07",
+        action=_JoinAssignments,
+        help="currents [A] per selection, e.g. Tx=0.04,Ty=0.04,Bx=0.07,By=0.07; may be repeated",
     )
     p.add_argument(
         "--thermal-model",
