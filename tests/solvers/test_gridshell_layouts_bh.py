@@ -84,7 +84,8 @@ def test_5x5_dome_long_newton_descent_lands_on_the_cut_increments_equilibrium():
     former budget (50 iterations, no progress budget) it stops unconverged; GRIDSHELL_NEWTON's
     progress budget finishes it in one solve, at the equilibrium the former settings reach by cut
     increments (follow_path): the same circle curvatures to 1e-7 1/mm (the 1e-6 N tolerance's
-    effect, tests' module docstring; measured difference: see the assertion's message)."""
+    effect, module docstring; measured 2.7e-11 1/mm, nodes within 1.4e-6 mm; 110 iterations against
+    2 failed and 4 converged increments; 23 s CPU)."""
     from dataclasses import replace
 
     from lcefem.solvers.analysis.curvature import gridshell_curvatures
