@@ -90,7 +90,7 @@ GRIDSHELL_PATH = PathOptions(
 #: with ~1300 strip-ribbon contacts some sit at their kink (penalty switching on) and the residual
 #: stalls between 1e-8 and 1e-7 N.
 #: Progress budget and energy slack (NewtonOptions.progress_iterations, energy_slack; measured on
-#: the 5 x 5 layout's Fig. 4 dome drive, rollers, 2026-12-07, docs/layouts.md "Speed"): from flat
+#: the 5 x 5 layout's Fig. 4 dome drive, rollers, 2026-12-07, docs/layouts/index.md "Speed"): from flat
 #: its Newton descends for 110 iterations to t = 0.1 with the energy falling all along (the strips
 #: pull stiff Kapton bars round soft hinges; no contact switches), so 50 iterations cut the
 #: increment three times for nothing; near t = 0.6 (a double tangent eigenvalue of 6e-8 N/mm, the
