@@ -89,11 +89,11 @@ GRIDSHELL_PATH = PathOptions(
 #: the softest ~0.01 N/mm mode, 1e-7 1/mm in curvature). The beam's 1e-8 N is not reachable here:
 #: with ~1300 strip-ribbon contacts some sit at their kink (penalty switching on) and the residual
 #: stalls between 1e-8 and 1e-7 N.
-#: Progress budget and energy slack (NewtonOptions.progress_iterations, energy_slack; measured on
-#: the 5 x 5 layout's Fig. 4 dome drive, rollers, 2026-12-07, docs/layouts/index.md "Speed"): from flat
-#: its Newton descends for 110 iterations to t = 0.1 with the energy falling all along (the strips
-#: pull stiff Kapton bars round soft hinges; no contact switches), so 50 iterations cut the
-#: increment three times for nothing; near t = 0.6 (a double tangent eigenvalue of 6e-8 N/mm, the
+#: Progress budget and energy slack (NewtonOptions.progress_iterations, energy_slack; measured
+#: on the 5 x 5 layout's Fig. 4 dome drive, rollers, 2026-12-07, docs/layouts/index.md "Speed"):
+#: from flat its Newton descends for 110 iterations to t = 0.1 with the energy falling all along
+#: (the strips pull stiff Kapton bars round soft hinges; no contact switches), so 50 iterations cut
+#: the increment three times for nothing; near t = 0.6 (a double tangent eigenvalue 6e-8 N/mm, the
 #: dome's bifurcation) a full step that raises the 30 mJ energy by 2e-8 mJ (5e-10 of it) leads to
 #: |g| = 1.5e-7 N in two steps, while the 1e-13 slack refused it and Newton cycled at |g| ~ 3e-4 N
 #: for 600 iterations.
