@@ -92,6 +92,11 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default="", help="comma-separated layouts (default: all)")
     ap.add_argument("--level", type=int, default=0, help="mesh level (default 0)")
     ap.add_argument("--data", default="", help=f"data file to write (default {DATA.name})")
+    ap.add_argument(
+        "--machine",
+        default="serial, shared 2-core machine",
+        help="where the runs were made, for the source (e.g. the load average)",
+    )
     a = ap.parse_args(argv)
     only = [x for x in a.only.split(",") if x] or list(RUNS)
     unknown = [x for x in only if x not in RUNS]
@@ -128,7 +133,7 @@ def main(argv=None) -> int:
             "state, the path control of lcefem run gridshell --model fe (the Fig. 4 dome's); "
             "python benchmarks/gridshell_fe_layouts_full_ramp.py (lcefem run gridshell --model fe "
             f"--layout L --shape dome --support S), {datetime.date.today()} (issue 47); "
-            f"{costs}; serial, shared 2-core machine"
+            f"{costs}; {a.machine}"
         ),
         "fraction": 1.0,
         "mesh level": a.level,
