@@ -17,8 +17,10 @@ the loop's 40-evaluation cap). Table and sources: docs/design.md.
 
 Quick level: :data:`QUICK` (the Gaussian bump on the 3 x 3 with 4 channels and per strip, 40 s CPU:
 it shows that more drives come closer; the refined grid's 91 s is beyond the quick level's 60 s);
-full level: every target, grid and wiring. The 3D FE confirmation of the best designs (issue 47)
-waits for the FE mesh of the new layouts.
+full level: every target, grid and wiring. The 3D FE confirmation of the best designs (issue 47):
+informative rows from validation/data/gridshell_fe_reach_designs_level0.json when it is present
+(benchmarks/gridshell_reach_fe.py: the design's lambdas per strip mapped to the FE strip tags,
+meshes.gridshell_fe.fe_lambdas_of_strips; not yet run to the end, docs/design.md).
 """
 
 from __future__ import annotations
