@@ -4,6 +4,7 @@ and the two-wave surface on the refined 5 x 5 grid with a drive per strip
 
     python benchmarks/gridshell_reach_fe.py --design DIR            # 1. the BH designs -> DIR
     python benchmarks/gridshell_reach_fe.py --fe "gaussian bump" DIR  # 2. one FE run (minutes)
+    python benchmarks/gridshell_reach_fe.py --bh-check DIR          # 2b. the BH from as built
     python benchmarks/gridshell_reach_fe.py --collect DIR [--data FILE]  # 3. -> the data file
 
 1. ``gridshell_reach_study.best_surface(target, "5x5", "per strip", max_evaluations=40)`` (the case
@@ -185,8 +186,10 @@ def ribbon_points(model, cfg, xy: np.ndarray) -> np.ndarray:
     return x
 
 
-def fe_run(target: str, folder: pathlib.Path, level: int = 0) -> dict:
-    """Step 2: the FE run of the design of ``target`` (module docstring)."""
+def fe_run(target: str, folder: pathlib.Path, level: int = 0, force: bool = False) -> dict:
+    """Step 2: the FE run of the design of ``target`` (module docstring); ``force``: symmetrize
+    whatever the design's departure from its mirror images (the quarter model; the departure is
+    recorded)."""
     from lcefem.meshes.gridshell_fe import fe_lambdas_of_strips
     from lcefem.solvers.problems.gridshell_fe_run import run_gridshell_fe
     from lcefem.validation.studies.design import gridshell_reach_study as rs
@@ -198,7 +201,7 @@ def fe_run(target: str, folder: pathlib.Path, level: int = 0) -> dict:
     cfg = fe_config(layout, mapped, level)
     centre = float(np.mean(_centres(cfg)))
     sym, dev = symmetrized(mapped, cfg.catalogue(), centre)
-    if dev <= SYMMETRIZE_TOL:
+    if dev <= SYMMETRIZE_TOL or force:
         cfg = fe_config(layout, sym, level)
     z = rs.TARGETS[target][0]
     xy0 = structure.nodes[structure.panel_centres][:, :2]
@@ -219,7 +222,7 @@ def fe_run(target: str, folder: pathlib.Path, level: int = 0) -> dict:
         "FE RMS [mm]": found["rms"],
         "FE symmetry": cfg.symmetry,
         "largest |lambda - mirror mean| [-]": dev,
-        "symmetrized": dev <= SYMMETRIZE_TOL,
+        "symmetrized": dev <= SYMMETRIZE_TOL or force,
         "dofs [-]": s["dofs [-]"],
         "newton iterations [-]": s["newton iterations [-]"],
         "path steps [-]": s["path steps [-]"],
@@ -251,12 +254,50 @@ def _centres(cfg) -> np.ndarray:
     return junction_centres(cfg.model.geometry, cfg.model.cells)
 
 
+def bh_check(target: str, folder: pathlib.Path) -> dict:
+    """The BH of the design's drives and of their mirror means, each ramped from the as-built state
+    (the design loop's equilibrium is warm-started, not checked from flat): RMS distances [mm]."""
+    from lcefem.meshes.gridshell_fe import fe_lambdas_of_strips, fe_strip_tags
+    from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
+    from lcefem.validation.studies.design import gridshell_reach_study as rs
+    from lcefem.validation.studies.gridshell import calibrate
+
+    rec = json.loads((folder / f"design_{_slug(target)}.json").read_text())
+    layout, structure = reach_structure()
+    strips = structure.info["strips"]
+    per_id = {int(k): v for k, v in rec["lambda per BH strip id [-]"].items()}
+    mapped = fe_lambdas_of_strips(strips, per_id)
+    cfg = fe_config(layout, mapped)
+    sym, _ = symmetrized(mapped, cfg.catalogue(), float(np.mean(_centres(cfg))))
+    ms = calibrate.model_set(calibrate.DEFAULT_MODEL_SET)
+    out = {}
+    for label, drive in (
+        ("design", per_id),
+        ("symmetrized", {s.id: sym[fe_strip_tags(s)[0]] for s in strips}),
+    ):
+        c0 = time.process_time()
+        p = GridshellBH(
+            ms.structure(layout),
+            GridshellBHConfig(materials=ms.materials_for(layout), support=SUPPORT),
+        )
+        p.set_drives(drive)
+        p.advance()
+        r = rs.rigid_residual(p.x.reshape(-1, 3)[structure.panel_centres], rs.TARGETS[target][0])
+        out[f"BH RMS from as built, {label} drives [mm]"] = float(np.sqrt(np.mean(r * r)))
+        out[f"BH CPU from as built, {label} drives [s]"] = time.process_time() - c0
+    _write(folder / f"bh_check_{_slug(target)}.json", out)
+    print(target, out)
+    return out
+
+
 def collect(folder: pathlib.Path, data: pathlib.Path) -> dict:
     """Step 3: the designs and FE runs of both targets -> ``data`` (rows without the positions)."""
     rows = []
     for t in TARGETS:
         d = json.loads((folder / f"design_{_slug(t)}.json").read_text())
         fe = json.loads((folder / f"fe_{_slug(t)}.json").read_text())
+        check = folder / f"bh_check_{_slug(t)}.json"
+        fe.update(json.loads(check.read_text()) if check.exists() else {})
         rows.append(
             {
                 **{k: v for k, v in d.items() if "panel centres" not in k and k != "date"},
@@ -276,7 +317,10 @@ def collect(folder: pathlib.Path, data: pathlib.Path) -> dict:
             "bar-and-hinge, rollers) mapped to the FE strip tags "
             "(meshes.gridshell_fe.fe_lambdas_of_strips) and ramped from the as-built state with "
             "lcefem.solvers.problems.gridshell.GridshellFE on the gmsh mesh of the same layout "
-            "(pitch 24.67 mm, 141 mm side), mesh level 0, rollers, datasheet Kapton; RMS distance "
+            "(pitch 24.67 mm, 141 mm side), mesh level 0, rollers, datasheet Kapton; where "
+            "'symmetrized', the FE drives are the mirror means of the design's lambdas (quarter "
+            "model; the row gives the design's largest departure from them and the BH RMS of both "
+            "drives from the as-built state); RMS distance "
             "from the target after the study's rigid fit (rigid_residual) at the BH's Kapton panel "
             "centres (FE: the ribbon's mid-surface at their as-built plan points); "
             f"python benchmarks/gridshell_reach_fe.py, {datetime.date.today()} (issue 47); "
@@ -302,6 +346,13 @@ def main(argv=None) -> int:
     ap.add_argument("--target", action="append", choices=TARGETS)
     ap.add_argument("--fe", nargs=2, metavar=("TARGET", "DIR"))
     ap.add_argument("--collect", metavar="DIR")
+    ap.add_argument("--bh-check", metavar="DIR", help="the BH of the designs from as built")
+    ap.add_argument(
+        "--symmetrize",
+        action="store_true",
+        help="with --fe: average each strip's lambda over its mirror images whatever its "
+        "departure (the quarter model; the departure is recorded)",
+    )
     ap.add_argument("--data", default=str(DATA))
     a = ap.parse_args(argv)
     if a.design:
@@ -311,7 +362,10 @@ def main(argv=None) -> int:
         if a.fe[0] not in TARGETS:
             print(f"--fe: target {a.fe[0]!r}: allowed {', '.join(TARGETS)}", file=sys.stderr)
             return 2
-        fe_run(a.fe[0], pathlib.Path(a.fe[1]))
+        fe_run(a.fe[0], pathlib.Path(a.fe[1]), force=a.symmetrize)
+    if a.bh_check:
+        for t in a.target or TARGETS:
+            bh_check(t, pathlib.Path(a.bh_check))
     if a.collect:
         collect(pathlib.Path(a.collect), pathlib.Path(a.data))
     return 0

@@ -48,3 +48,22 @@ def test_full_level_only_rows_are_left_to_the_full_level(monkeypatch, tmp_path, 
     full = {lay for f, lay in seen if f == 1.0}
     assert tenth == {"published", "5x5", "rhombic60"}  # kept as they are at both levels
     assert full == ({"rhombic60"} if quick else {"5x5", "rhombic60"})
+
+
+def test_the_reach_designs_fe_rows_are_informative_with_the_bh_as_reference():
+    from lcefem.validation.cases import gridshell_reach_study_bh as reach
+
+    rows = reach.fe_confirmation("gridshell_reach_study_bh")
+    ref = json.loads(reach.FE_DESIGNS.read_text())
+    assert [r.metric.split(":")[0] for r in rows] == ["gaussian bump", "two-wave"]
+    for m, row in zip(rows, ref["rows"]):
+        assert m.passed is None and m.reference == row["BH RMS [mm]"] and m.unit == "mm"
+        assert m.value == row["FE RMS [mm]"] > 0
+        # the FE ran the mirror means on the quarter: the BH of those drives is within 0.02 mm of
+        # the design's (measured 0.016 and 0.001 mm)
+        assert row["FE symmetry"] == "quarter" and row["symmetrized"]
+        drift = abs(
+            row["BH RMS from as built, symmetrized drives [mm]"]
+            - row["BH RMS from as built, design drives [mm]"]
+        )
+        assert drift < 0.02
