@@ -238,6 +238,36 @@ def top_strip_name(direction: str, ribbon: int, junction: int, side: str) -> str
     return f"top_{direction}_r{ribbon}_j{junction}_{side}"
 
 
+def fe_strip_tags(strip) -> tuple[str, ...]:
+    """The FE cell tags of one bar-and-hinge strip (:class:`lcefem.meshes.gridshell.Strip`: layer,
+    direction, 0-based ribbon and index): a bottom strip under segment s is
+    ``bottom_{d}_r{r}_s{s}``; a top strip over junction j is the two halves
+    ``top_{d}_r{r}_j{j}_lo`` and ``_hi`` (both meshes count ribbons from the lowest y for x ribbons,
+    the lowest x for y ribbons, and segments and junctions from the lowest coordinate)."""
+    if strip.layer == "bottom":
+        return (bottom_strip_name(strip.direction, strip.ribbon, strip.index),)
+    if strip.layer == "top":
+        d, r, j = strip.direction, strip.ribbon, strip.index
+        return tuple(top_strip_name(d, r, j, side) for side in ("lo", "hi"))
+    raise InputError(f"strip {strip.id}: layer {strip.layer!r}: allowed bottom, top")
+
+
+def fe_lambdas_of_strips(strips, lambdas: dict) -> dict[str, float]:
+    """``{FE strip tag: lambda [-]}`` of lambdas per bar-and-hinge strip id (``lambdas``: {id:
+    lambda}; ``strips``: the structure's ``info["strips"]``), for the FE run's ``--lambda`` (which
+    refuses the bar-and-hinge strip ids). Every strip of ``strips`` must have a lambda."""
+    out = {}
+    for s in strips:
+        if s.id not in lambdas:
+            raise InputError(f"lambda of strip {s.id}: missing (every strip needs one)")
+        for tag in fe_strip_tags(s):
+            out[tag] = float(lambdas[s.id])
+    extra = set(lambdas) - {s.id for s in strips}
+    if extra:
+        raise InputError(f"lambda of strip {min(extra)}: no such strip (ids 0..{len(strips) - 1})")
+    return out
+
+
 def strip_catalogue(geometry: CompositeBeamGeometry, cells: int, strip_width: float) -> dict:
     """Every LCE strip tag of the full n x n model, in tag order, with its facts:
     layer, direction, ribbon, index (segment or junction), side (top halves), group ("XD1"),

@@ -268,7 +268,7 @@ def gridshell_bh_vs_fe(ctx: CaseContext) -> list[Metric]:
                 )
     metrics += _beam_map(ctx, name)
     metrics += _strip_element(ctx, name, fe)
-    metrics += _layouts(name)
+    metrics += _layouts(ctx, name)
     write_csv(
         ctx.path("gridshell_bh_vs_fe.csv"),
         {
@@ -436,37 +436,62 @@ def _strip_element(ctx: CaseContext, name: str, fe: dict) -> list[Metric]:
 
 #: FE references of the layouts (issue 47): the 3D FE gridshell on the gmsh mesh of a refined and a
 #: non-orthogonal layout, mesh level 0, a fraction of the Fig. 4 dome's ramp
-#: (FE_LAYOUTS["fraction"]).
+#: (FE_LAYOUTS["fraction"]), and the full ramp (FE_LAYOUTS_FULL,
+#: benchmarks/gridshell_fe_layouts_full_ramp.py).
 FE_LAYOUTS = DATA_DIR / "gridshell_fe_layouts_level0.json"
+FE_LAYOUTS_FULL = DATA_DIR / "gridshell_fe_layouts_full_ramp_level0.json"
+#: Full-ramp layouts whose bar-and-hinge run is left to the full level: the 5 x 5 under the rollers
+#: stalls on the strip-ribbon contact's switching (docs/layouts/index.md, speed; measured in
+#: validation/data/case_costs.toml).
+FULL_LEVEL_ONLY = {"5x5"}
 
 
-def _layouts(name: str) -> list[Metric]:
+def _layouts(ctx: CaseContext, name: str) -> list[Metric]:
     """Judged rows "<layout> <shape> (<support>, <f> of the ramp): circle kappa_<x|y> BH vs FE": the
     FE-calibrated bar-and-hinge (the model set of ``lcefem run gridshell``, its materials for the
     layout) against the stored FE of each layout of :data:`FE_LAYOUTS`, both from the as-built
     state to the same fraction f of the Fig. 4 lambdas. Tolerance: 10 % of the FE (issue 30's
     target) or 0.002 1/mm x f, the floor of the full shapes scaled with the ramp (a tenth of the
-    ramp bends the surface about a tenth as much)."""
+    ramp bends the surface about a tenth as much). The full ramp (:data:`FE_LAYOUTS_FULL`, f = 1):
+    rows "<layout> <shape> (<support>, full ramp): ...", 10 % or 0.002 1/mm (the Fig. 4 rows'
+    tolerance); the layouts of :data:`FULL_LEVEL_ONLY` at the full level only."""
+    out = []
+    for path in (FE_LAYOUTS, FE_LAYOUTS_FULL):
+        if not path.exists():
+            continue
+        ref = json.loads(path.read_text())
+        rows = [
+            r
+            for r in ref["rows"]
+            if not (ctx.quick and ref["fraction"] == 1.0 and r["layout"] in FULL_LEVEL_ONLY)
+        ]
+        out += _layout_rows(name, ref, rows)
+    return out
+
+
+def _layout_rows(name: str, ref: dict, rows: list[dict]) -> list[Metric]:
+    """The rows of :func:`_layouts` for the stored FE ``ref`` (one fraction of the ramp)."""
     from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
     from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
     from lcefem.validation.studies.gridshell import calibrate as cal
     from lcefem.validation.studies.gridshell import gridshell_bh as gs
 
-    ref = json.loads(FE_LAYOUTS.read_text())
     f = float(ref["fraction"])
     ms = cal.model_set("fe-calibrated")
     out = []
-    for row in ref["rows"]:
+    for row in rows:
         layout = NAMED_LAYOUTS[row["layout"]]
         lambdas = {
             k: PUBLISHED_LAMBDA_N + f * (v - PUBLISHED_LAMBDA_N)
             for k, v in gs.SHAPES[row["shape"]]["lambdas"].items()
         }
-        label = f"{row['layout']} {row['shape']} ({row['support']}, {f:g} of the ramp)"
+        ramp = "full ramp" if f == 1.0 else f"{f:g} of the ramp"
+        label = f"{row['layout']} {row['shape']} ({row['support']}, {ramp})"
         src = (
             f"{ref['source']}; {BH}, FE-calibrated model set (validation.calibrate.model_set, "
-            f"materials_for the layout); tolerance: 10 % or 0.002 1/mm x {f:g}"
+            "materials_for the layout); tolerance: 10 % or 0.002 1/mm"
+            + ("" if f == 1.0 else f" x {f:g}")
         )
         try:
             p = GridshellBH(
