@@ -57,14 +57,13 @@ from lcefem.solvers.problems.gridshell_bh_run import (
     run_gridshell,
 )
 from lcefem.solvers.runtime.outdir import add_out_arguments
-from lcefem.validation.app.commands import MODELS
+from lcefem.validation.app.commands import MODELS, parallel_if_fe
 from lcefem.validation.app.config import load_toml
 from lcefem.validation.cases.programs import RECIPES, SHAPE_DRIVES
 
-#: Serial only: the bar-and-hinge model is numpy/scipy (ranks would race on one folder), and the FE
-#: gridshell's strip-ribbon node-pair contact, the path follower's nodal damping and the residual
-#: homotopy's nodal load are serial (solvers/contact.py raises NotImplementedError on 2+ ranks).
-PARALLEL = False
+#: Under mpiexec: the FE model only (its node-wise terms run on N ranks, solvers/contact.py); the
+#: bar-and-hinge model is numpy/scipy (ranks would race on one folder).
+PARALLEL = parallel_if_fe
 
 
 def model_set_config(name: str) -> GridshellBHRunConfig:
