@@ -478,6 +478,7 @@ def prepare_fe(args: argparse.Namespace):
         notes["layout"] = args.layout
     drive = "current" if currents else "lambda"
     kw.setdefault("run", GridshellFERun(drive=drive, label=label, symmetry=run.get("symmetry", "")))
+    _refuse_untried_under_mpiexec(kw["run"].drive, getattr(args, "layout", None))
     return GridshellFERunConfig(
         model=model,
         lambdas=lambdas if drive == "lambda" else {},
@@ -485,6 +486,26 @@ def prepare_fe(args: argparse.Namespace):
         notes=notes,
         **kw,
     ).validated()
+
+
+def _refuse_untried_under_mpiexec(drive: str, layout) -> None:
+    """Under mpiexec the FE run takes the lambda route on the structured mesh: the one measured on 2
+    ranks against serial (tests/solvers/test_contact_mpi.py). The heated routes (current,
+    schedule) and the gmsh meshes of --layout were never run there: refused in one line."""
+    from lcefem.solvers.runtime.ranks import world
+
+    if world() is None:
+        return
+    if drive != "lambda":
+        raise InputError(
+            f"--model fe, {drive} route: not under mpiexec (only the lambda route: --shape, "
+            "--recipe, --lambda); start it without mpiexec"
+        )
+    if layout:
+        raise InputError(
+            f"--model fe --layout {layout}: not under mpiexec (the gmsh layouts are serial); "
+            "start it without mpiexec"
+        )
 
 
 def _fe_report(out, cfg, model) -> dict:
