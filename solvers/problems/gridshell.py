@@ -270,6 +270,7 @@ class GridshellFE:
         )
         self.info = tm.info
         msh = tm.mesh
+        self.comm = msh.comm  # the runner claims and writes a run's folder on every rank together
         self.V = V = displacement_space(msh, 2)
         self.u = u = dolfinx.fem.Function(V, name="displacement")
         # cell-wise drive and director (DG0): one value per cell, set per strip tag
