@@ -26,7 +26,16 @@ proximal term that makes a Newton step well posed across a fold of the equilibri
 snap-through); with c -> 0 the solution is an equilibrium of the undamped problem. Unlike a volume
 integral it weighs the thin ribbon's nodes as much as the strips'. The pairs couple nodes of
 different cells, which UFL forms cannot express; :func:`attach` adds them to the Jacobian's sparsity
-pattern before the first assembly. Serial only.
+pattern before the first assembly.
+
+Under MPI (issue 46) each pair lives on the rank owning its strip node p (:func:`face_pairs` matches
+the nodes gathered from every rank and returns the pairs in global node indices); the positions of
+its ribbon nodes, which another rank may own, come through an index map with them as ghosts
+(:func:`lcefem.solvers.mechanics.with_ghosts`, one forward scatter per residual and Jacobian); the
+pairs' couplings enter the Jacobian's pattern by global index, and their residual and Jacobian
+entries on rows other ranks own travel in PETSc's assembly. The table's nodes, the damping and the
+nodal load act on owned DOFs (diagonal Hessians). Observables (forces, energy, gaps, active sets)
+are those of the whole model on every rank (collective).
 """
 
 from __future__ import annotations
@@ -104,8 +113,9 @@ class NodePairContact:
 
     Args:
         u: displacement Function [mm].
-        pairs: (n, 3) block (node) indices p (strip face), q (ribbon face towards the strip), r
-            (ribbon's other face).
+        pairs: (n, 3) global block (node) indices p (strip face), q (ribbon face towards the
+            strip), r (ribbon's other face); in serial the local ones. On several ranks each rank
+            holds the pairs whose p it owns (:func:`face_pairs`).
         areas: (n,) tributary areas of p [mm^2].
         stiffness: penalty k [N/mm^3].
     """
@@ -114,39 +124,79 @@ class NodePairContact:
         self, u: dolfinx.fem.Function, pairs: np.ndarray, areas: np.ndarray, stiffness: float
     ):
         V = u.function_space
-        if V.mesh.comm.size > 1:
-            raise NotImplementedError("node-pair contact runs in serial only")
         self.u = u
+        self.comm = V.mesh.comm
         self.pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 3)
         self.areas = np.asarray(areas, dtype=float)
         self.stiffness = float(stiffness)
-        self.reference = V.tabulate_dof_coordinates()
+        # global DOFs of each pair (rows and columns of its residual and Jacobian entries)
         self.dofs = (3 * self.pairs[:, :, None] + np.arange(3)).reshape(-1, 9).astype(np.int32)
-        self.fixed = np.zeros(V.dofmap.index_map.size_local * 3, dtype=bool)
+        if self.comm.size == 1:
+            self.rows = self.pairs  # rows of the node arrays: local = global
+            self.reference = V.tabulate_dof_coordinates()
+            self._nodes = None
+        else:  # the pairs' nodes owned elsewhere become ghosts of a map of their own
+            from lcefem.solvers.mechanics import with_ghosts
+
+            imap, local = with_ghosts(V.dofmap.index_map, self.pairs.ravel())
+            self.rows = local.reshape(-1, 3).astype(np.int64)
+            self._nodes = dolfinx.la.vector(imap, 3)
+            self._owned = 3 * V.dofmap.index_map.size_local
+            X = V.tabulate_dof_coordinates()
+            self.reference = self._gathered(X.ravel()).reshape(-1, 3).copy()
+        self.fixed = np.zeros(self._local_size(), dtype=bool)
+        self.free = np.ones(self.dofs.shape, dtype=bool)
+
+    def _local_size(self) -> int:
+        if self._nodes is None:
+            return self.u.function_space.dofmap.index_map.size_local * 3
+        return self._nodes.array.size
+
+    def _gathered(self, values: np.ndarray) -> np.ndarray:
+        """Per-DOF ``values`` of this rank's owned DOFs (the first entries) on the pairs' nodes,
+        ghosts included (collective)."""
+        v = self._nodes
+        v.array[:] = 0.0
+        v.array[: self._owned] = values[: self._owned]
+        v.scatter_forward()
+        return v.array
 
     def set_constrained(self, bcs) -> None:
         """Rows and columns of Dirichlet DOFs get no contact terms (they are identity rows)."""
-        self.fixed[:] = False
+        fixed = np.zeros(self.u.x.array.size, dtype=bool)
         for bc in bcs:
             idx, _ = bc.dof_indices()
-            self.fixed[idx] = True
+            fixed[idx] = True
+        self.fixed = fixed if self._nodes is None else self._gathered(fixed) > 0.5
+        self.free = ~self.fixed[3 * self.rows[:, :, None] + np.arange(3)].reshape(-1, 9)
 
     def positions(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        x = self.reference + self.u.x.array.reshape(-1, 3)
-        return x[self.pairs[:, 0]], x[self.pairs[:, 1]], x[self.pairs[:, 2]]
+        """Current positions [mm] of this rank's p, q, r (collective on several ranks)."""
+        u = self.u.x.array if self._nodes is None else self._gathered(self.u.x.array)
+        x = self.reference + u.reshape(-1, 3)
+        return x[self.rows[:, 0]], x[self.rows[:, 1]], x[self.rows[:, 2]]
+
+    def _sum(self, value: float) -> float:
+        return value if self.comm.size == 1 else float(self.comm.allreduce(value))
+
+    def _local_gaps(self) -> np.ndarray:
+        return gap_and_derivatives(*self.positions(), hessian=False)[0]
 
     def gaps(self) -> np.ndarray:
-        """Current gaps [mm] (negative: penetration)."""
-        return gap_and_derivatives(*self.positions(), hessian=False)[0]
+        """Current gaps [mm] (negative: penetration) of every pair (on several ranks gathered from
+        all, collective)."""
+        g = self._local_gaps()
+        return g if self.comm.size == 1 else np.concatenate(self.comm.allgather(g))
 
     def energy(self) -> float:
         """Penalty energy [mJ]."""
-        g = np.minimum(self.gaps(), 0.0)
-        return 0.5 * self.stiffness * float(np.sum(self.areas * g * g))
+        g = np.minimum(self._local_gaps(), 0.0)
+        return self._sum(0.5 * self.stiffness * float(np.sum(self.areas * g * g)))
 
     def normal_force(self) -> float:
         """Sum of the pair forces k A <-g>_+ [N] (contact force on the mesh)."""
-        return self.stiffness * float(np.sum(self.areas * np.maximum(-self.gaps(), 0.0)))
+        g = self._local_gaps()
+        return self._sum(self.stiffness * float(np.sum(self.areas * np.maximum(-g, 0.0))))
 
     def active(self) -> np.ndarray:
         return self.gaps() < 0.0
@@ -154,12 +204,13 @@ class NodePairContact:
     def add_residual(self, b: PETSc.Vec) -> None:
         g, grad, _ = gap_and_derivatives(*self.positions(), hessian=False)
         on = g < 0.0
-        if not np.any(on):
+        if not np.any(on) and self.comm.size == 1:
             return
         f = (self.stiffness * self.areas[on] * g[on])[:, None] * grad[on]
         idx = self.dofs[on].ravel()
         vals = f.ravel()
-        keep = ~self.fixed[idx]
+        keep = self.free[on].ravel()
+        # global rows; those another rank owns reach it in the assembly
         b.setValues(idx[keep].astype(np.int32), vals[keep], addv=PETSc.InsertMode.ADD_VALUES)
         b.assemble()
 
@@ -173,7 +224,7 @@ class NodePairContact:
         )
         # Same nonzero pattern every time (zeros for open pairs); no terms on Dirichlet
         # rows/columns.
-        free = ~self.fixed[self.dofs]
+        free = self.free
         blocks *= free[:, :, None] & free[:, None, :]
         for rows, vals in zip(self.dofs, blocks):
             A.setValues(rows, rows, vals, addv=PETSc.InsertMode.ADD_VALUES)
@@ -193,7 +244,8 @@ class RigidPlaneContact:
 
     Args:
         u: displacement Function [mm].
-        nodes: block (node) indices of the contacting face.
+        nodes: local block (node) indices of the contacting face (on several ranks the nodes this
+            rank owns: :func:`plane_face_nodes`).
         areas: (n,) tributary areas [mm^2].
         height: z0 [mm] of the plane (reference coordinates).
         stiffness: penalty k [N/mm^3].
@@ -208,15 +260,16 @@ class RigidPlaneContact:
         stiffness: float,
     ):
         V = u.function_space
-        if V.mesh.comm.size > 1:
-            raise NotImplementedError("rigid-plane contact runs in serial only")
         self.u = u
+        self.comm = V.mesh.comm
         self.nodes = np.asarray(nodes, dtype=np.int64)
         self.areas = np.asarray(areas, dtype=float)
         self.height = float(height)
         self.stiffness = float(stiffness)
         self.z_ref = V.tabulate_dof_coordinates()[self.nodes, 2]
         self.dofs = (3 * self.nodes + 2).astype(np.int32)
+        # their global rows (owned nodes: offset by the rank's first DOF; serial: the same)
+        self.rows = (self.dofs + 3 * V.dofmap.index_map.local_range[0]).astype(np.int32)
         self.free = np.ones(self.dofs.size, dtype=bool)
 
     #: Gap [mm] up to which a node counts as touching in the Jacobian (class docstring).
@@ -227,32 +280,38 @@ class RigidPlaneContact:
         fixed = np.concatenate([bc.dof_indices()[0] for bc in bcs]) if bcs else np.zeros(0)
         self.free = ~np.isin(self.dofs, fixed)
 
-    def gaps(self) -> np.ndarray:
-        """Current gaps [mm] (negative: penetration)."""
+    def _local_gaps(self) -> np.ndarray:
         return self.z_ref + self.u.x.array[self.dofs] - self.height
+
+    def gaps(self) -> np.ndarray:
+        """Current gaps [mm] (negative: penetration) of every node (on several ranks gathered
+        from all, collective)."""
+        g = self._local_gaps()
+        return g if self.comm.size == 1 else np.concatenate(self.comm.allgather(g))
 
     def normal_force(self) -> float:
         """Sum of the nodal reactions k A <-g>_+ [N] (the plane's push on the body)."""
-        return self.stiffness * float(np.sum(self.areas * np.maximum(-self.gaps(), 0.0)))
+        f = self.stiffness * float(np.sum(self.areas * np.maximum(-self._local_gaps(), 0.0)))
+        return f if self.comm.size == 1 else float(self.comm.allreduce(f))
 
     def active(self) -> np.ndarray:
         return self.gaps() < 0.0
 
     def add_residual(self, b: PETSc.Vec) -> None:
-        g = self.gaps()
+        g = self._local_gaps()
         on = (g < 0.0) & self.free
         if np.any(on):
             b.setValues(
-                self.dofs[on],
+                self.rows[on],
                 self.stiffness * self.areas[on] * g[on],
                 addv=PETSc.InsertMode.ADD_VALUES,
             )
         b.assemble()
 
     def add_jacobian(self, A: PETSc.Mat) -> None:
-        on = (self.gaps() <= self.touch) & self.free
+        on = (self._local_gaps() <= self.touch) & self.free
         k = np.where(on, self.stiffness * self.areas, 0.0)  # same pattern every time (diagonal)
-        for dof, value in zip(self.dofs[self.free], k[self.free]):
+        for dof, value in zip(self.rows[self.free], k[self.free]):
             A.setValue(dof, dof, value, addv=PETSc.InsertMode.ADD_VALUES)
         A.assemble()
 
@@ -260,29 +319,37 @@ class RigidPlaneContact:
 def plane_face_nodes(
     V: dolfinx.fem.FunctionSpace, height: float, tol: float = 1e-9
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Nodes (block indices) of the exterior faces lying in the plane z = height [mm] and their
-    tributary areas [mm^2] (integral of each node's basis function over those faces)."""
+    """Nodes (local block indices) of the exterior faces lying in the plane z = height [mm] and
+    their tributary areas [mm^2] (integral of each node's basis function over those faces). On
+    several ranks: the nodes this rank owns, found on any rank, with their areas summed over the
+    ranks (collective)."""
     mesh = V.mesh
     fdim = mesh.topology.dim - 1
     facets = dolfinx.mesh.locate_entities_boundary(
         mesh, fdim, lambda x: np.abs(x[2] - height) < tol
     )
-    if facets.size == 0:
+    if mesh.comm.allreduce(facets.size) == 0:
         raise ValueError(f"no exterior face in the plane z = {height} mm")
     tags = dolfinx.mesh.meshtags(mesh, fdim, facets, np.ones(facets.size, dtype=np.int32))
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags, metadata={"quadrature_degree": 4})
     weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(ufl.TestFunction(V)[2] * ds(1)))
-    areas = weights.array.reshape(-1, 3)[:, 2]
     nodes = dolfinx.fem.locate_dofs_topological(V, fdim, facets)
+    if mesh.comm.size > 1:  # a node may lie on faces of another rank only: mark, then sum
+        weights.scatter_reverse(dolfinx.la.InsertMode.add)
+        imap = V.dofmap.index_map
+        mark = dolfinx.la.vector(imap, 1)
+        mark.array[nodes] = 1.0
+        mark.scatter_reverse(dolfinx.la.InsertMode.add)
+        nodes = np.flatnonzero(mark.array[: imap.size_local] > 0.0).astype(np.int32)
+    areas = weights.array.reshape(-1, 3)[:, 2]
     return nodes, areas[nodes]
 
 
 class _NodalTerm:
-    """A term on the free DOFs of ``u`` (serial): :func:`attach` marks the constrained ones."""
+    """A term on the free DOFs of ``u`` that this rank owns (its Hessian is diagonal, so no DOF of
+    another rank enters): :func:`attach` marks the constrained ones."""
 
-    def __init__(self, u: dolfinx.fem.Function, what: str):
-        if u.function_space.mesh.comm.size > 1:
-            raise NotImplementedError(f"{what} runs in serial only")
+    def __init__(self, u: dolfinx.fem.Function):
         self.u = u
         self.fixed = np.zeros(u.x.array.size, dtype=bool)
 
@@ -306,7 +373,7 @@ class NodalDamping(_NodalTerm):
     except while a path follower relaxes across a fold."""
 
     def __init__(self, u: dolfinx.fem.Function):
-        super().__init__(u, "nodal damping")
+        super().__init__(u)
         self.weight = 0.0
         self.anchor = np.zeros(u.x.array.size)
 
@@ -326,16 +393,18 @@ class NodalDamping(_NodalTerm):
 
 
 class NodalLoad(_NodalTerm):
-    """A fixed nodal force vector f [N] (one entry per DOF) scaled by ``factor`` [-]: the residual
-    gains -factor f on the free DOFs (the potential -factor f . u [mJ]; no Jacobian). 0 (off)
-    except while :meth:`lcefem.solvers.problems.gridshell.GridshellFE.settle` follows the residual
-    homotopy R(u) - (1 - s) R(u_0) = 0 from a state u_0 that is no equilibrium (f = R(u_0),
-    factor = 1 - s): u_0 solves it at s = 0, an equilibrium at s = 1."""
+    """A fixed nodal force vector f [N] (one entry per owned DOF) scaled by ``factor`` [-]: the
+    residual gains -factor f on the free DOFs (the potential -factor f . u [mJ]; no Jacobian). 0
+    (off) except while :meth:`lcefem.solvers.problems.gridshell.GridshellFE.settle` follows the
+    residual homotopy R(u) - (1 - s) R(u_0) = 0 from a state u_0 that is no equilibrium
+    (f = R(u_0), factor = 1 - s): u_0 solves it at s = 0, an equilibrium at s = 1."""
 
     def __init__(self, u: dolfinx.fem.Function):
-        super().__init__(u, "a nodal load")
+        super().__init__(u)
         self.factor = 0.0
-        self.force = np.zeros(u.x.array.size)
+        # one entry per owned DOF (the residual vector's local part; serial: every DOF)
+        V = u.function_space
+        self.force = np.zeros(V.dofmap.index_map.size_local * V.dofmap.index_map_bs)
 
     def add_residual(self, b: PETSc.Vec) -> None:
         if self.factor != 0.0:
@@ -357,7 +426,9 @@ def face_pairs(
 
     q and r are the ribbon (cells ``ribbon_cells``) nodes with the same reference (x, y) as p on the
     ribbon face towards the strip (``strip_above``: its top face) and on its other face. Nodes of
-    the strip face that belong to the ribbon too (the bonded edges) are skipped.
+    the strip face that belong to the ribbon too (the bonded edges) are skipped. On several ranks
+    (collective): the nodes of every rank are matched, and each rank gets the pairs whose p it owns,
+    in global node indices.
     """
     mesh = tmesh.mesh
     fdim = mesh.topology.dim - 1
@@ -367,17 +438,61 @@ def face_pairs(
     ribbon = dolfinx.fem.locate_dofs_topological(
         V, mesh.topology.dim, tmesh.cell_tags.find(tmesh.cell_tag(ribbon_cells))
     )
-    p_nodes = np.setdiff1d(p_nodes, ribbon)
     X = V.tabulate_dof_coordinates()
+    # tributary areas: integral of each node's basis function over the strip face
+    v = ufl.TestFunction(V)
+    ds = ufl.Measure(
+        "ds", domain=mesh, subdomain_data=tmesh.facet_tags, metadata={"quadrature_degree": 4}
+    )
+    weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(v[2] * ds(tmesh.facet_tag(strip_face))))
+    if mesh.comm.size == 1:
+        p_nodes = np.setdiff1d(p_nodes, ribbon)
+        q, r = _ribbon_partners(strip_face, X[p_nodes], ribbon, X[ribbon], strip_above, decimals)
+        areas = weights.array.reshape(-1, 3)[p_nodes, 2]
+        return np.column_stack([p_nodes, q, r]), areas
+    weights.scatter_reverse(dolfinx.la.InsertMode.add)  # the owners' areas, whole
+    imap = V.dofmap.index_map
+    p_ids, p_x = _gather_nodes(imap, p_nodes, X)
+    r_ids, r_x = _gather_nodes(imap, ribbon, X)
+    keep = ~np.isin(p_ids, r_ids)
+    p_ids, p_x = p_ids[keep], p_x[keep]
+    start, end = imap.local_range
+    # every rank matches every node (the same data: the same answer, or the same error)
+    q, r = _ribbon_partners(strip_face, p_x, r_ids, r_x, strip_above, decimals)
+    mine = (p_ids >= start) & (p_ids < end)
+    areas = weights.array.reshape(-1, 3)[p_ids[mine] - start, 2]
+    return np.column_stack([p_ids[mine], q[mine], r[mine]]), areas
+
+
+def _gather_nodes(imap, nodes: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Global indices (sorted, each once) and reference coordinates [mm] of the local ``nodes`` of
+    every rank (collective)."""
+    comm = imap.comm
+    ids = np.concatenate(comm.allgather(imap.local_to_global(np.asarray(nodes, dtype=np.int32))))
+    xs = np.concatenate(comm.allgather(X[nodes]))
+    ids, first = np.unique(ids, return_index=True)
+    return ids, xs[first]
+
+
+def _ribbon_partners(
+    strip_face: str,
+    p_x: np.ndarray,
+    ribbon: np.ndarray,
+    r_x: np.ndarray,
+    strip_above: bool,
+    decimals: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """q and r of :func:`face_pairs` for strip nodes at ``p_x`` (n, 3) [mm] among the ribbon nodes
+    ``ribbon`` at ``r_x``."""
     # ribbon columns: nodes grouped by (x, y), extremes in z are its bottom and top faces
-    keys = np.round(X[ribbon, :2], decimals)
-    order = np.lexsort((X[ribbon, 2], keys[:, 1], keys[:, 0]))
+    keys = np.round(r_x[:, :2], decimals)
+    order = np.lexsort((r_x[:, 2], keys[:, 1], keys[:, 0]))
     keys, nodes = keys[order], ribbon[order]
     uniq, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
     bottom = nodes[first]
     top = nodes[first + counts - 1]
     lookup = {tuple(k): i for i, k in enumerate(uniq)}
-    pk = np.round(X[p_nodes, :2], decimals)
+    pk = np.round(p_x[:, :2], decimals)
     col = np.array([lookup.get(tuple(k), -1) for k in pk], dtype=np.int64)
     if np.any(col < 0):
         raise ValueError(
@@ -386,14 +501,7 @@ def face_pairs(
         )
     q = top[col] if strip_above else bottom[col]
     r = bottom[col] if strip_above else top[col]
-    # tributary areas: integral of each node's basis function over the strip face
-    v = ufl.TestFunction(V)
-    ds = ufl.Measure(
-        "ds", domain=mesh, subdomain_data=tmesh.facet_tags, metadata={"quadrature_degree": 4}
-    )
-    weights = dolfinx.fem.assemble_vector(dolfinx.fem.form(v[2] * ds(tmesh.facet_tag(strip_face))))
-    areas = weights.array.reshape(-1, 3)[p_nodes, 2]
-    return np.column_stack([p_nodes, q, r]), areas
+    return q, r
 
 
 def attach(problem, contacts: list) -> None:

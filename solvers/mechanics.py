@@ -427,10 +427,26 @@ class HyperelasticProblem:
 
     def add_couplings(self, blocks: np.ndarray) -> None:
         """Add node couplings outside the form to the Jacobian's sparsity pattern: each row of
-        ``blocks`` (local node = block indices) couples all its nodes with one another. Rebuilds
-        the matrix (call before the first solve; serial or node sets owned by one process)."""
-        blocks = np.asarray(blocks, dtype=np.int32).reshape(len(blocks), -1)
-        pattern = dolfinx.fem.create_sparsity_pattern(self._problem.J)
+        ``blocks`` (global node = block indices, the displacement index map's numbering; in serial
+        the local ones) couples all its nodes with one another. Rebuilds the matrix (call before
+        the first solve). On several ranks each rank passes its own rows (a row's nodes may be
+        owned by other ranks): the pattern is built on the index map with the rows' nodes this rank
+        neither owns nor ghosts added as ghosts (:func:`with_ghosts`), so the couplings are in it
+        before the first assembly and every row of the matrix holds its entries."""
+        blocks = np.asarray(blocks, dtype=np.int64).reshape(len(blocks), -1)
+        V = self.u.function_space
+        if V.mesh.comm.size == 1:
+            blocks = blocks.astype(np.int32)
+            pattern = dolfinx.fem.create_sparsity_pattern(self._problem.J)
+        else:
+            from dolfinx.cpp.fem import build_sparsity_pattern
+            from dolfinx.cpp.la import SparsityPattern
+
+            bs = V.dofmap.index_map_bs
+            imap, local = with_ghosts(V.dofmap.index_map, blocks.ravel())
+            blocks = local.reshape(blocks.shape)
+            pattern = SparsityPattern(V.mesh.comm, [imap, imap], [bs, bs])
+            build_sparsity_pattern(pattern, self._problem.J._cpp_object)
         for row in blocks:
             pattern.insert(row, row)
         pattern.finalize()
@@ -458,8 +474,8 @@ class HyperelasticProblem:
                 len(blocks), -1
             )
             zeros = np.zeros((dofs.shape[1], dofs.shape[1]))
-            for row in dofs:
-                A.setValues(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
+            for row in dofs:  # local indices of the pattern's index map (serial: global)
+                A.setValuesLocal(row, row, zeros, addv=PETSc.InsertMode.ADD_VALUES)
             A.assemble()
         A.setOptionsPrefix(old.getOptionsPrefix())
         if self.symmetric:
@@ -616,6 +632,35 @@ class HyperelasticProblem:
 # (lcefem.solvers.petsc_options.forget_solver_options; the command line also calls it when a command
 # ends).
 atexit.register(forget_solver_options)
+
+
+def with_ghosts(imap, blocks: np.ndarray):
+    """(index map, local indices): ``imap`` (a dolfinx IndexMap) with the global indices of
+    ``blocks`` that this rank neither owns nor ghosts appended to its ghosts, so every local index
+    of ``imap`` keeps its meaning, and the local indices of ``blocks`` in the new map (collective:
+    each ghost's owner is found from the ranks' owned ranges)."""
+    from dolfinx.cpp.common import IndexMap
+
+    comm = imap.comm
+    blocks = np.asarray(blocks, dtype=np.int64)
+    start, end = imap.local_range
+    ghosts = np.asarray(imap.ghosts, dtype=np.int64)
+    wanted = np.unique(blocks)
+    extra = np.setdiff1d(wanted[(wanted < start) | (wanted >= end)], ghosts)
+    starts = np.asarray(comm.allgather(int(start)), dtype=np.int64)
+    owners = (np.searchsorted(starts, extra, side="right") - 1).astype(np.int32)
+    new = IndexMap(
+        comm,
+        imap.size_local,
+        np.concatenate([ghosts, extra]),
+        np.concatenate([np.asarray(imap.owners, dtype=np.int32), owners]),
+        GHOST_TAG,
+    )
+    return new, new.global_to_local(blocks).astype(np.int32)
+
+
+#: MPI tag of the index map's ghost-owner exchange (dolfinx's default, MPI::tag::consensus_nbx).
+GHOST_TAG = 1201
 
 
 def _drop_stale_options(prefix: str, options: dict) -> None:

@@ -62,7 +62,8 @@ EXPECTED = {
     "ex05_gridshell_bh.py": (-0.023428259982592698, RTOL, _dome_symmetric, False),
     "ex06_current_routes.py": (1.2297, 1e-4, None, False),
     "ex07_own_robot.py": (61.14951031, RTOL, _power_is_joule, True),
-    "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, False),
+    # on 2 ranks (measured 2026-12-07): -0.022174550031545 1/mm, 1.6e-11 relative of serial
+    "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, True),
     "ex09_inverse_design.py": (None, None, _round_trip, False),
     "ex10_control.py": (0.00012838678700578116, 1e-4, _closed_beats_open, False),
 }

@@ -270,6 +270,7 @@ class GridshellFE:
         )
         self.info = tm.info
         msh = tm.mesh
+        self.comm = msh.comm  # the runner claims and writes a run's folder on every rank together
         self.V = V = displacement_space(msh, 2)
         self.u = u = dolfinx.fem.Function(V, name="displacement")
         # cell-wise drive and director (DG0): one value per cell, set per strip tag
@@ -438,7 +439,9 @@ class GridshellFE:
                 f"{info['symmetry']} model"
             )
         for comp, nodes in self.support_nodes.items():
-            if nodes.size:
+            # on every rank if on any: collapse() is collective (a rank without such a node
+            # skipped it and deadlocked the others under mpiexec)
+            if tm.mesh.comm.allreduce(int(nodes.size), op=MPI.SUM):
                 dofs = self._component_dofs(comp, nodes)
                 bcs.append(dolfinx.fem.dirichletbc(zero, dofs, V.sub(comp)))
         return bcs
@@ -449,6 +452,8 @@ class GridshellFE:
         pts = self._X[nodes]
 
         def marker(x):
+            if pts.size == 0:  # none on this rank
+                return np.zeros(x.shape[1], dtype=bool)
             d = np.min(np.linalg.norm(x.T[:, None, :] - pts[None, :, :], axis=2), axis=1)
             return d < 1e-6
 

@@ -57,14 +57,13 @@ from lcefem.solvers.problems.gridshell_bh_run import (
     run_gridshell,
 )
 from lcefem.solvers.runtime.outdir import add_out_arguments
-from lcefem.validation.app.commands import MODELS
+from lcefem.validation.app.commands import MODELS, parallel_if_fe
 from lcefem.validation.app.config import load_toml
 from lcefem.validation.cases.programs import RECIPES, SHAPE_DRIVES
 
-#: Serial only: the bar-and-hinge model is numpy/scipy (ranks would race on one folder), and the FE
-#: gridshell's strip-ribbon node-pair contact, the path follower's nodal damping and the residual
-#: homotopy's nodal load are serial (solvers/contact.py raises NotImplementedError on 2+ ranks).
-PARALLEL = False
+#: Under mpiexec: the FE model only (its node-wise terms run on N ranks, solvers/contact.py); the
+#: bar-and-hinge model is numpy/scipy (ranks would race on one folder).
+PARALLEL = parallel_if_fe
 
 
 def model_set_config(name: str) -> GridshellBHRunConfig:
@@ -494,6 +493,7 @@ def prepare_fe(args: argparse.Namespace):
         notes["layout"] = args.layout
     drive = "current" if currents else "lambda"
     kw.setdefault("run", GridshellFERun(drive=drive, label=label, symmetry=run.get("symmetry", "")))
+    _refuse_untried_under_mpiexec(kw["run"].drive, getattr(args, "layout", None))
     return GridshellFERunConfig(
         model=model,
         lambdas=lambdas if drive == "lambda" else {},
@@ -501,6 +501,26 @@ def prepare_fe(args: argparse.Namespace):
         notes=notes,
         **kw,
     ).validated()
+
+
+def _refuse_untried_under_mpiexec(drive: str, layout) -> None:
+    """Under mpiexec the FE run takes the lambda route on the structured mesh: the one measured on 2
+    ranks against serial (tests/solvers/test_contact_mpi.py). The heated routes (current,
+    schedule) and the gmsh meshes of --layout were never run there: refused in one line."""
+    from lcefem.solvers.runtime.ranks import world
+
+    if world() is None:
+        return
+    if drive != "lambda":
+        raise InputError(
+            f"--model fe, {drive} route: not under mpiexec (only the lambda route: --shape, "
+            "--recipe, --lambda); start it without mpiexec"
+        )
+    if layout:
+        raise InputError(
+            f"--model fe --layout {layout}: not under mpiexec (the gmsh layouts are serial); "
+            "start it without mpiexec"
+        )
 
 
 def _fe_report(out, cfg, model) -> dict:
