@@ -14,8 +14,9 @@ from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 def test_uniform_heating_gives_isotropic_shape(cell, symmetry):
     """Far above T_NI the free strip's length ratio is 1/lambda_ref within 0.5 % and its
     cross-section grows by the incompressible factor lambda_ref (stress-free homogeneous
-    contraction)."""
-    cfg = StripConfig(mesh=StripMesh(cell=cell, symmetry=symmetry))
+    contraction). Level 0: the homogeneous state is exact on any mesh; measured 4.98e-12 from the
+    closed form at level 0 and at level 1 (0.2 s CPU here, 1.8 s there)."""
+    cfg = StripConfig(mesh=StripMesh(level=0, cell=cell, symmetry=symmetry))
     sim = StripSimulation(cfg)
     T = 200.0
     sim.model.heat.T.x.array[:] = T
