@@ -264,8 +264,14 @@ class KaptonSpecimenFE:
         self.straight_state(d_r)
         force = self.force()
         mode = dolfinx.fem.Function(self.V, name="buckling_mode")
-        mode.x.array[:] = vr.array
-        scale = np.max(np.abs(mode.x.array.reshape(-1, 3)[:, 2]))
+        # the eigenvector holds this rank's owned dofs; the ghosts come from their owners, and the
+        # scale is the largest |u_z| over all ranks (the same mode for every partition)
+        index_map = self.V.dofmap.index_map
+        mode.x.array[: index_map.size_local * self.V.dofmap.index_map_bs] = vr.array_r
+        mode.x.scatter_forward()
+        scale = self.tmesh.mesh.comm.allreduce(
+            np.max(np.abs(mode.x.array.reshape(-1, 3)[:, 2])), op=MPI.MAX
+        )
         mode.x.array[:] /= scale
         self.problem.restore(np.zeros(self.u.x.array.size))
         self._set_shortening(0.0)

@@ -14,8 +14,9 @@ from lcefem.solvers.problems.strip import StripConfig, StripRun, StripSimulation
 def test_uniform_heating_gives_isotropic_shape(cell, symmetry):
     """Far above T_NI the free strip's length ratio is 1/lambda_ref within 0.5 % and its
     cross-section grows by the incompressible factor lambda_ref (stress-free homogeneous
-    contraction)."""
-    cfg = StripConfig(mesh=StripMesh(cell=cell, symmetry=symmetry))
+    contraction). Level 0: the homogeneous state is exact on any mesh; measured 4.98e-12 from the
+    closed form at level 0 and at level 1 (0.2 s CPU here, 1.8 s there)."""
+    cfg = StripConfig(mesh=StripMesh(level=0, cell=cell, symmetry=symmetry))
     sim = StripSimulation(cfg)
     T = 200.0
     sim.model.heat.T.x.array[:] = T
@@ -30,11 +31,14 @@ def test_uniform_heating_gives_isotropic_shape(cell, symmetry):
 
 def test_quarter_model_equals_full_model():
     """The structured full mesh is the mirror image of the quarter mesh, so a short heated transient
-    must agree to solver tolerance (free strips, 0.2 A, 2 steps of 2 s)."""
+    must agree to solver tolerance (free strips, 0.2 A, 2 steps of 2 s). Level 0: the mirror holds
+    on every level; measured largest relative difference 2.7e-14 at level 0 (the stretch 0.019
+    shorter at 4 s), 3.7e-13 at level 1 (40 s CPU there, 1.6 s here)."""
     results = {}
     for symmetry in ("quarter", "full"):
         cfg = StripConfig(
-            run=StripRun(current=0.2, duration=4.0, dt=2.0), mesh=StripMesh(symmetry=symmetry)
+            run=StripRun(current=0.2, duration=4.0, dt=2.0),
+            mesh=StripMesh(level=0, symmetry=symmetry),
         )
         results[symmetry] = StripSimulation(cfg).run(None, progress=False).history
     for column in ("T_mean [C]", "T_max [C]", "stretch [-]", "end_area_ratio [-]"):
