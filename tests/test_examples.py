@@ -68,7 +68,10 @@ EXPECTED = {
     # on 2 ranks (measured 2026-12-07): -0.022174550031545 1/mm, 1.6e-11 relative of serial
     "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, True),
     "ex09_inverse_design.py": (None, None, _round_trip, False),
-    "ex10_control.py": (0.00012838678700578116, 1e-4, _closed_beats_open, False),
+    # the closed loop's residual error: 1.2839e-4 before GRIDSHELL_NEWTON's progress budget and
+    # energy slack (2026-12-07), 1.2781e-4 after (CI of 467d11c): the loop's equilibria land
+    # differently within the Newton's force tolerance and the loop carries the difference
+    "ex10_control.py": (0.00012781160343525513, 1e-4, _closed_beats_open, False),
 }
 
 
