@@ -53,8 +53,8 @@ EXPECTED = {
     # golden free strip at 0.2 A, 4 s, level 0 (tests/regression/test_golden.py): history.csv keeps
     # 10 significant digits
     "ex01_strip.py": (1.406548927529679, 1e-8, None, True),
-    # not under MPI: the beam's strip-ribbon contact pairs each strip node with the ribbon nodes of
-    # the same (x, y) among its rank's own (solvers/contact.py face_pairs), serial only
+    # not under MPI: the beam's curvature stations (composite_beam.BeamStations) read the whole
+    # mesh on one rank (the strip-ribbon contact itself runs on N ranks since 2026-12-07)
     "ex02_heated_beam.py": (0.0001647249932, RTOL, None, False),
     # the chain's bifurcation / its Euler load: 0.947 (the clamps' panels and N5B8 shear); under
     # MPI the FE specimen's number (MPI_NUMBER)
