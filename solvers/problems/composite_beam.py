@@ -207,6 +207,7 @@ class BeamStations:
         every point owned by exactly one rank (collective)."""
         X = self.X[: self._owned]
         rows, nodes, nearest = [], [], np.full(len(points), np.inf)
+        owners = np.zeros(len(points), dtype=np.int64)  # owned nodes at each point
         for k, point in enumerate(points):
             if X.shape[0] == 0:
                 continue
@@ -216,16 +217,15 @@ class BeamStations:
             if d[i] <= 1e-6:
                 rows.append(k)
                 nodes.append(i)
-        owners = np.zeros(len(points), dtype=np.int64)
-        owners[rows] = 1
+                owners[k] = np.count_nonzero(d <= 1e-6)  # a second node there: ambiguous
         if self.comm.size > 1:
             self.comm.Allreduce(MPI.IN_PLACE, owners, op=MPI.SUM)
             self.comm.Allreduce(MPI.IN_PLACE, nearest, op=MPI.MIN)
         for k, point in enumerate(points):
             if owners[k] != 1:
                 raise RuntimeError(
-                    f"station point {tuple(point)}: a node on {owners[k]} ranks, expected one "
-                    f"(nearest {nearest[k]:.3g} mm away)"
+                    f"station point {tuple(point)}: {owners[k]} owned nodes there over the ranks, "
+                    f"expected one (nearest {nearest[k]:.3g} mm away)"
                 )
         return np.asarray(rows, dtype=np.int64), np.asarray(nodes, dtype=np.int64)
 
