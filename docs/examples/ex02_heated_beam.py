@@ -19,7 +19,9 @@ Key number
     The curvature at the end of the run [1/mm] (a stored value; quick: 2 segments, level 0, 3 s).
 
 Run: ``python docs/examples/ex02_heated_beam.py`` (``LCEFEM_EXAMPLE_QUICK=1``: 3 s of heating
-instead of 12 s; output in ``results/examples/ex02_heated_beam`` or ``$LCEFEM_EXAMPLE_OUT``).
+instead of 12 s; output in ``results/examples/ex02_heated_beam`` or ``$LCEFEM_EXAMPLE_OUT``). Also
+under MPI: ``mpiexec -n 2 python docs/examples/ex02_heated_beam.py`` (the same curvature: each
+station is read on the rank that owns its node; rank 0 writes the history and draws the figure).
 """
 
 import os

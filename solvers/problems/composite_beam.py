@@ -170,61 +170,104 @@ def beam_supports(tmesh, V) -> list:
 class BeamStations:
     """Deformed curvature stations of the FE beam from the nodes at the reference points of
     :func:`lcefem.meshes.composite_beam_fe.fe_stations` (mirrored about x = x_mid in the quarter
-    model)."""
+    model).
+
+    On several ranks each point is the node of the one rank that owns it (owned nodes only, never a
+    ghost; exactly one rank per point, checked when built); the deformed positions of all points
+    are combined with one allreduce, so :meth:`points`, :meth:`up` and :meth:`curvature` are
+    collective and give every rank the same numbers (serial: the node positions themselves)."""
 
     def __init__(self, tmesh, V):
         info = tmesh.info
+        self.comm = V.mesh.comm
         self.X = V.tabulate_dof_coordinates()
+        self._owned = V.dofmap.index_map.size_local  # nodes this rank owns (then its ghosts)
         self.quarter = info["symmetry"] == "quarter"
         self.x_mid = info["x_mid"]
-        self.groups = []
+        points, self.groups = [], []
         for pts in info["stations"]:
             group = []
             for p in pts:
                 mirrored = self.quarter and p[0] < self.x_mid - 1e-9
                 q = np.array([2.0 * self.x_mid - p[0], p[1], p[2]]) if mirrored else np.asarray(p)
-                group.append((self._node(q), mirrored))
+                group.append((len(points), mirrored))
+                points.append(q)
             self.groups.append(group)
         tp = info["ribbon_thickness"]
         z0 = info["mid_surface_height"]
-        self.up_nodes = (
-            self._node((self.x_mid, 0.5 * info["ribbon_width"], z0 - 0.5 * tp)),
-            self._node((self.x_mid, 0.5 * info["ribbon_width"], z0 + 0.5 * tp)),
-        )
+        self.up_rows = (len(points), len(points) + 1)
+        for dz in (-0.5 * tp, 0.5 * tp):
+            points.append(np.array((self.x_mid, 0.5 * info["ribbon_width"], z0 + dz)))
+        self._rows, self._nodes = self._owned_nodes(np.asarray(points))
+        self._count = len(points)
         self.segments = info["segments"]
 
-    def _node(self, point) -> int:
-        d = np.linalg.norm(self.X - np.asarray(point), axis=1)
-        i = int(np.argmin(d))
-        if d[i] > 1e-6:
-            raise RuntimeError(
-                f"no node at station point {tuple(point)} (nearest {d[i]:.3g} mm away)"
-            )
-        return i
+    def _owned_nodes(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(rows of ``points``, this rank's owned node at each) for the points this rank owns;
+        every point owned by exactly one rank (collective)."""
+        X = self.X[: self._owned]
+        rows, nodes, nearest = [], [], np.full(len(points), np.inf)
+        owners = np.zeros(len(points), dtype=np.int64)  # owned nodes at each point
+        for k, point in enumerate(points):
+            if X.shape[0] == 0:
+                continue
+            d = np.linalg.norm(X - point, axis=1)
+            i = int(np.argmin(d))
+            nearest[k] = d[i]
+            if d[i] <= 1e-6:
+                rows.append(k)
+                nodes.append(i)
+                owners[k] = np.count_nonzero(d <= 1e-6)  # a second node there: ambiguous
+        if self.comm.size > 1:
+            self.comm.Allreduce(MPI.IN_PLACE, owners, op=MPI.SUM)
+            self.comm.Allreduce(MPI.IN_PLACE, nearest, op=MPI.MIN)
+        for k, point in enumerate(points):
+            if owners[k] != 1:
+                raise RuntimeError(
+                    f"station point {tuple(point)}: {owners[k]} owned nodes there over the ranks, "
+                    f"expected one (nearest {nearest[k]:.3g} mm away)"
+                )
+        return np.asarray(rows, dtype=np.int64), np.asarray(nodes, dtype=np.int64)
+
+    def _positions(self, u: dolfinx.fem.Function) -> np.ndarray:
+        """Deformed positions (points, 3) [mm] of every station point, on every rank
+        (collective)."""
+        x = np.zeros((self._count, 3))
+        nodes = self._nodes
+        x[self._rows] = self.X[nodes] + u.x.array.reshape(-1, 3)[nodes]
+        if self.comm.size > 1:  # one owner per point, zeros elsewhere: the sum is exact
+            self.comm.Allreduce(MPI.IN_PLACE, x, op=MPI.SUM)
+        return x
 
     def points(self, u: dolfinx.fem.Function) -> np.ndarray:
-        """Stations (N + 1, 3) [mm] in the deformed state."""
-        x = self.X + u.x.array.reshape(-1, 3)
+        """Stations (N + 1, 3) [mm] in the deformed state (collective)."""
+        return self._stations(self._positions(u))
+
+    def _stations(self, x: np.ndarray) -> np.ndarray:
         rows = []
         for group in self.groups:
             pts = []
-            for node, mirrored in group:
-                p = x[node].copy()
+            for row, mirrored in group:
+                p = x[row].copy()
                 if mirrored:
                     p[0] = 2.0 * self.x_mid - p[0]
                 pts.append(p)
             rows.append(np.mean(pts, axis=0))
         return np.asarray(rows)
 
-    def up(self, u) -> np.ndarray:
-        x = self.X + u.x.array.reshape(-1, 3)
-        v = x[self.up_nodes[1]] - x[self.up_nodes[0]]
+    def _up(self, x: np.ndarray) -> np.ndarray:
+        v = x[self.up_rows[1]] - x[self.up_rows[0]]
         return v / np.linalg.norm(v)
 
+    def up(self, u) -> np.ndarray:
+        """Unit vector [-] across the ribbon at x_mid (bottom to top face; collective)."""
+        return self._up(self._positions(u))
+
     def curvature(self, u) -> float:
-        """Signed curvature [1/mm] through the middle stations (Eq. 2's sign)."""
-        pts = self.points(u)
-        return signed_circle_curvature(pts[middle_station_indices(self.segments)], self.up(u))
+        """Signed curvature [1/mm] through the middle stations (Eq. 2's sign; collective)."""
+        x = self._positions(u)
+        pts = self._stations(x)
+        return signed_circle_curvature(pts[middle_station_indices(self.segments)], self._up(x))
 
 
 @dataclass
@@ -279,6 +322,7 @@ class BeamFE:
         options.update(petsc_options or {})
         self.actuation, self.contact_options = actuation, contact
         self.tmesh = tm = build_beam_mesh(geometry, actuation.lambda_N, mesh, comm)
+        self.comm = tm.mesh.comm  # the runner claims and writes the run's folder on it
         self.V = V = displacement_space(tm.mesh, 2)
         self.u = u = dolfinx.fem.Function(V, name="displacement")
         self.a_top = dolfinx.fem.Constant(tm.mesh, PETSc.ScalarType(1.0))
@@ -682,6 +726,7 @@ class HeatedBeamFE:
         self.heated, self.coil = tuple(heated), coil
         transition = transition or NematicTransition()
         self.tmesh = tm = build_beam_mesh(geometry, transition.lambda_N, mesh, None)
+        self.comm = tm.mesh.comm  # the runner claims and writes the run's folder on it
         n = ufl.as_vector([1.0, 0.0, 0.0])
         exposed = [
             f

@@ -178,6 +178,7 @@ def run_beam_fe(cfg: BeamFEConfig, out: pathlib.Path, progress: bool = True, rep
             "dofs": model.ndofs,
             "cells": model.tmesh.info["cells"],
             "symmetry": model.tmesh.info["symmetry"],
+            "ranks": model.comm.size,
             "steps": len(history.rows),
             "newton_iterations": follower.iterations,
             "cut_steps": follower.cuts,
@@ -243,6 +244,7 @@ def run_beam_fe_heated(cfg: BeamFEConfig, out: pathlib.Path, progress: bool, rep
                 **(extra or {}),
             },
             "steps": len(rows) - 1,
+            "ranks": beam.comm.size,
             "wall_time [s]": time.perf_counter() - started,
         }
 

@@ -359,9 +359,7 @@ def test_an_error_on_one_rank_aborts_every_rank(mpiexec, tmp_path):
 
 
 @pytest.mark.mpi
-@pytest.mark.parametrize(
-    "argv", [["run", "ribbon"], BEAM, ["run", "beam", "--model", "fe", "--mesh-level", "0"]]
-)
+@pytest.mark.parametrize("argv", [["run", "ribbon"], BEAM])
 def test_serial_only_target_refuses_mpiexec(argv, lcefem_cmd, mpiexec, tmp_path):
     res = lcefem(lcefem_cmd, *argv, "--out", tmp_path / "o", mpi=mpiexec)
     assert res.returncode == 2 and "runs in serial only" in one_line(res)

@@ -20,10 +20,10 @@ Models: ``bar-hinge`` (our MERLIN-type model, lcefem.solvers.problems.composite_
 (the 3D FEniCSx beam of lcefem.solvers.problems.composite_beam: Kapton neo-Hookean, LCE strips with
 a prescribed spontaneous stretch, strip-ribbon penalty contact; quarter model by default). With
 ``--model fe`` the outputs are displacement.bp (VTX, ParaView; the mesh is the quarter x >= L_tot/2,
-y <= W/2), history.csv, beam_fe.png (curvature along the ramp, side view), beam_fe_3d.png (render)
-and summary.json. ``--current`` drives the FE beam by a coil current through the heat model instead
-(one strip group, ``--heated``), for ``--duration`` seconds; history.csv then has time, temperatures
-and curvature.
+y <= W/2), history.csv, beam_fe.png (curvature along the ramp, side view), beam_fe_3d.png (render;
+serial runs only) and summary.json. ``--current`` drives the FE beam by a coil current through the
+heat model instead (one strip group, ``--heated``), for ``--duration`` seconds; history.csv then has
+time, temperatures and curvature. The FE model runs under ``mpiexec -n N`` too (both drives).
 """
 
 from __future__ import annotations
@@ -36,16 +36,18 @@ from lcefem.models import bar_hinge_materials as law
 from lcefem.models.errors import InputError
 from lcefem.solvers.problems.composite_beam_bh import BeamConfig, run_beam
 from lcefem.solvers.runtime.outdir import add_out_arguments
-from lcefem.validation.app.commands import MODELS
+from lcefem.solvers.runtime.ranks import world_rank
+from lcefem.validation.app.commands import MODELS, parallel_if_fe
 from lcefem.validation.app.config import config_from_toml, override
 from lcefem.validation.cases import reference_data
 
-#: Serial only, both models: the FE beam's curvature stations (composite_beam.BeamStations) and
-#: its figures read the whole mesh on one rank. Since the strip-ribbon contact runs on N ranks
-#: (2026-12-07) a 2-rank run got past the contact and stopped at "no node at station point"; with
-#: the stations summed over the ranks it stalled after the header row, so it is refused in one
-#: line until the beam's observables are made collective.
-PARALLEL = False
+#: Under mpiexec: the FE model only, both routes (lambda ramp and coil current). Its curvature
+#: stations (composite_beam.BeamStations) take each point from the rank that owns its node and
+#: combine them with one allreduce, the strip-ribbon contact runs on N ranks (solvers/contact.py),
+#: the side view gathers the nodes to rank 0; 2 ranks give the serial curvature
+#: (tests/validation/test_beam_fe_mpi.py). beam_fe_3d.png (pyvista: one process's mesh) is
+#: drawn in serial only. The bar-and-hinge model is numpy/scipy (ranks would race on one folder).
+PARALLEL = parallel_if_fe
 
 
 def report_bar_hinge(out, cfg, solution, history) -> dict:
@@ -66,8 +68,8 @@ def report_bar_hinge(out, cfg, solution, history) -> dict:
 
 
 def report_fe(out, cfg, model, history) -> dict:
-    """beam_fe.png (curvature along the ramp or in time, side view); for the lambda ramp also
-    beam_fe_3d.png (render) and Eq. 2's inputs."""
+    """beam_fe.png (curvature along the ramp or in time, side view; collective, rank 0 writes it);
+    for the lambda ramp also beam_fe_3d.png (render, serial runs only) and Eq. 2's inputs."""
     from lcefem.validation.studies.beam.beam_plots import plot_fe_side_view, render_fe_beam
 
     heat = cfg.heat_run
@@ -102,7 +104,8 @@ def report_fe(out, cfg, model, history) -> dict:
         f"{cfg.run.lambda_bottom:g}, {cfg.geometry.segments} segments, mesh level {cfg.mesh.level}"
     )
     plot_fe_side_view(out / "beam_fe.png", model, model.u, title, curve)
-    render_fe_beam(out / "beam_fe_3d.png", model, title)
+    if model.tmesh.mesh.comm.size == 1:  # pyvista renders one process's mesh: serial only
+        render_fe_beam(out / "beam_fe_3d.png", model, title)
     return {"eq2 inputs": reference_data.eq2_inputs_note()}
 
 
@@ -193,6 +196,8 @@ def main(args: argparse.Namespace) -> int:
 
         summary = run_beam_fe(cfg, args.out, progress=not args.quiet, report=report_fe)
         r = summary["results"]
+        if world_rank() != 0:  # under mpiexec: one line, rank 0's (its wall time)
+            return 0
         if summary.get("drive") == "current":
             print(
                 f"lcefem: beam (fe) {cfg.heat_run.current:g} A through the {cfg.heat_run.heated} "

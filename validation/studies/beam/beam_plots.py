@@ -63,19 +63,19 @@ def plot_beam_run(
     return save_figure(fig, path, 130)
 
 
-def plot_fe_side_view(path, model, u, title: str, extra=None) -> pathlib.Path:
+def plot_fe_side_view(path, model, u, title: str, extra=None) -> pathlib.Path | None:
     """x-z view [mm] of the FE beam's nodes on the ribbon's outer edge plane (y = 0), by body;
-    ``extra(ax)`` draws the left panel (e.g. curvature along the ramp)."""
+    ``extra(ax)`` draws the left panel (e.g. curvature along the ramp). On several ranks each rank's
+    owned nodes are gathered to rank 0, which draws and writes the figure (collective; the other
+    ranks return None)."""
     import dolfinx
 
-    X = model_nodes = u.function_space.tabulate_dof_coordinates()  # model: BeamFE or heated model
+    V = u.function_space
+    comm = V.mesh.comm
+    X = V.tabulate_dof_coordinates()  # model: BeamFE or heated model
     x = X + u.x.array.reshape(-1, 3)
+    owned = V.dofmap.index_map.size_local  # a ghost node is drawn by the rank that owns it
     tm = model.tmesh
-    fig = Figure(figsize=(11, 4.4), layout="constrained")
-    axes = fig.subplots(1, 2)
-    if extra is not None:
-        extra(axes[0])
-    ax = axes[1]
     edge = np.abs(X[:, 1] - tm.info["strip_y_range"][0]) < 1e-9
     colours = {
         "kapton": ("k", "Kapton ribbon"),
@@ -84,13 +84,26 @@ def plot_fe_side_view(path, model, u, title: str, extra=None) -> pathlib.Path:
         "top_strips": ("tab:blue", "top strips"),
         "top_pads": ("lightblue", "top bond pads"),
     }
+    nodes = {}
+    for name in colours:
+        dofs = dolfinx.fem.locate_dofs_topological(V, 3, tm.cell_tags.find(tm.cell_tag(name)))
+        dofs = dofs[(dofs < owned) & edge[dofs]]
+        xz = np.column_stack([x[dofs, 0], x[dofs, 2], X[dofs, 0], X[dofs, 2]])
+        if comm.size > 1:
+            parts = comm.gather(xz, root=0)
+            xz = np.concatenate(parts) if comm.rank == 0 else xz
+        nodes[name] = xz
+    if comm.rank != 0:
+        return None
+    fig = Figure(figsize=(11, 4.4), layout="constrained")
+    axes = fig.subplots(1, 2)
+    if extra is not None:
+        extra(axes[0])
+    ax = axes[1]
     for name, (colour, label) in colours.items():
-        dofs = dolfinx.fem.locate_dofs_topological(
-            u.function_space, 3, tm.cell_tags.find(tm.cell_tag(name))
-        )
-        dofs = dofs[edge[dofs]]
-        ax.plot(x[dofs, 0], x[dofs, 2], ".", ms=2, color=colour, label=label)
-        ax.plot(model_nodes[dofs, 0], model_nodes[dofs, 2], ".", ms=1, color="0.8")
+        xz = nodes[name]
+        ax.plot(xz[:, 0], xz[:, 1], ".", ms=2, color=colour, label=label)
+        ax.plot(xz[:, 2], xz[:, 3], ".", ms=1, color="0.8")
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("z [mm]")
