@@ -12,10 +12,8 @@ golden tests' tolerance (tests/regression/test_golden.py), unless said otherwise
 
 from __future__ import annotations
 
-import os
 import re
 import runpy
-import subprocess
 import sys
 
 import pytest
@@ -120,24 +118,11 @@ def test_example_runs_and_gives_its_number(name, tmp_path, monkeypatch, capsys):
 @pytest.mark.mpi
 @pytest.mark.slow
 @pytest.mark.parametrize("name", [n for n, e in EXPECTED.items() if e[3]])
-def test_fe_example_under_two_ranks(name, tmp_path, mpiexec):
+def test_fe_example_under_two_ranks(name, tmp_path, serial_and_two_ranks):
     """The same key number on two ranks (the strip's MPI test: within 1e-8 relative of serial;
     here the stored serial value at its tolerance), or the number of :data:`MPI_NUMBER`."""
-    env = {
-        **os.environ,
-        "LCEFEM_EXAMPLE_QUICK": "1",
-        "LCEFEM_EXAMPLE_OUT": str(tmp_path),
-        "OMP_NUM_THREADS": "1",
-    }
-    done = subprocess.run(
-        [mpiexec, "-n", "2", sys.executable, str(EXAMPLES / name)],
-        env=env,
-        cwd=REPO,
-        capture_output=True,
-        text=True,
-        timeout=900,
-    )
-    assert done.returncode == 0, done.stderr[-2000:]
+    env = {"LCEFEM_EXAMPLE_QUICK": "1", "LCEFEM_EXAMPLE_OUT": str(tmp_path)}
+    (done,) = serial_and_two_ranks([sys.executable, EXAMPLES / name], ranks=(2,), env=env, cwd=REPO)
     lines = done.stdout.strip().splitlines()
     label, value, rtol = MPI_NUMBER.get(name, (None, *EXPECTED[name][:2]))
     line = lines[-1] if label is None else next(t for t in lines if t.startswith(label))
