@@ -7,6 +7,7 @@ Build: ``make docs`` (creates the environment with the pinned ``docs`` group whe
 import dataclasses
 import pathlib
 import re
+import sys
 import tomllib
 
 # MPI must be loaded before dolfinx/petsc4py (the FEniCSx wheel); autodoc imports the solvers.
@@ -89,73 +90,12 @@ def _docstring_as_text(app, what, name, obj, options, lines):
     lines[:] = ["::", ""] + ["    " + line for line in text] + [""]
 
 
-# The code's sources name the project's reference notes (outside the repository); the facts they
-# hold are restated, with their public sources, on the Sources page (sources.md).
-REFERENCE_PAGES = {
-    "published_reduced_model": "the published reduced-order model",
-    "materials": "material data",
-    "gridshell_recipes": "the published reduced-order model",
-}
+# The parameter reference's tables (one page per area), written from the code at every build.
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from parameter_tables import restated as _restated  # noqa: E402
+from parameter_tables import write_parameter_tables  # noqa: E402
 
-
-def _restated(text):
-    """``text`` with each reference note named by the Sources page section that restates it."""
-    return re.sub(
-        r"(\.\./)*(/work/)?shared/reference/(\w+)\.md",
-        lambda m: "see Sources: " + REFERENCE_PAGES.get(m.group(3), m.group(3)),
-        text,
-    )
-
-
-def _write_parameter_tables(path):
-    """docs/_generated/parameters.md: every parameter dataclass of lcefem.models with each field's
-    default, unit and source, read from the code (included by parameters.md), so the page cannot
-    drift from the defaults."""
-    import importlib
-    import pkgutil
-
-    import lcefem.models
-
-    out = []
-    for info in sorted(pkgutil.iter_modules(lcefem.models.__path__), key=lambda m: m.name):
-        module = importlib.import_module(f"lcefem.models.{info.name}")
-        classes = [
-            c
-            for c in vars(module).values()
-            if isinstance(c, type)
-            and c.__module__ == module.__name__
-            and dataclasses.is_dataclass(c)
-            and any("unit" in f.metadata for f in dataclasses.fields(c))
-        ]
-        for cls in sorted(classes, key=lambda c: c.__name__):
-            doc = _restated((cls.__doc__ or "").strip().split("\n\n")[0].replace("\n", " "))
-            out += [
-                f"## `{module.__name__}.{cls.__name__}`",
-                "",
-                doc,
-                "",
-                "| field | default | unit | source |",
-                "|---|---|---|---|",
-            ]
-            for f in dataclasses.fields(cls):
-                if "unit" not in f.metadata:
-                    continue
-                default = "" if f.default is dataclasses.MISSING else f"{f.default!r}"
-                source = _restated(f.metadata["source"])
-                cells = [f"`{f.name}`", default, f.metadata["unit"], source]
-                out.append(
-                    "| "
-                    + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells)
-                    + " |"
-                )
-            out.append("")
-    path.parent.mkdir(exist_ok=True)
-    text = "\n".join(out) + "\n"
-    if not path.exists() or path.read_text() != text:
-        path.write_text(text)
-
-
-_write_parameter_tables(pathlib.Path(__file__).resolve().parent / "_generated" / "parameters.md")
+write_parameter_tables(pathlib.Path(__file__).resolve().parent / "_generated")
 
 
 def setup(app):

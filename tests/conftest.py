@@ -3,8 +3,10 @@
 Tests assert physics: closed forms, manufactured solutions, measured values.
 """
 
+import dataclasses
 import os
 import pathlib
+import subprocess
 import sys
 
 import pytest
@@ -29,6 +31,65 @@ def mpiexec():
 
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+
+@dataclasses.dataclass(frozen=True)
+class RankRun:
+    """One finished run of :func:`run_serial_and_two_ranks`: its number of ranks (1 = serial, no
+    mpiexec), the path that replaced ``"{out}"`` in the command, and what it printed."""
+
+    ranks: int
+    out: pathlib.Path
+    stdout: str
+    stderr: str
+
+
+def run_serial_and_two_ranks(
+    argv, root, *, ranks=(1, 2), env=None, cwd=None, timeout=900
+) -> tuple[RankRun, ...]:
+    """Run the command ``argv`` (a list of str) once per entry of ``ranks``: 1 as a plain process,
+    n > 1 under this environment's ``mpiexec -n n``; return one :class:`RankRun` each, in order.
+
+    Every ``"{out}"`` in ``argv`` becomes ``root / "serial"`` for the serial run and
+    ``root / f"mpi{n}"`` for n ranks (a folder for ``--out``, or a file for a script that writes
+    JSON there). ``env``: variables added to this process's environment (``OMP_NUM_THREADS=1`` is
+    always set: a rank per core). Each run must exit 0, else the test fails with that run's stderr
+    tail. The comparison is the test's own: this only owns the subprocess plumbing (issue 48), e.g.
+
+        serial, parallel = serial_and_two_ranks(lcefem_cmd + ["run", "strip", "--out", "{out}"])
+        assert read(parallel.out / "history.csv") == approx(read(serial.out / "history.csv"))
+
+    ``ranks=(2,)`` runs only the two ranks (a test against a stored serial value)."""
+    mpiexec = VENV_BIN / "mpiexec"
+    if not mpiexec.exists():
+        pytest.fail(f"mpiexec not found next to {sys.executable}")
+    env = {**os.environ, **(env or {}), "OMP_NUM_THREADS": "1"}
+    runs = []
+    for n in ranks:
+        out = pathlib.Path(root) / ("serial" if n == 1 else f"mpi{n}")
+        prefix = [] if n == 1 else [str(mpiexec), "-n", str(n)]
+        done = subprocess.run(
+            prefix + [str(a).replace("{out}", str(out)) for a in argv],
+            env=env,
+            cwd=cwd,
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+        )
+        assert done.returncode == 0, f"{n} rank(s): exit {done.returncode}\n{done.stderr[-3000:]}"
+        runs.append(RankRun(n, out, done.stdout, done.stderr))
+    return tuple(runs)
+
+
+@pytest.fixture
+def serial_and_two_ranks(tmp_path):
+    """:func:`run_serial_and_two_ranks` with its outputs under the test's ``tmp_path``: call it as
+    ``serial, parallel = serial_and_two_ranks(argv, **options)`` (mark the test ``mpi``)."""
+
+    def run(argv, **options):
+        return run_serial_and_two_ranks(argv, tmp_path, **options)
+
+    return run
 
 
 #: The ``fast`` tier (``pytest -m fast``, run first by .ci/run): the material laws and closed forms

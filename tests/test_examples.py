@@ -12,10 +12,8 @@ golden tests' tolerance (tests/regression/test_golden.py), unless said otherwise
 
 from __future__ import annotations
 
-import os
 import re
 import runpy
-import subprocess
 import sys
 
 import pytest
@@ -65,8 +63,12 @@ EXPECTED = {
     "ex05_gridshell_bh.py": (-0.023428259982592698, RTOL, _dome_symmetric, False),
     "ex06_current_routes.py": (1.2297, 1e-4, None, False),
     "ex07_own_robot.py": (61.14951031, RTOL, _power_is_joule, True),
-    # on 2 ranks (measured 2026-12-07): -0.022174550031545 1/mm, 1.6e-11 relative of serial
-    "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, True),
+    # on 2 ranks (measured 2026-12-07): -0.022174550031545 1/mm, 1.6e-11 relative of serial. Not
+    # run under MPI here: the same level-0 quarter dome ramp on 2 ranks is solved and held to this
+    # value (the serial golden, 1e-6 1/mm) by tests/solvers/test_contact_mpi.py
+    # (test_fe_dome_from_the_command_line_on_two_ranks_gives_the_serial_golden); a second 2-rank
+    # solve of it cost ~50 s CPU (issue 48)
+    "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, False),
     "ex09_inverse_design.py": (None, None, _round_trip, False),
     # the closed loop's residual error: 1.2839e-4 before GRIDSHELL_NEWTON's progress budget and
     # energy slack (2026-12-07), 1.2781e-4 after (CI of 467d11c): the loop's equilibria land
@@ -120,24 +122,11 @@ def test_example_runs_and_gives_its_number(name, tmp_path, monkeypatch, capsys):
 @pytest.mark.mpi
 @pytest.mark.slow
 @pytest.mark.parametrize("name", [n for n, e in EXPECTED.items() if e[3]])
-def test_fe_example_under_two_ranks(name, tmp_path, mpiexec):
+def test_fe_example_under_two_ranks(name, tmp_path, serial_and_two_ranks):
     """The same key number on two ranks (the strip's MPI test: within 1e-8 relative of serial;
     here the stored serial value at its tolerance), or the number of :data:`MPI_NUMBER`."""
-    env = {
-        **os.environ,
-        "LCEFEM_EXAMPLE_QUICK": "1",
-        "LCEFEM_EXAMPLE_OUT": str(tmp_path),
-        "OMP_NUM_THREADS": "1",
-    }
-    done = subprocess.run(
-        [mpiexec, "-n", "2", sys.executable, str(EXAMPLES / name)],
-        env=env,
-        cwd=REPO,
-        capture_output=True,
-        text=True,
-        timeout=900,
-    )
-    assert done.returncode == 0, done.stderr[-2000:]
+    env = {"LCEFEM_EXAMPLE_QUICK": "1", "LCEFEM_EXAMPLE_OUT": str(tmp_path)}
+    (done,) = serial_and_two_ranks([sys.executable, EXAMPLES / name], ranks=(2,), env=env, cwd=REPO)
     lines = done.stdout.strip().splitlines()
     label, value, rtol = MPI_NUMBER.get(name, (None, *EXPECTED[name][:2]))
     line = lines[-1] if label is None else next(t for t in lines if t.startswith(label))

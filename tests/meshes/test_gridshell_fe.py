@@ -4,7 +4,6 @@ beam, mirror symmetry of the nodes, support and contact faces, bad input."""
 
 import json
 import math
-import subprocess
 import sys
 
 import dolfinx_solver  # noqa: F401
@@ -349,19 +348,13 @@ if tm.mesh.comm.rank == 0:
 """
 
 
-def test_two_ranks_give_the_serial_mesh(tmp_path, mpiexec):
+@pytest.mark.mpi
+def test_two_ranks_give_the_serial_mesh(tmp_path, serial_and_two_ranks):
     """Made on rank 0 and distributed: the same tags (by name) and volumes/areas on 2 ranks."""
     script = tmp_path / "two_ranks.py"
     script.write_text(_TWO_RANKS)
-    results = {}
-    for ranks in (1, 2):
-        out = tmp_path / f"{ranks}.json"
-        subprocess.run(
-            [mpiexec, "-n", str(ranks), sys.executable, str(script), str(out)],
-            check=True,
-            timeout=300,
-        )
-        results[ranks] = json.loads(out.read_text())
+    runs = serial_and_two_ranks([sys.executable, script, "{out}"], timeout=300)
+    results = {r.ranks: json.loads(r.out.read_text()) for r in runs}
     assert results[2]["ranks"] == 2
     serial, parallel = results[1]["values"], results[2]["values"]
     assert set(serial) == set(parallel) and {"sym_x", "centre_junction"} <= set(serial)

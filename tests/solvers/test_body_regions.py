@@ -394,7 +394,7 @@ currents = { heater = 0.01 }
 
 
 @pytest.mark.mpi
-def test_two_ranks_give_the_serial_answer(tmp_path, lcefem_cmd, mpiexec):
+def test_two_ranks_give_the_serial_answer(tmp_path, lcefem_cmd, serial_and_two_ranks):
     """Per-region heat capacity (DG0), a director expression and a 3-2-1 support under mpiexec -n
     2: the serial history (the 3-2-1 points' nodes live on one rank; before the look-up was
     collective the other rank stopped with 'no node there'). Measured: equal to the CSV's 10
@@ -405,15 +405,8 @@ def test_two_ranks_give_the_serial_answer(tmp_path, lcefem_cmd, mpiexec):
     (tmp_path / "case.toml").write_text(ENERGY_CASE)
     args = ["run", "body", "--config", str(tmp_path / "case.toml"), "--no-fields", "--quiet"]
     histories = []
-    for name, prefix in (("serial", []), ("mpi", [mpiexec, "-n", "2"])):
-        res = subprocess.run(
-            prefix + lcefem_cmd + args + ["--out", str(tmp_path / name)],
-            capture_output=True,
-            text=True,
-            timeout=600,
-        )
-        assert res.returncode == 0, res.stderr
-        with open(tmp_path / name / "history.csv") as fh:
+    for run in serial_and_two_ranks(lcefem_cmd + args + ["--out", "{out}"], timeout=600):
+        with open(run.out / "history.csv") as fh:
             rows = list(csv.DictReader(fh))
         histories.append({k: np.array([float(r[k]) for r in rows]) for k in rows[0]})
     serial, mpi = histories

@@ -97,19 +97,11 @@ if comm.rank == 0:
 
 @pytest.mark.mpi
 @pytest.mark.slow
-def test_two_ranks_give_the_serial_contact_table_load_and_damping(tmp_path, mpiexec):
+def test_two_ranks_give_the_serial_contact_table_load_and_damping(tmp_path, serial_and_two_ranks):
     script = tmp_path / "contact_two_ranks.py"
     script.write_text(_SCRIPT)
-    results = {}
-    for ranks in (1, 2):
-        out = tmp_path / f"{ranks}.json"
-        subprocess.run(
-            [mpiexec, "-n", str(ranks), sys.executable, str(script), str(out)],
-            check=True,
-            timeout=900,
-        )
-        results[ranks] = json.loads(out.read_text())
-    serial, parallel = results[1], results[2]
+    runs = serial_and_two_ranks([sys.executable, script, "{out}"])
+    serial, parallel = (json.loads(r.out.read_text()) for r in runs)
     assert parallel["ranks"] == 2 and serial["remote pairs"] == 0
     assert parallel["remote pairs"] > 0  # pairs across the partition: the ghost positions matter
     assert parallel["remote pairs pushed"] > 0  # closed ones among them (measured: 10 of 225)

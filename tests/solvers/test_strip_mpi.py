@@ -2,7 +2,6 @@
 
 import csv
 import json
-import subprocess
 
 import numpy as np
 import pytest
@@ -12,16 +11,6 @@ def _history(path):
     with open(path) as fh:
         rows = list(csv.reader(fh))
     return rows[0], np.array(rows[1:], dtype=float)
-
-
-def _serial_and_two_ranks(args, tmp_path, lcefem_cmd, mpiexec):
-    """Run ``lcefem ARGS`` serially and under ``mpiexec -n 2``: the two out folders."""
-    serial, parallel = tmp_path / "serial", tmp_path / "mpi2"
-    subprocess.run(lcefem_cmd + args + ["--out", str(serial)], check=True, timeout=600)
-    subprocess.run(
-        [mpiexec, "-n", "2"] + lcefem_cmd + args + ["--out", str(parallel)], check=True, timeout=600
-    )
-    return serial, parallel
 
 
 def _assert_same_history(serial, parallel, min_force):
@@ -36,7 +25,7 @@ def _assert_same_history(serial, parallel, min_force):
 
 
 @pytest.mark.mpi
-def test_two_ranks_equal_serial(tmp_path, lcefem_cmd, mpiexec):
+def test_two_ranks_equal_serial(lcefem_cmd, serial_and_two_ranks):
     args = [
         "run",
         "strip",
@@ -51,7 +40,7 @@ def test_two_ranks_equal_serial(tmp_path, lcefem_cmd, mpiexec):
         "--quiet",
         "--no-fields",
     ]
-    serial, parallel = _serial_and_two_ranks(args, tmp_path, lcefem_cmd, mpiexec)
+    serial, parallel = (r.out for r in serial_and_two_ranks(lcefem_cmd + args + ["--out", "{out}"]))
     _assert_same_history(serial, parallel, min_force=0.3)
 
 
@@ -61,7 +50,7 @@ def test_two_ranks_equal_serial(tmp_path, lcefem_cmd, mpiexec):
     ['pc_type = "gamg"\npc_gamg_coarse_eq_limit = 100', 'pc_type = "pmg"'],
     ids=["gamg", "pmg"],
 )
-def test_two_ranks_iterative_path_equal_serial(tmp_path, lcefem_cmd, mpiexec, petsc):
+def test_two_ranks_iterative_path_equal_serial(tmp_path, lcefem_cmd, serial_and_two_ranks, petsc):
     """CG + GAMG, and CG + Q2 -> Q1 p-multigrid (its transfer P built, its Galerkin coarse
     operator P^T K P computed and factorised across ranks), forced by the case file on 2 ranks: the
     aggregates differ from the serial ones, the Newton solution does not (to its tolerance,
@@ -86,7 +75,7 @@ def test_two_ranks_iterative_path_equal_serial(tmp_path, lcefem_cmd, mpiexec, pe
         "--quiet",
         "--no-fields",
     ]
-    serial, parallel = _serial_and_two_ranks(args, tmp_path, lcefem_cmd, mpiexec)
+    serial, parallel = (r.out for r in serial_and_two_ranks(lcefem_cmd + args + ["--out", "{out}"]))
     for out in (serial, parallel):
         resolved = json.loads((out / "summary.json").read_text())
         assert petsc.split('"')[1] in json.dumps(resolved)  # the path asked for is the one that ran

@@ -180,7 +180,7 @@ def test_completed_run_outputs(tmp_path, lcefem_cmd):
 
 
 @pytest.mark.mpi
-def test_two_ranks_give_the_serial_answer(tmp_path, lcefem_cmd, mpiexec):
+def test_two_ranks_give_the_serial_answer(lcefem_cmd, serial_and_two_ranks):
     args = [
         "run",
         "body",
@@ -195,14 +195,8 @@ def test_two_ranks_give_the_serial_answer(tmp_path, lcefem_cmd, mpiexec):
         "--no-fields",
         "--quiet",
     ]
-    serial = run(lcefem_cmd, *args, "--out", str(tmp_path / "serial"))
-    assert serial.returncode == 0, serial.stderr
-    parallel = run([mpiexec, "-n", "2"] + lcefem_cmd, *args, "--out", str(tmp_path / "mpi"))
-    assert parallel.returncode == 0, parallel.stderr
-    s, p = (
-        read_history(tmp_path / "serial" / "history.csv"),
-        read_history(tmp_path / "mpi" / "history.csv"),
-    )
+    runs = serial_and_two_ranks(lcefem_cmd + args + ["--out", "{out}"], timeout=600)
+    s, p = (read_history(r.out / "history.csv") for r in runs)
     for name in s:
         if name.startswith(("T", "u_x")):
             np.testing.assert_allclose(p[name], s[name], rtol=1e-8, atol=1e-10, err_msg=name)

@@ -51,15 +51,13 @@ def _rows(path):
 
 
 @pytest.mark.mpi
-def test_farmed_levels_give_the_serial_study(mpiexec, tmp_path):
+def test_farmed_levels_give_the_serial_study(serial_and_two_ranks, tmp_path):
     import json
 
     script = tmp_path / "trapezoid.py"
     script.write_text(SCRIPT)
-    serial, farmed = tmp_path / "serial", tmp_path / "farmed"
-    for prefix, out in (([], serial), ([mpiexec, "-n", "2"], farmed)):
-        res = _converge(prefix, script, out)
-        assert res.returncode == 0, res.stderr[-3000:]
+    runs = serial_and_two_ranks([sys.executable, script, "{out}", "-1"], timeout=300)
+    serial, farmed = (r.out for r in runs)
     for name in ("levels.csv", "gci.csv"):
         assert _rows(farmed / name) == _rows(serial / name)
     p = float(

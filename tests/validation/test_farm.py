@@ -41,15 +41,11 @@ def _markers(out) -> dict:
 @pytest.fixture(scope="module")
 def serial_and_farmed(tmp_path_factory):
     """The same quick cases run serially and farmed over 2 ranks: the two out folders."""
-    from tests.conftest import VENV_BIN
+    from tests.conftest import VENV_BIN, run_serial_and_two_ranks
 
-    lcefem_cmd = [str(VENV_BIN / "lcefem")]
-    root = tmp_path_factory.mktemp("farm")
-    serial, farmed = root / "serial", root / "mpi2"
-    for prefix, out in (([], serial), ([str(VENV_BIN / "mpiexec"), "-n", "2"], farmed)):
-        res = _validate(prefix, lcefem_cmd, out, *CASES)
-        assert res.returncode == 0, res.stderr[-3000:]
-    return serial, farmed
+    argv = [str(VENV_BIN / "lcefem"), "validate", *CASES, "--quick", "--quiet", "--out", "{out}"]
+    runs = run_serial_and_two_ranks(argv, tmp_path_factory.mktemp("farm"))
+    return tuple(r.out for r in runs)
 
 
 @pytest.mark.mpi

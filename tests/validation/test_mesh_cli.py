@@ -128,20 +128,15 @@ def test_rhombic_layout_mesh_as_msh(tmp_path, lcefem_cmd):
 
 
 @pytest.mark.mpi
-def test_under_mpiexec_the_gathered_meshes_equal_the_serial_ones(tmp_path, lcefem_cmd, mpiexec):
+def test_under_mpiexec_the_gathered_meshes_equal_the_serial_ones(lcefem_cmd, serial_and_two_ranks):
     """Two ranks build each FE mesh shared, as `lcefem run` does, and rank 0 writes the gathered
     mesh: the same names, cells per tag, nodes and (sorted) coordinates as one process writes."""
     args = ["mesh", "all", "--format", "msh", "--mesh-level", "0"]
-    serial, parallel = tmp_path / "serial", tmp_path / "parallel"
-    assert run(lcefem_cmd, *args, "--out", str(serial), "--quiet").returncode == 0
-    res = subprocess.run(
-        [mpiexec, "-n", "2"] + lcefem_cmd + args + ["--out", str(parallel), "--quiet"],
-        capture_output=True,
-        text=True,
-        timeout=600,
+    one_rank, two_ranks = serial_and_two_ranks(
+        lcefem_cmd + args + ["--out", "{out}", "--quiet"], timeout=600
     )
-    assert res.returncode == 0, res.stderr
-    assert len(res.stdout.strip().splitlines()) == 1  # rank 0 prints
+    serial, parallel = one_rank.out, two_ranks.out
+    assert len(two_ranks.stdout.strip().splitlines()) == 1  # rank 0 prints
     one, two = (json.loads((f / "summary.json").read_text()) for f in (serial, parallel))
     assert two["processes"] == 2 and set(one["meshes"]) == set(two["meshes"])
     for stem, entry in one["meshes"].items():
