@@ -3,7 +3,8 @@
 :class:`lcefem.solvers.problems.gridshell_heated.HeatedGridshellFE`, coil currents) for every drive
 the bar-and-hinge run takes (issue 46): lambdas or currents per selection (a named shape, a
 published recipe, the user's), a schedule of currents in time, on the published supports or the
-table, at mesh levels 0-3; the lambda route also on N MPI ranks (:mod:`lcefem.solvers.contact`).
+table, at mesh levels 0-3; every route also on N MPI ranks (:mod:`lcefem.solvers.contact`; the
+heated routes' pad coils: :meth:`HeatedGridshellFE._junction_coil_map`).
 
 The drives are given per selection, as to the bar-and-hinge run
 (:func:`lcefem.meshes.gridshell.resolve_bar_values`): a channel Tx, Ty, Bx, By, a layer T or B, a

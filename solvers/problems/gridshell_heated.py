@@ -61,6 +61,11 @@ JUNCTION_HEATING = ("off", "added", "spread")
 #: (the published layout's bottom line is ~98 mm isotropic at 1.63 ohm/mm with its pads and tabs,
 #: the top ~122 mm with its crowns and glue squares, against the measured 80 mm), a model geometry.
 JUNCTION_HEATING_DEFAULT = "added"
+#: Distance [mm] within which two strip cells count as equally near a pad
+#: (HeatedGridshellFE._junction_coil_map; the round-off of cell midpoints of ~100 mm coordinates,
+#: ~1e-14 mm, far below the level-3 cell size). Measured: at level 0, full model, 24 of the 216 top
+#: pads in the coils' bands lie exactly midway between two top strips' cells.
+PAD_TIE_TOL = 1e-9
 #: Picard iterations allowed to the steady heat equation (HeatProblem.steady's radiation update).
 #: Measured: the table's 0.2 A on every strip, junctions heated, settles at 315 C with the change
 #: per iteration shrinking by ~0.63 (1e-10 relative after ~55 iterations, more than HeatProblem's
@@ -137,6 +142,7 @@ class HeatedGridshellFE(GridshellFE):
             self.damping,
         )
         self.currents = np.zeros(self.lam.x.array.size)  # [A] per cell (0 outside the strips)
+        self._tag_current = dict.fromkeys(self.strip_tags.values(), 0.0)  # [A] per strip tag
         dx = volume_measure(self.tmesh, QUADRATURE_DEGREE)
         comm_ = self.tmesh.mesh.comm
         self._channel_T = {}
@@ -166,18 +172,27 @@ class HeatedGridshellFE(GridshellFE):
         """The coil continued through the unheated LCE of a layer (``junction_heating`` "added" or
         "spread", :data:`JUNCTION_HEATING`): for every
         bond pad ("bottom_pads": under the junctions and tabs; "top_pads": the crowns) and glue
-        square (the top strips' crossing) DG0 dof, the strip dof whose power density it takes, once
+        square (the top strips' crossing) DG0 dof, the strip whose power density it takes, once
         per coil passing through it. A coil passes where the pad lies in its strip's band
         (|y - c_r| < W_s/2 for an x strip of ribbon r, |x - c_r| < W_s/2 for a y strip): one coil
         in the arms and crowns, two where the x and y bands cross (the junction's centre square, the
-        glue square). The strip dof is the nearest one of the same layer and direction: its current
-        is the current of the coil through the pad. Returns [(pad dofs, strip dofs)], one pair per
-        (layer, direction). For "spread" it also sets the share of each channel's coil power that
-        stays in its strips (:attr:`coil_share`: strip volume / (strip volume + the volume of the
-        pads its coil passes), the model's own volumes)."""
+        glue square). The strip is the one of the nearest strip cell of the same layer and
+        direction in the whole model: its current is the current of the coil through the pad.
+        Returns [(pad dofs, strip cell tags)], one pair per (layer, direction). For "spread" it
+        also sets the share of each channel's coil power that stays in its strips
+        (:attr:`coil_share`: strip volume / (strip volume + the volume of the pads its coil
+        passes), the model's own volumes).
+
+        On N ranks the nearest strip cell is searched among every rank's owned strip cells
+        (gathered in rank order; on one rank the same points in the same order as the local dofs,
+        so the serial answer is unchanged): a rank's own and ghost cells alone can miss it (the
+        nearest strip cell of a pad may lie beyond the ghost layer, and a pad then took a strip of
+        another current); the volumes are sums over owned cells."""
         from scipy.spatial import cKDTree
 
         msh = self.tmesh.mesh
+        comm = msh.comm
+        owned = self.V0.dofmap.index_map.size_local  # DG0: dofs < owned are this rank's cells
         ncells = msh.topology.index_map(3).size_local + msh.topology.index_map(3).num_ghosts
         mid = dolfinx.mesh.compute_midpoints(msh, 3, np.arange(ncells, dtype=np.int32))
         dof_mid = np.empty((self.lam.x.array.size, 3))
@@ -207,19 +222,24 @@ class HeatedGridshellFE(GridshellFE):
                     if s["layer"] == layer and s["direction"] == d
                 ]
                 sdofs = np.flatnonzero(np.isin(self._dof_tag, own))
-                if pads.size == 0 or sdofs.size == 0:
-                    continue
+                mine = sdofs[sdofs < owned]
+                points = np.concatenate(comm.allgather(dof_mid[mine]))
+                tags = np.concatenate(comm.allgather(self._dof_tag[mine]))
                 dist = np.abs(dof_mid[pads, across][:, None] - centres[None, :]).min(axis=1)
                 in_band = pads[dist < half]
-                if in_band.size == 0:
+                if points.shape[0] == 0 or comm.allreduce(int(np.sum(in_band < owned))) == 0:
                     continue
-                _, nearest = cKDTree(dof_mid[sdofs]).query(dof_mid[in_band])
-                out.append((in_band, sdofs[nearest]))
+                if in_band.size:
+                    tree = cKDTree(points)
+                    near, _ = tree.query(dof_mid[in_band])
+                    # a pad equidistant from two strips (the crowns and glue squares between two
+                    # top halves) takes the smaller tag: the same strip on any partition
+                    ties = tree.query_ball_point(dof_mid[in_band], near + PAD_TIE_TOL)
+                    out.append((in_band, np.array([tags[i].min() for i in ties], dtype=tags.dtype)))
                 if self.junction_heating == "spread":
-                    v = volume[sdofs].sum()
-                    self.coil_share[f"{layer[0].upper()}{d}"] = float(
-                        v / (v + volume[in_band].sum())
-                    )
+                    v = comm.allreduce(volume[mine].sum())
+                    pad_v = comm.allreduce(volume[in_band[in_band < owned]].sum())
+                    self.coil_share[f"{layer[0].upper()}{d}"] = float(v / (v + pad_v))
         return out
 
     def _strip_stretch_ratio(self, u):
@@ -271,20 +291,28 @@ class HeatedGridshellFE(GridshellFE):
         one on shared strips), from now on; power density :meth:`power_density` in its LCE cells."""
         for selector, current in drives.items():
             q = self.power_density(current)
-            cells = np.isin(self._dof_tag, self._tags_of(selector))
+            tags = self._tags_of(selector)
+            cells = np.isin(self._dof_tag, tags)
             self.currents[cells] = float(current)
             self.power.x.array[cells] = q
+            self._tag_current.update(dict.fromkeys(tags, float(current)))
+        # each strip's power density [mW/mm^3] on every rank (a pad's strip may lie on another
+        # rank), the value its cells get here
+        tag_power = {t: np.float64(self.power_density(c)) for t, c in self._tag_current.items()}
         for ch, share in self.coil_share.items():  # "spread": each coil's power unchanged
             if ch in self.info["cell_groups"]:
                 cells = np.isin(self._dof_tag, cell_group(self.tmesh, ch))
                 self.power.x.array[cells] = share * np.vectorize(self.power_density)(
                     self.currents[cells]
                 )
-        if self._pad_sources is not None:  # the coils through the pads and glue squares
+                for t in cell_group(self.tmesh, ch):
+                    tag_power[t] = share * tag_power[t]
+        if self._pad_sources:  # the coils through the pads and glue squares
             pad_all = np.unique(np.concatenate([p for p, _ in self._pad_sources]))
             self.power.x.array[pad_all] = 0.0
             for pads, sources in self._pad_sources:
-                np.add.at(self.power.x.array, pads, self.power.x.array[sources])
+                q = np.array([tag_power[t] for t in sources.tolist()], dtype=np.float64)
+                np.add.at(self.power.x.array, pads, q)
 
     def _set_lambda(self, drives):
         raise InputError(
@@ -301,8 +329,10 @@ class HeatedGridshellFE(GridshellFE):
             T = assemble_global(form, comm) / volume
             out[f"T_mean {ch} [C]"] = T
             out[f"lambda {ch} [-]"] = float(spontaneous_stretch(T, self.transition))
+            mine = self.currents[np.isin(self._dof_tag, cell_group(self.tmesh, ch))]
+            # a rank may hold none of a channel's cells
             out[f"current {ch} [A]"] = float(
-                self.currents[np.isin(self._dof_tag, cell_group(self.tmesh, ch))].max()
+                comm.allreduce(mine.max() if mine.size else -math.inf, op=MPI.MAX)
             )
         out["T_max [C]"] = self.heat.max_temperature()
         out.update(super().observables())
@@ -480,6 +510,7 @@ class HeatedGridshellFE(GridshellFE):
             "heat": copy_arrays([self.heat.T, self.heat.T_old, self.T_mech]),
             "time": self.time,
             "currents": self.currents.copy(),
+            "tag currents": dict(self._tag_current),
             "power": copy_arrays([self.power]),
         }
 
@@ -488,6 +519,7 @@ class HeatedGridshellFE(GridshellFE):
         put_arrays([self.heat.T, self.heat.T_old, self.T_mech], state["heat"])
         put_arrays([self.power], state["power"])
         self.currents[:] = state["currents"]
+        self._tag_current = dict(state["tag currents"])
         self.stepper.time = state["time"]
 
 

@@ -168,24 +168,3 @@ def test_fe_dome_from_the_command_line_on_two_ranks_gives_the_serial_golden(
     )
     assert (out / "displacement.bp").is_dir() and (out / "fields" / "cells.xdmf").is_file()
     assert not list(out.glob("*.part*"))
-
-
-@pytest.mark.mpi
-def test_fe_runs_not_tried_on_two_ranks_are_refused_in_one_line(tmp_path, lcefem_cmd, mpiexec):
-    # the heated routes and the gmsh layouts were never run on several ranks: exit 2, one line,
-    # nothing written (before any mesh is built)
-    for argv, msg in (
-        (["--shape", "dome", "--route", "current"], "current route: not under mpiexec"),
-        (["--shape", "dome", "--layout", "5x5"], "--layout 5x5: not under mpiexec"),
-    ):
-        out = tmp_path / "o"
-        res = subprocess.run(
-            [mpiexec, "-n", "2", *lcefem_cmd, "run", "gridshell", "--model", "fe", *argv]
-            + ["--out", str(out)],
-            capture_output=True,
-            text=True,
-            timeout=300,
-        )
-        lines = {line for line in res.stderr.splitlines() if line.strip()}
-        assert res.returncode == 2 and len(lines) == 1 and msg in lines.pop(), res.stderr
-        assert not out.exists()
