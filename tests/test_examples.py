@@ -63,12 +63,10 @@ EXPECTED = {
     "ex05_gridshell_bh.py": (-0.023428259982592698, RTOL, _dome_symmetric, False),
     "ex06_current_routes.py": (1.2297, 1e-4, None, False),
     "ex07_own_robot.py": (61.14951031, RTOL, _power_is_joule, True),
-    # on 2 ranks (measured 2026-12-07): -0.022174550031545 1/mm, 1.6e-11 relative of serial. Not
-    # run under MPI here: the same level-0 quarter dome ramp on 2 ranks is solved and held to this
-    # value (the serial golden, 1e-6 1/mm) by tests/solvers/test_contact_mpi.py
-    # (test_fe_dome_from_the_command_line_on_two_ranks_gives_the_serial_golden); a second 2-rank
-    # solve of it cost ~50 s CPU (issue 48)
-    "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, False),
+    # on 2 ranks (measured 2026-12-07): -0.022174550031545 1/mm, 1.6e-11 relative of serial; the
+    # gallery's 2-rank run of the FE gridshell (the command line's 2-rank runs of the heated route
+    # and --layout: tests/solvers/test_gridshell_fe_mpi.py)
+    "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, True),
     "ex09_inverse_design.py": (None, None, _round_trip, False),
     # the closed loop's residual error: 1.2839e-4 before GRIDSHELL_NEWTON's progress budget and
     # energy slack (2026-12-07), 1.2781e-4 after (CI of 467d11c): the loop's equilibria land
