@@ -63,9 +63,9 @@ from lcefem.meshes.composite_beam import (
     CompositeBeamGeometry,
     StripPiece,
     apply_strip_element,
-    strip_contact_rows,
     strip_sections,
 )
+from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip_half
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check
@@ -226,37 +226,19 @@ def build_triangular_bar_hinge(
         for q in range(nseg):
             sid = new_strip("bottom", fam, r, q, u, nrm, off, starts[q] + 0.5 * lx)
             nd = lambda a, side, q=q: node(fam, r, q, a, side)  # noqa: E731
-            idx = []
-            for side in (0, 1):
-                idx += list(structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))]))
-                strip_of_bar["bottom_strips"].append(sid)
-            pieces.append(
-                StripPiece(
-                    (nd(0, 0), nd(0, 1)),
-                    tuple(node(fam, r, q - 1, last, k) if q > 0 else nd(1, k) for k in (0, 1)),
-                    -1,
-                    (nd(last, 0), nd(last, 1)),
-                    tuple(
-                        node(fam, r, q + 1, 0, k) if q + 1 < nseg else nd(last - 1, k)
-                        for k in (0, 1)
-                    ),
-                    -1,
-                    "bottom_strips",
-                    (int(idx[0]), int(idx[1])),
-                )
+            add_bottom_strip(
+                structure,
+                nd,
+                last,
+                tuple(node(fam, r, q - 1, last, k) if q > 0 else nd(1, k) for k in (0, 1)),
+                tuple(
+                    node(fam, r, q + 1, 0, k) if q + 1 < nseg else nd(last - 1, k) for k in (0, 1)
+                ),
+                ribbon_points(fam, r, q, range(1, last), range(last)) if m.contact else None,
+                pieces,
+                hinge_rows,
             )
-            hinge_rows += strip_contact_rows(
-                nd(0, 0), nd(0, 1), nd(1, 0), nd(1, 1), nd(last, 0), nd(last, 1)
-            )
-            hinge_rows += strip_contact_rows(
-                nd(last, 0), nd(last, 1), nd(last - 1, 0), nd(last - 1, 1), nd(0, 0), nd(0, 1)
-            )
-            if m.contact:
-                tris = [(nd(0, 0), nd(0, 1), nd(last, 0)), (nd(last, 1), nd(last, 0), nd(0, 1))]
-                pts = ribbon_points(fam, r, q, range(1, last), range(last))
-                structure.add_contacts(
-                    "bottom_strip_contact", [(pt, *t) for pt in pts for t in tris], rest=0.0
-                )
+            strip_of_bar["bottom_strips"] += [sid, sid]
 
     # Raised plates over the junctions (the hexagon at the crown-edge height).
     zc = g.top_strip_height
@@ -280,62 +262,37 @@ def build_triangular_bar_hinge(
             x0, x1 = (int(raised[J, hexagon_vertex(theta, True, s)]) for s in (0, 1))
             left = [node(fam, r, k, nf + 1, side) for side in (0, 1)]
             right = [node(fam, r, k + 1, nf, side) for side in (0, 1)]
-            bars = [(left[0], e0), (left[1], e1), (x0, right[0]), (x1, right[1])]
+            add_top_strip_half(
+                structure,
+                left,
+                [node(fam, r, k, nf, s) for s in (0, 1)],
+                [node(fam, r, k, nf + 2, s) for s in (0, 1)],
+                (e0, e1),
+                (x0, x1),
+                True,
+                ribbon_points(fam, r, k, range(nf + 2, per_seg), range(nf + 1, last))
+                if m.contact
+                else None,
+                pieces,
+                hinge_rows,
+            )
+            add_top_strip_half(
+                structure,
+                right,
+                [node(fam, r, k + 1, nf + 1, s) for s in (0, 1)],
+                [node(fam, r, k + 1, nf - 1, s) for s in (0, 1)],
+                (x0, x1),
+                (e0, e1),
+                False,
+                ribbon_points(fam, r, k + 1, range(0, nf), range(0, nf)) if m.contact else None,
+                pieces,
+                hinge_rows,
+            )
+            nbars = 4
             if m.top_junction == "lce":
-                bars += [(e0, x0), (e1, x1)]
-            idx = structure.add_bars("top_strips", bars)
-            strip_of_bar["top_strips"] += [sid] * len(bars)
-            pieces.append(
-                StripPiece(
-                    (left[0], left[1]),
-                    tuple(node(fam, r, k, nf, s) for s in (0, 1)),
-                    1,
-                    (e0, e1),
-                    (x0, x1),
-                    0,
-                    "top_strips",
-                    (int(idx[0]), int(idx[1])),
-                )
-            )
-            pieces.append(
-                StripPiece(
-                    (x0, x1),
-                    (e0, e1),
-                    0,
-                    (right[0], right[1]),
-                    tuple(node(fam, r, k + 1, nf + 1, s) for s in (0, 1)),
-                    1,
-                    "top_strips",
-                    (int(idx[2]), int(idx[3])),
-                )
-            )
-            hinge_rows += strip_contact_rows(
-                left[0],
-                left[1],
-                node(fam, r, k, nf + 2, 0),
-                node(fam, r, k, nf + 2, 1),
-                e0,
-                e1,
-            )
-            hinge_rows += strip_contact_rows(
-                right[0],
-                right[1],
-                node(fam, r, k + 1, nf - 1, 0),
-                node(fam, r, k + 1, nf - 1, 1),
-                x0,
-                x1,
-            )
-            if m.contact:
-                pts = ribbon_points(fam, r, k, range(nf + 2, per_seg), range(nf + 1, last))
-                tris = [(left[0], e0, left[1]), (e1, left[1], e0)]
-                structure.add_contacts(
-                    "top_strip_contact", [(pt, *t) for pt in pts for t in tris], rest=0.0
-                )
-                pts = ribbon_points(fam, r, k + 1, range(0, nf), range(0, nf))
-                tris = [(x0, right[0], x1), (right[1], x1, right[0])]
-                structure.add_contacts(
-                    "top_strip_contact", [(pt, *t) for pt in pts for t in tris], rest=0.0
-                )
+                structure.add_bars("top_strips", [(e0, x0), (e1, x1)])
+                nbars = 6
+            strip_of_bar["top_strips"] += [sid] * nbars
 
     if m.strip_contact:
         structure.add_hinges("strip_contact", np.asarray(hinge_rows, dtype=np.int64))
