@@ -62,7 +62,7 @@ from lcefem.meshes.composite_beam import (
 )
 from lcefem.meshes.gridshell_fe import junction_centres
 from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS, Layout
-from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip_half
+from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check
@@ -330,40 +330,32 @@ def build_gridshell_bar_hinge(
                     e0, e1, x1, x0 = q[1], q[0], q[3], q[2]
                 left = [node(direction, r, j, nf + 1, side) for side in (0, 1)]
                 right = [node(direction, r, j + 1, nf, side) for side in (0, 1)]
-                add_top_strip_half(
+                nbars = add_top_strip(
                     structure,
-                    left,
-                    [node(direction, r, j, nf, k) for k in (0, 1)],
-                    [node(direction, r, j, nf + 2, k) for k in (0, 1)],
+                    (
+                        left,
+                        [node(direction, r, j, nf, s) for s in (0, 1)],
+                        [node(direction, r, j, nf + 2, s) for s in (0, 1)],
+                    ),
+                    (
+                        right,
+                        [node(direction, r, j + 1, nf + 1, s) for s in (0, 1)],
+                        [node(direction, r, j + 1, nf - 1, s) for s in (0, 1)],
+                    ),
                     (e0, e1),
                     (x0, x1),
-                    True,
-                    ribbon_points(
-                        direction, r, j, range(nf + 2, per_seg), range(nf + 1, per_seg - 1)
+                    m.top_junction == "lce",
+                    (
+                        ribbon_points(
+                            direction, r, j, range(nf + 2, per_seg), range(nf + 1, per_seg - 1)
+                        ),
+                        ribbon_points(direction, r, j + 1, range(0, nf), range(0, nf)),
                     )
                     if m.contact
                     else None,
                     pieces,
                     hinge_rows,
                 )
-                add_top_strip_half(
-                    structure,
-                    right,
-                    [node(direction, r, j + 1, nf + 1, k) for k in (0, 1)],
-                    [node(direction, r, j + 1, nf - 1, k) for k in (0, 1)],
-                    (x0, x1),
-                    (e0, e1),
-                    False,
-                    ribbon_points(direction, r, j + 1, range(0, nf), range(0, nf))
-                    if m.contact
-                    else None,
-                    pieces,
-                    hinge_rows,
-                )
-                nbars = 4
-                if m.top_junction == "lce":
-                    structure.add_bars("top_strips", [(e0, x0), (e1, x1)])
-                    nbars = 6
                 strip_of_bar["top_strips"] += [sid] * nbars
 
     if m.strip_contact:

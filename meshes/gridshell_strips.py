@@ -101,3 +101,29 @@ def add_top_strip_half(
             "top_strip_contact", [(p, *t) for p in contact_points for t in tris], rest=0.0
         )
     return [int(i) for i in idx]
+
+
+def add_top_strip(
+    structure: BarHingeStructure,
+    left: tuple[Sequence[int], Sequence[int], Sequence[int]],
+    right: tuple[Sequence[int], Sequence[int], Sequence[int]],
+    entry: Sequence[int],
+    exit_: Sequence[int],
+    lce: bool,
+    contact_points: tuple[Sequence[int], Sequence[int]] | None,
+    pieces: list[StripPiece],
+    hinge_rows: list,
+) -> int:
+    """A top strip over a junction (the published model's: crown edge of one segment -> raised
+    plate -> crown edge of the next): ``left`` and ``right`` are (crown, crown_pad, crown_inner)
+    of the two segments (:func:`add_top_strip_half`), ``entry`` / ``exit_`` the plate nodes where
+    it enters and leaves the plate; with ``lce`` the strip contracts over the plate too (two more
+    bars, entry -> exit). ``contact_points``: the ribbon nodes under each half. Returns the number
+    of bars the strip got."""
+    pts = contact_points or (None, None)
+    add_top_strip_half(structure, *left, entry, exit_, True, pts[0], pieces, hinge_rows)
+    add_top_strip_half(structure, *right, exit_, entry, False, pts[1], pieces, hinge_rows)
+    if not lce:
+        return 4
+    structure.add_bars("top_strips", [(entry[0], exit_[0]), (entry[1], exit_[1])])
+    return 6

@@ -65,7 +65,7 @@ from lcefem.meshes.composite_beam import (
     apply_strip_element,
     strip_sections,
 )
-from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip_half
+from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check
@@ -262,36 +262,30 @@ def build_triangular_bar_hinge(
             x0, x1 = (int(raised[J, hexagon_vertex(theta, True, s)]) for s in (0, 1))
             left = [node(fam, r, k, nf + 1, side) for side in (0, 1)]
             right = [node(fam, r, k + 1, nf, side) for side in (0, 1)]
-            add_top_strip_half(
+            nbars = add_top_strip(
                 structure,
-                left,
-                [node(fam, r, k, nf, s) for s in (0, 1)],
-                [node(fam, r, k, nf + 2, s) for s in (0, 1)],
+                (
+                    left,
+                    [node(fam, r, k, nf, s) for s in (0, 1)],
+                    [node(fam, r, k, nf + 2, s) for s in (0, 1)],
+                ),
+                (
+                    right,
+                    [node(fam, r, k + 1, nf + 1, s) for s in (0, 1)],
+                    [node(fam, r, k + 1, nf - 1, s) for s in (0, 1)],
+                ),
                 (e0, e1),
                 (x0, x1),
-                True,
-                ribbon_points(fam, r, k, range(nf + 2, per_seg), range(nf + 1, last))
+                m.top_junction == "lce",
+                (
+                    ribbon_points(fam, r, k, range(nf + 2, per_seg), range(nf + 1, last)),
+                    ribbon_points(fam, r, k + 1, range(0, nf), range(0, nf)),
+                )
                 if m.contact
                 else None,
                 pieces,
                 hinge_rows,
             )
-            add_top_strip_half(
-                structure,
-                right,
-                [node(fam, r, k + 1, nf + 1, s) for s in (0, 1)],
-                [node(fam, r, k + 1, nf - 1, s) for s in (0, 1)],
-                (x0, x1),
-                (e0, e1),
-                False,
-                ribbon_points(fam, r, k + 1, range(0, nf), range(0, nf)) if m.contact else None,
-                pieces,
-                hinge_rows,
-            )
-            nbars = 4
-            if m.top_junction == "lce":
-                structure.add_bars("top_strips", [(e0, x0), (e1, x1)])
-                nbars = 6
             strip_of_bar["top_strips"] += [sid] * nbars
 
     if m.strip_contact:
