@@ -1,7 +1,8 @@
 """The robotic surface of seed 001 (Fig. 4, 5): an n x n gridshell of Kapton ribbons with bottom and
 top LCE strips, in the bar-and-hinge model, with the layout and connectivity of the published
 reduced-order model (shared/reference/gridshell_recipes.md). The layout (grid kind: orthogonal,
-rhombic or triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.gridshell_tri`);
+rhombic, triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.gridshell_tri`) or
+hexagonal (the honeycomb: :mod:`lcefem.meshes.gridshell_hex`);
 ribbon count, lengths, bonded junctions, wiring) is one
 :class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
 a rhombic one is the affine image (docs/layouts/rhombic.md).
@@ -126,13 +127,16 @@ def build_gridshell_bar_hinge(
     if layout.kind not in BAR_HINGE_KINDS:
         raise InputError(
             f"layout.kind = {layout.kind!r}: the bar-and-hinge builder builds "
-            f"{', '.join(BAR_HINGE_KINDS)}; the honeycomb's three ribbon pieces per junction are "
-            "not built yet"
+            f"{', '.join(BAR_HINGE_KINDS)}"
         )
     if layout.kind == "triangular":
         from lcefem.meshes.gridshell_tri import build_triangular_bar_hinge
 
         return build_triangular_bar_hinge(geometry, layout, mesh)
+    if layout.kind == "hexagonal":
+        from lcefem.meshes.gridshell_hex import build_hexagonal_bar_hinge
+
+        return build_hexagonal_bar_hinge(geometry, layout, mesh)
     g = layout.geometry(geometry)
     if g.crown_bond_length >= g.segment_length:
         raise InputError(
