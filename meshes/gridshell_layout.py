@@ -386,7 +386,7 @@ NAMED_LAYOUTS: dict[str, Layout] = {
     "rhombic60": Layout(kind="rhombic", angle=60.0),
     "rhombic60_5x5": Layout(kind="rhombic", ribbons=5, angle=60.0),
     "triangular": Layout(kind="triangular", ribbons=5),
-    "hexagonal": Layout(kind="hexagonal", support="clamp"),
+    "hexagonal": Layout(kind="hexagonal", ribbons=1, support="clamp"),
 }
 
 
