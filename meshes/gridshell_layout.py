@@ -21,14 +21,16 @@ Generators (``kind``):
 * "triangular": three families at 0, 60 and 120 deg through the points of a triangular lattice of
   spacing p (three ribbons cross at every junction, a hexagon of side d; p defaults to L + sqrt(3) d
   = 42.12 mm, so that every segment keeps the published 30 mm; an odd count of ribbons per family);
-* "hexagonal": the honeycomb of edge p (three ribbon pieces meet at every junction).
+* "hexagonal": the honeycomb of edge p (three ribbon pieces meet at every junction, a hexagon of
+  side d; p defaults to the triangular grid's 42.12 mm), the cells within ``ribbons`` p of the
+  centre junction (:func:`honeycomb_patch`).
 
 The bar-and-hinge builder (:func:`lcefem.meshes.gridshell.build_gridshell_bar_hinge`) builds the
-two two-family kinds with an equal count of ribbons per family and the triangular one (an odd count
-per family; hexagonal junctions, :mod:`lcefem.meshes.gridshell_tri`): :data:`BAR_HINGE_KINDS`; the
-3D FE mesh the two-family kinds (:data:`FE_KINDS`). The hexagonal kind is described
-(:meth:`Layout.plan`: junctions and ribbon centre lines, for pictures and a later mesher) and
-refused by both with one line.
+two two-family kinds with an equal count of ribbons per family, the triangular one (an odd count
+per family; hexagonal junctions, :mod:`lcefem.meshes.gridshell_tri`) and the honeycomb
+(:mod:`lcefem.meshes.gridshell_hex`): :data:`BAR_HINGE_KINDS`; the 3D FE mesh the two-family kinds
+(:data:`FE_KINDS`). :meth:`Layout.plan` gives every kind's junctions and ribbon (piece) centre
+lines, for pictures and meshers.
 
 Lengths in mm, angles in degrees (converted to radians only inside).
 """
