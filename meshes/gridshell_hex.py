@@ -65,7 +65,15 @@ from lcefem.meshes.composite_beam import (
 )
 from lcefem.meshes.gridshell_layout import honeycomb_patch
 from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip_half
-from lcefem.meshes.gridshell_tri import FAMILY_ANGLES, TRI_CHANNELS, hexagon_vertex
+from lcefem.meshes.gridshell_tri import (
+    FAMILY_ANGLES,
+    TRI_CHANNELS,
+    hexagon_node_sets,
+    hexagon_panels,
+    hexagon_plates,
+    hexagon_vertex,
+    three_direction_groups,
+)
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check
@@ -80,7 +88,7 @@ def build_hexagonal_bar_hinge(
     """Bar-and-hinge structure of a hexagonal layout (module docstring). ``geometry`` is the
     ``[geometry]`` section; ``layout.geometry`` gives the lengths (piece L = pitch - sqrt(3) d,
     junction_length sqrt(3) d: the hexagon's extent along a piece)."""
-    from lcefem.meshes.gridshell import Strip, add_wiring
+    from lcefem.meshes.gridshell import Strip
 
     if layout.glued != "all":
         raise InputError(
@@ -107,14 +115,7 @@ def build_hexagonal_bar_hinge(
         coords.append((float(xy[0]), float(xy[1]), float(z)))
         return len(coords) - 1
 
-    # Kapton hexagons: centre node, then the six vertices at 30 + 60 m deg, radius d.
-    hex_v = np.zeros((nj, 6), dtype=np.int64)
-    hex_c = np.zeros(nj, dtype=np.int64)
-    ang = np.radians(30.0 + 60.0 * np.arange(6))
-    ring = d * np.column_stack([np.cos(ang), np.sin(ang)])
-    for J in range(nj):
-        hex_c[J] = add(centres[J], 0.0)
-        hex_v[J] = [add(centres[J] + ring[k], 0.0) for k in range(6)]
+    hex_c, hex_v, ring = hexagon_plates(centres, d, add)
 
     # Pieces: direction, line (collinear pieces by offset along the normal), order along it.
     pieces_info = []  # (family, theta, u, nrm, line, order)
@@ -165,13 +166,7 @@ def build_hexagonal_bar_hinge(
             panel_at[(q, st)] = len(panels)
             panels.append((node(q, st, 0), node(q, st + 1, 0), node(q, st + 1, 1), node(q, st, 1)))
             kinds.append("crown" if st == nf else "flank")
-    junction_panels = np.zeros((nj, 3), dtype=np.int64)
-    for J in range(nj):
-        v = hex_v[J]
-        for k in range(3):
-            junction_panels[J, k] = len(panels)
-            panels.append((hex_c[J], v[2 * k], v[2 * k + 1], v[(2 * k + 2) % 6]))
-            kinds.append("junction")
+    junction_panels = hexagon_panels(hex_c, hex_v, panels, kinds)
     structure = n5b8_structure(np.asarray(coords), np.asarray(panels), g.ribbon_thickness)
     pc = structure.panel_centres
 
@@ -257,15 +252,7 @@ def build_hexagonal_bar_hinge(
         structure.add_hinges("strip_contact", np.asarray(hinge_rows, dtype=np.int64))
 
     centre = 0  # honeycomb_patch lists the centre junction first
-    sets = structure.node_sets
-    sets["junction_corners"] = hex_v
-    sets["junction_centres"] = hex_c
-    sets["top_squares"] = raised
-    sets["junction_panels"] = junction_panels
-    # The centre hexagon's inscribed rectangle (210, 330, 30, 150 deg): corner 0 -> 1 along +x.
-    sets["centre_junction"] = hex_v[centre, [3, 5, 0, 2]]
-    sets["centre_clamp"] = np.append(hex_v[centre], hex_c[centre])
-    sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
+    hexagon_node_sets(structure, hex_c, hex_v, raised, junction_panels, centre)
     strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
     apply_strip_element(structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N, raised.ravel())
 
@@ -279,12 +266,7 @@ def build_hexagonal_bar_hinge(
         s = centres[on] @ u
         circle[fam] = (int(on[s < 0][np.argmax(s[s < 0])]), int(on[s > 0][np.argmin(s[s > 0])]))
 
-    groups: dict[str, list[int]] = {}
-    for st in strips:
-        groups.setdefault(st.group, []).append(st.id)
-    for name, (layer, fam) in TRI_CHANNELS.items():
-        groups[name] = [st.id for st in strips if st.layer == layer and st.direction == fam]
-    wiring = add_wiring(layout, strips, groups, TRI_CHANNELS)
+    groups, wiring = three_direction_groups(layout, strips)
     structure.info.update(
         kind=layout.kind,
         angle=layout.angle,
@@ -304,7 +286,7 @@ def build_hexagonal_bar_hinge(
         centre_junction_index=centre,
         panel_kind=np.asarray(kinds),
         strips=strips,
-        groups={k: np.asarray(v, dtype=np.int64) for k, v in groups.items()},
+        groups=groups,
         strip_of_bar={k: np.asarray(v, dtype=np.int64) for k, v in strip_of_bar.items()},
         source=PUBLISHED
         + "; honeycomb pieces at a hexagonal plate: assumed (meshes.gridshell_hex)",
