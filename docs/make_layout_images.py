@@ -4,7 +4,8 @@ of every layout type, for the two-family ones their 3D FE mesh made by gmsh
 of a uniform bottom drive on every type the bar-and-hinge model builds (FE-calibrated set; the 5 x 5
 and rhombic ones as tests/solvers/test_gridshell_layouts_bh.py).
 
-    .venv/bin/python docs/make_layout_images.py [--no-shapes] [--no-fe]   # docs/images/layout_*.png
+    .venv/bin/python docs/make_layout_images.py [--no-shapes] [--no-fe] [--only NAME]
+    # docs/images/layout_*.png (--only: one layout's pictures)
 """
 
 from __future__ import annotations
@@ -21,15 +22,16 @@ PLANS = {
     "5x5": "orthogonal 5 x 5 (refined)",
     "rhombic60": "rhombic, 60 deg, 3 x 3",
     "triangular": "triangular, 5 ribbons per family (19 hexagonal junctions)",
-    "hexagonal": "hexagonal 3 x 3 cells (plan only)",
+    "hexagonal": "hexagonal, the 3 cells round the centre junction (13 junctions, 15 pieces)",
 }
 #: Layout -> (support, drive): a uniform bottom drive. The triangular grid has no rollers (the
 #: published rollers sit at the ends of an orthogonal grid's ribbons): the clamp of its centre
-#: hexagon.
+#: hexagon. The honeycomb: its top strips (a bowl; its bottom strips alone give a shallow dome).
 SHAPES = {
     "5x5": ("rollers", {"B": 1.37}),
     "rhombic60": ("clamp", {"B": 1.395}),
     "triangular": ("clamp", {"B": 1.37}),
+    "hexagonal": ("clamp", {"T": 1.3}),
 }
 #: Layouts whose FE mesh is pictured, and the height exaggeration of the picture [-] (the arch is
 #: 1.1 mm on a 150-220 mm surface).
@@ -102,15 +104,18 @@ def fe_mesh_figure(name: str) -> pathlib.Path:
     return path
 
 
-def main(shapes: bool = True, fe: bool = True) -> None:
+def main(shapes: bool = True, fe: bool = True, only: str | None = None) -> None:
     for name, title in PLANS.items():
+        if only not in (None, name):
+            continue
         print(
             layout_plan_figure(
                 IMAGES / f"layout_{name}_plan.png", NAMED_LAYOUTS[name].plan(), title
             )
         )
     for name in FE_MESHES if fe else ():
-        print(fe_mesh_figure(name))
+        if only in (None, name):
+            print(fe_mesh_figure(name))
     if not shapes:
         return
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
@@ -118,6 +123,8 @@ def main(shapes: bool = True, fe: bool = True) -> None:
 
     ms = calibrate.model_set("fe-calibrated")
     for name, (support, drive) in SHAPES.items():
+        if only not in (None, name):
+            continue
         layout = NAMED_LAYOUTS[name]
         p = GridshellBH(
             ms.structure(layout),
@@ -137,4 +144,5 @@ def main(shapes: bool = True, fe: bool = True) -> None:
 
 
 if __name__ == "__main__":
-    main(shapes="--no-shapes" not in sys.argv, fe="--no-fe" not in sys.argv)
+    only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
+    main(shapes="--no-shapes" not in sys.argv, fe="--no-fe" not in sys.argv, only=only)

@@ -1,7 +1,8 @@
 """The robotic surface of seed 001 (Fig. 4, 5): an n x n gridshell of Kapton ribbons with bottom and
 top LCE strips, in the bar-and-hinge model, with the layout and connectivity of the published
 reduced-order model (shared/reference/gridshell_recipes.md). The layout (grid kind: orthogonal,
-rhombic or triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.gridshell_tri`);
+rhombic, triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.gridshell_tri`) or
+hexagonal (the honeycomb: :mod:`lcefem.meshes.gridshell_hex`);
 ribbon count, lengths, bonded junctions, wiring) is one
 :class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
 a rhombic one is the affine image (docs/layouts/rhombic.md).
@@ -58,11 +59,11 @@ from lcefem.meshes.composite_beam import (
     CompositeBeamGeometry,
     StripPiece,
     apply_strip_element,
-    strip_contact_rows,
     strip_sections,
 )
 from lcefem.meshes.gridshell_fe import junction_centres
 from lcefem.meshes.gridshell_layout import BAR_HINGE_KINDS, Layout
+from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check
@@ -126,13 +127,16 @@ def build_gridshell_bar_hinge(
     if layout.kind not in BAR_HINGE_KINDS:
         raise InputError(
             f"layout.kind = {layout.kind!r}: the bar-and-hinge builder builds "
-            f"{', '.join(BAR_HINGE_KINDS)}; the honeycomb's three ribbon pieces per junction are "
-            "not built yet"
+            f"{', '.join(BAR_HINGE_KINDS)}"
         )
     if layout.kind == "triangular":
         from lcefem.meshes.gridshell_tri import build_triangular_bar_hinge
 
         return build_triangular_bar_hinge(geometry, layout, mesh)
+    if layout.kind == "hexagonal":
+        from lcefem.meshes.gridshell_hex import build_hexagonal_bar_hinge
+
+        return build_hexagonal_bar_hinge(geometry, layout, mesh)
     g = layout.geometry(geometry)
     if g.crown_bond_length >= g.segment_length:
         raise InputError(
@@ -262,44 +266,25 @@ def build_gridshell_bar_hinge(
             for s in range(nseg):
                 sid = new_strip("bottom", direction, r, s, g.segment_start(s) + 0.5 * lx)
                 nd = lambda a, side: node(direction, r, s, a, side)  # noqa: E731
-                idx = []
-                for side in (0, 1):
-                    idx += list(
-                        structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))])
-                    )
-                    strip_of_bar["bottom_strips"].append(sid)
-                pieces.append(
-                    StripPiece(
-                        (nd(0, 0), nd(0, 1)),
-                        tuple(
-                            node(direction, r, s - 1, last, k) if s > 0 else nd(1, k)
-                            for k in (0, 1)
-                        ),
-                        -1,
-                        (nd(last, 0), nd(last, 1)),
-                        tuple(
-                            node(direction, r, s + 1, 0, k) if s + 1 < nseg else nd(last - 1, k)
-                            for k in (0, 1)
-                        ),
-                        -1,
-                        "bottom_strips",
-                        (int(idx[0]), int(idx[1])),
-                    )
-                )
-                hinge_rows += strip_contact_rows(
-                    nd(0, 0), nd(0, 1), nd(1, 0), nd(1, 1), nd(last, 0), nd(last, 1)
-                )
-                hinge_rows += strip_contact_rows(
-                    nd(last, 0), nd(last, 1), nd(last - 1, 0), nd(last - 1, 1), nd(0, 0), nd(0, 1)
-                )
+                pts = None
                 if m.contact:
-                    # Both triangles of the strip's (possibly warped) quad, so that the contact is
-                    # the same for the ribbon traversed either way (keeps the grid's symmetries).
-                    tris = [(nd(0, 0), nd(0, 1), nd(last, 0)), (nd(last, 1), nd(last, 0), nd(0, 1))]
                     pts = ribbon_points(direction, r, s, range(1, last), range(per_seg - 1))
-                    structure.add_contacts(
-                        "bottom_strip_contact", [(p, *t) for p in pts for t in tris], rest=0.0
-                    )
+                add_bottom_strip(
+                    structure,
+                    nd,
+                    last,
+                    tuple(
+                        node(direction, r, s - 1, last, k) if s > 0 else nd(1, k) for k in (0, 1)
+                    ),
+                    tuple(
+                        node(direction, r, s + 1, 0, k) if s + 1 < nseg else nd(last - 1, k)
+                        for k in (0, 1)
+                    ),
+                    pts,
+                    pieces,
+                    hinge_rows,
+                )
+                strip_of_bar["bottom_strips"] += [sid, sid]
 
     # Raised squares over the junctions, corners (x0,y0), (x1,y0), (x1,y1), (x0,y1).
     zc = g.top_strip_height
@@ -349,64 +334,33 @@ def build_gridshell_bar_hinge(
                     e0, e1, x1, x0 = q[1], q[0], q[3], q[2]
                 left = [node(direction, r, j, nf + 1, side) for side in (0, 1)]
                 right = [node(direction, r, j + 1, nf, side) for side in (0, 1)]
-                bars = [(left[0], e0), (left[1], e1), (x0, right[0]), (x1, right[1])]
-                if m.top_junction == "lce":
-                    bars += [(e0, x0), (e1, x1)]
-                idx = structure.add_bars("top_strips", bars)
-                strip_of_bar["top_strips"] += [sid] * len(bars)
-                pieces.append(
-                    StripPiece(
-                        (left[0], left[1]),
-                        tuple(node(direction, r, j, nf, k) for k in (0, 1)),
-                        1,
-                        (int(e0), int(e1)),
-                        (int(x0), int(x1)),
-                        0,
-                        "top_strips",
-                        (int(idx[0]), int(idx[1])),
+                nbars = add_top_strip(
+                    structure,
+                    (
+                        left,
+                        [node(direction, r, j, nf, s) for s in (0, 1)],
+                        [node(direction, r, j, nf + 2, s) for s in (0, 1)],
+                    ),
+                    (
+                        right,
+                        [node(direction, r, j + 1, nf + 1, s) for s in (0, 1)],
+                        [node(direction, r, j + 1, nf - 1, s) for s in (0, 1)],
+                    ),
+                    (e0, e1),
+                    (x0, x1),
+                    m.top_junction == "lce",
+                    (
+                        ribbon_points(
+                            direction, r, j, range(nf + 2, per_seg), range(nf + 1, per_seg - 1)
+                        ),
+                        ribbon_points(direction, r, j + 1, range(0, nf), range(0, nf)),
                     )
+                    if m.contact
+                    else None,
+                    pieces,
+                    hinge_rows,
                 )
-                pieces.append(
-                    StripPiece(
-                        (int(x0), int(x1)),
-                        (int(e0), int(e1)),
-                        0,
-                        (right[0], right[1]),
-                        tuple(node(direction, r, j + 1, nf + 1, k) for k in (0, 1)),
-                        1,
-                        "top_strips",
-                        (int(idx[2]), int(idx[3])),
-                    )
-                )
-                hinge_rows += strip_contact_rows(
-                    left[0],
-                    left[1],
-                    node(direction, r, j, nf + 2, 0),
-                    node(direction, r, j, nf + 2, 1),
-                    e0,
-                    e1,
-                )
-                hinge_rows += strip_contact_rows(
-                    right[0],
-                    right[1],
-                    node(direction, r, j + 1, nf - 1, 0),
-                    node(direction, r, j + 1, nf - 1, 1),
-                    x0,
-                    x1,
-                )
-                if m.contact:
-                    pts = ribbon_points(
-                        direction, r, j, range(nf + 2, per_seg), range(nf + 1, per_seg - 1)
-                    )
-                    tris = [(left[0], e0, left[1]), (e1, left[1], e0)]
-                    structure.add_contacts(
-                        "top_strip_contact", [(p, *t) for p in pts for t in tris], rest=0.0
-                    )
-                    pts = ribbon_points(direction, r, j + 1, range(0, nf), range(0, nf))
-                    tris = [(x0, right[0], x1), (right[1], x1, right[0])]
-                    structure.add_contacts(
-                        "top_strip_contact", [(p, *t) for p in pts for t in tris], rest=0.0
-                    )
+                strip_of_bar["top_strips"] += [sid] * nbars
 
     if m.strip_contact:
         structure.add_hinges("strip_contact", np.asarray(hinge_rows, dtype=np.int64))

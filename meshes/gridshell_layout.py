@@ -21,14 +21,16 @@ Generators (``kind``):
 * "triangular": three families at 0, 60 and 120 deg through the points of a triangular lattice of
   spacing p (three ribbons cross at every junction, a hexagon of side d; p defaults to L + sqrt(3) d
   = 42.12 mm, so that every segment keeps the published 30 mm; an odd count of ribbons per family);
-* "hexagonal": the honeycomb of edge p (three ribbon pieces meet at every junction).
+* "hexagonal": the honeycomb of edge p (three ribbon pieces meet at every junction, a hexagon of
+  side d; p defaults to the triangular grid's 42.12 mm), the cells within ``ribbons`` p of the
+  centre junction (:func:`honeycomb_patch`).
 
 The bar-and-hinge builder (:func:`lcefem.meshes.gridshell.build_gridshell_bar_hinge`) builds the
-two two-family kinds with an equal count of ribbons per family and the triangular one (an odd count
-per family; hexagonal junctions, :mod:`lcefem.meshes.gridshell_tri`): :data:`BAR_HINGE_KINDS`; the
-3D FE mesh the two-family kinds (:data:`FE_KINDS`). The hexagonal kind is described
-(:meth:`Layout.plan`: junctions and ribbon centre lines, for pictures and a later mesher) and
-refused by both with one line.
+two two-family kinds with an equal count of ribbons per family, the triangular one (an odd count
+per family; hexagonal junctions, :mod:`lcefem.meshes.gridshell_tri`) and the honeycomb
+(:mod:`lcefem.meshes.gridshell_hex`): :data:`BAR_HINGE_KINDS`; the 3D FE mesh the two-family kinds
+(:data:`FE_KINDS`). :meth:`Layout.plan` gives every kind's junctions and ribbon (piece) centre
+lines, for pictures and meshers.
 
 Lengths in mm, angles in degrees (converted to radians only inside).
 """
@@ -45,9 +47,10 @@ from lcefem.models.errors import InputError
 from lcefem.models.parameters import check, param
 
 KINDS = ("orthogonal", "rhombic", "triangular", "hexagonal")
-#: Kinds the bar-and-hinge builder builds: two families of straight ribbons (two per junction) and
-#: the triangular grid (three per junction, lcefem.meshes.gridshell_tri).
-BAR_HINGE_KINDS = ("orthogonal", "rhombic", "triangular")
+#: Kinds the bar-and-hinge builder builds: two families of straight ribbons (two per junction), the
+#: triangular grid (three per junction, lcefem.meshes.gridshell_tri) and the honeycomb (three
+#: pieces end at every junction, lcefem.meshes.gridshell_hex).
+BAR_HINGE_KINDS = ("orthogonal", "rhombic", "triangular", "hexagonal")
 #: Kinds the 3D FE mesh builds (two families of ribbons, two strips a junction).
 FE_KINDS = ("orthogonal", "rhombic")
 #: Named wirings: "channels" (seed 001 Fig. 4A: Tx, Ty, Bx, By, one current per layer and
@@ -184,7 +187,7 @@ class Layout:
         in the builder's coordinates: along the ribbons, and across them along the other family, so
         the width there is d/sin a and a junction is d/sin a long."""
         w = self.ribbon_width or base.ribbon_width
-        if self.kind == "triangular":
+        if self.kind in ("triangular", "hexagonal"):
             return self._triangular_geometry(base, w)
         stretch = 1.0 if not self.oblique else 1.0 / math.sin(math.radians(self.angle))
         along = w * stretch if (self.oblique or self.ribbon_width) else base.junction_length
@@ -332,29 +335,48 @@ class Layout:
                 "lines": np.asarray(lines),
                 "width": self.ribbon_width or g.ribbon_width,
             }
-        # hexagonal: honeycomb of edge p, n x n cells
-        pts, lines = {}, []
-        h = math.sqrt(3.0) * p
-
-        def node(q):
-            key = (round(q[0], 6), round(q[1], 6))
-            pts.setdefault(key, np.asarray(q))
-            return pts[key]
-
-        for i in range(n):
-            for j in range(n):
-                cx, cy = 1.5 * p * i, h * (j + 0.5 * (i % 2))
-                corners = [
-                    node((cx + p * math.cos(math.pi / 3 * k), cy + p * math.sin(math.pi / 3 * k)))
-                    for k in range(6)
-                ]
-                lines += [(corners[k], corners[(k + 1) % 6]) for k in range(6)]
-        uniq = {tuple(sorted((tuple(np.round(a, 6)), tuple(np.round(b, 6))))) for a, b in lines}
+        cells, pts, pieces = honeycomb_patch(n, p)
         return {
-            "junctions": np.asarray(list(pts.values())),
-            "lines": np.asarray(sorted(uniq)),
+            "junctions": pts,
+            "lines": pts[pieces],
+            "cells": cells,
             "width": self.ribbon_width or g.ribbon_width,
         }
+
+
+def honeycomb_patch(n: int, pitch: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The honeycomb of edge ``pitch`` [mm] (pieces along 0, 60 and 120 deg) around its centre
+    junction at the origin (pieces from it at 0, 120 and 240 deg): the cells whose centres lie
+    within n pitch of it (3, 6, 12, 21 cells for n = 1 .. 4), so that the patch keeps the
+    junction's 3-fold symmetry. Returns cell centres (c, 2), junction centres (J, 2) [mm] (the
+    centre junction first) and pieces (P, 2) (junction rows start -> end, the piece's direction
+    at 0, 60 or 120 deg)."""
+    p = pitch
+    first = np.array([0.5 * p, 0.5 * math.sqrt(3.0) * p])  # the cell at 60 deg
+    b1, b2 = np.array([1.5 * p, 0.5 * math.sqrt(3.0) * p]), np.array([0.0, math.sqrt(3.0) * p])
+    m = 2 * n + 2
+    cells = [first + i * b1 + j * b2 for i in range(-m, m + 1) for j in range(-m, m + 1)]
+    cells = [c for c in cells if np.hypot(*c) <= (n + 1e-9) * p]
+    cells.sort(key=lambda c: (round(math.atan2(c[1], c[0]), 9), round(float(np.hypot(*c)), 9)))
+    rows: dict[tuple[int, int], int] = {(0, 0): 0}
+    pts = [np.zeros(2)]
+    pieces = set()
+    ring = p * np.array([[math.cos(math.pi / 3 * k), math.sin(math.pi / 3 * k)] for k in range(6)])
+    for c in cells:
+        ids = []
+        for q in c + ring:
+            key = (round(q[0] / p * 1e6), round(q[1] / p * 1e6))
+            if key not in rows:
+                rows[key] = len(pts)
+                pts.append(np.round(q, 12))  # a piece along 0 deg: its ends' y exactly equal
+            ids.append(rows[key])
+        for k in range(6):
+            a, b = ids[k], ids[(k + 1) % 6]
+            u = pts[b] - pts[a]
+            # orient along 0, 60 or 120 deg
+            ang = (math.degrees(math.atan2(u[1], u[0])) + 1.0) % 360.0
+            pieces.add((a, b) if ang < 180.0 else (b, a))
+    return np.asarray(cells), np.asarray(pts), np.asarray(sorted(pieces), dtype=np.int64)
 
 
 #: Layouts by name (``--layout NAME``): the published surface, a refined and two non-orthogonal
@@ -366,7 +388,7 @@ NAMED_LAYOUTS: dict[str, Layout] = {
     "rhombic60": Layout(kind="rhombic", angle=60.0),
     "rhombic60_5x5": Layout(kind="rhombic", ribbons=5, angle=60.0),
     "triangular": Layout(kind="triangular", ribbons=5),
-    "hexagonal": Layout(kind="hexagonal"),
+    "hexagonal": Layout(kind="hexagonal", ribbons=1, support="clamp"),
 }
 
 

@@ -63,9 +63,9 @@ from lcefem.meshes.composite_beam import (
     CompositeBeamGeometry,
     StripPiece,
     apply_strip_element,
-    strip_contact_rows,
     strip_sections,
 )
+from lcefem.meshes.gridshell_strips import add_bottom_strip, add_top_strip
 from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
 from lcefem.models.errors import InputError
 from lcefem.models.parameters import check
@@ -100,13 +100,71 @@ def hexagon_vertex(family_angle: float, exit_: bool, side: int) -> int:
     return int(round((phi - 30.0) / 60.0)) % 6
 
 
+def hexagon_plates(centres: np.ndarray, d: float, add) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Kapton hexagons of side ``d`` [mm] at the junction ``centres`` (J, 2) [mm], at z = 0: per
+    junction its centre node, then the six vertices at 30 + 60 m deg (``add(xy, z)`` -> node id).
+    Returns (centre ids (J,), vertex ids (J, 6), the vertices' offsets (6, 2) [mm])."""
+    nj = len(centres)
+    hex_v = np.zeros((nj, 6), dtype=np.int64)
+    hex_c = np.zeros(nj, dtype=np.int64)
+    ang = np.radians(30.0 + 60.0 * np.arange(6))
+    ring = d * np.column_stack([np.cos(ang), np.sin(ang)])
+    for J in range(nj):
+        hex_c[J] = add(centres[J], 0.0)
+        hex_v[J] = [add(centres[J] + ring[k], 0.0) for k in range(6)]
+    return hex_c, hex_v, ring
+
+
+def hexagon_panels(hex_c: np.ndarray, hex_v: np.ndarray, panels: list, kinds: list) -> np.ndarray:
+    """Append each hexagon's three rhombi (centre, vertices 2k, 2k + 1, 2k + 2) to ``panels`` (kind
+    "junction"); returns their panel rows (J, 3)."""
+    junction_panels = np.zeros((len(hex_c), 3), dtype=np.int64)
+    for J in range(len(hex_c)):
+        v = hex_v[J]
+        for k in range(3):
+            junction_panels[J, k] = len(panels)
+            panels.append((hex_c[J], v[2 * k], v[2 * k + 1], v[(2 * k + 2) % 6]))
+            kinds.append("junction")
+    return junction_panels
+
+
+def hexagon_node_sets(structure, hex_c, hex_v, raised, junction_panels, centre: int) -> None:
+    """The node sets of a grid of hexagonal junctions (module docstring); ``centre`` is the centre
+    junction's row."""
+    sets = structure.node_sets
+    sets["junction_corners"] = hex_v
+    sets["junction_centres"] = hex_c
+    sets["top_squares"] = raised
+    sets["junction_panels"] = junction_panels
+    # The centre hexagon's inscribed rectangle (210, 330, 30, 150 deg): corner 0 -> 1 along +x.
+    sets["centre_junction"] = hex_v[centre, [3, 5, 0, 2]]
+    # The clamp holds the whole centre hexagon (its six vertices and centre): held on four of them,
+    # the inscribed rectangle, the plate bends under the three families unequally.
+    sets["centre_clamp"] = np.append(hex_v[centre], hex_c[centre])
+    sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
+
+
+def three_direction_groups(layout, strips: list) -> tuple[dict, tuple]:
+    """Groups (per line and layer, and the six channels Ta .. Bc) and the layout's wiring tags of
+    a grid with three ribbon directions (:func:`lcefem.meshes.gridshell.add_wiring`)."""
+    from lcefem.meshes.gridshell import add_wiring
+
+    groups: dict[str, list[int]] = {}
+    for st in strips:
+        groups.setdefault(st.group, []).append(st.id)
+    for name, (layer, fam) in TRI_CHANNELS.items():
+        groups[name] = [st.id for st in strips if st.layer == layer and st.direction == fam]
+    wiring = add_wiring(layout, strips, groups, TRI_CHANNELS)
+    return {k: np.asarray(v, dtype=np.int64) for k, v in groups.items()}, wiring
+
+
 def build_triangular_bar_hinge(
     geometry: CompositeBeamGeometry, layout, mesh: BeamBarHingeMesh
 ) -> BarHingeStructure:
     """Bar-and-hinge structure of a triangular layout (module docstring). ``geometry`` is the
     ``[geometry]`` section; ``layout.geometry`` gives the lengths (segment L = pitch - sqrt(3) d,
     junction_length sqrt(3) d, the hexagon's extent along a ribbon)."""
-    from lcefem.meshes.gridshell import Strip, add_wiring
+    from lcefem.meshes.gridshell import Strip
 
     n = layout.ribbons
     if n % 2 == 0:
@@ -139,14 +197,7 @@ def build_triangular_bar_hinge(
         coords.append((float(xy[0]), float(xy[1]), float(z)))
         return len(coords) - 1
 
-    # Kapton hexagons: centre node, then the six vertices at 30 + 60 m deg, radius d.
-    hex_v = np.zeros((nj, 6), dtype=np.int64)
-    hex_c = np.zeros(nj, dtype=np.int64)
-    ang = np.radians(30.0 + 60.0 * np.arange(6))
-    ring = d * np.column_stack([np.cos(ang), np.sin(ang)])
-    for J in range(nj):
-        hex_c[J] = add(centres[J], 0.0)
-        hex_v[J] = [add(centres[J] + ring[k], 0.0) for k in range(6)]
+    hex_c, hex_v, ring = hexagon_plates(centres, d, add)
 
     # Ribbons: per family, the lattice lines by offset; each with its junctions sorted along it.
     ribbons = []  # (family, r, u, normal, offset, [junction rows along u])
@@ -195,13 +246,7 @@ def build_triangular_bar_hinge(
                     )
                 )
                 kinds.append("crown" if a == nf else "flank")
-    junction_panels = np.zeros((nj, 3), dtype=np.int64)
-    for J in range(nj):
-        v = hex_v[J]
-        for k in range(3):
-            junction_panels[J, k] = len(panels)
-            panels.append((hex_c[J], v[2 * k], v[2 * k + 1], v[(2 * k + 2) % 6]))
-            kinds.append("junction")
+    junction_panels = hexagon_panels(hex_c, hex_v, panels, kinds)
     structure = n5b8_structure(np.asarray(coords), np.asarray(panels), g.ribbon_thickness)
     pc = structure.panel_centres
 
@@ -226,37 +271,19 @@ def build_triangular_bar_hinge(
         for q in range(nseg):
             sid = new_strip("bottom", fam, r, q, u, nrm, off, starts[q] + 0.5 * lx)
             nd = lambda a, side, q=q: node(fam, r, q, a, side)  # noqa: E731
-            idx = []
-            for side in (0, 1):
-                idx += list(structure.add_bars("bottom_strips", [(nd(0, side), nd(last, side))]))
-                strip_of_bar["bottom_strips"].append(sid)
-            pieces.append(
-                StripPiece(
-                    (nd(0, 0), nd(0, 1)),
-                    tuple(node(fam, r, q - 1, last, k) if q > 0 else nd(1, k) for k in (0, 1)),
-                    -1,
-                    (nd(last, 0), nd(last, 1)),
-                    tuple(
-                        node(fam, r, q + 1, 0, k) if q + 1 < nseg else nd(last - 1, k)
-                        for k in (0, 1)
-                    ),
-                    -1,
-                    "bottom_strips",
-                    (int(idx[0]), int(idx[1])),
-                )
+            add_bottom_strip(
+                structure,
+                nd,
+                last,
+                tuple(node(fam, r, q - 1, last, k) if q > 0 else nd(1, k) for k in (0, 1)),
+                tuple(
+                    node(fam, r, q + 1, 0, k) if q + 1 < nseg else nd(last - 1, k) for k in (0, 1)
+                ),
+                ribbon_points(fam, r, q, range(1, last), range(last)) if m.contact else None,
+                pieces,
+                hinge_rows,
             )
-            hinge_rows += strip_contact_rows(
-                nd(0, 0), nd(0, 1), nd(1, 0), nd(1, 1), nd(last, 0), nd(last, 1)
-            )
-            hinge_rows += strip_contact_rows(
-                nd(last, 0), nd(last, 1), nd(last - 1, 0), nd(last - 1, 1), nd(0, 0), nd(0, 1)
-            )
-            if m.contact:
-                tris = [(nd(0, 0), nd(0, 1), nd(last, 0)), (nd(last, 1), nd(last, 0), nd(0, 1))]
-                pts = ribbon_points(fam, r, q, range(1, last), range(last))
-                structure.add_contacts(
-                    "bottom_strip_contact", [(pt, *t) for pt in pts for t in tris], rest=0.0
-                )
+            strip_of_bar["bottom_strips"] += [sid, sid]
 
     # Raised plates over the junctions (the hexagon at the crown-edge height).
     zc = g.top_strip_height
@@ -280,62 +307,31 @@ def build_triangular_bar_hinge(
             x0, x1 = (int(raised[J, hexagon_vertex(theta, True, s)]) for s in (0, 1))
             left = [node(fam, r, k, nf + 1, side) for side in (0, 1)]
             right = [node(fam, r, k + 1, nf, side) for side in (0, 1)]
-            bars = [(left[0], e0), (left[1], e1), (x0, right[0]), (x1, right[1])]
-            if m.top_junction == "lce":
-                bars += [(e0, x0), (e1, x1)]
-            idx = structure.add_bars("top_strips", bars)
-            strip_of_bar["top_strips"] += [sid] * len(bars)
-            pieces.append(
-                StripPiece(
-                    (left[0], left[1]),
-                    tuple(node(fam, r, k, nf, s) for s in (0, 1)),
-                    1,
-                    (e0, e1),
-                    (x0, x1),
-                    0,
-                    "top_strips",
-                    (int(idx[0]), int(idx[1])),
+            nbars = add_top_strip(
+                structure,
+                (
+                    left,
+                    [node(fam, r, k, nf, s) for s in (0, 1)],
+                    [node(fam, r, k, nf + 2, s) for s in (0, 1)],
+                ),
+                (
+                    right,
+                    [node(fam, r, k + 1, nf + 1, s) for s in (0, 1)],
+                    [node(fam, r, k + 1, nf - 1, s) for s in (0, 1)],
+                ),
+                (e0, e1),
+                (x0, x1),
+                m.top_junction == "lce",
+                (
+                    ribbon_points(fam, r, k, range(nf + 2, per_seg), range(nf + 1, last)),
+                    ribbon_points(fam, r, k + 1, range(0, nf), range(0, nf)),
                 )
+                if m.contact
+                else None,
+                pieces,
+                hinge_rows,
             )
-            pieces.append(
-                StripPiece(
-                    (x0, x1),
-                    (e0, e1),
-                    0,
-                    (right[0], right[1]),
-                    tuple(node(fam, r, k + 1, nf + 1, s) for s in (0, 1)),
-                    1,
-                    "top_strips",
-                    (int(idx[2]), int(idx[3])),
-                )
-            )
-            hinge_rows += strip_contact_rows(
-                left[0],
-                left[1],
-                node(fam, r, k, nf + 2, 0),
-                node(fam, r, k, nf + 2, 1),
-                e0,
-                e1,
-            )
-            hinge_rows += strip_contact_rows(
-                right[0],
-                right[1],
-                node(fam, r, k + 1, nf - 1, 0),
-                node(fam, r, k + 1, nf - 1, 1),
-                x0,
-                x1,
-            )
-            if m.contact:
-                pts = ribbon_points(fam, r, k, range(nf + 2, per_seg), range(nf + 1, last))
-                tris = [(left[0], e0, left[1]), (e1, left[1], e0)]
-                structure.add_contacts(
-                    "top_strip_contact", [(pt, *t) for pt in pts for t in tris], rest=0.0
-                )
-                pts = ribbon_points(fam, r, k + 1, range(0, nf), range(0, nf))
-                tris = [(x0, right[0], x1), (right[1], x1, right[0])]
-                structure.add_contacts(
-                    "top_strip_contact", [(pt, *t) for pt in pts for t in tris], rest=0.0
-                )
+            strip_of_bar["top_strips"] += [sid] * nbars
 
     if m.strip_contact:
         structure.add_hinges("strip_contact", np.asarray(hinge_rows, dtype=np.int64))
@@ -354,20 +350,11 @@ def build_triangular_bar_hinge(
             dtype=np.int64,
         )
     centre = int(np.flatnonzero((ij[:, 0] == 0) & (ij[:, 1] == 0))[0])
+    hexagon_node_sets(structure, hex_c, hex_v, raised, junction_panels, centre)
     sets = structure.node_sets
-    sets["junction_corners"] = hex_v
-    sets["junction_centres"] = hex_c
-    sets["top_squares"] = raised
-    sets["junction_panels"] = junction_panels
-    # The centre hexagon's inscribed rectangle (210, 330, 30, 150 deg): corner 0 -> 1 along +x.
-    sets["centre_junction"] = hex_v[centre, [3, 5, 0, 2]]
-    # The clamp holds the whole centre hexagon (its six vertices and centre): held on four of them,
-    # the inscribed rectangle, the plate bends under the three families unequally.
-    sets["centre_clamp"] = np.append(hex_v[centre], hex_c[centre])
     for fam in FAMILY_ANGLES:
         sets[f"ribbon_ends_{fam}"] = ends[fam]
     sets["ribbon_ends_x"] = ends["a"]
-    sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
     strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
     # As the square's corners (strip_sections): the plate's six vertices share one strip's footprint
     # on the junction (w x sqrt(3) d), two contact rows per vertex.
@@ -377,12 +364,7 @@ def build_triangular_bar_hinge(
     }
     apply_strip_element(structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N, raised.ravel())
 
-    groups: dict[str, list[int]] = {}
-    for st in strips:
-        groups.setdefault(st.group, []).append(st.id)
-    for name, (layer, fam) in TRI_CHANNELS.items():
-        groups[name] = [st.id for st in strips if st.layer == layer and st.direction == fam]
-    wiring = add_wiring(layout, strips, groups, TRI_CHANNELS)
+    groups, wiring = three_direction_groups(layout, strips)
     structure.info.update(
         kind=layout.kind,
         angle=layout.angle,
@@ -399,7 +381,7 @@ def build_triangular_bar_hinge(
         centre_junction_index=centre,
         panel_kind=np.asarray(kinds),
         strips=strips,
-        groups={k: np.asarray(v, dtype=np.int64) for k, v in groups.items()},
+        groups=groups,
         strip_of_bar={k: np.asarray(v, dtype=np.int64) for k, v in strip_of_bar.items()},
         source=PUBLISHED
         + "; three families at a hexagonal junction: assumed (meshes.gridshell_tri)",

@@ -188,14 +188,17 @@ def gridshell_curvatures(structure: BarHingeStructure, positions=None) -> dict:
     Returns a dict with "circle_x", "circle_y" (circle through the two ends of the middle x / y
     ribbon and the centre junction's centre; on a triangular grid "circle_a", "circle_b",
     "circle_c" along its three middle ribbons, "circle_x" = "circle_a" and "circle_y" the y
-    curvature of the quadratic form through the three, :func:`normal_curvature_y`), "quad_k1" <=
+    curvature of the quadratic form through the three, :func:`normal_curvature_y`; on a honeycomb
+    the circles run through the centre junction and its two nearest junctions on the line along
+    each direction, ``info["circle_junctions"]``), "quad_k1" <=
     "quad_k2", "quad_dir1", "quad_dir2" (principal directions in the global frame), "quad_kx",
     "quad_ky" (normal curvatures along the centre junction's x and y edges), "gaussian" [1/mm^2]
     and "rms_residual" [mm] of the fit.
     """
     x = structure.nodes if positions is None else np.asarray(positions).reshape(-1, 3)
     n = structure.info["ribbons"]
-    if n % 2 == 0:
+    # a honeycomb (lcefem.meshes.gridshell_hex) has a centre junction for every n
+    if n % 2 == 0 and "circle_junctions" not in structure.info:
         raise InputError(
             f"ribbons = {n}: the centre-junction curvatures need an odd number of ribbons"
         )
@@ -204,8 +207,12 @@ def gridshell_curvatures(structure: BarHingeStructure, positions=None) -> dict:
     out = {}
     apex = centre_junction_point(structure, x)
     families = structure.info.get("families", ("x", "y"))
+    circle = structure.info.get("circle_junctions")
     for direction in families:
-        ends = x[structure.node_sets[f"ribbon_ends_{direction}"][n // 2]].mean(axis=1)
+        if circle is not None:  # a honeycomb: the junctions next to the centre on its line
+            ends = junction_centre_points(structure, x)[list(circle[direction])]
+        else:
+            ends = x[structure.node_sets[f"ribbon_ends_{direction}"][n // 2]].mean(axis=1)
         out[f"circle_{direction}"] = -signed_circle_curvature(
             np.vstack([ends[0], apex, ends[1]]), up
         )

@@ -202,6 +202,9 @@ def published_roller_dofs(structure: BarHingeStructure) -> np.ndarray:
 #: Supports of a triangular grid (lcefem.meshes.gridshell_tri): the rollers sit at the ends of an
 #: orthogonal grid's outer and middle ribbons and have no counterpart on three families.
 TRIANGULAR_SUPPORTS = ("clamp", "table")
+#: Supports of a honeycomb (lcefem.meshes.gridshell_hex): the clamp of its centre junction's
+#: hexagon, statically determinate (one rigid support of the 6 rigid-body modes).
+HEXAGONAL_SUPPORTS = ("clamp",)
 
 
 def support_dofs(structure: BarHingeStructure, support: str) -> np.ndarray:
@@ -212,6 +215,11 @@ def support_dofs(structure: BarHingeStructure, support: str) -> np.ndarray:
         # a triangular grid's clamp holds its centre hexagon whole (3-fold symmetric)
         return held_dofs(structure.node_sets.get("centre_clamp", c), "xyz")
     n = structure.info["ribbons"]
+    if structure.info.get("kind") == "hexagonal" and support not in HEXAGONAL_SUPPORTS:
+        raise InputError(
+            f"support = {support!r}: a hexagonal grid is held by "
+            f"{', '.join(HEXAGONAL_SUPPORTS)} (the clamp of its centre junction)"
+        )
     if structure.info.get("kind") == "triangular" and support not in TRIANGULAR_SUPPORTS:
         raise InputError(
             f"support = {support!r}: a triangular grid is held by "

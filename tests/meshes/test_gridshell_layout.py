@@ -150,13 +150,6 @@ def test_layout_loader_errors_are_one_line(table, message):
     assert message in str(err.value) and "\n" not in str(err.value)
 
 
-def test_bar_hinge_builder_refuses_the_honeycomb():
-    with pytest.raises(
-        InputError, match="layout.kind = 'hexagonal': the bar-and-hinge builder builds"
-    ):
-        build_gridshell_bar_hinge(layout=NAMED_LAYOUTS["hexagonal"])
-
-
 @pytest.mark.parametrize("name", sorted(NAMED_LAYOUTS))
 def test_every_named_layout_has_a_plan(name):
     """Junction centres and ribbon centre lines of every kind (the docs' pictures): triangular has

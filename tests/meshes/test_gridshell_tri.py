@@ -102,7 +102,6 @@ def test_normal_curvature_y_closed_form():
         (Layout(kind="triangular", ribbons=4), "clamp", "layout.ribbons = 4: a triangular layout"),
         (Layout(kind="triangular", glued=((0, 0),)), "clamp", "layout.glued = ((0, 0),)"),
         (Layout(kind="triangular", ribbons=3), "rollers", "support = 'rollers': a triangular"),
-        (Layout(kind="hexagonal"), "clamp", "layout.kind = 'hexagonal': the bar-and-hinge"),
     ],
 )
 def test_refusals_are_one_line(layout, support, message):

@@ -74,3 +74,23 @@ def test_triangular_grid_has_its_own_channels_and_support():
     assert counts == [6, 18, 51]
     with pytest.raises(InputError, match="wiring = '4 channels' on grid 'triangular': allowed 6"):
         rs.best_surface("dome", "triangular", "4 channels")
+
+
+def test_honeycomb_has_six_channels_and_the_clamp():
+    """The honeycomb (3 cells, 15 pieces) runs with the triangular grid's 6 channels, 30 per ribbon
+    and layer (every piece on its own line: as per strip) and 30 per strip, under the clamp."""
+    import dataclasses
+
+    from lcefem.meshes.gridshell import build_gridshell_bar_hinge
+    from lcefem.validation.studies.design import gridshell_design as gd
+
+    assert rs.grid_wirings("hexagonal") == ("6 channels", "per ribbon and layer", "per strip")
+    assert rs.grid_support("hexagonal") == "clamp"
+    counts = []
+    for wiring in rs.grid_wirings("hexagonal"):
+        mode, wires = rs.WIRINGS[wiring]
+        s = build_gridshell_bar_hinge(
+            layout=dataclasses.replace(rs.GRIDS["hexagonal"], wiring=wires)
+        )
+        counts.append(len(gd.channel_selections(s, mode)))
+    assert counts == [6, 30, 30]

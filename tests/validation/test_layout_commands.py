@@ -57,8 +57,17 @@ def test_design_on_a_rhombic_layout_with_its_own_wiring(tmp_path):
         (["run", "gridshell", "--layout", "square"], "--layout = 'square': a name (published, 5x5"),
         (["run", "gridshell", "--layout", "5x5", "--ribbons", "3"], "--ribbons: not with --layout"),
         (
-            ["run", "gridshell", "--layout", "hexagonal", "--lambda", "B=1.3"],
-            "layout.kind = 'hexagonal': the bar-and-hinge builder builds orthogonal, rhombic",
+            [
+                "run",
+                "gridshell",
+                "--layout",
+                "hexagonal",
+                "--lambda",
+                "B=1.3",
+                "--support",
+                "table",
+            ],
+            "support = 'table': a hexagonal grid is held by clamp",
         ),
         (
             ["run", "gridshell", "--layout", "triangular", "--lambda", "B=1.3"],

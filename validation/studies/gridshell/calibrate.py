@@ -418,9 +418,11 @@ class ModelSet:
     def materials_for(self, layout=None) -> law.BarHingeMaterials:
         """This set's materials on ``layout``: where its elements apply. The plate's torsion
         (kapton.twist = 'plate') is a rectangle's, so a layout with parallelogram panels (rhombic;
-        the triangular grid's hexagonal junctions, three rhombi each) runs with the N5B8 spokes'
-        torsion; everything else is the set's."""
-        oblique = layout is not None and (layout.oblique or layout.kind == "triangular")
+        the triangular grid's and the honeycomb's hexagonal junctions, three rhombi each) runs with
+        the N5B8 spokes' torsion; everything else is the set's."""
+        oblique = layout is not None and (
+            layout.oblique or layout.kind in ("triangular", "hexagonal")
+        )
         if oblique and self.materials.kapton.twist == "plate":
             return dataclasses.replace(
                 self.materials, kapton=dataclasses.replace(self.materials.kapton, twist="n5b8")
