@@ -19,8 +19,8 @@ The triangular grid (3 ribbons per family, clamp; 6 channels, 18 per ribbon, 51 
 measured alone at the full level's settings (2026-12-07): 234 s CPU for its 21 rows; the 6
 channels twist it (0.688 mm from the twisted target, 1.711 mm flat), which the 3 x 3's 4 channels
 cannot; on the bump 1.787 mm with 6 channels, 1.290 mm per ribbon (docs/design.md). The honeycomb
-(3 cells, clamp; 6 channels, 30 per ribbon = per strip): twisted 1.583 mm with 6 channels (10.7 s
-CPU), 0.509 mm per strip (18.4 s); its other rows not yet measured.
+(3 cells round a clamped junction) is not among the grids: its patch spans about 84 mm, so its
+distances would not compare (gridshell_reach_study's docstring).
 
 Quick level: :data:`QUICK` (the Gaussian bump on the 3 x 3 with 4 channels and per strip, 40 s CPU:
 it shows that more drives come closer; the refined grid's 91 s is beyond the quick level's 60 s);

@@ -14,8 +14,11 @@ study asks how close each (grid, wiring) comes to a set of targets:
 * Grids (:data:`GRIDS`): the published 3 x 3, the refined 5 x 5, the rhombic 60 deg grid and the
   triangular grid of 3 ribbons per family (7 hexagonal junctions, lcefem.meshes.gridshell_tri;
   pitch 42.12 mm, so that its segments are the published 30 mm composite beams: footprint 156 x
-  139 mm against the 3 x 3's 141 x 141 mm) and the honeycomb's 3 cells round its centre junction
-  (lcefem.meshes.gridshell_hex: 15 pieces, 6 channels, the clamp).
+  139 mm against the 3 x 3's 141 x 141 mm). Not the honeycomb (lcefem.meshes.gridshell_hex): its
+  3 cells round the centre junction span about 84 mm, so its RMS distances would not compare with
+  the others' (a smaller patch is closer to any smooth target); a design on it (twisted target)
+  costs 10.7 s CPU with 6 channels (1.583 mm) and 18.4 s per strip (0.509 mm), and
+  :func:`grid_wirings` and :func:`grid_support` take its layout.
 * Wirings (:data:`WIRINGS`, per grid :func:`grid_wirings`): the paper's 4 channels (Tx, Ty, Bx, By:
   one current per layer and direction; on the triangular grid their extension, 6 channels: one per
   layer and family), one per ribbon and layer (layout wiring 'ribbons': 4 n drives, 6 n on the
@@ -108,9 +111,6 @@ GRIDS = {
     "5x5": dataclasses.replace(NAMED_LAYOUTS["5x5"], pitch=(SIDE - 5 * 7.0) / 6 + 7.0),
     "rhombic": NAMED_LAYOUTS["rhombic60"],
     "triangular": Layout(kind="triangular", ribbons=3),
-    # the honeycomb's 3 cells round its centre junction (lcefem.meshes.gridshell_hex): a design
-    # there costs 10.7 s CPU (twisted, 6 channels, 12 solves) and 18.4 s (per strip, 30 drives)
-    "hexagonal": NAMED_LAYOUTS["hexagonal"],
 }
 #: Wirings: study name -> (design mode of gridshell_design, the layout's wiring).
 WIRINGS = {
@@ -128,17 +128,21 @@ TRIANGULAR_SUPPORT = "clamp"
 THREE_DIRECTION_KINDS = ("triangular", "hexagonal")
 
 
-def grid_wirings(grid: str) -> tuple[str, ...]:
+def _grid_layout(grid: str | Layout) -> Layout:
+    return grid if isinstance(grid, Layout) else GRIDS[grid]
+
+
+def grid_wirings(grid: str | Layout) -> tuple[str, ...]:
     """The wirings that apply to ``grid``: the paper's 4 channels on a two-family grid, their
     extension to 6 (one per layer and family) on the triangular one; per ribbon and per strip on
     every grid."""
-    channels = "6 channels" if GRIDS[grid].kind in THREE_DIRECTION_KINDS else "4 channels"
+    channels = "6 channels" if _grid_layout(grid).kind in THREE_DIRECTION_KINDS else "4 channels"
     return (channels, "per ribbon and layer", "per strip")
 
 
-def grid_support(grid: str) -> str:
+def grid_support(grid: str | Layout) -> str:
     """The support of ``grid``'s designs (module docstring)."""
-    return TRIANGULAR_SUPPORT if GRIDS[grid].kind in THREE_DIRECTION_KINDS else SUPPORT
+    return TRIANGULAR_SUPPORT if _grid_layout(grid).kind in THREE_DIRECTION_KINDS else SUPPORT
 
 
 def rigid_residual(points: np.ndarray, target) -> np.ndarray:
