@@ -82,9 +82,8 @@ def test_honeycomb_has_six_channels_and_the_clamp():
     import dataclasses
 
     from lcefem.meshes.gridshell import build_gridshell_bar_hinge
-    from lcefem.validation.studies.design import gridshell_design as gd
-
     from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
+    from lcefem.validation.studies.design import gridshell_design as gd
 
     honeycomb = NAMED_LAYOUTS["hexagonal"]
     assert "hexagonal" not in rs.GRIDS  # its patch is smaller than the others (module docstring)
@@ -93,8 +92,6 @@ def test_honeycomb_has_six_channels_and_the_clamp():
     counts = []
     for wiring in rs.grid_wirings(honeycomb):
         mode, wires = rs.WIRINGS[wiring]
-        s = build_gridshell_bar_hinge(
-            layout=dataclasses.replace(honeycomb, wiring=wires)
-        )
+        s = build_gridshell_bar_hinge(layout=dataclasses.replace(honeycomb, wiring=wires))
         counts.append(len(gd.channel_selections(s, mode)))
     assert counts == [6, 30, 30]
