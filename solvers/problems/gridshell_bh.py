@@ -93,8 +93,10 @@ GRIDSHELL_PATH = PathOptions(
 #: on the 5 x 5 layout's Fig. 4 dome drive, rollers, 2026-12-07, docs/layouts/index.md "Speed"):
 #: from flat its Newton descends for 110 iterations to t = 0.1 with the energy falling all along
 #: (the strips pull stiff Kapton bars round soft hinges; no contact switches), so 50 iterations cut
-#: the increment three times for nothing; near t = 0.6 (a double tangent eigenvalue 6e-8 N/mm, the
-#: dome's bifurcation) a full step that raises the 30 mJ energy by 2e-8 mJ (5e-10 of it) leads to
+#: the increment three times for nothing; near t = 0.6 (a double tangent eigenvalue 6e-8 N/mm: not
+#: a bifurcation of the dome but the rigid motion of the centre junction's raised top square, whose
+#: top strips are slack, 99.999 % of the mode on its 4 nodes; benchmarks/bh_soft_modes.py) a full
+#: step that raises the 30 mJ energy by 2e-8 mJ (5e-10 of it) leads to
 #: |g| = 1.5e-7 N in two steps, while the 1e-13 slack refused it and Newton cycled at |g| ~ 3e-4 N
 #: for 600 iterations.
 GRIDSHELL_NEWTON = NewtonOptions(
