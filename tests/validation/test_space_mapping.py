@@ -68,3 +68,31 @@ def test_the_rigid_residual_offset_is_the_corrected_target():
     proj = basis @ np.linalg.lstsq(basis, d, rcond=None)[0]
     np.testing.assert_allclose(r1 - r0, d - proj, atol=1e-12)
     np.testing.assert_allclose(rs.rigid_residual(pts, z, 1.0 + 0.1 * xy[:, 0]), r0, atol=1e-12)
+
+
+def test_the_fe_corrected_designs_are_judged_rows_within_1_mm():
+    import json
+
+    from lcefem.validation.cases import gridshell_reach_study_bh as reach
+
+    rows = reach.fe_corrected("gridshell_reach_study_bh")
+    ref = json.loads(reach.FE_CORRECTED.read_text())
+    before = json.loads(reach.FE_DESIGNS.read_text())["rows"]
+    assert [r.metric.split(":")[0] for r in rows] == ["gaussian bump", "two-wave"]
+    for m, row, old in zip(rows, ref["rows"], before):
+        fe = [it["FE RMS to T [mm]"] for it in row["iterations"]]
+        assert 1 <= len(fe) <= 3 and row["best iteration"] == int(np.argmin(fe))
+        assert m.value == row["FE RMS [mm]"] == min(fe)
+        # iteration 0 is the stored uncorrected design, rerun: the same FE answer (measured to
+        # 3e-12 mm)
+        assert (
+            row["iterations"][0]["lambda per BH strip id [-]"] == old["lambda per BH strip id [-]"]
+        )
+        assert fe[0] == pytest.approx(old["FE RMS [mm]"], abs=1e-9)
+        assert row["start FE RMS [mm]"] == fe[0]
+        # judged against issue 47's 1 mm when within it, else informative
+        if m.value <= reach.REACH_MM:
+            assert m.passed and m.reference == 0.0 and m.tolerance == reach.REACH_MM
+        else:
+            assert m.passed is None and m.reference == fe[0]
+        assert all(it["FE symmetry"] == "quarter" for it in row["iterations"])
