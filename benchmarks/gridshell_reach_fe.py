@@ -6,6 +6,8 @@ and the two-wave surface on the refined 5 x 5 grid with a drive per strip
     python benchmarks/gridshell_reach_fe.py --fe two-wave DIR [--symmetrize]  # 2. one FE run
     python benchmarks/gridshell_reach_fe.py --bh-check DIR          # 2b. the BH from as built
     python benchmarks/gridshell_reach_fe.py --collect DIR [--data FILE]  # 3. -> the data file
+    python benchmarks/gridshell_reach_fe.py --space-map two-wave DIR --iterations 3  # 4.
+    python benchmarks/gridshell_reach_fe.py --collect-space-map DIR  # 5. -> its data file
 
 1. ``gridshell_reach_study.best_surface(target, "5x5", "per strip", max_evaluations=40)`` (the case
    gridshell_reach_study_bh's full level): the design's lambda per bar-and-hinge strip id, its BH
@@ -22,6 +24,18 @@ and the two-wave surface on the refined 5 x 5 grid with a drive per strip
    as-built centres of the BH's Kapton panels, evaluated on the FE ribbon's mid-surface.
    Written to ``DIR/fe_<target>.json``.
 3. Both targets' records -> ``validation/data/gridshell_fe_reach_designs_level0.json``.
+4. The FE-corrected design (output space mapping,
+   :mod:`lcefem.validation.studies.design.space_mapping`): from the design of step 1 (or, without
+   ``DIR/design_<target>.json``, the one stored in ``--data``), at most ``--iterations`` FE runs as
+   in step 2 (``--symmetrize``); after each, the gap D = r_FE - r_BH between the rigid residuals at
+   the panel centres of the same mirror-mean drives (the BH from as built,
+   ``gridshell_reach_study.surface_at``) corrects the BH target to T - D, and
+   ``best_surface(..., p0=the FE-run drives, offset=D)`` redesigns; stops when the FE's RMS from T
+   stops falling. Residuals rather than raw heights: the FE and BH points also move in plane and
+   each fit removes its own plane; with the residuals the corrected BH equals the FE at the design.
+   Written to ``DIR/space_map_<target>.json`` (per run: ``design_<target>_sm<k>.json``,
+   ``fe_<target>_sm<k>.json``).
+5. Both targets' space maps -> ``validation/data/gridshell_fe_reach_space_map_level0.json``.
 
 Not a test: it prints figures. CPU time is the process's; wall times on a shared machine are upper
 bounds.
@@ -387,11 +401,11 @@ def space_map(target: str, folder: pathlib.Path, iterations: int, data: pathlib.
     from lcefem.validation.studies.design import gridshell_reach_study as rs
     from lcefem.validation.studies.design.space_mapping import output_space_map, rms
 
+    d0_rec = _initial_design(target, folder, data)
     folder.mkdir(parents=True, exist_ok=True)
     z = rs.TARGETS[target][0]
     _, structure = reach_structure()
     ids = [s.id for s in structure.info["strips"]]  # the design variables' order
-    d0_rec = _initial_design(target, folder, data)
     d0 = np.array([d0_rec["lambda per BH strip id [-]"][str(i)] for i in ids])
     rows: list[dict] = []
     pending: dict = {}
