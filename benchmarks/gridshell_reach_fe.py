@@ -6,6 +6,8 @@ and the two-wave surface on the refined 5 x 5 grid with a drive per strip
     python benchmarks/gridshell_reach_fe.py --fe two-wave DIR [--symmetrize]  # 2. one FE run
     python benchmarks/gridshell_reach_fe.py --bh-check DIR          # 2b. the BH from as built
     python benchmarks/gridshell_reach_fe.py --collect DIR [--data FILE]  # 3. -> the data file
+    python benchmarks/gridshell_reach_fe.py --space-map two-wave DIR --iterations 3  # 4.
+    python benchmarks/gridshell_reach_fe.py --collect-space-map DIR  # 5. -> its data file
 
 1. ``gridshell_reach_study.best_surface(target, "5x5", "per strip", max_evaluations=40)`` (the case
    gridshell_reach_study_bh's full level): the design's lambda per bar-and-hinge strip id, its BH
@@ -22,6 +24,18 @@ and the two-wave surface on the refined 5 x 5 grid with a drive per strip
    as-built centres of the BH's Kapton panels, evaluated on the FE ribbon's mid-surface.
    Written to ``DIR/fe_<target>.json``.
 3. Both targets' records -> ``validation/data/gridshell_fe_reach_designs_level0.json``.
+4. The FE-corrected design (output space mapping,
+   :mod:`lcefem.validation.studies.design.space_mapping`): from the design of step 1 (or, without
+   ``DIR/design_<target>.json``, the one stored in ``--data``), at most ``--iterations`` FE runs as
+   in step 2 (``--symmetrize``); after each, the gap D = r_FE - r_BH between the rigid residuals at
+   the panel centres of the same mirror-mean drives (the BH from as built,
+   ``gridshell_reach_study.surface_at``) corrects the BH target to T - D, and
+   ``best_surface(..., p0=the FE-run drives, offset=D)`` redesigns; stops when the FE's RMS from T
+   stops falling. Residuals rather than raw heights: the FE and BH points also move in plane and
+   each fit removes its own plane; with the residuals the corrected BH equals the FE at the design.
+   Written to ``DIR/space_map_<target>.json`` (per run: ``design_<target>_sm<k>.json``,
+   ``fe_<target>_sm<k>.json``).
+5. Both targets' space maps -> ``validation/data/gridshell_fe_reach_space_map_level0.json``.
 
 Not a test: it prints figures. CPU time is the process's; wall times on a shared machine are upper
 bounds.
@@ -46,6 +60,8 @@ DATA = (
     / "data"
     / "gridshell_fe_reach_designs_level0.json"
 )
+#: The FE-corrected designs (--space-map, --collect-space-map).
+SPACE_MAP_DATA = DATA.with_name("gridshell_fe_reach_space_map_level0.json")
 TARGETS = ("gaussian bump", "two-wave")
 GRID, WIRING, SUPPORT = "5x5", "per strip", "rollers"
 #: Largest |lambda - its mirror images' mean| [-] that is symmetrized (the design's round-off;
@@ -188,15 +204,19 @@ def ribbon_points(model, cfg, xy: np.ndarray) -> np.ndarray:
     return x
 
 
-def fe_run(target: str, folder: pathlib.Path, level: int = 0, force: bool = False) -> dict:
+def fe_run(
+    target: str, folder: pathlib.Path, level: int = 0, force: bool = False, stem: str | None = None
+) -> dict:
     """Step 2: the FE run of the design of ``target`` (module docstring); ``force``: symmetrize
     whatever the design's departure from its mirror images (the quarter model; the departure is
-    recorded)."""
+    recorded). ``stem``: the design ``DIR/design_<stem>.json`` -> ``DIR/fe_<stem>.json`` (default
+    the target's name)."""
     from lcefem.meshes.gridshell_fe import fe_lambdas_of_strips
     from lcefem.solvers.problems.gridshell_fe_run import run_gridshell_fe
     from lcefem.validation.studies.design import gridshell_reach_study as rs
 
-    rec = json.loads((folder / f"design_{_slug(target)}.json").read_text())
+    stem = stem or _slug(target)
+    rec = json.loads((folder / f"design_{stem}.json").read_text())
     layout, structure = reach_structure()
     per_id = {int(k): v for k, v in rec["lambda per BH strip id [-]"].items()}
     mapped = fe_lambdas_of_strips(structure.info["strips"], per_id)
@@ -216,7 +236,7 @@ def fe_run(target: str, folder: pathlib.Path, level: int = 0, force: bool = Fals
         found["x"] = x
         return {"RMS distance from the target [mm]": found["rms"]}
 
-    out = folder / f"fe_{_slug(target)}"
+    out = folder / f"fe_{stem}"
     c0 = time.process_time()
     s = run_gridshell_fe(cfg, out, progress=False, report=report)
     cpu = time.process_time() - c0
@@ -242,7 +262,7 @@ def fe_run(target: str, folder: pathlib.Path, level: int = 0, force: bool = Fals
         xb = np.asarray(rec["BH panel centres [mm]"])
         d = rs.rigid_residual(found["x"], z) - rs.rigid_residual(xb, z)
         fe["RMS of FE - BH residuals [mm]"] = float(np.sqrt(np.mean(d * d)))
-    _write(folder / f"fe_{_slug(target)}.json", fe)
+    _write(folder / f"fe_{stem}.json", fe)
     print(
         f"{target}: FE RMS {found['rms']:.4f} mm (BH {rec['BH RMS [mm]']:.4f} mm), "
         f"{cfg.symmetry}, {s['dofs [-]']} DOFs, {cpu:.1f} s CPU"
@@ -342,6 +362,189 @@ def collect(folder: pathlib.Path, data: pathlib.Path) -> dict:
     return record
 
 
+def mirror_mean_drives(per_id: dict) -> tuple[dict, float]:
+    """The BH drives ({BH strip id: lambda}) at the mirror means of their FE strips (the drives
+    the quarter FE model runs) and the largest |lambda - mirror mean| [-]."""
+    from lcefem.meshes.gridshell_fe import fe_lambdas_of_strips, fe_strip_tags
+
+    layout, structure = reach_structure()
+    strips = structure.info["strips"]
+    mapped = fe_lambdas_of_strips(strips, per_id)
+    cfg = fe_config(layout, mapped)
+    sym, dev = symmetrized(mapped, cfg.catalogue(), float(np.mean(_centres(cfg))))
+    return {s.id: sym[fe_strip_tags(s)[0]] for s in strips}, dev
+
+
+def _initial_design(target: str, folder: pathlib.Path, data: pathlib.Path) -> dict:
+    """d0: ``DIR/design_<target>.json`` (step 1) if present, else the stored design of ``data``
+    (the same best_surface run, kept there with its lambdas)."""
+    own = folder / f"design_{_slug(target)}.json"
+    if own.exists():
+        return json.loads(own.read_text())
+    rows = json.loads(data.read_text())["rows"]
+    row = next((r for r in rows if r["target"] == target), None)
+    if row is None:
+        raise FileNotFoundError(2, "no design of this target", str(own))
+    keep = ("target", "target source", "grid", "wiring", "support", "BH RMS [mm]", "drives [-]")
+    rec = {k: row[k] for k in keep} | {
+        "lambda per BH strip id [-]": row["lambda per BH strip id [-]"]
+    }
+    rec["design source"] = f"{data.name} (stored best_surface design)"
+    return rec
+
+
+def space_map(target: str, folder: pathlib.Path, iterations: int, data: pathlib.Path) -> dict:
+    """Output space mapping of ``target``'s design (validation.studies.design.space_mapping): at
+    most ``iterations`` FE runs; each FE run's gap D = r_FE - r_BH (the rigid residuals at the
+    panel centres of the same mirror-mean drives, the BH from as built) corrects the BH target to
+    T - D, and the BH redesign starts from the FE-run drives. -> ``DIR/space_map_<target>.json``."""
+    from lcefem.validation.studies.design import gridshell_reach_study as rs
+    from lcefem.validation.studies.design.space_mapping import output_space_map, rms
+
+    d0_rec = _initial_design(target, folder, data)
+    folder.mkdir(parents=True, exist_ok=True)
+    z = rs.TARGETS[target][0]
+    _, structure = reach_structure()
+    ids = [s.id for s in structure.info["strips"]]  # the design variables' order
+    d0 = np.array([d0_rec["lambda per BH strip id [-]"][str(i)] for i in ids])
+    rows: list[dict] = []
+    pending: dict = {}
+
+    def sym_vector(d):
+        drives, dev = mirror_mean_drives(dict(zip(ids, map(float, d))))
+        return np.array([drives[i] for i in ids]), dev
+
+    def fine(d):
+        k = len(rows)
+        stem = f"{_slug(target)}_sm{k}"
+        rec = {**d0_rec, "lambda per BH strip id [-]": {str(i): float(v) for i, v in zip(ids, d)}}
+        rec.pop("BH panel centres [mm]", None)
+        rec["BH RMS [mm]"] = pending.get("bh_rms_corrected", d0_rec["BH RMS [mm]"])
+        _write(folder / f"design_{stem}.json", rec)
+        fe = fe_run(target, folder, force=True, stem=stem)
+        pending["fe"] = fe
+        return rs.rigid_residual(np.asarray(fe["FE panel centres [mm]"]), z)
+
+    def coarse(d):
+        c0 = time.process_time()
+        ds, dev = sym_vector(d)
+        x = rs.surface_at(target, GRID, WIRING, ds)
+        r = rs.rigid_residual(x[structure.panel_centres], z)
+        pending["bh_at"] = (rms(r), time.process_time() - c0, dev)
+        return r
+
+    def redesign(d, gap):
+        ds, _ = sym_vector(d)
+        r = rs.best_surface(target, GRID, WIRING, max_evaluations=40, p0=ds, offset=gap)
+        pending["redesign"] = (r.evaluations, r.cpu)
+        pending["bh_rms_corrected"] = r.rms
+        print(
+            f"{target}: redesign for T - D: BH RMS {r.rms:.4f} mm, {r.evaluations} evaluations, "
+            f"{r.cpu:.1f} s CPU",
+            flush=True,
+        )
+        return r.lambdas, r.rms
+
+    def on_step(k, step):
+        fe = pending.pop("fe")
+        bh_rms, bh_cpu, dev = pending.pop("bh_at")
+        evaluations, design_cpu = pending.pop("redesign", (None, None))
+        rows.append(
+            {
+                "iteration": k,
+                "BH RMS to T - D of the previous gap, design loop [mm]": step.coarse_rms,
+                "BH evaluations [-]": evaluations,
+                "BH design CPU [s]": design_cpu,
+                "BH RMS to T from as built, mirror-mean drives [mm]": bh_rms,
+                "BH from as built CPU [s]": bh_cpu,
+                "largest |lambda - mirror mean| [-]": dev,
+                "FE RMS to T [mm]": step.fine_rms,
+                "FE CPU [s]": fe["FE CPU [s]"],
+                "FE wall [s]": fe["FE wall [s]"],
+                "FE symmetry": fe["FE symmetry"],
+                "dofs [-]": fe["dofs [-]"],
+                "RMS of the gap D [mm]": rms(step.gap),
+                "lambda per BH strip id [-]": {str(i): float(v) for i, v in zip(ids, step.design)},
+            }
+        )
+        print(
+            f"{target}: space map {k}: FE RMS to T {step.fine_rms:.4f} mm "
+            f"({fe['FE CPU [s]']:.0f} s CPU), BH from as built {bh_rms:.4f} mm, "
+            f"|D| {rms(step.gap):.4f} mm",
+            flush=True,
+        )
+        _write(folder / f"space_map_{_slug(target)}.json", _space_map_record(target, rows, None))
+
+    _, best = output_space_map(d0, fine, coarse, redesign, max_fine=iterations, on_step=on_step)
+    rec = _space_map_record(target, rows, best)
+    _write(folder / f"space_map_{_slug(target)}.json", rec)
+    return rec
+
+
+def _space_map_record(target: str, rows: list[dict], best: int | None) -> dict:
+    from lcefem.validation.studies.design import gridshell_reach_study as rs
+
+    out = {
+        "target": target,
+        "target source": rs.TARGETS[target][1],
+        "grid": GRID,
+        "wiring": WIRING,
+        "support": SUPPORT,
+        "iterations": rows,
+        "date": datetime.date.today().isoformat(),
+    }
+    if best is not None:
+        out |= {
+            "best iteration": best,
+            "FE RMS [mm]": rows[best]["FE RMS to T [mm]"],
+            "start FE RMS [mm]": rows[0]["FE RMS to T [mm]"],
+            "total CPU [s]": sum(
+                r["FE CPU [s]"] + (r["BH design CPU [s]"] or 0) + r["BH from as built CPU [s]"]
+                for r in rows
+            ),
+        }
+    return out
+
+
+def collect_space_map(folder: pathlib.Path, data: pathlib.Path) -> dict:
+    """The space-mapping records of both targets -> ``data``."""
+    rows = []
+    for t in TARGETS:
+        rec = json.loads((folder / f"space_map_{_slug(t)}.json").read_text())
+        if "best iteration" not in rec:
+            raise FileNotFoundError(2, "space mapping not finished", str(folder))
+        rows.append({k: v for k, v in rec.items() if k != "date"})
+    costs = "; ".join(
+        f"{r['target']}: {len(r['iterations'])} FE runs, {r['total CPU [s]']:.0f} s CPU"
+        for r in rows
+    )
+    record = {
+        "source": (
+            "output space mapping (Bandler et al., IEEE Trans. Microwave Theory Tech. 52 (2004) "
+            "337; validation.studies.design.space_mapping) of the reach study's best designs "
+            "(gridshell_fe_reach_designs_level0.json, iteration 0) on the refined 5 x 5, a drive "
+            "per strip, rollers: the gap D = r_FE - r_BH between the rigid residuals "
+            "(gridshell_reach_study.rigid_residual) at the BH's Kapton panel centres of the same "
+            "mirror-mean drives (FE: quarter model, mesh level 0, datasheet Kapton, the ribbon's "
+            "mid-surface at their as-built plan points; BH: FE-calibrated set from as built) "
+            "corrects the BH target to T - D; best_surface(..., max_evaluations=40, p0=the "
+            "FE-run drives, offset=D) redesigns; the FE runs the new design's mirror means; stop "
+            "when the FE RMS from T stops falling; no model parameter changed; "
+            f"python benchmarks/gridshell_reach_fe.py --space-map, {datetime.date.today()} "
+            f"(issue 47); {costs}; serial, shared 2-core machine"
+        ),
+        "units": {"RMS": "mm", "CPU": "s", "lambda": "-"},
+        "rows": rows,
+    }
+    _write(data, record)
+    for r in rows:
+        print(
+            f"{r['target']}: FE RMS {r['start FE RMS [mm]']:.3f} -> {r['FE RMS [mm]']:.3f} mm "
+            f"(iteration {r['best iteration']})"
+        )
+    return record
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--design", metavar="DIR")
@@ -356,6 +559,17 @@ def main(argv=None) -> int:
         "departure (the quarter model; the departure is recorded)",
     )
     ap.add_argument("--data", default=str(DATA))
+    ap.add_argument(
+        "--space-map",
+        nargs=2,
+        metavar=("TARGET", "DIR"),
+        help="the FE-corrected design loop (output space mapping) from the design of TARGET",
+    )
+    ap.add_argument(
+        "--iterations", type=int, default=3, help="with --space-map: most FE runs (>= 1)"
+    )
+    ap.add_argument("--collect-space-map", metavar="DIR")
+    ap.add_argument("--space-map-data", default=str(SPACE_MAP_DATA))
     a = ap.parse_args(argv)
     try:
         return _main(a)
@@ -376,8 +590,21 @@ def _main(a) -> int:
     if a.bh_check:
         for t in a.target or TARGETS:
             bh_check(t, pathlib.Path(a.bh_check))
+    if a.space_map:
+        if a.space_map[0] not in TARGETS:
+            print(
+                f"--space-map: target {a.space_map[0]!r}: allowed {', '.join(TARGETS)}",
+                file=sys.stderr,
+            )
+            return 2
+        if a.iterations < 1:
+            print(f"--iterations: {a.iterations}: allowed an integer >= 1", file=sys.stderr)
+            return 2
+        space_map(a.space_map[0], pathlib.Path(a.space_map[1]), a.iterations, pathlib.Path(a.data))
     if a.collect:
         collect(pathlib.Path(a.collect), pathlib.Path(a.data))
+    if a.collect_space_map:
+        collect_space_map(pathlib.Path(a.collect_space_map), pathlib.Path(a.space_map_data))
     return 0
 
 

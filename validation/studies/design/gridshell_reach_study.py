@@ -145,11 +145,15 @@ def grid_support(grid: str | Layout) -> str:
     return TRIANGULAR_SUPPORT if _grid_layout(grid).kind in THREE_DIRECTION_KINDS else SUPPORT
 
 
-def rigid_residual(points: np.ndarray, target) -> np.ndarray:
+def rigid_residual(points: np.ndarray, target, offset=None) -> np.ndarray:
     """z - z_target(x, y) [mm] at ``points`` (m, 3) (x, y from their centroid) with the
-    least-squares plane a + b x + c y removed (the linearised rigid fit)."""
+    least-squares plane a + b x + c y removed (the linearised rigid fit). ``offset`` (m,) [mm],
+    per point: the target is z_target - offset there (the space mapping's corrected target,
+    :func:`lcefem.validation.studies.design.space_mapping.output_space_map`)."""
     xy = points[:, :2] - points[:, :2].mean(axis=0)
     r = points[:, 2] - target(xy[:, 0], xy[:, 1])
+    if offset is not None:
+        r = r + np.asarray(offset, dtype=float)
     basis = np.column_stack([np.ones(len(r)), xy])
     coef, *_ = np.linalg.lstsq(basis, r, rcond=None)
     return r - basis @ coef
@@ -168,16 +172,10 @@ class ReachResult:
     x: np.ndarray | None = None  # (n, 3) [mm]
 
 
-def best_surface(
-    target: str,
-    grid: str,
-    wiring: str,
-    model_set: str = calibrate.DEFAULT_MODEL_SET,
-    max_evaluations: int = 40,
-) -> ReachResult:
-    """The design loop's closest surface to ``target`` on ``grid`` with ``wiring`` (module
-    docstring)."""
-    t0 = time.process_time()
+def _design_problem(target: str, grid: str, wiring: str, model_set: str, offset=None):
+    """(structure, EquilibriumMap, design variables, lambda_N) of a design of ``target`` on
+    ``grid`` with ``wiring``; the observables are the rigid residuals at the panel centres with
+    the target corrected by ``offset`` (rigid_residual)."""
     if wiring not in grid_wirings(grid):
         raise InputError(
             f"wiring = {wiring!r} on grid {grid!r}: allowed {', '.join(grid_wirings(grid))}"
@@ -197,11 +195,48 @@ def best_surface(
         setup.model,
         setup.held,
         params,
-        lambda x: rigid_residual(np.asarray(x).reshape(-1, 3)[points], z),
+        lambda x: rigid_residual(np.asarray(x).reshape(-1, 3)[points], z, offset),
         newton_options=gd.DESIGN_NEWTON,
         path_options=problem_bh.GRIDSHELL_PATH,
     )
-    p0 = np.full(params.size, 0.5 * (gd.LAMBDA_MIN + lambda_N))
+    return structure, eq, params, lambda_N
+
+
+def surface_at(
+    target: str,
+    grid: str,
+    wiring: str,
+    lambdas,
+    model_set: str = calibrate.DEFAULT_MODEL_SET,
+) -> np.ndarray:
+    """The bar-and-hinge equilibrium (n, 3) [mm] of the design variables ``lambdas`` (the order of
+    :func:`best_surface`'s), reached from the as-built state as the design loop's first
+    evaluation reaches it (EquilibriumMap.equilibrium)."""
+    _, eq, _, _ = _design_problem(target, grid, wiring, model_set)
+    return eq.equilibrium(np.asarray(lambdas, dtype=float))[0]
+
+
+def best_surface(
+    target: str,
+    grid: str,
+    wiring: str,
+    model_set: str = calibrate.DEFAULT_MODEL_SET,
+    max_evaluations: int = 40,
+    p0=None,
+    offset=None,
+) -> ReachResult:
+    """The design loop's closest surface to ``target`` on ``grid`` with ``wiring`` (module
+    docstring). ``p0``: the start (default the mid-range lambdas); ``offset`` (per panel centre
+    [mm]): the target is z_target - offset there (rigid_residual), and ``rms`` is the distance
+    from that corrected target."""
+    t0 = time.process_time()
+    structure, eq, params, lambda_N = _design_problem(target, grid, wiring, model_set, offset)
+    points = structure.panel_centres
+    z = TARGETS[target][0]
+    if p0 is None:
+        p0 = np.full(params.size, 0.5 * (gd.LAMBDA_MIN + lambda_N))
+    elif len(p0) != params.size:
+        raise InputError(f"p0: {len(p0)} lambdas, allowed {params.size} (one per design variable)")
     try:
         res = solve_design(
             eq,
@@ -215,8 +250,8 @@ def best_surface(
             max_evaluations=max_evaluations,
         )
         r, p, x, n = res.residual, res.p, res.state.x, res.iterations
-    except ConvergenceError:  # not even the mid-range lambdas: the flat surface is the answer
-        r, p, x, n = rigid_residual(structure.nodes[points], z), p0, None, 0
+    except ConvergenceError:  # not even the start: the flat surface is the answer
+        r, p, x, n = rigid_residual(structure.nodes[points], z, offset), p0, None, 0
     rms = float(np.sqrt(np.mean(np.square(r))))
     return ReachResult(
         target, grid, wiring, rms, params.size, np.asarray(p), n, time.process_time() - t0, x
