@@ -148,6 +148,9 @@ def build_gridshell_bar_hinge(
     m = mesh.checked()
     bonded = layout.glued_junctions()  # None: all
     plane = layout.to_plane if layout.oblique else None
+    # a strip's contact quad split along both diagonals keeps the grid's mirror symmetries; one
+    # diagonal (the published structure, its digest) maps onto the other under a mirror
+    both = m.contact_diagonals == "both" or (m.contact_diagonals == "auto" and layout.oblique)
     if abs(g.junction_length - g.ribbon_width) > 1e-12:
         raise InputError(
             f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
@@ -283,6 +286,7 @@ def build_gridshell_bar_hinge(
                     pts,
                     pieces,
                     hinge_rows,
+                    both,
                 )
                 strip_of_bar["bottom_strips"] += [sid, sid]
 
@@ -359,6 +363,7 @@ def build_gridshell_bar_hinge(
                     else None,
                     pieces,
                     hinge_rows,
+                    both,
                 )
                 strip_of_bar["top_strips"] += [sid] * nbars
 
@@ -391,7 +396,13 @@ def build_gridshell_bar_hinge(
     sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
     sets["centre_junction"] = jc[n // 2, n // 2]
     # As the composite beam's, with two contact rows per point (the two triangles of a strip quad).
-    strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
+    strip_sections(
+        structure,
+        g,
+        flank=(lx - g.crown_bond_length) / (2 * nf),
+        rows_per_point=2,
+        strip_rows_per_point=4 if both else 2,
+    )
     apply_strip_element(
         structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N, squares.reshape(-1)
     )
