@@ -565,3 +565,65 @@ def select_strips(structure: BarHingeStructure, key, name: str = "strips") -> np
         return groups[key]
     allowed = ", ".join(["T", "B", *sorted(groups), *FAMILIES, "XD:x<70.5", "a strip id"])
     raise InputError(f"{name}: unknown strip selection {key!r} (allowed: {allowed})")
+
+
+def diagonal_mirror(structure: BarHingeStructure, which: str = "diag") -> np.ndarray:
+    """Node i -> the node at its mirror image about a diagonal of a two-family grid (orthogonal or
+    rhombic, n x n): "diag" swaps the families ((u, v) -> (v, u) in the oblique coordinates of
+    e1, e2), "anti" the other diagonal ((u, v) -> (L - v, L - u), L the ribbon length [mm]).
+    Coincident nodes (a strip end's centroid nodes, one per strip) are told apart by the positions
+    of the nodes they are barred to. Raises InputError when a node has no image (the structure is
+    not mirror-symmetric in its nodes)."""
+    layout = structure.info["layout"]
+    if layout.kind not in ("orthogonal", "rhombic") or which not in ("diag", "anti"):
+        raise InputError(
+            f"diagonal_mirror: kind {layout.kind!r}, which {which!r}: a two-family grid and "
+            "'diag' or 'anti'"
+        )
+    x = structure.nodes
+    e = layout.directions()
+    uv = np.linalg.solve(e.T, x[:, :2].T).T
+    m = uv[:, ::-1] if which == "diag" else structure.info["ribbon_length"] - uv[:, ::-1]
+    image = np.column_stack([m @ e, x[:, 2]])
+
+    def key(p) -> tuple:
+        return tuple(int(round(v * 1e4)) for v in p)  # 0.1 um
+
+    near: list[set] = [set() for _ in range(structure.num_nodes)]
+    for a, b in np.vstack([np.zeros((0, 2), dtype=np.int64), *structure.bars.values()]):
+        near[a].add(b)
+        near[b].add(a)
+    index: dict = {}
+    for i in range(structure.num_nodes):
+        index.setdefault((key(x[i]), frozenset(key(x[j]) for j in near[i])), []).append(i)
+    out = np.full(structure.num_nodes, -1, dtype=np.int64)
+    for i in range(structure.num_nodes):
+        hit = index.get((key(image[i]), frozenset(key(image[j]) for j in near[i])), [])
+        if len(hit) == 1:
+            out[i] = hit[0]
+    if np.any(out < 0):
+        raise InputError(f"diagonal_mirror: {int(np.sum(out < 0))} nodes have no mirror image")
+    return out
+
+
+def unmatched_mirror_rows(structure: BarHingeStructure, perm: np.ndarray) -> dict[str, int]:
+    """Per element group ("bars.<g>", "hinges.<g>", "contacts.<g>", "panels"): the rows whose image
+    under the node map ``perm`` (:func:`diagonal_mirror`) is not a row of the group (bars: node
+    pairs; hinges: axis and wings as pairs; contacts: point and triangle; panels: corner sets).
+    All zero: the structure maps onto itself."""
+
+    def canon(kind: str, r: tuple):
+        if kind in ("bars", "panels"):
+            return frozenset(r)
+        if kind == "hinges":
+            return frozenset(r[:2]), frozenset(r[2:])
+        return r[0], frozenset(r[1:])
+
+    out = {}
+    groups = [("panels", "panels", structure.panels)]
+    for kind in ("bars", "hinges", "contacts"):
+        groups += [(kind, f"{kind}.{k}", v) for k, v in getattr(structure, kind).items()]
+    for kind, name, rows in groups:
+        have = {canon(kind, tuple(r)) for r in rows.tolist()}
+        out[name] = len({canon(kind, tuple(r)) for r in perm[rows].tolist()} - have)
+    return out

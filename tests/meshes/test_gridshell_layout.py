@@ -11,7 +11,12 @@ import pytest
 from scipy.spatial import cKDTree
 
 from lcefem.meshes.composite_beam import BeamBarHingeMesh
-from lcefem.meshes.gridshell import build_gridshell_bar_hinge, select_strips
+from lcefem.meshes.gridshell import (
+    build_gridshell_bar_hinge,
+    diagonal_mirror,
+    select_strips,
+    unmatched_mirror_rows,
+)
 from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS, Layout, layout_from_table
 from lcefem.models.errors import InputError
 
@@ -164,56 +169,6 @@ def test_every_named_layout_has_a_plan(name):
     assert plan["junctions"].shape[1] == 2
 
 
-def mirror_permutation(s, lay, which: str) -> np.ndarray:
-    """Node i -> its mirror image's node about the rhombic grid's diagonal ("diag": the families
-    swap, (u, v) -> (v, u) in the oblique coordinates; "anti": (u, v) -> (L - v, L - u)). Nodes
-    that coincide (a strip end's centroid nodes) are told apart by the positions of the nodes they
-    are barred to."""
-    e = lay.directions()
-    uv = np.linalg.solve(e.T, s.nodes[:, :2].T).T
-    length = s.info["ribbon_length"]
-    m = uv[:, ::-1] if which == "diag" else length - uv[:, ::-1]
-    mirrored = np.column_stack([m @ e, s.nodes[:, 2]])
-
-    def key(p):
-        return tuple(int(round(v * 1e4)) for v in p)
-
-    near = [set() for _ in range(s.num_nodes)]
-    for a, b in np.vstack(list(s.bars.values())):
-        near[a].add(b)
-        near[b].add(a)
-    index = {}
-    for i in range(s.num_nodes):
-        index.setdefault((key(s.nodes[i]), frozenset(key(s.nodes[j]) for j in near[i])), []).append(
-            i
-        )
-    out = np.array(
-        [
-            index.get((key(mirrored[i]), frozenset(key(mirrored[j]) for j in near[i])), [-1])[0]
-            for i in range(s.num_nodes)
-        ]
-    )
-    assert np.all(out >= 0)
-    return out
-
-
-def unmatched_rows(s, perm) -> dict[str, int]:
-    """Per element group: rows whose mirror image is not a row of the group (bars: node pairs;
-    hinges: axis and wings as pairs; contacts: point and triangle)."""
-    out = {}
-    for kind, groups in (("bars", s.bars), ("hinges", s.hinges), ("contacts", s.contacts)):
-        for name, rows in groups.items():
-            if kind == "bars":
-                canon = lambda r: frozenset(r)  # noqa: E731
-            elif kind == "hinges":
-                canon = lambda r: (frozenset(r[:2]), frozenset(r[2:]))  # noqa: E731
-            else:
-                canon = lambda r: (r[0], frozenset(r[1:]))  # noqa: E731
-            have = {canon(tuple(r)) for r in rows.tolist()}
-            out[f"{kind}.{name}"] = len({canon(tuple(r)) for r in perm[rows].tolist()} - have)
-    return out
-
-
 @pytest.mark.parametrize("strip_element", ["bar", "beam"])
 def test_rhombic_element_sets_map_onto_themselves_under_both_diagonal_mirrors(strip_element):
     """Issue 47: every bar, hinge, panel and contact row of the rhombic structure has its mirror
@@ -231,10 +186,18 @@ def test_rhombic_element_sets_map_onto_themselves_under_both_diagonal_mirrors(st
         == 2 * one.contacts["bottom_strip_contact"].shape[0]
     )
     for which in ("diag", "anti"):
-        perm = mirror_permutation(s, lay, which)
-        assert not any(unmatched_rows(s, perm).values()), unmatched_rows(s, perm)
-        panels = {frozenset(r) for r in s.panels.tolist()}
-        assert {frozenset(r) for r in perm[s.panels].tolist()} == panels
-        bad = unmatched_rows(one, mirror_permutation(one, lay, which))
+        perm = diagonal_mirror(s, which)
+        bad = unmatched_mirror_rows(s, perm)
+        assert not any(bad.values()), bad
+        # the clamp (centre junction) and the drive (Bx <-> By, Tx <-> Ty) map too
+        centre = s.node_sets["centre_junction"]
+        assert set(perm[centre].tolist()) == set(centre.tolist())
+        for group, (a, b) in (("bottom_strips", ("Bx", "By")), ("top_strips", ("Tx", "Ty"))):
+            bars = s.bars[group]
+            row = {frozenset(r): i for i, r in enumerate(bars.tolist())}
+            image = np.array([row[frozenset(r)] for r in perm[bars].tolist()])
+            sob, groups = s.info["strip_of_bar"][group], s.info["groups"]
+            assert np.all(np.isin(sob[image[np.isin(sob, groups[a])]], groups[b]))
+        bad = unmatched_mirror_rows(one, diagonal_mirror(one, which))
         for name in ("contacts.bottom_strip_contact", "contacts.top_strip_contact"):
             assert bad[name] == one.contacts[name.split(".")[1]].shape[0]
