@@ -107,8 +107,11 @@ def lowest(h, basis, k=2) -> np.ndarray:
     return np.sort(w)
 
 
-def chain_stiffness(width: float, along: float, angle: float, mode: str, panels=12) -> float:
-    """EI or GJ [k mm^2] of a chain of N5B8 parallelograms (hinges only, k = 1 N mm/(rad mm))."""
+def chain_stiffness(
+    width: float, along: float, angle: float, mode: str, fold: float = 1.0, panels: int = 12
+) -> float:
+    """EI or GJ [k mm^2] of a chain of N5B8 parallelograms (hinges only: spokes k = 1 N mm/(rad
+    mm), folds ``fold`` k)."""
     a = math.radians(angle)
     f = np.array([math.cos(a), math.sin(a)]) * width / math.sin(a)
     pts = [(*(np.array([i * along, 0.0]) + s * f), 0.0) for i in range(panels + 1) for s in (0, 1)]
@@ -127,7 +130,8 @@ def chain_stiffness(width: float, along: float, angle: float, mode: str, panels=
         x[:nc, 1] = x0[:nc, 1].mean() + v * np.cos(kappa * u)
         x[:nc, 2] = v * np.sin(kappa * u)
     rows = np.vstack([s.hinges["bend"], s.hinges["fold"]])
-    length = np.linalg.norm(x0[rows[:, 1]] - x0[rows[:, 0]], axis=1)
+    k = np.r_[np.ones(len(s.hinges["bend"])), np.full(len(s.hinges["fold"]), fold)]
+    length = k * np.linalg.norm(x0[rows[:, 1]] - x0[rows[:, 0]], axis=1)
     rest = dihedral_angle(*(x0[rows[:, c]] for c in range(4)), derivatives=0)
 
     def energy(z):
@@ -261,9 +265,14 @@ def main(argv=None) -> int:
         for angle in (90.0, 60.0):
             ei = chain_stiffness(7.0, 2.2, angle, "bend")
             gj = chain_stiffness(7.0, 2.2, angle, "twist")
+            # folds free: the spokes alone set the least EI/GJ any fold stiffness can give
+            ratio = chain_stiffness(7.0, 2.2, angle, "bend", 0.0) / chain_stiffness(
+                7.0, 2.2, angle, "twist", 0.0
+            )
             print(
                 f"N5B8 chain, 2.2 mm panels at {angle:g} deg: EI {ei:.2f} k mm^2,",
-                f"GJ {gj:.2f} k mm^2",
+                f"GJ {gj:.2f} k mm^2; folds free (k_f = 0): EI/GJ",
+                f"{ratio:.3f}",
             )
     return 0
 
