@@ -16,7 +16,7 @@ disagreement layout_rhombic_transfer): three measurements of the FE-calibrated m
 
     OMP_NUM_THREADS=1 python benchmarks/rhombic_symmetry.py [--layout rhombic60]
         [--diagonals auto|one|both] [--steps 10] [--at 0.668,0.672] [--symmetric-from 0.66]
-        [--kapton-factor 1] [--chain]
+        [--kapton-factor 1] [--flank-panels 5] [--chain]
 
 Not a test: it prints the figures of docs/layouts/rhombic.md.
 """
@@ -154,6 +154,7 @@ def main(argv=None) -> int:
         "--symmetric-from", type=float, default=0.0, help="continue the symmetric branch"
     )
     p.add_argument("--kapton-factor", type=float, default=1.0, help="x kapton.bending_factor")
+    p.add_argument("--flank-panels", type=int, default=0, help="mesh.flank_panels (0: the set's)")
     p.add_argument("--chain", action="store_true", help="also the N5B8 chain's EI and GJ")
     a = p.parse_args(argv)
     try:
@@ -173,10 +174,12 @@ def main(argv=None) -> int:
         or not all(0.0 < t <= 1.0 for t in at)
         or not 0.0 <= a.symmetric_from < 1.0
         or a.kapton_factor <= 0.0
+        or not 0 <= a.flank_panels <= 200
     ):
         print(
             "--layout: a two-family named layout; --diagonals auto|one|both; --steps >= 1; "
-            "0 < --at <= 1; 0 <= --symmetric-from < 1; --kapton-factor > 0",
+            "0 < --at <= 1; 0 <= --symmetric-from < 1; --kapton-factor > 0; "
+            "0 <= --flank-panels <= 200",
             file=sys.stderr,
         )
         return 2
@@ -187,6 +190,8 @@ def main(argv=None) -> int:
     )
     mats = dataclasses.replace(mats, kapton=kapton)
     mesh = dataclasses.replace(ms.mesh, contact_diagonals=a.diagonals)
+    if a.flank_panels:
+        mesh = dataclasses.replace(mesh, flank_panels=a.flank_panels)
     s = build_gridshell_bar_hinge(layout=layout, mesh=mesh)
     print(f"# {a.layout}, clamp, Fig. 4 dome, FE-calibrated set, contact_diagonals {a.diagonals}")
     for d in ("one", "both"):
