@@ -395,7 +395,8 @@ def build_gridshell_bar_hinge(
     sets["ribbon_ends_y"] = ends["y"]
     sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
     sets["centre_junction"] = jc[n // 2, n // 2]
-    # As the composite beam's, with two contact rows per point (the two triangles of a strip quad).
+    # As the composite beam's, with a contact row per point and triangle of a strip quad (two; four
+    # with both diagonals) and two per raised-square corner.
     strip_sections(
         structure,
         g,
