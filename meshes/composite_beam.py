@@ -186,8 +186,21 @@ class BeamBarHingeMesh:
         "bonded panels), 'beam' (both; added here, docs/gridshell_calibration.md)",
     )
 
+    contact_diagonals: str = param(
+        "auto",
+        "-",
+        "added here: a gridshell strip's contact quad split along one diagonal ('one', the "
+        "published grid's structure as before) or both ('both': the same under the grid's "
+        "mirrors); 'auto': both on a rhombic grid, one elsewhere (docs/layouts/rhombic.md)",
+    )
+
     def checked(self) -> "BeamBarHingeMesh":
         check(self, "mesh")
+        if self.contact_diagonals not in CONTACT_DIAGONALS:
+            raise InputError(
+                f"mesh.contact_diagonals = {self.contact_diagonals!r}: allowed "
+                + ", ".join(repr(e) for e in CONTACT_DIAGONALS)
+            )
         if self.top_junction not in ("lce", "glue"):
             raise InputError(f"mesh.top_junction = {self.top_junction!r}: allowed 'lce' or 'glue'")
         if self.strip_element not in STRIP_ELEMENTS:
@@ -198,6 +211,8 @@ class BeamBarHingeMesh:
         return self
 
 
+#: How a gridshell strip's contact quad is split (BeamBarHingeMesh.contact_diagonals).
+CONTACT_DIAGONALS = ("auto", "one", "both")
 #: How an LCE strip acts on the ribbon (BeamBarHingeMesh.strip_element).
 STRIP_ELEMENTS = ("bar", "offset", "bending", "beam")
 
@@ -319,7 +334,11 @@ def strip_contact_rows(end_a, end_b, panel_a, panel_b, far_a, far_b):
 
 
 def strip_sections(
-    structure: BarHingeStructure, g: CompositeBeamGeometry, flank: float, rows_per_point: int = 1
+    structure: BarHingeStructure,
+    g: CompositeBeamGeometry,
+    flank: float,
+    rows_per_point: int = 1,
+    strip_rows_per_point: int | None = None,
 ) -> None:
     """Section data of the strip, glue and contact groups [mm, mm^2], shared by the beam and the
     gridshell.
@@ -327,8 +346,11 @@ def strip_sections(
     Contact areas: a raised-square corner carries a quarter of the strip's footprint on the
     junction; a ribbon node half the strip's width over one flank panel of length ``flank`` [mm].
     With ``rows_per_point`` contact rows per point (the gridshell has one per triangle of a strip
-    quad) each row carries its share, so the total contact stiffness is the same.
+    quad) each row carries its share, so the total contact stiffness is the same;
+    ``strip_rows_per_point`` (default ``rows_per_point``) for the strips' contacts alone (4 with
+    both diagonals of a strip quad, :func:`lcefem.meshes.gridshell_strips.quad_triangles`).
     """
+    strip_rows = strip_rows_per_point or rows_per_point
     structure.sections["bottom_strips"] = {"section": g.strip_section}
     structure.sections["top_strips"] = {"section": g.strip_section}
     structure.sections["glue"] = {"area": g.ribbon_width * g.ribbon_thickness}
@@ -338,7 +360,7 @@ def strip_sections(
     }
     for name in ("bottom_strip_contact", "top_strip_contact"):
         structure.sections[name] = {
-            "area": 0.5 * g.strip_width * flank / rows_per_point,
+            "area": 0.5 * g.strip_width * flank / strip_rows,
             "depth": g.strip_thickness,
         }
 

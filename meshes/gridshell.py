@@ -148,6 +148,9 @@ def build_gridshell_bar_hinge(
     m = mesh.checked()
     bonded = layout.glued_junctions()  # None: all
     plane = layout.to_plane if layout.oblique else None
+    # a strip's contact quad split along both diagonals keeps the grid's mirror symmetries; one
+    # diagonal (the published structure, its digest) maps onto the other under a mirror
+    both = m.contact_diagonals == "both" or (m.contact_diagonals == "auto" and layout.oblique)
     if abs(g.junction_length - g.ribbon_width) > 1e-12:
         raise InputError(
             f"geometry.junction_length = {g.junction_length}: must equal ribbon_width = "
@@ -283,6 +286,7 @@ def build_gridshell_bar_hinge(
                     pts,
                     pieces,
                     hinge_rows,
+                    both,
                 )
                 strip_of_bar["bottom_strips"] += [sid, sid]
 
@@ -359,6 +363,7 @@ def build_gridshell_bar_hinge(
                     else None,
                     pieces,
                     hinge_rows,
+                    both,
                 )
                 strip_of_bar["top_strips"] += [sid] * nbars
 
@@ -390,8 +395,15 @@ def build_gridshell_bar_hinge(
     sets["ribbon_ends_y"] = ends["y"]
     sets["bottom_strip_ends"] = np.unique(structure.bars["bottom_strips"])
     sets["centre_junction"] = jc[n // 2, n // 2]
-    # As the composite beam's, with two contact rows per point (the two triangles of a strip quad).
-    strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
+    # As the composite beam's, with a contact row per point and triangle of a strip quad (two; four
+    # with both diagonals) and two per raised-square corner.
+    strip_sections(
+        structure,
+        g,
+        flank=(lx - g.crown_bond_length) / (2 * nf),
+        rows_per_point=2,
+        strip_rows_per_point=4 if both else 2,
+    )
     apply_strip_element(
         structure, g, m.strip_element, pieces, PUBLISHED_LAMBDA_N, squares.reshape(-1)
     )
@@ -554,3 +566,65 @@ def select_strips(structure: BarHingeStructure, key, name: str = "strips") -> np
         return groups[key]
     allowed = ", ".join(["T", "B", *sorted(groups), *FAMILIES, "XD:x<70.5", "a strip id"])
     raise InputError(f"{name}: unknown strip selection {key!r} (allowed: {allowed})")
+
+
+def diagonal_mirror(structure: BarHingeStructure, which: str = "diag") -> np.ndarray:
+    """Node i -> the node at its mirror image about a diagonal of a two-family grid (orthogonal or
+    rhombic, n x n): "diag" swaps the families ((u, v) -> (v, u) in the oblique coordinates of
+    e1, e2), "anti" the other diagonal ((u, v) -> (L - v, L - u), L the ribbon length [mm]).
+    Coincident nodes (a strip end's centroid nodes, one per strip) are told apart by the positions
+    of the nodes they are barred to. Raises InputError when a node has no image (the structure is
+    not mirror-symmetric in its nodes)."""
+    layout = structure.info["layout"]
+    if layout.kind not in ("orthogonal", "rhombic") or which not in ("diag", "anti"):
+        raise InputError(
+            f"diagonal_mirror: kind {layout.kind!r}, which {which!r}: a two-family grid and "
+            "'diag' or 'anti'"
+        )
+    x = structure.nodes
+    e = layout.directions()
+    uv = np.linalg.solve(e.T, x[:, :2].T).T
+    m = uv[:, ::-1] if which == "diag" else structure.info["ribbon_length"] - uv[:, ::-1]
+    image = np.column_stack([m @ e, x[:, 2]])
+
+    def key(p) -> tuple:
+        return tuple(int(round(v * 1e4)) for v in p)  # 0.1 um
+
+    near: list[set] = [set() for _ in range(structure.num_nodes)]
+    for a, b in np.vstack([np.zeros((0, 2), dtype=np.int64), *structure.bars.values()]):
+        near[a].add(b)
+        near[b].add(a)
+    index: dict = {}
+    for i in range(structure.num_nodes):
+        index.setdefault((key(x[i]), frozenset(key(x[j]) for j in near[i])), []).append(i)
+    out = np.full(structure.num_nodes, -1, dtype=np.int64)
+    for i in range(structure.num_nodes):
+        hit = index.get((key(image[i]), frozenset(key(image[j]) for j in near[i])), [])
+        if len(hit) == 1:
+            out[i] = hit[0]
+    if np.any(out < 0):
+        raise InputError(f"diagonal_mirror: {int(np.sum(out < 0))} nodes have no mirror image")
+    return out
+
+
+def unmatched_mirror_rows(structure: BarHingeStructure, perm: np.ndarray) -> dict[str, int]:
+    """Per element group ("bars.<g>", "hinges.<g>", "contacts.<g>", "panels"): the rows whose image
+    under the node map ``perm`` (:func:`diagonal_mirror`) is not a row of the group (bars: node
+    pairs; hinges: axis and wings as pairs; contacts: point and triangle; panels: corner sets).
+    All zero: the structure maps onto itself."""
+
+    def canon(kind: str, r: tuple):
+        if kind in ("bars", "panels"):
+            return frozenset(r)
+        if kind == "hinges":
+            return frozenset(r[:2]), frozenset(r[2:])
+        return r[0], frozenset(r[1:])
+
+    out = {}
+    groups = [("panels", "panels", structure.panels)]
+    for kind in ("bars", "hinges", "contacts"):
+        groups += [(kind, f"{kind}.{k}", v) for k, v in getattr(structure, kind).items()]
+    for kind, name, rows in groups:
+        have = {canon(kind, tuple(r)) for r in rows.tolist()}
+        out[name] = len({canon(kind, tuple(r)) for r in perm[rows].tolist()} - have)
+    return out

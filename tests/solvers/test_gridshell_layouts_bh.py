@@ -124,3 +124,26 @@ def test_5x5_dome_long_newton_descent_lands_on_the_cut_increments_equilibrium():
         assert k_long[key] < -1e-4  # a dome (seed 001's sign)
         diff = abs(k_long[key] - k_path[key])
         assert diff < 1e-7, f"{key}: {k_long[key]!r} vs {k_path[key]!r} ({diff:.2g} 1/mm)"
+
+
+def test_rhombic_dome_drive_keeps_the_diagonal_symmetry_until_its_bifurcation():
+    """Issue 47: three tenths of the Fig. 4 dome's ramp (lambda = lambda_N + 0.3 (lambda_dome -
+    lambda_N) on all four channels), centre clamp: the two families' circle curvatures agree to
+    round-off (measured -0.0057600 1/mm both, 1.8 s CPU). With the strips' contact quads split
+    along one diagonal (the structure before the fix) they differ by 6 % (-0.00557 / -0.00591
+    1/mm): the split, not the drive, broke the symmetry; the symmetric branch itself turns unstable
+    at t = 0.670 (docs/layouts/rhombic.md)."""
+    from lcefem.models.bar_hinge_materials import PUBLISHED_LAMBDA_N
+    from lcefem.validation.studies.gridshell import gridshell_bh as gs
+
+    f = 0.3
+    lam = gs.SHAPES["dome"]["lambdas"]
+    p = solve(
+        "rhombic60",
+        "clamp",
+        {k: PUBLISHED_LAMBDA_N + f * (v - PUBLISHED_LAMBDA_N) for k, v in lam.items()},
+    )
+    o = p.observables()
+    kx, ky = o["circle kappa_x [1/mm]"], o["circle kappa_y [1/mm]"]
+    assert kx == pytest.approx(-0.00576, abs=2e-5)
+    assert kx == pytest.approx(ky, abs=1e-9)
