@@ -67,3 +67,37 @@ def test_the_reach_designs_fe_rows_are_informative_with_the_bh_as_reference():
             - row["BH RMS from as built, design drives [mm]"]
         )
         assert drift < 0.02
+
+
+def test_a_symmetric_fe_row_judges_the_bh_families_by_their_bending_not_by_x_and_y(monkeypatch):
+    # The rhombic BH dome bifurcates at t = 0.670 and which family bends more is set by round-off
+    # (docs/layouts/rhombic.md): the same BH state with x and y exchanged gives the same rows.
+    import lcefem.solvers.problems.gridshell_bh as gbh
+
+    ref = json.loads(case.FE_LAYOUTS_FULL.read_text())
+    row = next(r for r in ref["rows"] if r["layout"] == "rhombic60")
+    assert case._mirror_symmetric(row)
+    assert not case._mirror_symmetric({"circle_x": -0.012, "circle_y": -0.019})
+
+    def rows_for(kx, ky):
+        class Fake:
+            def __init__(self, *args, **kwargs):
+                pass
+
+            def set_drives(self, lambdas):
+                pass
+
+            def advance(self):
+                pass
+
+            def observables(self):
+                return {"circle kappa_x [1/mm]": kx, "circle kappa_y [1/mm]": ky}
+
+        monkeypatch.setattr(gbh, "GridshellBH", Fake)
+        out = case._layout_rows("gridshell_bh_vs_fe", ref, [row])
+        return {m.metric: (m.value, m.passed) for m in out if "circle" in m.metric}
+
+    a, b = rows_for(-0.01945, -0.01211), rows_for(-0.01211, -0.01945)
+    assert a == b
+    label = "rhombic60 dome (clamp, full ramp): circle kappa, {} bent family, BH vs FE"
+    assert a[label.format("more")][0] == -0.01945 and a[label.format("less")][0] == -0.01211
