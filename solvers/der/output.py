@@ -11,12 +11,15 @@ Only numpy and VTK (the ``vtk`` wheel that pyvista uses); no FEniCSx.
 from __future__ import annotations
 
 import pathlib
+from typing import TYPE_CHECKING
 
 import numpy as np
-import vtk
-from vtk.util.numpy_support import numpy_to_vtk
 
 from lcefem.solvers.runtime.files import CSVTable, FrameSeries
+
+# VTK is imported where a frame is written: 0.7 s that a refused input never needs.
+if TYPE_CHECKING:
+    import vtk
 
 
 def polydata(
@@ -27,6 +30,9 @@ def polydata(
 ) -> vtk.vtkPolyData:
     """vtkPolyData with the given points (n, 3), polylines (lists of point ids), quads (m, 4) and
     point arrays ((n,) or (n, 3))."""
+    import vtk
+    from vtk.util.numpy_support import numpy_to_vtk
+
     pd = vtk.vtkPolyData()
     pts = vtk.vtkPoints()
     pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=float), deep=True))
@@ -67,6 +73,8 @@ class PolylineSeries(FrameSeries):
 
 def write_vtp(path: pathlib.Path, data: vtk.vtkPolyData) -> None:
     """VTK XML PolyData (binary) at ``path``, whatever its suffix (e.g. a ``.part`` name)."""
+    import vtk
+
     writer = vtk.vtkXMLPolyDataWriter()
     writer.SetFileName(str(path))
     writer.SetInputData(data)

@@ -71,8 +71,8 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
-    """The full parser; with ``argv`` naming a run target, only that target's module is imported
-    (targets that need no FEniCSx then start without importing it)."""
+    """The parser; with ``argv`` naming a command or a run target, only that command's or
+    target's module is imported (the others are bare entries); without one, every module."""
     parser = _Parser(prog="lcefem", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     run = sub.add_parser("run", help="run one simulation")
@@ -82,18 +82,29 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
         parser_class=_Parser,
         metavar="{" + ",".join(RUN_TARGETS) + "}",
     )
-    wanted = list(RUN_TARGETS)
-    if argv and len(argv) >= 2 and argv[0] == "run" and argv[1] in RUN_TARGETS:
-        wanted = [argv[1]]
+    # Import only the modules the command line names: a command's module pulls in FEniCSx, scipy,
+    # VTK or matplotlib (0.3-2 s each), and a refused input should be refused at once. The others
+    # get a bare entry so that argparse still lists every choice; the top-level help imports all.
+    wanted, commands = list(RUN_TARGETS), list(COMMANDS)
+    if argv and argv[0] == "run":
+        commands = []
+        if len(argv) >= 2 and argv[1] in RUN_TARGETS:
+            wanted = [argv[1]]
+        elif len(argv) >= 2 and not argv[1].startswith("-"):
+            wanted = []  # an unknown target
     elif argv and argv[0] in COMMANDS:
-        wanted = []  # other commands need no run-target modules
-    modules = [(targets, name, RUN_TARGETS[name]) for name in wanted]
-    modules += [(sub, name, module) for name, module in COMMANDS.items()]
-    for group, name, module in modules:
-        mod = importlib.import_module(module)
-        p = group.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])
-        mod.add_arguments(p)
-        p.set_defaults(_module=mod)
+        wanted, commands = [], [argv[0]]
+    elif argv and not argv[0].startswith("-"):
+        wanted, commands = [], []  # an unknown command: argparse's one-line error
+    for group, table, chosen in ((targets, RUN_TARGETS, wanted), (sub, COMMANDS, commands)):
+        for name, module in table.items():
+            if name not in chosen:
+                group.add_parser(name)
+                continue
+            mod = importlib.import_module(module)
+            p = group.add_parser(name, help=(mod.__doc__ or "").strip().splitlines()[0])
+            mod.add_arguments(p)
+            p.set_defaults(_module=mod)
     return parser
 
 
