@@ -1,7 +1,7 @@
 """The FE gridshell's node-wise terms (solvers/contact.py) on two ranks give the serial answer
 (issue 46): strip-ribbon node pairs whose ribbon nodes another rank owns, the table (rigid plane),
-the residual homotopy's nodal load and the path follower's nodal damping; and the level-0 quarter
-dome from the command line under ``mpiexec -n 2`` lands on the serial golden."""
+the residual homotopy's nodal load and the path follower's nodal damping. (The level-0 quarter
+dome on 2 ranks against the serial golden: the gallery's ex08, tests/test_examples.py.)"""
 
 import json
 import sys
