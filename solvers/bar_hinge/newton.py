@@ -106,6 +106,20 @@ class NewtonOptions:
         "stability and Newton descends to a new stable state (snap-through)",
         minimum=0,
     )
+    settle: bool = param(
+        True,
+        "-",
+        "when Newton would fail (budget spent, or no step accepted) with the residual on a few "
+        "nodes (floating_block: a floating block, e.g. a raised square on slack strips), minimise "
+        "the energy over those nodes alone (settle_block) and go on with max_iterations more",
+    )
+    settle_stall: int = param(
+        0,
+        "-",
+        "chosen: also settle a floating block after this many Newton iterations without halving "
+        "the residual (0: only when Newton would fail)",
+        minimum=0,
+    )
 
 
 @dataclass(frozen=True)
@@ -324,6 +338,144 @@ PROGRESS_WINDOW = 10
 DENSE_EIGEN = 4000
 
 
+#: Settle step (a floating block, NewtonOptions.settle): when Newton stalls, the nodes that carry
+#: SETTLE_SHARE of the squared residual, if there are at most SETTLE_MAX_NODES of them, are a
+#: floating block (chosen: on the 5 x 5 gridshell's Fig. 4 dome under the rollers the centre
+#: junction's raised top square, 4 nodes, carries 90-100 % of every stalled residual, 5.7e-4 N per
+#: node against 4e-9 N elsewhere; benchmarks/bh_soft_modes.py).
+SETTLE_SHARE = 0.9
+SETTLE_MAX_NODES = 16
+#: The block's own Newton iterations per settle (chosen: a 12-DOF sub-problem; each iteration one
+#: energy, gradient and Hessian of the whole model) and its tolerance: a fraction of the force
+#: tolerance, so that the block's residual leaves the full Newton the rest.
+SETTLE_ITERATIONS = 50
+#: Settles per Newton solve (chosen: each is followed by up to max_iterations Newton iterations).
+SETTLE_MAX = 10
+SETTLE_TOLERANCE = 0.1
+
+
+def floating_block(grad: np.ndarray, free: np.ndarray, ndof: int) -> np.ndarray | None:
+    """The nodes of a floating block (those carrying SETTLE_SHARE of |g_free|^2, largest first,
+    at most SETTLE_MAX_NODES), or None when the residual is spread over more nodes."""
+    g = np.zeros(ndof)
+    g[free] = grad[free]
+    g2 = (g.reshape(-1, 3) ** 2).sum(axis=1)
+    total = float(g2.sum())
+    if total <= 0.0:
+        return None
+    order = np.argsort(g2, kind="stable")[::-1][:SETTLE_MAX_NODES]
+    share = np.cumsum(g2[order]) / total
+    k = int(np.searchsorted(share, SETTLE_SHARE)) + 1
+    if k > order.size or share[k - 1] < SETTLE_SHARE:
+        return None
+    return np.sort(order[:k])
+
+
+def _rotation(w: np.ndarray) -> np.ndarray:
+    """The rotation matrix exp([w]x) of the rotation vector w [rad] (Rodrigues)."""
+    angle = float(np.linalg.norm(w))
+    if angle < 1e-300:
+        return np.eye(3)
+    k = w / angle
+    kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * kx + (1.0 - math.cos(angle)) * kx @ kx
+
+
+def rigid_update(points: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """Move ``points`` (m, 3) [mm] by ``step`` (m, 3) [mm] with its rigid part exact.
+
+    The step is split into the infinitesimal rigid motion a + w x r_i (r_i = p_i - c, c the
+    centroid; least squares) and the rest d_i - a - w x r_i; the new points are
+    c + a + R(w) r_i + (d_i - a - w x r_i), R(w) the finite rotation (Rodrigues). A linear step
+    along a block's soft rigid rotation stretches its stiff bars to second order (|w|^2 |r|/2),
+    the finite rotation does not; both agree to first order (the same tangent, so an Armijo test
+    with the slope g . d stays valid). Fewer than 3 points: the linear step.
+    """
+    m = points.shape[0]
+    if m < 3:
+        return points + step
+    c = points.mean(axis=0)
+    r = points - c
+    # d_i = a + w x r_i = a - [r_i]x w: least squares over (a, w); the translation decouples
+    # (sum r_i = 0), so a is the mean step and w solves the 3 x 3 normal equations.
+    a = step.mean(axis=0)
+    rel = step - a
+    rx = np.zeros((m, 3, 3))
+    rx[:, 0, 1], rx[:, 0, 2] = r[:, 2], -r[:, 1]
+    rx[:, 1, 0], rx[:, 1, 2] = -r[:, 2], r[:, 0]
+    rx[:, 2, 0], rx[:, 2, 1] = r[:, 1], -r[:, 0]
+    # w x r_i = rx_i @ w with rx_i = -[r_i]x
+    normal = np.einsum("mji,mjk->ik", rx, rx)
+    rhs = np.einsum("mji,mj->i", rx, rel)
+    w = np.linalg.lstsq(normal, rhs, rcond=1e-12)[0]
+    rest = rel - np.einsum("mij,j->mi", rx, w)
+    return c + a + r @ _rotation(w).T + rest
+
+
+def settle_block(
+    model: BarHingeModel,
+    x: np.ndarray,
+    free: np.ndarray,
+    nodes: np.ndarray,
+    reduced: ReducedHessian,
+    options: NewtonOptions,
+) -> tuple[np.ndarray, int]:
+    """Minimise the energy over the free DOFs of the block ``nodes`` alone, every other DOF fixed
+    (a block Gauss-Seidel step): Levenberg-Marquardt Newton on the block's dense tangent K_bb,
+    (K_bb + mu I) d = -g_b with mu = 0 while K_bb is positive definite, each step applied with
+    its rigid part exact (:func:`rigid_update`) and safeguarded by an Armijo test on the energy
+    (or, where the energy cannot resolve it, on the block's residual). Stops at |g_b| <=
+    SETTLE_TOLERANCE x the force tolerance or after SETTLE_ITERATIONS; returns the positions (3n,)
+    [mm] and the iterations."""
+    x = np.array(x, dtype=float).reshape(-1)
+    dofs = (3 * nodes[:, None] + np.arange(3)).reshape(-1)
+    on_free = np.isin(dofs, free)
+    index = np.searchsorted(free, dofs[on_free])  # positions in the reduced matrix
+    energy, grad, coo = model.evaluate(x)
+    mu = 0.0
+    for it in range(SETTLE_ITERATIONS):
+        gb = grad[dofs[on_free]]
+        residual = float(np.linalg.norm(gb))
+        if residual <= SETTLE_TOLERANCE * options.force_tolerance:
+            return x, it
+        kbb = reduced.matrix(coo)[index][:, index].toarray()
+        vals, vecs = np.linalg.eigh(kbb)
+        scale = max(float(np.max(np.abs(np.diag(kbb)))), 1e-300)
+        floor = 1e-12 * scale  # the positive definiteness resolvable in K_bb
+        shift = max(mu, floor - vals[0], 0.0)
+        step_b = -vecs @ ((vecs.T @ gb) / (vals + shift))
+        longest = float(np.max(np.abs(step_b)))
+        if longest > options.max_step:
+            step_b *= options.max_step / longest
+        slope = float(np.dot(gb, step_b))
+        step = np.zeros(dofs.size)
+        step[on_free] = step_b
+        step = step.reshape(-1, 3)
+        points = x.reshape(-1, 3)[nodes]
+        resolvable = -slope > 1e-10 * (abs(energy) + 1e-12)
+        alpha, accepted = 1.0, False
+        for _ in range(30):
+            trial = x.copy()
+            trial.reshape(-1, 3)[nodes] = rigid_update(points, alpha * step)
+            if resolvable:
+                e_new = model.evaluate(trial, derivatives=0)
+                ok = math.isfinite(e_new) and e_new <= energy + 1e-4 * alpha * slope
+            else:
+                g_new = model.evaluate(trial, derivatives=1)[1]
+                ok = float(np.linalg.norm(g_new[dofs[on_free]])) < residual
+            if ok:
+                accepted = True
+                break
+            alpha *= 0.5
+        if not accepted:
+            mu = max(10.0 * mu, 1e-8 * scale)  # a shorter, more gradient-like step
+            continue
+        mu = 0.0 if alpha == 1.0 else mu
+        x = trial
+        energy, grad, coo = model.evaluate(x)
+    return x, SETTLE_ITERATIONS
+
+
 def _stall(
     best: float, stalled: int, level: int, residual: float, previous: float, damping: float
 ) -> tuple[float, int, int]:
@@ -366,6 +518,28 @@ def newton(
     level = (
         0  # damping exponent of the stalled iterations (mu = 1e-8 * 10^level of the largest entry)
     )
+
+    settles = 0
+
+    def settle() -> bool:
+        """Settle a floating block (settle_block); False if there is none or it does not lower the
+        residual."""
+        nonlocal x, energy, grad, coo, residual, budget, settles, best, stalled, level
+        if not options.settle or settles >= SETTLE_MAX:
+            return False
+        nodes = floating_block(grad, free, model.ndof)
+        if nodes is None:
+            return False
+        trial = settle_block(model, x, free, nodes, reduced, options)[0]
+        e_new, g_new, c_new = model.evaluate(trial)
+        r_new = float(np.linalg.norm(g_new[free]))
+        settles += 1
+        if not (math.isfinite(r_new) and r_new < residual):
+            return False
+        x, energy, grad, coo, residual = trial, e_new, g_new, c_new, r_new
+        budget = max(budget, it + options.max_iterations)
+        best, stalled, level = residual, 0, 0
+        return True
 
     def escape() -> bool:
         """Step along negative curvature until the energy drops; False if it cannot."""
@@ -415,7 +589,11 @@ def newton(
             and len(history) > PROGRESS_WINDOW
             and history[-PROGRESS_WINDOW - 1] - energy > PROGRESS * abs(energy)
         ):
+            if settle():
+                continue
             break
+        if options.settle_stall and stalled >= options.settle_stall and settle():
+            continue
         history.append(energy)
         it += 1
         r = grad[free]
@@ -481,6 +659,8 @@ def newton(
             # no usable step: damp the next ones (a gradient-like step near a kink still helps)
             level = min(level + 1, 6) if damping else level
             stalled = max(stalled + 1, options.stall_iterations)
+            continue
+        if settle():
             continue
         return NewtonResult(
             x.reshape(-1, 3), False, it, residual, energy, "line search failed", negative
