@@ -345,18 +345,32 @@ DENSE_EIGEN = 4000
 #: node against 4e-9 N elsewhere; benchmarks/bh_soft_modes.py).
 SETTLE_SHARE = 0.9
 SETTLE_MAX_NODES = 16
+#: Couplings of at least SETTLE_STIFF times the largest diagonal entry of the tangent tie a node
+#: to a block (chosen: on the published 3 x 3's Fig. 4 dome the raised square's glue bars couple
+#: its nodes by 450-1300 N/mm, its contacts and strips couple it to the rest by <= 0.24 N/mm; the
+#: largest diagonal entry is ~1500 N/mm).
+SETTLE_STIFF = 1e-2
 #: The block's own Newton iterations per settle (chosen: a 12-DOF sub-problem; each iteration one
 #: energy, gradient and Hessian of the whole model) and its tolerance: a fraction of the force
 #: tolerance, so that the block's residual leaves the full Newton the rest.
 SETTLE_ITERATIONS = 50
+#: The block's Newton stops after SETTLE_PATIENCE iterations without halving its residual (chosen:
+#: the published 3 x 3 dome's square sits on strip-contact kinks, where the block's Newton crawls
+#: at 1e-6 N, its steps cut to 1/16).
+SETTLE_PATIENCE = 10
 #: Settles per Newton solve (chosen: each is followed by up to max_iterations Newton iterations).
 SETTLE_MAX = 10
 SETTLE_TOLERANCE = 0.1
 
 
-def floating_block(grad: np.ndarray, free: np.ndarray, ndof: int) -> np.ndarray | None:
-    """The nodes of a floating block (those carrying SETTLE_SHARE of |g_free|^2, largest first,
-    at most SETTLE_MAX_NODES), or None when the residual is spread over more nodes."""
+def floating_block(
+    grad: np.ndarray, free: np.ndarray, ndof: int, kmat: sp.csc_matrix | None = None
+) -> np.ndarray | None:
+    """The nodes of a floating block, or None when the residual is spread over more nodes: those
+    carrying SETTLE_SHARE of |g_free|^2 (largest first), with ``kmat`` (the tangent on the free
+    DOFs) closed under stiff couplings (every node coupled to the block by an entry of at least
+    SETTLE_STIFF times the largest diagonal entry joins it, so a block is never a part of a stiff
+    body); at most SETTLE_MAX_NODES nodes."""
     g = np.zeros(ndof)
     g[free] = grad[free]
     g2 = (g.reshape(-1, 3) ** 2).sum(axis=1)
@@ -368,7 +382,22 @@ def floating_block(grad: np.ndarray, free: np.ndarray, ndof: int) -> np.ndarray 
     k = int(np.searchsorted(share, SETTLE_SHARE)) + 1
     if k > order.size or share[k - 1] < SETTLE_SHARE:
         return None
-    return np.sort(order[:k])
+    nodes = np.sort(order[:k])
+    if kmat is None:
+        return nodes
+    diag = kmat.diagonal()
+    stiff = SETTLE_STIFF * max(float(np.max(np.abs(diag))) if diag.size else 0.0, 1e-300)
+    node_of = free // 3  # the node of each free DOF (row of kmat)
+    while True:
+        cols = np.flatnonzero(np.isin(node_of, nodes))
+        sub = kmat[:, cols].tocoo()
+        coupled = np.unique(node_of[sub.row[np.abs(sub.data) >= stiff]])
+        grown = np.union1d(nodes, coupled)
+        if grown.size > SETTLE_MAX_NODES:
+            return None
+        if grown.size == nodes.size:
+            return nodes
+        nodes = grown
 
 
 def _rotation(w: np.ndarray) -> np.ndarray:
@@ -425,7 +454,8 @@ def settle_block(
     (K_bb + mu I) d = -g_b with mu = 0 while K_bb is positive definite, each step applied with
     its rigid part exact (:func:`rigid_update`) and safeguarded by an Armijo test on the energy
     (or, where the energy cannot resolve it, on the block's residual). Stops at |g_b| <=
-    SETTLE_TOLERANCE x the force tolerance or after SETTLE_ITERATIONS; returns the positions (3n,)
+    SETTLE_TOLERANCE x the force tolerance, after SETTLE_PATIENCE iterations without halving
+    |g_b|, or after SETTLE_ITERATIONS; returns the positions (3n,)
     [mm] and the iterations."""
     x = np.array(x, dtype=float).reshape(-1)
     dofs = (3 * nodes[:, None] + np.arange(3)).reshape(-1)
@@ -433,10 +463,14 @@ def settle_block(
     index = np.searchsorted(free, dofs[on_free])  # positions in the reduced matrix
     energy, grad, coo = model.evaluate(x)
     mu = 0.0
+    best, since = math.inf, 0  # the block's best residual, iterations since it was halved
     for it in range(SETTLE_ITERATIONS):
         gb = grad[dofs[on_free]]
         residual = float(np.linalg.norm(gb))
         if residual <= SETTLE_TOLERANCE * options.force_tolerance:
+            return x, it
+        best, since = (residual, 0) if residual <= 0.5 * best else (best, since + 1)
+        if since >= SETTLE_PATIENCE:
             return x, it
         kbb = reduced.matrix(coo)[index][:, index].toarray()
         vals, vecs = np.linalg.eigh(kbb)
@@ -527,7 +561,7 @@ def newton(
         nonlocal x, energy, grad, coo, residual, budget, settles, best, stalled, level
         if not options.settle or settles >= SETTLE_MAX:
             return False
-        nodes = floating_block(grad, free, model.ndof)
+        nodes = floating_block(grad, free, model.ndof, reduced.matrix(coo))
         if nodes is None:
             return False
         trial = settle_block(model, x, free, nodes, reduced, options)[0]
