@@ -81,6 +81,18 @@ def test_floating_block_is_the_few_nodes_carrying_the_residual():
     assert nw.floating_block(np.ones(300), np.arange(300), 300) is None  # spread: no block
 
 
+def test_floating_block_is_closed_under_stiff_couplings():
+    """A residual on two corners of the glue triangle: the block is the whole triangle (its glue
+    bars couple the third corner stiffly), not the strips' anchors (soft couplings)."""
+    model, free, block, _ = floating_triangle(0.05)
+    _, _, coo = model.evaluate(model.reference)
+    kmat = ReducedHessian.of(model, free).matrix(coo)
+    g = np.zeros(model.ndof)
+    g[[0, 4]] = 1.0  # nodes 0 and 1
+    assert list(nw.floating_block(g, free, model.ndof)) == [0, 1]
+    assert list(nw.floating_block(g, free, model.ndof, kmat)) == list(block)
+
+
 def test_settle_reaches_the_stable_equilibrium_plain_newton_reaches_slowly():
     """Couple 0.05 N mm: plain Newton stalls within its 50 iterations (|g| = 0.24 N, measured);
     with the settle step it converges to |g| <= 1e-8 N at a stable state (lowest tangent
