@@ -7,7 +7,9 @@ pivoting and a symmetric ordering, so the signs of U's diagonal give the inertia
 law). With inertia control on, mu = 0 is kept when K is positive definite and raised otherwise, so
 every step is a descent direction and the iteration settles in a stable equilibrium (a minimum);
 an Armijo backtracking search on Pi then safeguards the step. Convergence: |g_free| <= force
-tolerance.
+tolerance. When Newton would fail with its residual on a few nodes (a floating block, e.g. a raised
+square on slack strips), the energy is first minimised over those nodes alone (:func:`settle_block`,
+a block Gauss-Seidel step with the rigid part of each step exact) and Newton goes on.
 
 Load paths are parametrised by a load factor t in [0, 1]: ``load(t)`` sets the model's state (e.g.
 the strips' rest lengths) and returns the positions of the held DOFs. A failed increment is retried
