@@ -356,6 +356,7 @@ SETTLE_STIFF = 1e-2
 #: energy, gradient and Hessian of the whole model) and its tolerance: a fraction of the force
 #: tolerance, so that the block's residual leaves the full Newton the rest.
 SETTLE_ITERATIONS = 50
+SETTLE_TOLERANCE = 0.1
 #: The block's Newton stops after SETTLE_PATIENCE iterations without halving its residual (chosen:
 #: the published 3 x 3 dome's square sits on strip-contact kinks, where the block's Newton crawls
 #: at 1e-6 N, its steps cut to 1/16).
@@ -364,7 +365,6 @@ SETTLE_PATIENCE = 10
 #: max_iterations Newton iterations; with 10, the 5 x 5 dome's fold near t = 0.9, where settling
 #: does not help, cost 180 s CPU for 0.003 of the ramp).
 SETTLE_MAX = 3
-SETTLE_TOLERANCE = 0.1
 
 
 def floating_block(
@@ -459,12 +459,13 @@ def settle_block(
     its rigid part exact (:func:`rigid_update`) and safeguarded by an Armijo test on the energy
     (or, where the energy cannot resolve it, on the block's residual). Stops at |g_b| <=
     SETTLE_TOLERANCE x the force tolerance, after SETTLE_PATIENCE iterations without halving
-    |g_b|, or after SETTLE_ITERATIONS; returns the positions (3n,)
-    [mm] and the iterations."""
+    |g_b|, or after SETTLE_ITERATIONS; returns the positions (3n,) [mm] and the iterations. A
+    held DOF of the block keeps its value (the step is zero there to first order)."""
     x = np.array(x, dtype=float).reshape(-1)
     dofs = (3 * nodes[:, None] + np.arange(3)).reshape(-1)
     on_free = np.isin(dofs, free)
     index = np.searchsorted(free, dofs[on_free])  # positions in the reduced matrix
+    held_in_block = ~on_free.reshape(-1, 3)
     energy, grad, coo = model.evaluate(x)
     mu = 0.0
     best, since = math.inf, 0  # the block's best residual, iterations since it was halved
@@ -494,7 +495,9 @@ def settle_block(
         alpha, accepted = 1.0, False
         for _ in range(30):
             trial = x.copy()
-            trial.reshape(-1, 3)[nodes] = rigid_update(points, alpha * step)
+            # a held DOF keeps its value (the rotation's second-order part would move it)
+            moved = rigid_update(points, alpha * step)
+            trial.reshape(-1, 3)[nodes] = np.where(held_in_block, points, moved)
             if resolvable:
                 e_new = model.evaluate(trial, derivatives=0)
                 ok = math.isfinite(e_new) and e_new <= energy + 1e-4 * alpha * slope
