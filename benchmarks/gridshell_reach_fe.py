@@ -88,6 +88,20 @@ def reach_structure():
     return layout, calibrate.model_set(calibrate.DEFAULT_MODEL_SET).structure(layout)
 
 
+def _header(target: str) -> dict:
+    """The entries every record of ``target`` starts with: the target, its source, grid, wiring
+    and support."""
+    from lcefem.validation.studies.design import gridshell_reach_study as rs
+
+    return {
+        "target": target,
+        "target source": rs.TARGETS[target][1],
+        "grid": GRID,
+        "wiring": WIRING,
+        "support": SUPPORT,
+    }
+
+
 def design(target: str, out: pathlib.Path) -> dict:
     """Step 1: the BH design of ``target`` (module docstring)."""
     from lcefem.validation.studies.design import gridshell_reach_study as rs
@@ -95,11 +109,7 @@ def design(target: str, out: pathlib.Path) -> dict:
     r = rs.best_surface(target, GRID, WIRING, max_evaluations=40)
     _, structure = reach_structure()
     rec = {
-        "target": target,
-        "target source": rs.TARGETS[target][1],
-        "grid": GRID,
-        "wiring": WIRING,
-        "support": SUPPORT,
+        **_header(target),
         "BH RMS [mm]": r.rms,
         "drives [-]": r.variables,
         "evaluations [-]": r.evaluations,
@@ -279,24 +289,16 @@ def _centres(cfg) -> np.ndarray:
 def bh_check(target: str, folder: pathlib.Path) -> dict:
     """The BH of the design's drives and of their mirror means, each ramped from the as-built state
     (the design loop's equilibrium is warm-started, not checked from flat): RMS distances [mm]."""
-    from lcefem.meshes.gridshell_fe import fe_lambdas_of_strips, fe_strip_tags
     from lcefem.solvers.problems.gridshell_bh import GridshellBH, GridshellBHConfig
     from lcefem.validation.studies.design import gridshell_reach_study as rs
     from lcefem.validation.studies.gridshell import calibrate
 
     rec = json.loads((folder / f"design_{_slug(target)}.json").read_text())
     layout, structure = reach_structure()
-    strips = structure.info["strips"]
     per_id = {int(k): v for k, v in rec["lambda per BH strip id [-]"].items()}
-    mapped = fe_lambdas_of_strips(strips, per_id)
-    cfg = fe_config(layout, mapped)
-    sym, _ = symmetrized(mapped, cfg.catalogue(), float(np.mean(_centres(cfg))))
     ms = calibrate.model_set(calibrate.DEFAULT_MODEL_SET)
     out = {}
-    for label, drive in (
-        ("design", per_id),
-        ("symmetrized", {s.id: sym[fe_strip_tags(s)[0]] for s in strips}),
-    ):
+    for label, drive in (("design", per_id), ("symmetrized", mirror_mean_drives(per_id)[0])):
         c0 = time.process_time()
         p = GridshellBH(
             ms.structure(layout),
@@ -482,14 +484,8 @@ def space_map(target: str, folder: pathlib.Path, iterations: int, data: pathlib.
 
 
 def _space_map_record(target: str, rows: list[dict], best: int | None) -> dict:
-    from lcefem.validation.studies.design import gridshell_reach_study as rs
-
     out = {
-        "target": target,
-        "target source": rs.TARGETS[target][1],
-        "grid": GRID,
-        "wiring": WIRING,
-        "support": SUPPORT,
+        **_header(target),
         "iterations": rows,
         "date": datetime.date.today().isoformat(),
     }
