@@ -74,13 +74,14 @@ def test_pad_coils_on_two_ranks_take_the_serial_strips(tmp_path, mpiexec):
     assert set(res[1]["spread"]["share"]) == {"Tx", "Ty", "Bx", "By"}
 
 
-def _run(cmd, out, argv) -> dict:
-    subprocess.run(
-        [*cmd, "run", "gridshell", "--model", "fe", *argv, "--quiet", "--out", str(out)],
-        check=True,
+def _two_ranks(serial_and_two_ranks, cmd, argv) -> dict:
+    """The summary of ``lcefem run gridshell --model fe ARGV`` under ``mpiexec -n 2``."""
+    (parallel,) = serial_and_two_ranks(
+        [*cmd, "run", "gridshell", "--model", "fe", *argv, "--quiet", "--out", "{out}"],
+        ranks=(2,),
         timeout=1200,
     )
-    return json.loads((out / "summary.json").read_text())
+    return json.loads((parallel.out / "summary.json").read_text())
 
 
 #: The serial answers of the two command-line runs below (the same commands, one process), stored
@@ -94,10 +95,13 @@ def _stored_serial(run: str) -> dict:
 
 
 def _same(serial: dict, parallel: dict, keys) -> None:
-    # the same Newton iterates up to the factorisations' round-off
+    # the same answer up to the factorisations' round-off
     assert serial["status"] == parallel["status"] == "completed"
     assert serial["ranks"] == 1 and parallel["ranks"] == 2
-    assert parallel["newton iterations [-]"] == serial["newton iterations [-]"]
+    # Not the Newton iteration count: on 2 ranks it varies from run to run on a loaded machine
+    # (the --layout run: 50, 51 and 55 against the serial 50, measured 2026-12-07), while the
+    # answer stays within 1.3e-12: the path's rejected attempts end on round-off.
+    assert parallel["newton iterations [-]"] > 0
     s, p = serial["results"], parallel["results"]
     for key, rel in keys.items():
         assert p[key] == pytest.approx(s[key], rel=rel, abs=0.0), key
@@ -106,13 +110,15 @@ def _same(serial: dict, parallel: dict, keys) -> None:
 
 @pytest.mark.mpi
 @pytest.mark.slow
-def test_current_route_on_two_ranks_gives_the_serial_answer(tmp_path, lcefem_cmd, mpiexec):
+def test_current_route_on_two_ranks_gives_the_serial_answer(
+    tmp_path, lcefem_cmd, serial_and_two_ranks
+):
     # Measured 2026-12-07 (quarter, level 0, 26904 DOFs, 47 Newton iterations each): circle
     # -0.0014990269347 1/mm both, 3.3e-11 relative apart; channel temperatures 33.0687 / 45.9976 C
     # within 8e-16 relative; junction centres within 1.5e-10 mm; 21 s CPU serial, 36 s on 2 ranks.
     argv = ["--current", "Tx=0.03,Ty=0.03,Bx=0.05,By=0.05"]
     serial = _stored_serial("current")
-    parallel = _run([mpiexec, "-n", "2", *lcefem_cmd], tmp_path / "2", argv)
+    parallel = _two_ranks(serial_and_two_ranks, lcefem_cmd, argv)
     assert parallel["drive"] == "current" and parallel["symmetry"] == "quarter"
     r = parallel["results"]
     assert 30.0 < r["T_mean Tx [C]"] < r["T_mean Bx [C]"]  # heated, the bottom coils more
@@ -120,19 +126,19 @@ def test_current_route_on_two_ranks_gives_the_serial_answer(tmp_path, lcefem_cmd
     temperatures = {f"T_mean {c} [C]": 1e-13 for c in ("Tx", "Ty", "Bx", "By")}
     curvatures = {f"kappa_{m}_{a} [1/mm]": 1e-9 for m in ("circle", "quad") for a in ("x", "y")}
     _same(serial, parallel, {**temperatures, **curvatures, "z_range [mm]": 1e-9})
-    assert (tmp_path / "2" / "fields" / "temperature.bp").is_dir()
+    assert (tmp_path / "mpi2" / "fields" / "temperature.bp").is_dir()
 
 
 @pytest.mark.mpi
 @pytest.mark.slow
-def test_layout_on_two_ranks_gives_the_serial_answer(tmp_path, lcefem_cmd, mpiexec):
+def test_layout_on_two_ranks_gives_the_serial_answer(lcefem_cmd, serial_and_two_ranks):
     # The published layout's gmsh mesh (model on rank 0, dolfinx.io.gmsh.model_to_mesh), the top
     # layer ramped to lambda 1.36. Measured 2026-12-07 (quarter, level 0, 50 Newton iterations
     # each): circle 0.0035936834 1/mm, 8e-13 relative apart; 18 s CPU serial, 31 s on 2 ranks. The
     # rhombic60 layout (full model, 101880 DOFs) also: 1.2e-10 relative, 98 s / 145 s CPU.
     argv = ["--layout", "published", "--lambda", "T=1.36"]
     serial = _stored_serial("layout")
-    parallel = _run([mpiexec, "-n", "2", *lcefem_cmd], tmp_path / "2", argv)
+    parallel = _two_ranks(serial_and_two_ranks, lcefem_cmd, argv)
     assert parallel["layout"] == "published" and parallel["results"]["kappa_circle_x [1/mm]"] > 0.0
     curvatures = {f"kappa_{m}_{a} [1/mm]": 1e-9 for m in ("circle", "quad") for a in ("x", "y")}
     _same(serial, parallel, {**curvatures, "z_range [mm]": 1e-9})
