@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
+from scipy.spatial.transform import Rotation
 
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.models.parameters import check, param
@@ -404,25 +405,16 @@ def floating_block(
         nodes = grown
 
 
-def _rotation(w: np.ndarray) -> np.ndarray:
-    """The rotation matrix exp([w]x) of the rotation vector w [rad] (Rodrigues)."""
-    angle = float(np.linalg.norm(w))
-    if angle < 1e-300:
-        return np.eye(3)
-    k = w / angle
-    kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * kx + (1.0 - math.cos(angle)) * kx @ kx
-
-
 def rigid_update(points: np.ndarray, step: np.ndarray) -> np.ndarray:
     """Move ``points`` (m, 3) [mm] by ``step`` (m, 3) [mm] with its rigid part exact.
 
     The step is split into the infinitesimal rigid motion a + w x r_i (r_i = p_i - c, c the
     centroid; least squares) and the rest d_i - a - w x r_i; the new points are
-    c + a + R(w) r_i + (d_i - a - w x r_i), R(w) the finite rotation (Rodrigues). A linear step
-    along a block's soft rigid rotation stretches its stiff bars to second order (|w|^2 |r|/2),
-    the finite rotation does not; both agree to first order (the same tangent, so an Armijo test
-    with the slope g . d stays valid). Fewer than 3 points: the linear step.
+    c + a + R(w) r_i + (d_i - a - w x r_i), R(w) the finite rotation of the rotation vector w
+    (scipy's ``Rotation.from_rotvec``). A linear step along a block's soft rigid rotation stretches
+    its stiff bars to second order (|w|^2 |r|/2), the finite rotation does not; both agree to first
+    order (the same tangent, so an Armijo test with the slope g . d stays valid). Fewer than 3
+    points: the linear step.
     """
     m = points.shape[0]
     if m < 3:
@@ -442,7 +434,7 @@ def rigid_update(points: np.ndarray, step: np.ndarray) -> np.ndarray:
     rhs = np.einsum("mji,mj->i", rx, rel)
     w = np.linalg.lstsq(normal, rhs, rcond=1e-12)[0]
     rest = rel - np.einsum("mij,j->mi", rx, w)
-    return c + a + r @ _rotation(w).T + rest
+    return c + a + r @ Rotation.from_rotvec(w).as_matrix().T + rest
 
 
 def settle_block(
