@@ -144,6 +144,54 @@ def chain_stiffness(
     return 2.0 * res.fun / (kappa**2 * panels * along)
 
 
+def segment_stiffness(structure, mode: str, fold: float = 1.0) -> float:
+    """EI or GJ [k mm^2] of one free ribbon segment of a gridshell structure (x ribbon 0, segment
+    1: junction edge to junction edge, its panels as built, laid flat), as
+    :func:`chain_stiffness`: hinges only (spokes k = 1 N mm/(rad mm), folds ``fold`` k), corners on
+    the isometric cylinder / helicoid about the ribbon's centre line, centre nodes free; the
+    energy per unit length of the segment's centre line."""
+    per_seg = 2 * structure.info["flank_panels"] + 2
+    first = per_seg  # x ribbon 0: segment 0's panels and junction, then segment 1's
+    ids = np.arange(first, first + per_seg - 1)
+    assert not np.any(structure.info["panel_kind"][ids] == "junction")
+    quads0 = structure.panels[ids]
+    used, quads = np.unique(quads0, return_inverse=True)
+    pts = structure.nodes[used].copy()
+    pts[:, 2] = 0.0
+    e1 = np.array([1.0, 0.0])
+    along = pts[:, :2] @ e1
+    # the centre line's length: the junction edges' midpoints
+    start = pts[quads.reshape(-1, 4)[0, [0, 3]], :2].mean(axis=0) @ e1
+    end = pts[quads.reshape(-1, 4)[-1, [1, 2]], :2].mean(axis=0) @ e1
+    length = end - start
+    s = n5b8_structure(pts, quads.reshape(-1, 4), 0.127)
+    x0 = s.nodes
+    nc = pts.shape[0]
+    x = x0.copy()
+    u = along - 0.5 * (start + end)
+    kappa = 1e-3
+    if mode == "bend":
+        x[:nc, 0] = 0.5 * (start + end) + np.sin(kappa * u) / kappa
+        x[:nc, 2] = (1.0 - np.cos(kappa * u)) / kappa
+    else:
+        v = x0[:nc, 1] - x0[:nc, 1].mean()
+        x[:nc, 1] = x0[:nc, 1].mean() + v * np.cos(kappa * u)
+        x[:nc, 2] = v * np.sin(kappa * u)
+    rows = np.vstack([s.hinges["bend"], s.hinges["fold"]])
+    k = np.r_[np.ones(len(s.hinges["bend"])), np.full(len(s.hinges["fold"]), fold)]
+    hinge = k * np.linalg.norm(x0[rows[:, 1]] - x0[rows[:, 0]], axis=1)
+    rest = dihedral_angle(*(x0[rows[:, c]] for c in range(4)), derivatives=0)
+
+    def energy(z):
+        y = x.copy()
+        y[nc:] = z.reshape(-1, 3)
+        th = dihedral_angle(*(y[rows[:, c]] for c in range(4)), derivatives=0)
+        return 0.5 * np.sum(hinge * (th - rest) ** 2)
+
+    res = minimize(energy, x[s.panels].mean(axis=1).ravel(), method="BFGS", options={"gtol": 1e-14})
+    return 2.0 * res.fun / (kappa**2 * length)
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--layout", default="rhombic60")
