@@ -46,9 +46,9 @@ def test_refined_5x5_uniform_bottom_drive_gives_a_round_dome():
 
 def test_rhombic_shape_is_mirror_symmetric_about_its_diagonals():
     """lambda_B = 1.395 on every bottom strip, centre junction clamped (a support with the rhombus's
-    symmetry): every node's height equals its mirror image's about both diagonals (measured 1.4e-7 mm
-    of a 3.65 mm z range with the rectangular free panels; 2e-7 of 3.8 mm with the skewed ones),
-    and the two families curve alike."""
+    symmetry): every node's height equals its mirror image's about both diagonals (measured
+    1.4e-7 mm of a 3.65 mm z range with the rectangular free panels; 2e-7 of 3.8 mm with the
+    skewed ones), and the two families curve alike."""
     lay = NAMED_LAYOUTS["rhombic60"]
     p = solve("rhombic60", "clamp", {"B": 1.395})
     s, x = p.structure, p.x
