@@ -12,11 +12,13 @@ disagreement layout_rhombic_transfer): three measurements of the FE-calibrated m
    the symmetric branch to t = 1.
 3. ``--chain``: the bending and torsional stiffness [k mm^2] of a straight chain of N5B8 panels
    (2.2 mm along a 7 mm wide ribbon, cross edges at 90 and 60 deg, every hinge k = 1, corners on
-   the isometric cylinder / helicoid, centre nodes free).
+   the isometric cylinder / helicoid, centre nodes free), and the same of one free ribbon segment
+   as the builder makes it (:func:`segment_stiffness`): the published grid's, and the rhombic
+   grid's with skewed and with rectangular free panels (``mesh.free_panels``).
 
     OMP_NUM_THREADS=1 python benchmarks/rhombic_symmetry.py [--layout rhombic60]
         [--diagonals auto|one|both] [--steps 10] [--at 0.668,0.672] [--symmetric-from 0.66]
-        [--kapton-factor 1] [--flank-panels 5] [--chain]
+        [--kapton-factor 1] [--flank-panels 5] [--free-panels auto] [--chain]
 
 Not a test: it prints the figures of docs/layouts/rhombic.md.
 """
@@ -203,6 +205,9 @@ def main(argv=None) -> int:
     )
     p.add_argument("--kapton-factor", type=float, default=1.0, help="x kapton.bending_factor")
     p.add_argument("--flank-panels", type=int, default=0, help="mesh.flank_panels (0: the set's)")
+    p.add_argument(
+        "--free-panels", default="auto", help="mesh.free_panels: auto, skewed, rectangular"
+    )
     p.add_argument("--chain", action="store_true", help="also the N5B8 chain's EI and GJ")
     a = p.parse_args(argv)
     try:
@@ -223,15 +228,17 @@ def main(argv=None) -> int:
         or not 0.0 <= a.symmetric_from < 1.0
         or a.kapton_factor <= 0.0
         or not 0 <= a.flank_panels <= 200
+        or a.free_panels not in ("auto", "skewed", "rectangular")
     ):
         print(
             "--layout: a two-family named layout; --diagonals auto|one|both; --steps >= 1; "
             "0 < --at <= 1; 0 <= --symmetric-from < 1; --kapton-factor > 0; "
-            "0 <= --flank-panels <= 200",
+            "0 <= --flank-panels <= 200; --free-panels auto|skewed|rectangular",
             file=sys.stderr,
         )
         return 2
     ms = calibrate.model_set("fe-calibrated")
+    ms = dataclasses.replace(ms, mesh=dataclasses.replace(ms.mesh, free_panels=a.free_panels))
     mats = ms.materials_for(layout)
     kapton = dataclasses.replace(
         mats.kapton, bending_factor=mats.kapton.bending_factor * a.kapton_factor
@@ -326,6 +333,21 @@ def main(argv=None) -> int:
                 f"N5B8 chain, 2.2 mm panels at {angle:g} deg: EI {ei:.2f} k mm^2,",
                 f"GJ {gj:.2f} k mm^2; folds free (k_f = 0): EI/GJ",
                 f"{ratio:.3f}",
+            )
+        # one free segment as built, junction edge to junction edge (mesh.free_panels)
+        for name, panels in (
+            ("published", "auto"),
+            ("rhombic60", "skewed"),
+            ("rhombic60", "rectangular"),
+        ):
+            seg = build_gridshell_bar_hinge(
+                layout=NAMED_LAYOUTS[name], mesh=dataclasses.replace(mesh, free_panels=panels)
+            )
+            print(
+                f"segment of {name}, {seg.info['free_panels']} free panels: EI",
+                f"{segment_stiffness(seg, 'bend'):.2f} k mm^2, GJ",
+                f"{segment_stiffness(seg, 'twist'):.2f} k mm^2",
+                flush=True,
             )
     return 0
 

@@ -5,7 +5,8 @@ rhombic, triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.
 hexagonal (the honeycomb: :mod:`lcefem.meshes.gridshell_hex`);
 ribbon count, lengths, bonded junctions, wiring) is one
 :class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
-a rhombic one is the affine image (docs/layouts/rhombic.md).
+a rhombic one is the affine image, its free ribbon panels then cut across the ribbon
+(``mesh.free_panels``; docs/layouts/rhombic.md).
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid. n ribbons run along x and
 n along y; each is n + 1 segments of length L joined by n junction squares of d x d (d = the ribbon
@@ -112,9 +113,12 @@ def build_gridshell_bar_hinge(
     A rhombic layout is built in the oblique coordinates of its two families and mapped to the plane
     (x, y) -> x e1 + y e2 as the nodes are placed (``layout.to_plane``), so that every length the
     builder derives (panels, strips, squares) is the plane's; at 90 deg the map is the identity and
-    the published structure is unchanged. An unbonded junction (``layout.glued``) keeps a Kapton
-    square per ribbon (two coincident, unconnected squares; the raised top square is shared as
-    before). Wiring tags (``layout.wiring``) are added to ``info["groups"]`` and listed in
+    the published structure is unchanged. On a rhombic grid a segment's interior cuts then run
+    across the ribbon (``mesh.free_panels`` "auto" / "rectangular": rectangles, and a right
+    trapezoid beside each junction edge; the arch along the centre line), so that the panels do
+    not lock in bending; "skewed" keeps the affine image's parallelograms. An unbonded junction
+    (``layout.glued``) keeps a Kapton square per ribbon (two coincident, unconnected squares; the
+    raised top square is shared as before). Wiring tags (``layout.wiring``) are added to ``info["groups"]`` and listed in
     ``info["wiring"]``.
 
     ``geometry.segments`` is ignored (a ribbon has ``layout.ribbons + 1`` segments); the junction
@@ -449,7 +453,7 @@ def build_gridshell_bar_hinge(
         ribbons=n,
         segments_per_ribbon=nseg,
         flank_panels=nf,
-        free_panels="rectangular" if rect else "skewed",
+        free_panels="skewed" if layout.oblique and not rect else "rectangular",
         top_junction=m.top_junction,
         ribbon_length=length,
         junction_centres_1d=centres,
