@@ -118,8 +118,8 @@ def build_gridshell_bar_hinge(
     trapezoid beside each junction edge; the arch along the centre line), so that the panels do
     not lock in bending; "skewed" keeps the affine image's parallelograms. An unbonded junction
     (``layout.glued``) keeps a Kapton square per ribbon (two coincident, unconnected squares; the
-    raised top square is shared as before). Wiring tags (``layout.wiring``) are added to ``info["groups"]`` and listed in
-    ``info["wiring"]``.
+    raised top square is shared as before). Wiring tags (``layout.wiring``) are added to
+    ``info["groups"]`` and listed in ``info["wiring"]``.
 
     ``geometry.segments`` is ignored (a ribbon has ``layout.ribbons + 1`` segments); the junction
     squares are ribbon_width x ribbon_width, so ``geometry.junction_length`` must equal
