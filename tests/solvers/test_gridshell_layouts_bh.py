@@ -78,6 +78,29 @@ def test_plate_torsion_refused_on_parallelogram_panels():
         )
 
 
+def test_plate_torsion_on_the_rectangles_of_a_rhombic_grid():
+    """kapton.twist = 'plate_rectangles' (materials_for on the rhombic grid with rectangular free
+    panels): the plate's twist fraction beta (< 1) on the 216 rectangles (9 a segment: 4 + 4 flank
+    panels and the crown; 24 segments), the N5B8 spokes' (beta = 1) on the 48 trapezoids and the 9
+    junction rhombi; on skewed free panels materials_for keeps the spokes everywhere."""
+    import dataclasses
+
+    ms = calibrate.model_set("fe-calibrated")
+    layout = NAMED_LAYOUTS["rhombic60"]
+    mats = ms.materials_for(layout)
+    assert mats.kapton.twist == "plate_rectangles"
+    s = ms.structure(layout)
+    beta = GridshellBH(s, GridshellBHConfig(materials=mats, support="clamp")).model.panel_set[
+        "beta"
+    ]
+    kind = s.info["panel_kind"]
+    assert np.sum(beta < 1.0) == 216 and np.all(beta[beta < 1.0] < 0.2)
+    assert np.all(beta[kind == "junction"] == 1.0) and np.sum(beta == 1.0) == 48 + 9
+    skewed = dataclasses.replace(ms, mesh=dataclasses.replace(ms.mesh, free_panels="skewed"))
+    assert skewed.materials_for(layout).kapton.twist == "n5b8"
+    assert ms.materials_for(NAMED_LAYOUTS["5x5"]).kapton.twist == "plate"
+
+
 @pytest.mark.slow
 def test_5x5_dome_long_newton_descent_lands_on_the_cut_increments_equilibrium():
     """The Fig. 4 dome's drive on the 5 x 5 grid, rollers, at a tenth of the ramp from flat: Newton
