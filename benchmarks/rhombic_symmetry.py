@@ -12,11 +12,13 @@ disagreement layout_rhombic_transfer): three measurements of the FE-calibrated m
    the symmetric branch to t = 1.
 3. ``--chain``: the bending and torsional stiffness [k mm^2] of a straight chain of N5B8 panels
    (2.2 mm along a 7 mm wide ribbon, cross edges at 90 and 60 deg, every hinge k = 1, corners on
-   the isometric cylinder / helicoid, centre nodes free).
+   the isometric cylinder / helicoid, centre nodes free), and the same of one free ribbon segment
+   as the builder makes it (:func:`segment_stiffness`): the published grid's, and the rhombic
+   grid's with skewed and with rectangular free panels (``mesh.free_panels``).
 
     OMP_NUM_THREADS=1 python benchmarks/rhombic_symmetry.py [--layout rhombic60]
         [--diagonals auto|one|both] [--steps 10] [--at 0.668,0.672] [--symmetric-from 0.66]
-        [--kapton-factor 1] [--flank-panels 5] [--chain]
+        [--kapton-factor 1] [--flank-panels 5] [--free-panels auto] [--chain]
 
 Not a test: it prints the figures of docs/layouts/rhombic.md.
 """
@@ -144,6 +146,54 @@ def chain_stiffness(
     return 2.0 * res.fun / (kappa**2 * panels * along)
 
 
+def segment_stiffness(structure, mode: str, fold: float = 1.0) -> float:
+    """EI or GJ [k mm^2] of one free ribbon segment of a gridshell structure (x ribbon 0, segment
+    1: junction edge to junction edge, its panels as built, laid flat), as
+    :func:`chain_stiffness`: hinges only (spokes k = 1 N mm/(rad mm), folds ``fold`` k), corners on
+    the isometric cylinder / helicoid about the ribbon's centre line, centre nodes free; the
+    energy per unit length of the segment's centre line."""
+    per_seg = 2 * structure.info["flank_panels"] + 2
+    first = per_seg  # x ribbon 0: segment 0's panels and junction, then segment 1's
+    ids = np.arange(first, first + per_seg - 1)
+    assert not np.any(structure.info["panel_kind"][ids] == "junction")
+    quads0 = structure.panels[ids]
+    used, quads = np.unique(quads0, return_inverse=True)
+    pts = structure.nodes[used].copy()
+    pts[:, 2] = 0.0
+    e1 = np.array([1.0, 0.0])
+    along = pts[:, :2] @ e1
+    # the centre line's length: the junction edges' midpoints
+    start = pts[quads.reshape(-1, 4)[0, [0, 3]], :2].mean(axis=0) @ e1
+    end = pts[quads.reshape(-1, 4)[-1, [1, 2]], :2].mean(axis=0) @ e1
+    length = end - start
+    s = n5b8_structure(pts, quads.reshape(-1, 4), 0.127)
+    x0 = s.nodes
+    nc = pts.shape[0]
+    x = x0.copy()
+    u = along - 0.5 * (start + end)
+    kappa = 1e-3
+    if mode == "bend":
+        x[:nc, 0] = 0.5 * (start + end) + np.sin(kappa * u) / kappa
+        x[:nc, 2] = (1.0 - np.cos(kappa * u)) / kappa
+    else:
+        v = x0[:nc, 1] - x0[:nc, 1].mean()
+        x[:nc, 1] = x0[:nc, 1].mean() + v * np.cos(kappa * u)
+        x[:nc, 2] = v * np.sin(kappa * u)
+    rows = np.vstack([s.hinges["bend"], s.hinges["fold"]])
+    k = np.r_[np.ones(len(s.hinges["bend"])), np.full(len(s.hinges["fold"]), fold)]
+    hinge = k * np.linalg.norm(x0[rows[:, 1]] - x0[rows[:, 0]], axis=1)
+    rest = dihedral_angle(*(x0[rows[:, c]] for c in range(4)), derivatives=0)
+
+    def energy(z):
+        y = x.copy()
+        y[nc:] = z.reshape(-1, 3)
+        th = dihedral_angle(*(y[rows[:, c]] for c in range(4)), derivatives=0)
+        return 0.5 * np.sum(hinge * (th - rest) ** 2)
+
+    res = minimize(energy, x[s.panels].mean(axis=1).ravel(), method="BFGS", options={"gtol": 1e-14})
+    return 2.0 * res.fun / (kappa**2 * length)
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--layout", default="rhombic60")
@@ -155,6 +205,9 @@ def main(argv=None) -> int:
     )
     p.add_argument("--kapton-factor", type=float, default=1.0, help="x kapton.bending_factor")
     p.add_argument("--flank-panels", type=int, default=0, help="mesh.flank_panels (0: the set's)")
+    p.add_argument(
+        "--free-panels", default="auto", help="mesh.free_panels: auto, skewed, rectangular"
+    )
     p.add_argument("--chain", action="store_true", help="also the N5B8 chain's EI and GJ")
     a = p.parse_args(argv)
     try:
@@ -175,15 +228,17 @@ def main(argv=None) -> int:
         or not 0.0 <= a.symmetric_from < 1.0
         or a.kapton_factor <= 0.0
         or not 0 <= a.flank_panels <= 200
+        or a.free_panels not in ("auto", "skewed", "rectangular")
     ):
         print(
             "--layout: a two-family named layout; --diagonals auto|one|both; --steps >= 1; "
             "0 < --at <= 1; 0 <= --symmetric-from < 1; --kapton-factor > 0; "
-            "0 <= --flank-panels <= 200",
+            "0 <= --flank-panels <= 200; --free-panels auto|skewed|rectangular",
             file=sys.stderr,
         )
         return 2
     ms = calibrate.model_set("fe-calibrated")
+    ms = dataclasses.replace(ms, mesh=dataclasses.replace(ms.mesh, free_panels=a.free_panels))
     mats = ms.materials_for(layout)
     kapton = dataclasses.replace(
         mats.kapton, bending_factor=mats.kapton.bending_factor * a.kapton_factor
@@ -278,6 +333,21 @@ def main(argv=None) -> int:
                 f"N5B8 chain, 2.2 mm panels at {angle:g} deg: EI {ei:.2f} k mm^2,",
                 f"GJ {gj:.2f} k mm^2; folds free (k_f = 0): EI/GJ",
                 f"{ratio:.3f}",
+            )
+        # one free segment as built, junction edge to junction edge (mesh.free_panels)
+        for name, panels in (
+            ("published", "auto"),
+            ("rhombic60", "skewed"),
+            ("rhombic60", "rectangular"),
+        ):
+            seg = build_gridshell_bar_hinge(
+                layout=NAMED_LAYOUTS[name], mesh=dataclasses.replace(mesh, free_panels=panels)
+            )
+            print(
+                f"segment of {name}, {seg.info['free_panels']} free panels: EI",
+                f"{segment_stiffness(seg, 'bend'):.2f} k mm^2, GJ",
+                f"{segment_stiffness(seg, 'twist'):.2f} k mm^2",
+                flush=True,
             )
     return 0
 

@@ -194,8 +194,23 @@ class BeamBarHingeMesh:
         "mirrors); 'auto': both on a rhombic grid, one elsewhere (docs/layouts/rhombic.md)",
     )
 
+    free_panels: str = param(
+        "auto",
+        "-",
+        "added here: a rhombic gridshell's free ribbon panels: 'skewed' (the orthogonal grid's "
+        "affine image: parallelograms whose cross edges run along the other family, which lock "
+        "in bending), 'rectangular' (cross edges across the ribbon; the trapezoid next to each "
+        "junction edge takes the skew); 'auto': rectangular on a rhombic grid, the orthogonal "
+        "grid unchanged (measured, docs/layouts/rhombic.md)",
+    )
+
     def checked(self) -> "BeamBarHingeMesh":
         check(self, "mesh")
+        if self.free_panels not in FREE_PANELS:
+            raise InputError(
+                f"mesh.free_panels = {self.free_panels!r}: allowed "
+                + ", ".join(repr(e) for e in FREE_PANELS)
+            )
         if self.contact_diagonals not in CONTACT_DIAGONALS:
             raise InputError(
                 f"mesh.contact_diagonals = {self.contact_diagonals!r}: allowed "
@@ -213,6 +228,8 @@ class BeamBarHingeMesh:
 
 #: How a gridshell strip's contact quad is split (BeamBarHingeMesh.contact_diagonals).
 CONTACT_DIAGONALS = ("auto", "one", "both")
+#: How a rhombic gridshell's free ribbon panels are cut (BeamBarHingeMesh.free_panels).
+FREE_PANELS = ("auto", "skewed", "rectangular")
 #: How an LCE strip acts on the ribbon (BeamBarHingeMesh.strip_element).
 STRIP_ELEMENTS = ("bar", "offset", "bending", "beam")
 

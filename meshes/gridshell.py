@@ -5,7 +5,8 @@ rhombic, triangular (three families at hexagonal junctions: :mod:`lcefem.meshes.
 hexagonal (the honeycomb: :mod:`lcefem.meshes.gridshell_hex`);
 ribbon count, lengths, bonded junctions, wiring) is one
 :class:`lcefem.meshes.gridshell_layout.Layout`; what follows describes the orthogonal grid, of which
-a rhombic one is the affine image (docs/layouts/rhombic.md).
+a rhombic one is the affine image, its free ribbon panels then cut across the ribbon
+(``mesh.free_panels``; docs/layouts/rhombic.md).
 
 Coordinates [mm], z up (the top strips' side), z = 0 the flat Kapton grid. n ribbons run along x and
 n along y; each is n + 1 segments of length L joined by n junction squares of d x d (d = the ribbon
@@ -112,10 +113,13 @@ def build_gridshell_bar_hinge(
     A rhombic layout is built in the oblique coordinates of its two families and mapped to the plane
     (x, y) -> x e1 + y e2 as the nodes are placed (``layout.to_plane``), so that every length the
     builder derives (panels, strips, squares) is the plane's; at 90 deg the map is the identity and
-    the published structure is unchanged. An unbonded junction (``layout.glued``) keeps a Kapton
-    square per ribbon (two coincident, unconnected squares; the raised top square is shared as
-    before). Wiring tags (``layout.wiring``) are added to ``info["groups"]`` and listed in
-    ``info["wiring"]``.
+    the published structure is unchanged. On a rhombic grid a segment's interior cuts then run
+    across the ribbon (``mesh.free_panels`` "auto" / "rectangular": rectangles, and a right
+    trapezoid beside each junction edge; the arch along the centre line), so that the panels do
+    not lock in bending; "skewed" keeps the affine image's parallelograms. An unbonded junction
+    (``layout.glued``) keeps a Kapton square per ribbon (two coincident, unconnected squares; the
+    raised top square is shared as before). Wiring tags (``layout.wiring``) are added to
+    ``info["groups"]`` and listed in ``info["wiring"]``.
 
     ``geometry.segments`` is ignored (a ribbon has ``layout.ribbons + 1`` segments); the junction
     squares are ribbon_width x ribbon_width, so ``geometry.junction_length`` must equal
@@ -163,6 +167,27 @@ def build_gridshell_bar_hinge(
     local = np.concatenate([np.linspace(0.0, s_lo, nf + 1), np.linspace(s_hi, lx, nf + 1)])
     per_seg = local.size
     last = per_seg - 1
+    # Rectangular free panels (mesh.free_panels) on a rhombic grid: the interior cuts of a segment
+    # run across the ribbon instead of along the other family. A side of the ribbon at o [mm]
+    # (builder coordinates, across along the other family) from its centre line lies o cos a
+    # further along than the centre line, so its node of a cut at p along the centre line goes to
+    # p - o cos a. The junction edges stay (the rhombus's sides); the first and last panel of a
+    # segment become trapezoids that take the skew. The flank's cuts after the first are equally
+    # spaced from the trapezoid's short side (half the skew d cot a / 2 past the junction edge's
+    # centre) to the crown edge, so the trapezoid's short side is as long as each rectangle.
+    rect = layout.oblique and m.free_panels in ("auto", "rectangular")
+    cos_a = float(layout.directions()[1, 0])
+    cuts = local
+    if rect:
+        half_skew = 0.5 * g.ribbon_width * abs(cos_a)
+        if s_lo <= half_skew:
+            raise InputError(
+                f"mesh.free_panels = {m.free_panels!r}: the crown edge {s_lo:.3f} mm from the "
+                f"junction must lie beyond half the skew {half_skew:.3f} mm; use 'skewed'"
+            )
+        flank = half_skew + (s_lo - half_skew) * np.arange(1, nf + 1) / nf
+        flank[-1] = s_lo
+        cuts = np.concatenate([[0.0], flank, lx - flank[::-1], [lx]])
     centres = junction_centres(g, n)
     length = nseg * lx + n * d
 
@@ -203,6 +228,11 @@ def build_gridshell_bar_hinge(
                     z = float(g.arch_height(sa))
                     own = unbonded(direction, r, s, a)
                     for side in (0, 1):
+                        if rect and 0 < a < last:
+                            # the cut across the ribbon; the arch follows the ribbon's centre line
+                            offset = (side - 0.5) * d if direction == "x" else (0.5 - side) * d
+                            along = g.segment_start(s) + cuts[a] - offset * cos_a
+                            z = float(g.arch_height(cuts[a]))
                         if direction == "x":
                             nid = add(along, centres[r] - 0.5 * d + side * d, z, own)
                         else:
@@ -423,6 +453,7 @@ def build_gridshell_bar_hinge(
         ribbons=n,
         segments_per_ribbon=nseg,
         flank_panels=nf,
+        free_panels="skewed" if layout.oblique and not rect else "rectangular",
         top_junction=m.top_junction,
         ribbon_length=length,
         junction_centres_1d=centres,

@@ -16,8 +16,9 @@ Generators (``kind``):
   c_r = L + d/2 + r p (p = ``pitch``, d the ribbon width, L = p - d the free segment);
 * "rhombic": the same two families, the second at ``angle`` [deg] to the first (e1 = (1, 0),
   e2 = (cos a, sin a)): the orthogonal grid's affine image (x, y) -> x e1 + y e2 built in the
-  oblique coordinates (the junctions are rhombi of side d/sin a, every ribbon panel a parallelogram
-  whose cross edges run along the other family; a ribbon's width across itself stays d);
+  oblique coordinates (the junctions are rhombi of side d/sin a; a ribbon's width across itself
+  stays d). The bar-and-hinge builder then moves a free segment's interior cuts across the ribbon
+  (rectangular panels, ``mesh.free_panels``; the affine image's parallelograms lock in bending);
 * "triangular": three families at 0, 60 and 120 deg through the points of a triangular lattice of
   spacing p (three ribbons cross at every junction, a hexagon of side d; p defaults to L + sqrt(3) d
   = 42.12 mm, so that every segment keeps the published 30 mm; an odd count of ribbons per family);

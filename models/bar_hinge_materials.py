@@ -69,7 +69,7 @@ PUBLISHED = (
 #: Axial force laws of the LCE strip bars (:class:`LCEStripBars`.force_law).
 FORCE_LAWS = ("volume", "published")
 #: Torsion models of the Kapton panels (:class:`KaptonBarHinge`.twist).
-TWIST_MODELS = ("n5b8", "plate")
+TWIST_MODELS = ("n5b8", "plate", "plate_rectangles")
 
 
 # --------------------------------------------------------------------------- parameters
@@ -130,7 +130,10 @@ class KaptonBarHinge:
         "plate's G w t^3/3 for the gridshell's 2.3 x 7 mm panels) or 'plate' (added "
         "here: the spokes' twist mode scaled so that GJ = G w t^3/3 with G = E/(2 (1 + "
         "nu)), the bending modes unchanged; :func:`panel_twist_fraction`, "
-        "docs/gridshell_calibration.md)",
+        "docs/gridshell_calibration.md; it needs rectangular panels) or 'plate_rectangles' "
+        "(added here: the plate's on the rectangular panels, the N5B8 spokes' on the others, "
+        "e.g. a rhombic gridshell's junction rhombi and the trapezoids beside them, "
+        "docs/layouts/rhombic.md)",
     )
 
     def checked(self) -> "KaptonBarHinge":

@@ -207,7 +207,8 @@ class BarHingeModel:
         t1, t2 = math.radians(kapton.linear_from), math.radians(kapton.linear_to)
         # kapton.twist = "plate": spokes beta k (their twist mode) + a panel bending element (1 -
         # beta) k
-        self.panel_set = self._panel_bending_set(k_ribbon) if kapton.twist == "plate" else None
+        plate = kapton.twist in ("plate", "plate_rectangles")
+        self.panel_set = self._panel_bending_set(k_ribbon, kapton.twist) if plate else None
         self.hinge_sets: list[HingeSet] = []
         for name, rows in structure.hinges.items():
             if rows.shape[0] == 0:
@@ -252,9 +253,11 @@ class BarHingeModel:
         self.external_force = np.zeros(self.ndof)
 
     # ------------------------------------------------------------------ set-up
-    def _panel_bending_set(self, k_ribbon: float) -> dict:
+    def _panel_bending_set(self, k_ribbon: float, twist: str = "plate") -> dict:
         """Per panel: nodes (centre, corners), spoke lengths and rest angles, the twist fraction
-        beta (:func:`law.panel_twist_fraction`) and the bending element's stiffness (1 - beta) k."""
+        beta (:func:`law.panel_twist_fraction`; with ``twist = "plate_rectangles"`` 1, the N5B8
+        spokes' torsion, on a panel that is not a rectangle) and the bending element's stiffness
+        (1 - beta) k."""
         s = self.structure
         bend = s.hinges.get("bend", np.zeros((0, 4), dtype=np.int64))
         p = s.panels.shape[0]
@@ -278,6 +281,20 @@ class BarHingeModel:
         c = x0[s.panels]
         d1 = np.linalg.norm(c[:, 2] - c[:, 0], axis=1)
         d2 = np.linalg.norm(c[:, 3] - c[:, 1], axis=1)
+        if twist == "plate_rectangles":
+            # a rectangle: equal diagonals that bisect each other (a right trapezoid's differ)
+            rectangle = (np.abs(d1 - d2) <= 1e-6 * np.maximum(d1, d2)) & (
+                np.linalg.norm(c[:, 0] + c[:, 2] - c[:, 1] - c[:, 3], axis=1) <= 1e-6 * d1
+            )
+            beta = law.panel_twist_fraction(self.kapton, s.thickness, width, height)
+            beta = np.where(rectangle, beta, 1.0)
+            return {
+                "nodes": nodes,
+                "lengths": lengths,
+                "rest": rest,
+                "beta": beta,
+                "stiffness": (1.0 - beta) * k_ribbon,
+            }
         if np.any(np.abs(d1 - d2) > 1e-6 * np.maximum(d1, d2)):
             raise InputError(
                 "kapton.twist = 'plate': needs rectangular panels (a rhombic layout's are "

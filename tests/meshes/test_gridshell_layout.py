@@ -75,10 +75,11 @@ def test_published_layout_reproduces_todays_structure():
 
 
 def test_rhombic_is_the_affine_image_of_the_orthogonal_grid():
-    """Same topology; nodes x e1 + y e2 (e2 at 60 deg); ribbons keep their width d across themselves
-    (builder width d/sin a along the other family) and the pitch along themselves."""
+    """With skewed free panels (mesh.free_panels = 'skewed'): same topology; nodes x e1 + y e2 (e2
+    at 60 deg); ribbons keep their width d across themselves (builder width d/sin a along the
+    other family) and the pitch along themselves."""
     lay = NAMED_LAYOUTS["rhombic60"]
-    r = build_gridshell_bar_hinge(layout=lay)
+    r = build_gridshell_bar_hinge(layout=lay, mesh=BeamBarHingeMesh(free_panels="skewed"))
     a = math.radians(60.0)
     width = 7.0 / math.sin(a)
     o = build_gridshell_bar_hinge(layout=Layout(ribbon_width=width, pitch=37.0))
@@ -94,6 +95,56 @@ def test_rhombic_is_the_affine_image_of_the_orthogonal_grid():
     assert np.linalg.norm(jc[0, 1] - jc[0, 0]) == pytest.approx(37.0)
     ends = r.nodes[r.node_sets["ribbon_ends_x"][0, 0]]  # ribbon 0's low end, sides 0 and 1
     assert abs(ends[1, 1] - ends[0, 1]) == pytest.approx(7.0)  # across e1: y difference
+
+
+def test_rhombic_free_panels_are_rectangles_across_the_ribbon():
+    """Issue 47 (skewed N5B8 panels lock in bending, docs/layouts/rhombic.md): by default a rhombic
+    segment's interior cuts run across the ribbon. Every free panel but the first and last of a
+    segment is a 7 mm wide rectangle; those two are right trapezoids between the junction's
+    rhombus side (d/sin a = 8.083 mm) and a cut 7 mm long, their short side as long as a
+    rectangle ((10.959 - 7 cot 60 / 2)/5 = 1.788 mm). Junction corners, topology and the crown
+    (7 mm long, centred in the segment) are the skewed mesh's; the orthogonal grid is unchanged
+    (its digest) whatever the option."""
+    lay = NAMED_LAYOUTS["rhombic60"]
+    r = build_gridshell_bar_hinge(layout=lay)
+    k = build_gridshell_bar_hinge(layout=lay, mesh=BeamBarHingeMesh(free_panels="skewed"))
+    assert r.info["free_panels"] == "rectangular" and k.info["free_panels"] == "skewed"
+    assert np.array_equal(r.panels, k.panels)
+    for name in r.bars:
+        assert np.array_equal(r.bars[name], k.bars[name])
+    jc = r.node_sets["junction_corners"]
+    assert np.array_equal(r.nodes[jc], k.nodes[jc])
+    nf = r.info["flank_panels"]
+    per_seg = 2 * nf + 2
+    rect_len = (
+        (37.0 - 7.0 / math.sin(math.radians(60.0)) - 7.0) / 2 - 3.5 / math.tan(math.radians(60.0))
+    ) / nf
+    assert rect_len == pytest.approx(1.788, abs=1e-3)
+    for first in (per_seg, 2 * per_seg):  # x ribbon 0, segments 1 and 2
+        for i, p in enumerate(r.panels[first : first + per_seg - 1]):
+            c = r.nodes[p][:, :2]
+            e = [c[(m + 1) % 4] - c[m] for m in range(4)]  # 01 along, 12 across, 23, 30
+            if i in (0, per_seg - 2):  # the trapezoids: one junction edge, one cut across
+                junction, cut = (e[3], e[1]) if i == 0 else (e[1], e[3])
+                assert np.linalg.norm(junction) == pytest.approx(7.0 / math.sin(math.radians(60)))
+                assert abs(cut[0]) < 1e-9 and np.linalg.norm(cut) == pytest.approx(7.0)
+                short = min(np.linalg.norm(e[0]), np.linalg.norm(e[2]))
+                assert short == pytest.approx(rect_len)
+                continue
+            assert abs(e[0] @ e[1]) < 1e-9 and abs(e[1] @ e[2]) < 1e-9
+            assert np.linalg.norm(e[1]) == pytest.approx(7.0)
+            length = 7.0 if i == nf else rect_len  # the crown panel, then the flanks
+            assert np.linalg.norm(e[0]) == pytest.approx(length)
+    for mesh in (
+        BeamBarHingeMesh(free_panels="rectangular"),
+        BeamBarHingeMesh(free_panels="skewed"),
+    ):
+        assert (
+            digest(build_gridshell_bar_hinge(layout=Layout.published(), mesh=mesh))
+            == (BEFORE["default"])
+        )
+    with pytest.raises(InputError, match="mesh.free_panels = 'square': allowed 'auto'"):
+        build_gridshell_bar_hinge(layout=lay, mesh=BeamBarHingeMesh(free_panels="square"))
 
 
 def test_rhombic_grid_is_mirror_symmetric_about_its_diagonals():

@@ -525,7 +525,8 @@ def _layout_rows(name: str, ref: dict, rows: list[dict]) -> list[Metric]:
         families = {c: c for c in ("x", "y")}
         if _mirror_symmetric(row):
             # The FE keeps x = y, and the drive and the layout are symmetric under x <-> y: a BH
-            # that leaves that symmetry (the rhombic dome bifurcates at t = 0.670,
+            # that leaves that symmetry (the rhombic dome with skewed free panels bifurcated at
+            # t = 0.670; with the rectangular ones it keeps x = y,
             # docs/layouts/rhombic.md) bends one family more, and which one is set by round-off.
             # So the rows name the more and the less bent family, not x and y.
             more, less = sorted(("x", "y"), key=lambda c: -abs(bh[c]))

@@ -307,8 +307,8 @@ def config_from_args(args: argparse.Namespace) -> GridshellBHRunConfig:
 def on_layout(cfg: GridshellBHRunConfig) -> GridshellBHRunConfig:
     """``cfg`` with its model set's materials where they apply on its layout
     (:meth:`lcefem.validation.studies.gridshell.calibrate.ModelSet.materials_for`: the plate's
-    torsion is a rectangle's, so parallelogram panels take the N5B8 spokes'); a Kapton section the
-    case file changed is kept."""
+    torsion is a rectangle's, so parallelogram panels take the N5B8 spokes', and a rhombic grid
+    keeps it on its rectangular free panels); a Kapton section the case file changed is kept."""
     from lcefem.validation.studies.gridshell import calibrate
 
     ms = calibrate.model_set(cfg.run.model_set)

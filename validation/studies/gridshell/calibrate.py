@@ -417,17 +417,26 @@ class ModelSet:
 
     def materials_for(self, layout=None) -> law.BarHingeMaterials:
         """This set's materials on ``layout``: where its elements apply. The plate's torsion
-        (kapton.twist = 'plate') is a rectangle's, so a layout with parallelogram panels (rhombic;
-        the triangular grid's and the honeycomb's hexagonal junctions, three rhombi each) runs with
-        the N5B8 spokes' torsion; everything else is the set's."""
-        oblique = layout is not None and (
-            layout.oblique or layout.kind in ("triangular", "hexagonal")
+        (kapton.twist = 'plate') is a rectangle's, so a layout with parallelogram panels (the
+        triangular grid's and the honeycomb's hexagonal junctions, three rhombi each; a rhombic
+        grid built with skewed free panels, mesh.free_panels = 'skewed') runs with the N5B8
+        spokes' torsion. A rhombic grid with rectangular free panels (the set's mesh, 'auto')
+        keeps the plate's torsion on its rectangles and the spokes' on its junction rhombi and
+        the trapezoids beside them ('plate_rectangles', docs/layouts/rhombic.md); everything
+        else is the set's."""
+        if layout is None or self.materials.kapton.twist != "plate":
+            return self.materials
+        if layout.kind in ("triangular", "hexagonal") or (
+            layout.oblique and self.mesh.free_panels == "skewed"
+        ):
+            twist = "n5b8"
+        elif layout.oblique:
+            twist = "plate_rectangles"
+        else:
+            return self.materials
+        return dataclasses.replace(
+            self.materials, kapton=dataclasses.replace(self.materials.kapton, twist=twist)
         )
-        if oblique and self.materials.kapton.twist == "plate":
-            return dataclasses.replace(
-                self.materials, kapton=dataclasses.replace(self.materials.kapton, twist="n5b8")
-            )
-        return self.materials
 
     @property
     def configuration(self) -> dict:
