@@ -191,7 +191,8 @@ class BeamBarHingeMesh:
         "-",
         "added here: a gridshell strip's contact quad split along one diagonal ('one', the "
         "published grid's structure as before) or both ('both': the same under the grid's "
-        "mirrors); 'auto': both on a rhombic grid, one elsewhere (docs/layouts/rhombic.md)",
+        "mirrors); 'auto': both on rhombic, triangular and hexagonal grids, one on the orthogonal "
+        "grid (docs/layouts/rhombic.md, triangular.md)",
     )
 
     free_panels: str = param(

@@ -49,6 +49,7 @@ strips attach to), "centre_junction" (4 corners of the middle junction).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -616,7 +617,25 @@ def diagonal_mirror(structure: BarHingeStructure, which: str = "diag") -> np.nda
     e = layout.directions()
     uv = np.linalg.solve(e.T, x[:, :2].T).T
     m = uv[:, ::-1] if which == "diag" else structure.info["ribbon_length"] - uv[:, ::-1]
-    image = np.column_stack([m @ e, x[:, 2]])
+    return _node_images(structure, np.column_stack([m @ e, x[:, 2]]), "diagonal_mirror")
+
+
+def line_mirror(structure: BarHingeStructure, angle: float) -> np.ndarray:
+    """Node i -> the node at its mirror image about the vertical plane through the centre
+    junction's centroid at ``angle`` [deg] from x (any layout with the node set
+    "centre_junction"; coincident nodes told apart as in :func:`diagonal_mirror`). Raises
+    InputError when a node has no image (that line is not a mirror of the structure)."""
+    x = structure.nodes
+    c = np.r_[x[np.ravel(structure.node_sets["centre_junction"])][:, :2].mean(axis=0), 0.0]
+    a = math.radians(2.0 * angle)
+    m = np.array([[math.cos(a), math.sin(a), 0.0], [math.sin(a), -math.cos(a), 0.0], [0, 0, 1]])
+    return _node_images(structure, (x - c) @ m.T + c, f"line_mirror({angle:g} deg)")
+
+
+def _node_images(structure: BarHingeStructure, image: np.ndarray, what: str) -> np.ndarray:
+    """Node i -> the node at ``image[i]`` [mm], coincident nodes told apart by the images of the
+    nodes they are barred to (to 0.1 um)."""
+    x = structure.nodes
 
     def key(p) -> tuple:
         return tuple(int(round(v * 1e4)) for v in p)  # 0.1 um
@@ -634,7 +653,7 @@ def diagonal_mirror(structure: BarHingeStructure, which: str = "diag") -> np.nda
         if len(hit) == 1:
             out[i] = hit[0]
     if np.any(out < 0):
-        raise InputError(f"diagonal_mirror: {int(np.sum(out < 0))} nodes have no mirror image")
+        raise InputError(f"{what}: {int(np.sum(out < 0))} nodes have no mirror image")
     return out
 
 

@@ -179,6 +179,10 @@ def build_triangular_bar_hinge(
     g = layout.geometry(geometry)
     check(g, "geometry")
     m = mesh.checked()
+    # A strip's contact quad split along both diagonals keeps the grid's mirrors: split along one,
+    # a mirror maps it onto the other and the structure is chiral (measured on the triangular grid,
+    # every top strip at 1.3: mirror-image z up to 6.46 mm apart; both: 1e-7 mm).
+    both = m.contact_diagonals != "one"
     d = g.ribbon_width
     apo = 0.5 * math.sqrt(3.0) * d  # hexagon apothem: where a ribbon leaves the junction
     lx, p = g.segment_length, g.pitch
@@ -282,6 +286,7 @@ def build_triangular_bar_hinge(
                 ribbon_points(fam, r, q, range(1, last), range(last)) if m.contact else None,
                 pieces,
                 hinge_rows,
+                both,
             )
             strip_of_bar["bottom_strips"] += [sid, sid]
 
@@ -330,6 +335,7 @@ def build_triangular_bar_hinge(
                 else None,
                 pieces,
                 hinge_rows,
+                both,
             )
             strip_of_bar["top_strips"] += [sid] * nbars
 
@@ -355,7 +361,13 @@ def build_triangular_bar_hinge(
     for fam in FAMILY_ANGLES:
         sets[f"ribbon_ends_{fam}"] = ends[fam]
     sets["ribbon_ends_x"] = ends["a"]
-    strip_sections(structure, g, flank=(lx - g.crown_bond_length) / (2 * nf), rows_per_point=2)
+    strip_sections(
+        structure,
+        g,
+        flank=(lx - g.crown_bond_length) / (2 * nf),
+        rows_per_point=2,
+        strip_rows_per_point=4 if both else 2,  # each row its share
+    )
     # As the square's corners (strip_sections): the plate's six vertices share one strip's footprint
     # on the junction (w x sqrt(3) d), two contact rows per vertex.
     structure.sections["top_square_contact"] = {

@@ -48,8 +48,9 @@ def test_flat_state_is_in_equilibrium_without_drive():
 def test_uniform_drive_keeps_the_threefold_symmetry():
     """All six channels at lambda = 1.2: the patch, its clamp and the drive are invariant under a
     120 deg rotation about the centre junction, so is the shape: every node's rotated position is
-    its image node's, to round-off (measured 6e-12 mm of a 9.9 mm z range), and the three circle
-    curvatures agree (a dome, -0.0014155 1/mm)."""
+    its image node's, to round-off (measured 3.6e-11 mm of a 7.9 mm z range), and the three circle
+    curvatures agree (a dome, -0.000874 1/mm; -0.0014155 with the strip quads split along one
+    diagonal: the 360 active top-strip contacts see the warped quads' four planes, not two)."""
     g = _grid({c: 1.2 for c in ("Ta", "Tb", "Tc", "Ba", "Bb", "Bc")})
     x0 = g.structure.nodes
     c, s = math.cos(2.0 * math.pi / 3.0), math.sin(2.0 * math.pi / 3.0)
@@ -60,7 +61,7 @@ def test_uniform_drive_keeps_the_threefold_symmetry():
     assert np.ptp(g.x[:, 2]) > 5.0  # it did deform
     assert np.max(np.abs(g.x @ rot.T - g.x[image])) < 1e-8
     k = problem.gridshell_curvatures(g.structure, g.x)
-    assert k["circle_a"] < -1e-3
+    assert k["circle_a"] < -5e-4
     assert k["circle_b"] == pytest.approx(k["circle_a"], abs=1e-10)
     assert k["circle_c"] == pytest.approx(k["circle_a"], abs=1e-10)
 
@@ -69,9 +70,12 @@ def test_top_strips_curl_every_piece_as_the_published_segment():
     """Top strips only at lambda_T = 1.3 (bottom at lambda_N = 1.4): every piece curls the same
     way, its middle rising over its ends (positive), as a segment of the published composite beam
     (4 segments, centre support) at the same lambdas: measured 0.0154 1/mm there (its middle
-    segments; 0.0147 .. 0.0156 over the four) and 0.0135 .. 0.0179 on the 15 pieces, which differ
+    segments; 0.0147 .. 0.0156 over the four) and 0.0137 .. 0.0174 on the 15 pieces, which differ
     by where they sit (their plates: three pieces at an inner junction, two at the rim). The
-    tolerance, 20 %, is the measured spread's."""
+    tolerance, 20 %, is the measured spread's. The ramp ends on the 3-fold symmetric equilibrium,
+    which is not stable (two tangent eigenvalues -8.8e-7 N/mm, a mode pair breaking the 3-fold
+    symmetry): a piece's curl is a local check of the strip on its segment, not of the patch's
+    buckled shape."""
     g = _grid({"T": 1.3})
     g.advance()
     s = g.structure
