@@ -18,6 +18,7 @@ matrix whose sparsity pattern is computed once. The external forces f_ext [N] (3
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -704,9 +705,10 @@ class ReducedHessian:
     contact's entries are zeros); only the factorisation's order of operations changes.
     """
 
-    #: Patterns kept per ReducedHessian (chosen: a path visits a few hundred sets of closed
-    #: contacts, ~2 MB each; beyond this many, the cache starts afresh).
-    MAX_PATTERNS = 512
+    #: Patterns kept per ReducedHessian, the least recently used dropped first (chosen: ~10 MB each
+    #: with its symbolic LDL^T on the 5 x 5 gridshell; a path's tangents revisit the sets of the
+    #: last few iterations, and a dropped set costs ~20 ms to merge again).
+    MAX_PATTERNS = 32
 
     @classmethod
     def of(cls, model: BarHingeModel, free: np.ndarray) -> "ReducedHessian":
@@ -746,8 +748,9 @@ class ReducedHessian:
         )
         self._before = (source[:split], target[:split])
         self._after = (source[split:], target[split:])
-        self._patterns: dict[bytes, _Pattern] = {}
+        self._patterns: OrderedDict[bytes, _Pattern] = OrderedDict()
         self._by_indices: dict[int, _Pattern] = {}
+        self._base: _Pattern | None = None
 
     def _csc(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """indices, indptr and diagonal positions of the sorted CSC keys (column * n + row)."""
@@ -764,15 +767,18 @@ class ReducedHessian:
         key = closed.tobytes()
         pattern = self._patterns.get(key)
         if pattern is not None:
+            self._patterns.move_to_end(key)
             return pattern
-        if len(self._patterns) >= self.MAX_PATTERNS:
-            self._patterns.clear()
-            self._by_indices.clear()
+        while len(self._patterns) >= self.MAX_PATTERNS:
+            _, dropped = self._patterns.popitem(last=False)
+            self._by_indices.pop(id(dropped.indices), None)
         base_keys, none = self._base_keys, np.zeros(0, dtype=np.int64)
-        if not closed.size:
+        if not closed.size and self._base is not None:
+            pattern = self._base  # kept apart from the cache: every merge starts from it
+        elif not closed.size:
             indices, indptr, diagonal = self._csc(base_keys)
             moved = np.arange(base_keys.size)
-            pattern = _Pattern(indices, indptr, moved, none, none, diagonal)
+            pattern = self._base = _Pattern(indices, indptr, moved, none, none, diagonal)
         else:
             # Merged into the base pattern by insertion (O(base) copies and searches of the few
             # new keys, no sort of the whole pattern).
@@ -817,10 +823,19 @@ class ReducedHessian:
         return pattern.symbolic
 
     def _pattern_of(self, matrix: sp.csc_matrix) -> _Pattern:
+        """The pattern of a matrix returned by :meth:`matrix`; one dropped from the cache since
+        (or a matrix of another origin) gets a stand-alone pattern of its own (own ordering)."""
         pattern = self._by_indices.get(id(matrix.indices))
-        if pattern is None or pattern.indices is not matrix.indices:
-            raise ValueError("ReducedHessian: the matrix was not built by this ReducedHessian")
-        return pattern
+        if pattern is not None and pattern.indices is matrix.indices:
+            return pattern
+        if self._base is not None and self._base.indices is matrix.indices:
+            return self._base
+        diagonal = np.full(self.n, -1, dtype=np.int64)
+        cols = np.repeat(np.arange(self.n), np.diff(matrix.indptr))
+        on = matrix.indices == cols
+        diagonal[matrix.indices[on]] = np.flatnonzero(on)
+        none = np.zeros(0, dtype=np.int64)
+        return _Pattern(matrix.indices, matrix.indptr, none, none, none, diagonal)
 
     def matrix(self, coo_values: np.ndarray) -> sp.csc_matrix:
         """The reduced Hessian [N/mm] (CSC) of the model's COO values: the open contacts' entries
