@@ -219,7 +219,7 @@ class EquilibriumMap:
         ``rhs`` of shape (ndof,) or (ndof, m)."""
         _, _, coo = self.model.evaluate(x)
         kmat = self.reduced.matrix(coo)
-        lu = factorize(kmat, self.reduced.diagonal(kmat), ldl=self.reduced.ldl)[0]
+        lu = factorize(kmat, self.reduced.diagonal(kmat), ldl=self.reduced.ldl_of(kmat))[0]
         rhs = np.asarray(rhs, dtype=float)
         dx = np.zeros(rhs.shape)
         dx[self.free] = lu.solve(np.ascontiguousarray(rhs[self.free]))

@@ -119,25 +119,30 @@ class SymbolicLDL:
     Args:
         indices, indptr: the CSC pattern (n x n, structurally symmetric) of the matrices to
             factorise; entries of its diagonal may be missing (they are taken as zero).
+        perm: a fill-reducing ordering (original index i -> position perm[i]) to use instead of
+            SuperLU's MMD of this pattern (e.g. that of a sub-pattern).
     """
 
-    def __init__(self, indices: np.ndarray, indptr: np.ndarray, n: int):
+    def __init__(
+        self, indices: np.ndarray, indptr: np.ndarray, n: int, perm: np.ndarray | None = None
+    ):
         self.n = n
         cols = np.repeat(np.arange(n), np.diff(indptr))
         rows = np.asarray(indices, dtype=np.int64)
-        # Ordering: SuperLU's, from a diagonally dominant matrix of the pattern (MMD and the etree
-        # postorder depend on the structure only).
-        probe = sp.csc_matrix(
-            (np.where(rows == cols, 2.0 * n, -1.0), indices, indptr), shape=(n, n)
-        )
-        probe = probe + sp.identity(n, format="csc") * (2.0 * n)
-        perm = sla.splu(
-            probe.tocsc(),
-            permc_spec="MMD_AT_PLUS_A",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        ).perm_c
-        self.perm = perm  # original index i -> position perm[i]
+        if perm is None:
+            # Ordering: SuperLU's, from a diagonally dominant matrix of the pattern (MMD and the
+            # etree postorder depend on the structure only).
+            probe = sp.csc_matrix(
+                (np.where(rows == cols, 2.0 * n, -1.0), indices, indptr), shape=(n, n)
+            )
+            probe = probe + sp.identity(n, format="csc") * (2.0 * n)
+            perm = sla.splu(
+                probe.tocsc(),
+                permc_spec="MMD_AT_PLUS_A",
+                diag_pivot_thresh=0.0,
+                options={"SymmetricMode": True},
+            ).perm_c
+        self.perm = np.asarray(perm, dtype=np.int64)  # original index i -> position perm[i]
         # Upper triangle of the permuted matrix, diagonal always stored: entry p of the original
         # CSC data goes to slot source_of[...] of the permuted upper data.
         pr, pc = perm[rows], perm[cols]
@@ -145,6 +150,7 @@ class SymbolicLDL:
         diag_slots = np.arange(n)
         keys = np.concatenate([pc[upper] * n + pr[upper], diag_slots * n + diag_slots])
         unique, inverse = np.unique(keys, return_inverse=True)
+        self.ap_keys = unique  # column * n + row of the permuted upper triangle, sorted
         self.ai = (unique % n).astype(np.int64)
         self.ap = np.concatenate([[0], np.cumsum(np.bincount(unique // n, minlength=n))]).astype(
             np.int64
@@ -157,6 +163,39 @@ class SymbolicLDL:
         ]  # slot of the diagonal of permuted column j
         self.parent, lnz = _etree(n, self.ap, self.ai)
         self.lp = np.concatenate([[0], np.cumsum(lnz)]).astype(np.int64)
+
+    def with_entries(
+        self, moved: np.ndarray, rows: np.ndarray, cols: np.ndarray, positions: np.ndarray
+    ) -> "SymbolicLDL":
+        """The symbolic LDL^T, in this ordering, of this pattern plus the entries (rows, cols)
+        (none of them stored here; a structurally symmetric set), for the merged CSC data in which
+        this pattern's entry p sits at ``moved[p]`` and the new entry q at ``positions[q]``. The
+        new entries are merged into the permuted upper triangle (no new ordering, no sort of the
+        whole pattern): a few milliseconds where a new SymbolicLDL is a sparse LU."""
+        n, perm = self.n, self.perm
+        pr, pc = perm[rows], perm[cols]
+        upper = pr <= pc
+        new_keys = pc[upper] * n + pr[upper]
+        order = np.argsort(new_keys, kind="stable")
+        new_keys = new_keys[order]
+        old_keys = self.ap_keys
+        out = object.__new__(SymbolicLDL)
+        out.n, out.perm = n, perm
+        keys = np.insert(old_keys, np.searchsorted(old_keys, new_keys), new_keys)
+        shift = np.searchsorted(new_keys, old_keys)  # new keys before each old slot
+        out.ap_keys = keys
+        out.ai = keys % n
+        out.ap = np.concatenate([[0], np.cumsum(np.bincount(keys // n, minlength=n))]).astype(
+            np.int64
+        )
+        out.nnz = keys.size
+        new_from = np.asarray(positions)[upper][order]
+        out._from = np.concatenate([np.asarray(moved)[self._from], new_from])
+        out._to = np.concatenate([self._to + shift[self._to], np.searchsorted(keys, new_keys)])
+        out.diagonal_slots = self.diagonal_slots + shift[self.diagonal_slots]
+        out.parent, lnz = _etree(n, out.ap, out.ai)
+        out.lp = np.concatenate([[0], np.cumsum(lnz)]).astype(np.int64)
+        return out
 
     def factorize(self, data: np.ndarray, shift: float = 0.0) -> "NumericLDL | None":
         """LDL^T of the matrix with CSC values ``data`` (in the pattern's order) plus ``shift`` I;

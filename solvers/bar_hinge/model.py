@@ -18,6 +18,7 @@ matrix whose sparsity pattern is computed once. The external forces f_ext [N] (3
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,7 +29,12 @@ from lcefem.models import bar_hinge as law
 from lcefem.models import bar_hinge_materials as bhm
 from lcefem.models.errors import InputError
 from lcefem.models.hyperelastic import OgdenLaw
-from lcefem.solvers.bar_hinge.kernels import hinge_forces, scatter_add
+from lcefem.solvers.bar_hinge.kernels import (
+    SPOKE_SLOT_TABLE,
+    hinge_forces,
+    panel_bending_forces,
+    scatter_merged,
+)
 from lcefem.solvers.bar_hinge.ldl import SymbolicLDL
 
 #: Bar groups that are LCE strips (tension-only Ogden bars with a rest length).
@@ -426,7 +432,9 @@ class BarHingeModel:
         energy = 0.0
         grad = np.zeros(self.ndof) if derivatives >= 1 else None
         # The Hessian's COO values, each block written into its slice (no concatenation copy).
-        values = np.empty(self._coo_rows.size) if derivatives == 2 else None
+        # np.zeros: fresh pages, zero without a pass over them; the open contacts' Hessians stay
+        # zero without being written (most of the contact block).
+        values = np.zeros(self._coo_rows.size) if derivatives == 2 else None
         for block in self._blocks:
             nodes = block["nodes"]
             xs = [x[nodes[:, c]] for c in range(nodes.shape[1])]
@@ -455,23 +463,20 @@ class BarHingeModel:
             elif kind == "hinge":
                 out = self._hinges(block, xs, derivatives, values)
             elif kind == "panel":
-                out = law.panel_bending_element(
-                    *xs,
-                    block["lengths"],
-                    block["rest"],
-                    block["stiffness"],
-                    derivatives=derivatives,
-                )
+                out = self._panels(block, xs, derivatives, values)
             else:
-                out = law.unilateral_contact_element(
-                    *xs, block["rest_gap"], block["stiffness"], derivatives=derivatives
-                )
+                out = self._contacts(block, xs, derivatives, values)
+                if derivatives == 2:
+                    # closed_contacts(values) answers from this record, without a pass over the
+                    # contact block
+                    self._closed_record = (values, out[3])
+                    out = out[:3]
             if derivatives == 0:
                 energy += float(np.sum(out))
                 continue
             energy += float(np.sum(out[0]))
             grad += np.bincount(block["dofs"].ravel(), weights=out[1].ravel(), minlength=self.ndof)
-            if derivatives == 2 and kind != "hinge":
+            if derivatives == 2 and kind not in ("hinge", "panel", "contact"):
                 values[block["coo"]] = out[2].reshape(-1)
         if np.any(self.external_force):
             energy -= float(np.dot(self.external_force, x.reshape(-1) - self.reference.reshape(-1)))
@@ -496,9 +501,110 @@ class BarHingeModel:
             return energy
         n = theta.size
         grad = np.empty((n, 12))
-        hess = np.empty((n, 12, 12)) if values is None else values[block["coo"]].reshape(n, 12, 12)
-        hinge_forces(*xs, block["length"] * moment, block["length"] * dmoment, grad, hess)
+        if derivatives == 1:
+            hess = np.empty((1, 12, 12))  # not written
+        elif values is None:
+            hess = np.empty((n, 12, 12))
+        else:
+            hess = values[block["coo"]].reshape(n, 12, 12)
+        hinge_forces(
+            *xs, block["length"] * moment, block["length"] * dmoment, grad, hess, derivatives == 2
+        )
+        if derivatives == 1:
+            return energy, grad
         return energy, grad, hess
+
+    @staticmethod
+    def _panels(block: dict, xs: list[np.ndarray], derivatives: int, values: np.ndarray | None):
+        """:func:`law.panel_bending_element` of the panel block, its derivatives from the compiled
+        kernel (the Hessian written straight into its slice of ``values`` when given; the numpy
+        version built (n, 15, 15) temporaries per spoke and was 40 % of the 5 x 5 gridshell's
+        assembly)."""
+        lengths = np.asarray(block["lengths"], dtype=float)
+        theta = np.stack(
+            [
+                law.dihedral_angle(*(xs[q] for q in law.SPOKE_SLOTS[m]), derivatives=0)
+                for m in range(4)
+            ],
+            axis=1,
+        )
+        d = np.mod(theta - block["rest"] + np.pi, 2.0 * np.pi) - np.pi
+        c = np.asarray(block["stiffness"], dtype=float) / np.sum(lengths, axis=1)
+        total = np.sum(lengths * d, axis=1)
+        energy = 0.5 * c * total * total
+        if derivatives == 0:
+            return energy
+        n = theta.shape[0]
+        grad = np.empty((n, 15))
+        if derivatives == 1:
+            hess = np.empty((1, 15, 15))  # not written
+        elif values is None:
+            hess = np.empty((n, 15, 15))
+        else:
+            hess = values[block["coo"]].reshape(n, 15, 15)
+        panel_bending_forces(
+            np.stack(xs), lengths, c, c * total, SPOKE_SLOT_TABLE, grad, hess, derivatives == 2
+        )
+        if derivatives == 1:
+            return energy, grad
+        return energy, grad, hess
+
+    @staticmethod
+    def _contacts(block: dict, xs: list[np.ndarray], derivatives: int, values: np.ndarray | None):
+        """:func:`law.unilateral_contact_element` of the contact block, the closed contacts'
+        Hessians written into ``values`` (zero elsewhere: most contacts are open, on the 5 x 5
+        gridshell at most 144 of 6920, and a zeroed (n, 12, 12) array copied into its slice cost
+        as much as the bars' assembly); with derivatives == 2 also the closed contacts' indices."""
+        g = law.point_plane_gap(*xs, derivatives=0)
+        stiffness = np.broadcast_to(np.asarray(block["stiffness"], dtype=float), g.shape)
+        pen = np.maximum(block["rest_gap"] - g, 0.0)
+        energy = 0.5 * stiffness * pen**2
+        if derivatives == 0:
+            return energy
+        n = g.shape[0]
+        active = np.flatnonzero(pen > 0)
+        grad = np.zeros((n, 12))
+        hess = None
+        if derivatives == 2 and values is None:
+            hess = np.zeros((n, 12, 12))
+        elif derivatives == 2:
+            hess = values[block["coo"]].reshape(n, 12, 12)  # zero (evaluate's np.zeros)
+        if active.size:
+            k = stiffness[active]
+            out = law.point_plane_gap(*(x[active] for x in xs), derivatives=derivatives)
+            grad[active] = (-k * pen[active])[:, None] * out[1]
+            if derivatives == 2:
+                hess[active] = (
+                    k[:, None, None] * law._outer(out[1], out[1])
+                    + (-k * pen[active])[:, None, None] * out[2]
+                )
+        if derivatives == 1:
+            return energy, grad
+        return energy, grad, hess, active
+
+    def contact_coo(self) -> tuple[slice, int] | None:
+        """(slice of the COO values, entries per element) of the contact block, None without
+        contacts."""
+        for block in self._blocks:
+            if block["kind"] == "contact":
+                return block["coo"], block["dofs"].shape[1] ** 2
+        return None
+
+    def closed_contacts(self, coo_values: np.ndarray) -> np.ndarray:
+        """Indices (into the contact block) of the closed contacts of Hessian values returned by
+        :meth:`evaluate`: those with a nonzero diagonal. An open contact's Hessian is zero
+        (:meth:`_contacts`); a closed one's point-point block is k n n^T (the gap's second
+        derivative in the point is zero), whose diagonal sums to k > 0."""
+        found = self.contact_coo()
+        if found is None:
+            return np.zeros(0, dtype=np.int64)
+        record = getattr(self, "_closed_record", None)
+        if record is not None and record[0] is coo_values:
+            return record[1]
+        block, per = found
+        size = int(round(per**0.5))
+        diag = coo_values[block].reshape(-1, per)[:, :: size + 1]
+        return np.flatnonzero(np.any(diag != 0.0, axis=1))
 
     @property
     def coo_pattern(self) -> tuple[np.ndarray, np.ndarray]:
@@ -580,13 +686,46 @@ class BarHingeModel:
         }
 
 
+@dataclass
+class _Pattern:
+    """One CSC pattern of the reduced Hessian: the base pattern (every element but the contacts)
+    plus some closed contacts. The base's entry p sits at ``moved[p]`` of this pattern's data; COO
+    entry ``contact_source[k]`` of the closed contacts is summed into entry ``contact_target[k]``;
+    the diagonal's positions (-1: not stored) and the symbolic LDL^T (built on first use)."""
+
+    indices: np.ndarray
+    indptr: np.ndarray
+    moved: np.ndarray
+    contact_source: np.ndarray
+    contact_target: np.ndarray
+    diagonal: np.ndarray
+    new_entries: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # rows, cols, positions
+    symbolic: SymbolicLDL | None = None
+
+
 class ReducedHessian:
-    """Maps the COO Hessian values of a model onto the CSC matrix of the free DOFs (pattern once).
+    """Maps the COO Hessian values of a model onto the CSC matrix of the free DOFs.
 
     Build it with :meth:`of`, which keeps one per (model, free DOFs): the pattern depends on nothing
     else, and building it (a sort of the ~0.7 M COO entries, 0.06-0.25 s on the gridshell) was
     repeated for every warm-started forward solve of a design (55 times in the quick design case).
+
+    The unilateral contacts (:meth:`BarHingeModel.closed_contacts`) enter the pattern only while
+    closed: on the 5 x 5 gridshell the 6920 strip-ribbon contacts held 996,480 of the 2.05 M COO
+    entries and doubled the tangent's stored entries (458,973 against 242,397 without them), the
+    LDL^T's fill (335,589 against 248,478) and its flops (2.0e7 against 1.2e7) with structural
+    zeros, while at most 144 of them close at once (the Fig. 4 dome under the clamp: 123 sets of
+    closed contacts over its 415 tangents). One pattern per set of closed contacts, built on first
+    use by merging the set's entries into the base pattern and its symbolic LDL^T
+    (:meth:`SymbolicLDL.with_entries`: the base's fill-reducing ordering). The values summed into
+    each entry are the same, in the same order, as with every contact in the pattern (an open
+    contact's entries are zeros); only the factorisation's order of operations changes.
     """
+
+    #: Patterns kept per ReducedHessian, the least recently used dropped first (chosen: ~10 MB each
+    #: with its symbolic LDL^T on the 5 x 5 gridshell; a path's tangents revisit the sets of the
+    #: last few iterations, and a dropped set costs ~20 ms to merge again).
+    MAX_PATTERNS = 32
 
     @classmethod
     def of(cls, model: BarHingeModel, free: np.ndarray) -> "ReducedHessian":
@@ -601,48 +740,153 @@ class ReducedHessian:
 
     def __init__(self, model: BarHingeModel, free: np.ndarray):
         ndof = model.ndof
+        self.model = model
         self.free = np.asarray(free, dtype=np.int64)
         index = np.full(ndof, -1, dtype=np.int64)
         index[self.free] = np.arange(self.free.size)
         rows, cols = model.coo_pattern
         r, c = index[rows], index[cols]
         keep = (r >= 0) & (c >= 0)
-        self._keep = np.flatnonzero(keep)
         n = self.free.size
-        # CSC order: by column, then row
-        keys = c[keep] * n + r[keep]
-        unique, inverse = np.unique(keys, return_inverse=True)
-        self._indices = (unique % n).astype(np.int32)
-        counts = np.bincount(unique // n, minlength=n)
-        self._indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
-        self._nnz = unique.size
         self.n = n
-        # COO entry self._keep[k] is summed into CSC entry self._target[k], in ascending COO order
-        # (the order of np.bincount: the same floating-point result), by a compiled loop (4x faster
-        # than the product with a 0/1 scatter matrix on the 2536-DOF gridshell).
-        self._target = inverse.astype(np.int64)
-        # Position of each diagonal entry in the CSC data (-1: not stored, i.e. zero).
-        diag = np.full(n, -1, dtype=np.int64)
-        on = self._indices == unique // n
-        diag[self._indices[on]] = np.flatnonzero(on)
-        self._diagonal = diag
-        self._ldl = None
+        # CSC order: by column, then row
+        self._keys = c * n + r
+        self._kept = keep
+        self._contacts = model.contact_coo()
+        base = keep.copy()
+        if self._contacts is not None:
+            base[self._contacts[0]] = False
+        source = np.flatnonzero(base)
+        self._base_keys, inverse = np.unique(self._keys[source], return_inverse=True)
+        target = inverse.astype(np.int64)
+        # COO order: the base entries before the contact block, its closed contacts, the rest
+        split = (
+            0 if self._contacts is None else int(np.searchsorted(source, self._contacts[0].start))
+        )
+        self._before = (source[:split], target[:split])
+        self._after = (source[split:], target[split:])
+        self._patterns: OrderedDict[bytes, _Pattern] = OrderedDict()
+        self._by_indices: dict[int, _Pattern] = {}
+        self._base: _Pattern | None = None
 
-    @property
-    def ldl(self) -> SymbolicLDL:
-        """The symbolic LDL^T of this pattern (ordering, elimination tree), built on first use."""
-        if self._ldl is None:
-            self._ldl = SymbolicLDL(self._indices, self._indptr, self.n)
-        return self._ldl
+    def _csc(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """indices, indptr and diagonal positions of the sorted CSC keys (column * n + row)."""
+        n = self.n
+        indices = (keys % n).astype(np.int32)
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(keys // n, minlength=n))])
+        diagonal = np.full(n, -1, dtype=np.int64)
+        on = indices == keys // n
+        diagonal[indices[on]] = np.flatnonzero(on)
+        return indices, indptr.astype(np.int32), diagonal
+
+    def _pattern(self, closed: np.ndarray) -> _Pattern:
+        """The pattern with the contacts ``closed`` (indices into the contact block)."""
+        key = closed.tobytes()
+        pattern = self._patterns.get(key)
+        if pattern is not None:
+            self._patterns.move_to_end(key)
+            return pattern
+        while len(self._patterns) >= self.MAX_PATTERNS:
+            _, dropped = self._patterns.popitem(last=False)
+            self._by_indices.pop(id(dropped.indices), None)
+        base_keys, none = self._base_keys, np.zeros(0, dtype=np.int64)
+        if not closed.size and self._base is not None:
+            pattern = self._base  # kept apart from the cache: every merge starts from it
+        elif not closed.size:
+            indices, indptr, diagonal = self._csc(base_keys)
+            moved = np.arange(base_keys.size)
+            pattern = self._base = _Pattern(indices, indptr, moved, none, none, diagonal)
+        else:
+            # Merged into the base pattern by insertion (O(base) copies and searches of the few
+            # new keys, no sort of the whole pattern).
+            base = self._pattern(none)
+            block, per = self._contacts
+            source = (block.start + closed[:, None] * per + np.arange(per)).reshape(-1)
+            source = source[self._kept[source]]
+            source_keys = self._keys[source]
+            new = np.unique(source_keys)
+            at = np.searchsorted(base_keys, new)
+            stored = at < base_keys.size
+            stored[stored] = base_keys[at[stored]] == new[stored]
+            new, at = new[~stored], at[~stored]
+            keys = np.insert(base_keys, at, new)
+            shift = np.searchsorted(new, base_keys)  # new keys before each base entry
+            moved = np.arange(base_keys.size) + shift
+            n = self.n
+            rows, cols = new % n, new // n
+            indices = np.insert(base.indices, at, rows.astype(np.int32))
+            indptr = (base.indptr + np.searchsorted(cols, np.arange(n + 1))).astype(np.int32)
+            diagonal = np.where(base.diagonal >= 0, moved[base.diagonal], -1)
+            pattern = _Pattern(
+                indices,
+                indptr,
+                moved,
+                source,
+                np.searchsorted(keys, source_keys),
+                diagonal,
+                (rows, cols, np.searchsorted(keys, new)),
+            )
+        self._patterns[key] = pattern
+        self._by_indices[id(pattern.indices)] = pattern
+        return pattern
+
+    def _symbolic(self, pattern: _Pattern) -> SymbolicLDL:
+        if pattern.symbolic is None:
+            if pattern.new_entries is None:  # the base pattern
+                pattern.symbolic = SymbolicLDL(pattern.indices, pattern.indptr, self.n)
+            else:
+                base = self._symbolic(self._pattern(np.zeros(0, dtype=np.int64)))
+                pattern.symbolic = base.with_entries(pattern.moved, *pattern.new_entries)
+        return pattern.symbolic
+
+    def _pattern_of(self, matrix: sp.csc_matrix) -> _Pattern:
+        """The pattern of a matrix returned by :meth:`matrix`; one dropped from the cache since
+        (or a matrix of another origin) gets a stand-alone pattern of its own (own ordering)."""
+        pattern = self._by_indices.get(id(matrix.indices))
+        if pattern is not None and pattern.indices is matrix.indices:
+            return pattern
+        if self._base is not None and self._base.indices is matrix.indices:
+            return self._base
+        diagonal = np.full(self.n, -1, dtype=np.int64)
+        cols = np.repeat(np.arange(self.n), np.diff(matrix.indptr))
+        on = matrix.indices == cols
+        diagonal[matrix.indices[on]] = np.flatnonzero(on)
+        none = np.zeros(0, dtype=np.int64)
+        return _Pattern(matrix.indices, matrix.indptr, none, none, none, diagonal)
 
     def matrix(self, coo_values: np.ndarray) -> sp.csc_matrix:
-        data = scatter_add(coo_values, self._keep, self._target, self._nnz)
-        return sp.csc_matrix((data, self._indices, self._indptr), shape=(self.n, self.n))
+        """The reduced Hessian [N/mm] (CSC) of the model's COO values: the open contacts' entries
+        (zeros) are left out of its pattern."""
+        closed = (
+            np.zeros(0, dtype=np.int64)
+            if self._contacts is None
+            else self.model.closed_contacts(coo_values)
+        )
+        p = self._pattern(closed)
+        data = scatter_merged(
+            coo_values,
+            *self._before,
+            p.contact_source,
+            p.contact_target,
+            *self._after,
+            p.moved,
+            p.indices.size,
+        )
+        out = sp.csc_matrix((data, p.indices, p.indptr), shape=(self.n, self.n))
+        if out.indices is not p.indices:  # scipy copied them: the lookups need ours
+            out.indices, out.indptr = p.indices, p.indptr
+        return out
+
+    def ldl_of(self, matrix: sp.csc_matrix) -> SymbolicLDL:
+        """The symbolic LDL^T (ordering, elimination tree) of a matrix returned by :meth:`matrix`,
+        built once per pattern."""
+        return self._symbolic(self._pattern_of(matrix))
 
     def diagonal(self, matrix: sp.csc_matrix) -> np.ndarray:
         """The diagonal of a matrix returned by :meth:`matrix` (as ``matrix.diagonal()``, by the
         stored positions instead of a search of every column)."""
+        positions = self._pattern_of(matrix).diagonal
         out = np.zeros(self.n)
-        on = self._diagonal >= 0
-        out[on] = matrix.data[self._diagonal[on]]
+        on = positions >= 0
+        out[on] = matrix.data[positions[on]]
         return out

@@ -208,7 +208,7 @@ def factorize(
 ):
     """Factorise ``matrix`` + ``shift`` I; returns (factors with a ``solve`` method, negative
     pivots, zero pivots). ``ldl``: the symbolic LDL^T of the matrix's pattern
-    (:attr:`ReducedHessian.ldl`): the numeric LDL^T alone, unpivoted, whose D gives the inertia;
+    (:meth:`ReducedHessian.ldl_of`): the numeric LDL^T alone, unpivoted, whose D gives the inertia;
     without it, or when a pivot is exactly zero, symmetric-mode SuperLU, whose counts are -1 when
     the inertia is not available (off-diagonal pivoting happened). ``diagonal``: the shifted
     matrix's diagonal if known (it sets the zero-pivot threshold)."""
@@ -322,7 +322,7 @@ def _negligible_negative_curvature(kmat: sp.csc_matrix, reduced: ReducedHessian)
     diag = reduced.diagonal(kmat)
     tau = NEGLIGIBLE_CURVATURE * max(float(np.max(np.abs(diag))) if diag.size else 0.0, 1e-300)
     try:
-        _, negative, zero = factorize(kmat, diag + tau, tau, reduced.ldl)
+        _, negative, zero = factorize(kmat, diag + tau, tau, reduced.ldl_of(kmat))
     except RuntimeError:
         return False
     return negative == 0 and zero == 0
@@ -610,7 +610,7 @@ def newton(
         if residual <= options.force_tolerance:
             try:
                 kmat = reduced.matrix(coo)
-                negative = factorize(kmat, reduced.diagonal(kmat), ldl=reduced.ldl)[1]
+                negative = factorize(kmat, reduced.diagonal(kmat), ldl=reduced.ldl_of(kmat))[1]
             except RuntimeError:
                 negative = -1
             if options.inertia_control and negative > 0 and it < budget and escape():
@@ -637,7 +637,7 @@ def newton(
         try:
             kmat = reduced.matrix(coo)
             step, negative, _ = _descent_step(
-                kmat, -r, options, damping, reduced.diagonal(kmat), reduced.ldl
+                kmat, -r, options, damping, reduced.diagonal(kmat), reduced.ldl_of(kmat)
             )
         except np.linalg.LinAlgError as exc:
             return NewtonResult(x.reshape(-1, 3), False, it, residual, energy, str(exc), negative)

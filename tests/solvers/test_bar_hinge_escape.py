@@ -24,9 +24,8 @@ def _rotated(eigenvalues, seed=1):
 
 
 def _reduced(k):
-    return types.SimpleNamespace(
-        diagonal=lambda m: m.diagonal(), ldl=SymbolicLDL(k.indices, k.indptr, k.shape[0])
-    )
+    symbolic = SymbolicLDL(k.indices, k.indptr, k.shape[0])
+    return types.SimpleNamespace(diagonal=lambda m: m.diagonal(), ldl_of=lambda m: symbolic)
 
 
 @pytest.mark.parametrize(
