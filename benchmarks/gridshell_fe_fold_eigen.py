@@ -360,12 +360,13 @@ def main(argv=None) -> int:
             record = {
                 "source": (
                     "lcefem.solvers.problems.gridshell.GridshellFE (the configuration of lcefem "
-                    f"run gridshell --model fe --layout {a.layout} --shape dome --support {a.support} "
+                    f"run gridshell --model fe --layout {a.layout} --shape dome "
+                    f"--support {a.support} "
                     f"--mesh-level {a.level}, {cfg.symmetry} model), ramped in pieces ending at "
                     f"t = {a.at}; tangent = the SNES Jacobian without the Dirichlet rows and "
                     "columns;"
-                    f" eigenvalues by SLEPc Krylov-Schur shift-invert about {a.sigma:g} N/mm (MUMPS "
-                    "LDL^T), negative pivots = MUMPS INFOG(12); python "
+                    f" eigenvalues by SLEPc Krylov-Schur shift-invert about {a.sigma:g} N/mm "
+                    "(MUMPS LDL^T), negative pivots = MUMPS INFOG(12); python "
                     "benchmarks/gridshell_fe_fold_eigen.py "
                     + " ".join(argv or sys.argv[1:])
                     + f", "
