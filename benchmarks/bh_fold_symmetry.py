@@ -16,12 +16,16 @@ t >= ``--from`` prints:
   symmetric about the plane, -1 antisymmetric (the quarter FE represents only modes symmetric about
   both x = c and y = c).
 
+``--diagonals both``: the strips' contact quads split along both diagonals (``auto``, the model
+set's, splits the orthogonal grid's along one: no row of the strip contacts has its image under
+the x = c or y = c mirror, so the structure itself is not mirror-symmetric).
 ``--settle-stall N``: the Newton's settle after N stalled iterations (0: only where Newton used to
 fail, the default; 5: the path that snaps at t = 0.876, docs/notes/performance_log.md, "The settle
 step"). ``--save FILE``: the positions of every analysed state (.npz, written atomically).
 
     OMP_NUM_THREADS=1 python benchmarks/bh_fold_symmetry.py [--layout 5x5] [--support rollers]
-        [--from 0.65] [--modes 4] [--settle-stall 0] [--save FILE]
+        [--from 0.65] [--modes 4] [--settle-stall 0] [--diagonals auto]
+        [--save FILE]
 
 Not a test: it prints the figures of docs/notes/fe_bodies_log.md ("The 5 x 5 fold").
 """
@@ -37,7 +41,11 @@ import time
 import numpy as np
 import scipy.sparse.linalg as sla
 
-from lcefem.meshes.gridshell import diagonal_mirror
+from lcefem.meshes.gridshell import (
+    build_gridshell_bar_hinge,
+    diagonal_mirror,
+    unmatched_mirror_rows,
+)
 from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
 from lcefem.models.errors import ConvergenceError, InputError
 from lcefem.solvers.analysis.curvature import gridshell_curvatures
@@ -93,6 +101,7 @@ def main(argv=None) -> int:
     p.add_argument("--from", dest="start", type=float, default=0.65, help="first t analysed [-]")
     p.add_argument("--modes", type=int, default=4, help="lowest eigenpairs per state")
     p.add_argument("--settle-stall", type=int, default=0, help="Newton's settle_stall [-]")
+    p.add_argument("--diagonals", default="auto", help="mesh.contact_diagonals: auto, one, both")
     p.add_argument("--save", default="", help="npz of the analysed states' positions [mm]")
     a = p.parse_args(argv)
     for name, value, allowed in (
@@ -102,13 +111,24 @@ def main(argv=None) -> int:
         if value not in allowed:
             print(f"{name} = {value!r}: allowed {', '.join(allowed)}", file=sys.stderr)
             return 2
-    if a.modes < 1 or a.settle_stall < 0 or not 0.0 <= a.start <= 1.0:
-        print("--modes >= 1, --settle-stall >= 0 and 0 <= --from <= 1 expected", file=sys.stderr)
+    if (
+        a.modes < 1
+        or a.settle_stall < 0
+        or not 0.0 <= a.start <= 1.0
+        or a.diagonals not in ("auto", "one", "both")
+    ):
+        print(
+            "--modes >= 1, --settle-stall >= 0, 0 <= --from <= 1 and --diagonals auto|one|both "
+            "expected",
+            file=sys.stderr,
+        )
         return 2
     ms = calibrate.model_set("fe-calibrated")
     layout = NAMED_LAYOUTS[a.layout]
     solver = dataclasses.replace(GRIDSHELL_NEWTON, settle_stall=a.settle_stall)
-    structure = ms.structure(layout)
+    structure = build_gridshell_bar_hinge(
+        layout=layout, mesh=dataclasses.replace(ms.mesh, contact_diagonals=a.diagonals)
+    )
     problem = GridshellBH(
         structure,
         GridshellBHConfig(materials=ms.materials_for(layout), support=a.support, solver=solver),
@@ -123,8 +143,12 @@ def main(argv=None) -> int:
         "y": plane_mirror(structure, 1, c),
         "diag": diagonal_mirror(structure, "diag"),
     }
+    for name, perm in mirrors.items():
+        bad = {k: v for k, v in unmatched_mirror_rows(structure, perm).items() if v}
+        print(f"# structure rows without their image under the {name} mirror: {bad or 'none'}")
     print(
-        f"# {a.layout}, {a.support}, dome, settle_stall {a.settle_stall}: {model.ndof} DOFs, "
+        f"# {a.layout}, {a.support}, dome, contact_diagonals {a.diagonals}, "
+        f"settle_stall {a.settle_stall}: {model.ndof} DOFs, "
         f"{held.size} held, mirror planes at {c:g} mm"
     )
     print(
