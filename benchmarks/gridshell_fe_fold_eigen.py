@@ -271,6 +271,9 @@ def main(argv=None) -> int:
     ap.add_argument("--states", default="", help="folder for the states (.npz)")
     ap.add_argument("--data", default="", help="JSON to write")
     ap.add_argument(
+        "--no-scan", action="store_true", help="no eigen solve at the steps between load factors"
+    )
+    ap.add_argument(
         "--classes",
         default="",
         help="folder of saved states: no ramp; the four mirror-parity classes' eigenvalues",
@@ -390,7 +393,7 @@ def main(argv=None) -> int:
 
     for f in fractions:
         dt = (f - t_prev) / (1.0 - t_prev)
-        rec = model.advance(dt, on_step=scan(t_prev, f))
+        rec = model.advance(dt, on_step=None if a.no_scan else scan(t_prev, f))
         steps += len(rec.detail)
         newton += sum(s.iterations for s in rec.detail)
         t_prev = f
