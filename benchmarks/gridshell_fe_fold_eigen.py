@@ -12,10 +12,11 @@ follower of the run), and at each end state:
   shift-invert about ``--sigma`` with a MUMPS LDL^T) [N/mm];
 * the inertia: the number of negative pivots of the LDL^T of K (MUMPS INFOG(12)), by Sylvester's law
   the number of negative eigenvalues of K (0: the state is stable against every mode the model
-  can represent; the quarter model: modes symmetric about the mirror planes x = 0 and y = 0);
+  can represent; the quarter model: modes symmetric about the mirror planes x = c and y = c);
 * the circle curvatures [1/mm] and, per eigenvector, the share of |phi|^2 on u_z.
 
-At every accepted step of the ramp: the negative pivots and the two lowest eigenvalues. The states
+At every accepted step of the ramp (not with ``--no-scan``): the negative pivots and the two lowest
+eigenvalues. The states
 at the analysed load factors are saved (``--states DIR``: .npz, :meth:`GridshellFE.save_state`, and
 the eigenvectors), and a JSON of the numbers (``--data``, written atomically after each piece).
 
@@ -29,7 +30,9 @@ bifurcation).
         [--modes 6] [--sigma -1e-6] [--states DIR] [--data FILE]
     OMP_NUM_THREADS=1 python benchmarks/gridshell_fe_fold_eigen.py --classes DIR [--data FILE]
 
-Not a test: it prints figures (docs/notes/fe_bodies_log.md, "The 5 x 5 fold").
+The 5 x 5 dome, 2026-12-08: 879 s CPU to t = 1 with the scan (64 steps, ~3 s per eigen solve),
+about 30 s CPU per state for ``--classes``. Not a test: it prints figures
+(docs/notes/fe_bodies_log.md, "The 5 x 5 fold").
 """
 
 from __future__ import annotations
