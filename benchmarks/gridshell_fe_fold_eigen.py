@@ -31,7 +31,7 @@ bifurcation).
     OMP_NUM_THREADS=1 python benchmarks/gridshell_fe_fold_eigen.py --classes DIR [--data FILE]
 
 The 5 x 5 dome, 2026-12-08: 879 s CPU to t = 1 with the scan (64 steps, ~3 s per eigen solve),
-about 30 s CPU per state for ``--classes``. Not a test: it prints figures
+about 11 s CPU per state for ``--classes`` (after the model build). Not a test: it prints figures
 (docs/notes/fe_bodies_log.md, "The 5 x 5 fold").
 """
 
