@@ -66,6 +66,11 @@ def main(argv=None) -> int:
     p.add_argument(
         "--stable", action="store_true", help="the ramp of follow_stable_path (StabilityOptions())"
     )
+    p.add_argument(
+        "--start-state",
+        default="",
+        help="an npz of --save (x, t): ramp from that state at its t instead of from flat",
+    )
     p.add_argument("--initial-increment", type=float, default=0.0, help="PathOptions' (0: default)")
     a = p.parse_args(argv)
     if a.modes < 1 or a.settle_stall < 0 or not 0.0 <= a.start <= a.stop <= 1.0:
@@ -99,6 +104,13 @@ def main(argv=None) -> int:
     }
     start = {g: v.copy() for g, v in model.rest_fractions().items()}
     target = problem._target
+    t_begin = 0.0
+    if a.start_state:
+        saved = np.load(a.start_state)
+        t_begin = float(saved["t"])
+        problem.x = saved["x"].reshape(-1, 3).copy()
+        problem._current = {g: start[g] + t_begin * (target[g] - start[g]) for g in target}
+        model.set_rest_fractions(problem._current)
     print(
         f"# 5x5 Fig. 4 dome, rollers, contact_diagonals {a.diagonals}, "
         f"settle_stall {a.settle_stall}"
@@ -113,6 +125,7 @@ def main(argv=None) -> int:
         model.set_rest_fractions({g: start[g] + t * (target[g] - start[g]) for g in target})
 
     def on_step(st) -> None:
+        st = dataclasses.replace(st, t=t_begin + st.t * (1.0 - t_begin))
         if st.t < a.start:
             return
         x = st.x.reshape(-1)
