@@ -153,7 +153,7 @@ def main(argv=None) -> int:
         )
         if a.save:
             np.savez(Path(a.save) / f"state_{st.t:.6f}.npz", x=st.x, t=st.t)
-        if st.t >= a.stop:
+        if a.stop < 1.0 and st.t >= a.stop:
             raise Done
 
     try:
