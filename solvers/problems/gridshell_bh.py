@@ -80,6 +80,7 @@ from lcefem.solvers.bar_hinge import (
 )
 from lcefem.solvers.bar_hinge.strip_beams import bar_hinge_model
 from lcefem.solvers.problems.protocol import LOAD, StepRecord, check_quasi_static_step, path_record
+from lcefem.solvers.problems.stable_ramp import StabilityOptions, follow_stable_path
 
 #: Default stepping of the actuation ramp: path-following increments (grow after easy increments).
 GRIDSHELL_PATH = PathOptions(
@@ -477,6 +478,10 @@ class GridshellBHConfig:
     support: str = "rollers"
     solver: NewtonOptions = GRIDSHELL_NEWTON
     path: PathOptions = GRIDSHELL_PATH
+    #: None: the ramp of :func:`follow_path`; set: :func:`follow_stable_path` (watches the path's
+    #: lowest structural eigenvalue and leaves a lost stability by a branch switch; issue 47,
+    #: layout_5x5_fold). Off by default: it costs two eigensolves per increment.
+    stability: StabilityOptions | None = None
 
 
 class GridshellBH:
@@ -568,7 +573,8 @@ class GridshellBH:
             return model.reference.reshape(-1)[held]
 
         self._fraction = dt
-        result = follow_path(
+        extra = {} if self.config.stability is None else {"stability": self.config.stability}
+        result = (follow_path if self.config.stability is None else follow_stable_path)(
             model,
             self.x,
             held,
@@ -577,6 +583,7 @@ class GridshellBH:
             path_options=self.config.path,
             on_step=on_step,
             progress=progress,
+            **extra,
         )
         self.x = result.states[-1].x.copy()
         self._current = target
