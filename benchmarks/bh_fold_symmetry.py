@@ -44,10 +44,11 @@ import scipy.sparse.linalg as sla
 from lcefem.meshes.gridshell import (
     build_gridshell_bar_hinge,
     diagonal_mirror,
+    node_image_map,
     unmatched_mirror_rows,
 )
 from lcefem.meshes.gridshell_layout import NAMED_LAYOUTS
-from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.errors import ConvergenceError
 from lcefem.solvers.analysis.curvature import gridshell_curvatures
 from lcefem.solvers.bar_hinge.model import ReducedHessian
 from lcefem.solvers.problems.gridshell_bh import (
@@ -61,31 +62,11 @@ from lcefem.validation.studies.gridshell import gridshell_bh as gs
 
 
 def plane_mirror(structure, axis: int, centre: float) -> np.ndarray:
-    """Node i -> the node at the mirror image of node i about the plane x_axis = centre [mm];
-    coincident nodes told apart by the positions of the nodes they are barred to (as
-    :func:`lcefem.meshes.gridshell.diagonal_mirror`). Raises InputError when a node has none."""
-    x = structure.nodes
-    image = x.copy()
-    image[:, axis] = 2.0 * centre - x[:, axis]
-
-    def key(p) -> tuple:
-        return tuple(int(round(v * 1e4)) for v in p)  # 0.1 um
-
-    near: list[set] = [set() for _ in range(structure.num_nodes)]
-    for a, b in np.vstack([np.zeros((0, 2), dtype=np.int64), *structure.bars.values()]):
-        near[a].add(b)
-        near[b].add(a)
-    index: dict = {}
-    for i in range(structure.num_nodes):
-        index.setdefault((key(x[i]), frozenset(key(x[j]) for j in near[i])), []).append(i)
-    out = np.full(structure.num_nodes, -1, dtype=np.int64)
-    for i in range(structure.num_nodes):
-        hit = index.get((key(image[i]), frozenset(key(image[j]) for j in near[i])), [])
-        if len(hit) == 1:
-            out[i] = hit[0]
-    if np.any(out < 0):
-        raise InputError(f"plane_mirror: {int(np.sum(out < 0))} nodes have no mirror image")
-    return out
+    """Node i -> the node at the mirror image of node i about the plane x_axis = centre [mm]
+    (:func:`lcefem.meshes.gridshell.node_image_map`). Raises InputError when a node has none."""
+    image = structure.nodes.copy()
+    image[:, axis] = 2.0 * centre - image[:, axis]
+    return node_image_map(structure, image, "plane_mirror")
 
 
 def parity(vz: np.ndarray, perm: np.ndarray) -> float:

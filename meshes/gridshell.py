@@ -617,7 +617,7 @@ def diagonal_mirror(structure: BarHingeStructure, which: str = "diag") -> np.nda
     e = layout.directions()
     uv = np.linalg.solve(e.T, x[:, :2].T).T
     m = uv[:, ::-1] if which == "diag" else structure.info["ribbon_length"] - uv[:, ::-1]
-    return _node_images(structure, np.column_stack([m @ e, x[:, 2]]), "diagonal_mirror")
+    return node_image_map(structure, np.column_stack([m @ e, x[:, 2]]), "diagonal_mirror")
 
 
 def line_mirror(structure: BarHingeStructure, angle: float) -> np.ndarray:
@@ -629,12 +629,13 @@ def line_mirror(structure: BarHingeStructure, angle: float) -> np.ndarray:
     c = np.r_[x[np.ravel(structure.node_sets["centre_junction"])][:, :2].mean(axis=0), 0.0]
     a = math.radians(2.0 * angle)
     m = np.array([[math.cos(a), math.sin(a), 0.0], [math.sin(a), -math.cos(a), 0.0], [0, 0, 1]])
-    return _node_images(structure, (x - c) @ m.T + c, f"line_mirror({angle:g} deg)")
+    return node_image_map(structure, (x - c) @ m.T + c, f"line_mirror({angle:g} deg)")
 
 
-def _node_images(structure: BarHingeStructure, image: np.ndarray, what: str) -> np.ndarray:
-    """Node i -> the node at ``image[i]`` [mm], coincident nodes told apart by the images of the
-    nodes they are barred to (to 0.1 um)."""
+def node_image_map(structure: BarHingeStructure, image: np.ndarray, what: str) -> np.ndarray:
+    """Node i -> the node at ``image[i]`` [mm] (the nodes under a mirror), coincident nodes told
+    apart by the images of the nodes they are barred to (to 0.1 um). Raises InputError naming
+    ``what`` when a node has no image."""
     x = structure.nodes
 
     def key(p) -> tuple:

@@ -183,6 +183,22 @@ class PathState:
     negative_pivots: int
     snapped: bool = False  # reached by a snap-through from the previous state
 
+    @classmethod
+    def of(cls, model, held: np.ndarray, t: float, res, snapped: bool = False) -> "PathState":
+        """The state of the converged Newton result ``res`` at load factor ``t``, with the
+        reactions at the ``held`` DOFs (the model's gradient there [N])."""
+        grad = model.evaluate(res.x, derivatives=1)[1]
+        return cls(
+            t,
+            res.x.copy(),
+            res.iterations,
+            res.energy,
+            res.residual,
+            grad[held].copy(),
+            res.negative_pivots,
+            snapped,
+        )
+
 
 @dataclass
 class PathResult:
@@ -754,17 +770,7 @@ def follow_path(
         return newton(model, x, free, options, reduced)
 
     def record(t, res, snapped=False):
-        grad = model.evaluate(res.x, derivatives=1)[1]
-        state = PathState(
-            t,
-            res.x.copy(),
-            res.iterations,
-            res.energy,
-            res.residual,
-            grad[held].copy(),
-            res.negative_pivots,
-            snapped,
-        )
+        state = PathState.of(model, held, t, res, snapped)
         result.states.append(state)
         if on_step is not None:
             on_step(state)

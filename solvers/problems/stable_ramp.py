@@ -197,17 +197,7 @@ def follow_stable_path(
         return float(vals[0]), vecs[:, 0]
 
     def keep(t, res, snapped=False) -> PathState:
-        grad = model.evaluate(res.x, derivatives=1)[1]
-        state = PathState(
-            t,
-            res.x.copy(),
-            res.iterations,
-            res.energy,
-            res.residual,
-            grad[held].copy(),
-            res.negative_pivots,
-            snapped,
-        )
+        state = PathState.of(model, held, t, res, snapped)
         result.states.append(state)
         if on_step is not None:
             on_step(state)
