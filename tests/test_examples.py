@@ -72,9 +72,13 @@ EXPECTED = {
     "ex08_gridshell_fe.py": (-0.022174550031895505, RTOL, None, True),
     "ex09_inverse_design.py": (None, None, _round_trip, False),
     # the closed loop's residual error: 1.2839e-4 before GRIDSHELL_NEWTON's progress budget and
-    # energy slack (2026-12-07), 1.2781e-4 after (CI of 467d11c): the loop's equilibria land
-    # differently within the Newton's force tolerance and the loop carries the difference
-    "ex10_control.py": (0.00012781160343525513, 1e-4, _closed_beats_open, False),
+    # energy slack (2026-12-07), 1.2781e-4 after (CI of 467d11c), 1.2839e-4 again with the
+    # compiled panel kernels and the closed-contact LDL pattern (CI of e8035bb, 2026-12-08), whose
+    # curvatures move by <= 1.6e-16 1/mm: the loop's equilibria land differently within the
+    # Newton's force tolerance and the loop carries the difference (0.45 %; 0.49 % on the example's
+    # own run, 1.18657e-5 -> 1.19236e-5 across that merge). So the number holds to 1 %, not to
+    # round-off; _closed_beats_open is the physics.
+    "ex10_control.py": (0.00012839087386697437, 1e-2, _closed_beats_open, False),
 }
 
 

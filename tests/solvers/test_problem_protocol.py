@@ -45,6 +45,7 @@ WITHOUT_PROBLEM_OBJECT = {
     "body_expression": "the safe expressions of a body case file (a director of x, y, z; its "
     "problem is body.BodyProblem)",
     "gridshell_bh_ball": "a ball rolling on a given surface history (no body of its own)",
+    "stable_ramp": "the stability-watching load path of GridshellBH (follow_stable_path)",
     "gridshell_bh_scales": "load paths for GridshellBH",
     "gridshell_bh_sequence": "a schedule driving GridshellBH's path",
     "gridshell_bh_weights": "load paths for GridshellBH",
