@@ -119,15 +119,27 @@ def chain_stiffness(
     pts = [(*(np.array([i * along, 0.0]) + s * f), 0.0) for i in range(panels + 1) for s in (0, 1)]
     quads = [(2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1) for i in range(panels)]
     s = n5b8_structure(np.array(pts), np.array(quads), 0.127)
+    nc = s.nodes.shape[0] - panels
+    centre = s.nodes[:nc, 0].mean()
+    return imposed_hinge_energy(s, nc, s.nodes[:nc, 0] - centre, centre, mode, fold) / (
+        panels * along
+    )
+
+
+def imposed_hinge_energy(
+    s, nc: int, u: np.ndarray, centre: float, mode: str, fold: float, kappa: float = 1e-3
+) -> float:
+    """2 U / kappa^2 [k mm^3] of an N5B8 structure ``s`` whose first ``nc`` (corner) nodes are put
+    on the isometric cylinder (``mode`` "bend", about the axis across the ribbon) or helicoid
+    (about its centre line) of curvature ``kappa`` [1/mm], ``u`` [mm] their coordinate along the
+    ribbon from ``centre`` (x [mm]); the centre nodes free; U the hinges' energy (spokes k = 1 N
+    mm/(rad mm), folds ``fold`` k) at its minimum over the centre nodes."""
     x0 = s.nodes
-    nc = x0.shape[0] - panels
     x = x0.copy()
-    u = x0[:nc, 0] - x0[:nc, 0].mean()
-    kappa = 1e-3
-    if mode == "bend":  # the isometric cylinder about the axis across the ribbon
-        x[:nc, 0] = x0[:nc, 0].mean() + np.sin(kappa * u) / kappa
+    if mode == "bend":
+        x[:nc, 0] = centre + np.sin(kappa * u) / kappa
         x[:nc, 2] = (1.0 - np.cos(kappa * u)) / kappa
-    else:  # the helicoid about the ribbon's centre line
+    else:
         v = x0[:nc, 1] - x0[:nc, 1].mean()
         x[:nc, 1] = x0[:nc, 1].mean() + v * np.cos(kappa * u)
         x[:nc, 2] = v * np.sin(kappa * u)
@@ -143,7 +155,7 @@ def chain_stiffness(
         return 0.5 * np.sum(length * (th - rest) ** 2)
 
     res = minimize(energy, x[s.panels].mean(axis=1).ravel(), method="BFGS", options={"gtol": 1e-14})
-    return 2.0 * res.fun / (kappa**2 * panels * along)
+    return 2.0 * res.fun / kappa**2
 
 
 def segment_stiffness(structure, mode: str, fold: float = 1.0) -> float:
@@ -167,31 +179,8 @@ def segment_stiffness(structure, mode: str, fold: float = 1.0) -> float:
     end = pts[quads.reshape(-1, 4)[-1, [1, 2]], :2].mean(axis=0) @ e1
     length = end - start
     s = n5b8_structure(pts, quads.reshape(-1, 4), 0.127)
-    x0 = s.nodes
-    nc = pts.shape[0]
-    x = x0.copy()
-    u = along - 0.5 * (start + end)
-    kappa = 1e-3
-    if mode == "bend":
-        x[:nc, 0] = 0.5 * (start + end) + np.sin(kappa * u) / kappa
-        x[:nc, 2] = (1.0 - np.cos(kappa * u)) / kappa
-    else:
-        v = x0[:nc, 1] - x0[:nc, 1].mean()
-        x[:nc, 1] = x0[:nc, 1].mean() + v * np.cos(kappa * u)
-        x[:nc, 2] = v * np.sin(kappa * u)
-    rows = np.vstack([s.hinges["bend"], s.hinges["fold"]])
-    k = np.r_[np.ones(len(s.hinges["bend"])), np.full(len(s.hinges["fold"]), fold)]
-    hinge = k * np.linalg.norm(x0[rows[:, 1]] - x0[rows[:, 0]], axis=1)
-    rest = dihedral_angle(*(x0[rows[:, c]] for c in range(4)), derivatives=0)
-
-    def energy(z):
-        y = x.copy()
-        y[nc:] = z.reshape(-1, 3)
-        th = dihedral_angle(*(y[rows[:, c]] for c in range(4)), derivatives=0)
-        return 0.5 * np.sum(hinge * (th - rest) ** 2)
-
-    res = minimize(energy, x[s.panels].mean(axis=1).ravel(), method="BFGS", options={"gtol": 1e-14})
-    return 2.0 * res.fun / (kappa**2 * length)
+    centre = 0.5 * (start + end)
+    return imposed_hinge_energy(s, pts.shape[0], along - centre, centre, mode, fold) / length
 
 
 def main(argv=None) -> int:
