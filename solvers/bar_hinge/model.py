@@ -501,18 +501,24 @@ class BarHingeModel:
             return energy
         n = theta.size
         grad = np.empty((n, 12))
-        if derivatives == 1:
-            hess = np.empty((1, 12, 12))  # not written
-        elif values is None:
-            hess = np.empty((n, 12, 12))
-        else:
-            hess = values[block["coo"]].reshape(n, 12, 12)
+        hess = BarHingeModel._hessian_out(block, values, n, 12, derivatives)
         hinge_forces(
             *xs, block["length"] * moment, block["length"] * dmoment, grad, hess, derivatives == 2
         )
         if derivatives == 1:
             return energy, grad
         return energy, grad, hess
+
+    @staticmethod
+    def _hessian_out(block: dict, values, n: int, size: int, derivatives: int) -> np.ndarray:
+        """Where a compiled kernel writes the block's (n, size, size) Hessians: a view of its slice
+        of ``values`` when given (a slice, so no copy), a new array otherwise, and a placeholder it
+        does not write when only the gradient is wanted."""
+        if derivatives == 1:
+            return np.empty((1, size, size))
+        if values is None:
+            return np.empty((n, size, size))
+        return values[block["coo"]].reshape(n, size, size)
 
     @staticmethod
     def _panels(block: dict, xs: list[np.ndarray], derivatives: int, values: np.ndarray | None):
@@ -536,12 +542,7 @@ class BarHingeModel:
             return energy
         n = theta.shape[0]
         grad = np.empty((n, 15))
-        if derivatives == 1:
-            hess = np.empty((1, 15, 15))  # not written
-        elif values is None:
-            hess = np.empty((n, 15, 15))
-        else:
-            hess = values[block["coo"]].reshape(n, 15, 15)
+        hess = BarHingeModel._hessian_out(block, values, n, 15, derivatives)
         panel_bending_forces(
             np.stack(xs), lengths, c, c * total, SPOKE_SLOT_TABLE, grad, hess, derivatives == 2
         )

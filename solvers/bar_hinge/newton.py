@@ -725,6 +725,21 @@ def newton(
     )
 
 
+def path_setup(
+    model: BarHingeModel, held, newton_options: NewtonOptions, path_options: PathOptions
+) -> tuple[np.ndarray, np.ndarray, ReducedHessian]:
+    """The options of a load path checked, and its (held DOFs, free DOFs, reduced Hessian):
+    shared by :func:`follow_path` and the stability-watching ramp
+    (:mod:`lcefem.solvers.problems.stable_ramp`)."""
+    check(newton_options, "solver")
+    check(path_options, "path")
+    if path_options.min_increment > path_options.initial_increment:
+        raise InputError("path.min_increment: must be <= path.initial_increment")
+    held = np.asarray(held, dtype=np.int64)
+    free = np.setdiff1d(np.arange(model.ndof), held)
+    return held, free, ReducedHessian.of(model, free)
+
+
 def follow_path(
     model: BarHingeModel,
     x_start: np.ndarray,
@@ -749,14 +764,8 @@ def follow_path(
         The converged states. Raises ConvergenceError (with ``last_state``) when the increment
         falls below ``path_options.min_increment``.
     """
-    check(newton_options, "solver")
-    check(path_options, "path")
-    if path_options.min_increment > path_options.initial_increment:
-        raise InputError("path.min_increment: must be <= path.initial_increment")
+    held, free, reduced = path_setup(model, held, newton_options, path_options)
     started = time.perf_counter()
-    held = np.asarray(held, dtype=np.int64)
-    free = np.setdiff1d(np.arange(model.ndof), held)
-    reduced = ReducedHessian.of(model, free)
     result = PathResult()
 
     snap_options = dataclasses.replace(

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse.linalg as sla
 
-from lcefem.models.errors import ConvergenceError, InputError
+from lcefem.models.errors import ConvergenceError
 from lcefem.models.parameters import check, param
 from lcefem.solvers.bar_hinge import (
     BarHingeModel,
@@ -50,7 +50,7 @@ from lcefem.solvers.bar_hinge import (
     ReducedHessian,
     newton,
 )
-from lcefem.solvers.bar_hinge.newton import SETTLE_MAX_NODES, SETTLE_SHARE
+from lcefem.solvers.bar_hinge.newton import SETTLE_MAX_NODES, SETTLE_SHARE, path_setup
 
 #: Increments looked ahead by the linear extrapolation of the lowest structural eigenvalue (chosen:
 #: on the 5 x 5 dome's symmetric branch it falls linearly, 2.1e-7 N/mm at t = 0.80, 1.24e-7 at
@@ -169,15 +169,9 @@ def follow_stable_path(
     docstring). ``record``: filled with the lowest structural eigenvalue of every converged state
     and the switches. Raises ConvergenceError (with ``last_state`` and ``result``) when the
     increment falls below its minimum or no candidate of a switch converges."""
-    check(newton_options, "solver")
-    check(path_options, "path")
+    held, free, reduced = path_setup(model, held, newton_options, path_options)
     check(stability, "stability")
-    if path_options.min_increment > path_options.initial_increment:
-        raise InputError("path.min_increment: must be <= path.initial_increment")
     started = time.perf_counter()
-    held = np.asarray(held, dtype=np.int64)
-    free = np.setdiff1d(np.arange(model.ndof), held)
-    reduced = ReducedHessian.of(model, free)
     result = PathResult()
     record = record if record is not None else StabilityRecord()
     snap_options = dataclasses.replace(
