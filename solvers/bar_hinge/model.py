@@ -35,7 +35,7 @@ from lcefem.solvers.bar_hinge.kernels import (
     panel_bending_forces,
     scatter_merged,
 )
-from lcefem.solvers.bar_hinge.ldl import SymbolicLDL
+from lcefem.solvers.bar_hinge.ldl import SymbolicLDL, inserted_before
 
 #: Bar groups that are LCE strips (tension-only Ogden bars with a rest length).
 STRIP_GROUPS = ("bottom_strips", "top_strips")
@@ -811,7 +811,7 @@ class ReducedHessian:
             stored[stored] = base_keys[at[stored]] == new[stored]
             new, at = new[~stored], at[~stored]
             keys = np.insert(base_keys, at, new)
-            shift = np.searchsorted(new, base_keys)  # new keys before each base entry
+            shift = inserted_before(at, base_keys.size)  # new keys before each base entry
             moved = np.arange(base_keys.size) + shift
             n = self.n
             rows, cols = new % n, new // n

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from lcefem.solvers.bar_hinge.ldl import SymbolicLDL
+from lcefem.solvers.bar_hinge.ldl import SymbolicLDL, inserted_before
 from lcefem.solvers.bar_hinge.newton import factorize
 
 
@@ -35,6 +35,21 @@ def test_ldl_solve_and_inertia_match_dense(shift):
     shifted, negative, _ = factorize(k, shift=mu, ldl=symbolic)
     assert negative == 0
     assert np.allclose(k @ shifted.solve(rhs) + mu * shifted.solve(rhs), rhs, atol=1e-10)
+
+
+def test_inserted_before_counts_the_new_keys_before_each_stored_key():
+    """The count by bincount equals a search of every stored key among the new ones, new keys
+    before the first, between and after the last stored key included, and none."""
+    rng = np.random.default_rng(3)
+    keys = np.unique(rng.integers(0, 10**6, 5000))
+    spare = np.setdiff1d(np.arange(-5, 10**6 + 5), keys)
+    for count in (0, 1, 40, 3000):
+        new = np.sort(rng.choice(spare, count, replace=False))
+        at = np.searchsorted(keys, new)
+        assert np.array_equal(inserted_before(at, keys.size), np.searchsorted(new, keys))
+    edges = np.array([-3, 10**6 + 3])  # before the first and after the last stored key
+    shift = inserted_before(np.searchsorted(keys, edges), keys.size)
+    assert shift[0] == 1 and shift[-1] == 1
 
 
 def test_ldl_zero_pivot_falls_back_to_pivoting_lu():

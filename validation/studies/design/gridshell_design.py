@@ -58,8 +58,12 @@ CURVATURE_SCALE = 1.0e-3
 #: Residual scale of the centre height [mm] (assumed: 0.1 mm, a caliper's reading).
 HEIGHT_SCALE = 0.1
 #: Forward solves inside the design loop converge to |g| <= 1e-8 N (the sensitivities are exact
-#: only at an equilibrium; 1e-6 N leaves ~1e-7 1/mm of noise in the curvatures).
-DESIGN_NEWTON = NewtonOptions(force_tolerance=1.0e-8)
+#: only at an equilibrium; 1e-6 N leaves ~1e-7 1/mm of noise in the curvatures). Progress budget
+#: (NewtonOptions.progress_iterations, as GRIDSHELL_NEWTON's): a warm-started solve whose energy
+#: still falls goes on past max_iterations instead of halving its increment (the 5 x 5 layout's
+#: design of benchmarks/layout_benchmark.py: 17 increments halved after 50 descending iterations
+#: each, 124 s CPU; with the budget none, 49 s; docs/notes/performance_log.md, 2026-12-08).
+DESIGN_NEWTON = NewtonOptions(force_tolerance=1.0e-8, progress_iterations=300)
 CHANNEL_MODES = ("4", "all", "wiring")
 #: A target counts as reached within this [1/mm] (a tenth of the round-trip tolerance): closer is
 #: below what the equilibria resolve (contacts at their kinks leave nearby equilibria ~5e-6 1/mm
