@@ -25,7 +25,10 @@ validation/data (running the FE gridshell takes minutes to hours).
 - The layouts (issue 47): the FE-calibrated BH against the 3D FE on the gmsh mesh of a refined
   (5 x 5, quarter, rollers) and a non-orthogonal (rhombic 60 deg, whole, clamp) layout, a tenth of
   the dome's ramp (:func:`_layouts`, stored FE: :data:`FE_LAYOUTS`); judged rows "<layout> dome
-  (...): circle kappa_<x|y> BH vs FE", at both levels (the BH takes seconds).
+  (...): circle kappa_<x|y> BH vs FE", at both levels (the BH takes seconds). At the full ramp
+  (:data:`FE_LAYOUTS_FULL`, level 0) a layout with the FE at mesh level 1
+  (:data:`FE_LAYOUTS_FULL_FINE`, with the control: the published 3 x 3 under the clamp) is judged
+  against level 1, its level-0 rows informative ("... (FE mesh level 0)").
 
 FE references (:data:`FE_REFERENCE`): gridshell_fe_fig4_quarter_level0.json (quarter model, mesh
 level 0, 26,904 Q2 DOFs; the published supports) and, for the dome, the mesh-converged level 2 of
