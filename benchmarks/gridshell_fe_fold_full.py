@@ -52,17 +52,13 @@ import dolfinx_solver  # noqa: F401  (orders MPI before dolfinx/petsc4py)
 
 import numpy as np
 
+from lcefem.solvers.problems.gridshell_fe_run import SHAPE_COLUMNS
+
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from gridshell_fe_fold_eigen import inertia, lowest_eigenpairs, reduced_tangent  # noqa: E402
 
-OBSERVED = (
-    "kappa_circle_x [1/mm]",
-    "kappa_circle_y [1/mm]",
-    "kappa_quad_x [1/mm]",
-    "kappa_quad_y [1/mm]",
-    "z_range [mm]",
-    "apex_z [mm]",
-)
+#: The run's shape columns (the FE gridshell's observables), without contact force and Newton count.
+OBSERVED = SHAPE_COLUMNS[:6]
 
 
 def point_holds_model(model_cfg):

@@ -13,6 +13,25 @@ from lcefem.validation.cases import CaseContext
 from lcefem.validation.cases import gridshell_bh_vs_fe as case
 
 
+def fake_bh(kx: float, ky: float) -> type:
+    """A stand-in for GridshellBH whose every run ends at circle curvatures kx, ky [1/mm]."""
+
+    class Fake:
+        def __init__(self, *args, **kwargs):
+            pass
+
+        def set_drives(self, lambdas):
+            pass
+
+        def advance(self):
+            pass
+
+        def observables(self):
+            return {"circle kappa_x [1/mm]": kx, "circle kappa_y [1/mm]": ky}
+
+    return Fake
+
+
 def test_the_full_ramp_data_file_is_complete():
     ref = json.loads(case.FE_LAYOUTS_FULL.read_text())
     assert ref["fraction"] == 1.0
@@ -106,20 +125,7 @@ def test_a_symmetric_fe_row_judges_the_bh_families_by_their_bending_not_by_x_and
     assert not case._mirror_symmetric({"circle_x": -0.012, "circle_y": -0.019})
 
     def rows_for(kx, ky):
-        class Fake:
-            def __init__(self, *args, **kwargs):
-                pass
-
-            def set_drives(self, lambdas):
-                pass
-
-            def advance(self):
-                pass
-
-            def observables(self):
-                return {"circle kappa_x [1/mm]": kx, "circle kappa_y [1/mm]": ky}
-
-        monkeypatch.setattr(gbh, "GridshellBH", Fake)
+        monkeypatch.setattr(gbh, "GridshellBH", fake_bh(kx, ky))
         out = case._layout_rows("gridshell_bh_vs_fe", ref, [row])
         return {m.metric: (m.value, m.passed) for m in out if "circle" in m.metric}
 
@@ -134,20 +140,8 @@ def test_a_layout_with_the_level_1_fe_is_judged_against_it_and_level_0_is_inform
 ):
     import lcefem.solvers.problems.gridshell_bh as gbh
 
-    class Fake:  # a BH that bends x = y = -0.0195 1/mm (the rhombic BH: -0.01946)
-        def __init__(self, *args, **kwargs):
-            pass
-
-        def set_drives(self, lambdas):
-            pass
-
-        def advance(self):
-            pass
-
-        def observables(self):
-            return {"circle kappa_x [1/mm]": -0.0195, "circle kappa_y [1/mm]": -0.0195}
-
-    monkeypatch.setattr(gbh, "GridshellBH", Fake)
+    # a BH that bends x = y = -0.0195 1/mm (the rhombic BH: -0.01946)
+    monkeypatch.setattr(gbh, "GridshellBH", fake_bh(-0.0195, -0.0195))
     coarse = json.loads(case.FE_LAYOUTS_FULL.read_text())
     fine = dict(coarse, **{"mesh level": 1, "source": "level-1 FE"})
     fine["rows"] = [
