@@ -272,11 +272,15 @@ def point_plane_gap(x_p, x_a, x_b, x_c, *, derivatives: int = 2):
     return g, grad, 0.5 * (hess + np.swapaxes(hess, 1, 2))
 
 
-def unilateral_contact_element(x_p, x_a, x_b, x_c, rest_gap, stiffness, *, derivatives: int = 2):
+def unilateral_contact_element(
+    x_p, x_a, x_b, x_c, rest_gap, stiffness, *, derivatives: int = 2, hess_out=None
+):
     """Penalty energy k <g0 - g>_+^2/2 [mJ] keeping point p at least g0 above the plane (a, b, c)
     (:func:`point_plane_gap`); k [N/mm], g0 [mm]. Returns energy, gradient (n, 12) [N] and Hessian
     (n, 12, 12) [N/mm] ordered (p, a, b, c). The derivatives of the gap are evaluated only where the
-    contact is active (g < g0): elsewhere gradient and Hessian are zero (most contacts are open)."""
+    contact is active (g < g0): elsewhere gradient and Hessian are zero (most contacts are open).
+    ``hess_out``: a zeroed (n, 12, 12) array the Hessian is written into and returned (an
+    assembler's slice: only the active contacts' entries are written), instead of a new one."""
     g = point_plane_gap(x_p, x_a, x_b, x_c, derivatives=0)
     pen = np.maximum(rest_gap - g, 0.0)
     energy = 0.5 * stiffness * pen**2
@@ -285,7 +289,9 @@ def unilateral_contact_element(x_p, x_a, x_b, x_c, rest_gap, stiffness, *, deriv
     n = g.shape[0]
     active = np.flatnonzero(pen > 0)
     grad = np.zeros((n, 12))
-    hess = np.zeros((n, 12, 12)) if derivatives == 2 else None
+    hess = None
+    if derivatives == 2:
+        hess = np.zeros((n, 12, 12)) if hess_out is None else hess_out
     if active.size:
         k = np.broadcast_to(np.asarray(stiffness, dtype=float), g.shape)[active]
         out = point_plane_gap(

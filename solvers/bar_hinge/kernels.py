@@ -155,6 +155,47 @@ SPOKE_SLOT_TABLE = np.array([[0, 1 + m, 1 + (m - 1) % 4, 1 + (m + 1) % 4] for m 
 
 
 @numba.njit(cache=True)
+def _hinge_angles(xs, slots, p, w, s, g, hh, ge, hessian):
+    """Element p's hinges m (nodes ``xs[slots[m]]``, (j, k, i, l)): the gradient of each dihedral
+    angle over the element's DOFs in ``ge[m]`` and, with ``hessian``, its (12, 12) Hessian over the
+    hinge's own four nodes in ``hh[m]`` (:func:`_dihedral_derivatives`; ``w``, ``s``, ``g`` its
+    work arrays)."""
+    ge[:] = 0.0
+    for m in range(slots.shape[0]):
+        _dihedral_derivatives(
+            xs[slots[m, 0]],
+            xs[slots[m, 1]],
+            xs[slots[m, 2]],
+            xs[slots[m, 3]],
+            p,
+            w,
+            s,
+            g,
+            hh[m],
+            hessian,
+        )
+        for q in range(4):
+            for c in range(3):
+                ge[m, 3 * slots[m, q] + c] += g[3 * q + c]
+
+
+@numba.njit(cache=True)
+def _add_hinge_hessians(hess, p, slots, hh, weights):
+    """hess[p] += sum_m weights[m] sym(hh[m]), each hinge's angle Hessian scattered from its four
+    nodes to the element's slots (the moment term M_m d2theta_m/dx2 of a bending element)."""
+    for m in range(slots.shape[0]):
+        weight = weights[m]
+        for a in range(4):
+            for b in range(4):
+                for r in range(3):
+                    for c in range(3):
+                        ra, cb = 3 * a + r, 3 * b + c
+                        hess[p, 3 * slots[m, a] + r, 3 * slots[m, b] + c] += weight * (
+                            0.5 * (hh[m, ra, cb] + hh[m, cb, ra])
+                        )
+
+
+@numba.njit(cache=True)
 def panel_bending_forces(xs, lengths, coef, moment, slots, grad, hess, hessian=True):
     """Gradient (n, 15) and Hessian (n, 15, 15) of the panel bending element U = k_p S^2/(2 sum L)
     with S = sum_m L_m d_m (:func:`lcefem.models.bar_hinge.panel_bending_element`): with
@@ -166,25 +207,15 @@ def panel_bending_forces(xs, lengths, coef, moment, slots, grad, hess, hessian=T
     w, s = np.empty((11, 3)), np.empty((6, 3, 3))
     g = np.empty(12)
     hh = np.empty((4, 12, 12))
+    ge = np.empty((4, 15))
     gg = np.empty(15)
+    weights = np.empty(4)
     for p in range(n):
+        _hinge_angles(xs, slots, p, w, s, g, hh, ge, hessian)
         gg[:] = 0.0
         for m in range(4):
-            _dihedral_derivatives(
-                xs[slots[m, 0]],
-                xs[slots[m, 1]],
-                xs[slots[m, 2]],
-                xs[slots[m, 3]],
-                p,
-                w,
-                s,
-                g,
-                hh[m],
-                hessian,
-            )
-            for q in range(4):
-                for c in range(3):
-                    gg[3 * slots[m, q] + c] += lengths[p, m] * g[3 * q + c]
+            for r in range(15):
+                gg[r] += lengths[p, m] * ge[m, r]
         for r in range(15):
             grad[p, r] = moment[p] * gg[r]
         if not hessian:
@@ -193,15 +224,8 @@ def panel_bending_forces(xs, lengths, coef, moment, slots, grad, hess, hessian=T
             for c in range(15):
                 hess[p, r, c] = coef[p] * (gg[r] * gg[c])
         for m in range(4):
-            weight = moment[p] * lengths[p, m]
-            for a in range(4):
-                for b in range(4):
-                    for r in range(3):
-                        for c in range(3):
-                            ra, cb = 3 * a + r, 3 * b + c
-                            hess[p, 3 * slots[m, a] + r, 3 * slots[m, b] + c] += weight * (
-                                0.5 * (hh[m, ra, cb] + hh[m, cb, ra])
-                            )
+            weights[m] = moment[p] * lengths[p, m]
+        _add_hinge_hessians(hess, p, slots, hh, weights)
 
 
 #: The strip beam's two end hinges: slots of (j, k, i, l) in (a, a2, pa, b, b2, pb).
@@ -221,24 +245,9 @@ def strip_beam_forces(xs, stiffness, moment_a, moment_b, slots, grad, hess, hess
     g = np.empty(12)
     hh = np.empty((2, 12, 12))
     ge = np.empty((2, 18))
+    weights = np.empty(2)
     for p in range(n):
-        ge[:] = 0.0
-        for m in range(2):
-            _dihedral_derivatives(
-                xs[slots[m, 0]],
-                xs[slots[m, 1]],
-                xs[slots[m, 2]],
-                xs[slots[m, 3]],
-                p,
-                w,
-                s,
-                g,
-                hh[m],
-                hessian,
-            )
-            for q in range(4):
-                for c in range(3):
-                    ge[m, 3 * slots[m, q] + c] += g[3 * q + c]
+        _hinge_angles(xs, slots, p, w, s, g, hh, ge, hessian)
         c0 = stiffness[p]
         for r in range(18):
             grad[p, r] = moment_a[p] * ge[0, r] + moment_b[p] * ge[1, r]
@@ -250,16 +259,8 @@ def strip_beam_forces(xs, stiffness, moment_a, moment_b, slots, grad, hess, hess
                 hess[p, r, c] = c0 * (
                     2.0 * ga * ge[0, c] + ga * ge[1, c] + gb * ge[0, c] + 2.0 * gb * ge[1, c]
                 )
-        for m in range(2):
-            weight = moment_a[p] if m == 0 else moment_b[p]
-            for a in range(4):
-                for b in range(4):
-                    for r in range(3):
-                        for c in range(3):
-                            ra, cb = 3 * a + r, 3 * b + c
-                            hess[p, 3 * slots[m, a] + r, 3 * slots[m, b] + c] += weight * (
-                                0.5 * (hh[m, ra, cb] + hh[m, cb, ra])
-                            )
+        weights[0], weights[1] = moment_a[p], moment_b[p]
+        _add_hinge_hessians(hess, p, slots, hh, weights)
 
 
 @numba.njit(cache=True)

@@ -287,26 +287,19 @@ class BarHingeModel:
         c = x0[s.panels]
         d1 = np.linalg.norm(c[:, 2] - c[:, 0], axis=1)
         d2 = np.linalg.norm(c[:, 3] - c[:, 1], axis=1)
-        if twist == "plate_rectangles":
-            # a rectangle: equal diagonals that bisect each other (a right trapezoid's differ)
-            rectangle = (np.abs(d1 - d2) <= 1e-6 * np.maximum(d1, d2)) & (
-                np.linalg.norm(c[:, 0] + c[:, 2] - c[:, 1] - c[:, 3], axis=1) <= 1e-6 * d1
-            )
-            beta = law.panel_twist_fraction(self.kapton, s.thickness, width, height)
-            beta = np.where(rectangle, beta, 1.0)
-            return {
-                "nodes": nodes,
-                "lengths": lengths,
-                "rest": rest,
-                "beta": beta,
-                "stiffness": (1.0 - beta) * k_ribbon,
-            }
-        if np.any(np.abs(d1 - d2) > 1e-6 * np.maximum(d1, d2)):
+        equal_diagonals = np.abs(d1 - d2) <= 1e-6 * np.maximum(d1, d2)
+        if twist == "plate" and not np.all(equal_diagonals):
             raise InputError(
                 "kapton.twist = 'plate': needs rectangular panels (a rhombic layout's are "
                 "parallelograms); use kapton.twist = 'n5b8'"
             )
         beta = law.panel_twist_fraction(self.kapton, s.thickness, width, height)
+        if twist == "plate_rectangles":
+            # a rectangle: equal diagonals that bisect each other (a right trapezoid's differ)
+            rectangle = equal_diagonals & (
+                np.linalg.norm(c[:, 0] + c[:, 2] - c[:, 1] - c[:, 3], axis=1) <= 1e-6 * d1
+            )
+            beta = np.where(rectangle, beta, 1.0)
         return {
             "nodes": nodes,
             "lengths": lengths,
@@ -556,32 +549,18 @@ class BarHingeModel:
         Hessians written into ``values`` (zero elsewhere: most contacts are open, on the 5 x 5
         gridshell at most 144 of 6920, and a zeroed (n, 12, 12) array copied into its slice cost
         as much as the bars' assembly); with derivatives == 2 also the closed contacts' indices."""
-        g = law.point_plane_gap(*xs, derivatives=0)
-        stiffness = np.broadcast_to(np.asarray(block["stiffness"], dtype=float), g.shape)
-        pen = np.maximum(block["rest_gap"] - g, 0.0)
-        energy = 0.5 * stiffness * pen**2
-        if derivatives == 0:
-            return energy
-        n = g.shape[0]
-        active = np.flatnonzero(pen > 0)
-        grad = np.zeros((n, 12))
-        hess = None
-        if derivatives == 2 and values is None:
-            hess = np.zeros((n, 12, 12))
-        elif derivatives == 2:
-            hess = values[block["coo"]].reshape(n, 12, 12)  # zero (evaluate's np.zeros)
-        if active.size:
-            k = stiffness[active]
-            out = law.point_plane_gap(*(x[active] for x in xs), derivatives=derivatives)
-            grad[active] = (-k * pen[active])[:, None] * out[1]
-            if derivatives == 2:
-                hess[active] = (
-                    k[:, None, None] * law._outer(out[1], out[1])
-                    + (-k * pen[active])[:, None, None] * out[2]
-                )
-        if derivatives == 1:
-            return energy, grad
-        return energy, grad, hess, active
+        n = block["dofs"].shape[0]
+        hess_out = None
+        if derivatives == 2 and values is not None:
+            hess_out = values[block["coo"]].reshape(n, 12, 12)  # zero (evaluate's np.zeros)
+        out = law.unilateral_contact_element(
+            *xs, block["rest_gap"], block["stiffness"], derivatives=derivatives, hess_out=hess_out
+        )
+        if derivatives < 2:
+            return out
+        # closed: a positive penalty energy k <g0 - g>_+^2/2, i.e. a nonzero Hessian (the test of
+        # closed_contacts); pen = g0 - g of mm-sized gaps is 0 or >= ~1e-19 mm: no underflow
+        return (*out, np.flatnonzero(out[0] > 0))
 
     def contact_coo(self) -> tuple[slice, int] | None:
         """(slice of the COO values, entries per element) of the contact block, None without
